@@ -1,0 +1,42 @@
+# One-line targets for uascma (shared/style.md, habit 13).
+#
+#   uascma_library(NAME SOURCES a.cc b.cc DEPS other_targets...)
+#     builds uascma_NAME with alias uascma::NAME, public headers from include/, and
+#     registers it in UASCMA_MODULES (the umbrella target uascma::uascma links them all).
+#   uascma_test(NAME SOURCES a_test.cc DEPS ...)   a GoogleTest executable registered with CTest.
+#   uascma_bench(NAME SOURCES a_bench.cc DEPS ...) a Google Benchmark executable in build/bench/.
+
+set(UASCMA_MODULES "" CACHE INTERNAL "uascma module libraries")
+
+function(uascma_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  set(target uascma_${name})
+  add_library(${target} STATIC ${ARG_SOURCES})
+  add_library(uascma::${name} ALIAS ${target})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+    $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/include>
+    $<INSTALL_INTERFACE:include>)
+  target_link_libraries(${target} PUBLIC ${ARG_DEPS})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+  install(TARGETS ${target} EXPORT uascmaTargets ARCHIVE DESTINATION lib)
+  set(UASCMA_MODULES ${UASCMA_MODULES} ${target} CACHE INTERNAL "uascma module libraries")
+endfunction()
+
+function(uascma_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+    UASCMA_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    UASCMA_CLI_PATH="$<TARGET_FILE:uascma_cli>")
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
+    PROPERTIES ENVIRONMENT "UASCMA_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+endfunction()
+
+function(uascma_bench name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
+endfunction()

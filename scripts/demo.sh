@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# The main job on the built-in defaults: solve the contingency-management policy and show it.
+set -euo pipefail
+build=${1:-build}
+out="$build/demo"
+mkdir -p "$out"
+"$build/uascma" policy solve --model cma --out "$out/cma-policy.json"
+echo
+"$build/uascma" policy show "$out/cma-policy.json"

@@ -1,0 +1,154 @@
+#include "uascma/decision/policy_file.h"
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/files.h"
+#include "uascma/common/hash.h"
+
+namespace uascma::decision {
+
+std::string ModelHash(const FiniteMdp& mdp) {
+  Fingerprint fingerprint;
+  fingerprint.Add(std::string_view("uascma-mdp"));
+  for (const auto& label : mdp.state_labels()) fingerprint.Add(label);
+  for (const auto& name : mdp.action_names()) fingerprint.Add(name);
+  for (StateIndex s = 0; s < mdp.num_states(); ++s) {
+    fingerprint.Add(static_cast<std::int64_t>(s));
+    for (std::int64_t c = mdp.choice_begin(s); c < mdp.choice_end(s); ++c) {
+      fingerprint.Add(mdp.choice_action(c));
+      fingerprint.Add(mdp.choice_reward(c));
+      const auto next = mdp.choice_next_states(c);
+      const auto prob = mdp.choice_probabilities(c);
+      for (std::size_t k = 0; k < next.size(); ++k) {
+        fingerprint.Add(next[k]);
+        fingerprint.Add(prob[k]);
+      }
+    }
+  }
+  return fingerprint.Hex();
+}
+
+PolicyDocument MakePolicyDocument(const FiniteMdp& mdp, const Policy& policy, std::string model,
+                                  double gamma, nlohmann::json model_config,
+                                  const SolverSummary& summary, const std::string& method) {
+  PolicyDocument document;
+  document.model = std::move(model);
+  document.model_hash = ModelHash(mdp);
+  document.gamma = gamma;
+  document.model_config = std::move(model_config);
+  document.solver = {
+      {"method", method},
+      {"status", summary.status == SolverStatus::kConverged ? "converged" : "max_iterations"},
+      {"iterations", summary.iterations},
+      {"residual", summary.residual},
+  };
+  for (StateIndex s = 0; s < mdp.num_states(); ++s) {
+    document.state_labels.push_back(mdp.state_label(s));
+    document.action_names.push_back(mdp.action_name(policy.action[s]));
+    document.values.push_back(policy.value[s]);
+  }
+  return document;
+}
+
+nlohmann::json PolicyToJson(const PolicyDocument& document) {
+  nlohmann::json states = nlohmann::json::array();
+  for (std::size_t i = 0; i < document.state_labels.size(); ++i) {
+    states.push_back({{"state", document.state_labels[i]},
+                      {"action", document.action_names[i]},
+                      {"value", document.values[i]}});
+  }
+  return {{"format", kPolicyFormat},
+          {"model", document.model},
+          {"model_hash", document.model_hash},
+          {"gamma", document.gamma},
+          {"model_config", document.model_config},
+          {"solver", document.solver},
+          {"states", states}};
+}
+
+namespace {
+template <typename T>
+T Field(const nlohmann::json& json, const char* key, const std::string& source, const char* expected) {
+  if (!json.contains(key)) throw InputError(source, key, std::string(expected) + ", but it is missing");
+  try {
+    return json.at(key).get<T>();
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(source, key, expected);
+  }
+}
+}  // namespace
+
+PolicyDocument PolicyFromJson(const nlohmann::json& json, const std::string& source) {
+  if (!json.is_object()) throw InputError(source, "(top level)", "a JSON object");
+  PolicyDocument document;
+  const auto format = Field<std::string>(json, "format", source, "a string");
+  if (format != kPolicyFormat) {
+    throw InputError(source, "format", fmt::format("'{}', got '{}'", kPolicyFormat, format));
+  }
+  document.model = Field<std::string>(json, "model", source, "a model name string");
+  document.model_hash = Field<std::string>(json, "model_hash", source, "a hash string");
+  document.gamma = Field<double>(json, "gamma", source, "a number");
+  document.model_config = json.value("model_config", nlohmann::json::object());
+  document.solver = json.value("solver", nlohmann::json::object());
+  if (!json.contains("states") || !json.at("states").is_array()) {
+    throw InputError(source, "states", "an array of {state, action, value}");
+  }
+  std::size_t i = 0;
+  for (const auto& entry : json.at("states")) {
+    const std::string where = fmt::format("states[{}]", i++);
+    if (!entry.is_object() || !entry.contains("state") || !entry.at("state").is_string() ||
+        !entry.contains("action") || !entry.at("action").is_string() || !entry.contains("value") ||
+        !entry.at("value").is_number()) {
+      throw InputError(source, where, "an object with string 'state', string 'action', number 'value'");
+    }
+    document.state_labels.push_back(entry.at("state").get<std::string>());
+    document.action_names.push_back(entry.at("action").get<std::string>());
+    document.values.push_back(entry.at("value").get<double>());
+  }
+  return document;
+}
+
+PolicyDocument ReadPolicyFile(const std::filesystem::path& path) {
+  const std::string text = ReadFile(path);
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(path.string(), fmt::format("byte {}", e.byte), "valid JSON");
+  }
+  return PolicyFromJson(json, path.string());
+}
+
+Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const std::string& source) {
+  const std::string expected_hash = ModelHash(mdp);
+  if (document.model_hash != expected_hash) {
+    throw InputError(source, "model_hash",
+                     fmt::format("{} (the model it is used with), got {}: the policy was solved for "
+                                 "another model or weights",
+                                 expected_hash, document.model_hash));
+  }
+  Policy policy;
+  policy.action.assign(static_cast<std::size_t>(mdp.num_states()), -1);
+  policy.value.assign(static_cast<std::size_t>(mdp.num_states()), 0.0);
+  for (std::size_t i = 0; i < document.state_labels.size(); ++i) {
+    const std::string where = fmt::format("states[{}]", i);
+    const StateIndex s = mdp.FindState(document.state_labels[i]);
+    if (s < 0) throw InputError(source, where + ".state", "a state of the model, got '" + document.state_labels[i] + "'");
+    if (policy.action[s] >= 0) throw InputError(source, where + ".state", "each state once");
+    const ActionIndex a = mdp.FindAction(document.action_names[i]);
+    if (a < 0 || !mdp.IsAvailable(s, a)) {
+      throw InputError(source, where + ".action",
+                       "an action available in " + document.state_labels[i] + ", got '" +
+                           document.action_names[i] + "'");
+    }
+    policy.action[s] = a;
+    policy.value[s] = document.values[i];
+  }
+  for (StateIndex s = 0; s < mdp.num_states(); ++s) {
+    if (policy.action[s] < 0) throw InputError(source, "states", "an entry for state " + mdp.state_label(s));
+  }
+  return policy;
+}
+
+}  // namespace uascma::decision

@@ -1,0 +1,58 @@
+#pragma once
+// Runs the built `uascma` binary in a shell and captures exit code, stdout and stderr. Shared by the
+// command tests of every module.
+#include <unistd.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+namespace uascma::testing_support {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string Slurp(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A fresh folder under the system temp folder, removed at the end of the test.
+struct ScratchDir {
+  explicit ScratchDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() /
+             ("uascma_test_" + name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~ScratchDir() { std::filesystem::remove_all(path); }
+  std::filesystem::path path;
+};
+
+// `arguments` is passed through the shell after the binary path.
+inline RunResult RunCli(const std::string& arguments) {
+  static int counter = 0;
+  const auto base = std::filesystem::temp_directory_path() /
+                    ("uascma_run_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  const std::string command = std::string(UASCMA_CLI_PATH) + " " + arguments + " >" + base.string() +
+                              ".out 2>" + base.string() + ".err";
+  const int status = std::system(command.c_str());
+  RunResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = Slurp(base.string() + ".out");
+  result.err = Slurp(base.string() + ".err");
+  std::filesystem::remove(base.string() + ".out");
+  std::filesystem::remove(base.string() + ".err");
+  return result;
+}
+
+}  // namespace uascma::testing_support
