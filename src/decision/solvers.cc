@@ -46,6 +46,22 @@ inline double SelfLoopSolvedQ(const FiniteMdp& mdp, std::int64_t c, StateIndex s
   return (mdp.choice_reward()[c] + gamma * others) / (1.0 - gamma * self);
 }
 
+// Σ_k p_k V(s'_k) over one row. Four partial sums break the floating-point add latency chain, which
+// otherwise bounds a sweep of 10-successor rows (measured: 5.8 → see bench/mdp_bench.cc).
+inline double RowExpectation(const StateIndex* next, const double* prob, std::int64_t begin,
+                             std::int64_t end, const double* value) {
+  double sum0 = 0.0, sum1 = 0.0, sum2 = 0.0, sum3 = 0.0;
+  std::int64_t k = begin;
+  for (; k + 4 <= end; k += 4) {
+    sum0 += prob[k] * value[next[k]];
+    sum1 += prob[k + 1] * value[next[k + 1]];
+    sum2 += prob[k + 2] * value[next[k + 2]];
+    sum3 += prob[k + 3] * value[next[k + 3]];
+  }
+  for (; k < end; ++k) sum0 += prob[k] * value[next[k]];
+  return (sum0 + sum1) + (sum2 + sum3);
+}
+
 // One in-place sweep of the optimality (policy == nullptr) or evaluation operator.
 double GaussSeidelSweep(const FiniteMdp& mdp, double gamma, std::vector<double>& value,
                         const std::vector<std::int64_t>* policy_choice) {
@@ -136,11 +152,7 @@ double BellmanSweep(const FiniteMdp& mdp, double gamma, const std::vector<double
     double best = kMinusInfinity;
     std::int64_t best_choice = state_begin[s];
     for (std::int64_t c = state_begin[s]; c < state_begin[s + 1]; ++c) {
-      double expected = 0.0;
-      for (std::int64_t k = row_begin[c]; k < row_begin[c + 1]; ++k) {
-        expected += prob[k] * v[next[k]];
-      }
-      const double q = reward[c] + gamma * expected;
+      const double q = reward[c] + gamma * RowExpectation(next, prob, row_begin[c], row_begin[c + 1], v);
       if (q > best) {
         best = q;
         best_choice = c;

@@ -196,3 +196,74 @@ TEST_F(CmaConfigFileTest, MissingOrNonNumericWeightNamesFileAndKey) {
 
 }  // namespace
 }  // namespace uascma::decision
+
+namespace uascma::decision {
+namespace {
+
+std::string ActionAt(const FiniteMdp& mdp, const Policy& policy, const std::string& state) {
+  return mdp.action_name(policy.action[mdp.FindState(state)]);
+}
+
+// §5.3.2.5 with the default weights (eqs. 5.28-5.29) and γ = 0.95, quadrant by quadrant.
+TEST(CmaPolicyTest, QuadrantsBehaveAsSection5_3_2_5Describes) {
+  const FiniteMdp mdp = BuildCmaMdp({});
+  const Policy policy = SolveValueIteration(mdp, {});
+  for (const std::string mh : {"NF", "SF", "JF"}) {
+    for (const std::string bh : {"G", "M", "P"}) {
+      // Quad I (safe, RM1 MM1): continue the current plan in every flight status.
+      for (const std::string fs : {"N", "ELASAP", "ELPRACT"}) {
+        EXPECT_EQ(ActionAt(mdp, policy, fs + "," + mh + ",MM1," + bh + ",RM1"), "NoOp");
+      }
+      // Quad II (hazardous, RM1 MM0) in nominal flight: continue, or land when practical. It lands
+      // exactly while the motor is spalled (not yet jammed) and the battery is not poor.
+      const std::string quad2 = ActionAt(mdp, policy, "N," + mh + ",MM0," + bh + ",RM1");
+      EXPECT_EQ(quad2, (mh == "SF" && bh != "P") ? "LandPract" : "NoOp") << mh << "," << bh;
+      // Quad III (hyper-critical) and IV (critical) in nominal flight: land when practical (Fig. 5.13
+      // is N,NF,MM0,G,RM0).
+      EXPECT_EQ(ActionAt(mdp, policy, "N," + mh + ",MM0," + bh + ",RM0"), "LandPract");
+      EXPECT_EQ(ActionAt(mdp, policy, "N," + mh + ",MM1," + bh + ",RM0"), "LandPract");
+      // While landing ASAP with no energy margin, the only alternative left is termination.
+      EXPECT_EQ(ActionAt(mdp, policy, "ELASAP," + mh + ",MM0," + bh + ",RM0"), "Terminate");
+      EXPECT_EQ(ActionAt(mdp, policy, "ELASAP," + mh + ",MM1," + bh + ",RM0"), "Terminate");
+      // While landing when practical with no energy margin: escalate to LandASAP, except for a
+      // poor battery with a jammed motor, where the policy terminates.
+      const std::string escalate = ActionAt(mdp, policy, "ELPRACT," + mh + ",MM1," + bh + ",RM0");
+      EXPECT_EQ(escalate, (mh == "JF" && bh == "P") ? "Terminate" : "LandASAP") << mh << "," << bh;
+    }
+  }
+}
+
+// Fig. 5.11: a larger w_MM adds LandASAP to Quad II for good and medium battery health.
+TEST(CmaPolicyTest, LargerMotorMarginWeightAddsLandAsapToQuadII) {
+  const Policy base = SolveValueIteration(BuildCmaMdp({}), {});
+  const FiniteMdp mdp = BuildCmaMdp(CmaWeights{}.WithRenormalised("MM", 0.1));
+  const Policy policy = SolveValueIteration(mdp, {});
+  for (const std::string bh : {"G", "M"}) {
+    const std::string state = "ELPRACT,SF,MM0," + bh + ",RM1";
+    EXPECT_EQ(ActionAt(mdp, base, state), "NoOp");
+    EXPECT_EQ(ActionAt(mdp, policy, state), "LandASAP");
+  }
+}
+
+// Fig. 5.12: with w_MM = 0 there is no emergency landing in Quad II, and LandASAP appears in Quad I.
+TEST(CmaPolicyTest, ZeroMotorMarginWeightDropsQuadIILandingsAndAddsLandAsapToQuadI) {
+  const FiniteMdp mdp = BuildCmaMdp(CmaWeights{}.WithRenormalised("MM", 0.0));
+  const Policy policy = SolveValueIteration(mdp, {});
+  for (const std::string mh : {"NF", "SF", "JF"}) {
+    for (const std::string bh : {"G", "M", "P"}) {
+      EXPECT_EQ(ActionAt(mdp, policy, "N," + mh + ",MM0," + bh + ",RM1"), "NoOp");
+    }
+  }
+  EXPECT_EQ(ActionAt(mdp, policy, "ELPRACT,JF,MM1,G,RM1"), "LandASAP");
+}
+
+TEST(CmaPolicyTest, SolvesFromScratchInAFewSweeps) {
+  // Gauss-Seidel with self-loops solved exactly; Jacobi needs hundreds of sweeps at γ = 0.95.
+  SolverSummary summary;
+  SolveValueIteration(BuildCmaMdp({}), {}, &summary);
+  EXPECT_EQ(summary.status, SolverStatus::kConverged);
+  EXPECT_LT(summary.iterations, 50);
+}
+
+}  // namespace
+}  // namespace uascma::decision
