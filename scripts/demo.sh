@@ -6,4 +6,6 @@ out="$build/demo"
 mkdir -p "$out"
 "$build/uascma" policy solve --model cma --out "$out/cma-policy.json"
 echo
-"$build/uascma" policy show "$out/cma-policy.json"
+"$build/uascma" policy show "$out/cma-policy.json" --plot "$out/cma-policy.png"
+echo
+echo "quadrant figure: $out/cma-policy.png"

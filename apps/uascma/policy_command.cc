@@ -1,5 +1,8 @@
 // uascma policy — inspect, solve, show and tune the contingency-management MDP (dissertation §5.3.2).
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -8,6 +11,8 @@
 
 #include "commands.h"
 #include "output.h"
+#include "plotting.h"
+#include "uascma/common/files.h"
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/policy_file.h"
@@ -197,6 +202,7 @@ void AddShow(CLI::App* policy) {
   auto file = std::make_shared<std::string>();
   auto weights_file = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
+  auto plot = std::make_shared<std::string>();
   CLI::App* command = policy->add_subcommand(
       "show",
       "Show a CMA policy file in the quadrant view of Fig. 5.9: rows by FS, MH, BH; columns by the\n"
@@ -205,23 +211,37 @@ void AddShow(CLI::App* policy) {
   command->add_option("policy", *file, "Policy JSON written by 'uascma policy solve'")->required();
   command->add_option("--weights", *weights_file, "Check the policy against the model of these weights");
   command->add_flag("--json", *json, "Print the quadrant view as JSON");
-  command->callback([file, weights_file, json] {
+  command->add_option("--plot", *plot, "Also draw the quadrant view to this PNG file");
+  command->callback([file, weights_file, json, plot] {
     const PolicyDocument document = ReadPolicyFile(*file);
     const FiniteMdp mdp = ModelForPolicy(document, *weights_file, *file);
     const Policy policy = BindPolicy(document, mdp, *file);
     const auto rows = CmaQuadrantView(policy.action, policy.value);
-    if (*json) {
-      nlohmann::json out = {{"model_hash", document.model_hash}, {"gamma", document.gamma}, {"rows", nlohmann::json::array()}};
-      for (const QuadrantRow& row : rows) {
-        nlohmann::json quadrants = nlohmann::json::object();
-        for (int q = 0; q < 4; ++q) {
-          quadrants[kQuadrantNames[q]] = {{"state", CmaStateLabel(row.quadrants[q].state)},
-                                          {"action", mdp.action_name(row.quadrants[q].action)},
-                                          {"value", row.quadrants[q].value}};
-        }
-        out["rows"].push_back(quadrants);
+    nlohmann::json view = {{"model_hash", document.model_hash}, {"gamma", document.gamma},
+                           {"rows", nlohmann::json::array()}};
+    for (const QuadrantRow& row : rows) {
+      nlohmann::json quadrants = nlohmann::json::object();
+      for (int q = 0; q < 4; ++q) {
+        quadrants[kQuadrantNames[q]] = {{"state", CmaStateLabel(row.quadrants[q].state)},
+                                        {"action", mdp.action_name(row.quadrants[q].action)},
+                                        {"value", row.quadrants[q].value}};
       }
-      PrintJson(out);
+      view["rows"].push_back(quadrants);
+    }
+    if (!plot->empty()) {
+      const auto data = std::filesystem::temp_directory_path() /
+                        ("uascma_quadrants_" + std::to_string(::getpid()) + ".json");
+      WriteFileAtomically(data, view.dump());
+      try {
+        RunPlotScript("policy_quadrants.py", {data.string(), *plot});
+      } catch (...) {
+        std::filesystem::remove(data);
+        throw;
+      }
+      std::filesystem::remove(data);
+    }
+    if (*json) {
+      PrintJson(view);
       return;
     }
     std::printf("CMA policy %s (model %s, gamma %g)\n\n%s", file->c_str(), document.model_hash.c_str(),

@@ -64,9 +64,11 @@ TEST(CliTest, SolveTsvHas108StatesAndShowReadsTheJson) {
   ScratchDir dir("solve_show");
   const std::string policy = (dir.path / "p.json").string();
   ASSERT_EQ(RunCli("policy solve --model cma --out " + policy).exit_code, 0);
-  const auto show = RunCli("policy show " + policy);
+  const std::string png = (dir.path / "q.png").string();
+  const auto show = RunCli("policy show " + policy + " --plot " + png);
   ASSERT_EQ(show.exit_code, 0) << show.err;
   EXPECT_NE(show.out.find("III hyper"), std::string::npos);
+  EXPECT_EQ(testing_support::Slurp(png).substr(1, 3), "PNG");
 }
 
 TEST(CliTest, BadWeightsFileIsExitTwoAndWritesNothing) {

@@ -1,0 +1,14 @@
+#pragma once
+// Drawing results: the CLI writes the data, then runs one of the matplotlib scripts in python/plots/ with
+// Debian's interpreter (/usr/bin/python3, shared/spec/dependencies.md). Scripts are found in
+// $UASCMA_PLOTS_DIR, else the source tree this binary was built from, else <prefix>/share/uascma/plots.
+#include <string>
+#include <vector>
+
+namespace uascma::cli {
+
+// Runs `script` (a file name in the plots folder) with `arguments`; throws InputError when the
+// interpreter or script is missing or the script fails (its stderr is passed through).
+void RunPlotScript(const std::string& script, const std::vector<std::string>& arguments);
+
+}  // namespace uascma::cli
