@@ -5,24 +5,9 @@
 #include <vector>
 
 #include "uascma/common/error.h"
+#include "uascma/common/random.h"
 
 namespace uascma::decision {
-namespace {
-
-// SplitMix64 (Steele, Lea & Flood, "Fast splittable pseudorandom number generators", 2014).
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t Next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double Uniform() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }  // [0, 1)
-};
-
-}  // namespace
-
 FiniteMdp MakeRandomMdp(int num_states, int num_actions, int successors, std::uint64_t seed) {
   if (num_states < 1 || num_actions < 1 || successors < 1 || successors > num_states) {
     throw InputError("random MDP", "size", "states >= 1, actions >= 1, 1 <= successors <= states");
@@ -32,7 +17,7 @@ FiniteMdp MakeRandomMdp(int num_states, int num_actions, int successors, std::ui
   std::vector<std::string> actions(static_cast<std::size_t>(num_actions));
   for (int a = 0; a < num_actions; ++a) actions[a] = "a" + std::to_string(a);
   FiniteMdpBuilder builder(std::move(labels), std::move(actions));
-  SplitMix64 random{seed};
+  RandomStream random(seed);
   std::vector<Transition> row(static_cast<std::size_t>(successors));
   for (StateIndex s = 0; s < num_states; ++s) {
     for (ActionIndex a = 0; a < num_actions; ++a) {
@@ -41,7 +26,7 @@ FiniteMdp MakeRandomMdp(int num_states, int num_actions, int successors, std::ui
         StateIndex next;
         bool duplicate;
         do {  // distinct successors (rejection is cheap: successors << states in practice)
-          next = static_cast<StateIndex>(random.Next() % static_cast<std::uint64_t>(num_states));
+          next = static_cast<StateIndex>(random.UniformIndex(static_cast<std::uint64_t>(num_states)));
           duplicate = std::any_of(row.begin(), row.begin() + k,
                                   [next](const Transition& t) { return t.next_state == next; });
         } while (duplicate);

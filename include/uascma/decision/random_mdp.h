@@ -2,7 +2,7 @@
 // Random sparse MDPs for solver tests and benchmarks: every state has `num_actions` actions, each
 // with `successors` distinct next states drawn uniformly (probabilities from normalised uniform
 // draws) and a reward uniform in [-1, 1]. The same seed gives the same MDP on every platform
-// (SplitMix64 stream, no standard-library distributions).
+// (RandomStream of common/random.h, no standard-library distributions).
 #include <cstdint>
 
 #include "uascma/decision/finite_mdp.h"

@@ -1,0 +1,80 @@
+#pragma once
+// Wind: a mean wind plus Dryden turbulence (MIL-F-8785C), as specified in shared/spec/dryden.md, with the
+// four gust categories of Table 4.4 (Low-Light, Low-Moderate, Medium-Light, Medium-Moderate).
+//
+// Gust axes: u along the horizontal mean wind, v across it (90° clockwise seen from above, i.e. to the
+// right of the wind in NED), w vertical (positive down, NED). The returned wind is the air velocity in the
+// world frame W (NED), m/s: the air moves *towards* `direction_rad` (measured from North, clockwise).
+//
+// Forming filters (V = airspeed, floored at min_airspeed for a hovering vehicle):
+//   H_u(s) = σ_u √(2 L_u / (π V)) / (1 + (L_u/V) s)
+//   H_v(s) = σ_v √(L_v / (π V)) (1 + √3 (L_v/V) s) / (1 + (L_v/V) s)²     (H_w alike)
+// Discretisation keeping the variance right (dryden.md): u is the exact Gauss–Markov step
+// u ← a u + σ_u √(1 − a²) η with a = exp(−V Δt / L_u); v and w are the exact zero-order-hold discretisation
+// of the second-order filter driven by white noise of variance π/Δt held over the step.
+#include <Eigen/Core>
+
+#include <string>
+
+#include "uascma/common/random.h"
+
+namespace uascma::models {
+
+enum class TurbulenceCategory { kNone, kLowLight, kLowModerate, kMediumLight, kMediumModerate };
+
+// "none", "low-light", "low-moderate", "medium-light", "medium-moderate" (InputError otherwise).
+TurbulenceCategory ParseTurbulenceCategory(const std::string& name, const std::string& source);
+const char* TurbulenceCategoryName(TurbulenceCategory category);
+
+struct WindParams {
+  double mean_speed = 0.0;     // m/s; Table 4.4 samples 1–3 m/s
+  double direction_rad = 0.0;  // towards, from North clockwise; Table 4.4 samples 0–π
+  TurbulenceCategory turbulence = TurbulenceCategory::kNone;
+  double min_airspeed = 1.0;   // m/s, V floor for the forming filters (dryden.md, "V_min = 1 m/s")
+  // Altitude (m above ground) at which the "Medium" categories are evaluated: the middle of the
+  // 1000–2000 ft band of MIL-F-8785C. Our estimate: the dissertation names the category, not a height.
+  double medium_band_altitude = 1500.0 * 0.3048;
+  bool IsValid(std::string* error) const;
+};
+
+// Turbulence intensities σ (m/s) and scale lengths L (m) of one category at one altitude.
+struct DrydenIntensity {
+  double sigma_u = 0.0, sigma_v = 0.0, sigma_w = 0.0;
+  double length_u = 1.0, length_v = 1.0, length_w = 1.0;
+};
+// Low band (h < 1000 ft, h floored at 10 ft): L_w = h, L_u = L_v = h / (0.177 + 0.000823 h)^1.2,
+// σ_w = 0.1 W20, σ_u = σ_v = σ_w / (0.177 + 0.000823 h)^0.4. Medium band: linear in h between the low
+// model at 1000 ft and the isotropic model at 2000 ft (L = 1750 ft, σ = σ_w). W20 = 15 kt (light) or
+// 30 kt (moderate).
+DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m,
+                                    double medium_band_altitude_m);
+
+// The filter states (shape: one first-order state for u, two for each of v and w).
+struct WindState {
+  double gust_u = 0.0;
+  double v_lag1 = 0.0, v_lag2 = 0.0;
+  double w_lag1 = 0.0, w_lag2 = 0.0;
+};
+
+class WindModel {
+ public:
+  explicit WindModel(const WindParams& params);
+  const WindParams& params() const { return params_; }
+
+  // A state drawn from the stationary distribution of u (v and w start at rest).
+  WindState InitialState(double altitude_m, RandomStream& random) const;
+  // Advances the gust filters by dt at the given altitude (m above ground) and airspeed (m/s), and
+  // returns the wind velocity in W (NED), m/s.
+  Eigen::Vector3d Step(WindState& state, double altitude_m, double airspeed, double dt,
+                       RandomStream& random) const;
+  // The wind of a state without advancing it (mean + gust outputs).
+  Eigen::Vector3d Evaluate(const WindState& state, double altitude_m, double airspeed) const;
+  Eigen::Vector3d MeanWind_W() const { return mean_W_; }
+
+ private:
+  WindParams params_;
+  Eigen::Vector3d mean_W_;
+  Eigen::Vector3d axis_u_W_, axis_v_W_;
+};
+
+}  // namespace uascma::models

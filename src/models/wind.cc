@@ -1,0 +1,157 @@
+#include "uascma/models/wind.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+
+namespace uascma::models {
+namespace {
+
+constexpr double kFeetToMetres = 0.3048;
+constexpr double kKnotsToMetresPerSecond = 1852.0 / 3600.0;
+constexpr double kLowBandTopFt = 1000.0;     // MIL-F-8785C low-altitude model below 1000 ft
+constexpr double kHighBandBottomFt = 2000.0;  // isotropic above 2000 ft
+constexpr double kIsotropicLengthFt = 1750.0;
+constexpr double kMinAltitudeFt = 10.0;      // the low-altitude model holds for h >= 10 ft
+
+struct LowBand {
+  double sigma_u, sigma_w, length_u, length_w;  // ft/s-agnostic: σ in m/s, lengths in ft
+};
+
+LowBand LowAltitudeModel(double sigma_w, double altitude_ft) {
+  const double h = std::max(altitude_ft, kMinAltitudeFt);
+  const double base = 0.177 + 0.000823 * h;
+  return {sigma_w / std::pow(base, 0.4), sigma_w, h / std::pow(base, 1.2), h};
+}
+
+// Output of the second-order forming filter from its two lag states (see wind.h):
+// y = K [y2 + a (y1 − y2) / b] with K = σ √(L/(πV)), a = √3 L/V, b = L/V.
+double SecondOrderOutput(double lag1, double lag2, double sigma, double length, double airspeed) {
+  const double gain = sigma * std::sqrt(length / (std::numbers::pi * airspeed));
+  return gain * (lag2 + std::numbers::sqrt3 * (lag1 - lag2));
+}
+
+// Exact ZOH step of two cascaded identical lags 1/(1 + b s) with input u held over dt.
+void SecondOrderStep(double& lag1, double& lag2, double input, double time_constant, double dt) {
+  const double e = std::exp(-dt / time_constant);
+  const double r = dt / time_constant;
+  const double next_lag2 = e * lag2 + r * e * lag1 + (1.0 - e - r * e) * input;
+  lag1 = e * lag1 + (1.0 - e) * input;
+  lag2 = next_lag2;
+}
+
+}  // namespace
+
+TurbulenceCategory ParseTurbulenceCategory(const std::string& name, const std::string& source) {
+  for (auto category : {TurbulenceCategory::kNone, TurbulenceCategory::kLowLight,
+                        TurbulenceCategory::kLowModerate, TurbulenceCategory::kMediumLight,
+                        TurbulenceCategory::kMediumModerate}) {
+    if (name == TurbulenceCategoryName(category)) return category;
+  }
+  throw InputError(source, "turbulence",
+                   "one of none|low-light|low-moderate|medium-light|medium-moderate, got '" + name + "'");
+}
+
+const char* TurbulenceCategoryName(TurbulenceCategory category) {
+  switch (category) {
+    case TurbulenceCategory::kNone: return "none";
+    case TurbulenceCategory::kLowLight: return "low-light";
+    case TurbulenceCategory::kLowModerate: return "low-moderate";
+    case TurbulenceCategory::kMediumLight: return "medium-light";
+    case TurbulenceCategory::kMediumModerate: return "medium-moderate";
+  }
+  return "none";
+}
+
+bool WindParams::IsValid(std::string* error) const {
+  if (!(std::isfinite(mean_speed) && mean_speed >= 0.0)) {
+    if (error) *error = fmt::format("mean_speed: expected >= 0 m/s, got {}", mean_speed);
+    return false;
+  }
+  if (!std::isfinite(direction_rad)) {
+    if (error) *error = "direction_rad: expected a finite angle";
+    return false;
+  }
+  if (!(min_airspeed > 0.0)) {
+    if (error) *error = fmt::format("min_airspeed: expected > 0 m/s, got {}", min_airspeed);
+    return false;
+  }
+  return true;
+}
+
+DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m,
+                                    double medium_band_altitude_m) {
+  if (category == TurbulenceCategory::kNone) return {};
+  const bool moderate = category == TurbulenceCategory::kLowModerate ||
+                        category == TurbulenceCategory::kMediumModerate;
+  const double w20 = (moderate ? 30.0 : 15.0) * kKnotsToMetresPerSecond;  // dryden.md: W20
+  const double sigma_w = 0.1 * w20;
+  const bool medium = category == TurbulenceCategory::kMediumLight ||
+                      category == TurbulenceCategory::kMediumModerate;
+  DrydenIntensity intensity;
+  if (!medium) {
+    const LowBand low = LowAltitudeModel(sigma_w, altitude_m / kFeetToMetres);
+    intensity.sigma_u = intensity.sigma_v = low.sigma_u;
+    intensity.sigma_w = low.sigma_w;
+    intensity.length_u = intensity.length_v = low.length_u * kFeetToMetres;
+    intensity.length_w = low.length_w * kFeetToMetres;
+    return intensity;
+  }
+  // Medium band: interpolate between the low model at 1000 ft and the isotropic one at 2000 ft.
+  const double h_ft = std::clamp(medium_band_altitude_m / kFeetToMetres, kLowBandTopFt, kHighBandBottomFt);
+  const double fraction = (h_ft - kLowBandTopFt) / (kHighBandBottomFt - kLowBandTopFt);
+  const LowBand top = LowAltitudeModel(sigma_w, kLowBandTopFt);
+  auto blend = [fraction](double low, double high) { return low + fraction * (high - low); };
+  intensity.sigma_u = intensity.sigma_v = blend(top.sigma_u, sigma_w);
+  intensity.sigma_w = sigma_w;
+  intensity.length_u = intensity.length_v = blend(top.length_u, kIsotropicLengthFt) * kFeetToMetres;
+  intensity.length_w = blend(top.length_w, kIsotropicLengthFt) * kFeetToMetres;
+  return intensity;
+}
+
+WindModel::WindModel(const WindParams& params) : params_(params) {
+  std::string error;
+  if (!params.IsValid(&error)) throw InputError("wind: " + error);
+  const double north = std::cos(params.direction_rad);
+  const double east = std::sin(params.direction_rad);
+  axis_u_W_ = Eigen::Vector3d(north, east, 0.0);
+  axis_v_W_ = Eigen::Vector3d(-east, north, 0.0);  // 90° clockwise from u, seen from above
+  mean_W_ = params.mean_speed * axis_u_W_;
+}
+
+WindState WindModel::InitialState(double altitude_m, RandomStream& random) const {
+  WindState state;
+  const DrydenIntensity in = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  state.gust_u = in.sigma_u * random.Normal();
+  return state;
+}
+
+Eigen::Vector3d WindModel::Evaluate(const WindState& state, double altitude_m, double airspeed) const {
+  if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
+  const DrydenIntensity in = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  const double speed = std::max(airspeed, params_.min_airspeed);
+  const double gust_v = SecondOrderOutput(state.v_lag1, state.v_lag2, in.sigma_v, in.length_v, speed);
+  const double gust_w = SecondOrderOutput(state.w_lag1, state.w_lag2, in.sigma_w, in.length_w, speed);
+  return mean_W_ + state.gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
+}
+
+Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airspeed, double dt,
+                                RandomStream& random) const {
+  if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
+  const DrydenIntensity in = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  const double speed = std::max(airspeed, params_.min_airspeed);
+  // u: exact Gauss–Markov step (stationary variance σ_u²).
+  const double a = std::exp(-speed * dt / in.length_u);
+  state.gust_u = a * state.gust_u + in.sigma_u * std::sqrt(1.0 - a * a) * random.Normal();
+  // v, w: white noise of variance π/Δt held over the step, through the exact ZOH filter.
+  const double noise_scale = std::sqrt(std::numbers::pi / dt);
+  SecondOrderStep(state.v_lag1, state.v_lag2, noise_scale * random.Normal(), in.length_v / speed, dt);
+  SecondOrderStep(state.w_lag1, state.w_lag2, noise_scale * random.Normal(), in.length_w / speed, dt);
+  return Evaluate(state, altitude_m, airspeed);
+}
+
+}  // namespace uascma::models
