@@ -1,0 +1,85 @@
+#pragma once
+// Flight plans: straight segments flown with trapezoidal velocity profiles (rest to rest at every
+// waypoint) and hovers, as the dissertation's flight planner generates them (§4.3.3, §5.4: "a trapezoidal
+// velocity profile with limits on velocity and accelerations"). Positions are in the world frame W (NED,
+// metres, z down, ground at z = 0); times in seconds from the plan's start.
+//
+// The package-delivery plan (§4.3.3, Fig. 4.6; shared/spec/defaults.md "Guidance and control"): take off
+// vertically to the cruise altitude, cruise to the destination, hover for the drop, cruise back, land
+// vertically at home.
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace uascma::planning {
+
+struct PlanLimits {
+  double cruise_speed = 5.0;        // m/s horizontal; Table 4.4 samples 1–9 m/s
+  double vertical_speed = 2.0;      // m/s climb and descent; our estimate for a small hexacopter
+  double horizontal_accel = 2.0;    // m/s², defaults.md (estimate within the tested envelope)
+  double vertical_accel = 1.0;      // m/s², defaults.md
+  bool IsValid(std::string* error) const;
+};
+
+// Where the plan should be at one instant: position, velocity, acceleration in W.
+struct PlanReference {
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a_W = Eigen::Vector3d::Zero();
+  int segment = 0;
+};
+
+struct PlanSegment {
+  enum class Kind { kMove, kHover };
+  Kind kind = Kind::kMove;
+  std::string label;                  // "takeoff", "cruise out", "drop", …
+  Eigen::Vector3d start_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end_W = Eigen::Vector3d::Zero();
+  double start_time = 0.0;            // s
+  double duration = 0.0;              // s
+  // Trapezoid along the segment: accelerate for accel_time at `accel`, coast at peak_speed, brake.
+  double accel = 0.0;                 // m/s²
+  double peak_speed = 0.0;            // m/s
+  double accel_time = 0.0;            // s
+};
+
+struct Waypoint {
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();
+  double hover_after_s = 0.0;  // hover this long on arrival
+  std::string label;
+};
+
+class FlightPlan {
+ public:
+  FlightPlan() = default;
+  // Straight moves from `start_W` through the waypoints. Throws InputError on invalid limits.
+  static FlightPlan Through(const Eigen::Vector3d& start_W, const std::vector<Waypoint>& waypoints,
+                            const PlanLimits& limits);
+
+  PlanReference At(double time) const;  // clamps to the start and end of the plan
+  double duration() const { return segments_.empty() ? 0.0 : segments_.back().start_time + segments_.back().duration; }
+  double TimeRemaining(double time) const;
+  double Length() const;  // m, path length
+  bool empty() const { return segments_.empty(); }
+  const std::vector<PlanSegment>& segments() const { return segments_; }
+  Eigen::Vector3d start_W() const { return segments_.empty() ? Eigen::Vector3d::Zero() : segments_.front().start_W; }
+  Eigen::Vector3d end_W() const { return segments_.empty() ? Eigen::Vector3d::Zero() : segments_.back().end_W; }
+  // The point at arc length `distance` from the start (for checkpoints), m.
+  Eigen::Vector3d PointAtDistance(double distance) const;
+
+ private:
+  std::vector<PlanSegment> segments_;
+};
+
+struct DeliveryMission {
+  Eigen::Vector2d home_NE = Eigen::Vector2d::Zero();         // m
+  Eigen::Vector2d destination_NE = Eigen::Vector2d(600, 0);  // m
+  double cruise_altitude = 30.0;  // m above ground; defaults.md: 10 m above the tallest building
+  double drop_hover_s = 30.0;     // defaults.md
+  bool IsValid(std::string* error) const;
+};
+
+FlightPlan MakeDeliveryPlan(const DeliveryMission& mission, const PlanLimits& limits);
+
+}  // namespace uascma::planning
