@@ -1,0 +1,131 @@
+#include "uascma/models/drag.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/frames.h"
+
+namespace uascma::models {
+namespace {
+
+// Index i with axis[i] <= x < axis[i+1] (clamped to the table), and the fraction within the cell.
+void Locate(const std::vector<double>& axis, double x, int* index, double* fraction) {
+  if (x <= axis.front()) {
+    *index = 0;
+    *fraction = 0.0;
+    return;
+  }
+  if (x >= axis.back()) {
+    *index = static_cast<int>(axis.size()) - 2;
+    *fraction = 1.0;
+    return;
+  }
+  const auto it = std::upper_bound(axis.begin(), axis.end(), x);
+  *index = static_cast<int>(it - axis.begin()) - 1;
+  *fraction = (x - axis[*index]) / (axis[*index + 1] - axis[*index]);
+}
+
+}  // namespace
+
+DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_rad, std::vector<double> drag_n,
+                     const std::string& source)
+    : airspeeds_(std::move(airspeeds)), pitches_(std::move(pitches_rad)), drag_(std::move(drag_n)) {
+  if (airspeeds_.size() < 2 || pitches_.size() < 2) {
+    throw InputError(source, "axes", "at least two airspeeds and two pitches");
+  }
+  for (std::size_t i = 1; i < airspeeds_.size(); ++i) {
+    if (!(airspeeds_[i] > airspeeds_[i - 1])) throw InputError(source, "airspeed axis", "strictly increasing values");
+  }
+  for (std::size_t j = 1; j < pitches_.size(); ++j) {
+    if (!(pitches_[j] > pitches_[j - 1])) throw InputError(source, "pitch axis", "strictly increasing values");
+  }
+  if (airspeeds_.front() < 0.0) throw InputError(source, "airspeed axis", "non-negative airspeeds");
+  if (drag_.size() != airspeeds_.size() * pitches_.size()) {
+    throw InputError(source, "table", fmt::format("{} × {} drag values", airspeeds_.size(), pitches_.size()));
+  }
+  for (double d : drag_) {
+    if (!std::isfinite(d) || d < 0.0) throw InputError(source, "table", "finite non-negative drag values (N)");
+  }
+}
+
+DragTable DragTable::Default(PropellerConfiguration configuration) {
+  const double scale = configuration == PropellerConfiguration::kPusher ? 1.25 : 1.0;
+  std::vector<double> airspeeds, pitches, drag;
+  for (int v = 0; v <= 10; ++v) airspeeds.push_back(v);
+  for (int p = -30; p <= 30; p += 5) pitches.push_back(p / kDegreesPerRadian);
+  for (double v : airspeeds) {
+    for (double theta : pitches) {
+      const double area = 0.05 * std::abs(std::cos(theta)) + 0.10 * std::abs(std::sin(theta));  // m²
+      drag.push_back(scale * 0.5 * kAirDensity * area * v * v);
+    }
+  }
+  return DragTable(std::move(airspeeds), std::move(pitches), std::move(drag), "default drag table");
+}
+
+DragTable DragTable::FromCsv(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  std::ifstream in(path);
+  if (!in) throw InputError(source, "file", "a readable CSV drag table");
+  std::string line;
+  auto parse = [&](const std::string& cell, int row, int column) {
+    try {
+      std::size_t used = 0;
+      const double value = std::stod(cell, &used);
+      if (used != cell.size() && cell.find_first_not_of(" \t\r", used) != std::string::npos) throw std::invalid_argument("");
+      return value;
+    } catch (const std::exception&) {
+      throw InputError(source, fmt::format("row {}, column {}", row, column), "a number, got '" + cell + "'");
+    }
+  };
+  std::vector<double> pitches, airspeeds, drag;
+  int row = 0;
+  while (std::getline(in, line)) {
+    ++row;
+    if (line.empty() || line == "\r") continue;
+    std::stringstream cells(line);
+    std::string cell;
+    int column = 0;
+    std::vector<double> values;
+    while (std::getline(cells, cell, ',')) {
+      ++column;
+      if (row == 1 && column == 1) continue;  // the "airspeed_mps" corner
+      values.push_back(parse(cell, row, column));
+    }
+    if (row == 1) {
+      for (double degrees : values) pitches.push_back(degrees / kDegreesPerRadian);
+      continue;
+    }
+    if (values.size() != pitches.size() + 1) {
+      throw InputError(source, fmt::format("row {}", row), fmt::format("{} values", pitches.size() + 1));
+    }
+    airspeeds.push_back(values.front());
+    drag.insert(drag.end(), values.begin() + 1, values.end());
+  }
+  return DragTable(std::move(airspeeds), std::move(pitches), std::move(drag), source);
+}
+
+double DragTable::Drag(double airspeed, double pitch) const {
+  airspeed = std::max(airspeed, 0.0);
+  const double top = airspeeds_.back();
+  const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;
+  int i, j;
+  double fi, fj;
+  Locate(airspeeds_, std::min(airspeed, top), &i, &fi);
+  Locate(pitches_, pitch, &j, &fj);
+  const double low = (1 - fj) * At(i, j) + fj * At(i, j + 1);
+  const double high = (1 - fj) * At(i + 1, j) + fj * At(i + 1, j + 1);
+  return growth * ((1 - fi) * low + fi * high);
+}
+
+double DragTable::DragSlope(double airspeed, double pitch) const {
+  constexpr double kStep = 1e-3;  // m/s, central difference across at most one table breakpoint
+  const double low = std::max(airspeed - kStep, 0.0);
+  return (Drag(airspeed + kStep, pitch) - Drag(low, pitch)) / (airspeed + kStep - low);
+}
+
+}  // namespace uascma::models
