@@ -6,5 +6,8 @@
 namespace uascma::cli {
 
 void AddPolicyCommand(CLI::App& app);     // policy_command.cc
+void AddRulCommand(CLI::App& app);        // rul_command.cc
+void AddThrustCommand(CLI::App& app);     // thrust_command.cc
+void AddAuthorityCommand(CLI::App& app);  // authority_command.cc
 
 }  // namespace uascma::cli

@@ -20,6 +20,9 @@ int main(int argc, char** argv) {
   app.fallthrough(false);
 
   uascma::cli::AddPolicyCommand(app);
+  uascma::cli::AddThrustCommand(app);
+  uascma::cli::AddAuthorityCommand(app);
+  uascma::cli::AddRulCommand(app);
 
   try {
     app.parse(argc, argv);

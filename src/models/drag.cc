@@ -13,24 +13,37 @@
 namespace uascma::models {
 namespace {
 
-// Index i with axis[i] <= x < axis[i+1] (clamped to the table), and the fraction within the cell.
-void Locate(const std::vector<double>& axis, double x, int* index, double* fraction) {
-  if (x <= axis.front()) {
+// The uniform spacing of an axis, or 0 when its steps differ by more than round-off.
+double UniformStep(const std::vector<double>& axis) {
+  const double step = (axis.back() - axis.front()) / static_cast<double>(axis.size() - 1);
+  for (std::size_t i = 1; i < axis.size(); ++i) {
+    if (std::abs(axis[i] - axis[i - 1] - step) > 1e-9 * std::max(1.0, std::abs(step))) return 0.0;
+  }
+  return step;
+}
+
+}  // namespace
+
+// Index i with values[i] <= x < values[i+1] (clamped to the table), and the fraction within the cell.
+void DragTable::Axis::Locate(double x, int* index, double* fraction) const {
+  const int last_cell = static_cast<int>(values.size()) - 2;
+  if (x <= values.front()) {
     *index = 0;
     *fraction = 0.0;
     return;
   }
-  if (x >= axis.back()) {
-    *index = static_cast<int>(axis.size()) - 2;
+  if (x >= values.back()) {
+    *index = last_cell;
     *fraction = 1.0;
     return;
   }
-  const auto it = std::upper_bound(axis.begin(), axis.end(), x);
-  *index = static_cast<int>(it - axis.begin()) - 1;
-  *fraction = (x - axis[*index]) / (axis[*index + 1] - axis[*index]);
+  if (uniform_step > 0.0) {
+    *index = std::min(static_cast<int>((x - values.front()) / uniform_step), last_cell);
+  } else {
+    *index = static_cast<int>(std::upper_bound(values.begin(), values.end(), x) - values.begin()) - 1;
+  }
+  *fraction = (x - values[*index]) / (values[*index + 1] - values[*index]);
 }
-
-}  // namespace
 
 DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_rad, std::vector<double> drag_n,
                      const std::string& source)
@@ -51,6 +64,8 @@ DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_
   for (double d : drag_) {
     if (!std::isfinite(d) || d < 0.0) throw InputError(source, "table", "finite non-negative drag values (N)");
   }
+  airspeed_axis_ = {airspeeds_, UniformStep(airspeeds_)};
+  pitch_axis_ = {pitches_, UniformStep(pitches_)};
 }
 
 DragTable DragTable::Default(PropellerConfiguration configuration) {
@@ -115,8 +130,8 @@ double DragTable::Drag(double airspeed, double pitch) const {
   const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;
   int i, j;
   double fi, fj;
-  Locate(airspeeds_, std::min(airspeed, top), &i, &fi);
-  Locate(pitches_, pitch, &j, &fj);
+  airspeed_axis_.Locate(std::min(airspeed, top), &i, &fi);
+  pitch_axis_.Locate(pitch, &j, &fj);
   const double low = (1 - fj) * At(i, j) + fj * At(i, j + 1);
   const double high = (1 - fj) * At(i + 1, j) + fj * At(i + 1, j + 1);
   return growth * ((1 - fi) * low + fi * high);

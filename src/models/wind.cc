@@ -125,14 +125,22 @@ WindModel::WindModel(const WindParams& params) : params_(params) {
 
 WindState WindModel::InitialState(double altitude_m, RandomStream& random) const {
   WindState state;
-  const DrydenIntensity in = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  const DrydenIntensity& in = IntensityAt(state, altitude_m);
   state.gust_u = in.sigma_u * random.Normal();
   return state;
 }
 
-Eigen::Vector3d WindModel::Evaluate(const WindState& state, double altitude_m, double airspeed) const {
+const DrydenIntensity& WindModel::IntensityAt(WindState& state, double altitude_m) const {
+  if (std::abs(altitude_m - state.intensity_altitude) > kIntensityAltitudeStep) {
+    state.intensity = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+    state.intensity_altitude = altitude_m;
+  }
+  return state.intensity;
+}
+
+Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m, double airspeed) const {
   if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
-  const DrydenIntensity in = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  const DrydenIntensity& in = IntensityAt(state, altitude_m);
   const double speed = std::max(airspeed, params_.min_airspeed);
   const double gust_v = SecondOrderOutput(state.v_lag1, state.v_lag2, in.sigma_v, in.length_v, speed);
   const double gust_w = SecondOrderOutput(state.w_lag1, state.w_lag2, in.sigma_w, in.length_w, speed);
@@ -142,7 +150,7 @@ Eigen::Vector3d WindModel::Evaluate(const WindState& state, double altitude_m, d
 Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airspeed, double dt,
                                 RandomStream& random) const {
   if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
-  const DrydenIntensity in = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  const DrydenIntensity& in = IntensityAt(state, altitude_m);
   const double speed = std::max(airspeed, params_.min_airspeed);
   // u: exact Gauss–Markov step (stationary variance σ_u²).
   const double a = std::exp(-speed * dt / in.length_u);

@@ -55,33 +55,40 @@ int ImmFilter::MapMode() const {
 }
 
 void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeasurement& measurement, double dt) {
-  // Markov switching: π(0→k) = ε, π(k→0) = δ, π(k→k') = 0 for k ≠ k' (one failure at a time).
+  // Markov switching: π(0→0) = 1 − 6ε, π(0→k) = ε, π(k→0) = δ, π(k→k) = 1 − δ, π(k→k') = 0 for k ≠ k'
+  // (one failure at a time). Mode 0 mixes from every mode; mode k only from 0 and k.
   const double eps = params_.switch_probability;
   const double delta = params_.recover_probability;
-  auto transition = [&](int from, int to) {
-    if (from == 0) return to == 0 ? 1.0 - 6.0 * eps : eps;
-    if (to == 0) return delta;
-    return from == to ? 1.0 - delta : 0.0;
-  };
-  // 1. Mixing: predicted mode probabilities c_j and the mixed initial conditions of each mode filter.
   std::array<double, kImmModes> predicted{};
   std::array<Eigen::Vector3d, kImmModes> mixed_rate, mixed_variance;
-  for (int j = 0; j < kImmModes; ++j) {
-    for (int i = 0; i < kImmModes; ++i) predicted[j] += transition(i, j) * probability_[i];
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int i = 0; i < kImmModes; ++i) mean += transition(i, j) * probability_[i] / predicted[j] * rate_[i];
-    Eigen::Vector3d variance = Eigen::Vector3d::Zero();
-    for (int i = 0; i < kImmModes; ++i) {
-      const double weight = transition(i, j) * probability_[i] / predicted[j];
-      if (weight == 0.0) continue;
-      variance += weight * (variance_[i] + (rate_[i] - mean).cwiseAbs2());
+  // 1. Mixing: predicted mode probabilities c_j and the mixed initial conditions of each mode filter.
+  {
+    double failure_total = 0.0;
+    for (int i = 1; i < kImmModes; ++i) failure_total += probability_[i];
+    predicted[0] = (1.0 - 6.0 * eps) * probability_[0] + delta * failure_total;
+    const double w00 = (1.0 - 6.0 * eps) * probability_[0] / predicted[0];
+    Eigen::Vector3d mean = w00 * rate_[0];
+    for (int i = 1; i < kImmModes; ++i) mean += (delta * probability_[i] / predicted[0]) * rate_[i];
+    Eigen::Vector3d variance = w00 * (variance_[0] + (rate_[0] - mean).cwiseAbs2());
+    for (int i = 1; i < kImmModes; ++i) {
+      variance += (delta * probability_[i] / predicted[0]) * (variance_[i] + (rate_[i] - mean).cwiseAbs2());
     }
+    mixed_rate[0] = mean;
+    mixed_variance[0] = variance;
+  }
+  for (int j = 1; j < kImmModes; ++j) {
+    predicted[j] = eps * probability_[0] + (1.0 - delta) * probability_[j];
+    const double from_nominal = eps * probability_[0] / predicted[j];
+    const double from_self = 1.0 - from_nominal;
+    const Eigen::Vector3d mean = from_nominal * rate_[0] + from_self * rate_[j];
     mixed_rate[j] = mean;
-    mixed_variance[j] = variance;
+    mixed_variance[j] = from_nominal * (variance_[0] + (rate_[0] - mean).cwiseAbs2()) +
+                        from_self * (variance_[j] + (rate_[j] - mean).cwiseAbs2());
   }
   // 2–3. Mode-matched prediction and update; log-likelihood of each mode's innovations.
   const Eigen::Vector3d& inertia = body_.inertia_diagonal;
-  const double process = std::pow(params_.angular_process_noise * dt, 2);
+  const Eigen::Vector3d inverse_inertia = inertia.cwiseInverse();
+  const double process = params_.angular_process_noise * dt * params_.angular_process_noise * dt;
   const double gyro_variance = params_.gyro_noise * params_.gyro_noise;
   const double accel_variance =
       params_.accel_noise * params_.accel_noise + params_.vertical_model_noise * params_.vertical_model_noise;
@@ -93,16 +100,17 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
     const Eigen::Vector3d& w = mixed_rate[j];
     const Eigen::Vector3d torque = wrench.tail<3>();
     const Eigen::Vector3d rate_prior =
-        w + dt * (torque - w.cross(inertia.cwiseProduct(w))).cwiseQuotient(inertia);
+        w + dt * (torque - w.cross(inertia.cwiseProduct(w))).cwiseProduct(inverse_inertia);
     const Eigen::Vector3d variance_prior = mixed_variance[j].array() + process;
     const Eigen::Vector3d innovation = measurement.gyro_B - rate_prior;
     const Eigen::Vector3d innovation_variance = variance_prior.array() + gyro_variance;
-    const Eigen::Vector3d gain = variance_prior.cwiseQuotient(innovation_variance);
+    const Eigen::Vector3d inverse_innovation_variance = innovation_variance.cwiseInverse();
+    const Eigen::Vector3d gain = variance_prior.cwiseProduct(inverse_innovation_variance);
     rate_[j] = rate_prior + gain.cwiseProduct(innovation);
     variance_[j] = (Eigen::Vector3d::Ones() - gain).cwiseProduct(variance_prior);
     const double accel_innovation = measurement.specific_force_z_B + wrench(0) / body_.mass;
-    log_likelihood[j] = -0.5 * (innovation.cwiseAbs2().cwiseQuotient(innovation_variance).sum() +
-                                innovation_variance.array().log().sum() +
+    log_likelihood[j] = -0.5 * (innovation.cwiseAbs2().cwiseProduct(inverse_innovation_variance).sum() +
+                                std::log(innovation_variance.prod()) +
                                 accel_innovation * accel_innovation / accel_variance);
   }
   // 4. Mode probabilities ∝ c_j · L_j (in log space to avoid underflow), with a floor that keeps every

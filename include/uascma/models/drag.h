@@ -33,6 +33,13 @@ class DragTable {
 
  private:
   double At(int i, int j) const { return drag_[static_cast<std::size_t>(i) * pitches_.size() + j]; }
+  // An axis with its uniform spacing when it has one (then a lookup is one division, not a search).
+  struct Axis {
+    std::vector<double> values;
+    double uniform_step = 0.0;  // 0 when the spacing is not uniform
+    void Locate(double x, int* index, double* fraction) const;
+  };
+  Axis airspeed_axis_, pitch_axis_;
   std::vector<double> airspeeds_;  // m/s, ascending
   std::vector<double> pitches_;    // rad, ascending
   std::vector<double> drag_;       // N, [airspeed][pitch]

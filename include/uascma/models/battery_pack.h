@@ -1,0 +1,134 @@
+#pragma once
+// The vehicle's battery: two 3S LiPo packs in parallel, each behind its own switch and diode
+// (dissertation §4.3, Fig. 4.1, Tables 4.1–4.3; shared/spec/defaults.md "Battery").
+//
+//   branch j (j = 1, 2 in the dissertation; index 0, 1 here) = pack j = three SelfCorrectingCell in series.
+//   Branch split, eqs. 3.4–3.7, for the branches that are switched on:
+//     V_OCV^j = Σ_cells OCV(z)              (eq. 3.6)      R0^j = Σ_cells R0     (eq. 3.7)
+//     V_bus   = (Σ_j V_OCV^j / R0^j − I) / Σ_j 1 / R0^j                        (eq. 3.4)
+//     i^j     = (V_OCV^j − V_bus) / R0^j,   Σ_j i^j = I                        (eq. 3.5)
+//   The split uses only the open-circuit voltages and R0, as the dissertation prints it (decisions item
+//   14); the per-cell terminal voltages then come from the full cell model (eq. 3.3) at the branch current.
+//   Diodes (§4.3.1.2: "no reverse current flow between the batteries"): a branch whose eq.-3.5 current
+//   would be negative carries none and the other branch carries the total. With one branch switched off
+//   the other carries everything; with none on, no current flows and the bus is dead (0 V).
+//   Switches: Table 4.3, UseBatt1 / UseBatt2 / UseBoth.
+//
+// Sign convention: the total bus current I ≥ 0 is a discharge current (the diodes block charging).
+// Health (Table 3.2, decisions items 8 and 17): per-cell capacity/power fade, ambient temperature;
+// classified G / M / P by ClassifyHealth.
+//
+// Model apart from state: BatteryPack is immutable, PackState is plain data; Step()/CalcOutputs() are
+// pure and allocate nothing, so the simulator can step the pack at 200 Hz from many threads.
+#include <array>
+#include <string>
+
+#include "uascma/models/battery_cell.h"
+#include "uascma/models/ocv_table.h"
+
+namespace uascma::models {
+
+inline constexpr int kBranchCount = 2;     // two packs in parallel, Fig. 4.1
+inline constexpr int kCellsPerBranch = 3;  // each pack is 3S, §3.3.1.1
+inline constexpr double kCutoffVoltage = 3.3;  // per cell, ESCs cut out: §3.3.2.1, Table 4.1, decisions item 11
+inline constexpr double kMaxPackCurrent = 105.0;  // I_max, A, Table 4.1
+
+template <typename T>
+using PerBranch = std::array<T, kBranchCount>;
+// [branch][cell], branch = pack index 0..1, cell = position in the series string 0..2.
+template <typename T>
+using PerCell = std::array<std::array<T, kCellsPerBranch>, kBranchCount>;
+
+// --- Switches (Table 4.3) ------------------------------------------------------------------------
+enum class PackAction { kUseBatt1 = 0, kUseBatt2 = 1, kUseBoth = 2 };
+PerBranch<bool> SwitchesFor(PackAction action);
+const char* PackActionName(PackAction action);  // "UseBatt1", "UseBatt2", "UseBoth"
+// InputError naming `source` and listing the valid names.
+PackAction ParsePackAction(const std::string& name, const std::string& source);
+
+// --- Health (decisions item 8, Table 4.2) -------------------------------------------------------
+// G: no degraded cell; M: some cell has power fade or capacity fade but not both; P: some cell has both.
+enum class HealthClass { kG = 0, kM = 1, kP = 2 };
+HealthClass ClassifyHealth(const std::array<CellHealth, kCellsPerBranch>& branch);  // one pack (B_iF_*)
+HealthClass ClassifyHealth(const PerCell<CellHealth>& cells);  // the whole battery (CMA's BH)
+const char* HealthClassName(HealthClass health);  // "G", "M", "P"
+// "G" | "M" | "P"; InputError naming `source` otherwise.
+HealthClass ParseHealthClass(const std::string& name, const std::string& source);
+
+// --- Parameters -----------------------------------------------------------------------------------
+struct PackParams {
+  PerCell<CellParams> cells = {{{Table31Cell(1), Table31Cell(2), Table31Cell(3)},
+                                {Table31Cell(1), Table31Cell(2), Table31Cell(3)}}};  // defaults.md
+  OcvTable ocv = DefaultOcvTable();  // one table for every cell
+};
+
+// Table 3.1 cells 1–3 in both packs with Table 3.2 applied per cell and for the ambient temperature.
+PackParams MakePackParams(const PerCell<CellHealth>& health = {},
+                          double ambient_temp_degf = kRoomTemperatureDegf,
+                          const OcvTable& ocv = DefaultOcvTable());
+
+// --- State and outputs ----------------------------------------------------------------------------
+struct PackState {
+  PerCell<CellState> cells{};
+  PerBranch<bool> branch_on = {true, true};  // switch positions (Table 4.3)
+};
+
+struct BranchSplit {
+  PerBranch<double> current_a{};    // i^j ≥ 0; sums to the total whenever some branch is on
+  PerBranch<bool> conducting{};     // switched on and not blocked by its diode
+  double bus_voltage_v = 0.0;       // V_bus of eq. 3.4 (0 when no branch is on)
+};
+
+// Eqs. 3.4–3.5 with switches and diodes, from the branch open-circuit voltages (eq. 3.6) and ohmic
+// resistances (eq. 3.7). total_current_a ≥ 0.
+BranchSplit CalcBranchSplit(const PerBranch<double>& branch_ocv_v, const PerBranch<double>& branch_r0_ohm,
+                            const PerBranch<bool>& branch_on, double total_current_a);
+
+struct PackOutputs {
+  BranchSplit split;
+  PerCell<double> cell_voltage_v{};    // eq. 3.3 of each cell at its branch current
+  PerBranch<double> branch_voltage_v{};  // Σ cell terminal voltages of the branch
+  double min_cell_voltage_v = 0.0;     // over the switched-on branches (the cells the ESCs see);
+  int min_cell_branch = -1;            //   −1, −1 and +inf when no branch is on
+  int min_cell_index = -1;
+};
+
+struct PackStepResult {
+  PackOutputs outputs;  // at the start of the step, with the applied current (v[k] of state k, input k)
+  PackState next;       // state k+1
+};
+
+class BatteryPack {
+ public:
+  BatteryPack();  // MakePackParams() defaults
+  // Throws InputError naming "pack <j> cell <c>" when a cell's parameters are invalid.
+  explicit BatteryPack(const PackParams& params);
+
+  const SelfCorrectingCell& cell(int branch, int index) const { return cells_[branch][index]; }
+  const OcvTable& ocv() const { return cells_[0][0].ocv(); }
+  double branch_r0_ohm(int branch) const { return branch_r0_ohm_[branch]; }  // eq. 3.7
+  double CalcBranchOcv(const PackState& state, int branch) const;              // eq. 3.6
+
+  BranchSplit CalcSplit(const PackState& state, double total_current_a) const;
+  PackOutputs CalcOutputs(const PackState& state, double total_current_a) const;
+  // Every cell advanced exactly over dt_s with its branch current held constant (split at the start of
+  // the step). Cells of a switched-off or blocked branch rest (i = 0).
+  PackState Step(const PackState& state, double total_current_a, double dt_s) const;
+  PackStepResult StepWithOutputs(const PackState& state, double total_current_a, double dt_s) const;
+
+  // Every cell at rest at `cell_voltage_v` (z = OCV⁻¹(v) per cell), switches from `action`. InputError
+  // naming `source` when a voltage is outside the OCV table.
+  PackState MakeRestingState(double cell_voltage_v, PackAction action = PackAction::kUseBoth,
+                             const std::string& source = "initial cell voltage") const;
+  PackState MakeRestingState(const PerCell<double>& cell_voltage_v, PackAction action = PackAction::kUseBoth,
+                             const std::string& source = "initial cell voltage") const;
+
+ private:
+  PerCell<SelfCorrectingCell> cells_;
+  PerBranch<double> branch_r0_ohm_{};
+};
+
+// "pack 2 cell 1" for branch 1, index 0 (1-based, as the dissertation numbers packs and cells).
+std::string CellLabel(int branch, int index);
+
+}  // namespace uascma::models

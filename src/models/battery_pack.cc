@@ -1,0 +1,210 @@
+// Two 3S packs in parallel: branch split (eqs. 3.4–3.7), switches, diodes, health (see battery_pack.h).
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/models/battery_pack.h"
+
+namespace uascma::models {
+
+PerBranch<bool> SwitchesFor(PackAction action) {
+  switch (action) {
+    case PackAction::kUseBatt1: return {true, false};
+    case PackAction::kUseBatt2: return {false, true};
+    case PackAction::kUseBoth: return {true, true};
+  }
+  UASCMA_CHECK(false, "unknown PackAction");
+  return {false, false};
+}
+
+const char* PackActionName(PackAction action) {
+  switch (action) {
+    case PackAction::kUseBatt1: return "UseBatt1";
+    case PackAction::kUseBatt2: return "UseBatt2";
+    case PackAction::kUseBoth: return "UseBoth";
+  }
+  return "?";
+}
+
+PackAction ParsePackAction(const std::string& name, const std::string& source) {
+  for (PackAction action : {PackAction::kUseBatt1, PackAction::kUseBatt2, PackAction::kUseBoth}) {
+    if (name == PackActionName(action)) return action;
+  }
+  throw InputError(source, "value", fmt::format("UseBatt1, UseBatt2 or UseBoth, got '{}'", name));
+}
+
+namespace {
+
+HealthClass Classify(const CellHealth* cells, int count) {
+  HealthClass worst = HealthClass::kG;
+  for (int k = 0; k < count; ++k) {
+    if (cells[k].capacity_fade && cells[k].power_fade) return HealthClass::kP;
+    if (cells[k].capacity_fade || cells[k].power_fade) worst = HealthClass::kM;
+  }
+  return worst;
+}
+
+}  // namespace
+
+HealthClass ClassifyHealth(const std::array<CellHealth, kCellsPerBranch>& branch) {
+  return Classify(branch.data(), kCellsPerBranch);
+}
+
+HealthClass ClassifyHealth(const PerCell<CellHealth>& cells) {
+  HealthClass worst = HealthClass::kG;
+  for (const auto& branch : cells) worst = std::max(worst, ClassifyHealth(branch));
+  return worst;
+}
+
+const char* HealthClassName(HealthClass health) {
+  switch (health) {
+    case HealthClass::kG: return "G";
+    case HealthClass::kM: return "M";
+    case HealthClass::kP: return "P";
+  }
+  return "?";
+}
+
+HealthClass ParseHealthClass(const std::string& name, const std::string& source) {
+  for (HealthClass health : {HealthClass::kG, HealthClass::kM, HealthClass::kP}) {
+    if (name == HealthClassName(health)) return health;
+  }
+  throw InputError(source, "value", fmt::format("G, M or P, got '{}'", name));
+}
+
+PackParams MakePackParams(const PerCell<CellHealth>& health, double ambient_temp_degf, const OcvTable& ocv) {
+  PackParams params{.cells = {}, .ocv = ocv};
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      params.cells[b][c] = ApplyCellConditions(Table31Cell(c + 1), health[b][c], ambient_temp_degf);
+    }
+  }
+  return params;
+}
+
+BranchSplit CalcBranchSplit(const PerBranch<double>& branch_ocv_v, const PerBranch<double>& branch_r0_ohm,
+                            const PerBranch<bool>& branch_on, double total_current_a) {
+  UASCMA_CHECK(total_current_a >= 0.0 && std::isfinite(total_current_a),
+               "the pack current is a finite discharge current (>= 0)");
+  BranchSplit split;
+  if (branch_on[0] && branch_on[1]) {
+    // Eq. 3.4: the bus voltage that makes the branch currents of eq. 3.5 sum to I.
+    const double g0 = 1.0 / branch_r0_ohm[0];
+    const double g1 = 1.0 / branch_r0_ohm[1];
+    const double bus_v = (branch_ocv_v[0] * g0 + branch_ocv_v[1] * g1 - total_current_a) / (g0 + g1);
+    const double i0 = (branch_ocv_v[0] - bus_v) * g0;  // eq. 3.5
+    if (i0 >= 0.0 && i0 <= total_current_a) {
+      // i1 from the sum rather than eq. 3.5 again, so Σ i^j = I holds to the last bit.
+      split.current_a = {i0, total_current_a - i0};
+      split.conducting = {true, true};
+      split.bus_voltage_v = bus_v;
+      return split;
+    }
+    // One eq.-3.5 current is negative: that branch's diode blocks and the other carries everything. With
+    // I = 0 the higher branch would only feed the lower one, which the diode forbids: both idle.
+    const int carrier = i0 > total_current_a ? 0 : 1;
+    split.current_a[carrier] = total_current_a;
+    split.conducting[carrier] = true;
+    split.bus_voltage_v = branch_ocv_v[carrier] - branch_r0_ohm[carrier] * total_current_a;
+    return split;
+  }
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!branch_on[b]) continue;
+    split.current_a[b] = total_current_a;
+    split.conducting[b] = true;
+    split.bus_voltage_v = branch_ocv_v[b] - branch_r0_ohm[b] * total_current_a;
+  }
+  return split;  // no branch on: no current, dead bus
+}
+
+BatteryPack::BatteryPack() : BatteryPack(MakePackParams()) {}
+
+BatteryPack::BatteryPack(const PackParams& params) {
+  for (int b = 0; b < kBranchCount; ++b) {
+    branch_r0_ohm_[b] = 0.0;
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      cells_[b][c] = SelfCorrectingCell(params.cells[b][c], params.ocv, CellLabel(b, c));
+      branch_r0_ohm_[b] += params.cells[b][c].r0_ohm;  // eq. 3.7
+    }
+  }
+}
+
+double BatteryPack::CalcBranchOcv(const PackState& state, int branch) const {
+  double ocv_v = 0.0;  // eq. 3.6
+  for (int c = 0; c < kCellsPerBranch; ++c) {
+    ocv_v += cells_[branch][c].ocv().CalcVoltage(state.cells[branch][c].soc_fraction);
+  }
+  return ocv_v;
+}
+
+BranchSplit BatteryPack::CalcSplit(const PackState& state, double total_current_a) const {
+  return CalcBranchSplit({CalcBranchOcv(state, 0), CalcBranchOcv(state, 1)}, branch_r0_ohm_, state.branch_on,
+                         total_current_a);
+}
+
+PackOutputs BatteryPack::CalcOutputs(const PackState& state, double total_current_a) const {
+  PackOutputs out;
+  out.split = CalcSplit(state, total_current_a);
+  out.min_cell_voltage_v = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < kBranchCount; ++b) {
+    out.branch_voltage_v[b] = 0.0;
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const double v = cells_[b][c].CalcTerminalVoltage(state.cells[b][c], out.split.current_a[b]);
+      out.cell_voltage_v[b][c] = v;
+      out.branch_voltage_v[b] += v;
+      if (state.branch_on[b] && v < out.min_cell_voltage_v) {
+        out.min_cell_voltage_v = v;
+        out.min_cell_branch = b;
+        out.min_cell_index = c;
+      }
+    }
+  }
+  return out;
+}
+
+PackState BatteryPack::Step(const PackState& state, double total_current_a, double dt_s) const {
+  const BranchSplit split = CalcSplit(state, total_current_a);
+  PackState next = state;
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], split.current_a[b], dt_s);
+    }
+  }
+  return next;
+}
+
+PackStepResult BatteryPack::StepWithOutputs(const PackState& state, double total_current_a, double dt_s) const {
+  PackStepResult result;
+  result.outputs = CalcOutputs(state, total_current_a);
+  result.next = state;
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      result.next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], result.outputs.split.current_a[b], dt_s);
+    }
+  }
+  return result;
+}
+
+PackState BatteryPack::MakeRestingState(double cell_voltage_v, PackAction action, const std::string& source) const {
+  PerCell<double> voltages;
+  for (auto& branch : voltages) branch.fill(cell_voltage_v);
+  return MakeRestingState(voltages, action, source);
+}
+
+PackState BatteryPack::MakeRestingState(const PerCell<double>& cell_voltage_v, PackAction action,
+                                        const std::string& source) const {
+  PackState state;
+  state.branch_on = SwitchesFor(action);
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      state.cells[b][c] = cells_[b][c].MakeRestingState(cell_voltage_v[b][c], source);
+    }
+  }
+  return state;
+}
+
+std::string CellLabel(int branch, int index) { return fmt::format("pack {} cell {}", branch + 1, index + 1); }
+
+}  // namespace uascma::models

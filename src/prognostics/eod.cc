@@ -1,0 +1,712 @@
+// Battery end-of-discharge prognosis: exact segment-by-segment propagation (see eod.h for the method).
+#include "uascma/prognostics/eod.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+
+namespace uascma::prognostics {
+
+using models::BatteryPack;
+using models::CellState;
+using models::kBranchCount;
+using models::kCellsPerBranch;
+using models::kMaxRcPairs;
+using models::PackState;
+using models::PerBranch;
+using models::SelfCorrectingCell;
+
+const char* EodStatusName(EodStatus status) {
+  switch (status) {
+    case EodStatus::kReached: return "reached";
+    case EodStatus::kAlreadyBelowCutoff: return "already_below_cutoff";
+    case EodStatus::kNotReachedWithinHorizon: return "not_reached_within_horizon";
+    case EodStatus::kNoBranchConnected: return "no_branch_connected";
+  }
+  return "?";
+}
+
+bool EodOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (!std::isfinite(cutoff_v)) return fail(fmt::format("cutoff_v: a finite voltage, got {}", cutoff_v));
+  if (!(horizon_s > 0.0 && std::isfinite(horizon_s))) {
+    return fail(fmt::format("horizon_s: a positive finite time, got {}", horizon_s));
+  }
+  if (!(time_tolerance_s > 0.0)) return fail(fmt::format("time_tolerance_s: > 0, got {}", time_tolerance_s));
+  return true;
+}
+
+std::string EodResult::BriefReport() const {
+  std::string text = fmt::format("{}: EOD {:.6g} s", EodStatusName(status), eod_s);
+  if (limiting_branch >= 0) text += ", limiting " + models::CellLabel(limiting_branch, limiting_cell);
+  return text + fmt::format(" ({} segments)", segments);
+}
+
+double CalcReachMargin(const EodResult& eod, double flight_time_remaining_s) {
+  if (flight_time_remaining_s <= 0.0) return 1.0;
+  if (eod.eod_s <= 0.0) return -std::numeric_limits<double>::infinity();
+  return 1.0 - flight_time_remaining_s / eod.eod_s;
+}
+
+bool IsFlightTimeReachable(const EodResult& eod, double flight_time_remaining_s) {
+  return flight_time_remaining_s <= eod.eod_s;
+}
+
+namespace {
+
+constexpr int kMaxLanes = kBranchCount * kCellsPerBranch;
+constexpr int kMaxRates = kMaxLanes * kMaxRcPairs;
+constexpr int kMaxSegments = 100000;  // a full discharge takes about one per OCV breakpoint and cell
+constexpr double kSocSnap = 1e-12;    // SOC within this of a breakpoint is on it (≈ 1e-8 s of discharge)
+constexpr double kVoltageTolerance = 1e-10;  // V: a root this close to the cut-off is exact enough
+// Hysteresis this close to its discharge limit −1 moves the voltage by less than this: left as is.
+constexpr double kSettledHysteresisV = 1e-14;
+constexpr double kNone = std::numeric_limits<double>::infinity();
+
+// (1 − e^{−x}) / x, stable near x = 0 (where it is 1 − x/2 + x²/6 − …).
+inline double Phi1(double x) {
+  if (std::abs(x) < 1e-4) return 1.0 - x * (0.5 - x * (1.0 / 6.0));
+  return -std::expm1(-x) / x;
+}
+
+// A branch current on one segment: i(t) = mean + delta · e^{−rate t}, A (rate in 1/s).
+struct CurrentLaw {
+  double mean_a = 0.0;
+  double delta_a = 0.0;
+  double rate_per_s = 0.0;
+  double inverse_rate_s = 0.0;  // 1 / rate (unused when delta is 0)
+};
+
+// The branch-level quantities at time t, shared by the cells of the branch.
+struct BranchAt {
+  double t;
+  double current_a;  // i(t)
+  double e_rate;     // e^{−rate t}
+  double charge_as;  // ∫₀ᵗ i = mean t + delta (1 − e^{−rate t}) / rate
+};
+
+inline BranchAt EvaluateBranch(const CurrentLaw& law, double t) {
+  if (law.delta_a == 0.0 || t == 0.0) {
+    const double current = law.mean_a + law.delta_a;
+    return {t, current, 1.0, current * t};
+  }
+  // One expm1 gives both e^{−qt} and 1 − e^{−qt} without cancellation.
+  const double em1 = std::expm1(-law.rate_per_s * t);
+  return {t, law.mean_a + law.delta_a * (1.0 + em1), 1.0 + em1,
+          law.mean_a * t - law.delta_a * em1 * law.inverse_rate_s};
+}
+
+// e^{−a t} and 1/(a − q) of one RC rate a at the evaluation time (shared by every cell with that rate;
+// both packs use cells 1–3 of Table 3.1, and both branch laws of a segment share q).
+struct RcAt {
+  double decay;
+  double inverse_gap_s;
+};
+
+inline RcAt MakeRcAt(double a, const CurrentLaw& law, double t) {
+  const double gap = a - law.rate_per_s;
+  return {std::exp(-a * t), gap != 0.0 ? 1.0 / gap : 0.0};
+}
+
+// One discharging cell: its model constants, its state at the start of the present segment and the OCV
+// segment it is in.
+struct Lane {
+  const SelfCorrectingCell* cell = nullptr;  // not owned
+  CellState state;
+  int branch = 0;
+  int index = 0;
+  double eta_per_as = 0.0;         // η_discharge / Q, 1/(A·s): dz/dt = −eta_per_as · i
+  double charge_per_soc_as = 0.0;  // Q / η_discharge, A·s per unit SOC
+  double hysteresis_per_as = 0.0;  // η γ / Q, 1/(A·s): d(h + 1)/dt = −hysteresis_per_as · i · (h + 1)
+  double r0_ohm = 0.0, m_v = 0.0, m0_v = 0.0;
+  int rc_count = 0;
+  std::array<double, kMaxRcPairs> rc_ohm{}, rc_rate_per_s{};
+  std::array<int, kMaxRcPairs> rc_slot{};  // index of the rate in Problem::rates
+  int segment = 0;                   // OCV segment (discharge direction) at the segment start
+  double slope_v = 0.0;              // dOCV/dz on it
+  double segment_start_soc = 0.0;    // its lower breakpoint (none for segment 0: the line is extended)
+  double segment_start_ocv_v = 0.0;  // OCV at that breakpoint
+};
+
+Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch, int index) {
+  Lane lane;
+  lane.cell = &cell;
+  lane.state = state;
+  lane.branch = branch;
+  lane.index = index;
+  const auto& p = cell.params();
+  lane.eta_per_as = p.eta_discharge / cell.capacity_as();
+  lane.charge_per_soc_as = cell.capacity_as() / p.eta_discharge;
+  lane.hysteresis_per_as = p.eta_discharge * p.hysteresis_gamma / cell.capacity_as();
+  lane.r0_ohm = p.r0_ohm;
+  lane.m_v = p.hysteresis_m_v;
+  lane.m0_v = p.hysteresis_m0_v;
+  lane.rc_count = p.rc_pair_count;
+  for (int j = 0; j < p.rc_pair_count; ++j) {
+    lane.rc_ohm[j] = p.rc[j].resistance_ohm;
+    lane.rc_rate_per_s[j] = cell.rc_rate_per_s(j);
+  }
+  return lane;
+}
+
+void UpdateSegment(Lane& lane) {
+  const auto& ocv = lane.cell->ocv();
+  lane.segment = ocv.SegmentForDischarge(lane.state.soc_fraction);
+  lane.slope_v = ocv.segment_slope_v(lane.segment);
+  lane.segment_start_soc = ocv.segment_start_soc(lane.segment);
+  lane.segment_start_ocv_v = ocv.CalcVoltageOnSegment(lane.segment, lane.segment_start_soc);
+}
+
+// OCV on the lane's present segment line (kept in the lane: no table look-up in the inner loops).
+inline double LaneOcv(const Lane& lane, double soc) {
+  return lane.segment_start_ocv_v + lane.slope_v * (soc - lane.segment_start_soc);
+}
+
+// The closed-form state and voltage of a lane at time t of the segment.
+struct Eval {
+  double t;
+  double v;          // terminal voltage, eq. 3.3 with s = −1
+  double current_a;  // i(t)
+  double e_rate;     // e^{−rate t} of the current law
+  double soc;
+  double hysteresis;
+  std::array<double, kMaxRcPairs> rc_current_a;
+};
+
+// `rc[j]` holds the RcAt of the lane's pair j at at.t.
+inline void Evaluate(const Lane& lane, const CurrentLaw& law, const BranchAt& at, const RcAt* rc, Eval* e) {
+  e->t = at.t;
+  e->current_a = at.current_a;
+  e->e_rate = at.e_rate;
+  // Coulomb counting.
+  e->soc = lane.state.soc_fraction - lane.eta_per_as * at.charge_as;
+  // dh/dt = −(η γ i / Q)(h + 1) for i ≥ 0: h + 1 decays with the charge drawn, whatever i(t) is.
+  const double h_plus_1 = lane.state.hysteresis + 1.0;
+  e->hysteresis = h_plus_1 * lane.m_v > kSettledHysteresisV
+                      ? -1.0 + h_plus_1 * std::exp(-lane.hysteresis_per_as * at.charge_as)
+                      : lane.state.hysteresis;
+  double v = LaneOcv(lane, e->soc) - lane.m0_v + lane.m_v * e->hysteresis - lane.r0_ohm * e->current_a;
+  // di_R/dt = a (i − i_R), a = 1/(R C), driven by mean + delta e^{−qt}:
+  //   i_R = mean + (i_R0 − mean) e^{−at} + delta a (e^{−qt} − e^{−at}) / (a − q).
+  // The last quotient is taken directly unless |a − q| t < 1e-4 (the difference of the exponentials then
+  // keeps at least 12 digits), else as e^{−min(a,q) t} · t · Phi1(|a − q| t), free of cancellation.
+  for (int j = 0; j < lane.rc_count; ++j) {
+    const double a = lane.rc_rate_per_s[j];
+    const double e_a = rc[j].decay;
+    double i_r = law.mean_a + (lane.state.rc_current_a[j] - law.mean_a) * e_a;
+    if (law.delta_a != 0.0) {
+      const double gap = a - law.rate_per_s;
+      const double quotient = std::abs(gap) * at.t > 1e-4
+                                  ? (at.e_rate - e_a) * rc[j].inverse_gap_s
+                                  : (gap > 0.0 ? at.e_rate : e_a) * at.t * Phi1(std::abs(gap) * at.t);
+      i_r += law.delta_a * a * quotient;
+    }
+    e->rc_current_a[j] = i_r;
+    v -= lane.rc_ohm[j] * i_r;
+  }
+  e->v = v;
+}
+
+// The same at t = 0 (the lane's stored state).
+inline void EvaluateStart(const Lane& lane, const CurrentLaw& law, Eval* e) {
+  e->t = 0.0;
+  e->current_a = law.mean_a + law.delta_a;
+  e->e_rate = 1.0;
+  e->soc = lane.state.soc_fraction;
+  e->hysteresis = lane.state.hysteresis;
+  double v = LaneOcv(lane, e->soc) - lane.m0_v + lane.m_v * e->hysteresis - lane.r0_ohm * e->current_a;
+  for (int j = 0; j < lane.rc_count; ++j) {
+    e->rc_current_a[j] = lane.state.rc_current_a[j];
+    v -= lane.rc_ohm[j] * e->rc_current_a[j];
+  }
+  e->v = v;
+}
+
+// dv/dt at an evaluated point.
+double Slope(const Lane& lane, const CurrentLaw& law, const Eval& e) {
+  double dv = -lane.slope_v * lane.eta_per_as * e.current_a -
+              lane.m_v * lane.hysteresis_per_as * e.current_a * (e.hysteresis + 1.0) +
+              lane.r0_ohm * law.rate_per_s * law.delta_a * e.e_rate;
+  for (int j = 0; j < lane.rc_count; ++j) {
+    dv -= lane.rc_ohm[j] * lane.rc_rate_per_s[j] * (e.current_a - e.rc_current_a[j]);
+  }
+  return dv;
+}
+
+// A lower bound of v on [t1, t2] from the current and i_R at t1 and the end point e2: OCV(z) and M h
+// only fall, i(t) is monotone so it peaks at an end, and i_R (a lag of i) never exceeds
+// max(i_R(t1), max i).
+inline double LowerBound(const Lane& lane, double current1_a, const double* rc_current1_a, const Eval& e2) {
+  const double i_max = std::max(current1_a, e2.current_a);
+  double lb = LaneOcv(lane, e2.soc) - lane.m0_v + lane.m_v * e2.hysteresis - lane.r0_ohm * i_max;
+  for (int j = 0; j < lane.rc_count; ++j) lb -= lane.rc_ohm[j] * std::max(rc_current1_a[j], i_max);
+  return lb;
+}
+
+// An upper bound of dv/dt on [e1.t, e2.t], term by term as in Slope(); negative ⇒ v strictly falls.
+double UpperSlopeBound(const Lane& lane, const CurrentLaw& law, const Eval& e1, const Eval& e2) {
+  const double i_min = std::min(e1.current_a, e2.current_a);
+  const double i_max = std::max(e1.current_a, e2.current_a);
+  double ub = -lane.slope_v * lane.eta_per_as * i_min -
+              lane.m_v * lane.hysteresis_per_as * i_min * (e2.hysteresis + 1.0) +
+              lane.r0_ohm * law.rate_per_s * law.delta_a * (law.delta_a > 0.0 ? e1.e_rate : e2.e_rate);
+  for (int j = 0; j < lane.rc_count; ++j) {
+    ub += lane.rc_ohm[j] * lane.rc_rate_per_s[j] * (std::max(e1.rc_current_a[j], i_max) - i_min);
+  }
+  return ub;
+}
+
+// The first cut-off crossing of one lane inside a segment.
+struct Search {
+  const Lane& lane;
+  const CurrentLaw& law;
+  double cutoff_v;
+  double tolerance_s;
+  int evaluations = 0;
+
+  Eval At(double t) {
+    ++evaluations;
+    std::array<RcAt, kMaxRcPairs> rc;
+    for (int j = 0; j < lane.rc_count; ++j) rc[j] = MakeRcAt(lane.rc_rate_per_s[j], law, t);
+    Eval e;
+    Evaluate(lane, law, EvaluateBranch(law, t), rc.data(), &e);
+    return e;
+  }
+
+  // The root of a strictly falling v on [a, b] with v(a) > cutoff ≥ v(b): Newton steps kept inside the
+  // bracket, bisection when a step leaves it.
+  double Root(Eval a, Eval b) {
+    double t = a.t + (a.v - cutoff_v) / (a.v - b.v) * (b.t - a.t);  // secant start
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      const Eval e = At(t);
+      const double f = e.v - cutoff_v;
+      if (std::abs(f) <= kVoltageTolerance) return t;
+      if (f > 0.0) {
+        a = e;
+      } else {
+        b = e;
+      }
+      const double dv = Slope(lane, law, e);
+      if (dv < 0.0) {
+        const double step = f / dv;  // Newton
+        if (std::abs(step) <= tolerance_s) return t - step;
+        t -= step;
+      }
+      if (!(t > a.t && t < b.t)) t = 0.5 * (a.t + b.t);  // a Newton step that leaves the bracket: bisect
+      if (b.t - a.t <= tolerance_s) return t;
+    }
+    return b.t;
+  }
+
+  // The first t in [e1.t, e2.t] with v(t) ≤ cutoff, or kNone.
+  double First(const Eval& e1, const Eval& e2) {
+    if (e1.v <= cutoff_v) return e1.t;
+    if (LowerBound(lane, e1.current_a, e1.rc_current_a.data(), e2) > cutoff_v) return kNone;
+    if (UpperSlopeBound(lane, law, e1, e2) < 0.0) {  // monotone: at most one crossing
+      return e2.v <= cutoff_v ? Root(e1, e2) : kNone;
+    }
+    if (e2.t - e1.t <= tolerance_s) return e2.v <= cutoff_v ? e2.t : kNone;
+    const Eval middle = At(0.5 * (e1.t + e2.t));
+    const double left = First(e1, middle);  // left half first: the FIRST crossing
+    if (left != kNone) return left;
+    if (middle.v <= cutoff_v) return middle.t;
+    return First(middle, e2);
+  }
+};
+
+// The root of the second-order expansion i₀ t − ½ q Δ t² = charge (stable quadratic form), or the
+// constant-current time when the expansion has none.
+double EstimateTimeToCharge(const CurrentLaw& law, double charge_as) {
+  const double i0 = law.mean_a + law.delta_a;
+  const double half_curvature = 0.5 * law.rate_per_s * law.delta_a;
+  const double discriminant = i0 * i0 - 4.0 * half_curvature * charge_as;
+  return discriminant >= 0.0 ? 2.0 * charge_as / (i0 + std::sqrt(discriminant)) : charge_as / law.mean_a;
+}
+
+// Time at which a branch has delivered `charge_as` (the charge drawn increases with t): Halley steps from
+// the second-order estimate, kept inside a bracket.
+double TimeToCharge(const CurrentLaw& law, double charge_as, double estimate_s, double tolerance_s) {
+  if (law.delta_a == 0.0) return charge_as / law.mean_a;
+  // |delta (1 − e^{−qt})/q| ≤ |delta|/q bounds the transient's share, hence a bracket.
+  double lo = 0.0;
+  double hi = (charge_as + std::abs(law.delta_a) * law.inverse_rate_s) / law.mean_a;
+  double t = estimate_s;
+  if (!(t > lo && t < hi)) t = 0.5 * hi;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const BranchAt at = EvaluateBranch(law, t);
+    const double f = at.charge_as - charge_as;
+    if (f > 0.0) {
+      hi = t;
+    } else {
+      lo = t;
+    }
+    if (at.current_a > 0.0) {
+      const double df = at.current_a;                                 // f' = i(t)
+      const double d2f = -law.rate_per_s * law.delta_a * at.e_rate;  // f'' = di/dt
+      const double step = 2.0 * f * df / (2.0 * df * df - f * d2f);  // Halley
+      if (std::abs(step) <= 1e-3 * tolerance_s) return t - step;
+      t -= step;
+    }
+    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);  // a step that leaves the bracket: bisect
+    if (hi - lo <= 1e-3 * tolerance_s) return t;
+  }
+  return t;
+}
+
+// The propagation shared by the cell and the pack EOD.
+struct Problem {
+  std::array<Lane, kMaxLanes> lanes;
+  int lane_count = 0;
+  PerBranch<int> lane_begin{}, lane_end{};  // lanes [begin, end) of each branch
+  PerBranch<bool> on{};
+  PerBranch<double> r0_ohm{};                // eq. 3.7
+  std::array<double, kMaxRates> rates{};     // the distinct RC rates 1/(R_j C_j) of the lanes
+  int rate_count = 0;
+
+  void AddLane(const Lane& lane) {
+    Lane& added = lanes[lane_count++] = lane;
+    for (int j = 0; j < added.rc_count; ++j) {
+      int slot = 0;
+      while (slot < rate_count && rates[slot] != added.rc_rate_per_s[j]) ++slot;
+      if (slot == rate_count) rates[rate_count++] = added.rc_rate_per_s[j];
+      added.rc_slot[j] = slot;
+    }
+  }
+};
+
+EodResult Reached(EodStatus status, double eod_s, const Lane* lane, int segments, int evaluations) {
+  EodResult result;
+  result.status = status;
+  result.eod_s = eod_s;
+  if (lane != nullptr) {
+    result.limiting_branch = lane->branch;
+    result.limiting_cell = lane->index;
+  }
+  result.segments = segments;
+  result.voltage_evaluations = evaluations;
+  return result;
+}
+
+EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& options) {
+  const double cutoff = options.cutoff_v;
+  // Now: the voltages with the present split (eqs. 3.4–3.5), the stored state, s = −sgn(i).
+  if (!problem.on[0] && !problem.on[1]) return Reached(EodStatus::kNoBranchConnected, 0.0, nullptr, 0, 0);
+  PerBranch<double> ocv_now{};
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      const Lane& lane = problem.lanes[l];
+      ocv_now[b] += lane.cell->ocv().CalcVoltage(lane.state.soc_fraction);
+    }
+  }
+  const models::BranchSplit split_now =
+      models::CalcBranchSplit(ocv_now, problem.r0_ohm, problem.on, std::max(total_current_a, 0.0));
+  const Lane* lowest = nullptr;
+  double lowest_v = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!problem.on[b]) continue;
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      const Lane& lane = problem.lanes[l];
+      const double current = total_current_a > 0.0 ? split_now.current_a[b] : total_current_a;
+      const double v = lane.cell->CalcTerminalVoltage(lane.state, current);
+      if (v < lowest_v) {
+        lowest_v = v;
+        lowest = &lane;
+      }
+    }
+  }
+  if (lowest_v <= cutoff) return Reached(EodStatus::kAlreadyBelowCutoff, 0.0, lowest, 0, 0);
+  if (!(total_current_a > 0.0)) {
+    return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
+  }
+
+  const double current = total_current_a;
+  const double negligible_a = 1e-9 * std::max(current, 1.0);
+  for (int l = 0; l < problem.lane_count; ++l) UpdateSegment(problem.lanes[l]);
+  double t = 0.0;
+  int evaluations = 0;
+  for (int segment_count = 0;; ++segment_count) {
+    UASCMA_CHECK(segment_count < kMaxSegments, "EOD propagation did not terminate");
+    const double remaining = options.horizon_s - t;
+    if (remaining <= 0.0) {
+      return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, segment_count, evaluations);
+    }
+    // Branch OCV (eq. 3.6) and K_j = Σ η slope / Q on the present OCV segments.
+    PerBranch<double> branch_ocv{}, branch_k{};
+    for (int b = 0; b < kBranchCount; ++b) {
+      if (!problem.on[b]) continue;
+      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+        const Lane& lane = problem.lanes[l];
+        branch_ocv[b] += LaneOcv(lane, lane.state.soc_fraction);
+        branch_k[b] += lane.slope_v * lane.eta_per_as;
+      }
+    }
+    // The branch current laws on this segment.
+    PerBranch<CurrentLaw> law{};
+    PerBranch<bool> conducting{};
+    double duration = remaining;
+    if (problem.on[0] && problem.on[1]) {
+      const double r_sum = problem.r0_ohm[0] + problem.r0_ohm[1];
+      double i0 = (branch_ocv[0] - branch_ocv[1] + current * problem.r0_ohm[1]) / r_sum;  // eqs. 3.4–3.5
+      if (i0 < -negligible_a || i0 > current + negligible_a) {
+        // One diode blocks: the active branch carries I until its E_a(t) − R_a I falls to the idle
+        // branch's E_b (E_a falls at K_a I per second), when the blocked branch joins in.
+        const int active = i0 < 0.0 ? 1 : 0;
+        const int idle = 1 - active;
+        law[active] = {current, 0.0, 0.0, 0.0};
+        conducting[active] = true;
+        const double unblock_s = (branch_ocv[active] - problem.r0_ohm[active] * current - branch_ocv[idle]) /
+                                 (branch_k[active] * current);
+        duration = std::min(duration, std::max(unblock_s, 0.0));
+      } else {
+        // Both conduct: i⁰(t) = ī + Δ e^{−qt}, q = (K₀ + K₁)/(R₀ + R₁), ī = K₁ I/(K₀ + K₁) (eq.-3.4–3.7
+        // split of affine branch OCVs; derivation in eod.h).
+        i0 = std::clamp(i0, 0.0, current);
+        const double k_sum = branch_k[0] + branch_k[1];
+        const double mean0 = current * branch_k[1] / k_sum;
+        const double delta0 = i0 - mean0;
+        if (std::abs(delta0) <= negligible_a) {
+          law[0] = {i0, 0.0, 0.0, 0.0};
+          law[1] = {current - i0, 0.0, 0.0, 0.0};
+        } else {
+          const double rate = k_sum / r_sum;
+          law[0] = {mean0, delta0, rate, 1.0 / rate};
+          law[1] = {current - mean0, -delta0, rate, 1.0 / rate};
+        }
+        conducting = {true, true};
+      }
+    } else {
+      const int b = problem.on[0] ? 0 : 1;
+      law[b] = {current, 0.0, 0.0, 0.0};
+      conducting[b] = true;
+    }
+    // The segment ends when the first cell of a conducting branch reaches its lower OCV breakpoint. Solve
+    // the branch whose second-order estimate comes first; the other needs solving only if it has drawn its
+    // charge by then.
+    PerBranch<double> charge_to_breakpoint = {kNone, kNone};
+    PerBranch<double> estimate_s = {kNone, kNone};
+    for (int b = 0; b < kBranchCount; ++b) {
+      if (!conducting[b]) continue;
+      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+        const Lane& lane = problem.lanes[l];
+        if (lane.segment == 0) continue;  // the lowest line extends below the table
+        charge_to_breakpoint[b] = std::min(
+            charge_to_breakpoint[b], (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
+      }
+      if (charge_to_breakpoint[b] != kNone) estimate_s[b] = EstimateTimeToCharge(law[b], charge_to_breakpoint[b]);
+    }
+    const int urgent = estimate_s[0] <= estimate_s[1] ? 0 : 1;
+    PerBranch<BranchAt> branch_end{};
+    PerBranch<bool> branch_end_known = {false, false};
+    for (int b : {urgent, 1 - urgent}) {
+      if (charge_to_breakpoint[b] == kNone) continue;
+      if (duration < remaining) {
+        branch_end[b] = EvaluateBranch(law[b], duration);
+        branch_end_known[b] = true;
+        if (branch_end[b].charge_as < charge_to_breakpoint[b]) continue;  // its breakpoint comes later
+      }
+      duration = std::min(duration,
+                          TimeToCharge(law[b], charge_to_breakpoint[b], estimate_s[b], options.time_tolerance_s));
+      branch_end_known = {false, false};  // the end moved
+    }
+    // Every lane at the segment's end, and the first cut-off crossing of any conducting lane inside
+    // [0, duration]. The RC terms are computed once per distinct rate.
+    std::array<RcAt, kMaxRates> rc_at;
+    const CurrentLaw& shared_law = conducting[0] ? law[0] : law[1];  // the laws share q
+    for (int r = 0; r < problem.rate_count; ++r) rc_at[r] = MakeRcAt(problem.rates[r], shared_law, duration);
+    std::array<Eval, kMaxLanes> end;  // filled for the conducting lanes only
+    double first_s = kNone;
+    const Lane* limiting = nullptr;
+    for (int b = 0; b < kBranchCount; ++b) {
+      if (!conducting[b]) continue;
+      if (!branch_end_known[b]) branch_end[b] = EvaluateBranch(law[b], duration);
+      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+        const Lane& lane = problem.lanes[l];
+        std::array<RcAt, kMaxRcPairs> rc;
+        for (int j = 0; j < lane.rc_count; ++j) rc[j] = rc_at[lane.rc_slot[j]];
+        Evaluate(lane, law[b], branch_end[b], rc.data(), &end[l]);
+        // Most segments end far above the cut-off: the lower bound over the whole segment settles it.
+        const double start_current = law[b].mean_a + law[b].delta_a;
+        if (LowerBound(lane, start_current, lane.state.rc_current_a.data(), end[l]) > cutoff) continue;
+        Search search{lane, law[b], cutoff, options.time_tolerance_s};
+        Eval start;
+        EvaluateStart(lane, law[b], &start);
+        const double crossing = search.First(start, end[l]);
+        evaluations += search.evaluations;
+        if (crossing < first_s) {
+          first_s = crossing;
+          limiting = &lane;
+        }
+      }
+    }
+    if (limiting != nullptr) {
+      return Reached(EodStatus::kReached, t + first_s, limiting, segment_count + 1, evaluations);
+    }
+    // Advance every switched-on lane to the segment's end.
+    for (int b = 0; b < kBranchCount; ++b) {
+      if (!problem.on[b]) continue;
+      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+        Lane& lane = problem.lanes[l];
+        if (conducting[b]) {
+          const Eval& e = end[l];
+          lane.state.soc_fraction = e.soc;
+          lane.state.hysteresis = e.hysteresis;
+          lane.state.hysteresis_sign = -1.0;
+          for (int j = 0; j < lane.rc_count; ++j) lane.state.rc_current_a[j] = e.rc_current_a[j];
+          if (lane.segment > 0 && lane.state.soc_fraction - lane.segment_start_soc <= kSocSnap) {
+            lane.state.soc_fraction = std::min(lane.state.soc_fraction, lane.segment_start_soc);
+            UpdateSegment(lane);  // on (or past) the breakpoint: the segment below
+          }
+        } else {  // blocked by its diode: at rest, the RC currents relax
+          for (int j = 0; j < lane.rc_count; ++j) {
+            lane.state.rc_current_a[j] *= std::exp(-lane.rc_rate_per_s[j] * duration);
+          }
+        }
+      }
+    }
+    t += duration;
+  }
+}
+
+void RequireValid(const EodOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("EOD options: " + error);
+}
+
+}  // namespace
+
+EodResult CalcCellEod(const SelfCorrectingCell& cell, const CellState& state, double current_a,
+                      const EodOptions& options) {
+  RequireValid(options);
+  Problem problem;
+  problem.AddLane(MakeLane(cell, state, 0, 0));
+  problem.lane_begin = {0, 1};
+  problem.lane_end = {1, 1};
+  problem.on = {true, false};
+  problem.r0_ohm = {cell.params().r0_ohm, 0.0};
+  if (current_a <= 0.0) {
+    // No discharge: only "already below" can be said.
+    if (cell.CalcTerminalVoltage(state, current_a) <= options.cutoff_v) {
+      return Reached(EodStatus::kAlreadyBelowCutoff, 0.0, &problem.lanes[0], 0, 0);
+    }
+    return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
+  }
+  return Propagate(problem, current_a, options);
+}
+
+EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double total_current_a,
+                      const EodOptions& options) {
+  RequireValid(options);
+  if (!(total_current_a >= 0.0 && std::isfinite(total_current_a))) {
+    throw InputError("EOD", "total current", fmt::format("a finite discharge current >= 0 A, got {}", total_current_a));
+  }
+  Problem problem;
+  for (int b = 0; b < kBranchCount; ++b) {
+    problem.lane_begin[b] = problem.lane_count;
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      problem.AddLane(MakeLane(pack.cell(b, c), state.cells[b][c], b, c));
+    }
+    problem.lane_end[b] = problem.lane_count;
+    problem.on[b] = state.branch_on[b];
+    problem.r0_ohm[b] = pack.branch_r0_ohm(b);
+  }
+  return Propagate(problem, total_current_a, options);
+}
+
+// --- Fixed-step references ---------------------------------------------------------------------------
+namespace {
+
+void RequireStep(double dt_s) {
+  if (!(dt_s > 0.0 && std::isfinite(dt_s))) {
+    throw InputError("EOD reference", "dt_s", fmt::format("a positive step, got {}", dt_s));
+  }
+}
+
+}  // namespace
+
+EodResult SimulatePackEod(const BatteryPack& pack, const PackState& state, double total_current_a, double dt_s,
+                          const EodOptions& options) {
+  RequireValid(options);
+  RequireStep(dt_s);
+  models::PackOutputs previous = pack.CalcOutputs(state, total_current_a);
+  if (!state.branch_on[0] && !state.branch_on[1]) return Reached(EodStatus::kNoBranchConnected, 0.0, nullptr, 0, 0);
+  EodResult result;
+  if (previous.min_cell_voltage_v <= options.cutoff_v) {
+    result.status = EodStatus::kAlreadyBelowCutoff;
+    result.limiting_branch = previous.min_cell_branch;
+    result.limiting_cell = previous.min_cell_index;
+    return result;
+  }
+  if (!(total_current_a > 0.0)) return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
+  PackState s = state;
+  const auto steps = static_cast<long long>(std::ceil(options.horizon_s / dt_s));
+  for (long long k = 1; k <= steps; ++k) {
+    s = pack.Step(s, total_current_a, dt_s);
+    const models::PackOutputs now = pack.CalcOutputs(s, total_current_a);
+    if (now.min_cell_voltage_v <= options.cutoff_v) {
+      // The earliest linearly interpolated crossing among the cells that are at or below the cut-off.
+      result.status = EodStatus::kReached;
+      result.eod_s = std::numeric_limits<double>::infinity();
+      for (int b = 0; b < kBranchCount; ++b) {
+        if (!s.branch_on[b]) continue;
+        for (int c = 0; c < kCellsPerBranch; ++c) {
+          const double v1 = now.cell_voltage_v[b][c];
+          if (v1 > options.cutoff_v) continue;
+          const double v0 = previous.cell_voltage_v[b][c];
+          const double fraction = v0 > v1 ? (v0 - options.cutoff_v) / (v0 - v1) : 1.0;
+          const double crossing = (static_cast<double>(k - 1) + std::clamp(fraction, 0.0, 1.0)) * dt_s;
+          if (crossing < result.eod_s) {
+            result.eod_s = crossing;
+            result.limiting_branch = b;
+            result.limiting_cell = c;
+          }
+        }
+      }
+      result.segments = static_cast<int>(std::min<long long>(k, std::numeric_limits<int>::max()));
+      return result;
+    }
+    previous = now;
+  }
+  return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
+}
+
+EodResult SimulateCellEod(const SelfCorrectingCell& cell, const CellState& state, double current_a, double dt_s,
+                          const EodOptions& options) {
+  RequireValid(options);
+  RequireStep(dt_s);
+  double previous = cell.CalcTerminalVoltage(state, current_a);
+  EodResult result;
+  if (previous <= options.cutoff_v) {
+    result.status = EodStatus::kAlreadyBelowCutoff;
+    result.limiting_branch = 0;
+    result.limiting_cell = 0;
+    return result;
+  }
+  if (!(current_a > 0.0)) return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
+  CellState s = state;
+  const auto steps = static_cast<long long>(std::ceil(options.horizon_s / dt_s));
+  for (long long k = 1; k <= steps; ++k) {
+    s = cell.Step(s, current_a, dt_s);
+    const double v = cell.CalcTerminalVoltage(s, current_a);
+    if (v <= options.cutoff_v) {
+      const double fraction = previous > v ? (previous - options.cutoff_v) / (previous - v) : 1.0;
+      result.status = EodStatus::kReached;
+      result.eod_s = (static_cast<double>(k - 1) + std::clamp(fraction, 0.0, 1.0)) * dt_s;
+      result.limiting_branch = 0;
+      result.limiting_cell = 0;
+      result.segments = static_cast<int>(std::min<long long>(k, std::numeric_limits<int>::max()));
+      return result;
+    }
+    previous = v;
+  }
+  return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
+}
+
+}  // namespace uascma::prognostics
