@@ -6,8 +6,11 @@
 namespace uascma::cli {
 
 void AddPolicyCommand(CLI::App& app);     // policy_command.cc
+void AddSimulateCommand(CLI::App& app);   // simulate_command.cc
+void AddPlotCommand(CLI::App& app);       // plot_command.cc
 void AddRulCommand(CLI::App& app);        // rul_command.cc
 void AddThrustCommand(CLI::App& app);     // thrust_command.cc
 void AddAuthorityCommand(CLI::App& app);  // authority_command.cc
+void AddEodCommand(CLI::App& app);        // eod_command.cc
 
 }  // namespace uascma::cli

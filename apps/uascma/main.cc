@@ -20,9 +20,12 @@ int main(int argc, char** argv) {
   app.fallthrough(false);
 
   uascma::cli::AddPolicyCommand(app);
+  uascma::cli::AddSimulateCommand(app);
+  uascma::cli::AddPlotCommand(app);
   uascma::cli::AddThrustCommand(app);
   uascma::cli::AddAuthorityCommand(app);
   uascma::cli::AddRulCommand(app);
+  uascma::cli::AddEodCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -50,23 +50,6 @@ CmaConfig ResolveConfig(const ModelOptions& options) {
   return config;
 }
 
-nlohmann::json WeightsJson(const CmaWeights& weights) {
-  nlohmann::json json = nlohmann::json::object();
-  for (const auto& name : CmaWeights::Names()) json[name] = weights.Get(name);
-  return json;
-}
-
-CmaWeights WeightsFromJson(const nlohmann::json& json, const std::string& source) {
-  CmaWeights weights;
-  for (const auto& name : CmaWeights::Names()) {
-    if (!json.contains(name) || !json.at(name).is_number()) {
-      throw InputError(source, "model_config.weights." + name, "a number");
-    }
-    weights.Set(name, json.at(name).get<double>());
-  }
-  return weights;
-}
-
 Policy Solve(const FiniteMdp& mdp, double gamma, const std::string& method, SolverSummary* summary) {
   if (method == "pi") {
     PolicyIterationOptions options;
@@ -140,7 +123,7 @@ void AddSolve(CLI::App* policy) {
       }
     } else {
       const PolicyDocument document = MakePolicyDocument(
-          mdp, policy, "cma", config.gamma, {{"weights", WeightsJson(config.weights)}}, summary,
+          mdp, policy, "cma", config.gamma, {{"weights", CmaWeightsJson(config.weights)}}, summary,
           options->method == "pi" ? "policy_iteration" : "value_iteration");
       content = PolicyToJson(document).dump(2) + "\n";
     }
@@ -161,17 +144,6 @@ void AddSolve(CLI::App* policy) {
                   mdp.state_label(start).c_str(), mdp.action_name(policy.action[start]).c_str());
     }
   });
-}
-
-// The CMA model of a policy file: the --weights file when given, else the weights it records.
-FiniteMdp ModelForPolicy(const PolicyDocument& document, const std::string& weights_file,
-                         const std::string& source) {
-  if (document.model != "cma") throw InputError(source, "model", "'cma', got '" + document.model + "'");
-  if (!weights_file.empty()) return BuildCmaMdp(LoadCmaConfig(weights_file).weights);
-  if (!document.model_config.contains("weights")) {
-    throw InputError(source, "model_config.weights", "the weights the policy was solved with");
-  }
-  return BuildCmaMdp(WeightsFromJson(document.model_config.at("weights"), source));
 }
 
 // --- policy show -------------------------------------------------------------------------------
@@ -214,7 +186,7 @@ void AddShow(CLI::App* policy) {
   command->add_option("--plot", *plot, "Also draw the quadrant view to this PNG file");
   command->callback([file, weights_file, json, plot] {
     const PolicyDocument document = ReadPolicyFile(*file);
-    const FiniteMdp mdp = ModelForPolicy(document, *weights_file, *file);
+    const FiniteMdp mdp = CmaModelForPolicy(document, *weights_file, *file);
     const Policy policy = BindPolicy(document, mdp, *file);
     const auto rows = CmaQuadrantView(policy.action, policy.value);
     nlohmann::json view = {{"model_hash", document.model_hash}, {"gamma", document.gamma},
@@ -304,13 +276,13 @@ void AddSensitivity(CLI::App* policy) {
                                 mdp.action_name(from), mdp.action_name(to));
         }
       }
-      steps.push_back({{"value", value}, {"weights", WeightsJson(weights)}, {"changes", changes}});
+      steps.push_back({{"value", value}, {"weights", CmaWeightsJson(weights)}, {"changes", changes}});
       text += fmt::format("  w_{} = {:.4f}: {} change{}{}\n", options->weight, value, changes.size(),
                           changes.size() == 1 ? "" : "s", listed);
     }
     if (options->json) {
       PrintJson({{"weight", options->weight}, {"gamma", base.gamma},
-                 {"base_weights", WeightsJson(base.weights)}, {"steps", steps}});
+                 {"base_weights", CmaWeightsJson(base.weights)}, {"steps", steps}});
     } else {
       std::fputs(text.c_str(), stdout);
     }

@@ -5,6 +5,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/hash.h"
+#include "uascma/decision/cma_mdp.h"
 
 namespace uascma::decision {
 
@@ -149,6 +150,21 @@ Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const st
     if (policy.action[s] < 0) throw InputError(source, "states", "an entry for state " + mdp.state_label(s));
   }
   return policy;
+}
+
+FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& weights_file,
+                            const std::string& source) {
+  if (document.model != "cma") throw InputError(source, "model", "'cma', got '" + document.model + "'");
+  if (!weights_file.empty()) return BuildCmaMdp(LoadCmaConfig(weights_file).weights);
+  if (!document.model_config.contains("weights")) {
+    throw InputError(source, "model_config.weights", "the weights the policy was solved with");
+  }
+  return BuildCmaMdp(CmaWeightsFromJson(document.model_config.at("weights"), source));
+}
+
+Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file) {
+  const PolicyDocument document = ReadPolicyFile(path);
+  return BindPolicy(document, CmaModelForPolicy(document, weights_file, path.string()), path.string());
 }
 
 }  // namespace uascma::decision

@@ -155,7 +155,9 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   FlightStatus flight_status = FlightStatus::kN;
   bool airborne = false;
   double bus_voltage = pack_.CalcOutputs(pack_state, 0.0).split.bus_voltage_v;
-  double pack_current = opt.hotel_current_a;
+  // Until the first step has drawn real current, the 1 Hz prognosis sees the hover draw.
+  double pack_current = opt.hotel_current_a +
+                        6.0 * models::CalcElectricalPower(propulsion_, sc.body.mass * kGravity / 6.0) / bus_voltage;
   prognostics::EodResult eod;
   DecisionInputs inputs;
   inputs.rul_s = kInfinity;

@@ -3,7 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace uascma {
 
@@ -22,5 +24,22 @@ double OptionalNumber(const YAML::Node& node, const std::string& key, double fal
 // A required map at node[key].
 YAML::Node RequireMap(const YAML::Node& node, const std::string& key, const std::string& source,
                       const std::string& where);
+
+// Throws InputError naming the first key of the mapping `node` that is not in `allowed` (catches typos
+// such as "turbulance" that would otherwise be silently ignored).
+void RequireOnlyKeys(const YAML::Node& node, std::initializer_list<const char*> allowed, const std::string& source,
+                     const std::string& where);
+
+// A required string at node[key].
+std::string RequireString(const YAML::Node& node, const std::string& key, const std::string& source,
+                          const std::string& where);
+
+// A boolean at node[key], or `fallback` when absent.
+bool OptionalBool(const YAML::Node& node, const std::string& key, bool fallback, const std::string& source,
+                  const std::string& where);
+
+// A list of exactly `size` numbers at node[key].
+std::vector<double> RequireNumberList(const YAML::Node& node, const std::string& key, std::size_t size,
+                                      const std::string& source, const std::string& where);
 
 }  // namespace uascma

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "uascma/decision/factored_mdp.h"
 #include "uascma/decision/finite_mdp.h"
 
@@ -92,6 +94,10 @@ struct CmaConfig {
 // Every weight is required; InputError names the file and key of a missing or bad one.
 CmaConfig LoadCmaConfig(const std::filesystem::path& path);
 std::string CmaConfigYaml(const CmaConfig& config);
+// The weights as a JSON object {"C": …, …, "RM": …} (stored in policy files), and back (InputError naming
+// `source` and the missing or non-numeric weight).
+nlohmann::json CmaWeightsJson(const CmaWeights& weights);
+CmaWeights CmaWeightsFromJson(const nlohmann::json& json, const std::string& source);
 
 // The factored model (features, Tables 5.1–5.7, availability) and the composed MDP.
 FactoredMdpBuilder MakeCmaFactoredModel();

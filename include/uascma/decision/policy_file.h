@@ -51,4 +51,11 @@ PolicyDocument ReadPolicyFile(const std::filesystem::path& path);
 // (hash), covers each of its states once, and picks only available actions.
 Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const std::string& source);
 
+// The CMA model a policy file was solved for: the weights of `weights_file` when given, else the weights
+// the file records. InputError when the file is not a CMA policy or records no weights.
+FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& weights_file,
+                            const std::string& source);
+// Reads a CMA policy file and binds it to its model (hash checked): the action and value per state.
+Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file = "");
+
 }  // namespace uascma::decision

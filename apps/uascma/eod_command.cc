@@ -1,0 +1,180 @@
+// uascma eod — battery end of discharge of the default battery under a constant total current
+// (dissertation §3.3.2.1, decisions item 14; models: §3.3, §4.3, Tables 3.1–3.2).
+//
+// The battery: two 3S packs of Table 3.1 cells 1–3 in parallel (Fig. 4.1), switched per --use, every
+// cell at rest at --initial-cell-voltage (z = OCV⁻¹(v), shared/spec/defaults.md "Battery").
+// --health applies Table 3.2 to EVERY cell of both packs (decisions item 8 defines the classes; which
+// fade makes "M" is our choice): G none; M power fade (R0 → 2 R0); P power and capacity fade
+// (R0 → 2 R0, Q → 0.8 Q). --temp-degf below 50 °F multiplies R0 by 1.5 as well.
+// JSON: eod_s is always a number (0 when already below the cut-off or no pack is on; the horizon, a lower
+// bound, when not reached); limiting_cell is {"pack": 1|2, "cell": 1..3} (1-based) or null.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "output.h"
+#include "uascma/common/error.h"
+#include "uascma/models/battery.h"
+#include "uascma/prognostics/eod.h"
+
+namespace uascma::cli {
+namespace {
+
+using namespace uascma::models;
+using namespace uascma::prognostics;
+
+struct EodCommandOptions {
+  double current_a = std::nan("");
+  double initial_cell_voltage_v = 4.1;  // inside Table 4.4's 4.05–4.12 V
+  std::string health = "G";
+  double temp_degf = kRoomTemperatureDegf;
+  std::string use = "UseBoth";
+  std::string ocv_csv;
+  double cutoff_v = kCutoffVoltage;
+  double horizon_s = EodOptions{}.horizon_s;
+  double reference_dt_s = 0.0;
+  bool json = false;
+};
+
+PerCell<CellHealth> HealthOfEveryCell(HealthClass health) {
+  PerCell<CellHealth> cells{};
+  for (auto& branch : cells) {
+    for (auto& cell : branch) {
+      cell.power_fade = health == HealthClass::kM || health == HealthClass::kP;
+      cell.capacity_fade = health == HealthClass::kP;
+    }
+  }
+  return cells;
+}
+
+nlohmann::json LimitingCellJson(const EodResult& result) {
+  if (result.limiting_branch < 0) return nullptr;
+  return {{"pack", result.limiting_branch + 1}, {"cell", result.limiting_cell + 1}};
+}
+
+std::string FormatDuration(double seconds) {
+  if (seconds < 60.0) return fmt::format("{:.1f} s", seconds);
+  const double minutes = std::floor(seconds / 60.0);
+  return fmt::format("{:.1f} s = {:.0f} min {:.1f} s", seconds, minutes, seconds - 60.0 * minutes);
+}
+
+void Run(const EodCommandOptions& options) {
+  if (!(std::isfinite(options.current_a) && options.current_a >= 0.0)) {
+    throw InputError("--current-a", "value", fmt::format("a discharge current >= 0 A, got {}", options.current_a));
+  }
+  if (!std::isfinite(options.temp_degf)) {
+    throw InputError("--temp-degf", "value", fmt::format("a temperature in °F, got {}", options.temp_degf));
+  }
+  if (!(std::isfinite(options.cutoff_v) && options.cutoff_v > 0.0)) {
+    throw InputError("--cutoff-v", "value", fmt::format("a positive voltage, got {}", options.cutoff_v));
+  }
+  if (!(std::isfinite(options.horizon_s) && options.horizon_s > 0.0)) {
+    throw InputError("--horizon-s", "value", fmt::format("a positive time, got {}", options.horizon_s));
+  }
+  if (!(std::isfinite(options.reference_dt_s) && options.reference_dt_s >= 0.0)) {
+    throw InputError("--reference-dt-s", "value", fmt::format("a positive step, got {}", options.reference_dt_s));
+  }
+  const HealthClass health = ParseHealthClass(options.health, "--health");
+  const PackAction use = ParsePackAction(options.use, "--use");
+  const OcvTable ocv = options.ocv_csv.empty() ? DefaultOcvTable() : LoadOcvTableCsv(options.ocv_csv);
+  const BatteryPack pack(MakePackParams(HealthOfEveryCell(health), options.temp_degf, ocv));
+  const PackState state = pack.MakeRestingState(options.initial_cell_voltage_v, use, "--initial-cell-voltage");
+
+  EodOptions eod_options;
+  eod_options.cutoff_v = options.cutoff_v;
+  eod_options.horizon_s = options.horizon_s;
+  const EodResult result = CalcPackEod(pack, state, options.current_a, eod_options);
+  const PackOutputs now = pack.CalcOutputs(state, options.current_a);
+  const double soc = state.cells[0][0].soc_fraction;
+
+  nlohmann::json document = {
+      {"eod_s", result.eod_s},
+      {"status", EodStatusName(result.status)},
+      {"limiting_cell", LimitingCellJson(result)},
+      {"current_a", options.current_a},
+      {"initial_cell_voltage_v", options.initial_cell_voltage_v},
+      {"initial_soc_fraction", soc},
+      {"health", HealthClassName(health)},
+      {"temp_degf", options.temp_degf},
+      {"use", PackActionName(use)},
+      {"cutoff_v", options.cutoff_v},
+      {"branch_current_a", {now.split.current_a[0], now.split.current_a[1]}},
+      {"bus_voltage_v", now.split.bus_voltage_v},
+      {"segments", result.segments}};
+  std::string reference_text;
+  if (options.reference_dt_s > 0.0) {
+    const EodResult reference = SimulatePackEod(pack, state, options.current_a, options.reference_dt_s, eod_options);
+    const double difference = reference.eod_s > 0.0 ? (result.eod_s - reference.eod_s) / reference.eod_s : 0.0;
+    document["reference"] = {{"dt_s", options.reference_dt_s},
+                             {"eod_s", reference.eod_s},
+                             {"status", EodStatusName(reference.status)},
+                             {"limiting_cell", LimitingCellJson(reference)},
+                             {"relative_difference", difference}};
+    reference_text = fmt::format("fixed-step reference (dt {} s): {}; relative difference {:.2e}\n",
+                                 options.reference_dt_s, reference.BriefReport(), difference);
+  }
+  if (options.json) {
+    PrintJson(document);
+    return;
+  }
+  std::string headline;
+  switch (result.status) {
+    case EodStatus::kReached:
+      headline = fmt::format("EOD {} at {} A: {} reaches {} V first", FormatDuration(result.eod_s), options.current_a,
+                             CellLabel(result.limiting_branch, result.limiting_cell), options.cutoff_v);
+      break;
+    case EodStatus::kAlreadyBelowCutoff:
+      headline = fmt::format("EOD 0 s at {} A: {} is already at or below {} V", options.current_a,
+                             CellLabel(result.limiting_branch, result.limiting_cell), options.cutoff_v);
+      break;
+    case EodStatus::kNotReachedWithinHorizon:
+      headline = fmt::format("EOD beyond {} at {} A: no cell reaches {} V within the horizon",
+                             FormatDuration(result.eod_s), options.current_a, options.cutoff_v);
+      break;
+    case EodStatus::kNoBranchConnected:
+      headline = "EOD 0 s: no pack is switched on";
+      break;
+  }
+  std::printf("%s\n", headline.c_str());
+  std::printf("  %s, cells at rest at %g V (SOC %.1f %%), health %s, %g °F\n", PackActionName(use),
+              options.initial_cell_voltage_v, 100.0 * soc, HealthClassName(health), options.temp_degf);
+  std::printf("  now: branch currents %.2f A and %.2f A, bus %.3f V (eqs. 3.4-3.7); %d segments propagated\n",
+              now.split.current_a[0], now.split.current_a[1], now.split.bus_voltage_v, result.segments);
+  std::fputs(reference_text.c_str(), stdout);
+}
+
+}  // namespace
+
+void AddEodCommand(CLI::App& app) {
+  auto options = std::make_shared<EodCommandOptions>();
+  CLI::App* command = app.add_subcommand(
+      "eod",
+      "Battery end of discharge (dissertation §3.3.2.1): the time until the first cell of the two\n"
+      "parallel 3S packs (Table 3.1 cells, Fig. 4.1) reaches the cut-off under a constant total current,\n"
+      "propagating every cell's Enhanced Self-Correcting model (eqs. 3.1-3.3) with the branch split of\n"
+      "eqs. 3.4-3.7. Health applies Table 3.2 to every cell: G none, M power fade (R0 x2), P power and\n"
+      "capacity fade (R0 x2, Q x0.8); below 50 °F R0 x1.5 as well");
+  command->add_option("--current-a", options->current_a, "Total discharge current drawn from the battery, A (>= 0)")
+      ->required();
+  command->add_option("--initial-cell-voltage", options->initial_cell_voltage_v,
+                      "Rest voltage of every cell, V, within the OCV table (default 4.1; Table 4.4: 4.05-4.12)");
+  command->add_option("--health", options->health, "G | M | P (default G; see above)");
+  command->add_option("--temp-degf", options->temp_degf,
+                      "Ambient temperature, °F (default 77, room temperature: an estimate)");
+  command->add_option("--use", options->use, "UseBoth | UseBatt1 | UseBatt2 (Table 4.3; default UseBoth)");
+  command->add_option("--ocv-csv", options->ocv_csv,
+                      "OCV(SOC) table as CSV with header 'soc_percent,ocv_v' (default: shared/spec/defaults.md)");
+  command->add_option("--cutoff-v", options->cutoff_v, "Cell cut-off voltage, V (default 3.3, §3.3.2.1)");
+  command->add_option("--horizon-s", options->horizon_s, "Longest EOD searched, s (default 86400)");
+  command->add_option("--reference-dt-s", options->reference_dt_s,
+                      "Also run the fixed-step reference integration with this step, s, and compare");
+  command->add_flag("--json", options->json,
+                    "Print JSON: eod_s (a number), status, limiting_cell {pack, cell} (1-based) or null, inputs");
+  command->callback([options] { Run(*options); });
+}
+
+}  // namespace uascma::cli

@@ -1,0 +1,72 @@
+#pragma once
+// Flying one sampled run with one policy, and the metrics of §5.5.3 (Figs. 5.30–5.32).
+//
+// Rewards per time step (Fig. 5.32). Each 1 Hz decision epoch k earns the CMA reward of eqs. 5.20–5.29,
+//   r_k = R(S_k, A_k) = R(S_k) + R(A_k)        (decision::CmaReward, default weights of eqs. 5.28–5.29)
+// with S_k the abstract state the simulator computed (decisions item 7) and A_k the action the policy
+// decided, except that an emergency action equal to the one already executing counts as NoOp
+// (decisions item 9, Fig. 5.16: "NoOp action is executed ... to prevent repeated execution"). When the
+// flight ends, one more term is the reward of the terminal state it reached:
+//   completed or emergency landing → C,  terminated → T,  any failure (battery, control, collision,
+//   timeout) → FL,
+// and that term is R(S_end) alone (no decision is taken after the end): R(S_end, a) − R(E, a), since
+// R(E) = 0 (eq. 5.23). The metrics of a flight are
+//   average reward per time step  = mean_k r_k,   minimum instantaneous reward = min_k r_k,
+// and the campaign statistics average them over flights (campaign/statistics.h).
+#include <functional>
+#include <vector>
+
+#include "uascma/campaign/policies.h"
+#include "uascma/campaign/record.h"
+#include "uascma/campaign/sampler.h"
+#include "uascma/decision/cma_mdp.h"
+#include "uascma/sim/simulator.h"
+
+namespace uascma::campaign {
+
+// Builds the emergency-landing planner of one flight (LandPract, LandASAP; the planning layer) from the
+// immutable simulator (its scenario and nominal plan). Empty → no planner: emergency requests are
+// logged and the flight continues (sim::Simulator::Run).
+using PlannerFactory = std::function<sim::EmergencyPlanner(const sim::Simulator&)>;
+
+// One decision epoch as the policy saw it.
+struct EpochDecision {
+  double time_s = 0.0;
+  decision::CmaState state;
+  decision::CmaAction action = decision::CmaAction::kNoOp;  // as decided
+};
+
+// Wraps a policy and records every decision (the simulator records only executed changes).
+class RecordingPolicy final : public sim::DecisionPolicy {
+ public:
+  explicit RecordingPolicy(sim::DecisionPolicy& inner) : inner_(inner) {}
+  decision::CmaAction Decide(const sim::DecisionInputs& inputs) override;
+  std::string name() const override { return inner_.name(); }
+  const std::vector<EpochDecision>& decisions() const { return decisions_; }
+
+ private:
+  sim::DecisionPolicy& inner_;
+  std::vector<EpochDecision> decisions_;
+};
+
+// The terminal CMA state a flight ended in (C, T or FL); the outcome must not be kInProgress.
+decision::CmaTerminal TerminalStateOf(sim::Outcome outcome);
+
+struct RewardTrace {
+  std::vector<double> reward;  // one per epoch, then the terminal term
+  double average = 0.0;
+  double minimum = 0.0;
+};
+RewardTrace CalcRewardTrace(const std::vector<EpochDecision>& decisions, sim::Outcome outcome,
+                            const decision::CmaWeights& weights = {});
+
+// The record of one flight: the sampled parameters, the result and the metrics. `slot` is the policy's
+// position in the campaign and `num_policies` their count (for flight_id).
+RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int slot, int num_policies,
+                        const sim::SimResult& result, const std::vector<EpochDecision>& decisions);
+
+// Flies `run` with `policy` on `simulator` (built from run.scenario) without telemetry.
+RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const CampaignPolicy& policy,
+                 int slot, int num_policies, const PlannerFactory& planner_factory = {});
+
+}  // namespace uascma::campaign

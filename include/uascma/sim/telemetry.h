@@ -1,0 +1,25 @@
+#pragma once
+// Flight records on disk: the telemetry time series as CSV (one row per telemetry sample, SI units, the
+// column names say frame and unit) and the summary as JSON. Both are written atomically.
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "uascma/sim/simulator.h"
+
+namespace uascma::sim {
+
+// The CSV header and rows, e.g. "t_s,p_W_x_m,…".
+std::string TelemetryCsv(const SimResult& result);
+
+// The summary: outcome, reason, sim_time_s, wall_time_s, realtime_factor, seed, policy, events, actions,
+// fault timing (spall, jam, isolation, latency), min cell voltage, energy, max tracking error and tilt.
+nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan& nominal_plan, const SimResult& result);
+
+// Writes telemetry.csv, summary.json and plan.csv (the nominal plan and any executed emergency plan,
+// sampled at 1 Hz) into `folder` (created when missing).
+void WriteFlightRecord(const std::filesystem::path& folder, const Scenario& scenario,
+                       const planning::FlightPlan& nominal_plan, const SimResult& result);
+
+}  // namespace uascma::sim

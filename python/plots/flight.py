@@ -1,0 +1,184 @@
+#!/usr/bin/python3
+"""Draws one simulated flight written by `uascma simulate --out DIR` (the dissertation's Figs. 4.6-4.11
+and 5.18-5.29 are the model).
+
+Usage: flight.py DIR
+Writes into DIR: path.png (3-D path against the plan), forces.png (thrust, drag, torques), rotors.png
+(rotor thrusts and currents), battery.png (cell voltages, bus voltage, branch currents), eod.png (EOD
+against the remaining flight time, RM and MM), decisions.png (CMA state, action and IMM mode over time).
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+ACTIONS = ["NoOp", "Terminate", "LandASAP", "LandPract"]
+FS = ["N", "ELASAP", "ELPRACT"]
+MH = ["NF", "SF", "JF"]
+MM = ["MM0", "MM1"]
+BH = ["G", "M", "P"]
+RM = ["RM0", "RM1"]
+
+
+def state_label(index):
+    index = int(index)
+    rm = index % 2
+    index //= 2
+    bh = index % 3
+    index //= 3
+    mm = index % 2
+    index //= 2
+    mh = index % 3
+    fs = index // 3
+    return f"{FS[fs]},{MH[mh]},{MM[mm]},{BH[bh]},{RM[rm]}"
+
+
+def events_on(ax, summary):
+    for name, key in (("spall", "spall_onset_s"), ("jam", "jam_time_s"), ("isolated", "isolation_time_s")):
+        if summary.get(key) is not None:
+            ax.axvline(summary[key], color="grey", linestyle=":", linewidth=1)
+            ax.text(summary[key], ax.get_ylim()[1], " " + name, fontsize=7, va="top", color="grey")
+    for action in summary.get("actions", []):
+        ax.axvline(action["time_s"], color="purple", linestyle="--", linewidth=1)
+
+
+def main(folder):
+    t = np.genfromtxt(os.path.join(folder, "telemetry.csv"), delimiter=",", names=True)
+    plan = np.genfromtxt(os.path.join(folder, "plan.csv"), delimiter=",", names=True, dtype=None, encoding="utf-8")
+    with open(os.path.join(folder, "summary.json")) as f:
+        summary = json.load(f)
+    title = f"{summary['scenario']} — {summary['policy']}: {summary['outcome']}"
+    time = t["t_s"]
+
+    # 3-D path (altitude up) against the plan.
+    fig = plt.figure(figsize=(8, 6))
+    ax = fig.add_subplot(projection="3d")
+    nominal = plan[plan["kind"] == "nominal"]
+    ax.plot(nominal["y_m"], nominal["x_m"], -nominal["z_m"], "k--", linewidth=1, label="plan")
+    emergency = plan[plan["kind"] == "emergency"]
+    if len(emergency):
+        ax.plot(emergency["y_m"], emergency["x_m"], -emergency["z_m"], "g--", linewidth=1, label="emergency plan")
+    ax.plot(t["p_W_y_m"], t["p_W_x_m"], -t["p_W_z_m"], "b", linewidth=1.2, label="flown")
+    ax.set_xlabel("east (m)")
+    ax.set_ylabel("north (m)")
+    ax.set_zlabel("altitude (m)")
+    ax.legend()
+    ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "path.png"), dpi=110)
+    plt.close(fig)
+
+    # Forces and torques.
+    fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    axes[0].plot(time, t["thrust_cmd_n"], label="thrust commanded")
+    axes[0].plot(time, t["thrust_n"], label="thrust achieved")
+    axes[0].set_ylabel("N")
+    axes[0].legend(fontsize=8)
+    drag = np.sqrt(t["drag_W_x_n"] ** 2 + t["drag_W_y_n"] ** 2 + t["drag_W_z_n"] ** 2)
+    axes[1].plot(time, drag, label="|drag|")
+    axes[1].set_ylabel("N")
+    axes[1].legend(fontsize=8)
+    for axis in "xyz":
+        axes[2].plot(time, t[f"torque_{axis}_nm"], label=f"τ{axis}")
+    axes[2].set_ylabel("N·m")
+    axes[2].set_xlabel("time (s)")
+    axes[2].legend(fontsize=8)
+    for ax in axes:
+        events_on(ax, summary)
+    axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "forces.png"), dpi=110)
+    plt.close(fig)
+
+    # Rotor thrusts and currents.
+    fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for i in range(1, 7):
+        axes[0].plot(time, t[f"rotor{i}_thrust_n"], label=f"rotor {i}", linewidth=1)
+        axes[1].plot(time, t[f"rotor{i}_current_a"], label=f"rotor {i}", linewidth=1)
+    axes[0].set_ylabel("thrust (N)")
+    axes[1].set_ylabel("current (A)")
+    axes[1].set_xlabel("time (s)")
+    axes[0].legend(fontsize=7, ncol=6)
+    for ax in axes:
+        events_on(ax, summary)
+    axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "rotors.png"), dpi=110)
+    plt.close(fig)
+
+    # Battery.
+    fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    for pack in (1, 2):
+        for cell in (1, 2, 3):
+            axes[0].plot(time, t[f"cell_p{pack}c{cell}_v"], label=f"pack {pack} cell {cell}", linewidth=1)
+    axes[0].axhline(3.3, color="red", linestyle="--", linewidth=1, label="cut-off 3.3 V")
+    axes[0].set_ylabel("cell voltage (V)")
+    axes[0].legend(fontsize=7, ncol=4)
+    axes[1].plot(time, t["bus_voltage_v"])
+    axes[1].set_ylabel("bus voltage (V)")
+    axes[2].plot(time, t["pack_current_a"], label="total")
+    axes[2].plot(time, t["branch1_current_a"], label="pack 1")
+    axes[2].plot(time, t["branch2_current_a"], label="pack 2")
+    axes[2].set_ylabel("current (A)")
+    axes[2].set_xlabel("time (s)")
+    axes[2].legend(fontsize=8)
+    axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "battery.png"), dpi=110)
+    plt.close(fig)
+
+    # EOD against the remaining flight time (Figs. 4.8b, 5.2x).
+    fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    axes[0].plot(time, t["eod_s"], label="EOD")
+    axes[0].plot(time, t["flight_time_remaining_s"], "k", linewidth=2, label="remaining flight time")
+    axes[0].set_ylabel("s")
+    axes[0].set_ylim(0, 3 * max(1.0, float(np.max(t["flight_time_remaining_s"]))))
+    axes[0].legend(fontsize=8)
+    axes[1].plot(time, t["reach_margin"], label="RM")
+    mm = np.clip(t["motor_margin"], -1.5, 1.0)
+    axes[1].plot(time, mm, label="MM (clipped at −1.5)")
+    axes[1].axhline(0, color="k", linewidth=0.8)
+    axes[1].set_ylabel("margin")
+    axes[1].set_xlabel("time (s)")
+    axes[1].legend(fontsize=8)
+    for ax in axes:
+        events_on(ax, summary)
+    axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "eod.png"), dpi=110)
+    plt.close(fig)
+
+    # Decision timeline.
+    fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
+    states = t["cma_state"].astype(int)
+    unique = sorted(set(states.tolist()))
+    axes[0].step(time, [unique.index(s) for s in states], where="post")
+    axes[0].set_yticks(range(len(unique)))
+    axes[0].set_yticklabels([state_label(s) for s in unique], fontsize=7)
+    axes[0].set_ylabel("CMA state")
+    axes[1].step(time, t["action"].astype(int), where="post", color="purple")
+    axes[1].set_yticks(range(4))
+    axes[1].set_yticklabels(ACTIONS, fontsize=8)
+    axes[1].set_ylabel("last action")
+    axes[2].step(time, t["imm_mode"].astype(int), where="post", color="darkorange")
+    axes[2].set_yticks(range(7))
+    axes[2].set_yticklabels(["nominal"] + [f"rotor {i} out" for i in range(1, 7)], fontsize=7)
+    axes[2].set_ylabel("IMM mode")
+    axes[2].set_xlabel("time (s)")
+    for ax in axes:
+        events_on(ax, summary)
+    axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "decisions.png"), dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])

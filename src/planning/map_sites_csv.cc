@@ -1,0 +1,138 @@
+// Landing-site CSV reader: columns found by name with the aliases of include/uascma/planning/map_import.h.
+#include <algorithm>
+#include <array>
+#include <cctype>
+
+#include <fmt/format.h>
+
+#include "map_import_detail.h"
+#include "uascma/common/error.h"
+#include "uascma/common/files.h"
+#include "uascma/planning/map_import.h"
+
+namespace uascma::planning {
+namespace {
+
+enum Column { kId = 0, kLat, kLon, kAlt, kRisk, kRadius, kNumColumns };
+
+struct ColumnSpec {
+  const char* name;  // the canonical name, used in messages
+  std::vector<std::string_view> aliases;
+};
+
+const std::array<ColumnSpec, kNumColumns>& Columns() {
+  static const std::array<ColumnSpec, kNumColumns> columns = {{
+      {"osm_id", {"osm_id", "id", "site_id"}},
+      {"lat", {"lat", "gps.lat", "latitude"}},
+      {"lon", {"lon", "gps.lon", "lng", "longitude"}},
+      {"alt", {"alt", "gps.alt", "altitude"}},
+      {"risk", {"risk", "landing_site_risk"}},
+      {"radius", {"radius"}},
+  }};
+  return columns;
+}
+
+// Splits one line at commas; fields are trimmed and a pair of surrounding double quotes is removed.
+std::vector<std::string_view> SplitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    std::string_view field = detail::Trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start));
+    if (field.size() >= 2 && field.front() == '"' && field.back() == '"') field = field.substr(1, field.size() - 2);
+    fields.push_back(field);
+    if (comma == std::string_view::npos) return fields;
+    start = comma + 1;
+  }
+}
+
+std::string Lower(std::string_view text) {
+  std::string out(text);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
+  return out;
+}
+
+}  // namespace
+
+void ParseLandingSitesCsv(std::string_view text, const std::string& source, const MapImportOptions& /*options*/,
+                          GeoMapData* data) {
+  // Lines, without their "\n" or "\r\n"; blank lines are skipped.
+  std::vector<std::pair<int, std::string_view>> lines;
+  int number = 0;
+  for (std::size_t start = 0; start < text.size();) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    ++number;
+    std::string_view line = text.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (!detail::Trim(line).empty()) lines.emplace_back(number, line);
+    start = end + 1;
+  }
+  if (lines.empty()) throw InputError(source, "header", "a header row naming the columns osm_id, lat, lon, alt, risk, radius");
+
+  // The header: where each column is.
+  const auto header = SplitFields(lines.front().second);
+  std::array<int, kNumColumns> where;
+  where.fill(-1);
+  for (int c = 0; c < kNumColumns; ++c) {
+    for (std::size_t f = 0; f < header.size() && where[c] < 0; ++f) {
+      const std::string name = Lower(header[f]);
+      for (std::string_view alias : Columns()[c].aliases) {
+        if (name == alias) where[c] = static_cast<int>(f);
+      }
+    }
+    if (where[c] < 0) {
+      std::string aliases;
+      for (std::string_view alias : Columns()[c].aliases) aliases += (aliases.empty() ? "" : " | ") + std::string(alias);
+      throw InputError(source, "header",
+                       fmt::format("a column '{}' (accepted names: {}); the header is '{}'", Columns()[c].name,
+                                   aliases, lines.front().second));
+    }
+  }
+  const int needed = *std::max_element(where.begin(), where.end()) + 1;
+
+  ImportSummary& summary = data->summary;
+  summary.sources.push_back(source);
+  for (std::size_t l = 1; l < lines.size(); ++l) {
+    const auto [line_number, line] = lines[l];
+    const auto fields = SplitFields(line);
+    const std::string row = fmt::format("line {}", line_number);
+    if (static_cast<int>(fields.size()) < needed) {
+      throw InputError(source, row, fmt::format("{} comma-separated fields, got {}", header.size(), fields.size()));
+    }
+    auto number_at = [&](Column c) {
+      const auto value = detail::ParseNumber(fields[where[c]]);
+      if (!value) {
+        throw InputError(source, fmt::format("{} column {}", row, Columns()[c].name),
+                         fmt::format("a number, got '{}'", fields[where[c]]));
+      }
+      return *value;
+    };
+    GeoLandingSite site;
+    site.id = std::string(fields[where[kId]]);
+    if (site.id.empty()) throw InputError(source, row + " column osm_id", "a site id");
+    const std::string feature = fmt::format("{} (site {})", row, site.id);
+    site.position = {number_at(kLat), number_at(kLon)};
+    detail::CheckGeoPoint(site.position, source, feature);
+    site.altitude = number_at(kAlt);
+    site.risk = number_at(kRisk);
+    site.radius = number_at(kRadius);
+    if (!(site.altitude >= 0.0)) {
+      throw InputError(source, feature, fmt::format("alt ≥ 0 m above ground, got {}", site.altitude));
+    }
+    if (!(site.risk >= 0.0 && site.risk <= 1.0)) {
+      throw InputError(source, feature, fmt::format("risk in [0, 1], got {}", site.risk));
+    }
+    if (!(site.radius > 0.0)) {
+      throw InputError(source, feature, fmt::format("radius > 0 m, got {}", site.radius));
+    }
+    data->sites.push_back(std::move(site));
+    ++summary.sites;
+  }
+}
+
+void ReadLandingSitesCsv(const std::filesystem::path& path, const MapImportOptions& options, GeoMapData* data) {
+  ParseLandingSitesCsv(ReadFile(path), path.string(), options, data);
+}
+
+}  // namespace uascma::planning

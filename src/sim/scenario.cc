@@ -1,0 +1,167 @@
+#include "uascma/sim/scenario.h"
+
+#include <numbers>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/files.h"
+#include "uascma/common/yaml_io.h"
+
+namespace uascma::sim {
+namespace {
+
+constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
+
+void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec& battery) {
+  RequireOnlyKeys(node, {"initial_cell_voltage_v", "ambient_temp_degf", "packs"}, source, "battery");
+  if (const YAML::Node voltage = node["initial_cell_voltage_v"]) {
+    if (voltage.IsScalar()) {
+      const double v = RequireNumber(node, "initial_cell_voltage_v", source, "battery");
+      for (auto& pack : battery.initial_cell_voltage_v) pack.fill(v);
+    } else {
+      if (!voltage.IsSequence() || voltage.size() != 2) {
+        throw InputError(source, "battery.initial_cell_voltage_v", "a number or two lists of three numbers");
+      }
+      for (int b = 0; b < 2; ++b) {
+        YAML::Node holder;
+        holder["pack"] = voltage[b];
+        const auto cells = RequireNumberList(holder, "pack", 3, source, fmt::format("battery.initial_cell_voltage_v[{}]", b));
+        for (int c = 0; c < 3; ++c) battery.initial_cell_voltage_v[b][c] = cells[c];
+      }
+    }
+  }
+  battery.ambient_temp_degf = OptionalNumber(node, "ambient_temp_degf", battery.ambient_temp_degf, source, "battery");
+  if (const YAML::Node packs = node["packs"]) {
+    if (!packs.IsSequence() || packs.size() != 2) throw InputError(source, "battery.packs", "a list of two health classes (G, M or P)");
+    for (int b = 0; b < 2; ++b) {
+      const std::string field = fmt::format("battery.packs[{}]", b);
+      if (!packs[b].IsScalar()) throw InputError(source, field, "G, M or P");
+      battery.cell_health[b] = PackHealthPreset(models::ParseHealthClass(packs[b].Scalar(), source + ": " + field));
+    }
+  }
+}
+
+}  // namespace
+
+std::array<models::CellHealth, models::kCellsPerBranch> PackHealthPreset(models::HealthClass health) {
+  std::array<models::CellHealth, models::kCellsPerBranch> cells{};
+  for (auto& cell : cells) {
+    cell.capacity_fade = health != models::HealthClass::kG;
+    cell.power_fade = health == models::HealthClass::kP;
+  }
+  return cells;
+}
+
+ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
+  }
+  if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
+  RequireOnlyKeys(root, {"name", "seed", "policy", "vehicle", "battery", "wind", "mission", "limits", "fault", "options"},
+                  source, "");
+  ScenarioFile file;
+  Scenario& sc = file.scenario;
+  sc.name = root["name"] ? RequireString(root, "name", source, "") : std::filesystem::path(source).stem().string();
+  if (root["seed"]) {
+    const double seed = RequireNumber(root, "seed", source, "");
+    if (seed < 0 || seed != std::floor(seed) || seed > 9007199254740992.0) {
+      throw InputError(source, "seed", "a non-negative integer");
+    }
+    sc.seed = static_cast<std::uint64_t>(seed);
+  }
+  if (root["policy"]) file.policy = RequireString(root, "policy", source, "");
+  if (const YAML::Node v = root["vehicle"]) {
+    RequireOnlyKeys(v, {"configuration", "mass_kg", "inertia_kg_m2"}, source, "vehicle");
+    if (v["configuration"]) {
+      sc.configuration = models::ParsePropellerConfiguration(RequireString(v, "configuration", source, "vehicle"),
+                                                             source + ": vehicle.configuration");
+    }
+    sc.body.mass = OptionalNumber(v, "mass_kg", sc.body.mass, source, "vehicle");
+    if (v["inertia_kg_m2"]) {
+      const auto inertia = RequireNumberList(v, "inertia_kg_m2", 3, source, "vehicle");
+      sc.body.inertia_diagonal = Eigen::Vector3d(inertia[0], inertia[1], inertia[2]);
+    }
+    std::string error;
+    if (!sc.body.IsValid(&error)) throw InputError(source, "vehicle", error);
+  }
+  if (const YAML::Node b = root["battery"]) ReadBattery(b, source, sc.battery);
+  // The initial voltages must lie on the OCV table (they set the initial state of charge).
+  models::BatteryPack(models::MakePackParams(sc.battery.cell_health, sc.battery.ambient_temp_degf))
+      .MakeRestingState(sc.battery.initial_cell_voltage_v, models::PackAction::kUseBoth,
+                        source + ": battery.initial_cell_voltage_v");
+  if (const YAML::Node w = root["wind"]) {
+    RequireOnlyKeys(w, {"speed_mps", "direction_deg", "turbulence"}, source, "wind");
+    sc.wind.mean_speed = OptionalNumber(w, "speed_mps", sc.wind.mean_speed, source, "wind");
+    sc.wind.direction_rad = OptionalNumber(w, "direction_deg", 0.0, source, "wind") * kRadiansPerDegree;
+    if (w["turbulence"]) {
+      sc.wind.turbulence = models::ParseTurbulenceCategory(RequireString(w, "turbulence", source, "wind"),
+                                                           source + ": wind.turbulence");
+    }
+    std::string error;
+    if (!sc.wind.IsValid(&error)) throw InputError(source, "wind", error);
+  }
+  if (const YAML::Node m = root["mission"]) {
+    RequireOnlyKeys(m, {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s"}, source, "mission");
+    if (m["home_ne_m"]) {
+      const auto home = RequireNumberList(m, "home_ne_m", 2, source, "mission");
+      sc.mission.home_NE = Eigen::Vector2d(home[0], home[1]);
+    }
+    if (m["destination_ne_m"]) {
+      const auto destination = RequireNumberList(m, "destination_ne_m", 2, source, "mission");
+      sc.mission.destination_NE = Eigen::Vector2d(destination[0], destination[1]);
+    }
+    sc.mission.cruise_altitude = OptionalNumber(m, "cruise_altitude_m", sc.mission.cruise_altitude, source, "mission");
+    sc.mission.drop_hover_s = OptionalNumber(m, "drop_hover_s", sc.mission.drop_hover_s, source, "mission");
+    std::string error;
+    if (!sc.mission.IsValid(&error)) throw InputError(source, "mission", error);
+  }
+  if (const YAML::Node l = root["limits"]) {
+    RequireOnlyKeys(l, {"cruise_speed_mps", "vertical_speed_mps", "horizontal_accel_mps2", "vertical_accel_mps2"},
+                    source, "limits");
+    sc.limits.cruise_speed = OptionalNumber(l, "cruise_speed_mps", sc.limits.cruise_speed, source, "limits");
+    sc.limits.vertical_speed = OptionalNumber(l, "vertical_speed_mps", sc.limits.vertical_speed, source, "limits");
+    sc.limits.horizontal_accel = OptionalNumber(l, "horizontal_accel_mps2", sc.limits.horizontal_accel, source, "limits");
+    sc.limits.vertical_accel = OptionalNumber(l, "vertical_accel_mps2", sc.limits.vertical_accel, source, "limits");
+    std::string error;
+    if (!sc.limits.IsValid(&error)) throw InputError(source, "limits", error);
+  }
+  if (const YAML::Node f = root["fault"]) {
+    RequireOnlyKeys(f, {"motor", "spall_onset_s", "time_per_growth_step_s"}, source, "fault");
+    sc.fault.enabled = true;
+    const double motor = RequireNumber(f, "motor", source, "fault");
+    if (motor != std::floor(motor) || motor < 1 || motor > 6) throw InputError(source, "fault.motor", "a motor number 1..6");
+    sc.fault.motor = static_cast<int>(motor);
+    sc.fault.spall_onset_s = RequireNumber(f, "spall_onset_s", source, "fault");
+    if (sc.fault.spall_onset_s < 0) throw InputError(source, "fault.spall_onset_s", "a time >= 0 s");
+    if (f["time_per_growth_step_s"]) {
+      const double tau = RequireNumber(f, "time_per_growth_step_s", source, "fault");
+      if (!(tau > 0)) throw InputError(source, "fault.time_per_growth_step_s", "a positive time (s)");
+      sc.fault.time_per_growth_step_s = tau;
+    }
+  }
+  if (const YAML::Node o = root["options"]) {
+    RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_tracking_error_m"},
+                    source, "options");
+    sc.options.telemetry_rate_hz = OptionalNumber(o, "telemetry_rate_hz", sc.options.telemetry_rate_hz, source, "options");
+    sc.options.reconfiguration = OptionalBool(o, "reconfiguration", sc.options.reconfiguration, source, "options");
+    sc.options.sensor_noise = OptionalBool(o, "sensor_noise", sc.options.sensor_noise, source, "options");
+    sc.options.max_tilt = OptionalNumber(o, "max_tilt_deg", sc.options.max_tilt / kRadiansPerDegree, source, "options") *
+                          kRadiansPerDegree;
+    sc.options.max_tracking_error =
+        OptionalNumber(o, "max_tracking_error_m", sc.options.max_tracking_error, source, "options");
+    std::string error;
+    if (!sc.options.IsValid(&error)) throw InputError(source, "options", error);
+  }
+  return file;
+}
+
+ScenarioFile LoadScenarioFile(const std::filesystem::path& path) {
+  return ParseScenario(ReadFile(path), path.string());
+}
+
+}  // namespace uascma::sim

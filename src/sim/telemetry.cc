@@ -1,0 +1,96 @@
+#include "uascma/sim/telemetry.h"
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/files.h"
+
+namespace uascma::sim {
+
+std::string TelemetryCsv(const SimResult& result) {
+  std::string out =
+      "t_s,p_W_x_m,p_W_y_m,p_W_z_m,v_W_x_mps,v_W_y_mps,v_W_z_mps,p_ref_W_x_m,p_ref_W_y_m,p_ref_W_z_m,"
+      "roll_rad,pitch_rad,yaw_rad,drag_W_x_n,drag_W_y_n,drag_W_z_n,wind_W_x_mps,wind_W_y_mps,wind_W_z_mps,"
+      "thrust_cmd_n,torque_cmd_x_nm,torque_cmd_y_nm,torque_cmd_z_nm,thrust_n,torque_x_nm,torque_y_nm,torque_z_nm";
+  for (int i = 1; i <= 6; ++i) out += fmt::format(",rotor{}_thrust_n", i);
+  for (int i = 1; i <= 6; ++i) out += fmt::format(",rotor{}_current_a", i);
+  out += ",pack_current_a,bus_voltage_v,branch1_current_a,branch2_current_a";
+  for (int b = 1; b <= 2; ++b) {
+    for (int c = 1; c <= 3; ++c) out += fmt::format(",cell_p{}c{}_v", b, c);
+  }
+  out += ",eod_s,flight_time_remaining_s,rul_s,reach_margin,motor_margin,cma_state,action,imm_mode,spall_area_mm2\n";
+  for (const TelemetryRow& r : result.telemetry) {
+    out += fmt::format("{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}", r.t, r.p_W.x(), r.p_W.y(),
+                       r.p_W.z(), r.v_W.x(), r.v_W.y(), r.v_W.z(), r.p_ref_W.x(), r.p_ref_W.y(), r.p_ref_W.z());
+    out += fmt::format(",{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.4f}", r.euler.x(), r.euler.y(),
+                       r.euler.z(), r.drag_W.x(), r.drag_W.y(), r.drag_W.z(), r.wind_W.x(), r.wind_W.y(), r.wind_W.z());
+    for (int i = 0; i < 4; ++i) out += fmt::format(",{:.5f}", r.wrench_cmd[i]);
+    for (int i = 0; i < 4; ++i) out += fmt::format(",{:.5f}", r.wrench[i]);
+    for (double v : r.rotor_thrust) out += fmt::format(",{:.4f}", v);
+    for (double v : r.rotor_current) out += fmt::format(",{:.4f}", v);
+    out += fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f}", r.pack_current, r.bus_voltage, r.branch_current[0],
+                       r.branch_current[1]);
+    for (double v : r.cell_voltage) out += fmt::format(",{:.5f}", v);
+    out += fmt::format(",{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{},{},{},{:.5f}\n", r.eod_s, r.flight_time_remaining_s,
+                       std::isfinite(r.rul_s) ? r.rul_s : -1.0, r.reach_margin,
+                       std::isfinite(r.motor_margin) ? r.motor_margin : -1e9, r.cma_state, r.action, r.imm_mode,
+                       r.spall_area_mm2);
+  }
+  return out;
+}
+
+nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan& nominal_plan, const SimResult& result) {
+  nlohmann::json events = nlohmann::json::array();
+  for (const auto& e : result.events) events.push_back({{"time_s", e.time_s}, {"what", e.what}});
+  nlohmann::json actions = nlohmann::json::array();
+  for (const auto& [t, a] : result.actions) actions.push_back({{"time_s", t}, {"action", decision::CmaActionName(a)}});
+  auto optional = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+  nlohmann::json summary = {
+      {"scenario", scenario.name},
+      {"outcome", OutcomeName(result.outcome)},
+      {"failed", IsFailure(result.outcome)},
+      {"reason", result.reason},
+      {"policy", result.policy},
+      {"seed", result.seed},
+      {"sim_time_s", result.sim_time_s},
+      {"wall_time_s", result.wall_time_s},
+      {"realtime_factor", result.realtime_factor()},
+      {"plan_duration_s", nominal_plan.duration()},
+      {"plan_length_m", nominal_plan.Length()},
+      {"spall_onset_s", optional(result.spall_onset_s)},
+      {"jam_time_s", optional(result.jam_time_s)},
+      {"isolation_time_s", optional(result.isolation_time_s)},
+      {"isolated_rotor", result.isolated_rotor},
+      {"min_cell_voltage_v", result.min_cell_voltage_v},
+      {"energy_wh", result.energy_wh},
+      {"max_tracking_error_m", result.max_tracking_error},
+      {"max_tilt_deg", result.max_tilt * 180.0 / 3.14159265358979323846},
+      {"actions", actions},
+      {"events", events},
+  };
+  if (result.jam_time_s && result.isolation_time_s) {
+    summary["detection_latency_s"] = *result.isolation_time_s - *result.jam_time_s;
+  }
+  return summary;
+}
+
+void WriteFlightRecord(const std::filesystem::path& folder, const Scenario& scenario,
+                       const planning::FlightPlan& nominal_plan, const SimResult& result) {
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec) throw InputError(folder.string(), "--out", "a folder that can be created (" + ec.message() + ")");
+  std::string plan = "kind,t_s,x_m,y_m,z_m\n";
+  for (double t = 0; t <= nominal_plan.duration(); t += 1.0) {
+    const Eigen::Vector3d p = nominal_plan.At(t).p_W;
+    plan += fmt::format("nominal,{:.1f},{:.3f},{:.3f},{:.3f}\n", t, p.x(), p.y(), p.z());
+  }
+  for (std::size_t k = 0; k < result.executed_plan_ref.size(); ++k) {
+    const Eigen::Vector3d& p = result.executed_plan_ref[k];
+    plan += fmt::format("emergency,{},{:.3f},{:.3f},{:.3f}\n", k, p.x(), p.y(), p.z());
+  }
+  WriteFileAtomically(folder / "telemetry.csv", TelemetryCsv(result));
+  WriteFileAtomically(folder / "plan.csv", plan);
+  WriteFileAtomically(folder / "summary.json", SummaryJson(scenario, nominal_plan, result).dump(2) + "\n");
+}
+
+}  // namespace uascma::sim
