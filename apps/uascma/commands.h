@@ -12,5 +12,9 @@ void AddRulCommand(CLI::App& app);        // rul_command.cc
 void AddThrustCommand(CLI::App& app);     // thrust_command.cc
 void AddAuthorityCommand(CLI::App& app);  // authority_command.cc
 void AddEodCommand(CLI::App& app);        // eod_command.cc
+void AddFootprintCommand(CLI::App& app);  // footprint_command.cc
+void AddCampaignCommand(CLI::App& app);   // campaign_command.cc
+void AddReportCommand(CLI::App& app);     // report_command.cc
+void AddMapCommand(CLI::App& app);        // map_command.cc
 
 }  // namespace uascma::cli

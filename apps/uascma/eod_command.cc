@@ -42,12 +42,7 @@ struct EodCommandOptions {
 
 PerCell<CellHealth> HealthOfEveryCell(HealthClass health) {
   PerCell<CellHealth> cells{};
-  for (auto& branch : cells) {
-    for (auto& cell : branch) {
-      cell.power_fade = health == HealthClass::kM || health == HealthClass::kP;
-      cell.capacity_fade = health == HealthClass::kP;
-    }
-  }
+  for (auto& pack : cells) pack.fill(CellHealthForClass(health));
   return cells;
 }
 

@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
   uascma::cli::AddAuthorityCommand(app);
   uascma::cli::AddRulCommand(app);
   uascma::cli::AddEodCommand(app);
+  uascma::cli::AddFootprintCommand(app);
+  uascma::cli::AddCampaignCommand(app);
+  uascma::cli::AddReportCommand(app);
+  uascma::cli::AddMapCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -88,16 +88,17 @@ SelfCorrectingCell::SelfCorrectingCell(const CellParams& params, OcvTable ocv, c
   std::string error;
   if (!params_.IsValid(&error)) throw InputError(source + ": " + error);
   capacity_as_ = params_.capacity_ah * kSecondsPerHour;
+  inverse_capacity_per_as_ = 1.0 / capacity_as_;
   for (int j = 0; j < params_.rc_pair_count; ++j) {
     rc_rate_per_s_[j] = 1.0 / (params_.rc[j].resistance_ohm * params_.rc[j].capacitance_f);
   }
 }
 
-double SelfCorrectingCell::CalcTerminalVoltage(const CellState& state, double current_a) const {
+double SelfCorrectingCell::CalcTerminalVoltage(const CellState& state, double current_a, double ocv_v) const {
   // s = −sgn(i) while current flows, else the sign the cell last saw (Plett).
   const double s = current_a != 0.0 ? -Sign(current_a) : state.hysteresis_sign;
-  double v = ocv_.CalcVoltage(state.soc_fraction) + params_.hysteresis_m0_v * s +
-             params_.hysteresis_m_v * state.hysteresis - params_.r0_ohm * current_a;
+  double v = ocv_v + params_.hysteresis_m0_v * s + params_.hysteresis_m_v * state.hysteresis -
+             params_.r0_ohm * current_a;
   for (int j = 0; j < params_.rc_pair_count; ++j) v -= params_.rc[j].resistance_ohm * state.rc_current_a[j];
   return v;
 }
@@ -107,7 +108,8 @@ CellState SelfCorrectingCell::Step(const CellState& state, double current_a, dou
   const double eta = CalcEfficiency(current_a);
   CellState next = state;
   // Coulomb counting: exact for a constant current.
-  next.soc_fraction = state.soc_fraction - eta * current_a * dt_s / capacity_as_;
+  const double charge_as = eta * current_a * dt_s;  // η i Δt
+  next.soc_fraction = state.soc_fraction - charge_as * inverse_capacity_per_as_;
   // Each RC pair is a first-order lag of the current with time constant R_j C_j; under a zero-order-held
   // current its exact discrete form is eq. 3.1.
   for (int j = 0; j < params_.rc_pair_count; ++j) {
@@ -117,7 +119,7 @@ CellState SelfCorrectingCell::Step(const CellState& state, double current_a, dou
   // dh/dt = −|η i γ / Q| (h + sgn(i)): h relaxes towards −sgn(i) at a rate set by the charge moved;
   // exact: h' = A_H h + (A_H − 1) sgn(i) (eq. 3.2).
   if (current_a != 0.0) {
-    const double a_h = std::exp(-std::abs(eta * current_a * params_.hysteresis_gamma * dt_s / capacity_as_));
+    const double a_h = std::exp(-std::abs(charge_as * params_.hysteresis_gamma * inverse_capacity_per_as_));
     const double sign = Sign(current_a);
     next.hysteresis = a_h * state.hysteresis + (a_h - 1.0) * sign;
     next.hysteresis_sign = -sign;

@@ -67,6 +67,13 @@ const char* HealthClassName(HealthClass health) {
   return "?";
 }
 
+CellHealth CellHealthForClass(HealthClass health) {
+  CellHealth cell;
+  cell.power_fade = health != HealthClass::kG;
+  cell.capacity_fade = health == HealthClass::kP;
+  return cell;
+}
+
 HealthClass ParseHealthClass(const std::string& name, const std::string& source) {
   for (HealthClass health : {HealthClass::kG, HealthClass::kM, HealthClass::kP}) {
     if (name == HealthClassName(health)) return health;
@@ -145,13 +152,22 @@ BranchSplit BatteryPack::CalcSplit(const PackState& state, double total_current_
 }
 
 PackOutputs BatteryPack::CalcOutputs(const PackState& state, double total_current_a) const {
+  // OCV(z) of every cell, once: the split (eqs. 3.4–3.6) and the terminal voltages (eq. 3.3) share it.
+  PerCell<double> ocv_v;
+  PerBranch<double> branch_ocv_v = {0.0, 0.0};
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      ocv_v[b][c] = cells_[b][c].ocv().CalcVoltage(state.cells[b][c].soc_fraction);
+      branch_ocv_v[b] += ocv_v[b][c];
+    }
+  }
   PackOutputs out;
-  out.split = CalcSplit(state, total_current_a);
+  out.split = CalcBranchSplit(branch_ocv_v, branch_r0_ohm_, state.branch_on, total_current_a);
   out.min_cell_voltage_v = std::numeric_limits<double>::infinity();
   for (int b = 0; b < kBranchCount; ++b) {
     out.branch_voltage_v[b] = 0.0;
     for (int c = 0; c < kCellsPerBranch; ++c) {
-      const double v = cells_[b][c].CalcTerminalVoltage(state.cells[b][c], out.split.current_a[b]);
+      const double v = cells_[b][c].CalcTerminalVoltage(state.cells[b][c], out.split.current_a[b], ocv_v[b][c]);
       out.cell_voltage_v[b][c] = v;
       out.branch_voltage_v[b] += v;
       if (state.branch_on[b] && v < out.min_cell_voltage_v) {

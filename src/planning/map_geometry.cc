@@ -52,20 +52,32 @@ inline double FirstMeeting(const Eigen::Vector2d& p, const Eigen::Vector2d& r, c
   return low <= high ? low : kNever;
 }
 
-// The shared loop of FirstEntryIntoOutline and SegmentMeetsOutline; kAnyHit stops at the first meeting.
+// True when `edge` crosses the ray from p towards +x: the crossing-number step of the even-odd rule. An edge that
+// straddles the line y = p.y (half-open in y, so a vertex on the line is counted once) crosses it ahead of p.
+inline bool CrossesRay(const Edge2& edge, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d& a = edge.a_NE;
+  const Eigen::Vector2d& b = edge.b_NE;
+  if ((a.y() > p.y()) == (b.y() > p.y())) return false;
+  const double x_crossing = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+  return p.x() < x_crossing;
+}
+
+// The shared loop of FirstEntryIntoOutline and SegmentMeetsOutline, one pass over the edges: the parity of the
+// start point (inside → 0) and the first meeting with an edge otherwise. kAnyHit stops at the first meeting.
 template <bool kAnyHit>
 double FirstEntry(std::span<const Edge2> edges, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
-  if (OutlineContains(edges, from)) return 0.0;
   const Eigen::Vector2d r = to - from;
+  bool inside = false;
   double first = std::numeric_limits<double>::infinity();
   for (const Edge2& edge : edges) {
+    if (CrossesRay(edge, from)) inside = !inside;
     const double s = FirstMeeting(from, r, edge);
     if (s < first) {
       first = s;
       if constexpr (kAnyHit) return first;
     }
   }
-  return first;
+  return inside ? 0.0 : first;
 }
 
 }  // namespace
@@ -87,16 +99,10 @@ double TwiceSignedArea(const Ring& ring) {
 }
 
 bool OutlineContains(std::span<const Edge2> edges, const Eigen::Vector2d& p_NE) {
-  // Crossing number along the ray from p towards +x: an edge that straddles the line y = p.y (half-open in
-  // y, so a vertex on the line is counted once) toggles the parity when it crosses the line ahead of p.
+  // Crossing number along the ray from p towards +x: odd means inside.
   bool inside = false;
   for (const Edge2& edge : edges) {
-    const Eigen::Vector2d& a = edge.a_NE;
-    const Eigen::Vector2d& b = edge.b_NE;
-    if ((a.y() > p_NE.y()) != (b.y() > p_NE.y())) {
-      const double x_crossing = a.x() + (p_NE.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-      if (p_NE.x() < x_crossing) inside = !inside;
-    }
+    if (CrossesRay(edge, p_NE)) inside = !inside;
   }
   return inside;
 }

@@ -37,8 +37,8 @@ bool IsBuildingValue(const std::optional<std::string>& value) { return value && 
 
 void RecordSkip(ImportSummary* summary, const std::string& source, const std::string& feature, SkipReason reason,
                 std::string detail) {
-  ++summary->skipped[static_cast<int>(reason)];
-  summary->skipped_features.push_back({source, feature, reason, std::move(detail)});
+  const int count = ++summary->skipped[static_cast<int>(reason)];
+  if (count <= kMaxRecordedSkipsPerReason) summary->skipped_features.push_back({source, feature, reason, std::move(detail)});
 }
 
 std::optional<double> ResolveHeight(const std::optional<std::string>& height, const std::optional<std::string>& levels,

@@ -629,6 +629,23 @@ void RequireStep(double dt_s) {
   }
 }
 
+// The cut-off crossing between step k − 1 (voltage v_before) and step k (v_after ≤ cutoff), linearly
+// interpolated, s.
+double InterpolatedCrossingS(long long k, double dt_s, double v_before, double v_after, double cutoff_v) {
+  const double fraction = v_before > v_after ? (v_before - cutoff_v) / (v_before - v_after) : 1.0;
+  return (static_cast<double>(k - 1) + std::clamp(fraction, 0.0, 1.0)) * dt_s;
+}
+
+EodResult ReachedAtStep(double eod_s, int branch, int cell, long long steps) {
+  EodResult result;
+  result.status = EodStatus::kReached;
+  result.eod_s = eod_s;
+  result.limiting_branch = branch;
+  result.limiting_cell = cell;
+  result.segments = static_cast<int>(std::min<long long>(steps, std::numeric_limits<int>::max()));
+  return result;
+}
+
 }  // namespace
 
 EodResult SimulatePackEod(const BatteryPack& pack, const PackState& state, double total_current_a, double dt_s,
@@ -651,25 +668,17 @@ EodResult SimulatePackEod(const BatteryPack& pack, const PackState& state, doubl
     s = pack.Step(s, total_current_a, dt_s);
     const models::PackOutputs now = pack.CalcOutputs(s, total_current_a);
     if (now.min_cell_voltage_v <= options.cutoff_v) {
-      // The earliest linearly interpolated crossing among the cells that are at or below the cut-off.
-      result.status = EodStatus::kReached;
-      result.eod_s = std::numeric_limits<double>::infinity();
+      // The earliest interpolated crossing among the cells that are at or below the cut-off.
+      result = ReachedAtStep(std::numeric_limits<double>::infinity(), -1, -1, k);
       for (int b = 0; b < kBranchCount; ++b) {
         if (!s.branch_on[b]) continue;
         for (int c = 0; c < kCellsPerBranch; ++c) {
-          const double v1 = now.cell_voltage_v[b][c];
-          if (v1 > options.cutoff_v) continue;
-          const double v0 = previous.cell_voltage_v[b][c];
-          const double fraction = v0 > v1 ? (v0 - options.cutoff_v) / (v0 - v1) : 1.0;
-          const double crossing = (static_cast<double>(k - 1) + std::clamp(fraction, 0.0, 1.0)) * dt_s;
-          if (crossing < result.eod_s) {
-            result.eod_s = crossing;
-            result.limiting_branch = b;
-            result.limiting_cell = c;
-          }
+          if (now.cell_voltage_v[b][c] > options.cutoff_v) continue;
+          const double crossing = InterpolatedCrossingS(k, dt_s, previous.cell_voltage_v[b][c],
+                                                        now.cell_voltage_v[b][c], options.cutoff_v);
+          if (crossing < result.eod_s) result = ReachedAtStep(crossing, b, c, k);
         }
       }
-      result.segments = static_cast<int>(std::min<long long>(k, std::numeric_limits<int>::max()));
       return result;
     }
     previous = now;
@@ -696,13 +705,7 @@ EodResult SimulateCellEod(const SelfCorrectingCell& cell, const CellState& state
     s = cell.Step(s, current_a, dt_s);
     const double v = cell.CalcTerminalVoltage(s, current_a);
     if (v <= options.cutoff_v) {
-      const double fraction = previous > v ? (previous - options.cutoff_v) / (previous - v) : 1.0;
-      result.status = EodStatus::kReached;
-      result.eod_s = (static_cast<double>(k - 1) + std::clamp(fraction, 0.0, 1.0)) * dt_s;
-      result.limiting_branch = 0;
-      result.limiting_cell = 0;
-      result.segments = static_cast<int>(std::min<long long>(k, std::numeric_limits<int>::max()));
-      return result;
+      return ReachedAtStep(InterpolatedCrossingS(k, dt_s, previous, v, options.cutoff_v), 0, 0, k);
     }
     previous = v;
   }

@@ -40,9 +40,11 @@ ImmFilter::ImmFilter(const ImmParams& params, const RigidBodyParams& body,
 
 void ImmFilter::Reset(const Eigen::Vector3d& w_WB_B) {
   const double initial_variance = params_.gyro_noise * params_.gyro_noise;
+  for (int axis = 0; axis < 3; ++axis) {
+    rate_[axis].fill(w_WB_B[axis]);
+    variance_[axis].fill(initial_variance);
+  }
   for (int j = 0; j < kImmModes; ++j) {
-    rate_[j] = w_WB_B;
-    variance_[j] = Eigen::Vector3d::Constant(initial_variance);
     probability_[j] = j == 0 ? 1.0 - 6 * params_.switch_probability : params_.switch_probability;
   }
   candidate_ = 0;
@@ -59,60 +61,80 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
   // (one failure at a time). Mode 0 mixes from every mode; mode k only from 0 and k.
   const double eps = params_.switch_probability;
   const double delta = params_.recover_probability;
-  std::array<double, kImmModes> predicted{};
-  std::array<Eigen::Vector3d, kImmModes> mixed_rate, mixed_variance;
-  // 1. Mixing: predicted mode probabilities c_j and the mixed initial conditions of each mode filter.
-  {
-    double failure_total = 0.0;
-    for (int i = 1; i < kImmModes; ++i) failure_total += probability_[i];
-    predicted[0] = (1.0 - 6.0 * eps) * probability_[0] + delta * failure_total;
-    const double w00 = (1.0 - 6.0 * eps) * probability_[0] / predicted[0];
-    Eigen::Vector3d mean = w00 * rate_[0];
-    for (int i = 1; i < kImmModes; ++i) mean += (delta * probability_[i] / predicted[0]) * rate_[i];
-    Eigen::Vector3d variance = w00 * (variance_[0] + (rate_[0] - mean).cwiseAbs2());
-    for (int i = 1; i < kImmModes; ++i) {
-      variance += (delta * probability_[i] / predicted[0]) * (variance_[i] + (rate_[i] - mean).cwiseAbs2());
-    }
-    mixed_rate[0] = mean;
-    mixed_variance[0] = variance;
-  }
+
+  // 1. Mixing: predicted mode probabilities c_j and the mixing weights.
+  PerMode predicted{}, from_nominal{}, from_self{};  // weights of mode 0 and of mode j in mode j's mix
+  double failure_total = 0.0;
+  for (int i = 1; i < kImmModes; ++i) failure_total += probability_[i];
+  predicted[0] = (1.0 - 6.0 * eps) * probability_[0] + delta * failure_total;
+  PerMode weight_into_nominal{};  // μ_{i|0}
+  weight_into_nominal[0] = (1.0 - 6.0 * eps) * probability_[0] / predicted[0];
+  for (int i = 1; i < kImmModes; ++i) weight_into_nominal[i] = delta * probability_[i] / predicted[0];
   for (int j = 1; j < kImmModes; ++j) {
     predicted[j] = eps * probability_[0] + (1.0 - delta) * probability_[j];
-    const double from_nominal = eps * probability_[0] / predicted[j];
-    const double from_self = 1.0 - from_nominal;
-    const Eigen::Vector3d mean = from_nominal * rate_[0] + from_self * rate_[j];
-    mixed_rate[j] = mean;
-    mixed_variance[j] = from_nominal * (variance_[0] + (rate_[0] - mean).cwiseAbs2()) +
-                        from_self * (variance_[j] + (rate_[j] - mean).cwiseAbs2());
+    from_nominal[j] = eps * probability_[0] / predicted[j];
+    from_self[j] = 1.0 - from_nominal[j];
   }
-  // 2–3. Mode-matched prediction and update; log-likelihood of each mode's innovations.
+
+  // Each mode's torque and thrust: the believed wrench less rotor j's share.
+  const models::BodyWrench all = mixing_ * believed_thrusts;
+  std::array<PerMode, 4> wrench;  // [T, τx, τy, τz][mode]
+  for (int row = 0; row < 4; ++row) {
+    wrench[row][0] = all[row];
+    for (int j = 1; j < kImmModes; ++j) wrench[row][j] = all[row] - mixing_(row, j - 1) * believed_thrusts[j - 1];
+  }
+
   const Eigen::Vector3d& inertia = body_.inertia_diagonal;
-  const Eigen::Vector3d inverse_inertia = inertia.cwiseInverse();
   const double process = params_.angular_process_noise * dt * params_.angular_process_noise * dt;
   const double gyro_variance = params_.gyro_noise * params_.gyro_noise;
   const double accel_variance =
       params_.accel_noise * params_.accel_noise + params_.vertical_model_noise * params_.vertical_model_noise;
-  const models::BodyWrench all = mixing_ * believed_thrusts;
-  std::array<double, kImmModes> log_likelihood{};
-  for (int j = 0; j < kImmModes; ++j) {
-    models::BodyWrench wrench = all;
-    if (j > 0) wrench -= mixing_.col(j - 1) * believed_thrusts[j - 1];  // rotor j gives nothing
-    const Eigen::Vector3d& w = mixed_rate[j];
-    const Eigen::Vector3d torque = wrench.tail<3>();
-    const Eigen::Vector3d rate_prior =
-        w + dt * (torque - w.cross(inertia.cwiseProduct(w))).cwiseProduct(inverse_inertia);
-    const Eigen::Vector3d variance_prior = mixed_variance[j].array() + process;
-    const Eigen::Vector3d innovation = measurement.gyro_B - rate_prior;
-    const Eigen::Vector3d innovation_variance = variance_prior.array() + gyro_variance;
-    const Eigen::Vector3d inverse_innovation_variance = innovation_variance.cwiseInverse();
-    const Eigen::Vector3d gain = variance_prior.cwiseProduct(inverse_innovation_variance);
-    rate_[j] = rate_prior + gain.cwiseProduct(innovation);
-    variance_[j] = (Eigen::Vector3d::Ones() - gain).cwiseProduct(variance_prior);
-    const double accel_innovation = measurement.specific_force_z_B + wrench(0) / body_.mass;
-    log_likelihood[j] = -0.5 * (innovation.cwiseAbs2().cwiseProduct(inverse_innovation_variance).sum() +
-                                std::log(innovation_variance.prod()) +
-                                accel_innovation * accel_innovation / accel_variance);
+
+  // 1 (cont.). Mixed rates and variances per axis and mode.
+  std::array<PerMode, 3> mixed_rate, mixed_variance;
+  for (int axis = 0; axis < 3; ++axis) {
+    const PerMode& r = rate_[axis];
+    const PerMode& v = variance_[axis];
+    double mean0 = 0.0;
+    for (int i = 0; i < kImmModes; ++i) mean0 += weight_into_nominal[i] * r[i];
+    double var0 = 0.0;
+    for (int i = 0; i < kImmModes; ++i) var0 += weight_into_nominal[i] * (v[i] + (r[i] - mean0) * (r[i] - mean0));
+    mixed_rate[axis][0] = mean0;
+    mixed_variance[axis][0] = var0;
+    for (int j = 1; j < kImmModes; ++j) {
+      const double mean = from_nominal[j] * r[0] + from_self[j] * r[j];
+      mixed_rate[axis][j] = mean;
+      mixed_variance[axis][j] = from_nominal[j] * (v[0] + (r[0] - mean) * (r[0] - mean)) +
+                                from_self[j] * (v[j] + (r[j] - mean) * (r[j] - mean));
+    }
   }
+
+  // 2–3. Mode-matched prediction (Euler's equations over dt) and update; log-likelihoods.
+  PerMode log_likelihood{}, variance_product{};
+  variance_product.fill(1.0);
+  for (int axis = 0; axis < 3; ++axis) {
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    // (w × I w)_axis = w_a1 I_a2 w_a2 − w_a2 I_a1 w_a1
+    for (int j = 0; j < kImmModes; ++j) {
+      const double w_axis = mixed_rate[axis][j];
+      const double gyroscopic = mixed_rate[a1][j] * inertia[a2] * mixed_rate[a2][j] -
+                                mixed_rate[a2][j] * inertia[a1] * mixed_rate[a1][j];
+      const double prior = w_axis + dt * (wrench[1 + axis][j] - gyroscopic) / inertia[axis];
+      const double prior_variance = mixed_variance[axis][j] + process;
+      const double innovation_variance = prior_variance + gyro_variance;
+      const double innovation = measurement.gyro_B[axis] - prior;
+      const double gain = prior_variance / innovation_variance;
+      rate_[axis][j] = prior + gain * innovation;
+      variance_[axis][j] = (1.0 - gain) * prior_variance;
+      log_likelihood[j] -= 0.5 * innovation * innovation / innovation_variance;
+      variance_product[j] *= innovation_variance;
+    }
+  }
+  for (int j = 0; j < kImmModes; ++j) {
+    const double accel_innovation = measurement.specific_force_z_B + wrench[0][j] / body_.mass;
+    log_likelihood[j] -= 0.5 * (std::log(variance_product[j]) + accel_innovation * accel_innovation / accel_variance);
+  }
+
   // 4. Mode probabilities ∝ c_j · L_j (in log space to avoid underflow), with a floor that keeps every
   // mode alive for the next switch.
   const double best = *std::max_element(log_likelihood.begin(), log_likelihood.end());

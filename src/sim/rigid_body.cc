@@ -1,5 +1,7 @@
 #include "uascma/sim/rigid_body.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "uascma/common/frames.h"
@@ -39,7 +41,8 @@ RigidBodyRates CalcRigidBodyRates(const RigidBodyParams& params, const models::D
   const Eigen::Vector3d v_air_W = state.v_WB_W - inputs.wind_W;
   const double airspeed = v_air_W.norm();
   if (airspeed > 1e-9) {
-    rates.drag_W = -drag.Drag(airspeed, TiltAngle(R_WB)) / airspeed * v_air_W;
+    const double incidence = std::asin(std::clamp(v_air_W.dot(R_WB.col(2)) / airspeed, -1.0, 1.0));
+    rates.drag_W = -drag.Drag(airspeed, incidence) / airspeed * v_air_W;
   }
   rates.p_dot = state.v_WB_W;
   rates.v_dot = R_WB.col(2) * (-inputs.total_thrust / params.mass) + Eigen::Vector3d(0, 0, kGravity) +
@@ -58,17 +61,24 @@ RigidBodyRates CalcRigidBodyRates(const RigidBodyParams& params, const models::D
 }
 
 RigidBodyState StepRigidBody(const RigidBodyParams& params, const models::DragTable& drag,
-                             const RigidBodyState& state, const BodyInputs& inputs, double dt) {
+                             const RigidBodyState& state, const BodyInputs& inputs, double dt,
+                             Integrator integrator) {
   const RigidBodyRates k1 = CalcRigidBodyRates(params, drag, state, inputs);
-  const RigidBodyRates k2 = CalcRigidBodyRates(params, drag, Advance(state, k1, 0.5 * dt), inputs);
-  const RigidBodyRates k3 = CalcRigidBodyRates(params, drag, Advance(state, k2, 0.5 * dt), inputs);
-  const RigidBodyRates k4 = CalcRigidBodyRates(params, drag, Advance(state, k3, dt), inputs);
-  RigidBodyRates sum;
-  sum.p_dot = k1.p_dot + 2.0 * k2.p_dot + 2.0 * k3.p_dot + k4.p_dot;
-  sum.v_dot = k1.v_dot + 2.0 * k2.v_dot + 2.0 * k3.v_dot + k4.v_dot;
-  sum.q_dot = k1.q_dot + 2.0 * k2.q_dot + 2.0 * k3.q_dot + k4.q_dot;
-  sum.w_dot = k1.w_dot + 2.0 * k2.w_dot + 2.0 * k3.w_dot + k4.w_dot;
-  RigidBodyState next = Advance(state, sum, dt / 6.0);
+  RigidBodyState next;
+  if (integrator == Integrator::kMidpoint) {
+    const RigidBodyRates k2 = CalcRigidBodyRates(params, drag, Advance(state, k1, 0.5 * dt), inputs);
+    next = Advance(state, k2, dt);
+  } else {
+    const RigidBodyRates k2 = CalcRigidBodyRates(params, drag, Advance(state, k1, 0.5 * dt), inputs);
+    const RigidBodyRates k3 = CalcRigidBodyRates(params, drag, Advance(state, k2, 0.5 * dt), inputs);
+    const RigidBodyRates k4 = CalcRigidBodyRates(params, drag, Advance(state, k3, dt), inputs);
+    RigidBodyRates sum;
+    sum.p_dot = k1.p_dot + 2.0 * k2.p_dot + 2.0 * k3.p_dot + k4.p_dot;
+    sum.v_dot = k1.v_dot + 2.0 * k2.v_dot + 2.0 * k3.v_dot + k4.v_dot;
+    sum.q_dot = k1.q_dot + 2.0 * k2.q_dot + 2.0 * k3.q_dot + k4.q_dot;
+    sum.w_dot = k1.w_dot + 2.0 * k2.w_dot + 2.0 * k3.w_dot + k4.w_dot;
+    next = Advance(state, sum, dt / 6.0);
+  }
   next.q_WB.normalize();
   return next;
 }

@@ -47,10 +47,7 @@ void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec&
 
 std::array<models::CellHealth, models::kCellsPerBranch> PackHealthPreset(models::HealthClass health) {
   std::array<models::CellHealth, models::kCellsPerBranch> cells{};
-  for (auto& cell : cells) {
-    cell.capacity_fade = health != models::HealthClass::kG;
-    cell.power_fade = health == models::HealthClass::kP;
-  }
+  cells.fill(models::CellHealthForClass(health));
   return cells;
 }
 

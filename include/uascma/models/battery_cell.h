@@ -106,7 +106,11 @@ class SelfCorrectingCell {
   }
 
   // Eq. 3.3 (Plett form) at the instant the current `current_a` flows.
-  double CalcTerminalVoltage(const CellState& state, double current_a) const;
+  double CalcTerminalVoltage(const CellState& state, double current_a) const {
+    return CalcTerminalVoltage(state, current_a, ocv_.CalcVoltage(state.soc_fraction));
+  }
+  // The same with OCV(z) already evaluated (the pack shares it with the branch split).
+  double CalcTerminalVoltage(const CellState& state, double current_a, double ocv_v) const;
   // Eqs. 3.1–3.2, exact over dt_s ≥ 0 at constant current.
   CellState Step(const CellState& state, double current_a, double dt_s) const;
 
@@ -118,6 +122,7 @@ class SelfCorrectingCell {
   CellParams params_;
   OcvTable ocv_;
   double capacity_as_ = 0.0;
+  double inverse_capacity_per_as_ = 0.0;  // 1 / Q
   std::array<double, kMaxRcPairs> rc_rate_per_s_{};
 };
 

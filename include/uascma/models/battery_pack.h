@@ -54,6 +54,10 @@ HealthClass ClassifyHealth(const PerCell<CellHealth>& cells);  // the whole batt
 const char* HealthClassName(HealthClass health);  // "G", "M", "P"
 // "G" | "M" | "P"; InputError naming `source` otherwise.
 HealthClass ParseHealthClass(const std::string& name, const std::string& source);
+// The degradation that makes a cell of class G, M or P, used to build packs of a given health (the
+// `eod` command, scenario files, campaigns): G none; M power fade (R0 × 2, one kind of fade, decisions
+// item 8); P power and capacity fade (Table 3.2).
+CellHealth CellHealthForClass(HealthClass health);
 
 // --- Parameters -----------------------------------------------------------------------------------
 struct PackParams {

@@ -30,11 +30,18 @@
 // final position: λ1(t_f) = 0 (which would make C1 = 0). The printed λ2(t_f) = 0 is instead the condition
 // of a free final velocity, and with x1(t_f) then fixed the pair (x2(t_f) given, λ2(t_f) = 0) is the
 // solution of: "reach a fixed final position X with minimum effort and free final speed", for the one X
-// at which that optimum arrives with speed x2(t_f). We implement eqs. 5.10–5.11 as printed, because they
-// give what §5.3.1 wants (the distance flown at an approximately constant speed, which keeps the EOD
-// valid); the KKT test solves exactly that discrete problem. λ2(t_f) = 0 makes u*(t_f) = 0, and
+// at which that optimum arrives with speed x2(t_f). We implement eqs. 5.10–5.11 as printed: the textbook
+// reading (λ1(t_f) = 0) would give u* = k e^{−a(t_f − t)}, i.e. coast to a stop and spurt at the end, and a
+// forward limit that tends to 2 v_init m/d_x and no longer grows with the EOD — no footprint at all. The KKT test
+// solves the discrete version of the printed problem. λ2(t_f) = 0 makes u*(t_f) = 0, and
 //   u*(t) = k ψ(t_f − t),  ψ(τ) = (1 − e^{−a τ}) / a,  k = m (v_f − e^{−a t_f} v_0) / G(t_f),  G = ψ²/2.
-// For the forward case u*(t) = 2 d_x v_init ψ(t_f − t)/ψ(t_f): twice the drag force at t = 0, easing to zero.
+// Forward, u*(t) = 2 d_x v_init ψ(t_f − t)/ψ(t_f): twice the drag force for most of a long flight, so the
+// unbounded optimum cruises near 2 v_init and the unbounded forward limit approaches 2 v_init t_f (the bounds
+// usually cut this: u_max < 2 d_x v_init). Linearity also gives k_fwd − k_bwd = 2 k_lat, hence without bounds
+// x_f − x_b = 2 y_l exactly: the unbounded region below is a circle (centred near the drift point
+// ψ(t_f) v_init once a t_f ≫ 1). The same holds when the bound is active in all three cases throughout
+// (u = ±u_max); a bound active for part of the flight makes the semi-axes differ, by a few per cent at most
+// in the cases we tried: the region is close to a circle of radius y_l about x_c.
 //
 // EXPONENTIALS. By default (maclaurin_order = 0) the solution is evaluated in the exact, overflow-free form
 // above (only e^{−a τ}, τ ≥ 0, appears), so t_f may be hundreds of seconds and d_x may be zero (then ψ(τ) = τ
@@ -43,9 +50,10 @@
 // solved for C1…C4 as printed, and u*(t) = −C1/d_x + (C2/m) T_n(a t) drives step 7. The two agree while
 // a t_f ≪ 1 (relative error of order (a t_f)^{n+1}/(n+1)!). They part beyond: T_5(−z) is a poor e^{−z}
 // already at z ≈ 2 and turns negative at z ≈ 2.18; the series' u* is then not the optimum of eq. 5.3, nor
-// does it meet x2(t_f) = v_init. With the defaults (m = 1.3 kg, d_x ≈ 0.35–0.6 N·s/m) a t_f = 1 at an
-// EOD of about 2–4 s, so for the EODs of Fig. 5.4 (1–50 s) the series footprint is NOT the exact one
-// (numbers in FOOTPRINT NOTES at the end of this header). The series needs d_x > 0.
+// does it meet x2(t_f) = v_init. With the defaults (m = 1.3 kg; CruiseDragSlope gives d_x = 0.35 N·s/m at
+// 5 m/s, 0.84 at 9 m/s) a t_f = 1 at an EOD of 1.5–4 s, so for the EODs of Fig. 5.4 (1–50 s) the series footprint is NOT the exact one
+// (numbers in FOOTPRINT NOTES at the end of this header). The series needs d_x > 0, and its C1…C4 cancel
+// to order (a t_f)², which amplifies the series error at small a t_f too (5th order, a t_f = 0.2: 2e-5).
 //
 // BOUNDS (Algorithm 1, steps 3–6). θ_opt = −atan(u*/(m g)) (5.12), T_opt = m g / cos θ_opt (5.13). Step 5
 // bounds them by |θ| ≤ θ_max and T ≤ T_avail. We keep the level-flight condition T cos θ = m g of eq. 5.1
@@ -152,7 +160,7 @@ class AxisOptimalSolution {
   int maclaurin_order() const { return maclaurin_order_; }
   // C1…C4: with the series, the solution of the linear system; exact, derived from k (defined if d_x > 0).
   const PmpConstants& constants() const { return constants_; }
-  // Exact model: the gain k (N·s⁻¹… N per second of ψ) of u* = k ψ(t_f − t); λ1 = −m k. 0 with the series.
+  // Exact model: the gain k (N/s) of u* = k ψ(t_f − t) (ψ in s); λ1 = −m k. 0 with the series.
   double gain() const { return gain_; }
 
   double Control(double time) const;  // N, u*(t), eq. 5.7 (0 unless kSolved); time in [0, t_f]
@@ -202,7 +210,7 @@ struct FootprintParams {
   double max_tilt = 30.0 / 180.0 * 3.14159265358979323846;
   // N·s/m, d_x ≥ 0: CruiseDragSlope(DragTable::Default(tractor), 5 m/s, 1.3 kg) — the drag slope at the default
   // cruise speed (planning::PlanLimits, 5 m/s) and trim pitch (defaults.md; a test keeps the two equal).
-  double drag_slope = 0.34642;
+  double drag_slope = 0.3469;
   // 0: exact exponentials. n in [1, 30]: the dissertation's n-th order Maclaurin series (n = 5 in §5.3.1);
   // needs drag_slope > 0.
   int maclaurin_order = 0;
@@ -276,8 +284,14 @@ FootprintResult CalcFootprint(const FootprintParams& params);
 // at the trim pitch of level cruise θ = −atan(D/(m g)) (found by fixed-point iteration), per defaults.md.
 double CruiseDragSlope(const models::DragTable& table, double cruise_speed, double mass);
 
-// FOOTPRINT NOTES (default vehicle, v_init = 9 m/s, d_x = CruiseDragSlope at 9 m/s; uascma footprint):
-//   see the report of `uascma footprint --speed-mps 9 --eod-s E [--maclaurin 5]`; the tests pin the
-//   qualitative facts: series == exact for a t_f ≪ 1, series ≠ exact by more than 10 % for a t_f ≥ 5.
+// FOOTPRINT NOTES. Exact against the dissertation's n = 5 series, v_init = 9 m/s, m = 1.3 kg, d_x = 0.55 N·s/m,
+// θ_max = 30°, T_avail = 26.85 N (limits in m: forward / backward / lateral):
+//   EOD  1 s (a t_f 0.42):  exact   9.41 /   4.88 /   2.43   series   9.41 /   4.88 /   2.43
+//   EOD  5 s (a t_f 2.1):   exact  54.3  / −18.5  /  36.6    series  52.9  / −16.1  /  34.5
+//   EOD 10 s (a t_f 4.2):   exact 118.8  / −77.3  /  98.0    series  83.3  /  62.0  /  10.7
+//   EOD 20 s (a t_f 8.5):   exact 252.3  / −209.7 / 231.0    series 158.0  / 156.8  /   0.6
+// Beyond a t_f ≈ 4 the series optimum is nearly u* ≡ 0 and its footprint collapses onto the coasting point.
+// Note also that with d_x the drag SLOPE (defaults.md), the model's drag force d_x v is twice a quadratic
+// drag D(v) at the cruise speed: the footprint is conservative in that respect.
 
 }  // namespace uascma::planning

@@ -107,6 +107,10 @@ inline constexpr int kNumSkipReasons = 4;
 // "not_polygon", "not_building", "missing_height", "incomplete_relation".
 std::string SkipReasonName(SkipReason reason);
 
+// Skipped features are all counted, but only this many of each reason are listed (a city extract has
+// hundreds of thousands of tagged nodes).
+inline constexpr int kMaxRecordedSkipsPerReason = 1000;
+
 struct SkippedFeature {
   std::string source;   // the file
   std::string feature;  // "features[12] (node/2296577459)", "way/123"
@@ -120,7 +124,7 @@ struct ImportSummary {
   int buildings = 0;                 // imported
   int heights_from_levels = 0;       // of which the height came from building:levels
   std::array<int, kNumSkipReasons> skipped{};  // by SkipReason
-  std::vector<SkippedFeature> skipped_features;
+  std::vector<SkippedFeature> skipped_features;  // the first kMaxRecordedSkipsPerReason of each reason
   int sites = 0;                     // landing sites imported
   int rooftop_sites = 0;             // of which on the roof of an imported building (set by ProjectToCityMap)
   // Set by ProjectToCityMap:

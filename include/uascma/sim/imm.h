@@ -63,8 +63,10 @@ class ImmFilter {
   ImmParams params_;
   RigidBodyParams body_;
   models::MixingMatrix mixing_;
-  std::array<Eigen::Vector3d, kImmModes> rate_;      // per mode: w_B estimate
-  std::array<Eigen::Vector3d, kImmModes> variance_;  // per mode: diagonal covariance
+  // Structure of arrays, [axis][mode], so the per-mode arithmetic vectorises.
+  using PerMode = std::array<double, kImmModes>;
+  std::array<PerMode, 3> rate_{};      // w_B estimate of each mode
+  std::array<PerMode, 3> variance_{};  // its diagonal covariance
   std::array<double, kImmModes> probability_{};
   int candidate_ = 0;
   int candidate_steps_ = 0;

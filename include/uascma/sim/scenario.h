@@ -13,7 +13,7 @@
 //   battery:
 //     initial_cell_voltage_v: 4.1     # one value, or [[pack 1 cells], [pack 2 cells]]
 //     ambient_temp_degf: 77
-//     packs: [G, G]                   # per-pack health: G none, M capacity fade, P capacity and power fade
+//     packs: [G, G]                   # per-pack health: G none, M power fade, P power and capacity fade
 //   wind:
 //     speed_mps: 2                    # mean wind (Table 4.4: 1–3 m/s)
 //     direction_deg: 45               # towards, from North clockwise (Table 4.4: 0–180°)
@@ -49,9 +49,7 @@ struct ScenarioFile {
 ScenarioFile LoadScenarioFile(const std::filesystem::path& path);
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source);
 
-// The cell degradations of a pack of health class G, M or P (Table 4.2 / decisions item 8): G none;
-// M capacity fade in every cell (one kind of fade, the service-limit criterion of §3.3.1.2); P capacity and
-// power fade in every cell.
+// The cells of a pack of health class G, M or P: every cell as models::CellHealthForClass says.
 std::array<models::CellHealth, models::kCellsPerBranch> PackHealthPreset(models::HealthClass health);
 
 }  // namespace uascma::sim

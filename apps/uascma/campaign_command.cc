@@ -1,0 +1,150 @@
+// uascma campaign — Monte Carlo campaigns comparing decision policies on the same sampled flights
+// (dissertation §5.4–5.5, Table 4.4; src/campaign). Under mpirun the runs are split across ranks.
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "output.h"
+#include "uascma/campaign/config.h"
+#include "uascma/campaign/mpi_session.h"
+#include "uascma/campaign/policies.h"
+#include "uascma/campaign/report.h"
+#include "uascma/campaign/runner.h"
+#include "uascma/common/error.h"
+
+namespace uascma::cli {
+namespace {
+
+using namespace uascma::campaign;
+
+struct CampaignOptions {
+  std::string file;
+  long long runs = -1;
+  std::string policies;
+  std::string seed;
+  std::string db;
+  int jobs = 0;
+  bool resume = false;
+  bool json = false;
+  double commit_every_s = 2.0;
+};
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+std::uint64_t ParseSeed(const std::string& text) {
+  std::size_t used = 0;
+  unsigned long long value = 0;
+  try {
+    value = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (text.empty() || used != text.size() || text[0] == '-') {
+    throw InputError("--seed", "value", "a non-negative integer, got '" + text + "'");
+  }
+  return value;
+}
+
+void Run(const CampaignOptions& options, MpiSession& mpi) {
+  CampaignConfig config = options.file.empty() ? CampaignConfig{} : LoadCampaignConfig(options.file);
+  std::string policies_source = options.file.empty() ? "--policies" : options.file;
+  if (options.runs >= 0) config.runs = options.runs;
+  if (!options.seed.empty()) config.seed = ParseSeed(options.seed);
+  if (!options.policies.empty()) {
+    config.policies = SplitList(options.policies);
+    policies_source = "--policies";
+  }
+  std::string error;
+  if (!config.IsValid(&error)) throw InputError("campaign: " + error);
+  if (!(options.commit_every_s > 0.0)) throw InputError("--commit-every", "value", "a positive number of seconds");
+
+  CampaignRequest request;
+  request.config = config;
+  request.policies = ResolvePolicies(config.policies, policies_source);
+  request.db = options.db;
+  request.resume = options.resume;
+  request.execute.jobs = options.jobs;
+  request.execute.progress = true;
+  request.execute.progress_label = config.name;
+  request.execute.flush_interval_s = options.commit_every_s;
+  request.mpi = &mpi;
+  const CampaignOutcome outcome = RunCampaign(request);
+  if (!outcome.is_root) return;
+
+  const ResultsStore store = ResultsStore::Open(options.db);
+  const CampaignReport report = MakeCampaignReport(store);
+  const double rate = outcome.wall_time_s > 0.0 ? static_cast<double>(outcome.flights_flown) / outcome.wall_time_s : 0.0;
+  if (options.json) {
+    nlohmann::json json = CampaignReportJson(report);
+    json["run"] = {{"db", options.db},
+                   {"flights_total", outcome.flights_total},
+                   {"flights_before", outcome.flights_before},
+                   {"flights_flown", outcome.flights_flown},
+                   {"wall_time_s", outcome.wall_time_s},
+                   {"flights_per_s", rate},
+                   {"jobs_per_rank", outcome.jobs},
+                   {"ranks", outcome.ranks}};
+    PrintJson(json);
+    return;
+  }
+  std::printf("flew %lld flights (%lld already stored, %lld in the campaign) in %.1f s: %.1f flights/s on %d "
+              "rank%s x %d thread%s; results in %s\n\n%s",
+              static_cast<long long>(outcome.flights_flown), static_cast<long long>(outcome.flights_before),
+              static_cast<long long>(outcome.flights_total), outcome.wall_time_s, rate, outcome.ranks,
+              outcome.ranks == 1 ? "" : "s", outcome.jobs, outcome.jobs == 1 ? "" : "s", options.db.c_str(),
+              CampaignReportText(report).c_str());
+}
+
+}  // namespace
+
+void AddCampaignCommand(CLI::App& app) {
+  auto options = std::make_shared<CampaignOptions>();
+  CLI::App* command = app.add_subcommand(
+      "campaign",
+      "Monte Carlo campaign (dissertation §5.4-5.5): sample flights over Table 4.4's parameters (mission,\n"
+      "wind, battery health, temperature, spall faults), fly every policy on each, store one row per\n"
+      "flight in SQLite. Resumable (--resume); parallel on threads and, under mpirun, across ranks");
+  command->add_option("campaign", options->file,
+                      "Campaign YAML file (default: the dissertation's settings; see examples/campaign.yaml)");
+  command->add_option("--runs", options->runs, "Sampled scenarios; each is flown by every policy (default 465)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--policies", options->policies,
+                      "Comma-separated: cma (solved at start, default weights), noop, or policy JSON files");
+  command->add_option("--seed", options->seed, "Campaign seed (default 1)");
+  command->add_option("--db", options->db, "SQLite results file (created; with --resume, continued)")->required();
+  command->add_option("--jobs", options->jobs, "Worker threads per process (default: all cores, shared by ranks)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--resume", options->resume, "Continue the campaign stored in --db where it stopped");
+  command->add_flag("--json", options->json, "Print the summary as JSON");
+  command->add_option("--commit-every", options->commit_every_s,
+                      "Seconds between commits of finished flights (default 2; a kill loses at most this)");
+  command->callback([options] {
+    int quiet_exit = 0;
+    {
+      MpiSession mpi(LaunchedUnderMpi());
+      try {
+        Run(*options, mpi);
+      } catch (const InputError&) {
+        if (mpi.rank() == 0) throw;
+        quiet_exit = 2;  // rank 0 reports the error; the other ranks leave quietly
+      }
+    }
+    if (quiet_exit != 0) std::exit(quiet_exit);
+  });
+}
+
+}  // namespace uascma::cli

@@ -1,0 +1,42 @@
+#pragma once
+// MPI for distributed campaigns (Open MPI, shared/spec/dependencies.md), optional at build time
+// (CMake option UASCMA_WITH_MPI) and at run time: `uascma campaign` never needs MPI unless it was
+// launched by mpirun/mpiexec, which LaunchedUnderMpi() detects from the launcher's environment
+// (OMPI_COMM_WORLD_SIZE for Open MPI; PMI_SIZE / PMIX_RANK for other launchers).
+//
+// The session is owned by the program (the CLI command): MPI can be initialised and finalised once per
+// process. Only the thread that created the session calls MPI (MPI_THREAD_FUNNELED).
+#include <string>
+
+namespace uascma::campaign {
+
+// True when this build links MPI.
+bool BuiltWithMpi();
+// True when the environment says an MPI launcher started this process.
+bool LaunchedUnderMpi();
+
+class MpiSession {
+ public:
+  // Initialises MPI when `enable` (normally LaunchedUnderMpi()); InputError when enabled in a build
+  // without MPI and the launcher started more than one process. Inactive otherwise (rank 0 of 1).
+  explicit MpiSession(bool enable);
+  ~MpiSession();  // MPI_Finalize when active
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+
+  bool active() const { return active_; }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  // Ranks sharing this node (for the default number of threads per rank).
+  int local_size() const { return local_size_; }
+  // Ends every rank at once (MPI_Abort) after printing `message` on this rank's stderr.
+  [[noreturn]] void Abort(const std::string& message, int code = 1) const;
+
+ private:
+  bool active_ = false;
+  int rank_ = 0;
+  int size_ = 1;
+  int local_size_ = 1;
+};
+
+}  // namespace uascma::campaign

@@ -1,0 +1,29 @@
+#pragma once
+// The report of a stored campaign (what `uascma report` and `uascma campaign` print): the campaign's
+// identity, how many flights are stored, and the statistics of campaign/statistics.h.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "uascma/campaign/statistics.h"
+#include "uascma/campaign/store.h"
+
+namespace uascma::campaign {
+
+struct CampaignReport {
+  CampaignHeader header;
+  std::int64_t flights = 0;              // stored
+  std::int64_t complete_runs = 0;        // runs flown by every policy
+  std::vector<GroupStatistics> groups;   // policies in slot order × G, M, P, all
+};
+
+// Statistics over the runs flown by every policy of the campaign (an interrupted campaign may hold a
+// run flown by only some policies; leaving it out keeps the comparison paired).
+CampaignReport MakeCampaignReport(const ResultsStore& store);
+
+// {"campaign": {name, seed, config_hash, campaign_hash, code_version, created_utc, runs_requested,
+//  flights, complete_runs, policies: [...]}, "policies": {...}, "policy_order": [...], "dissertation": {...}}
+nlohmann::json CampaignReportJson(const CampaignReport& report);
+std::string CampaignReportText(const CampaignReport& report);
+
+}  // namespace uascma::campaign

@@ -1,0 +1,86 @@
+#pragma once
+// The campaign runner: samples the runs, flies every policy on each run's scenario (paired comparison,
+// common random numbers), in parallel on threads and, when launched under mpirun, across MPI ranks, and
+// writes one row per flight to the results store (campaign/store.h).
+//
+// Determinism. A flight depends only on (configuration, campaign seed, run index, policy); which thread
+// or rank flies it and in which order the rows are written do not matter, so any number of jobs or
+// ranks, and any kill-and-resume sequence, gives the same rows (wall_time_s aside).
+//
+// Threads. `jobs` workers take run indices from a shared counter; each builds the run's Simulator once
+// and flies every missing policy on it. Finished records go to a queue; the calling thread (the only
+// one touching SQLite) commits them in batches: every `commit_rows` rows or `commit_interval_s` seconds.
+//
+// MPI (UASCMA_WITH_MPI builds, an MpiSession active with more than one rank). Rank 0 opens the store and
+// decides the missing flights, broadcasts them with the campaign hash; rank r flies the runs at
+// positions r, r + K, r + 2K, … of that list (static round-robin) with its own threads and sends the
+// records to rank 0, which alone writes them. Every rank resolves the policies itself (solving the CMA
+// MDP is deterministic; policy files must be readable on every node).
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "uascma/campaign/config.h"
+#include "uascma/campaign/metrics.h"
+#include "uascma/campaign/policies.h"
+#include "uascma/campaign/record.h"
+#include "uascma/campaign/store.h"
+
+namespace uascma::campaign {
+
+class MpiSession;
+
+// One run index and the policy slots still to fly on it.
+struct FlightTask {
+  std::int64_t run_index = 0;
+  std::vector<int> slots;
+};
+
+// Every (run, policy) of runs [0, runs) not in `stored`, grouped by run index, in index order.
+std::vector<FlightTask> MissingFlights(std::int64_t runs, const std::vector<CampaignPolicy>& policies,
+                                       const std::vector<std::pair<std::int64_t, std::string>>& stored);
+
+struct ExecuteOptions {
+  int jobs = 0;                      // worker threads; 0 → every hardware thread
+  PlannerFactory planner_factory;    // empty: no emergency-landing planner
+  bool progress = false;             // a progress bar on stderr (drawn only when it is a terminal)
+  std::string progress_label = "campaign";
+  double flush_interval_s = 2.0;     // hand records to `sink` at least this often …
+  int flush_rows = 256;              // … or when this many are waiting
+};
+
+// Flies the tasks on worker threads; calls `sink` on the calling thread with batches of finished
+// records (in completion order). The first exception of a worker or of `sink` stops the work and is
+// rethrown after the workers have stopped; records finished before it are handed to `sink` first.
+void ExecuteFlights(const CampaignConfig& config, const std::vector<CampaignPolicy>& policies,
+                    const std::vector<FlightTask>& tasks, const ExecuteOptions& options,
+                    const std::function<void(std::vector<RunRecord>&&)>& sink);
+
+struct CampaignRequest {
+  CampaignConfig config;                 // with seed, runs and policies resolved
+  std::vector<CampaignPolicy> policies;  // ResolvePolicies(config.policies)
+  std::filesystem::path db;
+  bool resume = false;                   // continue a campaign already in `db` (else `db` must not exist)
+  ExecuteOptions execute;
+  StoreOptions store;
+  MpiSession* mpi = nullptr;             // an active session → distribute across its ranks
+};
+
+struct CampaignOutcome {
+  bool is_root = true;                 // rank 0 (or no MPI): the process that wrote the store
+  int ranks = 1;
+  int jobs = 1;                        // threads per rank
+  std::int64_t flights_total = 0;      // runs × policies
+  std::int64_t flights_before = 0;     // already stored when the campaign (re)started
+  std::int64_t flights_flown = 0;      // flown by this invocation (all ranks)
+  double wall_time_s = 0.0;
+  std::string campaign_hash;
+};
+
+// Runs (or resumes) the campaign. InputError (naming the file) when `db` holds another campaign
+// (different campaign hash), exists without `resume`, or the disk fills up.
+CampaignOutcome RunCampaign(const CampaignRequest& request);
+
+}  // namespace uascma::campaign

@@ -1,0 +1,153 @@
+#include "uascma/campaign/metrics.h"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+#include <nlohmann/json.hpp>
+
+#include "uascma/common/error.h"
+
+namespace uascma::campaign {
+namespace {
+
+using decision::CmaAction;
+using decision::CmaState;
+using decision::FlightStatus;
+
+// The factored form of a tuple state: the feature values in the model's order [FS, MH, MM, BH, RM]
+// (decision/cma_mdp.h numbers each feature's values as the model does).
+decision::FactoredState Factored(const CmaState& s) {
+  decision::FactoredState state;
+  state.values = {static_cast<int>(s.fs), static_cast<int>(s.mh), static_cast<int>(s.mm), static_cast<int>(s.bh),
+                  static_cast<int>(s.rm)};
+  return state;
+}
+
+decision::FactoredState Factored(decision::CmaTerminal terminal) {
+  decision::FactoredState state;
+  state.terminal = static_cast<int>(terminal);
+  return state;
+}
+
+// Decisions item 9: an emergency action equal to the executing one is executed as NoOp.
+CmaAction EffectiveAction(const EpochDecision& d) {
+  const bool repeat = (d.action == CmaAction::kLandPract && d.state.fs == FlightStatus::kElPract) ||
+                      (d.action == CmaAction::kLandAsap && d.state.fs == FlightStatus::kElAsap);
+  return repeat ? CmaAction::kNoOp : d.action;
+}
+
+}  // namespace
+
+decision::CmaAction RecordingPolicy::Decide(const sim::DecisionInputs& inputs) {
+  const CmaAction action = inner_.Decide(inputs);
+  decisions_.push_back({inputs.time_s, inputs.state, action});
+  return action;
+}
+
+decision::CmaTerminal TerminalStateOf(sim::Outcome outcome) {
+  UASCMA_CHECK(outcome != sim::Outcome::kInProgress, "a finished flight");
+  if (outcome == sim::Outcome::kCompleted || outcome == sim::Outcome::kEmergencyLanding) {
+    return decision::CmaTerminal::kC;
+  }
+  if (outcome == sim::Outcome::kTerminated) return decision::CmaTerminal::kT;
+  return decision::CmaTerminal::kFL;
+}
+
+RewardTrace CalcRewardTrace(const std::vector<EpochDecision>& decisions, sim::Outcome outcome,
+                            const decision::CmaWeights& weights) {
+  RewardTrace trace;
+  trace.reward.reserve(decisions.size() + 1);
+  for (const EpochDecision& d : decisions) {
+    trace.reward.push_back(
+        decision::CmaReward(weights, Factored(d.state), static_cast<decision::ActionIndex>(EffectiveAction(d))));
+  }
+  // The terminal state's own reward R(S_end) = R(S_end, a) − R(E, a), since R(E) = w_E · 0 (eq. 5.23).
+  const auto noop = static_cast<decision::ActionIndex>(CmaAction::kNoOp);
+  trace.reward.push_back(decision::CmaReward(weights, Factored(TerminalStateOf(outcome)), noop) -
+                         decision::CmaReward(weights, Factored(decision::CmaTerminal::kE), noop));
+  trace.average = std::accumulate(trace.reward.begin(), trace.reward.end(), 0.0) /
+                  static_cast<double>(trace.reward.size());
+  trace.minimum = *std::min_element(trace.reward.begin(), trace.reward.end());
+  return trace;
+}
+
+RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int slot, int num_policies,
+                        const sim::SimResult& result, const std::vector<EpochDecision>& decisions) {
+  const sim::Scenario& scenario = run.scenario;
+  RunRecord r;
+  r.flight_id = run.run_index * num_policies + slot;
+  r.run_index = run.run_index;
+  r.policy = policy;
+  r.run_seed = run.run_seed;
+
+  r.distance_m = run.distance_m;
+  r.bearing_rad = run.bearing_rad;
+  r.destination_north_m = scenario.mission.destination_NE.x();
+  r.destination_east_m = scenario.mission.destination_NE.y();
+  r.cruise_speed_mps = run.cruise_speed_mps;
+  r.plan_duration_s = run.plan_duration_s;
+  r.safety_margin_s = run.safety_margin_s;
+  nlohmann::json voltages = nlohmann::json::array();
+  r.initial_cell_voltage_min_v = std::numeric_limits<double>::infinity();
+  for (const auto& pack : scenario.battery.initial_cell_voltage_v) {
+    for (double v : pack) {
+      voltages.push_back(v);
+      r.initial_cell_voltage_min_v = std::min(r.initial_cell_voltage_min_v, v);
+    }
+  }
+  r.initial_cell_voltage_v = voltages.dump();
+  r.pack1_health = PackConditionName(run.pack_health[0]);
+  r.pack2_health = PackConditionName(run.pack_health[1]);
+  r.cell_health = CellHealthCode(scenario.battery.cell_health);
+  r.battery_health = models::HealthClassName(static_cast<models::HealthClass>(static_cast<int>(run.battery_health)));
+  r.ambient_temp_degf = scenario.battery.ambient_temp_degf;
+  r.wind_speed_mps = scenario.wind.mean_speed;
+  r.wind_direction_rad = scenario.wind.direction_rad;
+  r.turbulence = models::TurbulenceCategoryName(scenario.wind.turbulence);
+  r.fault = scenario.fault.enabled;
+  r.fault_motor = scenario.fault.enabled ? scenario.fault.motor : 0;
+  if (scenario.fault.enabled) r.fault_onset_s = scenario.fault.spall_onset_s;
+
+  r.outcome = sim::OutcomeName(result.outcome);
+  r.failure = sim::IsFailure(result.outcome);
+  r.reason = result.reason;
+  r.sim_time_s = result.sim_time_s;
+  r.wall_time_s = result.wall_time_s;
+  r.num_actions = static_cast<std::int64_t>(result.actions.size());
+  nlohmann::json actions = nlohmann::json::array();
+  for (const auto& [time, action] : result.actions) actions.push_back({time, decision::CmaActionName(action)});
+  r.actions = actions.dump();
+  for (const EpochDecision& d : decisions) {
+    if (d.action != CmaAction::kNoOp) {
+      r.first_emergency_action_s = d.time_s;
+      r.first_emergency_action = decision::CmaActionName(d.action);
+      break;
+    }
+  }
+  r.jam_time_s = result.jam_time_s;
+  r.isolation_time_s = result.isolation_time_s;
+  r.min_cell_voltage_v = result.min_cell_voltage_v;
+  r.energy_wh = result.energy_wh;
+  r.max_tracking_error_m = result.max_tracking_error;
+  r.max_tilt_rad = result.max_tilt;
+
+  const RewardTrace trace = CalcRewardTrace(decisions, result.outcome);
+  r.epochs = static_cast<std::int64_t>(trace.reward.size());
+  r.average_reward = trace.average;
+  r.min_reward = trace.minimum;
+  return r;
+}
+
+RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const CampaignPolicy& policy, int slot,
+                 int num_policies, const PlannerFactory& planner_factory) {
+  const std::unique_ptr<sim::DecisionPolicy> decide = MakeDecisionPolicy(policy);
+  RecordingPolicy recording(*decide);
+  const sim::EmergencyPlanner planner = planner_factory ? planner_factory(simulator) : sim::EmergencyPlanner{};
+  sim::RunOptions options;
+  options.record_telemetry = false;
+  const sim::SimResult result = simulator.Run(recording, planner, options);
+  return MakeRunRecord(run, policy.name, slot, num_policies, result, recording.decisions());
+}
+
+}  // namespace uascma::campaign

@@ -1,0 +1,60 @@
+#include "uascma/campaign/report.h"
+
+#include <map>
+
+#include <fmt/format.h>
+
+namespace uascma::campaign {
+
+CampaignReport MakeCampaignReport(const ResultsStore& store) {
+  CampaignReport report;
+  report.header = store.header();
+  const std::vector<RunRecord> records = store.ReadRecords();
+  report.flights = static_cast<std::int64_t>(records.size());
+  std::map<std::int64_t, std::size_t> policies_per_run;
+  for (const RunRecord& r : records) ++policies_per_run[r.run_index];
+  const std::size_t num_policies = report.header.policies.size();
+  std::vector<RunRecord> paired;
+  for (const RunRecord& r : records) {
+    if (policies_per_run[r.run_index] == num_policies) paired.push_back(r);
+  }
+  for (const auto& [run, count] : policies_per_run) report.complete_runs += count == num_policies ? 1 : 0;
+  std::vector<std::string> order;
+  for (const CampaignPolicy& p : report.header.policies) order.push_back(p.name);
+  report.groups = Summarise(paired, order);
+  return report;
+}
+
+nlohmann::json CampaignReportJson(const CampaignReport& report) {
+  nlohmann::json json = StatisticsToJson(report.groups);
+  const CampaignHeader& h = report.header;
+  nlohmann::json policies = nlohmann::json::array();
+  for (const CampaignPolicy& p : h.policies) {
+    policies.push_back({{"name", p.name}, {"kind", p.kind}, {"source", p.source}, {"hash", p.hash}});
+  }
+  json["campaign"] = {{"name", h.name},
+                      {"seed", h.seed},
+                      {"config_hash", h.config_hash},
+                      {"campaign_hash", h.campaign_hash},
+                      {"code_version", h.code_version},
+                      {"created_utc", h.created_utc},
+                      {"runs_requested", h.runs_requested},
+                      {"flights", report.flights},
+                      {"complete_runs", report.complete_runs},
+                      {"policies", policies}};
+  return json;
+}
+
+std::string CampaignReportText(const CampaignReport& report) {
+  const CampaignHeader& h = report.header;
+  std::string policies;
+  for (const CampaignPolicy& p : h.policies) policies += (policies.empty() ? "" : ", ") + p.name;
+  std::string out = fmt::format("Campaign '{}' (seed {}, hash {}, uascma {}, created {})\n", h.name, h.seed,
+                                h.campaign_hash, h.code_version, h.created_utc);
+  out += fmt::format("{} flights stored; {} of {} runs flown by every policy ({})\n\n", report.flights,
+                     report.complete_runs, h.runs_requested, policies);
+  out += StatisticsTable(report.groups);
+  return out;
+}
+
+}  // namespace uascma::campaign

@@ -1,0 +1,130 @@
+#include "sqlite_database.h"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "uascma/common/error.h"
+
+namespace uascma::campaign::sqlite {
+
+std::string Describe(sqlite3* db, int code) {
+  const int primary = code & 0xff;
+  std::string message = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(code);
+  if (primary == SQLITE_FULL || (primary == SQLITE_IOERR && (code == SQLITE_IOERR_WRITE || code == SQLITE_IOERR_FSYNC ||
+                                                             code == SQLITE_IOERR_TRUNCATE))) {
+    return "free disk space: the disk or database is full (" + message +
+           "); every batch committed before is kept, continue with --resume";
+  }
+  if (primary == SQLITE_NOTADB) return "an SQLite database written by 'uascma campaign' (" + message + ")";
+  if (primary == SQLITE_BUSY || primary == SQLITE_LOCKED) {
+    return "no other process writing this database (" + message + ")";
+  }
+  return "a working SQLite database (" + message + ")";
+}
+
+Statement::Statement(sqlite3* db, const std::string& sql, const std::string& path) : db_(db), path_(path) {
+  const int code = sqlite3_prepare_v2(db, sql.c_str(), -1, &statement_, nullptr);
+  if (code != SQLITE_OK) throw InputError(path_, "prepare", Describe(db_, code));
+}
+
+Statement::~Statement() {
+  if (statement_ != nullptr) sqlite3_finalize(statement_);
+}
+
+Statement::Statement(Statement&& other) noexcept
+    : db_(other.db_), statement_(std::exchange(other.statement_, nullptr)), path_(std::move(other.path_)),
+      last_code_(other.last_code_) {}
+
+Statement& Statement::operator=(Statement&& other) noexcept {
+  if (this != &other) {
+    if (statement_ != nullptr) sqlite3_finalize(statement_);
+    db_ = other.db_;
+    statement_ = std::exchange(other.statement_, nullptr);
+    path_ = std::move(other.path_);
+    last_code_ = other.last_code_;
+  }
+  return *this;
+}
+
+void Statement::Bind(int index, std::int64_t value) { sqlite3_bind_int64(statement_, index, value); }
+void Statement::Bind(int index, double value) {
+  if (std::isnan(value)) {
+    sqlite3_bind_null(statement_, index);
+  } else {
+    sqlite3_bind_double(statement_, index, value);
+  }
+}
+void Statement::Bind(int index, const std::string& value) {
+  sqlite3_bind_text(statement_, index, value.data(), static_cast<int>(value.size()), SQLITE_TRANSIENT);
+}
+void Statement::BindNull(int index) { sqlite3_bind_null(statement_, index); }
+
+bool Statement::Step(const std::string& what) {
+  last_code_ = sqlite3_step(statement_);
+  if (last_code_ == SQLITE_ROW) return true;
+  if (last_code_ == SQLITE_DONE) return false;
+  const std::string message = Describe(db_, last_code_);
+  sqlite3_reset(statement_);
+  throw InputError(path_, what, message);
+}
+
+void Statement::Reset() {
+  sqlite3_reset(statement_);
+  sqlite3_clear_bindings(statement_);
+}
+
+bool Statement::IsNull(int column) const { return sqlite3_column_type(statement_, column) == SQLITE_NULL; }
+std::int64_t Statement::Integer(int column) const { return sqlite3_column_int64(statement_, column); }
+double Statement::Real(int column) const {
+  if (IsNull(column)) return std::numeric_limits<double>::quiet_NaN();
+  return sqlite3_column_double(statement_, column);
+}
+std::string Statement::Text(int column) const {
+  const auto* text = sqlite3_column_text(statement_, column);
+  if (text == nullptr) return {};
+  return {reinterpret_cast<const char*>(text), static_cast<std::size_t>(sqlite3_column_bytes(statement_, column))};
+}
+
+Database::Database(const std::string& path, int flags) : path_(path) {
+  const int code = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+  if (code != SQLITE_OK) {
+    const std::string message = Describe(db_, code);
+    Close();
+    throw InputError(path, "open", message);
+  }
+  sqlite3_extended_result_codes(db_, 1);
+}
+
+Database::~Database() { Close(); }
+
+Database::Database(Database&& other) noexcept : db_(std::exchange(other.db_, nullptr)), path_(std::move(other.path_)) {}
+
+Database& Database::operator=(Database&& other) noexcept {
+  if (this != &other) {
+    Close();
+    db_ = std::exchange(other.db_, nullptr);
+    path_ = std::move(other.path_);
+  }
+  return *this;
+}
+
+void Database::Execute(const std::string& sql, const std::string& what) {
+  char* error = nullptr;
+  const int code = sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error);
+  if (error != nullptr) sqlite3_free(error);
+  if (code != SQLITE_OK) throw InputError(path_, what, Describe(db_, code));
+}
+
+void Database::RollbackQuietly() {
+  if (db_ != nullptr && sqlite3_get_autocommit(db_) == 0) sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+}
+
+void Database::Close() {
+  if (db_ != nullptr) {
+    sqlite3_close_v2(db_);
+    db_ = nullptr;
+  }
+}
+
+}  // namespace uascma::campaign::sqlite

@@ -1,0 +1,223 @@
+// OpenStreetMap building reader (.osm XML, .osm.pbf and the other formats libosmium reads): closed ways and
+// type=multipolygon relations tagged building=*, assembled into polygons by libosmium's area assembler; the
+// rules are in include/uascma/planning/map_import.h.
+//
+// Two passes over the file, as libosmium's multipolygon support works: the first collects the multipolygon
+// relations, the second stores node locations, hands ways to the relations that need them and assembles areas
+// (one per building way, one per complete building relation) while a handler of ours counts every tagged object
+// and checks building ways for malformed geometry.
+// GCC 12 reports a false -Wstringop-overread inside libosmium's object builder (a flexible trailing array it
+// cannot see through); silence it for libosmium's headers only.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wstringop-overread"
+#include <osmium/area/assembler.hpp>
+#include <osmium/area/multipolygon_manager.hpp>
+#include <osmium/area/problem_reporter_stream.hpp>
+#include <osmium/handler.hpp>
+#include <osmium/handler/node_locations_for_ways.hpp>
+#include <osmium/index/map/flex_mem.hpp>
+#include <osmium/io/any_input.hpp>
+#include <osmium/tags/tags_filter.hpp>
+#include <osmium/visitor.hpp>
+#pragma GCC diagnostic pop
+
+#include <algorithm>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "map_import_detail.h"
+#include "uascma/common/error.h"
+#include "uascma/planning/map_import.h"
+
+namespace uascma::planning {
+namespace {
+
+std::optional<std::string> Tag(const osmium::TagList& tags, const char* key) {
+  const char* value = tags.get_value_by_key(key);
+  if (value == nullptr) return std::nullopt;
+  return std::string(value);
+}
+
+std::string OneLine(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+class BuildingCollector : public osmium::handler::Handler {
+ public:
+  BuildingCollector(std::string source, const MapImportOptions& options, GeoMapData* data,
+                    const std::ostringstream* problems)
+      : source_(std::move(source)), options_(options), data_(data), problems_(problems) {}
+
+  // Every tagged node is a map feature that is not a polygon.
+  void node(const osmium::Node& node) {
+    if (node.tags().empty()) return;
+    ++data_->summary.features;
+    detail::RecordSkip(&data_->summary, source_, fmt::format("node/{}", node.id()), SkipReason::kNotPolygon,
+                       "a node (point)");
+  }
+
+  void way(const osmium::Way& way) {
+    if (way.tags().empty()) return;  // untagged ways are geometry of relations, not features
+    ++data_->summary.features;
+    const std::string name = fmt::format("way/{}", way.id());
+    const auto& nodes = way.nodes();
+    if (nodes.size() < 2 || !nodes.is_closed()) {
+      detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotPolygon, "an open way (a line)");
+      return;
+    }
+    if (way.tags().has_tag("area", "no")) {
+      detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotPolygon, "a closed way tagged area=no");
+      return;
+    }
+    if (!detail::IsBuildingValue(Tag(way.tags(), "building"))) {
+      detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotBuilding, "no building tag");
+      return;
+    }
+    if (nodes.size() < 4) {
+      throw InputError(source_, name,
+                       fmt::format("a closed way of at least 4 nodes (3 corners and the closing one), got {}",
+                                   nodes.size()));
+    }
+    for (const auto& node_ref : nodes) {
+      if (!node_ref.location().valid()) {
+        throw InputError(source_, name, fmt::format("node {} in the file with a valid location", node_ref.ref()));
+      }
+    }
+    expected_.insert(name);  // its area comes from the assembler
+  }
+
+  void relation(const osmium::Relation& relation) {
+    if (relation.tags().empty()) return;
+    ++data_->summary.features;
+    const std::string name = fmt::format("relation/{}", relation.id());
+    const char* type = relation.tags().get_value_by_key("type");
+    if (type == nullptr || std::string_view(type) != "multipolygon") {
+      detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotBuilding,
+                         fmt::format("a relation of type {}", type ? type : "(none)"));
+      return;
+    }
+    if (!detail::IsBuildingValue(Tag(relation.tags(), "building"))) {
+      detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotBuilding, "no building tag");
+      return;
+    }
+    expected_.insert(name);
+  }
+
+  // An assembled area: from a closed way (orig_id the way's) or from a multipolygon relation.
+  void area(const osmium::Area& area) {
+    const std::string name = fmt::format("{}/{}", area.from_way() ? "way" : "relation", area.orig_id());
+    assembled_.insert(name);
+    if (area.num_rings().first == 0) {
+      // The assembler could not build a polygon; its report names the problem and the object.
+      std::string problem;
+      std::istringstream lines(problems_->str());
+      const std::string tag = fmt::format(" on {}{} ", area.from_way() ? 'w' : 'r', area.orig_id());
+      for (std::string line; std::getline(lines, line);) {
+        if (line.find(tag) != std::string::npos) {
+          problem = OneLine(line);
+          break;
+        }
+      }
+      throw InputError(source_, name,
+                       "rings that close into a valid polygon" + (problem.empty() ? std::string() : " (" + problem + ")"));
+    }
+    GeoBuilding building;
+    building.id = name;
+    auto add_ring = [&](const osmium::NodeRefList& ring, const std::string& ring_name) {
+      std::vector<GeoPoint> points;
+      points.reserve(ring.size());
+      for (const auto& node_ref : ring) {
+        const GeoPoint p{node_ref.location().lat(), node_ref.location().lon()};
+        detail::CheckGeoPoint(p, source_, name);
+        points.push_back(p);
+      }
+      building.rings.push_back(detail::CleanRing(points, source_, name, ring_name));
+    };
+    int outer_index = 0;
+    for (const auto& outer : area.outer_rings()) {
+      add_ring(outer, fmt::format("outer ring {}", outer_index));
+      int inner_index = 0;
+      for (const auto& inner : area.inner_rings(outer)) {
+        add_ring(inner, fmt::format("inner ring {}.{}", outer_index, inner_index++));
+      }
+      ++outer_index;
+    }
+    const auto height = detail::ResolveHeight(Tag(area.tags(), "height"), Tag(area.tags(), "building:levels"),
+                                              source_, name, options_, &data_->summary);
+    if (!height) return;
+    building.height = *height;
+    data_->buildings.push_back(std::move(building));
+    ++data_->summary.buildings;
+  }
+
+  const std::set<std::string>& expected() const { return expected_; }
+  const std::set<std::string>& assembled() const { return assembled_; }
+
+ private:
+  std::string source_;
+  const MapImportOptions& options_;
+  GeoMapData* data_;
+  const std::ostringstream* problems_;
+  std::set<std::string> expected_;   // building ways and relations that should become areas
+  std::set<std::string> assembled_;  // the ones that did
+};
+
+}  // namespace
+
+void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions& options, GeoMapData* data) {
+  const std::string source = path.string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(source, "file", "a readable OSM file");
+  try {
+    const osmium::io::File file(source);
+    std::ostringstream problems;
+    osmium::area::ProblemReporterStream reporter(problems);
+    osmium::area::Assembler::config_type config;
+    config.problem_reporter = &reporter;
+    config.create_empty_areas = true;  // a failed assembly still yields an (empty) area, so it is reported
+    // Buildings: a `building` tag other than "no" (the first matching rule decides).
+    osmium::TagsFilter filter{false};
+    filter.add_rule(false, "building", "no");
+    filter.add_rule(true, "building");
+    osmium::area::MultipolygonManager<osmium::area::Assembler> manager{config, filter};
+
+    osmium::relations::read_relations(file, manager);  // pass 1
+
+    data->summary.sources.push_back(source);
+    BuildingCollector collector(source, options, data, &problems);
+    using Index = osmium::index::map::FlexMem<osmium::unsigned_object_id_type, osmium::Location>;
+    Index index;
+    osmium::handler::NodeLocationsForWays<Index> locations{index};
+    locations.ignore_errors();  // a missing node is reported by the collector, naming the way
+    osmium::io::Reader reader{file};  // pass 2
+    osmium::apply(reader, locations, collector, manager.handler([&collector](osmium::memory::Buffer&& buffer) {
+      osmium::apply(buffer, collector);
+    }));
+    reader.close();
+
+    // Multipolygons with members outside the file (an extract cut through them) are skipped, not errors.
+    std::set<std::string> incomplete;
+    manager.for_each_incomplete_relation([&](const osmium::relations::RelationHandle& handle) {
+      incomplete.insert(fmt::format("relation/{}", handle->id()));
+    });
+    for (const std::string& name : collector.expected()) {
+      if (collector.assembled().count(name)) continue;
+      if (incomplete.count(name)) {
+        detail::RecordSkip(&data->summary, source, name, SkipReason::kIncompleteRelation,
+                           "members missing from the file");
+        continue;
+      }
+      throw InputError(source, name, "a building polygon libosmium can assemble");
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(source, "OSM data", fmt::format("a readable OSM file ({})", OneLine(e.what())));
+  }
+}
+
+}  // namespace uascma::planning

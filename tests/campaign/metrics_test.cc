@@ -1,0 +1,99 @@
+// The per-flight metrics of §5.5.3: the reward of each 1 Hz epoch from eqs. 5.20–5.29 by hand, the
+// terminal term, and one short flight recorded end to end.
+#include "uascma/campaign/metrics.h"
+
+#include <gtest/gtest.h>
+
+#include "campaign_test_support.h"
+
+namespace uascma::campaign {
+namespace {
+
+using decision::BatteryHealth;
+using decision::CmaAction;
+using decision::CmaState;
+using decision::FlightStatus;
+using decision::MotorHealth;
+using decision::MotorMargin;
+using decision::ReachMargin;
+
+constexpr double kTolerance = 1e-12;
+
+// Default weights (eqs. 5.28–5.29): w_S = [FS 0, MH 0, MM 0.082, BH 0.041, RM 0.163],
+// w_A = [NoOp 0.082, Terminate 0, LandASAP 0.02, LandPract 0.041], w_E = [C 0.163, FL 0.408, T 0, E 0];
+// scores f (eqs. 5.23–5.27): MM1/G/RM1 → +1, MM0/P/RM0 → −1, FS ELPRACT → −1, NoOp 1, LandPract 0.5.
+constexpr double kSafeNoOp = 0.082 + 0.041 + 0.163 + 0.082;           // N,NF,MM1,G,RM1 + NoOp = 0.368
+constexpr double kCriticalLandPract = -0.082 - 0.041 - 0.163 + 0.0205;  // N,SF,MM0,P,RM0 + LandPract
+constexpr double kRepeatAsNoOp = -0.082 - 0.041 - 0.163 + 0.082;      // ELPRACT,…,P,RM0: repeat = NoOp
+
+std::vector<EpochDecision> Decisions() {
+  return {
+      {0.0, CmaState{FlightStatus::kN, MotorHealth::kNF, MotorMargin::kMM1, BatteryHealth::kG, ReachMargin::kRM1},
+       CmaAction::kNoOp},
+      {1.0, CmaState{FlightStatus::kN, MotorHealth::kSF, MotorMargin::kMM0, BatteryHealth::kP, ReachMargin::kRM0},
+       CmaAction::kLandPract},
+      {2.0,
+       CmaState{FlightStatus::kElPract, MotorHealth::kSF, MotorMargin::kMM0, BatteryHealth::kP, ReachMargin::kRM0},
+       CmaAction::kLandPract},  // decisions item 9: already executing → NoOp
+  };
+}
+
+TEST(MetricsTest, EpochRewardsByHand) {
+  const RewardTrace failed = CalcRewardTrace(Decisions(), sim::Outcome::kFailedBattery);
+  ASSERT_EQ(failed.reward.size(), 4u);
+  EXPECT_NEAR(failed.reward[0], kSafeNoOp, kTolerance);
+  EXPECT_NEAR(failed.reward[1], kCriticalLandPract, kTolerance);
+  EXPECT_NEAR(failed.reward[2], kRepeatAsNoOp, kTolerance);
+  EXPECT_NEAR(failed.reward[3], -0.408, kTolerance);  // R(FL) = w_FL · (−1)
+  EXPECT_NEAR(failed.average, (kSafeNoOp + kCriticalLandPract + kRepeatAsNoOp - 0.408) / 4.0, kTolerance);
+  EXPECT_NEAR(failed.minimum, -0.408, kTolerance);
+
+  const RewardTrace landed = CalcRewardTrace(Decisions(), sim::Outcome::kEmergencyLanding);
+  EXPECT_NEAR(landed.reward.back(), 0.163, kTolerance);  // R(C)
+  EXPECT_NEAR(landed.minimum, kCriticalLandPract, kTolerance);
+  const RewardTrace terminated = CalcRewardTrace(Decisions(), sim::Outcome::kTerminated);
+  EXPECT_NEAR(terminated.reward.back(), 0.0, kTolerance);  // R(T) = 0 · (−0.1)
+  EXPECT_GT(landed.average, failed.average);  // landing beats crashing (§5.5.3)
+}
+
+TEST(MetricsTest, TerminalStates) {
+  EXPECT_EQ(TerminalStateOf(sim::Outcome::kCompleted), decision::CmaTerminal::kC);
+  EXPECT_EQ(TerminalStateOf(sim::Outcome::kEmergencyLanding), decision::CmaTerminal::kC);
+  EXPECT_EQ(TerminalStateOf(sim::Outcome::kTerminated), decision::CmaTerminal::kT);
+  for (auto outcome : {sim::Outcome::kFailedBattery, sim::Outcome::kFailedControl, sim::Outcome::kFailedCollision,
+                       sim::Outcome::kTimeout}) {
+    EXPECT_EQ(TerminalStateOf(outcome), decision::CmaTerminal::kFL);
+  }
+}
+
+TEST(MetricsTest, OneShortFlightIsRecordedWhole) {
+  const CampaignConfig config = testing_support::ShortConfig();
+  const SampledRun run = SampleRun(config, config.seed, 2);
+  const sim::Simulator simulator(run.scenario);
+  // The recording wrapper sees exactly the epochs the simulator logs.
+  sim::NoOpPolicy noop;
+  RecordingPolicy recording(noop);
+  sim::RunOptions options;
+  options.record_telemetry = false;
+  const sim::SimResult result = simulator.Run(recording, {}, options);
+  ASSERT_EQ(recording.decisions().size(), result.states.size());
+  for (std::size_t k = 0; k < result.states.size(); ++k) {
+    EXPECT_EQ(decision::CmaStateIndex(recording.decisions()[k].state), result.states[k].second);
+  }
+  const RunRecord record = FlyRun(simulator, run, NoOpCampaignPolicy(), 1, 2);
+  EXPECT_EQ(record.flight_id, 2 * 2 + 1);
+  EXPECT_EQ(record.policy, "noop");
+  EXPECT_EQ(record.run_seed, run.run_seed);
+  EXPECT_EQ(record.epochs, static_cast<std::int64_t>(result.states.size()) + 1);
+  EXPECT_EQ(record.outcome, sim::OutcomeName(result.outcome));
+  EXPECT_NEAR(record.sim_time_s, result.sim_time_s, kTolerance);
+  EXPECT_EQ(record.battery_health, models::HealthClassName(models::ClassifyHealth(run.scenario.battery.cell_health)));
+  EXPECT_GE(record.min_reward, -0.408 - kTolerance);
+  EXPECT_LE(record.min_reward, record.average_reward);
+  EXPECT_FALSE(record.first_emergency_action_s.has_value());  // NoOp never asks for one
+  // Flying again gives the same record (the wall time aside).
+  EXPECT_EQ(FirstDifference(record, FlyRun(simulator, run, NoOpCampaignPolicy(), 1, 2)), std::nullopt);
+}
+
+}  // namespace
+}  // namespace uascma::campaign

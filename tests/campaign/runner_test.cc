@@ -1,0 +1,163 @@
+// The campaign runner: the same rows for any number of threads, after a partial campaign and its
+// resumption, and from a replay of one stored flight; another campaign's database is refused.
+#include "uascma/campaign/runner.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "campaign_test_support.h"
+#include "uascma/common/error.h"
+
+namespace uascma::campaign {
+namespace {
+
+struct TempDir {
+  TempDir() : path(std::filesystem::temp_directory_path() / ("uascma_runner_test_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::filesystem::path path;
+};
+
+const std::vector<CampaignPolicy>& Policies() {
+  static const std::vector<CampaignPolicy> policies = {SolvedCmaPolicy(), NoOpCampaignPolicy()};
+  return policies;
+}
+
+std::vector<RunRecord> Fly(const CampaignConfig& config, int jobs) {
+  ExecuteOptions options;
+  options.jobs = jobs;
+  options.flush_rows = 3;  // many small batches
+  std::vector<RunRecord> records;
+  ExecuteFlights(config, Policies(), MissingFlights(config.runs, Policies(), {}), options,
+                 [&records](std::vector<RunRecord>&& batch) {
+                   records.insert(records.end(), batch.begin(), batch.end());
+                 });
+  std::sort(records.begin(), records.end(),
+            [](const RunRecord& a, const RunRecord& b) { return a.flight_id < b.flight_id; });
+  return records;
+}
+
+void ExpectSameRows(const std::vector<RunRecord>& a, const std::vector<RunRecord>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(FirstDifference(a[i], b[i]), std::nullopt) << "row " << i << " (flight " << a[i].flight_id << ")";
+  }
+}
+
+CampaignRequest Request(const CampaignConfig& config, const std::filesystem::path& db, bool resume) {
+  CampaignRequest request;
+  request.config = config;
+  request.policies = Policies();
+  request.db = db;
+  request.resume = resume;
+  request.execute.jobs = 2;
+  return request;
+}
+
+TEST(MissingFlightsTest, SkipsStoredFlights) {
+  const auto tasks = MissingFlights(3, Policies(), {{0, "cma"}, {0, "noop"}, {2, "noop"}, {7, "cma"}});
+  ASSERT_EQ(tasks.size(), 2u);
+  EXPECT_EQ(tasks[0].run_index, 1);
+  EXPECT_EQ(tasks[0].slots, (std::vector<int>{0, 1}));
+  EXPECT_EQ(tasks[1].run_index, 2);
+  EXPECT_EQ(tasks[1].slots, (std::vector<int>{0}));
+}
+
+TEST(RunnerTest, ThreadCountDoesNotChangeTheResults) {
+  CampaignConfig config = testing_support::ShortConfig();
+  config.runs = 8;
+  const auto one = Fly(config, 1);
+  ASSERT_EQ(one.size(), 16u);
+  ExpectSameRows(one, Fly(config, 2));
+  ExpectSameRows(one, Fly(config, 4));
+  // Paired: both policies fly the very same scenario of each run.
+  for (std::size_t i = 0; i + 1 < one.size(); i += 2) {
+    EXPECT_EQ(one[i].run_index, one[i + 1].run_index);
+    EXPECT_EQ(one[i].run_seed, one[i + 1].run_seed);
+    EXPECT_EQ(one[i].cell_health, one[i + 1].cell_health);
+    EXPECT_DOUBLE_EQ(one[i].distance_m, one[i + 1].distance_m);
+  }
+}
+
+TEST(RunnerTest, APartialCampaignResumedEqualsAnUninterruptedOne) {
+  TempDir dir;
+  CampaignConfig config = testing_support::ShortConfig();
+  config.runs = 3;
+  const CampaignOutcome first = RunCampaign(Request(config, dir.path / "resumed.db", false));
+  EXPECT_EQ(first.flights_flown, 6);
+  config.runs = 6;
+  // Without --resume an existing database is refused.
+  EXPECT_THROW(RunCampaign(Request(config, dir.path / "resumed.db", false)), InputError);
+  const CampaignOutcome second = RunCampaign(Request(config, dir.path / "resumed.db", true));
+  EXPECT_EQ(second.flights_before, 6);
+  EXPECT_EQ(second.flights_flown, 6);
+  const CampaignOutcome again = RunCampaign(Request(config, dir.path / "resumed.db", true));
+  EXPECT_EQ(again.flights_flown, 0);  // nothing counted twice
+  RunCampaign(Request(config, dir.path / "whole.db", false));
+  const auto resumed = ResultsStore::Open(dir.path / "resumed.db").ReadRecords();
+  ASSERT_EQ(resumed.size(), 12u);
+  ExpectSameRows(resumed, ResultsStore::Open(dir.path / "whole.db").ReadRecords());
+  EXPECT_EQ(ResultsStore::Open(dir.path / "resumed.db").header().runs_requested, 6);
+}
+
+TEST(RunnerTest, AnotherCampaignsDatabaseIsRefused) {
+  TempDir dir;
+  CampaignConfig config = testing_support::ShortConfig();
+  config.runs = 1;
+  RunCampaign(Request(config, dir.path / "c.db", false));
+  CampaignConfig other = config;
+  other.seed = config.seed + 1;
+  try {
+    RunCampaign(Request(other, dir.path / "c.db", true));
+    ADD_FAILURE() << "a database of another campaign was accepted";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find((dir.path / "c.db").string()), std::string::npos) << message;
+    EXPECT_NE(message.find("another campaign"), std::string::npos) << message;
+  }
+  CampaignRequest fewer_policies = Request(config, dir.path / "c.db", true);
+  fewer_policies.policies = {NoOpCampaignPolicy()};
+  EXPECT_THROW(RunCampaign(fewer_policies), InputError);
+  EXPECT_EQ(ResultsStore::Open(dir.path / "c.db").CountFlights(), 2);
+}
+
+TEST(RunnerTest, AStoredFlightReplaysAlone) {
+  TempDir dir;
+  CampaignConfig config = testing_support::ShortConfig();
+  config.runs = 3;
+  RunCampaign(Request(config, dir.path / "c.db", false));
+  for (const std::string id : {"0", "3", "2:cma", "1:noop"}) {
+    const ReplayFlight flight = LoadReplay(dir.path / "c.db", id);
+    EXPECT_EQ(FirstDifference(ReplayRun(flight), flight.recorded), std::nullopt) << id;
+    EXPECT_EQ(flight.run.scenario.seed, SampleRun(config, config.seed, flight.recorded.run_index).scenario.seed);
+  }
+  EXPECT_EQ(LoadReplay(dir.path / "c.db", "3").recorded.policy, "noop");  // flight 3 = run 1, slot 1
+  EXPECT_THROW(LoadReplay(dir.path / "c.db", "99"), InputError);
+  EXPECT_THROW(LoadReplay(dir.path / "c.db", "1:greedy"), InputError);
+  EXPECT_THROW(LoadReplay(dir.path / "c.db", "one"), InputError);
+}
+
+TEST(RunnerTest, AFailingSinkStopsTheWorkersAndIsRethrown) {
+  CampaignConfig config = testing_support::ShortConfig();
+  config.runs = 6;
+  ExecuteOptions options;
+  options.jobs = 2;
+  options.flush_rows = 1;
+  int calls = 0;
+  EXPECT_THROW(ExecuteFlights(config, Policies(), MissingFlights(config.runs, Policies(), {}), options,
+                              [&calls](std::vector<RunRecord>&&) {
+                                ++calls;
+                                throw std::runtime_error("disk on fire");
+                              }),
+               std::runtime_error);
+  EXPECT_EQ(calls, 1);
+}
+
+}  // namespace
+}  // namespace uascma::campaign
