@@ -103,7 +103,18 @@ double SelfCorrectingCell::CalcTerminalVoltage(const CellState& state, double cu
   return v;
 }
 
+SelfCorrectingCell::RcDecay SelfCorrectingCell::CalcRcDecay(double dt_s) const {
+  RcDecay decay{};
+  for (int j = 0; j < params_.rc_pair_count; ++j) decay[j] = std::exp(-dt_s * rc_rate_per_s_[j]);
+  return decay;
+}
+
 CellState SelfCorrectingCell::Step(const CellState& state, double current_a, double dt_s) const {
+  return Step(state, current_a, dt_s, CalcRcDecay(dt_s));
+}
+
+CellState SelfCorrectingCell::Step(const CellState& state, double current_a, double dt_s,
+                                   const RcDecay& rc_decay) const {
   UASCMA_DCHECK(dt_s >= 0.0, "a step of negative length");
   const double eta = CalcEfficiency(current_a);
   CellState next = state;
@@ -111,9 +122,9 @@ CellState SelfCorrectingCell::Step(const CellState& state, double current_a, dou
   const double charge_as = eta * current_a * dt_s;  // η i Δt
   next.soc_fraction = state.soc_fraction - charge_as * inverse_capacity_per_as_;
   // Each RC pair is a first-order lag of the current with time constant R_j C_j; under a zero-order-held
-  // current its exact discrete form is eq. 3.1.
+  // current its exact discrete form is eq. 3.1, F_j = exp(−Δt / (R_j C_j)).
   for (int j = 0; j < params_.rc_pair_count; ++j) {
-    const double f = std::exp(-dt_s * rc_rate_per_s_[j]);
+    const double f = rc_decay[j];
     next.rc_current_a[j] = f * state.rc_current_a[j] + (1.0 - f) * current_a;
   }
   // dh/dt = −|η i γ / Q| (h + sgn(i)): h relaxes towards −sgn(i) at a rate set by the charge moved;

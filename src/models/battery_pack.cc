@@ -203,6 +203,29 @@ PackStepResult BatteryPack::StepWithOutputs(const PackState& state, double total
   return result;
 }
 
+BatteryPack::FixedStep BatteryPack::MakeFixedStep(double dt_s) const {
+  FixedStep step;
+  step.dt_s = dt_s;
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) step.rc_decay[b][c] = cells_[b][c].CalcRcDecay(dt_s);
+  }
+  return step;
+}
+
+PackStepResult BatteryPack::StepWithOutputs(const PackState& state, double total_current_a,
+                                            const FixedStep& step) const {
+  PackStepResult result;
+  result.outputs = CalcOutputs(state, total_current_a);
+  result.next = state;
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      result.next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], result.outputs.split.current_a[b], step.dt_s,
+                                                  step.rc_decay[b][c]);
+    }
+  }
+  return result;
+}
+
 PackState BatteryPack::MakeRestingState(double cell_voltage_v, PackAction action, const std::string& source) const {
   PerCell<double> voltages;
   for (auto& branch : voltages) branch.fill(cell_voltage_v);

@@ -123,6 +123,16 @@ double CalcElectricalPower(const PropulsionParams& params, double thrust) {
   return params.electrical_power.power_at_one_newton * std::pow(thrust, params.electrical_power.exponent);
 }
 
+ElectricalPowerTable::ElectricalPowerTable(const PropulsionParams& params, int intervals)
+    : params_(params), intervals_(intervals) {
+  if (intervals < 2) throw InputError("ElectricalPowerTable", "intervals", "at least 2");
+  const double top = 1.5 * params.max_thrust;  // covers any commanded thrust (the cap is T_max)
+  const double step = top / intervals;
+  inverse_step_ = 1.0 / step;
+  power_.resize(static_cast<std::size_t>(intervals) + 1);
+  for (int i = 0; i <= intervals; ++i) power_[i] = CalcElectricalPower(params, i * step);
+}
+
 double CalcMotorCurrent(double electrical_power, double bus_voltage) {
   if (!PositiveFinite(bus_voltage)) {
     throw InputError("CalcMotorCurrent", "bus_voltage", fmt::format("a voltage > 0 V, got {}", bus_voltage));

@@ -132,15 +132,16 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
   }
   for (int j = 0; j < kImmModes; ++j) {
     const double accel_innovation = measurement.specific_force_z_B + wrench[0][j] / body_.mass;
-    log_likelihood[j] -= 0.5 * (std::log(variance_product[j]) + accel_innovation * accel_innovation / accel_variance);
+    log_likelihood[j] -= 0.5 * accel_innovation * accel_innovation / accel_variance;
   }
 
-  // 4. Mode probabilities ∝ c_j · L_j (in log space to avoid underflow), with a floor that keeps every
+  // 4. Mode probabilities ∝ c_j · L_j, L_j = exp(−½ q_j) / √det S_j. The exponent is shifted by its
+  // maximum (no underflow) and the determinant enters as a square root (no logarithm). A floor keeps every
   // mode alive for the next switch.
   const double best = *std::max_element(log_likelihood.begin(), log_likelihood.end());
   double total = 0.0;
   for (int j = 0; j < kImmModes; ++j) {
-    probability_[j] = predicted[j] * std::exp(log_likelihood[j] - best);
+    probability_[j] = predicted[j] * std::exp(log_likelihood[j] - best) / std::sqrt(variance_product[j]);
     total += probability_[j];
   }
   for (int j = 0; j < kImmModes; ++j) probability_[j] = std::max(probability_[j] / total, 1e-12);

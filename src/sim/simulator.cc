@@ -93,6 +93,7 @@ CmaAction TablePolicy::Decide(const DecisionInputs& inputs) {
 Simulator::Simulator(const Scenario& scenario)
     : scenario_(scenario),
       propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
+      electrical_power_(propulsion_),
       mixer_(models::MixerParams::ForPropulsion(propulsion_)),
       drag_(models::DragTable::Default(scenario.configuration)),
       wind_(scenario.wind),
@@ -140,6 +141,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   models::WindState wind_state = wind_.InitialState(0.0, wind_random);
   models::PackState pack_state = pack_.MakeRestingState(sc.battery.initial_cell_voltage_v);
   const models::RotorSpeedLag lag(propulsion_.motor_time_constant, dt);
+  const models::BatteryPack::FixedStep pack_step_length = pack_.MakeFixedStep(dt);
   std::array<double, 6> rotor_speed{}, believed_speed{};
   const double hover_speed = models::CalcRotorSpeedForThrust(propulsion_, sc.body.mass * kGravity / 6.0);
   rotor_speed.fill(hover_speed);
@@ -253,7 +255,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
       rotor_speed[i] = (i + 1 == jammed_rotor) ? 0.0 : lag.Step(rotor_speed[i], speed_command);
       thrust[i] = models::CalcRotorThrust(propulsion_, rotor_speed[i]);
       believed[i] = models::CalcRotorThrust(propulsion_, believed_speed[i]);
-      rotor_current[i] = models::CalcElectricalPower(propulsion_, thrust[i]) / std::max(bus_voltage, 1.0);
+      rotor_current[i] = electrical_power_.Power(thrust[i]) / std::max(bus_voltage, 1.0);
       motors_current += rotor_current[i];
     }
     const models::BodyWrench achieved = mixer_.mixing_matrix(models::kNoFailedMotor) * thrust;
@@ -270,7 +272,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
 
     // ---- power: rotor currents → pack → bus voltage -------------------------------------------------
     pack_current = motors_current + opt.hotel_current_a;
-    const models::PackStepResult pack_step = pack_.StepWithOutputs(pack_state, pack_current, dt);
+    const models::PackStepResult pack_step = pack_.StepWithOutputs(pack_state, pack_current, pack_step_length);
     pack_state = pack_step.next;
     bus_voltage = pack_step.outputs.split.bus_voltage_v;
     result.energy_wh += bus_voltage * pack_current * dt / 3600.0;

@@ -246,5 +246,19 @@ TEST(PropulsionParamsTest, ParsesConfigurationNames) {
   }
 }
 
+TEST(ElectricalPowerTableTest, MatchesThePowerLawWithinItsStatedError) {
+  for (auto configuration : {PropellerConfiguration::kTractor, PropellerConfiguration::kPusher}) {
+    const PropulsionParams params = PropulsionParams::ForConfiguration(configuration);
+    const ElectricalPowerTable table(params);
+    double worst = 0.0;
+    for (double thrust = 0.05; thrust <= 1.6 * params.max_thrust; thrust += 0.0137) {
+      const double exact = CalcElectricalPower(params, thrust);
+      worst = std::max(worst, std::abs(table.Power(thrust) - exact) / exact);
+    }
+    EXPECT_LT(worst, 1e-4);  // relative, the bound the header states
+    EXPECT_DOUBLE_EQ(table.Power(0.0), 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace uascma::models

@@ -1,9 +1,13 @@
 #pragma once
 // Explicit random streams (style habit 7): every stochastic call takes a RandomStream&, and every Monte
 // Carlo run records the seed that replays it. The generator is xoshiro256** (Blackman & Vigna, "Scrambled
-// linear pseudorandom number generators", 2021) seeded through SplitMix64; normals come from the polar
-// Marsaglia method. Everything here is specified bit for bit, so a seed replays identically on every
-// platform and compiler (unlike std::normal_distribution, whose algorithm is implementation-defined).
+// linear pseudorandom number generators", 2021) seeded through SplitMix64; normals come from the
+// ziggurat method with 256 layers (Marsaglia & Tsang, "The ziggurat method for generating random
+// variables", J. Stat. Software 5(8), 2000): ~99 % of draws cost one 64-bit word and a multiply, which
+// matters at seven normals per 200 Hz simulator step. Everything here is specified bit for bit, so a seed
+// replays identically on every platform and compiler (unlike std::normal_distribution, whose algorithm is
+// implementation-defined).
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -31,7 +35,6 @@ class RandomStream {
   void Seed(std::uint64_t seed) {
     std::uint64_t state = seed;
     for (auto& word : s_) word = SplitMix64(state);
-    has_spare_normal_ = false;
   }
   // Satisfies UniformRandomBitGenerator, so it also works with <algorithm> shuffles.
   using result_type = std::uint64_t;
@@ -62,30 +65,59 @@ class RandomStream {
     }
   }
   bool Bernoulli(double probability) { return Uniform() < probability; }
-  // Standard normal N(0, 1), polar Marsaglia method (one spare kept).
-  double Normal() {
-    if (has_spare_normal_) {
-      has_spare_normal_ = false;
-      return spare_normal_;
-    }
-    double x, y, r2;
-    do {
-      x = 2.0 * Uniform() - 1.0;
-      y = 2.0 * Uniform() - 1.0;
-      r2 = x * x + y * y;
-    } while (r2 >= 1.0 || r2 == 0.0);
-    const double scale = std::sqrt(-2.0 * std::log(r2) / r2);
-    spare_normal_ = y * scale;
-    has_spare_normal_ = true;
-    return x * scale;
-  }
+  // Standard normal N(0, 1) by the ziggurat method (see the file comment).
+  double Normal();
   double Normal(double mean, double standard_deviation) { return mean + standard_deviation * Normal(); }
 
  private:
   static std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
   std::uint64_t s_[4];
-  double spare_normal_ = 0.0;
-  bool has_spare_normal_ = false;
 };
+
+namespace internal {
+// The 256-layer ziggurat of the standard normal: layer i ≥ 1 spans x ∈ [0, x[i]] between the heights
+// f(x[i]) and f(x[i+1]) (f(x) = exp(−x²/2)); layer 0 is the base rectangle [0, r] × [0, f(r)] plus the tail
+// beyond r, stretched to the same area v. x[256] = 0.
+struct Ziggurat {
+  static constexpr double kR = 3.6541528853610088;   // x[1], the start of the tail (256 layers)
+  static constexpr double kArea = 4.92867323399e-3;   // v, the area of every layer
+  std::array<double, 257> x{};
+  std::array<double, 257> f{};
+  Ziggurat() {
+    x[0] = kArea / std::exp(-0.5 * kR * kR);
+    x[1] = kR;
+    for (int i = 1; i < 255; ++i) x[i + 1] = std::sqrt(-2.0 * std::log(kArea / x[i] + std::exp(-0.5 * x[i] * x[i])));
+    x[256] = 0.0;
+    for (int i = 0; i < 257; ++i) f[i] = std::exp(-0.5 * x[i] * x[i]);
+  }
+};
+inline const Ziggurat& TheZiggurat() {
+  static const Ziggurat table;
+  return table;
+}
+}  // namespace internal
+
+inline double RandomStream::Normal() {
+  const internal::Ziggurat& z = internal::TheZiggurat();
+  while (true) {
+    const std::uint64_t bits = Next();
+    const int layer = static_cast<int>(bits & 0xff);
+    const double u = 2.0 * (static_cast<double>(bits >> 11) * 0x1.0p-53) - 1.0;  // (−1, 1)
+    const double x = u * z.x[layer];
+    if (std::abs(x) < z.x[layer + 1]) return x;  // inside the layer's rectangle: accept at once
+    if (layer == 0) {
+      // The tail beyond r (Marsaglia 1964): x = r + e1 / r with e1, e2 exponential, accept if 2 e2 > (e1/r)².
+      double tail, e2;
+      do {
+        tail = -std::log(1.0 - Uniform()) / internal::Ziggurat::kR;
+        e2 = -std::log(1.0 - Uniform());
+      } while (2.0 * e2 < tail * tail);
+      return u < 0.0 ? -(internal::Ziggurat::kR + tail) : internal::Ziggurat::kR + tail;
+    }
+    // The wedge between the rectangle and the curve: accept under f.
+    const double y = z.f[layer] + Uniform() * (z.f[layer + 1] - z.f[layer]);
+    if (y < std::exp(-0.5 * x * x)) return x;
+  }
+}
 
 }  // namespace uascma

@@ -113,6 +113,11 @@ class SelfCorrectingCell {
   double CalcTerminalVoltage(const CellState& state, double current_a, double ocv_v) const;
   // Eqs. 3.1–3.2, exact over dt_s ≥ 0 at constant current.
   CellState Step(const CellState& state, double current_a, double dt_s) const;
+  // The RC decay factors F_j = exp(−dt/(R_j C_j)) of a fixed step, and the step that reuses them (a
+  // simulator stepping at a fixed rate saves one exp per RC pair and step; the result is identical).
+  using RcDecay = std::array<double, kMaxRcPairs>;
+  RcDecay CalcRcDecay(double dt_s) const;
+  CellState Step(const CellState& state, double current_a, double dt_s, const RcDecay& rc_decay) const;
 
   // A cell at rest (i_R = 0, h = 0, s = 0) whose terminal voltage is `rest_voltage_v`: z = OCV⁻¹(v).
   // A voltage outside the OCV table's range is bad input: InputError naming `source`.

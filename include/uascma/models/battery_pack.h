@@ -119,6 +119,13 @@ class BatteryPack {
   // the step). Cells of a switched-off or blocked branch rest (i = 0).
   PackState Step(const PackState& state, double total_current_a, double dt_s) const;
   PackStepResult StepWithOutputs(const PackState& state, double total_current_a, double dt_s) const;
+  // A fixed step length with its RC decay factors computed once (for a simulator at a fixed rate).
+  struct FixedStep {
+    double dt_s = 0.0;
+    PerCell<SelfCorrectingCell::RcDecay> rc_decay{};
+  };
+  FixedStep MakeFixedStep(double dt_s) const;
+  PackStepResult StepWithOutputs(const PackState& state, double total_current_a, const FixedStep& step) const;
 
   // Every cell at rest at `cell_voltage_v` (z = OCV⁻¹(v) per cell), switches from `action`. InputError
   // naming `source` when a voltage is outside the OCV table.

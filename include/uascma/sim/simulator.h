@@ -211,6 +211,7 @@ class Simulator {
  private:
   Scenario scenario_;
   models::PropulsionParams propulsion_;
+  models::ElectricalPowerTable electrical_power_;
   models::Mixer mixer_;
   models::DragTable drag_;
   models::WindModel wind_;
