@@ -202,14 +202,18 @@ double CityMap::SurfaceAltitudeAt(const Eigen::Vector2d& p_NE) const {
 }
 
 bool CityMap::SegmentCollides(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building) const {
-  // The whole segment above the tallest roof meets nothing.
-  if (-std::max(a_W.z(), b_W.z()) > max_height_) return false;
+  // The lowest point of the segment: a building whose roof is below it cannot be met. Above the tallest roof,
+  // nothing can.
+  const double lowest_altitude = -std::max(a_W.z(), b_W.z());
+  if (lowest_altitude > max_height_) return false;
   const Eigen::Vector3d d = b_W - a_W;
+  const Eigen::AlignedBox2d segment_box(a_W.head<2>().cwiseMin(b_W.head<2>()), a_W.head<2>().cwiseMax(b_W.head<2>()));
   TestedSet tested;
   bool collides = false;
   building_grid_.VisitNearSegment(a_W.head<2>(), b_W.head<2>(), 0.0, [&](int k) {
-    if (k == ignore_building) return true;
-    // The part below this roof, then the part of that inside the outline's box: cheap rejections first.
+    // Cheap rejections first: the roof below the segment, the boxes apart; then the part of the segment below
+    // this roof and inside the outline's box, which the exact test takes.
+    if (heights_[k] < lowest_altitude || k == ignore_building || !boxes_[k].intersects(segment_box)) return true;
     const auto part = PartBelowRoof(heights_[k], a_W, b_W);
     if (!part) return true;
     double t0 = part->begin, t1 = part->end;
@@ -224,11 +228,14 @@ bool CityMap::SegmentCollides(const Eigen::Vector3d& a_W, const Eigen::Vector3d&
 
 SegmentHit CityMap::FirstHit(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building) const {
   SegmentHit result;
-  if (-std::max(a_W.z(), b_W.z()) > max_height_) return result;
+  const double lowest_altitude = -std::max(a_W.z(), b_W.z());
+  if (lowest_altitude > max_height_) return result;
   const Eigen::Vector3d d = b_W - a_W;
+  const Eigen::AlignedBox2d segment_box(a_W.head<2>().cwiseMin(b_W.head<2>()), a_W.head<2>().cwiseMax(b_W.head<2>()));
   TestedSet tested;
+  // The grid visits cells from a towards b, so an early contact usually comes first and prunes the rest.
   building_grid_.VisitNearSegment(a_W.head<2>(), b_W.head<2>(), 0.0, [&](int k) {
-    if (k == ignore_building) return true;
+    if (heights_[k] < lowest_altitude || k == ignore_building || !boxes_[k].intersects(segment_box)) return true;
     const auto part = PartBelowRoof(heights_[k], a_W, b_W);
     if (!part) return true;
     double t0 = part->begin, t1 = part->end;
@@ -261,12 +268,15 @@ RouteClearance CityMap::TallestBuildingUnder(std::span<const Eigen::Vector2d> ro
     const Eigen::Vector2d& a = route_NE[i];
     const Eigen::Vector2d& b = route_NE[std::min(i + 1, route_NE.size() - 1)];
     const Eigen::Vector2d d = b - a;
+    const Eigen::Vector2d reach(half_width, half_width);
+    const Eigen::AlignedBox2d corridor_box(a.cwiseMin(b) - reach, a.cwiseMax(b) + reach);
     building_grid_.VisitNearSegment(a, b, half_width, [&](int k) {
       // Only a taller building (or an equally tall one of lower index) can change the answer.
       if (heights_[k] < result.height || (heights_[k] == result.height && result.building != kNoBuilding &&
                                           k >= result.building)) {
         return true;
       }
+      if (!boxes_[k].intersects(corridor_box)) return true;
       double t0 = 0.0, t1 = 1.0;
       if (!ClipToBox(a, d, boxes_[k], half_width + kBoxSlack, &t0, &t1)) return true;
       const bool under = half_width == 0.0 ? SegmentMeetsOutline(edges(k), a, b)

@@ -456,7 +456,8 @@ FootprintResult CalcFootprint(const FootprintParams& params) {
     if (solution->status() == PmpStatus::kSingular) {
       result.status = FootprintStatus::kSingularSystem;
       result.message = fmt::format(
-          "the order-{} Maclaurin system for C1..C4 is singular or not finite at a*t_f = {:.3g}",
+          "the order-{} Maclaurin system for C1..C4 is singular or not finite at a*t_f = {:.3g} (its constants "
+          "cancel as (a*t_f)^2 when a*t_f is small; exact exponentials have no such limit)",
           params.maclaurin_order, params.drag_slope / params.mass * params.eod);
       return result;
     }

@@ -78,6 +78,51 @@ void ReadPolygon(const nlohmann::json& polygon, const std::string& source, const
   }
 }
 
+// One feature of the collection: a building appended to `data`, or a skip recorded in its summary.
+void ReadFeature(const nlohmann::json& feature, const std::string& name, const std::string& source,
+                 const MapImportOptions& options, GeoMapData* data) {
+  ImportSummary& summary = data->summary;
+  if (!feature.is_object() || feature.value("type", "") != "Feature") {
+    throw InputError(source, name, "a GeoJSON Feature object");
+  }
+  ++summary.features;
+  const auto geometry_it = feature.find("geometry");
+  const std::string geometry_type =
+      (geometry_it != feature.end() && geometry_it->is_object()) ? geometry_it->value("type", "") : "null";
+  if (geometry_type != "Polygon" && geometry_type != "MultiPolygon") {
+    detail::RecordSkip(&summary, source, name, SkipReason::kNotPolygon, "geometry " + geometry_type);
+    return;
+  }
+  const nlohmann::json empty = nlohmann::json::object();
+  const auto properties_it = feature.find("properties");
+  const nlohmann::json& properties = properties_it != feature.end() ? *properties_it : empty;
+  if (!detail::IsBuildingValue(Property(properties, "building"))) {
+    detail::RecordSkip(&summary, source, name, SkipReason::kNotBuilding, "no building tag");
+    return;
+  }
+  const auto coordinates = geometry_it->find("coordinates");
+  if (coordinates == geometry_it->end()) throw InputError(source, name, "geometry.coordinates");
+
+  GeoBuilding building;
+  building.id = Property(properties, "@id").value_or(name);
+  if (geometry_type == "Polygon") {
+    ReadPolygon(*coordinates, source, name, "polygon", &building.rings);
+  } else {
+    if (!coordinates->is_array() || coordinates->empty()) {
+      throw InputError(source, name, "MultiPolygon coordinates as a non-empty array of polygons");
+    }
+    for (std::size_t p = 0; p < coordinates->size(); ++p) {
+      ReadPolygon((*coordinates)[p], source, name, fmt::format("polygon {}", p), &building.rings);
+    }
+  }
+  const auto height = detail::ResolveHeight(Property(properties, "height"), Property(properties, "building:levels"),
+                                            source, name, options, &summary);
+  if (!height) return;  // skipped and counted
+  building.height = *height;
+  data->buildings.push_back(std::move(building));
+  ++summary.buildings;
+}
+
 }  // namespace
 
 void ParseGeoJsonBuildings(std::string_view text, const std::string& source, const MapImportOptions& options,
@@ -88,7 +133,8 @@ void ParseGeoJsonBuildings(std::string_view text, const std::string& source, con
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(source, "JSON", fmt::format("valid JSON ({})", e.what()));
   }
-  if (!document.is_object() || document.value("type", "") != "FeatureCollection") {
+  const auto type = document.is_object() ? document.find("type") : document.end();
+  if (!document.is_object() || type == document.end() || *type != "FeatureCollection") {
     throw InputError(source, "type", "a GeoJSON FeatureCollection");
   }
   const auto features = document.find("features");
@@ -100,45 +146,11 @@ void ParseGeoJsonBuildings(std::string_view text, const std::string& source, con
   for (std::size_t index = 0; index < features->size(); ++index) {
     const nlohmann::json& feature = (*features)[index];
     const std::string name = FeatureName(feature, index);
-    if (!feature.is_object() || feature.value("type", "") != "Feature") {
-      throw InputError(source, name, "a GeoJSON Feature object");
+    try {
+      ReadFeature(feature, name, source, options, data);
+    } catch (const nlohmann::json::exception& e) {  // a member of the wrong JSON type
+      throw InputError(source, name, fmt::format("well-typed GeoJSON members ({})", e.what()));
     }
-    ++summary.features;
-    const auto geometry_it = feature.find("geometry");
-    const std::string geometry_type =
-        (geometry_it != feature.end() && geometry_it->is_object()) ? geometry_it->value("type", "") : "null";
-    if (geometry_type != "Polygon" && geometry_type != "MultiPolygon") {
-      detail::RecordSkip(&summary, source, name, SkipReason::kNotPolygon, "geometry " + geometry_type);
-      continue;
-    }
-    const nlohmann::json empty = nlohmann::json::object();
-    const auto properties_it = feature.find("properties");
-    const nlohmann::json& properties = properties_it != feature.end() ? *properties_it : empty;
-    if (!detail::IsBuildingValue(Property(properties, "building"))) {
-      detail::RecordSkip(&summary, source, name, SkipReason::kNotBuilding, "no building tag");
-      continue;
-    }
-    const auto coordinates = geometry_it->find("coordinates");
-    if (coordinates == geometry_it->end()) throw InputError(source, name, "geometry.coordinates");
-
-    GeoBuilding building;
-    building.id = Property(properties, "@id").value_or(name);
-    if (geometry_type == "Polygon") {
-      ReadPolygon(*coordinates, source, name, "polygon", &building.rings);
-    } else {
-      if (!coordinates->is_array() || coordinates->empty()) {
-        throw InputError(source, name, "MultiPolygon coordinates as a non-empty array of polygons");
-      }
-      for (std::size_t p = 0; p < coordinates->size(); ++p) {
-        ReadPolygon((*coordinates)[p], source, name, fmt::format("polygon {}", p), &building.rings);
-      }
-    }
-    const auto height = detail::ResolveHeight(Property(properties, "height"), Property(properties, "building:levels"),
-                                              source, name, options, &summary);
-    if (!height) continue;  // skipped and counted
-    building.height = *height;
-    data->buildings.push_back(std::move(building));
-    ++summary.buildings;
   }
 }
 

@@ -26,6 +26,7 @@ UniformGrid::UniformGrid(std::span<const Eigen::AlignedBox2d> boxes, double cell
          static_cast<double>(max_cells)) {
     cell_size_ *= 2.0;
   }
+  inverse_cell_size_ = 1.0 / cell_size_;
   origin_ = bounds.min();
   rows_ = static_cast<int>(std::floor(size.x() / cell_size_)) + 1;
   cols_ = static_cast<int>(std::floor(size.y() / cell_size_)) + 1;

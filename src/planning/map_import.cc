@@ -268,6 +268,8 @@ CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options
 
 ImportedMap ImportCityMap(std::span<const std::filesystem::path> building_files,
                           const std::filesystem::path& sites_csv, const MapImportOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("map import options", "MapImportOptions", error);
   GeoMapData data;
   for (const auto& path : building_files) ReadBuildings(path, options, &data);
   if (!sites_csv.empty()) ReadLandingSitesCsv(sites_csv, options, &data);

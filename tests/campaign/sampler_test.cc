@@ -112,7 +112,9 @@ TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
     pack_f3 += run.pack_health[0] == models::HealthClass::kP ? 1 : 0;
     composite_g += run.battery_health == decision::BatteryHealth::kG ? 1 : 0;
     if (run.pack_health[0] == models::HealthClass::kM) {
-      for (const auto& cell : s.battery.cell_health[0]) capacity_only += cell.capacity_fade ? 1 : 0;
+      bool capacity = false;  // one mechanism per F2 pack
+      for (const auto& cell : s.battery.cell_health[0]) capacity = capacity || cell.capacity_fade;
+      capacity_only += capacity ? 1 : 0;
     }
     turbulence_medium_moderate += s.wind.turbulence == models::TurbulenceCategory::kMediumModerate ? 1 : 0;
   }
@@ -148,10 +150,30 @@ TEST(SamplerTest, ConfigurationChoicesTakeEffect) {
   }
 }
 
+TEST(SamplerTest, OneDegradedCellSitsAnywhereInThePack) {
+  CampaignConfig config;
+  config.battery.pack_health_weights = {0.0, 0.0, 1.0};
+  config.battery.degraded_cells_per_pack = 1;
+  std::array<int, models::kCellsPerBranch> position{};
+  for (int i = 0; i < kSamples; ++i) {
+    const SampledRun run = SampleRun(config, 4, i);
+    int degraded = 0;
+    for (int c = 0; c < models::kCellsPerBranch; ++c) {
+      const auto& cell = run.scenario.battery.cell_health[0][c];
+      if (cell.capacity_fade && cell.power_fade) {
+        ++degraded;
+        ++position[c];
+      }
+    }
+    EXPECT_EQ(degraded, 1);
+  }
+  for (int c = 0; c < models::kCellsPerBranch; ++c) ExpectFrequency(position[c], kSamples, 1.0 / 3.0, "cell position");
+}
+
 TEST(CampaignConfigTest, CanonicalYamlRoundTripsExactly) {
   CampaignConfig config = testing_support::ShortConfig();
   config.seed = 0xfedcba9876543210ULL;
-  config.mission.distance_m = {0.1 + 0.2, 1.0 / 3.0 + 40.0};  // values without a short decimal form
+  config.mission.distance_m = {20.0 + 0.1 + 0.2, 1.0 / 3.0 + 40.0};  // values without a short decimal form
   config.fault.time_per_growth_step_s.reset();
   config.wind.turbulence = {models::TurbulenceCategory::kNone, models::TurbulenceCategory::kMediumLight};
   config.policies = {"noop", "my policy.json"};

@@ -30,14 +30,14 @@ CampaignHeader Header() {
 
 RunRecord Synthetic(std::int64_t run_index, const std::string& policy, std::size_t reason_bytes = 8) {
   RunRecord r;
+  r.battery_health = std::string("M");  // (assigning a literal here trips GCC 12's -Wrestrict false positive)
   r.run_index = run_index;
   r.policy = policy;
   r.flight_id = run_index * 2 + (policy == "cma" ? 0 : 1);
   r.run_seed = 0xffffffffffffff00ULL + static_cast<std::uint64_t>(run_index);  // above INT64_MAX
   r.distance_m = 0.1 + static_cast<double>(run_index) / 3.0;
   r.outcome = "completed";
-  r.reason = std::string(reason_bytes, 'x');
-  r.battery_health = "M";
+  r.reason.resize(reason_bytes, 'x');
   r.fault_onset_s = run_index % 2 == 0 ? std::optional<double>(12.5) : std::nullopt;
   r.average_reward = -1.0 / 7.0;
   r.min_reward = -0.408;

@@ -228,6 +228,13 @@ TEST(GeoJsonImportTest, MalformedInputNamesTheFileTheFeatureAndWhatWasExpected) 
             "[[[-73.99, 95.0], [-73.989, 40.738], [-73.989, 40.739], [-73.99, 95.0]]]")));
       },
       {"bad.geojson", "way/13", "latitude in [-90, 90]"});
+  // A member of the wrong JSON type.
+  ExpectInputError(
+      [&] {
+        parse(FeatureCollection(
+            R"({"type": "Feature", "properties": {"@id": "way/14"}, "geometry": {"type": 5, "coordinates": []}})"));
+      },
+      {"bad.geojson", "features[0] (way/14)", "well-typed"});
   // Without an id, the index names the feature.
   ExpectInputError([&] { parse(FeatureCollection(BuildingFeature(R"("building": "yes")", kSquare))); },
                    {"bad.geojson", "features[0]", "'height'"});

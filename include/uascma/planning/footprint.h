@@ -39,9 +39,9 @@
 // unbounded optimum cruises near 2 v_init and the unbounded forward limit approaches 2 v_init t_f (the bounds
 // usually cut this: u_max < 2 d_x v_init). Linearity also gives k_fwd − k_bwd = 2 k_lat, hence without bounds
 // x_f − x_b = 2 y_l exactly: the unbounded region below is a circle (centred near the drift point
-// ψ(t_f) v_init once a t_f ≫ 1). The same holds when the bound is active in all three cases throughout
-// (u = ±u_max); a bound active for part of the flight makes the semi-axes differ, by a few per cent at most
-// in the cases we tried: the region is close to a circle of radius y_l about x_c.
+// ψ(t_f) v_init once a t_f ≫ 1). It nearly holds when the bound is active in all three cases for most of the
+// flight (u ≈ ±u_max); a shorter saturation makes the semi-axes differ, by a few per cent at most in the cases
+// we tried (7 % at 9 m/s, EOD 1 s): the region is close to a circle of radius y_l about x_c.
 //
 // EXPONENTIALS. By default (maclaurin_order = 0) the solution is evaluated in the exact, overflow-free form
 // above (only e^{−a τ}, τ ≥ 0, appears), so t_f may be hundreds of seconds and d_x may be zero (then ψ(τ) = τ
@@ -90,6 +90,9 @@
 //   5. Step 5, read literally, clamps θ_opt and T_opt = m g / cos θ_opt separately, which for a clamped θ
 //      gives a thrust that is not in vertical balance. We clamp the attitude to what level flight allows and
 //      recompute T by eq. 5.13 (above); this is exactly u_bound = clamp(u*, ±m g tan θ_eff).
+//   6. v_init = 0 (hover) gives a footprint of one point: every case then asks for x2(t_f) = x2(0) = 0, whose
+//      minimum-effort answer is u* ≡ 0. That is what eqs. 5.10–5.11 say; we leave it so (a hovering vehicle
+//      needs a target speed the dissertation does not give).
 //
 // Units: SI throughout (m, s, kg, N, rad). Every function here is a pure kernel: no clock, no RNG, no I/O.
 #include <Eigen/Core>
@@ -111,7 +114,8 @@ struct AxisProblem {
   double drag_slope = 0.0;        // N·s/m, d_x ≥ 0
 };
 
-// C1…C4 of eqs. 5.5–5.9 (units: C1 N·s/m = λ1; C2 N·s; C3 m/s; C4 m). Defined only when d_x > 0.
+// C1…C4 of eqs. 5.5–5.9 (units, with H in N²: C1 = λ1 in N²·s/m; C2 in N·kg; C3 m/s; C4 m). Defined only
+// when d_x > 0.
 struct PmpConstants {
   bool defined = false;  // false when d_x = 0, t_f = 0, or the linear system is singular / not finite
   double c1 = 0.0;
@@ -130,8 +134,8 @@ struct AxisOptimalState {
   double position = 0.0;          // m, x1*
   double velocity = 0.0;          // m/s, x2*
   double control = 0.0;           // N, u*
-  double costate_position = 0.0;  // N·s/m, λ1*
-  double costate_velocity = 0.0;  // N·s, λ2*
+  double costate_position = 0.0;  // N²·s/m, λ1* (H of eq. 5.4 is in N²)
+  double costate_velocity = 0.0;  // N·kg, λ2* = −m u*
 };
 
 // Eqs. 5.5–5.9 (5.5 corrected) evaluated from constants, with exp or its n-th order series. Needs d_x > 0.
@@ -145,7 +149,8 @@ double MaclaurinExp(double z, int order);
 enum class PmpStatus {
   kSolved,      // constants found
   kDegenerate,  // t_f = 0: the footprint is the starting point, u* ≡ 0
-  kSingular,    // series model only: the linear system is singular or its solution not finite
+  kSingular,    // series model only: the linear system is singular, ill-conditioned (a t_f ≲ 1e-3, where
+                //   C1…C3 cancel as (a t_f)²) or its solution not finite
 };
 
 // The unconstrained PMP optimum of one axis (steps 1–3 of Algorithm 1).
@@ -223,7 +228,7 @@ struct FootprintParams {
 enum class FootprintStatus {
   kOk,
   kCannotHoldAltitude,  // T_avail < m g: no level flight; the footprint is the point under the vehicle
-  kSingularSystem,      // series model: the linear system for C1…C4 is singular or not finite
+  kSingularSystem,      // series model: the linear system for C1…C4 is singular or not finite (PmpStatus::kSingular)
 };
 
 // The ellipse of the region (see "THE FOOTPRINT REGION"), in the heading frame H.

@@ -46,15 +46,16 @@ class UniformGrid {
     const int j0 = Col(box.min().y()), j1 = Col(box.max().y());
     if (i1 < 0 || i0 >= rows_ || j1 < 0 || j0 >= cols_) return true;
     for (int i = std::max(i0, 0); i <= std::min(i1, rows_ - 1); ++i) {
-      if (!VisitRowSpan(i, j0, j1, visit)) return false;
+      if (!VisitRowSpan(i, j0, j1, false, visit)) return false;
     }
     return true;
   }
 
   // Calls visit(item) for the items listed in the cells that come within `half_width` (m, ≥ 0) of the segment
-  // a → b. Row by row: in row i the points of the segment that can be within half_width of the row are those
-  // with x in the row's x-range widened by half_width; their y-range, widened by half_width, gives the
-  // columns. This covers the whole capsule around the segment (a point within half_width of the segment has
+  // a → b, row by row from a's end towards b's (and within a row, column by column in the direction of b), so
+  // items near a tend to come first. In row i the points of the segment that can be within half_width of the
+  // row are those with x in the row's x-range widened by half_width; their y-range, widened by half_width, gives
+  // the columns. This covers the whole capsule around the segment (a point within half_width of the segment has
   // a nearest segment point less than half_width away in x and in y).
   template <typename Visit>
   bool VisitNearSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double half_width, Visit&& visit) const {
@@ -62,38 +63,43 @@ class UniformGrid {
     const double x_low = std::min(a.x(), b.x()) - half_width, x_high = std::max(a.x(), b.x()) + half_width;
     const int i0 = std::max(Row(x_low), 0), i1 = std::min(Row(x_high), rows_ - 1);
     const double dx = b.x() - a.x();
-    for (int i = i0; i <= i1; ++i) {
+    const double inverse_dx = dx != 0.0 ? 1.0 / dx : 0.0;
+    const bool rows_down = dx < 0.0, cols_down = b.y() < a.y();
+    for (int n = 0; n <= i1 - i0; ++n) {
+      const int i = rows_down ? i1 - n : i0 + n;
       const double slab_low = origin_.x() + i * cell_size_ - half_width;
       const double slab_high = slab_low + cell_size_ + 2.0 * half_width;
       double t_low = 0.0, t_high = 1.0;
       if (dx != 0.0) {
-        const double t_a = (slab_low - a.x()) / dx, t_b = (slab_high - a.x()) / dx;
+        const double t_a = (slab_low - a.x()) * inverse_dx, t_b = (slab_high - a.x()) * inverse_dx;
         t_low = std::max(0.0, std::min(t_a, t_b));
         t_high = std::min(1.0, std::max(t_a, t_b));
         if (t_low > t_high) continue;
       }
       const double y_a = a.y() + t_low * (b.y() - a.y()), y_b = a.y() + t_high * (b.y() - a.y());
       const int j0 = Col(std::min(y_a, y_b) - half_width), j1 = Col(std::max(y_a, y_b) + half_width);
-      if (!VisitRowSpan(i, j0, j1, visit)) return false;
+      if (!VisitRowSpan(i, j0, j1, cols_down, visit)) return false;
     }
     return true;
   }
 
  private:
-  int Row(double x) const { return ClampIndex(std::floor((x - origin_.x()) / cell_size_)); }
-  int Col(double y) const { return ClampIndex(std::floor((y - origin_.y()) / cell_size_)); }
-  // floor((x − x0)/c) as an int, saturated far outside the grid so it never overflows (NaN → −1: no cell).
-  static int ClampIndex(double cell) {
-    if (!(cell >= -1.0)) return -1;
-    return static_cast<int>(std::min(cell, 1.0e9));
+  int Row(double x) const { return CellIndex((x - origin_.x()) * inverse_cell_size_); }
+  int Col(double y) const { return CellIndex((y - origin_.y()) * inverse_cell_size_); }
+  // floor(u) as an int for u = (x − x0)/c, with everything before the grid (and NaN) as −1 and far beyond it
+  // saturated so it never overflows. Truncation equals floor for u ≥ 0, which avoids a libm call in the hot path.
+  static int CellIndex(double u) {
+    if (!(u >= 0.0)) return -1;
+    return static_cast<int>(std::min(u, 1.0e9));
   }
 
+  // Visits the items of cells (i, j0 … j1), clamped to the grid, in increasing j or (`down`) decreasing j.
   template <typename Visit>
-  bool VisitRowSpan(int i, int j0, int j1, Visit& visit) const {
+  bool VisitRowSpan(int i, int j0, int j1, bool down, Visit& visit) const {
     j0 = std::max(j0, 0);
     j1 = std::min(j1, cols_ - 1);
-    for (int j = j0; j <= j1; ++j) {
-      const int cell = i * cols_ + j;
+    for (int n = 0; n <= j1 - j0; ++n) {
+      const int cell = i * cols_ + (down ? j1 - n : j0 + n);
       for (int k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
         if (!visit(items_[k])) return false;
       }
@@ -103,6 +109,7 @@ class UniformGrid {
 
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();  // m, the (x0, y0) corner
   double cell_size_ = 1.0;                            // m
+  double inverse_cell_size_ = 1.0;                    // 1/m
   int rows_ = 0;
   int cols_ = 0;
   std::vector<int> cell_begin_;  // rows_·cols_ + 1 offsets into items_

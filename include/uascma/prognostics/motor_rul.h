@@ -77,7 +77,7 @@ struct SpallGrowthParams {
   // defaults above and CalibrationOptions{} (Table 5.4's 0.002809 per 1 s epoch over 1000 runs);
   // motor_rul_test "StoredDefaultTimeScaleIsTheCalibrationOutput" recomputes it. A scenario with
   // faster growth sets a smaller τ, e.g. from CalibrateTimePerGrowthStep with a larger target.
-  double time_per_growth_step_s = 15.3630;
+  double time_per_growth_step_s = 15.3308;
   // A history not at D_f after this many growth steps stops and is reported as censored. Our bound:
   // 100 × the deterministic 23 steps; no default history comes near it.
   int max_growth_steps = 2300;
