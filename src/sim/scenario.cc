@@ -8,6 +8,8 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/yaml_io.h"
+#include "uascma/planning/map_import.h"
+#include "uascma/planning/procedural_city.h"
 
 namespace uascma::sim {
 namespace {
@@ -43,6 +45,42 @@ void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec&
   }
 }
 
+// map: {procedural: {seed: 3}} | {buildings: [a.geojson, b.osm.pbf], sites: s.csv, origin: [lat, lon]}
+std::shared_ptr<const planning::CityMap> ReadMap(const YAML::Node& node, const std::string& source) {
+  RequireOnlyKeys(node, {"procedural", "buildings", "sites", "origin"}, source, "map");
+  if (const YAML::Node procedural = node["procedural"]) {
+    if (node["buildings"] || node["sites"]) {
+      throw InputError(source, "map", "either procedural or buildings/sites, not both");
+    }
+    planning::ProceduralCityParams params;
+    if (procedural.IsMap()) {
+      RequireOnlyKeys(procedural, {"seed", "blocks_north", "blocks_east"}, source, "map.procedural");
+      params.seed = static_cast<std::uint64_t>(OptionalNumber(procedural, "seed", 1, source, "map.procedural"));
+      params.blocks_north = static_cast<int>(OptionalNumber(procedural, "blocks_north", params.blocks_north, source, "map.procedural"));
+      params.blocks_east = static_cast<int>(OptionalNumber(procedural, "blocks_east", params.blocks_east, source, "map.procedural"));
+    }
+    return std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
+  }
+  // Paths are relative to the scenario file.
+  const std::filesystem::path folder = std::filesystem::path(source).parent_path();
+  auto resolve = [&](const std::string& name) {
+    const std::filesystem::path path(name);
+    return path.is_absolute() ? path : folder / path;
+  };
+  std::vector<std::filesystem::path> buildings;
+  if (const YAML::Node list = node["buildings"]) {
+    if (!list.IsSequence()) throw InputError(source, "map.buildings", "a list of map files");
+    for (const auto& item : list) buildings.push_back(resolve(item.as<std::string>()));
+  }
+  const std::filesystem::path sites = node["sites"] ? resolve(RequireString(node, "sites", source, "map")) : "";
+  planning::MapImportOptions options;
+  if (node["origin"]) {
+    const auto origin = RequireNumberList(node, "origin", 2, source, "map");
+    options.origin = planning::GeoPoint{origin[0], origin[1]};
+  }
+  return std::make_shared<const planning::CityMap>(planning::ImportCityMap(buildings, sites, options).map);
+}
+
 }  // namespace
 
 std::array<models::CellHealth, models::kCellsPerBranch> PackHealthPreset(models::HealthClass health) {
@@ -59,7 +97,8 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
   }
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
-  RequireOnlyKeys(root, {"name", "seed", "policy", "vehicle", "battery", "wind", "mission", "limits", "fault", "options"},
+  RequireOnlyKeys(root, {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault",
+                         "options"},
                   source, "");
   ScenarioFile file;
   Scenario& sc = file.scenario;
@@ -102,7 +141,10 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     std::string error;
     if (!sc.wind.IsValid(&error)) throw InputError(source, "wind", error);
   }
+  if (const YAML::Node map = root["map"]) sc.map = ReadMap(map, source);
+  bool cruise_altitude_given = false;
   if (const YAML::Node m = root["mission"]) {
+    cruise_altitude_given = static_cast<bool>(m["cruise_altitude_m"]);
     RequireOnlyKeys(m, {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s"}, source, "mission");
     if (m["home_ne_m"]) {
       const auto home = RequireNumberList(m, "home_ne_m", 2, source, "mission");
@@ -116,6 +158,23 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     sc.mission.drop_hover_s = OptionalNumber(m, "drop_hover_s", sc.mission.drop_hover_s, source, "mission");
     std::string error;
     if (!sc.mission.IsValid(&error)) throw InputError(source, "mission", error);
+  }
+  if (sc.map) {
+    for (const auto& [key, point] : {std::pair{"mission.home_ne_m", sc.mission.home_NE},
+                                      std::pair{"mission.destination_ne_m", sc.mission.destination_NE}}) {
+      const int building = sc.map->BuildingContaining(Eigen::Vector3d(point.x(), point.y(), -0.1));
+      if (building != planning::kNoBuilding) {
+        throw InputError(source, key,
+                         fmt::format("a point on open ground, but building {} stands at ({:.1f}, {:.1f}) m",
+                                     sc.map->building(building).id, point.x(), point.y()));
+      }
+    }
+  }
+  // Over a city the cruise altitude is 10 m above the tallest building under the route (defaults.md)
+  // unless the file sets it.
+  if (sc.map && !cruise_altitude_given && !sc.map->buildings().empty()) {
+    const std::array<Eigen::Vector2d, 2> route = {sc.mission.home_NE, sc.mission.destination_NE};
+    sc.mission.cruise_altitude = sc.map->CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, 5.0);
   }
   if (const YAML::Node l = root["limits"]) {
     RequireOnlyKeys(l, {"cruise_speed_mps", "vertical_speed_mps", "horizontal_accel_mps2", "vertical_accel_mps2"},

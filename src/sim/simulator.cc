@@ -101,6 +101,7 @@ Simulator::Simulator(const Scenario& scenario)
       rul_model_(),
       spall_truth_(TruthGrowth(scenario.fault)),
       controller_(scenario.body, scenario.lqr),
+      map_(scenario.map ? scenario.map : std::make_shared<const planning::CityMap>()),
       nominal_plan_(planning::MakeDeliveryPlan(scenario.mission, scenario.limits)),
       battery_health_(ToCmaHealth(models::ClassifyHealth(scenario.battery.cell_health))) {
   std::string error;
@@ -148,11 +149,13 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   believed_speed.fill(hover_speed);
   ImmFilter imm(sc.imm, sc.body, mixer_.mixing_matrix(models::kNoFailedMotor));
   std::optional<prognostics::SpallJamEvent> spall;
+  std::optional<double> rul_mean_over_closed_form;
   int jammed_rotor = 0;         // the truth
   int allocation_failure = 0;   // the failed motor the allocation uses (after isolation)
 
   const planning::FlightPlan* plan = &nominal_plan_;
   planning::FlightPlan emergency_plan;
+  std::string emergency_site;
   double plan_start = 0.0;
   FlightStatus flight_status = FlightStatus::kN;
   bool airborne = false;
@@ -183,8 +186,17 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
         motor_health = decision::MotorHealth::kJF;
         inputs.rul_s = 0.0;
       } else if (spall) {
+        // The prognosis (§3.4.1) runs the calibrated model from the observed spall area. Its particle mean
+        // is computed once at onset; later epochs scale it with the closed-form growth from the current
+        // area (C_D, n nominal), which keeps the 1 Hz cost at one logarithm.
         motor_health = decision::MotorHealth::kSF;
-        inputs.rul_s = spall->PredictRulNow(prognosis_random).mean_s;
+        const double steps_left = rul_model_.CalcStepsToReach(rul_model_.MakeParticle(spall->area_mm2()),
+                                                              rul_model_.params().failure_area_mm2);
+        if (!rul_mean_over_closed_form) {
+          const double mean = rul_model_.PredictRulFromArea(spall->area_mm2(), prognosis_random).mean_s;
+          rul_mean_over_closed_form = mean / (steps_left * rul_model_.params().time_per_growth_step_s);
+        }
+        inputs.rul_s = *rul_mean_over_closed_form * steps_left * rul_model_.params().time_per_growth_step_s;
       }
       inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
       inputs.state = CmaState{flight_status, motor_health,
@@ -210,6 +222,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
         }
         if (emergency) {
           emergency_plan = std::move(emergency->plan);
+          emergency_site = emergency->site;
           plan = &emergency_plan;
           plan_start = t;
           flight_status = action == CmaAction::kLandPract ? FlightStatus::kElPract : FlightStatus::kElAsap;
@@ -356,20 +369,32 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
     }
     const double plan_left = plan->TimeRemaining(now - plan_start);
     const double altitude_now = -body.p_WB_W.z();
-    if (airborne && altitude_now <= 0.0) {
-      const bool gentle = body.v_WB_W.z() <= opt.touchdown_speed;
-      const bool at_end = (body.p_WB_W.head<2>() - plan->end_W().head<2>()).norm() < 2.0 && plan_left < 5.0;
-      if (!gentle || !at_end) {
+    const double end_altitude = -plan->end_W().z();
+    const double to_end = (body.p_WB_W.head<2>() - plan->end_W().head<2>()).norm();
+    const bool landing = to_end < 2.0 && plan_left < 5.0 && altitude_now - end_altitude < 0.5;
+    if (airborne && landing && plan_left <= 0.0 && altitude_now - end_altitude < 0.3 && body.v_WB_W.norm() < 0.5) {
+      outcome = plan == &nominal_plan_ ? Outcome::kCompleted : Outcome::kEmergencyLanding;
+      reason = plan == &nominal_plan_ ? "landed at the destination of the original plan"
+                                      : "landed at the emergency site " + emergency_site;
+      break;
+    }
+    // Below the tallest roof the vehicle may strike a building (a touchdown on the site's own roof is a
+    // landing, handled above).
+    if (altitude_now < map_->max_building_height() + 0.5 && !landing) {
+      const int building = map_->BuildingContaining(body.p_WB_W);
+      if (building != planning::kNoBuilding) {
         outcome = Outcome::kFailedCollision;
-        reason = fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", body.v_WB_W.z(),
-                             (body.p_WB_W.head<2>() - plan->end_W().head<2>()).norm());
+        reason = fmt::format("struck building {} at {:.1f} m", map_->building(building).id, altitude_now);
         break;
       }
     }
-    if (airborne && plan_left <= 0.0 && altitude_now < 0.3 && body.v_WB_W.norm() < 0.5) {
-      outcome = plan == &nominal_plan_ ? Outcome::kCompleted : Outcome::kEmergencyLanding;
-      reason = plan == &nominal_plan_ ? "landed at the destination of the original plan" : "landed at the emergency site";
-      break;
+    if (airborne && altitude_now <= 0.0) {
+      const bool gentle = body.v_WB_W.z() <= opt.touchdown_speed;
+      if (!gentle || !landing) {
+        outcome = Outcome::kFailedCollision;
+        reason = fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", body.v_WB_W.z(), to_end);
+        break;
+      }
     }
     if (now >= time_limit) {
       outcome = Outcome::kTimeout;

@@ -6,6 +6,11 @@
 //   name: nominal
 //   seed: 1
 //   policy: noop                      # noop | cma | path/to/policy.json (the CLI's --policy overrides)
+//   map:                              # absent: open ground, no landing sites
+//     procedural: {seed: 3}           # the built-in procedural city, or real data:
+//     # buildings: [city.geojson]     #   GeoJSON (Overpass) / .osm / .osm.pbf, relative to this file
+//     # sites: sites.csv              #   landing sites: osm_id, lat, lon, alt, risk, radius
+//     # origin: [40.78, -73.96]       #   local NED origin (default: the data's centre)
 //   vehicle:
 //     configuration: tractor          # tractor | pusher (§2.5)
 //     mass_kg: 1.3
@@ -21,7 +26,7 @@
 //   mission:
 //     home_ne_m: [0, 0]
 //     destination_ne_m: [400, 300]
-//     cruise_altitude_m: 30
+//     cruise_altitude_m: 30           # default over a map: 10 m above the tallest building under the route
 //     drop_hover_s: 30
 //   limits: {cruise_speed_mps: 5, vertical_speed_mps: 2, horizontal_accel_mps2: 2, vertical_accel_mps2: 1}
 //   fault:                            # absent: no fault

@@ -22,6 +22,7 @@
 #include "uascma/models/mixer.h"
 #include "uascma/models/propulsion.h"
 #include "uascma/models/wind.h"
+#include "uascma/planning/city_map.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/motor_rul.h"
@@ -81,6 +82,9 @@ struct SimOptions {
 
 struct Scenario {
   std::string name = "default";
+  // The city: buildings the vehicle can strike and the landing sites the emergency planners use. Shared
+  // and immutable, so campaigns copy scenarios cheaply. Null: open ground, no sites.
+  std::shared_ptr<const planning::CityMap> map;
   RigidBodyParams body;
   models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
   BatterySpec battery;
@@ -216,8 +220,9 @@ class Simulator {
   models::DragTable drag_;
   models::WindModel wind_;
   models::BatteryPack pack_;
-  prognostics::MotorRulModel rul_model_;      // the prognosis (calibrated default)
-  prognostics::MotorRulModel spall_truth_;    // the simulated spall (scenario growth speed)
+  prognostics::MotorRulModel rul_model_;      // the prognosis (calibrated to Table 5.4, decisions item 15)
+  prognostics::MotorRulModel spall_truth_;    // the simulated spall (the scenario's growth speed)
+  std::shared_ptr<const planning::CityMap> map_;
   LqrController controller_;
   planning::FlightPlan nominal_plan_;
   decision::BatteryHealth battery_health_;
