@@ -114,16 +114,7 @@ void DrawPlot(const Options& o, const FootprintParams& params, const std::string
   }
   const nlohmann::json data = {{"speed_mps", o.speed_mps}, {"eod_s", params.eod}, {"model", ModelName(o.maclaurin)},
                                {"footprints", footprints}};
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("uascma_footprint_" + std::to_string(::getpid()) + ".json");
-  WriteFileAtomically(path, data.dump());
-  try {
-    RunPlotScript("footprint.py", {path.string(), png});
-  } catch (...) {
-    std::filesystem::remove(path);
-    throw;
-  }
-  std::filesystem::remove(path);
+  PlotJson("footprint.py", data, png);
 }
 
 }  // namespace

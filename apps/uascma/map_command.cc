@@ -219,22 +219,13 @@ void AddInfo(CLI::App* map_command) {
       summary = std::move(imported.summary);
     }
     if (!options->plot.empty()) {
-      const auto data = std::filesystem::temp_directory_path() /
-                        ("uascma_city_map_" + std::to_string(::getpid()) + ".json");
       std::string sources;
       for (const auto& source : summary.sources) {
         sources += (sources.empty() ? "" : ", ") + std::filesystem::path(source).filename().string();
       }
       const std::string title = fmt::format("{} — {} buildings, {} landing sites", sources, summary.buildings,
                                             summary.sites);
-      WriteFileAtomically(data, PlotData(map, title).dump());
-      try {
-        RunPlotScript("city_map.py", {data.string(), options->plot});
-      } catch (...) {
-        std::filesystem::remove(data);
-        throw;
-      }
-      std::filesystem::remove(data);
+      PlotJson("city_map.py", PlotData(map, title), options->plot);
     }
     if (options->json) {
       nlohmann::json out = SummaryJson(summary, procedural, options->seed);

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 
 extern char** environ;
 
@@ -51,6 +52,22 @@ void RunPlotScript(const std::string& script, const std::vector<std::string>& ar
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     throw InputError("plot", script, "the plotting script to succeed (see its message above)");
   }
+}
+
+void PlotJson(const std::string& script, const nlohmann::json& data, const std::string& target) {
+  static int counter = 0;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("uascma_plot_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".json");
+  WriteFileAtomically(path, data.dump());
+  std::error_code ec;
+  try {
+    RunPlotScript(script, {path.string(), target});
+  } catch (...) {
+    std::filesystem::remove(path, ec);
+    throw;
+  }
+  std::filesystem::remove(path, ec);
 }
 
 }  // namespace uascma::cli

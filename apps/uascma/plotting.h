@@ -3,6 +3,8 @@
 // Debian's interpreter (/usr/bin/python3, shared/spec/dependencies.md). Scripts are found in
 // $UASCMA_PLOTS_DIR, else the source tree this binary was built from, else <prefix>/share/uascma/plots.
 #include <string>
+
+#include <nlohmann/json.hpp>
 #include <vector>
 
 namespace uascma::cli {
@@ -10,5 +12,9 @@ namespace uascma::cli {
 // Runs `script` (a file name in the plots folder) with `arguments`; throws InputError when the
 // interpreter or script is missing or the script fails (its stderr is passed through).
 void RunPlotScript(const std::string& script, const std::vector<std::string>& arguments);
+
+// Writes `data` to a temporary JSON file, runs `script DATA.json target`, and removes the file whatever
+// happens: the pattern of every command that draws what it computed.
+void PlotJson(const std::string& script, const nlohmann::json& data, const std::string& target);
 
 }  // namespace uascma::cli

@@ -201,16 +201,7 @@ void AddShow(CLI::App* policy) {
       view["rows"].push_back(quadrants);
     }
     if (!plot->empty()) {
-      const auto data = std::filesystem::temp_directory_path() /
-                        ("uascma_quadrants_" + std::to_string(::getpid()) + ".json");
-      WriteFileAtomically(data, view.dump());
-      try {
-        RunPlotScript("policy_quadrants.py", {data.string(), *plot});
-      } catch (...) {
-        std::filesystem::remove(data);
-        throw;
-      }
-      std::filesystem::remove(data);
+      PlotJson("policy_quadrants.py", view, *plot);
     }
     if (*json) {
       PrintJson(view);

@@ -31,23 +31,6 @@ CampaignPolicy TablePolicyOf(std::string name, std::string source, std::vector<d
   return policy;
 }
 
-// The CMA weights a policy file records (model_config.weights), as `uascma policy solve` writes them.
-decision::CmaWeights WeightsOf(const decision::PolicyDocument& document, const std::string& source) {
-  if (!document.model_config.is_object() || !document.model_config.contains("weights") ||
-      !document.model_config.at("weights").is_object()) {
-    throw InputError(source, "model_config.weights", "the weights the policy was solved with");
-  }
-  const nlohmann::json& json = document.model_config.at("weights");
-  decision::CmaWeights weights;
-  for (const auto& name : decision::CmaWeights::Names()) {
-    if (!json.contains(name) || !json.at(name).is_number()) {
-      throw InputError(source, "model_config.weights." + name, "a number");
-    }
-    weights.Set(name, json.at(name).get<double>());
-  }
-  return weights;
-}
-
 }  // namespace
 
 CampaignPolicy NoOpCampaignPolicy() {
@@ -71,10 +54,7 @@ CampaignPolicy SolvedCmaPolicy() {
 }
 
 CampaignPolicy PolicyFromFile(const std::string& path) {
-  const decision::PolicyDocument document = decision::ReadPolicyFile(path);
-  if (document.model != "cma") throw InputError(path, "model", "'cma', got '" + document.model + "'");
-  const decision::FiniteMdp mdp = decision::BuildCmaMdp(WeightsOf(document, path));
-  decision::Policy bound = decision::BindPolicy(document, mdp, path);
+  decision::Policy bound = decision::LoadCmaPolicy(path);  // the model hash is checked
   std::string name = std::filesystem::path(path).stem().string();
   return TablePolicyOf(std::move(name), path, std::move(bound.action));
 }

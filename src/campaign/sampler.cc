@@ -41,16 +41,8 @@ models::HealthClass DrawPack(RandomStream& random, const BatterySampling& batter
     const int j = i + static_cast<int>(random.UniformIndex(static_cast<std::uint64_t>(models::kCellsPerBranch - i)));
     std::swap(order[i], order[j]);
   }
-  const bool capacity_mechanism = health == models::HealthClass::kP || random.Bernoulli(0.5);
-  for (int i = 0; i < battery.degraded_cells_per_pack; ++i) {
-    models::CellHealth& cell = cells[order[i]];
-    if (health == models::HealthClass::kP) {
-      cell.capacity_fade = cell.power_fade = true;
-    } else {
-      cell.capacity_fade = capacity_mechanism;
-      cell.power_fade = !capacity_mechanism;
-    }
-  }
+  // The fade of a class-M or class-P cell, as every builder of packs of a given health uses it.
+  for (int i = 0; i < battery.degraded_cells_per_pack; ++i) cells[order[i]] = models::CellHealthForClass(health);
   return health;
 }
 

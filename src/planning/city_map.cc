@@ -201,59 +201,58 @@ double CityMap::SurfaceAltitudeAt(const Eigen::Vector2d& p_NE) const {
   return altitude;
 }
 
-bool CityMap::SegmentCollides(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building) const {
+template <typename Visit>
+void CityMap::VisitSegmentCandidates(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building,
+                                     Visit&& visit) const {
   // The lowest point of the segment: a building whose roof is below it cannot be met. Above the tallest roof,
   // nothing can.
   const double lowest_altitude = -std::max(a_W.z(), b_W.z());
-  if (lowest_altitude > max_height_) return false;
+  if (lowest_altitude > max_height_) return;
   const Eigen::Vector3d d = b_W - a_W;
   const Eigen::AlignedBox2d segment_box(a_W.head<2>().cwiseMin(b_W.head<2>()), a_W.head<2>().cwiseMax(b_W.head<2>()));
   TestedSet tested;
-  bool collides = false;
   building_grid_.VisitNearSegment(a_W.head<2>(), b_W.head<2>(), 0.0, [&](int k) {
     // Cheap rejections first: the roof below the segment, the boxes apart; then the part of the segment below
-    // this roof and inside the outline's box, which the exact test takes.
+    // this roof and inside the outline's box, which is all the exact test needs to look at.
     if (heights_[k] < lowest_altitude || k == ignore_building || !boxes_[k].intersects(segment_box)) return true;
     const auto part = PartBelowRoof(heights_[k], a_W, b_W);
     if (!part) return true;
     double t0 = part->begin, t1 = part->end;
     if (!ClipToBox(a_W.head<2>(), d.head<2>(), boxes_[k], kBoxSlack, &t0, &t1)) return true;
     if (!tested.Insert(k)) return true;
-    const Eigen::Vector2d from = a_W.head<2>() + t0 * d.head<2>(), to = a_W.head<2>() + t1 * d.head<2>();
-    collides = SegmentMeetsOutline(edges(k), from, to);
-    return !collides;
+    return visit(k, t0, t1, Eigen::Vector2d(a_W.head<2>() + t0 * d.head<2>()),
+                 Eigen::Vector2d(a_W.head<2>() + t1 * d.head<2>()));
   });
+}
+
+bool CityMap::SegmentCollides(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building) const {
+  bool collides = false;
+  VisitSegmentCandidates(a_W, b_W, ignore_building,
+                         [&](int k, double, double, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+                           collides = SegmentMeetsOutline(edges(k), from, to);
+                           return !collides;
+                         });
   return collides;
 }
 
 SegmentHit CityMap::FirstHit(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building) const {
   SegmentHit result;
-  const double lowest_altitude = -std::max(a_W.z(), b_W.z());
-  if (lowest_altitude > max_height_) return result;
-  const Eigen::Vector3d d = b_W - a_W;
-  const Eigen::AlignedBox2d segment_box(a_W.head<2>().cwiseMin(b_W.head<2>()), a_W.head<2>().cwiseMax(b_W.head<2>()));
-  TestedSet tested;
   // The grid visits cells from a towards b, so an early contact usually comes first and prunes the rest.
-  building_grid_.VisitNearSegment(a_W.head<2>(), b_W.head<2>(), 0.0, [&](int k) {
-    if (heights_[k] < lowest_altitude || k == ignore_building || !boxes_[k].intersects(segment_box)) return true;
-    const auto part = PartBelowRoof(heights_[k], a_W, b_W);
-    if (!part) return true;
-    double t0 = part->begin, t1 = part->end;
-    if (!ClipToBox(a_W.head<2>(), d.head<2>(), boxes_[k], kBoxSlack, &t0, &t1)) return true;
-    if (result.hit && t0 > result.fraction) return true;  // cannot be earlier than the contact found
-    if (!tested.Insert(k)) return true;
-    const Eigen::Vector2d from = a_W.head<2>() + t0 * d.head<2>(), to = a_W.head<2>() + t1 * d.head<2>();
-    const auto s = FirstEntryIntoOutline(edges(k), from, to);
-    if (!s) return true;
-    const double t = t0 + *s * (t1 - t0);
-    if (!result.hit || t < result.fraction || (t == result.fraction && k < result.building)) {
-      result.hit = true;
-      result.fraction = t;
-      result.building = k;
-    }
-    return true;
-  });
-  if (result.hit) result.p_W = a_W + result.fraction * d;
+  VisitSegmentCandidates(
+      a_W, b_W, ignore_building,
+      [&](int k, double t0, double t1, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+        if (result.hit && t0 > result.fraction) return true;  // cannot be earlier than the contact found
+        const auto s = FirstEntryIntoOutline(edges(k), from, to);
+        if (!s) return true;
+        const double t = t0 + *s * (t1 - t0);
+        if (!result.hit || t < result.fraction || (t == result.fraction && k < result.building)) {
+          result.hit = true;
+          result.fraction = t;
+          result.building = k;
+        }
+        return true;
+      });
+  if (result.hit) result.p_W = a_W + result.fraction * (b_W - a_W);
   return result;
 }
 

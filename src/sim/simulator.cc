@@ -60,7 +60,8 @@ bool SimOptions::IsValid(std::string* error) const {
       {"gnc_rate_hz", gnc_rate_hz}, {"decision_rate_hz", decision_rate_hz},
       {"telemetry_rate_hz", telemetry_rate_hz}, {"max_tilt", max_tilt},
       {"max_tracking_error", max_tracking_error}, {"touchdown_speed", touchdown_speed},
-      {"time_limit_factor", time_limit_factor}, {"reference_bus_voltage_v", reference_bus_voltage_v}};
+      {"time_limit_factor", time_limit_factor}, {"reference_bus_voltage_v", reference_bus_voltage_v},
+      {"load_current_time_constant_s", load_current_time_constant_s}};
   for (const auto& f : positive) {
     if (!(f.value > 0.0 && std::isfinite(f.value))) {
       if (error) *error = fmt::format("{}: expected a positive number, got {}", f.name, f.value);
@@ -100,10 +101,11 @@ Simulator::Simulator(const Scenario& scenario)
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
       rul_model_(),
       spall_truth_(TruthGrowth(scenario.fault)),
-      controller_(scenario.body, scenario.lqr),
       map_(scenario.map ? scenario.map : std::make_shared<const planning::CityMap>()),
+      controller_(scenario.body, scenario.lqr),
       nominal_plan_(planning::MakeDeliveryPlan(scenario.mission, scenario.limits)),
-      battery_health_(ToCmaHealth(models::ClassifyHealth(scenario.battery.cell_health))) {
+      battery_health_(ToCmaHealth(models::ClassifyHealth(scenario.battery.cell_health))),
+      map_planner_(MakeMapEmergencyPlanner(scenario_, nominal_plan_, drag_, propulsion_)) {
   std::string error;
   if (!scenario.options.IsValid(&error)) throw InputError(scenario.name, "options", error);
   if (scenario.fault.enabled && (scenario.fault.motor < 1 || scenario.fault.motor > 6)) {
@@ -115,6 +117,38 @@ Simulator::Simulator(const Scenario& scenario)
   if (std::abs(scenario.lqr.dt * scenario.options.gnc_rate_hz - 1.0) > 1e-9) {
     throw InputError(scenario.name, "lqr.dt", "1 / options.gnc_rate_hz");
   }
+}
+
+EmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
+                                         const models::DragTable& drag, const models::PropulsionParams& propulsion) {
+  if (!scenario.map || scenario.map->sites().empty()) return {};
+  planning::LandingPathParams path;
+  path.limits = scenario.limits;
+  auto planner = std::make_shared<const planning::LandingPathPlanner>(*scenario.map, path);
+  auto practical = std::make_shared<const planning::LandPractDatabase>(
+      planning::LandPractDatabase::Build(*planner, nominal_plan));
+  planning::LandAsapParams asap;
+  asap.footprint.mass = scenario.body.mass;
+  asap.footprint.drag_slope = planning::CruiseDragSlope(drag, scenario.limits.cruise_speed, scenario.body.mass);
+  // A hovering vehicle's footprint of eqs. 5.10-5.11 is a point; LandASAP then plans as if it were cruising
+  // (our choice: in the dissertation the action is taken in flight).
+  asap.min_footprint_speed = scenario.limits.cruise_speed;
+  const double rotor_max = propulsion.max_thrust;
+  auto map = scenario.map;  // keeps the map alive as long as the planners
+  return [map, planner, practical, asap, rotor_max](const EmergencyRequest& r) -> std::optional<EmergencyPlan> {
+    const planning::LandingRequest request{r.p_WB_W, r.v_WB_W, r.yaw, r.eod_s, r.original_plan_elapsed_s};
+    planning::LandingResult result;
+    if (r.action == CmaAction::kLandAsap) {
+      planning::LandAsapParams params = asap;
+      // After the failure rule only four rotors fly (§4.4.1).
+      params.footprint.available_thrust = (r.failed_motor != 0 ? 4.0 : 6.0) * rotor_max;
+      result = planning::PlanLandAsap(*planner, params, request);
+    } else {
+      result = practical->Plan(request);
+    }
+    if (!result.ok()) return std::nullopt;
+    return EmergencyPlan{std::move(result.plan), result.site_id, result.reach_margin};
+  };
 }
 
 SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner, const RunOptions& run) const {
@@ -149,7 +183,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   believed_speed.fill(hover_speed);
   ImmFilter imm(sc.imm, sc.body, mixer_.mixing_matrix(models::kNoFailedMotor));
   std::optional<prognostics::SpallJamEvent> spall;
-  std::optional<double> rul_mean_over_closed_form;
+  std::optional<double> rul_at_onset;
   int jammed_rotor = 0;         // the truth
   int allocation_failure = 0;   // the failed motor the allocation uses (after isolation)
 
@@ -163,6 +197,8 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   // Until the first step has drawn real current, the 1 Hz prognosis sees the hover draw.
   double pack_current = opt.hotel_current_a +
                         6.0 * models::CalcElectricalPower(propulsion_, sc.body.mass * kGravity / 6.0) / bus_voltage;
+  double load_current = pack_current;
+  const double load_filter_gain = 1.0 - std::exp(-dt / opt.load_current_time_constant_s);
   prognostics::EodResult eod;
   DecisionInputs inputs;
   inputs.rul_s = kInfinity;
@@ -176,7 +212,10 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
     t = step * dt;
     // ---- 1 Hz: prognosis, abstraction, decision ---------------------------------------------------
     if (step % steps_per_epoch == 0) {
-      eod = prognostics::CalcPackEod(pack_, pack_state, pack_current);
+      // EOD at the present current (decisions item 14), taken as the pack current low-passed with the
+      // time constant of SimOptions::load_current_time_constant_s: the present load, not one gust-driven
+      // 5 ms sample nor the few seconds of the take-off climb.
+      eod = prognostics::CalcPackEod(pack_, pack_state, load_current);
       inputs.time_s = t;
       inputs.flight_time_remaining_s = plan->TimeRemaining(t - plan_start);
       inputs.eod_s = eod.eod_s;
@@ -186,17 +225,14 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
         motor_health = decision::MotorHealth::kJF;
         inputs.rul_s = 0.0;
       } else if (spall) {
-        // The prognosis (§3.4.1) runs the calibrated model from the observed spall area. Its particle mean
-        // is computed once at onset; later epochs scale it with the closed-form growth from the current
-        // area (C_D, n nominal), which keeps the 1 Hz cost at one logarithm.
+        // The prognosis (§3.4.1, §5.3.2.1: "When a spalling fault in the motor is detected, t_RUL is
+        // calculated using Paris' Law"): the calibrated model's particle mean from the initial spall, computed
+        // at detection, then counted down with the flight time.
         motor_health = decision::MotorHealth::kSF;
-        const double steps_left = rul_model_.CalcStepsToReach(rul_model_.MakeParticle(spall->area_mm2()),
-                                                              rul_model_.params().failure_area_mm2);
-        if (!rul_mean_over_closed_form) {
-          const double mean = rul_model_.PredictRulFromArea(spall->area_mm2(), prognosis_random).mean_s;
-          rul_mean_over_closed_form = mean / (steps_left * rul_model_.params().time_per_growth_step_s);
+        if (!rul_at_onset) {
+          rul_at_onset = rul_model_.PredictRulFromArea(rul_model_.params().initial_area_mm2, prognosis_random).mean_s;
         }
-        inputs.rul_s = *rul_mean_over_closed_form * steps_left * rul_model_.params().time_per_growth_step_s;
+        inputs.rul_s = std::max(*rul_at_onset - (t - *result.spall_onset_s), 0.0);
       }
       inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
       inputs.state = CmaState{flight_status, motor_health,
@@ -216,9 +252,11 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
       }
       if ((action == CmaAction::kLandPract || action == CmaAction::kLandAsap) && !same) {
         std::optional<EmergencyPlan> emergency;
-        if (planner) {
-          emergency = planner({action, t, body.p_WB_W, body.v_WB_W, eod.eod_s,
-                               plan == &nominal_plan_ ? t - plan_start : nominal_plan_.duration()});
+        const EmergencyPlanner& emergency_planner = planner ? planner : map_planner_;
+        if (emergency_planner) {
+          emergency = emergency_planner({action, t, body.p_WB_W, body.v_WB_W,
+                                         EulerFromRotation(body.q_WB.toRotationMatrix()).z(), allocation_failure,
+                                         eod.eod_s, plan == &nominal_plan_ ? t - plan_start : nominal_plan_.duration()});
         }
         if (emergency) {
           emergency_plan = std::move(emergency->plan);
@@ -285,6 +323,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
 
     // ---- power: rotor currents → pack → bus voltage -------------------------------------------------
     pack_current = motors_current + opt.hotel_current_a;
+    load_current += load_filter_gain * (pack_current - load_current);
     const models::PackStepResult pack_step = pack_.StepWithOutputs(pack_state, pack_current, pack_step_length);
     pack_state = pack_step.next;
     bus_voltage = pack_step.outputs.split.bus_voltage_v;

@@ -44,6 +44,14 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
   for (const auto& e : result.events) events.push_back({{"time_s", e.time_s}, {"what", e.what}});
   nlohmann::json actions = nlohmann::json::array();
   for (const auto& [t, a] : result.actions) actions.push_back({{"time_s", t}, {"action", decision::CmaActionName(a)}});
+  // The abstract CMA state at each change (1 Hz epochs), e.g. [{time_s: 0, state: "N,NF,MM1,G,RM1"}, …].
+  nlohmann::json states = nlohmann::json::array();
+  const decision::FactoredMdpBuilder cma_model = decision::MakeCmaFactoredModel();
+  for (std::size_t k = 0; k < result.states.size(); ++k) {
+    if (k > 0 && result.states[k].second == result.states[k - 1].second) continue;
+    states.push_back({{"time_s", result.states[k].first},
+                      {"state", cma_model.Label(result.states[k].second)}});
+  }
   auto optional = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
   nlohmann::json summary = {
       {"scenario", scenario.name},
@@ -66,6 +74,7 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
       {"max_tracking_error_m", result.max_tracking_error},
       {"max_tilt_deg", result.max_tilt * 180.0 / 3.14159265358979323846},
       {"actions", actions},
+      {"cma_states", states},
       {"events", events},
   };
   if (result.jam_time_s && result.isolation_time_s) {

@@ -218,6 +218,24 @@ TEST_F(CampaignCliTest, AnotherCampaignsDatabaseIsRefusedAndLeftAlone) {
   ExpectSameRows(Path("reference.db"), Path("other.db"));
 }
 
+TEST_F(CampaignCliTest, APolicyFileFliesLikeThePolicyItHolds) {
+  const auto solved = RunCli("policy solve --out " + Path("tuned.json").string());
+  ASSERT_EQ(solved.exit_code, 0) << solved.err;
+  const auto result = RunCli("campaign " + Path("short.yaml").string() + " --runs 4 --policies cma," +
+                             Path("tuned.json").string() + " --db " + Path("file.db").string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::vector<RunRecord> rows = ResultsStore::Open(Path("file.db")).ReadRecords();
+  ASSERT_EQ(rows.size(), 8u);
+  for (std::size_t i = 0; i + 1 < rows.size(); i += 2) {
+    EXPECT_EQ(rows[i].policy, "cma");
+    EXPECT_EQ(rows[i + 1].policy, "tuned");  // named by the file stem
+    RunRecord same = rows[i + 1];  // the file holds the default-weight policy: the same flight
+    same.policy = rows[i].policy;
+    same.flight_id = rows[i].flight_id;
+    EXPECT_EQ(campaign::FirstDifference(rows[i], same), std::nullopt) << "run " << rows[i].run_index;
+  }
+}
+
 TEST_F(CampaignCliTest, ReportOfAHandMadeDatabase) {
   const auto db = Path("hand.db");
   campaign::CampaignConfig config = campaign::testing_support::ShortConfig();

@@ -1,6 +1,9 @@
 #pragma once
 // Shared by the campaign tests: a campaign of short flights (~25 s of simulated time, ~10 ms each), so
 // tests that fly dozens of them stay fast.
+#include <unistd.h>
+
+#include <filesystem>
 #include <string>
 
 #include "uascma/campaign/config.h"
@@ -36,5 +39,16 @@ inline std::string ShortConfigYaml() {
          "battery:\n"
          "  cold_probability: 0\n";
 }
+
+// A fresh folder under the system temp folder, removed at the end of the test.
+struct TempDir {
+  explicit TempDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() / ("uascma_" + name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::filesystem::path path;
+};
 
 }  // namespace uascma::campaign::testing_support

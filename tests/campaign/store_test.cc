@@ -15,13 +15,8 @@
 namespace uascma::campaign {
 namespace {
 
-struct TempDir {
-  TempDir() : path(std::filesystem::temp_directory_path() / ("uascma_store_test_" + std::to_string(::getpid()))) {
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-  }
-  ~TempDir() { std::filesystem::remove_all(path); }
-  std::filesystem::path path;
+struct TempDir : testing_support::TempDir {
+  TempDir() : testing_support::TempDir("store_test") {}
 };
 
 CampaignHeader Header() {

@@ -72,12 +72,12 @@ struct BatterySampling {
   // Relative weights of F1 (G), F2 (M), F3 (P) per pack (Tables 3.2, 4.2). Ours: equally likely. The
   // pack healths are independent, so the composite BH (decisions item 8) is G 1/9, M 3/9, P 5/9.
   std::vector<double> pack_health_weights{1.0, 1.0, 1.0};
-  // How many cells of a degraded pack carry its fade; which cells is drawn uniformly. F2: each of them
-  // has capacity fade OR power fade (one mechanism per pack, drawn with probability 1/2 each); F3: each
-  // has both (Table 3.2: Q → 0.8 Q, R0 → 2 R0). Table 4.2 classifies a pack by "at least one cell"; ours:
-  // all three, since the cells of one pack age together and a pack's health is what Table 4.2 names. With
-  // 1, one aged cell among six barely changes the outcome of a flight (measured: the failure rate no
-  // longer depends on BH), which is not the behaviour of Fig. 5.30.
+  // How many cells of a degraded pack carry its fade; which cells is drawn uniformly. Each of them gets
+  // models::CellHealthForClass: F2 (M) power fade, R0 → 2 R0; F3 (P) power and capacity fade, also
+  // Q → 0.8 Q (Table 3.2, decisions item 8; the same cells as scenario files' `packs: [M, P]`).
+  // Table 4.2 classifies a pack by "at least one cell"; ours: all three, since the cells of one pack age
+  // together and a pack's health is what Table 4.2 names. With 1, one aged cell among six barely changes
+  // a flight (measured: the failure rate then no longer depends on BH, unlike Fig. 5.30).
   int degraded_cells_per_pack = 3;
   double cold_probability = 0.5;  // Table 4.2 T_L vs T_H. Ours: equally likely.
   double cold_temp_degf = 40.0;   // below 50 °F: R0 → 1.5 R0 (Table 3.2); only the split matters

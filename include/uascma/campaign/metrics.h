@@ -25,8 +25,9 @@
 namespace uascma::campaign {
 
 // Builds the emergency-landing planner of one flight (LandPract, LandASAP; the planning layer) from the
-// immutable simulator (its scenario and nominal plan). Empty → no planner: emergency requests are
-// logged and the flight continues (sim::Simulator::Run).
+// immutable simulator (its scenario, map and nominal plan). Called once per flight, concurrently from
+// the worker threads: it must be thread-safe, and the planner it returns serves that flight alone.
+// Empty → no planner: emergency requests are logged and the flight continues (sim::Simulator::Run).
 using PlannerFactory = std::function<sim::EmergencyPlanner(const sim::Simulator&)>;
 
 // One decision epoch as the policy saw it.

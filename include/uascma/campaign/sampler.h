@@ -16,7 +16,7 @@
 //   3. safety margin t_sf uniform on safety_margin_s
 //   4. six initial cell voltages, pack 1 cells 1–3 then pack 2, each uniform on the range
 //   5. per pack: health F1/F2/F3 by the weights; for F2/F3 the degraded cells (a uniform subset of
-//      degraded_cells_per_pack cells); for F2 the mechanism (capacity or power fade, 1/2 each)
+//      degraded_cells_per_pack cells), each with models::CellHealthForClass (M: power fade; P: both)
 //   6. cold (probability cold_probability) → ambient cold_temp_degf, else warm_temp_degf
 //   7. wind speed, direction, then the Dryden category uniform over the list
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the

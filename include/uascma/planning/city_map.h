@@ -138,6 +138,13 @@ class CityMap {
   std::vector<int> BuildingsInBox(const Eigen::AlignedBox2d& box) const;
 
  private:
+  // Calls visit(k, t0, t1, from_NE, to_NE) once for each building k ≠ ignore_building the segment may meet: its
+  // roof above the segment's lowest point, its box touched, with [t0, t1] the part of the segment below the roof
+  // and inside the box and from/to its horizontal ends. visit returns false to stop.
+  template <typename Visit>
+  void VisitSegmentCandidates(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building,
+                              Visit&& visit) const;
+
   std::vector<Building> buildings_;
   std::vector<LandingSite> sites_;
   std::vector<Edge2> edges_;            // all outlines' edges, building after building

@@ -23,6 +23,7 @@
 #include "uascma/models/propulsion.h"
 #include "uascma/models/wind.h"
 #include "uascma/planning/city_map.h"
+#include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/motor_rul.h"
@@ -77,6 +78,10 @@ struct SimOptions {
   // Bus voltage at which the rotors reach their Table 2.2 maximum thrust; rotor thrust capacity scales
   // as (V_bus / V_ref)² (speed ∝ voltage, thrust ∝ speed²). Our estimate: a 3S pack at 3.7 V per cell.
   double reference_bus_voltage_v = 11.1;
+  // s: the 1 Hz EOD prediction runs at the pack current low-passed with this time constant (our estimate:
+  // long enough to ignore gusts and the take-off climb, short enough to see a rotor failure's extra load
+  // within half a minute; the dissertation's EOD curves, Figs. 5.22 and 5.25, are smooth).
+  double load_current_time_constant_s = 10.0;
   bool IsValid(std::string* error) const;
 };
 
@@ -143,6 +148,8 @@ struct EmergencyRequest {
   double time_s = 0.0;
   Eigen::Vector3d p_WB_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();
+  double yaw = 0.0;        // rad
+  int failed_motor = 0;    // the rotor the allocation has switched off (0: none): fewer rotors, less reach
   double eod_s = 0.0;
   double original_plan_elapsed_s = 0.0;  // how far along the nominal plan the vehicle is
 };
@@ -200,11 +207,19 @@ struct RunOptions {
   bool record_telemetry = true;
 };
 
+// The emergency planners of the planning layer over the scenario's map: LandPract from a database built
+// before flight on the nominal plan (5 checkpoints), LandASAP online inside the footprint (§5.3.2.2).
+// Empty (no planner) when the map has no landing sites.
+EmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
+                                         const models::DragTable& drag, const models::PropulsionParams& propulsion);
+
 class Simulator {
  public:
-  // Validates the scenario (InputError naming the field) and builds the immutable models.
+  // Validates the scenario (InputError naming the field) and builds the immutable models, including the
+  // LandPract database when the map has landing sites.
   explicit Simulator(const Scenario& scenario);
 
+  // `planner` replaces the map's emergency planners when given.
   SimResult Run(DecisionPolicy& policy, const EmergencyPlanner& planner = {},
                 const RunOptions& options = {}) const;
 
@@ -226,6 +241,7 @@ class Simulator {
   LqrController controller_;
   planning::FlightPlan nominal_plan_;
   decision::BatteryHealth battery_health_;
+  EmergencyPlanner map_planner_;
 };
 
 }  // namespace uascma::sim

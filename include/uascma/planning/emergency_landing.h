@@ -1,0 +1,352 @@
+#pragma once
+// The emergency-landing planners of the contingency manager: LandASAP and LandPract (dissertation §5.3.2.2,
+// "Action Definition"; Fig. 5.6), on the city map of include/uascma/planning/city_map.h, with the footprint of
+// §5.3.1 (include/uascma/planning/footprint.h). Frames: the world frame W (NED, metres, z down, the ground at
+// z = 0; an altitude a is the point z = −a). Times in seconds.
+//
+// THE TRAJECTORY MODEL (LandingPath). An emergency path from the vehicle's position to a landing site is one of
+// two 2.5-D shapes, each flown as straight moves rest to rest with the trapezoidal profile of FlightPlan
+// (include/uascma/planning/flight_plan.h; vertical moves use the vertical limits, horizontal ones the cruise
+// limits):
+//  1. CLIMB-OVER: climb vertically (if needed) to the transit altitude H, fly straight and level to above the
+//     site, descend vertically onto it (its roof or the ground). H is the lowest admissible altitude,
+//       H = max(a_start, a_site, h_max + clearance),
+//     where h_max is the tallest building whose outline comes within `lateral_margin` of the horizontal transit
+//     line (CityMap::TallestBuildingUnder; 0, the ground, when there is none) and `clearance` the vertical
+//     clearance (shared/spec/defaults.md: 10 m above the tallest building, as for the cruise). H ≥ a_start: the
+//     path never descends into a street canyon before it reaches the site. The site's own building is under the
+//     line's end, so a rooftop is approached from at least `clearance` above it. Its time is, with F_v, F_h the
+//     vertical and horizontal move times,
+//       t = F_v(H − a_start) + F_h(d) + F_v(H − a_site),   d = the horizontal distance.
+//  2. DETOUR: stay at the current altitude a_start, fly around the buildings that reach within `clearance` of
+//     it (height + clearance > a_start, each grown by the lateral margin: include/uascma/planning/
+//     landing_detour.h), stopping at their corners, then descend onto the site. Only when a_site ≤ a_start.
+//     Time Σ F_h(L_i) + F_v(a_start − a_site); the corners come from the visibility graph (landing_detour.h).
+//     Not available when the start or the site's column lies within the grown outline of such a building (the
+//     climb-over remains), nor below `clearance` above the ground (the climb-over never transits lower either).
+// Per site the planner takes the faster of the two (the climb-over on a tie).
+//
+// WHY BOTH ARE COLLISION-FREE BY CONSTRUCTION. A building is a prism {outline, z ≥ −height}: everything below its
+// roof. (1) A vertical move upwards from a point outside every prism stays outside (a prism holds, with a point,
+// every point below it, so a point above a free point is free): the climb in the start column is free. (2) The
+// transit at altitude H passes over every building whose outline comes within the margin of its line with at
+// least `clearance` > 0 to spare, and the others are farther than the margin horizontally: it meets no prism.
+// (3) The descent stays in the site's column, above the site: the ground site has nothing above it, and a
+// rooftop site has nothing above its own roof (the column at H is free by (2); a building taller than the site's
+// roof whose outline overlapped the site would have been under the transit line). Only the last point touches
+// the site's own roof. (4) The detour flies at a_start over the buildings lower than a_start − clearance and
+// outside the grown outlines of the others. Every returned path is still checked leg by leg with
+// CityMap::SegmentCollides (the descent ignoring the site's own building) before it is returned.
+//
+// WHAT IS OPTIMAL. The planner returns the minimum-time path within this class: the climb-over is unique, and the
+// detour is the minimum-time constant-altitude path among the paths that stop only at corners of the grown
+// hulls (exact for that set, which holds the shortest constant-altitude path; landing_detour.h gives the limit:
+// a stop in free space can save time, by at most v/α per segment of the shortest path). Outside the class:
+// paths that climb part way and then detour, detours at another altitude, paths through courtyards or notches
+// (the hulls fill them in), diagonal climbing moves, and a start with velocity (every plan starts at rest, as
+// FlightPlan does).
+//
+// LOWER BOUND. Every path of the class takes at least F_h(d) + F_v(|a_start − a_site|) (subadditivity of the
+// move time, landing_detour.h, and H ≥ max(a_start, a_site)). The multi-site search plans the sites in the order
+// of this bound and stops when the bound of the next one exceeds the best time found: the same choice as
+// planning every site, at a fraction of the cost (PlanToSites).
+//
+// LandASAP (§5.3.2.2: "determines a list of available emergency landing sites within its approximate
+// footprint … plans a minimum time trajectory to reachable emergency landing sites and selects the solution
+// with maximum RM"). The footprint comes from CalcFootprint with the current horizontal speed, heading (course
+// over ground, or yaw when hovering) and EOD (a hovering vehicle's footprint is a point: see
+// LandAsapParams::min_footprint_speed); candidates are the sites of CityMap::SitesWithinRadius over the
+// footprint's circumscribed circle that FootprintRegion::Contains. RM = 1 − t_flight / t_EOD
+// (shared/spec/decisions.md, item 7; t_flight = the plan's duration), so the largest RM is the shortest flight;
+// RMs within kReachMarginTie of the largest count as equal and the lowest risk among them wins (then the
+// shorter flight, then the lower site index).
+//
+// LandPract (§5.3.2.2, Fig. 5.6: "pre-calculated trajectories to reachable emergency landing sites from
+// checkpoints located along the nominal flight plan … checkpoints are selected to equally divide flight plan
+// length … Based on current UAS location and its proximity to a checkpoint in the nominal flight plan, an
+// emergency landing site from the list of pre-planned emergency landing trajectories with the maximum RM is
+// selected"). Before the flight, LandPractDatabase::Build places N checkpoints (defaults.md: 5) at the arc
+// lengths k L / (N + 1), k = 1 … N, of the whole nominal plan (take-off, cruise out, return and landing: on an
+// out-and-back route the return leg has its own checkpoints, the green trajectories of Fig. 5.6), and stores for
+// each the best paths (LandingPath) to the sites within a radius, sorted by flight time. At run time:
+//  * the checkpoint is the NEAREST one to the vehicle's position ("its proximity to a checkpoint"); not the
+//    nearest one ahead: the time to reach the checkpoint is part of t_flight, and flying back a few metres beats
+//    flying on to the next checkpoint up to L/(N + 1) away. Checkpoints that coincide (an out-and-back route
+//    passes the same point twice) are told apart by the time along the nominal plan closest to the vehicle's;
+//  * t_flight = the time from the current position to the checkpoint (a climb-over, closed form after one
+//    TallestBuildingUnder query) + the stored path's time; that first term is the same for every site of the
+//    checkpoint, so the largest RM is the first stored path (the RM tie rule scans the few after it);
+//  * the plan flies current position → checkpoint → the stored path.
+// The look-up (LandPractDatabase::Lookup) takes well under a microsecond (bench/landing_bench.cc); Plan adds the
+// FlightPlan (about a microsecond more).
+//
+// Thread safety: the planners and the database are immutable after construction; every query is const, allocates
+// its own scratch space, and may run on many threads. They keep a pointer to the CityMap, which must outlive them.
+#include <Eigen/Core>
+
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "uascma/planning/city_map.h"
+#include "uascma/planning/flight_plan.h"
+#include "uascma/planning/footprint.h"
+#include "uascma/planning/landing_detour.h"
+
+namespace uascma::planning {
+
+// RMs closer than this are equal and the lower risk wins (§5.3.2.2 picks the maximum RM; the tie rule is ours).
+inline constexpr double kReachMarginTie = 1e-9;
+
+// The path class and its margins.
+struct LandingPathParams {
+  // m: the corridor half-width around the transit line and the growth of the detour's obstacles. Our estimate:
+  // a few metres of position error in an urban canyon (GPS multipath) plus the 0.45 m frame of the vehicle.
+  double lateral_margin = 5.0;
+  // m: the transit clears the tallest building under it by this much; shared/spec/defaults.md ("cruise
+  // altitude: 10 m above the tallest building under the route"). Must be > 0 (a path touching a roof collides).
+  double vertical_clearance = kCruiseClearanceAboveBuildings;
+  // m above ground: no climb-over above this (an airspace ceiling). Default: none (the dissertation sets none).
+  double max_transit_altitude = std::numeric_limits<double>::infinity();
+  bool allow_detour = true;  // false: climb-over only
+  PlanLimits limits;         // speeds and accelerations of the plan (flight_plan.h)
+  double geometry_tolerance = 1e-6;  // m: slack of the strict-interior tests of the detour (landing_detour.h)
+  bool IsValid(std::string* error) const;
+};
+
+enum class LandingPathKind {
+  kNone,             // no feasible path
+  kClimbOver,        // climb, transit, descend
+  kDetour,           // around the buildings at the current altitude, then descend
+  kViaCheckpoint,    // LandPract: climb-over to the checkpoint, then a stored path
+};
+const char* LandingPathKindName(LandingPathKind kind);  // "none", "climb-over", "detour", "via checkpoint"
+
+struct LandingPath {
+  LandingPathKind kind = LandingPathKind::kNone;
+  Eigen::Vector3d start_W = Eigen::Vector3d::Zero();  // m
+  // m: the points flown through after start_W, in order; the last is the target (the site). Consecutive points
+  // differ (no zero-length moves).
+  std::vector<Eigen::Vector3d> waypoints_W;
+  double flight_time = std::numeric_limits<double>::infinity();  // s: the duration of ToFlightPlan()
+  double transit_altitude = 0.0;   // m above ground: H of the climb-over, a_start of the detour
+  double horizontal_length = 0.0;  // m
+  int target_building = kNoBuilding;  // the building whose roof carries the target (its descent may touch it)
+
+  bool feasible() const { return kind != LandingPathKind::kNone; }
+  Eigen::Vector3d end_W() const { return waypoints_W.empty() ? start_W : waypoints_W.back(); }
+  // The FlightPlan that flies it (labels "emergency climb", "emergency transit", "emergency detour",
+  // "emergency descent"). InputError on invalid limits.
+  FlightPlan ToFlightPlan(const PlanLimits& limits) const;
+};
+
+// One site's planned path in a multi-site search.
+struct SitePlan {
+  int site = -1;            // CityMap site index
+  double lower_bound = 0.0; // s, the class lower bound (header comment)
+  LandingPath path;         // feasible
+};
+
+struct SiteSearchOptions {
+  // Keep at least this many of the fastest sites (≥ 1), and every site whose time is within `tie_window` (s) of
+  // the `keep`-th fastest.
+  int keep = 1;
+  double tie_window = 0.0;
+  bool plan_all = false;  // true: plan every candidate (figures, tests); false: stop at the lower bound
+  double max_flight_time = std::numeric_limits<double>::infinity();  // s: drop slower sites
+};
+
+struct SiteSearchResult {
+  std::vector<SitePlan> plans;  // sorted by (flight time, site risk, site index); all feasible
+  int candidates = 0;           // sites offered
+  int planned = 0;              // sites planned exactly (the rest pruned by their lower bound)
+  int infeasible = 0;           // planned without a feasible path (ceiling, start blocked)
+  int detour_searches = 0;      // visibility-graph searches run
+  int verification_failures = 0;  // paths refused by the SegmentCollides check (0 unless something is wrong)
+};
+
+// Plans emergency paths on one map. Holds the grown convex hull of every building (landing_detour.h).
+class LandingPathPlanner {
+ public:
+  // InputError("landing path params", field, expected) unless params.IsValid. `map` must outlive the planner.
+  LandingPathPlanner(const CityMap& map, const LandingPathParams& params = {});
+
+  const CityMap& map() const { return *map_; }
+  const LandingPathParams& params() const { return params_; }
+  // The grown convex hull of each building, indexed like CityMap::buildings(), with the building heights.
+  const ObstacleSet& obstacles() const { return obstacles_; }
+
+  // s: F_h(d) + F_v(|a_start − a_target|), a lower bound of every path of the class.
+  double LowerBoundTime(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W) const;
+  // m above ground: H of the climb-over (header comment).
+  double TransitAltitude(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W) const;
+  // s: the climb-over's time at transit altitude H (closed form).
+  double ClimbOverTime(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W, double transit_altitude) const;
+
+  // The climb-over; kNone when it would climb above max_transit_altitude. Not verified.
+  LandingPath ClimbOver(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
+                        int target_building = kNoBuilding) const;
+  // The detour at the start's altitude, faster than `time_budget` (s); kNone when there is none (the target is
+  // above the start, start or target within the margin of an obstacle, nothing within the budget). Not verified.
+  // `searched` (optional) receives the search's counters.
+  LandingPath Detour(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W, int target_building,
+                     double time_budget, DetourResult* searched = nullptr) const;
+  // The faster of the two, verified; kNone when neither exists or passes (a start inside a building gives kNone).
+  // The detour is searched only when it could beat both the climb-over and `time_budget` (s); with a finite
+  // budget a path slower than it may be returned as the climb-over although a detour between the budget and
+  // the climb-over's time exists (PlanToSites relies on that to prune).
+  LandingPath PlanToPoint(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W,
+                          int target_building = kNoBuilding,
+                          double time_budget = std::numeric_limits<double>::infinity(),
+                          SiteSearchResult* counters = nullptr) const;
+  LandingPath PlanToSite(const Eigen::Vector3d& start_W, int site,
+                         double time_budget = std::numeric_limits<double>::infinity()) const;
+  // Checks every move of the path with CityMap::SegmentCollides (the last one ignoring target_building).
+  bool Verify(const LandingPath& path) const;
+
+  // The fastest sites among `sites` from start_W (header comment: best-first with the lower bound).
+  SiteSearchResult PlanToSites(const Eigen::Vector3d& start_W, std::span<const int> sites,
+                               const SiteSearchOptions& options) const;
+
+ private:
+  const CityMap* map_ = nullptr;
+  LandingPathParams params_;
+  ObstacleSet obstacles_;  // one per building
+};
+
+// --- the request and the result, shared by both actions ---------------------------------------------------------
+// What the simulator knows when the contingency manager picks LandASAP or LandPract (sim::EmergencyRequest).
+struct LandingRequest {
+  Eigen::Vector3d p_WB_W = Eigen::Vector3d::Zero();  // m, the vehicle's position
+  Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();  // m/s, its velocity
+  double yaw = 0.0;            // rad, the heading when hovering (HeadingFrame::FromState)
+  double eod = 0.0;            // s, t_EOD of the battery prognosis
+  // s since the start of the nominal plan (LandPract tells coinciding checkpoints apart); NaN when unknown.
+  double plan_elapsed = std::numeric_limits<double>::quiet_NaN();
+};
+
+enum class LandingStatus {
+  kOk,
+  kNoSiteInFootprint,     // LandASAP: no site in the footprint (or EOD ≤ 0, or the footprint is a point)
+  kNoStoredTrajectory,    // LandPract: the chosen checkpoint has no stored path
+  kNoFeasibleTrajectory,  // candidates exist but no path to any (ceiling, blocked)
+  kStartInsideBuilding,   // the vehicle's position is inside a building prism
+};
+const char* LandingStatusName(LandingStatus status);
+
+struct LandingResult {
+  LandingStatus status = LandingStatus::kNoFeasibleTrajectory;
+  std::string message;  // one line; empty when kOk
+  int site = -1;        // CityMap site index
+  std::string site_id;  // LandingSite::id
+  double site_risk = 0.0;
+  LandingPath path;     // start → site (LandPract: through the checkpoint)
+  FlightPlan plan;      // path.ToFlightPlan(limits)
+  double flight_time = std::numeric_limits<double>::infinity();  // s, plan.duration()
+  double reach_margin = -std::numeric_limits<double>::infinity(); // RM = 1 − flight_time / eod (−∞ if eod ≤ 0)
+  int candidates = 0;   // LandASAP: sites in the footprint; LandPract: stored paths of the checkpoint
+  int planned = 0;      // LandASAP: candidates planned exactly; LandPract: stored paths scanned
+  int detour_searches = 0;
+  // LandASAP only.
+  FootprintResult footprint;
+  HeadingFrame frame;
+  std::vector<SitePlan> candidate_plans;  // the planned candidates, fastest first (all with plan_all_candidates)
+  // LandPract only.
+  int checkpoint = -1;
+  double time_to_checkpoint = 0.0;   // s
+  double stored_flight_time = 0.0;   // s
+
+  bool ok() const { return status == LandingStatus::kOk; }
+  std::string BriefReport() const;  // one line
+};
+
+// --- LandASAP -----------------------------------------------------------------------------------------------------
+struct LandAsapParams {
+  // The vehicle of the footprint (mass, available thrust, max tilt, drag slope); initial_speed and eod are
+  // replaced by the request's horizontal speed and EOD. After a motor failure put models::CalcControlAuthority's
+  // values here (footprint.h).
+  FootprintParams footprint;
+  double footprint_tolerance = 0.0;  // m, FootprintRegion::Contains
+  // m/s: the footprint's initial speed is max(the horizontal speed, this). 0 follows §5.3.1 (the current speed).
+  // Beware: the footprint scales with the initial speed (eqs. 5.10–5.11 end the manoeuvre at ±v_init), and a
+  // hovering vehicle's footprint is a point, so with 0 LandASAP finds no site during take-off, landing and the drop
+  // hover. Raise it (e.g. to PlanLimits::cruise_speed) to give a hovering vehicle a cruising vehicle's reach.
+  double min_footprint_speed = 0.0;
+  bool plan_all_candidates = false;  // plan every candidate (Fig. 5.28) instead of stopping at the lower bound
+  bool IsValid(std::string* error) const;
+};
+
+// LandASAP from the request (header comment). InputError on invalid params or a non-finite request.
+LandingResult PlanLandAsap(const LandingPathPlanner& planner, const LandAsapParams& params,
+                           const LandingRequest& request);
+
+// --- LandPract ----------------------------------------------------------------------------------------------------
+struct LandPractParams {
+  int checkpoint_count = 5;  // shared/spec/defaults.md, "checkpoints for LandPract"
+  // m: the sites whose centre is within this horizontal distance of a checkpoint are its candidates. Our
+  // estimate: 500 m is 100 s at the default 5 m/s cruise, longer than the EOD left when the CMA calls for an
+  // emergency landing in the dissertation's scenarios (Figs. 5.22, 5.27), and a few Manhattan blocks (Fig. 5.6).
+  double site_search_radius = 500.0;
+  double max_flight_time = std::numeric_limits<double>::infinity();  // s: a flight-time budget, none by default
+  // Paths stored per checkpoint, fastest first. Our estimate: 20, more than Fig. 5.6 draws per checkpoint; only
+  // the fastest few are ever chosen (the first, or a tie).
+  int trajectories_per_checkpoint = 20;
+  bool IsValid(std::string* error) const;
+};
+
+struct Checkpoint {
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // m
+  double route_distance = 0.0;  // m along the nominal plan
+  double plan_time = 0.0;       // s: when the nominal plan passes it
+};
+
+struct StoredTrajectory {
+  int site = -1;
+  double risk = 0.0;            // the site's risk (copied: the look-up reads only this array)
+  double flight_time = 0.0;     // s, checkpoint → site
+  LandingPath path;
+};
+
+// The choice of the look-up, before the FlightPlan is built.
+struct LandPractChoice {
+  LandingStatus status = LandingStatus::kNoStoredTrajectory;
+  int checkpoint = -1;
+  int entry = -1;                   // index into trajectories(checkpoint)
+  int site = -1;
+  double time_to_checkpoint = 0.0;  // s, climb-over from the vehicle to the checkpoint
+  double transit_altitude = 0.0;    // m, of that climb-over
+  double flight_time = std::numeric_limits<double>::infinity();   // s, to the checkpoint + stored
+  double reach_margin = -std::numeric_limits<double>::infinity();
+  int scanned = 0;                  // stored paths looked at (1 + the RM ties)
+};
+
+class LandPractDatabase {
+ public:
+  LandPractDatabase() = default;
+  // Places the checkpoints on `nominal_plan` and plans their paths (offline; InputError on invalid params or an
+  // empty plan). Keeps a copy of the planner (and so a pointer to its map).
+  static LandPractDatabase Build(const LandingPathPlanner& planner, const FlightPlan& nominal_plan,
+                                 const LandPractParams& params = {});
+
+  const std::vector<Checkpoint>& checkpoints() const { return checkpoints_; }
+  std::span<const StoredTrajectory> trajectories(int checkpoint) const { return trajectories_[checkpoint]; }
+  const LandPractParams& params() const { return params_; }
+  bool empty() const { return checkpoints_.empty(); }
+
+  // The checkpoint nearest to p_W (3-D distance), coinciding ones told apart by |plan_time − plan_elapsed|
+  // (the lower index when plan_elapsed is NaN). −1 for an empty database.
+  int NearestCheckpoint(const Eigen::Vector3d& p_W, double plan_elapsed) const;
+  // The site choice (header comment); no FlightPlan is built. InputError on a non-finite request.
+  LandPractChoice Lookup(const LandingRequest& request) const;
+  // Lookup, then the path current position → checkpoint → stored path and its FlightPlan (verified).
+  LandingResult Plan(const LandingRequest& request) const;
+
+ private:
+  std::vector<Checkpoint> checkpoints_;
+  std::vector<std::vector<StoredTrajectory>> trajectories_;
+  LandPractParams params_;
+  std::vector<LandingPathPlanner> planner_;  // one copy (a vector so that the database is default-constructible)
+};
+
+}  // namespace uascma::planning
