@@ -107,6 +107,7 @@ void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<Campaign
   try {
     while (true) {
       bool local_done = false;
+      bool failed = false;
       {
         std::unique_lock lock(mutex);
         auto deadline = last_flush + std::chrono::duration_cast<Clock::duration>(interval);
@@ -120,16 +121,20 @@ void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<Campaign
         batch.insert(batch.end(), std::make_move_iterator(finished.begin()), std::make_move_iterator(finished.end()));
         finished.clear();
         local_done = workers_running == 0;
+        failed = error != nullptr;
       }
       if (hooks.poll) hooks.poll();
       const bool all_done = local_done && (!hooks.remote_done || hooks.remote_done());
-      if (!batch.empty() && (all_done || static_cast<int>(batch.size()) >= options.flush_rows ||
-                             Clock::now() - last_flush >= interval || hooks.poll)) {
+      const auto now = Clock::now();
+      const bool due = now - last_flush >= interval;
+      if (!batch.empty() && (all_done || static_cast<int>(batch.size()) >= options.flush_rows || due || hooks.poll)) {
         sink(std::move(batch));
         batch.clear();
-        last_flush = Clock::now();
+        last_flush = now;
+      } else if (due) {
+        last_flush = now;  // nothing to hand over: the next deadline is a full interval away (no spinning)
       }
-      if (all_done) break;
+      if (all_done || (local_done && failed)) break;
       if (local_done) {
         // Only remote work is left: wait for it without spinning.
         std::this_thread::sleep_for(std::chrono::duration<double>(hooks.poll_period_s));

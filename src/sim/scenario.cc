@@ -54,10 +54,13 @@ std::shared_ptr<const planning::CityMap> ReadMap(const YAML::Node& node, const s
     }
     planning::ProceduralCityParams params;
     if (procedural.IsMap()) {
-      RequireOnlyKeys(procedural, {"seed", "blocks_north", "blocks_east"}, source, "map.procedural");
+      RequireOnlyKeys(procedural, {"seed", "blocks_north", "blocks_east", "rooftop_site_probability"}, source,
+                      "map.procedural");
       params.seed = static_cast<std::uint64_t>(OptionalNumber(procedural, "seed", 1, source, "map.procedural"));
       params.blocks_north = static_cast<int>(OptionalNumber(procedural, "blocks_north", params.blocks_north, source, "map.procedural"));
       params.blocks_east = static_cast<int>(OptionalNumber(procedural, "blocks_east", params.blocks_east, source, "map.procedural"));
+      params.rooftop_site_probability = OptionalNumber(procedural, "rooftop_site_probability",
+                                                       params.rooftop_site_probability, source, "map.procedural");
     }
     return std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
   }
@@ -187,7 +190,8 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     if (!sc.limits.IsValid(&error)) throw InputError(source, "limits", error);
   }
   if (const YAML::Node f = root["fault"]) {
-    RequireOnlyKeys(f, {"motor", "spall_onset_s", "time_per_growth_step_s"}, source, "fault");
+    RequireOnlyKeys(f, {"motor", "spall_onset_s", "time_per_growth_step_s", "prognosis_time_per_growth_step_s"}, source,
+                    "fault");
     sc.fault.enabled = true;
     const double motor = RequireNumber(f, "motor", source, "fault");
     if (motor != std::floor(motor) || motor < 1 || motor > 6) throw InputError(source, "fault.motor", "a motor number 1..6");
@@ -198,6 +202,11 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
       const double tau = RequireNumber(f, "time_per_growth_step_s", source, "fault");
       if (!(tau > 0)) throw InputError(source, "fault.time_per_growth_step_s", "a positive time (s)");
       sc.fault.time_per_growth_step_s = tau;
+    }
+    if (f["prognosis_time_per_growth_step_s"]) {
+      const double tau = RequireNumber(f, "prognosis_time_per_growth_step_s", source, "fault");
+      if (!(tau > 0)) throw InputError(source, "fault.prognosis_time_per_growth_step_s", "a positive time (s)");
+      sc.fault.prognosis_time_per_growth_step_s = tau;
     }
   }
   if (const YAML::Node o = root["options"]) {

@@ -30,6 +30,12 @@ prognostics::SpallGrowthParams TruthGrowth(const FaultSpec& fault) {
   return params;
 }
 
+prognostics::SpallGrowthParams PrognosisGrowth(const FaultSpec& fault) {
+  prognostics::SpallGrowthParams params;
+  if (fault.prognosis_time_per_growth_step_s) params.time_per_growth_step_s = *fault.prognosis_time_per_growth_step_s;
+  return params;
+}
+
 decision::BatteryHealth ToCmaHealth(models::HealthClass health) {
   return static_cast<decision::BatteryHealth>(static_cast<int>(health));
 }
@@ -99,7 +105,7 @@ Simulator::Simulator(const Scenario& scenario)
       drag_(models::DragTable::Default(scenario.configuration)),
       wind_(scenario.wind),
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
-      rul_model_(),
+      rul_model_(PrognosisGrowth(scenario.fault)),
       spall_truth_(TruthGrowth(scenario.fault)),
       map_(scenario.map ? scenario.map : std::make_shared<const planning::CityMap>()),
       controller_(scenario.body, scenario.lqr),
@@ -261,6 +267,8 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
         if (emergency) {
           emergency_plan = std::move(emergency->plan);
           emergency_site = emergency->site;
+          result.emergency_site = emergency->site;
+          result.emergency_reach_margin = emergency->reach_margin;
           plan = &emergency_plan;
           plan_start = t;
           flight_status = action == CmaAction::kLandPract ? FlightStatus::kElPract : FlightStatus::kElAsap;

@@ -75,6 +75,8 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
       {"max_tilt_deg", result.max_tilt * 180.0 / 3.14159265358979323846},
       {"actions", actions},
       {"cma_states", states},
+      {"emergency_site", result.emergency_site},
+      {"emergency_reach_margin", result.emergency_reach_margin},
       {"events", events},
   };
   if (result.jam_time_s && result.isolation_time_s) {

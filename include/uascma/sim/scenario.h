@@ -33,6 +33,7 @@
 //     motor: 3
 //     spall_onset_s: 175
 //     time_per_growth_step_s: 0.7128  # optional: faster growth than the Table 5.4 calibration
+//     prognosis_time_per_growth_step_s: 0.7128  # optional: the prognosis knows it (default: Table 5.4)
 //   options:
 //     telemetry_rate_hz: 10
 //     reconfiguration: true

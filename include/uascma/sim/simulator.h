@@ -42,6 +42,9 @@ struct FaultSpec {
   // Growth speed of the simulated spall: seconds per Paris-law step. The prognosis default (calibrated to
   // Table 5.4) is used when absent; scenarios use faster growth (decisions item 15).
   std::optional<double> time_per_growth_step_s;
+  // The prognosis's own time scale (§3.4.1): absent, the Table 5.4 calibration (decisions item 15), so a
+  // fast-growing spall surprises it; set, the prognosis knows this motor's growth speed.
+  std::optional<double> prognosis_time_per_growth_step_s;
 };
 
 struct BatterySpec {
@@ -200,6 +203,8 @@ struct SimResult {
   std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch
   std::vector<TelemetryRow> telemetry;
   std::vector<Eigen::Vector3d> executed_plan_ref;                // for plotting: the emergency plans
+  std::string emergency_site;              // the site of the last emergency plan ("" when none)
+  double emergency_reach_margin = 0.0;     // its RM when it was chosen
   double realtime_factor() const { return wall_time_s > 0 ? sim_time_s / wall_time_s : 0.0; }
 };
 

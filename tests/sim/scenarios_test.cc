@@ -1,0 +1,57 @@
+// The dissertation's two scenarios (§5.5.1, §5.5.2) as bundled files: the CMA policy's action sequence and
+// outcome, against the NoOp baseline on the same flight.
+#include <gtest/gtest.h>
+
+#include "uascma/sim/policy_factory.h"
+#include "uascma/sim/scenario.h"
+#include "uascma/sim/simulator.h"
+
+namespace uascma::sim {
+namespace {
+
+struct Flown {
+  SimResult cma;
+  SimResult noop;
+};
+
+Flown FlyBoth(const std::string& example) {
+  const ScenarioFile file = LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/" + example);
+  const Simulator simulator(file.scenario);
+  auto cma = MakePolicy("cma", "test");
+  auto noop = MakePolicy("noop", "test");
+  return {simulator.Run(*cma, {}, {.record_telemetry = false}), simulator.Run(*noop, {}, {.record_telemetry = false})};
+}
+
+std::vector<decision::CmaAction> Actions(const SimResult& result) {
+  std::vector<decision::CmaAction> actions;
+  for (const auto& [t, a] : result.actions) actions.push_back(a);
+  return actions;
+}
+
+// §5.5.1: spall at 175 s → no action; jam ~17 s later → IMM isolation, quadcopter; the extra load makes
+// RM negative → LandPract → a safe landing on a pre-planned site. NoOp runs the battery to the cut-off.
+TEST(ScenarioTest, ScenarioOneExecutesLandPractAfterTheJam) {
+  const Flown flown = FlyBoth("scenario-1.yaml");
+  const SimResult& r = flown.cma;
+  ASSERT_TRUE(r.spall_onset_s && r.jam_time_s && r.isolation_time_s);
+  EXPECT_NEAR(*r.spall_onset_s, 175.0, 1e-9);
+  EXPECT_NEAR(*r.jam_time_s - *r.spall_onset_s, 17.0, 5.0);  // s, "about 17 s later"
+  EXPECT_EQ(r.isolated_rotor, 3);
+  ASSERT_EQ(Actions(r), std::vector<decision::CmaAction>{decision::CmaAction::kLandPract});
+  EXPECT_GT(r.actions.front().first, *r.isolation_time_s);  // LandPract comes after the reconfiguration
+  EXPECT_EQ(r.outcome, Outcome::kEmergencyLanding) << r.reason;  // landed: no building strike, no crash
+  EXPECT_FALSE(r.emergency_site.empty());
+  EXPECT_GT(r.emergency_reach_margin, 0.0);
+  // The state that triggered it: nominal flight, jammed motor, medium battery, no reach margin.
+  bool saw_rm0_with_jam = false;
+  for (const auto& [t, state] : r.states) {
+    if (t + 1.0 == r.actions.front().first || t == r.actions.front().first) {
+      saw_rm0_with_jam = saw_rm0_with_jam || decision::MakeCmaFactoredModel().Label(state) == "N,JF,MM0,M,RM0";
+    }
+  }
+  EXPECT_TRUE(saw_rm0_with_jam);
+  EXPECT_TRUE(IsFailure(flown.noop.outcome)) << OutcomeName(flown.noop.outcome);
+}
+
+}  // namespace
+}  // namespace uascma::sim
