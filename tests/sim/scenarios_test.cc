@@ -53,5 +53,31 @@ TEST(ScenarioTest, ScenarioOneExecutesLandPractAfterTheJam) {
   EXPECT_TRUE(IsFailure(flown.noop.outcome)) << OutcomeName(flown.noop.outcome);
 }
 
+// §5.5.2: spall at 525 s → LandPract (a site further than the rest of the plan); jam ~14–17 s later →
+// quadcopter; RM negative on the LandPract plan → LandASAP inside the footprint → a safe landing.
+TEST(ScenarioTest, ScenarioTwoEscalatesFromLandPractToLandAsapAfterTheJam) {
+  const Flown flown = FlyBoth("scenario-2.yaml");
+  const SimResult& r = flown.cma;
+  ASSERT_TRUE(r.spall_onset_s && r.jam_time_s && r.isolation_time_s);
+  EXPECT_NEAR(*r.spall_onset_s, 525.0, 1e-9);
+  ASSERT_EQ(Actions(r), (std::vector<decision::CmaAction>{decision::CmaAction::kLandPract,
+                                                          decision::CmaAction::kLandAsap}));
+  EXPECT_LT(r.actions[0].first, *r.jam_time_s);       // LandPract on the spall, before the jam
+  EXPECT_GT(r.actions[1].first, *r.isolation_time_s);  // LandASAP after the reconfiguration
+  EXPECT_EQ(r.outcome, Outcome::kEmergencyLanding) << r.reason;
+  EXPECT_GT(r.emergency_reach_margin, 0.0);
+  // The LandPract plan was longer than what was left of the original plan (the dissertation's "increase in
+  // flight time due to the emergency landing site selection").
+  const double original_left = flown.noop.plan_duration_s - r.actions[0].first;
+  bool longer = false;
+  for (const auto& e : r.events) {
+    if (e.what.rfind("LandPract: emergency plan", 0) == 0) {
+      const double plan_s = std::stod(e.what.substr(e.what.find('(') + 1));
+      longer = plan_s > original_left;
+    }
+  }
+  EXPECT_TRUE(longer);
+}
+
 }  // namespace
 }  // namespace uascma::sim
