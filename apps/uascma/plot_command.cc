@@ -16,7 +16,8 @@ void AddPlotCommand(CLI::App& app) {
       "plot",
       "Draw a simulated flight to PNG files in its folder: path.png (3-D path against the plan), forces.png,\n"
       "rotors.png (thrusts and currents), battery.png (cell voltages), eod.png (EOD against the remaining\n"
-      "flight time, RM, MM) and decisions.png (CMA state, action and IMM mode)");
+      "flight time, RM, MM), decisions.png (CMA state, action and IMM mode) and, over a city, map.png\n"
+      "(buildings, landing sites, route, checkpoints, footprint and the emergency path)");
   command->add_option("dir", *folder, "Folder written by 'uascma simulate --out'")->required();
   command->callback([folder] {
     for (const char* name : {"telemetry.csv", "plan.csv", "summary.json"}) {
@@ -26,7 +27,8 @@ void AddPlotCommand(CLI::App& app) {
       }
     }
     RunPlotScript("flight.py", {*folder});
-    std::printf("wrote %s/{path,forces,rotors,battery,eod,decisions}.png\n", folder->c_str());
+    const bool city = std::filesystem::exists(std::filesystem::path(*folder) / "map.json");
+    std::printf("wrote %s/{path,forces,rotors,battery,eod,decisions%s}.png\n", folder->c_str(), city ? ",map" : "");
   });
 }
 

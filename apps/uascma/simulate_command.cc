@@ -49,7 +49,9 @@ void AddSimulateCommand(CLI::App& app) {
     sim::RunOptions run;
     run.record_telemetry = !options->out.empty();
     const sim::SimResult result = simulator.Run(*policy, {}, run);
-    if (!options->out.empty()) sim::WriteFlightRecord(options->out, file.scenario, simulator.nominal_plan(), result);
+    if (!options->out.empty()) {
+      sim::WriteFlightRecord(options->out, file.scenario, simulator.nominal_plan(), result, simulator.checkpoints());
+    }
     const nlohmann::json summary = sim::SummaryJson(file.scenario, simulator.nominal_plan(), result);
     if (options->json) {
       PrintJson(summary);

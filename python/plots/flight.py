@@ -5,7 +5,9 @@ and 5.18-5.29 are the model).
 Usage: flight.py DIR
 Writes into DIR: path.png (3-D path against the plan), forces.png (thrust, drag, torques), rotors.png
 (rotor thrusts and currents), battery.png (cell voltages, bus voltage, branch currents), eod.png (EOD
-against the remaining flight time, RM and MM), decisions.png (CMA state, action and IMM mode over time).
+against the remaining flight time, RM and MM), decisions.png (CMA state, action and IMM mode over time),
+and over a city map.png (buildings, landing sites, route, LandPract checkpoints, the LandASAP footprint and
+the executed emergency path; Figs. 5.6, 5.24, 5.28-5.29).
 """
 import json
 import os
@@ -175,6 +177,51 @@ def main(folder):
     axes[0].set_title(title)
     fig.tight_layout()
     fig.savefig(os.path.join(folder, "decisions.png"), dpi=110)
+    plt.close(fig)
+
+    draw_map(folder, t, plan, summary, title)
+
+
+def draw_map(folder, t, plan, summary, title):
+    path = os.path.join(folder, "map.json")
+    if not os.path.exists(path):
+        return
+    with open(path) as f:
+        city = json.load(f)
+    from matplotlib.patches import Polygon  # noqa: E402
+    fig, ax = plt.subplots(figsize=(9, 9))
+    top = max([b["height_m"] for b in city["buildings"]] + [1.0])
+    for building in city["buildings"]:
+        shade = 0.9 - 0.6 * building["height_m"] / top
+        for ring in building["rings"]:
+            ax.add_patch(Polygon([(p[1], p[0]) for p in ring], closed=True, facecolor=(shade, shade, shade),
+                                 edgecolor="grey", linewidth=0.3))
+    if city["sites"]:
+        ax.scatter([s["y_m"] for s in city["sites"]], [s["x_m"] for s in city["sites"]],
+                   c=[s["risk"] for s in city["sites"]], cmap="RdYlGn_r", vmin=0, vmax=1, s=10, zorder=3,
+                   label="landing sites (colour: risk)")
+    nominal = plan[plan["kind"] == "nominal"]
+    ax.plot(nominal["y_m"], nominal["x_m"], "k--", linewidth=1, label="original plan", zorder=4)
+    ax.plot(t["p_W_y_m"], t["p_W_x_m"], "b", linewidth=1.2, label="flown", zorder=5)
+    emergency = plan[plan["kind"] == "emergency"]
+    if len(emergency):
+        ax.plot(emergency["y_m"], emergency["x_m"], "g-", linewidth=2, alpha=0.6, label="emergency plan", zorder=4)
+        ax.plot(emergency["y_m"][-1], emergency["x_m"][-1], "rx", markersize=12, mew=3,
+                label="site: " + city.get("emergency_site", ""), zorder=6)
+    if city["checkpoints"]:
+        ax.plot([c[1] for c in city["checkpoints"]], [c[0] for c in city["checkpoints"]], "*", color="gold",
+                markeredgecolor="k", markersize=14, label="LandPract checkpoints", zorder=6)
+    if city["footprint"]:
+        ys = [p[1] for p in city["footprint"]] + [city["footprint"][0][1]]
+        xs = [p[0] for p in city["footprint"]] + [city["footprint"][0][0]]
+        ax.plot(ys, xs, color="darkorange", linewidth=2, label="LandASAP footprint", zorder=5)
+    ax.set_aspect("equal")
+    ax.set_xlabel("east (m)")
+    ax.set_ylabel("north (m)")
+    ax.legend(fontsize=8, loc="best")
+    ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "map.png"), dpi=110)
     plt.close(fig)
 
 

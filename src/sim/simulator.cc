@@ -125,8 +125,8 @@ Simulator::Simulator(const Scenario& scenario)
   }
 }
 
-EmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
-                                         const models::DragTable& drag, const models::PropulsionParams& propulsion) {
+MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
+                                            const models::DragTable& drag, const models::PropulsionParams& propulsion) {
   if (!scenario.map || scenario.map->sites().empty()) return {};
   planning::LandingPathParams path;
   path.limits = scenario.limits;
@@ -141,7 +141,9 @@ EmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plannin
   asap.min_footprint_speed = scenario.limits.cruise_speed;
   const double rotor_max = propulsion.max_thrust;
   auto map = scenario.map;  // keeps the map alive as long as the planners
-  return [map, planner, practical, asap, rotor_max](const EmergencyRequest& r) -> std::optional<EmergencyPlan> {
+  MapEmergencyPlanner out;
+  for (const auto& checkpoint : practical->checkpoints()) out.checkpoints_W.push_back(checkpoint.p_W);
+  out.planner = [map, planner, practical, asap, rotor_max](const EmergencyRequest& r) -> std::optional<EmergencyPlan> {
     const planning::LandingRequest request{r.p_WB_W, r.v_WB_W, r.yaw, r.eod_s, r.original_plan_elapsed_s};
     planning::LandingResult result;
     if (r.action == CmaAction::kLandAsap) {
@@ -153,8 +155,15 @@ EmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plannin
       result = practical->Plan(request);
     }
     if (!result.ok()) return std::nullopt;
-    return EmergencyPlan{std::move(result.plan), result.site_id, result.reach_margin};
+    EmergencyPlan plan{std::move(result.plan), result.site_id, result.reach_margin, {}};
+    if (r.action == CmaAction::kLandAsap) {
+      for (const Eigen::Vector2d& p_H : result.footprint.region.Boundary(72)) {
+        plan.footprint_NE.push_back(result.frame.ToWorld(p_H).head<2>());
+      }
+    }
+    return plan;
   };
+  return out;
 }
 
 SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner, const RunOptions& run) const {
@@ -258,7 +267,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
       }
       if ((action == CmaAction::kLandPract || action == CmaAction::kLandAsap) && !same) {
         std::optional<EmergencyPlan> emergency;
-        const EmergencyPlanner& emergency_planner = planner ? planner : map_planner_;
+        const EmergencyPlanner& emergency_planner = planner ? planner : map_planner_.planner;
         if (emergency_planner) {
           emergency = emergency_planner({action, t, body.p_WB_W, body.v_WB_W,
                                          EulerFromRotation(body.q_WB.toRotationMatrix()).z(), allocation_failure,
@@ -269,6 +278,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
           emergency_site = emergency->site;
           result.emergency_site = emergency->site;
           result.emergency_reach_margin = emergency->reach_margin;
+          if (!emergency->footprint_NE.empty()) result.footprint_NE = emergency->footprint_NE;
           plan = &emergency_plan;
           plan_start = t;
           flight_status = action == CmaAction::kLandPract ? FlightStatus::kElPract : FlightStatus::kElAsap;

@@ -85,8 +85,46 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
   return summary;
 }
 
+namespace {
+
+nlohmann::json MapJson(const Scenario& scenario, const SimResult& result,
+                       const std::vector<Eigen::Vector3d>& checkpoints_W) {
+  const planning::CityMap& map = *scenario.map;
+  // The area of the flight, with a 150 m border.
+  Eigen::AlignedBox2d box;
+  for (const TelemetryRow& row : result.telemetry) box.extend(Eigen::Vector2d(row.p_W.head<2>()));
+  box.extend(scenario.mission.home_NE);
+  box.extend(scenario.mission.destination_NE);
+  box.min().array() -= 150.0;
+  box.max().array() += 150.0;
+  nlohmann::json buildings = nlohmann::json::array();
+  for (int b : map.BuildingsInBox(box)) {
+    nlohmann::json rings = nlohmann::json::array();
+    for (const auto& ring : map.building(b).rings) {
+      nlohmann::json points = nlohmann::json::array();
+      for (const auto& p : ring) points.push_back({p.x(), p.y()});
+      rings.push_back(points);
+    }
+    buildings.push_back({{"height_m", map.building(b).height}, {"rings", rings}});
+  }
+  nlohmann::json sites = nlohmann::json::array();
+  for (const planning::LandingSite& site : map.sites()) {
+    if (!box.contains(Eigen::Vector2d(site.p_W.head<2>()))) continue;
+    sites.push_back({{"x_m", site.p_W.x()}, {"y_m", site.p_W.y()}, {"risk", site.risk}, {"id", site.id}});
+  }
+  nlohmann::json checkpoints = nlohmann::json::array();
+  for (const auto& c : checkpoints_W) checkpoints.push_back({c.x(), c.y(), c.z()});
+  nlohmann::json footprint = nlohmann::json::array();
+  for (const auto& p : result.footprint_NE) footprint.push_back({p.x(), p.y()});
+  return {{"buildings", buildings}, {"sites", sites}, {"checkpoints", checkpoints}, {"footprint", footprint},
+          {"emergency_site", result.emergency_site}};
+}
+
+}  // namespace
+
 void WriteFlightRecord(const std::filesystem::path& folder, const Scenario& scenario,
-                       const planning::FlightPlan& nominal_plan, const SimResult& result) {
+                       const planning::FlightPlan& nominal_plan, const SimResult& result,
+                       const std::vector<Eigen::Vector3d>& checkpoints_W) {
   std::error_code ec;
   std::filesystem::create_directories(folder, ec);
   if (ec) throw InputError(folder.string(), "--out", "a folder that can be created (" + ec.message() + ")");
@@ -102,6 +140,7 @@ void WriteFlightRecord(const std::filesystem::path& folder, const Scenario& scen
   WriteFileAtomically(folder / "telemetry.csv", TelemetryCsv(result));
   WriteFileAtomically(folder / "plan.csv", plan);
   WriteFileAtomically(folder / "summary.json", SummaryJson(scenario, nominal_plan, result).dump(2) + "\n");
+  if (scenario.map) WriteFileAtomically(folder / "map.json", MapJson(scenario, result, checkpoints_W).dump());
 }
 
 }  // namespace uascma::sim

@@ -160,6 +160,7 @@ struct EmergencyPlan {
   planning::FlightPlan plan;
   std::string site;  // a label of the landing site
   double reach_margin = 0.0;
+  std::vector<Eigen::Vector2d> footprint_NE;  // LandASAP: the footprint's boundary in W (north, east), m
 };
 using EmergencyPlanner = std::function<std::optional<EmergencyPlan>(const EmergencyRequest&)>;
 
@@ -203,6 +204,7 @@ struct SimResult {
   std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch
   std::vector<TelemetryRow> telemetry;
   std::vector<Eigen::Vector3d> executed_plan_ref;                // for plotting: the emergency plans
+  std::vector<Eigen::Vector2d> footprint_NE;  // the LandASAP footprint boundary, when one was planned
   std::string emergency_site;              // the site of the last emergency plan ("" when none)
   double emergency_reach_margin = 0.0;     // its RM when it was chosen
   double realtime_factor() const { return wall_time_s > 0 ? sim_time_s / wall_time_s : 0.0; }
@@ -215,8 +217,12 @@ struct RunOptions {
 // The emergency planners of the planning layer over the scenario's map: LandPract from a database built
 // before flight on the nominal plan (5 checkpoints), LandASAP online inside the footprint (§5.3.2.2).
 // Empty (no planner) when the map has no landing sites.
-EmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
-                                         const models::DragTable& drag, const models::PropulsionParams& propulsion);
+struct MapEmergencyPlanner {
+  EmergencyPlanner planner;
+  std::vector<Eigen::Vector3d> checkpoints_W;  // LandPract's checkpoints on the nominal plan
+};
+MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
+                                            const models::DragTable& drag, const models::PropulsionParams& propulsion);
 
 class Simulator {
  public:
@@ -246,7 +252,10 @@ class Simulator {
   LqrController controller_;
   planning::FlightPlan nominal_plan_;
   decision::BatteryHealth battery_health_;
-  EmergencyPlanner map_planner_;
+  MapEmergencyPlanner map_planner_;
+
+ public:
+  const std::vector<Eigen::Vector3d>& checkpoints() const { return map_planner_.checkpoints_W; }
 };
 
 }  // namespace uascma::sim

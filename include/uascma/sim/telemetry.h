@@ -17,9 +17,11 @@ std::string TelemetryCsv(const SimResult& result);
 // fault timing (spall, jam, isolation, latency), min cell voltage, energy, max tracking error and tilt.
 nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan& nominal_plan, const SimResult& result);
 
-// Writes telemetry.csv, summary.json and plan.csv (the nominal plan and any executed emergency plan,
-// sampled at 1 Hz) into `folder` (created when missing).
+// Writes telemetry.csv, summary.json, plan.csv (the nominal plan and any executed emergency plan, sampled
+// at 1 Hz) and, over a city, map.json (the buildings and landing sites near the flight, LandPract's
+// checkpoints and the LandASAP footprint) into `folder` (created when missing).
 void WriteFlightRecord(const std::filesystem::path& folder, const Scenario& scenario,
-                       const planning::FlightPlan& nominal_plan, const SimResult& result);
+                       const planning::FlightPlan& nominal_plan, const SimResult& result,
+                       const std::vector<Eigen::Vector3d>& checkpoints_W = {});
 
 }  // namespace uascma::sim
