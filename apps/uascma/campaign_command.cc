@@ -120,11 +120,11 @@ void AddCampaignCommand(CLI::App& app) {
       "flight in SQLite. Resumable (--resume); parallel on threads and, under mpirun, across ranks");
   command->add_option("campaign", options->file,
                       "Campaign YAML file (default: the dissertation's settings; see examples/campaign.yaml)");
-  command->add_option("--runs", options->runs, "Sampled scenarios; each is flown by every policy (default 465)")
+  command->add_option("--runs", options->runs, "Sampled scenarios, each flown by every policy (default: the file's runs, else 465)")
       ->check(CLI::NonNegativeNumber);
   command->add_option("--policies", options->policies,
-                      "Comma-separated: cma (solved at start, default weights), noop, or policy JSON files");
-  command->add_option("--seed", options->seed, "Campaign seed (default 1)");
+                      "Comma-separated: cma (solved at start, default weights), noop, or policy JSON files\n(default: the file's policies, else cma,noop)");
+  command->add_option("--seed", options->seed, "Campaign seed (default: the file's seed, else 1)");
   command->add_option("--db", options->db, "SQLite results file (created; with --resume, continued)")->required();
   command->add_option("--jobs", options->jobs, "Worker threads per process (default: all cores, shared by ranks)")
       ->check(CLI::NonNegativeNumber);

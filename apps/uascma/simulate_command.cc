@@ -3,11 +3,14 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "commands.h"
 #include "output.h"
+#include "uascma/campaign/policies.h"
+#include "uascma/campaign/store.h"
 #include "uascma/common/error.h"
 #include "uascma/sim/policy_factory.h"
 #include "uascma/sim/scenario.h"
@@ -18,6 +21,7 @@ namespace uascma::cli {
 namespace {
 
 struct SimulateOptions {
+  std::vector<std::string> replay;  // DB RUN_ID
   std::string scenario;
   std::string out;
   std::string policy;
@@ -33,18 +37,34 @@ void AddSimulateCommand(CLI::App& app) {
       "simulate",
       "Fly one scenario: 6-DOF dynamics with drag and Dryden wind, LQR at 200 Hz, rotor faults isolated by\n"
       "an IMM, the battery pack coupled to the rotors, and the decision module at 1 Hz. Prints the outcome;\n"
-      "--out writes telemetry.csv, plan.csv and summary.json (draw them with 'uascma plot DIR')");
-  command->add_option("scenario", options->scenario, "Scenario YAML (see examples/)")->required();
+      "--out writes telemetry.csv, plan.csv and summary.json (draw them with 'uascma plot DIR');\n"
+      "--replay DB RUN_ID flies one run of a campaign again, bit for bit");
+  command->add_option("scenario", options->scenario, "Scenario YAML (see examples/)");
+  command->add_option("--replay", options->replay,
+                      "Fly one run of a campaign again from its database: DB RUN_ID (a flight id, or INDEX:POLICY)")
+      ->expected(2);
   command->add_option("--out", options->out, "Folder for telemetry.csv, plan.csv, summary.json");
   command->add_option("--policy", options->policy, "noop | cma | policy.json (overrides the scenario's)");
   command->add_option("--seed", options->seed, "Random seed (overrides the scenario's)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
-    sim::ScenarioFile file = sim::LoadScenarioFile(options->scenario);
+    sim::ScenarioFile file;
+    std::unique_ptr<sim::DecisionPolicy> policy;
+    if (!options->replay.empty()) {
+      if (!options->scenario.empty()) throw InputError("--replay", "scenario", "either a scenario file or --replay, not both");
+      // The run's scenario is resampled from the stored campaign and its seed (bit-identical flight).
+      const campaign::ReplayFlight flight = campaign::LoadReplay(options->replay[0], options->replay[1]);
+      file.scenario = flight.run.scenario;
+      policy = campaign::MakeDecisionPolicy(flight.policy);
+    } else {
+      if (options->scenario.empty()) throw InputError("simulate", "scenario", "a scenario YAML file (or --replay DB RUN_ID)");
+      file = sim::LoadScenarioFile(options->scenario);
+    }
     if (options->seed) file.scenario.seed = *options->seed;
-    const std::string policy_spec = options->policy.empty() ? file.policy : options->policy;
-    std::unique_ptr<sim::DecisionPolicy> policy =
-        sim::MakePolicy(policy_spec, options->policy.empty() ? options->scenario : "--policy");
+    if (!policy || !options->policy.empty()) {
+      const std::string policy_spec = options->policy.empty() ? file.policy : options->policy;
+      policy = sim::MakePolicy(policy_spec, options->policy.empty() ? options->scenario : "--policy");
+    }
     const sim::Simulator simulator(file.scenario);
     sim::RunOptions run;
     run.record_telemetry = !options->out.empty();

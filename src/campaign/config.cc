@@ -229,8 +229,17 @@ CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::stri
   CampaignConfig config;
   if (root.IsNull()) return config;  // an empty file: every default
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
-  RequireOnlyKeys(root, {"name", "seed", "runs", "policies", "mission", "safety_margin_s", "battery", "wind", "fault"},
+  RequireOnlyKeys(root, {"name", "seed", "runs", "policies", "map", "mission", "safety_margin_s", "battery", "wind",
+                         "fault"},
                   source, "");
+  if (const YAML::Node map = root["map"]) {
+    RequireOnlyKeys(map, {"procedural_seed"}, source, "map");
+    const double seed = OptionalNumber(map, "procedural_seed", 3.0, source, "map");
+    if (seed < 0 || seed != std::floor(seed) || seed > 9007199254740992.0) {
+      throw InputError(source, "map.procedural_seed", "a non-negative integer (0: no city)");
+    }
+    config.map.procedural_seed = static_cast<std::uint64_t>(seed);
+  }
   if (root["name"]) config.name = RequireString(root, "name", source, "");
   if (root["seed"]) config.seed = ReadSeed(root, source);
   config.runs = ReadInteger(root, "runs", config.runs, source, "");
@@ -264,6 +273,8 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
   out += "policies: [";
   for (std::size_t i = 0; i < c.policies.size(); ++i) out += (i ? ", \"" : "\"") + c.policies[i] + "\"";
   out += "]\n";
+  out += "map:\n";
+  out += "  procedural_seed: " + std::to_string(c.map.procedural_seed) + "\n";
   out += "mission:\n";
   out += "  distance_m: " + RangeYaml(c.mission.distance_m) + "\n";
   out += "  cruise_speed_mps: " + RangeYaml(c.mission.cruise_speed_mps) + "\n";
@@ -305,6 +316,7 @@ std::string CampaignConfigHash(const CampaignConfig& c) {
     f.Add(r.low);
     f.Add(r.high);
   };
+  f.Add(c.map.procedural_seed);
   add_range(c.mission.distance_m);
   add_range(c.mission.cruise_speed_mps);
   f.Add(c.mission.cruise_altitude_m);

@@ -1,5 +1,12 @@
 #include "uascma/campaign/sampler.h"
 
+#include <array>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "uascma/planning/procedural_city.h"
+
 #include <cmath>
 #include <numeric>
 
@@ -52,6 +59,23 @@ std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index) {
   return DeriveSeed(campaign_seed, static_cast<std::uint64_t>(run_index));
 }
 
+std::shared_ptr<const planning::CityMap> CampaignMap(std::uint64_t procedural_seed) {
+  static std::mutex mutex;
+  static std::map<std::uint64_t, std::shared_ptr<const planning::CityMap>> cache;
+  std::lock_guard lock(mutex);
+  auto& map = cache[procedural_seed];
+  if (!map) {
+    if (procedural_seed == 0) {
+      map = std::make_shared<const planning::CityMap>();
+    } else {
+      planning::ProceduralCityParams params;
+      params.seed = procedural_seed;
+      map = std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
+    }
+  }
+  return map;
+}
+
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index) {
   std::string error;
   if (!config.IsValid(&error)) throw InputError("campaign configuration: " + error);
@@ -65,13 +89,37 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
   scenario.name = fmt::format("{} run {}", config.name, run_index);
   scenario.seed = DeriveSeed(run.run_seed, kSimulatorStream);
 
-  // 1–2. The delivery mission on an empty map, home at the origin.
-  run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
-  run.distance_m = Draw(random, config.mission.distance_m);
-  scenario.mission.home_NE = Eigen::Vector2d::Zero();
-  scenario.mission.destination_NE =
-      run.distance_m * Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
+  // 1–2. The delivery mission over the city: home on open ground inside the map, the destination at the
+  // sampled distance and bearing, also on open ground inside the map (redrawn until it is; on an empty map
+  // home is the origin).
+  scenario.map = CampaignMap(config.map.procedural_seed);
+  const planning::CityMap& map = *scenario.map;
+  auto open_ground = [&map](const Eigen::Vector2d& p) {
+    return map.BuildingContaining(Eigen::Vector3d(p.x(), p.y(), -0.1)) == planning::kNoBuilding;
+  };
+  const bool city = !map.buildings().empty();
+  const Eigen::AlignedBox2d bounds = map.bounds();
+  for (int attempt = 0;; ++attempt) {
+    if (city) {
+      do {
+        scenario.mission.home_NE = Eigen::Vector2d(random.Uniform(bounds.min().x(), bounds.max().x()),
+                                                   random.Uniform(bounds.min().y(), bounds.max().y()));
+      } while (!open_ground(scenario.mission.home_NE));
+    } else {
+      scenario.mission.home_NE = Eigen::Vector2d::Zero();
+    }
+    run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
+    run.distance_m = Draw(random, config.mission.distance_m);
+    scenario.mission.destination_NE =
+        scenario.mission.home_NE + run.distance_m * Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
+    if (!city || (bounds.contains(scenario.mission.destination_NE) && open_ground(scenario.mission.destination_NE))) break;
+    if (attempt > 10000) throw InputError("campaign", "mission.distance_m", "distances that fit inside the city");
+  }
   scenario.mission.cruise_altitude = config.mission.cruise_altitude_m;
+  if (city) {
+    const std::array<Eigen::Vector2d, 2> route = {scenario.mission.home_NE, scenario.mission.destination_NE};
+    scenario.mission.cruise_altitude = map.CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, 5.0);
+  }
   scenario.mission.drop_hover_s = config.mission.drop_hover_s;
   run.cruise_speed_mps = Draw(random, config.mission.cruise_speed_mps);
   scenario.limits.cruise_speed = run.cruise_speed_mps;

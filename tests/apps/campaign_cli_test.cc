@@ -29,11 +29,12 @@ namespace {
 using campaign::ResultsStore;
 using campaign::RunRecord;
 using testing_support::RunCli;
+using testing_support::LineCount;
 using testing_support::ScratchDir;
 
 constexpr int kRuns = 60;  // × 2 policies: ~1 s of flying on one thread
 
-std::int64_t LineCount(const std::string& text) { return std::count(text.begin(), text.end(), '\n'); }
+
 
 void ExpectSameRows(const std::filesystem::path& a, const std::filesystem::path& b) {
   const std::vector<RunRecord> rows_a = ResultsStore::Open(a).ReadRecords();

@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include <gtest/gtest.h>
+
 namespace uascma::testing_support {
 
 struct RunResult {
@@ -53,6 +55,18 @@ inline RunResult RunCli(const std::string& arguments) {
   std::filesystem::remove(base.string() + ".out");
   std::filesystem::remove(base.string() + ".err");
   return result;
+}
+
+inline int LineCount(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// Bad input: exit code 2, one line on stderr naming `option`, nothing on stdout.
+inline void ExpectBadInput(const RunResult& result, const std::string& option) {
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_EQ(LineCount(result.err), 1) << result.err;
+  EXPECT_NE(result.err.find(option), std::string::npos) << result.err;
+  EXPECT_TRUE(result.out.empty()) << result.out;
 }
 
 }  // namespace uascma::testing_support

@@ -15,6 +15,7 @@ namespace uascma {
 namespace {
 
 using testing_support::RunCli;
+using testing_support::LineCount;
 using testing_support::ScratchDir;
 
 // Seconds: the CLI prints the library's double through JSON (17 significant digits).
@@ -25,8 +26,6 @@ nlohmann::json RunJson(const std::string& arguments) {
   EXPECT_EQ(result.exit_code, 0) << arguments << ": " << result.err;
   return nlohmann::json::parse(result.out);
 }
-
-int LineCount(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
 
 TEST(EodCliTest, JsonMatchesTheLibraryForTheDefaultBattery) {
   const nlohmann::json out = RunJson("eod --current-a 30");

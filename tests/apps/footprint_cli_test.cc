@@ -13,19 +13,11 @@ namespace uascma {
 namespace {
 
 using testing_support::RunCli;
+using testing_support::ExpectBadInput;
 using testing_support::RunResult;
 using testing_support::ScratchDir;
 
 constexpr double kMetres = 1e-9;  // m: the CLI prints JSON doubles in full
-
-int LineCount(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
-
-void ExpectBadInput(const RunResult& result, const std::string& option) {
-  EXPECT_EQ(result.exit_code, 2) << result.err;
-  EXPECT_EQ(LineCount(result.err), 1) << result.err;
-  EXPECT_NE(result.err.find(option), std::string::npos) << result.err;
-  EXPECT_TRUE(result.out.empty()) << result.out;
-}
 
 nlohmann::json RunJson(const std::string& arguments) {
   const RunResult result = RunCli("footprint " + arguments + " --json");

@@ -67,5 +67,23 @@ TEST(SimulateCliTest, BadScenarioIsExitTwoNamingFileAndKeyAndWritesNothing) {
   EXPECT_EQ(RunCli("plot " + dir.path.string()).exit_code, 2);
 }
 
+TEST(SimulateCliTest, ReplayFliesOneCampaignRunAgainBitForBit) {
+  ScratchDir dir("simulate_replay");
+  const std::string db = (dir.path / "c.db").string();
+  ScratchDir config_dir("simulate_replay_config");
+  const auto config = config_dir.path / "short.yaml";
+  std::ofstream(config) << "mission: {distance_m: [200, 300], cruise_speed_mps: [6, 8]}\n";
+  ASSERT_EQ(RunCli("campaign " + config.string() + " --runs 3 --policies cma,noop --seed 4 --db " + db + " --json").exit_code, 0);
+  const auto first = RunCli("simulate --replay " + db + " 2:noop --json");
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const auto again = RunCli("simulate --replay " + db + " 2:noop --json");
+  const nlohmann::json a = nlohmann::json::parse(first.out), b = nlohmann::json::parse(again.out);
+  EXPECT_EQ(a.at("policy"), "noop");
+  EXPECT_EQ(a.at("sim_time_s"), b.at("sim_time_s"));  // bit-identical flight
+  EXPECT_EQ(a.at("outcome"), b.at("outcome"));
+  EXPECT_EQ(RunCli("simulate --replay " + db + " 99:cma").exit_code, 2);
+  EXPECT_EQ(RunCli("simulate --replay " + (dir.path / "none.db").string() + " 1").exit_code, 2);
+}
+
 }  // namespace
 }  // namespace uascma

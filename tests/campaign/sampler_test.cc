@@ -2,6 +2,8 @@
 // ranges, and the frequencies of the discrete draws within binomial tolerances.
 #include "uascma/campaign/sampler.h"
 
+#include <array>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -61,7 +63,16 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
     const SampledRun run = SampleRun(config, 5, i);
     const sim::Scenario& s = run.scenario;
     EXPECT_TRUE(config.mission.distance_m.Contains(run.distance_m));
-    EXPECT_NEAR(s.mission.destination_NE.norm(), run.distance_m, 1e-9 * run.distance_m);
+    EXPECT_NEAR((s.mission.destination_NE - s.mission.home_NE).norm(), run.distance_m, 1e-9 * run.distance_m);
+    // Home and destination lie on open ground inside the campaign's city.
+    ASSERT_TRUE(s.map);
+    for (const Eigen::Vector2d& p : {s.mission.home_NE, s.mission.destination_NE}) {
+      EXPECT_TRUE(s.map->bounds().contains(p));
+      EXPECT_EQ(s.map->BuildingContaining(Eigen::Vector3d(p.x(), p.y(), -0.1)), planning::kNoBuilding);
+    }
+    EXPECT_GE(s.mission.cruise_altitude, s.map->TallestBuildingUnder(
+                                             std::array<Eigen::Vector2d, 2>{s.mission.home_NE, s.mission.destination_NE})
+                                             .height + 10.0 - 1e-9);
     EXPECT_TRUE(run.bearing_rad >= 0.0 && run.bearing_rad < 2.0 * kPi);
     EXPECT_TRUE(config.mission.cruise_speed_mps.Contains(s.limits.cruise_speed));
     EXPECT_TRUE(config.safety_margin_s.Contains(run.safety_margin_s));

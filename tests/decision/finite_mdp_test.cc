@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/input_error.h"
+
 #include "uascma/common/error.h"
 #include "uascma/decision/finite_mdp.h"
 #include "uascma/decision/random_mdp.h"
@@ -12,23 +14,16 @@
 namespace uascma::decision {
 namespace {
 
+using testing_support::InputErrorMessage;
+
 // Values are dimensionless rewards; the solver stops at a Bellman residual of 1e-10, so with
 // γ = 0.95 the value error is below γ/(1−γ)·1e-10 ≈ 2e-9.
 constexpr double kValueTolerance = 1e-8;
 
-std::string MessageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(FiniteMdpBuilderTest, RejectsRowThatDoesNotSumToOneAndNamesStateAndAction) {
   FiniteMdpBuilder builder({"s0", "s1"}, {"stay", "go"});
   const std::vector<Transition> row = {{0, 0.5}, {1, 0.4}};
-  const std::string message = MessageOf([&] { builder.AddRow(1, 1, 0.0, row); });
+  const std::string message = InputErrorMessage([&] { builder.AddRow(1, 1, 0.0, row); });
   EXPECT_NE(message.find("state 's1'"), std::string::npos) << message;
   EXPECT_NE(message.find("action 'go'"), std::string::npos) << message;
   EXPECT_NE(message.find("summing to 1"), std::string::npos) << message;
@@ -45,9 +40,9 @@ TEST(FiniteMdpBuilderTest, AcceptsRowWithinTheSumToleranceOnly) {
 TEST(FiniteMdpBuilderTest, RejectsBadProbabilitiesRewardsAndOrder) {
   FiniteMdpBuilder builder({"s0", "s1", "s2"}, {"a", "b"});
   const std::vector<Transition> negative = {{0, -0.1}, {1, 1.1}};
-  EXPECT_NE(MessageOf([&] { builder.AddRow(0, 0, 0.0, negative); }).find("[0, 1]"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { builder.AddRow(0, 0, 0.0, negative); }).find("[0, 1]"), std::string::npos);
   const std::vector<Transition> ok = {{0, 1.0}};
-  EXPECT_NE(MessageOf([&] { builder.AddRow(0, 0, std::nan(""), ok); }).find("finite reward"),
+  EXPECT_NE(InputErrorMessage([&] { builder.AddRow(0, 0, std::nan(""), ok); }).find("finite reward"),
             std::string::npos);
   const std::vector<Transition> bad_index = {{7, 1.0}};
   EXPECT_THROW(builder.AddRow(0, 0, 0.0, bad_index), InputError);
@@ -61,7 +56,7 @@ TEST(FiniteMdpBuilderTest, RejectsStateWithoutActionByName) {
   const std::vector<Transition> row = {{0, 1.0}};
   builder.AddRow(0, 0, 0.0, row);
   builder.AddRow(2, 0, 0.0, row);
-  const std::string message = MessageOf([&] { builder.Build(); });
+  const std::string message = InputErrorMessage([&] { builder.Build(); });
   EXPECT_NE(message.find("'lonely'"), std::string::npos) << message;
 }
 

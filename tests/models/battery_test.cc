@@ -9,11 +9,15 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/input_error.h"
+
 #include "uascma/common/error.h"
 #include "uascma/models/battery.h"
 
 namespace uascma::models {
 namespace {
+
+using testing_support::InputErrorMessage;
 
 // Volts: the OCV table is piecewise linear, so interpolation and its inverse are exact up to rounding.
 constexpr double kVoltageTolerance = 1e-12;
@@ -23,15 +27,6 @@ constexpr double kSocTolerance = 1e-12;
 constexpr double kCurrentTolerance = 1e-9;
 // Amperes: branch currents sum to the total; the split computes one from the other, so only rounding.
 constexpr double kCurrentSumTolerance = 1e-12;
-
-std::string MessageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // --- OCV table -------------------------------------------------------------------------------------
 TEST(OcvTableTest, DefaultTableIsTheSpecTableWithLinearInterpolation) {
@@ -88,14 +83,14 @@ TEST(OcvTableTest, SegmentForDischargeIsTheSegmentAFallingSocIsIn) {
 }
 
 TEST(OcvTableTest, RejectsTablesThatBreakTheContract) {
-  EXPECT_NE(MessageOf([] { OcvTable({0.0, 1.0}, {3.3}); }).find("as many voltages"), std::string::npos);
-  EXPECT_NE(MessageOf([] { OcvTable({0.5}, {3.7}); }).find("at least 2 points"), std::string::npos);
-  EXPECT_NE(MessageOf([] { OcvTable({0.0, 0.0, 1.0}, {3.3, 3.5, 4.2}); }).find("SOC strictly increasing"),
+  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 1.0}, {3.3}); }).find("as many voltages"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { OcvTable({0.5}, {3.7}); }).find("at least 2 points"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 0.0, 1.0}, {3.3, 3.5, 4.2}); }).find("SOC strictly increasing"),
             std::string::npos);
-  EXPECT_NE(MessageOf([] { OcvTable({0.0, 0.5, 1.0}, {3.3, 3.8, 3.8}); }).find("voltage strictly increasing"),
+  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 0.5, 1.0}, {3.3, 3.8, 3.8}); }).find("voltage strictly increasing"),
             std::string::npos);
-  EXPECT_NE(MessageOf([] { OcvTable({0.0, 1.5}, {3.3, 4.2}); }).find("[0, 1]"), std::string::npos);
-  EXPECT_NE(MessageOf([] { OcvTable({0.0, 1.0}, {3.3, std::nan("")}, "my.csv"); }).find("my.csv"),
+  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 1.5}, {3.3, 4.2}); }).find("[0, 1]"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 1.0}, {3.3, std::nan("")}, "my.csv"); }).find("my.csv"),
             std::string::npos);
 }
 
@@ -123,18 +118,18 @@ TEST(OcvTableTest, CsvLoaderReadsPercentOrFractionAndSkipsComments) {
 }
 
 TEST(OcvTableTest, BadCsvIsInputErrorNamingFileAndLine) {
-  const std::string bad_number = MessageOf([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.27\n5,abc\n", "t.csv"); });
+  const std::string bad_number = InputErrorMessage([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.27\n5,abc\n", "t.csv"); });
   EXPECT_NE(bad_number.find("t.csv"), std::string::npos) << bad_number;
   EXPECT_NE(bad_number.find("line 3"), std::string::npos) << bad_number;
   EXPECT_NE(bad_number.find("5,abc"), std::string::npos) << bad_number;
-  EXPECT_NE(MessageOf([] { ParseOcvTableCsv("soc,volts\n0,3.3\n", "t.csv"); }).find("header"), std::string::npos);
-  EXPECT_NE(MessageOf([] { ParseOcvTableCsv("", "t.csv"); }).find("empty"), std::string::npos);
-  EXPECT_NE(MessageOf([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.27,1\n", "t.csv"); }).find("line 2"),
+  EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("soc,volts\n0,3.3\n", "t.csv"); }).find("header"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("", "t.csv"); }).find("empty"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.27,1\n", "t.csv"); }).find("line 2"),
             std::string::npos);
-  EXPECT_NE(MessageOf([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.5\n50,3.4\n", "t.csv"); })
+  EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.5\n50,3.4\n", "t.csv"); })
                 .find("voltage strictly increasing"),
             std::string::npos);
-  EXPECT_NE(MessageOf([] { LoadOcvTableCsv("/nonexistent/ocv.csv"); }).find("/nonexistent/ocv.csv"),
+  EXPECT_NE(InputErrorMessage([] { LoadOcvTableCsv("/nonexistent/ocv.csv"); }).find("/nonexistent/ocv.csv"),
             std::string::npos);
 }
 
@@ -170,7 +165,7 @@ TEST(CellParamsTest, InvalidParametersAreInputErrorsNamingTheField) {
   std::string error;
   EXPECT_FALSE(params.IsValid(&error));
   EXPECT_NE(error.find("rc[0].capacitance_f"), std::string::npos) << error;
-  const std::string message = MessageOf([&] { SelfCorrectingCell(params, DefaultOcvTable(), "pack 1 cell 2"); });
+  const std::string message = InputErrorMessage([&] { SelfCorrectingCell(params, DefaultOcvTable(), "pack 1 cell 2"); });
   EXPECT_NE(message.find("pack 1 cell 2"), std::string::npos) << message;
   EXPECT_NE(message.find("capacitance"), std::string::npos) << message;
   params = CellParams{};
@@ -218,7 +213,7 @@ TEST(HealthClassTest, Decision8Classes) {
   EXPECT_EQ(ClassifyHealth(battery), HealthClass::kP);
   EXPECT_EQ(ParseHealthClass("M", "--health"), HealthClass::kM);
   EXPECT_STREQ(HealthClassName(HealthClass::kP), "P");
-  const std::string message = MessageOf([] { ParseHealthClass("Q", "--health"); });
+  const std::string message = InputErrorMessage([] { ParseHealthClass("Q", "--health"); });
   EXPECT_NE(message.find("--health"), std::string::npos) << message;
   EXPECT_NE(message.find("'Q'"), std::string::npos) << message;
 }
@@ -229,7 +224,7 @@ TEST(SelfCorrectingCellTest, RestingStateHasTheRestVoltageAndBadVoltagesAreInput
   const CellState state = cell.MakeRestingState(4.1);
   EXPECT_NEAR(state.soc_fraction, 0.85 + 0.05 * (4.10 - 4.08) / (4.11 - 4.08), kSocTolerance);
   EXPECT_NEAR(cell.CalcTerminalVoltage(state, 0.0), 4.1, kVoltageTolerance);
-  const std::string message = MessageOf([&] { cell.MakeRestingState(4.5, "--initial-cell-voltage"); });
+  const std::string message = InputErrorMessage([&] { cell.MakeRestingState(4.5, "--initial-cell-voltage"); });
   EXPECT_NE(message.find("--initial-cell-voltage"), std::string::npos) << message;
   EXPECT_NE(message.find("3.27 to 4.2 V"), std::string::npos) << message;
   EXPECT_THROW(cell.MakeRestingState(3.0), InputError);
@@ -461,7 +456,7 @@ TEST(BatteryPackTest, SwitchedOffPackRestsAndCarriesNothing) {
   EXPECT_DOUBLE_EQ(step.next.cells[1][0].soc_fraction, state.cells[1][0].soc_fraction);
   EXPECT_LT(step.next.cells[0][0].soc_fraction, state.cells[0][0].soc_fraction);
   EXPECT_EQ(ParsePackAction("UseBatt2", "--use"), PackAction::kUseBatt2);
-  EXPECT_NE(MessageOf([] { ParsePackAction("UseAll", "--use"); }).find("UseBoth"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { ParsePackAction("UseAll", "--use"); }).find("UseBoth"), std::string::npos);
   EXPECT_EQ(CellLabel(1, 0), "pack 2 cell 1");
 }
 

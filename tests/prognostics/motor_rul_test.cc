@@ -14,10 +14,14 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/input_error.h"
+
 #include "uascma/common/error.h"
 
 namespace uascma::prognostics {
 namespace {
+
+using testing_support::InputErrorMessage;
 
 // Closed forms are evaluated with a handful of exp/log/expm1 calls: agreement to round-off.
 constexpr double kClosedFormRelativeTolerance = 1e-12;
@@ -51,15 +55,6 @@ double NoiseFreeStepsToFailure(double n) {
   const SpallHistory history = model.PropagateToFailure(model.MakeParticle(0.01), random);
   EXPECT_TRUE(history.jammed);
   return history.growth_steps;
-}
-
-std::string InputErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 bool BitwiseIdentical(const std::vector<double>& a, const std::vector<double>& b) {
@@ -175,18 +170,18 @@ TEST(MotorRulCalibrationTest, JamEstimatorCountsSpalledEpochsRoundedUp) {
   // onset still counts one epoch; a censored one counts its 10 steps = 20 epochs and no jam.
   const std::vector<SpallHistory> histories = {{1.25, true}, {2.0, true}, {0.0, true}, {10.0, false}};
   EXPECT_NEAR(EstimateJamProbabilityPerEpoch(histories, 2.0, 1.0), 3.0 / 28.0, 1e-15);
-  EXPECT_NE(InputErrorOf([] { EstimateJamProbabilityPerEpoch({}, 2.0, 1.0); }), "");
+  EXPECT_NE(InputErrorMessage([] { EstimateJamProbabilityPerEpoch({}, 2.0, 1.0); }), "");
 }
 
 TEST(MotorRulCalibrationTest, UnreachableTargetIsAnInputError) {
   CalibrationOptions options;
   options.target_jam_probability_per_epoch = 1.0;  // not in (0, 1)
-  EXPECT_NE(InputErrorOf([&] { CalibrateTimePerGrowthStep({}, options); }).find("target_jam_probability"),
+  EXPECT_NE(InputErrorMessage([&] { CalibrateTimePerGrowthStep({}, options); }).find("target_jam_probability"),
             std::string::npos);
   SpallGrowthParams params;
   params.max_growth_steps = 5;  // every history censored: no jams, nothing to calibrate
   options.target_jam_probability_per_epoch = 0.01;
-  EXPECT_NE(InputErrorOf([&] { CalibrateTimePerGrowthStep(params, options); }).find("jams/runs"),
+  EXPECT_NE(InputErrorMessage([&] { CalibrateTimePerGrowthStep(params, options); }).find("jams/runs"),
             std::string::npos);
 }
 
@@ -328,8 +323,8 @@ TEST(SpallJamEventTest, RulNowShrinksAsTheSpallGrows) {
 
 TEST(SpallJamEventTest, RejectsNegativeOrNonFiniteSteps) {
   SpallJamEvent event(MotorRulModel{}, 0.0, 1);
-  EXPECT_NE(InputErrorOf([&] { event.Advance(-1.0); }).find("dt_s"), std::string::npos);
-  EXPECT_NE(InputErrorOf([&] { event.Advance(std::nan("")); }).find("dt_s"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { event.Advance(-1.0); }).find("dt_s"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { event.Advance(std::nan("")); }).find("dt_s"), std::string::npos);
 }
 
 // ---- Motor margin and validation ----------------------------------------------------------------
@@ -340,27 +335,27 @@ TEST(MotorMarginTest, FollowsEq514AndDecision7) {
   EXPECT_NEAR(CalcMotorMargin(100.0, std::numeric_limits<double>::infinity()), 1.0, 1e-15);
   EXPECT_TRUE(std::isinf(CalcMotorMargin(100.0, 0.0)));
   EXPECT_LT(CalcMotorMargin(100.0, 0.0), 0.0);
-  EXPECT_NE(InputErrorOf([] { CalcMotorMargin(-1.0, 10.0); }), "");
+  EXPECT_NE(InputErrorMessage([] { CalcMotorMargin(-1.0, 10.0); }), "");
 }
 
 TEST(MotorRulValidationTest, InvalidParametersNameTheirField) {
   SpallGrowthParams params;
   params.particles = 0;
-  EXPECT_NE(InputErrorOf([&] { MotorRulModel{params}; }).find("particles"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("particles"), std::string::npos);
   params = {};
   params.failure_area_mm2 = 0.005;
-  EXPECT_NE(InputErrorOf([&] { MotorRulModel{params}; }).find("failure_area_mm2"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("failure_area_mm2"), std::string::npos);
   params = {};
   params.paris_coefficient_noise_std = -0.1;
-  EXPECT_NE(InputErrorOf([&] { MotorRulModel{params}; }).find("paris_coefficient_noise_std"),
+  EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("paris_coefficient_noise_std"),
             std::string::npos);
   params = {};
   params.time_per_growth_step_s = 0.0;
-  EXPECT_NE(InputErrorOf([&] { MotorRulModel{params}; }).find("time_per_growth_step_s"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("time_per_growth_step_s"), std::string::npos);
   const MotorRulModel model;
   RandomStream random(1);
-  EXPECT_NE(InputErrorOf([&] { model.MeasureJamProbability(0, random); }).find("runs"), std::string::npos);
-  EXPECT_NE(InputErrorOf([&] { model.PredictRulFromArea(-1.0, random); }).find("particle"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { model.MeasureJamProbability(0, random); }).find("runs"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { model.PredictRulFromArea(-1.0, random); }).find("particle"), std::string::npos);
 }
 
 }  // namespace

@@ -102,8 +102,16 @@ struct FaultSampling {
   std::optional<double> time_per_growth_step_s = 0.7128;
 };
 
+// The city the flights fly over: the built-in procedural city of this seed (0: open ground, no buildings
+// and no landing sites — the emergency actions then have nowhere to go). Home and destination are drawn on
+// open ground, the cruise altitude is 10 m above the tallest building under the route (defaults.md).
+struct MapSampling {
+  std::uint64_t procedural_seed = 3;
+};
+
 struct CampaignConfig {
   std::string name = "campaign";
+  MapSampling map;
   std::uint64_t seed = 1;
   std::int64_t runs = 465;  // §5.5: 930 flights split equally between CMA and NoOp
   std::vector<std::string> policies{"cma", "noop"};

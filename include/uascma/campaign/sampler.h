@@ -59,6 +59,9 @@ struct SampledRun {
   sim::Scenario scenario;         // ready to fly
 };
 
+// The campaign's city (built once per seed and shared by every run; 0: an empty map).
+std::shared_ptr<const planning::CityMap> CampaignMap(std::uint64_t procedural_seed);
+
 // Throws InputError when the configuration is invalid (CampaignConfig::IsValid).
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index);
 
