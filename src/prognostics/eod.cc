@@ -264,6 +264,10 @@ double UpperSlopeBound(const Lane& lane, const CurrentLaw& law, const Eval& e1, 
   return ub;
 }
 
+// s: the shortest interval the first-crossing search splits when its bounds cannot decide (a 1 Hz
+// prognosis needs far less resolution; a root inside such an interval is still found to tolerance_s).
+constexpr double kMinSubdivision_s = 1e-2;
+
 // The first cut-off crossing of one lane inside a segment.
 struct Search {
   const Lane& lane;
@@ -313,7 +317,12 @@ struct Search {
     if (UpperSlopeBound(lane, law, e1, e2) < 0.0) {  // monotone: at most one crossing
       return e2.v <= cutoff_v ? Root(e1, e2) : kNone;
     }
-    if (e2.t - e1.t <= tolerance_s) return e2.v <= cutoff_v ? e2.t : kNone;
+    // Where the bounds cannot decide, subdivide down to kMinSubdivision_s only: a voltage that grazes the
+    // cut-off without the bounds separating it would otherwise be bisected to the root tolerance across the
+    // whole segment (measured: seconds per call for some mixed-health packs).
+    if (e2.t - e1.t <= std::max(tolerance_s, kMinSubdivision_s)) {
+      return e2.v <= cutoff_v ? (e1.v > cutoff_v ? Root(e1, e2) : e1.t) : kNone;
+    }
     const Eval middle = At(0.5 * (e1.t + e2.t));
     const double left = First(e1, middle);  // left half first: the FIRST crossing
     if (left != kNone) return left;
