@@ -126,6 +126,7 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
 
   // 3. Safety margin t_sf (recorded only; see the header).
   run.safety_margin_s = Draw(random, config.safety_margin_s);
+  scenario.options.safety_margin_s = run.safety_margin_s;
 
   // 4. Initial cell voltages, pack 1 cells 1–3 then pack 2.
   for (auto& pack : scenario.battery.initial_cell_voltage_v) {

@@ -210,8 +210,10 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     }
   }
   if (const YAML::Node o = root["options"]) {
-    RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_tracking_error_m"},
+    RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_tracking_error_m",
+                        "safety_margin_s"},
                     source, "options");
+    sc.options.safety_margin_s = OptionalNumber(o, "safety_margin_s", sc.options.safety_margin_s, source, "options");
     sc.options.telemetry_rate_hz = OptionalNumber(o, "telemetry_rate_hz", sc.options.telemetry_rate_hz, source, "options");
     sc.options.reconfiguration = OptionalBool(o, "reconfiguration", sc.options.reconfiguration, source, "options");
     sc.options.sensor_noise = OptionalBool(o, "sensor_noise", sc.options.sensor_noise, source, "options");

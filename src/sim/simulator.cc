@@ -79,6 +79,10 @@ bool SimOptions::IsValid(std::string* error) const {
     if (error) *error = "decision_rate_hz: expected to divide gnc_rate_hz";
     return false;
   }
+  if (!(safety_margin_s >= 0.0 && std::isfinite(safety_margin_s))) {
+    if (error) *error = "safety_margin_s: expected >= 0 s";
+    return false;
+  }
   if (!(hotel_current_a >= 0.0)) {
     if (error) *error = "hotel_current_a: expected >= 0 A";
     return false;
@@ -234,7 +238,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
       inputs.time_s = t;
       inputs.flight_time_remaining_s = plan->TimeRemaining(t - plan_start);
       inputs.eod_s = eod.eod_s;
-      inputs.reach_margin = prognostics::CalcReachMargin(eod, inputs.flight_time_remaining_s);
+      inputs.reach_margin = prognostics::CalcReachMargin(eod, inputs.flight_time_remaining_s + opt.safety_margin_s);
       decision::MotorHealth motor_health = decision::MotorHealth::kNF;
       if (allocation_failure != 0 || imm.isolated_rotor() != 0) {
         motor_health = decision::MotorHealth::kJF;

@@ -22,13 +22,9 @@
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the
 //      fraction uniform on onset_fraction, then the motor uniform over the list.
 //
-// The safety margin t_sf (Table 4.4) is sampled and recorded, but the simulator does not use it yet.
-// In the dissertation it belongs to the battery MDP (Table 4.1: S1 ↔ EOD > RFD + t_sf); for the CMA the
-// natural place is the reachability test, RM = 1 − (t_remaining + t_sf) / t_EOD, i.e. the EOD is
-// shortened by t_sf when judging whether the plan can be finished. That test lives inside the simulator
-// (prognostics::CalcReachMargin, called by sim::Simulator::Run), which has no such input today: when it
-// gains one (e.g. SimOptions::safety_margin_s), SampleRun sets it from safety_margin_s — nothing else in
-// the campaign layer changes.
+// The safety margin t_sf (Table 4.4) goes to SimOptions::safety_margin_s: the reach margin judges the plan
+// with t_sf of extra time, RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf of
+// Table 4.1, carried to the CMA).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -51,7 +47,7 @@ struct SampledRun {
   double distance_m = 0.0;        // destination distance from home
   double bearing_rad = 0.0;       // destination bearing from North, clockwise
   double cruise_speed_mps = 0.0;
-  double safety_margin_s = 0.0;   // t_sf (recorded; not yet used by the simulator, see above)
+  double safety_margin_s = 0.0;   // t_sf, also in scenario.options.safety_margin_s
   models::PerBranch<models::HealthClass> pack_health{};  // F1/F2/F3 per pack = G/M/P
   decision::BatteryHealth battery_health = decision::BatteryHealth::kG;  // composite BH (decisions 8)
   bool cold = false;

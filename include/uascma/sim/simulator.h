@@ -85,6 +85,10 @@ struct SimOptions {
   // long enough to ignore gusts and the take-off climb, short enough to see a rotor failure's extra load
   // within half a minute; the dissertation's EOD curves, Figs. 5.22 and 5.25, are smooth).
   double load_current_time_constant_s = 10.0;
+  // s, t_sf of Table 4.4: the reach margin judges the plan with this much extra time,
+  // RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf, Table 4.1, carried to the
+  // CMA). 0 by default; campaigns sample it in [5, 10] s.
+  double safety_margin_s = 0.0;
   bool IsValid(std::string* error) const;
 };
 
