@@ -8,9 +8,6 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 deps:
 	bash scripts/install-deps.sh
 
-$(BUILD_DIR)/CMakeCache.txt: | deps
-	cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS)
-
 configure: deps
 	cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS)
 
