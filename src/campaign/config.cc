@@ -233,7 +233,13 @@ CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::stri
                          "fault"},
                   source, "");
   if (const YAML::Node map = root["map"]) {
-    RequireOnlyKeys(map, {"procedural_seed"}, source, "map");
+    RequireOnlyKeys(map, {"procedural_seed", "blocks_north", "blocks_east"}, source, "map");
+    config.map.blocks_north = static_cast<int>(OptionalNumber(map, "blocks_north", config.map.blocks_north, source, "map"));
+    config.map.blocks_east = static_cast<int>(OptionalNumber(map, "blocks_east", config.map.blocks_east, source, "map"));
+    if (config.map.blocks_north < 1 || config.map.blocks_east < 1 || config.map.blocks_north > 200 ||
+        config.map.blocks_east > 200) {
+      throw InputError(source, "map.blocks_north/blocks_east", "between 1 and 200 blocks");
+    }
     const double seed = OptionalNumber(map, "procedural_seed", 3.0, source, "map");
     if (seed < 0 || seed != std::floor(seed) || seed > 9007199254740992.0) {
       throw InputError(source, "map.procedural_seed", "a non-negative integer (0: no city)");
@@ -275,6 +281,8 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
   out += "]\n";
   out += "map:\n";
   out += "  procedural_seed: " + std::to_string(c.map.procedural_seed) + "\n";
+  out += "  blocks_north: " + std::to_string(c.map.blocks_north) + "\n";
+  out += "  blocks_east: " + std::to_string(c.map.blocks_east) + "\n";
   out += "mission:\n";
   out += "  distance_m: " + RangeYaml(c.mission.distance_m) + "\n";
   out += "  cruise_speed_mps: " + RangeYaml(c.mission.cruise_speed_mps) + "\n";
@@ -317,6 +325,8 @@ std::string CampaignConfigHash(const CampaignConfig& c) {
     f.Add(r.high);
   };
   f.Add(c.map.procedural_seed);
+  f.Add(c.map.blocks_north);
+  f.Add(c.map.blocks_east);
   add_range(c.mission.distance_m);
   add_range(c.mission.cruise_speed_mps);
   f.Add(c.mission.cruise_altitude_m);

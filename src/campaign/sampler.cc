@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <tuple>
 
 #include "uascma/planning/procedural_city.h"
 
@@ -59,17 +60,19 @@ std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index) {
   return DeriveSeed(campaign_seed, static_cast<std::uint64_t>(run_index));
 }
 
-std::shared_ptr<const planning::CityMap> CampaignMap(std::uint64_t procedural_seed) {
+std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling) {
   static std::mutex mutex;
-  static std::map<std::uint64_t, std::shared_ptr<const planning::CityMap>> cache;
+  static std::map<std::tuple<std::uint64_t, int, int>, std::shared_ptr<const planning::CityMap>> cache;
   std::lock_guard lock(mutex);
-  auto& map = cache[procedural_seed];
+  auto& map = cache[{sampling.procedural_seed, sampling.blocks_north, sampling.blocks_east}];
   if (!map) {
-    if (procedural_seed == 0) {
+    if (sampling.procedural_seed == 0) {
       map = std::make_shared<const planning::CityMap>();
     } else {
       planning::ProceduralCityParams params;
-      params.seed = procedural_seed;
+      params.seed = sampling.procedural_seed;
+      params.blocks_north = sampling.blocks_north;
+      params.blocks_east = sampling.blocks_east;
       map = std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
     }
   }
@@ -92,7 +95,7 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
   // 1–2. The delivery mission over the city: home on open ground inside the map, the destination at the
   // sampled distance and bearing, also on open ground inside the map (redrawn until it is; on an empty map
   // home is the origin).
-  scenario.map = CampaignMap(config.map.procedural_seed);
+  scenario.map = CampaignMap(config.map);
   const planning::CityMap& map = *scenario.map;
   auto open_ground = [&map](const Eigen::Vector2d& p) {
     return map.BuildingContaining(Eigen::Vector3d(p.x(), p.y(), -0.1)) == planning::kNoBuilding;

@@ -55,8 +55,8 @@ struct SampledRun {
   sim::Scenario scenario;         // ready to fly
 };
 
-// The campaign's city (built once per seed and shared by every run; 0: an empty map).
-std::shared_ptr<const planning::CityMap> CampaignMap(std::uint64_t procedural_seed);
+// The campaign's city (built once per configuration and shared by every run; seed 0: an empty map).
+std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling);
 
 // Throws InputError when the configuration is invalid (CampaignConfig::IsValid).
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index);
