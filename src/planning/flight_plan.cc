@@ -43,6 +43,20 @@ void Trapezoid(const PlanSegment& s, double length, double tau, double* distance
 
 }  // namespace
 
+TrapezoidProfile CalcTrapezoid(double length, double max_speed, double accel) {
+  TrapezoidProfile profile;
+  if (length >= max_speed * max_speed / accel) {  // reaches the speed limit: trapezoid
+    profile.peak_speed = max_speed;
+    profile.accel_time = max_speed / accel;
+    profile.duration = 2.0 * profile.accel_time + (length - max_speed * max_speed / accel) / max_speed;
+  } else {  // too short: triangle
+    profile.peak_speed = std::sqrt(length * accel);
+    profile.accel_time = profile.peak_speed / accel;
+    profile.duration = 2.0 * profile.accel_time;
+  }
+  return profile;
+}
+
 bool PlanLimits::IsValid(std::string* error) const {
   const struct { const char* name; double value; } fields[] = {
       {"cruise_speed", cruise_speed}, {"vertical_speed", vertical_speed},
@@ -93,15 +107,10 @@ FlightPlan FlightPlan::Through(const Eigen::Vector3d& start_W, const std::vector
       segment.start_time = time;
       const double speed_limit = AlongPathLimit(horizontal, vertical, limits.cruise_speed, limits.vertical_speed);
       segment.accel = AlongPathLimit(horizontal, vertical, limits.horizontal_accel, limits.vertical_accel);
-      if (length >= speed_limit * speed_limit / segment.accel) {  // reaches the speed limit: trapezoid
-        segment.peak_speed = speed_limit;
-        segment.accel_time = speed_limit / segment.accel;
-        segment.duration = 2.0 * segment.accel_time + (length - speed_limit * speed_limit / segment.accel) / speed_limit;
-      } else {  // too short: triangle
-        segment.peak_speed = std::sqrt(length * segment.accel);
-        segment.accel_time = segment.peak_speed / segment.accel;
-        segment.duration = 2.0 * segment.accel_time;
-      }
+      const TrapezoidProfile profile = CalcTrapezoid(length, speed_limit, segment.accel);
+      segment.peak_speed = profile.peak_speed;
+      segment.accel_time = profile.accel_time;
+      segment.duration = profile.duration;
       time += segment.duration;
       plan.segments_.push_back(segment);
     }

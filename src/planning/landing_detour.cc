@@ -1,5 +1,7 @@
 #include "uascma/planning/landing_detour.h"
 
+#include "uascma/planning/flight_plan.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -66,13 +68,8 @@ ConvexObstacle FinishPolygon(std::vector<Eigen::Vector2d> vertices) {
 
 double TrapezoidMoveTime(double length, double max_speed, double accel) {
   if (!(length > kMinMoveLength)) return 0.0;
-  // The same expressions as FlightPlan::Through (flight_plan.cc), so that the two agree to the last bits.
-  if (length >= max_speed * max_speed / accel) {
-    const double accel_time = max_speed / accel;
-    return 2.0 * accel_time + (length - max_speed * max_speed / accel) / max_speed;
-  }
-  const double peak_speed = std::sqrt(length * accel);
-  return 2.0 * (peak_speed / accel);
+  // The profile FlightPlan::Through uses, so that the two agree to the last bits.
+  return CalcTrapezoid(length, max_speed, accel).duration;
 }
 
 double TrapezoidMoveLength(double time, double max_speed, double accel) {

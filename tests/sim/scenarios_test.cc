@@ -77,6 +77,7 @@ TEST(ScenarioTest, ScenarioTwoEscalatesFromLandPractToLandAsapAfterTheJam) {
     }
   }
   EXPECT_TRUE(longer);
+  EXPECT_TRUE(IsFailure(flown.noop.outcome)) << OutcomeName(flown.noop.outcome);
 }
 
 }  // namespace

@@ -44,6 +44,15 @@ struct PlanSegment {
   double accel_time = 0.0;            // s
 };
 
+// A straight rest-to-rest move of `length` m under a speed limit `max_speed` (m/s) and an acceleration
+// limit `accel` (m/s²): a trapezoid when the length allows reaching the limit, else a triangle.
+struct TrapezoidProfile {
+  double duration = 0.0;    // s
+  double peak_speed = 0.0;  // m/s
+  double accel_time = 0.0;  // s, time to reach the peak (and to brake from it)
+};
+TrapezoidProfile CalcTrapezoid(double length, double max_speed, double accel);
+
 struct Waypoint {
   Eigen::Vector3d p_W = Eigen::Vector3d::Zero();
   double hover_after_s = 0.0;  // hover this long on arrival
