@@ -49,6 +49,18 @@ def events_on(ax, summary):
         ax.axvline(action["time_s"], color="purple", linestyle="--", linewidth=1)
 
 
+def save(fig, folder, name, axes=None, summary=None, title=None):
+    """Marks the fault events and actions on time-series axes, titles the figure, writes it and closes it."""
+    if axes is not None:
+        if summary is not None:
+            for ax in axes:
+                events_on(ax, summary)
+        axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, name), dpi=110)
+    plt.close(fig)
+
+
 def main(folder):
     t = np.genfromtxt(os.path.join(folder, "telemetry.csv"), delimiter=",", names=True)
     plan = np.genfromtxt(os.path.join(folder, "plan.csv"), delimiter=",", names=True, dtype=None, encoding="utf-8")
@@ -71,9 +83,7 @@ def main(folder):
     ax.set_zlabel("altitude (m)")
     ax.legend()
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "path.png"), dpi=110)
-    plt.close(fig)
+    save(fig, folder, "path.png")
 
     # Forces and torques.
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
@@ -90,12 +100,7 @@ def main(folder):
     axes[2].set_ylabel("N·m")
     axes[2].set_xlabel("time (s)")
     axes[2].legend(fontsize=8)
-    for ax in axes:
-        events_on(ax, summary)
-    axes[0].set_title(title)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "forces.png"), dpi=110)
-    plt.close(fig)
+    save(fig, folder, "forces.png", axes, summary, title)
 
     # Rotor thrusts and currents.
     fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
@@ -106,12 +111,7 @@ def main(folder):
     axes[1].set_ylabel("current (A)")
     axes[1].set_xlabel("time (s)")
     axes[0].legend(fontsize=7, ncol=6)
-    for ax in axes:
-        events_on(ax, summary)
-    axes[0].set_title(title)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "rotors.png"), dpi=110)
-    plt.close(fig)
+    save(fig, folder, "rotors.png", axes, summary, title)
 
     # Battery.
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
@@ -129,10 +129,7 @@ def main(folder):
     axes[2].set_ylabel("current (A)")
     axes[2].set_xlabel("time (s)")
     axes[2].legend(fontsize=8)
-    axes[0].set_title(title)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "battery.png"), dpi=110)
-    plt.close(fig)
+    save(fig, folder, "battery.png", axes, None, title)
 
     # EOD against the remaining flight time (Figs. 4.8b, 5.2x).
     fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
@@ -148,12 +145,7 @@ def main(folder):
     axes[1].set_ylabel("margin")
     axes[1].set_xlabel("time (s)")
     axes[1].legend(fontsize=8)
-    for ax in axes:
-        events_on(ax, summary)
-    axes[0].set_title(title)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "eod.png"), dpi=110)
-    plt.close(fig)
+    save(fig, folder, "eod.png", axes, summary, title)
 
     # Decision timeline.
     fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
@@ -172,12 +164,7 @@ def main(folder):
     axes[2].set_yticklabels(["nominal"] + [f"rotor {i} out" for i in range(1, 7)], fontsize=7)
     axes[2].set_ylabel("IMM mode")
     axes[2].set_xlabel("time (s)")
-    for ax in axes:
-        events_on(ax, summary)
-    axes[0].set_title(title)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "decisions.png"), dpi=110)
-    plt.close(fig)
+    save(fig, folder, "decisions.png", axes, summary, title)
 
     draw_map(folder, t, plan, summary, title)
 
@@ -220,9 +207,7 @@ def draw_map(folder, t, plan, summary, title):
     ax.set_ylabel("north (m)")
     ax.legend(fontsize=8, loc="best")
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "map.png"), dpi=110)
-    plt.close(fig)
+    save(fig, folder, "map.png")
 
 
 if __name__ == "__main__":
