@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "uascma/common/decay.h"
 #include "uascma/common/error.h"
 #include "uascma/models/battery_cell.h"
 
@@ -128,11 +129,11 @@ CellState SelfCorrectingCell::Step(const CellState& state, double current_a, dou
     next.rc_current_a[j] = f * state.rc_current_a[j] + (1.0 - f) * current_a;
   }
   // dh/dt = −|η i γ / Q| (h + sgn(i)): h relaxes towards −sgn(i) at a rate set by the charge moved;
-  // exact: h' = A_H h + (A_H − 1) sgn(i) (eq. 3.2).
+  // exact: h' = A_H h + (A_H − 1) sgn(i) (eq. 3.2). At a 5 ms step |η i γ Δt / Q| is ~1e-4: CalcExpDecay.
   if (current_a != 0.0) {
-    const double a_h = std::exp(-std::abs(charge_as * params_.hysteresis_gamma * inverse_capacity_per_as_));
+    const ExpDecay a_h = CalcExpDecay(std::abs(charge_as * params_.hysteresis_gamma * inverse_capacity_per_as_));
     const double sign = Sign(current_a);
-    next.hysteresis = a_h * state.hysteresis + (a_h - 1.0) * sign;
+    next.hysteresis = a_h.factor * state.hysteresis - a_h.complement * sign;
     next.hysteresis_sign = -sign;
   }
   return next;

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "uascma/common/decay.h"
 #include "uascma/common/error.h"
 
 namespace uascma::models {
@@ -37,10 +38,10 @@ double SecondOrderOutput(double lag1, double lag2, double sigma, double length, 
 
 // Exact ZOH step of two cascaded identical lags 1/(1 + b s) with input u held over dt.
 void SecondOrderStep(double& lag1, double& lag2, double input, double time_constant, double dt) {
-  const double e = std::exp(-dt / time_constant);
   const double r = dt / time_constant;
-  const double next_lag2 = e * lag2 + r * e * lag1 + (1.0 - e - r * e) * input;
-  lag1 = e * lag1 + (1.0 - e) * input;
+  const ExpDecay e = CalcExpDecay(r);
+  const double next_lag2 = e.factor * lag2 + r * e.factor * lag1 + (e.complement - r * e.factor) * input;
+  lag1 = e.factor * lag1 + e.complement * input;
   lag2 = next_lag2;
 }
 
@@ -153,8 +154,10 @@ Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airs
   const DrydenIntensity& in = IntensityAt(state, altitude_m);
   const double speed = std::max(airspeed, params_.min_airspeed);
   // u: exact Gauss–Markov step (stationary variance σ_u²).
-  const double a = std::exp(-speed * dt / in.length_u);
-  state.gust_u = a * state.gust_u + in.sigma_u * std::sqrt(1.0 - a * a) * random.Normal();
+  // 1 − a² = c (2 − c) with c = 1 − a: no cancellation for the small steps of the simulator.
+  const ExpDecay a = CalcExpDecay(speed * dt / in.length_u);
+  state.gust_u = a.factor * state.gust_u +
+                 in.sigma_u * std::sqrt(a.complement * (2.0 - a.complement)) * random.Normal();
   // v, w: white noise of variance π/Δt held over the step, through the exact ZOH filter.
   const double noise_scale = std::sqrt(std::numbers::pi / dt);
   SecondOrderStep(state.v_lag1, state.v_lag2, noise_scale * random.Normal(), in.length_v / speed, dt);

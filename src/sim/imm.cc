@@ -35,14 +35,18 @@ ImmFilter::ImmFilter(const ImmParams& params, const RigidBodyParams& body,
     : params_(params), body_(body), mixing_(healthy_mixing) {
   std::string error;
   if (!params.IsValid(&error)) throw InputError(error);
+  for (int row = 0; row < 4; ++row) {
+    column_[row].setZero();
+    for (int j = 1; j < kImmModes; ++j) column_[row][j] = healthy_mixing(row, j - 1);
+  }
   Reset(Eigen::Vector3d::Zero());
 }
 
 void ImmFilter::Reset(const Eigen::Vector3d& w_WB_B) {
   const double initial_variance = params_.gyro_noise * params_.gyro_noise;
   for (int axis = 0; axis < 3; ++axis) {
-    rate_[axis].fill(w_WB_B[axis]);
-    variance_[axis].fill(initial_variance);
+    rate_[axis].setConstant(w_WB_B[axis]);
+    variance_[axis].setConstant(initial_variance);
   }
   for (int j = 0; j < kImmModes; ++j) {
     probability_[j] = j == 0 ? 1.0 - 6 * params_.switch_probability : params_.switch_probability;
@@ -62,89 +66,85 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
   const double eps = params_.switch_probability;
   const double delta = params_.recover_probability;
 
-  // 1. Mixing: predicted mode probabilities c_j and the mixing weights.
-  PerMode predicted{}, from_nominal{}, from_self{};  // weights of mode 0 and of mode j in mode j's mix
+  // 1. Mixing: predicted mode probabilities c_j and the mixing weights μ_{i|j}.
+  Lanes predicted, from_nominal;  // c_j, μ_{0|j}
   double failure_total = 0.0;
   for (int i = 1; i < kImmModes; ++i) failure_total += probability_[i];
   predicted[0] = (1.0 - 6.0 * eps) * probability_[0] + delta * failure_total;
-  PerMode weight_into_nominal{};  // μ_{i|0}
+  std::array<double, kImmModes> weight_into_nominal;  // μ_{i|0}
   weight_into_nominal[0] = (1.0 - 6.0 * eps) * probability_[0] / predicted[0];
   for (int i = 1; i < kImmModes; ++i) weight_into_nominal[i] = delta * probability_[i] / predicted[0];
+  from_nominal[0] = 0.0;  // lane 0 is overwritten below by the full mix; the idle lane 7 copies mode 0
+  from_nominal[kLanes - 1] = 1.0;
+  predicted[kLanes - 1] = 1.0;
   for (int j = 1; j < kImmModes; ++j) {
     predicted[j] = eps * probability_[0] + (1.0 - delta) * probability_[j];
     from_nominal[j] = eps * probability_[0] / predicted[j];
-    from_self[j] = 1.0 - from_nominal[j];
   }
+  const Lanes from_self = 1.0 - from_nominal;  // μ_{j|j}
 
-  // Each mode's torque and thrust: the believed wrench less rotor j's share.
-  const models::BodyWrench all = mixing_ * believed_thrusts;
-  std::array<PerMode, 4> wrench;  // [T, τx, τy, τz][mode]
-  for (int row = 0; row < 4; ++row) {
-    wrench[row][0] = all[row];
-    for (int j = 1; j < kImmModes; ++j) wrench[row][j] = all[row] - mixing_(row, j - 1) * believed_thrusts[j - 1];
-  }
-
-  const Eigen::Vector3d& inertia = body_.inertia_diagonal;
-  const double process = params_.angular_process_noise * dt * params_.angular_process_noise * dt;
-  const double gyro_variance = params_.gyro_noise * params_.gyro_noise;
-  const double accel_variance =
-      params_.accel_noise * params_.accel_noise + params_.vertical_model_noise * params_.vertical_model_noise;
-
-  // 1 (cont.). Mixed rates and variances per axis and mode.
-  std::array<PerMode, 3> mixed_rate, mixed_variance;
+  // Mixed rates and variances. For the two-term mixes of modes j ≥ 1 (d = r_0 − r_j):
+  //   mean = μ0 r_0 + μj r_j,  var = μ0 v_0 + μj v_j + μ0 μj d²   (μ0 + μj = 1).
+  std::array<Lanes, 3> mixed_rate, mixed_variance;
   for (int axis = 0; axis < 3; ++axis) {
-    const PerMode& r = rate_[axis];
-    const PerMode& v = variance_[axis];
+    const Lanes& r = rate_[axis];
+    const Lanes& v = variance_[axis];
+    const Lanes d = r[0] - r;
+    mixed_rate[axis] = from_nominal * r[0] + from_self * r;
+    mixed_variance[axis] = from_nominal * v[0] + from_self * v + from_nominal * from_self * d * d;
     double mean0 = 0.0;
     for (int i = 0; i < kImmModes; ++i) mean0 += weight_into_nominal[i] * r[i];
     double var0 = 0.0;
     for (int i = 0; i < kImmModes; ++i) var0 += weight_into_nominal[i] * (v[i] + (r[i] - mean0) * (r[i] - mean0));
     mixed_rate[axis][0] = mean0;
     mixed_variance[axis][0] = var0;
-    for (int j = 1; j < kImmModes; ++j) {
-      const double mean = from_nominal[j] * r[0] + from_self[j] * r[j];
-      mixed_rate[axis][j] = mean;
-      mixed_variance[axis][j] = from_nominal[j] * (v[0] + (r[0] - mean) * (r[0] - mean)) +
-                                from_self[j] * (v[j] + (r[j] - mean) * (r[j] - mean));
-    }
   }
 
+  // Each mode's thrust and torques: the believed wrench less rotor j's share (lane j's mixing column).
+  const models::BodyWrench all = mixing_ * believed_thrusts;
+  Lanes thrust_removed = Lanes::Zero();
+  thrust_removed.segment<6>(1) = believed_thrusts.array();
+
   // 2–3. Mode-matched prediction (Euler's equations over dt) and update; log-likelihoods.
-  PerMode log_likelihood{}, variance_product{};
-  variance_product.fill(1.0);
+  //   w_x' = w_x + dt (τ_x − (I_z − I_y) w_y w_z) / I_x, and cyclically.
+  const Eigen::Vector3d& inertia = body_.inertia_diagonal;
+  const double process = params_.angular_process_noise * dt * params_.angular_process_noise * dt;
+  const double gyro_variance = params_.gyro_noise * params_.gyro_noise;
+  const double accel_variance =
+      params_.accel_noise * params_.accel_noise + params_.vertical_model_noise * params_.vertical_model_noise;
+  // Σ innovation²/S over the axes (with the accelerometer's term) and Π S over the gyro axes.
+  const Lanes accel_innovation =
+      measurement.specific_force_z_B + (all[0] - column_[0] * thrust_removed) * (1.0 / body_.mass);
+  Lanes quadratic = accel_innovation.square() * (1.0 / accel_variance);
+  Lanes variance_product = Lanes::Ones();
   for (int axis = 0; axis < 3; ++axis) {
-    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-    // (w × I w)_axis = w_a1 I_a2 w_a2 − w_a2 I_a1 w_a1
-    for (int j = 0; j < kImmModes; ++j) {
-      const double w_axis = mixed_rate[axis][j];
-      const double gyroscopic = mixed_rate[a1][j] * inertia[a2] * mixed_rate[a2][j] -
-                                mixed_rate[a2][j] * inertia[a1] * mixed_rate[a1][j];
-      const double prior = w_axis + dt * (wrench[1 + axis][j] - gyroscopic) / inertia[axis];
-      const double prior_variance = mixed_variance[axis][j] + process;
-      const double innovation_variance = prior_variance + gyro_variance;
-      const double innovation = measurement.gyro_B[axis] - prior;
-      const double gain = prior_variance / innovation_variance;
-      rate_[axis][j] = prior + gain * innovation;
-      variance_[axis][j] = (1.0 - gain) * prior_variance;
-      log_likelihood[j] -= 0.5 * innovation * innovation / innovation_variance;
-      variance_product[j] *= innovation_variance;
-    }
-  }
-  for (int j = 0; j < kImmModes; ++j) {
-    const double accel_innovation = measurement.specific_force_z_B + wrench[0][j] / body_.mass;
-    log_likelihood[j] -= 0.5 * accel_innovation * accel_innovation / accel_variance;
+    const int a1 = axis == 2 ? 0 : axis + 1, a2 = axis == 0 ? 2 : axis - 1;
+    const Lanes torque = all[1 + axis] - column_[1 + axis] * thrust_removed;
+    const Lanes prior = mixed_rate[axis] + (dt / inertia[axis]) * (torque - (inertia[a2] - inertia[a1]) *
+                                                                          mixed_rate[a1] * mixed_rate[a2]);
+    const Lanes prior_variance = mixed_variance[axis] + process;
+    const Lanes innovation_variance = prior_variance + gyro_variance;
+    const Lanes inverse = innovation_variance.inverse();
+    const Lanes innovation = measurement.gyro_B[axis] - prior;
+    const Lanes gain = prior_variance * inverse;
+    rate_[axis] = prior + gain * innovation;
+    variance_[axis] = gyro_variance * gain;  // (1 − K) P = R K
+    quadratic += innovation.square() * inverse;
+    variance_product *= innovation_variance;
   }
 
   // 4. Mode probabilities ∝ c_j · L_j, L_j = exp(−½ q_j) / √det S_j. The exponent is shifted by its
-  // maximum (no underflow) and the determinant enters as a square root (no logarithm). A floor keeps every
+  // minimum (no underflow) and the determinant enters as a square root (no logarithm). A floor keeps every
   // mode alive for the next switch.
-  const double best = *std::max_element(log_likelihood.begin(), log_likelihood.end());
+  const double least = quadratic.head<kImmModes>().minCoeff();
+  const Lanes weight = predicted / variance_product.sqrt();
   double total = 0.0;
   for (int j = 0; j < kImmModes; ++j) {
-    probability_[j] = predicted[j] * std::exp(log_likelihood[j] - best) / std::sqrt(variance_product[j]);
+    probability_[j] = weight[j] * std::exp(-0.5 * (quadratic[j] - least));
     total += probability_[j];
   }
-  for (int j = 0; j < kImmModes; ++j) probability_[j] = std::max(probability_[j] / total, 1e-12);
+  const double inverse_total = 1.0 / total;
+  for (int j = 0; j < kImmModes; ++j) probability_[j] = std::max(probability_[j] * inverse_total, 1e-12);
   // Isolation: a failure mode that holds the MAP above the threshold for the required steps.
   const int map = MapMode();
   if (isolated_rotor_ == 0) {

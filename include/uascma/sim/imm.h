@@ -11,8 +11,9 @@
 //   gyro:            z_w = w + noise
 //   accelerometer:   z_a = −T_j / m + noise   (specific force along z_B; drag along z_B is ignored)
 // where (T_j, τ_j) = M_j · thrusts and M_j is the hexacopter mixing matrix with column j zeroed. The
-// three axes are filtered independently (diagonal covariances), which keeps a cycle of all seven modes
-// near a hundred nanoseconds.
+// three axes are filtered independently (diagonal covariances). The modes are stored as eight lanes (the
+// seven modes and one idle lane) so that every per-mode line is four SSE2 operations with no remainder:
+// one cycle of all seven modes takes about half a microsecond, a quarter of a 200 Hz simulator step.
 #include <Eigen/Core>
 
 #include <array>
@@ -63,10 +64,13 @@ class ImmFilter {
   ImmParams params_;
   RigidBodyParams body_;
   models::MixingMatrix mixing_;
-  // Structure of arrays, [axis][mode], so the per-mode arithmetic vectorises.
-  using PerMode = std::array<double, kImmModes>;
-  std::array<PerMode, 3> rate_{};      // w_B estimate of each mode
-  std::array<PerMode, 3> variance_{};  // its diagonal covariance
+  // Structure of arrays, [axis][lane]: lanes 0…6 are the modes, lane 7 is idle (it carries a copy of the
+  // nominal mode, never read), so the per-mode arithmetic vectorises without a remainder.
+  static constexpr int kLanes = 8;
+  using Lanes = Eigen::Array<double, kLanes, 1>;
+  std::array<Lanes, 3> rate_;      // w_B estimate of each mode
+  std::array<Lanes, 3> variance_;  // its diagonal covariance
+  std::array<Lanes, 4> column_;    // [T, τx, τy, τz][lane]: rotor j's mixing column in lane j, 0 in lanes 0, 7
   std::array<double, kImmModes> probability_{};
   int candidate_ = 0;
   int candidate_steps_ = 0;

