@@ -14,10 +14,6 @@
 namespace uascma::sim {
 namespace {
 
-double WrapAngle(double angle) {
-  return std::remainder(angle, 2.0 * std::numbers::pi);
-}
-
 Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double limit) {
   const double n = v.norm();
   return n > limit ? Eigen::Vector2d(v * (limit / n)) : v;
@@ -132,13 +128,16 @@ Wrench LqrController::Compute(const RigidBodyState& state, const planning::PlanR
   error.segment<2>(3) = ClampNorm(velocity_error.head<2>(), options_.max_velocity_error);
   error(5) = std::clamp(velocity_error.z(), -options_.max_velocity_error, options_.max_velocity_error);
   // The linear model is written in the heading frame (yaw ≈ 0): rotate horizontal errors by −ψ so a
-  // yawed vehicle still tilts the right way.
-  const Eigen::Rotation2Dd to_heading(-euler.z());
+  // yawed vehicle still tilts the right way. (cos ψ, sin ψ) = (R00, R10) / cos θ for Z-Y-X angles.
+  const double heading_norm = std::sqrt(R_WB(0, 0) * R_WB(0, 0) + R_WB(1, 0) * R_WB(1, 0));
+  const double cos_yaw = heading_norm > 0.0 ? R_WB(0, 0) / heading_norm : 1.0;
+  const double sin_yaw = heading_norm > 0.0 ? R_WB(1, 0) / heading_norm : 0.0;
+  const Eigen::Matrix2d to_heading{{cos_yaw, sin_yaw}, {-sin_yaw, cos_yaw}};
   error.head<2>() = to_heading * Eigen::Vector2d(error.head<2>());
   error.segment<2>(3) = to_heading * Eigen::Vector2d(error.segment<2>(3));
   error(6) = euler.x() - roll_ref;
   error(7) = euler.y() - pitch_ref;
-  error(8) = WrapAngle(euler.z());
+  error(8) = euler.z();  // atan2: already in [−π, π], the reference heading being 0
   error.tail<3>() = state.w_WB_B;
   const Eigen::Vector4d u = -solution_.K * error;
   Wrench wrench;

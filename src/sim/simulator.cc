@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -225,6 +226,9 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   std::string reason;
   auto event = [&](double t, std::string what) { result.events.push_back({t, std::move(what)}); };
 
+  // tilt > max_tilt ⇔ cos(tilt) < cos(max_tilt) for tilts in [0, π] (max_tilt > 0 is validated).
+  const double cos_max_tilt = std::cos(std::min(opt.max_tilt, std::numbers::pi));
+  double min_cos_tilt = 1.0;
   int step = 0;
   double t = 0.0;
   for (;; ++step) {
@@ -353,9 +357,9 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
     result.min_cell_voltage_v = std::min(result.min_cell_voltage_v, pack_step.outputs.min_cell_voltage_v);
 
     // ---- rotor failure detection and isolation (IMM) ------------------------------------------------
+    const Eigen::Matrix3d R_WB = body.q_WB.toRotationMatrix();
     if (imm.isolated_rotor() == 0) {
       ImmMeasurement measurement;
-      const Eigen::Matrix3d R_WB = body.q_WB.toRotationMatrix();
       const Eigen::Vector3d specific_force_W = (body.v_WB_W - previous.v_WB_W) / dt - Eigen::Vector3d(0, 0, kGravity);
       measurement.gyro_B = body.w_WB_B;
       measurement.specific_force_z_B = (R_WB.transpose() * specific_force_W).z();
@@ -375,10 +379,11 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
     }
 
     // ---- telemetry ------------------------------------------------------------------------------------
-    const Eigen::Matrix3d R_WB = body.q_WB.toRotationMatrix();
-    const double tilt = TiltAngle(R_WB);
+    // The tilt enters through its cosine R_WB(2, 2) (acos is decreasing): the largest tilt is the acos of
+    // the smallest cosine, taken once at the end.
+    const double cos_tilt = R_WB(2, 2);
     const double tracking_error = (body.p_WB_W - reference.p_W).norm();
-    result.max_tilt = std::max(result.max_tilt, tilt);
+    min_cos_tilt = std::min(min_cos_tilt, cos_tilt);
     result.max_tracking_error = std::max(result.max_tracking_error, tracking_error);
     if (run.record_telemetry && step % steps_per_row == 0) {
       TelemetryRow row;
@@ -423,9 +428,10 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
                            pack_step.outputs.min_cell_voltage_v);
       break;
     }
-    if (tilt > opt.max_tilt || tracking_error > opt.max_tracking_error) {
+    if (cos_tilt < cos_max_tilt || tracking_error > opt.max_tracking_error) {
       outcome = Outcome::kFailedControl;
-      reason = fmt::format("tilt {:.0f} deg, tracking error {:.1f} m", tilt * kDegreesPerRadian, tracking_error);
+      reason = fmt::format("tilt {:.0f} deg, tracking error {:.1f} m", TiltAngle(R_WB) * kDegreesPerRadian,
+                           tracking_error);
       break;
     }
     const double plan_left = plan->TimeRemaining(now - plan_start);
@@ -463,6 +469,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
       break;
     }
   }
+  result.max_tilt = std::acos(std::clamp(min_cos_tilt, -1.0, 1.0));
   result.outcome = outcome;
   result.reason = reason;
   result.sim_time_s = (step + 1) * dt;
