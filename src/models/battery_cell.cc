@@ -92,6 +92,7 @@ SelfCorrectingCell::SelfCorrectingCell(const CellParams& params, OcvTable ocv, c
   inverse_capacity_per_as_ = 1.0 / capacity_as_;
   for (int j = 0; j < params_.rc_pair_count; ++j) {
     rc_rate_per_s_[j] = 1.0 / (params_.rc[j].resistance_ohm * params_.rc[j].capacitance_f);
+    rc_resistance_ohm_[j] = params_.rc[j].resistance_ohm;
   }
 }
 
@@ -100,13 +101,13 @@ double SelfCorrectingCell::CalcTerminalVoltage(const CellState& state, double cu
   const double s = current_a != 0.0 ? -Sign(current_a) : state.hysteresis_sign;
   double v = ocv_v + params_.hysteresis_m0_v * s + params_.hysteresis_m_v * state.hysteresis -
              params_.r0_ohm * current_a;
-  for (int j = 0; j < params_.rc_pair_count; ++j) v -= params_.rc[j].resistance_ohm * state.rc_current_a[j];
+  for (int j = 0; j < kMaxRcPairs; ++j) v -= rc_resistance_ohm_[j] * state.rc_current_a[j];
   return v;
 }
 
 SelfCorrectingCell::RcDecay SelfCorrectingCell::CalcRcDecay(double dt_s) const {
   RcDecay decay{};
-  for (int j = 0; j < params_.rc_pair_count; ++j) decay[j] = std::exp(-dt_s * rc_rate_per_s_[j]);
+  for (int j = 0; j < kMaxRcPairs; ++j) decay[j] = std::exp(-dt_s * rc_rate_per_s_[j]);
   return decay;
 }
 
@@ -124,7 +125,7 @@ CellState SelfCorrectingCell::Step(const CellState& state, double current_a, dou
   next.soc_fraction = state.soc_fraction - charge_as * inverse_capacity_per_as_;
   // Each RC pair is a first-order lag of the current with time constant R_j C_j; under a zero-order-held
   // current its exact discrete form is eq. 3.1, F_j = exp(−Δt / (R_j C_j)).
-  for (int j = 0; j < params_.rc_pair_count; ++j) {
+  for (int j = 0; j < kMaxRcPairs; ++j) {
     const double f = rc_decay[j];
     next.rc_current_a[j] = f * state.rc_current_a[j] + (1.0 - f) * current_a;
   }

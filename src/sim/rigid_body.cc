@@ -36,18 +36,23 @@ bool RigidBodyParams::IsValid(std::string* error) const {
 RigidBodyRates CalcRigidBodyRates(const RigidBodyParams& params, const models::DragTable& drag,
                                   const RigidBodyState& state, const BodyInputs& inputs) {
   RigidBodyRates rates;
-  // The quaternion is not unit inside an RK4 stage: normalise for the rotation only.
-  const Eigen::Matrix3d R_WB = state.q_WB.normalized().toRotationMatrix();
+  const Eigen::Quaterniond& q = state.q_WB;
+  // Only z_B in W is needed, the third column of R_WB. The quaternion is not unit inside an integrator
+  // stage: the column of the normalised rotation is that of q divided by |q|².
+  const double inverse_norm2 = 1.0 / q.squaredNorm();
+  const Eigen::Vector3d z_B_W = inverse_norm2 * Eigen::Vector3d(2.0 * (q.x() * q.z() + q.w() * q.y()),
+                                                                2.0 * (q.y() * q.z() - q.w() * q.x()),
+                                                                q.w() * q.w() - q.x() * q.x() - q.y() * q.y() +
+                                                                    q.z() * q.z());
   const Eigen::Vector3d v_air_W = state.v_WB_W - inputs.wind_W;
   const double airspeed = v_air_W.norm();
   if (airspeed > 1e-9) {
-    const double incidence = std::asin(std::clamp(v_air_W.dot(R_WB.col(2)) / airspeed, -1.0, 1.0));
+    const double incidence = std::asin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
     rates.drag_W = -drag.Drag(airspeed, incidence) / airspeed * v_air_W;
   }
   rates.p_dot = state.v_WB_W;
-  rates.v_dot = R_WB.col(2) * (-inputs.total_thrust / params.mass) + Eigen::Vector3d(0, 0, kGravity) +
+  rates.v_dot = z_B_W * (-inputs.total_thrust / params.mass) + Eigen::Vector3d(0, 0, kGravity) +
                 rates.drag_W / params.mass;
-  const Eigen::Quaterniond& q = state.q_WB;
   const Eigen::Vector3d& w = state.w_WB_B;
   // q̇ = ½ q ⊗ (0, w), written out as (w, x, y, z).
   rates.q_dot = 0.5 * Eigen::Vector4d(-q.x() * w.x() - q.y() * w.y() - q.z() * w.z(),

@@ -128,7 +128,10 @@ class SelfCorrectingCell {
   OcvTable ocv_;
   double capacity_as_ = 0.0;
   double inverse_capacity_per_as_ = 0.0;  // 1 / Q
+  // Per pair, 0 beyond rc_pair_count: an unused pair has F = 1 and i_R = 0 for ever, so the step and the
+  // voltage run over all kMaxRcPairs without a data-dependent loop.
   std::array<double, kMaxRcPairs> rc_rate_per_s_{};
+  std::array<double, kMaxRcPairs> rc_resistance_ohm_{};
 };
 
 }  // namespace uascma::models
