@@ -71,7 +71,7 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
   double failure_total = 0.0;
   for (int i = 1; i < kImmModes; ++i) failure_total += probability_[i];
   predicted[0] = (1.0 - 6.0 * eps) * probability_[0] + delta * failure_total;
-  std::array<double, kImmModes> weight_into_nominal;  // μ_{i|0}
+  Lanes weight_into_nominal = Lanes::Zero();  // μ_{i|0}; 0 in the idle lane
   weight_into_nominal[0] = (1.0 - 6.0 * eps) * probability_[0] / predicted[0];
   for (int i = 1; i < kImmModes; ++i) weight_into_nominal[i] = delta * probability_[i] / predicted[0];
   from_nominal[0] = 0.0;  // lane 0 is overwritten below by the full mix; the idle lane 7 copies mode 0
@@ -92,12 +92,9 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
     const Lanes d = r[0] - r;
     mixed_rate[axis] = from_nominal * r[0] + from_self * r;
     mixed_variance[axis] = from_nominal * v[0] + from_self * v + from_nominal * from_self * d * d;
-    double mean0 = 0.0;
-    for (int i = 0; i < kImmModes; ++i) mean0 += weight_into_nominal[i] * r[i];
-    double var0 = 0.0;
-    for (int i = 0; i < kImmModes; ++i) var0 += weight_into_nominal[i] * (v[i] + (r[i] - mean0) * (r[i] - mean0));
+    const double mean0 = (weight_into_nominal * r).sum();
     mixed_rate[axis][0] = mean0;
-    mixed_variance[axis][0] = var0;
+    mixed_variance[axis][0] = (weight_into_nominal * (v + (r - mean0).square())).sum();
   }
 
   // Each mode's thrust and torques: the believed wrench less rotor j's share (lane j's mixing column).
