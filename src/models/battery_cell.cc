@@ -13,8 +13,6 @@ namespace {
 
 constexpr double kSecondsPerHour = 3600.0;
 
-double Sign(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }
-
 }  // namespace
 
 bool CellParams::IsValid(std::string* error) const {
@@ -96,15 +94,6 @@ SelfCorrectingCell::SelfCorrectingCell(const CellParams& params, OcvTable ocv, c
   }
 }
 
-double SelfCorrectingCell::CalcTerminalVoltage(const CellState& state, double current_a, double ocv_v) const {
-  // s = −sgn(i) while current flows, else the sign the cell last saw (Plett).
-  const double s = current_a != 0.0 ? -Sign(current_a) : state.hysteresis_sign;
-  double v = ocv_v + params_.hysteresis_m0_v * s + params_.hysteresis_m_v * state.hysteresis -
-             params_.r0_ohm * current_a;
-  for (int j = 0; j < kMaxRcPairs; ++j) v -= rc_resistance_ohm_[j] * state.rc_current_a[j];
-  return v;
-}
-
 SelfCorrectingCell::RcDecay SelfCorrectingCell::CalcRcDecay(double dt_s) const {
   RcDecay decay{};
   for (int j = 0; j < kMaxRcPairs; ++j) decay[j] = std::exp(-dt_s * rc_rate_per_s_[j]);
@@ -113,31 +102,6 @@ SelfCorrectingCell::RcDecay SelfCorrectingCell::CalcRcDecay(double dt_s) const {
 
 CellState SelfCorrectingCell::Step(const CellState& state, double current_a, double dt_s) const {
   return Step(state, current_a, dt_s, CalcRcDecay(dt_s));
-}
-
-CellState SelfCorrectingCell::Step(const CellState& state, double current_a, double dt_s,
-                                   const RcDecay& rc_decay) const {
-  UASCMA_DCHECK(dt_s >= 0.0, "a step of negative length");
-  const double eta = CalcEfficiency(current_a);
-  CellState next = state;
-  // Coulomb counting: exact for a constant current.
-  const double charge_as = eta * current_a * dt_s;  // η i Δt
-  next.soc_fraction = state.soc_fraction - charge_as * inverse_capacity_per_as_;
-  // Each RC pair is a first-order lag of the current with time constant R_j C_j; under a zero-order-held
-  // current its exact discrete form is eq. 3.1, F_j = exp(−Δt / (R_j C_j)).
-  for (int j = 0; j < kMaxRcPairs; ++j) {
-    const double f = rc_decay[j];
-    next.rc_current_a[j] = f * state.rc_current_a[j] + (1.0 - f) * current_a;
-  }
-  // dh/dt = −|η i γ / Q| (h + sgn(i)): h relaxes towards −sgn(i) at a rate set by the charge moved;
-  // exact: h' = A_H h + (A_H − 1) sgn(i) (eq. 3.2). At a 5 ms step |η i γ Δt / Q| is ~1e-4: CalcExpDecay.
-  if (current_a != 0.0) {
-    const ExpDecay a_h = CalcExpDecay(std::abs(charge_as * params_.hysteresis_gamma * inverse_capacity_per_as_));
-    const double sign = Sign(current_a);
-    next.hysteresis = a_h.factor * state.hysteresis - a_h.complement * sign;
-    next.hysteresis_sign = -sign;
-  }
-  return next;
 }
 
 CellState SelfCorrectingCell::MakeRestingState(double rest_voltage_v, const std::string& source) const {
