@@ -90,12 +90,6 @@ bool PropulsionParams::IsValid(std::string* error) const {
   return true;
 }
 
-double CalcRotorThrust(const PropulsionParams& params, double rotor_speed) {
-  // Eq. 2.1 with Table 2.1's C_T, which is per RPM².
-  const double rpm = RadPerSecondToRpm(rotor_speed);
-  return params.thrust_coefficient_n_per_rpm2 * rpm * rpm;
-}
-
 double CalcRotorTorque(const PropulsionParams& params, double rotor_speed) {
   // Eq. 2.2 with Table 2.1's C_Q, which is per RPM².
   const double rpm = RadPerSecondToRpm(rotor_speed);
@@ -105,12 +99,6 @@ double CalcRotorTorque(const PropulsionParams& params, double rotor_speed) {
 double CalcMechanicalPower(const PropulsionParams& params, double rotor_speed) {
   // Eq. 2.9: P_mech = Q ω, with ω in rad/s (this is eq. 2.3's C_P ω³).
   return CalcRotorTorque(params, rotor_speed) * rotor_speed;
-}
-
-double CalcRotorSpeedForThrust(const PropulsionParams& params, double thrust) {
-  if (thrust <= 0.0) return 0.0;
-  // Invert eq. 2.1 in RPM, where C_T is given, then convert.
-  return RpmToRadPerSecond(std::sqrt(thrust / params.thrust_coefficient_n_per_rpm2));
 }
 
 double CalcYawTorquePerThrust(const PropulsionParams& params) {

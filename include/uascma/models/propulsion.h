@@ -23,6 +23,7 @@
 //
 // Thread safety: every function is pure; parameters are plain values.
 #include <array>
+#include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -119,13 +120,21 @@ struct PropulsionParams {
 
 // --- the rotor equations (pure kernels) ----------------------------------------------------------
 // Thrust (N) of one rotor turning at `rotor_speed` rad/s, eq. 2.1.
-double CalcRotorThrust(const PropulsionParams& params, double rotor_speed);
+inline double CalcRotorThrust(const PropulsionParams& params, double rotor_speed) {
+  // Eq. 2.1 with Table 2.1's C_T, which is per RPM².
+  const double rpm = RadPerSecondToRpm(rotor_speed);
+  return params.thrust_coefficient_n_per_rpm2 * rpm * rpm;
+}
 // Reaction-torque magnitude (N·m) on the body about the rotor axis, eq. 2.2.
 double CalcRotorTorque(const PropulsionParams& params, double rotor_speed);
 // Shaft (mechanical) power (W), eqs. 2.3 and 2.9: Q ω.
 double CalcMechanicalPower(const PropulsionParams& params, double rotor_speed);
 // Inverse of eq. 2.1: the rotor speed (rad/s) giving `thrust` N (thrust ≤ 0 gives 0).
-double CalcRotorSpeedForThrust(const PropulsionParams& params, double thrust);
+inline double CalcRotorSpeedForThrust(const PropulsionParams& params, double thrust) {
+  if (thrust <= 0.0) return 0.0;
+  // Invert eq. 2.1 in RPM, where C_T is given, then convert.
+  return RpmToRadPerSecond(std::sqrt(thrust / params.thrust_coefficient_n_per_rpm2));
+}
 // The yaw-torque-to-thrust ratio γ = C_Q / C_T (m) of eqs. 2.7 and 4.11.
 double CalcYawTorquePerThrust(const PropulsionParams& params);
 // Electrical power (W) one rotor draws at `thrust` N (defaults.md power law; thrust ≤ 0 gives 0).
