@@ -1,6 +1,7 @@
 #include "uascma/models/drag.h"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -24,6 +25,11 @@ double UniformStep(const std::vector<double>& axis) {
 
 }  // namespace
 
+DragTable::Axis::Axis(std::vector<double> axis_values, double uniform_step)
+    : values(std::move(axis_values)), inverse_uniform_step(uniform_step > 0.0 ? 1.0 / uniform_step : 0.0) {
+  for (std::size_t i = 0; i + 1 < values.size(); ++i) inverse_width.push_back(1.0 / (values[i + 1] - values[i]));
+}
+
 // Index i with values[i] <= x < values[i+1] (clamped to the table), and the fraction within the cell.
 void DragTable::Axis::Locate(double x, int* index, double* fraction) const {
   const int last_cell = static_cast<int>(values.size()) - 2;
@@ -37,12 +43,12 @@ void DragTable::Axis::Locate(double x, int* index, double* fraction) const {
     *fraction = 1.0;
     return;
   }
-  if (uniform_step > 0.0) {
-    *index = std::min(static_cast<int>((x - values.front()) / uniform_step), last_cell);
+  if (inverse_uniform_step > 0.0) {
+    *index = std::min(static_cast<int>((x - values.front()) * inverse_uniform_step), last_cell);
   } else {
     *index = static_cast<int>(std::upper_bound(values.begin(), values.end(), x) - values.begin()) - 1;
   }
-  *fraction = (x - values[*index]) / (values[*index + 1] - values[*index]);
+  *fraction = (x - values[*index]) * inverse_width[*index];
 }
 
 DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_rad, std::vector<double> drag_n,
@@ -64,8 +70,8 @@ DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_
   for (double d : drag_) {
     if (!std::isfinite(d) || d < 0.0) throw InputError(source, "table", "finite non-negative drag values (N)");
   }
-  airspeed_axis_ = {airspeeds_, UniformStep(airspeeds_)};
-  pitch_axis_ = {pitches_, UniformStep(pitches_)};
+  airspeed_axis_ = Axis(airspeeds_, UniformStep(airspeeds_));
+  pitch_axis_ = Axis(pitches_, UniformStep(pitches_));
 }
 
 DragTable DragTable::Default(PropellerConfiguration configuration) {

@@ -241,11 +241,14 @@ AllocationResult Mixer::Allocate(const BodyWrench& commanded, int failed_motor) 
     const double missing_yaw = commanded(3) - c.mixing.row(3).dot(thrusts);
     const RotorThrusts yaw_step = c.yaw_direction * missing_yaw;
     double scale = 1.0;
+    // scale = min over rotors of room / step: divide only where the room is the tighter bound (rarely).
     for (int i = 0; i < kRotorCount; ++i) {
       if (yaw_step(i) > 0.0) {
-        scale = std::min(scale, (max_thrust - thrusts(i)) / yaw_step(i));
+        const double room = max_thrust - thrusts(i);
+        if (room < scale * yaw_step(i)) scale = std::min(scale, room / yaw_step(i));
       } else if (yaw_step(i) < 0.0) {
-        scale = std::min(scale, -thrusts(i) / yaw_step(i));
+        const double room = -thrusts(i);
+        if (room > scale * yaw_step(i)) scale = std::min(scale, room / yaw_step(i));
       }
     }
     result.yaw_scale = std::max(scale, 0.0);

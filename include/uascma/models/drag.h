@@ -33,10 +33,13 @@ class DragTable {
 
  private:
   double At(int i, int j) const { return drag_[static_cast<std::size_t>(i) * pitches_.size() + j]; }
-  // An axis with its uniform spacing when it has one (then a lookup is one division, not a search).
+  // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search).
   struct Axis {
+    Axis() = default;
+    Axis(std::vector<double> axis_values, double uniform_step);
     std::vector<double> values;
-    double uniform_step = 0.0;  // 0 when the spacing is not uniform
+    double inverse_uniform_step = 0.0;  // 1 / the uniform spacing; 0 when the spacing is not uniform
+    std::vector<double> inverse_width;  // [cell] 1 / (values[i+1] − values[i])
     void Locate(double x, int* index, double* fraction) const;
   };
   Axis airspeed_axis_, pitch_axis_;
