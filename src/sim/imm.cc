@@ -82,6 +82,7 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
     from_nominal[j] = eps * probability_[0] / predicted[j];
   }
   const Lanes from_self = 1.0 - from_nominal;  // μ_{j|j}
+  const Lanes spread_weight = from_nominal * from_self;
 
   // Mixed rates and variances. For the two-term mixes of modes j ≥ 1 (d = r_0 − r_j):
   //   mean = μ0 r_0 + μj r_j,  var = μ0 v_0 + μj v_j + μ0 μj d²   (μ0 + μj = 1).
@@ -91,7 +92,7 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
     const Lanes& v = variance_[axis];
     const Lanes d = r[0] - r;
     mixed_rate[axis] = from_nominal * r[0] + from_self * r;
-    mixed_variance[axis] = from_nominal * v[0] + from_self * v + from_nominal * from_self * d * d;
+    mixed_variance[axis] = from_nominal * v[0] + from_self * v + spread_weight * d.square();
     const double mean0 = (weight_into_nominal * r).sum();
     mixed_rate[axis][0] = mean0;
     mixed_variance[axis][0] = (weight_into_nominal * (v + (r - mean0).square())).sum();

@@ -13,15 +13,19 @@ struct ExpDecay {
 };
 
 // Below kExpDecaySeriesLimit the complement is the Taylor series x − x²/2! + … ± xⁿ/n! in Horner form,
-// n = 8 for x < 1/32 and n = 5 for x < 1/1024 (the usual case): the first omitted term, relative to the
-// sum, is below x⁸/9! < 2.4e-18 and x⁵/6! < 1.2e-18 respectively, far under half an ulp. Above the limit,
-// libm's exp and expm1.
+// n = 5 for x < 1/1024, 6 for x < 1/128 (the usual cases at 5 ms), 8 for x < 1/32: the first omitted
+// term relative to the sum, xⁿ/(n+1)!, stays below 1.2e-18, 4.5e-17 and 2.4e-18, under half an ulp
+// (5.6e-17). Above the limit, libm's exp and expm1.
 inline constexpr double kExpDecaySeriesLimit = 1.0 / 32.0;
 
 inline ExpDecay CalcExpDecay(double x) {
   constexpr double k3 = 1.0 / 3, k5 = 1.0 / 5, k6 = 1.0 / 6, k7 = 1.0 / 7;
   if (x >= 0.0 && x < 1.0 / 1024.0) {
     const double c = x * (1 - x * 0.5 * (1 - x * k3 * (1 - x * 0.25 * (1 - x * k5))));
+    return {1.0 - c, c};
+  }
+  if (x >= 0.0 && x < 1.0 / 128.0) {
+    const double c = x * (1 - x * 0.5 * (1 - x * k3 * (1 - x * 0.25 * (1 - x * k5 * (1 - x * k6)))));
     return {1.0 - c, c};
   }
   if (x >= 0.0 && x < kExpDecaySeriesLimit) {
