@@ -216,11 +216,11 @@ PackStepResult BatteryPack::StepWithOutputs(const PackState& state, double total
                                             const FixedStep& step) const {
   PackStepResult result;
   result.outputs = CalcOutputs(state, total_current_a);
-  result.next = state;
+  result.next.branch_on = state.branch_on;
   for (int b = 0; b < kBranchCount; ++b) {
+    const double current_a = result.outputs.split.current_a[b];
     for (int c = 0; c < kCellsPerBranch; ++c) {
-      result.next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], result.outputs.split.current_a[b], step.dt_s,
-                                                  step.rc_decay[b][c]);
+      result.next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], current_a, step.dt_s, step.rc_decay[b][c]);
     }
   }
   return result;
