@@ -112,7 +112,7 @@ FlightPlan FlightPlan::Through(const Eigen::Vector3d& start_W, const std::vector
       segment.accel_time = profile.accel_time;
       segment.duration = profile.duration;
       time += segment.duration;
-      plan.segments_.push_back(segment);
+      plan.Append(segment);
     }
     if (waypoint.hover_after_s > 0.0) {
       PlanSegment hover;
@@ -122,11 +122,20 @@ FlightPlan FlightPlan::Through(const Eigen::Vector3d& start_W, const std::vector
       hover.start_time = time;
       hover.duration = waypoint.hover_after_s;
       time += hover.duration;
-      plan.segments_.push_back(hover);
+      plan.Append(hover);
     }
     from = waypoint.p_W;
   }
   return plan;
+}
+
+void FlightPlan::Append(const PlanSegment& segment) {
+  const Eigen::Vector3d delta = segment.end_W - segment.start_W;
+  const double length = delta.norm();
+  segments_.push_back(segment);
+  length_.push_back(length);
+  direction_W_.push_back(segment.kind == PlanSegment::Kind::kHover || length == 0.0 ? Eigen::Vector3d::Zero()
+                                                                                   : Eigen::Vector3d(delta / length));
 }
 
 PlanReference FlightPlan::At(double time) const {
@@ -147,11 +156,10 @@ PlanReference FlightPlan::At(double time) const {
     reference.p_W = segment.end_W;
     return reference;
   }
-  const Eigen::Vector3d delta = segment.end_W - segment.start_W;
-  const double length = delta.norm();
-  const Eigen::Vector3d direction = delta / length;
+  const int index = reference.segment;
+  const Eigen::Vector3d& direction = direction_W_[index];
   double distance, speed, accel;
-  Trapezoid(segment, length, time - segment.start_time, &distance, &speed, &accel);
+  Trapezoid(segment, length_[index], time - segment.start_time, &distance, &speed, &accel);
   reference.p_W = segment.start_W + distance * direction;
   reference.v_W = speed * direction;
   reference.a_W = accel * direction;

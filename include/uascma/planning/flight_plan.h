@@ -78,7 +78,11 @@ class FlightPlan {
   Eigen::Vector3d PointAtDistance(double distance) const;
 
  private:
+  void Append(const PlanSegment& segment);
   std::vector<PlanSegment> segments_;
+  // Per segment, derived once for At() (called at 200 Hz): the unit direction (0 for a hover) and length.
+  std::vector<Eigen::Vector3d> direction_W_;
+  std::vector<double> length_;
 };
 
 struct DeliveryMission {
