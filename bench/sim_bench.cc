@@ -1,5 +1,5 @@
 // Simulator speed (issue: the hexacopter flight simulator): a full 15-minute delivery mission at full
-// fidelity — 200 Hz GNC (LQR, allocation, rotor lag, RK4 6-DOF with drag and Dryden gusts), the 7-mode
+// fidelity — 200 Hz GNC (LQR, allocation, rotor lag, midpoint 6-DOF with drag and Dryden gusts), the 7-mode
 // IMM every step, the battery pack every step, EOD/RUL/decisions at 1 Hz — without telemetry recording.
 // Target: ≥ 10,000× real time on one core (< 90 ms per flight). Reported as counters:
 //   sim_s (simulated seconds), realtime_factor (sim_s / wall s).
