@@ -1,7 +1,5 @@
 // uascma report — statistics of a stored campaign (dissertation §5.5.3, Figs. 5.30-5.32): per policy and
 // battery health, outcome rates and reward metrics with standard errors; text, JSON and plots.
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -12,7 +10,6 @@
 #include "plotting.h"
 #include "uascma/campaign/report.h"
 #include "uascma/common/error.h"
-#include "uascma/common/files.h"
 
 namespace uascma::cli {
 
@@ -36,16 +33,7 @@ void AddReportCommand(CLI::App& app) {
       std::error_code ec;
       std::filesystem::create_directories(*plots, ec);
       if (!std::filesystem::is_directory(*plots, ec)) throw InputError("--plots", *plots, "a folder it can create");
-      const auto data = std::filesystem::temp_directory_path() /
-                        ("uascma_campaign_report_" + std::to_string(::getpid()) + ".json");
-      WriteFileAtomically(data, document.dump());
-      try {
-        RunPlotScript("campaign_report.py", {data.string(), *plots});
-      } catch (...) {
-        std::filesystem::remove(data, ec);
-        throw;
-      }
-      std::filesystem::remove(data, ec);
+      PlotJson("campaign_report.py", document, *plots);
     }
     if (*json) {
       PrintJson(document);

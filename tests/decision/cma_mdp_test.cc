@@ -1,5 +1,6 @@
 #include <cmath>
 #include <filesystem>
+#include <vector>
 #include <fstream>
 #include <map>
 
@@ -157,8 +158,16 @@ class CmaConfigFileTest : public ::testing::Test {
                       ("uascma_cma_config_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
                        "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
     std::ofstream(path) << text;
+    written_.push_back(path);
     return path;
   }
+  void TearDown() override {
+    std::error_code ec;
+    for (const auto& path : written_) std::filesystem::remove(path, ec);
+  }
+
+ private:
+  std::vector<std::filesystem::path> written_;
 };
 
 TEST_F(CmaConfigFileTest, DefaultsRoundTripThroughYaml) {
