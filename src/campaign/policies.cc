@@ -8,7 +8,6 @@
 #include "uascma/common/hash.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/policy_file.h"
-#include "uascma/decision/solvers.h"
 
 namespace uascma::campaign {
 namespace {
@@ -43,14 +42,7 @@ CampaignPolicy NoOpCampaignPolicy() {
 }
 
 CampaignPolicy SolvedCmaPolicy() {
-  const decision::CmaConfig config;  // eqs. 5.28–5.29, γ = 0.95 (decisions items 4–5)
-  const decision::FiniteMdp mdp = decision::BuildCmaMdp(config.weights);
-  decision::ValueIterationOptions options;
-  options.gamma = config.gamma;
-  decision::SolverSummary summary;
-  decision::Policy solved = decision::SolveValueIteration(mdp, options, &summary);
-  UASCMA_CHECK(summary.status == decision::SolverStatus::kConverged, "the CMA MDP must converge");
-  return TablePolicyOf("cma", "cma default weights", std::move(solved.action));
+  return TablePolicyOf("cma", "cma default weights", decision::SolveDefaultCmaPolicy().action);
 }
 
 CampaignPolicy PolicyFromFile(const std::string& path) {

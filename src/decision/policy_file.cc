@@ -167,4 +167,14 @@ Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weigh
   return BindPolicy(document, CmaModelForPolicy(document, weights_file, path.string()), path.string());
 }
 
+Policy SolveDefaultCmaPolicy() {
+  const CmaConfig config;
+  ValueIterationOptions options;
+  options.gamma = config.gamma;
+  SolverSummary summary;
+  Policy solved = SolveValueIteration(BuildCmaMdp(config.weights), options, &summary);
+  UASCMA_CHECK(summary.status == SolverStatus::kConverged, "the CMA MDP must converge");
+  return solved;
+}
+
 }  // namespace uascma::decision

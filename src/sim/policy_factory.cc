@@ -3,18 +3,13 @@
 #include <filesystem>
 
 #include "uascma/common/error.h"
-#include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/policy_file.h"
-#include "uascma/decision/solvers.h"
 
 namespace uascma::sim {
 
 std::unique_ptr<DecisionPolicy> MakePolicy(const std::string& spec, const std::string& source) {
   if (spec == "noop") return std::make_unique<NoOpPolicy>();
-  if (spec == "cma") {
-    const decision::Policy solved = decision::SolveValueIteration(decision::BuildCmaMdp({}), {});
-    return std::make_unique<TablePolicy>(solved.action, "cma");
-  }
+  if (spec == "cma") return std::make_unique<TablePolicy>(decision::SolveDefaultCmaPolicy().action, "cma");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(spec, ec)) {
     throw InputError(source, "policy", "noop, cma or an existing policy JSON file, got '" + spec + "'");

@@ -57,5 +57,8 @@ FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& w
                             const std::string& source);
 // Reads a CMA policy file and binds it to its model (hash checked): the action and value per state.
 Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file = "");
+// The policy every command calls "cma": the CMA MDP with the dissertation's weights (eqs. 5.28–5.29) and
+// γ = 0.95 (decisions items 4–5), solved by value iteration.
+Policy SolveDefaultCmaPolicy();
 
 }  // namespace uascma::decision
