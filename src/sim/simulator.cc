@@ -323,6 +323,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
     const double voltage_ratio = std::min(1.0, bus_voltage / opt.reference_bus_voltage_v);
     const double thrust_cap = propulsion_.max_thrust * voltage_ratio * voltage_ratio;
     models::RotorThrusts thrust, believed;
+    const double inverse_bus_voltage = 1.0 / std::max(bus_voltage, 1.0);
     double motors_current = 0.0;
     std::array<double, 6> rotor_current{};
     for (int i = 0; i < 6; ++i) {
@@ -332,7 +333,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
       rotor_speed[i] = (i + 1 == jammed_rotor) ? 0.0 : lag.Step(rotor_speed[i], speed_command);
       thrust[i] = models::CalcRotorThrust(propulsion_, rotor_speed[i]);
       believed[i] = models::CalcRotorThrust(propulsion_, believed_speed[i]);
-      rotor_current[i] = electrical_power_.Power(thrust[i]) / std::max(bus_voltage, 1.0);
+      rotor_current[i] = electrical_power_.Power(thrust[i]) * inverse_bus_voltage;
       motors_current += rotor_current[i];
     }
     const models::BodyWrench achieved = mixer_.mixing_matrix(models::kNoFailedMotor) * thrust;

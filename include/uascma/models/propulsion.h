@@ -34,7 +34,8 @@ namespace uascma::models {
 // --- unit conversion at the edges ----------------------------------------------------------------
 inline constexpr double kRadPerSecondPerRpm = 2.0 * std::numbers::pi / 60.0;
 constexpr double RpmToRadPerSecond(double rpm) { return rpm * kRadPerSecondPerRpm; }
-constexpr double RadPerSecondToRpm(double rotor_speed) { return rotor_speed / kRadPerSecondPerRpm; }
+inline constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * std::numbers::pi);
+constexpr double RadPerSecondToRpm(double rotor_speed) { return rotor_speed * kRpmPerRadPerSecond; }
 
 // --- configuration ------------------------------------------------------------------------------
 // Propeller mounting (§2.4, Fig. 2.4): tractor (propeller above the arm, pulling) or pusher
