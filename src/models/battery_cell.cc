@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 
-#include "uascma/common/decay.h"
 #include "uascma/common/error.h"
 #include "uascma/models/battery_cell.h"
 

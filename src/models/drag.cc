@@ -1,10 +1,10 @@
 #include "uascma/models/drag.h"
 
 #include <algorithm>
-#include <utility>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 

@@ -13,7 +13,8 @@
 // where (T_j, τ_j) = M_j · thrusts and M_j is the hexacopter mixing matrix with column j zeroed. The
 // three axes are filtered independently (diagonal covariances). The modes are stored as eight lanes (the
 // seven modes and one idle lane) so that every per-mode line is four SSE2 operations with no remainder:
-// one cycle of all seven modes takes about half a microsecond, a quarter of a 200 Hz simulator step.
+// one cycle of all seven modes takes about 110 ns, a quarter of a simulator step (measured with callgrind
+// and bench/sim_bench: the IMM is ~23 % of a 476 ns step).
 #include <Eigen/Core>
 
 #include <array>
