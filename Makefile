@@ -3,7 +3,12 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: deps configure build demo test bench clean
+.PHONY: deps configure build demo test bench clean check-sanitizers fuzz
+# `make check-sanitizers`: the whole suite under ASan + UBSan in its own build folder (issue 16).
+SANITIZE_BUILD_DIR ?= build-asan
+# `make fuzz FUZZ_SECONDS=N`: every parser's libFuzzer harness for N seconds, one after the other.
+FUZZ_BUILD_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
 
 deps:
 	bash scripts/install-deps.sh
@@ -22,6 +27,12 @@ test: build
 
 bench: build
 	bash scripts/bench.sh $(BUILD_DIR)
+
+check-sanitizers: deps
+	bash scripts/check-sanitizers.sh $(SANITIZE_BUILD_DIR) $(JOBS)
+
+fuzz: deps
+	bash scripts/fuzz.sh $(FUZZ_BUILD_DIR) $(FUZZ_SECONDS) $(JOBS)
 
 clean:
 	rm -rf $(BUILD_DIR)

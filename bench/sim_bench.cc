@@ -5,6 +5,7 @@
 //   sim_s (simulated seconds), realtime_factor (sim_s / wall s).
 #include <benchmark/benchmark.h>
 
+#include "uascma/sim/environment.h"
 #include "uascma/sim/simulator.h"
 
 namespace {
@@ -43,6 +44,26 @@ void BM_FifteenMinuteMission(benchmark::State& state) {
       benchmark::Counter(result.sim_time_s * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_FifteenMinuteMission)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+// The same flight through the decision environment (issue 10: stepping by epochs costs no more than Run): Reset,
+// then Step(NoOp) at every 1 Hz epoch, with the observation and the reward computed each time.
+void BM_FifteenMinuteMissionByEpochs(benchmark::State& state) {
+  const sim::Scenario scenario = FifteenMinuteMission();
+  sim::DecisionEnvironment environment(scenario);
+  double simulated = 0.0;
+  for (auto _ : state) {
+    environment.Reset(scenario.seed);
+    sim::EnvironmentStep step;
+    do step = environment.Step(decision::CmaAction::kNoOp); while (!step.done);
+    simulated = environment.state().time_s;
+    benchmark::DoNotOptimize(step.reward);
+    if (step.outcome != sim::Outcome::kCompleted) state.SkipWithError("the benchmark mission did not complete");
+  }
+  state.counters["sim_s"] = simulated;
+  state.counters["realtime_factor"] =
+      benchmark::Counter(simulated * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_FifteenMinuteMissionByEpochs)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 }  // namespace
 

@@ -6,3 +6,8 @@ for bench in "$build"/bench/*_bench; do
   echo "== $(basename "$bench")"
   "$bench" --benchmark_min_time=0.2
 done
+# The Python module's overhead (bench/python_env_bench.py), when the build has the module.
+if [[ -f "$build/python/uascma/__init__.py" ]]; then
+  echo "== python_env_bench"
+  PYTHONPATH="$build/python" /usr/bin/python3 "$(dirname "$0")/../bench/python_env_bench.py"
+fi

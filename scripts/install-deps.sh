@@ -10,8 +10,11 @@ packages=(
   libsqlite3-dev libtbb-dev
   libopenmpi-dev openmpi-bin
   libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
+  libboost-math-dev
   libosmium2-dev libprotozero-dev libexpat1-dev libbz2-dev zlib1g-dev libproj-dev
   python3-matplotlib python3-numpy
+  clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-pandas python3-pytest
 )
 
 missing=()

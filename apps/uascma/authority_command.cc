@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "uascma/common/error.h"
@@ -15,6 +16,13 @@
 #include "uascma/models/mixer.h"
 
 namespace uascma::cli {
+namespace {
+// Our bounds: a small UAS weighs under 25 kg (55 lb, the FAA Part 107 limit); a thrust-to-weight ratio
+// of 4 at 25 kg is ~1000 N (the hexacopter of Table 2.2 gives 27-31 N).
+constexpr Bounds kMassBounds{0.05, 25.0, "kg"};
+constexpr Bounds kTotalThrustBounds{0.1, 1000.0, "N"};
+constexpr Bounds kFailedMotorsBounds{0.0, 1.0, "motors"};
+}  // namespace
 
 void AddAuthorityCommand(CLI::App& app) {
   struct Options {
@@ -29,15 +37,17 @@ void AddAuthorityCommand(CLI::App& app) {
       "Largest roll/pitch square (|roll| = |pitch| <= a, degrees) within which the vehicle holds altitude:\n"
       "m g / (cos(roll) cos(pitch)) must be deliverable with zero torque by the rotors left after the\n"
       "failure rule (a failed motor and its opposite off, §4.4.1). Dissertation §4.4.2, Figs. 4.14-4.16");
-  command->add_option("--failed-motors", options->failed_motors,
-                      "Number of failed motors: 0 (hexacopter) or 1 (quadcopter on the 4 remaining rotors;\n"
-                      "the reconfiguration of §4.4 handles a single failure)")
+  AddBoundedOption(command, "--failed-motors", options->failed_motors,
+                   "Number of failed motors: 0 (hexacopter) or 1 (quadcopter on the 4 remaining rotors;\n"
+                   "the reconfiguration of §4.4 handles a single failure)",
+                   kFailedMotorsBounds)
       ->required();
-  command->add_option("--total-thrust-n", options->total_thrust_n,
-                      "Total thrust of the healthy hexacopter, all six rotors at maximum (N); each rotor\n"
-                      "gives a sixth (Fig. 4.14: 24 N)")
+  AddBoundedOption(command, "--total-thrust-n", options->total_thrust_n,
+                   "Total thrust of the healthy hexacopter, all six rotors at maximum (N); each rotor\n"
+                   "gives a sixth (Fig. 4.14: 24 N)",
+                   kTotalThrustBounds)
       ->required();
-  command->add_option("--mass-kg", options->mass_kg, "Vehicle mass (kg)")->required();
+  AddBoundedOption(command, "--mass-kg", options->mass_kg, "Vehicle mass (kg)", kMassBounds)->required();
   command->add_flag("--json", options->json, "Print {\"max_angle_deg\", \"failed_motors\", ...} as JSON");
   command->callback([options] {
     if (options->failed_motors < 0 || options->failed_motors > 1) {
@@ -46,13 +56,8 @@ void AddAuthorityCommand(CLI::App& app) {
                                    "failure only), got {}",
                                    options->failed_motors));
     }
-    if (!(std::isfinite(options->total_thrust_n) && options->total_thrust_n > 0.0)) {
-      throw InputError("--total-thrust-n", "value",
-                       fmt::format("the hexacopter's total thrust, finite and > 0 N, got {}", options->total_thrust_n));
-    }
-    if (!(std::isfinite(options->mass_kg) && options->mass_kg > 0.0)) {
-      throw InputError("--mass-kg", "value", fmt::format("a mass, finite and > 0 kg, got {}", options->mass_kg));
-    }
+    RequireWithin(options->total_thrust_n, kTotalThrustBounds, "--total-thrust-n", "value");
+    RequireWithin(options->mass_kg, kMassBounds, "--mass-kg", "value");
     models::MixerParams params;
     params.max_rotor_thrust = options->total_thrust_n / models::kRotorCount;
     const models::Mixer mixer(params);

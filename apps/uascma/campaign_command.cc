@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "uascma/campaign/config.h"
@@ -45,32 +46,22 @@ std::vector<std::string> SplitList(const std::string& text) {
   return items;
 }
 
-std::uint64_t ParseSeed(const std::string& text) {
-  std::size_t used = 0;
-  unsigned long long value = 0;
-  try {
-    value = std::stoull(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || text[0] == '-') {
-    throw InputError("--seed", "value", "a non-negative integer, got '" + text + "'");
-  }
-  return value;
-}
+// Our bounds: --jobs 0 (all cores) to 1024 threads; --commit-every 10 ms to one hour.
+constexpr Bounds kJobsBounds{0.0, 1024.0, "threads"};
+constexpr Bounds kCommitEveryBounds{0.01, 3600.0, "s"};
 
 void Run(const CampaignOptions& options, MpiSession& mpi) {
   CampaignConfig config = options.file.empty() ? CampaignConfig{} : LoadCampaignConfig(options.file);
   std::string policies_source = options.file.empty() ? "--policies" : options.file;
   if (options.runs >= 0) config.runs = options.runs;
-  if (!options.seed.empty()) config.seed = ParseSeed(options.seed);
+  if (!options.seed.empty()) config.seed = ParseSeed(options.seed, "--seed", "value");
   if (!options.policies.empty()) {
     config.policies = SplitList(options.policies);
     policies_source = "--policies";
   }
   std::string error;
   if (!config.IsValid(&error)) throw InputError("campaign: " + error);
-  if (!(options.commit_every_s > 0.0)) throw InputError("--commit-every", "value", "a positive number of seconds");
+  RequireWithin(options.commit_every_s, kCommitEveryBounds, "--commit-every", "value");
 
   CampaignRequest request;
   request.config = config;
@@ -94,6 +85,7 @@ void Run(const CampaignOptions& options, MpiSession& mpi) {
                    {"flights_total", outcome.flights_total},
                    {"flights_before", outcome.flights_before},
                    {"flights_flown", outcome.flights_flown},
+                   {"flights_by_others", outcome.flights_by_others},
                    {"wall_time_s", outcome.wall_time_s},
                    {"flights_per_s", rate},
                    {"jobs_per_rank", outcome.jobs},
@@ -101,10 +93,11 @@ void Run(const CampaignOptions& options, MpiSession& mpi) {
     PrintJson(json);
     return;
   }
-  std::printf("flew %lld flights (%lld already stored, %lld in the campaign) in %.1f s: %.1f flights/s on %d "
-              "rank%s x %d thread%s; results in %s\n\n%s",
+  std::printf("flew %lld flights (%lld already stored, %lld flown meanwhile by other processes, %lld in the "
+              "campaign) in %.1f s: %.1f flights/s on %d rank%s x %d thread%s; results in %s\n\n%s",
               static_cast<long long>(outcome.flights_flown), static_cast<long long>(outcome.flights_before),
-              static_cast<long long>(outcome.flights_total), outcome.wall_time_s, rate, outcome.ranks,
+              static_cast<long long>(outcome.flights_by_others), static_cast<long long>(outcome.flights_total),
+              outcome.wall_time_s, rate, outcome.ranks,
               outcome.ranks == 1 ? "" : "s", outcome.jobs, outcome.jobs == 1 ? "" : "s", options.db.c_str(),
               CampaignReportText(report).c_str());
 }
@@ -120,18 +113,19 @@ void AddCampaignCommand(CLI::App& app) {
       "flight in SQLite. Resumable (--resume); parallel on threads and, under mpirun, across ranks");
   command->add_option("campaign", options->file,
                       "Campaign YAML file (default: the dissertation's settings; see examples/campaign.yaml)");
-  command->add_option("--runs", options->runs, "Sampled scenarios, each flown by every policy (default: the file's runs, else 465)")
-      ->check(CLI::NonNegativeNumber);
+  AddBoundedOption(command, "--runs", options->runs,
+                   "Sampled scenarios, each flown by every policy (default: the file's runs, else 465)", bounds::kRuns);
   command->add_option("--policies", options->policies,
                       "Comma-separated: cma (solved at start, default weights), noop, or policy JSON files\n(default: the file's policies, else cma,noop)");
-  command->add_option("--seed", options->seed, "Campaign seed (default: the file's seed, else 1)");
-  command->add_option("--db", options->db, "SQLite results file (created; with --resume, continued)")->required();
-  command->add_option("--jobs", options->jobs, "Worker threads per process (default: all cores, shared by ranks)")
-      ->check(CLI::NonNegativeNumber);
+  AddSeedOption(command, "--seed", options->seed, "Campaign seed (default: the file's seed, else 1)");
+  command->add_option("--db", options->db, "SQLite results file (created; with --resume, continued; processes of one machine may share it)")->required();
+  AddBoundedOption(command, "--jobs", options->jobs, "Worker threads per process (default 0: all cores, shared by ranks)",
+                   kJobsBounds);
   command->add_flag("--resume", options->resume, "Continue the campaign stored in --db where it stopped");
   command->add_flag("--json", options->json, "Print the summary as JSON");
-  command->add_option("--commit-every", options->commit_every_s,
-                      "Seconds between commits of finished flights (default 2; a kill loses at most this)");
+  AddBoundedOption(command, "--commit-every", options->commit_every_s,
+                   "Seconds between commits of finished flights (default 2; a kill loses at most this)",
+                   kCommitEveryBounds);
   command->callback([options] {
     int quiet_exit = 0;
     {

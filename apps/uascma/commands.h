@@ -16,5 +16,6 @@ void AddFootprintCommand(CLI::App& app);  // footprint_command.cc
 void AddCampaignCommand(CLI::App& app);   // campaign_command.cc
 void AddReportCommand(CLI::App& app);     // report_command.cc
 void AddMapCommand(CLI::App& app);        // map_command.cc
+void AddBatteryCommand(CLI::App& app);    // battery_command.cc
 
 }  // namespace uascma::cli

@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "uascma/common/error.h"
@@ -57,21 +58,19 @@ std::string FormatDuration(double seconds) {
   return fmt::format("{:.1f} s = {:.0f} min {:.1f} s", seconds, minutes, seconds - 60.0 * minutes);
 }
 
+// --reference-dt-s: 0 (off), else 1 ms to 60 s (our bound: below 1 ms a day's horizon takes 10^8 steps;
+// above 60 s the fixed step no longer resolves a discharge of minutes).
+constexpr Bounds kReferenceStepBounds{0.001, 60.0, "s"};
+
 void Run(const EodCommandOptions& options) {
-  if (!(std::isfinite(options.current_a) && options.current_a >= 0.0)) {
-    throw InputError("--current-a", "value", fmt::format("a discharge current >= 0 A, got {}", options.current_a));
-  }
-  if (!std::isfinite(options.temp_degf)) {
-    throw InputError("--temp-degf", "value", fmt::format("a temperature in °F, got {}", options.temp_degf));
-  }
-  if (!(std::isfinite(options.cutoff_v) && options.cutoff_v > 0.0)) {
-    throw InputError("--cutoff-v", "value", fmt::format("a positive voltage, got {}", options.cutoff_v));
-  }
-  if (!(std::isfinite(options.horizon_s) && options.horizon_s > 0.0)) {
-    throw InputError("--horizon-s", "value", fmt::format("a positive time, got {}", options.horizon_s));
-  }
-  if (!(std::isfinite(options.reference_dt_s) && options.reference_dt_s >= 0.0)) {
-    throw InputError("--reference-dt-s", "value", fmt::format("a positive step, got {}", options.reference_dt_s));
+  // The CLI checked each option against its bounds; EodOptions::IsValid holds the same ones for callers
+  // of the library.
+  RequireWithin(options.current_a, kPackCurrentBounds, "--current-a", "value");
+  RequireWithin(options.temp_degf, kAmbientTemperatureBounds, "--temp-degf", "value");
+  RequireWithin(options.cutoff_v, kCutoffVoltageBounds, "--cutoff-v", "value");
+  RequireWithin(options.horizon_s, EodOptions::kHorizonBounds, "--horizon-s", "value");
+  if (options.reference_dt_s != 0.0) {
+    RequireWithin(options.reference_dt_s, kReferenceStepBounds, "--reference-dt-s", "value");
   }
   const HealthClass health = ParseHealthClass(options.health, "--health");
   const PackAction use = ParsePackAction(options.use, "--use");
@@ -84,6 +83,14 @@ void Run(const EodCommandOptions& options) {
   eod_options.horizon_s = options.horizon_s;
   const EodResult result = CalcPackEod(pack, state, options.current_a, eod_options);
   const PackOutputs now = pack.CalcOutputs(state, options.current_a);
+  // The packs' internal resistance limits what they deliver: a current that would pull the bus to 0 V or
+  // below is one these cells cannot supply (issue 16: 10^9 A printed a negative bus voltage).
+  if (!(now.split.bus_voltage_v > 0.0)) {
+    throw InputError("--current-a", "value",
+                     fmt::format("a current these packs can deliver at {} V per cell ({} A would pull the bus "
+                                 "to {:.2f} V)",
+                                 options.initial_cell_voltage_v, options.current_a, now.split.bus_voltage_v));
+  }
   const double soc = state.cells[0][0].soc_fraction;
 
   nlohmann::json document = {
@@ -153,20 +160,29 @@ void AddEodCommand(CLI::App& app) {
       "propagating every cell's Enhanced Self-Correcting model (eqs. 3.1-3.3) with the branch split of\n"
       "eqs. 3.4-3.7. Health applies Table 3.2 to every cell: G none, M power fade (R0 x2), P power and\n"
       "capacity fade (R0 x2, Q x0.8); below 50 °F R0 x1.5 as well");
-  command->add_option("--current-a", options->current_a, "Total discharge current drawn from the battery, A (>= 0)")
+  AddBoundedOption(command, "--current-a", options->current_a,
+                   "Total discharge current drawn from the battery, A (up to I_max, Table 4.1)", kPackCurrentBounds)
       ->required();
   command->add_option("--initial-cell-voltage", options->initial_cell_voltage_v,
                       "Rest voltage of every cell, V, within the OCV table (default 4.1; Table 4.4: 4.05-4.12)");
   command->add_option("--health", options->health, "G | M | P (default G; see above)");
-  command->add_option("--temp-degf", options->temp_degf,
-                      "Ambient temperature, °F (default 77, room temperature: an estimate)");
+  AddBoundedOption(command, "--temp-degf", options->temp_degf,
+                   "Ambient temperature, °F (default 77, room temperature: an estimate)", kAmbientTemperatureBounds);
   command->add_option("--use", options->use, "UseBoth | UseBatt1 | UseBatt2 (Table 4.3; default UseBoth)");
   command->add_option("--ocv-csv", options->ocv_csv,
                       "OCV(SOC) table as CSV with header 'soc_percent,ocv_v' (default: shared/spec/defaults.md)");
-  command->add_option("--cutoff-v", options->cutoff_v, "Cell cut-off voltage, V (default 3.3, §3.3.2.1)");
-  command->add_option("--horizon-s", options->horizon_s, "Longest EOD searched, s (default 86400)");
+  AddBoundedOption(command, "--cutoff-v", options->cutoff_v, "Cell cut-off voltage, V (default 3.3, §3.3.2.1)",
+                   kCutoffVoltageBounds);
+  AddBoundedOption(command, "--horizon-s", options->horizon_s, "Longest EOD searched, s (default 86400)",
+                   EodOptions::kHorizonBounds);
   command->add_option("--reference-dt-s", options->reference_dt_s,
-                      "Also run the fixed-step reference integration with this step, s, and compare");
+                      "Also run the fixed-step reference integration with this step, s, and compare [0 (off), or " +
+                          kReferenceStepBounds.Text() + "]")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            return text == "0" ? std::string() : BoundsValidator(kReferenceStepBounds)(text);
+          },
+          "STEP"));
   command->add_flag("--json", options->json,
                     "Print JSON: eod_s (a number), status, limiting_cell {pack, cell} (1-based) or null, inputs");
   command->callback([options] { Run(*options); });

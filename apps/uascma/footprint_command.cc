@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "bounded_option.h"
 #include "output.h"
 #include "plotting.h"
 #include "uascma/common/error.h"
@@ -31,6 +32,19 @@ using planning::FootprintStatus;
 constexpr int kPlotSweepCount = 10;  // footprints drawn by --plot: [1 s,] EOD/10, 2 EOD/10, …, EOD
 constexpr double kPlotShortestEod = 1.0;  // s: Fig. 5.4 starts at 1 s, where the footprint is a cone ahead
 
+// Plausibility bounds of the options (issue 16). Ours unless cited: speeds up to 30 m/s (Table 4.4 samples
+// 1-9 m/s, the drag table spans 0-10 m/s); EOD up to two hours (the packs hover ~15 min); a small UAS
+// under 25 kg (FAA Part 107) with a thrust-to-weight ratio up to 4 (~1000 N); tilt 1-89 degrees (90 cannot
+// hold altitude); a drag slope up to 100 N*s/m (the default table's is ~1 N*s/m at 10 m/s); the series
+// order of the existing check, 0 (exact) to 30.
+constexpr Bounds kSpeedBounds{0.0, 30.0, "m/s"};
+constexpr Bounds kEodBounds{0.0, 7200.0, "s"};
+constexpr Bounds kMassBounds{0.05, 25.0, "kg"};
+constexpr Bounds kThrustBounds{0.1, 1000.0, "N"};
+constexpr Bounds kTiltBounds{1.0, 89.0, "deg"};
+constexpr Bounds kDragSlopeBounds{0.0, 100.0, "N*s/m"};
+constexpr Bounds kMaclaurinBounds{0.0, 30.0, ""};
+
 struct Options {
   double speed_mps = std::nan("");
   double eod_s = std::nan("");
@@ -48,14 +62,12 @@ void Require(bool condition, const char* option, const std::string& expected, do
 }
 
 FootprintParams ResolveParams(const Options& o) {
-  Require(std::isfinite(o.speed_mps) && o.speed_mps >= 0.0, "--speed-mps", "a finite speed >= 0 m/s", o.speed_mps);
-  Require(std::isfinite(o.eod_s) && o.eod_s >= 0.0, "--eod-s", "a finite End of Discharge time >= 0 s", o.eod_s);
-  Require(std::isfinite(o.mass_kg) && o.mass_kg > 0.0, "--mass-kg", "a finite mass > 0 kg", o.mass_kg);
-  Require(std::isfinite(o.thrust_n) && o.thrust_n > 0.0, "--thrust-n", "a finite available thrust > 0 N", o.thrust_n);
-  Require(std::isfinite(o.max_tilt_deg) && o.max_tilt_deg > 0.0 && o.max_tilt_deg < 90.0, "--max-tilt-deg",
-          "a tilt limit in (0, 90) degrees", o.max_tilt_deg);
-  Require(o.maclaurin >= 0 && o.maclaurin <= 30, "--maclaurin", "a series order in [1, 30] (omit for exact exp)",
-          o.maclaurin);
+  RequireWithin(o.speed_mps, kSpeedBounds, "--speed-mps", "value");
+  RequireWithin(o.eod_s, kEodBounds, "--eod-s", "value");
+  RequireWithin(o.mass_kg, kMassBounds, "--mass-kg", "value");
+  RequireWithin(o.thrust_n, kThrustBounds, "--thrust-n", "value");
+  RequireWithin(o.max_tilt_deg, kTiltBounds, "--max-tilt-deg", "value");
+  RequireWithin(o.maclaurin, kMaclaurinBounds, "--maclaurin", "value");
   FootprintParams params;
   params.initial_speed = o.speed_mps;
   params.eod = o.eod_s;
@@ -67,8 +79,7 @@ FootprintParams ResolveParams(const Options& o) {
     const auto table = models::DragTable::Default(models::PropellerConfiguration::kTractor);
     params.drag_slope = planning::CruiseDragSlope(table, o.speed_mps, o.mass_kg);
   } else {
-    Require(std::isfinite(o.drag_slope) && o.drag_slope >= 0.0, "--drag-slope", "a finite drag slope >= 0 N*s/m",
-            o.drag_slope);
+    RequireWithin(o.drag_slope, kDragSlopeBounds, "--drag-slope", "value");
     params.drag_slope = o.drag_slope;
   }
   Require(o.maclaurin == 0 || params.drag_slope > 0.0, "--drag-slope",
@@ -127,18 +138,21 @@ void AddFootprintCommand(CLI::App& app) {
       "(PMP, eqs. 5.3-5.11) bounded by the tilt limit and the available thrust, simulated until the End of\n"
       "Discharge. Prints the forward, backward and lateral limits (m, heading frame: x along the velocity,\n"
       "y to the right) and the ellipse inscribed in them");
-  command->add_option("--speed-mps", options->speed_mps, "Initial horizontal speed v_init, m/s (>= 0)")->required();
-  command->add_option("--eod-s", options->eod_s, "Battery End of Discharge time, s (>= 0)")->required();
-  command->add_option("--mass-kg", options->mass_kg, "Vehicle mass, kg (default 1.3, defaults.md)");
-  command->add_option("--thrust-n", options->thrust_n,
-                      "Available total thrust T_avail, N (default 26.85, Table 2.2 tractor at 1900 us)");
-  command->add_option("--max-tilt-deg", options->max_tilt_deg,
-                      "Pitch/roll limit, degrees in (0, 90) (default 30, the wind-tunnel data's range)");
-  command->add_option("--drag-slope", options->drag_slope,
-                      "Linear drag coefficient d_x of eq. 5.1, N*s/m (default: slope of the default tractor\n"
-                      "drag table at --speed-mps and the trim pitch, defaults.md)");
-  command->add_option("--maclaurin", options->maclaurin,
-                      "Replace exp by its order-N Maclaurin series as the dissertation did (N = 5); default exact");
+  AddBoundedOption(command, "--speed-mps", options->speed_mps, "Initial horizontal speed v_init, m/s", kSpeedBounds)
+      ->required();
+  AddBoundedOption(command, "--eod-s", options->eod_s, "Battery End of Discharge time, s", kEodBounds)->required();
+  AddBoundedOption(command, "--mass-kg", options->mass_kg, "Vehicle mass, kg (default 1.3, defaults.md)", kMassBounds);
+  AddBoundedOption(command, "--thrust-n", options->thrust_n,
+                   "Available total thrust T_avail, N (default 26.85, Table 2.2 tractor at 1900 us)", kThrustBounds);
+  AddBoundedOption(command, "--max-tilt-deg", options->max_tilt_deg,
+                   "Pitch/roll limit, degrees (default 30, the wind-tunnel data's range)", kTiltBounds);
+  AddBoundedOption(command, "--drag-slope", options->drag_slope,
+                   "Linear drag coefficient d_x of eq. 5.1, N*s/m (default: slope of the default tractor\n"
+                   "drag table at --speed-mps and the trim pitch, defaults.md)",
+                   kDragSlopeBounds);
+  AddBoundedOption(command, "--maclaurin", options->maclaurin,
+                   "Replace exp by its order-N Maclaurin series as the dissertation did (N = 5); default 0, exact",
+                   kMaclaurinBounds);
   command->add_flag("--json", options->json, "Print the limits, the shape and the bounds as JSON");
   command->add_option("--plot", options->plot,
                       "Also draw the footprints for EOD/10, 2 EOD/10, ..., EOD (and 1 s if shorter) like Fig. 5.4\n"

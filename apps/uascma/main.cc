@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   uascma::cli::AddCampaignCommand(app);
   uascma::cli::AddReportCommand(app);
   uascma::cli::AddMapCommand(app);
+  uascma::cli::AddBatteryCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "bounded_option.h"
 #include "output.h"
 #include "plotting.h"
 #include "uascma/common/error.h"
@@ -24,6 +25,9 @@
 
 namespace uascma::cli {
 namespace {
+
+// Storey height for --height-from-levels: 1 to 10 m (our bound; a typical floor is ~3 m, map_import.h).
+constexpr Bounds kMetresPerLevelBounds{1.0, 10.0, "m"};
 
 using namespace uascma::planning;
 
@@ -173,17 +177,13 @@ void AddInfo(CLI::App* map_command) {
   command->add_option("--sites", options->sites,
                       "Landing-site CSV: osm_id, lat|gps.lat, lon|gps.lon, alt|gps.alt, risk|landing_site_risk, radius");
   command->add_option("--origin", options->origin, "Origin of the local frame, LAT,LON in degrees");
-  command->add_option("--seed", options->seed, "Seed of the procedural city (no FILE), 0 to 2^64-1 (default 1)")
-      ->check(CLI::Validator(  // CLI11 would otherwise wrap -1 to 2^64-1
-          [](const std::string& value) {
-            return value.starts_with('-') ? "a seed from 0 to 2^64-1, got " + value : std::string();
-          },
-          "SEED"));
+  AddSeedOption(command, "--seed", options->seed, "Seed of the procedural city (no FILE) (default 1)");
   command->add_flag("--skip-missing-height", options->skip_missing_height,
                     "Skip (and count) buildings without a height instead of stopping with an error");
   command->add_flag("--height-from-levels", options->height_from_levels,
                     "Take a missing height from building:levels x --metres-per-level");
-  command->add_option("--metres-per-level", options->metres_per_level, "Storey height for --height-from-levels (default 3 m)");
+  AddBoundedOption(command, "--metres-per-level", options->metres_per_level,
+                   "Storey height for --height-from-levels (default 3 m)", kMetresPerLevelBounds);
   command->add_flag("--list-skipped", options->list_skipped, "List every skipped feature (text output)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->add_option("--plot", options->plot,
@@ -208,10 +208,7 @@ void AddInfo(CLI::App* map_command) {
       import.skip_missing_height = options->skip_missing_height;
       import.height_from_levels = options->height_from_levels;
       import.metres_per_level = options->metres_per_level;
-      if (!(options->metres_per_level > 0.0)) {
-        throw InputError("--metres-per-level", "value", fmt::format("a positive storey height in metres, got {}",
-                                                                    options->metres_per_level));
-      }
+      RequireWithin(options->metres_per_level, kMetresPerLevelBounds, "--metres-per-level", "value");
       if (!options->origin.empty()) import.origin = ParseOrigin(options->origin);
       const std::vector<std::filesystem::path> files(options->files.begin(), options->files.end());
       ImportedMap imported = ImportCityMap(files, options->sites, import);

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "plotting.h"
@@ -35,16 +36,14 @@ void AddModelOptions(CLI::App* command, ModelOptions& options, bool with_gamma) 
   command->add_option("--weights", options.weights_file,
                       "YAML file of reward weights and gamma (default: eqs. 5.28-5.29, gamma 0.95)");
   if (with_gamma) {
-    command->add_option("--gamma", options.gamma, "Discount factor in [0, 1) (overrides the file)");
+    AddBoundedOption(command, "--gamma", options.gamma, "Discount factor (overrides the file)", kGammaBounds);
   }
 }
 
 CmaConfig ResolveConfig(const ModelOptions& options) {
   CmaConfig config = options.weights_file.empty() ? CmaConfig{} : LoadCmaConfig(options.weights_file);
   if (!std::isnan(options.gamma)) {
-    if (!(options.gamma >= 0.0 && options.gamma < 1.0)) {
-      throw InputError("--gamma", "value", fmt::format("a discount factor in [0, 1), got {}", options.gamma));
-    }
+    RequireWithin(options.gamma, kGammaBounds, "--gamma", "value");
     config.gamma = options.gamma;
   }
   return config;
@@ -213,6 +212,9 @@ void AddShow(CLI::App* policy) {
 }
 
 // --- policy sensitivity ------------------------------------------------------------------------
+// Our bound: a step of 1e-4 re-solves the MDP at most 10^4 + 1 times (~0.1 s).
+constexpr Bounds kSensitivityStepBounds{1e-4, 1.0, ""};
+
 void AddSensitivity(CLI::App* policy) {
   struct Options {
     ModelOptions model;
@@ -229,14 +231,14 @@ void AddSensitivity(CLI::App* policy) {
   command->add_option("--weight", options->weight,
                       "Weight to sweep: C FL T E NoOp Terminate LandASAP LandPract FS MH MM BH RM")
       ->required();
-  command->add_option("--from", options->from, "First value")->required();
-  command->add_option("--to", options->to, "Last value")->required();
-  command->add_option("--step", options->step, "Step (> 0)")->required();
+  AddBoundedOption(command, "--from", options->from, "First value", kCmaWeightBounds)->required();
+  AddBoundedOption(command, "--to", options->to, "Last value (>= --from)", kCmaWeightBounds)->required();
+  AddBoundedOption(command, "--step", options->step, "Step", kSensitivityStepBounds)->required();
   command->add_flag("--json", options->json, "Print the sweep as JSON");
   command->callback([options] {
     const CmaConfig base = ResolveConfig(options->model);
     base.weights.Get(options->weight);  // validates the name
-    if (!(options->step > 0.0)) throw InputError("--step", "value", "a positive step");
+    RequireWithin(options->step, kSensitivityStepBounds, "--step", "value");
     if (!(options->from >= 0.0 && options->to <= 1.0 && options->from <= options->to)) {
       throw InputError("--from/--to", "range", "0 <= from <= to <= 1");
     }

@@ -10,6 +10,7 @@
 #include "plotting.h"
 #include "uascma/campaign/report.h"
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 
 namespace uascma::cli {
 
@@ -24,16 +25,17 @@ void AddReportCommand(CLI::App& app) {
       "average and minimum reward per time step with SEMs (Figs. 5.30-5.32), beside the dissertation's");
   command->add_option("db", *file, "SQLite file written by 'uascma campaign'")->required();
   command->add_flag("--json", *json, "Print the statistics as JSON");
-  command->add_option("--plots", *plots, "Draw bar charts with error bars (Figs. 5.30-5.32) into this folder");
+  command->add_option("--plots", *plots,
+                      "Draw bar charts with error bars (Figs. 5.30-5.32) into this folder; it then holds only\n"
+                      "this run's charts (a new, empty, or earlier uascma output folder; any other is refused)");
   command->callback([file, json, plots] {
     const campaign::ResultsStore store = campaign::ResultsStore::Open(*file);
     const campaign::CampaignReport report = campaign::MakeCampaignReport(store);
     const nlohmann::json document = campaign::CampaignReportJson(report);
     if (!plots->empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(*plots, ec);
-      if (!std::filesystem::is_directory(*plots, ec)) throw InputError("--plots", *plots, "a folder it can create");
-      PlotJson("campaign_report.py", document, *plots);
+      OutputDirectory folder("--plots", *plots);
+      PlotJson("campaign_report.py", document, folder.staging().string());
+      folder.Commit();
     }
     if (*json) {
       PrintJson(document);

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "uascma/common/error.h"
@@ -21,6 +22,7 @@ using namespace uascma::prognostics;
 
 // Our bound on --particles and --runs: 10⁷ samples take ~80 MB and some tens of seconds; more is a typo.
 constexpr int kMaxSamples = 10'000'000;
+constexpr Bounds kSampleBounds{1.0, kMaxSamples, ""};
 
 // Sub-streams of --seed: the RUL particles and the jam-probability histories draw independently, so
 // changing --runs does not change the RUL distribution and vice versa.
@@ -51,26 +53,20 @@ void AddRulCommand(CLI::App& app) {
       "n 1, zero-mean parameter noise): the RUL distribution of the particles from the initial spall\n"
       "and the per-second jam probability measured over spall histories as Table 5.4's 0.002809 was\n"
       "(jams per spalled 1 s epoch)");
-  command->add_option("--particles", options->particles, "Particles of the RUL distribution (default 100, §3.4.1)");
-  command->add_option("--seed", options->seed, "Seed of the random streams, 0 to 2^64-1 (default 1)")
-      ->check(CLI::Validator(  // CLI11 would otherwise wrap -1 to 2^64-1
-          [](const std::string& value) {
-            return value.starts_with('-') ? "a seed from 0 to 2^64-1, got " + value : std::string();
-          },
-          "SEED"));
-  command->add_option("--runs", options->runs,
-                      "Spall histories for the jam probability (default 1000, as in §5.3.2.3)");
-  command->add_option("--time-per-step", options->time_per_step_s,
-                      fmt::format("Seconds per growth step (default {}: calibrated to Table 5.4, decisions item 15)",
-                                  SpallGrowthParams{}.time_per_growth_step_s));
+  AddBoundedOption(command, "--particles", options->particles, "Particles of the RUL distribution (default 100, §3.4.1)",
+                   kSampleBounds);
+  AddSeedOption(command, "--seed", options->seed, "Seed of the random streams (default 1)");
+  AddBoundedOption(command, "--runs", options->runs,
+                   "Spall histories for the jam probability (default 1000, as in §5.3.2.3)", kSampleBounds);
+  AddBoundedOption(command, "--time-per-step", options->time_per_step_s,
+                   fmt::format("Seconds per growth step (default {}: calibrated to Table 5.4, decisions item 15)",
+                               SpallGrowthParams{}.time_per_growth_step_s),
+                   SpallGrowthParams::kTimePerGrowthStepBounds);
   command->add_flag("--json", options->json, "Print the result as JSON");
   command->callback([options] {
     RequireCount(options->particles, "--particles", "particles");
     RequireCount(options->runs, "--runs", "runs");
-    if (!(std::isfinite(options->time_per_step_s) && options->time_per_step_s > 0.0)) {
-      throw InputError("--time-per-step", "value",
-                       fmt::format("a positive time in seconds, got {}", options->time_per_step_s));
-    }
+    RequireWithin(options->time_per_step_s, SpallGrowthParams::kTimePerGrowthStepBounds, "--time-per-step", "value");
     SpallGrowthParams params;
     params.particles = options->particles;
     params.time_per_growth_step_s = options->time_per_step_s;

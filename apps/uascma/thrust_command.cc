@@ -7,12 +7,18 @@
 
 #include <fmt/format.h>
 
+#include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "uascma/common/error.h"
 #include "uascma/models/propulsion.h"
 
 namespace uascma::cli {
+namespace {
+// The whole vehicle's electrical power: 0 to 1300 W, the battery's I_max of 105 A (Table 4.1) at a full
+// 3S pack's 12.6 V; Table 2.2 measures 578-581 W at full throttle.
+constexpr Bounds kVehiclePowerBounds{0.0, 1300.0, "W"};
+}  // namespace
 
 void AddThrustCommand(CLI::App& app) {
   struct Options {
@@ -28,10 +34,13 @@ void AddThrustCommand(CLI::App& app) {
       "draws the given electrical power (dissertation §2.5.3.1: each motor gets P/6, eq. 2.12 gives its\n"
       "RPM, eq. 2.1 its thrust, times six)");
   command->add_option("--config", options->config, "tractor | pusher (Table 2.1 coefficients)")->required();
-  command->add_option("--throttle-us", options->throttle_us,
-                      "Throttle command in microseconds, within the fitted 1100-1900 us")
+  const models::RpmEstimatorParams fit = models::PropulsionParams{}.rpm_estimator;
+  AddBoundedOption(command, "--throttle-us", options->throttle_us,
+                   "Throttle command in microseconds, within the fitted range (§2.5.2)",
+                   Bounds{fit.min_throttle_us, fit.max_throttle_us, "us"})
       ->required();
-  command->add_option("--power-w", options->power_w, "Electrical power of the WHOLE hexacopter in watts, >= 0")
+  AddBoundedOption(command, "--power-w", options->power_w, "Electrical power of the WHOLE hexacopter in watts",
+                   kVehiclePowerBounds)
       ->required();
   command->add_flag("--json", options->json, "Print {\"thrust_n\", \"rpm\", ...} as JSON");
   command->callback([options] {
@@ -45,10 +54,7 @@ void AddThrustCommand(CLI::App& app) {
                        fmt::format("a throttle command within the fitted {}-{} us (§2.5.2), got {}",
                                    fit.min_throttle_us, fit.max_throttle_us, options->throttle_us));
     }
-    if (!(std::isfinite(options->power_w) && options->power_w >= 0.0)) {
-      throw InputError("--power-w", "value",
-                       fmt::format("the hexacopter's electrical power, finite and >= 0 W, got {}", options->power_w));
-    }
+    RequireWithin(options->power_w, kVehiclePowerBounds, "--power-w", "value");
     const models::StaticThrustEstimate estimate =
         models::EstimateStaticThrust(params, options->throttle_us, options->power_w);
     if (options->json) {

@@ -1,15 +1,19 @@
 #!/usr/bin/python3
 """Draws the statistics of a Monte Carlo campaign as Figs. 5.30-5.32 of the dissertation do: bars per
-battery health (G, M, P) and policy, with the standard error of the mean as error bars.
+battery health (G, M, P) and policy. Rates carry their 95 % Wilson interval as error bars (the SEM of
+Figs. 5.30-5.31 is 0 +- 0 at 0 % or 100 %, the Wilson interval is not); rewards carry the SEM. Every bar is
+labelled with its n (flights), and the failure-rate plot prints McNemar's paired p-value per health group.
 
 Usage: campaign_report.py REPORT.json OUT_DIR
 REPORT.json is `uascma report DB --json`. Writes into OUT_DIR:
-  failure_rate.png      Fig. 5.30  failure rate +- SEM
-  completion_rate.png   Fig. 5.31  original flight plan completion rate +- SEM
+  failure_rate.png      Fig. 5.30  failure rate, 95 % Wilson interval, n per bar, McNemar p per group
+  completion_rate.png   Fig. 5.31  original flight plan completion rate, 95 % Wilson interval
   rewards.png           Fig. 5.32  average reward per time step and minimum instantaneous reward +- SEM
-  outcomes.png          every outcome rate (failure, completion, emergency landing, termination)
+  outcomes.png          every outcome rate (failure, completion, emergency landing, termination, grounded)
+  failure_causes.png    failures by cause (battery, loss of control, collision, timeout, other), stacked
 """
 import json
+import math
 import os
 import sys
 
@@ -21,6 +25,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 HEALTHS = ["G", "M", "P"]
 HEALTH_LABELS = {"G": "Good", "M": "Medium", "P": "Poor"}
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"]
+CAUSES = [("battery", "battery"), ("loss_of_control", "loss of control"), ("collision", "collision"),
+          ("timeout", "timeout"), ("other", "other")]
+CAUSE_COLOURS = ["#ff7f0e", "#9467bd", "#8c564b", "#7f7f7f", "#bcbd22"]
 
 
 def value(group, key):
@@ -28,22 +35,83 @@ def value(group, key):
     return float("nan") if v is None else v
 
 
+def offsets(count):
+    width = 0.8 / max(1, count)
+    return width, [(i - (count - 1) / 2) * width for i in range(count)]
+
+
 def bars(ax, report, key, scale=1.0, ylabel=""):
+    """Bars of `key` per health and policy; Wilson error bars when the report has them, else the SEM."""
     policies = report["policy_order"]
-    width = 0.8 / max(1, len(policies))
+    width, shift = offsets(len(policies))
     for i, policy in enumerate(policies):
         groups = report["policies"][policy]
-        xs = [h + (i - (len(policies) - 1) / 2) * width for h in range(len(HEALTHS))]
+        xs = [h + shift[i] for h in range(len(HEALTHS))]
         ys = [scale * value(groups[h], key) for h in HEALTHS]
-        es = [scale * value(groups[h], key + "_sem") for h in HEALTHS]
-        ax.bar(xs, ys, width, yerr=es, capsize=4, color=COLOURS[i % len(COLOURS)],
+        if key + "_wilson_low" in groups[HEALTHS[0]]:
+            lows = [scale * value(groups[h], key + "_wilson_low") for h in HEALTHS]
+            highs = [scale * value(groups[h], key + "_wilson_high") for h in HEALTHS]
+            errors = [[0 if math.isnan(y) else y - lo for y, lo in zip(ys, lows)],
+                      [0 if math.isnan(y) else hi - y for y, hi in zip(ys, highs)]]
+        else:
+            errors = [scale * value(groups[h], key + "_sem") for h in HEALTHS]
+        ax.bar(xs, ys, width, yerr=errors, capsize=4, color=COLOURS[i % len(COLOURS)],
                label=f"{policy} (n={sum(groups[h]['runs'] for h in HEALTHS)})")
+        for x, y, h in zip(xs, ys, HEALTHS):
+            n = groups[h]["runs"]
+            ax.annotate(f"n={n}", (x, 0 if math.isnan(y) else y), xytext=(0, 2), textcoords="offset points",
+                        ha="center", va="bottom", fontsize=7, rotation=90 if len(policies) > 3 else 0)
     ax.set_xticks(range(len(HEALTHS)))
     ax.set_xticklabels([HEALTH_LABELS[h] for h in HEALTHS])
     ax.set_xlabel("battery health")
     ax.set_ylabel(ylabel)
     ax.grid(axis="y", alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=8)
+
+
+def annotate_mcnemar(ax, report):
+    """McNemar's exact p of the first pair of policies above each health group."""
+    comparisons = report.get("paired_comparisons") or []
+    if not comparisons:
+        return
+    first = comparisons[0]["policies"]
+    top = ax.get_ylim()[1]
+    for h_index, h in enumerate(HEALTHS):
+        for c in comparisons:
+            if c["policies"] == first and c["battery_health"] == h and c["pairs"] > 0:
+                p = c["mcnemar_exact_p"]
+                ax.text(h_index, 0.82 * top, f"McNemar p={p:.2g}\nb={c['only_first_failed']}, "
+                        f"c={c['only_second_failed']}", ha="center", va="top", fontsize=7)
+    ax.text(0.01, 0.01, f"paired: {first[0]} vs {first[1]} on the same flights", transform=ax.transAxes,
+            fontsize=7, alpha=0.7)
+
+
+def cause_bars(ax, report):
+    """Failures by cause as stacked bars (percent of the group's flights), per health and policy."""
+    policies = report["policy_order"]
+    width, shift = offsets(len(policies))
+    for i, policy in enumerate(policies):
+        groups = report["policies"][policy]
+        xs = [h + shift[i] for h in range(len(HEALTHS))]
+        bottom = [0.0] * len(HEALTHS)
+        for c, (cause, label) in enumerate(CAUSES):
+            ys = []
+            for h in HEALTHS:
+                runs = groups[h]["runs"]
+                count = groups[h].get("failures_by_cause", {}).get(cause, 0)
+                ys.append(100.0 * count / runs if runs else 0.0)
+            ax.bar(xs, ys, width, bottom=bottom, color=CAUSE_COLOURS[c], edgecolor="white",
+                   label=label if i == 0 else None)
+            bottom = [b + y for b, y in zip(bottom, ys)]
+        for x, top, h in zip(xs, bottom, HEALTHS):
+            ax.annotate(f"{policy}\nn={groups[h]['runs']}", (x, top), xytext=(0, 2), textcoords="offset points",
+                        ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(range(len(HEALTHS)))
+    ax.set_xticklabels([HEALTH_LABELS[h] for h in HEALTHS])
+    ax.set_xlabel("battery health")
+    ax.set_ylabel("failures (% of flights)")
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=8, title="cause")
 
 
 def save(fig, out_dir, name):
@@ -57,15 +125,18 @@ def main(source, out_dir):
         report = json.load(f)
     os.makedirs(out_dir, exist_ok=True)
     title = report["campaign"]["name"]
+    level = round(100 * report.get("confidence_level", 0.95))
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    fig, ax = plt.subplots(figsize=(7, 5))
     bars(ax, report, "failure_rate", 100.0, "failure rate (%)")
-    ax.set_title(f"Failure rate ± SEM (cf. Fig. 5.30) — {title}")
+    ax.set_ylim(0, max(ax.get_ylim()[1], 10) * 1.45)
+    annotate_mcnemar(ax, report)
+    ax.set_title(f"Failure rate, {level} % Wilson interval (cf. Fig. 5.30) — {title}")
     save(fig, out_dir, "failure_rate.png")
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    fig, ax = plt.subplots(figsize=(7, 5))
     bars(ax, report, "completion_rate", 100.0, "original plan completed (%)")
-    ax.set_title(f"Original flight plan completion ± SEM (cf. Fig. 5.31) — {title}")
+    ax.set_title(f"Original flight plan completion, {level} % Wilson (cf. Fig. 5.31) — {title}")
     save(fig, out_dir, "completion_rate.png")
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
@@ -76,12 +147,20 @@ def main(source, out_dir):
     save(fig, out_dir, "rewards.png")
 
     keys = [("failure_rate", "failure"), ("completion_rate", "completed"),
-            ("emergency_landing_rate", "emergency landing"), ("termination_rate", "terminated")]
-    fig, axes = plt.subplots(1, len(keys), figsize=(18, 4.5), sharey=True)
+            ("emergency_landing_rate", "emergency landing"), ("termination_rate", "terminated"),
+            ("grounded_rate", "grounded")]
+    keys = [k for k in keys if k[0] in report["policies"][report["policy_order"][0]]["all"]]
+    fig, axes = plt.subplots(1, len(keys), figsize=(4.5 * len(keys), 4.5), sharey=True)
     for ax, (key, label) in zip(axes, keys):
         bars(ax, report, key, 100.0, "rate (%)")
         ax.set_title(label)
     save(fig, out_dir, "outcomes.png")
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    cause_bars(ax, report)
+    ax.set_ylim(0, max(ax.get_ylim()[1], 5) * 1.2)
+    ax.set_title(f"Failures by cause — {title}")
+    save(fig, out_dir, "failure_causes.png")
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ against the remaining flight time, RM and MM), decisions.png (CMA state, action 
 and over a city map.png (buildings, landing sites, route, LandPract checkpoints, the LandASAP footprint and
 the executed emergency path; Figs. 5.6, 5.24, 5.28-5.29).
 """
+import csv
 import json
 import os
 import sys
@@ -25,6 +26,31 @@ MH = ["NF", "SF", "JF"]
 MM = ["MM0", "MM1"]
 BH = ["G", "M", "P"]
 RM = ["RM0", "RM1"]
+
+
+IMM_MODES = ["nominal"] + [f"rotor{i}_out" for i in range(1, 7)]
+# The telemetry columns that hold names (telemetry.csv writes names, not codes; see sim/telemetry.h).
+NAME_COLUMNS = ("cma_state", "action", "imm_mode")
+
+
+def read_telemetry(path):
+    """telemetry.csv as a dict of NumPy arrays: floats (empty fields NaN, "-inf" −∞) and, for the CMA state,
+    the action and the IMM mode, their names (older files with integer codes are converted)."""
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        rows = list(reader)
+    columns = {}
+    for k, name in enumerate(header):
+        values = [row[k] for row in rows]
+        if name in NAME_COLUMNS:
+            columns[name] = np.array(values, dtype=object)
+        else:
+            columns[name] = np.array([float(v) if v != "" else np.nan for v in values])
+    for name, names in (("action", ACTIONS), ("imm_mode", IMM_MODES)):
+        columns[name] = np.array([names[int(v)] if v.lstrip("-").isdigit() else v for v in columns[name]], dtype=object)
+    columns["cma_state"] = np.array([state_label(v) if v.isdigit() else v for v in columns["cma_state"]], dtype=object)
+    return columns
 
 
 def state_label(index):
@@ -62,7 +88,7 @@ def save(fig, folder, name, axes=None, summary=None, title=None):
 
 
 def main(folder):
-    t = np.genfromtxt(os.path.join(folder, "telemetry.csv"), delimiter=",", names=True)
+    t = read_telemetry(os.path.join(folder, "telemetry.csv"))
     plan = np.genfromtxt(os.path.join(folder, "plan.csv"), delimiter=",", names=True, dtype=None, encoding="utf-8")
     with open(os.path.join(folder, "summary.json")) as f:
         summary = json.load(f)
@@ -149,17 +175,17 @@ def main(folder):
 
     # Decision timeline.
     fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
-    states = t["cma_state"].astype(int)
-    unique = sorted(set(states.tolist()))
+    states = t["cma_state"].tolist()
+    unique = sorted(set(states))
     axes[0].step(time, [unique.index(s) for s in states], where="post")
     axes[0].set_yticks(range(len(unique)))
-    axes[0].set_yticklabels([state_label(s) for s in unique], fontsize=7)
+    axes[0].set_yticklabels(unique, fontsize=7)
     axes[0].set_ylabel("CMA state")
-    axes[1].step(time, t["action"].astype(int), where="post", color="purple")
+    axes[1].step(time, [ACTIONS.index(a) for a in t["action"]], where="post", color="purple")
     axes[1].set_yticks(range(4))
     axes[1].set_yticklabels(ACTIONS, fontsize=8)
     axes[1].set_ylabel("last action")
-    axes[2].step(time, t["imm_mode"].astype(int), where="post", color="darkorange")
+    axes[2].step(time, [IMM_MODES.index(m) for m in t["imm_mode"]], where="post", color="darkorange")
     axes[2].set_yticks(range(7))
     axes[2].set_yticklabels(["nominal"] + [f"rotor {i} out" for i in range(1, 7)], fontsize=7)
     axes[2].set_ylabel("IMM mode")

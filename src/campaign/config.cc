@@ -23,24 +23,24 @@ Range ReadRange(const YAML::Node& node, const std::string& key, Range fallback, 
   return {values[0], values[1]};
 }
 
-std::int64_t ReadInteger(const YAML::Node& node, const std::string& key, std::int64_t fallback,
+// An integer within `bounds`, checked before the conversion (a cast of 1e300 to an integer is undefined).
+std::int64_t ReadInteger(const YAML::Node& node, const std::string& key, std::int64_t fallback, const Bounds& bounds,
                          const std::string& source, const std::string& where) {
   if (!node[key]) return fallback;
   const double value = RequireNumber(node, key, source, where);
-  if (value != std::floor(value) || std::abs(value) > 9.0e15) {
+  RequireWithin(value, bounds, source, Join(where, key));
+  if (value != std::floor(value)) {
     throw InputError(source, Join(where, key), fmt::format("an integer, got {}", value));
   }
   return static_cast<std::int64_t>(value);
 }
 
-std::uint64_t ReadSeed(const YAML::Node& node, const std::string& source) {
-  const YAML::Node value = node["seed"];
-  if (!value.IsScalar()) throw InputError(source, "seed", "a non-negative integer");
-  try {
-    return value.as<std::uint64_t>();
-  } catch (const YAML::Exception&) {
-    throw InputError(source, "seed", "a non-negative integer, got '" + value.Scalar() + "'");
-  }
+// Seeds are unsigned 64-bit integers everywhere (common/bounds.h): "-1" is refused, not wrapped.
+std::uint64_t ReadSeed(const YAML::Node& node, const std::string& key, const std::string& source,
+                       const std::string& where) {
+  const YAML::Node value = node[key];
+  if (!value.IsScalar()) throw InputError(source, Join(where, key), "a seed from 0 to 2^64-1");
+  return ParseSeed(value.Scalar(), source, Join(where, key));
 }
 
 std::vector<std::string> ReadStringList(const YAML::Node& node, const std::string& key,
@@ -65,8 +65,18 @@ YAML::Node OptionalMap(const YAML::Node& node, const std::string& key, const std
 
 void ReadMission(const YAML::Node& root, const std::string& source, MissionSampling& m) {
   const YAML::Node node = OptionalMap(root, "mission", source, "");
-  RequireOnlyKeys(node, {"distance_m", "cruise_speed_mps", "cruise_altitude_m", "drop_hover_s"}, source, "mission");
-  m.distance_m = ReadRange(node, "distance_m", m.distance_m, source, "mission");
+  RequireOnlyKeys(node, {"endurance_fraction", "distance_m", "cruise_speed_mps", "cruise_altitude_m",
+                         "wall_clearance_m", "drop_hover_s"},
+                  source, "mission");
+  m.endurance_fraction = ReadRange(node, "endurance_fraction", m.endurance_fraction, source, "mission");
+  if (node["distance_m"]) {
+    if (node["distance_m"].IsNull()) {
+      m.distance_m.reset();
+    } else {
+      m.distance_m = ReadRange(node, "distance_m", Range{}, source, "mission");
+    }
+  }
+  m.wall_clearance_m = OptionalNumber(node, "wall_clearance_m", m.wall_clearance_m, source, "mission");
   m.cruise_speed_mps = ReadRange(node, "cruise_speed_mps", m.cruise_speed_mps, source, "mission");
   m.cruise_altitude_m = OptionalNumber(node, "cruise_altitude_m", m.cruise_altitude_m, source, "mission");
   m.drop_hover_s = OptionalNumber(node, "drop_hover_s", m.drop_hover_s, source, "mission");
@@ -74,21 +84,28 @@ void ReadMission(const YAML::Node& root, const std::string& source, MissionSampl
 
 void ReadBattery(const YAML::Node& root, const std::string& source, BatterySampling& b) {
   const YAML::Node node = OptionalMap(root, "battery", source, "");
-  RequireOnlyKeys(node, {"initial_cell_voltage_v", "pack_health_weights", "degraded_cells_per_pack",
-                         "cold_probability", "cold_temp_degf", "warm_temp_degf"},
+  RequireOnlyKeys(node, {"initial_cell_voltage_v", "health_weights", "degraded_cells", "cold_probability",
+                         "cold_temp_degf", "warm_temp_degf"},
                   source, "battery");
   b.initial_cell_voltage_v = ReadRange(node, "initial_cell_voltage_v", b.initial_cell_voltage_v, source, "battery");
-  if (node["pack_health_weights"]) {
-    const YAML::Node weights = RequireMap(node, "pack_health_weights", source, "battery");
-    RequireOnlyKeys(weights, {"F1", "F2", "F3"}, source, "battery.pack_health_weights");
-    const char* names[] = {"F1", "F2", "F3"};
+  if (node["health_weights"]) {
+    const YAML::Node weights = RequireMap(node, "health_weights", source, "battery");
+    RequireOnlyKeys(weights, {"G", "M", "P"}, source, "battery.health_weights");
+    const char* names[] = {"G", "M", "P"};
     for (int i = 0; i < 3; ++i) {
-      b.pack_health_weights[i] =
-          OptionalNumber(weights, names[i], b.pack_health_weights[i], source, "battery.pack_health_weights");
+      b.health_weights[i] = OptionalNumber(weights, names[i], b.health_weights[i], source, "battery.health_weights");
     }
   }
-  b.degraded_cells_per_pack = static_cast<int>(
-      ReadInteger(node, "degraded_cells_per_pack", b.degraded_cells_per_pack, source, "battery"));
+  if (node["degraded_cells"]) {
+    const std::vector<double> counts = RequireNumberList(node, "degraded_cells", 2, source, "battery");
+    for (double count : counts) {
+      RequireWithin(count, bounds::kDegradedCells, source, "battery.degraded_cells");
+      if (count != std::floor(count)) {
+        throw InputError(source, "battery.degraded_cells", fmt::format("whole numbers of cells, got {}", count));
+      }
+    }
+    b.degraded_cells = {static_cast<int>(counts[0]), static_cast<int>(counts[1])};
+  }
   b.cold_probability = OptionalNumber(node, "cold_probability", b.cold_probability, source, "battery");
   b.cold_temp_degf = OptionalNumber(node, "cold_temp_degf", b.cold_temp_degf, source, "battery");
   b.warm_temp_degf = OptionalNumber(node, "warm_temp_degf", b.warm_temp_degf, source, "battery");
@@ -125,12 +142,14 @@ void ReadFault(const YAML::Node& root, const std::string& source, FaultSampling&
     f.motors.clear();
     for (std::size_t i = 0; i < motors.size(); ++i) {
       const std::string field = fmt::format("fault.motors[{}]", i);
+      if (!motors[i].IsScalar()) throw InputError(source, field, "a motor number 1..6");
       int motor = 0;
       try {
         motor = motors[i].as<int>();
       } catch (const YAML::Exception&) {
-        throw InputError(source, field, "a motor number 1..6");
+        throw InputError(source, field, "a motor number 1..6, got '" + motors[i].Scalar() + "'");
       }
+      RequireWithin(motor, bounds::kMotor, source, field);
       f.motors.push_back(motor);
     }
   }
@@ -153,70 +172,103 @@ bool CampaignConfig::IsValid(std::string* error) const {
     if (error) *error = std::move(message);
     return false;
   };
-  auto check_range = [&](const Range& r, const char* field, double min, double max) {
-    if (!(std::isfinite(r.low) && std::isfinite(r.high) && r.low <= r.high && r.low >= min && r.high <= max)) {
-      if (error) *error = fmt::format("{}: expected [low, high] with {} <= low <= high <= {}, got [{}, {}]", field, min,
-                                      max, r.low, r.high);
+  auto check_range = [&](const Range& r, const char* field, const Bounds& b) {
+    if (!(b.Contains(r.low) && b.Contains(r.high) && r.low <= r.high)) {
+      if (error) *error = fmt::format("{}: expected [low, high] with low <= high, both from {}, got [{}, {}]", field,
+                                      b.Text(), r.low, r.high);
       return false;
     }
     return true;
   };
-  constexpr double kHuge = 1e9;
   auto plain = [](const std::string& text) {
     return text.find_first_of("\"\\\n\r") == std::string::npos;
   };
   if (!plain(name)) return fail("name: expected a label without quotes, backslashes or line breaks");
-  if (runs < 0) return fail(fmt::format("runs: expected >= 0, got {}", runs));
+  if (!CheckWithin(static_cast<double>(runs), bounds::kRuns, "runs", error)) return false;
+  if (!CheckWithin(map.blocks_north, bounds::kBlocks, "map.blocks_north", error)) return false;
+  if (!CheckWithin(map.blocks_east, bounds::kBlocks, "map.blocks_east", error)) return false;
+  if (map.imported()) {
+    for (const auto& file : map.buildings) {
+      if (file.empty() || !plain(file)) return fail("map.buildings: expected file paths without quotes");
+    }
+    if (!plain(map.sites)) return fail("map.sites: expected a file path without quotes");
+    if (map.origin_deg && !((*map.origin_deg)[0] >= -90.0 && (*map.origin_deg)[0] <= 90.0 &&
+                            (*map.origin_deg)[1] >= -180.0 && (*map.origin_deg)[1] <= 180.0)) {
+      return fail("map.origin: expected [latitude in [-90, 90], longitude in [-180, 180]] in degrees");
+    }
+    if (!(map.metres_per_level > 0.0 && map.metres_per_level <= 20.0)) {
+      return fail(fmt::format("map.metres_per_level: expected a storey height in (0, 20] m, got {}", map.metres_per_level));
+    }
+  }
   if (policies.empty()) return fail("policies: expected at least one policy");
   for (const auto& policy : policies) {
     if (policy.empty() || !plain(policy)) return fail("policies: expected names or paths without quotes");
   }
-  if (!check_range(mission.distance_m, "mission.distance_m", 1.0, 1e6)) return false;
-  if (!check_range(mission.cruise_speed_mps, "mission.cruise_speed_mps", 0.1, 30.0)) return false;
-  if (!(mission.cruise_altitude_m > 0.0 && mission.cruise_altitude_m < 1e4)) {
-    return fail("mission.cruise_altitude_m: expected a positive altitude in m");
+  if (!check_range(mission.endurance_fraction, "mission.endurance_fraction", bounds::kEnduranceFraction)) return false;
+  if (mission.distance_m && !check_range(*mission.distance_m, "mission.distance_m", bounds::kDistance)) return false;
+  if (!CheckWithin(mission.wall_clearance_m, bounds::kWallClearance, "mission.wall_clearance_m", error)) return false;
+  if (!check_range(mission.cruise_speed_mps, "mission.cruise_speed_mps", bounds::kCruiseSpeed)) return false;
+  if (!CheckWithin(mission.cruise_altitude_m, bounds::kCruiseAltitude, "mission.cruise_altitude_m", error)) return false;
+  if (!CheckWithin(mission.drop_hover_s, bounds::kDropHover, "mission.drop_hover_s", error)) return false;
+  if (!check_range(safety_margin_s, "safety_margin_s", bounds::kSafetyMargin)) return false;
+  if (!check_range(battery.initial_cell_voltage_v, "battery.initial_cell_voltage_v", bounds::kInitialCellVoltage)) {
+    return false;
   }
-  if (!(mission.drop_hover_s >= 0.0 && mission.drop_hover_s < kHuge)) {
-    return fail("mission.drop_hover_s: expected a non-negative time in s");
-  }
-  if (!check_range(safety_margin_s, "safety_margin_s", 0.0, kHuge)) return false;
-  // The default OCV table spans 3.27–4.20 V (defaults.md); the cut-off is 3.3 V.
-  if (!check_range(battery.initial_cell_voltage_v, "battery.initial_cell_voltage_v", 3.3, 4.2)) return false;
   double weight_sum = 0.0;
-  for (double w : battery.pack_health_weights) {
-    if (!(w >= 0.0 && std::isfinite(w))) return fail("battery.pack_health_weights: expected non-negative numbers");
+  for (double w : battery.health_weights) {
+    if (!CheckWithin(w, bounds::kHealthWeight, "battery.health_weights", error)) return false;
     weight_sum += w;
   }
-  if (battery.pack_health_weights.size() != 3 || !(weight_sum > 0.0)) {
-    return fail("battery.pack_health_weights: expected F1, F2, F3 with a positive sum");
+  if (battery.health_weights.size() != 3 || !(weight_sum > 0.0)) {
+    return fail("battery.health_weights: expected G, M, P with a positive sum");
   }
-  if (battery.degraded_cells_per_pack < 1 || battery.degraded_cells_per_pack > 3) {
-    return fail(fmt::format("battery.degraded_cells_per_pack: expected 1..3, got {}", battery.degraded_cells_per_pack));
+  if (!(CheckWithin(battery.degraded_cells.low, bounds::kDegradedCells, "battery.degraded_cells", error) &&
+        CheckWithin(battery.degraded_cells.high, bounds::kDegradedCells, "battery.degraded_cells", error))) {
+    return false;
   }
-  if (!(battery.cold_probability >= 0.0 && battery.cold_probability <= 1.0)) {
-    return fail("battery.cold_probability: expected a probability in [0, 1]");
+  if (battery.degraded_cells.low > battery.degraded_cells.high) {
+    return fail(fmt::format("battery.degraded_cells: expected [low, high] with low <= high, got [{}, {}]",
+                            battery.degraded_cells.low, battery.degraded_cells.high));
   }
-  if (!(battery.cold_temp_degf < 50.0 && battery.cold_temp_degf > -100.0)) {
-    return fail(fmt::format("battery.cold_temp_degf: expected below 50 F (Table 3.2), got {}", battery.cold_temp_degf));
-  }
-  if (!(battery.warm_temp_degf >= 50.0 && battery.warm_temp_degf < 200.0)) {
-    return fail(fmt::format("battery.warm_temp_degf: expected 50 F or above (Table 3.2), got {}", battery.warm_temp_degf));
-  }
-  if (!check_range(wind.speed_mps, "wind.speed_mps", 0.0, 50.0)) return false;
-  if (!check_range(wind.direction_rad, "wind.direction_rad", -4.0 * kPi, 4.0 * kPi)) return false;
+  if (!CheckWithin(battery.cold_probability, bounds::kProbability, "battery.cold_probability", error)) return false;
+  if (!CheckWithin(battery.cold_temp_degf, bounds::kColdTemperature, "battery.cold_temp_degf", error)) return false;
+  if (!CheckWithin(battery.warm_temp_degf, bounds::kWarmTemperature, "battery.warm_temp_degf", error)) return false;
+  if (!check_range(wind.speed_mps, "wind.speed_mps", bounds::kWindSpeed)) return false;
+  if (!check_range(wind.direction_rad, "wind.direction_rad", bounds::kWindDirection)) return false;
   if (wind.turbulence.empty()) return fail("wind.turbulence: expected at least one category");
-  if (!(fault.probability >= 0.0 && fault.probability <= 1.0)) {
-    return fail("fault.probability: expected a probability in [0, 1]");
-  }
-  if (!check_range(fault.onset_fraction, "fault.onset_fraction", 0.0, 1.0)) return false;
+  if (!CheckWithin(fault.probability, bounds::kProbability, "fault.probability", error)) return false;
+  if (!check_range(fault.onset_fraction, "fault.onset_fraction", bounds::kProbability)) return false;
   if (fault.motors.empty()) return fail("fault.motors: expected at least one motor");
   for (int motor : fault.motors) {
-    if (motor < 1 || motor > 6) return fail(fmt::format("fault.motors: expected motors 1..6, got {}", motor));
+    if (!CheckWithin(motor, bounds::kMotor, "fault.motors", error)) return false;
   }
-  if (fault.time_per_growth_step_s && !(*fault.time_per_growth_step_s > 0.0 && *fault.time_per_growth_step_s < kHuge)) {
-    return fail("fault.time_per_growth_step_s: expected a positive time in s (or null for the default)");
+  if (fault.time_per_growth_step_s &&
+      !CheckWithin(*fault.time_per_growth_step_s, bounds::kTimePerGrowthStep, "fault.time_per_growth_step_s", error)) {
+    return false;
   }
   return true;
+}
+
+// The imported-map keys of `map:` (config.h, MapSampling). Paths stay as written; LoadCampaignConfig resolves them.
+void ReadImportedMap(const YAML::Node& map, const std::string& source, MapSampling& m) {
+  if (map["buildings"]) {
+    m.buildings = ReadStringList(map, "buildings", source, "map");
+    if (m.buildings.empty()) throw InputError(source, "map.buildings", "a list of building files (GeoJSON or OSM)");
+    if (map["procedural_seed"]) {
+      throw InputError(source, "map", "either procedural_seed (the built-in city) or buildings (an imported one)");
+    }
+  }
+  if (map["sites"]) m.sites = RequireString(map, "sites", source, "map");
+  if (map["origin"]) {
+    const std::vector<double> origin = RequireNumberList(map, "origin", 2, source, "map");
+    m.origin_deg = std::array<double, 2>{origin[0], origin[1]};
+  }
+  m.height_from_levels = OptionalBool(map, "height_from_levels", m.height_from_levels, source, "map");
+  m.metres_per_level = OptionalNumber(map, "metres_per_level", m.metres_per_level, source, "map");
+  m.skip_missing_height = OptionalBool(map, "skip_missing_height", m.skip_missing_height, source, "map");
+  if (!m.imported() && (!m.sites.empty() || m.origin_deg)) {
+    throw InputError(source, "map.buildings", "building files: sites and origin belong to an imported map");
+  }
 }
 
 CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::string& source) {
@@ -233,22 +285,19 @@ CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::stri
                          "fault"},
                   source, "");
   if (const YAML::Node map = root["map"]) {
-    RequireOnlyKeys(map, {"procedural_seed", "blocks_north", "blocks_east"}, source, "map");
-    config.map.blocks_north = static_cast<int>(OptionalNumber(map, "blocks_north", config.map.blocks_north, source, "map"));
-    config.map.blocks_east = static_cast<int>(OptionalNumber(map, "blocks_east", config.map.blocks_east, source, "map"));
-    if (config.map.blocks_north < 1 || config.map.blocks_east < 1 || config.map.blocks_north > 200 ||
-        config.map.blocks_east > 200) {
-      throw InputError(source, "map.blocks_north/blocks_east", "between 1 and 200 blocks");
-    }
-    const double seed = OptionalNumber(map, "procedural_seed", 3.0, source, "map");
-    if (seed < 0 || seed != std::floor(seed) || seed > 9007199254740992.0) {
-      throw InputError(source, "map.procedural_seed", "a non-negative integer (0: no city)");
-    }
-    config.map.procedural_seed = static_cast<std::uint64_t>(seed);
+    RequireOnlyKeys(map, {"procedural_seed", "blocks_north", "blocks_east", "buildings", "sites", "origin",
+                          "height_from_levels", "metres_per_level", "skip_missing_height"},
+                    source, "map");
+    ReadImportedMap(map, source, config.map);
+    config.map.blocks_north =
+        static_cast<int>(ReadInteger(map, "blocks_north", config.map.blocks_north, bounds::kBlocks, source, "map"));
+    config.map.blocks_east =
+        static_cast<int>(ReadInteger(map, "blocks_east", config.map.blocks_east, bounds::kBlocks, source, "map"));
+    if (map["procedural_seed"]) config.map.procedural_seed = ReadSeed(map, "procedural_seed", source, "map");
   }
   if (root["name"]) config.name = RequireString(root, "name", source, "");
-  if (root["seed"]) config.seed = ReadSeed(root, source);
-  config.runs = ReadInteger(root, "runs", config.runs, source, "");
+  if (root["seed"]) config.seed = ReadSeed(root, "seed", source, "");
+  config.runs = ReadInteger(root, "runs", config.runs, bounds::kRuns, source, "");
   if (root["policies"]) config.policies = ReadStringList(root, "policies", source, "");
   ReadMission(root, source, config.mission);
   config.safety_margin_s = ReadRange(root, "safety_margin_s", config.safety_margin_s, source, "");
@@ -268,7 +317,14 @@ CampaignConfig LoadCampaignConfig(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path.string(), "file", "an existing campaign YAML file");
   }
-  return ParseCampaignConfig(ReadFile(path), path.string());
+  CampaignConfig config = ParseCampaignConfig(ReadFile(path), path.string());
+  // Map files are relative to the campaign file; kept absolute so that the stored configuration replays anywhere.
+  auto resolve = [&](std::string& file) {
+    if (!file.empty()) file = std::filesystem::absolute(path.parent_path() / file).lexically_normal().string();
+  };
+  for (std::string& file : config.map.buildings) resolve(file);
+  resolve(config.map.sites);
+  return config;
 }
 
 std::string CampaignConfigYaml(const CampaignConfig& c) {
@@ -280,20 +336,35 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
   for (std::size_t i = 0; i < c.policies.size(); ++i) out += (i ? ", \"" : "\"") + c.policies[i] + "\"";
   out += "]\n";
   out += "map:\n";
-  out += "  procedural_seed: " + std::to_string(c.map.procedural_seed) + "\n";
+  // An imported map has no procedural seed (the two exclude each other): it keeps the default, unwritten.
+  if (!c.map.imported()) out += "  procedural_seed: " + std::to_string(c.map.procedural_seed) + "\n";
   out += "  blocks_north: " + std::to_string(c.map.blocks_north) + "\n";
   out += "  blocks_east: " + std::to_string(c.map.blocks_east) + "\n";
+  if (c.map.imported()) {
+    out += "  buildings: [";
+    for (std::size_t i = 0; i < c.map.buildings.size(); ++i) out += (i ? ", \"" : "\"") + c.map.buildings[i] + "\"";
+    out += "]\n";
+    if (!c.map.sites.empty()) out += "  sites: \"" + c.map.sites + "\"\n";
+    if (c.map.origin_deg) {
+      out += "  origin: [" + Number((*c.map.origin_deg)[0]) + ", " + Number((*c.map.origin_deg)[1]) + "]\n";
+    }
+    out += fmt::format("  height_from_levels: {}\n", c.map.height_from_levels);
+    out += "  metres_per_level: " + Number(c.map.metres_per_level) + "\n";
+    out += fmt::format("  skip_missing_height: {}\n", c.map.skip_missing_height);
+  }
   out += "mission:\n";
-  out += "  distance_m: " + RangeYaml(c.mission.distance_m) + "\n";
+  out += "  endurance_fraction: " + RangeYaml(c.mission.endurance_fraction) + "\n";
+  out += "  distance_m: " + (c.mission.distance_m ? RangeYaml(*c.mission.distance_m) : std::string("null")) + "\n";
+  out += "  wall_clearance_m: " + Number(c.mission.wall_clearance_m) + "\n";
   out += "  cruise_speed_mps: " + RangeYaml(c.mission.cruise_speed_mps) + "\n";
   out += "  cruise_altitude_m: " + Number(c.mission.cruise_altitude_m) + "\n";
   out += "  drop_hover_s: " + Number(c.mission.drop_hover_s) + "\n";
   out += "safety_margin_s: " + RangeYaml(c.safety_margin_s) + "\n";
   out += "battery:\n";
   out += "  initial_cell_voltage_v: " + RangeYaml(c.battery.initial_cell_voltage_v) + "\n";
-  out += fmt::format("  pack_health_weights: {{F1: {}, F2: {}, F3: {}}}\n", c.battery.pack_health_weights[0],
-                     c.battery.pack_health_weights[1], c.battery.pack_health_weights[2]);
-  out += fmt::format("  degraded_cells_per_pack: {}\n", c.battery.degraded_cells_per_pack);
+  out += fmt::format("  health_weights: {{G: {}, M: {}, P: {}}}\n", c.battery.health_weights[0],
+                     c.battery.health_weights[1], c.battery.health_weights[2]);
+  out += fmt::format("  degraded_cells: [{}, {}]\n", c.battery.degraded_cells.low, c.battery.degraded_cells.high);
   out += "  cold_probability: " + Number(c.battery.cold_probability) + "\n";
   out += "  cold_temp_degf: " + Number(c.battery.cold_temp_degf) + "\n";
   out += "  warm_temp_degf: " + Number(c.battery.warm_temp_degf) + "\n";
@@ -327,14 +398,29 @@ std::string CampaignConfigHash(const CampaignConfig& c) {
   f.Add(c.map.procedural_seed);
   f.Add(c.map.blocks_north);
   f.Add(c.map.blocks_east);
-  add_range(c.mission.distance_m);
+  if (c.map.imported()) {  // absent from older configurations' fingerprints, which stay as they were
+    for (const std::string& file : c.map.buildings) f.Add(std::string_view(file));
+    f.Add(std::string_view(c.map.sites));
+    f.Add(c.map.origin_deg ? (*c.map.origin_deg)[0] : 1000.0);  // 1000: no origin (outside the latitudes)
+    f.Add(c.map.origin_deg ? (*c.map.origin_deg)[1] : 1000.0);
+    f.Add(c.map.height_from_levels ? 1 : 0);
+    f.Add(c.map.metres_per_level);
+    f.Add(c.map.skip_missing_height ? 1 : 0);
+  }
+  f.Add(std::string_view("mission/2"));  // the endurance-tied plan of decisions item 19
+  add_range(c.mission.endurance_fraction);
+  f.Add(c.mission.distance_m ? 1 : 0);
+  if (c.mission.distance_m) add_range(*c.mission.distance_m);
+  f.Add(c.mission.wall_clearance_m);
   add_range(c.mission.cruise_speed_mps);
   f.Add(c.mission.cruise_altitude_m);
   f.Add(c.mission.drop_hover_s);
   add_range(c.safety_margin_s);
   add_range(c.battery.initial_cell_voltage_v);
-  for (double w : c.battery.pack_health_weights) f.Add(w);
-  f.Add(c.battery.degraded_cells_per_pack);
+  f.Add(std::string_view("battery/2"));  // BH drawn per flight, decisions item 20
+  for (double w : c.battery.health_weights) f.Add(w);
+  f.Add(c.battery.degraded_cells.low);
+  f.Add(c.battery.degraded_cells.high);
   f.Add(c.battery.cold_probability);
   f.Add(c.battery.cold_temp_degf);
   f.Add(c.battery.warm_temp_degf);

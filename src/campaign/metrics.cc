@@ -7,37 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "uascma/common/error.h"
+#include "uascma/decision/cma_abstraction.h"
 
 namespace uascma::campaign {
-namespace {
-
 using decision::CmaAction;
-using decision::CmaState;
-using decision::FlightStatus;
-
-// The factored form of a tuple state: the feature values in the model's order [FS, MH, MM, BH, RM]
-// (decision/cma_mdp.h numbers each feature's values as the model does).
-decision::FactoredState Factored(const CmaState& s) {
-  decision::FactoredState state;
-  state.values = {static_cast<int>(s.fs), static_cast<int>(s.mh), static_cast<int>(s.mm), static_cast<int>(s.bh),
-                  static_cast<int>(s.rm)};
-  return state;
-}
-
-decision::FactoredState Factored(decision::CmaTerminal terminal) {
-  decision::FactoredState state;
-  state.terminal = static_cast<int>(terminal);
-  return state;
-}
-
-// Decisions item 9: an emergency action equal to the executing one is executed as NoOp.
-CmaAction EffectiveAction(const EpochDecision& d) {
-  const bool repeat = (d.action == CmaAction::kLandPract && d.state.fs == FlightStatus::kElPract) ||
-                      (d.action == CmaAction::kLandAsap && d.state.fs == FlightStatus::kElAsap);
-  return repeat ? CmaAction::kNoOp : d.action;
-}
-
-}  // namespace
 
 decision::CmaAction RecordingPolicy::Decide(const sim::DecisionInputs& inputs) {
   const CmaAction action = inner_.Decide(inputs);
@@ -45,27 +18,12 @@ decision::CmaAction RecordingPolicy::Decide(const sim::DecisionInputs& inputs) {
   return action;
 }
 
-decision::CmaTerminal TerminalStateOf(sim::Outcome outcome) {
-  UASCMA_CHECK(outcome != sim::Outcome::kInProgress, "a finished flight");
-  if (outcome == sim::Outcome::kCompleted || outcome == sim::Outcome::kEmergencyLanding) {
-    return decision::CmaTerminal::kC;
-  }
-  if (outcome == sim::Outcome::kTerminated) return decision::CmaTerminal::kT;
-  return decision::CmaTerminal::kFL;
-}
-
 RewardTrace CalcRewardTrace(const std::vector<EpochDecision>& decisions, sim::Outcome outcome,
                             const decision::CmaWeights& weights) {
   RewardTrace trace;
   trace.reward.reserve(decisions.size() + 1);
-  for (const EpochDecision& d : decisions) {
-    trace.reward.push_back(
-        decision::CmaReward(weights, Factored(d.state), static_cast<decision::ActionIndex>(EffectiveAction(d))));
-  }
-  // The terminal state's own reward R(S_end) = R(S_end, a) − R(E, a), since R(E) = w_E · 0 (eq. 5.23).
-  const auto noop = static_cast<decision::ActionIndex>(CmaAction::kNoOp);
-  trace.reward.push_back(decision::CmaReward(weights, Factored(TerminalStateOf(outcome)), noop) -
-                         decision::CmaReward(weights, Factored(decision::CmaTerminal::kE), noop));
+  for (const EpochDecision& d : decisions) trace.reward.push_back(decision::CmaEpochReward(weights, d.state, d.action));
+  trace.reward.push_back(decision::CmaTerminalReward(weights, sim::TerminalStateOf(outcome)));
   trace.average = std::accumulate(trace.reward.begin(), trace.reward.end(), 0.0) /
                   static_cast<double>(trace.reward.size());
   trace.minimum = *std::min_element(trace.reward.begin(), trace.reward.end());

@@ -22,11 +22,12 @@ CampaignReport MakeCampaignReport(const ResultsStore& store) {
   std::vector<std::string> order;
   for (const CampaignPolicy& p : report.header.policies) order.push_back(p.name);
   report.groups = Summarise(paired, order);
+  report.comparisons = ComparePaired(paired, order);
   return report;
 }
 
 nlohmann::json CampaignReportJson(const CampaignReport& report) {
-  nlohmann::json json = StatisticsToJson(report.groups);
+  nlohmann::json json = StatisticsToJson(report.groups, report.comparisons);
   const CampaignHeader& h = report.header;
   nlohmann::json policies = nlohmann::json::array();
   for (const CampaignPolicy& p : h.policies) {
@@ -53,7 +54,7 @@ std::string CampaignReportText(const CampaignReport& report) {
                                 h.campaign_hash, h.code_version, h.created_utc);
   out += fmt::format("{} flights stored; {} of {} runs flown by every policy ({})\n\n", report.flights,
                      report.complete_runs, h.runs_requested, policies);
-  out += StatisticsTable(report.groups);
+  out += StatisticsTable(report.groups, report.comparisons);
   return out;
 }
 

@@ -6,10 +6,12 @@
 #include <condition_variable>
 #include <exception>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <thread>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -30,6 +32,78 @@ struct LoopHooks {
   std::function<void()> poll;                 // called on every pass of the collecting loop
   std::function<bool()> remote_done;          // the loop ends when local work is done and this is true
   double poll_period_s = 0.02;
+  std::function<void()> tick;                 // called every tick_period_s (the store's heartbeat)
+  double tick_period_s = kHeartbeatPeriodSeconds;
+};
+
+// Hands the next task to a worker thread; nothing once the work is done. `stop` is raised when the work
+// must end early (an error); a source that waits for other processes checks it, and calls
+// `request_flush` first: the records this process has finished are handed to the sink at once rather
+// than at the next interval, since another process may be waiting for exactly those.
+using TaskSource =
+    std::function<std::optional<FlightTask>(const std::atomic<bool>& stop, const std::function<void()>& request_flush)>;
+
+// A TaskSource over a fixed list (which must outlive it), handed out in order to whichever thread asks.
+TaskSource ListedTasks(const std::vector<FlightTask>& tasks) {
+  auto next = std::make_shared<std::atomic<std::size_t>>(0);
+  return [&tasks, next](const std::atomic<bool>&, const std::function<void()>&) -> std::optional<FlightTask> {
+    const std::size_t i = next->fetch_add(1);
+    if (i >= tasks.size()) return std::nullopt;
+    return tasks[i];
+  };
+}
+
+// How often a process that has nothing left to claim looks again at the runs other workers hold (our
+// estimate: short next to a flight, long next to the ~0.1 ms claim transaction).
+constexpr double kHeldRunsPollSeconds = 0.1;
+// Candidates examined per claim transaction at most (bounds the transaction while others wait).
+constexpr std::size_t kClaimWindow = 64;
+
+// The tasks of a store shared with other processes (store.h, "Several processes"): first every
+// candidate run in order, claiming the free ones; then, until every run it saw held by another worker
+// is stored, those runs again, claiming each whose worker died. So a process returns only when every
+// candidate is stored, by it or by others. Next() may be called from many threads; every use of the
+// store goes through `store_mutex`.
+class ClaimedTasks {
+ public:
+  ClaimedTasks(ResultsStore& store, std::mutex& store_mutex, std::vector<std::int64_t> candidates,
+               std::vector<std::int64_t> held)
+      : store_(store), store_mutex_(store_mutex), candidates_(std::move(candidates)), held_(std::move(held)) {}
+
+  std::optional<FlightTask> Next(const std::atomic<bool>& stop, const std::function<void()>& request_flush) {
+    while (!stop.load()) {
+      {
+        const std::lock_guard lock(store_mutex_);
+        if (cursor_ < candidates_.size()) {
+          const std::size_t end = std::min(candidates_.size(), cursor_ + kClaimWindow);
+          const std::vector<std::int64_t> window(candidates_.begin() + static_cast<std::ptrdiff_t>(cursor_),
+                                                 candidates_.begin() + static_cast<std::ptrdiff_t>(end));
+          ClaimResult result = store_.ClaimRuns(window, 1);
+          cursor_ += result.examined;
+          held_.insert(held_.end(), result.held.begin(), result.held.end());
+          if (!result.claimed.empty()) return std::move(result.claimed.front());
+          continue;
+        }
+        if (held_.empty()) return std::nullopt;
+        ClaimResult result = store_.ClaimRuns(held_, 1);
+        std::vector<std::int64_t> still_held = std::move(result.held);
+        still_held.insert(still_held.end(), held_.begin() + static_cast<std::ptrdiff_t>(result.examined), held_.end());
+        held_ = std::move(still_held);
+        if (!result.claimed.empty()) return std::move(result.claimed.front());
+        if (held_.empty()) return std::nullopt;
+      }
+      request_flush();
+      std::this_thread::sleep_for(std::chrono::duration<double>(kHeldRunsPollSeconds));
+    }
+    return std::nullopt;
+  }
+
+ private:
+  ResultsStore& store_;
+  std::mutex& store_mutex_;
+  std::vector<std::int64_t> candidates_;
+  std::size_t cursor_ = 0;  // candidates_[0, cursor_) examined
+  std::vector<std::int64_t> held_;
 };
 
 std::int64_t CountFlights(const std::vector<FlightTask>& tasks) {
@@ -45,27 +119,35 @@ int DefaultJobs(int local_ranks) {
 
 // The worker pool and the collecting loop of ExecuteFlights (header), with the progress bar and the
 // hooks supplied by the caller.
+// `max_tasks`: how many tasks `next` hands out at most (no more threads are started).
 void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<CampaignPolicy>& policies,
-                        const std::vector<FlightTask>& tasks, const ExecuteOptions& options,
+                        const TaskSource& next_task, std::size_t max_tasks, const ExecuteOptions& options,
                         const std::function<void(std::vector<RunRecord>&&)>& sink, ProgressBar* progress,
                         const LoopHooks& hooks) {
   const int num_policies = static_cast<int>(policies.size());
   const int jobs = std::clamp(options.jobs > 0 ? options.jobs : DefaultJobs(1), 1,
-                              std::max(1, static_cast<int>(tasks.size())));
+                              std::max(1, static_cast<int>(std::min<std::size_t>(max_tasks, 1 << 20))));
   std::mutex mutex;
   std::condition_variable ready;
   std::vector<RunRecord> finished;
   std::exception_ptr error;
-  int workers_running = tasks.empty() ? 0 : jobs;
-  std::atomic<std::size_t> next{0};
+  int workers_running = max_tasks == 0 ? 0 : jobs;
+  bool flush_requested = false;  // a worker waits for other processes: commit what is finished now
   std::atomic<bool> stop{false};
+  const std::function<void()> request_flush = [&] {
+    {
+      const std::lock_guard lock(mutex);
+      flush_requested = true;
+    }
+    ready.notify_one();
+  };
 
   auto work = [&] {
     try {
       while (!stop.load()) {
-        const std::size_t i = next.fetch_add(1);
-        if (i >= tasks.size()) break;
-        const FlightTask& task = tasks[i];
+        const std::optional<FlightTask> next = next_task(stop, request_flush);
+        if (!next) break;
+        const FlightTask& task = *next;
         const SampledRun run = SampleRun(config, config.seed, task.run_index);
         const sim::Simulator simulator(run.scenario);  // built once, flown by every policy (paired)
         for (int slot : task.slots) {
@@ -91,7 +173,7 @@ void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<Campaign
     ready.notify_one();
   };
   std::vector<std::thread> threads;
-  if (!tasks.empty()) {
+  if (max_tasks > 0) {
     for (int j = 0; j < jobs; ++j) threads.emplace_back(work);
   }
   auto join = [&threads, &stop] {
@@ -102,12 +184,15 @@ void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<Campaign
   };
 
   const auto interval = std::chrono::duration<double>(options.flush_interval_s);
+  const auto tick_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(hooks.tick_period_s));
   auto last_flush = Clock::now();
+  auto next_tick = last_flush + tick_period;
   std::vector<RunRecord> batch;
   try {
     while (true) {
       bool local_done = false;
       bool failed = false;
+      bool flush_now = false;
       {
         std::unique_lock lock(mutex);
         auto deadline = last_flush + std::chrono::duration_cast<Clock::duration>(interval);
@@ -115,19 +200,26 @@ void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<Campaign
           deadline = std::min(deadline, Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                                             std::chrono::duration<double>(hooks.poll_period_s)));
         }
+        if (hooks.tick) deadline = std::min(deadline, next_tick);
         ready.wait_until(lock, deadline, [&] {
-          return workers_running == 0 || static_cast<int>(finished.size()) >= options.flush_rows;
+          return workers_running == 0 || static_cast<int>(finished.size()) >= options.flush_rows || flush_requested;
         });
+        flush_now = std::exchange(flush_requested, false);
         batch.insert(batch.end(), std::make_move_iterator(finished.begin()), std::make_move_iterator(finished.end()));
         finished.clear();
         local_done = workers_running == 0;
         failed = error != nullptr;
       }
       if (hooks.poll) hooks.poll();
+      if (hooks.tick && Clock::now() >= next_tick) {
+        hooks.tick();
+        next_tick = Clock::now() + tick_period;
+      }
       const bool all_done = local_done && (!hooks.remote_done || hooks.remote_done());
       const auto now = Clock::now();
       const bool due = now - last_flush >= interval;
-      if (!batch.empty() && (all_done || static_cast<int>(batch.size()) >= options.flush_rows || due || hooks.poll)) {
+      if (!batch.empty() &&
+          (all_done || static_cast<int>(batch.size()) >= options.flush_rows || due || flush_now || hooks.poll)) {
         sink(std::move(batch));
         batch.clear();
         last_flush = now;
@@ -157,13 +249,19 @@ nlohmann::json FromBytes(const std::string& bytes) {
   return nlohmann::json::from_cbor(std::vector<std::uint8_t>(bytes.begin(), bytes.end()));
 }
 
-// Opens the campaign's store, creating it when it does not exist.
+// Opens the campaign's store as a worker, creating it when it does not exist. Of several processes
+// creating it at once exactly one does; the others join it as if resuming (same campaign) or fail
+// naming the campaign it holds. Without `resume` an existing file is joined only while another process
+// is running its campaign (processes started together); otherwise it is refused.
 ResultsStore OpenCampaignStore(const CampaignRequest& request, const CampaignHeader& header) {
   const std::string path = request.db.string();
   std::error_code ec;
-  if (!std::filesystem::exists(request.db, ec)) return ResultsStore::Create(request.db, header, request.store);
-  if (!request.resume) {
-    throw InputError(path, "file", "a new database file, but it exists (continue its campaign with --resume)");
+  const bool existed = std::filesystem::exists(std::filesystem::symlink_status(request.db, ec));
+  if (!existed) {
+    if (std::optional<ResultsStore> created = ResultsStore::TryCreate(request.db, header, request.store, true)) {
+      return std::move(*created);
+    }
+    // Another process created it between our look and our link: join it like a resume.
   }
   ResultsStore store = ResultsStore::Open(request.db, request.store);
   const CampaignHeader& stored = store.header();
@@ -177,6 +275,13 @@ ResultsStore OpenCampaignStore(const CampaignRequest& request, const CampaignHea
                                  header.campaign_hash, stored.name, stored.campaign_hash, stored.seed,
                                  stored.created_utc, what));
   }
+  if (existed && !request.resume && store.CountLiveWorkers() == 0) {
+    throw InputError(path, "file",
+                     fmt::format("a new database file, but it exists and holds campaign '{}' (hash {}) that no process "
+                                 "is running (continue its campaign with --resume)",
+                                 stored.name, stored.campaign_hash));
+  }
+  store.JoinAsWorker();
   return store;
 }
 
@@ -215,7 +320,8 @@ void ExecuteFlights(const CampaignConfig& config, const std::vector<CampaignPoli
                     const std::function<void(std::vector<RunRecord>&&)>& sink) {
   std::optional<ProgressBar> progress;
   if (options.progress) progress.emplace(CountFlights(tasks), options.progress_label);
-  ExecuteFlightsImpl(config, policies, tasks, options, sink, progress ? &*progress : nullptr, LoopHooks{});
+  ExecuteFlightsImpl(config, policies, ListedTasks(tasks), tasks.size(), options, sink, progress ? &*progress : nullptr,
+                     LoopHooks{});
 }
 
 CampaignOutcome RunCampaign(const CampaignRequest& request) {
@@ -235,22 +341,34 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
   if (execute.jobs <= 0) execute.jobs = DefaultJobs(mpi != nullptr ? mpi->local_size() : 1);
   outcome.jobs = execute.jobs;
 
-  // ---- rank 0 (or the only process) opens the store and decides what is left to fly ----------------
+  // ---- rank 0 (or the only process) joins the store as a worker and finds what is left to fly -------
   std::optional<ResultsStore> store;
-  std::vector<FlightTask> tasks;
+  std::mutex store_mutex;                 // the store is used by the claiming threads and this one
+  std::vector<std::int64_t> candidates;   // root: runs with flights missing at the start
+  std::vector<std::int64_t> held;         // MPI root: of those, runs other workers held at the start
+  std::vector<FlightTask> tasks;          // MPI: the runs rank 0 claimed for the ranks
+  std::int64_t flights_missing = 0;
   if (outcome.is_root) {
     std::string failure;
     try {
       store.emplace(OpenCampaignStore(request, header));
       store->RecordRunsRequested(request.config.runs);
-      tasks = MissingFlights(request.config.runs, request.policies, store->StoredFlights());
+      const std::vector<FlightTask> missing =
+          MissingFlights(request.config.runs, request.policies, store->StoredFlights());
+      flights_missing = CountFlights(missing);
+      for (const FlightTask& task : missing) candidates.push_back(task.run_index);
+      if (mpi != nullptr) {
+        ClaimResult claimed = store->ClaimRuns(candidates, candidates.size());
+        tasks = std::move(claimed.claimed);
+        held = std::move(claimed.held);
+      }
     } catch (const InputError& e) {
       failure = e.what();
       if (mpi == nullptr) throw;
     }
     if (mpi != nullptr) {
       std::string plan = ToBytes({{"failure", failure}, {"campaign_hash", header.campaign_hash},
-                                  {"tasks", TasksToJson(tasks)}});
+                                  {"tasks", TasksToJson(tasks)}, {"missing", flights_missing}});
       mpi::Broadcast(plan, 0);
       if (!failure.empty()) throw InputError(failure);
     }
@@ -265,25 +383,55 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
                  2);
     }
     tasks = TasksFromJson(json.at("tasks"));
+    flights_missing = json.at("missing").get<std::int64_t>();
   }
-  const std::int64_t flights_to_fly = CountFlights(tasks);
-  outcome.flights_before = outcome.flights_total - flights_to_fly;
+  outcome.flights_before = outcome.flights_total - flights_missing;
 
-  // ---- one process: threads, and this thread writes -------------------------------------------------
+  // The root's writes: records in, heartbeats out, both through the store's mutex.
+  auto insert = [&store, &store_mutex, &outcome](const std::vector<RunRecord>& records) {
+    const std::lock_guard lock(store_mutex);
+    store->Insert(records);
+    outcome.flights_flown += static_cast<std::int64_t>(records.size());
+  };
+  auto heartbeat = [&store, &store_mutex] {
+    const std::lock_guard lock(store_mutex);
+    store->Heartbeat();
+  };
+  // The root flies, on its threads, the runs it claims from `claim_from` and `held_by_others`, and waits
+  // for those others fly (store.h): when it returns, every candidate is stored.
+  auto fly_claimed_runs = [&](std::vector<std::int64_t> claim_from, std::vector<std::int64_t> held_by_others,
+                              ProgressBar* progress) {
+    const std::size_t most = claim_from.size() + held_by_others.size();
+    ClaimedTasks claims(*store, store_mutex, std::move(claim_from), std::move(held_by_others));
+    LoopHooks hooks;
+    hooks.tick = heartbeat;
+    ExecuteFlightsImpl(
+        request.config, request.policies,
+        [&claims](const std::atomic<bool>& stop, const std::function<void()>& request_flush) {
+          return claims.Next(stop, request_flush);
+        },
+        most, execute, [&insert](std::vector<RunRecord>&& batch) { insert(batch); }, progress, hooks);
+  };
+  // After the work: what other processes stored meanwhile, and this worker retires.
+  auto finish = [&] {
+    const std::lock_guard lock(store_mutex);
+    std::int64_t stored = 0;
+    for (const auto& flight : store->StoredFlights()) stored += flight.first < request.config.runs ? 1 : 0;
+    outcome.flights_by_others = std::max<std::int64_t>(0, stored - outcome.flights_before - outcome.flights_flown);
+    store->Retire();
+    outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+  };
+
+  // ---- one process: threads claim runs, this thread writes ------------------------------------------
   if (mpi == nullptr) {
     std::optional<ProgressBar> progress;
-    if (execute.progress) progress.emplace(flights_to_fly, execute.progress_label);
-    ExecuteFlightsImpl(request.config, request.policies, tasks, execute,
-                       [&store, &outcome](std::vector<RunRecord>&& batch) {
-                         store->Insert(batch);
-                         outcome.flights_flown += static_cast<std::int64_t>(batch.size());
-                       },
-                       progress ? &*progress : nullptr, LoopHooks{});
-    outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+    if (execute.progress) progress.emplace(flights_missing, execute.progress_label);
+    fly_claimed_runs(std::move(candidates), {}, progress ? &*progress : nullptr);
+    finish();
     return outcome;
   }
 
-  // ---- MPI: round-robin share of the task list; rank 0 gathers and writes -----------------------------
+  // ---- MPI: round-robin share of the claimed runs; rank 0 gathers and writes --------------------------
   std::vector<FlightTask> share;
   std::int64_t flights_elsewhere = 0;
   for (std::size_t i = 0; i < tasks.size(); ++i) {
@@ -293,10 +441,11 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
       flights_elsewhere += static_cast<std::int64_t>(tasks[i].slots.size());
     }
   }
+  const TaskSource share_source = ListedTasks(share);
   try {
     if (outcome.is_root) {
       std::optional<ProgressBar> progress;
-      if (execute.progress) progress.emplace(flights_to_fly, execute.progress_label);
+      if (execute.progress) progress.emplace(flights_missing, execute.progress_label);
       std::vector<RunRecord> pending;
       auto last_write = Clock::now();
       std::int64_t received = 0;
@@ -306,8 +455,7 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
             Clock::now() - last_write < std::chrono::duration<double>(execute.flush_interval_s)) {
           return;
         }
-        store->Insert(pending);
-        outcome.flights_flown += static_cast<std::int64_t>(pending.size());
+        insert(pending);
         pending.clear();
         last_write = Clock::now();
       };
@@ -322,7 +470,8 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
         write(false);
       };
       hooks.remote_done = [&] { return received >= flights_elsewhere; };
-      ExecuteFlightsImpl(request.config, request.policies, share, execute,
+      hooks.tick = heartbeat;
+      ExecuteFlightsImpl(request.config, request.policies, share_source, share.size(), execute,
                          [&](std::vector<RunRecord>&& batch) {
                            pending.insert(pending.end(), std::make_move_iterator(batch.begin()),
                                           std::make_move_iterator(batch.end()));
@@ -330,11 +479,14 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
                          },
                          progress ? &*progress : nullptr, hooks);
       write(true);
+      // Runs other processes held when rank 0 claimed: wait for them, fly those whose worker died.
+      if (!held.empty()) fly_claimed_runs({}, std::move(held), progress ? &*progress : nullptr);
+      finish();
     } else {
       ExecuteOptions worker = execute;
       worker.flush_interval_s = std::min(worker.flush_interval_s, 0.5);
       worker.flush_rows = std::min(worker.flush_rows, 64);
-      ExecuteFlightsImpl(request.config, request.policies, share, worker,
+      ExecuteFlightsImpl(request.config, request.policies, share_source, share.size(), worker,
                          [&](std::vector<RunRecord>&& batch) {
                            nlohmann::json list = nlohmann::json::array();
                            for (const RunRecord& record : batch) list.push_back(RecordToJson(record));
@@ -342,13 +494,13 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
                            outcome.flights_flown += static_cast<std::int64_t>(batch.size());
                          },
                          nullptr, LoopHooks{});
+      outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
     }
   } catch (const InputError& e) {
     mpi->Abort(std::string("error: ") + e.what(), 2);
   } catch (const std::exception& e) {
     mpi->Abort(std::string("internal error: ") + e.what(), 1);
   }
-  outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
   return outcome;
 }
 

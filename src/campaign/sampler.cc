@@ -1,11 +1,13 @@
 #include "uascma/campaign/sampler.h"
 
+#include <algorithm>
 #include <array>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <tuple>
 
+#include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
 
 #include <cmath>
@@ -14,8 +16,11 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/common/frames.h"
 #include "uascma/common/random.h"
+#include "uascma/models/drag.h"
 #include "uascma/planning/flight_plan.h"
+#include "uascma/prognostics/eod.h"
 
 namespace uascma::campaign {
 namespace {
@@ -37,21 +42,66 @@ int DrawWeighted(RandomStream& random, const std::vector<double>& weight) {
   return 0;
 }
 
-// Step 5 of the header: one pack's health class and its cells' degradation.
-models::HealthClass DrawPack(RandomStream& random, const BatterySampling& battery,
-                             std::array<models::CellHealth, models::kCellsPerBranch>& cells) {
-  const auto health = static_cast<models::HealthClass>(DrawWeighted(random, battery.pack_health_weights));
+// Step 4 of the header: the flight's battery health and the cells that realise it (Table 4.2).
+decision::BatteryHealth DrawBatteryHealth(RandomStream& random, const BatterySampling& battery,
+                                          models::PerCell<models::CellHealth>& cells) {
+  const auto health = static_cast<decision::BatteryHealth>(DrawWeighted(random, battery.health_weights));
   cells = {};
-  if (health == models::HealthClass::kG) return health;
-  // A uniform subset of `degraded_cells_per_pack` cells: the first k of a partial Fisher–Yates shuffle.
-  std::array<int, models::kCellsPerBranch> order = {0, 1, 2};
-  for (int i = 0; i < battery.degraded_cells_per_pack; ++i) {
-    const int j = i + static_cast<int>(random.UniformIndex(static_cast<std::uint64_t>(models::kCellsPerBranch - i)));
+  if (health == decision::BatteryHealth::kG) return health;
+  // k cells, a uniform k-subset of the six: the first k of a partial Fisher–Yates shuffle.
+  constexpr int kCells = models::kBranchCount * models::kCellsPerBranch;
+  const int k = battery.degraded_cells.low +
+                static_cast<int>(random.UniformIndex(
+                    static_cast<std::uint64_t>(battery.degraded_cells.high - battery.degraded_cells.low + 1)));
+  std::array<int, kCells> order;
+  for (int i = 0; i < kCells; ++i) order[i] = i;
+  for (int i = 0; i < k; ++i) {
+    const int j = i + static_cast<int>(random.UniformIndex(static_cast<std::uint64_t>(kCells - i)));
     std::swap(order[i], order[j]);
   }
-  // The fade of a class-M or class-P cell, as every builder of packs of a given health uses it.
-  for (int i = 0; i < battery.degraded_cells_per_pack; ++i) cells[order[i]] = models::CellHealthForClass(health);
+  for (int i = 0; i < k; ++i) {
+    models::CellHealth& cell = cells[order[i] / models::kCellsPerBranch][order[i] % models::kCellsPerBranch];
+    if (health == decision::BatteryHealth::kM) {
+      // M: one fade, not both; which one drawn (decisions item 20).
+      if (random.Bernoulli(0.5)) {
+        cell.capacity_fade = true;
+      } else {
+        cell.power_fade = true;
+      }
+    } else if (i == 0) {
+      // P: at least one cell with both fades.
+      cell.capacity_fade = cell.power_fade = true;
+    } else {
+      // P, the other cells: capacity fade, power fade or both, ⅓ each.
+      const auto kind = random.UniformIndex(3);
+      cell.capacity_fade = kind != 1;
+      cell.power_fade = kind != 0;
+    }
+  }
   return health;
+}
+
+// Horizontal point clear of every building by `clearance` (m): not inside an outline and no wall nearer.
+bool ClearOfBuildings(const planning::CityMap& map, const Eigen::Vector2d& p_NE, double clearance) {
+  if (map.BuildingContaining(Eigen::Vector3d(p_NE.x(), p_NE.y(), -0.1)) != planning::kNoBuilding) return false;
+  const std::array<Eigen::Vector2d, 1> point = {p_NE};
+  return map.TallestBuildingUnder(point, clearance).building == planning::kNoBuilding;
+}
+
+// The inverse of the delivery plan's duration in the horizontal distance (planning::MakeDeliveryPlan: a
+// vertical climb, the move out, the drop hover, the move back, the vertical descent, each rest to rest with
+// the trapezoid of planning::CalcTrapezoid). Returns the distance whose plan lasts `duration` s, or a
+// negative number when even a zero distance lasts longer.
+double DistanceForPlanDuration(double duration, double cruise_altitude, double drop_hover_s,
+                               const planning::PlanLimits& limits) {
+  const double vertical = planning::CalcTrapezoid(cruise_altitude, limits.vertical_speed, limits.vertical_accel).duration;
+  const double leg = 0.5 * (duration - 2.0 * vertical - drop_hover_s);  // s per horizontal move
+  if (leg < 0.0) return -1.0;
+  const double v = limits.cruise_speed;
+  const double a = limits.horizontal_accel;
+  // Trapezoid: t = 2 v/a + (d − v²/a)/v for d ≥ v²/a; triangle: t = 2 √(d/a) below.
+  if (leg >= 2.0 * v / a) return v * v / a + (leg - 2.0 * v / a) * v;
+  return a * 0.25 * leg * leg;
 }
 
 }  // namespace
@@ -60,7 +110,34 @@ std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index) {
   return DeriveSeed(campaign_seed, static_cast<std::uint64_t>(run_index));
 }
 
+namespace {
+
+// An imported city (config.h, MapSampling::imported), read once per distinct setting.
+std::shared_ptr<const planning::CityMap> ImportedCampaignMap(const MapSampling& sampling) {
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const planning::CityMap>> cache;
+  std::string key = fmt::format("{}|{}|{}|{}|", sampling.sites, sampling.height_from_levels, sampling.metres_per_level,
+                                sampling.skip_missing_height);
+  if (sampling.origin_deg) key += fmt::format("{}|{}|", (*sampling.origin_deg)[0], (*sampling.origin_deg)[1]);
+  for (const std::string& file : sampling.buildings) key += file + "|";
+  std::lock_guard lock(mutex);
+  auto& map = cache[key];
+  if (!map) {
+    planning::MapImportOptions options;
+    options.height_from_levels = sampling.height_from_levels;
+    options.metres_per_level = sampling.metres_per_level;
+    options.skip_missing_height = sampling.skip_missing_height;
+    if (sampling.origin_deg) options.origin = planning::GeoPoint{(*sampling.origin_deg)[0], (*sampling.origin_deg)[1]};
+    const std::vector<std::filesystem::path> files(sampling.buildings.begin(), sampling.buildings.end());
+    map = std::make_shared<const planning::CityMap>(planning::ImportCityMap(files, sampling.sites, options).map);
+  }
+  return map;
+}
+
+}  // namespace
+
 std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling) {
+  if (sampling.imported()) return ImportedCampaignMap(sampling);
   static std::mutex mutex;
   static std::map<std::tuple<std::uint64_t, int, int>, std::shared_ptr<const planning::CityMap>> cache;
   std::lock_guard lock(mutex);
@@ -79,6 +156,45 @@ std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling
   return map;
 }
 
+double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragTable& drag, double airspeed) {
+  if (!(std::isfinite(airspeed) && airspeed >= 0.0)) {
+    throw InputError("CalcLevelFlightCurrent", "airspeed", fmt::format("a finite speed >= 0 m/s, got {}", airspeed));
+  }
+  const double weight = scenario.body.mass * kGravity;
+  // Level flight: the thrust tilts by φ until its horizontal part balances the drag at that incidence,
+  // tan φ = D(V, φ) / (m g) (the rigid body's drag, models/drag.h); a fixed-point iteration, a contraction
+  // since D/(m g) < 0.3 over the table.
+  double tilt = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const double next = std::atan(drag.Drag(airspeed, tilt) / weight);
+    const bool converged = std::abs(next - tilt) < 1e-12;
+    tilt = next;
+    if (converged) break;
+  }
+  const double thrust = weight / std::cos(tilt);  // = √((m g)² + D²)
+  // Six rotors share it equally; each draws the power law of defaults.md; I = P / V_bus (eq. 2.10).
+  const models::PropulsionParams propulsion = models::PropulsionParams::ForConfiguration(scenario.configuration);
+  const double power = 6.0 * models::CalcElectricalPower(propulsion, thrust / 6.0);
+  return scenario.options.hotel_current_a + power / (kPlanningCellVoltage * models::kCellsPerBranch);
+}
+
+double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTable& drag,
+                             const Eigen::Vector2d& direction_NE) {
+  const Eigen::Vector2d wind_NE =
+      scenario.wind.mean_speed * Eigen::Vector2d(std::cos(scenario.wind.direction_rad), std::sin(scenario.wind.direction_rad));
+  const Eigen::Vector2d ground_NE = scenario.limits.cruise_speed * direction_NE.normalized();
+  // The out leg, the leg back, and the drop hover (airspeed = the wind): the largest current of the three.
+  return std::max({CalcLevelFlightCurrent(scenario, drag, (ground_NE - wind_NE).norm()),
+                   CalcLevelFlightCurrent(scenario, drag, (-ground_NE - wind_NE).norm()),
+                   CalcLevelFlightCurrent(scenario, drag, wind_NE.norm())});
+}
+
+double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a) {
+  const models::BatteryPack pack(models::MakePackParams({}, battery.ambient_temp_degf));
+  const models::PackState state = pack.MakeRestingState(battery.initial_cell_voltage_v);
+  return prognostics::CalcPackEod(pack, state, current_a).eod_s;
+}
+
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index) {
   std::string error;
   if (!config.IsValid(&error)) throw InputError("campaign configuration: " + error);
@@ -91,69 +207,128 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
   sim::Scenario& scenario = run.scenario;
   scenario.name = fmt::format("{} run {}", config.name, run_index);
   scenario.seed = DeriveSeed(run.run_seed, kSimulatorStream);
-
-  // 1–2. The delivery mission over the city: home on open ground inside the map, the destination at the
-  // sampled distance and bearing, also on open ground inside the map (redrawn until it is; on an empty map
-  // home is the origin).
   scenario.map = CampaignMap(config.map);
-  const planning::CityMap& map = *scenario.map;
-  auto open_ground = [&map](const Eigen::Vector2d& p) {
-    return map.BuildingContaining(Eigen::Vector3d(p.x(), p.y(), -0.1)) == planning::kNoBuilding;
-  };
-  const bool city = !map.buildings().empty();
-  const Eigen::AlignedBox2d bounds = map.bounds();
-  for (int attempt = 0;; ++attempt) {
-    if (city) {
-      do {
-        scenario.mission.home_NE = Eigen::Vector2d(random.Uniform(bounds.min().x(), bounds.max().x()),
-                                                   random.Uniform(bounds.min().y(), bounds.max().y()));
-      } while (!open_ground(scenario.mission.home_NE));
-    } else {
-      scenario.mission.home_NE = Eigen::Vector2d::Zero();
-    }
-    run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
-    run.distance_m = Draw(random, config.mission.distance_m);
-    scenario.mission.destination_NE =
-        scenario.mission.home_NE + run.distance_m * Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
-    if (!city || (bounds.contains(scenario.mission.destination_NE) && open_ground(scenario.mission.destination_NE))) break;
-    if (attempt > 10000) throw InputError("campaign", "mission.distance_m", "distances that fit inside the city");
-  }
-  scenario.mission.cruise_altitude = config.mission.cruise_altitude_m;
-  if (city) {
-    const std::array<Eigen::Vector2d, 2> route = {scenario.mission.home_NE, scenario.mission.destination_NE};
-    scenario.mission.cruise_altitude = map.CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, 5.0);
-  }
   scenario.mission.drop_hover_s = config.mission.drop_hover_s;
+
+  // 1. Cruise speed.
   run.cruise_speed_mps = Draw(random, config.mission.cruise_speed_mps);
   scenario.limits.cruise_speed = run.cruise_speed_mps;
 
-  // 3. Safety margin t_sf (recorded only; see the header).
+  // 2. Safety margin t_sf.
   run.safety_margin_s = Draw(random, config.safety_margin_s);
   scenario.options.safety_margin_s = run.safety_margin_s;
 
-  // 4. Initial cell voltages, pack 1 cells 1–3 then pack 2.
+  // 3. Initial cell voltages, pack 1 cells 1–3 then pack 2.
   for (auto& pack : scenario.battery.initial_cell_voltage_v) {
     for (double& voltage : pack) voltage = Draw(random, config.battery.initial_cell_voltage_v);
   }
 
-  // 5. Pack health and the degraded cells.
+  // 4. Battery health and the degraded cells; the per-pack labels follow from the cells.
+  run.battery_health = DrawBatteryHealth(random, config.battery, scenario.battery.cell_health);
   for (int b = 0; b < models::kBranchCount; ++b) {
-    run.pack_health[b] = DrawPack(random, config.battery, scenario.battery.cell_health[b]);
+    run.pack_health[b] = models::ClassifyHealth(scenario.battery.cell_health[b]);
   }
-  run.battery_health =
-      static_cast<decision::BatteryHealth>(static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)));
+  UASCMA_CHECK(static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)) ==
+                   static_cast<int>(run.battery_health),
+               "the drawn cells realise the drawn battery health");
 
-  // 6. Ambient temperature: only the 50 °F split matters (Table 3.2).
+  // 5. Ambient temperature: only the 50 °F split matters (Table 3.2).
   run.cold = random.Bernoulli(config.battery.cold_probability);
   scenario.battery.ambient_temp_degf = run.cold ? config.battery.cold_temp_degf : config.battery.warm_temp_degf;
 
-  // 7. Wind.
+  // 6. Wind.
   scenario.wind.mean_speed = Draw(random, config.wind.speed_mps);
   scenario.wind.direction_rad = Draw(random, config.wind.direction_rad);
   scenario.wind.turbulence = config.wind.turbulence[random.UniformIndex(config.wind.turbulence.size())];
 
-  // 8. The spall fault, its onset uniform over the nominal flight.
+  // 7. The route: the endurance fraction, then home (on open ground, clear of every wall) and the bearing,
+  // redrawn until the destination is inside the city and clear of every wall too.
+  const planning::CityMap& map = *scenario.map;
+  const bool city = !map.buildings().empty();
+  const Eigen::AlignedBox2d bounds = map.bounds();
+  const double clearance = config.mission.wall_clearance_m;
+  const bool endurance_tied = !config.mission.distance_m.has_value();
+  const models::DragTable drag = models::DragTable::Default(scenario.configuration);
+  if (endurance_tied) run.endurance_fraction = Draw(random, config.mission.endurance_fraction);
+  // An imported map covers only what its files hold: a route with no building under it crosses a hole in the data
+  // (Manhattan is built up), not open ground, so it never cruises below the open-ground altitude. Measured (issue
+  // 15): at 10 m over such holes the low-altitude Dryden gusts upset 2 of 300 fault-free flights at ~8 m/s.
+  const double lowest_cruise = config.map.imported() ? config.mission.cruise_altitude_m : 0.0;
+  constexpr int kMaxAttempts = 10000;
+  for (int attempt = 0;; ++attempt) {
+    if (attempt > kMaxAttempts) {
+      throw InputError("campaign", endurance_tied ? "map" : "mission.distance_m",
+                       fmt::format("a city large enough for the sampled routes with {} m from every wall (no route fit "
+                                   "in {} attempts, run {})",
+                                   clearance, kMaxAttempts, run_index));
+    }
+    if (city) {
+      int home_attempts = 0;
+      do {
+        if (++home_attempts > kMaxAttempts) {
+          throw InputError("campaign", "mission.wall_clearance_m",
+                           fmt::format("a clearance that leaves open ground in the city, got {} m", clearance));
+        }
+        scenario.mission.home_NE = Eigen::Vector2d(random.Uniform(bounds.min().x(), bounds.max().x()),
+                                                   random.Uniform(bounds.min().y(), bounds.max().y()));
+      } while (!ClearOfBuildings(map, scenario.mission.home_NE, clearance));
+    } else {
+      scenario.mission.home_NE = Eigen::Vector2d::Zero();
+    }
+    run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
+    const Eigen::Vector2d direction(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
+    scenario.mission.cruise_altitude = config.mission.cruise_altitude_m;
+    if (endurance_tied) {
+      // Decisions item 19: plan = f (EOD_healthy − t_sf) at the plan's cruise current, the distance from it.
+      run.cruise_current_a = CalcPlanCruiseCurrent(scenario, drag, direction);
+      run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
+      const double target_s = run.endurance_fraction * (run.healthy_eod_s - run.safety_margin_s);
+      if (city) {
+        // The altitude over the route and the route's length depend on each other. The route drawn with the
+        // lowest possible altitude (no building under it) is the longest; 10 m above its tallest building
+        // clears every shorter route along the same bearing, and the distance is then derived at that altitude.
+        const double lowest = planning::kCruiseClearanceAboveBuildings;
+        const double longest = DistanceForPlanDuration(target_s, lowest, scenario.mission.drop_hover_s, scenario.limits);
+        if (longest < 0.0) {
+          throw InputError("campaign", "mission.endurance_fraction",
+                           "plans long enough for the climb, the drop hover and the descent");
+        }
+        const std::array<Eigen::Vector2d, 2> outer = {scenario.mission.home_NE,
+                                                      scenario.mission.home_NE + longest * direction};
+        scenario.mission.cruise_altitude =
+            std::max(map.CruiseAltitude(outer, planning::kCruiseClearanceAboveBuildings, clearance), lowest_cruise);
+      }
+      run.distance_m =
+          DistanceForPlanDuration(target_s, scenario.mission.cruise_altitude, scenario.mission.drop_hover_s, scenario.limits);
+      if (run.distance_m < 0.0) {
+        throw InputError("campaign", "mission.endurance_fraction",
+                         "plans long enough for the climb, the drop hover and the descent");
+      }
+    } else {
+      run.distance_m = Draw(random, *config.mission.distance_m);
+    }
+    scenario.mission.destination_NE = scenario.mission.home_NE + run.distance_m * direction;
+    if (!city) break;
+    if (!bounds.contains(scenario.mission.destination_NE) ||
+        !ClearOfBuildings(map, scenario.mission.destination_NE, clearance)) {
+      continue;
+    }
+    if (!endurance_tied) {
+      const std::array<Eigen::Vector2d, 2> route = {scenario.mission.home_NE, scenario.mission.destination_NE};
+      scenario.mission.cruise_altitude =
+          std::max(map.CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, clearance), lowest_cruise);
+    }
+    break;
+  }
   run.plan_duration_s = planning::MakeDeliveryPlan(scenario.mission, scenario.limits).duration();
+  if (!endurance_tied) {
+    // Recorded for every run: the healthy pack's EOD at the plan's cruise current (not used to draw it).
+    run.cruise_current_a = CalcPlanCruiseCurrent(
+        scenario, drag, Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad)));
+    run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
+  }
+
+  // 8. The spall fault, its onset uniform over the nominal flight.
   scenario.fault = sim::FaultSpec{};
   scenario.fault.enabled = random.Bernoulli(config.fault.probability);
   if (scenario.fault.enabled) {

@@ -86,12 +86,13 @@ std::string Statement::Text(int column) const {
   return {reinterpret_cast<const char*>(text), static_cast<std::size_t>(sqlite3_column_bytes(statement_, column))};
 }
 
-Database::Database(const std::string& path, int flags) : path_(path) {
-  const int code = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+Database::Database(const std::string& file, int flags, const std::string& name_in_errors)
+    : path_(name_in_errors.empty() ? file : name_in_errors) {
+  const int code = sqlite3_open_v2(file.c_str(), &db_, flags, nullptr);
   if (code != SQLITE_OK) {
     const std::string message = Describe(db_, code);
     Close();
-    throw InputError(path, "open", message);
+    throw InputError(path_, "open", message);
   }
   sqlite3_extended_result_codes(db_, 1);
 }

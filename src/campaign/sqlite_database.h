@@ -49,8 +49,9 @@ class Statement {
 class Database {
  public:
   Database() = default;
-  // Opens with the given flags (SQLITE_OPEN_*); InputError naming `path` on failure.
-  Database(const std::string& path, int flags);
+  // Opens `file` with the given flags (SQLITE_OPEN_*). Errors name `name_in_errors` (default: `file`), so
+  // a file built under a temporary name reports the user's path; path() returns that name too.
+  Database(const std::string& file, int flags, const std::string& name_in_errors = "");
   ~Database();
   Database(Database&& other) noexcept;
   Database& operator=(Database&& other) noexcept;

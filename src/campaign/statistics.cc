@@ -4,8 +4,15 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <utility>
 
+#include <boost/math/distributions/binomial.hpp>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/special_functions/beta.hpp>
 #include <fmt/format.h>
+
+#include "uascma/common/error.h"
 
 namespace uascma::campaign {
 namespace {
@@ -14,15 +21,68 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 nlohmann::json Number(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
 
+void RequireCounts(std::int64_t successes, std::int64_t trials, const char* what) {
+  if (trials < 0 || successes < 0 || successes > trials) {
+    throw InputError(what, "counts", fmt::format("0 <= successes <= trials, got {} of {}", successes, trials));
+  }
+}
+
+void RequireConfidence(double confidence, const char* what) {
+  if (!(confidence > 0.0 && confidence < 1.0)) {
+    throw InputError(what, "confidence", fmt::format("a level in (0, 1), got {}", confidence));
+  }
+}
+
 std::string Percent(const Estimate& e) {
   if (!std::isfinite(e.value)) return "-";
   return fmt::format("{:5.1f} ± {:4.1f}", 100.0 * e.value, 100.0 * e.sem);
+}
+
+std::string PercentInterval(const Interval& i) {
+  if (!std::isfinite(i.low)) return "-";
+  return fmt::format("[{:5.1f}, {:5.1f}]", 100.0 * i.low, 100.0 * i.high);
 }
 
 std::string Plain(const Estimate& e) {
   if (!std::isfinite(e.value)) return "-";
   return fmt::format("{:+.4f} ± {:.4f}", e.value, e.sem);
 }
+
+std::string PValue(double p) { return p < 1e-4 ? fmt::format("{:.1e}", p) : fmt::format("{:.4f}", p); }
+
+// The outcome classes of statistics.h. A record's `failure` flag decides failure (the simulator's
+// sim::IsFailure); the name decides the rest, unknown names landing in "other".
+enum class OutcomeClass { kFailure, kCompleted, kEmergencyLanding, kTerminated, kGrounded, kOther };
+
+OutcomeClass ClassOf(const RunRecord& r) {
+  if (r.failure) return OutcomeClass::kFailure;
+  if (r.outcome == "completed") return OutcomeClass::kCompleted;
+  if (r.outcome == "emergency_landing") return OutcomeClass::kEmergencyLanding;
+  if (r.outcome == "terminated") return OutcomeClass::kTerminated;
+  if (r.outcome == "grounded") return OutcomeClass::kGrounded;
+  return OutcomeClass::kOther;
+}
+
+// Policies in the requested order, then the others by name.
+std::vector<std::string> PolicyOrder(const std::vector<RunRecord>& records, const std::vector<std::string>& policy_order) {
+  std::vector<std::string> policies = policy_order;
+  std::vector<std::string> others;
+  for (const RunRecord& r : records) {
+    if (std::find(policies.begin(), policies.end(), r.policy) == policies.end() &&
+        std::find(others.begin(), others.end(), r.policy) == others.end()) {
+      others.push_back(r.policy);
+    }
+  }
+  std::sort(others.begin(), others.end());
+  policies.insert(policies.end(), others.begin(), others.end());
+  return policies;
+}
+
+bool InHealthGroup(const RunRecord& r, const std::string& health) {
+  return health == "all" || r.battery_health == health;
+}
+
+nlohmann::json IntervalJson(const Interval& i) { return nlohmann::json::array({Number(i.low), Number(i.high)}); }
 
 }  // namespace
 
@@ -44,37 +104,80 @@ Estimate EstimateMean(const std::vector<double>& values) {
   return {mean, std::sqrt(squares / (n - 1.0)) / std::sqrt(n)};
 }
 
+Interval WilsonInterval(std::int64_t successes, std::int64_t trials, double confidence) {
+  RequireCounts(successes, trials, "WilsonInterval");
+  RequireConfidence(confidence, "WilsonInterval");
+  if (trials == 0) return {kNaN, kNaN};
+  // z = Φ⁻¹(1 − α/2), α = 1 − confidence (1.959964 at 95 %).
+  const double z = boost::math::quantile(boost::math::normal_distribution<double>(), 0.5 + 0.5 * confidence);
+  const double n = static_cast<double>(trials);
+  const double k = static_cast<double>(successes);
+  const double z2 = z * z;
+  const double centre = (k + 0.5 * z2) / (n + z2);
+  const double half = z / (n + z2) * std::sqrt(k * (n - k) / n + 0.25 * z2);
+  // At k = 0 (k = n) the lower (upper) end is exactly 0 (1); clamp the round-off.
+  return {successes == 0 ? 0.0 : std::max(0.0, centre - half), successes == trials ? 1.0 : std::min(1.0, centre + half)};
+}
+
+Interval ClopperPearsonInterval(std::int64_t successes, std::int64_t trials, double confidence) {
+  RequireCounts(successes, trials, "ClopperPearsonInterval");
+  RequireConfidence(confidence, "ClopperPearsonInterval");
+  if (trials == 0) return {kNaN, kNaN};
+  const double alpha = 1.0 - confidence;
+  const double k = static_cast<double>(successes);
+  const double n = static_cast<double>(trials);
+  // The α/2 and 1 − α/2 quantiles of Beta(k, n − k + 1) and Beta(k + 1, n − k); the ends are 0 and 1.
+  const double low = successes == 0 ? 0.0 : boost::math::ibeta_inv(k, n - k + 1.0, 0.5 * alpha);
+  const double high = successes == trials ? 1.0 : boost::math::ibeta_inv(k + 1.0, n - k, 1.0 - 0.5 * alpha);
+  return {low, high};
+}
+
+RateEstimate EstimateRateWithIntervals(std::int64_t successes, std::int64_t trials) {
+  return {successes, EstimateRate(successes, trials), WilsonInterval(successes, trials),
+          ClopperPearsonInterval(successes, trials)};
+}
+
+const char* FailureCauseName(FailureCause cause) {
+  switch (cause) {
+    case FailureCause::kBattery: return "battery";
+    case FailureCause::kLossOfControl: return "loss_of_control";
+    case FailureCause::kCollision: return "collision";
+    case FailureCause::kTimeout: return "timeout";
+    case FailureCause::kOther: return "other";
+  }
+  return "other";
+}
+
+FailureCause FailureCauseOf(const std::string& outcome) {
+  if (outcome == "failed_battery") return FailureCause::kBattery;
+  if (outcome == "failed_control") return FailureCause::kLossOfControl;
+  if (outcome == "failed_collision") return FailureCause::kCollision;
+  if (outcome == "timeout") return FailureCause::kTimeout;
+  return FailureCause::kOther;
+}
+
 std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
                                        const std::vector<std::string>& policy_order) {
-  std::vector<std::string> policies = policy_order;
-  std::vector<std::string> others;
-  for (const RunRecord& r : records) {
-    if (std::find(policies.begin(), policies.end(), r.policy) == policies.end() &&
-        std::find(others.begin(), others.end(), r.policy) == others.end()) {
-      others.push_back(r.policy);
-    }
-  }
-  std::sort(others.begin(), others.end());
-  policies.insert(policies.end(), others.begin(), others.end());
-
   std::vector<GroupStatistics> groups;
-  for (const std::string& policy : policies) {
+  for (const std::string& policy : PolicyOrder(records, policy_order)) {
     for (const char* health : kHealthGroups) {
       GroupStatistics g;
       g.policy = policy;
       g.battery_health = health;
       std::vector<double> average, minimum;
       for (const RunRecord& r : records) {
-        if (r.policy != policy || (g.battery_health != "all" && r.battery_health != g.battery_health)) continue;
+        if (r.policy != policy || !InHealthGroup(r, g.battery_health)) continue;
         ++g.runs;
-        if (r.failure) {
-          ++g.failures;
-        } else if (r.outcome == "completed") {
-          ++g.completions;
-        } else if (r.outcome == "emergency_landing") {
-          ++g.emergency_landings;
-        } else if (r.outcome == "terminated") {
-          ++g.terminations;
+        switch (ClassOf(r)) {
+          case OutcomeClass::kFailure:
+            ++g.failures;
+            ++g.failures_by_cause[static_cast<int>(FailureCauseOf(r.outcome))];
+            break;
+          case OutcomeClass::kCompleted: ++g.completions; break;
+          case OutcomeClass::kEmergencyLanding: ++g.emergency_landings; break;
+          case OutcomeClass::kTerminated: ++g.terminations; break;
+          case OutcomeClass::kGrounded: ++g.groundings; break;
+          case OutcomeClass::kOther: ++g.others; break;
         }
         average.push_back(r.average_reward);
         minimum.push_back(r.min_reward);
@@ -83,6 +186,12 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
       g.completion_rate = EstimateRate(g.completions, g.runs);
       g.emergency_landing_rate = EstimateRate(g.emergency_landings, g.runs);
       g.termination_rate = EstimateRate(g.terminations, g.runs);
+      g.grounded_rate = EstimateRate(g.groundings, g.runs);
+      g.other_rate = EstimateRate(g.others, g.runs);
+      g.failure_wilson = WilsonInterval(g.failures, g.runs);
+      g.failure_clopper_pearson = ClopperPearsonInterval(g.failures, g.runs);
+      g.completion_wilson = WilsonInterval(g.completions, g.runs);
+      g.completion_clopper_pearson = ClopperPearsonInterval(g.completions, g.runs);
       g.average_reward = EstimateMean(average);
       g.min_reward = EstimateMean(minimum);
       groups.push_back(std::move(g));
@@ -91,7 +200,65 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
   return groups;
 }
 
-nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups) {
+McNemarTest CalcMcNemarTest(std::int64_t only_first_failed, std::int64_t only_second_failed) {
+  if (only_first_failed < 0 || only_second_failed < 0) {
+    throw InputError("McNemar's test", "discordant counts",
+                     fmt::format("b, c >= 0, got {} and {}", only_first_failed, only_second_failed));
+  }
+  McNemarTest test;
+  test.only_first_failed = only_first_failed;
+  test.only_second_failed = only_second_failed;
+  const std::int64_t discordant = only_first_failed + only_second_failed;
+  if (discordant == 0) return test;  // no evidence either way: p = 1, χ² = 0
+  // Exact: under H0 each discordant pair goes either way with probability ½.
+  const boost::math::binomial_distribution<double> h0(static_cast<double>(discordant), 0.5);
+  const double smaller = static_cast<double>(std::min(only_first_failed, only_second_failed));
+  test.exact_p = std::min(1.0, 2.0 * boost::math::cdf(h0, smaller));
+  // χ² with Edwards' continuity correction, one degree of freedom.
+  const double excess = std::max(0.0, std::abs(static_cast<double>(only_first_failed - only_second_failed)) - 1.0);
+  test.chi_squared = excess * excess / static_cast<double>(discordant);
+  test.chi_squared_p =
+      boost::math::cdf(boost::math::complement(boost::math::chi_squared_distribution<double>(1.0), test.chi_squared));
+  return test;
+}
+
+std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& records,
+                                            const std::vector<std::string>& policy_order) {
+  const std::vector<std::string> policies = PolicyOrder(records, policy_order);
+  // run_index → policy → the record flown.
+  std::map<std::int64_t, std::map<std::string, const RunRecord*>> runs;
+  for (const RunRecord& r : records) runs[r.run_index][r.policy] = &r;
+  std::vector<PairedComparison> comparisons;
+  for (std::size_t i = 0; i < policies.size(); ++i) {
+    for (std::size_t j = i + 1; j < policies.size(); ++j) {
+      for (const char* health : kHealthGroups) {
+        PairedComparison c;
+        c.first_policy = policies[i];
+        c.second_policy = policies[j];
+        c.battery_health = health;
+        std::int64_t b = 0, d = 0;
+        for (const auto& [index, flown] : runs) {
+          const auto first = flown.find(c.first_policy);
+          const auto second = flown.find(c.second_policy);
+          if (first == flown.end() || second == flown.end() || !InHealthGroup(*first->second, c.battery_health)) continue;
+          ++c.pairs;
+          const bool a_failed = first->second->failure;
+          const bool b_failed = second->second->failure;
+          if (a_failed && b_failed) ++c.both_failed;
+          if (!a_failed && !b_failed) ++c.neither_failed;
+          if (a_failed && !b_failed) ++b;
+          if (!a_failed && b_failed) ++d;
+        }
+        c.test = CalcMcNemarTest(b, d);
+        comparisons.push_back(std::move(c));
+      }
+    }
+  }
+  return comparisons;
+}
+
+nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
+                                const std::vector<PairedComparison>& comparisons) {
   nlohmann::json policies = nlohmann::json::object();
   nlohmann::json order = nlohmann::json::array();
   for (const GroupStatistics& g : groups) {
@@ -99,50 +266,132 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups) {
       policies[g.policy] = nlohmann::json::object();
       order.push_back(g.policy);
     }
+    nlohmann::json causes = nlohmann::json::object();
+    nlohmann::json cause_rates = nlohmann::json::object();
+    for (int c = 0; c < kFailureCauseCount; ++c) {
+      const char* name = FailureCauseName(static_cast<FailureCause>(c));
+      causes[name] = g.failures_by_cause[c];
+      cause_rates[name] = Number(EstimateRate(g.failures_by_cause[c], g.runs).value);
+    }
     policies[g.policy][g.battery_health] = {
         {"runs", g.runs},
         {"failures", g.failures},
         {"completions", g.completions},
         {"emergency_landings", g.emergency_landings},
         {"terminations", g.terminations},
+        {"groundings", g.groundings},
+        {"other_outcomes", g.others},
         {"failure_rate", Number(g.failure_rate.value)},
         {"failure_rate_sem", Number(g.failure_rate.sem)},
+        {"failure_rate_wilson_low", Number(g.failure_wilson.low)},
+        {"failure_rate_wilson_high", Number(g.failure_wilson.high)},
+        {"failure_rate_clopper_pearson_low", Number(g.failure_clopper_pearson.low)},
+        {"failure_rate_clopper_pearson_high", Number(g.failure_clopper_pearson.high)},
+        {"failures_by_cause", causes},
+        {"failure_rate_by_cause", cause_rates},
         {"completion_rate", Number(g.completion_rate.value)},
         {"completion_rate_sem", Number(g.completion_rate.sem)},
+        {"completion_rate_wilson_low", Number(g.completion_wilson.low)},
+        {"completion_rate_wilson_high", Number(g.completion_wilson.high)},
+        {"completion_rate_clopper_pearson_low", Number(g.completion_clopper_pearson.low)},
+        {"completion_rate_clopper_pearson_high", Number(g.completion_clopper_pearson.high)},
         {"emergency_landing_rate", Number(g.emergency_landing_rate.value)},
         {"emergency_landing_rate_sem", Number(g.emergency_landing_rate.sem)},
         {"termination_rate", Number(g.termination_rate.value)},
         {"termination_rate_sem", Number(g.termination_rate.sem)},
+        {"grounded_rate", Number(g.grounded_rate.value)},
+        {"grounded_rate_sem", Number(g.grounded_rate.sem)},
+        {"other_outcome_rate", Number(g.other_rate.value)},
+        {"other_outcome_rate_sem", Number(g.other_rate.sem)},
         {"average_reward", Number(g.average_reward.value)},
         {"average_reward_sem", Number(g.average_reward.sem)},
         {"min_reward", Number(g.min_reward.value)},
         {"min_reward_sem", Number(g.min_reward.sem)},
     };
   }
+  nlohmann::json paired = nlohmann::json::array();
+  for (const PairedComparison& c : comparisons) {
+    paired.push_back({{"policies", {c.first_policy, c.second_policy}},
+                      {"battery_health", c.battery_health},
+                      {"pairs", c.pairs},
+                      {"both_failed", c.both_failed},
+                      {"neither_failed", c.neither_failed},
+                      {"only_first_failed", c.test.only_first_failed},
+                      {"only_second_failed", c.test.only_second_failed},
+                      {"mcnemar_exact_p", Number(c.test.exact_p)},
+                      {"mcnemar_chi_squared", Number(c.test.chi_squared)},
+                      {"mcnemar_chi_squared_p", Number(c.test.chi_squared_p)}});
+  }
   return {{"policies", policies},
           {"policy_order", order},
+          {"confidence_level", kConfidenceLevel},
+          {"paired_comparisons", paired},
           {"dissertation",
            {{"source", "dissertation §5.5.3 (Fig. 5.30), shared/spec/README.md"},
             {"poor_health_failure_rate", {{"cma", kDissertationPoorHealthFailureRateCma},
                                           {"noop", kDissertationPoorHealthFailureRateNoOp}}}}}};
 }
 
-std::string StatisticsTable(const std::vector<GroupStatistics>& groups) {
-  std::string out = fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", "policy",
-                                "BH", "runs", "failure %", "completed %", "em. landing %", "terminated %",
-                                "avg reward", "min reward");
-  out += std::string(118, '-') + "\n";
+std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
+                            const std::vector<PairedComparison>& comparisons) {
+  // 1. Outcome rates and rewards.
+  std::string out = fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n",
+                                "policy", "BH", "runs", "failure %", "completed %", "em. landing %", "terminated %",
+                                "grounded %", "avg reward", "min reward");
+  out += std::string(133, '-') + "\n";
   std::string previous;
+  bool any_other = false;
   for (const GroupStatistics& g : groups) {
     if (!previous.empty() && g.policy != previous) out += "\n";
     previous = g.policy;
-    out += fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy,
+    any_other = any_other || g.others > 0;
+    out += fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy,
                        g.battery_health, g.runs, Percent(g.failure_rate), Percent(g.completion_rate),
-                       Percent(g.emergency_landing_rate), Percent(g.termination_rate), Plain(g.average_reward),
-                       Plain(g.min_reward));
+                       Percent(g.emergency_landing_rate), Percent(g.termination_rate), Percent(g.grounded_rate),
+                       Plain(g.average_reward), Plain(g.min_reward));
   }
   out += "Rates in % ± binomial SEM; rewards: per-flight mean and minimum of R(S,A) per 1 Hz epoch ± SEM.\n";
-  // The dissertation's headline beside ours (§5.5.3, Fig. 5.30).
+  if (any_other) {
+    out += "Some flights ended with an outcome this report does not know; they are counted as other outcomes:\n";
+    for (const GroupStatistics& g : groups) {
+      if (g.others > 0) out += fmt::format("  {} {}: {} of {}\n", g.policy, g.battery_health, g.others, g.runs);
+    }
+  }
+
+  // 2. Failure rate with its intervals, and the failures by cause.
+  out += fmt::format("\nFailure rate with {:.0f} % intervals, and failures by cause (flights)\n", 100.0 * kConfidenceLevel);
+  out += fmt::format("{:<10} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", "policy", "BH",
+                     "runs", "failures", "failure %", "Wilson", "Clopper-Pearson", "battery", "control", "collision",
+                     "timeout", "other");
+  out += std::string(118, '-') + "\n";
+  previous.clear();
+  for (const GroupStatistics& g : groups) {
+    if (!previous.empty() && g.policy != previous) out += "\n";
+    previous = g.policy;
+    const auto& c = g.failures_by_cause;
+    out += fmt::format("{:<10} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", g.policy,
+                       g.battery_health, g.runs, g.failures,
+                       std::isfinite(g.failure_rate.value) ? fmt::format("{:.1f}", 100.0 * g.failure_rate.value) : "-",
+                       PercentInterval(g.failure_wilson), PercentInterval(g.failure_clopper_pearson), c[0], c[1], c[2],
+                       c[3], c[4]);
+  }
+
+  // 3. McNemar's paired comparisons.
+  if (!comparisons.empty()) {
+    out += "\nPaired comparison of failures on the same flights (McNemar): b = only the first failed, c = only the "
+           "second\n";
+    out += fmt::format("{:<22} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8} {:>10}\n", "policies", "BH", "pairs", "b", "c",
+                       "both", "exact p", "chi2(cc)", "chi2 p");
+    out += std::string(86, '-') + "\n";
+    for (const PairedComparison& c : comparisons) {
+      out += fmt::format("{:<22} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8.3f} {:>10}\n",
+                         c.first_policy + " vs " + c.second_policy, c.battery_health, c.pairs,
+                         c.test.only_first_failed, c.test.only_second_failed, c.both_failed, PValue(c.test.exact_p),
+                         c.test.chi_squared, PValue(c.test.chi_squared_p));
+    }
+  }
+
+  // 4. The dissertation's headline beside ours (§5.5.3, Fig. 5.30).
   auto poor = [&groups](const std::string& policy) -> const GroupStatistics* {
     for (const GroupStatistics& g : groups) {
       if (g.policy == policy && g.battery_health == "P") return &g;
@@ -156,8 +405,9 @@ std::string StatisticsTable(const std::vector<GroupStatistics>& groups) {
   } headline[] = {{"cma", kDissertationPoorHealthFailureRateCma}, {"noop", kDissertationPoorHealthFailureRateNoOp}};
   for (const auto& h : headline) {
     const GroupStatistics* g = poor(h.policy);
-    out += fmt::format("  {:<5} ours {:>13} %  (n = {:>4})   dissertation {:5.1f} %\n", h.policy,
-                       g != nullptr ? Percent(g->failure_rate) : std::string("-"), g != nullptr ? g->runs : 0,
+    out += fmt::format("  {:<5} ours {:>13} %  Wilson {:>16} %  (n = {:>4})   dissertation {:5.1f} %\n", h.policy,
+                       g != nullptr ? Percent(g->failure_rate) : std::string("-"),
+                       g != nullptr ? PercentInterval(g->failure_wilson) : std::string("-"), g != nullptr ? g->runs : 0,
                        100.0 * h.dissertation);
   }
   return out;

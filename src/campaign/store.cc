@@ -1,10 +1,24 @@
 #include "uascma/campaign/store.h"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <bit>
+#include <cerrno>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
 #include <type_traits>
 
 #include <fmt/format.h>
@@ -68,6 +82,28 @@ CREATE TABLE policies (
 );
 )sql";
 
+// The work-sharing tables of schema version 2 (store.h).
+constexpr const char* kWorkSchemaSql = R"sql(
+CREATE TABLE workers (
+  id INTEGER PRIMARY KEY,
+  host TEXT NOT NULL,
+  boot_id TEXT NOT NULL,
+  pid_namespace TEXT NOT NULL,
+  pid INTEGER NOT NULL,
+  start_ticks INTEGER NOT NULL,
+  started_utc TEXT NOT NULL,
+  heartbeat_s REAL NOT NULL,
+  retired INTEGER NOT NULL DEFAULT 0
+);
+CREATE TABLE claims (
+  campaign_hash TEXT NOT NULL,
+  run_index INTEGER NOT NULL,
+  worker INTEGER NOT NULL REFERENCES workers (id),
+  claimed_s REAL NOT NULL,
+  PRIMARY KEY (campaign_hash, run_index)
+);
+)sql";
+
 constexpr const char* kViewSql = R"sql(
 CREATE VIEW run_outcomes AS
   SELECT run_index, policy, battery_health, fault, outcome, failure, sim_time_s, plan_duration_s,
@@ -82,6 +118,128 @@ std::string UtcNow() {
   char text[32];
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return text;
+}
+
+// Unix time in seconds (heartbeats and leases compare it between machines).
+double UnixNowSeconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+std::string FirstLine(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+struct ProcessStat {
+  char state = '?';
+  std::int64_t start_ticks = 0;
+};
+
+// /proc/PID/stat: "pid (comm) state ppid …", starttime is field 22. comm may hold spaces and
+// parentheses, so the fields are counted from the last ')'.
+std::optional<ProcessStat> ReadProcessStat(std::int64_t pid) {
+  const std::string line = FirstLine(fmt::format("/proc/{}/stat", pid));
+  const auto close = line.rfind(')');
+  if (close == std::string::npos) return std::nullopt;
+  std::istringstream fields(line.substr(close + 1));
+  ProcessStat stat;
+  fields >> stat.state;
+  std::string skipped;
+  for (int field = 4; field < 22 && fields >> skipped; ++field) {
+  }
+  if (!(fields >> stat.start_ticks)) return std::nullopt;
+  return stat;
+}
+
+// The folder a database file lives in.
+std::filesystem::path FolderOf(const std::filesystem::path& path) {
+  return path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+}
+
+// "<file>.creating-<host>-<boot>-": the prefix of this machine's temporary files for `path`; then
+// "<pid>-<n>", n counting the creations of this process. Each creator builds its own, so concurrent
+// creators (processes or threads) never share one.
+std::string TemporaryPrefix(const std::filesystem::path& path, const WorkerIdentity& me) {
+  return path.filename().string() + ".creating-" + me.host + "-" + me.boot_id.substr(0, 8) + "-";
+}
+
+constexpr std::array<const char*, 4> kSqliteFileSuffixes = {"", "-wal", "-shm", "-journal"};
+
+void RemoveSqliteFiles(const std::filesystem::path& file) {
+  std::error_code ec;
+  for (const char* suffix : kSqliteFileSuffixes) std::filesystem::remove(file.string() + suffix, ec);
+}
+
+// Temporary files that creators on this machine left when they were killed (a kill -9 skips every
+// clean-up); those of running creators are left alone.
+void RemoveStaleTemporaries(const std::filesystem::path& path, const WorkerIdentity& me) {
+  const std::string prefix = TemporaryPrefix(path, me);
+  std::error_code ec;
+  std::filesystem::directory_iterator entries(FolderOf(path), ec);
+  if (ec) return;
+  for (const auto& entry : entries) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    std::int64_t pid = 0;
+    std::size_t used = 0;
+    try {
+      pid = std::stoll(name.substr(prefix.size()), &used);
+    } catch (const std::exception&) {
+      continue;
+    }
+    std::string rest = name.substr(prefix.size() + used);  // "-<n>" and an SQLite suffix
+    if (rest.size() < 2 || rest[0] != '-' || std::isdigit(static_cast<unsigned char>(rest[1])) == 0) continue;
+    rest.erase(0, rest.find_first_not_of("0123456789", 1));
+    if (rest != "" && rest != "-wal" && rest != "-shm" && rest != "-journal") continue;
+    if (!ProcessIsRunning(pid, 0)) std::filesystem::remove(entry.path(), ec);
+  }
+}
+
+// Puts the finished temporary file at `path` unless something is there already: link(2) fails with
+// EEXIST rather than replace (atomic on local file systems and on NFS); where hard links are not
+// supported, renameat2(RENAME_NOREPLACE) does the same. True when linked, false when `path` exists.
+bool LinkIntoPlace(const std::filesystem::path& temporary, const std::filesystem::path& path) {
+  if (::link(temporary.c_str(), path.c_str()) == 0) return true;
+  int error = errno;
+  if (error == EEXIST) return false;
+  if (error == EPERM || error == ENOTSUP || error == EOPNOTSUPP || error == ENOSYS || error == EMLINK) {
+    if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, path.c_str(), RENAME_NOREPLACE) == 0) return true;
+    error = errno;
+    if (error == EEXIST) return false;
+    throw InputError(path.string(), "create",
+                     fmt::format("a file system that can create a file exclusively (hard links or "
+                                 "RENAME_NOREPLACE): {}",
+                                 std::strerror(error)));
+  }
+  throw InputError(path.string(), "create", fmt::format("a writable location ({})", std::strerror(error)));
+}
+
+std::int64_t InsertWorker(sqlite::Database& db, const WorkerIdentity& me) {
+  sqlite::Statement insert = db.Prepare(
+      "INSERT INTO workers (host, boot_id, pid_namespace, pid, start_ticks, started_utc, heartbeat_s, retired) "
+      "VALUES (?, ?, ?, ?, ?, ?, ?, 0)");
+  insert.Bind(1, me.host);
+  insert.Bind(2, me.boot_id);
+  insert.Bind(3, me.pid_namespace);
+  insert.Bind(4, me.pid);
+  insert.Bind(5, me.start_ticks);
+  insert.Bind(6, UtcNow());
+  insert.Bind(7, UnixNowSeconds());
+  insert.Step("register this process as a worker");
+  return sqlite3_last_insert_rowid(db.handle());
+}
+
+// The workers that are open in this process, by (database, worker id): a worker of this very process is
+// alive exactly while its ResultsStore is open.
+std::mutex& OpenWorkersMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::set<std::pair<std::string, std::int64_t>>& OpenWorkers() {
+  static std::set<std::pair<std::string, std::int64_t>> workers;
+  return workers;
 }
 
 std::int64_t AsSigned(std::uint64_t value) { return std::bit_cast<std::int64_t>(value); }
@@ -174,16 +332,22 @@ void WriteHeader(sqlite::Database& db, const CampaignHeader& header) {
   }
 }
 
-CampaignHeader ReadHeader(sqlite::Database& db) {
-  const std::string& path = db.path();
+std::int64_t SchemaVersion(sqlite::Database& db) {
   sqlite::Statement version = db.Prepare("PRAGMA user_version");
   version.Step("read the schema version");
-  const std::int64_t schema = version.Integer(0);
-  if (schema != kStoreSchemaVersion) {
+  return version.Integer(0);
+}
+
+// Version 1 files lack only the work-sharing tables; they are read as they are.
+CampaignHeader ReadHeader(sqlite::Database& db, std::int64_t* schema_version) {
+  const std::string& path = db.path();
+  const std::int64_t schema = SchemaVersion(db);
+  if (schema != kStoreSchemaVersion && schema != 1) {
     throw InputError(path, "schema",
-                     fmt::format("a uascma campaign database (schema version {}), got version {}", kStoreSchemaVersion,
-                                 schema));
+                     fmt::format("a uascma campaign database (schema version 1 to {}), got version {}",
+                                 kStoreSchemaVersion, schema));
   }
+  *schema_version = schema;
   CampaignHeader header;
   sqlite::Statement campaign = db.Prepare(
       "SELECT name, config_yaml, config_hash, campaign_hash, seed, runs_requested, code_version, created_utc "
@@ -230,49 +394,128 @@ CampaignHeader MakeCampaignHeader(const CampaignConfig& config, const std::vecto
   return header;
 }
 
+WorkerIdentity ThisProcessIdentity() {
+  WorkerIdentity me;
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) == 0) me.host = host;
+  if (me.host.empty()) me.host = "unknown-host";
+  me.boot_id = FirstLine("/proc/sys/kernel/random/boot_id");
+  std::error_code ec;
+  me.pid_namespace = std::filesystem::read_symlink("/proc/self/ns/pid", ec).string();
+  me.pid = static_cast<std::int64_t>(::getpid());
+  if (const auto stat = ReadProcessStat(me.pid)) me.start_ticks = stat->start_ticks;
+  return me;
+}
+
+bool ProcessIsRunning(std::int64_t pid, std::int64_t start_ticks) {
+  if (pid <= 0) return false;
+  if (const auto stat = ReadProcessStat(pid)) {
+    if (stat->state == 'Z' || stat->state == 'X') return false;  // killed, not yet reaped
+    return start_ticks == 0 || stat->start_ticks == start_ticks;
+  }
+  // No /proc entry: gone, or a system without /proc (then kill(pid, 0) still tells).
+  if (::kill(static_cast<pid_t>(pid), 0) == 0) return true;
+  return errno == EPERM;
+}
+
 struct ResultsStore::Connection {
   sqlite::Database db;
   sqlite::Statement insert;
+  std::int64_t schema_version = kStoreSchemaVersion;
+  std::string open_key;  // the canonical path: OpenWorkers() key
+  WorkerIdentity me;
 };
 
-ResultsStore::ResultsStore(std::filesystem::path path, std::unique_ptr<Connection> connection, CampaignHeader header)
-    : path_(std::move(path)), connection_(std::move(connection)), header_(std::move(header)) {}
-ResultsStore::ResultsStore(ResultsStore&&) noexcept = default;
-ResultsStore& ResultsStore::operator=(ResultsStore&&) noexcept = default;
-ResultsStore::~ResultsStore() = default;
+ResultsStore::ResultsStore(std::filesystem::path path, std::unique_ptr<Connection> connection, CampaignHeader header,
+                           StoreOptions options)
+    : path_(std::move(path)), connection_(std::move(connection)), header_(std::move(header)),
+      options_(std::move(options)) {}
+
+ResultsStore::ResultsStore(ResultsStore&& other) noexcept
+    : path_(std::move(other.path_)), connection_(std::move(other.connection_)), header_(std::move(other.header_)),
+      options_(std::move(other.options_)), worker_id_(std::exchange(other.worker_id_, 0)) {}
+
+ResultsStore& ResultsStore::operator=(ResultsStore&& other) noexcept {
+  if (this != &other) {
+    Retire();
+    path_ = std::move(other.path_);
+    connection_ = std::move(other.connection_);
+    header_ = std::move(other.header_);
+    options_ = std::move(other.options_);
+    worker_id_ = std::exchange(other.worker_id_, 0);
+  }
+  return *this;
+}
+
+ResultsStore::~ResultsStore() { Retire(); }
 
 ResultsStore ResultsStore::Create(const std::filesystem::path& path, const CampaignHeader& header,
                                   const StoreOptions& options) {
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec)) {
+  std::optional<ResultsStore> store = TryCreate(path, header, options);
+  if (!store) {
     throw InputError(path.string(), "file", "a new database file, but it exists (continue its campaign with --resume)");
   }
-  // Build the whole file under a temporary name and rename it: a failed or killed creation never leaves
-  // a half-made database at `path`.
+  return std::move(*store);
+}
+
+std::optional<ResultsStore> ResultsStore::TryCreate(const std::filesystem::path& path, const CampaignHeader& header,
+                                                    const StoreOptions& options, bool as_worker) {
+  const std::string name = path.string();
+  std::error_code ec;
+  if (std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return std::nullopt;
+  const std::filesystem::path folder = FolderOf(path);
+  if (!std::filesystem::is_directory(folder, ec)) {
+    throw InputError(name, "folder",
+                     fmt::format("an existing folder, but '{}' {}", folder.string(),
+                                 std::filesystem::exists(folder, ec) ? "is not a folder" : "does not exist"));
+  }
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+    throw InputError(name, "folder",
+                     fmt::format("a folder you can write, but '{}' is not writable ({})", folder.string(),
+                                 std::strerror(errno)));
+  }
+  // Build the whole file under a temporary name beside `path`, then link it into place: a failed or
+  // killed creation never leaves a half-made database at `path`, and only one creator can win.
+  const WorkerIdentity me = ThisProcessIdentity();
+  RemoveStaleTemporaries(path, me);
+  static std::atomic<std::int64_t> creations{0};
   const std::filesystem::path temporary =
-      path.string() + fmt::format(".creating-{}", static_cast<long long>(::getpid()));
-  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) std::filesystem::remove(temporary.string() + suffix, ec);
+      folder / fmt::format("{}{}-{}", TemporaryPrefix(path, me), me.pid, creations.fetch_add(1));
+  RemoveSqliteFiles(temporary);
+  bool linked = false;
+  std::int64_t worker = 0;
   try {
-    sqlite::Database db(temporary.string(), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+    sqlite::Database db(temporary.string(), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, name);
     ApplyConnectionOptions(db, options);
     db.Execute("PRAGMA journal_mode = WAL", "create");
     db.Execute("BEGIN IMMEDIATE", "create");
     db.Execute(kSchemaSql, "create the schema");
     db.Execute(RunsTableSql(), "create the schema");
     db.Execute(kViewSql, "create the schema");
+    db.Execute(kWorkSchemaSql, "create the schema");
     db.Execute(fmt::format("PRAGMA user_version = {}", kStoreSchemaVersion), "create the schema");
     WriteHeader(db, header);
+    if (as_worker) worker = InsertWorker(db, me);
     db.Execute("COMMIT", "create");
-    db.Close();  // checkpoints the WAL into the file
-    std::filesystem::rename(temporary, path);
+    db.Close();  // checkpoints the WAL into the file and removes the -wal and -shm files
+    linked = LinkIntoPlace(temporary, path);
   } catch (const std::filesystem::filesystem_error& e) {
-    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) std::filesystem::remove(temporary.string() + suffix, ec);
-    throw InputError(path.string(), "create", std::string("a writable location (") + e.what() + ")");
+    RemoveSqliteFiles(temporary);
+    throw InputError(name, "create", std::string("a writable location (") + e.code().message() + ")");
   } catch (...) {
-    for (const char* suffix : {"", "-wal", "-shm", "-journal"}) std::filesystem::remove(temporary.string() + suffix, ec);
+    RemoveSqliteFiles(temporary);
     throw;
   }
-  return Open(path, options);
+  RemoveSqliteFiles(temporary);
+  if (!linked) return std::nullopt;
+  ResultsStore store = Open(path, options);
+  if (as_worker) {
+    store.worker_id_ = worker;
+    store.connection_->me = me;
+    const std::lock_guard lock(OpenWorkersMutex());
+    OpenWorkers().insert({store.connection_->open_key, worker});
+  }
+  return store;
 }
 
 ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOptions& options) {
@@ -283,7 +526,7 @@ ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOp
   auto connection = std::make_unique<Connection>();
   connection->db = sqlite::Database(path.string(), SQLITE_OPEN_READWRITE);
   ApplyConnectionOptions(connection->db, options);
-  CampaignHeader header = ReadHeader(connection->db);
+  CampaignHeader header = ReadHeader(connection->db, &connection->schema_version);
   connection->insert = connection->db.Prepare(
       fmt::format("INSERT OR IGNORE INTO runs (campaign_hash, {}) VALUES (?{})", ColumnList(),
                   [] {
@@ -292,7 +535,9 @@ ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOp
                     VisitRecordFields(empty, [&marks](const char*, const auto&) { marks += ", ?"; });
                     return marks;
                   }()));
-  return ResultsStore(path, std::move(connection), std::move(header));
+  connection->open_key = std::filesystem::weakly_canonical(path, ec).string();
+  if (ec) connection->open_key = std::filesystem::absolute(path, ec).string();
+  return ResultsStore(path, std::move(connection), std::move(header), options);
 }
 
 CampaignConfig ResultsStore::config() const {
@@ -374,56 +619,172 @@ std::optional<RunRecord> ResultsStore::ReadRecordByFlightId(std::int64_t flight_
   return ReadRow(select);
 }
 
-ReplayFlight LoadReplay(const std::filesystem::path& db, const std::string& run_id) {
-  const ResultsStore store = ResultsStore::Open(db);
-  std::optional<RunRecord> record;
-  const auto colon = run_id.find(':');
-  auto parse_index = [&run_id](const std::string& text) {
-    std::size_t used = 0;
-    long long value = -1;
-    try {
-      value = std::stoll(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
+std::int64_t ResultsStore::JoinAsWorker() {
+  if (worker_id_ != 0) return worker_id_;
+  sqlite::Database& db = connection_->db;
+  const WorkerIdentity me = ThisProcessIdentity();
+  const double now_s = UnixNowSeconds();
+  std::int64_t worker = 0;
+  try {
+    db.Execute("BEGIN IMMEDIATE", "join the campaign");
+    if (SchemaVersion(db) == 1) {  // raise a version-1 file (store.h)
+      db.Execute(kWorkSchemaSql, "add the work-sharing tables");
+      db.Execute(fmt::format("PRAGMA user_version = {}", kStoreSchemaVersion), "add the work-sharing tables");
     }
-    if (used != text.size() || value < 0) {
-      throw InputError("run id", run_id, "a flight id (\"17\") or RUN_INDEX:POLICY (\"8:cma\")");
+    // WAL mode shares its locks through memory: writers of another kernel would corrupt the file.
+    sqlite::Statement others = db.Prepare(
+        "SELECT id, host, pid, heartbeat_s FROM workers WHERE retired = 0 AND boot_id <> ? ORDER BY heartbeat_s DESC");
+    others.Bind(1, me.boot_id);
+    while (others.Step("read the workers")) {
+      const double age_s = now_s - others.Real(3);
+      if (age_s > options_.claim_lease_s) continue;
+      throw InputError(
+          path_.string(), "workers",
+          fmt::format("writers on one machine only (SQLite's WAL mode shares its locks through memory), but worker "
+                      "{} on host '{}' (pid {}) wrote it {:.0f} s ago; spread a campaign over machines with mpirun, "
+                      "or retry once that process has stopped (its claims lapse {:.0f} s after its last heartbeat)",
+                      others.Integer(0), others.Text(1), others.Integer(2), std::max(0.0, age_s),
+                      options_.claim_lease_s));
     }
-    return static_cast<std::int64_t>(value);
-  };
-  if (colon == std::string::npos) {
-    record = store.ReadRecordByFlightId(parse_index(run_id));
-  } else {
-    record = store.ReadRecord(parse_index(run_id.substr(0, colon)), run_id.substr(colon + 1));
+    worker = InsertWorker(db, me);
+    db.Execute("COMMIT", "join the campaign");
+  } catch (...) {
+    db.RollbackQuietly();
+    throw;
   }
-  if (!record) throw InputError(db.string(), "run " + run_id, "a flight stored in this campaign");
-
-  ReplayFlight flight;
-  flight.config = store.config();
-  flight.num_policies = static_cast<int>(store.header().policies.size());
-  flight.policy_slot = -1;
-  for (int slot = 0; slot < flight.num_policies; ++slot) {
-    if (store.header().policies[slot].name == record->policy) {
-      flight.policy = store.header().policies[slot];
-      flight.policy_slot = slot;
-    }
-  }
-  if (flight.policy_slot < 0) throw InputError(db.string(), "policies", "the policy '" + record->policy + "'");
-  flight.run = SampleRun(flight.config, store.header().seed, record->run_index);
-  if (flight.run.run_seed != record->run_seed || flight.run.distance_m != record->distance_m ||
-      flight.run.cruise_speed_mps != record->cruise_speed_mps ||
-      CellHealthCode(flight.run.scenario.battery.cell_health) != record->cell_health) {
-    throw InputError(db.string(), "run " + run_id,
-                     "a scenario the sampler reproduces; the sampler changed since the campaign ran (code version " +
-                         store.header().code_version + ", now " + kVersion + ")");
-  }
-  flight.recorded = std::move(*record);
-  return flight;
+  connection_->schema_version = kStoreSchemaVersion;
+  connection_->me = me;
+  worker_id_ = worker;
+  const std::lock_guard lock(OpenWorkersMutex());
+  OpenWorkers().insert({connection_->open_key, worker});
+  return worker_id_;
 }
 
-RunRecord ReplayRun(const ReplayFlight& flight, const PlannerFactory& planner_factory) {
-  const sim::Simulator simulator(flight.run.scenario);
-  return FlyRun(simulator, flight.run, flight.policy, flight.policy_slot, flight.num_policies, planner_factory);
+bool ResultsStore::WorkerIsAlive(std::int64_t worker) const {
+  sqlite::Statement select = connection_->db.Prepare(
+      "SELECT boot_id, pid_namespace, pid, start_ticks, heartbeat_s, retired FROM workers WHERE id = ?");
+  select.Bind(1, worker);
+  if (!select.Step("read a worker")) return false;
+  if (select.Integer(5) != 0) return false;  // retired
+  if (connection_->me.pid == 0) connection_->me = ThisProcessIdentity();
+  const WorkerIdentity& me = connection_->me;
+  if (select.Text(0) == me.boot_id && select.Text(1) == me.pid_namespace) {
+    const std::int64_t pid = select.Integer(2);
+    const std::int64_t start_ticks = select.Integer(3);
+    if (pid == me.pid && start_ticks == me.start_ticks) {
+      const std::lock_guard lock(OpenWorkersMutex());
+      return OpenWorkers().count({connection_->open_key, worker}) != 0;
+    }
+    return ProcessIsRunning(pid, start_ticks);
+  }
+  return UnixNowSeconds() - select.Real(4) <= options_.claim_lease_s;
+}
+
+std::int64_t ResultsStore::CountLiveWorkers() const {
+  if (connection_->schema_version < 2) return 0;
+  std::vector<std::int64_t> candidates;
+  {
+    sqlite::Statement select = connection_->db.Prepare("SELECT id FROM workers WHERE retired = 0 AND id <> ?");
+    select.Bind(1, worker_id_);
+    while (select.Step("read the workers")) candidates.push_back(select.Integer(0));
+  }
+  std::int64_t alive = 0;
+  for (const std::int64_t worker : candidates) alive += WorkerIsAlive(worker) ? 1 : 0;
+  return alive;
+}
+
+void ResultsStore::Heartbeat() {
+  if (worker_id_ == 0) return;
+  sqlite::Statement update = connection_->db.Prepare("UPDATE workers SET heartbeat_s = ? WHERE id = ?");
+  update.Bind(1, UnixNowSeconds());
+  update.Bind(2, worker_id_);
+  update.Step("renew this worker's heartbeat");
+}
+
+void ResultsStore::Retire() noexcept {
+  if (worker_id_ == 0 || !connection_) return;
+  try {
+    connection_->db.RollbackQuietly();
+    sqlite::Statement update = connection_->db.Prepare("UPDATE workers SET retired = 1, heartbeat_s = ? WHERE id = ?");
+    update.Bind(1, UnixNowSeconds());
+    update.Bind(2, worker_id_);
+    update.Step("retire this worker");
+  } catch (...) {
+    // A full disk or a lost lock: the worker is taken for dead once this process ends anyway.
+  }
+  try {
+    const std::lock_guard lock(OpenWorkersMutex());
+    OpenWorkers().erase({connection_->open_key, worker_id_});
+  } catch (...) {
+  }
+  worker_id_ = 0;
+}
+
+ClaimResult ResultsStore::ClaimRuns(const std::vector<std::int64_t>& candidates, std::size_t max_claims) {
+  UASCMA_CHECK(worker_id_ != 0, "ClaimRuns needs JoinAsWorker first");
+  ClaimResult result;
+  if (candidates.empty() || max_claims == 0) return result;
+  sqlite::Database& db = connection_->db;
+  const double now_s = UnixNowSeconds();
+  std::map<std::int64_t, bool> alive;  // per holder, within this transaction
+  try {
+    db.Execute("BEGIN IMMEDIATE", "claim runs");
+    for (std::size_t i = 0; i < candidates.size() && result.claimed.size() < max_claims; ++i) {
+      const std::int64_t run_index = candidates[i];
+      result.examined = i + 1;
+      // The flights of the run still missing, in slot order.
+      std::set<std::string> stored;
+      {
+        sqlite::Statement select = db.Prepare("SELECT policy FROM runs WHERE campaign_hash = ? AND run_index = ?");
+        select.Bind(1, header_.campaign_hash);
+        select.Bind(2, run_index);
+        while (select.Step("read the stored flights")) stored.insert(select.Text(0));
+      }
+      FlightTask task{run_index, {}};
+      for (int slot = 0; slot < static_cast<int>(header_.policies.size()); ++slot) {
+        if (stored.count(header_.policies[slot].name) == 0) task.slots.push_back(slot);
+      }
+      if (task.slots.empty()) continue;  // flown already
+      std::int64_t holder = 0;
+      {
+        sqlite::Statement select = db.Prepare("SELECT worker FROM claims WHERE campaign_hash = ? AND run_index = ?");
+        select.Bind(1, header_.campaign_hash);
+        select.Bind(2, run_index);
+        if (select.Step("read a claim")) holder = select.Integer(0);
+      }
+      if (holder != 0) {
+        auto known = alive.find(holder);
+        if (known == alive.end()) known = alive.emplace(holder, holder == worker_id_ || WorkerIsAlive(holder)).first;
+        if (known->second) {
+          result.held.push_back(run_index);
+          continue;
+        }
+      }
+      sqlite::Statement claim = db.Prepare(
+          "INSERT INTO claims (campaign_hash, run_index, worker, claimed_s) VALUES (?, ?, ?, ?) "
+          "ON CONFLICT (campaign_hash, run_index) DO UPDATE SET worker = excluded.worker, claimed_s = excluded.claimed_s");
+      claim.Bind(1, header_.campaign_hash);
+      claim.Bind(2, run_index);
+      claim.Bind(3, worker_id_);
+      claim.Bind(4, now_s);
+      claim.Step("claim a run");
+      result.claimed.push_back(std::move(task));
+    }
+    db.Execute("COMMIT", "claim runs");
+  } catch (...) {
+    db.RollbackQuietly();
+    throw;
+  }
+  return result;
+}
+
+std::int64_t ResultsStore::ClaimHolder(std::int64_t run_index) const {
+  if (connection_->schema_version < 2) return 0;
+  sqlite::Statement select =
+      connection_->db.Prepare("SELECT worker FROM claims WHERE campaign_hash = ? AND run_index = ?");
+  select.Bind(1, header_.campaign_hash);
+  select.Bind(2, run_index);
+  return select.Step("read a claim") ? select.Integer(0) : 0;
 }
 
 }  // namespace uascma::campaign

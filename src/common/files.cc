@@ -1,5 +1,6 @@
 #include "uascma/common/files.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -45,6 +46,93 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view con
     fs::remove(temporary, ec);
     throw InputError(path.string(), "path", "a path that can be replaced (" + ec.message() + ")");
   }
+}
+
+namespace {
+
+std::string UniqueSuffix() {
+  static thread_local std::mt19937_64 name_stream{std::random_device{}()};
+  return std::to_string(::getpid()) + "." + std::to_string(name_stream() % 1000000007ULL);
+}
+
+}  // namespace
+
+OutputDirectory::OutputDirectory(std::string option, std::filesystem::path user_path)
+    : option_(std::move(option)), user_path_(std::move(user_path)) {
+  namespace fs = std::filesystem;
+  const std::string shown = user_path_.string();
+  if (shown.empty()) throw InputError(option_, "path", "a folder name");
+  std::error_code ec;
+  // The folder itself, symbolic links resolved and a trailing "/" dropped, so that the staging folder is
+  // its sibling on the same filesystem.
+  fs::path target = fs::weakly_canonical(fs::absolute(user_path_, ec), ec);
+  if (ec) throw InputError(option_, shown, "a usable folder path (" + ec.message() + ")");
+  if (!target.has_filename()) target = target.parent_path();
+  if (!target.has_filename() || target == target.root_path()) {
+    throw InputError(option_, shown, "a folder other than the root of the filesystem");
+  }
+  const fs::file_status status = fs::status(target, ec);
+  if (fs::exists(status)) {
+    if (!fs::is_directory(status)) throw InputError(option_, shown, "a folder (it is an existing file)");
+    const bool empty = fs::is_empty(target, ec);
+    if (ec) throw InputError(option_, shown, "a readable folder (" + ec.message() + ")");
+    if (!empty && !fs::exists(target / kOutputMarker, ec)) {
+      throw InputError(option_, shown,
+                       "a new or empty folder, or one an earlier uascma run wrote (it holds other files: nothing "
+                       "was changed)");
+    }
+  }
+  fs::create_directories(target.parent_path(), ec);
+  if (ec) throw InputError(option_, shown, "a folder whose parent can be created (" + ec.message() + ")");
+  staging_ = target.parent_path() / (".tmp." + target.filename().string() + "." + UniqueSuffix());
+  if (!fs::create_directory(staging_, ec) || ec) {
+    const std::string reason = ec ? ec.message() : "the name is taken";
+    staging_.clear();
+    throw InputError(option_, shown, "a folder it can write in (" + reason + ")");
+  }
+  try {
+    WriteFileAtomically(staging_ / kOutputMarker, "This folder was written by uascma and is replaced whole by its next run.\n");
+  } catch (const InputError&) {
+    fs::remove_all(staging_, ec);
+    staging_.clear();
+    throw InputError(option_, shown, "a folder it can write in");
+  }
+  target_ = target;
+}
+
+OutputDirectory::~OutputDirectory() {
+  if (!committed_ && !staging_.empty()) {
+    std::error_code ec;
+    std::filesystem::remove_all(staging_, ec);
+  }
+}
+
+void OutputDirectory::Commit() {
+  namespace fs = std::filesystem;
+  UASCMA_CHECK(!committed_, "OutputDirectory committed twice");
+  const std::string shown = user_path_.string();
+  std::error_code ec;
+  if (!fs::exists(target_, ec)) {
+    fs::rename(staging_, target_, ec);
+    if (ec) throw InputError(option_, shown, "a folder it can create (" + ec.message() + ")");
+  } else if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
+    // One atomic swap: the staging name now holds the previous run's files.
+    fs::remove_all(staging_, ec);
+  } else {
+    // A filesystem without RENAME_EXCHANGE: move the old folder aside, then the new one in (two renames;
+    // a crash in between leaves the old files under a hidden sibling name, never a mix).
+    const fs::path old = target_.parent_path() / (".old." + target_.filename().string() + "." + UniqueSuffix());
+    fs::rename(target_, old, ec);
+    if (ec) throw InputError(option_, shown, "a folder it can replace (" + ec.message() + ")");
+    fs::rename(staging_, target_, ec);
+    if (ec) {
+      std::error_code ignored;
+      fs::rename(old, target_, ignored);
+      throw InputError(option_, shown, "a folder it can replace (" + ec.message() + ")");
+    }
+    fs::remove_all(old, ec);
+  }
+  committed_ = true;
 }
 
 std::string ReadFile(const std::filesystem::path& path) {

@@ -65,6 +65,7 @@ void RequireOnlyKeys(const YAML::Node& node, std::initializer_list<const char*> 
                      const std::string& where) {
   if (!node.IsMap()) throw InputError(source, where.empty() ? "(top level)" : where, "a mapping");
   for (const auto& entry : node) {
+    if (!entry.first.IsScalar()) throw InputError(source, where.empty() ? "(top level)" : where, "names as keys");
     const std::string key = entry.first.as<std::string>();
     bool known = false;
     std::string list;

@@ -270,11 +270,7 @@ double CmaWeights::Sum() const {
 
 bool CmaWeights::IsValid(std::string* error) const {
   for (const auto& name : Names()) {
-    const double w = Get(name);
-    if (!std::isfinite(w) || w < 0.0) {
-      if (error) *error = fmt::format("weight {}: expected a finite non-negative number, got {}", name, w);
-      return false;
-    }
+    if (!CheckWithin(Get(name), kCmaWeightBounds, "weight " + name, error)) return false;
   }
   return true;
 }
@@ -298,11 +294,11 @@ CmaConfig LoadCmaConfig(const std::filesystem::path& path) {
   const std::string source = path.string();
   const YAML::Node root = LoadYamlFile(path);
   CmaConfig config;
+  RequireOnlyKeys(root, {"gamma", "weights"}, source, "");
   config.gamma = OptionalNumber(root, "gamma", config.gamma, source, "");
-  if (!(config.gamma >= 0.0 && config.gamma < 1.0)) {
-    throw InputError(source, "gamma", fmt::format("a value in [0, 1), got {}", config.gamma));
-  }
+  RequireWithin(config.gamma, kGammaBounds, source, "gamma");
   const YAML::Node weights = RequireMap(root, "weights", source, "");
+  RequireOnlyKeys(weights, {"end_states", "actions", "state_features"}, source, "weights");
   const struct {
     const char* group;
     std::vector<std::string> names;
@@ -314,12 +310,11 @@ CmaConfig LoadCmaConfig(const std::filesystem::path& path) {
     const YAML::Node node = RequireMap(weights, group.group, source, "weights");
     for (const auto& name : group.names) {
       const double value = RequireNumber(node, name, source, where);
-      if (value < 0.0) {
-        throw InputError(source, where + "." + name, fmt::format("a non-negative weight, got {}", value));
-      }
+      RequireWithin(value, kCmaWeightBounds, source, where + "." + name);
       config.weights.Set(name, value);
     }
     for (const auto& entry : node) {
+      if (!entry.first.IsScalar()) throw InputError(source, where, "weight names as keys");
       const std::string key = entry.first.as<std::string>();
       if (std::find(group.names.begin(), group.names.end(), key) == group.names.end()) {
         throw InputError(source, where + "." + key, "no such weight (a misspelling?)");
@@ -354,7 +349,9 @@ CmaWeights CmaWeightsFromJson(const nlohmann::json& json, const std::string& sou
     if (!json.is_object() || !json.contains(name) || !json.at(name).is_number()) {
       throw InputError(source, "model_config.weights." + name, "a number");
     }
-    weights.Set(name, json.at(name).get<double>());
+    const double value = json.at(name).get<double>();
+    RequireWithin(value, kCmaWeightBounds, source, "model_config.weights." + name);
+    weights.Set(name, value);
   }
   return weights;
 }

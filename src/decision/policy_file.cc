@@ -90,6 +90,7 @@ PolicyDocument PolicyFromJson(const nlohmann::json& json, const std::string& sou
   document.model = Field<std::string>(json, "model", source, "a model name string");
   document.model_hash = Field<std::string>(json, "model_hash", source, "a hash string");
   document.gamma = Field<double>(json, "gamma", source, "a number");
+  RequireWithin(document.gamma, kGammaBounds, source, "gamma");
   document.model_config = json.value("model_config", nlohmann::json::object());
   document.solver = json.value("solver", nlohmann::json::object());
   if (!json.contains("states") || !json.at("states").is_array()) {

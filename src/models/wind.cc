@@ -29,11 +29,10 @@ LowBand LowAltitudeModel(double sigma_w, double altitude_ft) {
   return {sigma_w / std::pow(base, 0.4), sigma_w, h / std::pow(base, 1.2), h};
 }
 
-// Output of the second-order forming filter from its two lag states (see wind.h):
-// y = K [y2 + a (y1 − y2) / b] with K = σ √(L/(πV)), a = √3 L/V, b = L/V.
-double SecondOrderOutput(double lag1, double lag2, double sigma, double length, double airspeed) {
-  const double gain = sigma * std::sqrt(length / (std::numbers::pi * airspeed));
-  return gain * (lag2 + std::numbers::sqrt3 * (lag1 - lag2));
+// Output of the second-order forming filter from its two unit-scaled lag states (see wind.h):
+// y = σ/√2 [x₂ + √3 (x₁ − x₂)], variance σ² for the stationary covariance [[1, ½], [½, ½]].
+double SecondOrderOutput(double lag1, double lag2, double sigma) {
+  return sigma * (0.5 * std::numbers::sqrt2) * (lag2 + std::numbers::sqrt3 * (lag1 - lag2));
 }
 
 // Exact ZOH step of two cascaded identical lags 1/(1 + b s) with input u held over dt.
@@ -126,8 +125,14 @@ WindModel::WindModel(const WindParams& params) : params_(params) {
 
 WindState WindModel::InitialState(double altitude_m, RandomStream& random) const {
   WindState state;
-  const DrydenIntensity& in = IntensityAt(state, altitude_m);
-  state.gust_u = in.sigma_u * random.Normal();
+  IntensityAt(state, altitude_m);
+  // The stationary distribution of the unit-scaled states (wind.h): u ~ N(0, 1); (x₁, x₂) with covariance
+  // [[1, ½], [½, ½]], i.e. x₁ ~ N(0, 1) and x₂ = ½ x₁ + ½ η (variance ¼ + ¼ = ½, covariance ½).
+  state.u = random.Normal();
+  state.v_lag1 = random.Normal();
+  state.v_lag2 = 0.5 * state.v_lag1 + 0.5 * random.Normal();
+  state.w_lag1 = random.Normal();
+  state.w_lag2 = 0.5 * state.w_lag1 + 0.5 * random.Normal();
   return state;
 }
 
@@ -139,13 +144,15 @@ const DrydenIntensity& WindModel::IntensityAt(WindState& state, double altitude_
   return state.intensity;
 }
 
-Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m, double airspeed) const {
+Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
   if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
+  // σ(h) of the present altitude times the unit-scaled states: the variance is σ(h)² whatever the
+  // altitude and airspeed were before (wind.h).
   const DrydenIntensity& in = IntensityAt(state, altitude_m);
-  const double speed = std::max(airspeed, params_.min_airspeed);
-  const double gust_v = SecondOrderOutput(state.v_lag1, state.v_lag2, in.sigma_v, in.length_v, speed);
-  const double gust_w = SecondOrderOutput(state.w_lag1, state.w_lag2, in.sigma_w, in.length_w, speed);
-  return mean_W_ + state.gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
+  const double gust_u = in.sigma_u * state.u;
+  const double gust_v = SecondOrderOutput(state.v_lag1, state.v_lag2, in.sigma_v);
+  const double gust_w = SecondOrderOutput(state.w_lag1, state.w_lag2, in.sigma_w);
+  return mean_W_ + gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
 }
 
 Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airspeed, double dt,
@@ -153,16 +160,18 @@ Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airs
   if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
   const DrydenIntensity& in = IntensityAt(state, altitude_m);
   const double speed = std::max(airspeed, params_.min_airspeed);
-  // u: exact Gauss–Markov step (stationary variance σ_u²).
+  // u: exact Gauss–Markov step of the unit-variance state, with this step's L_u / V.
   // 1 − a² = c (2 − c) with c = 1 − a: no cancellation for the small steps of the simulator.
   const ExpDecay a = CalcExpDecay(speed * dt / in.length_u);
-  state.gust_u = a.factor * state.gust_u +
-                 in.sigma_u * std::sqrt(a.complement * (2.0 - a.complement)) * random.Normal();
-  // v, w: white noise of variance π/Δt held over the step, through the exact ZOH filter.
-  const double noise_scale = std::sqrt(std::numbers::pi / dt);
-  SecondOrderStep(state.v_lag1, state.v_lag2, noise_scale * random.Normal(), in.length_v / speed, dt);
-  SecondOrderStep(state.w_lag1, state.w_lag2, noise_scale * random.Normal(), in.length_w / speed, dt);
-  return Evaluate(state, altitude_m, airspeed);
+  state.u = a.factor * state.u + std::sqrt(a.complement * (2.0 - a.complement)) * random.Normal();
+  // v, w: white noise of PSD 2T (T = L/V of this step) held over the step, through the exact ZOH lags.
+  const double time_constant_v = in.length_v / speed;
+  const double time_constant_w = in.length_w / speed;
+  SecondOrderStep(state.v_lag1, state.v_lag2, std::sqrt(2.0 * time_constant_v / dt) * random.Normal(),
+                  time_constant_v, dt);
+  SecondOrderStep(state.w_lag1, state.w_lag2, std::sqrt(2.0 * time_constant_w / dt) * random.Normal(),
+                  time_constant_w, dt);
+  return Evaluate(state, altitude_m);
 }
 
 }  // namespace uascma::models

@@ -93,7 +93,18 @@ FlightPlan FlightPlan::Through(const Eigen::Vector3d& start_W, const std::vector
   FlightPlan plan;
   Eigen::Vector3d from = start_W;
   double time = 0.0;
-  for (const Waypoint& waypoint : waypoints) {
+  for (std::size_t i = 0; i < waypoints.size(); ++i) {
+    const Waypoint& waypoint = waypoints[i];
+    if (!waypoint.p_W.allFinite()) throw InputError("flight plan", fmt::format("waypoint {}", i), "finite coordinates (m)");
+    if (!(waypoint.hover_after_s >= 0.0 && std::isfinite(waypoint.hover_after_s))) {
+      throw InputError("flight plan", fmt::format("waypoint {} hover", i),
+                       fmt::format("a finite time >= 0 s, got {}", waypoint.hover_after_s));
+    }
+    if (!(waypoint.max_speed >= 0.0 && std::isfinite(waypoint.max_speed))) {
+      throw InputError("flight plan", fmt::format("waypoint {} speed", i),
+                       fmt::format("a finite speed >= 0 m/s (0: the cruise speed), got {}", waypoint.max_speed));
+    }
+    const double cruise_speed = waypoint.max_speed > 0.0 ? waypoint.max_speed : limits.cruise_speed;
     const Eigen::Vector3d delta = waypoint.p_W - from;
     const double length = delta.norm();
     if (length > 1e-9) {
@@ -105,8 +116,9 @@ FlightPlan FlightPlan::Through(const Eigen::Vector3d& start_W, const std::vector
       segment.start_W = from;
       segment.end_W = waypoint.p_W;
       segment.start_time = time;
-      const double speed_limit = AlongPathLimit(horizontal, vertical, limits.cruise_speed, limits.vertical_speed);
+      const double speed_limit = AlongPathLimit(horizontal, vertical, cruise_speed, limits.vertical_speed);
       segment.accel = AlongPathLimit(horizontal, vertical, limits.horizontal_accel, limits.vertical_accel);
+      segment.cruise_speed = cruise_speed;
       const TrapezoidProfile profile = CalcTrapezoid(length, speed_limit, segment.accel);
       segment.peak_speed = profile.peak_speed;
       segment.accel_time = profile.accel_time;

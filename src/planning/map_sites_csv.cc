@@ -4,10 +4,12 @@
 #include <cctype>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "map_import_detail.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
+#include "uascma/planning/csv.h"
 #include "uascma/planning/map_import.h"
 
 namespace uascma::planning {
@@ -32,20 +34,6 @@ const std::array<ColumnSpec, kNumColumns>& Columns() {
   return columns;
 }
 
-// Splits one line at commas; fields are trimmed and a pair of surrounding double quotes is removed.
-std::vector<std::string_view> SplitFields(std::string_view line) {
-  std::vector<std::string_view> fields;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    std::string_view field = detail::Trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start));
-    if (field.size() >= 2 && field.front() == '"' && field.back() == '"') field = field.substr(1, field.size() - 2);
-    fields.push_back(field);
-    if (comma == std::string_view::npos) return fields;
-    start = comma + 1;
-  }
-}
-
 std::string Lower(std::string_view text) {
   std::string out(text);
   std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -56,22 +44,12 @@ std::string Lower(std::string_view text) {
 
 void ParseLandingSitesCsv(std::string_view text, const std::string& source, const MapImportOptions& /*options*/,
                           GeoMapData* data) {
-  // Lines, without their "\n" or "\r\n"; blank lines are skipped.
-  std::vector<std::pair<int, std::string_view>> lines;
-  int number = 0;
-  for (std::size_t start = 0; start < text.size();) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    ++number;
-    std::string_view line = text.substr(start, end - start);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (!detail::Trim(line).empty()) lines.emplace_back(number, line);
-    start = end + 1;
-  }
-  if (lines.empty()) throw InputError(source, "header", "a header row naming the columns osm_id, lat, lon, alt, risk, radius");
+  // Records, RFC 4180 (csv.h): a quoted field may hold commas, doubled quotes and line breaks.
+  const std::vector<CsvRecord> records = SplitCsv(text, source);
+  if (records.empty()) throw InputError(source, "header", "a header row naming the columns osm_id, lat, lon, alt, risk, radius");
 
   // The header: where each column is.
-  const auto header = SplitFields(lines.front().second);
+  const std::vector<std::string>& header = records.front().fields;
   std::array<int, kNumColumns> where;
   where.fill(-1);
   for (int c = 0; c < kNumColumns; ++c) {
@@ -86,17 +64,16 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
       for (std::string_view alias : Columns()[c].aliases) aliases += (aliases.empty() ? "" : " | ") + std::string(alias);
       throw InputError(source, "header",
                        fmt::format("a column '{}' (accepted names: {}); the header is '{}'", Columns()[c].name,
-                                   aliases, lines.front().second));
+                                   aliases, fmt::join(header, ",")));
     }
   }
   const int needed = *std::max_element(where.begin(), where.end()) + 1;
 
   ImportSummary& summary = data->summary;
   summary.sources.push_back(source);
-  for (std::size_t l = 1; l < lines.size(); ++l) {
-    const auto [line_number, line] = lines[l];
-    const auto fields = SplitFields(line);
-    const std::string row = fmt::format("line {}", line_number);
+  for (std::size_t r = 1; r < records.size(); ++r) {
+    const std::vector<std::string>& fields = records[r].fields;
+    const std::string row = fmt::format("line {}", records[r].line);
     if (static_cast<int>(fields.size()) < needed) {
       throw InputError(source, row, fmt::format("{} comma-separated fields, got {}", header.size(), fields.size()));
     }

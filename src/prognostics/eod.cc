@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -36,10 +37,8 @@ bool EodOptions::IsValid(std::string* error) const {
     if (error != nullptr) *error = message;
     return false;
   };
-  if (!std::isfinite(cutoff_v)) return fail(fmt::format("cutoff_v: a finite voltage, got {}", cutoff_v));
-  if (!(horizon_s > 0.0 && std::isfinite(horizon_s))) {
-    return fail(fmt::format("horizon_s: a positive finite time, got {}", horizon_s));
-  }
+  if (!CheckWithin(cutoff_v, models::kCutoffVoltageBounds, "cutoff_v", error)) return false;
+  if (!CheckWithin(horizon_s, kHorizonBounds, "horizon_s", error)) return false;
   if (!(time_tolerance_s > 0.0)) return fail(fmt::format("time_tolerance_s: > 0, got {}", time_tolerance_s));
   return true;
 }
@@ -404,9 +403,9 @@ EodResult Reached(EodStatus status, double eod_s, const Lane* lane, int segments
   return result;
 }
 
-EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& options) {
-  const double cutoff = options.cutoff_v;
-  // Now: the voltages with the present split (eqs. 3.4–3.5), the stored state, s = −sgn(i).
+// The present: the voltages with the present split (eqs. 3.4–3.5), the stored state, s = −sgn(i). A result
+// when the EOD is decided before any propagation (no branch, already below the cut-off, no discharge).
+std::optional<EodResult> CheckPresent(const Problem& problem, double total_current_a, const EodOptions& options) {
   if (!problem.on[0] && !problem.on[1]) return Reached(EodStatus::kNoBranchConnected, 0.0, nullptr, 0, 0);
   PerBranch<double> ocv_now{};
   for (int b = 0; b < kBranchCount; ++b) {
@@ -431,11 +430,171 @@ EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& 
       }
     }
   }
-  if (lowest_v <= cutoff) return Reached(EodStatus::kAlreadyBelowCutoff, 0.0, lowest, 0, 0);
+  if (lowest_v <= options.cutoff_v) return Reached(EodStatus::kAlreadyBelowCutoff, 0.0, lowest, 0, 0);
   if (!(total_current_a > 0.0)) {
     return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
   }
+  return std::nullopt;
+}
 
+// One segment of the propagation: the branch current laws, which branches conduct, and its length.
+struct Segment {
+  PerBranch<CurrentLaw> law{};
+  PerBranch<bool> conducting{};
+  double duration = 0.0;
+  PerBranch<BranchAt> branch_end{};
+  PerBranch<bool> branch_end_known = {false, false};
+};
+
+// The branch current laws on the present OCV segments, and the time a blocked diode opens.
+Segment MakeSegment(const Problem& problem, double current, double negligible_a, double remaining) {
+  // Branch OCV (eq. 3.6) and K_j = Σ η slope / Q on the present OCV segments.
+  PerBranch<double> branch_ocv{}, branch_k{};
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!problem.on[b]) continue;
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      const Lane& lane = problem.lanes[l];
+      branch_ocv[b] += LaneOcv(lane, lane.state.soc_fraction);
+      branch_k[b] += lane.slope_v * lane.eta_per_as;
+    }
+  }
+  Segment segment;
+  PerBranch<CurrentLaw>& law = segment.law;
+  segment.duration = remaining;
+  if (problem.on[0] && problem.on[1]) {
+    const double r_sum = problem.r0_ohm[0] + problem.r0_ohm[1];
+    double i0 = (branch_ocv[0] - branch_ocv[1] + current * problem.r0_ohm[1]) / r_sum;  // eqs. 3.4–3.5
+    if (i0 < -negligible_a || i0 > current + negligible_a) {
+      // One diode blocks: the active branch carries I until its E_a(t) − R_a I falls to the idle
+      // branch's E_b (E_a falls at K_a I per second), when the blocked branch joins in.
+      const int active = i0 < 0.0 ? 1 : 0;
+      const int idle = 1 - active;
+      law[active] = {current, 0.0, 0.0, 0.0};
+      segment.conducting[active] = true;
+      const double unblock_s = (branch_ocv[active] - problem.r0_ohm[active] * current - branch_ocv[idle]) /
+                               (branch_k[active] * current);
+      segment.duration = std::min(segment.duration, std::max(unblock_s, 0.0));
+    } else {
+      // Both conduct: i⁰(t) = ī + Δ e^{−qt}, q = (K₀ + K₁)/(R₀ + R₁), ī = K₁ I/(K₀ + K₁) (eq.-3.4–3.7
+      // split of affine branch OCVs; derivation in eod.h).
+      i0 = std::clamp(i0, 0.0, current);
+      const double k_sum = branch_k[0] + branch_k[1];
+      const double mean0 = current * branch_k[1] / k_sum;
+      const double delta0 = i0 - mean0;
+      if (std::abs(delta0) <= negligible_a) {
+        law[0] = {i0, 0.0, 0.0, 0.0};
+        law[1] = {current - i0, 0.0, 0.0, 0.0};
+      } else {
+        const double rate = k_sum / r_sum;
+        law[0] = {mean0, delta0, rate, 1.0 / rate};
+        law[1] = {current - mean0, -delta0, rate, 1.0 / rate};
+      }
+      segment.conducting = {true, true};
+    }
+  } else {
+    const int b = problem.on[0] ? 0 : 1;
+    law[b] = {current, 0.0, 0.0, 0.0};
+    segment.conducting[b] = true;
+  }
+  return segment;
+}
+
+// The segment ends when the first cell of a conducting branch reaches its lower OCV breakpoint. Solve the
+// branch whose second-order estimate comes first; the other needs solving only if it has drawn its charge by
+// then.
+void EndAtTheFirstBreakpoint(const Problem& problem, double remaining, const EodOptions& options, Segment& segment) {
+  PerBranch<double> charge_to_breakpoint = {kNone, kNone};
+  PerBranch<double> estimate_s = {kNone, kNone};
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!segment.conducting[b]) continue;
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      const Lane& lane = problem.lanes[l];
+      if (lane.segment == 0) continue;  // the lowest line extends below the table
+      charge_to_breakpoint[b] = std::min(
+          charge_to_breakpoint[b], (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
+    }
+    if (charge_to_breakpoint[b] != kNone) estimate_s[b] = EstimateTimeToCharge(segment.law[b], charge_to_breakpoint[b]);
+  }
+  const int urgent = estimate_s[0] <= estimate_s[1] ? 0 : 1;
+  for (int b : {urgent, 1 - urgent}) {
+    if (charge_to_breakpoint[b] == kNone) continue;
+    if (segment.duration < remaining) {
+      segment.branch_end[b] = EvaluateBranch(segment.law[b], segment.duration);
+      segment.branch_end_known[b] = true;
+      if (segment.branch_end[b].charge_as < charge_to_breakpoint[b]) continue;  // its breakpoint comes later
+    }
+    segment.duration = std::min(segment.duration, TimeToCharge(segment.law[b], charge_to_breakpoint[b], estimate_s[b],
+                                                               options.time_tolerance_s));
+    segment.branch_end_known = {false, false};  // the end moved
+  }
+}
+
+struct Crossing {
+  double first_s = kNone;
+  const Lane* limiting = nullptr;
+};
+
+// Every conducting lane at the segment's end (into `end`), and the first cut-off crossing of any conducting lane
+// inside [0, duration]. The RC terms are computed once per distinct rate.
+Crossing FindFirstCrossing(const Problem& problem, Segment& segment, const EodOptions& options,
+                           std::array<Eval, kMaxLanes>& end, int& evaluations) {
+  std::array<RcAt, kMaxRates> rc_at;
+  const CurrentLaw& shared_law = segment.conducting[0] ? segment.law[0] : segment.law[1];  // the laws share q
+  for (int r = 0; r < problem.rate_count; ++r) rc_at[r] = MakeRcAt(problem.rates[r], shared_law, segment.duration);
+  Crossing crossing;
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!segment.conducting[b]) continue;
+    const CurrentLaw& law = segment.law[b];
+    if (!segment.branch_end_known[b]) segment.branch_end[b] = EvaluateBranch(law, segment.duration);
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      const Lane& lane = problem.lanes[l];
+      std::array<RcAt, kMaxRcPairs> rc;
+      for (int j = 0; j < lane.rc_count; ++j) rc[j] = rc_at[lane.rc_slot[j]];
+      Evaluate(lane, law, segment.branch_end[b], rc.data(), &end[l]);
+      // Most segments end far above the cut-off: the lower bound over the whole segment settles it.
+      const double start_current = law.mean_a + law.delta_a;
+      if (LowerBound(lane, start_current, lane.state.rc_current_a.data(), end[l]) > options.cutoff_v) continue;
+      Search search{lane, law, options.cutoff_v, options.time_tolerance_s};
+      Eval start;
+      EvaluateStart(lane, law, &start);
+      const double first = search.First(start, end[l]);
+      evaluations += search.evaluations;
+      if (first < crossing.first_s) {
+        crossing.first_s = first;
+        crossing.limiting = &lane;
+      }
+    }
+  }
+  return crossing;
+}
+
+// Every switched-on lane to the segment's end.
+void AdvanceLanes(Problem& problem, const Segment& segment, const std::array<Eval, kMaxLanes>& end) {
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!problem.on[b]) continue;
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      Lane& lane = problem.lanes[l];
+      if (segment.conducting[b]) {
+        const Eval& e = end[l];
+        lane.state.soc_fraction = e.soc;
+        lane.state.hysteresis = e.hysteresis;
+        lane.state.hysteresis_sign = -1.0;
+        for (int j = 0; j < lane.rc_count; ++j) lane.state.rc_current_a[j] = e.rc_current_a[j];
+        if (lane.segment > 0 && lane.state.soc_fraction - lane.segment_start_soc <= kSocSnap) {
+          lane.state.soc_fraction = std::min(lane.state.soc_fraction, lane.segment_start_soc);
+          UpdateSegment(lane);  // on (or past) the breakpoint: the segment below
+        }
+      } else {  // blocked by its diode: at rest, the RC currents relax
+        for (int j = 0; j < lane.rc_count; ++j) {
+          lane.state.rc_current_a[j] *= std::exp(-lane.rc_rate_per_s[j] * segment.duration);
+        }
+      }
+    }
+  }
+}
+
+EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& options) {
+  if (const std::optional<EodResult> decided = CheckPresent(problem, total_current_a, options)) return *decided;
   const double current = total_current_a;
   const double negligible_a = 1e-9 * std::max(current, 1.0);
   for (int l = 0; l < problem.lane_count; ++l) UpdateSegment(problem.lanes[l]);
@@ -447,140 +606,15 @@ EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& 
     if (remaining <= 0.0) {
       return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, segment_count, evaluations);
     }
-    // Branch OCV (eq. 3.6) and K_j = Σ η slope / Q on the present OCV segments.
-    PerBranch<double> branch_ocv{}, branch_k{};
-    for (int b = 0; b < kBranchCount; ++b) {
-      if (!problem.on[b]) continue;
-      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-        const Lane& lane = problem.lanes[l];
-        branch_ocv[b] += LaneOcv(lane, lane.state.soc_fraction);
-        branch_k[b] += lane.slope_v * lane.eta_per_as;
-      }
-    }
-    // The branch current laws on this segment.
-    PerBranch<CurrentLaw> law{};
-    PerBranch<bool> conducting{};
-    double duration = remaining;
-    if (problem.on[0] && problem.on[1]) {
-      const double r_sum = problem.r0_ohm[0] + problem.r0_ohm[1];
-      double i0 = (branch_ocv[0] - branch_ocv[1] + current * problem.r0_ohm[1]) / r_sum;  // eqs. 3.4–3.5
-      if (i0 < -negligible_a || i0 > current + negligible_a) {
-        // One diode blocks: the active branch carries I until its E_a(t) − R_a I falls to the idle
-        // branch's E_b (E_a falls at K_a I per second), when the blocked branch joins in.
-        const int active = i0 < 0.0 ? 1 : 0;
-        const int idle = 1 - active;
-        law[active] = {current, 0.0, 0.0, 0.0};
-        conducting[active] = true;
-        const double unblock_s = (branch_ocv[active] - problem.r0_ohm[active] * current - branch_ocv[idle]) /
-                                 (branch_k[active] * current);
-        duration = std::min(duration, std::max(unblock_s, 0.0));
-      } else {
-        // Both conduct: i⁰(t) = ī + Δ e^{−qt}, q = (K₀ + K₁)/(R₀ + R₁), ī = K₁ I/(K₀ + K₁) (eq.-3.4–3.7
-        // split of affine branch OCVs; derivation in eod.h).
-        i0 = std::clamp(i0, 0.0, current);
-        const double k_sum = branch_k[0] + branch_k[1];
-        const double mean0 = current * branch_k[1] / k_sum;
-        const double delta0 = i0 - mean0;
-        if (std::abs(delta0) <= negligible_a) {
-          law[0] = {i0, 0.0, 0.0, 0.0};
-          law[1] = {current - i0, 0.0, 0.0, 0.0};
-        } else {
-          const double rate = k_sum / r_sum;
-          law[0] = {mean0, delta0, rate, 1.0 / rate};
-          law[1] = {current - mean0, -delta0, rate, 1.0 / rate};
-        }
-        conducting = {true, true};
-      }
-    } else {
-      const int b = problem.on[0] ? 0 : 1;
-      law[b] = {current, 0.0, 0.0, 0.0};
-      conducting[b] = true;
-    }
-    // The segment ends when the first cell of a conducting branch reaches its lower OCV breakpoint. Solve
-    // the branch whose second-order estimate comes first; the other needs solving only if it has drawn its
-    // charge by then.
-    PerBranch<double> charge_to_breakpoint = {kNone, kNone};
-    PerBranch<double> estimate_s = {kNone, kNone};
-    for (int b = 0; b < kBranchCount; ++b) {
-      if (!conducting[b]) continue;
-      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-        const Lane& lane = problem.lanes[l];
-        if (lane.segment == 0) continue;  // the lowest line extends below the table
-        charge_to_breakpoint[b] = std::min(
-            charge_to_breakpoint[b], (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
-      }
-      if (charge_to_breakpoint[b] != kNone) estimate_s[b] = EstimateTimeToCharge(law[b], charge_to_breakpoint[b]);
-    }
-    const int urgent = estimate_s[0] <= estimate_s[1] ? 0 : 1;
-    PerBranch<BranchAt> branch_end{};
-    PerBranch<bool> branch_end_known = {false, false};
-    for (int b : {urgent, 1 - urgent}) {
-      if (charge_to_breakpoint[b] == kNone) continue;
-      if (duration < remaining) {
-        branch_end[b] = EvaluateBranch(law[b], duration);
-        branch_end_known[b] = true;
-        if (branch_end[b].charge_as < charge_to_breakpoint[b]) continue;  // its breakpoint comes later
-      }
-      duration = std::min(duration,
-                          TimeToCharge(law[b], charge_to_breakpoint[b], estimate_s[b], options.time_tolerance_s));
-      branch_end_known = {false, false};  // the end moved
-    }
-    // Every lane at the segment's end, and the first cut-off crossing of any conducting lane inside
-    // [0, duration]. The RC terms are computed once per distinct rate.
-    std::array<RcAt, kMaxRates> rc_at;
-    const CurrentLaw& shared_law = conducting[0] ? law[0] : law[1];  // the laws share q
-    for (int r = 0; r < problem.rate_count; ++r) rc_at[r] = MakeRcAt(problem.rates[r], shared_law, duration);
+    Segment segment = MakeSegment(problem, current, negligible_a, remaining);
+    EndAtTheFirstBreakpoint(problem, remaining, options, segment);
     std::array<Eval, kMaxLanes> end;  // filled for the conducting lanes only
-    double first_s = kNone;
-    const Lane* limiting = nullptr;
-    for (int b = 0; b < kBranchCount; ++b) {
-      if (!conducting[b]) continue;
-      if (!branch_end_known[b]) branch_end[b] = EvaluateBranch(law[b], duration);
-      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-        const Lane& lane = problem.lanes[l];
-        std::array<RcAt, kMaxRcPairs> rc;
-        for (int j = 0; j < lane.rc_count; ++j) rc[j] = rc_at[lane.rc_slot[j]];
-        Evaluate(lane, law[b], branch_end[b], rc.data(), &end[l]);
-        // Most segments end far above the cut-off: the lower bound over the whole segment settles it.
-        const double start_current = law[b].mean_a + law[b].delta_a;
-        if (LowerBound(lane, start_current, lane.state.rc_current_a.data(), end[l]) > cutoff) continue;
-        Search search{lane, law[b], cutoff, options.time_tolerance_s};
-        Eval start;
-        EvaluateStart(lane, law[b], &start);
-        const double crossing = search.First(start, end[l]);
-        evaluations += search.evaluations;
-        if (crossing < first_s) {
-          first_s = crossing;
-          limiting = &lane;
-        }
-      }
+    const Crossing crossing = FindFirstCrossing(problem, segment, options, end, evaluations);
+    if (crossing.limiting != nullptr) {
+      return Reached(EodStatus::kReached, t + crossing.first_s, crossing.limiting, segment_count + 1, evaluations);
     }
-    if (limiting != nullptr) {
-      return Reached(EodStatus::kReached, t + first_s, limiting, segment_count + 1, evaluations);
-    }
-    // Advance every switched-on lane to the segment's end.
-    for (int b = 0; b < kBranchCount; ++b) {
-      if (!problem.on[b]) continue;
-      for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-        Lane& lane = problem.lanes[l];
-        if (conducting[b]) {
-          const Eval& e = end[l];
-          lane.state.soc_fraction = e.soc;
-          lane.state.hysteresis = e.hysteresis;
-          lane.state.hysteresis_sign = -1.0;
-          for (int j = 0; j < lane.rc_count; ++j) lane.state.rc_current_a[j] = e.rc_current_a[j];
-          if (lane.segment > 0 && lane.state.soc_fraction - lane.segment_start_soc <= kSocSnap) {
-            lane.state.soc_fraction = std::min(lane.state.soc_fraction, lane.segment_start_soc);
-            UpdateSegment(lane);  // on (or past) the breakpoint: the segment below
-          }
-        } else {  // blocked by its diode: at rest, the RC currents relax
-          for (int j = 0; j < lane.rc_count; ++j) {
-            lane.state.rc_current_a[j] *= std::exp(-lane.rc_rate_per_s[j] * duration);
-          }
-        }
-      }
-    }
-    t += duration;
+    AdvanceLanes(problem, segment, end);
+    t += segment.duration;
   }
 }
 

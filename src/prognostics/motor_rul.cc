@@ -119,10 +119,7 @@ bool SpallGrowthParams::IsValid(std::string* error) const {
     return fail(fmt::format("paris_exponent_noise_std: a standard deviation >= 0, got {}",
                             paris_exponent_noise_std));
   }
-  if (!IsPositiveFinite(time_per_growth_step_s)) {
-    return fail(fmt::format("time_per_growth_step_s: a positive time in seconds, got {}",
-                            time_per_growth_step_s));
-  }
+  if (!CheckWithin(time_per_growth_step_s, kTimePerGrowthStepBounds, "time_per_growth_step_s", error)) return false;
   if (max_growth_steps < 1) {
     return fail(fmt::format("max_growth_steps: at least 1, got {}", max_growth_steps));
   }

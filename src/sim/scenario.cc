@@ -1,6 +1,8 @@
 #include "uascma/sim/scenario.h"
 
+#include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -92,6 +94,181 @@ std::array<models::CellHealth, models::kCellsPerBranch> PackHealthPreset(models:
   return cells;
 }
 
+bool FaultSpec::IsValid(std::string* error) const {
+  if (!enabled) return true;
+  if (motor < 1 || motor > 6) {
+    if (error) *error = fmt::format("motor: expected a motor number 1..6, got {}", motor);
+    return false;
+  }
+  if (!(spall_onset_s >= 0.0 && std::isfinite(spall_onset_s))) {
+    if (error) *error = fmt::format("spall_onset_s: expected a time >= 0 s, got {}", spall_onset_s);
+    return false;
+  }
+  for (const auto& [name, tau] : {std::pair{"time_per_growth_step_s", time_per_growth_step_s},
+                                  std::pair{"prognosis_time_per_growth_step_s", prognosis_time_per_growth_step_s}}) {
+    if (tau && !(*tau > 0.0 && std::isfinite(*tau))) {
+      if (error) *error = fmt::format("{}: expected a positive time (s), got {}", name, *tau);
+      return false;
+    }
+  }
+  return true;
+}
+
+bool BatterySpec::IsValid(std::string* error) const {
+  if (!std::isfinite(ambient_temp_degf)) {
+    if (error) *error = "ambient_temp_degf: expected a finite temperature (°F)";
+    return false;
+  }
+  try {
+    models::BatteryPack(models::MakePackParams(cell_health, ambient_temp_degf))
+        .MakeRestingState(initial_cell_voltage_v, models::PackAction::kUseBoth, "initial_cell_voltage_v");
+  } catch (const InputError& e) {
+    if (error) *error = e.what();
+    return false;
+  }
+  return true;
+}
+
+bool SimOptions::IsValid(std::string* error) const {
+  const struct { const char* name; double value; } positive[] = {
+      {"gnc_rate_hz", gnc_rate_hz}, {"decision_rate_hz", decision_rate_hz},
+      {"telemetry_rate_hz", telemetry_rate_hz}, {"reference_bus_voltage_v", reference_bus_voltage_v},
+      {"load_current_time_constant_s", load_current_time_constant_s}};
+  for (const auto& f : positive) {
+    if (!(f.value > 0.0 && std::isfinite(f.value))) {
+      if (error) *error = fmt::format("{}: expected a positive number, got {}", f.name, f.value);
+      return false;
+    }
+  }
+  const double ratio = gnc_rate_hz / decision_rate_hz;
+  if (std::abs(ratio - std::round(ratio)) > 1e-9) {
+    if (error) *error = "decision_rate_hz: expected to divide gnc_rate_hz";
+    return false;
+  }
+  if (!(safety_margin_s >= 0.0 && std::isfinite(safety_margin_s))) {
+    if (error) *error = "safety_margin_s: expected >= 0 s";
+    return false;
+  }
+  if (!(hotel_current_a >= 0.0 && std::isfinite(hotel_current_a))) {
+    if (error) *error = "hotel_current_a: expected >= 0 A";
+    return false;
+  }
+  return outcome.IsValid(error);
+}
+
+bool Scenario::IsValid(std::string* error) const {
+  std::string part_error;
+  auto fail = [&](const char* part) {
+    if (error) *error = std::string(part) + ": " + part_error;
+    return false;
+  };
+  if (!body.IsValid(&part_error)) return fail("vehicle");
+  if (!battery.IsValid(&part_error)) return fail("battery");
+  if (!wind.IsValid(&part_error)) return fail("wind");
+  if (!mission.IsValid(&part_error)) return fail("mission");
+  if (!limits.IsValid(&part_error)) return fail("limits");
+  if (!fault.IsValid(&part_error)) return fail("fault");
+  if (!lqr.IsValid(&part_error)) return fail("lqr");
+  if (!imm.IsValid(&part_error)) return fail("imm");
+  if (!options.IsValid(&part_error)) return fail("options");
+  if (std::abs(lqr.dt * options.gnc_rate_hz - 1.0) > 1e-9) {
+    part_error = "dt: expected 1 / options.gnc_rate_hz";
+    return fail("lqr");
+  }
+  if (map) {
+    for (const auto& [key, point] : {std::pair{"home_ne_m", mission.home_NE},
+                                      std::pair{"destination_ne_m", mission.destination_NE}}) {
+      const int building = map->BuildingContaining(Eigen::Vector3d(point.x(), point.y(), -0.1));
+      if (building != planning::kNoBuilding) {
+        part_error = fmt::format("{}: expected a point on open ground, but building {} stands at ({:.1f}, {:.1f}) m",
+                                 key, map->building(building).id, point.x(), point.y());
+        return fail("mission");
+      }
+    }
+  }
+  return true;
+}
+
+namespace {
+
+void ReadVehicle(const YAML::Node& v, const std::string& source, Scenario& sc) {
+  RequireOnlyKeys(v, {"configuration", "mass_kg", "inertia_kg_m2"}, source, "vehicle");
+  if (v["configuration"]) {
+    sc.configuration = models::ParsePropellerConfiguration(RequireString(v, "configuration", source, "vehicle"),
+                                                           source + ": vehicle.configuration");
+  }
+  sc.body.mass = OptionalNumber(v, "mass_kg", sc.body.mass, source, "vehicle");
+  if (v["inertia_kg_m2"]) {
+    const auto inertia = RequireNumberList(v, "inertia_kg_m2", 3, source, "vehicle");
+    sc.body.inertia_diagonal = Eigen::Vector3d(inertia[0], inertia[1], inertia[2]);
+  }
+}
+
+void ReadWind(const YAML::Node& w, const std::string& source, models::WindParams& wind) {
+  RequireOnlyKeys(w, {"speed_mps", "direction_deg", "turbulence"}, source, "wind");
+  wind.mean_speed = OptionalNumber(w, "speed_mps", wind.mean_speed, source, "wind");
+  wind.direction_rad = OptionalNumber(w, "direction_deg", 0.0, source, "wind") * kRadiansPerDegree;
+  if (w["turbulence"]) {
+    wind.turbulence = models::ParseTurbulenceCategory(RequireString(w, "turbulence", source, "wind"),
+                                                      source + ": wind.turbulence");
+  }
+}
+
+// Returns whether the file sets the cruise altitude.
+bool ReadMission(const YAML::Node& m, const std::string& source, planning::DeliveryMission& mission) {
+  RequireOnlyKeys(m, {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s"}, source, "mission");
+  if (m["home_ne_m"]) {
+    const auto home = RequireNumberList(m, "home_ne_m", 2, source, "mission");
+    mission.home_NE = Eigen::Vector2d(home[0], home[1]);
+  }
+  if (m["destination_ne_m"]) {
+    const auto destination = RequireNumberList(m, "destination_ne_m", 2, source, "mission");
+    mission.destination_NE = Eigen::Vector2d(destination[0], destination[1]);
+  }
+  mission.cruise_altitude = OptionalNumber(m, "cruise_altitude_m", mission.cruise_altitude, source, "mission");
+  mission.drop_hover_s = OptionalNumber(m, "drop_hover_s", mission.drop_hover_s, source, "mission");
+  return static_cast<bool>(m["cruise_altitude_m"]);
+}
+
+void ReadLimits(const YAML::Node& l, const std::string& source, planning::PlanLimits& limits) {
+  RequireOnlyKeys(l, {"cruise_speed_mps", "vertical_speed_mps", "horizontal_accel_mps2", "vertical_accel_mps2"},
+                  source, "limits");
+  limits.cruise_speed = OptionalNumber(l, "cruise_speed_mps", limits.cruise_speed, source, "limits");
+  limits.vertical_speed = OptionalNumber(l, "vertical_speed_mps", limits.vertical_speed, source, "limits");
+  limits.horizontal_accel = OptionalNumber(l, "horizontal_accel_mps2", limits.horizontal_accel, source, "limits");
+  limits.vertical_accel = OptionalNumber(l, "vertical_accel_mps2", limits.vertical_accel, source, "limits");
+}
+
+void ReadFault(const YAML::Node& f, const std::string& source, FaultSpec& fault) {
+  RequireOnlyKeys(f, {"motor", "spall_onset_s", "time_per_growth_step_s", "prognosis_time_per_growth_step_s"}, source,
+                  "fault");
+  fault.enabled = true;
+  const double motor = RequireNumber(f, "motor", source, "fault");
+  if (motor != std::floor(motor) || motor < 1 || motor > 6) throw InputError(source, "fault.motor", "a motor number 1..6");
+  fault.motor = static_cast<int>(motor);
+  fault.spall_onset_s = RequireNumber(f, "spall_onset_s", source, "fault");
+  if (f["time_per_growth_step_s"]) fault.time_per_growth_step_s = RequireNumber(f, "time_per_growth_step_s", source, "fault");
+  if (f["prognosis_time_per_growth_step_s"]) {
+    fault.prognosis_time_per_growth_step_s = RequireNumber(f, "prognosis_time_per_growth_step_s", source, "fault");
+  }
+}
+
+void ReadOptions(const YAML::Node& o, const std::string& source, SimOptions& options) {
+  RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_tracking_error_m",
+                      "safety_margin_s"},
+                  source, "options");
+  options.safety_margin_s = OptionalNumber(o, "safety_margin_s", options.safety_margin_s, source, "options");
+  options.telemetry_rate_hz = OptionalNumber(o, "telemetry_rate_hz", options.telemetry_rate_hz, source, "options");
+  options.reconfiguration = OptionalBool(o, "reconfiguration", options.reconfiguration, source, "options");
+  options.sensor_noise = OptionalBool(o, "sensor_noise", options.sensor_noise, source, "options");
+  OutcomeThresholds& outcome = options.outcome;
+  outcome.max_tilt = OptionalNumber(o, "max_tilt_deg", outcome.max_tilt / kRadiansPerDegree, source, "options") *
+                     kRadiansPerDegree;
+  outcome.max_tracking_error = OptionalNumber(o, "max_tracking_error_m", outcome.max_tracking_error, source, "options");
+}
+
+}  // namespace
+
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source) {
   YAML::Node root;
   try {
@@ -114,115 +291,22 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     sc.seed = static_cast<std::uint64_t>(seed);
   }
   if (root["policy"]) file.policy = RequireString(root, "policy", source, "");
-  if (const YAML::Node v = root["vehicle"]) {
-    RequireOnlyKeys(v, {"configuration", "mass_kg", "inertia_kg_m2"}, source, "vehicle");
-    if (v["configuration"]) {
-      sc.configuration = models::ParsePropellerConfiguration(RequireString(v, "configuration", source, "vehicle"),
-                                                             source + ": vehicle.configuration");
-    }
-    sc.body.mass = OptionalNumber(v, "mass_kg", sc.body.mass, source, "vehicle");
-    if (v["inertia_kg_m2"]) {
-      const auto inertia = RequireNumberList(v, "inertia_kg_m2", 3, source, "vehicle");
-      sc.body.inertia_diagonal = Eigen::Vector3d(inertia[0], inertia[1], inertia[2]);
-    }
-    std::string error;
-    if (!sc.body.IsValid(&error)) throw InputError(source, "vehicle", error);
-  }
+  if (const YAML::Node v = root["vehicle"]) ReadVehicle(v, source, sc);
   if (const YAML::Node b = root["battery"]) ReadBattery(b, source, sc.battery);
-  // The initial voltages must lie on the OCV table (they set the initial state of charge).
-  models::BatteryPack(models::MakePackParams(sc.battery.cell_health, sc.battery.ambient_temp_degf))
-      .MakeRestingState(sc.battery.initial_cell_voltage_v, models::PackAction::kUseBoth,
-                        source + ": battery.initial_cell_voltage_v");
-  if (const YAML::Node w = root["wind"]) {
-    RequireOnlyKeys(w, {"speed_mps", "direction_deg", "turbulence"}, source, "wind");
-    sc.wind.mean_speed = OptionalNumber(w, "speed_mps", sc.wind.mean_speed, source, "wind");
-    sc.wind.direction_rad = OptionalNumber(w, "direction_deg", 0.0, source, "wind") * kRadiansPerDegree;
-    if (w["turbulence"]) {
-      sc.wind.turbulence = models::ParseTurbulenceCategory(RequireString(w, "turbulence", source, "wind"),
-                                                           source + ": wind.turbulence");
-    }
-    std::string error;
-    if (!sc.wind.IsValid(&error)) throw InputError(source, "wind", error);
-  }
+  if (const YAML::Node w = root["wind"]) ReadWind(w, source, sc.wind);
   if (const YAML::Node map = root["map"]) sc.map = ReadMap(map, source);
-  bool cruise_altitude_given = false;
-  if (const YAML::Node m = root["mission"]) {
-    cruise_altitude_given = static_cast<bool>(m["cruise_altitude_m"]);
-    RequireOnlyKeys(m, {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s"}, source, "mission");
-    if (m["home_ne_m"]) {
-      const auto home = RequireNumberList(m, "home_ne_m", 2, source, "mission");
-      sc.mission.home_NE = Eigen::Vector2d(home[0], home[1]);
-    }
-    if (m["destination_ne_m"]) {
-      const auto destination = RequireNumberList(m, "destination_ne_m", 2, source, "mission");
-      sc.mission.destination_NE = Eigen::Vector2d(destination[0], destination[1]);
-    }
-    sc.mission.cruise_altitude = OptionalNumber(m, "cruise_altitude_m", sc.mission.cruise_altitude, source, "mission");
-    sc.mission.drop_hover_s = OptionalNumber(m, "drop_hover_s", sc.mission.drop_hover_s, source, "mission");
-    std::string error;
-    if (!sc.mission.IsValid(&error)) throw InputError(source, "mission", error);
-  }
-  if (sc.map) {
-    for (const auto& [key, point] : {std::pair{"mission.home_ne_m", sc.mission.home_NE},
-                                      std::pair{"mission.destination_ne_m", sc.mission.destination_NE}}) {
-      const int building = sc.map->BuildingContaining(Eigen::Vector3d(point.x(), point.y(), -0.1));
-      if (building != planning::kNoBuilding) {
-        throw InputError(source, key,
-                         fmt::format("a point on open ground, but building {} stands at ({:.1f}, {:.1f}) m",
-                                     sc.map->building(building).id, point.x(), point.y()));
-      }
-    }
-  }
+  const bool cruise_altitude_given = root["mission"] && ReadMission(root["mission"], source, sc.mission);
+  if (const YAML::Node l = root["limits"]) ReadLimits(l, source, sc.limits);
+  if (const YAML::Node f = root["fault"]) ReadFault(f, source, sc.fault);
+  if (const YAML::Node o = root["options"]) ReadOptions(o, source, sc.options);
+  // One validation for files, samplers and code alike (Scenario::IsValid).
+  std::string error;
+  if (!sc.IsValid(&error)) throw InputError(source + ": " + error);
   // Over a city the cruise altitude is 10 m above the tallest building under the route (defaults.md)
   // unless the file sets it.
   if (sc.map && !cruise_altitude_given && !sc.map->buildings().empty()) {
     const std::array<Eigen::Vector2d, 2> route = {sc.mission.home_NE, sc.mission.destination_NE};
     sc.mission.cruise_altitude = sc.map->CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, 5.0);
-  }
-  if (const YAML::Node l = root["limits"]) {
-    RequireOnlyKeys(l, {"cruise_speed_mps", "vertical_speed_mps", "horizontal_accel_mps2", "vertical_accel_mps2"},
-                    source, "limits");
-    sc.limits.cruise_speed = OptionalNumber(l, "cruise_speed_mps", sc.limits.cruise_speed, source, "limits");
-    sc.limits.vertical_speed = OptionalNumber(l, "vertical_speed_mps", sc.limits.vertical_speed, source, "limits");
-    sc.limits.horizontal_accel = OptionalNumber(l, "horizontal_accel_mps2", sc.limits.horizontal_accel, source, "limits");
-    sc.limits.vertical_accel = OptionalNumber(l, "vertical_accel_mps2", sc.limits.vertical_accel, source, "limits");
-    std::string error;
-    if (!sc.limits.IsValid(&error)) throw InputError(source, "limits", error);
-  }
-  if (const YAML::Node f = root["fault"]) {
-    RequireOnlyKeys(f, {"motor", "spall_onset_s", "time_per_growth_step_s", "prognosis_time_per_growth_step_s"}, source,
-                    "fault");
-    sc.fault.enabled = true;
-    const double motor = RequireNumber(f, "motor", source, "fault");
-    if (motor != std::floor(motor) || motor < 1 || motor > 6) throw InputError(source, "fault.motor", "a motor number 1..6");
-    sc.fault.motor = static_cast<int>(motor);
-    sc.fault.spall_onset_s = RequireNumber(f, "spall_onset_s", source, "fault");
-    if (sc.fault.spall_onset_s < 0) throw InputError(source, "fault.spall_onset_s", "a time >= 0 s");
-    if (f["time_per_growth_step_s"]) {
-      const double tau = RequireNumber(f, "time_per_growth_step_s", source, "fault");
-      if (!(tau > 0)) throw InputError(source, "fault.time_per_growth_step_s", "a positive time (s)");
-      sc.fault.time_per_growth_step_s = tau;
-    }
-    if (f["prognosis_time_per_growth_step_s"]) {
-      const double tau = RequireNumber(f, "prognosis_time_per_growth_step_s", source, "fault");
-      if (!(tau > 0)) throw InputError(source, "fault.prognosis_time_per_growth_step_s", "a positive time (s)");
-      sc.fault.prognosis_time_per_growth_step_s = tau;
-    }
-  }
-  if (const YAML::Node o = root["options"]) {
-    RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_tracking_error_m",
-                        "safety_margin_s"},
-                    source, "options");
-    sc.options.safety_margin_s = OptionalNumber(o, "safety_margin_s", sc.options.safety_margin_s, source, "options");
-    sc.options.telemetry_rate_hz = OptionalNumber(o, "telemetry_rate_hz", sc.options.telemetry_rate_hz, source, "options");
-    sc.options.reconfiguration = OptionalBool(o, "reconfiguration", sc.options.reconfiguration, source, "options");
-    sc.options.sensor_noise = OptionalBool(o, "sensor_noise", sc.options.sensor_noise, source, "options");
-    sc.options.max_tilt = OptionalNumber(o, "max_tilt_deg", sc.options.max_tilt / kRadiansPerDegree, source, "options") *
-                          kRadiansPerDegree;
-    sc.options.max_tracking_error =
-        OptionalNumber(o, "max_tracking_error_m", sc.options.max_tracking_error, source, "options");
-    std::string error;
-    if (!sc.options.IsValid(&error)) throw InputError(source, "options", error);
   }
   return file;
 }

@@ -1,5 +1,9 @@
 #include "uascma/sim/telemetry.h"
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
@@ -19,6 +23,15 @@ std::string TelemetryCsv(const SimResult& result) {
     for (int c = 1; c <= 3; ++c) out += fmt::format(",cell_p{}c{}_v", b, c);
   }
   out += ",eod_s,flight_time_remaining_s,rul_s,reach_margin,motor_margin,cma_state,action,imm_mode,spall_area_mm2\n";
+  // Names, not codes: the CMA state label (quoted, it holds commas), the action name and the IMM mode.
+  const decision::FactoredMdpBuilder cma_model = decision::MakeCmaFactoredModel();
+  std::vector<std::string> state_labels;
+  for (int s = 0; s < cma_model.num_states(); ++s) state_labels.push_back("\"" + cma_model.Label(s) + "\"");
+  auto state_label = [&](int index) -> const std::string& {
+    UASCMA_CHECK(index >= 0 && index < static_cast<int>(state_labels.size()), "telemetry: CMA state index out of range");
+    return state_labels[index];
+  };
+  auto imm_mode_name = [](int mode) { return mode == 0 ? std::string("nominal") : fmt::format("rotor{}_out", mode); };
   for (const TelemetryRow& r : result.telemetry) {
     out += fmt::format("{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}", r.t, r.p_W.x(), r.p_W.y(),
                        r.p_W.z(), r.v_W.x(), r.v_W.y(), r.v_W.z(), r.p_ref_W.x(), r.p_ref_W.y(), r.p_ref_W.z());
@@ -31,9 +44,12 @@ std::string TelemetryCsv(const SimResult& result) {
     out += fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f}", r.pack_current, r.bus_voltage, r.branch_current[0],
                        r.branch_current[1]);
     for (double v : r.cell_voltage) out += fmt::format(",{:.5f}", v);
-    out += fmt::format(",{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{},{},{},{:.5f}\n", r.eod_s, r.flight_time_remaining_s,
-                       std::isfinite(r.rul_s) ? r.rul_s : -1.0, r.reach_margin,
-                       std::isfinite(r.motor_margin) ? r.motor_margin : -1e9, r.cma_state, r.action, r.imm_mode,
+    // No spall, no RUL: an empty field (NaN to pandas and NumPy), not a sentinel number. A margin of −∞
+    // (a jammed motor, an EOD of zero) is written as -inf, which both read back as −∞.
+    const std::string rul = std::isfinite(r.rul_s) ? fmt::format("{:.3f}", r.rul_s) : std::string();
+    out += fmt::format(",{:.3f},{:.3f},{},{:.5f},{:.5f},{},{},{},{:.5f}\n", r.eod_s, r.flight_time_remaining_s, rul,
+                       r.reach_margin, r.motor_margin, state_label(r.cma_state),
+                       decision::CmaActionName(static_cast<decision::CmaAction>(r.action)), imm_mode_name(r.imm_mode),
                        r.spall_area_mm2);
   }
   return out;

@@ -1,15 +1,21 @@
 // The campaign runner: the same rows for any number of threads, after a partial campaign and its
-// resumption, and from a replay of one stored flight; another campaign's database is refused.
+// resumption, and from a replay of one stored flight; another campaign's database is refused; several
+// campaigns started at once on one database (threads of one process here; processes in
+// tests/apps/campaign_concurrency_test.cc) fly each flight once.
 #include "uascma/campaign/runner.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include "campaign_test_support.h"
+#include "uascma/campaign/replay.h"
 #include "uascma/common/error.h"
 
 namespace uascma::campaign {
@@ -136,6 +142,90 @@ TEST(RunnerTest, AStoredFlightReplaysAlone) {
   EXPECT_THROW(LoadReplay(dir.path / "c.db", "99"), InputError);
   EXPECT_THROW(LoadReplay(dir.path / "c.db", "1:greedy"), InputError);
   EXPECT_THROW(LoadReplay(dir.path / "c.db", "one"), InputError);
+}
+
+// Starts one RunCampaign per request at the same moment, each on its own thread; an InputError is
+// kept as its message.
+struct Started {
+  std::optional<CampaignOutcome> outcome;
+  std::string error;
+};
+std::vector<Started> RunAtOnce(const std::vector<CampaignRequest>& requests) {
+  std::vector<Started> results(requests.size());
+  std::atomic<bool> go{false};
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    threads.emplace_back([&, i] {
+      while (!go.load()) std::this_thread::yield();
+      try {
+        results[i].outcome = RunCampaign(requests[i]);
+      } catch (const InputError& e) {
+        results[i].error = e.what();
+      }
+    });
+  }
+  go = true;
+  for (auto& thread : threads) thread.join();
+  return results;
+}
+
+TEST(RunnerTest, CampaignsStartedTogetherShareTheWorkAndStoreEachFlightOnce) {
+  TempDir dir;
+  CampaignConfig config = testing_support::ShortConfig();
+  config.runs = 6;
+  RunCampaign(Request(config, dir.path / "whole.db", false));
+  const auto whole = ResultsStore::Open(dir.path / "whole.db").ReadRecords();
+  constexpr int kRounds = 4;
+  for (int round = 0; round < kRounds; ++round) {
+    const auto db = dir.path / ("shared" + std::to_string(round) + ".db");
+    std::vector<CampaignRequest> requests;
+    for (int i = 0; i < 3; ++i) {
+      requests.push_back(Request(config, db, false));
+      requests.back().execute.jobs = 1;
+    }
+    std::int64_t flown = 0;
+    int succeeded = 0;
+    for (const Started& started : RunAtOnce(requests)) {
+      if (started.outcome) {
+        ++succeeded;
+        flown += started.outcome->flights_flown;
+      } else {
+        // Only a late start, after the others finished, may find a file without a live worker.
+        EXPECT_NE(started.error.find("--resume"), std::string::npos) << started.error;
+      }
+    }
+    EXPECT_GE(succeeded, 1);
+    EXPECT_EQ(flown, 12) << "round " << round << ": a flight was flown twice or not at all";
+    ExpectSameRows(whole, ResultsStore::Open(db).ReadRecords());
+  }
+}
+
+TEST(RunnerTest, OfDifferentCampaignsStartedTogetherOneRunsAndTheOthersNameIt) {
+  TempDir dir;
+  CampaignConfig config = testing_support::ShortConfig();
+  config.runs = 2;
+  const auto db = dir.path / "c.db";
+  std::vector<CampaignRequest> requests;
+  for (int i = 0; i < 3; ++i) {
+    CampaignConfig other = config;
+    other.seed = config.seed + static_cast<std::uint64_t>(i);
+    requests.push_back(Request(other, db, false));
+  }
+  const std::vector<Started> results = RunAtOnce(requests);
+  int succeeded = 0;
+  for (const Started& started : results) succeeded += started.outcome ? 1 : 0;
+  ASSERT_EQ(succeeded, 1);
+  const std::string hash = ResultsStore::Open(db).header().campaign_hash;
+  for (const Started& started : results) {
+    if (started.outcome) {
+      EXPECT_EQ(started.outcome->campaign_hash, hash);
+      EXPECT_EQ(started.outcome->flights_flown, 4);
+    } else {
+      EXPECT_NE(started.error.find("another campaign"), std::string::npos) << started.error;
+      EXPECT_NE(started.error.find("(hash " + hash), std::string::npos) << started.error;
+    }
+  }
+  EXPECT_EQ(ResultsStore::Open(db).CountFlights(), 4);
 }
 
 TEST(RunnerTest, AFailingSinkStopsTheWorkersAndIsRethrown) {

@@ -2,6 +2,7 @@
 // ranges, and the frequencies of the discrete draws within binomial tolerances.
 #include "uascma/campaign/sampler.h"
 
+#include <algorithm>
 #include <array>
 
 #include <gtest/gtest.h>
@@ -14,6 +15,8 @@
 #include "campaign_test_support.h"
 #include "uascma/campaign/config.h"
 #include "uascma/common/error.h"
+#include "uascma/models/drag.h"
+#include "uascma/planning/flight_plan.h"
 
 namespace uascma::campaign {
 namespace {
@@ -62,7 +65,7 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
   for (int i = 0; i < kSamples; ++i) {
     const SampledRun run = SampleRun(config, 5, i);
     const sim::Scenario& s = run.scenario;
-    EXPECT_TRUE(config.mission.distance_m.Contains(run.distance_m));
+    EXPECT_TRUE(config.mission.endurance_fraction.Contains(run.endurance_fraction));
     EXPECT_NEAR((s.mission.destination_NE - s.mission.home_NE).norm(), run.distance_m, 1e-9 * run.distance_m);
     // Home and destination lie on open ground inside the campaign's city.
     ASSERT_TRUE(s.map);
@@ -70,9 +73,11 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
       EXPECT_TRUE(s.map->bounds().contains(p));
       EXPECT_EQ(s.map->BuildingContaining(Eigen::Vector3d(p.x(), p.y(), -0.1)), planning::kNoBuilding);
     }
-    EXPECT_GE(s.mission.cruise_altitude, s.map->TallestBuildingUnder(
-                                             std::array<Eigen::Vector2d, 2>{s.mission.home_NE, s.mission.destination_NE})
-                                             .height + 10.0 - 1e-9);
+    EXPECT_GE(s.mission.cruise_altitude,
+              s.map->TallestBuildingUnder(std::array<Eigen::Vector2d, 2>{s.mission.home_NE, s.mission.destination_NE},
+                                          config.mission.wall_clearance_m)
+                      .height +
+                  10.0 - 1e-9);
     EXPECT_TRUE(run.bearing_rad >= 0.0 && run.bearing_rad < 2.0 * kPi);
     EXPECT_TRUE(config.mission.cruise_speed_mps.Contains(s.limits.cruise_speed));
     EXPECT_TRUE(config.safety_margin_s.Contains(run.safety_margin_s));
@@ -86,6 +91,7 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
                 s.battery.ambient_temp_degf == config.battery.warm_temp_degf);
     EXPECT_EQ(run.cold, s.battery.ambient_temp_degf < 50.0);
     EXPECT_GT(run.plan_duration_s, 2.0 * run.distance_m / config.mission.cruise_speed_mps.high);
+    EXPECT_GE(run.distance_m, 0.0);
     if (s.fault.enabled) {
       EXPECT_GE(s.fault.spall_onset_s, 0.0);
       EXPECT_LE(s.fault.spall_onset_s, run.plan_duration_s);
@@ -93,12 +99,27 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
       EXPECT_LE(s.fault.motor, 6);
       ASSERT_TRUE(s.fault.time_per_growth_step_s.has_value());
     }
-    // Pack health and the cells that carry it (Table 4.2, decisions item 8).
+    // Battery health and the cells that realise it (Table 4.2, decisions items 8 and 20).
+    int degraded = 0, both = 0;
     for (int b = 0; b < models::kBranchCount; ++b) {
       EXPECT_EQ(models::ClassifyHealth(s.battery.cell_health[b]), run.pack_health[b]);
-      int degraded = 0;
-      for (const auto& cell : s.battery.cell_health[b]) degraded += (cell.capacity_fade || cell.power_fade) ? 1 : 0;
-      EXPECT_EQ(degraded, run.pack_health[b] == models::HealthClass::kG ? 0 : config.battery.degraded_cells_per_pack);
+      for (const auto& cell : s.battery.cell_health[b]) {
+        degraded += (cell.capacity_fade || cell.power_fade) ? 1 : 0;
+        both += (cell.capacity_fade && cell.power_fade) ? 1 : 0;
+      }
+    }
+    switch (run.battery_health) {
+      case decision::BatteryHealth::kG: EXPECT_EQ(degraded, 0); break;
+      case decision::BatteryHealth::kM:  // at least one faded cell, none with both fades
+        EXPECT_GE(degraded, config.battery.degraded_cells.low);
+        EXPECT_LE(degraded, config.battery.degraded_cells.high);
+        EXPECT_EQ(both, 0);
+        break;
+      case decision::BatteryHealth::kP:  // at least one cell with both
+        EXPECT_GE(degraded, config.battery.degraded_cells.low);
+        EXPECT_LE(degraded, config.battery.degraded_cells.high);
+        EXPECT_GE(both, 1);
+        break;
     }
     EXPECT_EQ(static_cast<int>(run.battery_health),
               static_cast<int>(std::max(run.pack_health[0], run.pack_health[1])));
@@ -107,7 +128,7 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
 
 TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
   const CampaignConfig config;
-  int faults = 0, cold = 0, pack_f2 = 0, pack_f3 = 0, composite_g = 0, capacity_only = 0, motor_3 = 0;
+  int faults = 0, cold = 0, health_m = 0, health_p = 0, m_cells = 0, m_capacity = 0, motor_3 = 0;
   int turbulence_medium_moderate = 0;
   double onset_fraction_sum = 0.0;
   for (int i = 0; i < kSamples; ++i) {
@@ -119,20 +140,26 @@ TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
       onset_fraction_sum += s.fault.spall_onset_s / run.plan_duration_s;
     }
     cold += run.cold ? 1 : 0;
-    pack_f2 += run.pack_health[0] == models::HealthClass::kM ? 1 : 0;
-    pack_f3 += run.pack_health[0] == models::HealthClass::kP ? 1 : 0;
-    composite_g += run.battery_health == decision::BatteryHealth::kG ? 1 : 0;
-    if (run.pack_health[0] == models::HealthClass::kM) {
-      for (const auto& cell : s.battery.cell_health[0]) capacity_only += cell.capacity_fade ? 1 : 0;
+    health_m += run.battery_health == decision::BatteryHealth::kM ? 1 : 0;
+    health_p += run.battery_health == decision::BatteryHealth::kP ? 1 : 0;
+    if (run.battery_health == decision::BatteryHealth::kM) {
+      for (const auto& pack : s.battery.cell_health) {
+        for (const auto& cell : pack) {
+          m_cells += (cell.capacity_fade || cell.power_fade) ? 1 : 0;
+          m_capacity += cell.capacity_fade ? 1 : 0;
+        }
+      }
     }
     turbulence_medium_moderate += s.wind.turbulence == models::TurbulenceCategory::kMediumModerate ? 1 : 0;
   }
   ExpectFrequency(faults, kSamples, 0.5, "spall fault, §5.4");
   ExpectFrequency(cold, kSamples, 0.5, "cold ambient");
-  ExpectFrequency(pack_f2, kSamples, 1.0 / 3.0, "pack 1 F2");
-  ExpectFrequency(pack_f3, kSamples, 1.0 / 3.0, "pack 1 F3");
-  ExpectFrequency(composite_g, kSamples, 1.0 / 9.0, "composite G = both packs F1");
-  EXPECT_EQ(capacity_only, 0) << "F2 packs have power fade only (models::CellHealthForClass)";
+  // BH drawn per flight, G, M, P equally likely (decisions item 20).
+  ExpectFrequency(health_m, kSamples, 1.0 / 3.0, "BH = M");
+  ExpectFrequency(health_p, kSamples, 1.0 / 3.0, "BH = P");
+  ExpectFrequency(kSamples - health_m - health_p, kSamples, 1.0 / 3.0, "BH = G");
+  // In M the fade kind is drawn per cell, capacity or power ½ each.
+  ExpectFrequency(m_capacity, m_cells, 0.5, "M cells with capacity fade");
   ExpectFrequency(motor_3, faults, 1.0 / 6.0, "spalled motor 3");
   ExpectFrequency(turbulence_medium_moderate, kSamples, 0.25, "Dryden medium-moderate");
   // The onset fraction is uniform on [0, 1]: mean 1/2, σ of the mean √(1/12 / n).
@@ -144,8 +171,8 @@ TEST(SamplerTest, ConfigurationChoicesTakeEffect) {
   config.fault.probability = 1.0;
   config.fault.motors = {4};
   config.fault.onset_fraction = {0.25, 0.25};
-  config.battery.pack_health_weights = {0.0, 0.0, 1.0};
-  config.battery.degraded_cells_per_pack = 3;
+  config.battery.health_weights = {0.0, 0.0, 1.0};
+  config.battery.degraded_cells = {6, 6};
   config.fault.time_per_growth_step_s.reset();
   for (int i = 0; i < 50; ++i) {
     const SampledRun run = SampleRun(config, 3, i);
@@ -153,30 +180,123 @@ TEST(SamplerTest, ConfigurationChoicesTakeEffect) {
     EXPECT_EQ(run.scenario.fault.motor, 4);
     EXPECT_NEAR(run.scenario.fault.spall_onset_s, 0.25 * run.plan_duration_s, 1e-12 * run.plan_duration_s);
     EXPECT_FALSE(run.scenario.fault.time_per_growth_step_s.has_value());
-    EXPECT_EQ(CellHealthCode(run.scenario.battery.cell_health), "QR,QR,QR|QR,QR,QR");
+    // Six degraded cells in P: every cell faded, at least one with both.
+    const std::string code = CellHealthCode(run.scenario.battery.cell_health);
+    EXPECT_EQ(code.find('-'), std::string::npos) << code;
+    EXPECT_NE(code.find("QR"), std::string::npos) << code;
     EXPECT_EQ(run.battery_health, decision::BatteryHealth::kP);
     EXPECT_FALSE(run.cold);
   }
 }
 
-TEST(SamplerTest, OneDegradedCellSitsAnywhereInThePack) {
+TEST(SamplerTest, OneDegradedCellSitsAnywhereInTheBattery) {
   CampaignConfig config;
-  config.battery.pack_health_weights = {0.0, 0.0, 1.0};
-  config.battery.degraded_cells_per_pack = 1;
-  std::array<int, models::kCellsPerBranch> position{};
+  config.battery.health_weights = {0.0, 0.0, 1.0};
+  config.battery.degraded_cells = {1, 1};
+  std::array<int, models::kBranchCount * models::kCellsPerBranch> position{};
   for (int i = 0; i < kSamples; ++i) {
     const SampledRun run = SampleRun(config, 4, i);
     int degraded = 0;
-    for (int c = 0; c < models::kCellsPerBranch; ++c) {
-      const auto& cell = run.scenario.battery.cell_health[0][c];
-      if (cell.capacity_fade && cell.power_fade) {
-        ++degraded;
-        ++position[c];
+    for (int b = 0; b < models::kBranchCount; ++b) {
+      for (int c = 0; c < models::kCellsPerBranch; ++c) {
+        const auto& cell = run.scenario.battery.cell_health[b][c];
+        if (cell.capacity_fade || cell.power_fade) {
+          EXPECT_TRUE(cell.capacity_fade && cell.power_fade) << "the one cell of P carries both fades";
+          ++degraded;
+          ++position[b * models::kCellsPerBranch + c];
+        }
       }
     }
     EXPECT_EQ(degraded, 1);
+    // The faded pack is F3, the other F1 (Table 4.4's labels follow from the cells).
+    EXPECT_NE(run.pack_health[0], run.pack_health[1]);
   }
-  for (int c = 0; c < models::kCellsPerBranch; ++c) ExpectFrequency(position[c], kSamples, 1.0 / 3.0, "cell position");
+  for (int count : position) ExpectFrequency(count, kSamples, 1.0 / 6.0, "cell position");
+}
+
+// Decisions item 19 over a few hundred missions: a fully charged healthy (F1/F1) pack flies every sampled
+// plan with its margin, recomputed here from the scenario alone; the plan lasts f (EOD − t_sf) exactly.
+TEST(SamplerTest, HealthyPackFliesEveryPlanWithItsSafetyMargin) {
+  constexpr int kMissions = 300;
+  constexpr double kTimeTolerance = 1e-6;  // s: the distance inverts the plan's duration in closed form
+  const CampaignConfig config;
+  const models::DragTable drag = models::DragTable::Default(models::PropellerConfiguration::kTractor);
+  double shortest = 1e9, longest = 0.0;
+  for (int i = 0; i < kMissions; ++i) {
+    const SampledRun run = SampleRun(config, 21, i);
+    const sim::Scenario& s = run.scenario;
+    const double eod = CalcHealthyPackEod(s.battery, run.cruise_current_a);
+    EXPECT_EQ(eod, run.healthy_eod_s);
+    EXPECT_LE(run.plan_duration_s + run.safety_margin_s, eod) << "run " << i;
+    EXPECT_NEAR(run.plan_duration_s, run.endurance_fraction * (eod - run.safety_margin_s), kTimeTolerance);
+    EXPECT_NEAR(planning::MakeDeliveryPlan(s.mission, s.limits).duration(), run.plan_duration_s, kTimeTolerance);
+    // The planning current covers hover in still air and both legs.
+    EXPECT_GE(run.cruise_current_a, CalcLevelFlightCurrent(s, drag, 0.0));
+    EXPECT_GE(run.cruise_current_a, CalcLevelFlightCurrent(s, drag, run.cruise_speed_mps));
+    shortest = std::min(shortest, run.distance_m);
+    longest = std::max(longest, run.distance_m);
+  }
+  // The destinations spread from a few hundred metres (1 m/s) to kilometres (9 m/s).
+  EXPECT_LT(shortest, 500.0);
+  EXPECT_GT(longest, 2000.0);
+}
+
+// The level-flight current at zero airspeed by hand: the weight shared by six rotors, P = k T^b each
+// (defaults.md, propulsion.h), over 3 × 3.7 V, plus the hotel load; and it grows with airspeed (drag).
+TEST(SamplerTest, LevelFlightCurrentByHand) {
+  sim::Scenario scenario;
+  const models::DragTable drag = models::DragTable::Default(models::PropellerConfiguration::kTractor);
+  const models::ElectricalPowerLaw law = models::FitElectricalPowerLaw(models::PropellerConfiguration::kTractor);
+  const double rotor_thrust = scenario.body.mass * 9.80665 / 6.0;
+  const double expected =
+      scenario.options.hotel_current_a + 6.0 * law.power_at_one_newton * std::pow(rotor_thrust, law.exponent) / 11.1;
+  EXPECT_NEAR(CalcLevelFlightCurrent(scenario, drag, 0.0), expected, 1e-9);
+  double previous = 0.0;
+  for (double airspeed = 0.0; airspeed <= 12.0; airspeed += 1.0) {
+    const double current = CalcLevelFlightCurrent(scenario, drag, airspeed);
+    EXPECT_GE(current, previous);
+    previous = current;
+  }
+  EXPECT_GT(previous, expected * 1.01);  // 12 m/s of drag costs more than 1 %
+}
+
+// Home and destination keep wall_clearance_m from every wall, checked against every edge of every building
+// (an independent computation: point-to-segment distances, no grid).
+TEST(SamplerTest, HoverPointsKeepTheirClearanceFromEveryWall) {
+  constexpr int kMissions = 100;
+  const CampaignConfig config;
+  const auto map = CampaignMap(config.map);
+  auto distance_to_walls = [&map](const Eigen::Vector2d& p) {
+    double nearest = 1e18;
+    for (int k = 0; k < static_cast<int>(map->buildings().size()); ++k) {
+      for (const auto& ring : map->building(k).rings) {
+        for (std::size_t e = 0; e < ring.size(); ++e) {
+          const Eigen::Vector2d a = ring[e], b = ring[(e + 1) % ring.size()];
+          const double t = std::clamp((p - a).dot(b - a) / std::max((b - a).squaredNorm(), 1e-300), 0.0, 1.0);
+          nearest = std::min(nearest, (a + t * (b - a) - p).norm());
+        }
+      }
+    }
+    return nearest;
+  };
+  for (int i = 0; i < kMissions; ++i) {
+    const SampledRun run = SampleRun(config, 33, i);
+    for (const Eigen::Vector2d& p : {run.scenario.mission.home_NE, run.scenario.mission.destination_NE}) {
+      EXPECT_GE(distance_to_walls(p), config.mission.wall_clearance_m) << "run " << i;
+      EXPECT_EQ(map->BuildingContaining(Eigen::Vector3d(p.x(), p.y(), -0.1)), planning::kNoBuilding);
+    }
+  }
+}
+
+// With mission.distance_m set the distance is drawn on it (short test campaigns, small imported maps).
+TEST(SamplerTest, ExplicitDistanceRangeIsDrawnUniformly) {
+  CampaignConfig config = testing_support::ShortConfig();
+  for (int i = 0; i < 200; ++i) {
+    const SampledRun run = SampleRun(config, 8, i);
+    EXPECT_TRUE(config.mission.distance_m->Contains(run.distance_m));
+    EXPECT_EQ(run.endurance_fraction, 0.0);
+    EXPECT_GT(run.healthy_eod_s, run.plan_duration_s);  // recorded, and a 40 m hop is well within it
+  }
 }
 
 TEST(CampaignConfigTest, CanonicalYamlRoundTripsExactly) {

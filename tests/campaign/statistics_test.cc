@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "uascma/common/error.h"
 
 namespace uascma::campaign {
 namespace {
@@ -112,6 +115,147 @@ TEST(StatisticsTest, JsonAndTableCarryTheFigures) {
   const std::string table = StatisticsTable(groups);
   EXPECT_NE(table.find(" 75.0 ± 21.7"), std::string::npos) << table;  // noop P: 75 % ± 21.65 %
   EXPECT_NE(table.find("dissertation  71.0 %"), std::string::npos) << table;
+}
+
+// Published values: Clopper–Pearson 95 % for 0 of 10 is [0, 1 − 0.025^(1/10)] = [0, 0.3085] and Wilson 95 % for
+// 0 of 10 is [0, z²/(n + z²)] = [0, 0.2775] (Newcombe, Stat. Med. 17 (1998), the 0/10 example). The 81/263 and
+// 15/148 figures (Newcombe's other examples) are checked against an independent computation: Python mpmath,
+// the regularised incomplete beta inverted by bisection, and the Wilson formula in 50-digit arithmetic, rounded
+// to four decimals as the paper prints them.
+constexpr double kPublishedTolerance = 5e-5;  // four printed decimals
+
+TEST(StatisticsTest, IntervalsMatchPublishedValues) {
+  const Interval cp = ClopperPearsonInterval(0, 10);
+  EXPECT_NEAR(cp.low, 0.0, kTolerance);
+  EXPECT_NEAR(cp.high, 1.0 - std::pow(0.025, 0.1), kTolerance);
+  EXPECT_NEAR(cp.high, 0.3085, kPublishedTolerance);
+  const Interval wilson = WilsonInterval(0, 10);
+  EXPECT_NEAR(wilson.low, 0.0, kTolerance);
+  EXPECT_NEAR(wilson.high, 0.2775, kPublishedTolerance);
+  const Interval w81 = WilsonInterval(81, 263);
+  EXPECT_NEAR(w81.low, 0.2553, kPublishedTolerance);
+  EXPECT_NEAR(w81.high, 0.3662, kPublishedTolerance);
+  const Interval cp81 = ClopperPearsonInterval(81, 263);
+  EXPECT_NEAR(cp81.low, 0.2527, kPublishedTolerance);
+  EXPECT_NEAR(cp81.high, 0.3676, kPublishedTolerance);
+  const Interval w15 = WilsonInterval(15, 148);
+  EXPECT_NEAR(w15.low, 0.0624, kPublishedTolerance);
+  EXPECT_NEAR(w15.high, 0.1605, kPublishedTolerance);
+  const Interval cp15 = ClopperPearsonInterval(15, 148);
+  EXPECT_NEAR(cp15.low, 0.0578, kPublishedTolerance);
+  EXPECT_NEAR(cp15.high, 0.1617, kPublishedTolerance);
+}
+
+TEST(StatisticsTest, IntervalsAreSymmetricAndContainTheEstimate) {
+  for (int n : {1, 7, 50, 465}) {
+    for (int k = 0; k <= n; k += std::max(1, n / 7)) {
+      const double p = static_cast<double>(k) / n;
+      for (const Interval& i : {WilsonInterval(k, n), ClopperPearsonInterval(k, n)}) {
+        EXPECT_LE(i.low, p + kTolerance);
+        EXPECT_GE(i.high, p - kTolerance);
+        EXPECT_GE(i.low, 0.0);
+        EXPECT_LE(i.high, 1.0);
+      }
+      // k failures of n mirror n − k successes.
+      const Interval a = ClopperPearsonInterval(k, n), b = ClopperPearsonInterval(n - k, n);
+      EXPECT_NEAR(a.low, 1.0 - b.high, 1e-10);
+      const Interval c = WilsonInterval(k, n), d = WilsonInterval(n - k, n);
+      EXPECT_NEAR(c.high, 1.0 - d.low, 1e-10);
+    }
+  }
+  EXPECT_TRUE(std::isnan(WilsonInterval(0, 0).low));
+  EXPECT_TRUE(std::isnan(ClopperPearsonInterval(0, 0).high));
+  EXPECT_THROW(WilsonInterval(3, 2), InputError);
+  EXPECT_THROW(ClopperPearsonInterval(-1, 2), InputError);
+}
+
+TEST(StatisticsTest, McNemarByHand) {
+  // b = 1, c = 9: exact p = 2 · P(X ≤ 1 | 10, ½) = 2 · (1 + 10) / 1024 = 0.021484375;
+  // χ² = (|1 − 9| − 1)² / 10 = 4.9, p = erfc(√(4.9 / 2)) (χ²(1) tail) = 0.026857…
+  const McNemarTest t = CalcMcNemarTest(1, 9);
+  EXPECT_NEAR(t.exact_p, 22.0 / 1024.0, kTolerance);
+  EXPECT_NEAR(t.chi_squared, 4.9, kTolerance);
+  EXPECT_NEAR(t.chi_squared_p, std::erfc(std::sqrt(4.9 / 2.0)), 1e-10);
+  // Symmetric in b and c; balanced counts give p = 1; no discordant pair: no evidence.
+  EXPECT_NEAR(CalcMcNemarTest(9, 1).exact_p, t.exact_p, kTolerance);
+  EXPECT_NEAR(CalcMcNemarTest(5, 5).exact_p, 1.0, kTolerance);
+  EXPECT_NEAR(CalcMcNemarTest(0, 0).exact_p, 1.0, kTolerance);
+  EXPECT_NEAR(CalcMcNemarTest(0, 0).chi_squared, 0.0, kTolerance);
+  // b = 0, c = 6: exact p = 2 / 64.
+  EXPECT_NEAR(CalcMcNemarTest(0, 6).exact_p, 2.0 / 64.0, kTolerance);
+  EXPECT_THROW(CalcMcNemarTest(-1, 2), InputError);
+}
+
+RunRecord Paired(std::int64_t run, const std::string& policy, const std::string& health, const std::string& outcome) {
+  RunRecord r = Flight(policy, health, outcome, 0.0, 0.0);
+  r.run_index = run;
+  return r;
+}
+
+TEST(StatisticsTest, PairedComparisonMatchesRunsByIndex) {
+  // Runs 0–5 in P: cma fails run 0 only; noop fails runs 0, 1, 2, 3. Run 6 (G) is flown by cma only and
+  // is left out of the pairs. Pairs in P: both failed 1 (run 0), b (cma only) = 0, c (noop only) = 3,
+  // neither 2. A grounded flight counts as not failed.
+  std::vector<RunRecord> records;
+  const char* cma[] = {"failed_battery", "emergency_landing", "grounded", "terminated", "completed", "completed"};
+  const char* noop[] = {"failed_collision", "failed_battery", "failed_control", "timeout", "completed", "completed"};
+  for (int run = 0; run < 6; ++run) {
+    records.push_back(Paired(run, "cma", "P", cma[run]));
+    records.push_back(Paired(run, "noop", "P", noop[run]));
+  }
+  records.push_back(Paired(6, "cma", "G", "completed"));
+  const auto comparisons = ComparePaired(records, {"cma", "noop"});
+  ASSERT_EQ(comparisons.size(), 4u);  // one pair of policies × G, M, P, all
+  const PairedComparison& p = comparisons[2];
+  EXPECT_EQ(p.battery_health, "P");
+  EXPECT_EQ(p.first_policy, "cma");
+  EXPECT_EQ(p.pairs, 6);
+  EXPECT_EQ(p.both_failed, 1);
+  EXPECT_EQ(p.neither_failed, 2);
+  EXPECT_EQ(p.test.only_first_failed, 0);
+  EXPECT_EQ(p.test.only_second_failed, 3);
+  EXPECT_NEAR(p.test.exact_p, 2.0 / 8.0, kTolerance);
+  EXPECT_EQ(comparisons[0].pairs, 0);  // G: run 6 has no noop flight
+  EXPECT_EQ(comparisons[3].pairs, 6);
+  const nlohmann::json json = StatisticsToJson(Summarise(records, {"cma", "noop"}), comparisons);
+  EXPECT_EQ(json["paired_comparisons"][2]["only_second_failed"], 3);
+  EXPECT_NEAR(json["paired_comparisons"][2]["mcnemar_exact_p"].get<double>(), 0.25, kTolerance);
+}
+
+TEST(StatisticsTest, FailuresByCauseGroundedAndUnknownOutcomes) {
+  std::vector<RunRecord> records = {
+      Flight("noop", "P", "failed_battery", 0, 0),   Flight("noop", "P", "failed_battery", 0, 0),
+      Flight("noop", "P", "failed_control", 0, 0),   Flight("noop", "P", "failed_collision", 0, 0),
+      Flight("noop", "P", "timeout", 0, 0),          Flight("noop", "P", "grounded", 0, 0),
+      Flight("noop", "P", "landed_on_the_moon", 0, 0),
+  };
+  // A failure under a name this code does not know: counted as a failure of cause "other".
+  RunRecord strange = Flight("noop", "P", "failed_in_a_new_way", 0, 0);
+  strange.failure = true;
+  records.push_back(strange);
+  const auto groups = Summarise(records, {"noop"});
+  const GroupStatistics& g = Find(groups, "noop", "P");
+  EXPECT_EQ(g.runs, 8);
+  EXPECT_EQ(g.failures, 6);
+  EXPECT_EQ(g.failures_by_cause[static_cast<int>(FailureCause::kBattery)], 2);
+  EXPECT_EQ(g.failures_by_cause[static_cast<int>(FailureCause::kLossOfControl)], 1);
+  EXPECT_EQ(g.failures_by_cause[static_cast<int>(FailureCause::kCollision)], 1);
+  EXPECT_EQ(g.failures_by_cause[static_cast<int>(FailureCause::kTimeout)], 1);
+  EXPECT_EQ(g.failures_by_cause[static_cast<int>(FailureCause::kOther)], 1);
+  EXPECT_EQ(g.groundings, 1);
+  EXPECT_EQ(g.others, 1);
+  EXPECT_NEAR(g.failure_rate.value + g.completion_rate.value + g.emergency_landing_rate.value +
+                  g.termination_rate.value + g.grounded_rate.value + g.other_rate.value,
+              1.0, kTolerance);
+  const nlohmann::json json = StatisticsToJson(groups);
+  const nlohmann::json& p = json["policies"]["noop"]["P"];
+  EXPECT_EQ(p["failures_by_cause"]["battery"], 2);
+  EXPECT_EQ(p["failures_by_cause"]["loss_of_control"], 1);
+  EXPECT_EQ(p["groundings"], 1);
+  EXPECT_NEAR(p["failure_rate_wilson_low"].get<double>(), WilsonInterval(6, 8).low, kTolerance);
+  EXPECT_NEAR(p["failure_rate_clopper_pearson_high"].get<double>(), ClopperPearsonInterval(6, 8).high, kTolerance);
+  const std::string table = StatisticsTable(groups);
+  EXPECT_NE(table.find("other outcomes"), std::string::npos) << table;
 }
 
 }  // namespace

@@ -1,4 +1,6 @@
+#include <array>
 #include <cmath>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -74,6 +76,92 @@ INSTANTIATE_TEST_SUITE_P(Categories, DrydenVarianceTest,
                          ::testing::Values(TurbulenceCategory::kLowLight, TurbulenceCategory::kLowModerate,
                                            TurbulenceCategory::kMediumLight,
                                            TurbulenceCategory::kMediumModerate));
+
+// A flight whose altitude and airspeed change (hover on the ground, climb, cruise, slow-down, slow flight),
+// flown by many seeds: at instants in every phase the spread of each gust channel across the seeds is σ of
+// that instant's altitude. The spread is taken over seeds at one instant (an ensemble), so it sees the
+// variance the filter has then, not a time average. Before the fix of issue 11 the states carried the old
+// σ and L/V (measured with this test: after the slow-down v and w came out 2.2–2.8 σ, at the top of the
+// climb u 11 % above σ, and v, w started at rest).
+struct ProfilePoint {
+  double time_s, altitude_m, airspeed_mps;
+};
+// Piecewise-linear profile: on the ground (h = 0, the model's 10 ft floor) hovering, a climb to 30 m at
+// 2 m/s, an acceleration to 9 m/s, cruise, a slow-down to 1 m/s in 4 s and slow flight.
+constexpr ProfilePoint kProfile[] = {{0.0, 0.0, 0.0},   {10.0, 0.0, 0.0},  {25.0, 30.0, 2.0},
+                                     {30.0, 30.0, 9.0}, {70.0, 30.0, 9.0}, {74.0, 30.0, 1.0},
+                                     {100.0, 30.0, 1.0}};
+ProfilePoint ProfileAt(double t) {
+  for (std::size_t i = 1; i < std::size(kProfile); ++i) {
+    if (t <= kProfile[i].time_s) {
+      const ProfilePoint& a = kProfile[i - 1];
+      const ProfilePoint& b = kProfile[i];
+      const double f = (t - a.time_s) / (b.time_s - a.time_s);
+      return {t, a.altitude_m + f * (b.altitude_m - a.altitude_m), a.airspeed_mps + f * (b.airspeed_mps - a.airspeed_mps)};
+    }
+  }
+  return kProfile[std::size(kProfile) - 1];
+}
+
+class DrydenProfileTest : public ::testing::TestWithParam<TurbulenceCategory> {};
+
+TEST_P(DrydenProfileTest, SpreadMatchesSigmaInEveryPhase) {
+  constexpr double kDt = 0.005;  // s, the GNC step
+  constexpr int kSeeds = 2000;
+  // The sample standard deviation of n = 2000 normal values has a relative standard error 1/√(2n) = 1.6 %;
+  // 6 % is 3.8 of those (a false alarm once in ~7,000 checks), while the defect it guards against is 12 %
+  // to 200 %.
+  constexpr double kRelativeTolerance = 0.06;
+  // Check instants (s): hover on the ground, mid-climb, top of the climb, end of the cruise, 1 s and 20 s
+  // after the slow-down.
+  constexpr double kChecks[] = {9.0, 17.5, 25.0, 70.0, 75.0, 94.0};
+  constexpr int kNumChecks = static_cast<int>(std::size(kChecks));
+  const int steps = static_cast<int>(std::lround(kChecks[kNumChecks - 1] / kDt));
+  WindParams params;
+  params.turbulence = GetParam();
+  params.mean_speed = 2.0;
+  params.direction_rad = 0.3;
+  const WindModel model(params);
+  const Eigen::Vector3d axis_u(std::cos(0.3), std::sin(0.3), 0.0);
+  const Eigen::Vector3d axis_v(-std::sin(0.3), std::cos(0.3), 0.0);
+  std::array<std::array<double, 3>, kNumChecks> sum{}, sum_sq{};
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    RandomStream random(1000 + seed);
+    WindState state = model.InitialState(0.0, random);
+    int next_check = 0;
+    for (int k = 1; k <= steps; ++k) {
+      const ProfilePoint p = ProfileAt(k * kDt);
+      const Eigen::Vector3d gust = model.Step(state, p.altitude_m, p.airspeed_mps, kDt, random) - model.MeanWind_W();
+      if (next_check < kNumChecks && k == static_cast<int>(std::lround(kChecks[next_check] / kDt))) {
+        const double channel[3] = {gust.dot(axis_u), gust.dot(axis_v), gust.z()};
+        for (int c = 0; c < 3; ++c) {
+          sum[next_check][c] += channel[c];
+          sum_sq[next_check][c] += channel[c] * channel[c];
+        }
+        ++next_check;
+      }
+    }
+    ASSERT_EQ(next_check, kNumChecks);
+  }
+  for (int i = 0; i < kNumChecks; ++i) {
+    const DrydenIntensity in =
+        CalcDrydenIntensity(GetParam(), ProfileAt(kChecks[i]).altitude_m, params.medium_band_altitude);
+    const double sigma[3] = {in.sigma_u, in.sigma_v, in.sigma_w};
+    const char* names[3] = {"u", "v", "w"};
+    for (int c = 0; c < 3; ++c) {
+      const double mean = sum[i][c] / kSeeds;
+      const double spread = std::sqrt((sum_sq[i][c] - kSeeds * mean * mean) / (kSeeds - 1));
+      EXPECT_NEAR(spread / sigma[c], 1.0, kRelativeTolerance)
+          << names[c] << " at t = " << kChecks[i] << " s, h = " << ProfileAt(kChecks[i]).altitude_m
+          << " m, V = " << ProfileAt(kChecks[i]).airspeed_mps << " m/s";
+    }
+  }
+}
+
+// Low-moderate: σ and L change with altitude; medium-moderate: σ and L fixed (the band's altitude), so
+// only the airspeed changes T = L/V.
+INSTANTIATE_TEST_SUITE_P(Categories, DrydenProfileTest,
+                         ::testing::Values(TurbulenceCategory::kLowModerate, TurbulenceCategory::kMediumModerate));
 
 TEST(WindModelTest, MeanWindBlowsTowardsItsDirectionAndCalmHasNoGust) {
   WindParams params;

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "uascma/common/error.h"
 #include "uascma/planning/flight_plan.h"
 
@@ -65,6 +68,85 @@ TEST(FlightPlanTest, InvalidLimitsAreInputErrors) {
   DeliveryMission mission;
   mission.cruise_altitude = -3;
   EXPECT_THROW(MakeDeliveryPlan(mission, {}), InputError);
+}
+
+// The delivery plan is what the simulator and the campaigns fly: it must stay the same plan, bit for bit, for the
+// same inputs (a campaign replays runs from their seeds). Rebuilt here segment by segment from CalcTrapezoid: the
+// climb and the landing at the vertical limits, the cruises at the horizontal ones, the drop hover between.
+TEST(FlightPlanTest, DeliveryPlanIsBitForBitTheTrapezoidsOfItsFourMoves) {
+  const struct { Eigen::Vector2d home, destination; double altitude, hover, speed; } cases[] = {
+      {{0, 0}, {600, 0}, 30, 30, 5}, {{-120, 40}, {380, 260}, 41.5, 0, 8.7}, {{10, 10}, {13, 11}, 12, 12.5, 1}};
+  for (const auto& c : cases) {
+    DeliveryMission mission;
+    mission.home_NE = c.home;
+    mission.destination_NE = c.destination;
+    mission.cruise_altitude = c.altitude;
+    mission.drop_hover_s = c.hover;
+    PlanLimits limits;
+    limits.cruise_speed = c.speed;
+    const FlightPlan plan = MakeDeliveryPlan(mission, limits);
+    const double cruise = (c.destination - c.home).norm();
+    struct Expected { PlanSegment::Kind kind; double length, speed, accel, hover; };
+    std::vector<Expected> expected = {
+        {PlanSegment::Kind::kMove, c.altitude, limits.vertical_speed, limits.vertical_accel, 0},
+        {PlanSegment::Kind::kMove, cruise, limits.cruise_speed, limits.horizontal_accel, 0}};
+    if (c.hover > 0) expected.push_back({PlanSegment::Kind::kHover, 0, 0, 0, c.hover});
+    expected.push_back({PlanSegment::Kind::kMove, cruise, limits.cruise_speed, limits.horizontal_accel, 0});
+    expected.push_back({PlanSegment::Kind::kMove, c.altitude, limits.vertical_speed, limits.vertical_accel, 0});
+    ASSERT_EQ(plan.segments().size(), expected.size());
+    double time = 0.0;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      const PlanSegment& s = plan.segments()[i];
+      SCOPED_TRACE(s.label);
+      ASSERT_EQ(s.kind, expected[i].kind);
+      EXPECT_EQ(s.start_time, time);  // exact: bitwise identity is the requirement
+      if (s.kind == PlanSegment::Kind::kHover) {
+        EXPECT_EQ(s.duration, expected[i].hover);
+      } else {
+        const TrapezoidProfile profile = CalcTrapezoid(expected[i].length, expected[i].speed, expected[i].accel);
+        EXPECT_EQ(s.duration, profile.duration);
+        EXPECT_EQ(s.peak_speed, profile.peak_speed);
+        EXPECT_EQ(s.accel_time, profile.accel_time);
+        EXPECT_EQ(s.accel, expected[i].accel);
+      }
+      time += s.duration;
+    }
+  }
+}
+
+TEST(FlightPlanTest, MultiWaypointPlansFlyEveryLegRestToRestAndCountAllThatRemains) {
+  const PlanLimits limits;  // 5 m/s, 2 m/s², vertical 2 m/s, 1 m/s²
+  const std::vector<Waypoint> waypoints = {
+      {Eigen::Vector3d(0, 0, -20), 0, "takeoff"},
+      {Eigen::Vector3d(200, 0, -20), 15, "a"},
+      {Eigen::Vector3d(200, 150, -20), 0, "b", 3.0},  // DO_CHANGE_SPEED: 3 m/s on this leg
+      {Eigen::Vector3d(0, 150, -20), 0, "c"},
+      {Eigen::Vector3d(0, 150, 0), 0, "land"}};
+  const FlightPlan plan = FlightPlan::Through(Eigen::Vector3d::Zero(), waypoints, limits);
+  ASSERT_EQ(plan.segments().size(), 6u);
+  // Each leg is its own trapezoid: climb 20 m → 2·2 + (20 − 4)/2 = 12 s; 200 m at 5 m/s → 5 + (200 − 12.5)/5
+  // = 42.5 s; hover 15 s; 150 m at 3 m/s → 2·1.5 + (150 − 4.5)/3 = 51.5 s; 200 m → 42.5 s; land 12 s.
+  const double durations[] = {12, 42.5, 15, 51.5, 42.5, 12};
+  double total = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(plan.segments()[i].duration, durations[i], kTimeTolerance) << plan.segments()[i].label;
+    total += durations[i];
+  }
+  EXPECT_NEAR(plan.duration(), total, kTimeTolerance);
+  EXPECT_NEAR(plan.segments()[3].peak_speed, 3.0, 1e-12);
+  // At rest at every waypoint: the velocity vanishes at each segment boundary.
+  for (const PlanSegment& s : plan.segments()) {
+    EXPECT_NEAR(plan.At(s.start_time).v_W.norm(), 0.0, 1e-12) << s.label;
+  }
+  // Time remaining from inside the third leg: the rest of it, the last two legs.
+  const double t = 12 + 42.5 + 15 + 20.0;
+  EXPECT_NEAR(plan.TimeRemaining(t), (51.5 - 20.0) + 42.5 + 12, kTimeTolerance);
+  EXPECT_NEAR(plan.Length(), 20 + 200 + 150 + 200 + 20, kPositionTolerance);
+  EXPECT_NEAR((plan.PointAtDistance(20 + 200 + 75) - Eigen::Vector3d(200, 75, -20)).norm(), 0.0, 1e-9);
+  // A negative hover or speed, or a non-finite waypoint, is an input error.
+  EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(1, 0, 0), -1, "x"}}, limits), InputError);
+  EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(1, 0, 0), 0, "x", -2}}, limits), InputError);
+  EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(NAN, 0, 0), 0, "x"}}, limits), InputError);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 // outcome, against the NoOp baseline on the same flight.
 #include <gtest/gtest.h>
 
-#include "uascma/sim/policy_factory.h"
+#include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
 

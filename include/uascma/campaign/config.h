@@ -10,15 +10,17 @@
 //   runs: 465                       # sampled scenarios (--runs overrides); each is flown by every policy
 //   policies: [cma, noop]           # cma | noop | a policy JSON file (--policies overrides)
 //   mission:
-//     distance_m: [300, 900]        # destination distance from home (ours; empty map, city map later)
+//     endurance_fraction: [0.5, 0.9]  # plan = f × (healthy pack's EOD at the cruise current − t_sf) (decisions 19; ours)
+//     # distance_m: [300, 900]      # optional: draw the distance instead (the plan is then not tied to the pack)
 //     cruise_speed_mps: [1, 9]      # Table 4.4, "hexacopter velocity"
-//     cruise_altitude_m: 30         # fixed; defaults.md (10 m above the tallest building; empty map)
+//     cruise_altitude_m: 30         # open ground only; over a city 10 m above the tallest building (defaults.md)
+//     wall_clearance_m: 5           # home, destination, route corridor: from every building wall (decisions 20)
 //     drop_hover_s: 30              # fixed; defaults.md
 //   safety_margin_s: [5, 10]        # Table 4.4, t_sf (see SampledRun::safety_margin_s for its use)
 //   battery:
 //     initial_cell_voltage_v: [4.05, 4.12]      # Table 4.4, drawn per cell
-//     pack_health_weights: {F1: 1, F2: 1, F3: 1} # per pack, Tables 3.2/4.2 (ours: equally likely)
-//     degraded_cells_per_pack: 3                 # Table 4.2 "in at least one cell" (ours: the whole pack)
+//     health_weights: {G: 1, M: 1, P: 1}        # BH per flight, decisions item 20: equally likely
+//     degraded_cells: [1, 6]                     # how many of the six cells carry a fade in M and P (ours)
 //     cold_probability: 0.5                      # Table 4.2, T_L (< 50 °F) vs T_H (ours: equally likely)
 //     cold_temp_degf: 40                         # any value below 50 °F acts alike (Table 3.2)
 //     warm_temp_degf: 77                         # room temperature (models/battery_cell.h)
@@ -38,17 +40,47 @@
 // Identity: CampaignConfigHash() fingerprints every sampled-parameter setting and the seed; the runs
 // count is not part of it (a campaign can be extended with --resume --runs N). The policies' identity is
 // added by the runner (campaign/policies.h).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "uascma/common/bounds.h"
 #include "uascma/models/wind.h"
 
 namespace uascma::campaign {
 
 inline constexpr double kPi = 3.14159265358979323846;
+
+// Plausibility bounds of every number of a campaign file (issue 16, common/bounds.h), checked by
+// CampaignConfig::IsValid; ranges [low, high] must lie inside them. Where the dissertation gives a value
+// the bound contains it with room; the bounds themselves are ours unless cited.
+namespace bounds {
+// Runs: our bound; 10^7 runs of two policies take ~6 days at the measured 42 flights/s (README).
+inline constexpr Bounds kRuns{0.0, 1e7, "runs"};
+// The map importer refuses data farther than 50 km from its origin (planning/map_import.h).
+inline constexpr Bounds kDistance{1.0, 50000.0, "m"};
+inline constexpr Bounds kCruiseSpeed{0.1, 30.0, "m/s"};      // Table 4.4 samples 1-9 m/s
+inline constexpr Bounds kCruiseAltitude{1.0, 1000.0, "m"};   // above the tallest building of any city
+inline constexpr Bounds kDropHover{0.0, 3600.0, "s"};        // 4x the packs' ~15 min hover endurance
+inline constexpr Bounds kSafetyMargin{0.0, 600.0, "s"};      // Table 4.4 samples 5-10 s
+// The default OCV table spans 3.27-4.20 V (defaults.md); the cut-off is 3.3 V (§3.3.2.1).
+inline constexpr Bounds kInitialCellVoltage{3.3, 4.2, "V"};
+inline constexpr Bounds kHealthWeight{0.0, 1e6, ""};         // relative weights
+inline constexpr Bounds kDegradedCells{1.0, 6.0, "cells"};   // two 3S packs
+inline constexpr Bounds kEnduranceFraction{0.01, 1.0, ""};   // of EOD − t_sf: at most all of it (decisions 19)
+inline constexpr Bounds kWallClearance{0.0, 100.0, "m"};     // our bound: a city block is ~60 m deep
+inline constexpr Bounds kProbability{0.0, 1.0, ""};
+inline constexpr Bounds kColdTemperature{-40.0, 49.999, "°F"};  // below 50 °F (Table 3.2), models::kAmbientTemperatureBounds
+inline constexpr Bounds kWarmTemperature{50.0, 140.0, "°F"};    // 50 °F or above (Table 3.2)
+inline constexpr Bounds kWindSpeed{0.0, 50.0, "m/s"};        // Table 4.4 samples 1-3 m/s
+inline constexpr Bounds kWindDirection{-4.0 * kPi, 4.0 * kPi, "rad"};
+inline constexpr Bounds kMotor{1.0, 6.0, ""};                // the hexacopter's motors
+inline constexpr Bounds kTimePerGrowthStep{0.001, 3600.0, "s"};  // decisions item 15: 0.7128 s, Table 5.4: 15.3 s
+inline constexpr Bounds kBlocks{1.0, 200.0, "blocks"};       // procedural city size per side
+}  // namespace bounds
 
 // A closed interval of a sampled parameter, in the unit its owner's name states.
 struct Range {
@@ -59,28 +91,53 @@ struct Range {
 };
 
 struct MissionSampling {
-  // Distance of the destination from home, m. Our estimate: flights of 3–20 min at 1–9 m/s, so that the
-  // battery (≈ 15 min of hover with both packs) matters, as in §5.5.1–5.5.2 (spalls at 175 s and 525 s).
-  // Our estimate: the dissertation's scenarios fly for 500 s and more (a spall at 525 s in §5.5.2), which at
-  // the sampled cruise speeds needs destinations 0.6–1.6 km away.
-  Range distance_m{600.0, 1600.0};
+  // The nominal plan is one a fully charged healthy (F1/F1) pack flies with its safety margin (§4.3.2: a
+  // "representative flight plan for a package drop", the pack "fully charged"; decisions item 19): its
+  // duration is f × (EOD_healthy − t_sf), EOD_healthy the end of discharge of this run's initial cell
+  // voltages and temperature with every cell healthy at the plan's cruise current (campaign/sampler.h), and
+  // f uniform on this range. Ours: from 0.5, the dissertation's own healthy study ("battery pack EOD time is
+  // twice the flight time", §4.3.3), to 0.9: the steady-current estimate leaves out the climbs (to 10 m above
+  // the tallest building, up to a minute at 2 m/s) and the gust corrections, and in flight the vehicle's own
+  // 1 Hz EOD prognosis came out up to ~10 % below it — measured over 150 default runs with f up to 1, CMA judged
+  // RM < 0 and landed 4 of 23 healthy fault-free flights, all with f ≥ 0.90, which NoOp completed with the
+  // lowest cell at 3.39–3.52 V. Above 0.9 a plan is no longer flyable "with its safety margin" in the vehicle's
+  // own judgement. Degraded packs then fail or not because of their health (decisions item 19).
+  Range endurance_fraction{0.5, 0.9};
+  // Set: the destination distance (m) is drawn uniformly on this range instead, and the plan is not tied to
+  // the pack's endurance (short test campaigns, small imported maps). Absent by default.
+  std::optional<Range> distance_m;
   Range cruise_speed_mps{1.0, 9.0};  // Table 4.4 ("Hexacopter Velocity, [1, 9] m/s")
-  double cruise_altitude_m = 30.0;   // defaults.md: 10 m above the tallest building (empty map: fixed)
+  double cruise_altitude_m = 30.0;   // open ground only; over a city 10 m above the tallest building (defaults.md)
+  // Horizontal clearance (m) of home and the destination (the hover points: take-off, drop, landing) from every
+  // building wall, and the half-width of the route corridor whose buildings set the cruise altitude (decisions
+  // item 20). It covers the vehicle's radius, 0.30 m (arm 0.225 m, defaults.md, plus a 6-inch propeller's
+  // 0.076 m), and its horizontal tracking error near a hover point, bounded by our measurement: the largest
+  // tracking error of whole flights cruising at 1–3 m/s (near-hover speeds; wind 1–3 m/s, every gust category)
+  // was 3.46 m over 67 fault-free completed flights of two 150-run default campaigns (median 0.88 m). 0.30 +
+  // 3.46 = 3.8 m; 5 m (ours) leaves 1.2 m for what that sample missed, and equals the corridor half-width the
+  // cruise altitude was already computed over. (Faster cruise lags further behind the reference — up to 9.5 m
+  // at 6–9 m/s, the controller's business — but away from the hover points, above the buildings.)
+  double wall_clearance_m = 5.0;
   double drop_hover_s = 30.0;        // defaults.md
+};
+
+// An inclusive range of counts.
+struct CountRange {
+  int low = 0;
+  int high = 0;
 };
 
 struct BatterySampling {
   Range initial_cell_voltage_v{4.05, 4.12};  // Table 4.4, drawn independently per cell
-  // Relative weights of F1 (G), F2 (M), F3 (P) per pack (Tables 3.2, 4.2). Ours: equally likely. The
-  // pack healths are independent, so the composite BH (decisions item 8) is G 1/9, M 3/9, P 5/9.
-  std::vector<double> pack_health_weights{1.0, 1.0, 1.0};
-  // How many cells of a degraded pack carry its fade; which cells is drawn uniformly. Each of them gets
-  // models::CellHealthForClass: F2 (M) power fade, R0 → 2 R0; F3 (P) power and capacity fade, also
-  // Q → 0.8 Q (Table 3.2, decisions item 8; the same cells as scenario files' `packs: [M, P]`).
-  // Table 4.2 classifies a pack by "at least one cell"; ours: all three, since the cells of one pack age
-  // together and a pack's health is what Table 4.2 names. With 1, one aged cell among six barely changes
-  // a flight (measured: the failure rate then no longer depends on BH, unlike Fig. 5.30).
-  int degraded_cells_per_pack = 3;
+  // Relative weights of the flight's battery health BH = G, M, P (decisions item 20: drawn per flight, equally
+  // likely by default).
+  std::vector<double> health_weights{1.0, 1.0, 1.0};
+  // M and P are realised as Table 4.2 defines them (decisions item 20; campaign/sampler.h): k degraded cells,
+  // k uniform on this range, chosen uniformly among the six; in M each carries one fade, capacity (Q → 0.8 Q)
+  // or power (R0 → 2 R0), drawn ½ each; in P the first carries both and each other one fade or both, drawn
+  // ⅓ each (Table 3.2's factors). Table 4.2 says "at least one cell"; ours: every count from one cell to the
+  // whole battery equally likely. The per-pack F1/F2/F3 labels follow from the cells (models::ClassifyHealth).
+  CountRange degraded_cells{1, 6};
   double cold_probability = 0.5;  // Table 4.2 T_L vs T_H. Ours: equally likely.
   double cold_temp_degf = 40.0;   // below 50 °F: R0 → 1.5 R0 (Table 3.2); only the split matters
   double warm_temp_degf = 77.0;   // models::kRoomTemperatureDegf
@@ -106,13 +163,33 @@ struct FaultSampling {
 
 // The city the flights fly over: the built-in procedural city of this seed (0: open ground, no buildings
 // and no landing sites — the emergency actions then have nowhere to go). Home and destination are drawn on
-// open ground, the cruise altitude is 10 m above the tallest building under the route (defaults.md).
+// open ground with mission.wall_clearance_m from every wall, the cruise altitude is 10 m above the tallest
+// building under the route (defaults.md).
+//
+// Or an imported city (planning/map_import.h), when `buildings` names files:
+//   map:
+//     buildings: [upper-east-side-buildings.geojson]  # GeoJSON / .osm / .osm.pbf, relative to the campaign file
+//     sites: midtown-landing-sites.csv                # landing sites (optional)
+//     origin: [40.77, -73.96]                         # local frame origin (default: the data's centre)
+//     height_from_levels: true                        # import fall-backs, as `map info`'s flags
+//     metres_per_level: 3
+//     skip_missing_height: true
+// Home and destination are then drawn over the imported map's extent (buildings and sites), on open ground.
 struct MapSampling {
   std::uint64_t procedural_seed = 3;
-  // City size in blocks (procedural_city.h): 24 × 8 blocks ≈ 1.9 km × 1.7 km, large enough for the
-  // distance band below.
-  int blocks_north = 24;
-  int blocks_east = 8;
+  // City size in blocks (procedural_city.h): 56 × 20 blocks ≈ 4.4 km × 4.2 km. The plans of the default
+  // mission sampling reach destinations ~3 km from home (90 % of a healthy pack's ~13 min at 9 m/s, out and
+  // back), and both ends must lie inside the city with room to draw the bearing.
+  int blocks_north = 56;
+  int blocks_east = 20;
+  // Imported map (none when `buildings` is empty). Paths as LoadCampaignConfig resolved them (absolute).
+  std::vector<std::string> buildings;
+  std::string sites;
+  std::optional<std::array<double, 2>> origin_deg;  // latitude, longitude
+  bool height_from_levels = false;   // planning::MapImportOptions (defaults there)
+  double metres_per_level = 3.0;     // m per storey, the importer's estimate
+  bool skip_missing_height = false;
+  bool imported() const { return !buildings.empty(); }
 };
 
 struct CampaignConfig {

@@ -50,8 +50,7 @@ class RecordingPolicy final : public sim::DecisionPolicy {
   std::vector<EpochDecision> decisions_;
 };
 
-// The terminal CMA state a flight ended in (C, T or FL); the outcome must not be kInProgress.
-decision::CmaTerminal TerminalStateOf(sim::Outcome outcome);
+using sim::TerminalStateOf;  // the terminal CMA state a flight ended in (sim/outcome.h)
 
 struct RewardTrace {
   std::vector<double> reward;  // one per epoch, then the terminal term

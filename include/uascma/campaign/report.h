@@ -15,6 +15,7 @@ struct CampaignReport {
   std::int64_t flights = 0;              // stored
   std::int64_t complete_runs = 0;        // runs flown by every policy
   std::vector<GroupStatistics> groups;   // policies in slot order × G, M, P, all
+  std::vector<PairedComparison> comparisons;  // McNemar per pair of policies × G, M, P, all
 };
 
 // Statistics over the runs flown by every policy of the campaign (an interrupted campaign may hold a
@@ -22,7 +23,8 @@ struct CampaignReport {
 CampaignReport MakeCampaignReport(const ResultsStore& store);
 
 // {"campaign": {name, seed, config_hash, campaign_hash, code_version, created_utc, runs_requested,
-//  flights, complete_runs, policies: [...]}, "policies": {...}, "policy_order": [...], "dissertation": {...}}
+//  flights, complete_runs, policies: [...]}, "policies": {...}, "policy_order": [...], "confidence_level",
+//  "paired_comparisons": [...], "dissertation": {...}} (campaign/statistics.h)
 nlohmann::json CampaignReportJson(const CampaignReport& report);
 std::string CampaignReportText(const CampaignReport& report);
 

@@ -7,14 +7,24 @@
 // or rank flies it and in which order the rows are written do not matter, so any number of jobs or
 // ranks, and any kill-and-resume sequence, gives the same rows (wall_time_s aside).
 //
-// Threads. `jobs` workers take run indices from a shared counter; each builds the run's Simulator once
-// and flies every missing policy on it. Finished records go to a queue; the calling thread (the only
-// one touching SQLite) commits them in batches: every `commit_rows` rows or `commit_interval_s` seconds.
+// Threads. `jobs` workers take runs one at a time; each builds the run's Simulator once and flies every
+// missing policy on it. Finished records go to a queue; the calling thread commits them in batches:
+// every `flush_rows` rows or `flush_interval_s` seconds.
 //
-// MPI (UASCMA_WITH_MPI builds, an MpiSession active with more than one rank). Rank 0 opens the store and
-// decides the missing flights, broadcasts them with the campaign hash; rank r flies the runs at
-// positions r, r + K, r + 2K, … of that list (static round-robin) with its own threads and sends the
-// records to rank 0, which alone writes them. Every rank resolves the policies itself (solving the CMA
+// Several processes on one database (store.h, "Several processes"). RunCampaign joins the store as a
+// worker; a worker thread claims its next run in the store (one short write transaction) before flying
+// it, so any number of processes started on one database, with or without --resume, fly each flight
+// once. When no run is left to claim, a process waits for the runs other workers hold and claims those
+// whose worker died (a kill -9 on the same machine frees them at once): a process that returns has seen
+// every flight of its runs stored. The calling thread also renews the worker's heartbeat. Creating the
+// database is exclusive: of processes started together, one creates it and the others join it (same
+// campaign) or fail with an InputError naming the campaign the file holds.
+//
+// MPI (UASCMA_WITH_MPI builds, an MpiSession active with more than one rank). Rank 0 joins the store,
+// claims every free run with flights missing in one transaction, broadcasts them with the campaign hash;
+// rank r flies the runs at positions r, r + K, r + 2K, … of that list (static round-robin) with its own
+// threads and sends the records to rank 0, which alone writes them. Runs that other processes held
+// are then waited for (and flown when their worker died) by rank 0's threads. Every rank resolves the policies itself (solving the CMA
 // MDP is deterministic; policy files must be readable on every node).
 #include <cstdint>
 #include <filesystem>
@@ -31,12 +41,6 @@
 namespace uascma::campaign {
 
 class MpiSession;
-
-// One run index and the policy slots still to fly on it.
-struct FlightTask {
-  std::int64_t run_index = 0;
-  std::vector<int> slots;
-};
 
 // Every (run, policy) of runs [0, runs) not in `stored`, grouped by run index, in index order.
 std::vector<FlightTask> MissingFlights(std::int64_t runs, const std::vector<CampaignPolicy>& policies,
@@ -75,12 +79,14 @@ struct CampaignOutcome {
   std::int64_t flights_total = 0;      // runs × policies
   std::int64_t flights_before = 0;     // already stored when the campaign (re)started
   std::int64_t flights_flown = 0;      // flown by this invocation (all ranks)
+  std::int64_t flights_by_others = 0;  // stored meanwhile by other processes sharing the database
   double wall_time_s = 0.0;
   std::string campaign_hash;
 };
 
-// Runs (or resumes) the campaign. InputError (naming the file) when `db` holds another campaign
-// (different campaign hash), exists without `resume`, or the disk fills up.
+// Runs (or resumes, or joins) the campaign. InputError (naming the file) when `db` holds another campaign
+// (different campaign hash, named in the message), exists without `resume` while no process runs its
+// campaign, is written by a live process of another machine, or the disk fills up.
 CampaignOutcome RunCampaign(const CampaignRequest& request);
 
 }  // namespace uascma::campaign

@@ -10,21 +10,41 @@
 //
 // Draws, in this fixed order (changing the order changes every campaign; CampaignConfigHash does not
 // see it, so the code version is recorded beside the results):
-//   1. destination: bearing uniform on [0, 2π) from North, distance uniform on mission.distance_m;
-//      home at the origin; an empty map (the city map comes later)
-//   2. cruise speed uniform on mission.cruise_speed_mps
-//   3. safety margin t_sf uniform on safety_margin_s
-//   4. six initial cell voltages, pack 1 cells 1–3 then pack 2, each uniform on the range
-//   5. per pack: health F1/F2/F3 by the weights; for F2/F3 the degraded cells (a uniform subset of
-//      degraded_cells_per_pack cells), each with models::CellHealthForClass (M: power fade; P: both)
-//   6. cold (probability cold_probability) → ambient cold_temp_degf, else warm_temp_degf
-//   7. wind speed, direction, then the Dryden category uniform over the list
+//   1. cruise speed uniform on mission.cruise_speed_mps
+//   2. safety margin t_sf uniform on safety_margin_s
+//   3. six initial cell voltages, pack 1 cells 1–3 then pack 2, each uniform on the range
+//   4. battery health BH (decisions item 20): G, M or P by battery.health_weights; for M and P, k cells (k
+//      uniform on battery.degraded_cells) chosen uniformly among the six; M: each one fade, capacity or power
+//      (½ each); P: the first both, the others capacity, power or both (⅓ each). Pack labels F1/F2/F3
+//      follow from the cells (models::ClassifyHealth), and the composite BH is the drawn one.
+//   5. cold (probability cold_probability) → ambient cold_temp_degf, else warm_temp_degf
+//   6. wind speed, direction, then the Dryden category uniform over the list
+//   7. the route (decisions items 19–20). The endurance fraction f uniform on mission.endurance_fraction;
+//      then, until the route fits: home uniform over the city on open ground with mission.wall_clearance_m
+//      from every wall (the origin on an empty map), the bearing uniform on [0, 2π) from North, and
+//        I_cruise   = the largest steady current of the plan: level flight out, level flight back (airspeed
+//                     |±V ê − w|, V the cruise speed, ê the bearing, w the mean wind) and the drop hover
+//                     (airspeed |w|), CalcLevelFlightCurrent;
+//        EOD_healthy = the end of discharge at I_cruise of this run's cell voltages and temperature with
+//                     every cell healthy (F1/F1; prognostics::CalcPackEod);
+//        plan duration = f (EOD_healthy − t_sf), so that plan + t_sf ≤ EOD_healthy;
+//        distance   = the one whose delivery plan (planning::MakeDeliveryPlan) lasts exactly that long, at a
+//                     cruise altitude 10 m above the tallest building within wall_clearance_m of the route
+//                     that the lowest altitude would give (the longest route along the bearing; it clears
+//                     the shorter final route too);
+//      the destination must lie inside the city with wall_clearance_m from every wall. With mission.distance_m
+//      set, the distance is drawn on it instead (the plan is then not tied to the pack).
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the
 //      fraction uniform on onset_fraction, then the motor uniform over the list.
 //
 // The safety margin t_sf (Table 4.4) goes to SimOptions::safety_margin_s: the reach margin judges the plan
 // with t_sf of extra time, RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf of
 // Table 4.1, carried to the CMA).
+//
+// The planning current is conservative where the flight draws more than its steady value: the bus voltage
+// is the nominal 3.7 V per cell (kPlanningCellVoltage), below the ~3.8–4.1 V a pack holds over most of its
+// discharge (the OCV table of defaults.md), so the current is overestimated while the climbs, gust
+// corrections and the final sag are not modelled.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -32,6 +52,7 @@
 #include "uascma/campaign/config.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/models/battery_pack.h"
+#include "uascma/models/drag.h"
 #include "uascma/sim/simulator.h"
 
 namespace uascma::campaign {
@@ -41,6 +62,21 @@ enum RunStream : std::uint64_t { kSamplerStream = 1, kSimulatorStream = 2 };
 
 std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index);
 
+// V per cell: the nominal voltage of a LiPo cell (the usual 3.7 V rating; below the default OCV table's
+// 3.8–4.1 V over most of a discharge, so the planning current errs high). Ours.
+inline constexpr double kPlanningCellVoltage = 3.7;
+
+// The pack current (A) of steady level flight at `airspeed` (m/s): the thrust tilted until its horizontal part
+// balances the drag table's drag (models::DragTable::Default of the scenario's configuration), shared by six
+// rotors, each drawing the defaults.md power law, over a bus at kPlanningCellVoltage × 3, plus the hotel load.
+double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragTable& drag, double airspeed);
+// The largest of the out-leg, back-leg and drop-hover currents of a plan along `direction_NE` (step 7).
+double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTable& drag,
+                             const Eigen::Vector2d& direction_NE);
+// End of discharge (s) of the battery with this spec's voltages and temperature but every cell healthy, at
+// a constant current (A).
+double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a);
+
 struct SampledRun {
   std::int64_t run_index = 0;
   std::uint64_t run_seed = 0;
@@ -48,10 +84,13 @@ struct SampledRun {
   double bearing_rad = 0.0;       // destination bearing from North, clockwise
   double cruise_speed_mps = 0.0;
   double safety_margin_s = 0.0;   // t_sf, also in scenario.options.safety_margin_s
-  models::PerBranch<models::HealthClass> pack_health{};  // F1/F2/F3 per pack = G/M/P
-  decision::BatteryHealth battery_health = decision::BatteryHealth::kG;  // composite BH (decisions 8)
+  models::PerBranch<models::HealthClass> pack_health{};  // F1/F2/F3 per pack = G/M/P, from the cells
+  decision::BatteryHealth battery_health = decision::BatteryHealth::kG;  // BH drawn (decisions 8, 20)
   bool cold = false;
   double plan_duration_s = 0.0;   // the nominal delivery plan
+  double endurance_fraction = 0.0;  // f of step 7 (0 when the distance was drawn instead)
+  double cruise_current_a = 0.0;    // I_cruise of step 7
+  double healthy_eod_s = 0.0;       // EOD_healthy of step 7
   sim::Scenario scenario;         // ready to fly
 };
 

@@ -1,7 +1,8 @@
 #pragma once
-// The results store of a campaign: one SQLite file per campaign (shared/spec/dependencies.md).
+// The results store of a campaign: one SQLite file per campaign (shared/spec/dependencies.md), written
+// by one or several processes at once.
 //
-// Schema (PRAGMA user_version = 1, journal_mode = WAL):
+// Schema (PRAGMA user_version = 2, journal_mode = WAL):
 //   campaign(id = 1, name, config_yaml, config_hash, campaign_hash, seed, runs_requested,
 //            code_version, created_utc)
 //       config_yaml: the canonical configuration (campaign/config.h), enough to resample every run;
@@ -13,13 +14,41 @@
 //        PRIMARY KEY (campaign_hash, run_index, policy))
 //       unsigned fields (run_seed) are stored by their 64-bit pattern as INTEGER; optional values NULL.
 //   view run_outcomes: runs with the columns most reports need.
+//   workers(id INTEGER PRIMARY KEY, host, boot_id, pid_namespace, pid, start_ticks, started_utc,
+//           heartbeat_s, retired)                                                   (since version 2)
+//       one row per process that took part (WorkerIdentity); heartbeat_s: Unix time of its last sign of
+//       life; retired = 1 once it stopped (success or error).
+//   claims(campaign_hash, run_index, worker REFERENCES workers(id), claimed_s,
+//          PRIMARY KEY (campaign_hash, run_index))                                   (since version 2)
+//       the worker that flies (or flew) the missing flights of a run. Rows stay after the flights are
+//       stored: they record who flew what.
+//   Version 1 files (no workers, claims) are read as they are and raised to version 2, in one
+//   transaction, by the first process that joins them as a worker (JoinAsWorker).
 //
-// Crash safety. The file is created whole (schema and campaign row written to a temporary file, then
-// renamed), so a killed or failed creation leaves no half-made database. Rows are inserted in one
-// transaction per batch with INSERT OR IGNORE on the primary key: a batch is either all in or not at
-// all, and inserting the same flight twice (a resumed campaign, a repeated batch) changes nothing. A
-// full disk (SQLITE_FULL, or an I/O error from a file-size limit) rolls the batch back and throws an
-// InputError naming the file; the database keeps every batch committed before.
+// Crash safety. The file is created whole (schema, campaign row and the creator's worker row written to
+// a temporary file beside it, then hard-linked to `path`, which fails if `path` appeared meanwhile), so
+// a killed or failed creation never leaves a half-made database, and of several processes creating the
+// same file exactly one succeeds (TryCreate). Rows are inserted in one transaction per batch with
+// INSERT OR IGNORE on the primary key: a batch is either all in or not at all, and inserting the same
+// flight twice (a resumed campaign, a repeated batch) changes nothing. A full disk (SQLITE_FULL, or an
+// I/O error from a file-size limit) rolls the batch back and throws an InputError naming the file; the
+// database keeps every batch committed before. Every error names the user's path, never the temporary
+// file, and the temporary file is removed on every error.
+//
+// Several processes. Each process writing the campaign registers as a worker and claims a run (in a
+// BEGIN IMMEDIATE transaction, the same discipline as the inserts) before flying it; a run is claimable
+// when it has flights missing and no claim, or its claim is held by a worker that is no longer alive:
+//   - same kernel and pid namespace (equal boot_id and pid_namespace): alive while its pid runs with the
+//     same start time (a reused pid is told apart; a zombie counts as dead) and it is not retired;
+//     inside one process, while the worker's ResultsStore is open (several stores per process: tests);
+//   - another machine (or container): alive until kClaimLeaseSeconds after its last heartbeat (every
+//     kHeartbeatPeriodSeconds), which assumes clocks agree to well within the lease.
+// So a kill -9 frees its claims at once for processes on the same machine. Where SQLite locking does not
+// work the store cannot be shared: WAL mode keeps its lock state in shared memory (the -shm file), which
+// works only between processes of one kernel. Several machines on one network file system (NFS, SMB,
+// Lustre, …) must not write one database at once, even where POSIX locks work; JoinAsWorker refuses when
+// a live worker of another machine is registered (MPI is the way to spread a campaign over machines:
+// rank 0 alone writes). On an NFS mount without locks (nolock) even one machine's processes are unsafe.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -36,7 +65,14 @@
 
 namespace uascma::campaign {
 
-inline constexpr int kStoreSchemaVersion = 1;
+inline constexpr int kStoreSchemaVersion = 2;
+
+// A live worker renews its heartbeat this often (our estimate: one short write every few seconds costs
+// nothing next to the flights, and keeps a lease far from expiring while the worker lives).
+inline constexpr double kHeartbeatPeriodSeconds = 5.0;
+// A worker of another machine whose heartbeat is older than this is taken for dead and its claims are
+// free (our estimate: twelve missed heartbeats; tolerates clocks that disagree by tens of seconds).
+inline constexpr double kClaimLeaseSeconds = 60.0;
 
 struct CampaignHeader {
   std::string name;
@@ -58,19 +94,54 @@ struct StoreOptions {
   // "disk" without a small filesystem.
   std::int64_t max_page_count = 0;
   int busy_timeout_ms = 10000;
+  double claim_lease_s = kClaimLeaseSeconds;  // see the header comment
+};
+
+// One run index and the policy slots still to fly on it.
+struct FlightTask {
+  std::int64_t run_index = 0;
+  std::vector<int> slots;
+};
+
+// Who a worker is: enough to tell, from another process, whether it still runs.
+struct WorkerIdentity {
+  std::string host;           // gethostname(), for messages
+  std::string boot_id;        // /proc/sys/kernel/random/boot_id: equal <=> the same running kernel
+  std::string pid_namespace;  // /proc/self/ns/pid: equal (with boot_id) <=> pids can be compared
+  std::int64_t pid = 0;
+  std::int64_t start_ticks = 0;  // field 22 of /proc/PID/stat (clock ticks after boot); 0 when unknown
+};
+WorkerIdentity ThisProcessIdentity();
+// Whether `pid` runs (not a zombie) and, when start_ticks is known, started at start_ticks. Only
+// meaningful for a pid of this kernel and pid namespace.
+bool ProcessIsRunning(std::int64_t pid, std::int64_t start_ticks);
+
+// What one ClaimRuns call found, for the candidates it examined (a prefix of those given).
+struct ClaimResult {
+  std::vector<FlightTask> claimed;  // now held by this worker, with the slots still missing
+  std::vector<std::int64_t> held;   // flights missing, claim held by a live worker (this one included)
+  std::size_t examined = 0;         // candidates looked at; the others were left for the next call
+  // Candidates examined and in none of the lists had every flight stored.
 };
 
 class ResultsStore {
  public:
-  // A new store at `path`, which must not exist (InputError otherwise).
+  // A new store at `path`; InputError naming `path` when it exists (or appears while being created).
   static ResultsStore Create(const std::filesystem::path& path, const CampaignHeader& header,
                              const StoreOptions& options = {});
+  // A new store at `path`, or nothing when a file is already there or another process created it first
+  // (exactly one of several concurrent creators gets a store). With `as_worker` the creator is
+  // registered as the first worker in the same file, so the database is never seen without a live
+  // worker while its creator runs. InputError naming `path` (never the temporary file) when the folder
+  // is missing or not writable; no temporary file survives.
+  static std::optional<ResultsStore> TryCreate(const std::filesystem::path& path, const CampaignHeader& header,
+                                               const StoreOptions& options = {}, bool as_worker = false);
   // An existing store; InputError naming the file when it is missing, not SQLite, or not a campaign.
   static ResultsStore Open(const std::filesystem::path& path, const StoreOptions& options = {});
 
   ResultsStore(ResultsStore&&) noexcept;
   ResultsStore& operator=(ResultsStore&&) noexcept;
-  ~ResultsStore();
+  ~ResultsStore();  // retires this store's worker, if it joined as one
 
   const std::filesystem::path& path() const { return path_; }
   const CampaignHeader& header() const { return header_; }
@@ -91,29 +162,37 @@ class ResultsStore {
   std::optional<RunRecord> ReadRecord(std::int64_t run_index, const std::string& policy) const;
   std::optional<RunRecord> ReadRecordByFlightId(std::int64_t flight_id) const;
 
+  // ---- sharing the work between processes (header comment) -----------------------------------------
+  // A store is not thread-safe: a process that claims from several threads guards it with a mutex.
+  //
+  // Registers this process as a worker (raising a version-1 file to version 2 first) and returns its
+  // id; joining twice returns the same id. InputError naming the file when a live worker of another
+  // machine is registered (SQLite's WAL mode works only within one machine).
+  std::int64_t JoinAsWorker();
+  std::int64_t worker_id() const { return worker_id_; }  // 0 until joined
+  // Workers other than this store's that are alive (header comment); 0 for a version-1 file.
+  std::int64_t CountLiveWorkers() const;
+  // Renews this worker's heartbeat (call at least every kHeartbeatPeriodSeconds).
+  void Heartbeat();
+  // Marks this worker retired: its claims on runs with missing flights become free at once. Idempotent;
+  // errors are swallowed (the worker is dead for everyone once its process ends anyway).
+  void Retire() noexcept;
+  // Examines `candidates` (run indices) in order in one write transaction and claims for this worker
+  // the first `max_claims` runs that have flights missing and no claim held by a live worker.
+  ClaimResult ClaimRuns(const std::vector<std::int64_t>& candidates, std::size_t max_claims);
+  // The worker holding the claim on run `run_index`, if any (0 when none).
+  std::int64_t ClaimHolder(std::int64_t run_index) const;
+
  private:
   struct Connection;
-  ResultsStore(std::filesystem::path path, std::unique_ptr<Connection> connection, CampaignHeader header);
+  ResultsStore(std::filesystem::path path, std::unique_ptr<Connection> connection, CampaignHeader header,
+               StoreOptions options);
+  bool WorkerIsAlive(std::int64_t worker) const;
   std::filesystem::path path_;
   std::unique_ptr<Connection> connection_;
   CampaignHeader header_;
+  StoreOptions options_;
+  std::int64_t worker_id_ = 0;
 };
-
-// A flight loaded back for replay (`uascma simulate --replay DB RUN_ID`): its scenario resampled from
-// the stored configuration and run seed, the policy that flew it, and what was recorded.
-struct ReplayFlight {
-  CampaignConfig config;
-  SampledRun run;          // run.scenario is what to fly
-  CampaignPolicy policy;   // MakeDecisionPolicy(policy) flies it
-  int policy_slot = 0;
-  int num_policies = 0;
-  RunRecord recorded;
-};
-// `run_id` is a flight_id ("17") or "RUN_INDEX:POLICY" ("8:cma"). InputError naming the file or the
-// id when it is unknown, or when the resampled scenario no longer matches the record (the sampler
-// changed since the campaign ran).
-ReplayFlight LoadReplay(const std::filesystem::path& db, const std::string& run_id);
-// Flies the flight again; its record equals `recorded` except wall_time_s (FirstDifference).
-RunRecord ReplayRun(const ReplayFlight& flight, const PlannerFactory& planner_factory = {});
 
 }  // namespace uascma::campaign

@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "uascma/common/bounds.h"
 #include "uascma/decision/factored_mdp.h"
 #include "uascma/decision/finite_mdp.h"
 
@@ -74,7 +75,7 @@ struct CmaWeights {
   double Get(const std::string& name) const;       // InputError on an unknown name
   void Set(const std::string& name, double value);
   double Sum() const;
-  bool IsValid(std::string* error) const;  // finite and non-negative
+  bool IsValid(std::string* error) const;  // every weight within kCmaWeightBounds
   // The renormalisation of Fig. 5.10: `name` takes `value` and the other weights keep their
   // proportions, scaled so that all weights sum to one (eq. 5.22).
   CmaWeights WithRenormalised(const std::string& name, double value) const;
@@ -84,6 +85,13 @@ struct CmaConfig {
   CmaWeights weights;
   double gamma = 0.95;  // decisions item 5
 };
+
+// Plausibility bounds (issue 16, common/bounds.h). Each weight is a share of the total reward, which
+// the dissertation's weights split to a sum of one (eqs. 5.22, 5.28-5.29): 0 to 1. The discount factor:
+// 0 to 0.999 (our bound; decisions item 5 uses 0.95, and gamma -> 1 makes the values of eq. 5.15
+// diverge as 1 / (1 - gamma)).
+inline constexpr Bounds kCmaWeightBounds{0.0, 1.0, ""};
+inline constexpr Bounds kGammaBounds{0.0, 0.999, ""};
 
 // Reads a YAML file of the form
 //   gamma: 0.95            # optional, default 0.95

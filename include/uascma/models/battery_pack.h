@@ -23,6 +23,7 @@
 #include <array>
 #include <string>
 
+#include "uascma/common/bounds.h"
 #include "uascma/models/battery_cell.h"
 #include "uascma/models/ocv_table.h"
 
@@ -32,6 +33,15 @@ inline constexpr int kBranchCount = 2;     // two packs in parallel, Fig. 4.1
 inline constexpr int kCellsPerBranch = 3;  // each pack is 3S, §3.3.1.1
 inline constexpr double kCutoffVoltage = 3.3;  // per cell, ESCs cut out: §3.3.2.1, Table 4.1, decisions item 11
 inline constexpr double kMaxPackCurrent = 105.0;  // I_max, A, Table 4.1
+// Plausibility bounds (issue 16, common/bounds.h) on the numbers a user gives the battery model.
+// Total current drawn from the packs: 0 to I_max (Table 4.1).
+inline constexpr Bounds kPackCurrentBounds{0.0, kMaxPackCurrent, "A"};
+// Ambient temperature: -40 to 140 °F (−40 to 60 °C), our bound: the usual discharge range of Li-ion
+// cell datasheets; Table 3.2 only distinguishes below/above 50 °F.
+inline constexpr Bounds kAmbientTemperatureBounds{-40.0, 140.0, "°F"};
+// Per-cell cut-off voltage: 2.5 V (the usual Li-ion absolute minimum, our bound) to 4.2 V (full charge,
+// the top of the OCV table, shared/spec/defaults.md).
+inline constexpr Bounds kCutoffVoltageBounds{2.5, 4.2, "V"};
 
 template <typename T>
 using PerBranch = std::array<T, kBranchCount>;

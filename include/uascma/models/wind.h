@@ -9,9 +9,27 @@
 // Forming filters (V = airspeed, floored at min_airspeed for a hovering vehicle):
 //   H_u(s) = σ_u √(2 L_u / (π V)) / (1 + (L_u/V) s)
 //   H_v(s) = σ_v √(L_v / (π V)) (1 + √3 (L_v/V) s) / (1 + (L_v/V) s)²     (H_w alike)
-// Discretisation keeping the variance right (dryden.md): u is the exact Gauss–Markov step
-// u ← a u + σ_u √(1 − a²) η with a = exp(−V Δt / L_u); v and w are the exact zero-order-hold discretisation
-// of the second-order filter driven by white noise of variance π/Δt held over the step.
+// Discretisation keeping the variance right (dryden.md), also while the altitude and the airspeed change
+// during a flight (climb, cruise, slow-down, hover):
+//   * every filter state is carried in units of its own σ, with a stationary distribution that depends on
+//     neither σ nor L/V; σ(h) multiplies the state only at the output, and the time constant T = L/V is
+//     taken afresh at every step. A change of altitude or airspeed then changes the spectrum at once (as
+//     the forming filter of the new flight condition would) but never the variance, which is σ(h)² at
+//     every instant. (Carrying the states in m/s instead keeps the variance of the old σ and L/V: after a
+//     slow-down from 9 to 1 m/s the v and w gusts come out three times σ and decay only over L/V, minutes
+//     at 1 m/s.)
+//   * u: the exact Gauss–Markov step of a unit-variance state, x ← a x + √(1 − a²) η, a = exp(−V Δt / L_u);
+//     gust u = σ_u x.
+//   * v, w: the two cascaded lags 1/(1 + T s) of H_v with T = L/V, driven by white noise of power spectral
+//     density 2T (η √(2T/Δt) held over the step, exact zero-order-hold step of the lags). In the time
+//     τ = t/T this is dx₁ = −x₁ dτ + √2 dW, dx₂ = (x₁ − x₂) dτ, whose stationary covariance is
+//     [[1, ½], [½, ½]] whatever T is. The output σ/√2 (x₂ + √3 (x₁ − x₂)) is H_v's numerator
+//     (1 + √3 T s) applied to the lags, and its variance is σ²/2 (3 + (1 − √3)²/2 + √3 (1 − √3)) = σ².
+//     (This is H_v exactly: the gain σ √(L/(πV)) with input PSD π equals σ/√2 with input PSD 2T.)
+//     Holding the noise over the step leaves a relative variance error of about (Δt/T)²/12 (3e-5 at the
+//     shortest T of the low band, 3 m / 10 m/s, and 5 ms).
+//   * The initial state is drawn from the stationary distribution of every channel, so the gusts have
+//     their variance from the first step.
 #include <Eigen/Core>
 
 #include <string>
@@ -49,12 +67,13 @@ struct DrydenIntensity {
 DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m,
                                     double medium_band_altitude_m);
 
-// The filter states (shape: one first-order state for u, two for each of v and w), and the intensity
-// last computed, reused while the altitude stays within kIntensityAltitudeStep of where it was computed
-// (the σ and L of the low band change by < 0.2 % per 0.25 m above 10 m).
+// The filter states, dimensionless, in units of their channel's σ (shape: one first-order state for u,
+// two lag states for each of v and w; see above), and the intensity last computed, reused while the
+// altitude stays within kIntensityAltitudeStep of where it was computed (the σ and L of the low band
+// change by < 0.2 % per 0.25 m above 10 m).
 struct WindState {
-  double gust_u = 0.0;
-  double v_lag1 = 0.0, v_lag2 = 0.0;
+  double u = 0.0;                     // stationary N(0, 1)
+  double v_lag1 = 0.0, v_lag2 = 0.0;  // stationary covariance [[1, ½], [½, ½]]
   double w_lag1 = 0.0, w_lag2 = 0.0;
   DrydenIntensity intensity;
   double intensity_altitude = -1e9;  // m; far from any altitude: computed on first use
@@ -66,14 +85,15 @@ class WindModel {
   explicit WindModel(const WindParams& params);
   const WindParams& params() const { return params_; }
 
-  // A state drawn from the stationary distribution of u (v and w start at rest).
+  // A state drawn from the stationary distribution of every channel (u, v and w).
   WindState InitialState(double altitude_m, RandomStream& random) const;
   // Advances the gust filters by dt at the given altitude (m above ground) and airspeed (m/s), and
   // returns the wind velocity in W (NED), m/s.
   Eigen::Vector3d Step(WindState& state, double altitude_m, double airspeed, double dt,
                        RandomStream& random) const;
-  // The wind of a state without advancing it (mean + gust outputs).
-  Eigen::Vector3d Evaluate(WindState& state, double altitude_m, double airspeed) const;
+  // The wind of a state at an altitude without advancing it: the mean plus σ(h) times the unit-scaled
+  // states (the airspeed shapes the spectrum through the steps, not the output).
+  Eigen::Vector3d Evaluate(WindState& state, double altitude_m) const;
   Eigen::Vector3d MeanWind_W() const { return mean_W_; }
 
  private:

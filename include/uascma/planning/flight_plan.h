@@ -42,6 +42,7 @@ struct PlanSegment {
   double accel = 0.0;                 // m/s²
   double peak_speed = 0.0;            // m/s
   double accel_time = 0.0;            // s
+  double cruise_speed = 0.0;          // m/s: the horizontal speed limit the move was planned with (0 for a hover)
 };
 
 // A straight rest-to-rest move of `length` m under a speed limit `max_speed` (m/s) and an acceleration
@@ -57,17 +58,23 @@ struct Waypoint {
   Eigen::Vector3d p_W = Eigen::Vector3d::Zero();
   double hover_after_s = 0.0;  // hover this long on arrival
   std::string label;
+  // m/s: the horizontal speed limit of the move to this waypoint (a mission's DO_CHANGE_SPEED); 0: the plan's
+  // PlanLimits::cruise_speed.
+  double max_speed = 0.0;
 };
 
 class FlightPlan {
  public:
   FlightPlan() = default;
-  // Straight moves from `start_W` through the waypoints. Throws InputError on invalid limits.
+  // Straight moves from `start_W` through the waypoints, each rest to rest with the trapezoidal profile of §5.4
+  // (CalcTrapezoid), and the hovers. Throws InputError on invalid limits, a non-finite waypoint, a negative hover
+  // or a negative speed limit.
   static FlightPlan Through(const Eigen::Vector3d& start_W, const std::vector<Waypoint>& waypoints,
                             const PlanLimits& limits);
 
   PlanReference At(double time) const;  // clamps to the start and end of the plan
   double duration() const { return segments_.empty() ? 0.0 : segments_.back().start_time + segments_.back().duration; }
+  // s from `time` to the end of the whole plan (every remaining move and hover); 0 after the end.
   double TimeRemaining(double time) const;
   double Length() const;  // m, path length
   bool empty() const { return segments_.empty(); }

@@ -56,8 +56,11 @@ const char* EodStatusName(EodStatus status);
 struct EodOptions {
   double cutoff_v = models::kCutoffVoltage;  // per cell, 3.3 V (§3.3.2.1, decisions item 11)
   double horizon_s = 86400.0;                // one day: far beyond any flight of the vehicle
+  // Plausible horizons: 1 s to one week (our bound; a week is ~700x the pack's hover endurance).
+  static constexpr Bounds kHorizonBounds{1.0, 604800.0, "s"};
   double time_tolerance_s = 1e-6;            // root accuracy of the crossing time
-  // cutoff_v finite, horizon_s > 0, time_tolerance_s > 0; writes the reason to *error on failure.
+  // cutoff_v within models::kCutoffVoltageBounds, horizon_s within kHorizonBounds, time_tolerance_s > 0;
+  // writes the reason to *error on failure.
   bool IsValid(std::string* error) const;
 };
 

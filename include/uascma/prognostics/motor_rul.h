@@ -46,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "uascma/common/bounds.h"
 #include "uascma/common/random.h"
 
 namespace uascma::prognostics {
@@ -78,6 +79,9 @@ struct SpallGrowthParams {
   // motor_rul_test "StoredDefaultTimeScaleIsTheCalibrationOutput" recomputes it. A scenario with
   // faster growth sets a smaller τ, e.g. from CalibrateTimePerGrowthStep with a larger target.
   double time_per_growth_step_s = 15.3308;
+  // Plausible τ (issue 16, common/bounds.h): 1 ms to one hour per step, our bound around decisions
+  // item 15's 0.7128 s and the Table 5.4 calibration's 15.3 s.
+  static constexpr Bounds kTimePerGrowthStepBounds{0.001, 3600.0, "s"};
   // A history not at D_f after this many growth steps stops and is reported as censored. Our bound:
   // 100 × the deterministic 23 steps; no default history comes near it.
   int max_growth_steps = 2300;

@@ -38,13 +38,93 @@
 //     telemetry_rate_hz: 10
 //     reconfiguration: true
 //     sensor_noise: true
+//
+// The scenario itself (struct Scenario below) is plain data with defaults, each cited; Scenario::IsValid composes
+// the validators of its parts and is the one check for scenarios from files, from campaign samplers and from code
+// (FlightModel's constructor calls it).
+#include <cstdint>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
 
+#include "uascma/gnc/imm.h"
+#include "uascma/gnc/lqr.h"
 #include "uascma/models/battery_pack.h"
-#include "uascma/sim/simulator.h"
+#include "uascma/models/propulsion.h"
+#include "uascma/models/rigid_body.h"
+#include "uascma/models/wind.h"
+#include "uascma/planning/city_map.h"
+#include "uascma/planning/flight_plan.h"
+#include "uascma/sim/outcome.h"
 
 namespace uascma::sim {
+
+// A spall fault in one motor (§5.4): onset at a time, growth by the motor prognosis model until the
+// spall crosses D_f and the rotor jams (its thrust goes to zero).
+struct FaultSpec {
+  bool enabled = false;
+  int motor = 3;                 // 1…6 (Fig. 2.2 numbering)
+  double spall_onset_s = 175.0;  // s after take-off
+  // Growth speed of the simulated spall: seconds per Paris-law step. The prognosis default (calibrated to
+  // Table 5.4) is used when absent; scenarios use faster growth (decisions item 15).
+  std::optional<double> time_per_growth_step_s;
+  // The prognosis's own time scale (§3.4.1): absent, the Table 5.4 calibration (decisions item 15), so a
+  // fast-growing spall surprises it; set, the prognosis knows this motor's growth speed.
+  std::optional<double> prognosis_time_per_growth_step_s;
+  bool IsValid(std::string* error) const;
+};
+
+struct BatterySpec {
+  models::PerCell<double> initial_cell_voltage_v = {{{4.1, 4.1, 4.1}, {4.1, 4.1, 4.1}}};  // Table 4.4: 4.05–4.12
+  models::PerCell<models::CellHealth> cell_health{};
+  double ambient_temp_degf = models::kRoomTemperatureDegf;
+  // The initial voltages lie on the OCV table (they set the initial state of charge, defaults.md).
+  bool IsValid(std::string* error) const;
+};
+
+struct SimOptions {
+  double gnc_rate_hz = 200.0;       // §4.3.2, §5.4
+  double decision_rate_hz = 1.0;    // EOD, RUL, CMA: §5.4
+  double telemetry_rate_hz = 10.0;  // rows per simulated second in the CSV
+  OutcomeThresholds outcome;        // how a flight ends (outcome.h)
+  bool reconfiguration = true;      // switch to the quadcopter allocation when the IMM isolates a rotor
+  bool sensor_noise = true;         // gyro and accelerometer noise for the IMM
+  double hotel_current_a = 0.5;     // A: onboard computer, radio, sensors (our estimate; §4.3.2 calls it small)
+  // Bus voltage at which the rotors reach their Table 2.2 maximum thrust; rotor thrust capacity scales
+  // as (V_bus / V_ref)² (speed ∝ voltage, thrust ∝ speed²). Our estimate: a 3S pack at 3.7 V per cell.
+  double reference_bus_voltage_v = 11.1;
+  // s: the 1 Hz EOD prediction runs at the pack current low-passed with this time constant (our estimate:
+  // long enough to ignore gusts and the take-off climb, short enough to see a rotor failure's extra load
+  // within half a minute; the dissertation's EOD curves, Figs. 5.22 and 5.25, are smooth).
+  double load_current_time_constant_s = 10.0;
+  // s, t_sf of Table 4.4: the reach margin judges the plan with this much extra time,
+  // RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf, Table 4.1, carried to the
+  // CMA). 0 by default; campaigns sample it in [5, 10] s.
+  double safety_margin_s = 0.0;
+  bool IsValid(std::string* error) const;
+};
+
+struct Scenario {
+  std::string name = "default";
+  // The city: buildings the vehicle can strike and the landing sites the emergency planners use. Shared
+  // and immutable, so campaigns copy scenarios cheaply. Null: open ground, no sites.
+  std::shared_ptr<const planning::CityMap> map;
+  models::RigidBodyParams body;
+  models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
+  BatterySpec battery;
+  models::WindParams wind;
+  planning::DeliveryMission mission;
+  planning::PlanLimits limits;
+  FaultSpec fault;
+  gnc::LqrOptions lqr;
+  gnc::ImmParams imm;
+  SimOptions options;
+  std::uint64_t seed = 1;
+  // Every part's validator, then the checks across parts (the LQR's step is the GNC step; home and destination
+  // on open ground). `error` reads "part.field: expected …", the part named as in scenario files.
+  bool IsValid(std::string* error) const;
+};
 
 struct ScenarioFile {
   Scenario scenario;

@@ -10,7 +10,11 @@
 
 namespace uascma::sim {
 
-// The CSV header and rows, e.g. "t_s,p_W_x_m,…".
+// The CSV header and rows, e.g. "t_s,p_W_x_m,…". Discrete columns hold names, not codes: cma_state the
+// state label in quotes ("N,SF,MM1,G,RM1", RFC 4180, since the label holds commas), action the last executed
+// action ("NoOp" before any), imm_mode "nominal" or "rotorK_out" (the isolated rotor, else the IMM's most
+// probable mode). A value that does not exist is an empty field: rul_s while no motor is spalled. A margin
+// of −∞ (a jammed motor, an EOD of zero) is written "-inf". pandas and NumPy read both as NaN / −∞.
 std::string TelemetryCsv(const SimResult& result);
 
 // The summary: outcome, reason, sim_time_s, wall_time_s, realtime_factor, seed, policy, events, actions,

@@ -1,0 +1,62 @@
+#!/usr/bin/python3
+"""A hand-written decision policy (a Python function) flown through the decision environment, Gym-style.
+
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/python_policy.py [SCENARIO.yaml] [--seed S]
+
+The policy sees each 1 Hz observation (the CMA state and the EOD, RUL and margins behind it) and returns a CMA
+action. This one is a simple rule: land at a practical site as soon as a motor is spalled or jammed and the
+remaining flight no longer fits in the RUL, or the battery's reach margin drops below 0.2; otherwise fly on.
+It is compared with the solved CMA policy and with NoOp on the same flight (same seed).
+"""
+import argparse
+import math
+import os
+
+import uascma
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def cautious(observation):
+    """Return a CMA action for an observation (uascma.Observation)."""
+    if observation.flight_status != uascma.FlightStatus.N:
+        return "NoOp"  # already landing: keep the emergency plan
+    motor_trouble = observation.state.mh != uascma.MotorHealth.NF
+    rul_too_short = math.isfinite(observation.rul_s) and observation.rul_s < observation.flight_time_remaining_s
+    if (motor_trouble and rul_too_short) or observation.reach_margin < 0.2:
+        return "LandPract"
+    return "NoOp"
+
+
+def episode(env, policy, seed):
+    """Flies one flight; returns the undiscounted return and the outcome."""
+    observation = env.reset(seed)
+    total, done, info = 0.0, False, {}
+    while not done:
+        observation, reward, done, info = env.step(policy(observation))
+        total += reward
+    return total, info["outcome"]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("scenario", nargs="?", default=os.path.join(HERE, "..", "jam-motor-3.yaml"))
+    parser.add_argument("--seed", type=int, default=None, help="default: the scenario's seed")
+    args = parser.parse_args()
+
+    cma = uascma.solve_cma()
+    policies = {
+        "cautious (Python)": cautious,
+        "cma (solved MDP)": lambda obs: int(cma.policy.action[obs.state_index]),
+        "noop": lambda obs: "NoOp",
+    }
+    env = uascma.Environment(args.scenario, record=True)
+    for name, policy in policies.items():
+        total, outcome = episode(env, policy, args.seed)
+        flight = env.flight(name)
+        print(f"{name:18s} {outcome:18s} after {flight.sim_time_s:6.1f} s, return {total:7.3f}, "
+              f"actions {flight.actions}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,170 @@
+#pragma once
+// Monte Carlo flights of the battery-reconfiguration MDP (dissertation §4.3.2, Fig. 4.3, Table 4.4) and the
+// case studies of §4.3.3 (Table 4.5, Figs. 4.8–4.11).
+//
+// A battery flight is one flight of the full simulator (sim/flight.h: 200 Hz DLQR, rotor model, Dryden gusts,
+// the two-pack battery of eqs. 3.4-3.7 on the bus) with the 1 Hz battery executor hook
+// (sim::BatterySwitchPolicy): at every epoch the executor abstracts the pack (decision/battery_mdp.h:
+// per-pack EOD, RFD of the executing plan, t_sf, 3.4 V, 0.2·I_max), records the state and sets the switches —
+// the action held throughout for learning flights, the policy executor for π*. FAILURE is the simulator's
+// battery failure (a switched-in cell at 3.3 V, decisions item 11).
+// Learning (decisions item 23): flights k = 3·d + a share the parameter draw d (Table 4.4) and the simulator
+// seed, and fly action a ∈ {UseBatt1, UseBatt2, UseBoth} throughout (paired, common random numbers, as the
+// campaigns do); N flights are split equally between the actions; counted at 1 Hz per
+// (B1 health, B2 health, temperature). Every flight replays from (seed, k).
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "uascma/decision/battery_mdp.h"
+#include "uascma/models/battery_pack.h"
+#include "uascma/models/wind.h"
+#include "uascma/sim/flight.h"
+#include "uascma/sim/outcome.h"
+
+namespace uascma::campaign {
+
+// --- the parameters of Table 4.4 ------------------------------------------------------------------
+struct BatteryFlightRanges {
+  double safety_margin_s[2] = {5.0, 10.0};          // Table 4.4, t_sf
+  double initial_cell_voltage_v[2] = {4.05, 4.12};  // Table 4.4, per cell
+  double cruise_speed_mps[2] = {1.0, 9.0};          // Table 4.4, Vel_hex
+  double wind_speed_mps[2] = {1.0, 3.0};            // Table 4.4
+  double wind_direction_rad[2] = {0.0, 3.14159265358979323846};  // Table 4.4
+  // Table 4.4's gust categories, drawn uniformly (Dryden).
+  std::vector<models::TurbulenceCategory> turbulence{
+      models::TurbulenceCategory::kLowLight, models::TurbulenceCategory::kLowModerate,
+      models::TurbulenceCategory::kMediumLight, models::TurbulenceCategory::kMediumModerate};
+  // The plan's duration as a fraction of the reference EOD (decisions item 19): both healthy packs at
+  // 4.1 V per cell at the hover current. Ours: wide enough that single packs deplete (S3, FAILURE) and
+  // both packs mostly do not, so every energy state and the failure are visited.
+  double plan_fraction[2] = {0.25, 1.0};
+  double cold_probability = 0.5;   // Table 4.2: T_L vs T_H, ours: equally likely (as campaign/config.h)
+  double cold_temp_degf = 40.0;    // below 50 °F (Table 3.2)
+  double warm_temp_degf = 77.0;    // models::kRoomTemperatureDegf
+};
+
+struct BatteryFlightParams {
+  std::uint64_t seed = 0;                        // the vehicle flight's seed (wind, noise)
+  double safety_margin_s = 7.5;
+  models::PerCell<double> initial_cell_voltage_v{};
+  double cruise_speed_mps = 5.0;
+  double wind_speed_mps = 2.0;
+  double wind_direction_rad = 0.0;
+  models::TurbulenceCategory turbulence = models::TurbulenceCategory::kLowLight;
+  models::PerBranch<models::HealthClass> health{};  // F1/F2/F3 per pack (all three cells, as campaigns)
+  double ambient_temp_degf = 77.0;
+  double plan_duration_s = 600.0;                // target duration of the delivery plan
+
+  decision::BatteryContext context() const;
+};
+
+// Draw d of a learning campaign (pure function of (seed, draw), style habit 7).
+BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t draw);
+
+// The reference EOD (s) of decisions item 19: healthy packs at 4.1 V per cell at the hover current, both
+// switched in (UseBoth) or one alone (UseBatt1).
+double ReferenceBatteryEod(models::PackAction switches = models::PackAction::kUseBoth);
+// The scenario of a flight: the delivery plan stretched to `plan_duration_s` (destination distance found by
+// bisection on the plan's duration), wind, the packs of `params` and t_sf as the simulator's safety margin.
+sim::Scenario MakeBatteryScenario(const BatteryFlightParams& params);
+
+// --- one flight ----------------------------------------------------------------------------------------
+// Called at 1 Hz with the time, the observation and its abstract state; returns the switch action.
+using BatterySwitchController =
+    std::function<models::PackAction(double time_s, const decision::BatteryObservation&, decision::StateIndex)>;
+
+struct BatteryEpoch {
+  double time_s = 0.0;
+  decision::StateIndex state = 0;
+  models::PackAction action = models::PackAction::kUseBoth;  // applied from this epoch on
+  double total_current_a = 0.0;                // the pack current of the last GNC step
+  models::PerBranch<double> branch_current_a{};  // its split under the switches just set
+  models::PerBranch<double> eod_s{};
+  models::PerBranch<double> min_cell_voltage_v{};
+  double remaining_flight_s = 0.0;
+};
+
+struct BatteryFlightResult {
+  sim::Outcome outcome = sim::Outcome::kInProgress;  // the simulator's outcome (kFailedBattery at 3.3 V)
+  double end_time_s = 0.0;
+  std::vector<decision::StateIndex> states;                  // at 1 Hz from take-off (FAILURE last if failed)
+  std::vector<std::pair<double, models::PackAction>> switches;  // (time, action) of every change, first included
+  std::vector<BatteryEpoch> epochs;
+};
+
+// Flies `params` with the packs switched to `initial_switches` before take-off and `controller` at 1 Hz
+// (its first call at t = 0), the CMA policy NoOp.
+BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, models::PackAction initial_switches,
+                                     const BatterySwitchController& controller,
+                                     const decision::BatteryThresholds& thresholds = {});
+
+// --- the executor for any simulated flight (`uascma simulate --battery-policy POLICY.json`) ---------------------
+// A sim::BatterySwitchPolicy (sim/flight.h, RunOptions::battery_policy) that abstracts the pack at 1 Hz as
+// decision/battery_mdp.h says and applies the policy the decision tree of Fig. 4.5 picks for the scenario's
+// pack health and ambient temperature. The executor keeps no state across calls.
+class BatteryPolicySwitch final : public sim::BatterySwitchPolicy {
+ public:
+  BatteryPolicySwitch(const decision::BatteryPolicySet& policies, const sim::Scenario& scenario);
+  models::PackAction Decide(const sim::FlightModel& model, const sim::FlightState& state) override;
+  const decision::BatteryPolicyExecutor& executor() const { return executor_; }
+
+ private:
+  decision::BatteryPolicyExecutor executor_;
+};
+// Reads the policy file (InputError naming the file and field on bad input) and builds the executor for
+// `scenario`.
+std::unique_ptr<sim::BatterySwitchPolicy> LoadBatterySwitchPolicy(const std::filesystem::path& policy_file,
+                                                                  const sim::Scenario& scenario);
+
+// --- learning ------------------------------------------------------------------------------------------
+struct BatteryLearningOptions {
+  std::int64_t runs = 5000;   // §4.3.2: 5,000 flights split equally between the actions
+  std::uint64_t seed = 1;
+  int jobs = 1;
+  BatteryFlightRanges ranges;
+  // Called after every flight with the number done (from any thread; may be empty).
+  std::function<void(std::int64_t)> on_flight_done;
+};
+
+struct BatteryLearningSummary {
+  std::int64_t flights = 0;
+  std::int64_t parameter_draws = 0;  // Table 4.4 draws, each flown with the three actions
+  std::int64_t failures = 0;        // flights that reached FAILURE
+  double wall_time_s = 0.0;
+};
+
+decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, BatteryLearningSummary* summary = nullptr);
+
+// Transitions of one pack's energy feature (S1→S2, S2→S3, S1→S3 and back) counted in a model, per
+// context: what flights with constant parameters could not observe (§4.3.2, "dynamics from B_iS_{1,2}
+// states to B_iS_3 state elements are not observed").
+struct EnergyTransitionCounts {
+  std::int64_t s1_to_s2 = 0, s2_to_s3 = 0, s1_to_s3 = 0, recoveries = 0, unchanged = 0;
+};
+EnergyTransitionCounts CountEnergyTransitions(const decision::BatteryTransitionCounts& counts,
+                                              const decision::BatteryContext& context);
+// The same counts with every transition that changes a pack's energy feature removed (the dissertation's
+// constant-parameter view): rows that only had such transitions become unobserved.
+decision::BatteryTransitionCounts WithoutEnergyDynamics(const decision::BatteryTransitionCounts& counts);
+
+// --- case studies (Table 4.5) --------------------------------------------------------------------------
+struct CaseScenario {
+  std::string name;                 // e.g. "(F1,F2)"
+  BatteryFlightParams params;
+  std::string controller;           // "UseBoth" or "pi*"
+  BatteryFlightResult result;
+};
+// Case 1: flight time = one healthy pack's EOD, UseBoth; case 2: the same with π*; both over the nine
+// health pairs. Case 3: flight time = the EOD of both packs (see the .cc for the fraction), UseBoth, for
+// (F1,F2), (F1,F3), (F3,F3). Case 4: π* for (F2,F1). π* needs `policies` (InputError otherwise).
+std::vector<CaseScenario> RunCaseStudy(int number, const decision::BatteryPolicySet* policies);
+nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenarios);
+
+}  // namespace uascma::campaign

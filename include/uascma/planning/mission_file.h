@@ -1,0 +1,154 @@
+#pragma once
+// Mission files of ground control stations, in and out:
+//  - QGroundControl plans (`.plan`, JSON: {"fileType": "Plan", "mission": {"plannedHomePosition": [lat, lon, alt],
+//    "items": [...]}, "geoFence": …, "rallyPoints": …}), whose "SimpleItem" entries carry one MAVLink mission item
+//    each ("command", "frame", "params": [param1 … param4, latitude, longitude, altitude]);
+//  - the plain-text "QGC WPL 110" format of Mission Planner and ArduPilot (`.waypoints`): a header line
+//    "QGC WPL 110", then one item per line, fields separated by tabs (or spaces):
+//      index  current  frame  command  param1  param2  param3  param4  latitude  longitude  altitude  autocontinue
+//    where the item of index 0 is the home position (absolute altitude, frame 0).
+// Sources: QGroundControl developer guide "Plan File Format"; mavlink.io "File Formats" (plain-text mission
+// format); the MAVLink common message set (MAV_CMD and MAV_FRAME numbers). Facts only, no code from them.
+//
+// What is modelled. A mission becomes a list of Waypoint for FlightPlan::Through (flight_plan.h: straight
+// rest-to-rest moves with the trapezoidal profile of §5.4, hovers at waypoints), starting on the ground at the
+// planned home:
+//   16 NAV_WAYPOINT          move to the point; param1 = hold time (s) → a hover
+//   19 NAV_LOITER_TIME       move to the point (latitude = longitude = 0: stay), hover param1 s (the loiter
+//                            radius is not flown: a multicopter loiters at the point)
+//   18 NAV_LOITER_TURNS      move to the point, hover for the time of param1 turns of the param3 radius at
+//                            MissionImportOptions::loiter_turn_speed (warned: the circle itself is not flown)
+//   31 NAV_LOITER_TO_ALT     move to the point at its altitude
+//   93 NAV_DELAY             hover param1 s where the vehicle is (param1 = −1, a time of day, is an error)
+//   22 NAV_TAKEOFF           climb vertically to the item's altitude (a copter takes off where it stands; a
+//                            different take-off position is warned about)
+//   21 NAV_LAND              move at the current altitude to above the point (0, 0: where it is), then descend
+//                            to the touchdown height: the roof under it when a map is given, else the ground
+//   20 NAV_RETURN_TO_LAUNCH  move at the current altitude to above home, descend to the ground at home
+//   178 DO_CHANGE_SPEED      param1 = 0 or 1 (air or ground speed), param2 > 0: the horizontal speed limit of the
+//                            moves that follow (Waypoint::max_speed); climb/descent speed changes are warned about
+// Commands that do not move the vehicle (camera, gimbal, servo, relay, gripper, region of interest, yaw, the
+// DO_LAND_START marker, CONDITION_DELAY) are read and named in Mission::warnings. Anything else — DO_JUMP (loops),
+// NAV_LOITER_UNLIM (never ends), DO_SET_HOME, an unknown command, a QGroundControl ComplexItem (survey, corridor or
+// structure scan) — is an InputError naming the item and its command. Items after a LAND or RTL are never flown
+// and are named in a warning. A mission that ends in the air lands vertically where it ends (warned), unless
+// MissionImportOptions::land_at_end is false (then it is an InputError: the simulator's flight must end landed).
+// Geofences and rally points of a .plan are named in a warning (not modelled).
+//
+// Altitude frames (MAV_FRAME): 3/6 GLOBAL_RELATIVE_ALT(_INT), altitude above home; 0/5 GLOBAL(_INT), altitude
+// above mean sea level, allowed when the file gives the home's altitude (plannedHomePosition's third value; the
+// home line of a .waypoints file), then height above home = altitude − home altitude; 10/11 GLOBAL_TERRAIN_ALT
+// (_INT), read as above home (warned: the map's ground is flat, z = 0 everywhere); 2 MISSION for items without a
+// position. Local frames are an InputError.
+//
+// Local frame. Latitude/longitude go to W (x north, y east, z down, ground at z = 0 at home's level) through the
+// map importer's transverse Mercator projection (map_import.h, LocalProjection; PROJ): centred on
+// MissionImportOptions::origin (pass the imported map's origin, ImportSummary::origin, so that the mission and
+// the buildings share a frame), else on the planned home. Points farther than max_distance_from_origin are an
+// InputError, as for maps.
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "uascma/planning/city_map.h"
+#include "uascma/planning/flight_plan.h"
+#include "uascma/planning/map_import.h"
+
+namespace uascma::planning {
+
+enum class MissionFormat { kQgcPlan, kQgcWpl };
+// By extension: .plan → kQgcPlan; .waypoints, .wpl, .txt → kQgcWpl. InputError otherwise.
+MissionFormat DetectMissionFormat(const std::filesystem::path& path);
+
+// MAVLink command numbers that the importer and exporter use (MAV_CMD, common message set).
+enum MavCommand : int {
+  kMavCmdNavWaypoint = 16,
+  kMavCmdNavLoiterUnlimited = 17,
+  kMavCmdNavLoiterTurns = 18,
+  kMavCmdNavLoiterTime = 19,
+  kMavCmdNavReturnToLaunch = 20,
+  kMavCmdNavLand = 21,
+  kMavCmdNavTakeoff = 22,
+  kMavCmdNavLoiterToAlt = 31,
+  kMavCmdNavDelay = 93,
+  kMavCmdDoChangeSpeed = 178,
+};
+// MAV_FRAME numbers.
+enum MavFrame : int {
+  kMavFrameGlobal = 0,
+  kMavFrameMission = 2,
+  kMavFrameGlobalRelativeAlt = 3,
+  kMavFrameGlobalInt = 5,
+  kMavFrameGlobalRelativeAltInt = 6,
+  kMavFrameGlobalTerrainAlt = 10,
+  kMavFrameGlobalTerrainAltInt = 11,
+};
+// "NAV_WAYPOINT", "DO_JUMP", …; "command N" for a number we do not know.
+std::string MavCommandName(int command);
+
+struct MissionImportOptions {
+  std::optional<GeoPoint> origin;   // the local frame's origin; default: the planned home
+  // The map the mission flies over (not owned; null: flat open ground). With it, LAND touches down on the roof under
+  // its point (CityMap::SurfaceAltitudeAt), and a home inside a building, a waypoint inside one or a straight leg
+  // through one is an InputError naming the item and the building.
+  const CityMap* map = nullptr;
+  bool land_at_end = true;          // a mission ending in the air lands vertically there (warned), else InputError
+  // m/s: the speed at which LOITER_TURNS circles are timed. Our estimate: PlanLimits' default cruise speed.
+  double loiter_turn_speed = 5.0;
+  double max_distance_from_origin = 50'000.0;  // m, as MapImportOptions (the flat-projection limit)
+  bool IsValid(std::string* error) const;
+};
+
+struct Mission {
+  std::string source;                  // the file
+  MissionFormat format = MissionFormat::kQgcPlan;
+  GeoPoint home;                       // the planned home, WGS84
+  std::optional<double> home_amsl;     // m above mean sea level, when the file gives it
+  GeoPoint origin;                     // the local frame's origin
+  Eigen::Vector3d home_W = Eigen::Vector3d::Zero();  // home in W, on the ground (z = 0)
+  std::vector<Waypoint> waypoints;     // W, flown from home_W in order (FlightPlan::Through)
+  std::vector<std::string> warnings;   // one line each: the items read but not modelled, and our choices
+  std::optional<double> planned_speed;  // m/s: the .plan's "hoverSpeed" (multicopter default speed), if any
+  int items = 0;                       // mission items read (not counting the home)
+
+  // The horizontal route home → waypoints (for CityMap::CruiseAltitude and the like), m.
+  std::vector<Eigen::Vector2d> RouteNE() const;
+};
+
+// Parses a mission file's text; `source` names it in messages. InputError on malformed or unsupported input.
+Mission ParseMission(std::string_view text, const std::string& source, MissionFormat format,
+                     const MissionImportOptions& options = {});
+// Reads the file (format by extension, DetectMissionFormat).
+Mission LoadMissionFile(const std::filesystem::path& path, const MissionImportOptions& options = {});
+
+// The mission's plan: FlightPlan::Through(mission.home_W, mission.waypoints, limits).
+FlightPlan MakeMissionPlan(const Mission& mission, const PlanLimits& limits);
+
+// --- export -----------------------------------------------------------------------------------------------------
+struct QgcPlanExportOptions {
+  GeoPoint origin;                      // of W (the map's or the mission's origin)
+  double home_amsl = 0.0;               // m above mean sea level of W's ground (0 when unknown)
+  // The planned home in W (on the ground); default: the plan's start with z = 0.
+  std::optional<Eigen::Vector3d> home_W;
+  // m/s, written as the mission's "cruiseSpeed" and "hoverSpeed" (pass the PlanLimits' cruise speed: the moves
+  // planned at another speed get a DO_CHANGE_SPEED)
+  double cruise_speed = 5.0;
+  bool IsValid(std::string* error) const;
+};
+
+// A FlightPlan as a QGroundControl plan (JSON text). Each move becomes one item in the relative-altitude frame
+// (3): a first vertical climb from the ground → NAV_TAKEOFF; a last vertical descent → NAV_LAND (param7 = the
+// touchdown height above home); every other move → NAV_WAYPOINT, whose param1 holds the hover that follows it.
+// A horizontal move planned at a speed other than the one in force (QgcPlanExportOptions::cruise_speed at first) is
+// preceded by a DO_CHANGE_SPEED (ground speed). A plan that starts in the air (an emergency plan) begins with a
+// NAV_WAYPOINT at its start. Reading the text back
+// with ParseMission (and the same origin) gives the plan's waypoints again within the projection's round-off.
+std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& options);
+// Writes QgcPlanJson to `path` atomically (WriteFileAtomically).
+void WriteQgcPlan(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options);
+
+}  // namespace uascma::planning

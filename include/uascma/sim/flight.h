@@ -1,0 +1,276 @@
+#pragma once
+// The simulator's kernel in MuJoCo's shape (mj_step(const mjModel*, mjData*)): an immutable FlightModel built
+// once from a Scenario, a FlightState value that holds everything that changes during a flight, and the steps
+// that advance it (§5.4, Fig. 5.15):
+//
+//   Step        one GNC step of 1 / gnc_rate_hz (5 ms): spall growth → LQR → allocation → rotor lag → 6-DOF
+//               with drag and Dryden wind → battery pack → IMM → outcome (outcome.h);
+//   Observe     at a decision epoch (1 Hz): battery EOD, motor RUL, the reach and motor margins and the
+//               abstract CMA state (decision/cma_abstraction.h);
+//   Act         executes a CMA action chosen at that epoch (an emergency plan from the planner, or Terminate);
+//   StepEpoch   Observe → the controllers decide → Act → Step until the next epoch or the end of the flight.
+//
+// A FlightState can be copied at any moment and both copies flown on: they have the same future bit for bit
+// (the random streams are part of the state). Nothing in the kernel reads a clock.
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uascma/common/random.h"
+#include "uascma/decision/cma_mdp.h"
+#include "uascma/gnc/imm.h"
+#include "uascma/gnc/lqr.h"
+#include "uascma/models/battery_pack.h"
+#include "uascma/models/drag.h"
+#include "uascma/models/mixer.h"
+#include "uascma/models/propulsion.h"
+#include "uascma/models/rigid_body.h"
+#include "uascma/models/wind.h"
+#include "uascma/planning/city_map.h"
+#include "uascma/planning/emergency_landing.h"
+#include "uascma/planning/flight_plan.h"
+#include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/motor_rul.h"
+#include "uascma/sim/outcome.h"
+#include "uascma/sim/policy.h"
+#include "uascma/sim/scenario.h"
+
+namespace uascma::sim {
+
+// ---- emergency landing plans (the planning layer's LandPract and LandASAP, §5.3.2.2) -------------------------
+// What the simulator knows when the policy picks an emergency action.
+struct EmergencyRequest {
+  decision::CmaAction action = decision::CmaAction::kLandPract;
+  double time_s = 0.0;
+  Eigen::Vector3d p_WB_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();
+  double yaw = 0.0;        // rad
+  int failed_motor = 0;    // the rotor the allocation has switched off (0: none): fewer rotors, less reach
+  double eod_s = 0.0;
+  double original_plan_elapsed_s = 0.0;  // how far along the nominal plan the vehicle is
+};
+// A plan, or why there is none (the planner's status and one-line message).
+struct EmergencyPlan {
+  planning::LandingStatus status = planning::LandingStatus::kNoFeasibleTrajectory;
+  std::string message;  // why no plan; empty when ok()
+  planning::FlightPlan plan;
+  std::string site;     // a label of the landing site
+  double reach_margin = 0.0;
+  std::vector<Eigen::Vector2d> footprint_NE;  // LandASAP: the footprint's boundary in W (north, east), m
+  bool ok() const { return status == planning::LandingStatus::kOk; }
+};
+using EmergencyPlanner = std::function<EmergencyPlan(const EmergencyRequest&)>;
+
+// The emergency planners over the scenario's map: LandPract from a database built before flight on the nominal
+// plan (5 checkpoints), LandASAP online inside the footprint. Empty (no planner) when the map has no sites.
+struct MapEmergencyPlanner {
+  EmergencyPlanner planner;
+  std::vector<Eigen::Vector3d> checkpoints_W;  // LandPract's checkpoints on the nominal plan
+};
+MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
+                                            const models::DragTable& drag, const models::PropulsionParams& propulsion);
+
+// ---- the battery-pack switches (Ch. IV) -------------------------------------------------------------------------
+class FlightModel;
+struct FlightState;
+// A 1 Hz battery executor (§4.3.2: the battery MDP's policy); its action takes effect at once (decisions item 24).
+class BatterySwitchPolicy {
+ public:
+  virtual ~BatterySwitchPolicy() = default;
+  virtual models::PackAction Decide(const FlightModel& model, const FlightState& state) = 0;
+};
+
+// ---- the model ------------------------------------------------------------------------------------------------
+// Everything fixed for a flight, built once from the scenario (validated by Scenario::IsValid, InputError
+// naming the field otherwise). Immutable: one model serves any number of flights on any number of threads.
+class FlightModel {
+ public:
+  explicit FlightModel(const Scenario& scenario);
+
+  const Scenario& scenario() const { return scenario_; }
+  const SimOptions& options() const { return scenario_.options; }
+  double dt() const { return dt_; }                          // s, the GNC step
+  int steps_per_epoch() const { return steps_per_epoch_; }   // GNC steps per decision epoch
+  double time_limit_s() const { return time_limit_s_; }
+  const planning::FlightPlan& nominal_plan() const { return nominal_plan_; }
+  decision::BatteryHealth battery_health() const { return battery_health_; }
+  const std::vector<Eigen::Vector3d>& checkpoints() const { return map_planner_.checkpoints_W; }
+  const EmergencyPlanner& map_planner() const { return map_planner_.planner; }
+  const models::PropulsionParams& propulsion() const { return propulsion_; }
+  const models::ElectricalPowerTable& electrical_power() const { return electrical_power_; }
+  const models::Mixer& mixer() const { return mixer_; }
+  const models::DragTable& drag() const { return drag_; }
+  const models::WindModel& wind() const { return wind_; }
+  const models::BatteryPack& pack() const { return pack_; }
+  const models::BatteryPack::FixedStep& pack_step() const { return pack_step_; }
+  const models::RotorSpeedLag& rotor_lag() const { return rotor_lag_; }
+  const prognostics::MotorRulModel& rul_model() const { return rul_model_; }
+  const prognostics::MotorRulModel& spall_truth() const { return spall_truth_; }
+  const planning::CityMap& map() const { return *map_; }
+  const gnc::LqrController& controller() const { return controller_; }
+  double load_filter_gain() const { return load_filter_gain_; }
+  const OutcomeClassifier& outcome_classifier() const { return outcome_classifier_; }
+
+ private:
+  Scenario scenario_;
+  models::PropulsionParams propulsion_;
+  models::ElectricalPowerTable electrical_power_;
+  models::Mixer mixer_;
+  models::DragTable drag_;
+  models::WindModel wind_;
+  models::BatteryPack pack_;
+  prognostics::MotorRulModel rul_model_;      // the prognosis (calibrated to Table 5.4, decisions item 15)
+  prognostics::MotorRulModel spall_truth_;    // the simulated spall (the scenario's growth speed)
+  std::shared_ptr<const planning::CityMap> map_;
+  gnc::LqrController controller_;
+  planning::FlightPlan nominal_plan_;
+  decision::BatteryHealth battery_health_;
+  MapEmergencyPlanner map_planner_;
+  double dt_;
+  int steps_per_epoch_;
+  double time_limit_s_;
+  models::RotorSpeedLag rotor_lag_;
+  models::BatteryPack::FixedStep pack_step_;
+  double load_filter_gain_;
+  OutcomeClassifier outcome_classifier_;
+};
+
+// ---- the state ------------------------------------------------------------------------------------------------
+// Everything that changes during one flight. A value: copy it to snapshot or branch a flight.
+struct FlightState {
+  // Time: the GNC steps taken; time_s = step · dt.
+  std::int64_t step = 0;
+  double time_s = 0.0;
+
+  // The vehicle.
+  models::RigidBodyState body;
+  std::array<double, 6> rotor_speed{};     // rad/s, the true rotors (a jammed rotor is held at 0)
+  std::array<double, 6> believed_speed{};  // rad/s, the commanded speeds through the lag model (what the IMM knows)
+  bool airborne = false;                   // has been above OutcomeThresholds::airborne_height
+
+  // The environment and the power system.
+  models::WindState wind;
+  models::PackState pack;
+  double bus_voltage_v = 0.0;
+  double pack_current_a = 0.0;
+  double load_current_a = 0.0;  // low-passed pack current for the 1 Hz EOD (SimOptions)
+
+  // Faults: the truth (the spall and the jam) and what the IMM has isolated.
+  std::optional<prognostics::SpallJamEvent> spall;
+  int jammed_rotor = 0;         // 1…6, 0: none
+  gnc::ImmFilter imm;
+  int allocation_failure = 0;   // the failed motor the allocation flies around (after isolation)
+  std::optional<double> spall_onset_s, jam_time_s, isolation_time_s;
+
+  // Prognosis and decision (updated at each epoch by Observe).
+  std::optional<double> rul_at_onset_s;
+  prognostics::EodResult eod;
+  DecisionInputs inputs;
+  std::optional<decision::CmaAction> last_action;  // the last action that changed something (or was refused)
+
+  // The executing plan: the nominal one or an emergency plan.
+  decision::FlightStatus flight_status = decision::FlightStatus::kN;
+  bool on_emergency_plan = false;
+  planning::FlightPlan emergency_plan;
+  std::string emergency_site;
+  double emergency_reach_margin = 0.0;
+  std::vector<Eigen::Vector2d> footprint_NE;  // the last LandASAP footprint's boundary
+  double plan_start_s = 0.0;
+
+  // Random streams (common/random.h DeriveSeed): independent, so e.g. the wind does not change when the sensor
+  // noise is switched off.
+  std::uint64_t seed = 0;
+  RandomStream wind_random, sensor_random, prognosis_random;
+
+  // Running extremes over the flight.
+  double min_cell_voltage_v = 0.0;
+  double max_tracking_error = 0.0;  // m
+  double min_cos_tilt = 1.0;        // the largest tilt is its acos
+  double energy_wh = 0.0;
+
+  // How it ended (kInProgress while flying).
+  Outcome outcome = Outcome::kInProgress;
+  std::string reason;
+
+  const planning::FlightPlan& plan(const FlightModel& model) const {
+    return on_emergency_plan ? emergency_plan : model.nominal_plan();
+  }
+  bool done() const { return outcome != Outcome::kInProgress; }
+};
+
+// ---- what a flight leaves behind (optional) ---------------------------------------------------------------------
+struct FlightEvent {
+  double time_s = 0.0;
+  std::string what;
+};
+
+// One row of telemetry (SI units, frames in the names).
+struct TelemetryRow {
+  double t = 0;
+  Eigen::Vector3d p_W, v_W, p_ref_W, euler;           // euler: roll, pitch, yaw (rad)
+  Eigen::Vector3d drag_W, wind_W;
+  Eigen::Vector4d wrench_cmd;                          // T, τx, τy, τz commanded
+  Eigen::Vector4d wrench;                              // achieved by the rotors
+  std::array<double, 6> rotor_thrust{}, rotor_current{};
+  double pack_current = 0, bus_voltage = 0;
+  std::array<double, 2> branch_current{};
+  std::array<double, 6> cell_voltage{};
+  double eod_s = 0, flight_time_remaining_s = 0, rul_s = 0, reach_margin = 0, motor_margin = 0;
+  int cma_state = 0, action = 0, imm_mode = 0;
+  double spall_area_mm2 = 0;
+};
+
+// The record a step appends to when given one: events, the executed actions, the CMA state at every epoch, and
+// telemetry rows when record_telemetry is set.
+struct FlightLog {
+  bool record_telemetry = false;
+  std::vector<FlightEvent> events;
+  std::vector<std::pair<double, decision::CmaAction>> actions;  // (time, action) of every executed change
+  std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch
+  std::vector<TelemetryRow> telemetry;
+};
+
+// What decides at an epoch: the CMA policy, optionally the battery executor, and the emergency planner (empty:
+// the model's map planner).
+struct Controllers {
+  DecisionPolicy* policy = nullptr;
+  BatterySwitchPolicy* battery = nullptr;
+  EmergencyPlanner planner;
+};
+
+// ---- the steps --------------------------------------------------------------------------------------------------
+// The state at take-off time 0 for the given seed: on the ground at home, rotors at hover speed, packs at rest.
+FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed);
+
+// True at a decision epoch (every steps_per_epoch GNC steps, from step 0).
+inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) {
+  return state.step % model.steps_per_epoch() == 0;
+}
+
+// One GNC step (1 / gnc_rate_hz). Sets state.outcome when the flight ends. No-op on a finished flight.
+void Step(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
+
+// At an epoch: EOD, RUL, margins and the abstract CMA state into state.inputs (and the log's states).
+const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
+
+// Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
+// LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is
+// one; an action equal to the executing one is a no-op (decisions item 9).
+void Act(const FlightModel& model, FlightState& state, decision::CmaAction action, const EmergencyPlanner& planner,
+         FlightLog* log = nullptr);
+
+// Sets the pack switches (Table 4.3); takes effect at the next step.
+void SwitchPacks(FlightState& state, models::PackAction action);
+
+// One decision epoch: Observe, the battery executor and the policy decide (a null policy: NoOp), Act, then GNC
+// steps to the next epoch or the end of the flight. Must be called at an epoch.
+void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers,
+               FlightLog* log = nullptr);
+
+}  // namespace uascma::sim

@@ -1,0 +1,128 @@
+// Prognostics (src/prognostics): battery End Of Discharge (§3.3.2.1, decisions item 14) and motor RUL from
+// a bearing spall (§3.4.1, eq. 3.8; Table 5.4).
+#include <pybind11/stl.h>
+
+#include <cstdint>
+
+#include "bindings.h"
+#include "uascma/common/error.h"
+#include "uascma/common/random.h"
+#include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/motor_rul.h"
+
+namespace uascma::python {
+namespace {
+
+using namespace uascma::prognostics;
+
+// The sub-streams `uascma rul --seed S` draws from (apps/uascma/rul_command.cc): particles 0, histories 1.
+constexpr std::uint64_t kRulParticleStream = 0;
+constexpr std::uint64_t kRulHistoryStream = 1;
+
+}  // namespace
+
+void InitPrognostics(py::module_& m) {
+  py::enum_<EodStatus>(m, "EodStatus")
+      .value("reached", EodStatus::kReached)
+      .value("already_below_cutoff", EodStatus::kAlreadyBelowCutoff)
+      .value("not_reached_within_horizon", EodStatus::kNotReachedWithinHorizon)
+      .value("no_branch_connected", EodStatus::kNoBranchConnected);
+
+  py::class_<EodOptions>(m, "EodOptions")
+      .def(py::init<>())
+      .def_readwrite("cutoff_v", &EodOptions::cutoff_v, "V per cell (3.3 V, §3.3.2.1)")
+      .def_readwrite("horizon_s", &EodOptions::horizon_s)
+      .def_readwrite("time_tolerance_s", &EodOptions::time_tolerance_s);
+
+  py::class_<EodResult>(m, "EodResult")
+      .def_readonly("status", &EodResult::status)
+      .def_readonly("eod_s", &EodResult::eod_s, "s until the first cell reaches the cut-off")
+      .def_readonly("limiting_branch", &EodResult::limiting_branch, "pack 0–1 (−1 when none)")
+      .def_readonly("limiting_cell", &EodResult::limiting_cell, "cell 0–2 (−1 when none)")
+      .def_readonly("segments", &EodResult::segments)
+      .def("brief_report", &EodResult::BriefReport)
+      .def("__repr__", [](const EodResult& r) { return "<EodResult " + r.BriefReport() + ">"; });
+
+  m.def("pack_eod", &CalcPackEod, py::arg("pack"), py::arg("state"), py::arg("total_current_a"),
+        py::arg("options") = EodOptions{},
+        "EOD of the battery at a constant total discharge current (A), exact piecewise solution");
+  m.def("pack_eod_curve",
+        [](const models::BatteryPack& pack, const models::PackState& state,
+           const py::array_t<double, py::array::c_style | py::array::forcecast>& current_a, const EodOptions& options) {
+          return MapArray(current_a, [&](double i) { return CalcPackEod(pack, state, i, options).eod_s; });
+        },
+        py::arg("pack"), py::arg("state"), py::arg("total_current_a"), py::arg("options") = EodOptions{},
+        "EOD (s) for each constant current in total_current_a (A, any shape; same shape out)");
+  m.def("cell_eod", &CalcCellEod, py::arg("cell"), py::arg("state"), py::arg("current_a"),
+        py::arg("options") = EodOptions{});
+  m.def("reach_margin", &CalcReachMargin, py::arg("eod"), py::arg("flight_time_remaining_s"),
+        "Decisions item 7: RM = 1 − t_flight / t_EOD");
+  m.def("motor_margin", &CalcMotorMargin, py::arg("flight_time_remaining_s"), py::arg("rul_s"),
+        "Eq. 5.14: MM = 1 − t_flight / t_RUL (−inf when jammed, 1 without a fault)");
+
+  py::class_<SpallGrowthParams>(m, "SpallGrowthParams", "Eq. 3.8's Paris law (areas in mm², times in s)")
+      .def(py::init<>())
+      .def_readwrite("initial_area_mm2", &SpallGrowthParams::initial_area_mm2)
+      .def_readwrite("failure_area_mm2", &SpallGrowthParams::failure_area_mm2)
+      .def_readwrite("paris_coefficient", &SpallGrowthParams::paris_coefficient)
+      .def_readwrite("paris_exponent", &SpallGrowthParams::paris_exponent)
+      .def_readwrite("paris_coefficient_noise_std", &SpallGrowthParams::paris_coefficient_noise_std)
+      .def_readwrite("paris_exponent_noise_std", &SpallGrowthParams::paris_exponent_noise_std)
+      .def_readwrite("time_per_growth_step_s", &SpallGrowthParams::time_per_growth_step_s)
+      .def_readwrite("particles", &SpallGrowthParams::particles);
+
+  py::enum_<RulStatus>(m, "RulStatus").value("ok", RulStatus::kOk).value("horizon_reached", RulStatus::kHorizonReached);
+  py::class_<RulDistribution>(m, "RulDistribution")
+      .def_readonly("status", &RulDistribution::status)
+      .def_readonly("particles", &RulDistribution::particles)
+      .def_readonly("censored_particles", &RulDistribution::censored_particles)
+      .def_readonly("mean_s", &RulDistribution::mean_s)
+      .def_readonly("p05_s", &RulDistribution::p05_s)
+      .def_readonly("p50_s", &RulDistribution::p50_s)
+      .def_readonly("p95_s", &RulDistribution::p95_s)
+      .def_readonly("jam_probability_per_epoch", &RulDistribution::jam_probability_per_epoch)
+      .def_property_readonly("rul_s", [](const RulDistribution& r) { return ToArray(r.rul_s); },
+                             "(particles,) s, in particle order");
+  py::class_<JamProbabilityMeasurement>(m, "JamProbabilityMeasurement")
+      .def_readonly("runs", &JamProbabilityMeasurement::runs)
+      .def_readonly("jams", &JamProbabilityMeasurement::jams)
+      .def_readonly("mean_time_to_jam_s", &JamProbabilityMeasurement::mean_time_to_jam_s)
+      .def_readonly("jam_probability_per_epoch", &JamProbabilityMeasurement::jam_probability_per_epoch);
+
+  py::class_<MotorRulModel>(m, "MotorRulModel", "Motor RUL from a spall (§3.4.1), immutable")
+      .def(py::init<const SpallGrowthParams&>(), py::arg("params") = SpallGrowthParams{})
+      .def_property_readonly("params", &MotorRulModel::params)
+      .def("predict_rul",
+           [](const MotorRulModel& model, double area_mm2, std::uint64_t seed) {
+             RandomStream random(seed);
+             return model.PredictRulFromArea(area_mm2, random);
+           },
+           py::arg("area_mm2"), py::arg("seed"), "RUL distribution of params.particles particles at area_mm2")
+      .def("measure_jam_probability",
+           [](const MotorRulModel& model, int runs, std::uint64_t seed) {
+             RandomStream random(seed);
+             return model.MeasureJamProbability(runs, random);
+           },
+           py::arg("runs"), py::arg("seed"), "Jams per spalled 1 s epoch over `runs` histories (Table 5.4's quantity)");
+
+  m.def("rul",
+        [](int particles, std::uint64_t seed, int runs, double time_per_step_s) {
+          SpallGrowthParams params;
+          params.particles = particles;
+          params.time_per_growth_step_s = time_per_step_s;
+          const MotorRulModel model(params);
+          RandomStream particle_random(DeriveSeed(seed, kRulParticleStream));
+          const RulDistribution rul = model.PredictRulFromArea(params.initial_area_mm2, particle_random);
+          RandomStream history_random(DeriveSeed(seed, kRulHistoryStream));
+          const JamProbabilityMeasurement jam = model.MeasureJamProbability(runs, history_random);
+          return py::make_tuple(rul, jam);
+        },
+        py::arg("particles") = SpallGrowthParams{}.particles, py::arg("seed") = 1,
+        py::arg("runs") = CalibrationOptions{}.runs,
+        py::arg("time_per_step_s") = SpallGrowthParams{}.time_per_growth_step_s,
+        "`uascma rul`: (RulDistribution from the initial spall, JamProbabilityMeasurement), drawn from the "
+        "same random streams as the CLI for the same seed");
+  m.attr("TABLE_5_4_JAM_PROBABILITY_PER_S") = kTable54JamProbabilityPerEpoch;
+}
+
+}  // namespace uascma::python

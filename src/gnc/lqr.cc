@@ -1,0 +1,151 @@
+#include "uascma/gnc/lqr.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/frames.h"
+
+namespace uascma::gnc {
+namespace {
+
+Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double limit) {
+  const double n = v.norm();
+  return n > limit ? Eigen::Vector2d(v * (limit / n)) : v;
+}
+
+}  // namespace
+
+bool LqrOptions::IsValid(std::string* error) const {
+  const double values[] = {dt, weights.position, weights.altitude, weights.velocity, weights.tilt, weights.yaw,
+                           weights.body_rate, weights.thrust, weights.roll_pitch_torque, weights.yaw_torque,
+                           max_horizontal_error, max_vertical_error, max_velocity_error, max_tilt};
+  for (double v : values) {
+    if (!(v > 0.0 && std::isfinite(v))) {
+      if (error) *error = "LQR options: every step, weight and limit must be a positive number";
+      return false;
+    }
+  }
+  return true;
+}
+
+LinearModel LinearizeHover(const models::RigidBodyParams& params) {
+  LinearModel model;
+  model.A.block<3, 3>(0, 3).setIdentity();          // ṗ = v
+  model.A(3, 7) = -kGravity;                         // v̇_x = −g θ
+  model.A(4, 6) = kGravity;                          // v̇_y = g φ
+  model.A.block<3, 3>(6, 9).setIdentity();          // Euler rates = body rates near hover
+  model.B(5, 0) = -1.0 / params.mass;               // v̇_z = −δT / m (NED: more thrust, upwards)
+  for (int i = 0; i < 3; ++i) model.B(9 + i, 1 + i) = 1.0 / params.inertia_diagonal[i];
+  return model;
+}
+
+LinearModel DiscretizeZeroOrderHold(const LinearModel& continuous, double dt) {
+  // e^{A dt} = Σ (A dt)^k / k!, Γ = Σ A^k dt^{k+1} / (k+1)! B. A is nilpotent (A⁴ = 0 here), so the
+  // sums are exact after a few terms; 12 terms keep it exact for any chain up to the state size.
+  LinearModel discrete;
+  StateMatrix term = StateMatrix::Identity();  // (A dt)^k / k!
+  StateMatrix integral = StateMatrix::Zero();   // Σ (A dt)^k / (k+1)! · dt
+  discrete.A.setZero();
+  for (int k = 0; k < 12; ++k) {
+    discrete.A += term;
+    integral += term * (dt / (k + 1));
+    term = term * continuous.A * (dt / (k + 1));
+  }
+  discrete.B = integral * continuous.B;
+  return discrete;
+}
+
+RiccatiSolution SolveDiscreteRiccati(const StateMatrix& A, const InputMatrix& B, const StateMatrix& Q,
+                                     const Eigen::Matrix4d& R, double tolerance, int max_iterations) {
+  RiccatiSolution solution;
+  StateMatrix a = A;
+  StateMatrix g = B * R.ldlt().solve(B.transpose());
+  StateMatrix h = Q;
+  const StateMatrix identity = StateMatrix::Identity();
+  for (solution.iterations = 1; solution.iterations <= max_iterations; ++solution.iterations) {
+    const Eigen::PartialPivLU<StateMatrix> lu(identity + g * h);
+    const StateMatrix inv_a = lu.solve(a);            // (I + G H)⁻¹ A
+    const StateMatrix inv_g = lu.solve(g);            // (I + G H)⁻¹ G
+    const StateMatrix next_h = h + a.transpose() * h * inv_a;
+    const StateMatrix next_g = g + a * inv_g * a.transpose();
+    const StateMatrix next_a = a * inv_a;
+    const double change = (next_h - h).cwiseAbs().maxCoeff() / std::max(1.0, next_h.cwiseAbs().maxCoeff());
+    a = next_a;
+    g = 0.5 * (next_g + next_g.transpose());
+    h = 0.5 * (next_h + next_h.transpose());
+    if (change < tolerance) {
+      solution.status = RiccatiStatus::kConverged;
+      break;
+    }
+  }
+  solution.iterations = std::min(solution.iterations, max_iterations);
+  solution.P = h;
+  const Eigen::Matrix4d S = R + B.transpose() * h * B;
+  solution.K = S.ldlt().solve(B.transpose() * h * A);
+  const StateMatrix residual =
+      Q + A.transpose() * h * A - A.transpose() * h * B * solution.K - h;
+  solution.residual = residual.cwiseAbs().maxCoeff();
+  return solution;
+}
+
+LqrController::LqrController(const models::RigidBodyParams& params, const LqrOptions& options)
+    : params_(params), options_(options) {
+  std::string error;
+  if (!params.IsValid(&error)) throw InputError("vehicle: " + error);
+  if (!options.IsValid(&error)) throw InputError(error);
+  discrete_ = DiscretizeZeroOrderHold(LinearizeHover(params), options.dt);
+  const LqrWeights& w = options.weights;
+  Eigen::Matrix<double, 12, 1> q;
+  q << 1 / (w.position * w.position), 1 / (w.position * w.position), 1 / (w.altitude * w.altitude),
+      Eigen::Vector3d::Constant(1 / (w.velocity * w.velocity)), 1 / (w.tilt * w.tilt), 1 / (w.tilt * w.tilt),
+      1 / (w.yaw * w.yaw), Eigen::Vector3d::Constant(1 / (w.body_rate * w.body_rate));
+  const Eigen::Vector4d r(1 / (w.thrust * w.thrust), 1 / (w.roll_pitch_torque * w.roll_pitch_torque),
+                          1 / (w.roll_pitch_torque * w.roll_pitch_torque), 1 / (w.yaw_torque * w.yaw_torque));
+  solution_ = SolveDiscreteRiccati(discrete_.A, discrete_.B, q.asDiagonal(), r.asDiagonal());
+  if (solution_.status != RiccatiStatus::kConverged) {
+    throw InputError("LQR weights", "Riccati equation", "a converging solution (check the weights)");
+  }
+}
+
+Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const {
+  const Eigen::Matrix3d R_WB = state.q_WB.toRotationMatrix();
+  const Eigen::Vector3d euler = EulerFromRotation(R_WB);
+  // The reference acceleration becomes a reference tilt (small-angle inverse of v̇ = (−gθ, gφ)) and a
+  // thrust feed-forward.
+  const double pitch_ref = std::clamp(-reference.a_W.x() / kGravity, -options_.max_tilt, options_.max_tilt);
+  const double roll_ref = std::clamp(reference.a_W.y() / kGravity, -options_.max_tilt, options_.max_tilt);
+  ControlState error;
+  const Eigen::Vector3d position_error = state.p_WB_W - reference.p_W;
+  error.head<2>() = ClampNorm(position_error.head<2>(), options_.max_horizontal_error);
+  error(2) = std::clamp(position_error.z(), -options_.max_vertical_error, options_.max_vertical_error);
+  const Eigen::Vector3d velocity_error = state.v_WB_W - reference.v_W;
+  error.segment<2>(3) = ClampNorm(velocity_error.head<2>(), options_.max_velocity_error);
+  error(5) = std::clamp(velocity_error.z(), -options_.max_velocity_error, options_.max_velocity_error);
+  // The linear model is written in the heading frame (yaw ≈ 0): rotate horizontal errors by −ψ so a
+  // yawed vehicle still tilts the right way. (cos ψ, sin ψ) = (R00, R10) / cos θ for Z-Y-X angles.
+  const double heading_norm = std::sqrt(R_WB(0, 0) * R_WB(0, 0) + R_WB(1, 0) * R_WB(1, 0));
+  const double cos_yaw = heading_norm > 0.0 ? R_WB(0, 0) / heading_norm : 1.0;
+  const double sin_yaw = heading_norm > 0.0 ? R_WB(1, 0) / heading_norm : 0.0;
+  const Eigen::Matrix2d to_heading{{cos_yaw, sin_yaw}, {-sin_yaw, cos_yaw}};
+  error.head<2>() = to_heading * Eigen::Vector2d(error.head<2>());
+  error.segment<2>(3) = to_heading * Eigen::Vector2d(error.segment<2>(3));
+  error(6) = euler.x() - roll_ref;
+  error(7) = euler.y() - pitch_ref;
+  error(8) = euler.z();  // atan2: already in [−π, π], the reference heading being 0
+  error.tail<3>() = state.w_WB_B;
+  const Eigen::Vector4d u = -solution_.K * error;
+  Wrench wrench;
+  // Hover thrust plus feed-forward, corrected for tilt so the vertical component holds altitude.
+  const double cos_tilt = std::max(R_WB(2, 2), 0.5);
+  wrench(0) = std::max((params_.mass * (kGravity - reference.a_W.z()) + u(0)) / cos_tilt, 0.0);
+  wrench.tail<3>() = u.tail<3>();
+  return wrench;
+}
+
+}  // namespace uascma::gnc

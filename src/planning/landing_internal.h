@@ -1,0 +1,25 @@
+#pragma once
+// What the three emergency-landing planners share (planning/emergency_landing.h): the path-time formula, the
+// reach margin and the request check. Internal to src/planning/.
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "uascma/planning/emergency_landing.h"
+
+namespace uascma::planning::landing_internal {
+
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// RM = 1 − flight_time / eod (−∞ when eod ≤ 0).
+inline double ReachMargin(double flight_time, double eod) { return eod > 0.0 ? 1.0 - flight_time / eod : -kInfinity; }
+
+// The time of a path from start_W through waypoints_W: each leg's horizontal and vertical trapezoid moves.
+double PathTime(const Eigen::Vector3d& start_W, const std::vector<Eigen::Vector3d>& waypoints_W,
+                const PlanLimits& limits);
+
+// InputError naming `source` when a request has a non-finite field.
+void RequireFinite(const LandingRequest& request, const char* source);
+
+}  // namespace uascma::planning::landing_internal

@@ -1,0 +1,54 @@
+// The map's emergency planners for the simulator: LandPract from a database built before flight, LandASAP online
+// (planning/emergency_landing.h, §5.3.2.2), behind sim::EmergencyPlanner.
+#include "uascma/sim/flight.h"
+
+namespace uascma::sim {
+
+MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
+                                            const models::DragTable& drag, const models::PropulsionParams& propulsion) {
+  if (!scenario.map || scenario.map->sites().empty()) return {};
+  planning::LandingPathParams path;
+  path.limits = scenario.limits;
+  auto planner = std::make_shared<const planning::LandingPathPlanner>(*scenario.map, path);
+  auto practical = std::make_shared<const planning::LandPractDatabase>(
+      planning::LandPractDatabase::Build(*planner, nominal_plan));
+  planning::LandAsapParams asap;
+  asap.footprint.mass = scenario.body.mass;
+  asap.footprint.drag_slope = planning::CruiseDragSlope(drag, scenario.limits.cruise_speed, scenario.body.mass);
+  // A hovering vehicle's footprint of eqs. 5.10-5.11 is a point; LandASAP then plans as if it were cruising
+  // (our choice: in the dissertation the action is taken in flight).
+  asap.min_footprint_speed = scenario.limits.cruise_speed;
+  const double rotor_max = propulsion.max_thrust;
+  auto map = scenario.map;  // keeps the map alive as long as the planners
+  MapEmergencyPlanner out;
+  for (const auto& checkpoint : practical->checkpoints()) out.checkpoints_W.push_back(checkpoint.p_W);
+  out.planner = [map, planner, practical, asap, rotor_max](const EmergencyRequest& r) {
+    const planning::LandingRequest request{r.p_WB_W, r.v_WB_W, r.yaw, r.eod_s, r.original_plan_elapsed_s};
+    planning::LandingResult result;
+    const bool land_asap = r.action == decision::CmaAction::kLandAsap;
+    if (land_asap) {
+      planning::LandAsapParams params = asap;
+      // After the failure rule only four rotors fly (§4.4.1).
+      params.footprint.available_thrust = (r.failed_motor != 0 ? 4.0 : 6.0) * rotor_max;
+      result = planning::PlanLandAsap(*planner, params, request);
+    } else {
+      result = practical->Plan(request);
+    }
+    EmergencyPlan plan;
+    plan.status = result.status;
+    plan.message = result.message;
+    if (!result.ok()) return plan;
+    plan.plan = std::move(result.plan);
+    plan.site = result.site_id;
+    plan.reach_margin = result.reach_margin;
+    if (land_asap) {
+      for (const Eigen::Vector2d& p_H : result.footprint.region.Boundary(72)) {
+        plan.footprint_NE.push_back(result.frame.ToWorld(p_H).head<2>());
+      }
+    }
+    return plan;
+  };
+  return out;
+}
+
+}  // namespace uascma::sim

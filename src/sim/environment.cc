@@ -1,0 +1,96 @@
+#include "uascma/sim/environment.h"
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/decision/cma_abstraction.h"
+
+namespace uascma::sim {
+
+DecisionEnvironment::DecisionEnvironment(const Scenario& scenario, EnvironmentOptions options)
+    : DecisionEnvironment(std::make_shared<const FlightModel>(scenario), std::move(options)) {}
+
+DecisionEnvironment::DecisionEnvironment(std::shared_ptr<const FlightModel> model, EnvironmentOptions options)
+    : model_(std::move(model)), options_(std::move(options)) {
+  UASCMA_CHECK(model_ != nullptr, "a flight model");
+  std::string error;
+  if (!options_.weights.IsValid(&error)) throw InputError("environment", "weights", error);
+}
+
+Observation DecisionEnvironment::MakeObservation() const {
+  Observation o;
+  const DecisionInputs& inputs = state_.inputs;
+  o.time_s = inputs.time_s;
+  o.state = inputs.state;
+  o.flight_status = state_.flight_status;
+  o.reach_margin = inputs.reach_margin;
+  o.motor_margin = inputs.motor_margin;
+  o.eod_s = inputs.eod_s;
+  o.rul_s = inputs.rul_s;
+  o.flight_time_remaining_s = inputs.flight_time_remaining_s;
+  if (state_.done()) {
+    o.time_s = state_.time_s;
+    o.terminal = TerminalStateOf(state_.outcome);
+    o.state_index = decision::CmaTerminalIndex(*o.terminal);
+  } else {
+    o.state_index = decision::CmaStateIndex(o.state);
+  }
+  return o;
+}
+
+Observation DecisionEnvironment::Reset(std::uint64_t seed) {
+  state_ = MakeInitialState(*model_, seed);
+  log_ = FlightLog{};
+  log_.record_telemetry = options_.record_telemetry;
+  FlightLog* log = options_.record ? &log_ : nullptr;
+  Observe(*model_, state_, log);
+  if (options_.battery_policy) SwitchPacks(state_, options_.battery_policy->Decide(*model_, state_));
+  reset_ = true;
+  observation_ = MakeObservation();
+  return observation_;
+}
+
+EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
+  if (!reset_) throw InputError("environment", "step", "Reset before the first Step");
+  if (state_.done()) throw InputError("environment", "step", "a flight in progress (it has ended: Reset)");
+  if (options_.require_available_actions && !decision::IsCmaActionAvailable(state_.flight_status, action)) {
+    throw InputError("environment", "action",
+                     fmt::format("an action available in flight status {} (decisions item 3), got {}",
+                                 static_cast<int>(state_.flight_status), decision::CmaActionName(action)));
+  }
+  FlightLog* log = options_.record ? &log_ : nullptr;
+  EnvironmentStep out;
+  out.executed = decision::EffectiveCmaAction(action, state_.flight_status);
+  out.reward = decision::CmaEpochReward(options_.weights, state_.inputs.state, action);
+  Act(*model_, state_, action, options_.planner, log);
+  while (!state_.done()) {
+    sim::Step(*model_, state_, log);
+    if (IsDecisionEpoch(*model_, state_)) break;
+  }
+  if (!state_.done()) {
+    Observe(*model_, state_, log);
+    if (options_.battery_policy) SwitchPacks(state_, options_.battery_policy->Decide(*model_, state_));
+  } else {
+    out.reward += decision::CmaTerminalReward(options_.weights, TerminalStateOf(state_.outcome));
+  }
+  observation_ = MakeObservation();
+  out.observation = observation_;
+  out.done = state_.done();
+  out.outcome = state_.outcome;
+  return out;
+}
+
+void DecisionEnvironment::SetState(const FlightState& state) {
+  if (!state.done() && !IsDecisionEpoch(*model_, state)) {
+    throw InputError("environment", "state", fmt::format("a state at a decision epoch, got step {}", state.step));
+  }
+  state_ = state;
+  reset_ = true;
+  observation_ = MakeObservation();
+}
+
+SimResult DecisionEnvironment::Result(const std::string& policy) const {
+  return MakeSimResult(*model_, state_, log_, policy);
+}
+
+}  // namespace uascma::sim

@@ -1,0 +1,395 @@
+#include "uascma/sim/flight.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/frames.h"
+#include "uascma/decision/cma_abstraction.h"
+
+namespace uascma::sim {
+namespace {
+
+using decision::CmaAction;
+using decision::FlightStatus;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// Independent random streams of one flight (common/random.h DeriveSeed), so that e.g. the wind does not
+// change when the sensor noise is switched off.
+enum Stream : std::uint64_t { kWindStream = 1, kSensorStream = 2, kSpallStream = 3, kPrognosisStream = 4 };
+
+prognostics::SpallGrowthParams TruthGrowth(const FaultSpec& fault) {
+  prognostics::SpallGrowthParams params;
+  if (fault.time_per_growth_step_s) params.time_per_growth_step_s = *fault.time_per_growth_step_s;
+  return params;
+}
+
+prognostics::SpallGrowthParams PrognosisGrowth(const FaultSpec& fault) {
+  prognostics::SpallGrowthParams params;
+  if (fault.prognosis_time_per_growth_step_s) params.time_per_growth_step_s = *fault.prognosis_time_per_growth_step_s;
+  return params;
+}
+
+const Scenario& Validated(const Scenario& scenario) {
+  std::string error;
+  if (!scenario.IsValid(&error)) throw InputError(scenario.name + ": " + error);
+  return scenario;
+}
+
+void AddEvent(FlightLog* log, double time_s, std::string what) {
+  if (log) log->events.push_back({time_s, std::move(what)});
+}
+
+void AddAction(FlightState& state, FlightLog* log, CmaAction action) {
+  state.last_action = action;
+  if (log) log->actions.emplace_back(state.time_s, action);
+}
+
+// What one GNC step computed, for telemetry.
+struct StepSignals {
+  planning::PlanReference reference;
+  gnc::Wrench command;
+  models::BodyWrench achieved;
+  models::RotorThrusts thrust;
+  std::array<double, 6> rotor_current{};
+  Eigen::Vector3d wind_W = Eigen::Vector3d::Zero();
+  models::BodyInputs body_inputs;
+  models::PackOutputs pack_outputs;
+  Eigen::Matrix3d R_WB;
+};
+
+// ---- faults: spall onset and growth → jam (the truth) -------------------------------------------------------
+void AdvanceFaults(const FlightModel& model, FlightState& state, FlightLog* log) {
+  const FaultSpec& fault = model.scenario().fault;
+  const double t = state.time_s;
+  if (fault.enabled && !state.spall && t >= fault.spall_onset_s) {
+    state.spall.emplace(model.spall_truth(), t, DeriveSeed(state.seed, kSpallStream));
+    state.spall_onset_s = t;
+    AddEvent(log, t, fmt::format("spall in motor {}", fault.motor));
+  }
+  if (state.spall && state.jammed_rotor == 0) {
+    const prognostics::SpallJamStep s = state.spall->Advance(t - state.spall->time_s());
+    if (s.jammed) {
+      state.jammed_rotor = fault.motor;
+      state.jam_time_s = s.jam_time_s;
+      AddEvent(log, s.jam_time_s, fmt::format("motor {} jammed", state.jammed_rotor));
+    }
+  }
+}
+
+// ---- guidance and control: LQR → allocation → rotor lag, capped by the bus voltage -------------------------------
+void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrusts& believed, double& motors_current,
+                StepSignals& s) {
+  const models::PropulsionParams& propulsion = model.propulsion();
+  s.reference = state.plan(model).At(state.time_s - state.plan_start_s);
+  s.command = model.controller().Compute(state.body, s.reference);
+  const models::AllocationResult allocation = model.mixer().Allocate(s.command, state.allocation_failure);
+  // The bus voltage caps each rotor's thrust: capacity ∝ (V_bus / V_ref)² below V_ref.
+  const double voltage_ratio = std::min(1.0, state.bus_voltage_v / model.options().reference_bus_voltage_v);
+  const double thrust_cap = propulsion.max_thrust * voltage_ratio * voltage_ratio;
+  const double inverse_bus_voltage = 1.0 / std::max(state.bus_voltage_v, 1.0);
+  motors_current = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    const double commanded = std::clamp(allocation.rotor_thrust[i], 0.0, thrust_cap);
+    const double speed_command = models::CalcRotorSpeedForThrust(propulsion, commanded);
+    state.believed_speed[i] = model.rotor_lag().Step(state.believed_speed[i], speed_command);
+    state.rotor_speed[i] = (i + 1 == state.jammed_rotor) ? 0.0 : model.rotor_lag().Step(state.rotor_speed[i], speed_command);
+    s.thrust[i] = models::CalcRotorThrust(propulsion, state.rotor_speed[i]);
+    believed[i] = models::CalcRotorThrust(propulsion, state.believed_speed[i]);
+    s.rotor_current[i] = model.electrical_power().Power(s.thrust[i]) * inverse_bus_voltage;
+    motors_current += s.rotor_current[i];
+  }
+  s.achieved = model.mixer().mixing_matrix(models::kNoFailedMotor) * s.thrust;
+}
+
+// ---- 6-DOF with drag and Dryden wind ----------------------------------------------------------------------------
+void StepBody(const FlightModel& model, FlightState& state, StepSignals& s) {
+  const double dt = model.dt();
+  const double altitude = -state.body.p_WB_W.z();
+  const double airspeed_estimate = (state.body.v_WB_W - model.wind().MeanWind_W()).norm();
+  s.wind_W = model.wind().Step(state.wind, std::max(altitude, 0.0), airspeed_estimate, dt, state.wind_random);
+  s.body_inputs = models::BodyInputs{s.achieved(0), s.achieved.tail<3>(), s.wind_W};
+  state.body = models::StepRigidBody(model.scenario().body, model.drag(), state.body, s.body_inputs, dt);
+  if (!state.airborne && state.body.p_WB_W.z() > 0.0) {  // resting on the ground before take-off
+    state.body.p_WB_W.z() = 0.0;
+    state.body.v_WB_W.z() = std::min(state.body.v_WB_W.z(), 0.0);
+  }
+}
+
+// ---- power: rotor currents → pack → bus voltage ------------------------------------------------------------------
+void StepPower(const FlightModel& model, FlightState& state, double motors_current, StepSignals& s) {
+  const double dt = model.dt();
+  state.pack_current_a = motors_current + model.options().hotel_current_a;
+  state.load_current_a += model.load_filter_gain() * (state.pack_current_a - state.load_current_a);
+  const models::PackStepResult pack_step = model.pack().StepWithOutputs(state.pack, state.pack_current_a, model.pack_step());
+  state.pack = pack_step.next;
+  s.pack_outputs = pack_step.outputs;
+  state.bus_voltage_v = pack_step.outputs.split.bus_voltage_v;
+  state.energy_wh += state.bus_voltage_v * state.pack_current_a * dt / 3600.0;
+  state.min_cell_voltage_v = std::min(state.min_cell_voltage_v, pack_step.outputs.min_cell_voltage_v);
+}
+
+// ---- rotor failure detection and isolation (IMM) ----------------------------------------------------------------
+void StepImm(const FlightModel& model, FlightState& state, const models::RigidBodyState& previous,
+             const models::RotorThrusts& believed, const StepSignals& s, FlightLog* log) {
+  if (state.imm.isolated_rotor() != 0) return;
+  const double dt = model.dt();
+  const gnc::ImmParams& imm = model.scenario().imm;
+  gnc::ImmMeasurement measurement;
+  const Eigen::Vector3d specific_force_W = (state.body.v_WB_W - previous.v_WB_W) / dt - Eigen::Vector3d(0, 0, kGravity);
+  measurement.gyro_B = state.body.w_WB_B;
+  measurement.specific_force_z_B = (s.R_WB.transpose() * specific_force_W).z();
+  if (model.options().sensor_noise) {
+    RandomStream& random = state.sensor_random;
+    measurement.gyro_B += imm.gyro_noise * Eigen::Vector3d(random.Normal(), random.Normal(), random.Normal());
+    measurement.specific_force_z_B += imm.accel_noise * random.Normal();
+  }
+  state.imm.Step(believed, measurement, dt);
+  if (state.imm.isolated_rotor() != 0) {
+    const double now = state.time_s + dt;
+    state.isolation_time_s = now;
+    const bool reconfigure = model.options().reconfiguration;
+    AddEvent(log, now, fmt::format("IMM isolated rotor {}{}", state.imm.isolated_rotor(),
+                                   reconfigure ? ": quadcopter allocation" : " (reconfiguration disabled)"));
+    if (reconfigure) state.allocation_failure = state.imm.isolated_rotor();
+  }
+}
+
+void RecordTelemetry(const FlightModel& model, const FlightState& state, const StepSignals& s, FlightLog& log) {
+  TelemetryRow row;
+  row.t = state.time_s + model.dt();
+  row.p_W = state.body.p_WB_W;
+  row.v_W = state.body.v_WB_W;
+  row.p_ref_W = s.reference.p_W;
+  row.euler = EulerFromRotation(s.R_WB);
+  row.drag_W = models::CalcRigidBodyRates(model.scenario().body, model.drag(), state.body, s.body_inputs).drag_W;
+  row.wind_W = s.wind_W;
+  row.wrench_cmd = s.command;
+  row.wrench = s.achieved;
+  for (int i = 0; i < 6; ++i) {
+    row.rotor_thrust[i] = s.thrust[i];
+    row.rotor_current[i] = s.rotor_current[i];
+  }
+  row.pack_current = state.pack_current_a;
+  row.bus_voltage = state.bus_voltage_v;
+  row.branch_current = {s.pack_outputs.split.current_a[0], s.pack_outputs.split.current_a[1]};
+  for (int b = 0; b < 2; ++b) {
+    for (int c = 0; c < 3; ++c) row.cell_voltage[3 * b + c] = s.pack_outputs.cell_voltage_v[b][c];
+  }
+  const DecisionInputs& inputs = state.inputs;
+  row.eod_s = state.eod.eod_s;
+  row.flight_time_remaining_s = inputs.flight_time_remaining_s;
+  row.rul_s = inputs.rul_s;
+  row.reach_margin = inputs.reach_margin;
+  row.motor_margin = inputs.motor_margin;
+  row.cma_state = decision::CmaStateIndex(inputs.state);
+  row.action = state.last_action ? static_cast<int>(*state.last_action) : 0;
+  row.imm_mode = state.imm.isolated_rotor() != 0 ? state.imm.isolated_rotor() : state.imm.MapMode();
+  row.spall_area_mm2 = state.spall ? state.spall->area_mm2() : 0.0;
+  log.telemetry.push_back(row);
+}
+
+// ---- outcomes (decisions items 10–11, outcome.h) ----------------------------------------------------------------
+void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignals& s, double tracking_error) {
+  const OutcomeThresholds& thresholds = model.options().outcome;
+  const double now = state.time_s + model.dt();
+  if (-state.body.p_WB_W.z() > thresholds.airborne_height) state.airborne = true;
+  const planning::FlightPlan& plan = state.plan(model);
+  OutcomeInputs inputs;
+  inputs.time_s = now;
+  inputs.p_WB_W = state.body.p_WB_W;
+  inputs.v_WB_W = state.body.v_WB_W;
+  inputs.cos_tilt = s.R_WB(2, 2);
+  inputs.tracking_error = tracking_error;
+  inputs.min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v;
+  inputs.min_cell_branch = s.pack_outputs.min_cell_branch;
+  inputs.min_cell_index = s.pack_outputs.min_cell_index;
+  inputs.airborne = state.airborne;
+  inputs.plan_time_remaining_s = plan.TimeRemaining(now - state.plan_start_s);
+  inputs.plan_end_W = plan.end_W();
+  inputs.on_original_plan = !state.on_emergency_plan;
+  inputs.emergency_site = state.emergency_site;
+  inputs.time_limit_s = model.time_limit_s();
+  OutcomeDecision decision = model.outcome_classifier().Classify(inputs, model.map());
+  if (decision.outcome != Outcome::kInProgress) {
+    state.outcome = decision.outcome;
+    state.reason = std::move(decision.reason);
+  }
+}
+
+}  // namespace
+
+// ---- the model ----------------------------------------------------------------------------------------------------
+FlightModel::FlightModel(const Scenario& scenario)
+    : scenario_(Validated(scenario)),
+      propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
+      electrical_power_(propulsion_),
+      mixer_(models::MixerParams::ForPropulsion(propulsion_)),
+      drag_(models::DragTable::Default(scenario.configuration)),
+      wind_(scenario.wind),
+      pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
+      rul_model_(PrognosisGrowth(scenario.fault)),
+      spall_truth_(TruthGrowth(scenario.fault)),
+      map_(scenario.map ? scenario.map : std::make_shared<const planning::CityMap>()),
+      controller_(scenario.body, scenario.lqr),
+      nominal_plan_(planning::MakeDeliveryPlan(scenario.mission, scenario.limits)),
+      battery_health_(static_cast<decision::BatteryHealth>(
+          static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)))),  // decisions item 8
+      map_planner_(MakeMapEmergencyPlanner(scenario_, nominal_plan_, drag_, propulsion_)),
+      dt_(1.0 / scenario.options.gnc_rate_hz),
+      steps_per_epoch_(static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.decision_rate_hz))),
+      time_limit_s_(scenario.options.outcome.time_limit_factor * nominal_plan_.duration() +
+                    scenario.options.outcome.time_limit_margin_s),
+      rotor_lag_(propulsion_.motor_time_constant, dt_),
+      pack_step_(pack_.MakeFixedStep(dt_)),
+      load_filter_gain_(1.0 - std::exp(-dt_ / scenario.options.load_current_time_constant_s)),
+      outcome_classifier_(scenario.options.outcome) {}
+
+// ---- the state ----------------------------------------------------------------------------------------------------
+FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
+  const Scenario& sc = model.scenario();
+  FlightState state;
+  state.seed = seed;
+  state.wind_random = RandomStream(DeriveSeed(seed, kWindStream));
+  state.sensor_random = RandomStream(DeriveSeed(seed, kSensorStream));
+  state.prognosis_random = RandomStream(DeriveSeed(seed, kPrognosisStream));
+  state.body.p_WB_W = model.nominal_plan().start_W();
+  state.wind = model.wind().InitialState(0.0, state.wind_random);
+  state.pack = model.pack().MakeRestingState(sc.battery.initial_cell_voltage_v);
+  const double hover_thrust = sc.body.mass * kGravity / 6.0;
+  const double hover_speed = models::CalcRotorSpeedForThrust(model.propulsion(), hover_thrust);
+  state.rotor_speed.fill(hover_speed);
+  state.believed_speed.fill(hover_speed);
+  state.imm = gnc::ImmFilter(sc.imm, sc.body, model.mixer().mixing_matrix(models::kNoFailedMotor));
+  state.bus_voltage_v = model.pack().CalcOutputs(state.pack, 0.0).split.bus_voltage_v;
+  // Until the first step has drawn real current, the 1 Hz prognosis sees the hover draw.
+  state.pack_current_a = sc.options.hotel_current_a +
+                         6.0 * models::CalcElectricalPower(model.propulsion(), hover_thrust) / state.bus_voltage_v;
+  state.load_current_a = state.pack_current_a;
+  state.inputs.rul_s = kInfinity;
+  state.min_cell_voltage_v = kInfinity;
+  return state;
+}
+
+// ---- the steps ----------------------------------------------------------------------------------------------------
+void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
+  if (state.done()) return;
+  AdvanceFaults(model, state, log);
+  StepSignals s;
+  models::RotorThrusts believed;
+  double motors_current = 0.0;
+  StepRotors(model, state, believed, motors_current, s);
+  const models::RigidBodyState previous = state.body;
+  StepBody(model, state, s);
+  StepPower(model, state, motors_current, s);
+  s.R_WB = state.body.q_WB.toRotationMatrix();
+  StepImm(model, state, previous, believed, s, log);
+
+  // The tilt enters through its cosine R_WB(2, 2) (acos is decreasing): the largest tilt is the acos of the
+  // smallest cosine, taken once at the end.
+  const double tracking_error = (state.body.p_WB_W - s.reference.p_W).norm();
+  state.min_cos_tilt = std::min(state.min_cos_tilt, s.R_WB(2, 2));
+  state.max_tracking_error = std::max(state.max_tracking_error, tracking_error);
+  if (log && log->record_telemetry) {
+    const double rate = model.options().telemetry_rate_hz;
+    const int steps_per_row = std::max(1, static_cast<int>(std::lround(model.options().gnc_rate_hz / rate)));
+    if (state.step % steps_per_row == 0) RecordTelemetry(model, state, s, *log);
+  }
+  ClassifyStep(model, state, s, tracking_error);
+  ++state.step;
+  state.time_s = static_cast<double>(state.step) * model.dt();
+}
+
+const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log) {
+  // EOD at the present current (decisions item 14), taken as the pack current low-passed with the time constant
+  // of SimOptions::load_current_time_constant_s: the present load, not one gust-driven 5 ms sample nor the few
+  // seconds of the take-off climb.
+  const double t = state.time_s;
+  state.eod = prognostics::CalcPackEod(model.pack(), state.pack, state.load_current_a);
+  DecisionInputs& inputs = state.inputs;
+  inputs.time_s = t;
+  inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.plan_start_s);
+  inputs.eod_s = state.eod.eod_s;
+  inputs.reach_margin =
+      prognostics::CalcReachMargin(state.eod, inputs.flight_time_remaining_s + model.options().safety_margin_s);
+  decision::MotorHealth motor_health = decision::MotorHealth::kNF;
+  if (state.allocation_failure != 0 || state.imm.isolated_rotor() != 0) {
+    motor_health = decision::MotorHealth::kJF;
+    inputs.rul_s = 0.0;
+  } else if (state.spall) {
+    // The prognosis (§3.4.1, §5.3.2.1: "When a spalling fault in the motor is detected, t_RUL is calculated using
+    // Paris' Law"): the calibrated model's particle mean from the initial spall, computed at detection, then
+    // counted down with the flight time.
+    motor_health = decision::MotorHealth::kSF;
+    if (!state.rul_at_onset_s) {
+      const prognostics::MotorRulModel& rul = model.rul_model();
+      state.rul_at_onset_s = rul.PredictRulFromArea(rul.params().initial_area_mm2, state.prognosis_random).mean_s;
+    }
+    inputs.rul_s = std::max(*state.rul_at_onset_s - (t - *state.spall_onset_s), 0.0);
+  }
+  inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
+  inputs.state = decision::AbstractCmaState(state.flight_status, motor_health, model.battery_health(),
+                                            inputs.reach_margin, inputs.motor_margin);
+  if (log) log->states.emplace_back(t, decision::CmaStateIndex(inputs.state));
+  return inputs;
+}
+
+void Act(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
+         FlightLog* log) {
+  const double t = state.time_s;
+  if (action == CmaAction::kTerminate) {
+    AddAction(state, log, action);
+    state.outcome = Outcome::kTerminated;
+    state.reason = fmt::format("Terminate in state {}", decision::CmaStateLabel(state.inputs.state));
+    return;
+  }
+  // Decisions item 9: an action equal to the executing one is a no-op.
+  if (decision::EffectiveCmaAction(action, state.flight_status) == CmaAction::kNoOp) return;
+  const EmergencyPlanner& emergency_planner = planner ? planner : model.map_planner();
+  EmergencyPlan emergency;
+  if (emergency_planner) {
+    const bool nominal = !state.on_emergency_plan;
+    emergency = emergency_planner({action, t, state.body.p_WB_W, state.body.v_WB_W,
+                                   EulerFromRotation(state.body.q_WB.toRotationMatrix()).z(), state.allocation_failure,
+                                   state.eod.eod_s, nominal ? t - state.plan_start_s : model.nominal_plan().duration()});
+  } else {
+    emergency.message = "the map has no landing sites";
+  }
+  if (emergency.ok()) {
+    state.emergency_plan = std::move(emergency.plan);
+    state.emergency_site = emergency.site;
+    state.emergency_reach_margin = emergency.reach_margin;
+    if (!emergency.footprint_NE.empty()) state.footprint_NE = std::move(emergency.footprint_NE);
+    state.on_emergency_plan = true;
+    state.plan_start_s = t;
+    state.flight_status = decision::FlightStatusAfter(action, state.flight_status);
+    AddAction(state, log, action);
+    AddEvent(log, t, fmt::format("{}: emergency plan to {} ({:.0f} s, RM {:.2f})", decision::CmaActionName(action),
+                                 emergency.site, state.emergency_plan.duration(), emergency.reach_margin));
+  } else if (state.last_action != action) {
+    AddAction(state, log, action);
+    const std::string why = emergency.message.empty() ? planning::LandingStatusName(emergency.status) : emergency.message;
+    AddEvent(log, t, fmt::format("{} requested: no emergency plan ({}), continuing", decision::CmaActionName(action), why));
+  }
+}
+
+void SwitchPacks(FlightState& state, models::PackAction action) { state.pack.branch_on = models::SwitchesFor(action); }
+
+void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
+  if (state.done()) return;
+  UASCMA_CHECK(IsDecisionEpoch(model, state), "StepEpoch starts at a decision epoch");
+  const DecisionInputs& inputs = Observe(model, state, log);
+  if (controllers.battery) SwitchPacks(state, controllers.battery->Decide(model, state));
+  const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
+  Act(model, state, action, controllers.planner, log);
+  do {
+    Step(model, state, log);
+  } while (!state.done() && !IsDecisionEpoch(model, state));
+}
+
+}  // namespace uascma::sim

@@ -1,0 +1,128 @@
+#include "uascma/sim/outcome.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/frames.h"
+#include "uascma/models/battery_cell.h"
+#include "uascma/models/battery_pack.h"
+
+namespace uascma::sim {
+
+const char* OutcomeName(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kInProgress: return "in_progress";
+    case Outcome::kCompleted: return "completed";
+    case Outcome::kEmergencyLanding: return "emergency_landing";
+    case Outcome::kTerminated: return "terminated";
+    case Outcome::kFailedBattery: return "failed_battery";
+    case Outcome::kFailedControl: return "failed_control";
+    case Outcome::kFailedCollision: return "failed_collision";
+    case Outcome::kTimeout: return "timeout";
+  }
+  return "unknown";
+}
+
+bool IsFailure(Outcome outcome) {
+  return outcome == Outcome::kFailedBattery || outcome == Outcome::kFailedControl ||
+         outcome == Outcome::kFailedCollision || outcome == Outcome::kTimeout;
+}
+
+decision::CmaTerminal TerminalStateOf(Outcome outcome) {
+  UASCMA_CHECK(outcome != Outcome::kInProgress, "a finished flight");
+  if (outcome == Outcome::kCompleted || outcome == Outcome::kEmergencyLanding) return decision::CmaTerminal::kC;
+  if (outcome == Outcome::kTerminated) return decision::CmaTerminal::kT;
+  return decision::CmaTerminal::kFL;
+}
+
+bool OutcomeThresholds::IsValid(std::string* error) const {
+  const struct { const char* name; double value; } positive[] = {
+      {"max_tilt", max_tilt}, {"max_tracking_error", max_tracking_error}, {"touchdown_speed", touchdown_speed},
+      {"airborne_height", airborne_height}, {"landing_radius", landing_radius},
+      {"landing_window_s", landing_window_s}, {"landing_height", landing_height}, {"settled_height", settled_height},
+      {"settled_speed", settled_speed}, {"time_limit_factor", time_limit_factor}};
+  for (const auto& f : positive) {
+    if (!(f.value > 0.0 && std::isfinite(f.value))) {
+      if (error) *error = fmt::format("{}: expected a positive number, got {}", f.name, f.value);
+      return false;
+    }
+  }
+  if (!(max_tilt <= std::numbers::pi)) {
+    if (error) *error = fmt::format("max_tilt: expected at most pi rad (180 deg), got {}", max_tilt);
+    return false;
+  }
+  for (const auto& [name, value] : {std::pair{"building_margin", building_margin},
+                                    std::pair{"time_limit_margin_s", time_limit_margin_s}}) {
+    if (!(value >= 0.0 && std::isfinite(value))) {
+      if (error) *error = fmt::format("{}: expected a number >= 0, got {}", name, value);
+      return false;
+    }
+  }
+  return true;
+}
+
+OutcomeClassifier::OutcomeClassifier(const OutcomeThresholds& thresholds)
+    : thresholds_(thresholds), cos_max_tilt_(std::cos(std::min(thresholds.max_tilt, std::numbers::pi))) {}
+
+OutcomeDecision ClassifyOutcome(const OutcomeThresholds& thresholds, const OutcomeInputs& inputs,
+                                const planning::CityMap& map) {
+  return OutcomeClassifier(thresholds).Classify(inputs, map);
+}
+
+OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const planning::CityMap& map) const {
+  const OutcomeThresholds& limits = thresholds_;
+  OutcomeDecision out;
+  if (in.min_cell_voltage_v <= models::kCutoffVoltage) {
+    out.outcome = Outcome::kFailedBattery;
+    out.reason = fmt::format("cell {} reached {:.3f} V", models::CellLabel(in.min_cell_branch, in.min_cell_index),
+                             in.min_cell_voltage_v);
+    return out;
+  }
+  if (in.cos_tilt < cos_max_tilt_ || in.tracking_error > limits.max_tracking_error) {
+    out.outcome = Outcome::kFailedControl;
+    out.reason = fmt::format("tilt {:.0f} deg, tracking error {:.1f} m",
+                             std::acos(std::clamp(in.cos_tilt, -1.0, 1.0)) * kDegreesPerRadian, in.tracking_error);
+    return out;
+  }
+  const double altitude = -in.p_WB_W.z();
+  const double above_end = altitude - (-in.plan_end_W.z());
+  const double to_end = (in.p_WB_W.head<2>() - in.plan_end_W.head<2>()).norm();
+  const bool landing = to_end < limits.landing_radius && in.plan_time_remaining_s < limits.landing_window_s &&
+                       above_end < limits.landing_height;
+  if (in.airborne && landing && in.plan_time_remaining_s <= 0.0 && above_end < limits.settled_height &&
+      in.v_WB_W.norm() < limits.settled_speed) {
+    out.outcome = in.on_original_plan ? Outcome::kCompleted : Outcome::kEmergencyLanding;
+    out.reason = in.on_original_plan ? "landed at the destination of the original plan"
+                                     : "landed at the emergency site " + std::string(in.emergency_site);
+    return out;
+  }
+  // Below the tallest roof the vehicle may strike a building (a touchdown on the site's own roof is a landing,
+  // handled above).
+  if (altitude < map.max_building_height() + limits.building_margin && !landing) {
+    const int building = map.BuildingContaining(in.p_WB_W);
+    if (building != planning::kNoBuilding) {
+      out.outcome = Outcome::kFailedCollision;
+      out.reason = fmt::format("struck building {} at {:.1f} m", map.building(building).id, altitude);
+      return out;
+    }
+  }
+  if (in.airborne && altitude <= 0.0) {
+    const bool gentle = in.v_WB_W.z() <= limits.touchdown_speed;
+    if (!gentle || !landing) {
+      out.outcome = Outcome::kFailedCollision;
+      out.reason = fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", in.v_WB_W.z(), to_end);
+      return out;
+    }
+  }
+  if (in.time_s >= in.time_limit_s) {
+    out.outcome = Outcome::kTimeout;
+    out.reason = fmt::format("still flying after {:.0f} s", in.time_s);
+  }
+  return out;
+}
+
+}  // namespace uascma::sim

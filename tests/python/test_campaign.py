@@ -1,0 +1,76 @@
+"""Campaigns from Python: the same database rows as `uascma campaign` for the same seed, read into pandas
+with parsed columns."""
+import sqlite3
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import uascma
+from conftest import example, run_cli
+
+RUNS = 3
+SEED = 11
+
+
+@pytest.fixture(scope="module")
+def databases(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("campaign")
+    python_db, cli_db = folder / "python.db", folder / "cli.db"
+    outcome = uascma.run_campaign(example("campaign.yaml"), str(python_db), runs=RUNS, seed=SEED, jobs=1)
+    assert outcome["flights_flown"] == RUNS * 2
+    run_cli("campaign", example("campaign.yaml"), "--db", cli_db, "--runs", RUNS, "--seed", SEED, "--jobs", 1)
+    return python_db, cli_db
+
+
+def test_python_campaign_equals_the_cli(databases):
+    python_db, cli_db = databases
+    mine = uascma.read_campaign(str(python_db)).drop(columns=["wall_time_s"])
+    theirs = uascma.read_campaign(str(cli_db)).drop(columns=["wall_time_s"])
+    pd.testing.assert_frame_equal(mine, theirs)
+    assert len(mine) == RUNS * 2
+
+
+def test_read_campaign_parses_every_column(databases):
+    frame = uascma.read_campaign(str(databases[0]))
+    assert list(frame["policy"].unique()) == ["cma", "noop"]
+    assert frame.groupby("run_index").size().eq(2).all()  # paired: every run flown by both policies
+    assert frame["failure"].dtype == bool and frame["fault"].dtype == bool
+    assert frame["run_seed"].dtype == np.uint64
+    assert frame["fault_onset_s"].dtype == float
+    assert frame.loc[~frame["fault"], "fault_onset_s"].isna().all()
+    cells = [f"initial_cell_voltage_p{p}c{c}_v" for p in (1, 2) for c in (1, 2, 3)]
+    voltages = frame[cells].to_numpy()
+    assert voltages.shape == (len(frame), 6)
+    assert ((voltages >= 4.05) & (voltages <= 4.12)).all()  # Table 4.4's range (V)
+    np.testing.assert_allclose(voltages.min(axis=1), frame["initial_cell_voltage_min_v"])
+    assert all(isinstance(a, list) for a in frame["actions"])
+    # No emergency action: missing (None), not an empty string; its time NaN.
+    none = frame["first_emergency_action"].isna()
+    assert (none == frame["first_emergency_action_s"].isna()).all()
+    assert (frame["actions"].map(len) == frame["num_actions"]).all()
+    # No JSON text left in any column.
+    for column in frame.columns:
+        if frame[column].dtype == object:
+            assert not frame[column].map(lambda v: isinstance(v, str) and v.startswith(("[", "{"))).any(), column
+    assert frame.attrs["campaign"]["seed"] == SEED
+    assert frame.attrs["campaign"]["runs_requested"] == RUNS
+
+
+def test_records_match_the_frame(databases):
+    records = uascma.read_records(str(databases[0]))
+    frame = uascma.read_campaign(str(databases[0]))
+    assert [r["outcome"] for r in records] == list(frame["outcome"])
+
+
+def test_errors_name_the_file_or_field(tmp_path):
+    with pytest.raises(uascma.InputError, match="db"):
+        uascma.read_campaign(str(tmp_path / "missing.db"))
+    other = tmp_path / "other.db"
+    sqlite3.connect(other).execute("CREATE TABLE t (x)").connection.commit()
+    with pytest.raises(uascma.InputError, match="campaign"):
+        uascma.read_campaign(str(other))
+    with pytest.raises(uascma.InputError, match="runs"):
+        uascma.run_campaign({"runs": -3}, str(tmp_path / "x.db"))
+    with pytest.raises(uascma.InputError, match="policies"):
+        uascma.run_campaign(None, str(tmp_path / "y.db"), runs=1, policies=["cma", "cma"])

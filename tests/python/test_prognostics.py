@@ -1,0 +1,69 @@
+"""EOD, RUL and the footprint from Python, against the CLI for the same inputs and seed."""
+import numpy as np
+import pytest
+
+import uascma
+from conftest import cli_json
+
+ROUND_OFF = 1e-12
+
+
+def test_eod_curve_shape_and_monotone_in_current():
+    pack = uascma.BatteryPack()
+    state = pack.resting_state(4.1)
+    currents = np.array([[5.0, 10.0, 20.0], [30.0, 40.0, 60.0]])  # A
+    eod = uascma.pack_eod_curve(pack, state, currents)
+    assert eod.shape == (2, 3)
+    # A larger constant current empties the battery sooner.
+    assert np.all(np.diff(eod.ravel()) < 0.0)
+    single = uascma.pack_eod(pack, state, 20.0)
+    assert single.status == uascma.EodStatus.reached
+    assert single.eod_s == eod[0, 2]
+
+
+def test_eod_equals_the_cli():
+    pack = uascma.BatteryPack(["M", "M"], 77.0)
+    eod = uascma.pack_eod(pack, pack.resting_state(4.0), 25.0)
+    cli = cli_json("eod", "--current-a", 25, "--initial-cell-voltage", 4.0, "--health", "M")
+    assert eod.eod_s == pytest.approx(cli["eod_s"], rel=ROUND_OFF)
+
+
+def test_rul_equals_the_cli_for_the_same_seed():
+    rul, jam = uascma.rul(particles=50, seed=7, runs=200)
+    cli = cli_json("rul", "--particles", 50, "--seed", 7, "--runs", 200)
+    assert rul.rul_s.shape == (50,)
+    assert rul.mean_s == pytest.approx(cli["rul_mean_s"], rel=ROUND_OFF)
+    assert rul.p95_s == pytest.approx(cli["rul_p95_s"], rel=ROUND_OFF)
+    assert jam.jam_probability_per_epoch == pytest.approx(cli["jam_probability_per_s"], rel=ROUND_OFF)
+    # Another seed draws other particles.
+    other, _ = uascma.rul(particles=50, seed=8, runs=10)
+    assert other.mean_s != rul.mean_s
+
+
+def test_rul_model_rejects_a_bad_field():
+    params = uascma.SpallGrowthParams()
+    params.particles = 0
+    with pytest.raises(uascma.InputError, match="particles"):
+        uascma.MotorRulModel(params)
+
+
+def test_footprint_equals_the_cli_and_its_boundary_is_an_ellipse():
+    params = uascma.FootprintParams(initial_speed=5.0, eod=12.0)
+    # The CLI's default d_x is the drag table's slope at the given speed (FootprintParams' default: at 5 m/s).
+    params.drag_slope = uascma.cruise_drag_slope(5.0)
+    result = uascma.footprint(params)
+    cli = cli_json("footprint", "--speed-mps", 5, "--eod-s", 12)
+    assert params.drag_slope == pytest.approx(cli["drag_slope"], rel=ROUND_OFF)
+    assert result.forward_limit == pytest.approx(cli["forward_m"], rel=ROUND_OFF)
+    assert result.lateral_limit == pytest.approx(cli["lateral_m"], rel=ROUND_OFF)
+    boundary = result.region.boundary(32)
+    assert boundary.shape == (32, 2)
+    region = result.region
+    inside = ((boundary[:, 0] - region.center_x) / region.semi_axis_x) ** 2 + (boundary[:, 1] / region.semi_axis_y) ** 2
+    np.testing.assert_allclose(inside, 1.0, rtol=1e-9)
+    assert region.contains(boundary * 0.5 + [region.center_x * 0.5, 0.0]).all()
+
+
+def test_footprint_names_the_bad_field():
+    with pytest.raises(uascma.InputError, match="eod"):
+        uascma.footprint(uascma.FootprintParams(initial_speed=5.0, eod=-1.0))

@@ -1,0 +1,143 @@
+"""Flights from Python: the same flight as `uascma simulate` for the same seed, telemetry arrays with the
+right shapes and units, names in the telemetry CSV, Python callables as decision modules, and errors."""
+import os
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import uascma
+from conftest import example, run_cli, cli_json
+
+# Fields of the summary that measure the host, not the flight.
+WALL_CLOCK_FIELDS = ("wall_time_s", "realtime_factor")
+
+
+def without_wall_clock(summary):
+    return {k: v for k, v in summary.items() if k not in WALL_CLOCK_FIELDS}
+
+
+@pytest.fixture(scope="module")
+def nominal():
+    return uascma.run(example("nominal.yaml"), "noop", seed=5)
+
+
+def test_flight_equals_the_cli_for_the_same_seed(tmp_path, nominal):
+    cli_dir, python_dir = tmp_path / "cli", tmp_path / "python"
+    cli = cli_json("simulate", example("nominal.yaml"), "--policy", "noop", "--seed", 5, "--out", cli_dir)
+    nominal.write(str(python_dir))
+    assert without_wall_clock(nominal.summary()) == without_wall_clock(cli)
+    for name in ("telemetry.csv", "plan.csv"):
+        assert (python_dir / name).read_bytes() == (cli_dir / name).read_bytes(), name
+    # Another seed is another flight (the Dryden gusts differ).
+    other = uascma.run(example("nominal.yaml"), "noop", seed=6)
+    assert other.telemetry()["p_W"][-1, 0] != nominal.telemetry()["p_W"][-1, 0]
+
+
+def test_telemetry_arrays_have_shapes_and_units(nominal):
+    t = nominal.telemetry()
+    n = len(t["t_s"])
+    assert n > 100
+    for name, shape in (("p_W", (n, 3)), ("v_W", (n, 3)), ("euler", (n, 3)), ("wrench", (n, 4)),
+                        ("rotor_thrust", (n, 6)), ("branch_current", (n, 2)), ("cell_voltage", (n, 2, 3)),
+                        ("rul_s", (n,)), ("cma_state", (n,))):
+        assert t[name].shape == shape, name
+    # Rows at the scenario's 10 Hz telemetry rate (s).
+    np.testing.assert_allclose(np.diff(t["t_s"]), 0.1, atol=1e-9)
+    # Units: the vehicle flies at its 30 m cruise altitude (NED: z = −30 m) and cells stay between the
+    # 3.3 V cut-off and their 4.1 V start (V); the pack current is the branch currents' sum (A).
+    assert -t["p_W"][:, 2].min() == pytest.approx(30.0, abs=1.0)
+    assert 3.3 < t["cell_voltage"].min() and t["cell_voltage"].max() <= 4.1 + 1e-9
+    np.testing.assert_allclose(t["branch_current"].sum(axis=1), t["pack_current"], rtol=1e-9, atol=1e-9)
+    # No fault: no RUL (NaN, not a sentinel).
+    assert np.isnan(t["rul_s"]).all()
+    assert nominal.plan().shape[1] == 4
+
+
+def test_telemetry_csv_has_names_and_empty_fields(tmp_path, nominal):
+    nominal.write(str(tmp_path))
+    frame = uascma.read_telemetry(str(tmp_path))
+    assert len(frame) == len(nominal.telemetry()["t_s"])
+    assert frame["cma_state"].iloc[0] == "N,NF,MM1,G,RM1"
+    assert set(frame["action"]) <= set(uascma.ACTION_NAMES)
+    assert set(frame["imm_mode"]) <= set(uascma.IMM_MODE_NAMES)
+    assert frame["rul_s"].isna().all()
+    assert frame.attrs["summary"]["outcome"] == nominal.outcome
+    # The CSV's own text: no sentinel numbers where a value does not exist.
+    text = (tmp_path / "telemetry.csv").read_text()
+    assert "-1000000000" not in text and ",-1.000," not in text
+    in_memory = uascma.telemetry_frame(nominal)
+    pd.testing.assert_frame_equal(in_memory, frame)
+
+
+def test_jammed_rotor_shows_rul_and_the_isolated_rotor(tmp_path):
+    flight = uascma.run(example("jam-motor-3.yaml"))
+    flight.write(str(tmp_path))
+    frame = uascma.read_telemetry(str(tmp_path))
+    spall_onset_s = flight.summary()["spall_onset_s"]
+    after = frame[frame["t_s"] > spall_onset_s + 1.0]
+    assert after["rul_s"].notna().any()
+    assert frame[frame["t_s"] < spall_onset_s]["rul_s"].isna().all()
+    assert "rotor3_out" in set(frame["imm_mode"])
+    assert (after["cma_state"].str.split(",").str[1] != "NF").all()
+    # `uascma plot` reads the new CSV (python/plots/flight.py).
+    run_cli("plot", tmp_path)
+    for name in ("path.png", "eod.png", "decisions.png"):
+        assert os.path.getsize(tmp_path / name) > 0, name
+
+
+def test_a_python_callable_flies_like_the_same_policy_in_cpp():
+    noop = uascma.run(example("nominal.yaml"), "noop", seed=3, telemetry=False)
+    seen = []
+
+    def always_noop(inputs):
+        seen.append(inputs.time_s)
+        return "NoOp"
+
+    mine = uascma.run(example("nominal.yaml"), always_noop, seed=3, telemetry=False)
+    assert mine.policy == "always_noop"
+    assert without_wall_clock({**mine.summary(), "policy": "noop"}) == without_wall_clock(noop.summary())
+    assert seen[:3] == [0.0, 1.0, 2.0]  # called at 1 Hz
+
+    # The CMA table looked up in Python flies exactly as the C++ table policy.
+    solution = uascma.solve_cma()
+    table = uascma.run(example("jam-motor-3.yaml"), "cma", telemetry=False)
+    python = uascma.run(example("jam-motor-3.yaml"), lambda i: int(solution.policy.action[i.state.index]),
+                        telemetry=False)
+    assert python.actions == table.actions
+    assert python.outcome == table.outcome and python.sim_time_s == table.sim_time_s
+
+
+def test_errors_raise_input_error_naming_the_field(tmp_path):
+    with pytest.raises(uascma.InputError, match="wind.speedd_mps|speedd_mps"):
+        uascma.run("name: typo\nwind:\n  speedd_mps: 2\n")
+    with pytest.raises(uascma.InputError, match="vehicle: mass"):
+        uascma.run({"vehicle": {"mass_kg": -1.0}})
+    with pytest.raises(uascma.InputError, match="scenario"):
+        uascma.run(str(tmp_path / "missing.yaml"))
+    with pytest.raises(uascma.InputError, match="action"):
+        uascma.run(example("nominal.yaml"), lambda inputs: "Hover", telemetry=False)
+    with pytest.raises(ValueError):  # InputError is a ValueError
+        uascma.run(example("nominal.yaml"), "no-such-policy.json", telemetry=False)
+    # An exception raised inside the Python policy reaches the caller unchanged.
+    def broken(inputs):
+        raise KeyError("from the policy")
+    with pytest.raises(KeyError, match="from the policy"):
+        uascma.run(example("nominal.yaml"), broken, telemetry=False)
+
+
+def test_telemetry_written_with_codes_before_names_reads_the_same(tmp_path):
+    # Files from before the CSV carried names: integer codes, -1 for "no RUL", -1e9 for MM = −∞.
+    (tmp_path / "telemetry.csv").write_text(
+        "t_s,rul_s,motor_margin,cma_state,action,imm_mode\n"
+        "0.100,-1.000,1.00000,2,0,0\n"
+        "0.200,0.000,-1000000000.00000,35,3,3\n")
+    frame = uascma.read_telemetry(str(tmp_path))
+    assert list(frame["cma_state"]) == [uascma.cma_state_label(2), uascma.cma_state_label(35)]
+    assert list(frame["action"]) == ["NoOp", "LandPract"]
+    assert list(frame["imm_mode"]) == ["nominal", "rotor3_out"]
+    assert np.isnan(frame["rul_s"][0]) and frame["rul_s"][1] == 0.0
+    assert frame["motor_margin"][0] == 1.0 and frame["motor_margin"][1] == -np.inf
+    (tmp_path / "telemetry.csv").write_text("x,y\n1,2\n")
+    with pytest.raises(uascma.InputError, match="t_s"):
+        uascma.read_telemetry(str(tmp_path))

@@ -1,0 +1,192 @@
+// The kernel of flight.h: a FlightState is a value (a copy has the same future bit for bit), a flight branches
+// at a fault onset into different policies, stepping by epochs is Run, and the decision environment replays
+// Run's flight with Run's rewards.
+#include <gtest/gtest.h>
+
+#include "uascma/campaign/metrics.h"
+#include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/environment.h"
+#include "uascma/sim/flight.h"
+#include "uascma/sim/policy.h"
+#include "uascma/sim/scenario.h"
+#include "uascma/sim/simulator.h"
+
+namespace uascma::sim {
+namespace {
+
+Scenario ScenarioOne() {
+  return LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario;
+}
+
+Scenario ShortJam() {
+  Scenario scenario;
+  scenario.name = "short jam";
+  scenario.mission.destination_NE = Eigen::Vector2d(300, 200);
+  scenario.wind.mean_speed = 2.0;
+  scenario.wind.turbulence = models::TurbulenceCategory::kLowModerate;
+  scenario.fault.enabled = true;
+  scenario.fault.motor = 2;
+  scenario.fault.spall_onset_s = 30.0;
+  scenario.fault.time_per_growth_step_s = 0.7128;
+  scenario.seed = 5;
+  return scenario;
+}
+
+void ExpectSameFlight(const FlightState& a, const FlightState& b) {
+  EXPECT_EQ(a.outcome, b.outcome);
+  EXPECT_EQ(a.reason, b.reason);
+  EXPECT_EQ(a.step, b.step);
+  // Bit-identical, not approximately equal: the copies draw the same random numbers in the same order.
+  EXPECT_EQ(a.body.p_WB_W, b.body.p_WB_W);
+  EXPECT_EQ(a.body.v_WB_W, b.body.v_WB_W);
+  EXPECT_EQ(a.body.q_WB.coeffs(), b.body.q_WB.coeffs());
+  EXPECT_EQ(a.energy_wh, b.energy_wh);
+  EXPECT_EQ(a.min_cell_voltage_v, b.min_cell_voltage_v);
+  EXPECT_EQ(a.jam_time_s, b.jam_time_s);
+  EXPECT_EQ(a.isolation_time_s, b.isolation_time_s);
+}
+
+TEST(FlightTest, ACopiedStateHasTheSameFutureBitForBit) {
+  const FlightModel model(ShortJam());
+  FlightState state = MakeInitialState(model, 11);
+  NoOpPolicy noop;
+  const Controllers controllers{&noop, nullptr, {}};
+  // Mid-flight, between epochs: 20 s of epochs then 37 GNC steps.
+  for (int epoch = 0; epoch < 20; ++epoch) StepEpoch(model, state, controllers);
+  for (int k = 0; k < 37; ++k) Step(model, state);
+  FlightState copy = state;
+  FlightLog log_a, log_b;
+  log_a.record_telemetry = log_b.record_telemetry = true;
+  while (!state.done()) {
+    if (IsDecisionEpoch(model, state)) Act(model, state, noop.Decide(Observe(model, state, &log_a)), {}, &log_a);
+    Step(model, state, &log_a);
+  }
+  while (!copy.done()) {
+    if (IsDecisionEpoch(model, copy)) Act(model, copy, noop.Decide(Observe(model, copy, &log_b)), {}, &log_b);
+    Step(model, copy, &log_b);
+  }
+  ExpectSameFlight(state, copy);
+  ASSERT_EQ(log_a.telemetry.size(), log_b.telemetry.size());
+  ASSERT_FALSE(log_a.telemetry.empty());
+  EXPECT_EQ(log_a.telemetry.back().p_W, log_b.telemetry.back().p_W);
+  EXPECT_EQ(log_a.telemetry.back().cell_voltage, log_b.telemetry.back().cell_voltage);
+  EXPECT_TRUE(state.jam_time_s.has_value());  // the future held the jam: the fault streams were copied too
+}
+
+TEST(FlightTest, SteppingByEpochsIsRun) {
+  const Simulator simulator(ShortJam());
+  auto cma = MakePolicy("cma", "test");
+  const SimResult run = simulator.Run(*cma, {}, {.record_telemetry = false});
+  FlightState state = MakeInitialState(simulator.model(), simulator.scenario().seed);
+  FlightLog log;
+  const Controllers controllers{cma.get(), nullptr, {}};
+  while (!state.done()) StepEpoch(simulator.model(), state, controllers, &log);
+  const SimResult stepped = MakeSimResult(simulator.model(), state, std::move(log), cma->name());
+  EXPECT_EQ(stepped.outcome, run.outcome);
+  EXPECT_EQ(stepped.sim_time_s, run.sim_time_s);
+  EXPECT_EQ(stepped.energy_wh, run.energy_wh);
+  EXPECT_EQ(stepped.states, run.states);
+  EXPECT_EQ(stepped.events.size(), run.events.size());
+}
+
+// §5.5.1's flight, branched at the spall onset: the same past, then NoOp runs the battery to the cut-off while
+// the CMA policy lands on a LandPract site (tests/sim/scenarios_test.cc checks the whole flights).
+TEST(FlightTest, ScenarioOneBranchesAtTheSpallIntoNoOpAndCma) {
+  const FlightModel model(ScenarioOne());
+  FlightState state = MakeInitialState(model, model.scenario().seed);
+  NoOpPolicy noop;
+  const Controllers before{&noop, nullptr, {}};
+  while (!state.spall_onset_s && !state.done()) StepEpoch(model, state, before);
+  ASSERT_FALSE(state.done());
+  ASSERT_TRUE(state.spall_onset_s.has_value());
+  EXPECT_NEAR(*state.spall_onset_s, 175.0, 1e-9);  // s, scenario-1.yaml
+
+  FlightState noop_branch = state;
+  FlightState cma_branch = state;
+  auto cma = MakePolicy("cma", "test");
+  FlightLog cma_log;
+  while (!noop_branch.done()) StepEpoch(model, noop_branch, before);
+  while (!cma_branch.done()) StepEpoch(model, cma_branch, {cma.get(), nullptr, {}}, &cma_log);
+  EXPECT_EQ(noop_branch.outcome, Outcome::kFailedBattery) << noop_branch.reason;
+  EXPECT_EQ(cma_branch.outcome, Outcome::kEmergencyLanding) << cma_branch.reason;
+  ASSERT_FALSE(cma_log.actions.empty());
+  EXPECT_EQ(cma_log.actions.front().second, decision::CmaAction::kLandPract);
+  EXPECT_EQ(noop_branch.jam_time_s, cma_branch.jam_time_s);  // the same fault in both futures
+}
+
+// The environment taking the policy's actions flies Run's flight, and its undiscounted return is the campaign's
+// reward trace of that flight (campaign/metrics.h).
+TEST(DecisionEnvironmentTest, ReplaysRunAndItsRewards) {
+  const Scenario scenario = ScenarioOne();
+  const Simulator simulator(scenario);
+  auto cma = MakePolicy("cma", "test");
+  campaign::RecordingPolicy recording(*cma);
+  const SimResult run = simulator.Run(recording, {}, {.record_telemetry = false});
+  const campaign::RewardTrace trace = campaign::CalcRewardTrace(recording.decisions(), run.outcome);
+  double expected_return = 0.0;
+  for (double r : trace.reward) expected_return += r;
+
+  DecisionEnvironment environment(scenario);
+  Observation observation = environment.Reset(scenario.seed);
+  double total = 0.0;
+  int epochs = 0;
+  EnvironmentStep step;
+  do {
+    DecisionInputs inputs;
+    inputs.state = observation.state;
+    step = environment.Step(cma->Decide(inputs));
+    total += step.reward;
+    observation = step.observation;
+    ++epochs;
+  } while (!step.done);
+  EXPECT_EQ(step.outcome, run.outcome);
+  EXPECT_EQ(environment.state().time_s, run.sim_time_s);
+  EXPECT_EQ(epochs, static_cast<int>(recording.decisions().size()));
+  EXPECT_NEAR(total, expected_return, 1e-12);
+  ASSERT_TRUE(step.observation.terminal.has_value());
+  EXPECT_EQ(*step.observation.terminal, decision::CmaTerminal::kC);
+  EXPECT_THROW(environment.Step(decision::CmaAction::kNoOp), InputError);  // the flight has ended
+}
+
+TEST(DecisionEnvironmentTest, RefusesActionsTheFlightStatusDoesNotOffer) {
+  DecisionEnvironment environment(ScenarioOne());
+  EXPECT_THROW(environment.Step(decision::CmaAction::kNoOp), InputError);  // before Reset
+  environment.Reset(3);
+  for (int k = 0; k < 30; ++k) environment.Step(decision::CmaAction::kNoOp);  // airborne, cruising
+  EnvironmentStep step = environment.Step(decision::CmaAction::kLandAsap);
+  ASSERT_EQ(step.observation.flight_status, decision::FlightStatus::kElAsap);
+  // ELASAP offers NoOp and Terminate only (decisions item 3).
+  EXPECT_THROW(environment.Step(decision::CmaAction::kLandPract), InputError);
+  EXPECT_THROW(environment.Step(decision::CmaAction::kLandAsap), InputError);
+  step = environment.Step(decision::CmaAction::kNoOp);
+  EXPECT_EQ(step.executed, decision::CmaAction::kNoOp);
+
+  // Without the check, repeating the executing action is executed as NoOp (decisions item 9).
+  EnvironmentOptions lenient;
+  lenient.require_available_actions = false;
+  DecisionEnvironment free_environment(ScenarioOne(), lenient);
+  free_environment.Reset(3);
+  for (int k = 0; k < 30; ++k) free_environment.Step(decision::CmaAction::kNoOp);
+  free_environment.Step(decision::CmaAction::kLandAsap);
+  step = free_environment.Step(decision::CmaAction::kLandAsap);
+  EXPECT_EQ(step.executed, decision::CmaAction::kNoOp);
+}
+
+TEST(DecisionEnvironmentTest, SetStateBranchesFromAnEpoch) {
+  DecisionEnvironment environment(ShortJam());
+  environment.Reset(21);
+  for (int k = 0; k < 40; ++k) environment.Step(decision::CmaAction::kNoOp);
+  const FlightState snapshot = environment.state();
+  EnvironmentStep a, b;
+  do a = environment.Step(decision::CmaAction::kNoOp); while (!a.done);
+  environment.SetState(snapshot);
+  do b = environment.Step(decision::CmaAction::kNoOp); while (!b.done);
+  EXPECT_EQ(a.outcome, b.outcome);
+  EXPECT_EQ(a.observation.time_s, b.observation.time_s);
+  FlightState between = snapshot;
+  Step(environment.model(), between);
+  EXPECT_THROW(environment.SetState(between), InputError);  // not at an epoch
+}
+
+}  // namespace
+}  // namespace uascma::sim
