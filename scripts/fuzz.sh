@@ -5,6 +5,7 @@
 # and features (ft) per parser, and fails on any crash, hang, leak or out-of-memory, whose input is
 # then in BUILD_DIR/fuzz/artifacts/PARSER/. Usage: fuzz.sh [BUILD_DIR [SECONDS [JOBS]]]
 # The policy and results-store seeds are written by the tool: $UASCMA_CLI, else the instrumented build's.
+# FUZZ_PARSERS="weights_yaml geojson …" runs only those (default: all nine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -17,7 +18,10 @@ if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=cc
 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DUASCMA_FUZZ=ON \
   -DUASCMA_BUILD_TESTS=OFF -DUASCMA_BUILD_BENCHMARKS=OFF "${launcher[@]}" >/dev/null
-cmake --build "$build" --target fuzzers -j "$jobs"
+parsers=(${FUZZ_PARSERS:-scenario_yaml campaign_yaml weights_yaml policy_json geojson osm_xml osm_pbf sites_csv results_store})
+targets=(fuzz_osm_seeds)
+for parser in "${parsers[@]}"; do targets+=("${parser}_fuzzer"); done
+cmake --build "$build" --target "${targets[@]}" -j "$jobs"
 cli=${UASCMA_CLI:-}
 if [[ -z $cli ]]; then
   cmake --build "$build" --target uascma_cli -j "$jobs"
@@ -48,13 +52,14 @@ export ASAN_OPTIONS=detect_leaks=0  # the seed-making runs of the tool are not w
 "$cli" policy solve --model cma --out "$corpus/policy_json/cma-policy.json" >/dev/null
 printf 'runs: 2\nmap: {procedural_seed: 0}\nmission: {distance_m: [20, 40], cruise_speed_mps: [4, 6], cruise_altitude_m: 5, drop_hover_s: 2}\n' \
   >"$scratch/tiny.yaml"
+rm -f "$corpus/results_store/tiny.db"  # the seed is rewritten each time (campaign refuses an existing file)
 "$cli" campaign "$scratch/tiny.yaml" --policies noop --db "$corpus/results_store/tiny.db" --jobs 1 >/dev/null
 unset ASAN_OPTIONS
 
 # Big inputs (the 1.7 MB GeoJSON) are seeds, not mutation targets: -max_len keeps mutations small.
 status=0
 summary=()
-for parser in scenario_yaml campaign_yaml weights_yaml policy_json geojson osm_xml osm_pbf sites_csv results_store; do
+for parser in "${parsers[@]}"; do
   mkdir -p "$artifacts/$parser"
   log=$build/fuzz/$parser.log
   echo "fuzz: $parser for $seconds s"

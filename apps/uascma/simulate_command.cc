@@ -1,4 +1,5 @@
 // uascma simulate — fly one scenario in the high-fidelity simulator (§5.4, Fig. 5.15).
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -9,9 +10,12 @@
 
 #include "commands.h"
 #include "output.h"
+#include "uascma/campaign/battery_flights.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/campaign/replay.h"
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
+#include "uascma/planning/mission_file.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
@@ -25,9 +29,42 @@ struct SimulateOptions {
   std::string scenario;
   std::string out;
   std::string policy;
+  std::string mission;
+  std::string battery_policy;
   std::optional<std::uint64_t> seed;
   bool json = false;
 };
+
+// Runs the battery executor and records every change of its action (time, action), the first included:
+// the executor itself keeps no record (campaign/battery_flights.h).
+class RecordingBatterySwitch final : public sim::BatterySwitchPolicy {
+ public:
+  explicit RecordingBatterySwitch(std::unique_ptr<sim::BatterySwitchPolicy> inner) : inner_(std::move(inner)) {}
+  models::PackAction Decide(const sim::FlightModel& model, const sim::FlightState& state) override {
+    const models::PackAction action = inner_->Decide(model, state);
+    if (switches_.empty() || switches_.back().second != action) switches_.emplace_back(state.time_s, action);
+    return action;
+  }
+  const std::vector<std::pair<double, models::PackAction>>& switches() const { return switches_; }
+
+ private:
+  std::unique_ptr<sim::BatterySwitchPolicy> inner_;
+  std::vector<std::pair<double, models::PackAction>> switches_;
+};
+
+// The QGroundControl export of a plan in the scenario's frame (origin known).
+planning::QgcPlanExportOptions ExportOptions(const sim::Scenario& scenario, const planning::FlightPlan& nominal) {
+  planning::QgcPlanExportOptions options;
+  options.origin = *scenario.geo_origin;
+  options.cruise_speed = scenario.limits.cruise_speed;
+  if (scenario.route) {
+    options.home_amsl = scenario.route->home_amsl.value_or(0.0);
+    options.home_W = scenario.route->home_W;
+  } else {
+    options.home_W = Eigen::Vector3d(nominal.start_W().x(), nominal.start_W().y(), 0.0);
+  }
+  return options;
+}
 
 }  // namespace
 
@@ -37,13 +74,23 @@ void AddSimulateCommand(CLI::App& app) {
       "simulate",
       "Fly one scenario: 6-DOF dynamics with drag and Dryden wind, LQR at 200 Hz, rotor faults isolated by\n"
       "an IMM, the battery pack coupled to the rotors, and the decision module at 1 Hz. Prints the outcome;\n"
-      "--out writes telemetry.csv, plan.csv and summary.json (draw them with 'uascma plot DIR');\n"
-      "--replay DB RUN_ID flies one run of a campaign again, bit for bit");
+      "--out writes telemetry.csv, plan.csv and summary.json (draw them with 'uascma plot DIR') and, when\n"
+      "the scenario has a geodetic frame (a mission file, an imported map, mission.origin), nominal.plan and\n"
+      "emergency.plan for QGroundControl; --mission flies a .plan/.waypoints mission; --battery-policy runs the\n"
+      "battery executor (Ch. IV) alongside the CMA policy; --replay DB RUN_ID flies one run of a campaign again,\n"
+      "bit for bit");
   command->add_option("scenario", options->scenario, "Scenario YAML (see examples/)");
   command->add_option("--replay", options->replay,
                       "Fly one run of a campaign again from its database: DB RUN_ID (a flight id, or INDEX:POLICY)")
       ->expected(2);
-  command->add_option("--out", options->out, "Folder for telemetry.csv, plan.csv, summary.json");
+  command->add_option("--out", options->out,
+                      "Folder for telemetry.csv, plan.csv, summary.json (+ nominal.plan, emergency.plan); "
+                      "replaced whole");
+  command->add_option("--mission", options->mission,
+                      "Mission file (.plan or .waypoints, relative to the current folder) flown instead of the "
+                      "scenario's mission");
+  command->add_option("--battery-policy", options->battery_policy,
+                      "Battery policy JSON ('uascma battery solve'): the 1 Hz pack-switch executor");
   command->add_option("--policy", options->policy, "noop | cma | policy.json (overrides the scenario's)");
   command->add_option("--seed", options->seed, "Random seed (overrides the scenario's)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
@@ -52,13 +99,20 @@ void AddSimulateCommand(CLI::App& app) {
     std::unique_ptr<sim::DecisionPolicy> policy;
     if (!options->replay.empty()) {
       if (!options->scenario.empty()) throw InputError("--replay", "scenario", "either a scenario file or --replay, not both");
+      if (!options->mission.empty()) throw InputError("--replay", "--mission", "either --mission or --replay, not both");
       // The run's scenario is resampled from the stored campaign and its seed (bit-identical flight).
       const campaign::ReplayFlight flight = campaign::LoadReplay(options->replay[0], options->replay[1]);
       file.scenario = flight.run.scenario;
       policy = campaign::MakeDecisionPolicy(flight.policy);
     } else {
       if (options->scenario.empty()) throw InputError("simulate", "scenario", "a scenario YAML file (or --replay DB RUN_ID)");
-      file = sim::LoadScenarioFile(options->scenario);
+      sim::ScenarioLoadOptions load;
+      if (!options->mission.empty()) load.mission_file = options->mission;
+      file = sim::LoadScenarioFile(options->scenario, load);
+    }
+    // The importer's notes on the mission (items read but not modelled, our choices): one line each.
+    if (file.scenario.route) {
+      for (const std::string& warning : file.scenario.route->warnings) std::fprintf(stderr, "warning: %s\n", warning.c_str());
     }
     if (options->seed) file.scenario.seed = *options->seed;
     if (!policy || !options->policy.empty()) {
@@ -66,13 +120,55 @@ void AddSimulateCommand(CLI::App& app) {
       policy = sim::MakePolicy(policy_spec, options->policy.empty() ? options->scenario : "--policy");
     }
     const sim::Simulator simulator(file.scenario);
-    sim::RunOptions run;
-    run.record_telemetry = !options->out.empty();
-    const sim::SimResult result = simulator.Run(*policy, {}, run);
-    if (!options->out.empty()) {
-      sim::WriteFlightRecord(options->out, file.scenario, simulator.nominal_plan(), result, simulator.checkpoints());
+    std::unique_ptr<RecordingBatterySwitch> battery;
+    if (!options->battery_policy.empty()) {
+      battery = std::make_unique<RecordingBatterySwitch>(
+          campaign::LoadBatterySwitchPolicy(options->battery_policy, file.scenario));
     }
-    const nlohmann::json summary = sim::SummaryJson(file.scenario, simulator.nominal_plan(), result);
+    // Checked (and staged) before the flight, so a refused folder costs no flight.
+    std::optional<OutputDirectory> out;
+    if (!options->out.empty()) out.emplace("--out", options->out);
+    sim::RunOptions run;
+    run.record_telemetry = out.has_value();
+    run.battery_policy = battery.get();
+    sim::SimResult result = simulator.Run(*policy, {}, run);
+    if (battery) {
+      // The executor's switch changes join the flight's events (time order kept; the outcome stays last).
+      for (const auto& [time_s, action] : battery->switches()) {
+        const auto at = std::upper_bound(result.events.begin(), result.events.end() - 1, time_s,
+                                         [](double t, const sim::FlightEvent& e) { return t < e.time_s; });
+        result.events.insert(at, sim::FlightEvent{time_s, fmt::format("battery: {}", models::PackActionName(action))});
+      }
+    }
+    const bool geodetic = file.scenario.geo_origin.has_value();
+    std::vector<std::string> written = {"telemetry.csv", "plan.csv", "summary.json"};
+    nlohmann::json summary = sim::SummaryJson(file.scenario, simulator.nominal_plan(), result);
+    if (battery) {
+      nlohmann::json switches = nlohmann::json::array();
+      for (const auto& [time_s, action] : battery->switches()) {
+        switches.push_back({{"time_s", time_s}, {"action", models::PackActionName(action)}});
+      }
+      summary["battery_switches"] = switches;
+    }
+    if (out) {
+      if (geodetic) {
+        const planning::QgcPlanExportOptions qgc = ExportOptions(file.scenario, simulator.nominal_plan());
+        planning::WriteQgcPlan(out->staging() / "nominal.plan", simulator.nominal_plan(), qgc);
+        written.push_back("nominal.plan");
+        if (result.emergency_plan) {
+          planning::WriteQgcPlan(out->staging() / "emergency.plan", *result.emergency_plan, qgc);
+          written.push_back("emergency.plan");
+        }
+      }
+      summary["files"] = written;
+      if (!geodetic) {
+        summary["qgc_plans"] = "not written: the scenario has no geodetic frame (no mission file, imported map or mission.origin)";
+      }
+      sim::WriteFlightRecord(out->staging(), file.scenario, simulator.nominal_plan(), result, simulator.checkpoints());
+      // The summary with this command's additions (battery switches, files) replaces the record's.
+      WriteFileAtomically(out->staging() / "summary.json", summary.dump(2) + "\n");
+      out->Commit();
+    }
     if (options->json) {
       PrintJson(summary);
       return;
@@ -82,7 +178,17 @@ void AddSimulateCommand(CLI::App& app) {
     std::printf("flew %.1f s of simulated time in %.1f ms (%.0fx real time); min cell %.3f V, energy %.1f Wh\n",
                 result.sim_time_s, result.wall_time_s * 1e3, result.realtime_factor(), result.min_cell_voltage_v,
                 result.energy_wh);
-    if (!options->out.empty()) std::printf("wrote %s/{telemetry.csv,plan.csv,summary.json}\n", options->out.c_str());
+    if (battery) {
+      std::printf("battery executor:");
+      for (const auto& [time_s, action] : battery->switches()) std::printf(" %.0f s %s;", time_s, models::PackActionName(action));
+      std::printf("\n");
+    }
+    if (out) {
+      std::string list;
+      for (const auto& name : written) list += (list.empty() ? "" : ",") + name;
+      std::printf("wrote %s/{%s}\n", options->out.c_str(), list.c_str());
+      if (!geodetic) std::printf("no .plan files: the scenario has no geodetic frame (no mission file, imported map or mission.origin)\n");
+    }
   });
 }
 

@@ -324,6 +324,201 @@ void ExecuteFlights(const CampaignConfig& config, const std::vector<CampaignPoli
                      LoopHooks{});
 }
 
+namespace {
+
+// What rank 0 found in the store at the start, as each rank holds it.
+struct CampaignPlan {
+  std::optional<ResultsStore> store;      // root: the store, joined as a worker
+  std::vector<std::int64_t> candidates;   // root: runs with flights missing at the start
+  std::vector<std::int64_t> held;         // MPI root: of those, runs other workers held at the start
+  std::vector<FlightTask> tasks;          // MPI: the runs rank 0 claimed for the ranks
+  std::int64_t flights_missing = 0;
+};
+
+// Rank 0 (or the only process) joins the store as a worker and finds what is left to fly; under MPI it
+// claims every free candidate for the ranks and broadcasts the plan (or its failure) to them.
+CampaignPlan OpenStoreAndPlan(const CampaignRequest& request, const CampaignHeader& header, MpiSession* mpi) {
+  CampaignPlan plan;
+  std::string failure;
+  try {
+    plan.store.emplace(OpenCampaignStore(request, header));
+    plan.store->RecordRunsRequested(request.config.runs);
+    const std::vector<FlightTask> missing =
+        MissingFlights(request.config.runs, request.policies, plan.store->StoredFlights());
+    plan.flights_missing = CountFlights(missing);
+    for (const FlightTask& task : missing) plan.candidates.push_back(task.run_index);
+    if (mpi != nullptr) {
+      ClaimResult claimed = plan.store->ClaimRuns(plan.candidates, plan.candidates.size());
+      plan.tasks = std::move(claimed.claimed);
+      plan.held = std::move(claimed.held);
+    }
+  } catch (const InputError& e) {
+    failure = e.what();
+    if (mpi == nullptr) throw;
+  }
+  if (mpi != nullptr) {
+    std::string bytes = ToBytes({{"failure", failure}, {"campaign_hash", header.campaign_hash},
+                                 {"tasks", TasksToJson(plan.tasks)}, {"missing", plan.flights_missing}});
+    mpi::Broadcast(bytes, 0);
+    if (!failure.empty()) throw InputError(failure);
+  }
+  return plan;
+}
+
+// The other MPI ranks: rank 0's plan (its claimed runs and the flights missing), checked against this rank's
+// campaign hash.
+CampaignPlan ReceivePlan(const CampaignHeader& header, MpiSession& mpi) {
+  CampaignPlan plan;
+  std::string bytes;
+  mpi::Broadcast(bytes, 0);
+  const nlohmann::json json = FromBytes(bytes);
+  if (!json.at("failure").get<std::string>().empty()) throw InputError(json.at("failure").get<std::string>());
+  if (json.at("campaign_hash").get<std::string>() != header.campaign_hash) {
+    mpi.Abort(fmt::format("rank {} resolved campaign hash {}, rank 0 {}: the ranks see different inputs", mpi.rank(),
+                          header.campaign_hash, json.at("campaign_hash").get<std::string>()),
+              2);
+  }
+  plan.tasks = TasksFromJson(json.at("tasks"));
+  plan.flights_missing = json.at("missing").get<std::int64_t>();
+  return plan;
+}
+
+// The root's writes: records in, heartbeats out, both through the store's mutex (the store is used by the
+// claiming threads and the calling thread); the outcome's counts of what it stored.
+class RootStore {
+ public:
+  RootStore(ResultsStore& store, const CampaignRequest& request, const ExecuteOptions& execute,
+            CampaignOutcome& outcome, Clock::time_point start)
+      : store_(store), request_(request), execute_(execute), outcome_(outcome), start_(start) {}
+
+  void Insert(const std::vector<RunRecord>& records) {
+    const std::lock_guard lock(store_mutex_);
+    store_.Insert(records);
+    outcome_.flights_flown += static_cast<std::int64_t>(records.size());
+  }
+
+  void Heartbeat() {
+    const std::lock_guard lock(store_mutex_);
+    store_.Heartbeat();
+  }
+
+  // Flies, on this process's threads, the runs it claims from `claim_from` and `held_by_others`, and waits
+  // for those others fly (store.h): when it returns, every candidate is stored.
+  void FlyClaimedRuns(std::vector<std::int64_t> claim_from, std::vector<std::int64_t> held_by_others,
+                      ProgressBar* progress) {
+    const std::size_t most = claim_from.size() + held_by_others.size();
+    ClaimedTasks claims(store_, store_mutex_, std::move(claim_from), std::move(held_by_others));
+    LoopHooks hooks;
+    hooks.tick = [this] { Heartbeat(); };
+    ExecuteFlightsImpl(
+        request_.config, request_.policies,
+        [&claims](const std::atomic<bool>& stop, const std::function<void()>& request_flush) {
+          return claims.Next(stop, request_flush);
+        },
+        most, execute_, [this](std::vector<RunRecord>&& batch) { Insert(batch); }, progress, hooks);
+  }
+
+  // After the work: what other processes stored meanwhile, and this worker retires.
+  void Finish() {
+    const std::lock_guard lock(store_mutex_);
+    std::int64_t stored = 0;
+    for (const auto& flight : store_.StoredFlights()) stored += flight.first < request_.config.runs ? 1 : 0;
+    outcome_.flights_by_others = std::max<std::int64_t>(0, stored - outcome_.flights_before - outcome_.flights_flown);
+    store_.Retire();
+    outcome_.wall_time_s = std::chrono::duration<double>(Clock::now() - start_).count();
+  }
+
+ private:
+  ResultsStore& store_;
+  std::mutex store_mutex_;
+  const CampaignRequest& request_;
+  const ExecuteOptions& execute_;
+  CampaignOutcome& outcome_;
+  Clock::time_point start_;
+};
+
+// This rank's round-robin share of the runs rank 0 claimed: positions rank, rank + K, rank + 2K, … (runner.h).
+struct RankShare {
+  std::vector<FlightTask> tasks;
+  std::int64_t flights_elsewhere = 0;  // flights of the other ranks' shares
+};
+
+RankShare ShareOfRank(const std::vector<FlightTask>& tasks, const MpiSession& mpi) {
+  RankShare share;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (static_cast<int>(i % static_cast<std::size_t>(mpi.size())) == mpi.rank()) {
+      share.tasks.push_back(tasks[i]);
+    } else {
+      share.flights_elsewhere += static_cast<std::int64_t>(tasks[i].slots.size());
+    }
+  }
+  return share;
+}
+
+// MPI rank 0: flies its share while receiving the other ranks' records, writes them all, then waits for the
+// runs other processes held when it claimed (flying those whose worker died), and retires.
+void RunMpiRoot(const CampaignRequest& request, const ExecuteOptions& execute, RootStore& root,
+                const RankShare& share, const TaskSource& share_source, std::int64_t flights_missing,
+                std::vector<std::int64_t> held) {
+  std::optional<ProgressBar> progress;
+  if (execute.progress) progress.emplace(flights_missing, execute.progress_label);
+  std::vector<RunRecord> pending;
+  auto last_write = Clock::now();
+  std::int64_t received = 0;
+  auto write = [&](bool force) {
+    if (pending.empty()) return;
+    if (!force && static_cast<int>(pending.size()) < execute.flush_rows &&
+        Clock::now() - last_write < std::chrono::duration<double>(execute.flush_interval_s)) {
+      return;
+    }
+    root.Insert(pending);
+    pending.clear();
+    last_write = Clock::now();
+  };
+  LoopHooks hooks;
+  hooks.poll = [&] {
+    while (auto bytes = mpi::TryReceive(mpi::kTagRecords)) {
+      const nlohmann::json list = FromBytes(*bytes);
+      for (const auto& item : list) pending.push_back(RecordFromJson(item, "MPI message"));
+      received += static_cast<std::int64_t>(list.size());
+      if (progress) progress->Advance(static_cast<std::int64_t>(list.size()));
+    }
+    write(false);
+  };
+  hooks.remote_done = [&] { return received >= share.flights_elsewhere; };
+  hooks.tick = [&root] { root.Heartbeat(); };
+  ExecuteFlightsImpl(request.config, request.policies, share_source, share.tasks.size(), execute,
+                     [&](std::vector<RunRecord>&& batch) {
+                       pending.insert(pending.end(), std::make_move_iterator(batch.begin()),
+                                      std::make_move_iterator(batch.end()));
+                       write(false);
+                     },
+                     progress ? &*progress : nullptr, hooks);
+  write(true);
+  // Runs other processes held when rank 0 claimed: wait for them, fly those whose worker died.
+  if (!held.empty()) root.FlyClaimedRuns({}, std::move(held), progress ? &*progress : nullptr);
+  root.Finish();
+}
+
+// The other MPI ranks: fly their share and send the records to rank 0 (which alone writes).
+void RunMpiWorker(const CampaignRequest& request, const ExecuteOptions& execute, const RankShare& share,
+                  const TaskSource& share_source, CampaignOutcome& outcome, Clock::time_point start) {
+  ExecuteOptions worker = execute;
+  worker.flush_interval_s = std::min(worker.flush_interval_s, 0.5);
+  worker.flush_rows = std::min(worker.flush_rows, 64);
+  ExecuteFlightsImpl(request.config, request.policies, share_source, share.tasks.size(), worker,
+                     [&](std::vector<RunRecord>&& batch) {
+                       nlohmann::json list = nlohmann::json::array();
+                       for (const RunRecord& record : batch) list.push_back(RecordToJson(record));
+                       mpi::Send(ToBytes(list), 0, mpi::kTagRecords);
+                       outcome.flights_flown += static_cast<std::int64_t>(batch.size());
+                     },
+                     nullptr, LoopHooks{});
+  outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
 CampaignOutcome RunCampaign(const CampaignRequest& request) {
   const auto start = Clock::now();
   std::string error;
@@ -342,159 +537,28 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
   outcome.jobs = execute.jobs;
 
   // ---- rank 0 (or the only process) joins the store as a worker and finds what is left to fly -------
-  std::optional<ResultsStore> store;
-  std::mutex store_mutex;                 // the store is used by the claiming threads and this one
-  std::vector<std::int64_t> candidates;   // root: runs with flights missing at the start
-  std::vector<std::int64_t> held;         // MPI root: of those, runs other workers held at the start
-  std::vector<FlightTask> tasks;          // MPI: the runs rank 0 claimed for the ranks
-  std::int64_t flights_missing = 0;
-  if (outcome.is_root) {
-    std::string failure;
-    try {
-      store.emplace(OpenCampaignStore(request, header));
-      store->RecordRunsRequested(request.config.runs);
-      const std::vector<FlightTask> missing =
-          MissingFlights(request.config.runs, request.policies, store->StoredFlights());
-      flights_missing = CountFlights(missing);
-      for (const FlightTask& task : missing) candidates.push_back(task.run_index);
-      if (mpi != nullptr) {
-        ClaimResult claimed = store->ClaimRuns(candidates, candidates.size());
-        tasks = std::move(claimed.claimed);
-        held = std::move(claimed.held);
-      }
-    } catch (const InputError& e) {
-      failure = e.what();
-      if (mpi == nullptr) throw;
-    }
-    if (mpi != nullptr) {
-      std::string plan = ToBytes({{"failure", failure}, {"campaign_hash", header.campaign_hash},
-                                  {"tasks", TasksToJson(tasks)}, {"missing", flights_missing}});
-      mpi::Broadcast(plan, 0);
-      if (!failure.empty()) throw InputError(failure);
-    }
-  } else {
-    std::string plan;
-    mpi::Broadcast(plan, 0);
-    const nlohmann::json json = FromBytes(plan);
-    if (!json.at("failure").get<std::string>().empty()) throw InputError(json.at("failure").get<std::string>());
-    if (json.at("campaign_hash").get<std::string>() != header.campaign_hash) {
-      mpi->Abort(fmt::format("rank {} resolved campaign hash {}, rank 0 {}: the ranks see different inputs",
-                             mpi->rank(), header.campaign_hash, json.at("campaign_hash").get<std::string>()),
-                 2);
-    }
-    tasks = TasksFromJson(json.at("tasks"));
-    flights_missing = json.at("missing").get<std::int64_t>();
-  }
-  outcome.flights_before = outcome.flights_total - flights_missing;
-
-  // The root's writes: records in, heartbeats out, both through the store's mutex.
-  auto insert = [&store, &store_mutex, &outcome](const std::vector<RunRecord>& records) {
-    const std::lock_guard lock(store_mutex);
-    store->Insert(records);
-    outcome.flights_flown += static_cast<std::int64_t>(records.size());
-  };
-  auto heartbeat = [&store, &store_mutex] {
-    const std::lock_guard lock(store_mutex);
-    store->Heartbeat();
-  };
-  // The root flies, on its threads, the runs it claims from `claim_from` and `held_by_others`, and waits
-  // for those others fly (store.h): when it returns, every candidate is stored.
-  auto fly_claimed_runs = [&](std::vector<std::int64_t> claim_from, std::vector<std::int64_t> held_by_others,
-                              ProgressBar* progress) {
-    const std::size_t most = claim_from.size() + held_by_others.size();
-    ClaimedTasks claims(*store, store_mutex, std::move(claim_from), std::move(held_by_others));
-    LoopHooks hooks;
-    hooks.tick = heartbeat;
-    ExecuteFlightsImpl(
-        request.config, request.policies,
-        [&claims](const std::atomic<bool>& stop, const std::function<void()>& request_flush) {
-          return claims.Next(stop, request_flush);
-        },
-        most, execute, [&insert](std::vector<RunRecord>&& batch) { insert(batch); }, progress, hooks);
-  };
-  // After the work: what other processes stored meanwhile, and this worker retires.
-  auto finish = [&] {
-    const std::lock_guard lock(store_mutex);
-    std::int64_t stored = 0;
-    for (const auto& flight : store->StoredFlights()) stored += flight.first < request.config.runs ? 1 : 0;
-    outcome.flights_by_others = std::max<std::int64_t>(0, stored - outcome.flights_before - outcome.flights_flown);
-    store->Retire();
-    outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
-  };
+  CampaignPlan plan = outcome.is_root ? OpenStoreAndPlan(request, header, mpi) : ReceivePlan(header, *mpi);
+  outcome.flights_before = outcome.flights_total - plan.flights_missing;
+  std::optional<RootStore> root;
+  if (outcome.is_root) root.emplace(*plan.store, request, execute, outcome, start);
 
   // ---- one process: threads claim runs, this thread writes ------------------------------------------
   if (mpi == nullptr) {
     std::optional<ProgressBar> progress;
-    if (execute.progress) progress.emplace(flights_missing, execute.progress_label);
-    fly_claimed_runs(std::move(candidates), {}, progress ? &*progress : nullptr);
-    finish();
+    if (execute.progress) progress.emplace(plan.flights_missing, execute.progress_label);
+    root->FlyClaimedRuns(std::move(plan.candidates), {}, progress ? &*progress : nullptr);
+    root->Finish();
     return outcome;
   }
 
   // ---- MPI: round-robin share of the claimed runs; rank 0 gathers and writes --------------------------
-  std::vector<FlightTask> share;
-  std::int64_t flights_elsewhere = 0;
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    if (static_cast<int>(i % static_cast<std::size_t>(mpi->size())) == mpi->rank()) {
-      share.push_back(tasks[i]);
-    } else {
-      flights_elsewhere += static_cast<std::int64_t>(tasks[i].slots.size());
-    }
-  }
-  const TaskSource share_source = ListedTasks(share);
+  const RankShare share = ShareOfRank(plan.tasks, *mpi);
+  const TaskSource share_source = ListedTasks(share.tasks);
   try {
     if (outcome.is_root) {
-      std::optional<ProgressBar> progress;
-      if (execute.progress) progress.emplace(flights_missing, execute.progress_label);
-      std::vector<RunRecord> pending;
-      auto last_write = Clock::now();
-      std::int64_t received = 0;
-      auto write = [&](bool force) {
-        if (pending.empty()) return;
-        if (!force && static_cast<int>(pending.size()) < execute.flush_rows &&
-            Clock::now() - last_write < std::chrono::duration<double>(execute.flush_interval_s)) {
-          return;
-        }
-        insert(pending);
-        pending.clear();
-        last_write = Clock::now();
-      };
-      LoopHooks hooks;
-      hooks.poll = [&] {
-        while (auto bytes = mpi::TryReceive(mpi::kTagRecords)) {
-          const nlohmann::json list = FromBytes(*bytes);
-          for (const auto& item : list) pending.push_back(RecordFromJson(item, "MPI message"));
-          received += static_cast<std::int64_t>(list.size());
-          if (progress) progress->Advance(static_cast<std::int64_t>(list.size()));
-        }
-        write(false);
-      };
-      hooks.remote_done = [&] { return received >= flights_elsewhere; };
-      hooks.tick = heartbeat;
-      ExecuteFlightsImpl(request.config, request.policies, share_source, share.size(), execute,
-                         [&](std::vector<RunRecord>&& batch) {
-                           pending.insert(pending.end(), std::make_move_iterator(batch.begin()),
-                                          std::make_move_iterator(batch.end()));
-                           write(false);
-                         },
-                         progress ? &*progress : nullptr, hooks);
-      write(true);
-      // Runs other processes held when rank 0 claimed: wait for them, fly those whose worker died.
-      if (!held.empty()) fly_claimed_runs({}, std::move(held), progress ? &*progress : nullptr);
-      finish();
+      RunMpiRoot(request, execute, *root, share, share_source, plan.flights_missing, std::move(plan.held));
     } else {
-      ExecuteOptions worker = execute;
-      worker.flush_interval_s = std::min(worker.flush_interval_s, 0.5);
-      worker.flush_rows = std::min(worker.flush_rows, 64);
-      ExecuteFlightsImpl(request.config, request.policies, share_source, share.size(), worker,
-                         [&](std::vector<RunRecord>&& batch) {
-                           nlohmann::json list = nlohmann::json::array();
-                           for (const RunRecord& record : batch) list.push_back(RecordToJson(record));
-                           mpi::Send(ToBytes(list), 0, mpi::kTagRecords);
-                           outcome.flights_flown += static_cast<std::int64_t>(batch.size());
-                         },
-                         nullptr, LoopHooks{});
-      outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+      RunMpiWorker(request, execute, share, share_source, outcome, start);
     }
   } catch (const InputError& e) {
     mpi->Abort(std::string("error: ") + e.what(), 2);

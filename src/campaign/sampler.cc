@@ -195,36 +195,32 @@ double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a) {
   return prognostics::CalcPackEod(pack, state, current_a).eod_s;
 }
 
-SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index) {
-  std::string error;
-  if (!config.IsValid(&error)) throw InputError("campaign configuration: " + error);
-  if (run_index < 0) throw InputError("campaign", "run index", fmt::format(">= 0, got {}", run_index));
+namespace {
 
-  SampledRun run;
-  run.run_index = run_index;
-  run.run_seed = RunSeed(campaign_seed, run_index);
-  RandomStream random(DeriveSeed(run.run_seed, kSamplerStream));
-  sim::Scenario& scenario = run.scenario;
-  scenario.name = fmt::format("{} run {}", config.name, run_index);
-  scenario.seed = DeriveSeed(run.run_seed, kSimulatorStream);
-  scenario.map = CampaignMap(config.map);
-  scenario.mission.drop_hover_s = config.mission.drop_hover_s;
+// Route attempts at most (step 7): the whole route, and the home within one route.
+constexpr int kMaxRouteAttempts = 10000;
 
+// Steps 1–2: cruise speed, then the safety margin t_sf.
+void DrawMission(RandomStream& random, const CampaignConfig& config, SampledRun& run) {
   // 1. Cruise speed.
   run.cruise_speed_mps = Draw(random, config.mission.cruise_speed_mps);
-  scenario.limits.cruise_speed = run.cruise_speed_mps;
+  run.scenario.limits.cruise_speed = run.cruise_speed_mps;
 
   // 2. Safety margin t_sf.
   run.safety_margin_s = Draw(random, config.safety_margin_s);
-  scenario.options.safety_margin_s = run.safety_margin_s;
+  run.scenario.options.safety_margin_s = run.safety_margin_s;
+}
 
+// Steps 3–5: the initial cell voltages, the battery health with its degraded cells, the ambient temperature.
+void DrawBattery(RandomStream& random, const BatterySampling& battery, SampledRun& run) {
+  sim::Scenario& scenario = run.scenario;
   // 3. Initial cell voltages, pack 1 cells 1–3 then pack 2.
   for (auto& pack : scenario.battery.initial_cell_voltage_v) {
-    for (double& voltage : pack) voltage = Draw(random, config.battery.initial_cell_voltage_v);
+    for (double& voltage : pack) voltage = Draw(random, battery.initial_cell_voltage_v);
   }
 
   // 4. Battery health and the degraded cells; the per-pack labels follow from the cells.
-  run.battery_health = DrawBatteryHealth(random, config.battery, scenario.battery.cell_health);
+  run.battery_health = DrawBatteryHealth(random, battery, scenario.battery.cell_health);
   for (int b = 0; b < models::kBranchCount; ++b) {
     run.pack_health[b] = models::ClassifyHealth(scenario.battery.cell_health[b]);
   }
@@ -233,16 +229,74 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
                "the drawn cells realise the drawn battery health");
 
   // 5. Ambient temperature: only the 50 °F split matters (Table 3.2).
-  run.cold = random.Bernoulli(config.battery.cold_probability);
-  scenario.battery.ambient_temp_degf = run.cold ? config.battery.cold_temp_degf : config.battery.warm_temp_degf;
+  run.cold = random.Bernoulli(battery.cold_probability);
+  scenario.battery.ambient_temp_degf = run.cold ? battery.cold_temp_degf : battery.warm_temp_degf;
+}
 
-  // 6. Wind.
-  scenario.wind.mean_speed = Draw(random, config.wind.speed_mps);
-  scenario.wind.direction_rad = Draw(random, config.wind.direction_rad);
-  scenario.wind.turbulence = config.wind.turbulence[random.UniformIndex(config.wind.turbulence.size())];
+// Step 6: wind speed, direction, then the Dryden category.
+void DrawWind(RandomStream& random, const WindSampling& wind, SampledRun& run) {
+  run.scenario.wind.mean_speed = Draw(random, wind.speed_mps);
+  run.scenario.wind.direction_rad = Draw(random, wind.direction_rad);
+  run.scenario.wind.turbulence = wind.turbulence[random.UniformIndex(wind.turbulence.size())];
+}
 
-  // 7. The route: the endurance fraction, then home (on open ground, clear of every wall) and the bearing,
-  // redrawn until the destination is inside the city and clear of every wall too.
+// Step 7, the home of one route attempt: uniform over the city until it is on open ground with `clearance` (m)
+// from every wall; the origin on an empty map.
+Eigen::Vector2d DrawHome(RandomStream& random, const planning::CityMap& map, double clearance) {
+  if (map.buildings().empty()) return Eigen::Vector2d::Zero();
+  const Eigen::AlignedBox2d bounds = map.bounds();
+  Eigen::Vector2d home_NE;
+  int home_attempts = 0;
+  do {
+    if (++home_attempts > kMaxRouteAttempts) {
+      throw InputError("campaign", "mission.wall_clearance_m",
+                       fmt::format("a clearance that leaves open ground in the city, got {} m", clearance));
+    }
+    home_NE = Eigen::Vector2d(random.Uniform(bounds.min().x(), bounds.max().x()),
+                              random.Uniform(bounds.min().y(), bounds.max().y()));
+  } while (!ClearOfBuildings(map, home_NE, clearance));
+  return home_NE;
+}
+
+// Step 7, the distance tied to the pack for the home and bearing of one route attempt (no draw): sets the run's
+// I_cruise and EOD_healthy, on a city the cruise altitude, and the distance. `lowest_cruise`: the cruise
+// altitude never goes below it (DrawRoute).
+void SetEnduranceTiedDistance(SampledRun& run, const models::DragTable& drag, const Eigen::Vector2d& direction,
+                              double clearance, double lowest_cruise) {
+  sim::Scenario& scenario = run.scenario;
+  const planning::CityMap& map = *scenario.map;
+  // Decisions item 19: plan = f (EOD_healthy − t_sf) at the plan's cruise current, the distance from it.
+  run.cruise_current_a = CalcPlanCruiseCurrent(scenario, drag, direction);
+  run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
+  const double target_s = run.endurance_fraction * (run.healthy_eod_s - run.safety_margin_s);
+  if (!map.buildings().empty()) {
+    // The altitude over the route and the route's length depend on each other. The route drawn with the
+    // lowest possible altitude (no building under it) is the longest; 10 m above its tallest building
+    // clears every shorter route along the same bearing, and the distance is then derived at that altitude.
+    const double lowest = planning::kCruiseClearanceAboveBuildings;
+    const double longest = DistanceForPlanDuration(target_s, lowest, scenario.mission.drop_hover_s, scenario.limits);
+    if (longest < 0.0) {
+      throw InputError("campaign", "mission.endurance_fraction",
+                       "plans long enough for the climb, the drop hover and the descent");
+    }
+    const std::array<Eigen::Vector2d, 2> outer = {scenario.mission.home_NE,
+                                                  scenario.mission.home_NE + longest * direction};
+    scenario.mission.cruise_altitude =
+        std::max(map.CruiseAltitude(outer, planning::kCruiseClearanceAboveBuildings, clearance), lowest_cruise);
+  }
+  run.distance_m =
+      DistanceForPlanDuration(target_s, scenario.mission.cruise_altitude, scenario.mission.drop_hover_s, scenario.limits);
+  if (run.distance_m < 0.0) {
+    throw InputError("campaign", "mission.endurance_fraction",
+                     "plans long enough for the climb, the drop hover and the descent");
+  }
+}
+
+// Step 7: the route. The endurance fraction, then home (on open ground, clear of every wall) and the bearing,
+// redrawn until the destination is inside the city and clear of every wall too; then the nominal plan's
+// duration, and I_cruise and EOD_healthy of a drawn distance.
+void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& run) {
+  sim::Scenario& scenario = run.scenario;
   const planning::CityMap& map = *scenario.map;
   const bool city = !map.buildings().empty();
   const Eigen::AlignedBox2d bounds = map.bounds();
@@ -254,56 +308,19 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
   // (Manhattan is built up), not open ground, so it never cruises below the open-ground altitude. Measured (issue
   // 15): at 10 m over such holes the low-altitude Dryden gusts upset 2 of 300 fault-free flights at ~8 m/s.
   const double lowest_cruise = config.map.imported() ? config.mission.cruise_altitude_m : 0.0;
-  constexpr int kMaxAttempts = 10000;
   for (int attempt = 0;; ++attempt) {
-    if (attempt > kMaxAttempts) {
+    if (attempt > kMaxRouteAttempts) {
       throw InputError("campaign", endurance_tied ? "map" : "mission.distance_m",
                        fmt::format("a city large enough for the sampled routes with {} m from every wall (no route fit "
                                    "in {} attempts, run {})",
-                                   clearance, kMaxAttempts, run_index));
+                                   clearance, kMaxRouteAttempts, run.run_index));
     }
-    if (city) {
-      int home_attempts = 0;
-      do {
-        if (++home_attempts > kMaxAttempts) {
-          throw InputError("campaign", "mission.wall_clearance_m",
-                           fmt::format("a clearance that leaves open ground in the city, got {} m", clearance));
-        }
-        scenario.mission.home_NE = Eigen::Vector2d(random.Uniform(bounds.min().x(), bounds.max().x()),
-                                                   random.Uniform(bounds.min().y(), bounds.max().y()));
-      } while (!ClearOfBuildings(map, scenario.mission.home_NE, clearance));
-    } else {
-      scenario.mission.home_NE = Eigen::Vector2d::Zero();
-    }
+    scenario.mission.home_NE = DrawHome(random, map, clearance);
     run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
     const Eigen::Vector2d direction(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
     scenario.mission.cruise_altitude = config.mission.cruise_altitude_m;
     if (endurance_tied) {
-      // Decisions item 19: plan = f (EOD_healthy − t_sf) at the plan's cruise current, the distance from it.
-      run.cruise_current_a = CalcPlanCruiseCurrent(scenario, drag, direction);
-      run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
-      const double target_s = run.endurance_fraction * (run.healthy_eod_s - run.safety_margin_s);
-      if (city) {
-        // The altitude over the route and the route's length depend on each other. The route drawn with the
-        // lowest possible altitude (no building under it) is the longest; 10 m above its tallest building
-        // clears every shorter route along the same bearing, and the distance is then derived at that altitude.
-        const double lowest = planning::kCruiseClearanceAboveBuildings;
-        const double longest = DistanceForPlanDuration(target_s, lowest, scenario.mission.drop_hover_s, scenario.limits);
-        if (longest < 0.0) {
-          throw InputError("campaign", "mission.endurance_fraction",
-                           "plans long enough for the climb, the drop hover and the descent");
-        }
-        const std::array<Eigen::Vector2d, 2> outer = {scenario.mission.home_NE,
-                                                      scenario.mission.home_NE + longest * direction};
-        scenario.mission.cruise_altitude =
-            std::max(map.CruiseAltitude(outer, planning::kCruiseClearanceAboveBuildings, clearance), lowest_cruise);
-      }
-      run.distance_m =
-          DistanceForPlanDuration(target_s, scenario.mission.cruise_altitude, scenario.mission.drop_hover_s, scenario.limits);
-      if (run.distance_m < 0.0) {
-        throw InputError("campaign", "mission.endurance_fraction",
-                         "plans long enough for the climb, the drop hover and the descent");
-      }
+      SetEnduranceTiedDistance(run, drag, direction, clearance, lowest_cruise);
     } else {
       run.distance_m = Draw(random, *config.mission.distance_m);
     }
@@ -327,15 +344,43 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
         scenario, drag, Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad)));
     run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
   }
+}
 
-  // 8. The spall fault, its onset uniform over the nominal flight.
-  scenario.fault = sim::FaultSpec{};
-  scenario.fault.enabled = random.Bernoulli(config.fault.probability);
-  if (scenario.fault.enabled) {
-    scenario.fault.spall_onset_s = Draw(random, config.fault.onset_fraction) * run.plan_duration_s;
-    scenario.fault.motor = config.fault.motors[random.UniformIndex(config.fault.motors.size())];
-    scenario.fault.time_per_growth_step_s = config.fault.time_per_growth_step_s;
+// Step 8: the spall fault, its onset uniform over the nominal flight (after DrawRoute: needs the plan's duration).
+void DrawFault(RandomStream& random, const FaultSampling& fault, SampledRun& run) {
+  sim::FaultSpec& spec = run.scenario.fault;
+  spec = sim::FaultSpec{};
+  spec.enabled = random.Bernoulli(fault.probability);
+  if (spec.enabled) {
+    spec.spall_onset_s = Draw(random, fault.onset_fraction) * run.plan_duration_s;
+    spec.motor = fault.motors[random.UniformIndex(fault.motors.size())];
+    spec.time_per_growth_step_s = fault.time_per_growth_step_s;
   }
+}
+
+}  // namespace
+
+SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index) {
+  std::string error;
+  if (!config.IsValid(&error)) throw InputError("campaign configuration: " + error);
+  if (run_index < 0) throw InputError("campaign", "run index", fmt::format(">= 0, got {}", run_index));
+
+  SampledRun run;
+  run.run_index = run_index;
+  run.run_seed = RunSeed(campaign_seed, run_index);
+  RandomStream random(DeriveSeed(run.run_seed, kSamplerStream));
+  sim::Scenario& scenario = run.scenario;
+  scenario.name = fmt::format("{} run {}", config.name, run_index);
+  scenario.seed = DeriveSeed(run.run_seed, kSimulatorStream);
+  scenario.map = CampaignMap(config.map);
+  scenario.mission.drop_hover_s = config.mission.drop_hover_s;
+
+  // The draws in the header's fixed order (sampler.h): changing it changes every campaign.
+  DrawMission(random, config, run);         // 1–2
+  DrawBattery(random, config.battery, run);  // 3–5
+  DrawWind(random, config.wind, run);        // 6
+  DrawRoute(random, config, run);            // 7
+  DrawFault(random, config.fault, run);      // 8
   return run;
 }
 

@@ -147,6 +147,8 @@ nlohmann::json JsonFromText(const std::string& text, const std::string& source) 
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(source, fmt::format("byte {}", e.byte), "valid JSON");
+  } catch (const nlohmann::json::exception& e) {  // out_of_range: a number like 1e999
+    throw InputError(source, "JSON", fmt::format("valid JSON ({})", e.what()));
   }
 }
 

@@ -118,6 +118,8 @@ PolicyDocument ReadPolicyFile(const std::filesystem::path& path) {
     json = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(path.string(), fmt::format("byte {}", e.byte), "valid JSON");
+  } catch (const nlohmann::json::exception& e) {  // out_of_range: a number like 1e999
+    throw InputError(path.string(), "JSON", fmt::format("valid JSON ({})", e.what()));
   }
   return PolicyFromJson(json, path.string());
 }

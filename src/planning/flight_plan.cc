@@ -171,11 +171,49 @@ PlanReference FlightPlan::At(double time) const {
   const int index = reference.segment;
   const Eigen::Vector3d& direction = direction_W_[index];
   double distance, speed, accel;
-  Trapezoid(segment, length_[index], time - segment.start_time, &distance, &speed, &accel);
+  if (segment.kind == PlanSegment::Kind::kBrake) {
+    // s(τ) = v₀τ − ½aτ², v(τ) = v₀ − aτ over τ ∈ [0, v₀/a].
+    const double tau = std::min(time - segment.start_time, segment.duration);
+    distance = segment.peak_speed * tau - 0.5 * segment.accel * tau * tau;
+    speed = segment.peak_speed - segment.accel * tau;
+    accel = -segment.accel;
+  } else {
+    Trapezoid(segment, length_[index], time - segment.start_time, &distance, &speed, &accel);
+  }
   reference.p_W = segment.start_W + distance * direction;
   reference.v_W = speed * direction;
   reference.a_W = accel * direction;
   return reference;
+}
+
+Eigen::Vector3d BrakingStop(const Eigen::Vector3d& start_W, const Eigen::Vector3d& velocity_W, double accel) {
+  return start_W + velocity_W * (velocity_W.norm() / (2.0 * accel));
+}
+
+FlightPlan FlightPlan::AfterBraking(const Eigen::Vector3d& start_W, const Eigen::Vector3d& velocity_W, double accel,
+                                   const FlightPlan& then) {
+  if (!(accel > 0.0 && std::isfinite(accel))) throw InputError("braking", "accel", "a positive acceleration (m/s²)");
+  if (!start_W.allFinite() || !velocity_W.allFinite()) throw InputError("braking", "start", "finite values");
+  FlightPlan plan;
+  const double speed = velocity_W.norm();
+  if (speed > 0.0) {
+    PlanSegment brake;
+    brake.kind = PlanSegment::Kind::kBrake;
+    brake.label = "brake";
+    brake.start_W = start_W;
+    brake.end_W = BrakingStop(start_W, velocity_W, accel);
+    brake.duration = speed / accel;
+    brake.accel = accel;
+    brake.peak_speed = speed;
+    brake.cruise_speed = speed;
+    plan.Append(brake);
+  }
+  const double offset = plan.duration();
+  for (PlanSegment segment : then.segments()) {
+    segment.start_time += offset;
+    plan.Append(segment);
+  }
+  return plan;
 }
 
 double FlightPlan::TimeRemaining(double time) const { return std::max(duration() - time, 0.0); }

@@ -130,7 +130,7 @@ void ParseGeoJsonBuildings(std::string_view text, const std::string& source, con
   nlohmann::json document;
   try {
     document = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw InputError(source, "JSON", fmt::format("valid JSON ({})", e.what()));
   }
   const auto type = document.is_object() ? document.find("type") : document.end();

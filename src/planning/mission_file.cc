@@ -89,7 +89,7 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
   nlohmann::json document;
   try {
     document = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& error) {
+  } catch (const nlohmann::json::exception& error) {  // parse_error, or out_of_range for a number like 1e999
     throw InputError(source, "JSON", fmt::format("a QGroundControl plan; the parser says: {}", error.what()));
   }
   if (!document.is_object() || document.value("fileType", std::string()) != "Plan") {

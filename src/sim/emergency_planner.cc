@@ -40,6 +40,7 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
     if (!result.ok()) return plan;
     plan.plan = std::move(result.plan);
     plan.site = result.site_id;
+    if (result.site >= 0) plan.site_radius = map->sites()[result.site].radius;
     plan.reach_margin = result.reach_margin;
     if (land_asap) {
       for (const Eigen::Vector2d& p_H : result.footprint.region.Boundary(72)) {

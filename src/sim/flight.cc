@@ -18,6 +18,11 @@ using decision::CmaAction;
 using decision::FlightStatus;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// m/s: below this reference speed the plan is at rest and the whole position error counts as cross-track (ours).
+constexpr double kMovingReferenceSpeed = 0.1;
+// m/s: above this horizontal speed an emergency plan starts with a braking move (ours: below it the LQR absorbs
+// the step to rest within a fraction of a metre).
+constexpr double kBrakingSpeed = 0.5;
 
 // Independent random streams of one flight (common/random.h DeriveSeed), so that e.g. the wind does not
 // change when the sensor noise is switched off.
@@ -195,6 +200,15 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
 }
 
 // ---- outcomes (decisions items 10–11, outcome.h) ----------------------------------------------------------------
+// The distance from the reference path: the position error less its component along the reference velocity (the
+// schedule's lead or lag is not a loss of control); at rest on the plan, the whole error.
+double CrossTrackError(const Eigen::Vector3d& error_W, const Eigen::Vector3d& v_ref_W) {
+  const double speed = v_ref_W.norm();
+  if (speed < kMovingReferenceSpeed) return error_W.norm();
+  const Eigen::Vector3d along = v_ref_W / speed;
+  return (error_W - error_W.dot(along) * along).norm();
+}
+
 void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignals& s, double tracking_error) {
   const OutcomeThresholds& thresholds = model.options().outcome;
   const double now = state.time_s + model.dt();
@@ -205,13 +219,16 @@ void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignal
   inputs.p_WB_W = state.body.p_WB_W;
   inputs.v_WB_W = state.body.v_WB_W;
   inputs.cos_tilt = s.R_WB(2, 2);
-  inputs.tracking_error = tracking_error;
+  inputs.body_rate = state.body.w_WB_B.norm();
+  inputs.cross_track_error = CrossTrackError(state.body.p_WB_W - s.reference.p_W, s.reference.v_W);
+  static_cast<void>(tracking_error);
   inputs.min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v;
   inputs.min_cell_branch = s.pack_outputs.min_cell_branch;
   inputs.min_cell_index = s.pack_outputs.min_cell_index;
   inputs.airborne = state.airborne;
   inputs.plan_time_remaining_s = plan.TimeRemaining(now - state.plan_start_s);
   inputs.plan_end_W = plan.end_W();
+  inputs.landing_radius = state.on_emergency_plan ? state.emergency_site_radius : 0.0;
   inputs.on_original_plan = !state.on_emergency_plan;
   inputs.emergency_site = state.emergency_site;
   inputs.time_limit_s = model.time_limit_s();
@@ -237,7 +254,8 @@ FlightModel::FlightModel(const Scenario& scenario)
       spall_truth_(TruthGrowth(scenario.fault)),
       map_(scenario.map ? scenario.map : std::make_shared<const planning::CityMap>()),
       controller_(scenario.body, scenario.lqr),
-      nominal_plan_(planning::MakeDeliveryPlan(scenario.mission, scenario.limits)),
+      nominal_plan_(scenario.route ? planning::MakeMissionPlan(*scenario.route, scenario.limits)
+                                   : planning::MakeDeliveryPlan(scenario.mission, scenario.limits)),
       battery_health_(static_cast<decision::BatteryHealth>(
           static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)))),  // decisions item 8
       map_planner_(MakeMapEmergencyPlanner(scenario_, nominal_plan_, drag_, propulsion_)),
@@ -342,6 +360,15 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
 void Act(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
          FlightLog* log) {
   const double t = state.time_s;
+  // §5.5.3: "an emergency landing at t = 0 translates into not taking off" — any emergency action chosen before
+  // take-off keeps the vehicle on the ground (decision 21).
+  if (action != CmaAction::kNoOp && !state.airborne) {
+    AddAction(state, log, action);
+    state.outcome = Outcome::kGrounded;
+    state.reason = fmt::format("{} chosen before take-off in state {}: the vehicle stays on the ground",
+                               decision::CmaActionName(action), decision::CmaStateLabel(state.inputs.state));
+    return;
+  }
   if (action == CmaAction::kTerminate) {
     AddAction(state, log, action);
     state.outcome = Outcome::kTerminated;
@@ -352,18 +379,37 @@ void Act(const FlightModel& model, FlightState& state, CmaAction action, const E
   if (decision::EffectiveCmaAction(action, state.flight_status) == CmaAction::kNoOp) return;
   const EmergencyPlanner& emergency_planner = planner ? planner : model.map_planner();
   EmergencyPlan emergency;
+  // A moving vehicle first brakes to rest at the plan's horizontal acceleration limit (FlightPlan::AfterBraking);
+  // the planners plan from where it stops, when the braking line is clear of buildings.
+  const Eigen::Vector3d p_W = state.body.p_WB_W;
+  const Eigen::Vector3d v_horizontal_W(state.body.v_WB_W.x(), state.body.v_WB_W.y(), 0.0);
+  const double braking_accel = model.scenario().limits.horizontal_accel;
+  Eigen::Vector3d plan_from_W = p_W;
+  Eigen::Vector3d plan_velocity_W = state.body.v_WB_W;
+  bool brake = v_horizontal_W.norm() > kBrakingSpeed;
+  if (brake) {
+    plan_from_W = planning::BrakingStop(p_W, v_horizontal_W, braking_accel);
+    brake = !model.map().SegmentCollides(p_W, plan_from_W);
+    if (brake) {
+      plan_velocity_W = Eigen::Vector3d(0.0, 0.0, state.body.v_WB_W.z());
+    } else {
+      plan_from_W = p_W;
+    }
+  }
   if (emergency_planner) {
     const bool nominal = !state.on_emergency_plan;
-    emergency = emergency_planner({action, t, state.body.p_WB_W, state.body.v_WB_W,
+    emergency = emergency_planner({action, t, plan_from_W, plan_velocity_W,
                                    EulerFromRotation(state.body.q_WB.toRotationMatrix()).z(), state.allocation_failure,
                                    state.eod.eod_s, nominal ? t - state.plan_start_s : model.nominal_plan().duration()});
   } else {
     emergency.message = "the map has no landing sites";
   }
   if (emergency.ok()) {
+    if (brake) emergency.plan = planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, braking_accel, emergency.plan);
     state.emergency_plan = std::move(emergency.plan);
     state.emergency_site = emergency.site;
     state.emergency_reach_margin = emergency.reach_margin;
+    state.emergency_site_radius = emergency.site_radius;
     if (!emergency.footprint_NE.empty()) state.footprint_NE = std::move(emergency.footprint_NE);
     state.on_emergency_plan = true;
     state.plan_start_s = t;

@@ -23,6 +23,7 @@ const char* OutcomeName(Outcome outcome) {
     case Outcome::kFailedControl: return "failed_control";
     case Outcome::kFailedCollision: return "failed_collision";
     case Outcome::kTimeout: return "timeout";
+    case Outcome::kGrounded: return "grounded";
   }
   return "unknown";
 }
@@ -34,14 +35,17 @@ bool IsFailure(Outcome outcome) {
 
 decision::CmaTerminal TerminalStateOf(Outcome outcome) {
   UASCMA_CHECK(outcome != Outcome::kInProgress, "a finished flight");
-  if (outcome == Outcome::kCompleted || outcome == Outcome::kEmergencyLanding) return decision::CmaTerminal::kC;
+  // Grounded is a landing where the vehicle stands (LandASAP/LandPract chosen before take-off, §5.5.3): C.
+  if (outcome == Outcome::kCompleted || outcome == Outcome::kEmergencyLanding || outcome == Outcome::kGrounded) {
+    return decision::CmaTerminal::kC;
+  }
   if (outcome == Outcome::kTerminated) return decision::CmaTerminal::kT;
   return decision::CmaTerminal::kFL;
 }
 
 bool OutcomeThresholds::IsValid(std::string* error) const {
   const struct { const char* name; double value; } positive[] = {
-      {"max_tilt", max_tilt}, {"max_tracking_error", max_tracking_error}, {"touchdown_speed", touchdown_speed},
+      {"max_tilt", max_tilt}, {"max_cross_track_error", max_cross_track_error}, {"max_body_rate", max_body_rate}, {"touchdown_speed", touchdown_speed},
       {"airborne_height", airborne_height}, {"landing_radius", landing_radius},
       {"landing_window_s", landing_window_s}, {"landing_height", landing_height}, {"settled_height", settled_height},
       {"settled_speed", settled_speed}, {"time_limit_factor", time_limit_factor}};
@@ -82,41 +86,47 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
                              in.min_cell_voltage_v);
     return out;
   }
-  if (in.cos_tilt < cos_max_tilt_ || in.tracking_error > limits.max_tracking_error) {
+  if (in.cos_tilt < cos_max_tilt_ || in.body_rate > limits.max_body_rate ||
+      in.cross_track_error > limits.max_cross_track_error) {
     out.outcome = Outcome::kFailedControl;
-    out.reason = fmt::format("tilt {:.0f} deg, tracking error {:.1f} m",
-                             std::acos(std::clamp(in.cos_tilt, -1.0, 1.0)) * kDegreesPerRadian, in.tracking_error);
+    out.reason = fmt::format("tilt {:.0f} deg, body rate {:.1f} rad/s, cross-track error {:.1f} m",
+                             std::acos(std::clamp(in.cos_tilt, -1.0, 1.0)) * kDegreesPerRadian, in.body_rate,
+                             in.cross_track_error);
     return out;
   }
   const double altitude = -in.p_WB_W.z();
   const double above_end = altitude - (-in.plan_end_W.z());
   const double to_end = (in.p_WB_W.head<2>() - in.plan_end_W.head<2>()).norm();
-  const bool landing = to_end < limits.landing_radius && in.plan_time_remaining_s < limits.landing_window_s &&
+  const double radius = in.landing_radius > 0.0 ? in.landing_radius : limits.landing_radius;
+  const bool landing = to_end < radius && in.plan_time_remaining_s < limits.landing_window_s &&
                        above_end < limits.landing_height;
+  auto landed = [&](const char* how) {
+    out.outcome = in.on_original_plan ? Outcome::kCompleted : Outcome::kEmergencyLanding;
+    out.reason = in.on_original_plan ? fmt::format("{} at the destination of the original plan", how)
+                                     : fmt::format("{} at the emergency site {}", how, in.emergency_site);
+    return out;
+  };
   if (in.airborne && landing && in.plan_time_remaining_s <= 0.0 && above_end < limits.settled_height &&
       in.v_WB_W.norm() < limits.settled_speed) {
-    out.outcome = in.on_original_plan ? Outcome::kCompleted : Outcome::kEmergencyLanding;
-    out.reason = in.on_original_plan ? "landed at the destination of the original plan"
-                                     : "landed at the emergency site " + std::string(in.emergency_site);
-    return out;
+    return landed("landed");
   }
-  // Below the tallest roof the vehicle may strike a building (a touchdown on the site's own roof is a landing,
-  // handled above).
-  if (altitude < map.max_building_height() + limits.building_margin && !landing) {
+  // Contact with a surface: a roof (inside a building prism, only possible below the tallest roof) or the ground.
+  const bool gentle = in.v_WB_W.z() <= limits.touchdown_speed;  // NED: +z is down
+  if (altitude < map.max_building_height() + limits.building_margin) {
     const int building = map.BuildingContaining(in.p_WB_W);
     if (building != planning::kNoBuilding) {
+      if (in.airborne && landing && gentle) return landed("touched down on the roof");
       out.outcome = Outcome::kFailedCollision;
-      out.reason = fmt::format("struck building {} at {:.1f} m", map.building(building).id, altitude);
+      out.reason = fmt::format("struck building {} at {:.1f} m, {:.1f} m/s down", map.building(building).id, altitude,
+                               in.v_WB_W.z());
       return out;
     }
   }
   if (in.airborne && altitude <= 0.0) {
-    const bool gentle = in.v_WB_W.z() <= limits.touchdown_speed;
-    if (!gentle || !landing) {
-      out.outcome = Outcome::kFailedCollision;
-      out.reason = fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", in.v_WB_W.z(), to_end);
-      return out;
-    }
+    if (landing && gentle) return landed("touched down");
+    out.outcome = Outcome::kFailedCollision;
+    out.reason = fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", in.v_WB_W.z(), to_end);
+    return out;
   }
   if (in.time_s >= in.time_limit_s) {
     out.outcome = Outcome::kTimeout;

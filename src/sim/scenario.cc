@@ -47,12 +47,17 @@ void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec&
   }
 }
 
-// map: {procedural: {seed: 3}} | {buildings: [a.geojson, b.osm.pbf], sites: s.csv, origin: [lat, lon]}
-std::shared_ptr<const planning::CityMap> ReadMap(const YAML::Node& node, const std::string& source) {
-  RequireOnlyKeys(node, {"procedural", "buildings", "sites", "origin"}, source, "map");
+// map: {procedural: {seed: 3}} | {buildings: [a.geojson, b.osm.pbf], sites: s.csv, origin: [lat, lon],
+//       height_from_levels: bool, metres_per_level: m, skip_missing_height: bool}
+// Sets sc.map, and sc.geo_origin for imported data.
+void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
+  RequireOnlyKeys(node, {"procedural", "buildings", "sites", "origin", "height_from_levels", "metres_per_level",
+                         "skip_missing_height"},
+                  source, "map");
   if (const YAML::Node procedural = node["procedural"]) {
-    if (node["buildings"] || node["sites"]) {
-      throw InputError(source, "map", "either procedural or buildings/sites, not both");
+    for (const char* key : {"buildings", "sites", "origin", "height_from_levels", "metres_per_level",
+                            "skip_missing_height"}) {
+      if (node[key]) throw InputError(source, std::string("map.") + key, "no import key beside map.procedural");
     }
     planning::ProceduralCityParams params;
     if (procedural.IsMap()) {
@@ -64,7 +69,8 @@ std::shared_ptr<const planning::CityMap> ReadMap(const YAML::Node& node, const s
       params.rooftop_site_probability = OptionalNumber(procedural, "rooftop_site_probability",
                                                        params.rooftop_site_probability, source, "map.procedural");
     }
-    return std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
+    sc.map = std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
+    return;
   }
   // Paths are relative to the scenario file.
   const std::filesystem::path folder = std::filesystem::path(source).parent_path();
@@ -83,7 +89,15 @@ std::shared_ptr<const planning::CityMap> ReadMap(const YAML::Node& node, const s
     const auto origin = RequireNumberList(node, "origin", 2, source, "map");
     options.origin = planning::GeoPoint{origin[0], origin[1]};
   }
-  return std::make_shared<const planning::CityMap>(planning::ImportCityMap(buildings, sites, options).map);
+  // The import fall-backs, spelt as in campaign YAML (campaign/config.cc).
+  options.height_from_levels = OptionalBool(node, "height_from_levels", options.height_from_levels, source, "map");
+  options.metres_per_level = OptionalNumber(node, "metres_per_level", options.metres_per_level, source, "map");
+  options.skip_missing_height = OptionalBool(node, "skip_missing_height", options.skip_missing_height, source, "map");
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(source + ": map." + error);
+  planning::ImportedMap imported = planning::ImportCityMap(buildings, sites, options);
+  sc.geo_origin = imported.summary.origin;
+  sc.map = std::make_shared<const planning::CityMap>(std::move(imported.map));
 }
 
 }  // namespace
@@ -175,6 +189,39 @@ bool Scenario::IsValid(std::string* error) const {
     part_error = "dt: expected 1 / options.gnc_rate_hz";
     return fail("lqr");
   }
+  if (geo_origin && !(std::abs(geo_origin->lat_deg) <= 90.0 && std::abs(geo_origin->lon_deg) <= 180.0)) {
+    part_error = fmt::format("origin: expected [latitude, longitude] in degrees, got [{}, {}]", geo_origin->lat_deg,
+                             geo_origin->lon_deg);
+    return fail("mission");
+  }
+  if (route) {
+    if (route->waypoints.empty()) {
+      part_error = fmt::format("file: expected a mission with at least one waypoint ({})", route->source);
+      return fail("mission");
+    }
+    if (!route->home_W.allFinite()) {
+      part_error = "file: expected a finite home position";
+      return fail("mission");
+    }
+    try {
+      // Throws on a non-finite waypoint, a negative hover or speed limit, or invalid limits.
+      (void)planning::MakeMissionPlan(*route, limits);
+    } catch (const InputError& e) {
+      part_error = fmt::format("file: expected a mission that can be flown ({})", e.what());
+      return fail("mission");
+    }
+    if (map) {
+      const Eigen::Vector3d& home = route->home_W;
+      const int building = map->BuildingContaining(Eigen::Vector3d(home.x(), home.y(), -0.1));
+      if (building != planning::kNoBuilding) {
+        part_error = fmt::format("file: expected the planned home on open ground, but building {} stands at "
+                                 "({:.1f}, {:.1f}) m",
+                                 map->building(building).id, home.x(), home.y());
+        return fail("mission");
+      }
+    }
+    return true;  // the delivery keys are not flown
+  }
   if (map) {
     for (const auto& [key, point] : {std::pair{"home_ne_m", mission.home_NE},
                                       std::pair{"destination_ne_m", mission.destination_NE}}) {
@@ -214,9 +261,61 @@ void ReadWind(const YAML::Node& w, const std::string& source, models::WindParams
   }
 }
 
+// mission.origin: [lat, lon], the geodetic position of W's origin. Over an imported map the frame is the map's
+// (map.origin), so that buildings and route share it: there it is an error.
+std::optional<planning::GeoPoint> ReadMissionOrigin(const YAML::Node& m, const std::string& source, const Scenario& sc) {
+  if (!m || !m["origin"]) return std::nullopt;
+  if (sc.geo_origin) {
+    throw InputError(source, "mission.origin",
+                     "no origin over an imported map (the mission is flown in the map's frame: set map.origin)");
+  }
+  const auto origin = RequireNumberList(m, "origin", 2, source, "mission");
+  return planning::GeoPoint{origin[0], origin[1]};
+}
+
+// mission: {file: x.plan, land_at_end: true, origin: [lat, lon]} — a ground station's mission (mission_file.h),
+// paths relative to the scenario file. Its options are read even when `mission_file` (simulate --mission)
+// replaces the file.
+void ReadMissionFile(const YAML::Node& m, const std::string& source,
+                     const std::optional<std::filesystem::path>& mission_file, Scenario& sc) {
+  planning::MissionImportOptions options;
+  options.map = sc.map.get();
+  if (m) {
+    if (m["file"]) {
+      for (const char* key : {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s"}) {
+        if (m[key]) throw InputError(source, std::string("mission.") + key, "either mission.file or " + std::string(key) + ", not both");
+      }
+    }
+    options.land_at_end = OptionalBool(m, "land_at_end", options.land_at_end, source, "mission");
+  }
+  options.origin = ReadMissionOrigin(m, source, sc);
+  // Default origin: the imported map's, so that the mission and the buildings share a frame.
+  if (!options.origin && sc.geo_origin) options.origin = sc.geo_origin;
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(source + ": mission." + error);
+  std::filesystem::path path;
+  if (mission_file) {
+    path = *mission_file;
+  } else {
+    const std::filesystem::path name(RequireString(m, "file", source, "mission"));
+    path = name.is_absolute() ? name : std::filesystem::path(source).parent_path() / name;
+  }
+  sc.route = planning::LoadMissionFile(path, options);
+  sc.geo_origin = sc.route->origin;
+  // Mirrored for the records (campaign metrics, the plot's extent): the route's home and its last point.
+  sc.mission.home_NE = sc.route->home_W.head<2>();
+  sc.mission.destination_NE = sc.route->waypoints.empty() ? sc.mission.home_NE
+                                                          : Eigen::Vector2d(sc.route->waypoints.back().p_W.head<2>());
+}
+
 // Returns whether the file sets the cruise altitude.
 bool ReadMission(const YAML::Node& m, const std::string& source, planning::DeliveryMission& mission) {
-  RequireOnlyKeys(m, {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s"}, source, "mission");
+  RequireOnlyKeys(m, {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s", "file", "land_at_end",
+                      "origin"},
+                  source, "mission");
+  if (!m["file"]) {
+    if (m["land_at_end"]) throw InputError(source, "mission.land_at_end", "only with mission.file (or simulate --mission)");
+  }
   if (m["home_ne_m"]) {
     const auto home = RequireNumberList(m, "home_ne_m", 2, source, "mission");
     mission.home_NE = Eigen::Vector2d(home[0], home[1]);
@@ -254,7 +353,7 @@ void ReadFault(const YAML::Node& f, const std::string& source, FaultSpec& fault)
 }
 
 void ReadOptions(const YAML::Node& o, const std::string& source, SimOptions& options) {
-  RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_tracking_error_m",
+  RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_cross_track_error_m",
                       "safety_margin_s"},
                   source, "options");
   options.safety_margin_s = OptionalNumber(o, "safety_margin_s", options.safety_margin_s, source, "options");
@@ -264,12 +363,13 @@ void ReadOptions(const YAML::Node& o, const std::string& source, SimOptions& opt
   OutcomeThresholds& outcome = options.outcome;
   outcome.max_tilt = OptionalNumber(o, "max_tilt_deg", outcome.max_tilt / kRadiansPerDegree, source, "options") *
                      kRadiansPerDegree;
-  outcome.max_tracking_error = OptionalNumber(o, "max_tracking_error_m", outcome.max_tracking_error, source, "options");
+  outcome.max_cross_track_error =
+      OptionalNumber(o, "max_cross_track_error_m", outcome.max_cross_track_error, source, "options");
 }
 
 }  // namespace
 
-ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source) {
+ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source, const ScenarioLoadOptions& load) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -294,8 +394,14 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   if (const YAML::Node v = root["vehicle"]) ReadVehicle(v, source, sc);
   if (const YAML::Node b = root["battery"]) ReadBattery(b, source, sc.battery);
   if (const YAML::Node w = root["wind"]) ReadWind(w, source, sc.wind);
-  if (const YAML::Node map = root["map"]) sc.map = ReadMap(map, source);
-  const bool cruise_altitude_given = root["mission"] && ReadMission(root["mission"], source, sc.mission);
+  if (const YAML::Node map = root["map"]) ReadMap(map, source, sc);
+  const YAML::Node mission = root["mission"];
+  const bool cruise_altitude_given = mission && ReadMission(mission, source, sc.mission);
+  if (load.mission_file || (mission && mission["file"])) {
+    ReadMissionFile(mission, source, load.mission_file, sc);
+  } else if (const auto origin = ReadMissionOrigin(mission, source, sc)) {
+    sc.geo_origin = origin;  // a local-metres mission placed on the globe (for the QGroundControl export)
+  }
   if (const YAML::Node l = root["limits"]) ReadLimits(l, source, sc.limits);
   if (const YAML::Node f = root["fault"]) ReadFault(f, source, sc.fault);
   if (const YAML::Node o = root["options"]) ReadOptions(o, source, sc.options);
@@ -304,15 +410,15 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   if (!sc.IsValid(&error)) throw InputError(source + ": " + error);
   // Over a city the cruise altitude is 10 m above the tallest building under the route (defaults.md)
   // unless the file sets it.
-  if (sc.map && !cruise_altitude_given && !sc.map->buildings().empty()) {
+  if (sc.map && !sc.route && !cruise_altitude_given && !sc.map->buildings().empty()) {
     const std::array<Eigen::Vector2d, 2> route = {sc.mission.home_NE, sc.mission.destination_NE};
     sc.mission.cruise_altitude = sc.map->CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, 5.0);
   }
   return file;
 }
 
-ScenarioFile LoadScenarioFile(const std::filesystem::path& path) {
-  return ParseScenario(ReadFile(path), path.string());
+ScenarioFile LoadScenarioFile(const std::filesystem::path& path, const ScenarioLoadOptions& load) {
+  return ParseScenario(ReadFile(path), path.string(), load);
 }
 
 }  // namespace uascma::sim

@@ -33,6 +33,7 @@ SimResult MakeSimResult(const FlightModel& model, const FlightState& state, Flig
     for (double s = 0; s <= state.emergency_plan.duration(); s += 1.0) {
       result.executed_plan_ref.push_back(state.emergency_plan.At(s).p_W);
     }
+    result.emergency_plan = state.emergency_plan;
   }
   result.footprint_NE = state.footprint_NE;
   result.emergency_site = state.emergency_site;

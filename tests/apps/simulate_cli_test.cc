@@ -1,11 +1,19 @@
 // `uascma simulate` and `uascma plot` end to end: outcomes, JSON fields, files, bad input.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
+#include "uascma/common/files.h"
+#include "uascma/planning/mission_file.h"
 
 namespace uascma {
 namespace {
@@ -83,6 +91,227 @@ TEST(SimulateCliTest, ReplayFliesOneCampaignRunAgainBitForBit) {
   EXPECT_EQ(a.at("outcome"), b.at("outcome"));
   EXPECT_EQ(RunCli("simulate --replay " + db + " 99:cma").exit_code, 2);
   EXPECT_EQ(RunCli("simulate --replay " + (dir.path / "none.db").string() + " 1").exit_code, 2);
+}
+
+// ---- mission files, QGroundControl export, the battery executor (issues 15 and 12) ----------------------------
+std::string MissionData(const std::string& name) { return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name; }
+
+// A scenario in `folder` flying delivery_loiter.plan (copied beside it, named relative to the scenario file).
+std::filesystem::path WriteMissionScenario(const std::filesystem::path& folder) {
+  std::filesystem::create_directories(folder);
+  std::filesystem::copy_file(MissionData("delivery_loiter.plan"), folder / "delivery_loiter.plan",
+                             std::filesystem::copy_options::overwrite_existing);
+  const auto scenario = folder / "loiter.yaml";
+  std::ofstream(scenario) << "name: loiter\nseed: 2\nwind: {speed_mps: 1, direction_deg: 30, turbulence: low-light}\n"
+                             "mission: {file: delivery_loiter.plan, land_at_end: true}\n";
+  return scenario;
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::set<std::string> FilesIn(const std::filesystem::path& folder) {
+  std::set<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.insert(entry.path().filename().string());
+  return names;
+}
+
+constexpr double kWaypointToleranceM = 0.01;  // issue 15: export and re-import agree within 1 cm
+
+TEST(SimulateCliTest, MissionFileWithLoiterAndLandFliesAndCompletes) {
+  ScratchDir dir("simulate_mission");
+  const auto scenario = WriteMissionScenario(dir.path);
+  const auto result = RunCli("simulate " + scenario.string() + " --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json summary = nlohmann::json::parse(result.out);
+  EXPECT_EQ(summary.at("outcome"), "completed") << summary.at("reason");
+  // The plan holds the 20 s loiter and the 5 s waypoint hold; the flight lasts at least as long.
+  const planning::Mission mission = planning::LoadMissionFile(MissionData("delivery_loiter.plan"));
+  const planning::FlightPlan plan = planning::MakeMissionPlan(mission, planning::PlanLimits{});
+  EXPECT_NEAR(summary.at("plan_duration_s").get<double>(), plan.duration(), 1e-6);
+  EXPECT_GE(summary.at("sim_time_s").get<double>(), plan.duration());
+  // The importer's warnings (the camera item 203 at least) reach stderr, one line each.
+  ASSERT_FALSE(mission.warnings.empty());
+  const std::vector<std::string> err_lines = Lines(result.err);
+  EXPECT_EQ(err_lines.size(), mission.warnings.size()) << result.err;
+  for (const auto& line : err_lines) EXPECT_EQ(line.rfind("warning: ", 0), 0u) << line;
+}
+
+TEST(SimulateCliTest, MissionOptionOverridesTheScenarioRelativeToTheCurrentFolder) {
+  ScratchDir dir("simulate_mission_override");
+  const auto scenario = WriteMissionScenario(dir.path / "scenarios");
+  std::filesystem::copy_file(MissionData("survey.waypoints"), dir.path / "survey.waypoints");
+  const auto cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir.path);
+  const auto result = RunCli("simulate " + scenario.string() + " --mission survey.waypoints --json");
+  const auto missing = RunCli("simulate " + scenario.string() + " --mission delivery_loiter.plan");
+  std::filesystem::current_path(cwd);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json summary = nlohmann::json::parse(result.out);
+  EXPECT_EQ(summary.at("outcome"), "completed") << summary.at("reason");
+  const planning::Mission survey = planning::LoadMissionFile(MissionData("survey.waypoints"));
+  EXPECT_NEAR(summary.at("plan_duration_s").get<double>(),
+              planning::MakeMissionPlan(survey, planning::PlanLimits{}).duration(), 1e-6);
+  EXPECT_NE(result.err.find("survey.waypoints"), std::string::npos) << result.err;  // its warnings
+  // Relative to the current folder, not the scenario's: the .plan beside the scenario is not found from here.
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("delivery_loiter.plan"), std::string::npos) << missing.err;
+}
+
+TEST(SimulateCliTest, OutWritesNominalPlanThatReadsBackToTheSameWaypoints) {
+  ScratchDir dir("simulate_mission_out");
+  const auto scenario = WriteMissionScenario(dir.path);
+  const auto out = dir.path / "flight";
+  const auto result = RunCli("simulate " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  ASSERT_TRUE(std::filesystem::exists(out / "nominal.plan")) << result.out;
+  EXPECT_FALSE(std::filesystem::exists(out / "emergency.plan"));  // no emergency plan was flown
+  // Both read in the frame of their planned home, which is the same point.
+  const planning::Mission original = planning::LoadMissionFile(MissionData("delivery_loiter.plan"));
+  const planning::FlightPlan plan = planning::MakeMissionPlan(original, planning::PlanLimits{});
+  const planning::Mission exported = planning::LoadMissionFile(out / "nominal.plan");
+  EXPECT_LT((exported.home_W - original.home_W).norm(), kWaypointToleranceM);
+  const planning::FlightPlan again = planning::MakeMissionPlan(exported, planning::PlanLimits{});
+  ASSERT_EQ(again.segments().size(), plan.segments().size());
+  for (std::size_t k = 0; k < plan.segments().size(); ++k) {
+    EXPECT_LT((again.segments()[k].end_W - plan.segments()[k].end_W).norm(), kWaypointToleranceM) << "segment " << k;
+  }
+  EXPECT_NEAR(again.duration(), plan.duration(), 0.01);
+  const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
+  EXPECT_EQ(summary.at("files"), nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan"}));
+}
+
+TEST(SimulateCliTest, ReusedOutFolderHoldsOnlyTheNewRunsFiles) {
+  ScratchDir dir("simulate_out_reuse");
+  const auto out = dir.path / "flight";
+  ASSERT_EQ(RunCli("simulate " + WriteMissionScenario(dir.path).string() + " --out " + out.string()).exit_code, 0);
+  ASSERT_TRUE(std::filesystem::exists(out / "nominal.plan"));
+  // A local-metres scenario has no geodetic frame: no .plan files, and the old one must not survive.
+  const auto result = RunCli("simulate " + Example("nominal.yaml") + " --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("no .plan files"), std::string::npos) << result.out;
+  const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
+  std::set<std::string> expected = {kOutputMarker};
+  for (const auto& name : summary.at("files")) expected.insert(name.get<std::string>());
+  EXPECT_EQ(FilesIn(out), expected);
+  EXPECT_FALSE(std::filesystem::exists(out / "nominal.plan"));
+  EXPECT_TRUE(summary.contains("qgc_plans"));
+}
+
+TEST(SimulateCliTest, BadBatteryPolicyIsExitTwoNamingTheFileAndWritesNothing) {
+  ScratchDir dir("simulate_bad_battery");
+  const auto policy = dir.path / "policy.json";
+  std::ofstream(policy) << "{\"format\": \"something else\"}\n";
+  const auto out = dir.path / "flight";
+  for (const auto& file : {policy, dir.path / "missing.json"}) {
+    const auto result = RunCli("simulate " + Example("nominal.yaml") + " --battery-policy " + file.string() +
+                               " --out " + out.string());
+    EXPECT_EQ(result.exit_code, 2) << result.err;
+    EXPECT_NE(result.err.find(file.string()), std::string::npos) << result.err;
+    EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+}
+
+TEST(SimulateCliTest, BatteryPolicyRunsAlongsideAndItsSwitchesAreListed) {
+  ScratchDir dir("simulate_battery");
+  const std::string model = (dir.path / "model.json").string(), policy = (dir.path / "policy.json").string();
+  ASSERT_EQ(RunCli("battery learn --runs 30 --seed 3 --jobs 2 --out " + model).exit_code, 0);
+  ASSERT_EQ(RunCli("battery solve " + model + " --out " + policy).exit_code, 0);
+  // The healthy delivery, and Scenario I (M packs, a jam, LandPract), where this policy switches packs.
+  for (const char* example : {"nominal.yaml", "scenario-1.yaml"}) {
+    SCOPED_TRACE(example);
+    const auto result = RunCli("simulate " + Example(example) + " --policy cma --battery-policy " + policy + " --json");
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const nlohmann::json summary = nlohmann::json::parse(result.out);
+    EXPECT_FALSE(summary.at("failed").get<bool>()) << summary.at("reason");
+    const nlohmann::json& switches = summary.at("battery_switches");
+    ASSERT_FALSE(switches.empty());
+    EXPECT_EQ(switches[0].at("time_s"), 0.0);  // the executor's first action, at take-off
+    // Each switch is an event of the flight, in time order.
+    std::vector<std::pair<double, std::string>> events;
+    for (const auto& e : summary.at("events")) {
+      const std::string what = e.at("what");
+      if (what.rfind("battery: ", 0) == 0) events.emplace_back(e.at("time_s").get<double>(), what.substr(9));
+    }
+    ASSERT_EQ(events.size(), switches.size());
+    for (std::size_t k = 0; k < switches.size(); ++k) {
+      EXPECT_EQ(events[k].first, switches[k].at("time_s").get<double>());
+      EXPECT_EQ(events[k].second, switches[k].at("action").get<std::string>());
+      if (k == 0) continue;
+      EXPECT_NE(switches[k].at("action"), switches[k - 1].at("action"));  // changes only
+      EXPECT_GT(switches[k].at("time_s").get<double>(), switches[k - 1].at("time_s").get<double>());
+    }
+    if (std::string(example) == "nominal.yaml") EXPECT_EQ(summary.at("outcome"), "completed");
+  }
+  const auto text = RunCli("simulate " + Example("nominal.yaml") + " --battery-policy " + policy);
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("battery executor: 0 s "), std::string::npos) << text.out;
+}
+
+TEST(SimulateCliTest, MissionOriginPlacesALocalScenarioAndTheEmergencyPlanIsExported) {
+  ScratchDir dir("simulate_emergency_plan");
+  // Scenario I (LandPract over the procedural city) placed on the globe by mission.origin.
+  std::string yaml = testing_support::Slurp(Example("scenario-1.yaml"));
+  const std::size_t at = yaml.find("\nmission:\n");
+  ASSERT_NE(at, std::string::npos);
+  yaml.insert(at + 10, "  origin: [40.77, -73.96]\n");
+  const auto scenario = dir.path / "s1.yaml";
+  std::ofstream(scenario) << yaml;
+  const auto out = dir.path / "flight";
+  const auto result = RunCli("simulate " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
+  ASSERT_EQ(summary.at("outcome"), "emergency_landing") << summary.at("reason");
+  EXPECT_EQ(summary.at("files"),
+            nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan", "emergency.plan"}));
+  // Read back in the scenario's frame: the plan's start (plan.csv, 1 mm digits), in the air, is a waypoint (the
+  // importer climbs there from the planned home first), and the plan ends with a landing.
+  planning::MissionImportOptions frame;
+  frame.origin = planning::GeoPoint{40.77, -73.96};
+  const planning::Mission emergency = planning::LoadMissionFile(out / "emergency.plan", frame);
+  std::istringstream csv(testing_support::Slurp(out / "plan.csv"));
+  Eigen::Vector3d start = Eigen::Vector3d::Constant(std::nan(""));
+  for (std::string line; std::getline(csv, line);) {
+    if (line.rfind("emergency,", 0) != 0) continue;
+    double t = 0;
+    std::sscanf(line.c_str(), "emergency,%lf,%lf,%lf,%lf", &t, &start.x(), &start.y(), &start.z());
+    break;
+  }
+  ASSERT_TRUE(start.allFinite());
+  ASSERT_FALSE(emergency.waypoints.empty());
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& w : emergency.waypoints) nearest = std::min(nearest, (w.p_W - start).norm());
+  EXPECT_LT(nearest, kWaypointToleranceM);
+  EXPECT_LT(start.z(), -1.0);  // in the air
+  const nlohmann::json qgc = nlohmann::json::parse(testing_support::Slurp(out / "emergency.plan"));
+  EXPECT_EQ(qgc.at("mission").at("items").back().at("command"), planning::kMavCmdNavLand);
+}
+
+TEST(SimulateCliTest, MissionExampleFliesOverTheImportedCityAndExportsInItsFrame) {
+  if (!std::filesystem::exists(std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" /
+                               "upper-east-side-buildings.geojson")) {
+    GTEST_SKIP() << "shared/data/osm not present";
+  }
+  ScratchDir dir("simulate_mission_example");
+  const auto out = dir.path / "flight";
+  const auto result = RunCli("simulate " + Example("mission-upper-east-side.yaml") + " --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(result.err.empty()) << result.err;  // the example mission has nothing unmodelled
+  const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
+  EXPECT_EQ(summary.at("outcome"), "completed") << summary.at("reason");
+  // Exported in the map's frame (origin: the data's centre), read back in the home's frame, as the original.
+  const planning::Mission original = planning::LoadMissionFile(Example("missions/upper-east-side.plan"));
+  const planning::Mission exported = planning::LoadMissionFile(out / "nominal.plan");
+  const planning::FlightPlan a = planning::MakeMissionPlan(original, {}), b = planning::MakeMissionPlan(exported, {});
+  ASSERT_EQ(a.segments().size(), b.segments().size());
+  for (std::size_t k = 0; k < a.segments().size(); ++k) {
+    EXPECT_LT((a.segments()[k].end_W - b.segments()[k].end_W).norm(), kWaypointToleranceM) << "segment " << k;
+  }
 }
 
 }  // namespace

@@ -14,6 +14,8 @@
 #include "uascma/campaign/config.h"
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/policy_file.h"
+#include "uascma/planning/map_import.h"
 
 namespace uascma {
 namespace {
@@ -76,6 +78,23 @@ TEST(ParserRegressionTest, WeightsYamlWithANonScalarKeyOrAnUnknownTopLevelKey) {
   ExpectInputError([&] { decision::LoadCmaConfig(typo); }, {"gama"});
   std::filesystem::remove(nested);
   std::filesystem::remove(typo);
+}
+
+// Found by geojson_fuzzer and policy_json_fuzzer: a number beyond the range of double ("40.73e0699" in a
+// coordinate, "0.09000E0010000099" in a weight) makes nlohmann::json throw out_of_range, not parse_error;
+// it escaped the parsers (std::terminate under the fuzzer, "internal error", exit 1, in the CLI).
+TEST(ParserRegressionTest, JsonNumbersBeyondDoubleAreInputErrors) {
+  ExpectInputError(
+      [] {
+        planning::GeoMapData data;
+        planning::ParseGeoJsonBuildings(R"({"type": "FeatureCollection", "features": [{"type": "Feature",
+            "geometry": {"type": "Polygon", "coordinates": [[[-73.99, 40.73e0699]]]}}]})",
+                                        "city.geojson", planning::MapImportOptions{}, &data);
+      },
+      {"city.geojson", "JSON"});
+  const auto policy = WriteScratch("policy.json", R"({"format": "uascma-policy/1", "gamma": 0.09000E0010000099})");
+  ExpectInputError([&] { decision::ReadPolicyFile(policy); }, {policy.string(), "JSON"});
+  std::filesystem::remove(policy);
 }
 
 }  // namespace

@@ -16,7 +16,7 @@ OutcomeInputs Cruising() {
   in.p_WB_W = Eigen::Vector3d(50, 0, -20);
   in.v_WB_W = Eigen::Vector3d(5, 0, 0);
   in.cos_tilt = std::cos(0.1);
-  in.tracking_error = 1.0;
+  in.cross_track_error = 1.0;
   in.min_cell_voltage_v = 3.8;
   in.airborne = true;
   in.plan_time_remaining_s = 60.0;
@@ -50,7 +50,10 @@ TEST(OutcomeTest, EachRuleAtItsThreshold) {
   EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kFailedControl);
   in.cos_tilt = std::cos(limits.max_tilt - 1e-6);
   EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kInProgress);
-  in.tracking_error = limits.max_tracking_error + 1e-9;
+  in.cross_track_error = limits.max_cross_track_error + 1e-9;
+  EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kFailedControl);
+  in = Cruising();
+  in.body_rate = limits.max_body_rate + 1e-9;
   EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kFailedControl);
 
   in = Cruising();
@@ -88,8 +91,34 @@ TEST(OutcomeTest, GroundContactOutsideTheLandingZoneOrTooFastIsACollision) {
   in.plan_time_remaining_s = 1.0;
   in.v_WB_W = Eigen::Vector3d(0, 0, limits.touchdown_speed + 0.1);  // NED: +z is down
   EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kFailedCollision);
-  in.v_WB_W = Eigen::Vector3d(0, 0, limits.touchdown_speed - 0.1);
-  EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kInProgress);
+  in.v_WB_W = Eigen::Vector3d(0, 0, limits.touchdown_speed - 0.1);  // gentle, in the landing zone: a touchdown
+  EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kCompleted);
+}
+
+// Decision 21: a touchdown on a rooftop site is a landing like one on the ground; off the site or too fast, a crash.
+TEST(OutcomeTest, ARooftopTouchdownIsALandingOnTheSiteAndACollisionOffIt) {
+  const OutcomeThresholds limits;
+  const planning::CityMap map = OneBuilding();
+  OutcomeInputs in = Cruising();
+  in.on_original_plan = false;
+  in.emergency_site = "roof of block";
+  in.plan_end_W = Eigen::Vector3d(100, 0, -15.0);  // the site on the 15 m roof
+  in.landing_radius = 3.0;                           // the site's radius (m)
+  in.plan_time_remaining_s = 0.5;
+  in.p_WB_W = Eigen::Vector3d(101.0, 1.0, -14.99);   // just inside the prism, 1.4 m from the site's centre
+  in.v_WB_W = Eigen::Vector3d(0, 0, 0.4);
+  EXPECT_EQ(ClassifyOutcome(limits, in, map).outcome, Outcome::kEmergencyLanding);
+  in.v_WB_W.z() = limits.touchdown_speed + 0.1;  // too fast
+  EXPECT_EQ(ClassifyOutcome(limits, in, map).outcome, Outcome::kFailedCollision);
+  in.v_WB_W.z() = 0.4;
+  in.landing_radius = 1.0;  // a smaller site: 1.4 m is off it
+  EXPECT_EQ(ClassifyOutcome(limits, in, map).outcome, Outcome::kFailedCollision);
+}
+
+TEST(OutcomeTest, GroundedIsSafeAndNotCompletedAndEndsInC) {
+  EXPECT_FALSE(IsFailure(Outcome::kGrounded));
+  EXPECT_STREQ(OutcomeName(Outcome::kGrounded), "grounded");
+  EXPECT_EQ(TerminalStateOf(Outcome::kGrounded), decision::CmaTerminal::kC);
 }
 
 TEST(OutcomeTest, InsideABuildingBelowItsRoofIsACollision) {
@@ -130,8 +159,8 @@ TEST(ScenarioValidationTest, NamesThePartAndTheField) {
   s.battery.initial_cell_voltage_v[1][2] = 4.5;  // above the OCV table's 4.20 V (defaults.md)
   expect_invalid(s, "battery", "initial_cell_voltage_v");
   s = Scenario{};
-  s.options.outcome.max_tracking_error = -1.0;
-  expect_invalid(s, "options", "max_tracking_error");
+  s.options.outcome.max_cross_track_error = -1.0;
+  expect_invalid(s, "options", "max_cross_track_error");
   s = Scenario{};
   s.lqr.dt = 0.01;  // not the 200 Hz GNC step
   expect_invalid(s, "lqr", "dt");

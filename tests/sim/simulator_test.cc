@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "uascma/common/frames.h"
+#include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
 #include "uascma/sim/telemetry.h"
@@ -160,6 +164,139 @@ TEST(ScenarioFileTest, ParsesTheExampleKeysAndRejectsBadOnesByName) {
             std::string::npos);
   EXPECT_NE(message("battery: {initial_cell_voltage_v: 4.5}\n").find("initial_cell_voltage_v"), std::string::npos);
   EXPECT_NE(message("seed: [1, 2\n").find("bad.yaml: line"), std::string::npos);
+}
+
+TEST(SimulatorTest, ResultKeepsTheEmergencyPlanFlownAtTheEnd) {
+  // Scenario I: LandPract's plan is executed after the jam (scenarios_test); the nominal flight has none.
+  const Simulator landing(LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario);
+  const auto cma = MakePolicy("cma", "test");
+  const SimResult result = landing.Run(*cma);
+  ASSERT_EQ(result.outcome, Outcome::kEmergencyLanding) << result.reason;
+  ASSERT_TRUE(result.emergency_plan.has_value());
+  ASSERT_FALSE(result.executed_plan_ref.empty());
+  EXPECT_EQ(result.emergency_plan->At(0.0).p_W, result.executed_plan_ref.front());
+  EXPECT_GT(result.emergency_plan->duration(), 0.0);
+  const Simulator nominal(Nominal());
+  NoOpPolicy noop;
+  EXPECT_FALSE(nominal.Run(noop).emergency_plan.has_value());
+}
+
+// Mission files and the map import keys in scenario files (issue 15).
+std::string MissionData(const std::string& name) { return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name; }
+
+// Two buildings ~500 m east of delivery_loiter.plan's route: one with a height, one with building:levels only.
+constexpr const char* kTwoBuildings = R"({"type": "FeatureCollection", "features": [
+ {"type": "Feature", "properties": {"@id": "way/1", "building": "yes", "height": "12"},
+  "geometry": {"type": "Polygon", "coordinates": [[[-73.9500, 40.7750], [-73.9497, 40.7750], [-73.9497, 40.7752],
+                                                    [-73.9500, 40.7752], [-73.9500, 40.7750]]]}},
+ {"type": "Feature", "properties": {"@id": "way/2", "building": "yes", "building:levels": "4"},
+  "geometry": {"type": "Polygon", "coordinates": [[[-73.9490, 40.7760], [-73.9487, 40.7760], [-73.9487, 40.7762],
+                                                    [-73.9490, 40.7762], [-73.9490, 40.7760]]]}}]})";
+
+struct ScenarioFolder {
+  ScenarioFolder() : path(std::filesystem::temp_directory_path() / ("uascma_scenario_mission_" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path);
+    std::filesystem::copy_file(MissionData("delivery_loiter.plan"), path / "m.plan",
+                               std::filesystem::copy_options::overwrite_existing);
+    std::ofstream(path / "b.geojson") << kTwoBuildings;
+  }
+  ~ScenarioFolder() { std::filesystem::remove_all(path); }
+  // The source name of a scenario in this folder (paths in it are relative to it).
+  std::string Source() const { return (path / "s.yaml").string(); }
+  std::filesystem::path path;
+};
+
+std::string ParseError(const std::string& yaml, const std::string& source) {
+  try {
+    ParseScenario(yaml, source);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ScenarioFileTest, MissionFileIsFlownInTheMapsFrame) {
+  const ScenarioFolder folder;
+  const planning::Mission alone = planning::LoadMissionFile(folder.path / "m.plan");
+  // Without a map: the mission's own frame (origin at the planned home), and a geodetic origin to export with.
+  const ScenarioFile plain = ParseScenario("mission: {file: m.plan}\n", folder.Source());
+  ASSERT_TRUE(plain.scenario.route.has_value());
+  ASSERT_TRUE(plain.scenario.geo_origin.has_value());
+  EXPECT_EQ(plain.scenario.route->waypoints.size(), alone.waypoints.size());
+  EXPECT_NEAR(plain.scenario.geo_origin->lat_deg, alone.home.lat_deg, 1e-12);
+  const FlightModel model(plain.scenario);
+  EXPECT_NEAR(model.nominal_plan().duration(), planning::MakeMissionPlan(alone, plain.scenario.limits).duration(), 1e-9);
+  EXPECT_LT((model.nominal_plan().end_W() - alone.waypoints.back().p_W).norm(), 1e-9);
+
+  // Over an imported map the default origin is the map's (the data's centre), so the route shifts with it.
+  const ScenarioFile mapped = ParseScenario(
+      "map: {buildings: [b.geojson], height_from_levels: true, metres_per_level: 3.5}\nmission: {file: m.plan}\n",
+      folder.Source());
+  ASSERT_TRUE(mapped.scenario.map && mapped.scenario.route);
+  ASSERT_EQ(mapped.scenario.map->buildings().size(), 2u);
+  EXPECT_DOUBLE_EQ(mapped.scenario.map->building(1).height, 4 * 3.5);  // building:levels × metres_per_level
+  EXPECT_NEAR(mapped.scenario.route->origin.lat_deg, 0.5 * (40.7750 + 40.7762), 1e-9);
+  EXPECT_NEAR(mapped.scenario.geo_origin->lon_deg, 0.5 * (-73.9500 + -73.9487), 1e-9);
+  EXPECT_GT(mapped.scenario.route->home_W.norm(), 500.0);  // home is not the origin now
+  // The record fields mirror the route.
+  EXPECT_EQ(mapped.scenario.mission.home_NE, Eigen::Vector2d(mapped.scenario.route->home_W.head<2>()));
+
+  // map.origin moves both; skip_missing_height drops the building without a height.
+  const ScenarioFile given = ParseScenario(
+      "map: {buildings: [b.geojson], skip_missing_height: true, origin: [40.771, -73.959]}\nmission: {file: m.plan}\n",
+      folder.Source());
+  EXPECT_EQ(given.scenario.map->buildings().size(), 1u);
+  EXPECT_DOUBLE_EQ(given.scenario.route->origin.lat_deg, 40.771);
+  EXPECT_DOUBLE_EQ(given.scenario.geo_origin->lon_deg, -73.959);
+  // Without a map, mission.origin sets the mission's frame; with home/destination keys it places them on the globe.
+  const ScenarioFile own = ParseScenario("mission: {file: m.plan, origin: [40.771, -73.959]}\n", folder.Source());
+  EXPECT_DOUBLE_EQ(own.scenario.route->origin.lat_deg, 40.771);
+  const ScenarioFile local = ParseScenario("mission: {destination_ne_m: [100, 0], origin: [40.771, -73.959]}\n",
+                                           folder.Source());
+  EXPECT_FALSE(local.scenario.route.has_value());
+  EXPECT_DOUBLE_EQ(local.scenario.geo_origin->lat_deg, 40.771);
+
+  // --mission replaces the scenario's mission (even a delivery one).
+  ScenarioLoadOptions load;
+  load.mission_file = MissionData("survey.waypoints");
+  std::ofstream(folder.path / "d.yaml") << "mission: {home_ne_m: [0, 0], destination_ne_m: [100, 0]}\n";
+  const ScenarioFile replaced = LoadScenarioFile(folder.path / "d.yaml", load);
+  ASSERT_TRUE(replaced.scenario.route.has_value());
+  EXPECT_NE(replaced.scenario.route->source.find("survey.waypoints"), std::string::npos);
+
+  // A procedural city has no geodetic frame.
+  EXPECT_FALSE(ParseScenario("map: {procedural: {seed: 2}}\n", folder.Source()).scenario.geo_origin.has_value());
+}
+
+TEST(ScenarioFileTest, MissionAndMapKeysAreCheckedByName) {
+  const ScenarioFolder folder;
+  const std::string source = folder.Source();
+  EXPECT_NE(ParseError("mission: {file: m.plan, destination_ne_m: [1, 2]}\n", source).find("mission.destination_ne_m"),
+            std::string::npos);
+  EXPECT_NE(ParseError("mission: {land_at_end: false}\n", source).find("mission.land_at_end"), std::string::npos);
+  EXPECT_NE(ParseError("map: {buildings: [b.geojson], skip_missing_height: true}\n"
+                       "mission: {file: m.plan, origin: [40.771, -73.959]}\n", source)
+                .find("mission.origin: no origin over an imported map"),
+            std::string::npos);
+  EXPECT_NE(ParseError("mission: {file: none.plan}\n", source).find("none.plan"), std::string::npos);
+  EXPECT_NE(ParseError("map: {procedural: {}, height_from_levels: true}\n", source).find("map.height_from_levels"),
+            std::string::npos);
+  EXPECT_NE(ParseError("map: {buildings: [b.geojson], metres_per_level: -1}\nmission: {file: m.plan}\n", source)
+                .find("metres_per_level"),
+            std::string::npos);
+  // Without a fall-back the building without a height is an error naming it.
+  EXPECT_NE(ParseError("map: {buildings: [b.geojson]}\nmission: {file: m.plan}\n", source).find("way/2"),
+            std::string::npos);
+  // Scenario::IsValid checks a route built in code too.
+  Scenario scenario = ParseScenario("mission: {file: m.plan}\n", source).scenario;
+  scenario.route->waypoints.clear();
+  std::string error;
+  EXPECT_FALSE(scenario.IsValid(&error));
+  EXPECT_NE(error.find("mission: file: expected"), std::string::npos) << error;
+  scenario = ParseScenario("mission: {file: m.plan}\n", source).scenario;
+  scenario.route->waypoints[1].hover_after_s = -1.0;
+  EXPECT_FALSE(scenario.IsValid(&error));
+  EXPECT_NE(error.find("mission: file: expected"), std::string::npos) << error;
 }
 
 }  // namespace

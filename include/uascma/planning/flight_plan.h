@@ -31,7 +31,9 @@ struct PlanReference {
 };
 
 struct PlanSegment {
-  enum class Kind { kMove, kHover };
+  // kBrake: a straight deceleration from `peak_speed` to rest at `accel` (an emergency plan that starts while the
+  // vehicle moves, FlightPlan::AfterBraking).
+  enum class Kind { kMove, kHover, kBrake };
   Kind kind = Kind::kMove;
   std::string label;                  // "takeoff", "cruise out", "drop", …
   Eigen::Vector3d start_W = Eigen::Vector3d::Zero();
@@ -72,6 +74,12 @@ class FlightPlan {
   static FlightPlan Through(const Eigen::Vector3d& start_W, const std::vector<Waypoint>& waypoints,
                             const PlanLimits& limits);
 
+  // A braking move from `start_W` at the horizontal velocity `velocity_W` to rest at `accel` (m/s²) along it, then
+  // `then` (which should start where the braking stops, BrakingStop). An emergency plan chosen while the vehicle
+  // cruises begins so, instead of commanding rest at once (which asks for more tilt than the vehicle has at
+  // Table 4.4's higher cruise speeds). InputError on a non-positive accel or non-finite inputs.
+  static FlightPlan AfterBraking(const Eigen::Vector3d& start_W, const Eigen::Vector3d& velocity_W, double accel,
+                                 const FlightPlan& then);
   PlanReference At(double time) const;  // clamps to the start and end of the plan
   double duration() const { return segments_.empty() ? 0.0 : segments_.back().start_time + segments_.back().duration; }
   // s from `time` to the end of the whole plan (every remaining move and hover); 0 after the end.
@@ -91,6 +99,10 @@ class FlightPlan {
   std::vector<Eigen::Vector3d> direction_W_;
   std::vector<double> length_;
 };
+
+// Where a vehicle at `start_W` moving at `velocity_W` comes to rest decelerating at `accel` (m/s²) along its
+// velocity: start + v |v| / (2 accel).
+Eigen::Vector3d BrakingStop(const Eigen::Vector3d& start_W, const Eigen::Vector3d& velocity_W, double accel);
 
 struct DeliveryMission {
   Eigen::Vector2d home_NE = Eigen::Vector2d::Zero();         // m

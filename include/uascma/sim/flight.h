@@ -61,6 +61,7 @@ struct EmergencyPlan {
   std::string message;  // why no plan; empty when ok()
   planning::FlightPlan plan;
   std::string site;     // a label of the landing site
+  double site_radius = 0.0;  // m, the site's clear touchdown radius (0: unknown, OutcomeThresholds::landing_radius)
   double reach_margin = 0.0;
   std::vector<Eigen::Vector2d> footprint_NE;  // LandASAP: the footprint's boundary in W (north, east), m
   bool ok() const { return status == planning::LandingStatus::kOk; }
@@ -180,6 +181,7 @@ struct FlightState {
   planning::FlightPlan emergency_plan;
   std::string emergency_site;
   double emergency_reach_margin = 0.0;
+  double emergency_site_radius = 0.0;         // m
   std::vector<Eigen::Vector2d> footprint_NE;  // the last LandASAP footprint's boundary
   double plan_start_s = 0.0;
 

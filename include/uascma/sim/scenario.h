@@ -11,6 +11,9 @@
 //     # buildings: [city.geojson]     #   GeoJSON (Overpass) / .osm / .osm.pbf, relative to this file
 //     # sites: sites.csv              #   landing sites: osm_id, lat, lon, alt, risk, radius
 //     # origin: [40.78, -73.96]       #   local NED origin (default: the data's centre)
+//     # height_from_levels: false     #   a building without a height: building:levels × metres_per_level
+//     # metres_per_level: 3           #   m per storey (our estimate, map_import.h)
+//     # skip_missing_height: false    #   a building still without a height is skipped (counted), not an error
 //   vehicle:
 //     configuration: tractor          # tractor | pusher (§2.5)
 //     mass_kg: 1.3
@@ -28,6 +31,13 @@
 //     destination_ne_m: [400, 300]
 //     cruise_altitude_m: 30           # default over a map: 10 m above the tallest building under the route
 //     drop_hover_s: 30
+//     # or a ground station's mission instead of the four keys above (planning/mission_file.h):
+//     # file: delivery.plan           #   QGroundControl .plan or QGC WPL 110 .waypoints, relative to this file
+//     # land_at_end: true             #   a mission ending in the air lands where it ends (warned); false: error
+//     # origin: [40.78, -73.96]       #   lat, lon of the local frame's origin: default the mission's planned
+//     #                               #   home; with home_ne_m etc. it places the local mission on the globe (for
+//     #                               #   simulate --out's .plan files); over an imported map an error: the
+//     #                               #   frame is the map's (map.origin)
 //   limits: {cruise_speed_mps: 5, vertical_speed_mps: 2, horizontal_accel_mps2: 2, vertical_accel_mps2: 1}
 //   fault:                            # absent: no fault
 //     motor: 3
@@ -56,6 +66,8 @@
 #include "uascma/models/wind.h"
 #include "uascma/planning/city_map.h"
 #include "uascma/planning/flight_plan.h"
+#include "uascma/planning/map_import.h"
+#include "uascma/planning/mission_file.h"
 #include "uascma/sim/outcome.h"
 
 namespace uascma::sim {
@@ -115,6 +127,15 @@ struct Scenario {
   BatterySpec battery;
   models::WindParams wind;
   planning::DeliveryMission mission;
+  // A ground station's mission (scenario key mission.file, `simulate --mission`): when set, the nominal plan
+  // is planning::MakeMissionPlan(*route, limits) through its waypoints instead of the delivery plan of
+  // `mission` (whose home_NE/destination_NE then mirror the route's home and last waypoint for the records).
+  // Its warnings (items read but not modelled) are the importer's; the CLI prints them.
+  std::optional<planning::Mission> route;
+  // The geodetic origin of the local frame W, when the scenario has one: the route's origin, else the
+  // imported map's, else the scenario's mission.origin. Absent for local-metres scenarios without it (procedural
+  // city, open ground): nothing can be exported in latitude/longitude then.
+  std::optional<planning::GeoPoint> geo_origin;
   planning::PlanLimits limits;
   FaultSpec fault;
   gnc::LqrOptions lqr;
@@ -122,7 +143,8 @@ struct Scenario {
   SimOptions options;
   std::uint64_t seed = 1;
   // Every part's validator, then the checks across parts (the LQR's step is the GNC step; home and destination
-  // on open ground). `error` reads "part.field: expected …", the part named as in scenario files.
+  // on open ground, or with a route: its home and waypoints finite and its home on open ground, and a plan
+  // can be built through them). `error` reads "part.field: expected …", the part named as in scenario files.
   bool IsValid(std::string* error) const;
 };
 
@@ -131,9 +153,16 @@ struct ScenarioFile {
   std::string policy = "noop";
 };
 
+struct ScenarioLoadOptions {
+  // Flies this mission file (relative to the current folder) instead of the scenario's mission (its file or
+  // its home/destination keys); mission.land_at_end and mission.origin of the scenario still apply.
+  std::optional<std::filesystem::path> mission_file;
+};
+
 // Reads and validates a scenario; InputError names the file, the key path and what was expected.
-ScenarioFile LoadScenarioFile(const std::filesystem::path& path);
-ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source);
+ScenarioFile LoadScenarioFile(const std::filesystem::path& path, const ScenarioLoadOptions& load = {});
+ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source,
+                           const ScenarioLoadOptions& load = {});
 
 // The cells of a pack of health class G, M or P: every cell as models::CellHealthForClass says.
 std::array<models::CellHealth, models::kCellsPerBranch> PackHealthPreset(models::HealthClass health);

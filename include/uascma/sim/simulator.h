@@ -41,6 +41,7 @@ struct SimResult {
   std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch
   std::vector<TelemetryRow> telemetry;
   std::vector<Eigen::Vector3d> executed_plan_ref;                // for plotting: the emergency plans
+  std::optional<planning::FlightPlan> emergency_plan;  // the emergency plan flown at the end, when one was
   std::vector<Eigen::Vector2d> footprint_NE;  // the LandASAP footprint boundary, when one was planned
   std::string emergency_site;              // the site of the last emergency plan ("" when none)
   double emergency_reach_margin = 0.0;     // its RM when it was chosen
