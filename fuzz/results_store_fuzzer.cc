@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const ResultsStore store = ResultsStore::Open(path, StoreOptions{.busy_timeout_ms = 0});
     const CampaignReport report = MakeCampaignReport(store);
-    (void)CampaignReportJson(report).dump();
+    (void)CampaignReportJson(report).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);  // as PrintJson
     (void)CampaignReportText(report);
   } catch (const uascma::InputError&) {
   }

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "bounded_option.h"
 #include "output.h"
 #include "uascma/campaign/battery_flights.h"
 #include "uascma/campaign/policies.h"
@@ -92,7 +93,7 @@ void AddSimulateCommand(CLI::App& app) {
   command->add_option("--battery-policy", options->battery_policy,
                       "Battery policy JSON ('uascma battery solve'): the 1 Hz pack-switch executor");
   command->add_option("--policy", options->policy, "noop | cma | policy.json (overrides the scenario's)");
-  command->add_option("--seed", options->seed, "Random seed (overrides the scenario's)");
+  AddSeedOption(command, "--seed", options->seed, "Random seed (overrides the scenario's)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
     sim::ScenarioFile file;

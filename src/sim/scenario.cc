@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/yaml_io.h"
@@ -63,9 +64,19 @@ void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
     if (procedural.IsMap()) {
       RequireOnlyKeys(procedural, {"seed", "blocks_north", "blocks_east", "rooftop_site_probability"}, source,
                       "map.procedural");
-      params.seed = static_cast<std::uint64_t>(OptionalNumber(procedural, "seed", 1, source, "map.procedural"));
-      params.blocks_north = static_cast<int>(OptionalNumber(procedural, "blocks_north", params.blocks_north, source, "map.procedural"));
-      params.blocks_east = static_cast<int>(OptionalNumber(procedural, "blocks_east", params.blocks_east, source, "map.procedural"));
+      // Seeds are one unsigned 64-bit type everywhere (common/bounds.h ParseSeed): "-1" or 1e30 is refused, not cast.
+      if (const YAML::Node seed = procedural["seed"]) {
+        if (!seed.IsScalar()) throw InputError(source, "map.procedural.seed", "a seed from 0 to 2^64-1");
+        params.seed = ParseSeed(seed.Scalar(), source, "map.procedural.seed");
+      }
+      // Block counts checked before the conversion to int (1 to 200 blocks, as campaigns: our bound).
+      constexpr Bounds kBlockBounds{1.0, 200.0, "blocks"};
+      for (auto [key, count] : {std::pair{"blocks_north", &params.blocks_north}, std::pair{"blocks_east", &params.blocks_east}}) {
+        const double value = OptionalNumber(procedural, key, *count, source, "map.procedural");
+        RequireWithin(value, kBlockBounds, source, std::string("map.procedural.") + key);
+        if (value != std::floor(value)) throw InputError(source, std::string("map.procedural.") + key, "a whole number");
+        *count = static_cast<int>(value);
+      }
       params.rooftop_site_probability = OptionalNumber(procedural, "rooftop_site_probability",
                                                        params.rooftop_site_probability, source, "map.procedural");
     }
@@ -81,7 +92,10 @@ void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
   std::vector<std::filesystem::path> buildings;
   if (const YAML::Node list = node["buildings"]) {
     if (!list.IsSequence()) throw InputError(source, "map.buildings", "a list of map files");
-    for (const auto& item : list) buildings.push_back(resolve(item.as<std::string>()));
+    for (const auto& item : list) {
+      if (!item.IsScalar()) throw InputError(source, "map.buildings", "a list of map file names");
+      buildings.push_back(resolve(item.Scalar()));
+    }
   }
   const std::filesystem::path sites = node["sites"] ? resolve(RequireString(node, "sites", source, "map")) : "";
   planning::MapImportOptions options;
@@ -383,12 +397,9 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   ScenarioFile file;
   Scenario& sc = file.scenario;
   sc.name = root["name"] ? RequireString(root, "name", source, "") : std::filesystem::path(source).stem().string();
-  if (root["seed"]) {
-    const double seed = RequireNumber(root, "seed", source, "");
-    if (seed < 0 || seed != std::floor(seed) || seed > 9007199254740992.0) {
-      throw InputError(source, "seed", "a non-negative integer");
-    }
-    sc.seed = static_cast<std::uint64_t>(seed);
+  if (const YAML::Node seed = root["seed"]) {
+    if (!seed.IsScalar()) throw InputError(source, "seed", "a seed from 0 to 2^64-1");
+    sc.seed = ParseSeed(seed.Scalar(), source, "seed");
   }
   if (root["policy"]) file.policy = RequireString(root, "policy", source, "");
   if (const YAML::Node v = root["vehicle"]) ReadVehicle(v, source, sc);

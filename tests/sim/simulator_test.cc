@@ -164,6 +164,12 @@ TEST(ScenarioFileTest, ParsesTheExampleKeysAndRejectsBadOnesByName) {
             std::string::npos);
   EXPECT_NE(message("battery: {initial_cell_voltage_v: 4.5}\n").find("initial_cell_voltage_v"), std::string::npos);
   EXPECT_NE(message("seed: [1, 2\n").find("bad.yaml: line"), std::string::npos);
+  // Seeds are unsigned 64-bit everywhere (no wrap, no cast of a huge double); counts are checked before the cast.
+  EXPECT_NE(message("seed: -1\n").find("bad.yaml: seed: a seed from 0 to 2^64-1"), std::string::npos);
+  EXPECT_NE(message("map: {procedural: {seed: 1e30}}\n").find("map.procedural.seed"), std::string::npos);
+  EXPECT_NE(message("map: {procedural: {blocks_north: 1e300}}\n").find("map.procedural.blocks_north: from 1 to 200"),
+            std::string::npos);
+  EXPECT_NE(message("map: {buildings: [[a]]}\n").find("map.buildings"), std::string::npos);
 }
 
 TEST(SimulatorTest, ResultKeepsTheEmergencyPlanFlownAtTheEnd) {
