@@ -48,6 +48,9 @@
 //     telemetry_rate_hz: 10
 //     reconfiguration: true
 //     sensor_noise: true
+//     safety_margin_s: 0              # t_sf in the reach margin (Table 4.4: 5-10 s in campaigns)
+//     max_tilt_deg: 69                # loss of control beyond it (sim/outcome.h)
+//     max_cross_track_error_m: 15     # loss of control beyond it (distance from the path, not the schedule)
 //
 // The scenario itself (struct Scenario below) is plain data with defaults, each cited; Scenario::IsValid composes
 // the validators of its parts and is the one check for scenarios from files, from campaign samplers and from code
