@@ -1,5 +1,4 @@
 // uascma simulate — fly one scenario in the high-fidelity simulator (§5.4, Fig. 5.15).
-#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -34,23 +33,6 @@ struct SimulateOptions {
   std::string battery_policy;
   std::optional<std::uint64_t> seed;
   bool json = false;
-};
-
-// Runs the battery executor and records every change of its action (time, action), the first included:
-// the executor itself keeps no record (campaign/battery_flights.h).
-class RecordingBatterySwitch final : public sim::BatterySwitchPolicy {
- public:
-  explicit RecordingBatterySwitch(std::unique_ptr<sim::BatterySwitchPolicy> inner) : inner_(std::move(inner)) {}
-  models::PackAction Decide(const sim::FlightModel& model, const sim::FlightState& state) override {
-    const models::PackAction action = inner_->Decide(model, state);
-    if (switches_.empty() || switches_.back().second != action) switches_.emplace_back(state.time_s, action);
-    return action;
-  }
-  const std::vector<std::pair<double, models::PackAction>>& switches() const { return switches_; }
-
- private:
-  std::unique_ptr<sim::BatterySwitchPolicy> inner_;
-  std::vector<std::pair<double, models::PackAction>> switches_;
 };
 
 // The QGroundControl export of a plan in the scenario's frame (origin known).
@@ -121,10 +103,9 @@ void AddSimulateCommand(CLI::App& app) {
       policy = sim::MakePolicy(policy_spec, options->policy.empty() ? options->scenario : "--policy");
     }
     const sim::Simulator simulator(file.scenario);
-    std::unique_ptr<RecordingBatterySwitch> battery;
+    std::unique_ptr<sim::BatterySwitchPolicy> battery;
     if (!options->battery_policy.empty()) {
-      battery = std::make_unique<RecordingBatterySwitch>(
-          campaign::LoadBatterySwitchPolicy(options->battery_policy, file.scenario));
+      battery = campaign::LoadBatterySwitchPolicy(options->battery_policy, file.scenario);
     }
     // Checked (and staged) before the flight, so a refused folder costs no flight.
     std::optional<OutputDirectory> out;
@@ -132,25 +113,10 @@ void AddSimulateCommand(CLI::App& app) {
     sim::RunOptions run;
     run.record_telemetry = out.has_value();
     run.battery_policy = battery.get();
-    sim::SimResult result = simulator.Run(*policy, {}, run);
-    if (battery) {
-      // The executor's switch changes join the flight's events (time order kept; the outcome stays last).
-      for (const auto& [time_s, action] : battery->switches()) {
-        const auto at = std::upper_bound(result.events.begin(), result.events.end() - 1, time_s,
-                                         [](double t, const sim::FlightEvent& e) { return t < e.time_s; });
-        result.events.insert(at, sim::FlightEvent{time_s, fmt::format("battery: {}", models::PackActionName(action))});
-      }
-    }
+    const sim::SimResult result = simulator.Run(*policy, {}, run);
     const bool geodetic = file.scenario.geo_origin.has_value();
     std::vector<std::string> written = {"telemetry.csv", "plan.csv", "summary.json"};
     nlohmann::json summary = sim::SummaryJson(file.scenario, simulator.nominal_plan(), result);
-    if (battery) {
-      nlohmann::json switches = nlohmann::json::array();
-      for (const auto& [time_s, action] : battery->switches()) {
-        switches.push_back({{"time_s", time_s}, {"action", models::PackActionName(action)}});
-      }
-      summary["battery_switches"] = switches;
-    }
     if (out) {
       if (geodetic) {
         const planning::QgcPlanExportOptions qgc = ExportOptions(file.scenario, simulator.nominal_plan());
@@ -166,7 +132,7 @@ void AddSimulateCommand(CLI::App& app) {
         summary["qgc_plans"] = "not written: the scenario has no geodetic frame (no mission file, imported map or mission.origin)";
       }
       sim::WriteFlightRecord(out->staging(), file.scenario, simulator.nominal_plan(), result, simulator.checkpoints());
-      // The summary with this command's additions (battery switches, files) replaces the record's.
+      // The summary with this command's additions (the files written) replaces the record's.
       WriteFileAtomically(out->staging() / "summary.json", summary.dump(2) + "\n");
       out->Commit();
     }
@@ -181,7 +147,7 @@ void AddSimulateCommand(CLI::App& app) {
                 result.energy_wh);
     if (battery) {
       std::printf("battery executor:");
-      for (const auto& [time_s, action] : battery->switches()) std::printf(" %.0f s %s;", time_s, models::PackActionName(action));
+      for (const auto& [time_s, action] : result.battery_switches) std::printf(" %.0f s %s;", time_s, models::PackActionName(action));
       std::printf("\n");
     }
     if (out) {

@@ -44,7 +44,7 @@ Observation DecisionEnvironment::Reset(std::uint64_t seed) {
   log_.record_telemetry = options_.record_telemetry;
   FlightLog* log = options_.record ? &log_ : nullptr;
   Observe(*model_, state_, log);
-  if (options_.battery_policy) SwitchPacks(state_, options_.battery_policy->Decide(*model_, state_));
+  if (options_.battery_policy) DecideBattery(*model_, state_, *options_.battery_policy, log);
   reset_ = true;
   observation_ = MakeObservation();
   return observation_;
@@ -69,7 +69,7 @@ EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
   }
   if (!state_.done()) {
     Observe(*model_, state_, log);
-    if (options_.battery_policy) SwitchPacks(state_, options_.battery_policy->Decide(*model_, state_));
+    if (options_.battery_policy) DecideBattery(*model_, state_, *options_.battery_policy, log);
   } else {
     out.reward += decision::CmaTerminalReward(options_.weights, TerminalStateOf(state_.outcome));
   }

@@ -209,7 +209,7 @@ double CrossTrackError(const Eigen::Vector3d& error_W, const Eigen::Vector3d& v_
   return (error_W - error_W.dot(along) * along).norm();
 }
 
-void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignals& s, double tracking_error) {
+void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignals& s) {
   const OutcomeThresholds& thresholds = model.options().outcome;
   const double now = state.time_s + model.dt();
   if (-state.body.p_WB_W.z() > thresholds.airborne_height) state.airborne = true;
@@ -221,7 +221,6 @@ void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignal
   inputs.cos_tilt = s.R_WB(2, 2);
   inputs.body_rate = state.body.w_WB_B.norm();
   inputs.cross_track_error = CrossTrackError(state.body.p_WB_W - s.reference.p_W, s.reference.v_W);
-  static_cast<void>(tracking_error);
   inputs.min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v;
   inputs.min_cell_branch = s.pack_outputs.min_cell_branch;
   inputs.min_cell_index = s.pack_outputs.min_cell_index;
@@ -318,7 +317,7 @@ void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
     const int steps_per_row = std::max(1, static_cast<int>(std::lround(model.options().gnc_rate_hz / rate)));
     if (state.step % steps_per_row == 0) RecordTelemetry(model, state, s, *log);
   }
-  ClassifyStep(model, state, s, tracking_error);
+  ClassifyStep(model, state, s);
   ++state.step;
   state.time_s = static_cast<double>(state.step) * model.dt();
 }
@@ -426,11 +425,23 @@ void Act(const FlightModel& model, FlightState& state, CmaAction action, const E
 
 void SwitchPacks(FlightState& state, models::PackAction action) { state.pack.branch_on = models::SwitchesFor(action); }
 
+void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPolicy& policy, FlightLog* log) {
+  const models::PackAction action = policy.Decide(model, state);
+  if (state.battery_action != action) {
+    state.battery_action = action;
+    if (log) {
+      log->battery_switches.emplace_back(state.time_s, action);
+      AddEvent(log, state.time_s, fmt::format("battery: {}", models::PackActionName(action)));
+    }
+  }
+  SwitchPacks(state, action);
+}
+
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
   if (state.done()) return;
   UASCMA_CHECK(IsDecisionEpoch(model, state), "StepEpoch starts at a decision epoch");
   const DecisionInputs& inputs = Observe(model, state, log);
-  if (controllers.battery) SwitchPacks(state, controllers.battery->Decide(model, state));
+  if (controllers.battery) DecideBattery(model, state, *controllers.battery, log);
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
   Act(model, state, action, controllers.planner, log);
   do {

@@ -28,6 +28,7 @@ SimResult MakeSimResult(const FlightModel& model, const FlightState& state, Flig
   result.events = std::move(log.events);
   result.actions = std::move(log.actions);
   result.states = std::move(log.states);
+  result.battery_switches = std::move(log.battery_switches);
   result.telemetry = std::move(log.telemetry);
   if (state.on_emergency_plan) {
     for (double s = 0; s <= state.emergency_plan.duration(); s += 1.0) {

@@ -98,6 +98,14 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
   if (result.jam_time_s && result.isolation_time_s) {
     summary["detection_latency_s"] = *result.isolation_time_s - *result.jam_time_s;
   }
+  // With a battery executor (Ch. IV): every change of its action, the first included.
+  if (!result.battery_switches.empty()) {
+    nlohmann::json switches = nlohmann::json::array();
+    for (const auto& [time_s, action] : result.battery_switches) {
+      switches.push_back({{"time_s", time_s}, {"action", models::PackActionName(action)}});
+    }
+    summary["battery_switches"] = switches;
+  }
   return summary;
 }
 

@@ -174,6 +174,7 @@ struct FlightState {
   prognostics::EodResult eod;
   DecisionInputs inputs;
   std::optional<decision::CmaAction> last_action;  // the last action that changed something (or was refused)
+  std::optional<models::PackAction> battery_action;  // the battery executor's last action (none without one)
 
   // The executing plan: the nominal one or an emergency plan.
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
@@ -235,6 +236,8 @@ struct FlightLog {
   std::vector<FlightEvent> events;
   std::vector<std::pair<double, decision::CmaAction>> actions;  // (time, action) of every executed change
   std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch
+  // (time, action) of every change of the battery executor's action, the first included (also an event each).
+  std::vector<std::pair<double, models::PackAction>> battery_switches;
   std::vector<TelemetryRow> telemetry;
 };
 
@@ -269,6 +272,10 @@ void Act(const FlightModel& model, FlightState& state, decision::CmaAction actio
 
 // Sets the pack switches (Table 4.3); takes effect at the next step.
 void SwitchPacks(FlightState& state, models::PackAction action);
+
+// At an epoch (after Observe): the battery executor decides and the packs switch; a change of its action is
+// logged (an event "battery: UseBatt1" and FlightLog::battery_switches).
+void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPolicy& policy, FlightLog* log = nullptr);
 
 // One decision epoch: Observe, the battery executor and the policy decide (a null policy: NoOp), Act, then GNC
 // steps to the next epoch or the end of the flight. Must be called at an epoch.

@@ -39,6 +39,7 @@ struct SimResult {
   std::vector<FlightEvent> events;
   std::vector<std::pair<double, decision::CmaAction>> actions;  // (time, action) of every executed change
   std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch
+  std::vector<std::pair<double, models::PackAction>> battery_switches;  // the battery executor's changes
   std::vector<TelemetryRow> telemetry;
   std::vector<Eigen::Vector3d> executed_plan_ref;                // for plotting: the emergency plans
   std::optional<planning::FlightPlan> emergency_plan;  // the emergency plan flown at the end, when one was
