@@ -383,18 +383,10 @@ void Act(const FlightModel& model, FlightState& state, CmaAction action, const E
   const Eigen::Vector3d p_W = state.body.p_WB_W;
   const Eigen::Vector3d v_horizontal_W(state.body.v_WB_W.x(), state.body.v_WB_W.y(), 0.0);
   const double braking_accel = model.scenario().limits.horizontal_accel;
-  Eigen::Vector3d plan_from_W = p_W;
-  Eigen::Vector3d plan_velocity_W = state.body.v_WB_W;
-  bool brake = v_horizontal_W.norm() > kBrakingSpeed;
-  if (brake) {
-    plan_from_W = planning::BrakingStop(p_W, v_horizontal_W, braking_accel);
-    brake = !model.map().SegmentCollides(p_W, plan_from_W);
-    if (brake) {
-      plan_velocity_W = Eigen::Vector3d(0.0, 0.0, state.body.v_WB_W.z());
-    } else {
-      plan_from_W = p_W;
-    }
-  }
+  const Eigen::Vector3d stop_W = planning::BrakingStop(p_W, v_horizontal_W, braking_accel);
+  const bool brake = v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(p_W, stop_W);
+  const Eigen::Vector3d plan_from_W = brake ? stop_W : p_W;
+  const Eigen::Vector3d plan_velocity_W = brake ? Eigen::Vector3d(0.0, 0.0, state.body.v_WB_W.z()) : state.body.v_WB_W;
   if (emergency_planner) {
     const bool nominal = !state.on_emergency_plan;
     emergency = emergency_planner({action, t, plan_from_W, plan_velocity_W,
