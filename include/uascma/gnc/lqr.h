@@ -83,6 +83,7 @@ class LqrController {
   Wrench Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const;
 
   const GainMatrix& gain() const { return solution_.K; }
+  const models::RigidBodyParams& params() const { return params_; }
   const RiccatiSolution& riccati() const { return solution_; }
   const LinearModel& discrete_model() const { return discrete_; }
 
@@ -92,5 +93,17 @@ class LqrController {
   LinearModel discrete_;
   RiccatiSolution solution_;
 };
+
+// Drag feed-forward (issue 11, item 3): the acceleration the rotors must add to the reference's so that the
+// drag at the reference air velocity does not hold the vehicle behind its reference. The LQR has no integrator
+// (§4.3.3: "no integrator term was added to the controller"), so without it a cruise at speed V settles with the
+// position lag that balances D(V); with it, the lag is what the drag model's error and the gusts leave.
+//   a_ff = −D_W / m,  D_W = −D(|v_air|, α) v_air / |v_air|,  v_air = v_ref − w_estimate,
+//   α = asin(v_air · z_B / |v_air|) with the vehicle's present body z axis (the drag table's pitch, as the
+//   rigid body evaluates it, models/rigid_body.cc).
+// w_estimate is the wind the flight controller knows: the steady (mean) wind, not the gusts (ours).
+Eigen::Vector3d CalcDragFeedForward(const models::RigidBodyParams& params, const models::DragTable& drag,
+                                    const Eigen::Vector3d& z_B_W, const Eigen::Vector3d& v_ref_W,
+                                    const Eigen::Vector3d& wind_estimate_W);
 
 }  // namespace uascma::gnc

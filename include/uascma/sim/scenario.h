@@ -48,6 +48,7 @@
 //     telemetry_rate_hz: 10
 //     reconfiguration: true
 //     sensor_noise: true
+//     drag_feedforward: true          # the LQR compensates the drag at the reference airspeed (gnc/lqr.h)
 //     safety_margin_s: 0              # t_sf in the reach margin (Table 4.4: 5-10 s in campaigns)
 //     max_tilt_deg: 69                # loss of control beyond it (sim/outcome.h)
 //     max_cross_track_error_m: 15     # loss of control beyond it (distance from the path, not the schedule)
@@ -105,6 +106,9 @@ struct SimOptions {
   OutcomeThresholds outcome;        // how a flight ends (outcome.h)
   bool reconfiguration = true;      // switch to the quadcopter allocation when the IMM isolates a rotor
   bool sensor_noise = true;         // gyro and accelerometer noise for the IMM
+  // The LQR adds the drag at the reference air velocity (less the steady wind) to its reference acceleration
+  // (gnc/lqr.h CalcDragFeedForward; issue 11 item 3). Off: the dissertation's bare DLQR (§4.3.3).
+  bool drag_feedforward = true;
   double hotel_current_a = 0.5;     // A: onboard computer, radio, sensors (our estimate; §4.3.2 calls it small)
   // Bus voltage at which the rotors reach their Table 2.2 maximum thrust; rotor thrust capacity scales
   // as (V_bus / V_ref)² (speed ∝ voltage, thrust ∝ speed²). Our estimate: a 3S pack at 3.7 V per cell.
