@@ -169,6 +169,43 @@ TEST_F(BatteryCli, CaseStudy4SwitchesEarlyToTheHealthyPack) {
   EXPECT_TRUE(scenario.contains("outcome"));
 }
 
+// §4.3.2: the dissertation's flights held every parameter constant, so "dynamics from B_iS_{1,2} states to
+// B_iS_3 state elements are not observed". Ours evolve in flight (gusts, the real EOD): they observe them, and
+// dropping them (solve --without-energy-dynamics, the constant-parameter view) changes the policies.
+TEST_F(BatteryCli, FlightsObserveEnergyTransitionsThatConstantParametersCouldNot) {
+  ASSERT_EQ(learn_.exit_code, 0) << learn_.err;
+  ASSERT_EQ(solve_.exit_code, 0) << solve_.err;
+  const auto energy = nlohmann::json::parse(learn_.out)["energy_transitions"];
+  const std::int64_t downward = energy["S1->S2"].get<std::int64_t>() + energy["S2->S3"].get<std::int64_t>() +
+                                energy["S1->S3"].get<std::int64_t>();
+  EXPECT_GT(downward, 0);
+  const std::int64_t changes = downward + energy["recoveries"].get<std::int64_t>();
+
+  const std::string without_path = (scratch_->path / "policy-without.json").string();
+  const auto without = RunCli("battery solve " + model_ + " --without-energy-dynamics --json --out " + without_path);
+  ASSERT_EQ(without.exit_code, 0) << without.err;
+  const auto total = [](const nlohmann::json& solved) {
+    std::int64_t sum = 0;
+    for (const auto& context : solved["contexts"]) sum += context["transitions"].get<std::int64_t>();
+    return sum;
+  };
+  // Each dropped transition changes one or both packs' energy feature, so it was counted once or twice.
+  const std::int64_t dropped = total(nlohmann::json::parse(solve_.out)) - total(nlohmann::json::parse(without.out));
+  EXPECT_GE(dropped, (changes + 1) / 2);
+  EXPECT_LE(dropped, changes);
+
+  const auto with_policies = nlohmann::json::parse(Slurp(policy_))["policies"];
+  const auto without_policies = nlohmann::json::parse(Slurp(without_path))["policies"];
+  ASSERT_EQ(with_policies.size(), without_policies.size());
+  int differing = 0;
+  for (std::size_t c = 0; c < with_policies.size(); ++c) {
+    for (std::size_t s = 0; s < with_policies[c]["action"].size(); ++s) {
+      differing += with_policies[c]["action"][s] != without_policies[c]["action"][s];
+    }
+  }
+  EXPECT_GT(differing, 0);  // 69 of 5,202 state actions for this 60-flight model; 587 for 5,000 flights (seed 1)
+}
+
 TEST_F(BatteryCli, BadModelsAreRefusedNamingTheFieldAndNothingIsWritten) {
   const auto good = nlohmann::json::parse(Slurp(model_));
   const std::filesystem::path out = scratch_->path / "never.json";
