@@ -164,12 +164,22 @@ std::string LandingResult::BriefReport() const {
 
 // --- one site ----------------------------------------------------------------------------------------------------
 LandingPathPlanner::LandingPathPlanner(const CityMap& map, const LandingPathParams& params)
-    : map_(&map), params_(params) {
+    : LandingPathPlanner(map, params, nullptr) {}
+
+LandingPathPlanner::LandingPathPlanner(const CityMap& map, const LandingPathParams& params,
+                                       std::shared_ptr<const ObstacleSet> obstacles)
+    : map_(&map), params_(params), obstacles_(std::move(obstacles)) {
   std::string error;
   if (!params.IsValid(&error)) {
     const auto colon = error.find(':');
     throw InputError("landing path params", error.substr(0, colon), error.substr(std::min(colon + 2, error.size())));
   }
+  if (!obstacles_) obstacles_ = InflateBuildings(map, params.lateral_margin);
+  UASCMA_CHECK(obstacles_->size() == static_cast<int>(map.buildings().size()),
+               "shared obstacles are one per building of this map");
+}
+
+std::shared_ptr<const ObstacleSet> LandingPathPlanner::InflateBuildings(const CityMap& map, double lateral_margin) {
   std::vector<ConvexObstacle> hulls;
   std::vector<double> heights;
   hulls.reserve(map.buildings().size());
@@ -177,11 +187,11 @@ LandingPathPlanner::LandingPathPlanner(const CityMap& map, const LandingPathPara
   for (const Building& building : map.buildings()) {
     corners.clear();
     for (const Ring& ring : building.rings) corners.insert(corners.end(), ring.begin(), ring.end());
-    hulls.push_back(MakeInflatedHull(corners, params.lateral_margin));
+    hulls.push_back(MakeInflatedHull(corners, lateral_margin));
     hulls.back().building = static_cast<int>(hulls.size()) - 1;
     heights.push_back(building.height);
   }
-  obstacles_ = ObstacleSet(std::move(hulls), std::move(heights));
+  return std::make_shared<const ObstacleSet>(std::move(hulls), std::move(heights));
 }
 
 double LandingPathPlanner::LowerBoundTime(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W) const {
@@ -242,7 +252,7 @@ LandingPath LandingPathPlanner::Detour(const Eigen::Vector3d& start_W, const Eig
   problem.accel = params_.limits.horizontal_accel;
   problem.time_budget = horizontal_budget;
   problem.tolerance = params_.geometry_tolerance;
-  DetourResult detour = ShortestDetour(obstacles_, problem);
+  DetourResult detour = ShortestDetour(*obstacles_, problem);
   if (detour.found()) {
     for (std::size_t i = 1; i < detour.points_NE.size(); ++i) {
       AppendPoint(start_W, Eigen::Vector3d(detour.points_NE[i].x(), detour.points_NE[i].y(), -altitude), &path.waypoints_W);

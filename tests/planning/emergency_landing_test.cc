@@ -326,6 +326,29 @@ TEST(LandingPathTest, DetourBeatsClimbAroundATallTower) {
   ExpectCollisionFree(map, plan, 0, params);
 }
 
+TEST(LandingPathTest, SharedObstaclesPlanExactlyAsBuiltOnes) {
+  // A planner over hulls inflated once and shared (a campaign's planners, sim/emergency_planner.cc) plans
+  // bit for bit as one that inflates its own; hulls of another margin or map are refused.
+  const CityMap map({MakeBuilding("tower", Rectangle(85, -15, 115, 15), 150.0),
+                     MakeBuilding("block", Rectangle(130, 30, 160, 60), 40.0)},
+                    {MakeSite("park", Eigen::Vector3d(200, 0, 0), 0.2)});
+  const LandingPathParams params;
+  const auto shared = LandingPathPlanner::InflateBuildings(map, params.lateral_margin);
+  const LandingPathPlanner own(map, params);
+  const LandingPathPlanner reused(map, params, shared);
+  ASSERT_EQ(reused.obstacles().size(), own.obstacles().size());
+  for (int k = 0; k < own.obstacles().size(); ++k) {
+    EXPECT_EQ(reused.obstacles().obstacle(k).vertices_NE, own.obstacles().obstacle(k).vertices_NE);
+  }
+  const Eigen::Vector3d start(0, 0, -30);
+  const LandingPath a = own.PlanToSite(start, 0), b = reused.PlanToSite(start, 0);
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.flight_time, b.flight_time);  // exact: the same hulls, the same arithmetic
+  EXPECT_EQ(a.waypoints_W, b.waypoints_W);
+  const CityMap one_building({MakeBuilding("tower", Rectangle(85, -15, 115, 15), 150.0)}, {});
+  EXPECT_DEATH_IF_SUPPORTED(LandingPathPlanner(one_building, params, shared), "one per building");
+}
+
 TEST(LandingPathTest, ClimbBeatsDetourOverAWideLowBlock) {
   // A 25 m block 600 m wide: at 30 m it is an obstacle (25 + 10 > 30); climbing 5 m beats going around it.
   const CityMap map({MakeBuilding("block", Rectangle(90, -300, 110, 300), 25.0)},

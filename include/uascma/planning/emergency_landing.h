@@ -85,6 +85,7 @@
 #include <Eigen/Core>
 
 #include <limits>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -171,11 +172,18 @@ class LandingPathPlanner {
  public:
   // InputError("landing path params", field, expected) unless params.IsValid. `map` must outlive the planner.
   LandingPathPlanner(const CityMap& map, const LandingPathParams& params = {});
+  // The same planner over hulls already inflated for `map` by params.lateral_margin (InflateBuildings), shared
+  // rather than rebuilt: a campaign builds one planner per flight over one city, and inflating the hulls of its
+  // ~20,000 buildings is most of that cost. The result is identical to the constructor above.
+  LandingPathPlanner(const CityMap& map, const LandingPathParams& params,
+                     std::shared_ptr<const ObstacleSet> obstacles);
+  // The grown convex hull of every building of `map` (MakeInflatedHull by `lateral_margin`), with its height.
+  static std::shared_ptr<const ObstacleSet> InflateBuildings(const CityMap& map, double lateral_margin);
 
   const CityMap& map() const { return *map_; }
   const LandingPathParams& params() const { return params_; }
   // The grown convex hull of each building, indexed like CityMap::buildings(), with the building heights.
-  const ObstacleSet& obstacles() const { return obstacles_; }
+  const ObstacleSet& obstacles() const { return *obstacles_; }
 
   // s: F_h(d) + F_v(|a_start − a_target|), a lower bound of every path of the class.
   double LowerBoundTime(const Eigen::Vector3d& start_W, const Eigen::Vector3d& target_W) const;
@@ -212,7 +220,7 @@ class LandingPathPlanner {
  private:
   const CityMap* map_ = nullptr;
   LandingPathParams params_;
-  ObstacleSet obstacles_;  // one per building
+  std::shared_ptr<const ObstacleSet> obstacles_;  // one per building; shared by copies of the planner
 };
 
 // --- the request and the result, shared by both actions ---------------------------------------------------------
