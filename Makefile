@@ -6,9 +6,10 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 .PHONY: deps configure build demo test bench clean check-sanitizers fuzz
 # `make check-sanitizers`: the whole suite under ASan + UBSan in its own build folder (issue 16).
 SANITIZE_BUILD_DIR ?= build-asan
-# `make fuzz FUZZ_SECONDS=N`: every parser's libFuzzer harness for N seconds, one after the other.
+# `make fuzz FUZZ_SECONDS=N [FUZZ_PARALLEL=P]`: every parser's libFuzzer harness for N seconds, P at a time.
 FUZZ_BUILD_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
+FUZZ_PARALLEL ?= 1
 
 deps:
 	bash scripts/install-deps.sh
@@ -32,7 +33,7 @@ check-sanitizers: deps
 	bash scripts/check-sanitizers.sh $(SANITIZE_BUILD_DIR) $(JOBS)
 
 fuzz: deps
-	bash scripts/fuzz.sh $(FUZZ_BUILD_DIR) $(FUZZ_SECONDS) $(JOBS)
+	bash scripts/fuzz.sh $(FUZZ_BUILD_DIR) $(FUZZ_SECONDS) $(JOBS) $(FUZZ_PARALLEL)
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "plotting.h"
@@ -24,6 +25,12 @@ namespace {
 
 using namespace uascma::decision;
 using models::PackAction;
+
+// Plausibility bounds of the numeric options (issue 16). Flights: §4.3.2 learns from 5,000; 10^7 is the
+// campaign's bound on runs. Threads: our bound, far above any machine this runs on. Case studies: Table 4.5.
+constexpr Bounds kFlightsBounds{1.0, 1e7, "flights"};
+constexpr Bounds kThreadsBounds{1.0, 256.0, "threads"};
+constexpr Bounds kCaseStudyBounds{1.0, 4.0, ""};
 
 constexpr std::array<PackAction, 3> kActions = {PackAction::kUseBatt1, PackAction::kUseBatt2, PackAction::kUseBoth};
 
@@ -74,16 +81,14 @@ void AddLearn(CLI::App* battery) {
       "Fly Monte Carlo flights (Table 4.4; each flown with one action throughout, split equally between\n"
       "UseBatt1, UseBatt2 and UseBoth) and count the battery MDP's 1 Hz transitions per health pair and\n"
       "temperature (§4.3.2). Writes the model with its counts");
-  command->add_option("--runs", options->runs, "Flights (§4.3.2: 5,000)");
-  command->add_option("--seed", options->seed, "Seed; every flight replays from (seed, flight index)");
-  command->add_option("--jobs", options->jobs, "Threads (the counts do not depend on it)");
+  AddBoundedOption(command, "--runs", options->runs, "Flights (§4.3.2: 5,000)", kFlightsBounds);
+  AddSeedOption(command, "--seed", options->seed, "Seed; every flight replays from (seed, flight index)");
+  AddBoundedOption(command, "--jobs", options->jobs, "Threads (the counts do not depend on it)", kThreadsBounds);
   command->add_option("--out", options->out, "Model JSON to write")->required();
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
-    if (options->runs < 1 || options->runs > 10000000) {
-      throw InputError("--runs", "value", fmt::format("1 to 10^7 flights, got {}", options->runs));
-    }
-    if (options->jobs < 1 || options->jobs > 256) throw InputError("--jobs", "value", fmt::format("1 to 256 threads, got {}", options->jobs));
+    RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
+    RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
     ProgressBar bar(options->runs, "battery learn");
     campaign::BatteryLearningOptions learning;
     learning.runs = options->runs;
@@ -325,26 +330,26 @@ void AddCaseStudy(CLI::App* battery) {
       "Run a case study of Table 4.5: (1) flight time = one pack's EOD, UseBoth; (2) the same with pi*;\n"
       "(3) flight time = both packs' EOD, UseBoth, for (F1,F2), (F1,F3), (F3,F3); (4) pi* for (F2,F1).\n"
       "pi* comes from --policy, or is learned (--runs flights) and solved first");
-  command->add_option("N", options->number, "Case study 1-4 (Table 4.5)")->required();
+  AddBoundedOption(command, "N", options->number, "Case study (Table 4.5)", kCaseStudyBounds)->required();
   command->add_option("--out", options->out, "Write case-N.json, one CSV per scenario and plots to this folder");
   command->add_option("--policy", options->policy, "Battery policy JSON for pi* (cases 2 and 4)");
-  command->add_option("--runs", options->runs, "Without --policy: flights to learn pi* from (default 5,000)");
-  command->add_option("--jobs", options->jobs, "Without --policy: threads for learning");
+  AddBoundedOption(command, "--runs", options->runs, "Without --policy: flights to learn pi* from (default 5,000)",
+                   kFlightsBounds);
+  AddBoundedOption(command, "--jobs", options->jobs, "Without --policy: threads for learning", kThreadsBounds);
   command->add_flag("--json", options->json, "Print per scenario the outcome and the switch actions with times");
   command->callback([options] {
-    if (options->number < 1 || options->number > 4) {
-      throw InputError("N", "value", fmt::format("a case study 1, 2, 3 or 4 (Table 4.5), got {}", options->number));
-    }
+    RequireWithin(options->number, kCaseStudyBounds, "N", "value");
+    RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
+    RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
     std::optional<BatteryPolicySet> policies;
     if (options->number == 2 || options->number == 4) {
       if (!options->policy.empty()) {
         policies = ReadBatteryPolicyFile(options->policy);
       } else {
-        if (options->runs < 1) throw InputError("--runs", "value", "at least 1 flight");
         ProgressBar bar(options->runs, "battery learn (pi*)");
         campaign::BatteryLearningOptions learning;
         learning.runs = options->runs;
-        learning.jobs = std::max(1, options->jobs);
+        learning.jobs = options->jobs;
         learning.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
         policies = SolveBatteryPolicies(campaign::LearnBatteryModel(learning));
       }

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   uascma::cli::AddReportCommand(app);
   uascma::cli::AddMapCommand(app);
   uascma::cli::AddBatteryCommand(app);
+  uascma::cli::AddLearnCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -15,6 +15,7 @@
 #include "plotting.h"
 #include "uascma/common/files.h"
 #include "uascma/common/error.h"
+#include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/decision/solvers.h"
@@ -95,6 +96,7 @@ void AddSolve(CLI::App* policy) {
     std::string out;
     std::string format = "json";
     std::string method = "vi";
+    std::string transitions;
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -108,10 +110,20 @@ void AddSolve(CLI::App* policy) {
   command->add_option("--format", options->format, "json | tsv")->check(CLI::IsMember({"json", "tsv"}));
   command->add_option("--method", options->method, "vi (value iteration) | pi (policy iteration)")
       ->check(CLI::IsMember({"vi", "pi"}));
+  command->add_option("--transitions", options->transitions,
+                      "Transitions JSON from 'uascma learn transitions': solve on the rows estimated from\n"
+                      "flights (unobserved rows keep the DDN's); the counts are kept in the policy file");
   command->add_flag("--json", options->json, "With --out: print the solver summary as JSON");
   command->callback([options] {
     const CmaConfig config = ResolveConfig(options->model);
-    const FiniteMdp mdp = BuildCmaMdp(config.weights);
+    nlohmann::json model_config = {{"weights", CmaWeightsJson(config.weights)}};
+    FiniteMdp mdp = BuildCmaMdp(config.weights);
+    if (!options->transitions.empty()) {
+      const CmaTransitionCounts counts = ReadCmaTransitionsFile(options->transitions);
+      mdp = BuildEstimatedCmaMdp(config.weights, counts);
+      model_config["transition_counts"] = CmaTransitionCountsToJson(counts);
+      model_config["transitions_file"] = options->transitions;
+    }
     SolverSummary summary;
     const Policy policy = Solve(mdp, config.gamma, options->method, &summary);
     std::string content;
@@ -122,7 +134,7 @@ void AddSolve(CLI::App* policy) {
       }
     } else {
       const PolicyDocument document = MakePolicyDocument(
-          mdp, policy, "cma", config.gamma, {{"weights", CmaWeightsJson(config.weights)}}, summary,
+          mdp, policy, "cma", config.gamma, model_config, summary,
           options->method == "pi" ? "policy_iteration" : "value_iteration");
       content = PolicyToJson(document).dump(2) + "\n";
     }

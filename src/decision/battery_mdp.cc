@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
-#include "uascma/common/files.h"
+#include "uascma/common/json_io.h"
 #include "uascma/common/hash.h"
 #include "uascma/decision/policy_file.h"
 
@@ -140,16 +140,6 @@ BatteryContext ContextFromJson(const nlohmann::json& entry, const std::string& s
 
 PackAction ParseAction(const std::string& name, const std::string& source, const std::string& field) {
   return models::ParsePackAction(name, source + ": " + field);  // names the file and the field
-}
-
-nlohmann::json JsonFromText(const std::string& text, const std::string& source) {
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(source, fmt::format("byte {}", e.byte), "valid JSON");
-  } catch (const nlohmann::json::exception& e) {  // out_of_range: a number like 1e999
-    throw InputError(source, "JSON", fmt::format("valid JSON ({})", e.what()));
-  }
 }
 
 }  // namespace
@@ -591,7 +581,7 @@ BatteryModel BatteryModelFromJson(const nlohmann::json& json, const std::string&
 }
 
 BatteryModel ReadBatteryModelFile(const std::filesystem::path& path) {
-  return BatteryModelFromJson(JsonFromText(ReadFile(path), path.string()), path.string());
+  return BatteryModelFromJson(ReadJsonFile(path), path.string());
 }
 
 // ================================ policies ========================================================
@@ -766,18 +756,32 @@ BatteryPolicySet BatteryPolicyFromJson(const nlohmann::json& json, const std::st
                 [](const Transition& a, const Transition& b) { return a.next_state < b.next_state; });
       p.observed_rows.push_back(std::move(row));
     }
+    // The solver's report and the statistics: optional, but typed (a string status, counts in int's range, a
+    // number residual); json::value() threw type_error on a mistyped one and cast 1e300 to int (issue 16).
+    auto count = [&](const nlohmann::json& object, const char* key, const std::string& at) -> std::int64_t {
+      const auto it = object.find(key);
+      if (it == object.end()) return 0;
+      if (!it->is_number_integer() || it->get<std::int64_t>() < 0 ||
+          it->get<std::int64_t>() > std::numeric_limits<int>::max()) {
+        throw InputError(source, at + "." + key, fmt::format("a count from 0 to {}, got {}", std::numeric_limits<int>::max(), it->dump()));
+      }
+      return it->get<std::int64_t>();
+    };
     if (entry.contains("solver") && entry.at("solver").is_object()) {
       const auto& solver = entry.at("solver");
-      p.summary.status = solver.value("status", "") == "converged" ? SolverStatus::kConverged : SolverStatus::kMaxIterations;
-      p.summary.iterations = solver.value("iterations", 0);
-      p.summary.residual = solver.value("residual", 0.0);
+      const std::string at = where + ".solver";
+      const std::string status = solver.contains("status") ? StringMember(solver, "status", source, at) : "";
+      p.summary.status = status == "converged" ? SolverStatus::kConverged : SolverStatus::kMaxIterations;
+      p.summary.iterations = static_cast<int>(count(solver, "iterations", at));
+      p.summary.residual = solver.contains("residual") ? NumberMember(solver, "residual", source, at) : 0.0;
     }
     if (entry.contains("stats") && entry.at("stats").is_object()) {
       const auto& stats = entry.at("stats");
-      p.stats.learned_rows = stats.value("learned_rows", 0);
-      p.stats.unobserved_rows = stats.value("unobserved_rows", 0);
-      p.stats.switch_rows = stats.value("switch_rows", 0);
-      p.stats.transitions = stats.value("transitions", std::int64_t{0});
+      const std::string at = where + ".stats";
+      p.stats.learned_rows = static_cast<int>(count(stats, "learned_rows", at));
+      p.stats.unobserved_rows = static_cast<int>(count(stats, "unobserved_rows", at));
+      p.stats.switch_rows = static_cast<int>(count(stats, "switch_rows", at));
+      p.stats.transitions = count(stats, "transitions", at);
     }
   }
   for (int c = 0; c < kBatteryNumContexts; ++c) {
@@ -796,7 +800,7 @@ BatteryPolicySet BatteryPolicyFromJson(const nlohmann::json& json, const std::st
 }
 
 BatteryPolicySet ReadBatteryPolicyFile(const std::filesystem::path& path) {
-  return BatteryPolicyFromJson(JsonFromText(ReadFile(path), path.string()), path.string());
+  return BatteryPolicyFromJson(ReadJsonFile(path), path.string());
 }
 
 BatteryPolicyExecutor::BatteryPolicyExecutor(const BatteryPolicySet& policies, const BatteryContext& context)

@@ -3,8 +3,9 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
-#include "uascma/common/files.h"
+#include "uascma/common/json_io.h"
 #include "uascma/common/hash.h"
+#include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
 
 namespace uascma::decision {
@@ -112,16 +113,7 @@ PolicyDocument PolicyFromJson(const nlohmann::json& json, const std::string& sou
 }
 
 PolicyDocument ReadPolicyFile(const std::filesystem::path& path) {
-  const std::string text = ReadFile(path);
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(path.string(), fmt::format("byte {}", e.byte), "valid JSON");
-  } catch (const nlohmann::json::exception& e) {  // out_of_range: a number like 1e999
-    throw InputError(path.string(), "JSON", fmt::format("valid JSON ({})", e.what()));
-  }
-  return PolicyFromJson(json, path.string());
+  return PolicyFromJson(ReadJsonFile(path), path.string());
 }
 
 Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const std::string& source) {
@@ -158,11 +150,21 @@ Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const st
 FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& weights_file,
                             const std::string& source) {
   if (document.model != "cma") throw InputError(source, "model", "'cma', got '" + document.model + "'");
-  if (!weights_file.empty()) return BuildCmaMdp(LoadCmaConfig(weights_file).weights);
-  if (!document.model_config.contains("weights")) {
+  CmaWeights weights;
+  if (!weights_file.empty()) {
+    weights = LoadCmaConfig(weights_file).weights;
+  } else if (!document.model_config.contains("weights")) {
     throw InputError(source, "model_config.weights", "the weights the policy was solved with");
+  } else {
+    weights = CmaWeightsFromJson(document.model_config.at("weights"), source);
   }
-  return BuildCmaMdp(CmaWeightsFromJson(document.model_config.at("weights"), source));
+  // A policy solved on transitions estimated from flights (decision/cma_estimated_model.h) keeps their counts.
+  if (document.model_config.contains("transition_counts")) {
+    return BuildEstimatedCmaMdp(
+        weights, CmaTransitionCountsFromJson(document.model_config.at("transition_counts"),
+                                             source + ": model_config.transition_counts"));
+  }
+  return BuildCmaMdp(weights);
 }
 
 Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file) {

@@ -22,6 +22,7 @@
 #pragma GCC diagnostic pop
 
 #include <algorithm>
+#include <cstring>
 #include <set>
 #include <sstream>
 
@@ -29,10 +30,32 @@
 
 #include "map_import_detail.h"
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 #include "uascma/planning/map_import.h"
 
 namespace uascma::planning {
 namespace {
+
+// libosmium walks a tag list as key\0value\0 pairs until it lands exactly on the list's end. A .osm.pbf string may
+// hold a NUL byte (its strings are length-delimited); copied into the list it splits a key or value in two, the
+// pairs no longer land on the end, and the walk reads past the buffer (found by fuzzing, issue 16: Tag::after_null,
+// heap-buffer-overflow). So the bytes are checked here, with bounds, before any tag is read.
+bool TagsWellFormed(const osmium::TagList& tags) {
+  const char* p = reinterpret_cast<const char*>(tags.data()) + sizeof(osmium::TagList);
+  const char* const end = reinterpret_cast<const char*>(tags.data()) + tags.byte_size();
+  while (p < end) {
+    for (int part = 0; part < 2; ++part) {  // the key, then the value
+      const void* nul = std::memchr(p, 0, static_cast<std::size_t>(end - p));
+      if (nul == nullptr) return false;
+      p = static_cast<const char*>(nul) + 1;
+    }
+  }
+  return p == end;
+}
+
+void RequireWellFormedTags(const osmium::TagList& tags, const std::string& source, const std::string& name) {
+  if (!TagsWellFormed(tags)) throw InputError(source, name, "tags as key/value strings without NUL bytes");
+}
 
 std::optional<std::string> Tag(const osmium::TagList& tags, const char* key) {
   const char* value = tags.get_value_by_key(key);
@@ -64,6 +87,7 @@ class BuildingCollector : public osmium::handler::Handler {
     if (way.tags().empty()) return;  // untagged ways are geometry of relations, not features
     ++data_->summary.features;
     const std::string name = fmt::format("way/{}", way.id());
+    RequireWellFormedTags(way.tags(), source_, name);
     const auto& nodes = way.nodes();
     if (nodes.size() < 2 || !nodes.is_closed()) {
       detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotPolygon, "an open way (a line)");
@@ -94,6 +118,7 @@ class BuildingCollector : public osmium::handler::Handler {
     if (relation.tags().empty()) return;
     ++data_->summary.features;
     const std::string name = fmt::format("relation/{}", relation.id());
+    RequireWellFormedTags(relation.tags(), source_, name);
     const char* type = relation.tags().get_value_by_key("type");
     if (type == nullptr || std::string_view(type) != "multipolygon") {
       detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotBuilding,
@@ -173,7 +198,14 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(source, "file", "a readable OSM file");
   try {
-    const osmium::io::File file(source);
+    // libosmium reads the file from memory: its Reader left the descriptor of a malformed .osm.pbf open, one per
+    // failed read (found by fuzz/osm_pbf_fuzzer, issue 16: the process ran out of descriptors), and a buffer has
+    // none. Format and compression still come from the name; a city extract is a few MB.
+    const std::string contents = ReadFile(path);
+    const osmium::io::File named(source);
+    osmium::io::File file(contents.data(), contents.size());
+    file.set_format(named.format());
+    file.set_compression(named.compression());
     std::ostringstream problems;
     osmium::area::ProblemReporterStream reporter(problems);
     osmium::area::Assembler::config_type config;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "map_import_detail.h"
+#include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 
@@ -77,10 +79,33 @@ double JsonNumber(const nlohmann::json& value, const std::string& source, const 
   return value.get<double>();
 }
 
+// Plausibility bounds of a mission's numbers (issue 16; common/bounds.h), the scenario's bounds for the same
+// quantities (sim/scenario_bounds.h): a height above home up to 1000 m (mission.cruise_altitude_m), a hover,
+// delay or loiter of at most an hour (mission.drop_hover_s: four times the packs' ~15 min hover endurance), a
+// speed of 0.1 to 30 m/s (limits.cruise_speed_mps). A value outside is an InputError naming the item.
+constexpr Bounds kMissionHeightBounds{0.0, 1000.0, "m above home"};
+constexpr Bounds kMissionHoverBounds{0.0, 3600.0, "s"};
+constexpr Bounds kMissionSpeedBounds{0.1, 30.0, "m/s"};
+
+// A member that should be a string: its text, `fallback` when absent, and for another JSON type its JSON text
+// (json::value() threw type_error on a mistyped member, escaping as an internal error; issue 16's fuzzing).
+std::string JsonText(const nlohmann::json& object, const char* key, const std::string& fallback) {
+  const auto it = object.find(key);
+  if (it == object.end()) return fallback;
+  return it->is_string() ? it->get<std::string>() : it->dump();
+}
+
 int JsonInteger(const nlohmann::json& object, const char* key, const std::string& source, const std::string& field) {
   const auto it = object.find(key);
   if (it == object.end() || !it->is_number_integer()) {
     throw InputError(source, fmt::format("{}.{}", field, key), "an integer");
+  }
+  // In int's range: a larger number would wrap (2^32 + 16 read as command 16; issue 16).
+  constexpr int kMax = std::numeric_limits<int>::max(), kMin = std::numeric_limits<int>::min();
+  const bool in_range = it->is_number_unsigned() ? it->get<std::uint64_t>() <= static_cast<std::uint64_t>(kMax)
+                                                 : it->get<std::int64_t>() >= kMin && it->get<std::int64_t>() <= kMax;
+  if (!in_range) {
+    throw InputError(source, fmt::format("{}.{}", field, key), fmt::format("an integer, got {}", it->dump()));
   }
   return it->get<int>();
 }
@@ -92,7 +117,7 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
   } catch (const nlohmann::json::exception& error) {  // parse_error, or out_of_range for a number like 1e999
     throw InputError(source, "JSON", fmt::format("a QGroundControl plan; the parser says: {}", error.what()));
   }
-  if (!document.is_object() || document.value("fileType", std::string()) != "Plan") {
+  if (!document.is_object() || JsonText(document, "fileType", "") != "Plan") {
     throw InputError(source, "fileType", "\"Plan\" (a QGroundControl .plan file)");
   }
   const auto mission_it = document.find("mission");
@@ -112,7 +137,10 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
     if (std::isfinite(altitude)) raw.home_amsl = altitude;
   }
   if (const auto speed = mission.find("hoverSpeed"); speed != mission.end() && speed->is_number()) {
-    if (speed->get<double>() > 0.0) raw.planned_speed = speed->get<double>();
+    if (speed->get<double>() > 0.0) {  // 0 or less: none (QGroundControl's default then applies)
+      RequireWithin(speed->get<double>(), kMissionSpeedBounds, source, "mission.hoverSpeed");
+      raw.planned_speed = speed->get<double>();
+    }
   }
 
   const auto items = mission.find("items");
@@ -122,14 +150,16 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
     const nlohmann::json& item = (*items)[i];
     const std::string field = fmt::format("mission.items[{}]", i);
     if (!item.is_object()) throw InputError(source, field, "an object");
-    const std::string type = item.value("type", std::string());
+    const std::string type = JsonText(item, "type", "");
     if (type == "ComplexItem") {
       throw InputError(source, field,
                        fmt::format("a SimpleItem; the ComplexItem '{}' (a generated pattern) is not modelled: "
                                    "convert it to waypoints in QGroundControl first",
-                                   item.value("complexItemType", std::string("?"))));
+                                   JsonText(item, "complexItemType", "?")));
     }
-    if (type != "SimpleItem") throw InputError(source, field + ".type", fmt::format("\"SimpleItem\", got \"{}\"", type));
+    if (type != "SimpleItem") {
+      throw InputError(source, field + ".type", fmt::format("\"SimpleItem\", got {}", JsonText(item, "type", "none")));
+    }
     RawItem raw_item;
     raw_item.number = ++number;
     raw_item.name = fmt::format("{} (item {})", field, raw_item.number);
@@ -208,7 +238,8 @@ RawMission ReadQgcWpl(std::string_view text, const std::string& source) {
       values[f] = *value;
     }
     auto integer = [&](int f, const char* what) {
-      if (values[f] != std::floor(values[f])) {
+      // Whole and in int's range (the cast of 1e15 to int is undefined behaviour; found by fuzz/mission_wpl_fuzzer).
+      if (values[f] != std::floor(values[f]) || !(std::abs(values[f]) <= std::numeric_limits<int>::max())) {
         throw InputError(source, fmt::format("{} {}", where, what), fmt::format("an integer, got {}", fields[f]));
       }
       return static_cast<int>(values[f]);
@@ -395,6 +426,9 @@ class MissionBuilder {
     if (target.z() > kSamePlace) {
       throw InputError(source_, item.name + " altitude", fmt::format("a height ≥ 0 m above home, got {}", -target.z()));
     }
+    if (-target.z() > kMissionHeightBounds.high) {
+      throw InputError(source_, item.name + " altitude", OutsideBoundsMessage(kMissionHeightBounds, -target.z()));
+    }
     CheckClear(target, item);
     if (!Airborne() && target.z() < position_.z() - kSamePlace &&
         (target.head<2>() - position_.head<2>()).norm() > kSamePlace) {
@@ -408,9 +442,7 @@ class MissionBuilder {
   }
 
   void Hover(double seconds, const RawItem& item, const std::string& label) {
-    if (!(seconds >= 0.0 && std::isfinite(seconds))) {
-      throw InputError(source_, item.name + " param1", fmt::format("a time ≥ 0 s, got {}", seconds));
-    }
+    RequireWithin(seconds, kMissionHoverBounds, source_, item.name + " param1");
     if (seconds == 0.0) return;
     if (mission_.waypoints.empty() || (mission_.waypoints.back().p_W - position_).norm() > kSamePlace) {
       Push(position_, label);
@@ -513,7 +545,10 @@ class MissionBuilder {
       case kMavCmdDoChangeSpeed: {
         const double type = item.params[0], speed = item.params[1];
         if (type == 0.0 || type == 1.0) {
-          if (speed > 0.0 && std::isfinite(speed)) speed_ = speed;  // −1 (or 0): no change
+          if (speed > 0.0) {  // −1 (or 0): no change
+            RequireWithin(speed, kMissionSpeedBounds, source_, item.name + " param2");
+            speed_ = speed;
+          }
         } else {
           Warn(fmt::format("{}: DO_CHANGE_SPEED of type {} (climb or descent speed) is not modelled", item.name, type));
         }

@@ -13,6 +13,8 @@
 #include "uascma/common/yaml_io.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
+#include "uascma/prognostics/motor_rul.h"
+#include "uascma/sim/scenario_bounds.h"
 
 namespace uascma::sim {
 namespace {
@@ -79,6 +81,8 @@ void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
       }
       params.rooftop_site_probability = OptionalNumber(procedural, "rooftop_site_probability",
                                                        params.rooftop_site_probability, source, "map.procedural");
+      RequireWithin(params.rooftop_site_probability, scenario_bounds::kProbability, source,
+                    "map.procedural.rooftop_site_probability");
     }
     sc.map = std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
     return;
@@ -101,11 +105,14 @@ void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
   planning::MapImportOptions options;
   if (node["origin"]) {
     const auto origin = RequireNumberList(node, "origin", 2, source, "map");
+    RequireWithin(origin[0], scenario_bounds::kLatitude, source, "map.origin[0] (latitude)");
+    RequireWithin(origin[1], scenario_bounds::kLongitude, source, "map.origin[1] (longitude)");
     options.origin = planning::GeoPoint{origin[0], origin[1]};
   }
   // The import fall-backs, spelt as in campaign YAML (campaign/config.cc).
   options.height_from_levels = OptionalBool(node, "height_from_levels", options.height_from_levels, source, "map");
   options.metres_per_level = OptionalNumber(node, "metres_per_level", options.metres_per_level, source, "map");
+  RequireWithin(options.metres_per_level, scenario_bounds::kMetresPerLevel, source, "map.metres_per_level");
   options.skip_missing_height = OptionalBool(node, "skip_missing_height", options.skip_missing_height, source, "map");
   std::string error;
   if (!options.IsValid(&error)) throw InputError(source + ": map." + error);
@@ -184,7 +191,62 @@ bool SimOptions::IsValid(std::string* error) const {
   return outcome.IsValid(error);
 }
 
+namespace {
+
+// An angle kept in radians, bounded in the degrees its key is written in: compared in radians (the bound
+// converted exactly as the parser converts the value, so 89° passes a bound of 89°), reported in degrees.
+bool CheckAngleWithin(double radians, const Bounds& degrees, std::string_view field, std::string* error) {
+  if (radians >= degrees.low * kRadiansPerDegree && radians <= degrees.high * kRadiansPerDegree) return true;
+  if (error) *error = fmt::format("{}: expected {}", field, OutsideBoundsMessage(degrees, radians / kRadiansPerDegree));
+  return false;
+}
+
+// The plausibility bounds of every number a scenario file sets (scenario_bounds.h), named by its key.
+bool CheckPlausible(const Scenario& sc, std::string* error) {
+  namespace b = scenario_bounds;
+  const OutcomeThresholds& outcome = sc.options.outcome;
+  const Bounds& growth = prognostics::SpallGrowthParams::kTimePerGrowthStepBounds;
+  const struct { std::string field; double value; const Bounds& bounds; } checks[] = {
+      {"vehicle.mass_kg", sc.body.mass, b::kMass},
+      {"vehicle.inertia_kg_m2[0]", sc.body.inertia_diagonal.x(), b::kInertia},
+      {"vehicle.inertia_kg_m2[1]", sc.body.inertia_diagonal.y(), b::kInertia},
+      {"vehicle.inertia_kg_m2[2]", sc.body.inertia_diagonal.z(), b::kInertia},
+      {"battery.ambient_temp_degf", sc.battery.ambient_temp_degf, models::kAmbientTemperatureBounds},
+      {"wind.speed_mps", sc.wind.mean_speed, b::kWindSpeed},
+      {"mission.home_ne_m[0]", sc.mission.home_NE.x(), b::kPosition},
+      {"mission.home_ne_m[1]", sc.mission.home_NE.y(), b::kPosition},
+      {"mission.destination_ne_m[0]", sc.mission.destination_NE.x(), b::kPosition},
+      {"mission.destination_ne_m[1]", sc.mission.destination_NE.y(), b::kPosition},
+      {"mission.cruise_altitude_m", sc.mission.cruise_altitude, b::kCruiseAltitude},
+      {"mission.drop_hover_s", sc.mission.drop_hover_s, b::kDropHover},
+      {"limits.cruise_speed_mps", sc.limits.cruise_speed, b::kCruiseSpeed},
+      {"limits.vertical_speed_mps", sc.limits.vertical_speed, b::kVerticalSpeed},
+      {"limits.horizontal_accel_mps2", sc.limits.horizontal_accel, b::kHorizontalAccel},
+      {"limits.vertical_accel_mps2", sc.limits.vertical_accel, b::kVerticalAccel},
+      {"options.telemetry_rate_hz", sc.options.telemetry_rate_hz, b::kTelemetryRate},
+      {"options.safety_margin_s", sc.options.safety_margin_s, b::kSafetyMargin},
+      {"options.max_cross_track_error_m", outcome.max_cross_track_error, b::kMaxCrossTrackError},
+  };
+  for (const auto& check : checks) {
+    if (!CheckWithin(check.value, check.bounds, check.field, error)) return false;
+  }
+  if (sc.fault.enabled) {
+    if (!CheckWithin(sc.fault.spall_onset_s, b::kSpallOnset, "fault.spall_onset_s", error)) return false;
+    for (const auto& [field, tau] : {std::pair{"fault.time_per_growth_step_s", sc.fault.time_per_growth_step_s},
+                                     std::pair{"fault.prognosis_time_per_growth_step_s",
+                                               sc.fault.prognosis_time_per_growth_step_s}}) {
+      if (tau && !CheckWithin(*tau, growth, field, error)) return false;
+    }
+  }
+  return CheckAngleWithin(sc.wind.direction_rad, b::kWindDirection, "wind.direction_deg", error) &&
+         CheckAngleWithin(outcome.max_tilt, b::kMaxTilt, "options.max_tilt_deg", error);
+}
+
+}  // namespace
+
 bool Scenario::IsValid(std::string* error) const {
+  // The plausibility bounds first: they name the file's key and the bound (issue 16).
+  if (!CheckPlausible(*this, error)) return false;
   std::string part_error;
   auto fail = [&](const char* part) {
     if (error) *error = std::string(part) + ": " + part_error;

@@ -115,7 +115,7 @@ def test_a_python_callable_flies_like_the_same_policy_in_cpp():
 def test_errors_raise_input_error_naming_the_field(tmp_path):
     with pytest.raises(uascma.InputError, match="wind.speedd_mps|speedd_mps"):
         uascma.run("name: typo\nwind:\n  speedd_mps: 2\n")
-    with pytest.raises(uascma.InputError, match="vehicle: mass"):
+    with pytest.raises(uascma.InputError, match="vehicle.mass_kg"):
         uascma.run({"vehicle": {"mass_kg": -1.0}})
     with pytest.raises(uascma.InputError, match="scenario"):
         uascma.run(str(tmp_path / "missing.yaml"))

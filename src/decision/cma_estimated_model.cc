@@ -1,0 +1,210 @@
+#include "uascma/decision/cma_estimated_model.h"
+
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/json_io.h"
+#include "uascma/decision/cma_abstraction.h"
+
+namespace uascma::decision {
+namespace {
+
+// The state labels and availability of the CMA model (the rewards do not matter for either).
+const FiniteMdp& LabelModel() {
+  static const FiniteMdp mdp = BuildCmaMdp(CmaWeights{});
+  return mdp;
+}
+
+bool IsTupleAvailable(StateIndex state, ActionIndex action) {
+  return LabelModel().IsAvailable(state, action);
+}
+
+}  // namespace
+
+CmaTransitionCounts::CmaTransitionCounts()
+    : count_(static_cast<std::size_t>(kCmaNumTupleStates) * kCmaNumActions * kCmaNumStates, 0) {}
+
+std::size_t CmaTransitionCounts::Index(StateIndex state, ActionIndex action, StateIndex next) {
+  UASCMA_CHECK(state >= 0 && state < kCmaNumTupleStates, "a tuple state");
+  UASCMA_CHECK(action >= 0 && action < kCmaNumActions, "a CMA action");
+  UASCMA_CHECK(next >= 0 && next < kCmaNumStates, "a CMA state");
+  return (static_cast<std::size_t>(state) * kCmaNumActions + static_cast<std::size_t>(action)) * kCmaNumStates +
+         static_cast<std::size_t>(next);
+}
+
+void CmaTransitionCounts::Add(StateIndex state, ActionIndex action, StateIndex next, std::int64_t count) {
+  count_[Index(state, action, next)] += count;
+}
+
+void CmaTransitionCounts::Merge(const CmaTransitionCounts& other) {
+  for (std::size_t i = 0; i < count_.size(); ++i) count_[i] += other.count_[i];
+}
+
+std::int64_t CmaTransitionCounts::Get(StateIndex state, ActionIndex action, StateIndex next) const {
+  return count_[Index(state, action, next)];
+}
+
+std::int64_t CmaTransitionCounts::RowTotal(StateIndex state, ActionIndex action) const {
+  std::int64_t total = 0;
+  for (StateIndex next = 0; next < kCmaNumStates; ++next) total += Get(state, action, next);
+  return total;
+}
+
+std::int64_t CmaTransitionCounts::Total() const {
+  std::int64_t total = 0;
+  for (std::int64_t c : count_) total += c;
+  return total;
+}
+
+nlohmann::json CmaTransitionCountsToJson(const CmaTransitionCounts& counts) {
+  const FiniteMdp& mdp = LabelModel();
+  nlohmann::json rows = nlohmann::json::array();
+  for (StateIndex s = 0; s < kCmaNumTupleStates; ++s) {
+    for (ActionIndex a = 0; a < kCmaNumActions; ++a) {
+      if (counts.RowTotal(s, a) == 0) continue;
+      nlohmann::json next = nlohmann::json::object();
+      for (StateIndex n = 0; n < kCmaNumStates; ++n) {
+        if (counts.Get(s, a, n) > 0) next[mdp.state_label(n)] = counts.Get(s, a, n);
+      }
+      rows.push_back({{"state", mdp.state_label(s)}, {"action", mdp.action_name(a)}, {"next", next}});
+    }
+  }
+  return rows;
+}
+
+CmaTransitionCounts CmaTransitionCountsFromJson(const nlohmann::json& json, const std::string& source) {
+  if (!json.is_array()) throw InputError(source, "counts", "an array of rows {state, action, next}");
+  const FiniteMdp& mdp = LabelModel();
+  CmaTransitionCounts counts;
+  std::set<std::pair<StateIndex, ActionIndex>> seen;
+  for (std::size_t i = 0; i < json.size(); ++i) {
+    const nlohmann::json& row = json[i];
+    const std::string where = fmt::format("counts[{}]", i);
+    if (!row.is_object() || !row.contains("state") || !row["state"].is_string() || !row.contains("action") ||
+        !row["action"].is_string() || !row.contains("next") || !row["next"].is_object()) {
+      throw InputError(source, where, "an object with a string 'state', a string 'action' and an object 'next'");
+    }
+    const StateIndex s = mdp.FindState(row["state"].get<std::string>());
+    if (s < 0 || s >= kCmaNumTupleStates) {
+      throw InputError(source, where + ".state", "a CMA tuple state such as N,NF,MM1,G,RM1");
+    }
+    const ActionIndex a = mdp.FindAction(row["action"].get<std::string>());
+    if (a < 0) throw InputError(source, where + ".action", "NoOp, Terminate, LandASAP or LandPract");
+    if (!IsTupleAvailable(s, a)) {
+      throw InputError(source, where + ".action", "an action available in the state (decisions item 3)");
+    }
+    if (!seen.insert({s, a}).second) throw InputError(source, where, "each (state, action) row at most once");
+    for (const auto& [label, value] : row["next"].items()) {
+      const StateIndex n = mdp.FindState(label);
+      if (n < 0) throw InputError(source, where + ".next." + label, "a CMA state label");
+      if (!value.is_number_integer() || value.get<std::int64_t>() < 0) {
+        throw InputError(source, where + ".next." + label, "a count, an integer >= 0");
+      }
+      counts.Add(s, a, n, value.get<std::int64_t>());
+    }
+  }
+  return counts;
+}
+
+CmaTransitionCounts ReadCmaTransitionsFile(const std::filesystem::path& path) {
+  const nlohmann::json json = ReadJsonFile(path);
+  if (!json.is_object() || !json.contains("format") || json["format"] != kCmaTransitionsFormat) {
+    throw InputError(path.string(), "format", fmt::format("\"{}\" (written by 'uascma learn transitions')",
+                                                          kCmaTransitionsFormat));
+  }
+  if (!json.contains("counts")) throw InputError(path.string(), "counts", "the transition counts");
+  return CmaTransitionCountsFromJson(json["counts"], path.string());
+}
+
+std::vector<double> EstimatedRow(const CmaTransitionCounts& counts, StateIndex state, ActionIndex action) {
+  std::vector<double> row(kCmaNumStates, 0.0);
+  const std::int64_t total = counts.RowTotal(state, action);
+  if (total == 0) return row;
+  for (StateIndex n = 0; n < kCmaNumStates; ++n) {
+    row[static_cast<std::size_t>(n)] = static_cast<double>(counts.Get(state, action, n)) / static_cast<double>(total);
+  }
+  return row;
+}
+
+std::vector<double> DenseRow(const FiniteMdp& mdp, StateIndex state, ActionIndex action) {
+  std::vector<double> row(static_cast<std::size_t>(mdp.num_states()), 0.0);
+  const std::int64_t c = mdp.FindChoice(state, action);
+  if (c < 0) return row;
+  const auto next = mdp.choice_next_states(c);
+  const auto prob = mdp.choice_probabilities(c);
+  for (std::size_t k = 0; k < next.size(); ++k) row[static_cast<std::size_t>(next[k])] += prob[k];
+  return row;
+}
+
+FiniteMdp BuildEstimatedCmaMdp(const CmaWeights& weights, const CmaTransitionCounts& counts,
+                               EstimatedCmaModelStats* stats) {
+  const FiniteMdp ddn = BuildCmaMdp(weights);
+  FiniteMdpBuilder builder(ddn.state_labels(), ddn.action_names());
+  EstimatedCmaModelStats local;
+  std::vector<Transition> row;
+  for (StateIndex s = 0; s < ddn.num_states(); ++s) {
+    for (std::int64_t c = ddn.choice_begin(s); c < ddn.choice_end(s); ++c) {
+      const ActionIndex a = ddn.choice_action(c);
+      row.clear();
+      const bool tuple = s < kCmaNumTupleStates;
+      const std::int64_t total = tuple ? counts.RowTotal(s, a) : 0;
+      if (tuple) ++local.available_rows;
+      if (total > 0) {
+        ++local.observed_rows;
+        local.transitions += total;
+        for (StateIndex n = 0; n < kCmaNumStates; ++n) {
+          const std::int64_t k = counts.Get(s, a, n);
+          if (k > 0) row.push_back({n, static_cast<double>(k) / static_cast<double>(total)});
+        }
+      } else {
+        if (tuple) ++local.unobserved_rows;
+        const auto next = ddn.choice_next_states(c);
+        const auto prob = ddn.choice_probabilities(c);
+        for (std::size_t k = 0; k < next.size(); ++k) row.push_back({next[k], prob[k]});
+      }
+      builder.AddRow(s, a, ddn.choice_reward(c), row);
+    }
+  }
+  if (stats != nullptr) *stats = local;
+  return builder.Build();
+}
+
+double TotalVariation(const std::vector<double>& p, const std::vector<double>& q) {
+  UASCMA_CHECK(p.size() == q.size(), "distributions over the same states");
+  double sum = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) sum += std::abs(p[i] - q[i]);
+  return 0.5 * sum;
+}
+
+double SmoothedKl(const std::vector<double>& p, const std::vector<double>& q, double epsilon) {
+  UASCMA_CHECK(p.size() == q.size(), "distributions over the same states");
+  const double norm = 1.0 + static_cast<double>(p.size()) * epsilon;
+  double kl = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double ps = (p[i] + epsilon) / norm;
+    const double qs = (q[i] + epsilon) / norm;
+    kl += ps * std::log(ps / qs);
+  }
+  return kl;
+}
+
+std::vector<RowDivergence> CompareWithDdn(const CmaTransitionCounts& counts, const FiniteMdp& ddn) {
+  UASCMA_CHECK(ddn.num_states() == kCmaNumStates, "the CMA model");
+  std::vector<RowDivergence> out;
+  for (StateIndex s = 0; s < kCmaNumTupleStates; ++s) {
+    for (ActionIndex a = 0; a < kCmaNumActions; ++a) {
+      const std::int64_t samples = counts.RowTotal(s, a);
+      if (samples == 0) continue;
+      const std::vector<double> estimated = EstimatedRow(counts, s, a);
+      const std::vector<double> model = DenseRow(ddn, s, a);
+      out.push_back({s, a, samples, TotalVariation(estimated, model), SmoothedKl(estimated, model)});
+    }
+  }
+  return out;
+}
+
+}  // namespace uascma::decision

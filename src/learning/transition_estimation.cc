@@ -1,0 +1,159 @@
+#include "uascma/learning/transition_estimation.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "uascma/campaign/sampler.h"
+#include "uascma/common/error.h"
+#include "uascma/decision/cma_abstraction.h"
+#include "uascma/decision/policy_file.h"
+#include "uascma/learning/cma_q_learning.h"
+#include "uascma/sim/environment.h"
+
+namespace uascma::learning {
+namespace {
+
+using decision::CmaAction;
+
+double ProcessCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+const decision::Policy& BehaviourPolicy() {
+  static const decision::Policy policy = decision::SolveDefaultCmaPolicy();
+  return policy;
+}
+
+// The behaviour's action at an epoch (header): the CMA policy, or with probability `exploration` a random
+// available action other than Terminate.
+CmaAction BehaviourAction(const sim::Observation& observation, double exploration, RandomStream& random,
+                          bool* explored) {
+  *explored = false;
+  if (exploration > 0.0 && random.Bernoulli(exploration)) {
+    std::vector<CmaAction> choices;
+    for (CmaAction a : {CmaAction::kNoOp, CmaAction::kLandAsap, CmaAction::kLandPract}) {
+      if (decision::IsCmaActionAvailable(observation.flight_status, a)) choices.push_back(a);
+    }
+    *explored = true;
+    return choices[random.UniformIndex(choices.size())];
+  }
+  const auto action = BehaviourPolicy().action[static_cast<std::size_t>(observation.state_index)];
+  return static_cast<CmaAction>(action);
+}
+
+}  // namespace
+
+bool TransitionEstimationOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (!config.IsValid(error)) return false;
+  if (runs < 1) return fail(fmt::format("runs: expected >= 1, got {}", runs));
+  if (jobs < 1) return fail(fmt::format("jobs: expected >= 1, got {}", jobs));
+  if (!(exploration >= 0.0 && exploration <= 1.0)) {
+    return fail(fmt::format("exploration: expected [0, 1], got {}", exploration));
+  }
+  return true;
+}
+
+decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options, std::int64_t run,
+                                                  TransitionEstimationSummary* summary) {
+  const campaign::SampledRun sampled = campaign::SampleRun(options.config, options.config.seed, run);
+  auto model = std::make_shared<const sim::FlightModel>(sampled.scenario);
+  sim::DecisionEnvironment flight(model);
+  sim::DecisionEnvironment branch(model);
+  RandomStream random(DeriveSeed(sampled.run_seed, kExplorationStream));
+  decision::CmaTransitionCounts counts;
+  TransitionEstimationSummary local;
+  sim::Observation observation = flight.Reset(sampled.scenario.seed);
+  while (!flight.done()) {
+    const decision::StateIndex s = observation.state_index;
+    bool explored = false;
+    const CmaAction chosen = BehaviourAction(observation, options.exploration, random, &explored);
+    for (int a = 0; a < decision::kCmaNumActions; ++a) {
+      const auto action = static_cast<CmaAction>(a);
+      if (action == chosen || !decision::IsCmaActionAvailable(observation.flight_status, action)) continue;
+      branch.SetState(flight.state());
+      const sim::EnvironmentStep step = branch.Step(action);
+      counts.Add(s, a, step.observation.state_index);
+      ++local.branches;
+    }
+    const sim::EnvironmentStep step = flight.Step(chosen);
+    counts.Add(s, static_cast<decision::ActionIndex>(chosen), step.observation.state_index);
+    ++local.epochs;
+    local.explored += explored ? 1 : 0;
+    observation = step.observation;
+  }
+  local.runs = 1;
+  if (summary != nullptr) *summary = local;
+  return counts;
+}
+
+decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationOptions& options,
+                                                     TransitionEstimationSummary* summary) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("transitions", "options", error);
+  const auto wall_start = std::chrono::steady_clock::now();
+  const double cpu_start = ProcessCpuSeconds();
+  BehaviourPolicy();  // solved once before the threads start
+  const int threads = static_cast<int>(std::min<std::int64_t>(options.jobs, options.runs));
+  std::vector<decision::CmaTransitionCounts> per_thread(static_cast<std::size_t>(threads));
+  std::vector<TransitionEstimationSummary> per_thread_summary(static_cast<std::size_t>(threads));
+  std::atomic<std::int64_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto worker = [&](int t) {
+    while (true) {
+      const std::int64_t run = next.fetch_add(1);
+      if (run >= options.runs) return;
+      try {
+        TransitionEstimationSummary one;
+        per_thread[static_cast<std::size_t>(t)].Merge(CountRunTransitions(options, run, &one));
+        TransitionEstimationSummary& total = per_thread_summary[static_cast<std::size_t>(t)];
+        total.runs += one.runs;
+        total.epochs += one.epochs;
+        total.branches += one.branches;
+        total.explored += one.explored;
+        if (options.on_run_done) options.on_run_done(run);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next.store(options.runs);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
+  worker(0);
+  for (std::thread& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
+  decision::CmaTransitionCounts counts;
+  TransitionEstimationSummary total;
+  for (int t = 0; t < threads; ++t) {
+    counts.Merge(per_thread[static_cast<std::size_t>(t)]);
+    const TransitionEstimationSummary& one = per_thread_summary[static_cast<std::size_t>(t)];
+    total.runs += one.runs;
+    total.epochs += one.epochs;
+    total.branches += one.branches;
+    total.explored += one.explored;
+  }
+  total.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  total.cpu_time_s = ProcessCpuSeconds() - cpu_start;
+  if (summary != nullptr) *summary = total;
+  return counts;
+}
+
+}  // namespace uascma::learning
