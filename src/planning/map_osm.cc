@@ -57,6 +57,18 @@ void RequireWellFormedTags(const osmium::TagList& tags, const std::string& sourc
   if (!TagsWellFormed(tags)) throw InputError(source, name, "tags as key/value strings without NUL bytes");
 }
 
+// Pass 1's guard: the relations' tags checked before the multipolygon manager reads them.
+class TagChecker : public osmium::handler::Handler {
+ public:
+  explicit TagChecker(std::string source) : source_(std::move(source)) {}
+  void relation(const osmium::Relation& relation) {
+    RequireWellFormedTags(relation.tags(), source_, fmt::format("relation/{}", relation.id()));
+  }
+
+ private:
+  std::string source_;
+};
+
 std::optional<std::string> Tag(const osmium::TagList& tags, const char* key) {
   const char* value = tags.get_value_by_key(key);
   if (value == nullptr) return std::nullopt;
@@ -217,7 +229,15 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
     filter.add_rule(true, "building");
     osmium::area::MultipolygonManager<osmium::area::Assembler> manager{config, filter};
 
-    osmium::relations::read_relations(file, manager);  // pass 1
+    // Pass 1, as osmium::relations::read_relations does, with every relation's tags checked before the manager's
+    // filter reads them (TagsWellFormed).
+    {
+      TagChecker checker(source);
+      osmium::io::Reader relations{file, osmium::osm_entity_bits::relation};
+      osmium::apply(relations, checker, manager);
+      relations.close();
+      manager.prepare_for_lookup();
+    }
 
     data->summary.sources.push_back(source);
     BuildingCollector collector(source, options, data, &problems);

@@ -176,17 +176,22 @@ TEST(ParserRegressionTest, OsmInputsThatHitLibosmiumUndefinedBehaviourAreInputEr
 // Found by osm_pbf_fuzzer: a .osm.pbf string holding a NUL byte splits a tag of the copied tag list, libosmium's
 // walk over key/value pairs then overshoots the list and reads past the buffer (AddressSanitizer: heap-buffer-
 // overflow in osmium::Tag::after_null, from TagList::has_tag). The import now checks a list's bytes before reading
-// any tag (src/planning/map_osm.cc TagsWellFormed) and answers an InputError naming the file and the way.
+// any tag (src/planning/map_osm.cc TagsWellFormed) and answers an InputError naming the file and the object: a way
+// read by our handler, and a relation read by libosmium's multipolygon manager in the first pass
+// (MultipolygonManager::new_relation → TagList::get_value_by_key, found once the way was guarded).
 TEST(ParserRegressionTest, OsmTagStringsWithANulByteAreInputErrorsNotOverReads) {
-  const auto pbf = WriteScratch("-tag-nul.osm.pbf", Slurp(std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" / "data" /
-                                                          "fuzz" / "tag-string-with-nul.osm.pbf"));
-  ExpectInputError(
-      [&] {
-        planning::GeoMapData geo;
-        planning::ReadOsmBuildings(pbf, planning::MapImportOptions{}, &geo);
-      },
-      {pbf.string()});
-  std::filesystem::remove(pbf);
+  for (const char* name : {"tag-string-with-nul.osm.pbf", "relation-tag-string-with-nul.osm.pbf"}) {
+    SCOPED_TRACE(name);
+    const auto pbf = WriteScratch(std::string("-") + name,
+                                  Slurp(std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" / "data" / "fuzz" / name));
+    ExpectInputError(
+        [&] {
+          planning::GeoMapData geo;
+          planning::ReadOsmBuildings(pbf, planning::MapImportOptions{}, &geo);
+        },
+        {pbf.string()});
+    std::filesystem::remove(pbf);
+  }
 }
 
 // Found by mission_plan_fuzzer: an item whose "type" (or the file's "fileType") is not a string made
