@@ -57,10 +57,12 @@ void RequireWellFormedTags(const osmium::TagList& tags, const std::string& sourc
   if (!TagsWellFormed(tags)) throw InputError(source, name, "tags as key/value strings without NUL bytes");
 }
 
-// Pass 1's guard: the relations' tags checked before the multipolygon manager reads them.
+// The guard ahead of every other handler of both passes: a way's or relation's tags are checked before our
+// collector or libosmium's multipolygon manager reads them.
 class TagChecker : public osmium::handler::Handler {
  public:
   explicit TagChecker(std::string source) : source_(std::move(source)) {}
+  void way(const osmium::Way& way) { RequireWellFormedTags(way.tags(), source_, fmt::format("way/{}", way.id())); }
   void relation(const osmium::Relation& relation) {
     RequireWellFormedTags(relation.tags(), source_, fmt::format("relation/{}", relation.id()));
   }
@@ -99,7 +101,6 @@ class BuildingCollector : public osmium::handler::Handler {
     if (way.tags().empty()) return;  // untagged ways are geometry of relations, not features
     ++data_->summary.features;
     const std::string name = fmt::format("way/{}", way.id());
-    RequireWellFormedTags(way.tags(), source_, name);
     const auto& nodes = way.nodes();
     if (nodes.size() < 2 || !nodes.is_closed()) {
       detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotPolygon, "an open way (a line)");
@@ -130,7 +131,6 @@ class BuildingCollector : public osmium::handler::Handler {
     if (relation.tags().empty()) return;
     ++data_->summary.features;
     const std::string name = fmt::format("relation/{}", relation.id());
-    RequireWellFormedTags(relation.tags(), source_, name);
     const char* type = relation.tags().get_value_by_key("type");
     if (type == nullptr || std::string_view(type) != "multipolygon") {
       detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotBuilding,
@@ -229,10 +229,9 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
     filter.add_rule(true, "building");
     osmium::area::MultipolygonManager<osmium::area::Assembler> manager{config, filter};
 
-    // Pass 1, as osmium::relations::read_relations does, with every relation's tags checked before the manager's
-    // filter reads them (TagsWellFormed).
+    // Pass 1, as osmium::relations::read_relations does, with the tag guard ahead of the manager's filter.
+    TagChecker checker(source);
     {
-      TagChecker checker(source);
       osmium::io::Reader relations{file, osmium::osm_entity_bits::relation};
       osmium::apply(relations, checker, manager);
       relations.close();
@@ -246,9 +245,8 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
     osmium::handler::NodeLocationsForWays<Index> locations{index};
     locations.ignore_errors();  // a missing node is reported by the collector, naming the way
     osmium::io::Reader reader{file};  // pass 2
-    osmium::apply(reader, locations, collector, manager.handler([&collector](osmium::memory::Buffer&& buffer) {
-      osmium::apply(buffer, collector);
-    }));
+    osmium::apply(reader, checker, locations, collector,
+                  manager.handler([&collector](osmium::memory::Buffer&& buffer) { osmium::apply(buffer, collector); }));
     reader.close();
 
     // Multipolygons with members outside the file (an extract cut through them) are skipped, not errors.

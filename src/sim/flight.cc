@@ -97,15 +97,13 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
   // at 8-9 m/s drives the loop into slow saturated swings. Measured on the default campaign, 150 runs, seed 1:
   // largest tracking error 13.2 m without feed-forward, 23.8 m with it throughout (rotor-out flights), 9.8 m with
   // it while hexacopter; mean per health 2.2-3.0 m, 2.2-3.0 m and 1.5-2.0 m; outcomes identical in all three.
+  planning::PlanReference target = s.reference;
   if (model.options().drag_feedforward && state.allocation_failure == models::kNoFailedMotor) {
-    planning::PlanReference target = s.reference;
     const Eigen::Vector3d z_B_W = state.body.q_WB.toRotationMatrix().col(2);
     target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, s.reference.v_W,
                                            model.wind().MeanWind_W());
-    s.command = model.controller().Compute(state.body, target);
-  } else {
-    s.command = model.controller().Compute(state.body, s.reference);
   }
+  s.command = model.controller().Compute(state.body, target);
   const models::AllocationResult allocation = model.mixer().Allocate(s.command, state.allocation_failure);
   // The bus voltage caps each rotor's thrust: capacity ∝ (V_bus / V_ref)² below V_ref.
   const double voltage_ratio = std::min(1.0, state.bus_voltage_v / model.options().reference_bus_voltage_v);
