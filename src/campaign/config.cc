@@ -84,8 +84,8 @@ void ReadMission(const YAML::Node& root, const std::string& source, MissionSampl
 
 void ReadBattery(const YAML::Node& root, const std::string& source, BatterySampling& b) {
   const YAML::Node node = OptionalMap(root, "battery", source, "");
-  RequireOnlyKeys(node, {"initial_cell_voltage_v", "health_weights", "degraded_cells", "cold_probability",
-                         "cold_temp_degf", "warm_temp_degf"},
+  RequireOnlyKeys(node, {"initial_cell_voltage_v", "health_weights", "degraded_cells", "medium_fades",
+                         "cold_probability", "cold_temp_degf", "warm_temp_degf"},
                   source, "battery");
   b.initial_cell_voltage_v = ReadRange(node, "initial_cell_voltage_v", b.initial_cell_voltage_v, source, "battery");
   if (node["health_weights"]) {
@@ -105,6 +105,16 @@ void ReadBattery(const YAML::Node& root, const std::string& source, BatterySampl
       }
     }
     b.degraded_cells = {static_cast<int>(counts[0]), static_cast<int>(counts[1])};
+  }
+  if (node["medium_fades"]) {
+    const std::string fades = RequireString(node, "medium_fades", source, "battery");
+    if (fades == MediumFadesName(MediumFades::kOneKind)) {
+      b.medium_fades = MediumFades::kOneKind;
+    } else if (fades == MediumFadesName(MediumFades::kPerCell)) {
+      b.medium_fades = MediumFades::kPerCell;
+    } else {
+      throw InputError(source, "battery.medium_fades", fmt::format("one_kind | per_cell, got '{}'", fades));
+    }
   }
   b.cold_probability = OptionalNumber(node, "cold_probability", b.cold_probability, source, "battery");
   b.cold_temp_degf = OptionalNumber(node, "cold_temp_degf", b.cold_temp_degf, source, "battery");
@@ -166,6 +176,10 @@ std::string Number(double value) { return fmt::format("{}", value); }
 std::string RangeYaml(const Range& r) { return fmt::format("[{}, {}]", r.low, r.high); }
 
 }  // namespace
+
+const char* MediumFadesName(MediumFades fades) {
+  return fades == MediumFades::kPerCell ? "per_cell" : "one_kind";
+}
 
 bool CampaignConfig::IsValid(std::string* error) const {
   auto fail = [error](std::string message) {
@@ -365,6 +379,7 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
   out += fmt::format("  health_weights: {{G: {}, M: {}, P: {}}}\n", c.battery.health_weights[0],
                      c.battery.health_weights[1], c.battery.health_weights[2]);
   out += fmt::format("  degraded_cells: [{}, {}]\n", c.battery.degraded_cells.low, c.battery.degraded_cells.high);
+  out += fmt::format("  medium_fades: {}\n", MediumFadesName(c.battery.medium_fades));
   out += "  cold_probability: " + Number(c.battery.cold_probability) + "\n";
   out += "  cold_temp_degf: " + Number(c.battery.cold_temp_degf) + "\n";
   out += "  warm_temp_degf: " + Number(c.battery.warm_temp_degf) + "\n";
@@ -421,6 +436,7 @@ std::string CampaignConfigHash(const CampaignConfig& c) {
   for (double w : c.battery.health_weights) f.Add(w);
   f.Add(c.battery.degraded_cells.low);
   f.Add(c.battery.degraded_cells.high);
+  f.Add(std::string_view(MediumFadesName(c.battery.medium_fades)));
   f.Add(c.battery.cold_probability);
   f.Add(c.battery.cold_temp_degf);
   f.Add(c.battery.warm_temp_degf);

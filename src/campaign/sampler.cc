@@ -59,10 +59,16 @@ decision::BatteryHealth DrawBatteryHealth(RandomStream& random, const BatterySam
     const int j = i + static_cast<int>(random.UniformIndex(static_cast<std::uint64_t>(kCells - i)));
     std::swap(order[i], order[j]);
   }
+  // M, one kind per flight (Table 4.2, config.h MediumFades): drawn once, after the cells.
+  const bool one_kind = health == decision::BatteryHealth::kM && battery.medium_fades == MediumFades::kOneKind;
+  const bool capacity_kind = one_kind && random.Bernoulli(0.5);
   for (int i = 0; i < k; ++i) {
     models::CellHealth& cell = cells[order[i] / models::kCellsPerBranch][order[i] % models::kCellsPerBranch];
-    if (health == decision::BatteryHealth::kM) {
-      // M: one fade, not both; which one drawn (decisions item 20).
+    if (one_kind) {
+      cell.capacity_fade = capacity_kind;
+      cell.power_fade = !capacity_kind;
+    } else if (health == decision::BatteryHealth::kM) {
+      // M per cell: one fade, not both; which one drawn per cell (decisions item 20).
       if (random.Bernoulli(0.5)) {
         cell.capacity_fade = true;
       } else {

@@ -128,7 +128,7 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
 
 TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
   const CampaignConfig config;
-  int faults = 0, cold = 0, health_m = 0, health_p = 0, m_cells = 0, m_capacity = 0, motor_3 = 0;
+  int faults = 0, cold = 0, health_m = 0, health_p = 0, m_capacity_flights = 0, motor_3 = 0;
   int turbulence_medium_moderate = 0;
   double onset_fraction_sum = 0.0;
   for (int i = 0; i < kSamples; ++i) {
@@ -143,12 +143,16 @@ TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
     health_m += run.battery_health == decision::BatteryHealth::kM ? 1 : 0;
     health_p += run.battery_health == decision::BatteryHealth::kP ? 1 : 0;
     if (run.battery_health == decision::BatteryHealth::kM) {
+      // Table 4.2, "either power or capacity fade": one kind in every faded cell of the flight (medium_fades).
+      int capacity = 0, power = 0;
       for (const auto& pack : s.battery.cell_health) {
         for (const auto& cell : pack) {
-          m_cells += (cell.capacity_fade || cell.power_fade) ? 1 : 0;
-          m_capacity += cell.capacity_fade ? 1 : 0;
+          capacity += cell.capacity_fade ? 1 : 0;
+          power += cell.power_fade ? 1 : 0;
         }
       }
+      EXPECT_TRUE(capacity == 0 || power == 0) << CellHealthCode(s.battery.cell_health);
+      m_capacity_flights += capacity > 0 ? 1 : 0;
     }
     turbulence_medium_moderate += s.wind.turbulence == models::TurbulenceCategory::kMediumModerate ? 1 : 0;
   }
@@ -158,12 +162,37 @@ TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
   ExpectFrequency(health_m, kSamples, 1.0 / 3.0, "BH = M");
   ExpectFrequency(health_p, kSamples, 1.0 / 3.0, "BH = P");
   ExpectFrequency(kSamples - health_m - health_p, kSamples, 1.0 / 3.0, "BH = G");
-  // In M the fade kind is drawn per cell, capacity or power ½ each.
-  ExpectFrequency(m_capacity, m_cells, 0.5, "M cells with capacity fade");
+  // In M the fade kind is drawn once per flight, capacity or power ½ each.
+  ExpectFrequency(m_capacity_flights, health_m, 0.5, "M flights with capacity fade");
   ExpectFrequency(motor_3, faults, 1.0 / 6.0, "spalled motor 3");
   ExpectFrequency(turbulence_medium_moderate, kSamples, 0.25, "Dryden medium-moderate");
   // The onset fraction is uniform on [0, 1]: mean 1/2, σ of the mean √(1/12 / n).
   EXPECT_NEAR(onset_fraction_sum / faults, 0.5, kSigmas * std::sqrt(1.0 / 12.0 / faults));
+}
+
+TEST(SamplerTest, MediumFadesPerCellDrawEachCellsKind) {
+  CampaignConfig config;
+  config.battery.health_weights = {0.0, 1.0, 0.0};
+  config.battery.medium_fades = MediumFades::kPerCell;
+  int cells = 0, capacity = 0, mixed_flights = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const SampledRun run = SampleRun(config, 5, i);
+    ASSERT_EQ(run.battery_health, decision::BatteryHealth::kM);
+    int flight_capacity = 0, flight_power = 0;
+    for (const auto& pack : run.scenario.battery.cell_health) {
+      for (const auto& cell : pack) {
+        EXPECT_FALSE(cell.capacity_fade && cell.power_fade);
+        cells += (cell.capacity_fade || cell.power_fade) ? 1 : 0;
+        flight_capacity += cell.capacity_fade ? 1 : 0;
+        flight_power += cell.power_fade ? 1 : 0;
+      }
+    }
+    capacity += flight_capacity;
+    mixed_flights += (flight_capacity > 0 && flight_power > 0) ? 1 : 0;
+  }
+  ExpectFrequency(capacity, cells, 0.5, "M cells with capacity fade (per cell)");
+  // k uniform on 1..6, kinds independent: P(both kinds) = 1 − mean over k of 2·½^k = 1 − (1 − 1/64)/3.
+  ExpectFrequency(mixed_flights, kSamples, 1.0 - (1.0 - 1.0 / 64.0) / 3.0, "M flights holding both kinds");
 }
 
 TEST(SamplerTest, ConfigurationChoicesTakeEffect) {
@@ -306,6 +335,7 @@ TEST(CampaignConfigTest, CanonicalYamlRoundTripsExactly) {
   config.fault.time_per_growth_step_s.reset();
   config.wind.turbulence = {models::TurbulenceCategory::kNone, models::TurbulenceCategory::kMediumLight};
   config.policies = {"noop", "my policy.json"};
+  config.battery.medium_fades = MediumFades::kPerCell;
   const CampaignConfig back = ParseCampaignConfig(CampaignConfigYaml(config), "round trip");
   EXPECT_EQ(CampaignConfigHash(back), CampaignConfigHash(config));
   EXPECT_EQ(CampaignConfigYaml(back), CampaignConfigYaml(config));
@@ -318,6 +348,9 @@ TEST(CampaignConfigTest, CanonicalYamlRoundTripsExactly) {
   EXPECT_EQ(CampaignConfigHash(more_runs), CampaignConfigHash(config));
   CampaignConfig other = config;
   other.wind.speed_mps.high = 3.5;
+  EXPECT_NE(CampaignConfigHash(other), CampaignConfigHash(config));
+  other = config;
+  other.battery.medium_fades = MediumFades::kOneKind;
   EXPECT_NE(CampaignConfigHash(other), CampaignConfigHash(config));
 }
 
@@ -351,6 +384,8 @@ TEST(CampaignConfigTest, BadInputNamesTheKey) {
   EXPECT_NE(message("battery:\n  initial_cell_voltage_v: [4.0, 4.5]\n").find("battery.initial_cell_voltage_v"),
             std::string::npos);
   EXPECT_NE(message("wind:\n  turbulence: [gale]\n").find("wind.turbulence[0]"), std::string::npos);
+  EXPECT_NE(message("battery:\n  medium_fades: both\n").find("c.yaml: battery.medium_fades: one_kind | per_cell"),
+            std::string::npos);
   EXPECT_NE(message("runs: 2.5\n").find("runs"), std::string::npos);
   EXPECT_NE(message("mission: [1\n").find("c.yaml"), std::string::npos);
 }

@@ -21,6 +21,7 @@
 //     initial_cell_voltage_v: [4.05, 4.12]      # Table 4.4, drawn per cell
 //     health_weights: {G: 1, M: 1, P: 1}        # BH per flight, decisions item 20: equally likely
 //     degraded_cells: [1, 6]                     # how many of the six cells carry a fade in M and P (ours)
+//     medium_fades: one_kind                     # M: one fade kind per flight (Table 4.2) | per_cell
 //     cold_probability: 0.5                      # Table 4.2, T_L (< 50 °F) vs T_H (ours: equally likely)
 //     cold_temp_degf: 40                         # any value below 50 °F acts alike (Table 3.2)
 //     warm_temp_degf: 77                         # room temperature (models/battery_cell.h)
@@ -113,8 +114,8 @@ struct MissionSampling {
   // item 20). It covers the vehicle's radius, 0.30 m (arm 0.225 m, defaults.md, plus a 6-inch propeller's
   // 0.076 m), and its horizontal tracking error near a hover point, bounded by our measurement: the largest
   // tracking error of whole flights cruising at 1–3 m/s (near-hover speeds; wind 1–3 m/s, every gust category)
-  // was 3.46 m over 67 fault-free completed flights of two 150-run default campaigns (median 0.88 m). 0.30 +
-  // 3.46 = 3.8 m; 5 m (ours) leaves 1.2 m for what that sample missed, and equals the corridor half-width the
+  // was 3.46 m over 67 fault-free completed flights of two 150-run default campaigns (median 0.88 m;
+  // sim::kHoverTrackingErrorBound, also the landing radius of sim/outcome.h). 0.30 + 3.46 = 3.8 m; 5 m (ours) leaves 1.2 m for what that sample missed, and equals the corridor half-width the
   // cruise altitude was already computed over. (Faster cruise lags further behind the reference — up to 9.5 m
   // at 6–9 m/s, the controller's business — but away from the hover points, above the buildings.)
   double wall_clearance_m = 5.0;
@@ -127,17 +128,28 @@ struct CountRange {
   int high = 0;
 };
 
+enum class MediumFades { kOneKind, kPerCell };
+const char* MediumFadesName(MediumFades fades);  // "one_kind", "per_cell"
+
 struct BatterySampling {
   Range initial_cell_voltage_v{4.05, 4.12};  // Table 4.4, drawn independently per cell
   // Relative weights of the flight's battery health BH = G, M, P (decisions item 20: drawn per flight, equally
   // likely by default).
   std::vector<double> health_weights{1.0, 1.0, 1.0};
   // M and P are realised as Table 4.2 defines them (decisions item 20; campaign/sampler.h): k degraded cells,
-  // k uniform on this range, chosen uniformly among the six; in M each carries one fade, capacity (Q → 0.8 Q)
-  // or power (R0 → 2 R0), drawn ½ each; in P the first carries both and each other one fade or both, drawn
-  // ⅓ each (Table 3.2's factors). Table 4.2 says "at least one cell"; ours: every count from one cell to the
-  // whole battery equally likely. The per-pack F1/F2/F3 labels follow from the cells (models::ClassifyHealth).
+  // k uniform on this range, chosen uniformly among the six; in M they carry one fade, capacity (Q → 0.8 Q)
+  // or power (R0 → 2 R0), as medium_fades says; in P the first carries both and each other one fade or both,
+  // drawn ⅓ each (Table 3.2's factors). Table 4.2 says "at least one cell"; ours: every count from one cell to
+  // the whole battery equally likely. The per-pack F1/F2/F3 labels follow from the cells (models::ClassifyHealth).
   CountRange degraded_cells{1, 6};
+  // How an M battery's fade kind is drawn. Table 4.2: "Medium health battery = either power or capacity fade in
+  // at least one cell", "Unhealthy battery = has power and capacity fade". kOneKind (default, our reading of
+  // "either … or" as said of the battery): one kind drawn per flight, ½ each, carried by all k degraded cells, so
+  // an M battery never holds both kinds. kPerCell: each degraded cell draws its own kind, ½ each (the sampler
+  // until issue 11's session 5), so most M batteries with k > 1 hold both kinds in different cells and, with the
+  // capacity-faded cell deciding the end of discharge, fly much like P (measured: 465 runs, seed 1, NoOp M 19.5 %
+  // vs P 21.0 % failures; README "Where we differ").
+  MediumFades medium_fades = MediumFades::kOneKind;
   double cold_probability = 0.5;  // Table 4.2 T_L vs T_H. Ours: equally likely.
   double cold_temp_degf = 40.0;   // below 50 °F: R0 → 1.5 R0 (Table 3.2); only the split matters
   double warm_temp_degf = 77.0;   // models::kRoomTemperatureDegf

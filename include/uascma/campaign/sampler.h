@@ -14,8 +14,9 @@
 //   2. safety margin t_sf uniform on safety_margin_s
 //   3. six initial cell voltages, pack 1 cells 1–3 then pack 2, each uniform on the range
 //   4. battery health BH (decisions item 20): G, M or P by battery.health_weights; for M and P, k cells (k
-//      uniform on battery.degraded_cells) chosen uniformly among the six; M: each one fade, capacity or power
-//      (½ each); P: the first both, the others capacity, power or both (⅓ each). Pack labels F1/F2/F3
+//      uniform on battery.degraded_cells) chosen uniformly among the six; M: one fade kind, capacity or power
+//      (½ each), drawn once for all k cells (battery.medium_fades: one_kind) or per cell (per_cell); P: the
+//      first both, the others capacity, power or both (⅓ each). Pack labels F1/F2/F3
 //      follow from the cells (models::ClassifyHealth), and the composite BH is the drawn one.
 //   5. cold (probability cold_probability) → ambient cold_temp_degf, else warm_temp_degf
 //   6. wind speed, direction, then the Dryden category uniform over the list
