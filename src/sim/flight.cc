@@ -153,7 +153,7 @@ void StepPower(const FlightModel& model, FlightState& state, double motors_curre
 // ---- rotor failure detection and isolation (IMM) ----------------------------------------------------------------
 void StepImm(const FlightModel& model, FlightState& state, const models::RigidBodyState& previous,
              const models::RotorThrusts& believed, const StepSignals& s, FlightLog* log) {
-  if (state.imm.isolated_rotor() != 0) return;
+  if (!model.options().fault_detection || state.imm.isolated_rotor() != 0) return;
   const double dt = model.dt();
   const gnc::ImmParams& imm = model.scenario().imm;
   gnc::ImmMeasurement measurement;

@@ -429,11 +429,12 @@ void ReadFault(const YAML::Node& f, const std::string& source, FaultSpec& fault)
 }
 
 void ReadOptions(const YAML::Node& o, const std::string& source, SimOptions& options) {
-  RequireOnlyKeys(o, {"telemetry_rate_hz", "reconfiguration", "sensor_noise", "max_tilt_deg", "max_cross_track_error_m",
-                      "safety_margin_s", "drag_feedforward"},
+  RequireOnlyKeys(o, {"telemetry_rate_hz", "fault_detection", "reconfiguration", "sensor_noise", "max_tilt_deg",
+                      "max_cross_track_error_m", "safety_margin_s", "drag_feedforward"},
                   source, "options");
   options.safety_margin_s = OptionalNumber(o, "safety_margin_s", options.safety_margin_s, source, "options");
   options.telemetry_rate_hz = OptionalNumber(o, "telemetry_rate_hz", options.telemetry_rate_hz, source, "options");
+  options.fault_detection = OptionalBool(o, "fault_detection", options.fault_detection, source, "options");
   options.reconfiguration = OptionalBool(o, "reconfiguration", options.reconfiguration, source, "options");
   options.sensor_noise = OptionalBool(o, "sensor_noise", options.sensor_noise, source, "options");
   options.drag_feedforward = OptionalBool(o, "drag_feedforward", options.drag_feedforward, source, "options");

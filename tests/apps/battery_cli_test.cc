@@ -167,6 +167,13 @@ TEST_F(BatteryCli, CaseStudy4SwitchesEarlyToTheHealthyPack) {
     EXPECT_EQ(state.substr(state.size() - 6, 2), "ON") << state;  // pack 2's part, e.g. ONS3C1
   }
   EXPECT_TRUE(scenario.contains("outcome"));
+  // The same pair with UseBoth throughout beside it (§4.3.3: "a similar scenario … with a single action of UseBoth").
+  const auto fixed = nlohmann::json::parse(result.out)["scenarios"][1];
+  EXPECT_EQ(fixed["name"], "(F2,F1)");
+  EXPECT_EQ(fixed["controller"], "UseBoth");
+  ASSERT_EQ(fixed["switches"].size(), 1u);
+  EXPECT_EQ(fixed["switches"][0]["action"], "UseBoth");
+  EXPECT_EQ(fixed["plan_duration_s"], scenario["plan_duration_s"]);
 }
 
 // §4.3.2: the dissertation's flights held every parameter constant, so "dynamics from B_iS_{1,2} states to

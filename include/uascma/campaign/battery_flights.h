@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "uascma/common/random.h"
 #include "uascma/decision/battery_mdp.h"
 #include "uascma/models/battery_pack.h"
 #include "uascma/models/wind.h"
@@ -58,12 +59,20 @@ struct BatteryFlightParams {
   double wind_speed_mps = 2.0;
   double wind_direction_rad = 0.0;
   models::TurbulenceCategory turbulence = models::TurbulenceCategory::kLowLight;
-  models::PerBranch<models::HealthClass> health{};  // F1/F2/F3 per pack (all three cells, as campaigns)
+  models::PerBranch<models::HealthClass> health{};  // F1/F2/F3 per pack (Table 4.2): the policy's context
+  // The cells that realise `health` (models::ClassifyHealth(cells[j]) == health[j]); flown by MakeBatteryScenario.
+  models::PerCell<models::CellHealth> cells{};
   double ambient_temp_degf = 77.0;
   double plan_duration_s = 600.0;                // target duration of the delivery plan
 
   decision::BatteryContext context() const;
 };
+
+// The cells of one pack of health class `health` as Table 4.2 defines it, drawn (ours, the pack-level twin of the
+// campaign sampler's battery draw, campaign/config.h): F1 none; F2 "either power or capacity fade in at least one
+// cell": k cells, k uniform on 1–3, all with one fade kind drawn ½/½; F3 "power and capacity fade in at least one
+// cell": k cells, the first with both, each other one with capacity fade, power fade or both, ⅓ each.
+std::array<models::CellHealth, models::kCellsPerBranch> DrawPackCells(RandomStream& random, models::HealthClass health);
 
 // Draw d of a learning campaign (pure function of (seed, draw), style habit 7).
 BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t draw);

@@ -104,6 +104,11 @@ struct SimOptions {
   double decision_rate_hz = 1.0;    // EOD, RUL, CMA: §5.4
   double telemetry_rate_hz = 10.0;  // rows per simulated second in the CSV
   OutcomeThresholds outcome;        // how a flight ends (outcome.h)
+  // The IMM rotor-fault detector runs every GNC step (§4.4, §5.4). Off: no detection, so no isolation and no
+  // reconfiguration — the loop of Ch. IV's battery simulations (Fig. 4.3: DLQR → motor model → battery → EOD →
+  // battery MDP, no fault detector; Table 4.4 draws no motor fault), which the battery MDP's learning flights
+  // fly (campaign/battery_flights.h).
+  bool fault_detection = true;
   bool reconfiguration = true;      // switch to the quadcopter allocation when the IMM isolates a rotor
   bool sensor_noise = true;         // gyro and accelerometer noise for the IMM
   // The LQR adds the drag at the reference air velocity (less the steady wind) to its reference acceleration
