@@ -211,9 +211,14 @@ BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, PackActi
   sim::SwitchPacks(state, initial_switches);
   BatteryFlightResult result;
   RecordingExecutor executor(controller, thresholds, result);
-  sim::Controllers controllers;
-  controllers.battery = &executor;  // the CMA policy: none (NoOp)
-  while (!state.done()) sim::StepEpoch(model, state, controllers);
+  // Fig. 4.3's loop: the battery executor at 1 Hz, the GNC steps between; no CMA (its Observe and a NoOp Act
+  // change nothing the flight reads, so sim::StepEpoch without them).
+  while (!state.done()) {
+    sim::DecideBattery(model, state, executor);
+    do {
+      sim::Step(model, state);
+    } while (!state.done() && !sim::IsDecisionEpoch(model, state));
+  }
   result.outcome = state.outcome;
   result.end_time_s = state.time_s;
   // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.

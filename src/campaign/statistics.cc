@@ -156,6 +156,21 @@ FailureCause FailureCauseOf(const std::string& outcome) {
   return FailureCause::kOther;
 }
 
+const char* BatteryFadesName(BatteryFades fades) {
+  switch (fades) {
+    case BatteryFades::kNone: return "none";
+    case BatteryFades::kPowerOnly: return "power_only";
+    case BatteryFades::kCapacity: return "capacity";
+  }
+  return "none";
+}
+
+BatteryFades BatteryFadesOf(const std::string& cell_health_code) {
+  if (cell_health_code.find('Q') != std::string::npos) return BatteryFades::kCapacity;
+  if (cell_health_code.find('R') != std::string::npos) return BatteryFades::kPowerOnly;
+  return BatteryFades::kNone;
+}
+
 std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
                                        const std::vector<std::string>& policy_order) {
   std::vector<GroupStatistics> groups;
@@ -168,9 +183,12 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
       for (const RunRecord& r : records) {
         if (r.policy != policy || !InHealthGroup(r, g.battery_health)) continue;
         ++g.runs;
+        const int fades = static_cast<int>(BatteryFadesOf(r.cell_health));
+        ++g.runs_by_fades[fades];
         switch (ClassOf(r)) {
           case OutcomeClass::kFailure:
             ++g.failures;
+            ++g.failures_by_fades[fades];
             ++g.failures_by_cause[static_cast<int>(FailureCauseOf(r.outcome))];
             break;
           case OutcomeClass::kCompleted: ++g.completions; break;
@@ -273,6 +291,13 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
       causes[name] = g.failures_by_cause[c];
       cause_rates[name] = Number(EstimateRate(g.failures_by_cause[c], g.runs).value);
     }
+    nlohmann::json by_fades = nlohmann::json::object();
+    for (int f = 0; f < kBatteryFadesCount; ++f) {
+      by_fades[BatteryFadesName(static_cast<BatteryFades>(f))] = {
+          {"runs", g.runs_by_fades[f]},
+          {"failures", g.failures_by_fades[f]},
+          {"failure_rate", Number(EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]).value)}};
+    }
     policies[g.policy][g.battery_health] = {
         {"runs", g.runs},
         {"failures", g.failures},
@@ -288,6 +313,7 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
         {"failure_rate_clopper_pearson_low", Number(g.failure_clopper_pearson.low)},
         {"failure_rate_clopper_pearson_high", Number(g.failure_clopper_pearson.high)},
         {"failures_by_cause", causes},
+        {"by_battery_fades", by_fades},
         {"failure_rate_by_cause", cause_rates},
         {"completion_rate", Number(g.completion_rate.value)},
         {"completion_rate_sem", Number(g.completion_rate.sem)},
@@ -409,6 +435,19 @@ std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
                        g != nullptr ? Percent(g->failure_rate) : std::string("-"),
                        g != nullptr ? PercentInterval(g->failure_wilson) : std::string("-"), g != nullptr ? g->runs : 0,
                        100.0 * h.dissertation);
+  }
+  // Where the rates come from: every health group's failures by the fades its batteries carry (Table 3.2).
+  out += "\nFailures by the fades the battery carries (all health groups): a capacity-faded cell (0.8 Q, Table 3.2) is\n"
+         "what runs a pack to the 3.3 V cut-off; power fade alone (2 R0) rarely does\n";
+  for (const GroupStatistics& g : groups) {
+    if (g.battery_health != "all") continue;
+    out += fmt::format("  {:<10}", g.policy);
+    for (int f = kBatteryFadesCount; f-- > 0;) {
+      const Estimate rate = EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]);
+      out += fmt::format("  {} {}/{} ({} %)", BatteryFadesName(static_cast<BatteryFades>(f)), g.failures_by_fades[f],
+                         g.runs_by_fades[f], std::isfinite(rate.value) ? fmt::format("{:.1f}", 100.0 * rate.value) : "-");
+    }
+    out += "\n";
   }
   return out;
 }

@@ -110,13 +110,16 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
   const double thrust_cap = propulsion.max_thrust * voltage_ratio * voltage_ratio;
   const double inverse_bus_voltage = 1.0 / std::max(state.bus_voltage_v, 1.0);
   motors_current = 0.0;
+  const bool detection = model.options().fault_detection;  // the believed rotors feed only the IMM
   for (int i = 0; i < 6; ++i) {
     const double commanded = std::clamp(allocation.rotor_thrust[i], 0.0, thrust_cap);
     const double speed_command = models::CalcRotorSpeedForThrust(propulsion, commanded);
-    state.believed_speed[i] = model.rotor_lag().Step(state.believed_speed[i], speed_command);
+    if (detection) {
+      state.believed_speed[i] = model.rotor_lag().Step(state.believed_speed[i], speed_command);
+      believed[i] = models::CalcRotorThrust(propulsion, state.believed_speed[i]);
+    }
     state.rotor_speed[i] = (i + 1 == state.jammed_rotor) ? 0.0 : model.rotor_lag().Step(state.rotor_speed[i], speed_command);
     s.thrust[i] = models::CalcRotorThrust(propulsion, state.rotor_speed[i]);
-    believed[i] = models::CalcRotorThrust(propulsion, state.believed_speed[i]);
     s.rotor_current[i] = model.electrical_power().Power(s.thrust[i]) * inverse_bus_voltage;
     motors_current += s.rotor_current[i];
   }

@@ -258,5 +258,40 @@ TEST(StatisticsTest, FailuresByCauseGroundedAndUnknownOutcomes) {
   EXPECT_NE(table.find("other outcomes"), std::string::npos) << table;
 }
 
+TEST(StatisticsTest, FailuresByTheBatterysFades) {
+  auto flight = [](const std::string& cells, const std::string& health, const std::string& outcome) {
+    RunRecord r = Flight("noop", health, outcome, 0, 0);
+    r.cell_health = cells;
+    return r;
+  };
+  const std::vector<RunRecord> records = {
+      flight("-,-,-|-,-,-", "G", "completed"),        flight("Q,-,-|-,-,-", "M", "failed_battery"),
+      flight("Q,Q,-|-,-,-", "M", "completed"),        flight("R,-,-|-,R,-", "M", "completed"),
+      flight("QR,-,-|-,-,R", "P", "failed_battery"),  flight("-,R,-|QR,-,-", "P", "failed_battery"),
+      flight("R,R,-|-,-,-", "M", "failed_control"),
+  };
+  EXPECT_EQ(BatteryFadesOf("QR,-,-|-,-,R"), BatteryFades::kCapacity);
+  EXPECT_EQ(BatteryFadesOf("R,-,-|-,R,-"), BatteryFades::kPowerOnly);
+  EXPECT_EQ(BatteryFadesOf("-,-,-|-,-,-"), BatteryFades::kNone);
+  const auto groups = Summarise(records, {"noop"});
+  const GroupStatistics& all = Find(groups, "noop", "all");
+  const auto capacity = static_cast<int>(BatteryFades::kCapacity), power = static_cast<int>(BatteryFades::kPowerOnly),
+             none = static_cast<int>(BatteryFades::kNone);
+  EXPECT_EQ(all.runs_by_fades[capacity], 4);
+  EXPECT_EQ(all.failures_by_fades[capacity], 3);
+  EXPECT_EQ(all.runs_by_fades[power], 2);
+  EXPECT_EQ(all.failures_by_fades[power], 1);
+  EXPECT_EQ(all.runs_by_fades[none], 1);
+  EXPECT_EQ(all.failures_by_fades[none], 0);
+  const GroupStatistics& m = Find(groups, "noop", "M");
+  EXPECT_EQ(m.runs_by_fades[capacity] + m.runs_by_fades[power] + m.runs_by_fades[none], m.runs);
+  const nlohmann::json json = StatisticsToJson(groups);
+  EXPECT_EQ(json["policies"]["noop"]["all"]["by_battery_fades"]["capacity"]["failures"], 3);
+  EXPECT_NEAR(json["policies"]["noop"]["all"]["by_battery_fades"]["power_only"]["failure_rate"].get<double>(), 0.5,
+              kTolerance);
+  const std::string table = StatisticsTable(groups);
+  EXPECT_NE(table.find("capacity 3/4 (75.0 %)  power_only 1/2 (50.0 %)  none 0/1 (0.0 %)"), std::string::npos) << table;
+}
+
 }  // namespace
 }  // namespace uascma::campaign

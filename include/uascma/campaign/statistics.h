@@ -75,6 +75,14 @@ const char* FailureCauseName(FailureCause cause);
 // failed_collision, timeout; anything else is kOther.
 FailureCause FailureCauseOf(const std::string& outcome);
 
+// The fades a flight's battery carries (RunRecord::cell_health, Table 3.2): a capacity-faded cell (with or without
+// power fade), power fade only, or none. What runs a pack to the 3.3 V cut-off is the capacity-faded cell; the
+// report breaks failures down by it, so a reader sees where the health groups' rates come from.
+enum class BatteryFades { kNone = 0, kPowerOnly, kCapacity };
+inline constexpr int kBatteryFadesCount = 3;
+const char* BatteryFadesName(BatteryFades fades);  // "none", "power_only", "capacity"
+BatteryFades BatteryFadesOf(const std::string& cell_health_code);
+
 struct GroupStatistics {
   std::string policy;
   std::string battery_health;  // "G", "M", "P" or "all"
@@ -85,6 +93,7 @@ struct GroupStatistics {
   Interval failure_wilson, failure_clopper_pearson;        // of failure_rate
   Interval completion_wilson, completion_clopper_pearson;  // of completion_rate
   std::array<std::int64_t, kFailureCauseCount> failures_by_cause{};  // indexed by FailureCause; sums to failures
+  std::array<std::int64_t, kBatteryFadesCount> runs_by_fades{}, failures_by_fades{};  // indexed by BatteryFades
   Estimate average_reward, min_reward;
 };
 
