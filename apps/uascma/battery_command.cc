@@ -123,18 +123,22 @@ void AddLearn(CLI::App* battery) {
                  {"energy_transitions",
                   {{"S1->S2", energy.s1_to_s2}, {"S2->S3", energy.s2_to_s3}, {"S1->S3", energy.s1_to_s3},
                    {"recoveries", energy.recoveries}}},
+                 {"shared_gnc_steps", summary.sharing.shared_steps},
+                 {"alone_gnc_steps", summary.sharing.alone_steps},
                  {"wall_time_s", summary.wall_time_s}});
       return;
     }
     std::printf("learned the battery MDP from %lld flights (%lld parameter draws, %lld reached FAILURE) in %.1f s\n"
                 "%lld transitions counted at 1 Hz; %d of %d learned rows unobserved (self-loops, decisions item 23)\n"
                 "energy transitions observed in flight: S1->S2 %lld, S2->S3 %lld, S1->S3 %lld, recoveries %lld\n"
+                "GNC steps that followed another action's vehicle: %lld; flown alone after the packs diverged: %lld\n"
                 "wrote %s (hash %s)\n",
                 static_cast<long long>(summary.flights), static_cast<long long>(summary.parameter_draws),
                 static_cast<long long>(summary.failures), summary.wall_time_s,
                 static_cast<long long>(model.counts.total_transitions()), unobserved, 216 * kBatteryNumContexts,
                 static_cast<long long>(energy.s1_to_s2), static_cast<long long>(energy.s2_to_s3),
                 static_cast<long long>(energy.s1_to_s3), static_cast<long long>(energy.recoveries),
+                static_cast<long long>(summary.sharing.shared_steps), static_cast<long long>(summary.sharing.alone_steps),
                 options->out.c_str(), BatteryModelHash(model).c_str());
   });
 }

@@ -206,24 +206,86 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
 BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, PackAction initial_switches,
                                      const BatterySwitchController& controller,
                                      const decision::BatteryThresholds& thresholds) {
+  const std::array<BatteryFlightController, 1> one = {{{initial_switches, controller}}};
+  return std::move(FlyBatteryFlights(params, one, thresholds).front());
+}
+
+std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& params,
+                                                   std::span<const BatteryFlightController> flights,
+                                                   const decision::BatteryThresholds& thresholds,
+                                                   BatteryFlightSharing* sharing) {
   const sim::FlightModel model(MakeBatteryScenario(params));
-  sim::FlightState state = sim::MakeInitialState(model, params.seed);
-  sim::SwitchPacks(state, initial_switches);
-  BatteryFlightResult result;
-  RecordingExecutor executor(controller, thresholds, result);
-  // Fig. 4.3's loop: the battery executor at 1 Hz, the GNC steps between; no CMA (its Observe and a NoOp Act
-  // change nothing the flight reads, so sim::StepEpoch without them).
-  while (!state.done()) {
-    sim::DecideBattery(model, state, executor);
-    do {
-      sim::Step(model, state);
-    } while (!state.done() && !sim::IsDecisionEpoch(model, state));
+  const std::size_t n = flights.size();
+  std::vector<sim::FlightState> states(n, sim::MakeInitialState(model, params.seed));
+  std::vector<BatteryFlightResult> results(n);
+  std::vector<RecordingExecutor> executors;
+  executors.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    sim::SwitchPacks(states[k], flights[k].initial_switches);
+    executors.emplace_back(flights[k].controller, thresholds, results[k]);
   }
-  result.outcome = state.outcome;
-  result.end_time_s = state.time_s;
-  // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.
-  if (state.outcome == sim::Outcome::kFailedBattery) result.states.push_back(decision::kBatteryFailureState);
-  return result;
+  // The flights fly one vehicle while their packs cap the rotors alike (sim::StepFollowing); one that leaves the
+  // group flies on alone. Fig. 4.3's loop: the battery executor at 1 Hz, the GNC steps between; no CMA (its
+  // Observe and a NoOp Act change nothing the flight reads, so sim::StepEpoch without them).
+  std::vector<bool> alone(n, false);
+  std::vector<sim::FlightState*> followers;
+  std::vector<std::size_t> follower_index;
+  std::array<bool, kActions.size()> stepped{};
+  UASCMA_CHECK(n <= stepped.size(), "at most one flight per pack action fly together");
+  std::int64_t shared_steps = 0, alone_steps = 0;
+  auto first_flying = [&states]() -> const sim::FlightState* {
+    for (const sim::FlightState& state : states) {
+      if (!state.done()) return &state;
+    }
+    return nullptr;
+  };
+  // Invariant: every flight still flying is at the same GNC step.
+  for (const sim::FlightState* flying = first_flying(); flying != nullptr; flying = first_flying()) {
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!states[k].done()) sim::DecideBattery(model, states[k], executors[k]);
+    }
+    do {
+      const std::int64_t next_step = flying->step + 1;
+      // The group: the flights still flying together; its first one leads.
+      std::size_t lead = n;
+      followers.clear();
+      follower_index.clear();
+      for (std::size_t k = 0; k < n; ++k) {
+        if (states[k].done() || alone[k]) continue;
+        if (lead == n) {
+          lead = k;
+        } else {
+          followers.push_back(&states[k]);
+          follower_index.push_back(k);
+        }
+      }
+      if (lead != n && !followers.empty()) {
+        sim::StepFollowing(model, states[lead], followers, std::span<bool>(stepped.data(), followers.size()));
+        for (std::size_t j = 0; j < followers.size(); ++j) {
+          if (stepped[j]) ++shared_steps;
+          else alone[follower_index[j]] = true;  // its pack caps a rotor differently: on its own from this step
+        }
+      }
+      // Every flight not stepped yet (the lead of a group of one, those on their own) takes its step alone.
+      for (std::size_t k = 0; k < n; ++k) {
+        if (states[k].done() || states[k].step >= next_step) continue;
+        sim::Step(model, states[k]);
+        if (k != lead) ++alone_steps;
+      }
+      flying = first_flying();
+    } while (flying != nullptr && !sim::IsDecisionEpoch(model, *flying));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    results[k].outcome = states[k].outcome;
+    results[k].end_time_s = states[k].time_s;
+    // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.
+    if (states[k].outcome == sim::Outcome::kFailedBattery) results[k].states.push_back(decision::kBatteryFailureState);
+  }
+  if (sharing) {
+    sharing->shared_steps += shared_steps;
+    sharing->alone_steps += alone_steps;
+  }
+  return results;
 }
 
 // ================================ the executor for any flight ======================================
@@ -249,17 +311,25 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
   std::atomic<std::int64_t> done{0}, failures{0};
   std::mutex merge_mutex;
   decision::BatteryModel model;
+  BatteryFlightSharing sharing;
   auto worker = [&] {
     BatteryTransitionCounts local;
+    BatteryFlightSharing local_sharing;
     std::int64_t local_failures = 0;
+    std::vector<BatteryFlightController> flights;
     for (std::int64_t d = next_draw++; d < draws; d = next_draw++) {
       const BatteryFlightParams params = SampleBatteryFlight(options.ranges, options.seed, d);
+      // The draw's actions flown together (FlyBatteryFlights: one vehicle while the packs cap the rotors alike).
+      flights.clear();
       for (PackAction action : kActions) {
         if (3 * d + static_cast<std::int64_t>(action) >= options.runs) break;
-        const BatteryFlightResult flight = FlyBatteryFlight(
-            params, action, [action](double, const decision::BatteryObservation&, StateIndex) { return action; });
-        local.AddFlight(params.context(), action, flight.states);
-        if (flight.outcome == sim::Outcome::kFailedBattery) ++local_failures;
+        flights.push_back(
+            {action, [action](double, const decision::BatteryObservation&, StateIndex) { return action; }});
+      }
+      const std::vector<BatteryFlightResult> results = FlyBatteryFlights(params, flights, {}, &local_sharing);
+      for (std::size_t k = 0; k < results.size(); ++k) {
+        local.AddFlight(params.context(), flights[k].initial_switches, results[k].states);
+        if (results[k].outcome == sim::Outcome::kFailedBattery) ++local_failures;
         const std::int64_t count = ++done;
         if (options.on_flight_done) options.on_flight_done(count);
       }
@@ -267,6 +337,8 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
     const std::lock_guard<std::mutex> lock(merge_mutex);
     model.counts.Merge(local);  // sums: the result does not depend on the number of threads
     failures += local_failures;
+    sharing.shared_steps += local_sharing.shared_steps;
+    sharing.alone_steps += local_sharing.alone_steps;
   };
   std::vector<std::thread> threads;
   for (int j = 1; j < options.jobs; ++j) threads.emplace_back(worker);
@@ -296,6 +368,7 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
     summary->flights = options.runs;
     summary->parameter_draws = draws;
     summary->failures = failures;
+    summary->sharing = sharing;
     summary->wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return model;

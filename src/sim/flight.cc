@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -61,6 +62,9 @@ struct StepSignals {
   gnc::Wrench command;
   models::BodyWrench achieved;
   models::RotorThrusts thrust;
+  models::RotorThrusts allocated;        // the allocation's rotor thrusts before the bus voltage's cap
+  double thrust_cap = 0.0;               // N per rotor at this step's bus voltage
+  std::array<double, 6> rotor_power{};   // W, electrical, per rotor
   std::array<double, 6> rotor_current{};
   Eigen::Vector3d wind_W = Eigen::Vector3d::Zero();
   models::BodyInputs body_inputs;
@@ -87,6 +91,14 @@ void AdvanceFaults(const FlightModel& model, FlightState& state, FlightLog* log)
   }
 }
 
+// The bus voltage caps each rotor's thrust: capacity ∝ (V_bus / V_ref)² below V_ref.
+double ThrustCap(const FlightModel& model, double bus_voltage_v) {
+  const double voltage_ratio = std::min(1.0, bus_voltage_v / model.options().reference_bus_voltage_v);
+  return model.propulsion().max_thrust * voltage_ratio * voltage_ratio;
+}
+
+double InverseBusVoltage(double bus_voltage_v) { return 1.0 / std::max(bus_voltage_v, 1.0); }
+
 // ---- guidance and control: LQR → allocation → rotor lag, capped by the bus voltage -------------------------------
 void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrusts& believed, double& motors_current,
                 StepSignals& s) {
@@ -105,10 +117,10 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
   }
   s.command = model.controller().Compute(state.body, target);
   const models::AllocationResult allocation = model.mixer().Allocate(s.command, state.allocation_failure);
-  // The bus voltage caps each rotor's thrust: capacity ∝ (V_bus / V_ref)² below V_ref.
-  const double voltage_ratio = std::min(1.0, state.bus_voltage_v / model.options().reference_bus_voltage_v);
-  const double thrust_cap = propulsion.max_thrust * voltage_ratio * voltage_ratio;
-  const double inverse_bus_voltage = 1.0 / std::max(state.bus_voltage_v, 1.0);
+  s.allocated = allocation.rotor_thrust;
+  const double thrust_cap = ThrustCap(model, state.bus_voltage_v);
+  s.thrust_cap = thrust_cap;
+  const double inverse_bus_voltage = InverseBusVoltage(state.bus_voltage_v);
   motors_current = 0.0;
   const bool detection = model.options().fault_detection;  // the believed rotors feed only the IMM
   for (int i = 0; i < 6; ++i) {
@@ -120,7 +132,8 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
     }
     state.rotor_speed[i] = (i + 1 == state.jammed_rotor) ? 0.0 : model.rotor_lag().Step(state.rotor_speed[i], speed_command);
     s.thrust[i] = models::CalcRotorThrust(propulsion, state.rotor_speed[i]);
-    s.rotor_current[i] = model.electrical_power().Power(s.thrust[i]) * inverse_bus_voltage;
+    s.rotor_power[i] = model.electrical_power().Power(s.thrust[i]);
+    s.rotor_current[i] = s.rotor_power[i] * inverse_bus_voltage;
     motors_current += s.rotor_current[i];
   }
   s.achieved = model.mixer().mixing_matrix(models::kNoFailedMotor) * s.thrust;
@@ -334,6 +347,68 @@ void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
   ClassifyStep(model, state, s);
   ++state.step;
   state.time_s = static_cast<double>(state.step) * model.dt();
+}
+
+void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
+                   std::span<bool> stepped) {
+  UASCMA_CHECK(followers.size() == stepped.size(), "one stepped flag per follower");
+  UASCMA_CHECK(!model.scenario().fault.enabled && !model.options().fault_detection,
+               "followers share a vehicle without faults and without the fault detector");
+  std::fill(stepped.begin(), stepped.end(), false);
+  if (lead.done()) return;
+  StepSignals s;
+  models::RotorThrusts believed;
+  double motors_current = 0.0;
+  StepRotors(model, lead, believed, motors_current, s);
+  // Followers whose pack caps every rotor's command alike fly the lead's trajectory this step.
+  for (std::size_t k = 0; k < followers.size(); ++k) {
+    const FlightState& f = *followers[k];
+    if (f.done() || f.step != lead.step) continue;
+    const double cap = ThrustCap(model, f.bus_voltage_v);
+    bool alike = true;
+    for (int i = 0; i < 6; ++i) {
+      alike = alike && std::clamp(s.allocated[i], 0.0, cap) == std::clamp(s.allocated[i], 0.0, s.thrust_cap);
+    }
+    stepped[k] = alike;
+  }
+  StepBody(model, lead, s);
+  StepPower(model, lead, motors_current, s);
+  s.R_WB = lead.body.q_WB.toRotationMatrix();
+  const double tracking_error = (lead.body.p_WB_W - s.reference.p_W).norm();
+  lead.min_cos_tilt = std::min(lead.min_cos_tilt, s.R_WB(2, 2));
+  lead.max_tracking_error = std::max(lead.max_tracking_error, tracking_error);
+  ClassifyStep(model, lead, s);
+  const bool lead_flies_on = !lead.done();
+  for (std::size_t k = 0; k < followers.size(); ++k) {
+    if (!stepped[k]) continue;
+    FlightState& f = *followers[k];
+    // Its own power system, as StepRotors and StepPower would have it (the same operations in the same order) …
+    const double inverse_bus_voltage = InverseBusVoltage(f.bus_voltage_v);
+    double current = 0.0;
+    for (int i = 0; i < 6; ++i) current += s.rotor_power[i] * inverse_bus_voltage;
+    StepSignals own = s;
+    StepPower(model, f, current, own);
+    // … and everything Step changes on the vehicle, the lead's.
+    f.body = lead.body;
+    f.rotor_speed = lead.rotor_speed;
+    f.believed_speed = lead.believed_speed;
+    f.wind = lead.wind;
+    f.wind_random = lead.wind_random;
+    f.sensor_random = lead.sensor_random;
+    f.min_cos_tilt = lead.min_cos_tilt;
+    f.max_tracking_error = lead.max_tracking_error;
+    // The classification sees the follower's own cells and the lead's kinematics: while the lead flies on and the
+    // follower's cells are above the cut-off, its classification is the lead's (in progress).
+    if (lead_flies_on && own.pack_outputs.min_cell_voltage_v > models::kCutoffVoltage) {
+      f.airborne = lead.airborne;
+    } else {
+      ClassifyStep(model, f, own);
+    }
+    ++f.step;
+    f.time_s = static_cast<double>(f.step) * model.dt();
+  }
+  ++lead.step;
+  lead.time_s = static_cast<double>(lead.step) * model.dt();
 }
 
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log) {

@@ -17,6 +17,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -114,6 +115,24 @@ BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, models::
                                      const BatterySwitchController& controller,
                                      const decision::BatteryThresholds& thresholds = {});
 
+// Several flights of one parameter draw flown together: each its initial switches and 1 Hz controller. They fly
+// one vehicle while their packs cap the rotors alike (sim::StepFollowing: the pack acts on the vehicle only
+// through the thrust cap), and a flight whose pack caps a rotor differently flies on alone from that step; every
+// result equals FlyBatteryFlight of the same flight alone, bit for bit (tests/campaign/battery_flights_test.cc).
+// Learning flies a draw's three actions so (one vehicle instead of three while they agree). At most three flights.
+struct BatteryFlightController {
+  models::PackAction initial_switches = models::PackAction::kUseBoth;
+  BatterySwitchController controller;
+};
+struct BatteryFlightSharing {
+  std::int64_t shared_steps = 0;  // GNC steps a flight took by following another's vehicle
+  std::int64_t alone_steps = 0;   // GNC steps of flights that had left their group
+};
+std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& params,
+                                                   std::span<const BatteryFlightController> flights,
+                                                   const decision::BatteryThresholds& thresholds = {},
+                                                   BatteryFlightSharing* sharing = nullptr);
+
 // --- the executor for any simulated flight (`uascma simulate --battery-policy POLICY.json`) ---------------------
 // A sim::BatterySwitchPolicy (sim/flight.h, RunOptions::battery_policy) that abstracts the pack at 1 Hz as
 // decision/battery_mdp.h says and applies the policy the decision tree of Fig. 4.5 picks for the scenario's
@@ -146,6 +165,7 @@ struct BatteryLearningSummary {
   std::int64_t flights = 0;
   std::int64_t parameter_draws = 0;  // Table 4.4 draws, each flown with the three actions
   std::int64_t failures = 0;        // flights that reached FAILURE
+  BatteryFlightSharing sharing;     // GNC steps that followed another flight's vehicle, and alone
   double wall_time_s = 0.0;
 };
 

@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -260,6 +261,19 @@ inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) 
 
 // One GNC step (1 / gnc_rate_hz). Sets state.outcome when the flight ends. No-op on a finished flight.
 void Step(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
+
+// One GNC step of `lead` and, with it, of flights that follow its vehicle (the battery MDP's learning flights, Ch. IV:
+// one parameter draw flown with each pack action). A follower is a flight of the same model at the same step whose
+// state equals the lead's in everything but its power system (the pack and its switches, bus voltage, currents,
+// energy, lowest cell voltage) and its outcome. The pack acts on the vehicle only through the rotors' thrust cap
+// (∝ V_bus²): while the cap treats every rotor's command alike under both packs, the follower flies the lead's
+// trajectory bit for bit, so only its power system is stepped (and its outcome classified); the vehicle is copied.
+// stepped[k] tells whether follower k was stepped; one whose cap binds differently this step is left as it was, a
+// complete flight state, to be flown on alone with Step. Requires no modelled fault and no fault detector
+// (SimOptions::fault_detection off, the Ch. IV loop). A flight flown this way equals the same flight flown alone
+// with Step (tested bit for bit: campaign/battery_flights.h, tests/sim/simulator_test.cc).
+void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
+                   std::span<bool> stepped);
 
 // At an epoch: EOD, RUL, margins and the abstract CMA state into state.inputs (and the log's states).
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
