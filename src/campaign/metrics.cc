@@ -1,6 +1,8 @@
 #include "uascma/campaign/metrics.h"
 
 #include <algorithm>
+#include <array>
+#include <memory>
 #include <limits>
 #include <numeric>
 
@@ -99,13 +101,34 @@ RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int sl
 
 RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const CampaignPolicy& policy, int slot,
                  int num_policies, const PlannerFactory& planner_factory) {
-  const std::unique_ptr<sim::DecisionPolicy> decide = MakeDecisionPolicy(policy);
-  RecordingPolicy recording(*decide);
-  const sim::EmergencyPlanner planner = planner_factory ? planner_factory(simulator) : sim::EmergencyPlanner{};
+  const std::array<const CampaignPolicy*, 1> one = {&policy};
+  const std::array<int, 1> slots = {slot};
+  return std::move(FlyRunTogether(simulator, run, one, slots, num_policies, planner_factory).front());
+}
+
+std::vector<RunRecord> FlyRunTogether(const sim::Simulator& simulator, const SampledRun& run,
+                                      std::span<const CampaignPolicy* const> policies, std::span<const int> slots,
+                                      int num_policies, const PlannerFactory& planner_factory) {
+  UASCMA_CHECK(policies.size() == slots.size(), "one slot per policy");
+  std::vector<std::unique_ptr<sim::DecisionPolicy>> decide;
+  std::vector<std::unique_ptr<RecordingPolicy>> recording;
+  std::vector<sim::DecisionPolicy*> flying;
+  std::vector<sim::EmergencyPlanner> planners;
+  for (const CampaignPolicy* policy : policies) {
+    decide.push_back(MakeDecisionPolicy(*policy));
+    recording.push_back(std::make_unique<RecordingPolicy>(*decide.back()));
+    flying.push_back(recording.back().get());
+    planners.push_back(planner_factory ? planner_factory(simulator) : sim::EmergencyPlanner{});
+  }
   sim::RunOptions options;
   options.record_telemetry = false;
-  const sim::SimResult result = simulator.Run(recording, planner, options);
-  return MakeRunRecord(run, policy.name, slot, num_policies, result, recording.decisions());
+  const std::vector<sim::SimResult> results = simulator.RunTogether(flying, planners, options);
+  std::vector<RunRecord> records;
+  for (std::size_t k = 0; k < policies.size(); ++k) {
+    records.push_back(
+        MakeRunRecord(run, policies[k]->name, slots[k], num_policies, results[k], recording[k]->decisions()));
+  }
+  return records;
 }
 
 }  // namespace uascma::campaign

@@ -150,9 +150,12 @@ void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<Campaign
         const FlightTask& task = *next;
         const SampledRun run = SampleRun(config, config.seed, task.run_index);
         const sim::Simulator simulator(run.scenario);  // built once, flown by every policy (paired)
-        for (int slot : task.slots) {
-          if (stop.load()) break;
-          RunRecord record = FlyRun(simulator, run, policies[slot], slot, num_policies, options.planner_factory);
+        // The run's policies fly one vehicle until their decisions differ (FlyRunTogether).
+        std::vector<const CampaignPolicy*> flown;
+        for (int slot : task.slots) flown.push_back(&policies[slot]);
+        std::vector<RunRecord> records =
+            FlyRunTogether(simulator, run, flown, task.slots, num_policies, options.planner_factory);
+        for (RunRecord& record : records) {
           {
             const std::lock_guard lock(mutex);
             finished.push_back(std::move(record));

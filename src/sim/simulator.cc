@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "uascma/common/error.h"
+
 namespace uascma::sim {
 
 SimResult MakeSimResult(const FlightModel& model, const FlightState& state, FlightLog log, const std::string& policy) {
@@ -52,6 +54,95 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   SimResult result = MakeSimResult(model_, state, std::move(log), policy.name());
   result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return result;
+}
+
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// GNC steps from just after an epoch's Act to the next epoch or the end of the flight (StepEpoch's last part).
+void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog& log) {
+  if (state.done()) return;
+  do {
+    Step(model, state, &log);
+  } while (!state.done() && !IsDecisionEpoch(model, state));
+}
+
+}  // namespace
+
+std::vector<SimResult> Simulator::RunTogether(std::span<DecisionPolicy* const> policies,
+                                              std::span<const EmergencyPlanner> planners,
+                                              const RunOptions& options) const {
+  UASCMA_CHECK(planners.size() == policies.size(), "one planner (possibly empty) per policy");
+  const std::size_t n = policies.size();
+  std::vector<SimResult> results(n);
+  std::vector<double> wall_s(n, 0.0);
+  auto finish = [&](std::size_t k, const FlightState& state, FlightLog log) {
+    results[k] = MakeSimResult(model_, state, std::move(log), policies[k]->name());
+    results[k].wall_time_s = wall_s[k];
+  };
+  // A flight of one policy from an epoch on, after its Act: as Run flies it.
+  auto fly_alone = [&](std::size_t k, FlightState state, FlightLog log) {
+    const auto start = std::chrono::steady_clock::now();
+    const Controllers controllers{policies[k], options.battery_policy, planners[k]};
+    StepToNextEpoch(model_, state, log);
+    while (!state.done()) StepEpoch(model_, state, controllers, &log);
+    wall_s[k] += SecondsSince(start);
+    finish(k, state, std::move(log));
+  };
+
+  FlightState state = MakeInitialState(model_, model_.scenario().seed);
+  FlightLog log;
+  log.record_telemetry = options.record_telemetry;
+  std::vector<std::size_t> together(n);
+  for (std::size_t k = 0; k < n; ++k) together[k] = k;
+  std::vector<decision::CmaAction> decided;
+  while (!state.done() && together.size() > 1) {
+    // One epoch of the shared flight: StepEpoch with each policy deciding on the same observation.
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t sharing = together.size();
+    const DecisionInputs& inputs = Observe(model_, state, &log);
+    if (options.battery_policy) DecideBattery(model_, state, *options.battery_policy, &log);
+    decided.clear();
+    for (std::size_t k : together) decided.push_back(policies[k]->Decide(inputs));
+    std::vector<std::size_t> still;
+    for (std::size_t i = 0; i < together.size(); ++i) {
+      if (decided[i] == decision::CmaAction::kNoOp) still.push_back(together[i]);
+    }
+    const double shared_s = SecondsSince(start);
+    for (std::size_t i = 0; i < together.size(); ++i) {
+      wall_s[together[i]] += shared_s / static_cast<double>(sharing);
+      if (decided[i] == decision::CmaAction::kNoOp) continue;
+      const std::size_t k = together[i];
+      FlightState own = state;  // the branch: both copies have the same future bit for bit
+      FlightLog own_log = log;
+      const auto act_start = std::chrono::steady_clock::now();
+      Act(model_, own, decided[i], planners[k], &own_log);
+      wall_s[k] += SecondsSince(act_start);
+      fly_alone(k, std::move(own), std::move(own_log));
+    }
+    together = std::move(still);
+    if (together.empty()) return results;
+    const auto step_start = std::chrono::steady_clock::now();
+    Act(model_, state, decision::CmaAction::kNoOp, planners[together.front()], &log);  // NoOp asks no planner
+    StepToNextEpoch(model_, state, log);
+    const double step_s = SecondsSince(step_start);
+    for (std::size_t k : together) wall_s[k] += step_s / static_cast<double>(together.size());
+  }
+  if (together.size() == 1 && !state.done()) {
+    // At an epoch, before its Observe: the rest as Run flies it.
+    const std::size_t k = together.front();
+    const auto start = std::chrono::steady_clock::now();
+    const Controllers controllers{policies[k], options.battery_policy, planners[k]};
+    while (!state.done()) StepEpoch(model_, state, controllers, &log);
+    wall_s[k] += SecondsSince(start);
+  }
+  for (std::size_t i = 0; i < together.size(); ++i) {
+    finish(together[i], state, i + 1 == together.size() ? std::move(log) : log);
+  }
+  return results;
 }
 
 }  // namespace uascma::sim

@@ -187,6 +187,54 @@ TEST(SimulatorTest, ResultKeepsTheEmergencyPlanFlownAtTheEnd) {
   EXPECT_FALSE(nominal.Run(noop).emergency_plan.has_value());
 }
 
+// Run for each policy against RunTogether: the same flights (telemetry, events, decisions) bit for bit. Scenario I
+// with the CMA (it acts mid-flight: the shared flight is copied there), NoOp twice (they share to the end) and a
+// policy that lands at once (it leaves the group before take-off: grounded).
+class LandAsapAtOnce final : public DecisionPolicy {
+ public:
+  decision::CmaAction Decide(const DecisionInputs&) override { return decision::CmaAction::kLandAsap; }
+  std::string name() const override { return "land-at-once"; }
+};
+
+void ExpectSameResult(const SimResult& a, const SimResult& b) {
+  EXPECT_EQ(a.outcome, b.outcome);
+  EXPECT_EQ(a.reason, b.reason);
+  EXPECT_EQ(a.sim_time_s, b.sim_time_s);
+  EXPECT_EQ(a.policy, b.policy);
+  EXPECT_EQ(a.actions, b.actions);
+  EXPECT_EQ(a.states, b.states);
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (std::size_t k = 0; k < a.events.size(); ++k) EXPECT_EQ(a.events[k].what, b.events[k].what);
+  EXPECT_EQ(a.min_cell_voltage_v, b.min_cell_voltage_v);
+  EXPECT_EQ(a.energy_wh, b.energy_wh);
+  EXPECT_EQ(a.max_tracking_error, b.max_tracking_error);
+  EXPECT_EQ(a.emergency_site, b.emergency_site);
+  EXPECT_EQ(TelemetryCsv(a), TelemetryCsv(b));
+  ASSERT_EQ(a.telemetry.size(), b.telemetry.size());
+  for (std::size_t k = 0; k < a.telemetry.size(); ++k) {
+    ASSERT_EQ(a.telemetry[k].p_W, b.telemetry[k].p_W);  // bit-identical doubles
+    ASSERT_EQ(a.telemetry[k].cell_voltage, b.telemetry[k].cell_voltage);
+  }
+}
+
+TEST(SimulatorTest, PoliciesFlownTogetherEqualEachFlownAlone) {
+  const Simulator simulator(LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario);
+  const auto cma = MakePolicy("cma", "test");
+  NoOpPolicy noop, noop_again;
+  LandAsapAtOnce at_once;
+  std::vector<DecisionPolicy*> policies = {&noop, cma.get(), &noop_again, &at_once};
+  const std::vector<EmergencyPlanner> planners(policies.size());
+  const std::vector<SimResult> together = simulator.RunTogether(policies, planners);
+  ASSERT_EQ(together.size(), policies.size());
+  for (std::size_t k = 0; k < policies.size(); ++k) {
+    SCOPED_TRACE(policies[k]->name());
+    ExpectSameResult(together[k], simulator.Run(*policies[k]));
+  }
+  EXPECT_EQ(together[1].outcome, Outcome::kEmergencyLanding);  // the CMA left the shared flight and landed
+  EXPECT_EQ(together[3].outcome, Outcome::kGrounded);
+  EXPECT_TRUE(IsFailure(together[0].outcome));
+}
+
 // Mission files and the map import keys in scenario files (issue 15).
 std::string MissionData(const std::string& name) { return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name; }
 

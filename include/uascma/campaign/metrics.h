@@ -14,6 +14,7 @@
 //   average reward per time step  = mean_k r_k,   minimum instantaneous reward = min_k r_k,
 // and the campaign statistics average them over flights (campaign/statistics.h).
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "uascma/campaign/policies.h"
@@ -68,5 +69,10 @@ RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int sl
 // Flies `run` with `policy` on `simulator` (built from run.scenario) without telemetry.
 RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const CampaignPolicy& policy,
                  int slot, int num_policies, const PlannerFactory& planner_factory = {});
+// Flies `run` with each policy (policies[k] in slot slots[k]) as FlyRun would each, sharing the flight while they
+// agree (sim::Simulator::RunTogether): the records equal FlyRun's, wall_time_s apart.
+std::vector<RunRecord> FlyRunTogether(const sim::Simulator& simulator, const SampledRun& run,
+                                      std::span<const CampaignPolicy* const> policies, std::span<const int> slots,
+                                      int num_policies, const PlannerFactory& planner_factory = {});
 
 }  // namespace uascma::campaign
