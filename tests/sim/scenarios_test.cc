@@ -57,12 +57,9 @@ TEST(ScenarioTest, ScenarioOneExecutesLandPractAfterTheJam) {
 // quadcopter; RM negative on the LandPract plan → LandASAP inside the footprint → a safe landing.
 TEST(ScenarioTest, ScenarioTwoEscalatesFromLandPractToLandAsapAfterTheJam) {
   const Flown flown = FlyBoth("scenario-2.yaml");
-  // Known gap, left visible (issue 11; README "Where we differ"): this deliberately marginal pack takes RM below 0
-  // in the take-off climb and the CMA lands at once. No charge gives §5.5.2's sequence (scan 3.905-3.95 V: an early
-  // LandPract up to 3.908 V, above it LandPract on the spall whose RM the quadcopter's extra load never takes below
-  // 0): the dissertation's LandASAP follows a current spike that our 10 s low-passed EOD current smooths out. The
-  // test runs again when the scenario or that EOD input is re-derived.
-  if (!flown.cma.jam_time_s) GTEST_SKIP() << "scenario II no longer reaches the jam: " << flown.cma.reason;
+  // The scenario's own choices (charge, route, wind) are set so that the sequence shows (examples/scenario-2.yaml,
+  // README "Where we differ"): it holds for 3.905–3.908 V per cell, a window as narrow as the ~5 s of EOD the
+  // quadcopter's extra load takes over the last ~50 s.
   const SimResult& r = flown.cma;
   ASSERT_TRUE(r.spall_onset_s && r.jam_time_s && r.isolation_time_s);
   EXPECT_NEAR(*r.spall_onset_s, 525.0, 1e-9);
