@@ -80,7 +80,8 @@ void AddLearn(CLI::App* battery) {
       "learn",
       "Fly Monte Carlo flights (Table 4.4; each flown with one action throughout, split equally between\n"
       "UseBatt1, UseBatt2 and UseBoth) and count the battery MDP's 1 Hz transitions per health pair and\n"
-      "temperature (§4.3.2). Writes the model with its counts");
+      "temperature (§4.3.2). A draw's three actions fly one vehicle while their packs cap the rotors alike\n"
+      "(the same counts as flying each alone). Writes the model with its counts");
   AddBoundedOption(command, "--runs", options->runs, "Flights (§4.3.2: 5,000)", kFlightsBounds);
   AddSeedOption(command, "--seed", options->seed, "Seed; every flight replays from (seed, flight index)");
   AddBoundedOption(command, "--jobs", options->jobs, "Threads (the counts do not depend on it)", kThreadsBounds);
@@ -332,7 +333,8 @@ void AddCaseStudy(CLI::App* battery) {
   CLI::App* command = battery->add_subcommand(
       "case-study",
       "Run a case study of Table 4.5: (1) flight time = one pack's EOD, UseBoth; (2) the same with pi*;\n"
-      "(3) flight time = both packs' EOD, UseBoth, for (F1,F2), (F1,F3), (F3,F3); (4) pi* for (F2,F1).\n"
+      "(3) flight time = both packs' EOD, UseBoth, for (F1,F2), (F1,F3), (F3,F3); (4) pi* for (F2,F1)\n"
+      "(pack 1 with one capacity-faded cell, Fig. 4.11's caption), with UseBoth on the same flight beside it.\n"
       "pi* comes from --policy, or is learned (--runs flights) and solved first");
   AddBoundedOption(command, "N", options->number, "Case study (Table 4.5)", kCaseStudyBounds)->required();
   command->add_option("--out", options->out, "Write case-N.json, one CSV per scenario and plots to this folder");
