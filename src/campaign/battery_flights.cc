@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/common/random.h"
@@ -79,24 +80,8 @@ std::array<models::CellHealth, models::kCellsPerBranch> DrawPackCells(RandomStre
   std::array<models::CellHealth, models::kCellsPerBranch> cells{};
   if (health == HealthClass::kG) return cells;
   const int k = 1 + static_cast<int>(random.UniformIndex(models::kCellsPerBranch));
-  std::array<int, models::kCellsPerBranch> order = {0, 1, 2};  // a uniform k-subset: partial Fisher–Yates
-  for (int i = 0; i < k; ++i) {
-    std::swap(order[i], order[i + static_cast<int>(random.UniformIndex(models::kCellsPerBranch - i))]);
-  }
-  const bool capacity_kind = health == HealthClass::kM && random.Bernoulli(0.5);
-  for (int i = 0; i < k; ++i) {
-    models::CellHealth& cell = cells[order[i]];
-    if (health == HealthClass::kM) {
-      cell.capacity_fade = capacity_kind;
-      cell.power_fade = !capacity_kind;
-    } else if (i == 0) {
-      cell.capacity_fade = cell.power_fade = true;
-    } else {
-      const auto kind = random.UniformIndex(3);
-      cell.capacity_fade = kind != 1;
-      cell.power_fade = kind != 0;
-    }
-  }
+  const std::array<models::CellHealth*, models::kCellsPerBranch> three = {&cells[0], &cells[1], &cells[2]};
+  DrawCellFades(random, health, k, MediumFades::kOneKind, three);
   return cells;
 }
 

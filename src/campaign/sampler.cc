@@ -48,42 +48,14 @@ decision::BatteryHealth DrawBatteryHealth(RandomStream& random, const BatterySam
   const auto health = static_cast<decision::BatteryHealth>(DrawWeighted(random, battery.health_weights));
   cells = {};
   if (health == decision::BatteryHealth::kG) return health;
-  // k cells, a uniform k-subset of the six: the first k of a partial Fisher–Yates shuffle.
-  constexpr int kCells = models::kBranchCount * models::kCellsPerBranch;
   const int k = battery.degraded_cells.low +
                 static_cast<int>(random.UniformIndex(
                     static_cast<std::uint64_t>(battery.degraded_cells.high - battery.degraded_cells.low + 1)));
-  std::array<int, kCells> order;
-  for (int i = 0; i < kCells; ++i) order[i] = i;
-  for (int i = 0; i < k; ++i) {
-    const int j = i + static_cast<int>(random.UniformIndex(static_cast<std::uint64_t>(kCells - i)));
-    std::swap(order[i], order[j]);
+  std::array<models::CellHealth*, models::kBranchCount * models::kCellsPerBranch> six;
+  for (int b = 0; b < models::kBranchCount; ++b) {
+    for (int c = 0; c < models::kCellsPerBranch; ++c) six[b * models::kCellsPerBranch + c] = &cells[b][c];
   }
-  // M, one kind per flight (Table 4.2, config.h MediumFades): drawn once, after the cells.
-  const bool one_kind = health == decision::BatteryHealth::kM && battery.medium_fades == MediumFades::kOneKind;
-  const bool capacity_kind = one_kind && random.Bernoulli(0.5);
-  for (int i = 0; i < k; ++i) {
-    models::CellHealth& cell = cells[order[i] / models::kCellsPerBranch][order[i] % models::kCellsPerBranch];
-    if (one_kind) {
-      cell.capacity_fade = capacity_kind;
-      cell.power_fade = !capacity_kind;
-    } else if (health == decision::BatteryHealth::kM) {
-      // M per cell: one fade, not both; which one drawn per cell (decisions item 20).
-      if (random.Bernoulli(0.5)) {
-        cell.capacity_fade = true;
-      } else {
-        cell.power_fade = true;
-      }
-    } else if (i == 0) {
-      // P: at least one cell with both fades.
-      cell.capacity_fade = cell.power_fade = true;
-    } else {
-      // P, the other cells: capacity fade, power fade or both, ⅓ each.
-      const auto kind = random.UniformIndex(3);
-      cell.capacity_fade = kind != 1;
-      cell.power_fade = kind != 0;
-    }
-  }
+  DrawCellFades(random, static_cast<models::HealthClass>(static_cast<int>(health)), k, battery.medium_fades, six);
   return health;
 }
 
@@ -111,6 +83,46 @@ double DistanceForPlanDuration(double duration, double cruise_altitude, double d
 }
 
 }  // namespace
+
+void DrawCellFades(RandomStream& random, models::HealthClass health, int k, MediumFades medium_fades,
+                   std::span<models::CellHealth* const> cells) {
+  if (health == models::HealthClass::kG) return;
+  UASCMA_CHECK(k >= 0 && static_cast<std::size_t>(k) <= cells.size(), "at most as many faded cells as cells");
+  // A uniform k-subset: the first k of a partial Fisher–Yates shuffle.
+  std::array<int, models::kBranchCount * models::kCellsPerBranch> order;
+  UASCMA_CHECK(cells.size() <= order.size(), "at most a battery's cells");
+  const int n = static_cast<int>(cells.size());
+  for (int i = 0; i < n; ++i) order[i] = i;
+  for (int i = 0; i < k; ++i) {
+    const int j = i + static_cast<int>(random.UniformIndex(static_cast<std::uint64_t>(n - i)));
+    std::swap(order[i], order[j]);
+  }
+  // M, one kind for all k cells (Table 4.2, config.h MediumFades): drawn once, after the cells.
+  const bool one_kind = health == models::HealthClass::kM && medium_fades == MediumFades::kOneKind;
+  const bool capacity_kind = one_kind && random.Bernoulli(0.5);
+  for (int i = 0; i < k; ++i) {
+    models::CellHealth& cell = *cells[order[i]];
+    if (one_kind) {
+      cell.capacity_fade = capacity_kind;
+      cell.power_fade = !capacity_kind;
+    } else if (health == models::HealthClass::kM) {
+      // M per cell: one fade, not both; which one drawn per cell (decisions item 20).
+      if (random.Bernoulli(0.5)) {
+        cell.capacity_fade = true;
+      } else {
+        cell.power_fade = true;
+      }
+    } else if (i == 0) {
+      // P: at least one cell with both fades.
+      cell.capacity_fade = cell.power_fade = true;
+    } else {
+      // P, the other cells: capacity fade, power fade or both, ⅓ each.
+      const auto kind = random.UniformIndex(3);
+      cell.capacity_fade = kind != 1;
+      cell.power_fade = kind != 0;
+    }
+  }
+}
 
 std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index) {
   return DeriveSeed(campaign_seed, static_cast<std::uint64_t>(run_index));

@@ -69,10 +69,9 @@ struct BatteryFlightParams {
   decision::BatteryContext context() const;
 };
 
-// The cells of one pack of health class `health` as Table 4.2 defines it, drawn (ours, the pack-level twin of the
-// campaign sampler's battery draw, campaign/config.h): F1 none; F2 "either power or capacity fade in at least one
-// cell": k cells, k uniform on 1–3, all with one fade kind drawn ½/½; F3 "power and capacity fade in at least one
-// cell": k cells, the first with both, each other one with capacity fade, power fade or both, ⅓ each.
+// The cells of one pack of health class `health` as Table 4.2 defines it, drawn (ours): k cells, k uniform on 1–3,
+// with the campaigns' fades (campaign/sampler.h DrawCellFades, one fade kind per F2 pack): F1 none; F2 "either
+// power or capacity fade in at least one cell"; F3 "power and capacity fade in at least one cell".
 std::array<models::CellHealth, models::kCellsPerBranch> DrawPackCells(RandomStream& random, models::HealthClass health);
 
 // Draw d of a learning campaign (pure function of (seed, draw), style habit 7).

@@ -48,15 +48,25 @@
 // corrections and the final sag are not modelled.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "uascma/campaign/config.h"
+#include "uascma/common/random.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/models/battery_pack.h"
 #include "uascma/models/drag.h"
 #include "uascma/sim/simulator.h"
 
 namespace uascma::campaign {
+
+// The fades of k cells chosen uniformly among `cells` (the first k of a partial Fisher–Yates shuffle), realising
+// health class M or P as Table 4.2 defines it (decisions item 20): M one fade per cell, capacity (Q → 0.8 Q) or
+// power (R0 → 2 R0), its kind drawn once for all k cells (MediumFades::kOneKind) or per cell; P the first cell
+// both fades, each other one capacity fade, power fade or both, ⅓ each. G draws nothing. The cells start healthy.
+// Campaigns draw over a battery's six cells (step 4 below), the battery MDP's flights over one pack's three.
+void DrawCellFades(RandomStream& random, models::HealthClass health, int k, MediumFades medium_fades,
+                   std::span<models::CellHealth* const> cells);
 
 // Sub-streams of one run (DeriveSeed indices).
 enum RunStream : std::uint64_t { kSamplerStream = 1, kSimulatorStream = 2 };
