@@ -11,6 +11,8 @@ REPORT.json is `uascma report DB --json`. Writes into OUT_DIR:
   rewards.png           Fig. 5.32  average reward per time step and minimum instantaneous reward +- SEM
   outcomes.png          every outcome rate (failure, completion, emergency landing, termination, grounded)
   failure_causes.png    failures by cause (battery, loss of control, collision, timeout, other), stacked
+  failure_fades.png     failure rate by the fades the battery carries (a capacity-faded cell, power fade only,
+                        none), all health groups, 95 % Wilson interval, n per bar
 """
 import json
 import math
@@ -28,6 +30,7 @@ COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"]
 CAUSES = [("battery", "battery"), ("loss_of_control", "loss of control"), ("collision", "collision"),
           ("timeout", "timeout"), ("other", "other")]
 CAUSE_COLOURS = ["#ff7f0e", "#9467bd", "#8c564b", "#7f7f7f", "#bcbd22"]
+FADES = [("none", "no fade"), ("power_only", "power fade only\n(2 R0)"), ("capacity", "a capacity-faded cell\n(0.8 Q)")]
 
 
 def value(group, key):
@@ -114,6 +117,46 @@ def cause_bars(ax, report):
     ax.legend(fontsize=8, title="cause")
 
 
+def wilson(failures, runs, z=1.959963984540054):
+    """The 95 % Wilson score interval of failures / runs, as fractions (nan, nan) without runs."""
+    if runs == 0:
+        return float("nan"), float("nan")
+    p = failures / runs
+    denominator = 1 + z * z / runs
+    centre = (p + z * z / (2 * runs)) / denominator
+    half = z * math.sqrt(p * (1 - p) / runs + z * z / (4 * runs * runs)) / denominator
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def fade_bars(ax, report):
+    """Failure rate per fade class of the battery (all health groups), per policy, with Wilson intervals."""
+    policies = report["policy_order"]
+    width, shift = offsets(len(policies))
+    for i, policy in enumerate(policies):
+        fades = report["policies"][policy]["all"].get("by_battery_fades", {})
+        xs = [f + shift[i] for f in range(len(FADES))]
+        ys, lows, highs, ns = [], [], [], []
+        for key, _ in FADES:
+            entry = fades.get(key, {"runs": 0, "failures": 0})
+            runs, failures = entry["runs"], entry["failures"]
+            low, high = wilson(failures, runs)
+            y = 100.0 * failures / runs if runs else float("nan")
+            ys.append(y)
+            lows.append(0 if math.isnan(y) else max(0.0, y - 100.0 * low))
+            highs.append(0 if math.isnan(y) else max(0.0, 100.0 * high - y))
+            ns.append(runs)
+        ax.bar(xs, ys, width, yerr=[lows, highs], capsize=4, color=COLOURS[i % len(COLOURS)], label=policy)
+        for x, y, n in zip(xs, ys, ns):
+            ax.annotate(f"n={n}", (x, 0 if math.isnan(y) else y), xytext=(0, 2), textcoords="offset points",
+                        ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(range(len(FADES)))
+    ax.set_xticklabels([label for _, label in FADES])
+    ax.set_xlabel("the fades the battery carries (Table 3.2)")
+    ax.set_ylabel("failure rate (%)")
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=8)
+
+
 def save(fig, out_dir, name):
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, name), dpi=120)
@@ -161,6 +204,13 @@ def main(source, out_dir):
     ax.set_ylim(0, max(ax.get_ylim()[1], 5) * 1.2)
     ax.set_title(f"Failures by cause — {title}")
     save(fig, out_dir, "failure_causes.png")
+
+    if "by_battery_fades" in report["policies"][report["policy_order"][0]]["all"]:
+        fig, ax = plt.subplots(figsize=(7, 5))
+        fade_bars(ax, report)
+        ax.set_ylim(0, max(ax.get_ylim()[1], 5) * 1.2)
+        ax.set_title(f"Failure rate by the battery's fades, {level} % Wilson — {title}")
+        save(fig, out_dir, "failure_fades.png")
 
 
 if __name__ == "__main__":

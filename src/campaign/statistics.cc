@@ -82,7 +82,6 @@ bool InHealthGroup(const RunRecord& r, const std::string& health) {
   return health == "all" || r.battery_health == health;
 }
 
-nlohmann::json IntervalJson(const Interval& i) { return nlohmann::json::array({Number(i.low), Number(i.high)}); }
 
 }  // namespace
 

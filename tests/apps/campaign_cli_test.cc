@@ -278,7 +278,8 @@ TEST_F(CampaignCliTest, ReportOfAHandMadeDatabase) {
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("noop       P        2   100.0 ±  0.0"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("dissertation  71.0 %"), std::string::npos) << text.out;
-  for (const char* plot : {"failure_rate.png", "completion_rate.png", "rewards.png", "outcomes.png"}) {
+  for (const char* plot : {"failure_rate.png", "completion_rate.png", "rewards.png", "outcomes.png", "failure_causes.png",
+                           "failure_fades.png"}) {
     EXPECT_TRUE(std::filesystem::exists(Path("plots") / plot)) << plot;
   }
 }
