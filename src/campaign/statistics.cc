@@ -82,7 +82,6 @@ bool InHealthGroup(const RunRecord& r, const std::string& health) {
   return health == "all" || r.battery_health == health;
 }
 
-
 }  // namespace
 
 Estimate EstimateRate(std::int64_t successes, std::int64_t trials) {
