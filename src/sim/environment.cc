@@ -63,10 +63,7 @@ EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
   out.executed = decision::EffectiveCmaAction(action, state_.flight_status);
   out.reward = decision::CmaEpochReward(options_.weights, state_.inputs.state, action);
   Act(*model_, state_, action, options_.planner, log);
-  while (!state_.done()) {
-    sim::Step(*model_, state_, log);
-    if (IsDecisionEpoch(*model_, state_)) break;
-  }
+  StepToNextEpoch(*model_, state_, log);
   if (!state_.done()) {
     Observe(*model_, state_, log);
     if (options_.battery_policy) DecideBattery(*model_, state_, *options_.battery_policy, log);

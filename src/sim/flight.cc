@@ -236,6 +236,19 @@ double CrossTrackError(const Eigen::Vector3d& error_W, const Eigen::Vector3d& v_
   return (error_W - error_W.dot(along) * along).norm();
 }
 
+// The running extremes after a step. The tilt enters through its cosine R_WB(2, 2) (acos is decreasing): the
+// largest tilt is the acos of the smallest cosine, taken once at the end.
+void UpdateExtremes(FlightState& state, const StepSignals& s) {
+  const double tracking_error = (state.body.p_WB_W - s.reference.p_W).norm();
+  state.min_cos_tilt = std::min(state.min_cos_tilt, s.R_WB(2, 2));
+  state.max_tracking_error = std::max(state.max_tracking_error, tracking_error);
+}
+
+void AdvanceClock(const FlightModel& model, FlightState& state) {
+  ++state.step;
+  state.time_s = static_cast<double>(state.step) * model.dt();
+}
+
 void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignals& s) {
   const OutcomeThresholds& thresholds = model.options().outcome;
   const double now = state.time_s + model.dt();
@@ -333,20 +346,21 @@ void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
   StepPower(model, state, motors_current, s);
   s.R_WB = state.body.q_WB.toRotationMatrix();
   StepImm(model, state, previous, believed, s, log);
-
-  // The tilt enters through its cosine R_WB(2, 2) (acos is decreasing): the largest tilt is the acos of the
-  // smallest cosine, taken once at the end.
-  const double tracking_error = (state.body.p_WB_W - s.reference.p_W).norm();
-  state.min_cos_tilt = std::min(state.min_cos_tilt, s.R_WB(2, 2));
-  state.max_tracking_error = std::max(state.max_tracking_error, tracking_error);
+  UpdateExtremes(state, s);
   if (log && log->record_telemetry) {
     const double rate = model.options().telemetry_rate_hz;
     const int steps_per_row = std::max(1, static_cast<int>(std::lround(model.options().gnc_rate_hz / rate)));
     if (state.step % steps_per_row == 0) RecordTelemetry(model, state, s, *log);
   }
   ClassifyStep(model, state, s);
-  ++state.step;
-  state.time_s = static_cast<double>(state.step) * model.dt();
+  AdvanceClock(model, state);
+}
+
+void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* log) {
+  if (state.done()) return;
+  do {
+    Step(model, state, log);
+  } while (!state.done() && !IsDecisionEpoch(model, state));
 }
 
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
@@ -374,9 +388,7 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
   StepBody(model, lead, s);
   StepPower(model, lead, motors_current, s);
   s.R_WB = lead.body.q_WB.toRotationMatrix();
-  const double tracking_error = (lead.body.p_WB_W - s.reference.p_W).norm();
-  lead.min_cos_tilt = std::min(lead.min_cos_tilt, s.R_WB(2, 2));
-  lead.max_tracking_error = std::max(lead.max_tracking_error, tracking_error);
+  UpdateExtremes(lead, s);
   ClassifyStep(model, lead, s);
   const bool lead_flies_on = !lead.done();
   for (std::size_t k = 0; k < followers.size(); ++k) {
@@ -404,11 +416,9 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
     } else {
       ClassifyStep(model, f, own);
     }
-    ++f.step;
-    f.time_s = static_cast<double>(f.step) * model.dt();
+    AdvanceClock(model, f);
   }
-  ++lead.step;
-  lead.time_s = static_cast<double>(lead.step) * model.dt();
+  AdvanceClock(model, lead);
 }
 
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log) {
@@ -525,9 +535,7 @@ void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& 
   if (controllers.battery) DecideBattery(model, state, *controllers.battery, log);
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
   Act(model, state, action, controllers.planner, log);
-  do {
-    Step(model, state, log);
-  } while (!state.done() && !IsDecisionEpoch(model, state));
+  StepToNextEpoch(model, state, log);
 }
 
 }  // namespace uascma::sim

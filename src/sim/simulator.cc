@@ -62,14 +62,6 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// GNC steps from just after an epoch's Act to the next epoch or the end of the flight (StepEpoch's last part).
-void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog& log) {
-  if (state.done()) return;
-  do {
-    Step(model, state, &log);
-  } while (!state.done() && !IsDecisionEpoch(model, state));
-}
-
 }  // namespace
 
 std::vector<SimResult> Simulator::RunTogether(std::span<DecisionPolicy* const> policies,
@@ -83,11 +75,10 @@ std::vector<SimResult> Simulator::RunTogether(std::span<DecisionPolicy* const> p
     results[k] = MakeSimResult(model_, state, std::move(log), policies[k]->name());
     results[k].wall_time_s = wall_s[k];
   };
-  // A flight of one policy from an epoch on, after its Act: as Run flies it.
-  auto fly_alone = [&](std::size_t k, FlightState state, FlightLog log) {
+  // A flight of one policy from a decision epoch, before its Observe, to its end: as Run flies it.
+  auto fly_on = [&](std::size_t k, FlightState state, FlightLog log) {
     const auto start = std::chrono::steady_clock::now();
     const Controllers controllers{policies[k], options.battery_policy, planners[k]};
-    StepToNextEpoch(model_, state, log);
     while (!state.done()) StepEpoch(model_, state, controllers, &log);
     wall_s[k] += SecondsSince(start);
     finish(k, state, std::move(log));
@@ -120,25 +111,23 @@ std::vector<SimResult> Simulator::RunTogether(std::span<DecisionPolicy* const> p
       FlightLog own_log = log;
       const auto act_start = std::chrono::steady_clock::now();
       Act(model_, own, decided[i], planners[k], &own_log);
+      StepToNextEpoch(model_, own, &own_log);
       wall_s[k] += SecondsSince(act_start);
-      fly_alone(k, std::move(own), std::move(own_log));
+      fly_on(k, std::move(own), std::move(own_log));
     }
     together = std::move(still);
     if (together.empty()) return results;
     const auto step_start = std::chrono::steady_clock::now();
     Act(model_, state, decision::CmaAction::kNoOp, planners[together.front()], &log);  // NoOp asks no planner
-    StepToNextEpoch(model_, state, log);
+    StepToNextEpoch(model_, state, &log);
     const double step_s = SecondsSince(step_start);
     for (std::size_t k : together) wall_s[k] += step_s / static_cast<double>(together.size());
   }
-  if (together.size() == 1 && !state.done()) {
-    // At an epoch, before its Observe: the rest as Run flies it.
-    const std::size_t k = together.front();
-    const auto start = std::chrono::steady_clock::now();
-    const Controllers controllers{policies[k], options.battery_policy, planners[k]};
-    while (!state.done()) StepEpoch(model_, state, controllers, &log);
-    wall_s[k] += SecondsSince(start);
+  if (together.size() == 1) {
+    fly_on(together.front(), std::move(state), std::move(log));
+    return results;
   }
+  // The flight ended while shared: every policy still in it has the same result.
   for (std::size_t i = 0; i < together.size(); ++i) {
     finish(together[i], state, i + 1 == together.size() ? std::move(log) : log);
   }

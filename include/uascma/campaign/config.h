@@ -115,8 +115,9 @@ struct MissionSampling {
   // 0.076 m), and its horizontal tracking error near a hover point, bounded by our measurement: the largest
   // tracking error of whole flights cruising at 1–3 m/s (near-hover speeds; wind 1–3 m/s, every gust category)
   // was 3.46 m over 67 fault-free completed flights of two 150-run default campaigns (median 0.88 m;
-  // sim::kHoverTrackingErrorBound, also the landing radius of sim/outcome.h). 0.30 + 3.46 = 3.8 m; 5 m (ours) leaves 1.2 m for what that sample missed, and equals the corridor half-width the
-  // cruise altitude was already computed over. (Faster cruise lags further behind the reference — up to 9.5 m
+  // sim::kHoverTrackingErrorBound, also the landing radius of sim/outcome.h). 0.30 + 3.46 = 3.8 m; 5 m (ours)
+  // leaves 1.2 m for what that sample missed, and equals the corridor half-width the cruise altitude was already
+  // computed over. (Faster cruise lags further behind the reference — up to 9.5 m
   // at 6–9 m/s, the controller's business — but away from the hover points, above the buildings.)
   double wall_clearance_m = 5.0;
   double drop_hover_s = 30.0;        // defaults.md

@@ -262,6 +262,10 @@ inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) 
 // One GNC step (1 / gnc_rate_hz). Sets state.outcome when the flight ends. No-op on a finished flight.
 void Step(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
 
+// GNC steps until the next decision epoch or the end of the flight (StepEpoch after its Act). No-op on a finished
+// flight.
+void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
+
 // One GNC step of `lead` and, with it, of flights that follow its vehicle (the battery MDP's learning flights, Ch. IV:
 // one parameter draw flown with each pack action). A follower is a flight of the same model at the same step whose
 // state equals the lead's in everything but its power system (the pack and its switches, bus voltage, currents,
