@@ -50,10 +50,10 @@ def main():
     if hasattr(uascma, "Environment"):
         def env_flight():
             env = uascma.Environment(scenario)
-            env.reset(SEED)
-            done = False
-            while not done:
-                _, _, done, _ = env.step(uascma.CmaAction.NoOp)
+            env.reset(seed=SEED)
+            terminated = truncated = False
+            while not (terminated or truncated):
+                _, _, terminated, truncated, _ = env.step(uascma.CmaAction.NoOp)
         cases["env"] = env_flight
     times = time_cases(cases)
     print(f"flight: {os.path.basename(SCENARIO)} seed {SEED}, {reference.sim_time_s:.0f} s simulated, "

@@ -6,6 +6,8 @@
 #include <benchmark/benchmark.h>
 
 #include "uascma/sim/environment.h"
+#include "uascma/sim/flight.h"
+#include "uascma/sim/policy.h"
 #include "uascma/sim/simulator.h"
 
 namespace {
@@ -64,6 +66,35 @@ void BM_FifteenMinuteMissionByEpochs(benchmark::State& state) {
       benchmark::Counter(simulated * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_FifteenMinuteMissionByEpochs)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+// The onboard decision path at one 1 Hz epoch (issue 22: within 2x of the present-current EOD's cost): Observe (the
+// EOD at the chosen load, the RUL, the margins, the abstract state) and the CMA table's decision, mid-cruise of the
+// 15-minute mission. Arg 0: the present current (decision 14); 1: the load forecast (decision 25).
+void BM_DecisionEpoch(benchmark::State& state) {
+  sim::Scenario scenario = FifteenMinuteMission();
+  scenario.options.eod_load = state.range(0) == 0 ? sim::EodLoad::kPresent : sim::EodLoad::kForecast;
+  const sim::FlightModel model(scenario);
+  sim::FlightState flight = sim::MakeInitialState(model, scenario.seed);
+  for (int k = 0; k < 300; ++k) sim::StepEpoch(model, flight, sim::Controllers{});
+  const auto policy = sim::MakePolicy("cma", "bench");
+  for (auto _ : state) {
+    const sim::DecisionInputs& inputs = sim::Observe(model, flight);
+    const decision::CmaAction action = policy->Decide(inputs);
+    benchmark::DoNotOptimize(action);
+  }
+  state.SetLabel(sim::EodLoadName(scenario.options.eod_load));
+}
+BENCHMARK(BM_DecisionEpoch)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The load profile of a plan (decision 25), computed once when a plan starts: the 893 s mission, six rotors.
+void BM_LoadProfile(benchmark::State& state) {
+  const sim::FlightModel model(FifteenMinuteMission());
+  for (auto _ : state) {
+    const sim::LoadProfile profile(model.nominal_plan(), model.steady_load(), models::kRotorCount);
+    benchmark::DoNotOptimize(profile.RemainingEnergyJ(0.0));
+  }
+}
+BENCHMARK(BM_LoadProfile)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -1,21 +1,40 @@
 #!/usr/bin/env bash
-# Installs the Debian packages uascma builds on (see shared/spec/dependencies.md).
-# Runs as root (no sudo). Installs only what is missing, so a second run is quick.
+# Installs the Debian packages uascma builds on (see shared/spec/dependencies.md), by group:
+#   build  the library, the command-line tool and the demo's plots  (make demo)
+#   test   the tests, benchmarks and the Python module              (make test: build + test)
+#   fuzz   clang and its sanitizer runtimes                         (make fuzz, make check-sanitizers)
+# Usage: install-deps.sh [GROUP...]   (default: build test). Runs as root (no sudo). Installs only what is
+# missing, so a second run is quick.
 set -euo pipefail
 
-packages=(
+build=(
   build-essential cmake pkg-config
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev libtbb-dev
+  libsqlite3-dev
   libopenmpi-dev openmpi-bin
-  libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
   libboost-math-dev
   libosmium2-dev libprotozero-dev libexpat1-dev libbz2-dev zlib1g-dev libproj-dev
   python3-matplotlib python3-numpy
-  clang libclang-rt-14-dev
+)
+test=(
+  libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-pandas python3-pytest
 )
+fuzz=(
+  clang libclang-rt-14-dev
+)
+
+groups=("$@")
+((${#groups[@]} > 0)) || groups=(build test)
+packages=()
+for group in "${groups[@]}"; do
+  case "$group" in
+    build) packages+=("${build[@]}") ;;
+    test) packages+=("${test[@]}") ;;
+    fuzz) packages+=("${fuzz[@]}") ;;
+    *) echo "deps: unknown group '$group' (expected build, test or fuzz)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do
@@ -25,7 +44,7 @@ for p in "${packages[@]}"; do
 done
 
 if ((${#missing[@]} == 0)); then
-  echo "deps: all ${#packages[@]} packages present"
+  echo "deps: all ${#packages[@]} packages present (${groups[*]})"
   exit 0
 fi
 
@@ -34,7 +53,7 @@ if [[ $(id -u) -ne 0 ]]; then
   exit 1
 fi
 
-echo "deps: installing ${#missing[@]} packages: ${missing[*]}"
+echo "deps: installing ${#missing[@]} packages (${groups[*]}): ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
 apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

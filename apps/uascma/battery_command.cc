@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -14,6 +15,7 @@
 #include "commands.h"
 #include "output.h"
 #include "plotting.h"
+#include "uascma/campaign/battery_evaluation.h"
 #include "uascma/campaign/battery_flights.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
@@ -33,6 +35,61 @@ constexpr Bounds kThreadsBounds{1.0, 256.0, "threads"};
 constexpr Bounds kCaseStudyBounds{1.0, 4.0, ""};
 
 constexpr std::array<PackAction, 3> kActions = {PackAction::kUseBatt1, PackAction::kUseBatt2, PackAction::kUseBoth};
+
+// An output file is checked before any work (issue 24): its folder exists and is writable, and the path is not a
+// folder. Exit 2 naming the option otherwise, with nothing written.
+void CheckOutputFile(const std::string& path, const char* option) {
+  if (path.empty()) return;
+  const std::filesystem::path file(path);
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(option, path, "a file path, got a folder");
+  const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(folder, ec)) {
+    throw InputError(option, path, fmt::format("a file in an existing folder, but '{}' does not exist", folder.string()));
+  }
+  if (::access(folder.c_str(), W_OK) != 0) {
+    throw InputError(option, path, fmt::format("a file in a writable folder, but '{}' is not writable", folder.string()));
+  }
+}
+
+// A plot drawn beside its target and renamed over it, so a failed drawing leaves nothing behind.
+void PlotJsonWhole(const std::string& script, const nlohmann::json& data, const std::string& target) {
+  const std::filesystem::path final_path(target);
+  const std::filesystem::path staging =
+      final_path.parent_path() / (".uascma-plot-" + std::to_string(::getpid()) + "-" + final_path.filename().string());
+  try {
+    PlotJson(script, data, staging.string());
+    std::filesystem::rename(staging, final_path);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(staging, ec);
+    throw;
+  }
+}
+
+// The 72 states with both switches OFF cannot occur: no action of Table 4.3 opens both switches.
+bool IsPossibleState(StateIndex s) {
+  if (s == kBatteryFailureState) return true;
+  const BatteryFeatures f = BatteryStateFeatures(s);
+  return f.pack[0].switch_on || f.pack[1].switch_on;
+}
+
+// Whether the row a policy's action uses in state s (the switched state's learned row) was observed in flights.
+struct ObservedRows {
+  explicit ObservedRows(const BatteryContextPolicy& policy) {
+    for (const BatteryLearnedRow& row : policy.observed_rows) rows.insert({row.state, static_cast<int>(row.action)});
+  }
+  bool Has(StateIndex s, PackAction action) const {
+    if (s == kBatteryFailureState) return true;
+    return rows.count({ApplySwitches(s, action), static_cast<int>(action)}) > 0;
+  }
+  std::set<std::pair<StateIndex, int>> rows;
+};
+
+// Decision 26's flight time: the state the case-study flight of each context starts in.
+double CaseFlightTimeS() {
+  return campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(PackAction::kUseBoth);
+}
 
 BatteryContext ParseContextOption(const std::string& text, const std::string& option) {
   const auto first = text.find(',');
@@ -73,6 +130,7 @@ void AddLearn(CLI::App* battery) {
     std::uint64_t seed = 1;
     int jobs = 1;
     std::string out;
+    bool drop_flights = false;
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -86,15 +144,20 @@ void AddLearn(CLI::App* battery) {
   AddSeedOption(command, "--seed", options->seed, "Seed; every flight replays from (seed, flight index)");
   AddBoundedOption(command, "--jobs", options->jobs, "Threads (the counts do not depend on it)", kThreadsBounds);
   command->add_option("--out", options->out, "Model JSON to write")->required();
+  command->add_flag("--drop-flights", options->drop_flights,
+                   "Ours: every draw also flies UseBoth then one pack alone for good from a random time, so the\n"
+                   "states a switching policy flies into are observed (the flights are split four ways)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
     RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
+    CheckOutputFile(options->out, "--out");  // before the flights (issue 24)
     ProgressBar bar(options->runs, "battery learn");
     campaign::BatteryLearningOptions learning;
     learning.runs = options->runs;
     learning.seed = options->seed;
     learning.jobs = options->jobs;
+    learning.drop_flights = options->drop_flights;
     learning.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
     campaign::BatteryLearningSummary summary;
     const BatteryModel model = campaign::LearnBatteryModel(learning, &summary);
@@ -151,6 +214,7 @@ void AddSolve(CLI::App* battery) {
     std::string out;
     bool without_energy_dynamics = false;
     std::string weights;
+    std::string formulation = "dissertation";
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -165,15 +229,23 @@ void AddSolve(CLI::App* battery) {
                     "constant-parameter flights could not see them) before solving");
   command->add_option("--weights", options->weights,
                       "Reward weights w1,w2,w3 of eqs. 4.1-4.3 (sum 1, eq. 4.9) instead of the model's");
+  command->add_option("--formulation", options->formulation,
+                      "dissertation (pi*, eqs. 4.1-4.9, gamma of the model, value iteration) or ours (both packs\n"
+                      "charged, switching cost, absorbing COMPLETE/FAILURE, gamma seeing the longest plan, no\n"
+                      "choice without evidence; decision/battery_mdp.h)")
+      ->check(CLI::IsMember({"dissertation", "ours"}));
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
+    CheckOutputFile(options->out, "--out");
     BatteryModel model = ReadBatteryModelFile(options->model);
     if (!options->weights.empty()) model.weights = ParseWeightsOption(options->weights, "--weights");
     if (options->without_energy_dynamics) {
       model.counts = campaign::WithoutEnergyDynamics(model.counts);
       model.provenance["variant"] = "without energy dynamics";
     }
-    const BatteryPolicySet set = SolveBatteryPolicies(model);
+    const BatteryPolicySet set = options->formulation == "ours"
+                                     ? SolveOursBatteryPolicies(model, campaign::OursBatteryDiscount())
+                                     : SolveBatteryPolicies(model);
     WriteFileAtomically(options->out, BatteryPolicyToJson(set).dump(1) + "\n");
     double wall = 0.0;
     int iterations = 0, unobserved = 0;
@@ -189,24 +261,30 @@ void AddSolve(CLI::App* battery) {
     }
     if (options->json) {
       PrintJson({{"out", options->out}, {"model_hash", set.model_hash}, {"gamma", set.gamma},
+                 {"formulation", BatteryFormulationName(set.formulation)},
                  {"solve_time_s", wall}, {"contexts", contexts}});
       return;
     }
-    std::printf("solved %d battery policies (value iteration, gamma %g, %d sweeps in all, %.2f ms); %d of %d "
-                "learned rows were unobserved (self-loops)\nwrote %s\n",
-                kBatteryNumContexts, set.gamma, iterations, 1e3 * wall, unobserved, 216 * kBatteryNumContexts,
-                options->out.c_str());
+    const bool ours = set.formulation == BatteryFormulation::kOurs;
+    std::printf("solved %d battery policies (%s formulation, %s, gamma %.6g, %d %s in all, %.2f ms); %d of %d "
+                "learned rows were unobserved (%s)\nwrote %s\n",
+                kBatteryNumContexts, BatteryFormulationName(set.formulation), ours ? "policy iteration" : "value iteration",
+                set.gamma, iterations, ours ? "improvement steps" : "sweeps", 1e3 * wall, unobserved,
+                216 * kBatteryNumContexts, ours ? "actions not offered there" : "self-loops", options->out.c_str());
   });
 }
 
 // --- battery show ----------------------------------------------------------------------------------
 // Fig. 4.4: the transition graph of one action in one context, as Graphviz DOT. Learned rows with their
-// probabilities, and the deterministic switch edges (dashed, p = 1) into their source states.
+// probabilities, and the deterministic switch edges (dashed, p = 1) into their source states from the states that
+// can occur. A state the graph reaches whose own row under this action was never observed is drawn grey and
+// dotted, labelled "unobserved" (decisions item 23: the dissertation's MDP lets it loop on itself).
 std::string TransitionDot(const BatteryContextPolicy& policy, PackAction action) {
   std::string out = fmt::format(
-      "digraph battery_mdp {{\n  label=\"battery MDP transitions, action {}, context {} (Fig. 4.4)\";\n"
-      "  rankdir=LR;\n  node [shape=box, style=rounded, fontsize=10];\n",
+      "digraph battery_mdp {{\n  label=\"battery MDP transitions, action {}, context {} (Fig. 4.4); grey dotted: "
+      "row never observed\";\n  rankdir=LR;\n  node [shape=box, style=rounded, fontsize=10];\n",
       models::PackActionName(action), BatteryContextLabel(policy.context));
+  const ObservedRows observed(policy);
   std::set<StateIndex> nodes;
   std::string edges;
   for (const BatteryLearnedRow& row : policy.observed_rows) {
@@ -224,7 +302,7 @@ std::string TransitionDot(const BatteryContextPolicy& policy, PackAction action)
         f.pack[0].switch_on = on1 == 1;
         f.pack[1].switch_on = on2 == 1;
         const StateIndex from = BatteryStateIndex(f);
-        if (from == row.state) continue;
+        if (from == row.state || !IsPossibleState(from)) continue;
         nodes.insert(from);
         edges += fmt::format("  \"{}\" -> \"{}\" [label=\"1\", style=dashed];\n", BatteryStateLabel(from),
                              BatteryStateLabel(row.state));
@@ -233,25 +311,56 @@ std::string TransitionDot(const BatteryContextPolicy& policy, PackAction action)
   }
   for (StateIndex s : nodes) {
     const bool failure = s == kBatteryFailureState;
-    out += fmt::format("  \"{}\" [color=\"{}\"{}];\n", BatteryStateLabel(s), failure ? "red" : "black",
-                       failure ? ", style=\"rounded,filled\", fillcolor=\"#ffcdd2\"" : "");
+    const bool unobserved = !failure && SwitchesMatch(s, action) && !observed.Has(s, action);
+    if (failure) {
+      out += fmt::format("  \"{}\" [color=\"red\", style=\"rounded,filled\", fillcolor=\"#ffcdd2\"];\n",
+                         BatteryStateLabel(s));
+    } else if (unobserved) {
+      out += fmt::format("  \"{}\" [color=\"grey\", fontcolor=\"grey40\", style=\"rounded,dotted\", "
+                         "label=\"{}\\n(unobserved)\"];\n",
+                         BatteryStateLabel(s), BatteryStateLabel(s));
+    } else {
+      out += fmt::format("  \"{}\" [color=\"black\"];\n", BatteryStateLabel(s));
+    }
   }
   return out + edges + "}\n";
 }
 
-nlohmann::json PolicyViewJson(const BatteryPolicySet& set) {
+nlohmann::json PolicyViewJson(const BatteryPolicySet& set, const std::vector<StateIndex>& takeoff) {
   nlohmann::json contexts = nlohmann::json::array();
+  nlohmann::json impossible = nlohmann::json::array();
+  for (StateIndex s = 0; s < kBatteryNumStates; ++s) impossible.push_back(!IsPossibleState(s));
   for (const BatteryContextPolicy& p : set.policies) {
-    nlohmann::json actions = nlohmann::json::array();
-    for (ActionIndex a : p.action) actions.push_back(BatteryActionNames()[static_cast<std::size_t>(a)]);
+    const ObservedRows observed(p);
+    nlohmann::json actions = nlohmann::json::array(), unobserved = nlohmann::json::array();
+    int unobserved_possible = 0;
+    for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
+      const auto action = static_cast<PackAction>(p.action[static_cast<std::size_t>(s)]);
+      actions.push_back(BatteryActionNames()[static_cast<std::size_t>(action)]);
+      const bool missing = IsPossibleState(s) && !observed.Has(s, action);
+      unobserved.push_back(missing);
+      unobserved_possible += missing ? 1 : 0;
+    }
+    const StateIndex start = takeoff[static_cast<std::size_t>(BatteryContextIndex(p.context))];
     contexts.push_back({{"context", BatteryContextLabel(p.context)},
                         {"b1", BatteryHealthName(p.context.b1)},
                         {"b2", BatteryHealthName(p.context.b2)},
                         {"temperature", TemperatureClassName(p.context.temperature)},
                         {"unobserved_rows", p.stats.unobserved_rows},
-                        {"action", actions}});
+                        {"unobserved_choices", unobserved_possible},
+                        {"takeoff_state", BatteryStateLabel(start)},
+                        {"takeoff_action", BatteryActionNames()[static_cast<std::size_t>(p.action[start])]},
+                        {"takeoff_unobserved", unobserved[static_cast<std::size_t>(start)]},
+                        {"action", actions},
+                        {"unobserved", unobserved}});
   }
-  return {{"model_hash", set.model_hash}, {"gamma", set.gamma}, {"states", BatteryStateLabels()}, {"contexts", contexts}};
+  return {{"model_hash", set.model_hash},
+          {"formulation", BatteryFormulationName(set.formulation)},
+          {"gamma", set.gamma},
+          {"takeoff_flight_s", CaseFlightTimeS()},
+          {"states", BatteryStateLabels()},
+          {"impossible", impossible},
+          {"contexts", contexts}};
 }
 
 void AddShow(CLI::App* battery) {
@@ -267,8 +376,10 @@ void AddShow(CLI::App* battery) {
   CLI::App* command = battery->add_subcommand(
       "show",
       "Show the battery policies: the decision tree of Fig. 4.5 (temperature, B1 health, B2 health) with\n"
-      "each leaf's policy summarised; --plot draws every policy over the 288 states; --dot writes the\n"
-      "transition graph of one action and context as Graphviz DOT (Fig. 4.4)");
+      "each leaf's policy over the 216 states that can occur (the 72 with both switches OFF cannot), the\n"
+      "choices whose row was never observed marked, and the action at the state the context's case-study\n"
+      "flight (decision 26's flight time) starts in; --plot draws every policy; --dot writes the transition\n"
+      "graph of one action and context as Graphviz DOT (Fig. 4.4), unobserved rows marked");
   command->add_option("policy", options->policy, "Policy JSON written by 'uascma battery solve'")->required();
   command->add_option("--plot", options->plot, "Draw the policies to this PNG file");
   command->add_option("--dot", options->dot, "Write the transition graph (Fig. 4.4) to this DOT file");
@@ -276,29 +387,48 @@ void AddShow(CLI::App* battery) {
   command->add_option("--action", options->action, "Action of --dot (default UseBatt1, Fig. 4.4)");
   command->add_flag("--json", options->json, "Print the policies as JSON");
   command->callback([options] {
+    CheckOutputFile(options->plot, "--plot");
+    CheckOutputFile(options->dot, "--dot");
     const BatteryContext dot_context = ParseContextOption(options->context, "--context");
     const PackAction dot_action = models::ParsePackAction(options->action, "--action");
     const BatteryPolicySet set = ReadBatteryPolicyFile(options->policy);
-    const nlohmann::json view = PolicyViewJson(set);
+    std::vector<StateIndex> takeoff(kBatteryNumContexts);
+    for (int c = 0; c < kBatteryNumContexts; ++c) {
+      takeoff[static_cast<std::size_t>(c)] =
+          campaign::TakeoffState(campaign::CaseFlightParams(BatteryContextFromIndex(c), CaseFlightTimeS()));
+    }
+    const nlohmann::json view = PolicyViewJson(set, takeoff);
     if (!options->dot.empty()) WriteFileAtomically(options->dot, TransitionDot(set.Select(dot_context), dot_action));
-    if (!options->plot.empty()) PlotJson("battery_policy.py", view, options->plot);
+    if (!options->plot.empty()) PlotJsonWhole("battery_policy.py", view, options->plot);
     if (options->json) {
       PrintJson(view);
       return;
     }
-    // The take-off state of Fig. 4.11: both switches ON, both packs S1, C0, low current.
-    const StateIndex takeoff = ParseBatteryState("ILONS1C0ONS1C0", "take-off state");
-    std::string text = fmt::format("battery policies {} (model {}, gamma {})\nFig. 4.5 decision tree: T -> B1F -> B2F\n",
-                                   options->policy, set.model_hash, set.gamma);
-    text += "                         states per action                  at take-off      unobserved\n";
-    text += "T    B1F  B2F            UseBatt1  UseBatt2  UseBoth           ILONS1C0ONS1C0   rows\n";
+    std::string text = fmt::format(
+        "battery policies {} ({} formulation, model {}, gamma {:.6g})\nFig. 4.5 decision tree over (T, B1F, B2F), one leaf per context; counts "
+        "over the 216 states that can occur (72 with both switches OFF cannot)\n"
+        "take-off: the first state of the context's case-study flight ({:.0f} s plan, decision 26); * = the chosen "
+        "action's row was never observed\n",
+        options->policy, BatteryFormulationName(set.formulation), set.model_hash, set.gamma, CaseFlightTimeS());
+    text += "                 states per action               unobserved   at take-off\n";
+    text += "T    B1F  B2F    UseBatt1  UseBatt2  UseBoth      choices      state              action\n";
     for (const BatteryContextPolicy& p : set.policies) {
+      const ObservedRows observed(p);
       std::array<int, 3> per_action{};
-      for (StateIndex s = 0; s < kBatteryFailureState; ++s) ++per_action[static_cast<std::size_t>(p.action[s])];
-      text += fmt::format("{:<4} {:<4} {:<4}           {:>8}  {:>8}  {:>7}           {:<16} {}\n",
+      int unobserved = 0;
+      for (StateIndex s = 0; s < kBatteryFailureState; ++s) {
+        if (!IsPossibleState(s)) continue;
+        const auto action = static_cast<PackAction>(p.action[static_cast<std::size_t>(s)]);
+        ++per_action[static_cast<std::size_t>(action)];
+        unobserved += observed.Has(s, action) ? 0 : 1;
+      }
+      const StateIndex start = takeoff[static_cast<std::size_t>(BatteryContextIndex(p.context))];
+      const auto start_action = static_cast<PackAction>(p.action[static_cast<std::size_t>(start)]);
+      text += fmt::format("{:<4} {:<4} {:<4}   {:>8}  {:>8}  {:>7}      {:>3} of 216   {:<18} {}{}\n",
                           TemperatureClassName(p.context.temperature), BatteryHealthName(p.context.b1),
-                          BatteryHealthName(p.context.b2), per_action[0], per_action[1], per_action[2],
-                          BatteryActionNames()[static_cast<std::size_t>(p.action[takeoff])], p.stats.unobserved_rows);
+                          BatteryHealthName(p.context.b2), per_action[0], per_action[1], per_action[2], unobserved,
+                          BatteryStateLabel(start), models::PackActionName(start_action),
+                          observed.Has(start, start_action) ? "" : " *");
     }
     std::fputs(text.c_str(), stdout);
     if (!options->dot.empty()) std::printf("wrote %s\n", options->dot.c_str());
@@ -325,6 +455,8 @@ void AddCaseStudy(CLI::App* battery) {
     int number = 0;
     std::string out;
     std::string policy;
+    std::string ours;
+    std::uint64_t seed = 1;
     std::int64_t runs = 5000;
     int jobs = 1;
     bool json = false;
@@ -332,13 +464,18 @@ void AddCaseStudy(CLI::App* battery) {
   auto options = std::make_shared<Options>();
   CLI::App* command = battery->add_subcommand(
       "case-study",
-      "Run a case study of Table 4.5: (1) flight time = one pack's EOD, UseBoth; (2) the same with pi*;\n"
-      "(3) flight time = both packs' EOD, UseBoth, for (F1,F2), (F1,F3), (F3,F3); (4) pi* for (F2,F1)\n"
-      "(pack 1 with one capacity-faded cell, Fig. 4.11's caption), with UseBoth on the same flight beside it.\n"
+      "Run a case study of Table 4.5: (1) flight time = one pack's EOD, UseBoth; (2) the same flights with\n"
+      "UseBoth beside pi* (and ours with --ours); (3) decision 26's flight time (0.82 of the healthy pair's\n"
+      "endurance), UseBoth, for (F1,F2), (F1,F3), (F3,F3); (4) the same flight time, (F2,F1) with pack 1's one\n"
+      "capacity-faded cell (Fig. 4.11's caption): UseBoth, pi*, the voltage rule, ours (--ours) and the\n"
+      "hindsight-best schedule of a stated family (UseBoth; UseBoth then one pack alone for good from t, 5 s\n"
+      "grid; UseBoth with one window of one pack alone, 60 s grid), each flown in the simulator.\n"
       "pi* comes from --policy, or is learned (--runs flights) and solved first");
   AddBoundedOption(command, "N", options->number, "Case study (Table 4.5)", kCaseStudyBounds)->required();
   command->add_option("--out", options->out, "Write case-N.json, one CSV per scenario and plots to this folder");
-  command->add_option("--policy", options->policy, "Battery policy JSON for pi* (cases 2 and 4)");
+  command->add_option("--policy", options->policy, "Battery policy JSON for pi* (cases 2 and 4; read for every case)");
+  command->add_option("--ours", options->ours, "Our battery policy JSON (solve --formulation ours), flown beside");
+  AddSeedOption(command, "--seed", options->seed, "The vehicle's seed (gusts, noise); default 1");
   AddBoundedOption(command, "--runs", options->runs, "Without --policy: flights to learn pi* from (default 5,000)",
                    kFlightsBounds);
   AddBoundedOption(command, "--jobs", options->jobs, "Without --policy: threads for learning", kThreadsBounds);
@@ -347,25 +484,34 @@ void AddCaseStudy(CLI::App* battery) {
     RequireWithin(options->number, kCaseStudyBounds, "N", "value");
     RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
-    std::optional<BatteryPolicySet> policies;
-    if (options->number == 2 || options->number == 4) {
-      if (!options->policy.empty()) {
-        policies = ReadBatteryPolicyFile(options->policy);
-      } else {
-        ProgressBar bar(options->runs, "battery learn (pi*)");
-        campaign::BatteryLearningOptions learning;
-        learning.runs = options->runs;
-        learning.jobs = options->jobs;
-        learning.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
-        policies = SolveBatteryPolicies(campaign::LearnBatteryModel(learning));
+    // Every input and the output folder checked before any flight (issue 24): a policy file named is read
+    // whatever the case, and the folder is claimed now (written whole at the end, or not at all).
+    std::optional<BatteryPolicySet> policies, ours;
+    if (!options->policy.empty()) policies = ReadBatteryPolicyFile(options->policy);
+    if (!options->ours.empty()) {
+      ours = ReadBatteryPolicyFile(options->ours);
+      if (ours->formulation != BatteryFormulation::kOurs) {
+        throw InputError(options->ours, "formulation", "'ours' (battery solve --formulation ours), got 'dissertation'");
       }
     }
-    const auto scenarios = campaign::RunCaseStudy(options->number, policies ? &*policies : nullptr);
+    std::optional<OutputDirectory> folder;
+    if (!options->out.empty()) folder.emplace("--out", options->out);
+    if ((options->number == 2 || options->number == 4) && !policies) {
+      ProgressBar bar(options->runs, "battery learn (pi*)");
+      campaign::BatteryLearningOptions learning;
+      learning.runs = options->runs;
+      learning.jobs = options->jobs;
+      learning.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
+      policies = SolveBatteryPolicies(campaign::LearnBatteryModel(learning));
+    }
+    campaign::CaseStudyOptions case_options;
+    case_options.pistar = policies ? &*policies : nullptr;
+    case_options.ours = ours ? &*ours : nullptr;
+    case_options.seed = options->seed;
+    const auto scenarios = campaign::RunCaseStudy(options->number, case_options);
     const nlohmann::json json = campaign::CaseStudyJson(options->number, scenarios);
-    if (!options->out.empty()) {
-      // Written whole or not at all (common/files.h OutputDirectory).
-      OutputDirectory folder("--out", options->out);
-      const std::filesystem::path& dir = folder.staging();
+    if (folder) {
+      const std::filesystem::path& dir = folder->staging();
       for (std::size_t i = 0; i < scenarios.size(); ++i) {
         const std::string stem = fmt::format("case-{}-scenario-{}", options->number, i + 1);
         WriteFileAtomically(dir / (stem + ".csv"), EpochsCsv(scenarios[i].result));
@@ -375,23 +521,85 @@ void AddCaseStudy(CLI::App* battery) {
         PlotJson("battery_case.py", plot, (dir / (stem + ".png")).string());
       }
       WriteFileAtomically(dir / fmt::format("case-{}.json", options->number), json.dump(2) + "\n");
-      folder.Commit();
+      folder->Commit();
     }
     if (options->json) {
       PrintJson(json);
       return;
     }
-    std::printf("case study %d (Table 4.5)\n", options->number);
+    std::printf("case study %d (Table 4.5), seed %llu\n", options->number, static_cast<unsigned long long>(options->seed));
     for (const auto& scenario : scenarios) {
       std::string switches;
       for (const auto& [time_s, action] : scenario.result.switches) {
         switches += fmt::format(" {}@{:.0f}s", models::PackActionName(action), time_s);
       }
-      std::printf("  %-8s %-8s plan %.0f s: %s at %.0f s; switches:%s\n", scenario.name.c_str(),
+      if (switches.size() > 200) switches = switches.substr(0, 200) + " ...";
+      std::printf("  %-8s %-15s plan %.0f s: %s at %.0f s; %d switches:%s\n", scenario.name.c_str(),
                   scenario.controller.c_str(), scenario.params.plan_duration_s,
-                  sim::OutcomeName(scenario.result.outcome), scenario.result.end_time_s, switches.c_str());
+                  sim::OutcomeName(scenario.result.outcome), scenario.result.end_time_s,
+                  campaign::CountSwitches(scenario.result), switches.c_str());
+      if (!scenario.schedule.empty()) {
+        std::printf("           best of %d schedules (UseBoth; one late drop, %.0f s grid; one rest window, %.0f s grid): %s\n",
+                    scenario.schedules_flown, campaign::kHindsightSwitchGridS, campaign::kHindsightWindowGridS,
+                    scenario.schedule.c_str());
+      }
     }
     if (!options->out.empty()) std::printf("wrote %s\n", options->out.c_str());
+  });
+}
+
+// --- battery evaluate ------------------------------------------------------------------------------
+void AddEvaluate(CLI::App* battery) {
+  struct Options {
+    std::string policies = "useboth,rule:voltage";
+    std::int64_t runs = 400;
+    std::uint64_t seed = 2024;
+    int jobs = 1;
+    bool json = false;
+    bool runs_detail = false;
+    std::string plot;
+    std::string out;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command = battery->add_subcommand(
+      "evaluate",
+      "Judge battery policies on paired flights: run r draws a fresh flight from Table 4.4 (--seed; use one no\n"
+      "learning used) and every policy flies that same flight. Completions with 95 % Wilson intervals, failures\n"
+      "and the median failure time, charge left, switches per flight, per health pair and temperature, and\n"
+      "McNemar's exact test for every pair of policies. Policies: useboth, pistar:POLICY.json,\n"
+      "ours:POLICY.json, rule:voltage[:V] (UseBoth; drop a pack for good when its worst cell falls below V,\n"
+      "default 3.31 V)");
+  command->add_option("--policies", options->policies, "Comma-separated policies (default useboth,rule:voltage)");
+  AddBoundedOption(command, "--runs", options->runs, "Flights (each flown by every policy)", kFlightsBounds);
+  AddSeedOption(command, "--seed", options->seed, "Seed of the flights (default 2024; learning uses 1)");
+  AddBoundedOption(command, "--jobs", options->jobs, "Threads (the results do not depend on it)", kThreadsBounds);
+  command->add_flag("--json", options->json, "Print the evaluation as JSON");
+  command->add_flag("--runs-detail", options->runs_detail, "With --json or --out: every run's flights too");
+  command->add_option("--plot", options->plot, "Draw completions and switches per policy to this PNG file");
+  command->add_option("--out", options->out, "Write the evaluation JSON (with every run) to this file");
+  command->callback([options] {
+    RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
+    RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
+    CheckOutputFile(options->plot, "--plot");
+    CheckOutputFile(options->out, "--out");
+    const std::vector<campaign::BatteryPolicySpec> policies = campaign::ParseBatteryPolicies(options->policies, "--policies");
+    ProgressBar bar(options->runs, "battery evaluate");
+    campaign::BatteryEvaluationOptions evaluation_options;
+    evaluation_options.runs = options->runs;
+    evaluation_options.seed = options->seed;
+    evaluation_options.jobs = options->jobs;
+    evaluation_options.on_run_done = [&bar](std::int64_t) { bar.Advance(); };
+    const campaign::BatteryEvaluation evaluation = campaign::EvaluateBatteryPolicies(policies, evaluation_options);
+    bar.Finish();
+    if (!options->out.empty()) WriteFileAtomically(options->out, campaign::BatteryEvaluationJson(evaluation, true).dump(1) + "\n");
+    if (!options->plot.empty()) PlotJsonWhole("battery_evaluation.py", campaign::BatteryEvaluationJson(evaluation, true), options->plot);
+    if (options->json) {
+      PrintJson(campaign::BatteryEvaluationJson(evaluation, options->runs_detail));
+      return;
+    }
+    std::fputs(campaign::BatteryEvaluationText(evaluation).c_str(), stdout);
+    if (!options->out.empty()) std::printf("wrote %s\n", options->out.c_str());
+    if (!options->plot.empty()) std::printf("wrote %s\n", options->plot.c_str());
   });
 }
 
@@ -399,12 +607,13 @@ void AddCaseStudy(CLI::App* battery) {
 
 void AddBatteryCommand(CLI::App& app) {
   CLI::App* battery = app.add_subcommand(
-      "battery", "The battery-reconfiguration MDP (Ch. IV, §4.3): learn, solve, show, case-study");
+      "battery", "The battery-reconfiguration MDP (Ch. IV, §4.3): learn, solve, show, case-study, evaluate");
   battery->require_subcommand(1);
   AddLearn(battery);
   AddSolve(battery);
   AddShow(battery);
   AddCaseStudy(battery);
+  AddEvaluate(battery);
 }
 
 }  // namespace uascma::cli

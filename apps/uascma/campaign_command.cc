@@ -1,7 +1,11 @@
 // uascma campaign — Monte Carlo campaigns comparing decision policies on the same sampled flights
 // (dissertation §5.4–5.5, Table 4.4; src/campaign). Under mpirun the runs are split across ranks.
+#include <signal.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -18,6 +22,7 @@
 #include "uascma/campaign/report.h"
 #include "uascma/campaign/runner.h"
 #include "uascma/common/error.h"
+#include "uascma/common/progress.h"
 
 namespace uascma::cli {
 namespace {
@@ -50,7 +55,62 @@ std::vector<std::string> SplitList(const std::string& text) {
 constexpr Bounds kJobsBounds{0.0, 1024.0, "threads"};
 constexpr Bounds kCommitEveryBounds{0.01, 3600.0, "s"};
 
-void Run(const CampaignOptions& options, MpiSession& mpi) {
+// Ctrl-C (SIGINT) during a campaign: the first asks the runner to stop (common/progress.h RequestStop: no
+// new run starts, the flights in progress finish and every finished flight is stored), the second (the
+// handler is reset after the first) ends the process at once as a plain SIGINT would. Not under mpirun,
+// which forwards signals to its ranks itself.
+void OnInterrupt(int) {
+  RequestStop();
+  constexpr char kMessage[] =
+      "\nuascma: stopping: the flights in progress finish and are stored (Ctrl-C again to quit at once)\n";
+  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
+}
+
+void CatchInterrupt() {
+  struct sigaction action {};
+  action.sa_handler = OnInterrupt;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND | SA_RESTART;
+  ::sigaction(SIGINT, &action, nullptr);
+}
+
+// A word for a POSIX shell: as it is when it has only safe characters, else in single quotes.
+std::string ShellWord(const std::string& word) {
+  const bool safe = !word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                            "0123456789_-+=./,:@%") == std::string::npos;
+  if (safe) return word;
+  std::string quoted = "'";
+  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// The program as the user typed it (argv[0], from /proc/self/cmdline), else "uascma".
+std::string ProgramName() {
+  std::ifstream cmdline("/proc/self/cmdline", std::ios::binary);
+  std::string first;
+  if (cmdline && std::getline(cmdline, first, '\0') && !first.empty()) return first;
+  return "uascma";
+}
+
+// The command that continues this campaign: the options the user gave, and --resume.
+std::string ResumeCommand(const CampaignOptions& options) {
+  std::string command = ShellWord(ProgramName()) + " campaign";
+  if (!options.file.empty()) command += " " + ShellWord(options.file);
+  if (options.runs >= 0) command += fmt::format(" --runs {}", options.runs);
+  if (!options.policies.empty()) command += " --policies " + ShellWord(options.policies);
+  if (!options.seed.empty()) command += " --seed " + ShellWord(options.seed);
+  command += " --db " + ShellWord(options.db);
+  if (options.jobs != 0) command += fmt::format(" --jobs {}", options.jobs);
+  if (options.commit_every_s != CampaignOptions{}.commit_every_s) command += fmt::format(" --commit-every {}", options.commit_every_s);
+  if (options.json) command += " --json";
+  return command + " --resume";
+}
+
+// The exit code of a campaign stopped by Ctrl-C: 128 + SIGINT, as a shell reports a process SIGINT ended.
+constexpr int kInterruptedExit = 128 + SIGINT;
+
+// Returns the process's exit code (0, or kInterruptedExit after Ctrl-C).
+int Run(const CampaignOptions& options, MpiSession& mpi) {
   CampaignConfig config = options.file.empty() ? CampaignConfig{} : LoadCampaignConfig(options.file);
   std::string policies_source = options.file.empty() ? "--policies" : options.file;
   if (options.runs >= 0) config.runs = options.runs;
@@ -70,11 +130,22 @@ void Run(const CampaignOptions& options, MpiSession& mpi) {
   request.resume = options.resume;
   request.execute.jobs = options.jobs;
   request.execute.progress = true;
-  request.execute.progress_label = config.name;
+  request.execute.progress_label = fmt::format("campaign {}, flights", config.name);
   request.execute.flush_interval_s = options.commit_every_s;
   request.mpi = &mpi;
+  ClearStopRequest();
+  if (mpi.size() <= 1) CatchInterrupt();
   const CampaignOutcome outcome = RunCampaign(request);
-  if (!outcome.is_root) return;
+  if (!outcome.is_root) return 0;
+  if (StopRequested()) {
+    const std::int64_t stored = outcome.flights_before + outcome.flights_flown + outcome.flights_by_others;
+    std::fprintf(stderr,
+                 "uascma: campaign stopped (Ctrl-C): %lld of %lld flights stored in %s (%lld flown by this run, "
+                 "%.1f s). Continue it with:\n  %s\n",
+                 static_cast<long long>(stored), static_cast<long long>(outcome.flights_total), options.db.c_str(),
+                 static_cast<long long>(outcome.flights_flown), outcome.wall_time_s, ResumeCommand(options).c_str());
+    return kInterruptedExit;
+  }
 
   const ResultsStore store = ResultsStore::Open(options.db);
   const CampaignReport report = MakeCampaignReport(store);
@@ -91,7 +162,7 @@ void Run(const CampaignOptions& options, MpiSession& mpi) {
                    {"jobs_per_rank", outcome.jobs},
                    {"ranks", outcome.ranks}};
     PrintJson(json);
-    return;
+    return 0;
   }
   std::printf("flew %lld flights (%lld already stored, %lld flown meanwhile by other processes, %lld in the "
               "campaign) in %.1f s: %.1f flights/s on %d rank%s x %d thread%s; results in %s\n\n%s",
@@ -100,6 +171,7 @@ void Run(const CampaignOptions& options, MpiSession& mpi) {
               outcome.wall_time_s, rate, outcome.ranks,
               outcome.ranks == 1 ? "" : "s", outcome.jobs, outcome.jobs == 1 ? "" : "s", options.db.c_str(),
               CampaignReportText(report).c_str());
+  return 0;
 }
 
 }  // namespace
@@ -131,7 +203,7 @@ void AddCampaignCommand(CLI::App& app) {
     {
       MpiSession mpi(LaunchedUnderMpi());
       try {
-        Run(*options, mpi);
+        quiet_exit = Run(*options, mpi);
       } catch (const InputError&) {
         if (mpi.rank() == 0) throw;
         quiet_exit = 2;  // rank 0 reports the error; the other ranks leave quietly

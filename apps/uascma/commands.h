@@ -18,5 +18,6 @@ void AddReportCommand(CLI::App& app);     // report_command.cc
 void AddMapCommand(CLI::App& app);        // map_command.cc
 void AddBatteryCommand(CLI::App& app);    // battery_command.cc
 void AddLearnCommand(CLI::App& app);      // learn_command.cc, learn_transitions_command.cc
+void AddStoreCommand(CLI::App& app);      // store_command.cc
 
 }  // namespace uascma::cli

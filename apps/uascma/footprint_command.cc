@@ -95,6 +95,7 @@ FootprintResult Calculate(const FootprintParams& params) {
                                  params.mass * kGravity, params.available_thrust));
   }
   if (result.status == FootprintStatus::kSingularSystem) throw InputError("--maclaurin", "value", result.message);
+  if (!result.warning.empty()) std::fprintf(stderr, "uascma: warning: --maclaurin: %s\n", result.warning.c_str());
   return result;
 }
 
@@ -181,7 +182,10 @@ void AddFootprintCommand(CLI::App& app) {
                  {"saturation_s", {{"forward", r.forward.saturation_time},
                                    {"backward", r.backward.saturation_time},
                                    {"lateral", r.lateral.saturation_time}}},
-                 {"shape", ShapeJson(r)}});
+                 {"shape", ShapeJson(r)},
+                 {"series_relative_error", r.series_relative_error ? nlohmann::json(*r.series_relative_error)
+                                                                   : nlohmann::json(nullptr)},
+                 {"warning", r.warning}});
       return;
     }
     std::string text = fmt::format(

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   uascma::cli::AddMapCommand(app);
   uascma::cli::AddBatteryCommand(app);
   uascma::cli::AddLearnCommand(app);
+  uascma::cli::AddStoreCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -17,6 +17,8 @@
 #include "bounded_option.h"
 #include "output.h"
 #include "plotting.h"
+#include "uascma/campaign/config.h"
+#include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/planning/city_map.h"
@@ -69,6 +71,12 @@ ImportSummary SummariseProcedural(const CityMap& map, std::uint64_t seed) {
   return summary;
 }
 
+nlohmann::json HeightSourcesJson(const ImportSummary& s) {
+  nlohmann::json out = nlohmann::json::object();
+  for (int h = 0; h < kNumHeightSources; ++h) out[HeightSourceName(static_cast<HeightSource>(h))] = s.height_sources[h];
+  return out;
+}
+
 nlohmann::json SummaryJson(const ImportSummary& s, bool procedural, std::uint64_t seed) {
   nlohmann::json skipped = nlohmann::json::object();
   for (int r = 0; r < kNumSkipReasons; ++r) skipped[SkipReasonName(static_cast<SkipReason>(r))] = s.skipped[r];
@@ -84,6 +92,10 @@ nlohmann::json SummaryJson(const ImportSummary& s, bool procedural, std::uint64_
       {"features", s.features},
       {"buildings", s.buildings},
       {"heights_from_levels", s.heights_from_levels},
+      {"height_sources", HeightSourcesJson(s)},
+      {"open_areas", s.open_areas},
+      {"derived_rooftop_sites", s.derived_rooftop_sites},
+      {"derived_open_sites", s.derived_open_sites},
       {"skipped", skipped},
       {"skipped_features", skipped_features},
       {"sites", s.sites},
@@ -162,6 +174,9 @@ void AddInfo(CLI::App* map_command) {
     bool json = false;
     bool skip_missing_height = false;
     bool height_from_levels = false;
+    bool height_from_type = false;
+    std::optional<double> default_height;
+    bool sites_from_map = false;
     double metres_per_level = MapImportOptions{}.metres_per_level;
     bool list_skipped = false;
     std::string plot;
@@ -184,6 +199,15 @@ void AddInfo(CLI::App* map_command) {
                     "Take a missing height from building:levels x --metres-per-level");
   AddBoundedOption(command, "--metres-per-level", options->metres_per_level,
                    "Storey height for --height-from-levels (default 3 m)", kMetresPerLevelBounds);
+  command->add_flag("--height-from-type", options->height_from_type,
+                    "Then take a missing height from the building=* value: typical storeys x the CTBUH storey\n"
+                    "height (house 6.2 m, apartments 15.5 m, yes 10.5 m; the table in map_import.h)");
+  command->add_option("--default-height", options->default_height,
+                      "Then give every building still without a height this one (m, " +
+                          kDefaultHeightBounds.Text() + ")");
+  command->add_flag("--sites-from-map", options->sites_from_map,
+                    "Derive landing sites from the map: flat-roof centroids and open areas (parks, pitches,\n"
+                    "surface parking) of the same files (dissertation §5.1)");
   command->add_flag("--list-skipped", options->list_skipped, "List every skipped feature (text output)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->add_option("--plot", options->plot,
@@ -208,10 +232,27 @@ void AddInfo(CLI::App* map_command) {
       import.skip_missing_height = options->skip_missing_height;
       import.height_from_levels = options->height_from_levels;
       import.metres_per_level = options->metres_per_level;
+      import.height_from_type = options->height_from_type;
+      import.default_height = options->default_height;
+      import.sites_from_map = options->sites_from_map;
       RequireWithin(options->metres_per_level, kMetresPerLevelBounds, "--metres-per-level", "value");
+      if (options->default_height) {
+        RequireWithin(*options->default_height, kDefaultHeightBounds, "--default-height", "value");
+      }
       if (!options->origin.empty()) import.origin = ParseOrigin(options->origin);
       const std::vector<std::filesystem::path> files(options->files.begin(), options->files.end());
-      ImportedMap imported = ImportCityMap(files, options->sites, import);
+      ImportedMap imported;
+      try {
+        imported = ImportCityMap(files, options->sites, import);
+      } catch (const MapImportError& error) {
+        // The one-line error (exit 2) counts what was read and skipped; --json adds the whole summary, by reason.
+        if (options->json) {
+          nlohmann::json out = SummaryJson(error.summary(), false, options->seed);
+          out["error"] = error.what();
+          PrintJson(out);
+        }
+        throw;
+      }
       map = std::move(imported.map);
       summary = std::move(imported.summary);
     }
@@ -236,6 +277,40 @@ void AddInfo(CLI::App* map_command) {
   });
 }
 
+// Runs checked by `map coverage` at most: each is one sampled scenario (no flight), a few milliseconds.
+constexpr Bounds kCoverageRunsBounds{1.0, 100'000.0, "runs"};
+
+void AddCoverage(CLI::App* map_command) {
+  struct Options {
+    std::string file;
+    std::int64_t runs = 100;
+    std::optional<std::uint64_t> seed;
+    bool json = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command = map_command->add_subcommand(
+      "coverage",
+      "Do a campaign's landing sites cover its routes? Samples the first --runs scenarios of CAMPAIGN.yaml (no\n"
+      "flight), places LandPract's checkpoints on each nominal plan and counts those with no landing site within\n"
+      "the planners' reach (500 m). Exit 0 either way; the numbers say whether the sites file fits the map");
+  command->add_option("campaign", options->file, "Campaign YAML file")->required();
+  AddBoundedOption(command, "--runs", options->runs, "Scenarios to sample (default 100)", kCoverageRunsBounds);
+  AddSeedOption(command, "--seed", options->seed, "Campaign seed (default: the file's seed)");
+  command->add_flag("--json", options->json, "Print the numbers as JSON");
+  command->callback([options] {
+    const campaign::CampaignConfig config = campaign::LoadCampaignConfig(options->file);
+    const campaign::SiteCoverage c =
+        campaign::CalcSiteCoverage(config, options->seed.value_or(config.seed), options->runs);
+    if (options->json) {
+      PrintJson({{"runs", c.runs}, {"checkpoints", c.checkpoints}, {"checkpoints_without_site", c.checkpoints_without_site},
+                 {"runs_with_uncovered_checkpoint", c.runs_with_uncovered_checkpoint}, {"reach_m", c.reach},
+                 {"largest_gap_m", c.largest_gap}, {"sites", c.sites}, {"covered", c.covered()}});
+      return;
+    }
+    std::fputs(c.BriefReport().c_str(), stdout);
+  });
+}
+
 }  // namespace
 
 void AddMapCommand(CLI::App& app) {
@@ -243,6 +318,7 @@ void AddMapCommand(CLI::App& app) {
       "map", "City maps (§5.1, §5.4): import OpenStreetMap buildings and landing sites, or the procedural city");
   map_command->require_subcommand(1);
   AddInfo(map_command);
+  AddCoverage(map_command);
 }
 
 }  // namespace uascma::cli

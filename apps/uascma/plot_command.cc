@@ -14,10 +14,12 @@ void AddPlotCommand(CLI::App& app) {
   auto folder = std::make_shared<std::string>();
   CLI::App* command = app.add_subcommand(
       "plot",
-      "Draw a simulated flight to PNG files in its folder: path.png (3-D path against the plan), forces.png,\n"
-      "rotors.png (thrusts and currents), battery.png (cell voltages), eod.png (EOD against the remaining\n"
-      "flight time, RM, MM), decisions.png (CMA state, action and IMM mode) and, over a city, map.png\n"
-      "(buildings, landing sites, route, checkpoints, footprint and the emergency path)");
+      "Draw a simulated flight to PNG files in its folder: path.png (3-D path against the plan; over a city with\n"
+      "the LandPract checkpoints and the buildings near the route), states.png (position, velocity, attitude and\n"
+      "the motor fault flag, Fig. 5.19), forces.png, rotors.png (thrusts and currents), battery.png (cell\n"
+      "voltages), eod.png (EOD against the remaining flight time, RM, MM), decisions.png (CMA state, action and\n"
+      "IMM mode) and, over a city, map.png (buildings, landing sites, route, checkpoints, footprint and the\n"
+      "emergency path)");
   command->add_option("dir", *folder, "Folder written by 'uascma simulate --out'")->required();
   command->callback([folder] {
     for (const char* name : {"telemetry.csv", "plan.csv", "summary.json"}) {
@@ -28,7 +30,7 @@ void AddPlotCommand(CLI::App& app) {
     }
     RunPlotScript("flight.py", {*folder});
     const bool city = std::filesystem::exists(std::filesystem::path(*folder) / "map.json");
-    std::printf("wrote %s/{path,forces,rotors,battery,eod,decisions%s}.png\n", folder->c_str(), city ? ",map" : "");
+    std::printf("wrote %s/{path,states,forces,rotors,battery,eod,decisions%s}.png\n", folder->c_str(), city ? ",map" : "");
   });
 }
 

@@ -1,4 +1,5 @@
 // uascma simulate — fly one scenario in the high-fidelity simulator (§5.4, Fig. 5.15).
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -42,6 +43,8 @@ planning::QgcPlanExportOptions ExportOptions(const sim::Scenario& scenario, cons
   options.cruise_speed = scenario.limits.cruise_speed;
   if (scenario.route) {
     options.home_amsl = scenario.route->home_amsl.value_or(0.0);
+    options.firmware_type = scenario.route->firmware_type.value_or(options.firmware_type);  // kept on export
+    options.vehicle_type = scenario.route->vehicle_type.value_or(options.vehicle_type);
     options.home_W = scenario.route->home_W;
   } else {
     options.home_W = Eigen::Vector3d(nominal.start_W().x(), nominal.start_W().y(), 0.0);
@@ -59,15 +62,15 @@ void AddSimulateCommand(CLI::App& app) {
       "an IMM, the battery pack coupled to the rotors, and the decision module at 1 Hz. Prints the outcome;\n"
       "--out writes telemetry.csv, plan.csv and summary.json (draw them with 'uascma plot DIR') and, when\n"
       "the scenario has a geodetic frame (a mission file, an imported map, mission.origin), nominal.plan and\n"
-      "emergency.plan for QGroundControl; --mission flies a .plan/.waypoints mission; --battery-policy runs the\n"
-      "battery executor (Ch. IV) alongside the CMA policy; --replay DB RUN_ID flies one run of a campaign again,\n"
-      "bit for bit");
+      "emergency.plan for QGroundControl, nominal.waypoints and emergency.waypoints for Mission Planner;\n"
+      "--mission flies a .plan/.waypoints mission; --battery-policy runs the battery executor (Ch. IV) alongside\n"
+      "the CMA policy; --replay DB RUN_ID flies one run of a campaign again, bit for bit");
   command->add_option("scenario", options->scenario, "Scenario YAML (see examples/)");
   command->add_option("--replay", options->replay,
                       "Fly one run of a campaign again from its database: DB RUN_ID (a flight id, or INDEX:POLICY)")
       ->expected(2);
   command->add_option("--out", options->out,
-                      "Folder for telemetry.csv, plan.csv, summary.json (+ nominal.plan, emergency.plan); "
+                      "Folder for telemetry.csv, plan.csv, summary.json (+ nominal/emergency .plan and .waypoints); "
                       "replaced whole");
   command->add_option("--mission", options->mission,
                       "Mission file (.plan or .waypoints, relative to the current folder) flown instead of the "
@@ -120,12 +123,15 @@ void AddSimulateCommand(CLI::App& app) {
     if (out) {
       if (geodetic) {
         const planning::QgcPlanExportOptions qgc = ExportOptions(file.scenario, simulator.nominal_plan());
-        planning::WriteQgcPlan(out->staging() / "nominal.plan", simulator.nominal_plan(), qgc);
-        written.push_back("nominal.plan");
-        if (result.emergency_plan) {
-          planning::WriteQgcPlan(out->staging() / "emergency.plan", *result.emergency_plan, qgc);
-          written.push_back("emergency.plan");
-        }
+        // Each plan for QGroundControl (.plan) and Mission Planner (.waypoints, QGC WPL 110).
+        auto write_plan = [&](const std::string& stem, const planning::FlightPlan& plan) {
+          for (const char* extension : {".plan", ".waypoints"}) {
+            planning::WriteMissionFile(out->staging() / (stem + extension), plan, qgc);
+            written.push_back(stem + extension);
+          }
+        };
+        write_plan("nominal", simulator.nominal_plan());
+        if (result.emergency_plan) write_plan("emergency", *result.emergency_plan);
       }
       summary["files"] = written;
       if (!geodetic) {
@@ -141,10 +147,17 @@ void AddSimulateCommand(CLI::App& app) {
       return;
     }
     std::printf("%s: %s (%s)\n", file.scenario.name.c_str(), sim::OutcomeName(result.outcome), result.reason.c_str());
+    std::printf("EOD load: %s (decision %s)\n", result.eod_load.c_str(), result.eod_load == "forecast" ? "25" : "14");
     for (const auto& e : result.events) std::printf("  %8.2f s  %s\n", e.time_s, e.what.c_str());
-    std::printf("flew %.1f s of simulated time in %.1f ms (%.0fx real time); min cell %.3f V, energy %.1f Wh\n",
-                result.sim_time_s, result.wall_time_s * 1e3, result.realtime_factor(), result.min_cell_voltage_v,
-                result.energy_wh);
+    if (std::isfinite(result.min_cell_voltage_v) && result.sim_time_s > 0.0) {
+      std::printf("flew %.1f s of simulated time in %.1f ms (%.0fx real time); min cell %.3f V, energy %.1f Wh\n",
+                  result.sim_time_s, result.wall_time_s * 1e3, result.realtime_factor(), result.min_cell_voltage_v,
+                  result.energy_wh);
+    } else {
+      // Grounded before take-off (issue 25): no step was flown, so there is no cell minimum nor a speed to report.
+      std::printf("flew no simulated time (%.1f s): the vehicle stayed on the ground, no cell was loaded\n",
+                  result.sim_time_s);
+    }
     if (battery) {
       std::printf("battery executor:");
       for (const auto& [time_s, action] : result.battery_switches) std::printf(" %.0f s %s;", time_s, models::PackActionName(action));

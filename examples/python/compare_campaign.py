@@ -14,8 +14,6 @@ import pandas as pd
 
 import uascma
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -25,7 +23,7 @@ def main():
     args = parser.parse_args()
 
     if not os.path.exists(args.db):
-        outcome = uascma.run_campaign(os.path.join(HERE, "..", "campaign.yaml"), args.db, runs=args.runs,
+        outcome = uascma.run_campaign(uascma.example_file("campaign.yaml"), args.db, runs=args.runs,
                                       seed=args.seed)
         print(f"flew {outcome['flights_flown']} flights in {outcome['wall_time_s']:.1f} s into {args.db}")
     runs = uascma.read_campaign(args.db)

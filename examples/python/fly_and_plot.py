@@ -8,7 +8,6 @@ on as a quadcopter and the CMA policy decides whether to land). Draws the ground
 battery's EOD against the remaining flight time, and the CMA state and action over time.
 """
 import argparse
-import os
 
 import matplotlib
 
@@ -17,12 +16,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import uascma  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("scenario", nargs="?", default=os.path.join(HERE, "..", "jam-motor-3.yaml"))
+    parser.add_argument("scenario", nargs="?", default=uascma.example_file("jam-motor-3.yaml"))
     parser.add_argument("--policy", default="cma", help="noop | cma | a policy JSON file")
     parser.add_argument("--seed", type=int, default=None, help="overrides the scenario's seed")
     parser.add_argument("--out", default="flight.png")

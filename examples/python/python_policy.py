@@ -10,15 +10,13 @@ It is compared with the solved CMA policy and with NoOp on the same flight (same
 """
 import argparse
 import math
-import os
 
 import uascma
 
-HERE = os.path.dirname(os.path.abspath(__file__))
 
-
-def cautious(observation):
-    """Return a CMA action for an observation (uascma.Observation)."""
+def cautious(state_index, info):
+    """Return a CMA action for an epoch: the state index and the uascma.Observation behind it."""
+    observation = info["observation"]
     if observation.flight_status != uascma.FlightStatus.N:
         return "NoOp"  # already landing: keep the emergency plan
     motor_trouble = observation.state.mh != uascma.MotorHealth.NF
@@ -29,30 +27,32 @@ def cautious(observation):
 
 
 def episode(env, policy, seed):
-    """Flies one flight; returns the undiscounted return and the outcome."""
-    observation = env.reset(seed)
-    total, done, info = 0.0, False, {}
-    while not done:
-        observation, reward, done, info = env.step(policy(observation))
+    """Flies one flight (Gymnasium's loop); returns the undiscounted return and the outcome."""
+    observation, info = env.reset(seed=seed)
+    total, terminated, truncated = 0.0, False, False
+    while not (terminated or truncated):
+        observation, reward, terminated, truncated, info = env.step(policy(observation, info))
         total += reward
     return total, info["outcome"]
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("scenario", nargs="?", default=os.path.join(HERE, "..", "jam-motor-3.yaml"))
+    parser.add_argument("scenario", nargs="?", default=uascma.example_file("jam-motor-3.yaml"))
     parser.add_argument("--seed", type=int, default=None, help="default: the scenario's seed")
     args = parser.parse_args()
 
     cma = uascma.solve_cma()
     policies = {
         "cautious (Python)": cautious,
-        "cma (solved MDP)": lambda obs: int(cma.policy.action[obs.state_index]),
-        "noop": lambda obs: "NoOp",
+        "cma (solved MDP)": lambda state, info: cma.policy.action[state],
+        "noop": lambda state, info: "NoOp",
     }
     env = uascma.Environment(args.scenario, record=True)
+    # The same flight for every policy: the given seed, else the scenario's.
+    seed = args.seed if args.seed is not None else uascma.load_scenario(args.scenario).seed
     for name, policy in policies.items():
-        total, outcome = episode(env, policy, args.seed)
+        total, outcome = episode(env, policy, seed)
         flight = env.flight(name)
         print(f"{name:18s} {outcome:18s} after {flight.sim_time_s:6.1f} s, return {total:7.3f}, "
               f"actions {flight.actions}")

@@ -6,13 +6,10 @@
 The swept weight takes the value and the others are renormalised to keep the sum at one (Fig. 5.10, eq. 5.22).
 """
 import argparse
-import os
 
 import pandas as pd
 
 import uascma
-
-HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def main():
@@ -20,7 +17,7 @@ def main():
     parser.add_argument("--weight", default="RM", help="one of " + ", ".join(uascma.CmaWeights.names()))
     parser.add_argument("--value", type=float, default=0.4)
     parser.add_argument("--out", default="tuned-policy.json")
-    parser.add_argument("--scenario", default=os.path.join(HERE, "..", "jam-motor-3.yaml"))
+    parser.add_argument("--scenario", default=uascma.example_file("jam-motor-3.yaml"))
     args = parser.parse_args()
 
     default = uascma.solve_cma()

@@ -49,7 +49,7 @@ CampaignConfig LoadConfigObject(const py::object& source, std::string* policies_
 
 py::dict RunCampaignFromPython(const py::object& config_source, const std::string& db, std::optional<std::int64_t> runs,
                                std::optional<std::vector<std::string>> policies, std::optional<std::uint64_t> seed,
-                               int jobs, bool resume) {
+                               int jobs, bool resume, const py::object& progress) {
   std::string policies_source;
   CampaignConfig config = LoadConfigObject(config_source, &policies_source);
   if (runs) {
@@ -70,11 +70,16 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
   request.db = db;
   request.resume = resume;
   request.execute.jobs = jobs;
-  CampaignOutcome outcome;
-  {
-    py::gil_scoped_release release;
-    outcome = RunCampaign(request);
-  }
+  request.execute.progress = true;  // counted for `progress`; nothing on stderr from Python (BeginLongCall)
+  request.execute.progress_label = "campaign " + config.name + ", flights";
+  const CampaignOutcome outcome = RunInterruptibly(
+      [request] { return RunCampaign(request); }, progress, [&db](const CampaignOutcome* stopped) -> std::string {
+        if (stopped == nullptr) return {};
+        const std::int64_t stored = stopped->flights_before + stopped->flights_flown + stopped->flights_by_others;
+        return std::to_string(stored) + " of " + std::to_string(stopped->flights_total) + " flights stored in " + db +
+               " (" + std::to_string(stopped->flights_flown) +
+               " flown by this call); continue with the same arguments and resume=True";
+      });
   py::dict out;
   out["db"] = db;
   out["campaign_hash"] = outcome.campaign_hash;
@@ -104,9 +109,27 @@ void InitCampaign(py::module_& m) {
         py::arg("source") = py::none(), "A campaign configuration from a path, YAML text or a dict (None: the defaults)");
   m.def("run_campaign", &RunCampaignFromPython, py::arg("config").none(true), py::arg("db"),
         py::arg("runs") = py::none(), py::arg("policies") = py::none(), py::arg("seed") = py::none(),
-        py::arg("jobs") = 0, py::arg("resume") = false,
+        py::arg("jobs") = 0, py::arg("resume") = false, py::arg("progress") = py::none(),
         "Runs (or resumes) a campaign into the SQLite file db, as `uascma campaign CONFIG --db DB [--runs N] "
-        "[--policies a,b] [--seed S] [--jobs J] [--resume]`; returns a dict of counts and the wall time (s)");
+        "[--policies a,b] [--seed S] [--jobs J] [--resume]`; returns a dict of counts and the wall time (s). "
+        "progress: None or a callable progress(label, done, total, elapsed_s) (uascma.run_campaign wraps it: a "
+        "callback, tqdm or lines). Ctrl-C stops it within a second, keeping every finished flight "
+        "(KeyboardInterrupt says how many; resume=True continues)");
+  m.def("check_store",
+        [](const std::string& db) {
+          const StoreCheckResult result = CheckStore(db);
+          if (!result.ok()) {
+            throw InputError(db, "database",
+                             "an undamaged campaign database, but " + result.problems.front() +
+                                 (result.problems_total > 1 ? " and " + std::to_string(result.problems_total - 1) +
+                                                                  " more problems"
+                                                            : std::string()) +
+                                 " ('uascma store check " + db + "' lists every problem)");
+          }
+        },
+        py::arg("db"),
+        "Raises InputError naming the first problem when the campaign database is damaged (campaign/store.h: "
+        "CheckStore, as `uascma store check DB`)");
   m.def("read_records",
         [](const std::string& db) {
           const ResultsStore store = ResultsStore::Open(db);

@@ -3,6 +3,7 @@
 
 #include "bindings.h"
 #include "uascma/common/error.h"
+#include "uascma/common/progress.h"
 #include "uascma/common/version.h"
 
 namespace uascma::python {
@@ -14,6 +15,33 @@ py::object JsonToPython(const nlohmann::json& json) {
   return py::module_::import("json").attr("loads")(json.dump());
 }
 
+namespace {
+PyObject* mission_warning = nullptr;  // owned by the module's attribute (set once at import)
+}  // namespace
+
+PyObject* MissionWarningType() { return mission_warning; }
+
+void ProgressPoller::Poll(bool final) {
+  if (progress_.is_none()) return;
+  const std::optional<ProgressSnapshot> snapshot = CurrentProgress();
+  if (!snapshot) return;
+  const bool changed =
+      snapshot->done != last_done_ || snapshot->total != last_total_ || snapshot->label != last_label_;
+  if (!changed && !final) return;
+  last_done_ = snapshot->done;
+  last_total_ = snapshot->total;
+  last_label_ = snapshot->label;
+  progress_(snapshot->label, snapshot->done, snapshot->total, snapshot->elapsed_s);
+}
+
+void BeginLongCall() {
+  // Python reports progress itself (a callback, tqdm or its own lines on sys.stderr): the C++ bar would write
+  // to the process's stderr, which in a notebook is the server's log.
+  SetProgressOnStderr(false);
+  ClearStopRequest();
+  ForgetEndedProgress();
+}
+
 }  // namespace uascma::python
 
 PYBIND11_MODULE(_uascma, m) {
@@ -23,6 +51,20 @@ PYBIND11_MODULE(_uascma, m) {
   // that already catches ValueError keeps working; the message is "source: field: expected".
   py::register_exception<uascma::InputError>(m, "InputError", PyExc_ValueError);
   m.attr("__version__") = uascma::kVersion;
+  // The mission importer's notes (items read but not modelled, our choices): Python warnings of this category.
+  uascma::python::mission_warning = PyErr_NewExceptionWithDoc(
+      "uascma.MissionWarning",
+      "A note of the mission importer: an item read but not modelled, or a choice it made (as `uascma simulate "
+      "--mission` prints on stderr)",
+      PyExc_UserWarning, nullptr);
+  if (uascma::python::mission_warning == nullptr) throw py::error_already_set();
+  m.attr("MissionWarning") = py::reinterpret_steal<py::object>(uascma::python::mission_warning);
+  // The progress line and its rule (common/progress.h), for uascma._progress's lines on sys.stderr.
+  m.def("_format_progress_line", &uascma::FormatProgressLine, py::arg("label"), py::arg("done"), py::arg("total"),
+        py::arg("elapsed_s"), "One progress line, as the CLI prints it on a non-terminal stderr");
+  m.attr("_PROGRESS_LINE_PERIOD_S") = uascma::kProgressLinePeriodSeconds;
+  m.attr("_PROGRESS_LINE_STEP_FRACTION") = uascma::kProgressLineStepFraction;
+  m.attr("_PROGRESS_LINE_MIN_GAP_S") = uascma::kProgressLineMinGapSeconds;
   uascma::python::InitModels(m);
   uascma::python::InitPrognostics(m);
   uascma::python::InitPlanning(m);

@@ -12,6 +12,7 @@
 
 #include "bindings.h"
 #include "uascma/common/error.h"
+#include "uascma/decision/cma_abstraction.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/solvers.h"
 #include "uascma/sim/environment.h"
@@ -28,25 +29,45 @@ using decision::CmaAction;
 using decision::MakeCmaFactoredModel;
 
 // Scenario text, a path, or a dict (written as JSON, which YAML reads as it is).
-ScenarioFile LoadScenarioObject(const py::object& source) {
-  if (py::isinstance<ScenarioFile>(source)) return source.cast<ScenarioFile>();
+ScenarioFile ParseScenarioObject(const py::object& source, const ScenarioLoadOptions& load) {
+  if (py::isinstance<ScenarioFile>(source)) {
+    if (load.mission_file) throw InputError("load_scenario", "mission", "a scenario path, YAML text or dict (a loaded Scenario keeps its mission)");
+    return source.cast<ScenarioFile>();
+  }
   if (py::isinstance<py::dict>(source)) {
     const std::string text = py::module_::import("json").attr("dumps")(source).cast<std::string>();
-    return ParseScenario(text, "<dict>");
+    return ParseScenario(text, "<dict>", load);
   }
   if (py::isinstance<py::str>(source) || py::hasattr(source, "__fspath__")) {
     const std::string text = py::str(py::module_::import("os").attr("fspath")(source)).cast<std::string>();
     // One line naming an existing file is a path; anything with a line break or a key is YAML text.
     std::error_code ec;
     if (text.find('\n') == std::string::npos && std::filesystem::is_regular_file(text, ec)) {
-      return LoadScenarioFile(text);
+      return LoadScenarioFile(text, load);
     }
     if (text.find('\n') == std::string::npos && text.find(':') == std::string::npos) {
       throw InputError(text, "scenario", "a scenario YAML file that exists (or YAML text, or a dict)");
     }
-    return ParseScenario(text, "<yaml>");
+    return ParseScenario(text, "<yaml>", load);
   }
   throw InputError("run", "scenario", "a scenario path, YAML text, a dict or a uascma.Scenario");
+}
+
+// The scenario, with the mission importer's notes (items read but not modelled, our choices) issued as Python
+// warnings of category uascma.MissionWarning, one per line, as `uascma simulate` prints them on stderr.
+ScenarioFile LoadScenarioObject(const py::object& source, const py::object& mission = py::none()) {
+  ScenarioLoadOptions load;
+  if (!mission.is_none()) {
+    load.mission_file = py::str(py::module_::import("os").attr("fspath")(mission)).cast<std::string>();
+  }
+  ScenarioFile file = ParseScenarioObject(source, load);
+  if (file.scenario.route && !py::isinstance<ScenarioFile>(source)) {
+    for (const std::string& warning : file.scenario.route->warnings) {
+      // stacklevel 1: the innermost Python frame, the user's call (or uascma's wrapper of it).
+      if (PyErr_WarnEx(MissionWarningType(), warning.c_str(), 1) != 0) throw py::error_already_set();
+    }
+  }
+  return file;
 }
 
 // A decision module written in Python: any callable taking DecisionInputs and returning a CmaAction, its
@@ -60,10 +81,15 @@ class PythonPolicy final : public DecisionPolicy {
   static CmaAction ToAction(const py::handle& value) {
     if (py::isinstance<CmaAction>(value)) return value.cast<CmaAction>();
     if (py::isinstance<py::str>(value)) return decision::ParseCmaAction(value.cast<std::string>(), "policy return value");
-    if (py::isinstance<py::int_>(value)) {
-      const int index = value.cast<int>();
+    // A Python int, a NumPy integer (np.argmax(q), Discrete.sample()) or a 0-d integer array: anything with
+    // __index__ (bool aside, which would read True as Terminate).
+    if (!PyBool_Check(value.ptr()) && PyIndex_Check(value.ptr())) {
+      const py::int_ as_int = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+      if (!as_int) throw py::error_already_set();
+      const long long index = PyLong_AsLongLong(as_int.ptr());
+      if (index == -1 && PyErr_Occurred()) PyErr_Clear();
       if (index < 0 || index >= decision::kCmaNumActions) {
-        throw InputError("policy return value", "action", "an action index 0–3, got " + std::to_string(index));
+        throw InputError("policy return value", "action", "an action index 0–3, got " + py::repr(value).cast<std::string>());
       }
       return static_cast<CmaAction>(index);
     }
@@ -159,9 +185,10 @@ py::dict TelemetryArrays(const SimResult& result) {
   return d;
 }
 
-Flight Run(const py::object& scenario, const py::object& policy, std::optional<std::uint64_t> seed, bool telemetry) {
+Flight Run(const py::object& scenario, const py::object& policy, std::optional<std::uint64_t> seed, bool telemetry,
+           const py::object& mission) {
   Flight flight;
-  flight.file = LoadScenarioObject(scenario);
+  flight.file = LoadScenarioObject(scenario, mission);
   if (seed) flight.file.scenario.seed = *seed;
   ResolvedPolicy resolved = ResolvePythonPolicy(policy, flight.file);
   RunOptions options;
@@ -171,9 +198,16 @@ Flight Run(const py::object& scenario, const py::object& policy, std::optional<s
     simulator = std::make_shared<const Simulator>(flight.file.scenario);
     flight.result = simulator->Run(*resolved.policy, {}, options);
   } else {
-    py::gil_scoped_release release;
-    simulator = std::make_shared<const Simulator>(flight.file.scenario);
-    flight.result = simulator->Run(*resolved.policy, {}, options);
+    // On a thread of its own, so that Ctrl-C is seen while it flies (bindings.h RunInterruptibly).
+    const Scenario& scenario_ref = flight.file.scenario;
+    DecisionPolicy& policy_ref = *resolved.policy;
+    auto [made, result] = RunInterruptibly([&scenario_ref, &policy_ref, options] {
+      auto made = std::make_shared<const Simulator>(scenario_ref);
+      SimResult result = made->Run(policy_ref, {}, options);
+      return std::make_pair(made, std::move(result));
+    });
+    simulator = std::move(made);
+    flight.result = std::move(result);
   }
   flight.model = std::shared_ptr<const FlightModel>(simulator, &simulator->model());  // shares the simulator
   return flight;
@@ -191,8 +225,9 @@ struct Environment {
 };
 
 std::unique_ptr<Environment> MakeEnvironment(const py::object& scenario, std::optional<decision::CmaWeights> weights,
-                                             bool record, bool record_telemetry, bool require_available_actions) {
-  ScenarioFile file = LoadScenarioObject(scenario);
+                                             bool record, bool record_telemetry, bool require_available_actions,
+                                             const py::object& mission) {
+  ScenarioFile file = LoadScenarioObject(scenario, mission);
   EnvironmentOptions options;
   if (weights) options.weights = *weights;
   options.record = record || record_telemetry;
@@ -219,8 +254,10 @@ void InitSim(py::module_& m) {
       .def_property_readonly("fault_enabled", [](const ScenarioFile& f) { return f.scenario.fault.enabled; })
       .def_property_readonly("fault_motor", [](const ScenarioFile& f) { return f.scenario.fault.motor; })
       .def_property_readonly("mass", [](const ScenarioFile& f) { return f.scenario.body.mass; }, "kg");
-  m.def("load_scenario", &LoadScenarioObject, py::arg("scenario"),
-        "A scenario from a YAML file path, YAML text or a dict of the same keys (InputError naming the key)");
+  m.def("load_scenario", &LoadScenarioObject, py::arg("scenario"), py::arg("mission") = py::none(),
+        "A scenario from a YAML file path, YAML text or a dict of the same keys (InputError naming the key); "
+        "mission: a QGroundControl .plan or Mission Planner .waypoints file flown instead of the scenario's "
+        "mission (as `simulate --mission`). The mission importer's notes are issued as uascma.MissionWarning");
 
   py::enum_<decision::FlightStatus>(m, "FlightStatus")
       .value("N", decision::FlightStatus::kN)
@@ -329,19 +366,36 @@ void InitSim(py::module_& m) {
       .def_readonly("eod_s", &Observation::eod_s)
       .def_readonly("rul_s", &Observation::rul_s, "+inf without a motor fault")
       .def_readonly("flight_time_remaining_s", &Observation::flight_time_remaining_s)
+      .def_property_readonly("terminal", [](const Observation& o) { return o.terminal.has_value(); },
+                             "True once the flight has ended (state C, T or FL)")
+      .def_property_readonly(
+          "action_mask",
+          [](const Observation& o) {
+            std::vector<int> mask(decision::kCmaNumActions, 0);
+            if (o.terminal) return mask;
+            for (int a = 0; a < decision::kCmaNumActions; ++a) {
+              mask[a] = decision::IsCmaActionAvailable(o.flight_status, static_cast<CmaAction>(a)) ? 1 : 0;
+            }
+            return mask;
+          },
+          "[4] 0/1 by action index: the actions the flight status offers (decisions item 3: N all four, "
+          "ELPRACT NoOp, Terminate, LandASAP; ELASAP NoOp, Terminate); all 0 once the flight has ended")
       .def("__repr__", [](const Observation& o) {
         return "<Observation t=" + std::to_string(o.time_s) + " s " +
                (o.terminal ? MakeCmaFactoredModel().Label(o.state_index) : decision::CmaStateLabel(o.state)) + ">";
       });
 
-  py::class_<Environment>(m, "Environment",
-                          "The simulator as a Gym-style decision environment at the CMA's 1 Hz epoch "
-                          "(sim::DecisionEnvironment): obs = env.reset(seed); obs, reward, done, info = env.step(action)")
+  py::class_<Environment>(m, "DecisionEnvironment",
+                          "The simulator as a decision environment at the CMA's 1 Hz epoch (sim::DecisionEnvironment): "
+                          "observation = env.reset(seed); observation, reward, done, info = env.step(action). "
+                          "uascma.Environment wraps it in the Gymnasium API")
       .def(py::init(&MakeEnvironment), py::arg("scenario"), py::arg("weights") = py::none(), py::arg("record") = false,
            py::arg("record_telemetry") = false, py::arg("require_available_actions") = true,
+           py::arg("mission") = py::none(),
            "scenario: a path, YAML text, a dict or a Scenario; weights: CmaWeights of the reward R(S, A) (eqs. "
            "5.28–5.29 by default); record: keep the flight's log for flight(); require_available_actions: an "
-           "action the flight status does not offer raises InputError (decisions item 3)")
+           "action the flight status does not offer raises InputError (decisions item 3); mission: a .plan or "
+           ".waypoints file flown instead of the scenario's mission")
       .def("reset",
            [](Environment& e, std::optional<std::uint64_t> seed) {
              return e.env.Reset(seed.value_or(e.file.scenario.seed));
@@ -357,6 +411,7 @@ void InitSim(py::module_& m) {
              }
              py::dict info;
              info["outcome"] = OutcomeName(step.outcome);
+             info["requested"] = decision::CmaActionName(parsed);
              info["executed"] = decision::CmaActionName(step.executed);
              return py::make_tuple(step.observation, step.reward, step.done, info);
            },
@@ -366,6 +421,7 @@ void InitSim(py::module_& m) {
       .def_property_readonly("done", [](const Environment& e) { return e.env.done(); })
       .def_property_readonly("observation", [](const Environment& e) { return e.env.observation(); })
       .def_property_readonly("time_s", [](const Environment& e) { return e.env.state().time_s; })
+      .def_property_readonly("scenario_seed", [](const Environment& e) { return e.file.scenario.seed; })
       .def("flight",
            [](const Environment& e, const std::string& policy) {
              return Flight{e.file, e.model, e.env.Result(policy)};
@@ -375,10 +431,12 @@ void InitSim(py::module_& m) {
            "telemetry with record_telemetry=True)");
 
   m.def("run", &Run, py::arg("scenario"), py::arg("policy") = py::none(), py::arg("seed") = py::none(),
-        py::arg("telemetry") = true,
+        py::arg("telemetry") = true, py::arg("mission") = py::none(),
         "Flies one scenario (a path, YAML text, a dict or a Scenario) with a policy: None (the scenario's), "
         "'noop', 'cma', a policy file, a uascma.Policy / CmaSolution, or a callable f(DecisionInputs) -> action. "
-        "seed None keeps the scenario's. The same flight as `uascma simulate` for the same seed");
+        "seed None keeps the scenario's; mission: a .plan or .waypoints file flown instead of the scenario's "
+        "mission. The same flight as `uascma simulate` for the same seed. Ctrl-C raises KeyboardInterrupt when "
+        "the flight in the air ends (a flight takes a fraction of a second; a Python policy: at its next call)");
 }
 
 }  // namespace uascma::python

@@ -43,6 +43,27 @@ def offsets(count):
     return width, [(i - (count - 1) / 2) * width for i in range(count)]
 
 
+def n_label(ax, x, y, low, high, n, vertical=False):
+    """'n=…' beyond the end of the bar's error bar (its cap): above a positive bar, below a negative one, so the
+    label never sits on the interval or the bar."""
+    low = 0.0 if math.isnan(low) else low
+    high = 0.0 if math.isnan(high) else high
+    if math.isnan(y) or y >= 0:
+        end, offset, va = (0.0 if math.isnan(y) else y + high), 3, "bottom"
+    else:
+        end, offset, va = y - low, -3, "top"
+    ax.annotate(f"n={n}", (x, end), xytext=(0, offset), textcoords="offset points", ha="center", va=va, fontsize=8,
+                rotation=90 if vertical else 0)
+
+
+def headroom(ax, fraction=0.18):
+    """Room beyond the longest bars (above, and below negative ones) for the labels there."""
+    ax.autoscale_view()  # from the data (of every axes sharing y): repeated calls do not compound
+    low, high = ax.get_ylim()
+    span = high - low
+    ax.set_ylim(low - (fraction * span if low < 0 else 0.0), high + fraction * span)
+
+
 def bars(ax, report, key, scale=1.0, ylabel=""):
     """Bars of `key` per health and policy; Wilson error bars when the report has them, else the SEM."""
     policies = report["policy_order"]
@@ -57,19 +78,19 @@ def bars(ax, report, key, scale=1.0, ylabel=""):
             errors = [[0 if math.isnan(y) else y - lo for y, lo in zip(ys, lows)],
                       [0 if math.isnan(y) else hi - y for y, hi in zip(ys, highs)]]
         else:
-            errors = [scale * value(groups[h], key + "_sem") for h in HEALTHS]
+            sem = [scale * value(groups[h], key + "_sem") for h in HEALTHS]
+            errors = [sem, sem]
         ax.bar(xs, ys, width, yerr=errors, capsize=4, color=COLOURS[i % len(COLOURS)],
                label=f"{policy} (n={sum(groups[h]['runs'] for h in HEALTHS)})")
-        for x, y, h in zip(xs, ys, HEALTHS):
-            n = groups[h]["runs"]
-            ax.annotate(f"n={n}", (x, 0 if math.isnan(y) else y), xytext=(0, 2), textcoords="offset points",
-                        ha="center", va="bottom", fontsize=7, rotation=90 if len(policies) > 3 else 0)
+        for x, y, low, high, h in zip(xs, ys, errors[0], errors[1], HEALTHS):
+            n_label(ax, x, y, low, high, groups[h]["runs"], vertical=len(policies) > 3)
     ax.set_xticks(range(len(HEALTHS)))
     ax.set_xticklabels([HEALTH_LABELS[h] for h in HEALTHS])
     ax.set_xlabel("battery health")
     ax.set_ylabel(ylabel)
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=8)
+    headroom(ax)
+    legend_outside(ax)
 
 
 def annotate_mcnemar(ax, report):
@@ -84,9 +105,9 @@ def annotate_mcnemar(ax, report):
             if c["policies"] == first and c["battery_health"] == h and c["pairs"] > 0:
                 p = c["mcnemar_exact_p"]
                 ax.text(h_index, 0.82 * top, f"McNemar p={p:.2g}\nb={c['only_first_failed']}, "
-                        f"c={c['only_second_failed']}", ha="center", va="top", fontsize=7)
-    ax.text(0.01, 0.01, f"paired: {first[0]} vs {first[1]} on the same flights", transform=ax.transAxes,
-            fontsize=7, alpha=0.7)
+                        f"c={c['only_second_failed']}", ha="center", va="top", fontsize=8)
+    # Under the axis, not in the plot where it would cross the bars' intervals.
+    ax.set_xlabel(f"{ax.get_xlabel()}\n(McNemar: {first[0]} vs {first[1]}, paired on the same flights)")
 
 
 def cause_bars(ax, report):
@@ -108,13 +129,14 @@ def cause_bars(ax, report):
             bottom = [b + y for b, y in zip(bottom, ys)]
         for x, top, h in zip(xs, bottom, HEALTHS):
             ax.annotate(f"{policy}\nn={groups[h]['runs']}", (x, top), xytext=(0, 2), textcoords="offset points",
-                        ha="center", va="bottom", fontsize=7)
+                        ha="center", va="bottom", fontsize=8)
     ax.set_xticks(range(len(HEALTHS)))
     ax.set_xticklabels([HEALTH_LABELS[h] for h in HEALTHS])
     ax.set_xlabel("battery health")
     ax.set_ylabel("failures (% of flights)")
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=8, title="cause")
+    headroom(ax, 0.3)
+    legend_outside(ax, title="cause")
 
 
 def wilson(failures, runs, z=1.959963984540054):
@@ -146,15 +168,20 @@ def fade_bars(ax, report):
             highs.append(0 if math.isnan(y) else max(0.0, 100.0 * high - y))
             ns.append(runs)
         ax.bar(xs, ys, width, yerr=[lows, highs], capsize=4, color=COLOURS[i % len(COLOURS)], label=policy)
-        for x, y, n in zip(xs, ys, ns):
-            ax.annotate(f"n={n}", (x, 0 if math.isnan(y) else y), xytext=(0, 2), textcoords="offset points",
-                        ha="center", va="bottom", fontsize=7)
+        for x, y, low, high, n in zip(xs, ys, lows, highs, ns):
+            n_label(ax, x, y, low, high, n)
     ax.set_xticks(range(len(FADES)))
     ax.set_xticklabels([label for _, label in FADES])
     ax.set_xlabel("the fades the battery carries (Table 3.2)")
     ax.set_ylabel("failure rate (%)")
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=8)
+    headroom(ax)
+    legend_outside(ax)
+
+
+def legend_outside(ax, **kwargs):
+    """The legend to the right of the axes: never over the bars."""
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, **kwargs)
 
 
 def save(fig, out_dir, name):

@@ -3,7 +3,9 @@
 and 5.18-5.29 are the model).
 
 Usage: flight.py DIR
-Writes into DIR: path.png (3-D path against the plan), forces.png (thrust, drag, torques), rotors.png
+Writes into DIR: path.png (3-D path against the plan, with the LandPract checkpoints and the buildings near
+the route over a city), states.png (position, velocity and attitude with the motor fault flag, Fig. 5.19),
+forces.png (thrust, drag, torques), rotors.png
 (rotor thrusts and currents), battery.png (cell voltages, bus voltage, branch currents), eod.png (EOD
 against the remaining flight time, RM and MM), decisions.png (CMA state, action and IMM mode over time),
 and over a city map.png (buildings, landing sites, route, LandPract checkpoints, the LandASAP footprint and
@@ -66,23 +68,60 @@ def state_label(index):
     return f"{FS[fs]},{MH[mh]},{MM[mm]},{BH[bh]},{RM[rm]}"
 
 
-def events_on(ax, summary):
-    for name, key in (("spall", "spall_onset_s"), ("jam", "jam_time_s"), ("isolated", "isolation_time_s")):
-        if summary.get(key) is not None:
-            ax.axvline(summary[key], color="grey", linestyle=":", linewidth=1)
-            ax.text(summary[key], ax.get_ylim()[1], " " + name, fontsize=7, va="top", color="grey")
-    for action in summary.get("actions", []):
-        ax.axvline(action["time_s"], color="purple", linestyle="--", linewidth=1)
+EVENTS = (("spall", "spall_onset_s"), ("jam", "jam_time_s"), ("isolated", "isolation_time_s"))
+LABEL_ROW_PT = 9  # ours: one row of event labels above the top axes (8 pt text and a 1 pt gap)
+
+
+def events_on(ax, summary, labelled):
+    """Marks the fault events (dotted grey) and executed actions (dashed purple) on a time-series axes. On the
+    `labelled` (top) axes the names sit above the frame, each on the lowest row where its box (matplotlib's own
+    extent) meets no earlier label, so events seconds apart (a jam and its isolation) never overprint."""
+    marks = [(summary[key], name, "grey", ":") for name, key in EVENTS if summary.get(key) is not None]
+    marks += [(a["time_s"], a["action"], "purple", "--") for a in summary.get("actions", [])]
+    for time_s, _, colour, style in marks:
+        ax.axvline(time_s, color=colour, linestyle=style, linewidth=1)
+    if not labelled:
+        return 0
+    renderer = ax.figure.canvas.get_renderer()
+    placed = []  # (row, box)
+    rows = 0
+    for time_s, name, colour, _ in sorted(marks):
+        row = 0
+        while True:
+            label = ax.annotate(name, xy=(time_s, 1.0), xycoords=ax.get_xaxis_transform(),
+                                xytext=(1, 2 + row * LABEL_ROW_PT), textcoords="offset points", fontsize=8,
+                                color=colour, va="bottom", ha="left", annotation_clip=False)
+            box = label.get_window_extent(renderer)
+            if not any(r == row and box.overlaps(b) for r, b in placed):
+                placed.append((row, box))
+                rows = max(rows, row + 1)
+                break
+            label.remove()
+            row += 1
+    return rows
+
+
+def legend_outside(ax, **kwargs):
+    """The legend to the right of the axes: never over the data."""
+    kwargs.setdefault("fontsize", 8)
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, **kwargs)
+
+
+def new_figure(rows, figsize):
+    fig, axes = plt.subplots(rows, 1, figsize=figsize, sharex=True, layout="constrained")
+    return fig, np.atleast_1d(axes)
 
 
 def save(fig, folder, name, axes=None, summary=None, title=None):
     """Marks the fault events and actions on time-series axes, titles the figure, writes it and closes it."""
     if axes is not None:
+        fig.canvas.draw()  # the layout, so that label extents are final
         if summary is not None:
-            for ax in axes:
-                events_on(ax, summary)
-        axes[0].set_title(title)
-    fig.tight_layout()
+            for k, ax in enumerate(axes):
+                events_on(ax, summary, labelled=k == 0)
+        fig.suptitle(title)
+    elif fig.get_layout_engine() is None:
+        fig.tight_layout()
     fig.savefig(os.path.join(folder, name), dpi=110)
     plt.close(fig)
 
@@ -95,58 +134,91 @@ def main(folder):
     title = f"{summary['scenario']} — {summary['policy']}: {summary['outcome']}"
     time = t["t_s"]
 
-    # 3-D path (altitude up) against the plan.
-    fig = plt.figure(figsize=(8, 6))
+    city = read_city(folder)
+
+    # 3-D path (altitude up) against the plan, with the checkpoints and the buildings near the route.
+    fig = plt.figure(figsize=(9, 7))
     ax = fig.add_subplot(projection="3d")
+    if city is not None:
+        buildings_3d(ax, city, np.concatenate([t["p_W_x_m"], plan["x_m"]]), np.concatenate([t["p_W_y_m"], plan["y_m"]]))
+        if city["checkpoints"]:
+            cp = np.array(city["checkpoints"], dtype=float)
+            ax.scatter(cp[:, 1], cp[:, 0], -cp[:, 2], marker="*", s=140, color="gold", edgecolor="k",
+                       depthshade=False, label="LandPract checkpoints")
     nominal = plan[plan["kind"] == "nominal"]
     ax.plot(nominal["y_m"], nominal["x_m"], -nominal["z_m"], "k--", linewidth=1, label="plan")
     emergency = plan[plan["kind"] == "emergency"]
     if len(emergency):
         ax.plot(emergency["y_m"], emergency["x_m"], -emergency["z_m"], "g--", linewidth=1, label="emergency plan")
     ax.plot(t["p_W_y_m"], t["p_W_x_m"], -t["p_W_z_m"], "b", linewidth=1.2, label="flown")
-    ax.set_xlabel("east (m)")
-    ax.set_ylabel("north (m)")
-    ax.set_zlabel("altitude (m)")
-    ax.legend()
-    ax.set_title(title)
+    ax.set_xlabel("east (m)", labelpad=18)
+    ax.set_ylabel("north (m)", labelpad=18)
+    ax.set_zlabel("altitude (m)", labelpad=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, 1.0), fontsize=8, bbox_transform=fig.transFigure)
+    fig.suptitle(title)
     save(fig, folder, "path.png")
 
+    # Fig. 5.19: the vehicle's states, with the motor fault flag (the IMM's isolation) as a step.
+    fault = np.array([0.0 if m == "nominal" else 1.0 for m in t["imm_mode"]])
+    fig, axes = new_figure(3, (10, 8))
+    groups = (
+        ("position (m)", (("p_W_x_m", "north", 1.0), ("p_W_y_m", "east", 1.0), ("p_W_z_m", "altitude", -1.0))),
+        ("velocity (m/s)", (("v_W_x_mps", "north", 1.0), ("v_W_y_mps", "east", 1.0), ("v_W_z_mps", "up", -1.0))),
+        ("attitude (deg)", (("roll_rad", "roll", 180 / np.pi), ("pitch_rad", "pitch", 180 / np.pi),
+                            ("yaw_rad", "yaw (unwrapped)", 180 / np.pi))),
+    )
+    for ax, (ylabel, series) in zip(axes, groups):
+        for column, name, scale in series:
+            values = np.unwrap(t[column]) if column == "yaw_rad" else t[column]  # no ±180° jumps
+            ax.plot(time, scale * values, linewidth=1.1, label=name)
+        ax.set_ylabel(ylabel)
+        flag = ax.twinx()
+        flag.step(time, fault, where="post", color="red", linewidth=1.2, label="motor fault flag")
+        flag.set_ylim(-0.05, 1.6)
+        flag.set_yticks([0, 1])
+        flag.set_ylabel("fault flag", color="red")
+        lines = ax.get_lines() + flag.get_lines()
+        ax.legend(lines, [line.get_label() for line in lines], loc="upper left", bbox_to_anchor=(1.08, 1.0),
+                  borderaxespad=0.0, fontsize=8)
+    axes[-1].set_xlabel("time (s)")
+    save(fig, folder, "states.png", axes, summary, title)
+
     # Forces and torques.
-    fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    fig, axes = new_figure(3, (10, 8))
     axes[0].plot(time, t["thrust_cmd_n"], label="thrust commanded")
     axes[0].plot(time, t["thrust_n"], label="thrust achieved")
     axes[0].set_ylabel("N")
-    axes[0].legend(fontsize=8)
+    legend_outside(axes[0])
     drag = np.sqrt(t["drag_W_x_n"] ** 2 + t["drag_W_y_n"] ** 2 + t["drag_W_z_n"] ** 2)
     axes[1].plot(time, drag, label="|drag|")
     axes[1].set_ylabel("N")
-    axes[1].legend(fontsize=8)
+    legend_outside(axes[1])
     for axis in "xyz":
         axes[2].plot(time, t[f"torque_{axis}_nm"], label=f"τ{axis}")
     axes[2].set_ylabel("N·m")
     axes[2].set_xlabel("time (s)")
-    axes[2].legend(fontsize=8)
+    legend_outside(axes[2])
     save(fig, folder, "forces.png", axes, summary, title)
 
     # Rotor thrusts and currents.
-    fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    fig, axes = new_figure(2, (10, 7))
     for i in range(1, 7):
         axes[0].plot(time, t[f"rotor{i}_thrust_n"], label=f"rotor {i}", linewidth=1)
         axes[1].plot(time, t[f"rotor{i}_current_a"], label=f"rotor {i}", linewidth=1)
     axes[0].set_ylabel("thrust (N)")
     axes[1].set_ylabel("current (A)")
     axes[1].set_xlabel("time (s)")
-    axes[0].legend(fontsize=7, ncol=6)
+    legend_outside(axes[0])
     save(fig, folder, "rotors.png", axes, summary, title)
 
     # Battery.
-    fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    fig, axes = new_figure(3, (10, 8))
     for pack in (1, 2):
         for cell in (1, 2, 3):
             axes[0].plot(time, t[f"cell_p{pack}c{cell}_v"], label=f"pack {pack} cell {cell}", linewidth=1)
     axes[0].axhline(3.3, color="red", linestyle="--", linewidth=1, label="cut-off 3.3 V")
     axes[0].set_ylabel("cell voltage (V)")
-    axes[0].legend(fontsize=7, ncol=4)
+    legend_outside(axes[0])
     axes[1].plot(time, t["bus_voltage_v"])
     axes[1].set_ylabel("bus voltage (V)")
     axes[2].plot(time, t["pack_current_a"], label="total")
@@ -154,32 +226,32 @@ def main(folder):
     axes[2].plot(time, t["branch2_current_a"], label="pack 2")
     axes[2].set_ylabel("current (A)")
     axes[2].set_xlabel("time (s)")
-    axes[2].legend(fontsize=8)
+    legend_outside(axes[2])
     save(fig, folder, "battery.png", axes, None, title)
 
     # EOD against the remaining flight time (Figs. 4.8b, 5.2x).
-    fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    fig, axes = new_figure(2, (10, 6))
     axes[0].plot(time, t["eod_s"], label="EOD")
     axes[0].plot(time, t["flight_time_remaining_s"], "k", linewidth=2, label="remaining flight time")
     axes[0].set_ylabel("s")
     axes[0].set_ylim(0, 3 * max(1.0, float(np.max(t["flight_time_remaining_s"]))))
-    axes[0].legend(fontsize=8)
+    legend_outside(axes[0])
     axes[1].plot(time, t["reach_margin"], label="RM")
     mm = np.clip(t["motor_margin"], -1.5, 1.0)
     axes[1].plot(time, mm, label="MM (clipped at −1.5)")
     axes[1].axhline(0, color="k", linewidth=0.8)
     axes[1].set_ylabel("margin")
     axes[1].set_xlabel("time (s)")
-    axes[1].legend(fontsize=8)
+    legend_outside(axes[1])
     save(fig, folder, "eod.png", axes, summary, title)
 
     # Decision timeline.
-    fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
+    fig, axes = new_figure(3, (10, 7))
     states = t["cma_state"].tolist()
     unique = sorted(set(states))
     axes[0].step(time, [unique.index(s) for s in states], where="post")
     axes[0].set_yticks(range(len(unique)))
-    axes[0].set_yticklabels(unique, fontsize=7)
+    axes[0].set_yticklabels(unique, fontsize=8)
     axes[0].set_ylabel("CMA state")
     axes[1].step(time, [ACTIONS.index(a) for a in t["action"]], where="post", color="purple")
     axes[1].set_yticks(range(4))
@@ -187,22 +259,54 @@ def main(folder):
     axes[1].set_ylabel("last action")
     axes[2].step(time, [IMM_MODES.index(m) for m in t["imm_mode"]], where="post", color="darkorange")
     axes[2].set_yticks(range(7))
-    axes[2].set_yticklabels(["nominal"] + [f"rotor {i} out" for i in range(1, 7)], fontsize=7)
+    axes[2].set_yticklabels(["nominal"] + [f"rotor {i} out" for i in range(1, 7)], fontsize=8)
     axes[2].set_ylabel("IMM mode")
     axes[2].set_xlabel("time (s)")
     save(fig, folder, "decisions.png", axes, summary, title)
 
-    draw_map(folder, t, plan, summary, title)
+    if city is not None:
+        draw_map(folder, t, plan, city, title)
 
 
-def draw_map(folder, t, plan, summary, title):
+def read_city(folder):
     path = os.path.join(folder, "map.json")
     if not os.path.exists(path):
-        return
+        return None
     with open(path) as f:
-        city = json.load(f)
+        return json.load(f)
+
+
+# Buildings drawn in the 3-D path: those within this distance of the flown path or the plans (ours: the
+# LandPract/LandASAP planners' obstacles near the route; the whole city would hide the path).
+NEAR_ROUTE_M = 60.0
+
+
+def buildings_3d(ax, city, north_m, east_m):
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    route = np.column_stack([north_m, east_m])
+    route = route[np.all(np.isfinite(route), axis=1)][::10]
+    faces = []
+    for building in city["buildings"]:
+        height = building["height_m"]
+        for ring in building["rings"]:
+            ring = np.asarray(ring, dtype=float)[:, :2]
+            distance = np.min(np.linalg.norm(route[:, None, :] - ring[None, :, :], axis=2))
+            if distance > NEAR_ROUTE_M:
+                continue
+            roof = [(p[1], p[0], height) for p in ring]
+            faces.append(roof)
+            for a, b in zip(ring, np.roll(ring, -1, axis=0)):
+                faces.append([(a[1], a[0], 0.0), (b[1], b[0], 0.0), (b[1], b[0], height), (a[1], a[0], height)])
+    if faces:
+        ax.add_collection3d(Poly3DCollection(faces, facecolor=(0.6, 0.6, 0.6, 0.25), edgecolor=(0.3, 0.3, 0.3, 0.3),
+                                             linewidth=0.3))
+        ax.plot([], [], "s", color=(0.6, 0.6, 0.6), label=f"buildings within {NEAR_ROUTE_M:.0f} m of the route")
+
+
+def draw_map(folder, t, plan, city, title):
     from matplotlib.patches import Polygon  # noqa: E402
-    fig, ax = plt.subplots(figsize=(9, 9))
+    fig, ax = plt.subplots(figsize=(11, 9), layout="constrained")
     top = max([b["height_m"] for b in city["buildings"]] + [1.0])
     for building in city["buildings"]:
         shade = 0.9 - 0.6 * building["height_m"] / top
@@ -231,7 +335,7 @@ def draw_map(folder, t, plan, summary, title):
     ax.set_aspect("equal")
     ax.set_xlabel("east (m)")
     ax.set_ylabel("north (m)")
-    ax.legend(fontsize=8, loc="best")
+    legend_outside(ax)
     ax.set_title(title)
     save(fig, folder, "map.png")
 

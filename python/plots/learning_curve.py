@@ -22,14 +22,15 @@ def main(source, target):
     mean = curve["mean_return"]
     returns = curve["return"]
     visited = curve["states_visited"]
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
+    fig, axes = plt.subplots(1, 3, figsize=(17, 4.8), layout="constrained")
     ax = axes[0]
     ax.plot(episode, returns, ".", markersize=1.5, color="#bbbbbb", label="episode return")
     ax.plot(episode, mean, color="#1565c0", linewidth=1.5, label="average sum of rewards")
     ax.set_xlabel("episode")
     ax.set_ylabel("sum of rewards")
     ax.set_title("(a) average sum of rewards")
-    ax.legend(loc="lower right")
+    # Beside the axes, not over the returns (issue 25).
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8)
     ax = axes[1]
     start = len(episode) // 10
     ax.plot(episode[start:], mean[start:], color="#1565c0", linewidth=1.5)
@@ -42,7 +43,6 @@ def main(source, target):
     ax.set_ylabel("states visited")
     ax.set_title("learning states visited")
     fig.suptitle(curve.get("title", "Q-learning (Fig. 5.14)"))
-    fig.tight_layout()
     fig.savefig(target, dpi=110)
 
 

@@ -5,7 +5,8 @@
 * :func:`read_telemetry` — a flight record folder (``uascma simulate --out``, ``Flight.write``): one row per
   telemetry sample, the CMA state, action and IMM mode as names, missing values as NaN.
 
-The database schema is documented in docs/results-database.md.
+The database schema is documented in docs/results-database.md. This module imports pandas; ``import uascma``
+does not (the readers are loaded on first use).
 """
 import io
 import json
@@ -15,9 +16,7 @@ import sqlite3
 import numpy as np
 import pandas as pd
 
-# Index → name of the CMA actions (decision/cma_mdp.h, CmaAction) and of the IMM modes (telemetry.csv).
-ACTION_NAMES = ("NoOp", "Terminate", "LandASAP", "LandPract")
-IMM_MODE_NAMES = ("nominal",) + tuple(f"rotor{i}_out" for i in range(1, 7))
+from ._names import ACTION_NAMES, IMM_MODE_NAMES  # noqa: F401
 
 # Columns of the runs table holding JSON text, parsed by read_campaign.
 _CELLS = tuple(f"p{pack}c{cell}" for pack in (1, 2) for cell in (1, 2, 3))
@@ -31,6 +30,8 @@ def read_campaign(db):
       * ``initial_cell_voltage_v`` (a JSON list in the database) split into ``initial_cell_voltage_p1c1_v`` …
         ``initial_cell_voltage_p2c3_v`` (V, pack 1 cells 1-3, pack 2 cells 1-3);
       * ``actions`` (JSON in the database) as a list of ``(time_s, action name)`` tuples per row;
+      * ``substitutions`` (JSON in the database) as a list of ``"Chosen->Taken"`` strings per row (decision 28:
+        an action unavailable at run time and the one executed instead);
       * ``first_emergency_action`` None when there was none (the database's ""),
       * ``fault`` and ``failure`` as booleans, ``run_seed`` as the unsigned 64-bit seed, optional times
         (``fault_onset_s``, ``jam_time_s``, ``isolation_time_s``, ``first_emergency_action_s``) NaN when absent;
@@ -45,6 +46,11 @@ def read_campaign(db):
     path = os.fspath(db)
     if not os.path.isfile(path):
         raise InputError(f"{path}: db: an existing campaign database (SQLite), but the file is missing")
+    # The store check of every uascma reader (campaign/store.h: CheckStore): a damaged or edited database
+    # (text in a numeric column, JSON that is not, text that is not UTF-8, a deleted policies row) is an
+    # InputError naming what is wrong, never a JSONDecodeError, ValueError or UnicodeDecodeError below.
+    from ._uascma import check_store
+    check_store(path)
     connection = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
     try:
         try:
@@ -69,6 +75,8 @@ def read_campaign(db):
     for k, cell in enumerate(_CELLS):
         frame.insert(position + k, f"initial_cell_voltage_{cell}_v", voltages[:, k])
     frame["actions"] = [[(float(t), str(a)) for t, a in json.loads(text)] for text in frame["actions"]]
+    if "substitutions" in frame.columns:  # decision 28: the distinct "Chosen->Taken" pairs of a flight
+        frame["substitutions"] = [[str(pair) for pair in json.loads(text)] for text in frame["substitutions"]]
     for column in _BOOLEAN_COLUMNS:
         frame[column] = frame[column].astype(bool)
     frame["run_seed"] = frame["run_seed"].astype(np.int64).astype(np.uint64)

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -28,36 +29,21 @@ using models::PackAction;
 
 constexpr std::array<PackAction, 3> kActions = {PackAction::kUseBatt1, PackAction::kUseBatt2, PackAction::kUseBoth};
 // Sub-streams of one draw (common/random.h DeriveSeed).
-enum DrawStream : std::uint64_t { kParameterStream = 1, kVehicleStream = 2 };
+enum DrawStream : std::uint64_t { kParameterStream = 1, kVehicleStream = 2, kDropStream = 3 };
 
-// Case studies 3 and 4 (Table 4.5, "flight time = EOD_BothBatt"): the plan lasts this fraction of the
-// reference EOD of two healthy packs. The dissertation's own case 3 completes with (F1,F2) and fails
-// with (F1,F3) late in the flight (Fig. 4.9, ~810 s), so its flight time sits just below what two packs
-// deliver; ours: 0.85, measured to reproduce those behaviours with our pack model. Case 4's (F2,F1) pack pair of
-// Fig. 4.11 (one capacity-faded cell in pack 1) cannot fly this long in our model whatever the switching: with
-// UseBoth its faded cell reaches 3.3 V at 740 s of 798 (one faded cell in series keeps its branch's OCV, and so
-// its share of the current, up until it collapses; three faded cells shift the load earlier and last to 775 s);
-// (F1,F3) fails at 763 s. The dissertation's case 4 completes where its (F1,F3) fails (README, "Where we differ").
-constexpr double kBothPackFlightFraction = 0.85;
 
 double Draw(RandomStream& random, const double (&range)[2]) { return random.Uniform(range[0], range[1]); }
 
-// Every cell of each pack as models::CellHealthForClass says (F2: power fade, F3: both, in all three cells).
-models::PerCell<models::CellHealth> CellHealthOf(const models::PerBranch<HealthClass>& health) {
-  models::PerCell<models::CellHealth> cells{};
-  for (int j = 0; j < models::kBranchCount; ++j) {
-    for (auto& cell : cells[j]) cell = models::CellHealthForClass(health[j]);
+// Usable charge left in a pack (A·h): its cells are in series, so the pack stops at its emptiest cell.
+double PackChargeLeftAh(const models::BatteryPack& pack, const models::PackState& state, int branch) {
+  double charge_as = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < models::kCellsPerBranch; ++c) {
+    charge_as = std::min(charge_as, std::max(0.0, state.cells[branch][c].soc_fraction) *
+                                        pack.cell(branch, c).capacity_as());
   }
-  return cells;
+  return charge_as / 3600.0;
 }
 
-// The executor's view of a flight at an epoch: the pack, the present (low-passed) load, the time left on the
-// executing plan and t_sf (the scenario's safety margin).
-decision::BatteryObservation ObserveFlight(const sim::FlightModel& model, const sim::FlightState& state) {
-  const double remaining_s = state.plan(model).TimeRemaining(state.time_s - state.plan_start_s);
-  return decision::ObserveBattery(model.pack(), state.pack, state.load_current_a, remaining_s,
-                                  model.options().safety_margin_s);
-}
 
 double HoverCurrent(const models::BatteryPack& pack, const models::PackState& state) {
   const sim::Scenario defaults;
@@ -70,6 +56,12 @@ double HoverCurrent(const models::BatteryPack& pack, const models::PackState& st
 }
 
 }  // namespace
+
+decision::BatteryObservation ObserveBatteryFlight(const sim::FlightModel& model, const sim::FlightState& state) {
+  const double remaining_s = state.plan(model).TimeRemaining(state.time_s - state.plan_start_s);
+  return decision::ObserveBattery(model.pack(), state.pack, state.load_current_a, remaining_s,
+                                  model.options().safety_margin_s);
+}
 
 // ================================ parameters ======================================================
 BatteryContext BatteryFlightParams::context() const {
@@ -120,6 +112,11 @@ double ReferenceBatteryEod(PackAction switches) {
   return eods[static_cast<std::size_t>(switches)];
 }
 
+double OursBatteryDiscount(const BatteryFlightRanges& ranges) {
+  const double longest_plan_s = ranges.plan_fraction[1] * ReferenceBatteryEod();
+  return std::pow(0.5, 1.0 / longest_plan_s);  // one epoch = 1 s (decisions item 24)
+}
+
 sim::Scenario MakeBatteryScenario(const BatteryFlightParams& params) {
   sim::Scenario scenario;
   scenario.name = "battery-flight";
@@ -152,12 +149,17 @@ namespace {
 // The 1 Hz executor of sim/flight.h: abstracts the pack, records, asks the controller, returns the switches.
 class RecordingExecutor final : public sim::BatterySwitchPolicy {
  public:
-  RecordingExecutor(const BatterySwitchController& controller, const decision::BatteryThresholds& thresholds,
-                    BatteryFlightResult& result)
-      : controller_(controller), thresholds_(thresholds), result_(result) {}
+  RecordingExecutor(const BatterySwitchController& controller, bool observe_pair_eod,
+                    const decision::BatteryThresholds& thresholds, BatteryFlightResult& result)
+      : controller_(controller), observe_pair_eod_(observe_pair_eod), thresholds_(thresholds), result_(result) {}
 
   PackAction Decide(const sim::FlightModel& model, const sim::FlightState& state) override {
-    const decision::BatteryObservation observation = ObserveFlight(model, state);
+    decision::BatteryObservation observation = ObserveBatteryFlight(model, state);
+    if (observe_pair_eod_) {
+      const prognostics::EodResult pair = prognostics::CalcPackEod(model.pack(), state.pack, state.load_current_a);
+      observation.pair_eod_s = pair.eod_s;
+      observation.pair_limiting_branch = pair.limiting_branch;
+    }
     const double remaining_s = observation.remaining_flight_s;
     const StateIndex s = decision::AbstractBatteryState(observation, thresholds_);
     const PackAction action = controller_(state.time_s, observation, s);
@@ -182,6 +184,7 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
 
  private:
   const BatterySwitchController& controller_;
+  bool observe_pair_eod_;
   decision::BatteryThresholds thresholds_;
   BatteryFlightResult& result_;
 };
@@ -192,6 +195,12 @@ BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, PackActi
                                      const BatterySwitchController& controller,
                                      const decision::BatteryThresholds& thresholds) {
   const std::array<BatteryFlightController, 1> one = {{{initial_switches, controller}}};
+  return std::move(FlyBatteryFlights(params, one, thresholds).front());
+}
+
+BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, const BatteryFlightController& flight,
+                                     const decision::BatteryThresholds& thresholds) {
+  const std::array<BatteryFlightController, 1> one = {flight};
   return std::move(FlyBatteryFlights(params, one, thresholds).front());
 }
 
@@ -207,7 +216,7 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
   executors.reserve(n);
   for (std::size_t k = 0; k < n; ++k) {
     sim::SwitchPacks(states[k], flights[k].initial_switches);
-    executors.emplace_back(flights[k].controller, thresholds, results[k]);
+    executors.emplace_back(flights[k].controller, flights[k].observe_pair_eod, thresholds, results[k]);
   }
   // The flights fly one vehicle while their packs cap the rotors alike (sim::StepFollowing); one that leaves the
   // group flies on alone. Fig. 4.3's loop: the battery executor at 1 Hz, the GNC steps between; no CMA (its
@@ -215,8 +224,9 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
   std::vector<bool> alone(n, false);
   std::vector<sim::FlightState*> followers;
   std::vector<std::size_t> follower_index;
-  std::array<bool, kActions.size()> stepped{};
-  UASCMA_CHECK(n <= stepped.size(), "at most one flight per pack action fly together");
+  // Any number of flights fly together (learning: a draw's three actions; evaluation: every policy of a run).
+  const std::unique_ptr<bool[]> stepped_flags(new bool[std::max<std::size_t>(n, 1)]());
+  bool* stepped = stepped_flags.get();
   std::int64_t shared_steps = 0, alone_steps = 0;
   auto first_flying = [&states]() -> const sim::FlightState* {
     for (const sim::FlightState& state : states) {
@@ -245,7 +255,7 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
         }
       }
       if (lead != n && !followers.empty()) {
-        sim::StepFollowing(model, states[lead], followers, std::span<bool>(stepped.data(), followers.size()));
+        sim::StepFollowing(model, states[lead], followers, std::span<bool>(stepped, followers.size()));
         for (std::size_t j = 0; j < followers.size(); ++j) {
           if (stepped[j]) ++shared_steps;
           else alone[follower_index[j]] = true;  // its pack caps a rotor differently: on its own from this step
@@ -263,6 +273,8 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
   for (std::size_t k = 0; k < n; ++k) {
     results[k].outcome = states[k].outcome;
     results[k].end_time_s = states[k].time_s;
+    results[k].energy_used_wh = states[k].energy_wh;
+    for (int j = 0; j < models::kBranchCount; ++j) results[k].charge_left_ah[j] = PackChargeLeftAh(model.pack(), states[k].pack, j);
     // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.
     if (states[k].outcome == sim::Outcome::kFailedBattery) results[k].states.push_back(decision::kBatteryFailureState);
   }
@@ -278,7 +290,7 @@ BatteryPolicySwitch::BatteryPolicySwitch(const decision::BatteryPolicySet& polic
     : executor_(policies, decision::BatteryContextOf(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)) {}
 
 PackAction BatteryPolicySwitch::Decide(const sim::FlightModel& model, const sim::FlightState& state) {
-  return executor_.Decide(ObserveFlight(model, state));
+  return executor_.Decide(ObserveBatteryFlight(model, state));
 }
 
 std::unique_ptr<sim::BatterySwitchPolicy> LoadBatterySwitchPolicy(const std::filesystem::path& policy_file,
@@ -291,7 +303,8 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
   if (options.runs < 1) throw InputError("--runs", "value", fmt::format("at least 1 flight, got {}", options.runs));
   if (options.jobs < 1) throw InputError("--jobs", "value", fmt::format("at least 1 thread, got {}", options.jobs));
   const auto start = std::chrono::steady_clock::now();
-  const std::int64_t draws = (options.runs + 2) / 3;
+  const std::int64_t per_draw = options.drop_flights ? 4 : 3;
+  const std::int64_t draws = (options.runs + per_draw - 1) / per_draw;
   std::atomic<std::int64_t> next_draw{0};
   std::atomic<std::int64_t> done{0}, failures{0};
   std::mutex merge_mutex;
@@ -307,13 +320,29 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
       // The draw's actions flown together (FlyBatteryFlights: one vehicle while the packs cap the rotors alike).
       flights.clear();
       for (PackAction action : kActions) {
-        if (3 * d + static_cast<std::int64_t>(action) >= options.runs) break;
+        if (per_draw * d + static_cast<std::int64_t>(action) >= options.runs) break;
         flights.push_back(
             {action, [action](double, const decision::BatteryObservation&, StateIndex) { return action; }});
       }
+      if (options.drop_flights && per_draw * d + 3 < options.runs) {
+        RandomStream drop_random(DeriveSeed(DeriveSeed(options.seed, static_cast<std::uint64_t>(d)), kDropStream));
+        const PackAction alone = drop_random.Bernoulli(0.5) ? PackAction::kUseBatt2 : PackAction::kUseBatt1;
+        const double drop_s = drop_random.Uniform(0.0, params.plan_duration_s);
+        flights.push_back({PackAction::kUseBoth, [alone, drop_s](double time_s, const decision::BatteryObservation&,
+                                                                 StateIndex) {
+                             return time_s >= drop_s ? alone : PackAction::kUseBoth;
+                           }});
+      }
       const std::vector<BatteryFlightResult> results = FlyBatteryFlights(params, flights, {}, &local_sharing);
       for (std::size_t k = 0; k < results.size(); ++k) {
-        local.AddFlight(params.context(), flights[k].initial_switches, results[k].states);
+        const bool completed = results[k].outcome == sim::Outcome::kCompleted;
+        if (k == 3) {
+          std::vector<PackAction> actions;
+          for (const BatteryEpoch& e : results[k].epochs) actions.push_back(e.action);
+          local.AddSwitchingFlight(params.context(), results[k].states, actions, completed);
+        } else {
+          local.AddFlight(params.context(), flights[k].initial_switches, results[k].states, completed);
+        }
         if (results[k].outcome == sim::Outcome::kFailedBattery) ++local_failures;
         const std::int64_t count = ++done;
         if (options.on_flight_done) options.on_flight_done(count);
@@ -349,6 +378,10 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
         {"plan_fraction_of_reference_eod", {r.plan_fraction[0], r.plan_fraction[1]}},
         {"cold_probability", r.cold_probability}}},
   };
+  if (options.drop_flights) {
+    model.provenance["drop_flights"] =
+        "every draw also flies UseBoth then one pack alone for good from a uniform time (ours, issue 24)";
+  }
   if (summary) {
     summary->flights = options.runs;
     summary->parameter_draws = draws;
@@ -401,110 +434,6 @@ BatteryTransitionCounts WithoutEnergyDynamics(const BatteryTransitionCounts& cou
     }
   }
   return out;
-}
-
-// ================================ case studies (Table 4.5) =========================================
-namespace {
-
-BatteryFlightParams CaseParams(HealthClass b1, HealthClass b2, double plan_duration_s) {
-  // One representative package drop (§4.3.3, Fig. 4.6), the same for every scenario: Table 4.4's middle
-  // values, warm (T_H), cells at 4.1 V (ours).
-  BatteryFlightParams p;
-  p.seed = 1;
-  p.safety_margin_s = 7.5;
-  p.initial_cell_voltage_v = {{{4.1, 4.1, 4.1}, {4.1, 4.1, 4.1}}};
-  p.cruise_speed_mps = 5.0;
-  p.wind_speed_mps = 2.0;
-  p.wind_direction_rad = 1.0;
-  p.turbulence = models::TurbulenceCategory::kLowLight;
-  p.health = {b1, b2};
-  p.cells = CellHealthOf(p.health);
-  p.ambient_temp_degf = 77.0;
-  p.plan_duration_s = plan_duration_s;
-  return p;
-}
-
-std::string PairName(HealthClass b1, HealthClass b2) {
-  return fmt::format("({},{})", decision::BatteryHealthName(b1), decision::BatteryHealthName(b2));
-}
-
-}  // namespace
-
-std::vector<CaseScenario> RunCaseStudy(int number, const decision::BatteryPolicySet* policies) {
-  if (number < 1 || number > 4) throw InputError("case-study", "N", fmt::format("1, 2, 3 or 4 (Table 4.5), got {}", number));
-  const bool uses_policy = number == 2 || number == 4;
-  if (uses_policy && policies == nullptr) throw InputError("case-study", "--policy", "a battery policy file for pi*");
-  std::vector<std::pair<HealthClass, HealthClass>> pairs;
-  double plan_duration_s = 0.0;
-  if (number <= 2) {
-    // "battery pack EOD time is twice the flight time": the plan lasts one healthy pack's EOD.
-    plan_duration_s = ReferenceBatteryEod(PackAction::kUseBatt1);
-    for (int b1 = 0; b1 < 3; ++b1) {
-      for (int b2 = 0; b2 < 3; ++b2) pairs.emplace_back(static_cast<HealthClass>(b1), static_cast<HealthClass>(b2));
-    }
-  } else {
-    plan_duration_s = kBothPackFlightFraction * ReferenceBatteryEod(PackAction::kUseBoth);
-    if (number == 3) {
-      pairs = {{HealthClass::kG, HealthClass::kM}, {HealthClass::kG, HealthClass::kP}, {HealthClass::kP, HealthClass::kP}};
-    } else {
-      pairs = {{HealthClass::kM, HealthClass::kG}};
-    }
-  }
-  // Case 4 also flies its pair with UseBoth: §4.3.3, "a similar scenario can be set up with a single action of
-  // UseBoth" — the fixed rule on the same flight, beside π*.
-  std::vector<bool> with_policy(pairs.size(), uses_policy);
-  if (number == 4) {
-    pairs.push_back(pairs.front());
-    with_policy.push_back(false);
-  }
-  std::vector<CaseScenario> scenarios;
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const auto [b1, b2] = pairs[k];
-    CaseScenario scenario;
-    scenario.name = PairName(b1, b2);
-    scenario.params = CaseParams(b1, b2, plan_duration_s);
-    if (number == 4) {
-      // Fig. 4.11's caption: "Batt1 has one cell with capacity fade and Batt2 is healthy" (an F2 pack of
-      // Table 4.2); the other cases' packs are as their captions say, every cell faded (Figs. 4.9, 4.10).
-      scenario.params.cells[0] = {};
-      scenario.params.cells[0][0].capacity_fade = true;
-    }
-    scenario.controller = with_policy[k] ? "pi*" : "UseBoth";
-    if (with_policy[k]) {
-      const decision::BatteryPolicyExecutor executor(*policies, scenario.params.context());
-      scenario.result = FlyBatteryFlight(scenario.params, PackAction::kUseBoth,
-                                         [&executor](double, const decision::BatteryObservation&, StateIndex s) {
-                                           return executor.Decide(s);
-                                         });
-    } else {
-      scenario.result = FlyBatteryFlight(
-          scenario.params, PackAction::kUseBoth,
-          [](double, const decision::BatteryObservation&, StateIndex) { return PackAction::kUseBoth; });
-    }
-    scenarios.push_back(std::move(scenario));
-  }
-  return scenarios;
-}
-
-nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenarios) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const CaseScenario& scenario : scenarios) {
-    nlohmann::json switches = nlohmann::json::array();
-    for (const auto& [time_s, action] : scenario.result.switches) {
-      switches.push_back({{"time_s", time_s}, {"action", models::PackActionName(action)}});
-    }
-    const decision::BatteryContext context = scenario.params.context();
-    out.push_back({{"name", scenario.name},
-                   {"b1", decision::BatteryHealthName(context.b1)},
-                   {"b2", decision::BatteryHealthName(context.b2)},
-                   {"temperature", decision::TemperatureClassName(context.temperature)},
-                   {"controller", scenario.controller},
-                   {"plan_duration_s", scenario.params.plan_duration_s},
-                   {"outcome", sim::OutcomeName(scenario.result.outcome)},
-                   {"end_time_s", scenario.result.end_time_s},
-                   {"switches", switches}});
-  }
-  return {{"case", number}, {"scenarios", out}};
 }
 
 }  // namespace uascma::campaign

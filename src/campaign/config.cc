@@ -8,6 +8,7 @@
 #include "uascma/common/files.h"
 #include "uascma/common/hash.h"
 #include "uascma/common/yaml_io.h"
+#include "uascma/planning/map_import.h"
 
 namespace uascma::campaign {
 namespace {
@@ -213,6 +214,10 @@ bool CampaignConfig::IsValid(std::string* error) const {
     if (!(map.metres_per_level > 0.0 && map.metres_per_level <= 20.0)) {
       return fail(fmt::format("map.metres_per_level: expected a storey height in (0, 20] m, got {}", map.metres_per_level));
     }
+    if (map.default_height_m &&
+        !CheckWithin(*map.default_height_m, planning::kDefaultHeightBounds, "map.default_height_m", error)) {
+      return false;
+    }
   }
   if (policies.empty()) return fail("policies: expected at least one policy");
   for (const auto& policy : policies) {
@@ -280,27 +285,32 @@ void ReadImportedMap(const YAML::Node& map, const std::string& source, MapSampli
   m.height_from_levels = OptionalBool(map, "height_from_levels", m.height_from_levels, source, "map");
   m.metres_per_level = OptionalNumber(map, "metres_per_level", m.metres_per_level, source, "map");
   m.skip_missing_height = OptionalBool(map, "skip_missing_height", m.skip_missing_height, source, "map");
-  if (!m.imported() && (!m.sites.empty() || m.origin_deg)) {
-    throw InputError(source, "map.buildings", "building files: sites and origin belong to an imported map");
+  m.height_from_type = OptionalBool(map, "height_from_type", m.height_from_type, source, "map");
+  if (map["default_height_m"]) {
+    m.default_height_m = OptionalNumber(map, "default_height_m", 0.0, source, "map");
+    RequireWithin(*m.default_height_m, planning::kDefaultHeightBounds, source, "map.default_height_m");
+  }
+  if (map["sites_from_map"]) m.sites_from_map = OptionalBool(map, "sites_from_map", false, source, "map");
+  if (!m.imported() && (!m.sites.empty() || m.origin_deg || m.height_from_type || m.default_height_m ||
+                        m.sites_from_map)) {
+    throw InputError(source, "map.buildings",
+                     "building files: sites, origin, height_from_type, default_height_m and sites_from_map belong to "
+                     "an imported map");
   }
 }
 
 CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
-  }
+  const YAML::Node root = ParseYamlText(yaml_text, source);  // duplicate keys and non-UTF-8 text refused
   CampaignConfig config;
   if (root.IsNull()) return config;  // an empty file: every default
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
   RequireOnlyKeys(root, {"name", "seed", "runs", "policies", "map", "mission", "safety_margin_s", "battery", "wind",
-                         "fault"},
+                         "fault", "options"},
                   source, "");
   if (const YAML::Node map = root["map"]) {
     RequireOnlyKeys(map, {"procedural_seed", "blocks_north", "blocks_east", "buildings", "sites", "origin",
-                          "height_from_levels", "metres_per_level", "skip_missing_height"},
+                          "height_from_levels", "metres_per_level", "skip_missing_height", "height_from_type",
+                          "default_height_m", "sites_from_map"},
                     source, "map");
     ReadImportedMap(map, source, config.map);
     config.map.blocks_north =
@@ -318,6 +328,15 @@ CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::stri
   ReadBattery(root, source, config.battery);
   ReadWind(root, source, config.wind);
   ReadFault(root, source, config.fault);
+  if (const YAML::Node options = root["options"]) {
+    RequireOnlyKeys(options, {"eod_load", "cap_speed_after_isolation"}, source, "options");
+    if (options["eod_load"]) {
+      config.options.eod_load =
+          sim::ParseEodLoad(RequireString(options, "eod_load", source, "options"), source, "options.eod_load");
+    }
+    config.options.cap_speed_after_isolation = OptionalBool(
+        options, "cap_speed_after_isolation", config.options.cap_speed_after_isolation, source, "options");
+  }
   std::string error;
   if (!config.IsValid(&error)) {
     const auto colon = error.find(": ");
@@ -365,6 +384,9 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
     out += fmt::format("  height_from_levels: {}\n", c.map.height_from_levels);
     out += "  metres_per_level: " + Number(c.map.metres_per_level) + "\n";
     out += fmt::format("  skip_missing_height: {}\n", c.map.skip_missing_height);
+    if (c.map.height_from_type) out += "  height_from_type: true\n";
+    if (c.map.default_height_m) out += "  default_height_m: " + Number(*c.map.default_height_m) + "\n";
+    if (c.map.sites_from_map) out += fmt::format("  sites_from_map: {}\n", *c.map.sites_from_map);
   }
   out += "mission:\n";
   out += "  endurance_fraction: " + RangeYaml(c.mission.endurance_fraction) + "\n";
@@ -399,6 +421,9 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
   out += "]\n";
   out += "  time_per_growth_step_s: " +
          (c.fault.time_per_growth_step_s ? Number(*c.fault.time_per_growth_step_s) : std::string("null")) + "\n";
+  out += "options:\n";
+  out += fmt::format("  eod_load: {}\n", sim::EodLoadName(c.options.eod_load));
+  out += fmt::format("  cap_speed_after_isolation: {}\n", c.options.cap_speed_after_isolation);
   return out;
 }
 
@@ -421,6 +446,16 @@ std::string CampaignConfigHash(const CampaignConfig& c) {
     f.Add(c.map.height_from_levels ? 1 : 0);
     f.Add(c.map.metres_per_level);
     f.Add(c.map.skip_missing_height ? 1 : 0);
+    // Later keys, each only when it changes the import (config.h): older fingerprints stay as they were.
+    if (c.map.height_from_type) f.Add(std::string_view("height_from_type"));
+    if (c.map.default_height_m) {
+      f.Add(std::string_view("default_height_m"));
+      f.Add(*c.map.default_height_m);
+    }
+    if (c.map.DerivesSites() != c.map.sites.empty()) {
+      f.Add(std::string_view("sites_from_map"));
+      f.Add(c.map.DerivesSites() ? 1 : 0);
+    }
   }
   f.Add(std::string_view("mission/2"));  // the endurance-tied plan of decisions item 19
   add_range(c.mission.endurance_fraction);
@@ -449,6 +484,9 @@ std::string CampaignConfigHash(const CampaignConfig& c) {
   f.Add(static_cast<std::uint64_t>(c.fault.motors.size()));
   for (int motor : c.fault.motors) f.Add(motor);
   f.Add(c.fault.time_per_growth_step_s ? *c.fault.time_per_growth_step_s : -1.0);
+  f.Add(std::string_view("options/1"));  // decision 25's load and §4.4.2's speed cap
+  f.Add(std::string_view(sim::EodLoadName(c.options.eod_load)));
+  f.Add(c.options.cap_speed_after_isolation ? 1 : 0);
   return f.Hex();
 }
 

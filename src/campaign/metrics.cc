@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <limits>
 #include <numeric>
@@ -85,8 +86,11 @@ RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int sl
       break;
     }
   }
+  r.substitution_epochs = result.substitution_epochs;
+  r.substitutions = nlohmann::json(result.substitutions).dump();
   r.jam_time_s = result.jam_time_s;
   r.isolation_time_s = result.isolation_time_s;
+  if (std::isfinite(result.speed_cap_mps)) r.speed_cap_mps = result.speed_cap_mps;
   r.min_cell_voltage_v = result.min_cell_voltage_v;
   r.energy_wh = result.energy_wh;
   r.max_tracking_error_m = result.max_tracking_error;

@@ -26,6 +26,17 @@ CampaignReport MakeCampaignReport(const ResultsStore& store) {
   return report;
 }
 
+namespace {
+
+// The load the campaign's EOD was propagated at (decision 25): its configuration's options.eod_load; a configuration
+// stored before the key existed was flown at the present current (decision 14).
+std::string EodLoadOf(const CampaignHeader& header) {
+  if (header.config_yaml.find("\noptions:") == std::string::npos) return sim::EodLoadName(sim::EodLoad::kPresent);
+  return sim::EodLoadName(ParseCampaignConfig(header.config_yaml, "the stored configuration").options.eod_load);
+}
+
+}  // namespace
+
 nlohmann::json CampaignReportJson(const CampaignReport& report) {
   nlohmann::json json = StatisticsToJson(report.groups, report.comparisons);
   const CampaignHeader& h = report.header;
@@ -42,6 +53,7 @@ nlohmann::json CampaignReportJson(const CampaignReport& report) {
                       {"runs_requested", h.runs_requested},
                       {"flights", report.flights},
                       {"complete_runs", report.complete_runs},
+                      {"eod_load", EodLoadOf(h)},
                       {"policies", policies}};
   return json;
 }
@@ -52,8 +64,12 @@ std::string CampaignReportText(const CampaignReport& report) {
   for (const CampaignPolicy& p : h.policies) policies += (policies.empty() ? "" : ", ") + p.name;
   std::string out = fmt::format("Campaign '{}' (seed {}, hash {}, uascma {}, created {})\n", h.name, h.seed,
                                 h.campaign_hash, h.code_version, h.created_utc);
-  out += fmt::format("{} flights stored; {} of {} runs flown by every policy ({})\n\n", report.flights,
+  out += fmt::format("{} flights stored; {} of {} runs flown by every policy ({})\n", report.flights,
                      report.complete_runs, h.runs_requested, policies);
+  const std::string load = EodLoadOf(h);
+  out += fmt::format("EOD load: {} ({})\n\n", load,
+                     load == "forecast" ? "the expected current of the rest of the executing plan, decision 25"
+                                        : "the present pack current, low-passed, decision 14");
   out += StatisticsTable(report.groups, report.comparisons);
   return out;
 }

@@ -71,7 +71,7 @@ class ClaimedTasks {
       : store_(store), store_mutex_(store_mutex), candidates_(std::move(candidates)), held_(std::move(held)) {}
 
   std::optional<FlightTask> Next(const std::atomic<bool>& stop, const std::function<void()>& request_flush) {
-    while (!stop.load()) {
+    while (!stop.load() && !StopRequested()) {
       {
         const std::lock_guard lock(store_mutex_);
         if (cursor_ < candidates_.size()) {
@@ -144,7 +144,9 @@ void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<Campaign
 
   auto work = [&] {
     try {
-      while (!stop.load()) {
+      // StopRequested (common/progress.h: Ctrl-C in the CLI or Python): no new run is started, the finished
+      // ones are handed to the sink as usual, and the caller reports the stop.
+      while (!stop.load() && !StopRequested()) {
         const std::optional<FlightTask> next = next_task(stop, request_flush);
         if (!next) break;
         const FlightTask& task = *next;
@@ -344,6 +346,13 @@ CampaignPlan OpenStoreAndPlan(const CampaignRequest& request, const CampaignHead
   CampaignPlan plan;
   std::string failure;
   try {
+    // Errors of the inputs before the store exists (issue 26 item 7): the map and its sites load and the first
+    // runs' routes fit (sampler.h step 7), so such a campaign exits 2 leaving no database to block the corrected
+    // run. The first runs stand for all: a map too small or a sites file missing fails every run.
+    constexpr std::int64_t kPreflightRuns = 4;  // our choice: a few milliseconds of sampling
+    for (std::int64_t run = 0; run < std::min(request.config.runs, kPreflightRuns); ++run) {
+      (void)SampleRun(request.config, request.config.seed, run);
+    }
     plan.store.emplace(OpenCampaignStore(request, header));
     plan.store->RecordRunsRequested(request.config.runs);
     const std::vector<FlightTask> missing =

@@ -11,6 +11,7 @@
 #include "uascma/planning/procedural_city.h"
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -19,6 +20,7 @@
 #include "uascma/common/frames.h"
 #include "uascma/common/random.h"
 #include "uascma/models/drag.h"
+#include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 
@@ -130,29 +132,56 @@ std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index) {
 
 namespace {
 
-// An imported city (config.h, MapSampling::imported), read once per distinct setting.
-std::shared_ptr<const planning::CityMap> ImportedCampaignMap(const MapSampling& sampling) {
+// An imported city (config.h, MapSampling::imported) and its geodetic origin, read once per distinct setting.
+struct ImportedCity {
+  std::shared_ptr<const planning::CityMap> map;
+  planning::GeoPoint origin;
+};
+
+const ImportedCity& ImportedCampaignCity(const MapSampling& sampling) {
   static std::mutex mutex;
-  static std::map<std::string, std::shared_ptr<const planning::CityMap>> cache;
-  std::string key = fmt::format("{}|{}|{}|{}|", sampling.sites, sampling.height_from_levels, sampling.metres_per_level,
-                                sampling.skip_missing_height);
+  static std::map<std::string, ImportedCity> cache;
+  std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|", sampling.sites, sampling.height_from_levels,
+                                sampling.metres_per_level, sampling.skip_missing_height, sampling.height_from_type,
+                                sampling.default_height_m.value_or(0.0), sampling.DerivesSites());
   if (sampling.origin_deg) key += fmt::format("{}|{}|", (*sampling.origin_deg)[0], (*sampling.origin_deg)[1]);
   for (const std::string& file : sampling.buildings) key += file + "|";
   std::lock_guard lock(mutex);
-  auto& map = cache[key];
-  if (!map) {
+  ImportedCity& city = cache[key];
+  if (!city.map) {
     planning::MapImportOptions options;
     options.height_from_levels = sampling.height_from_levels;
     options.metres_per_level = sampling.metres_per_level;
     options.skip_missing_height = sampling.skip_missing_height;
+    options.height_from_type = sampling.height_from_type;
+    options.default_height = sampling.default_height_m;
+    // Without a landing-site file (or with sites_from_map: true) the map supplies its own sites: flat roofs and
+    // open areas (map_import.h; §5.1; config.h).
+    options.sites_from_map = sampling.DerivesSites();
     if (sampling.origin_deg) options.origin = planning::GeoPoint{(*sampling.origin_deg)[0], (*sampling.origin_deg)[1]};
     const std::vector<std::filesystem::path> files(sampling.buildings.begin(), sampling.buildings.end());
-    map = std::make_shared<const planning::CityMap>(planning::ImportCityMap(files, sampling.sites, options).map);
+    planning::ImportedMap imported = planning::ImportCityMap(files, sampling.sites, options);
+    city.origin = imported.summary.origin;
+    city.map = std::make_shared<const planning::CityMap>(std::move(imported.map));
   }
-  return map;
+  return city;
+}
+
+std::shared_ptr<const planning::CityMap> ImportedCampaignMap(const MapSampling& sampling) {
+  return ImportedCampaignCity(sampling).map;
 }
 
 }  // namespace
+
+Eigen::AlignedBox2d BuildingsExtent(const planning::CityMap& map) {
+  Eigen::AlignedBox2d extent;
+  for (int k = 0; k < static_cast<int>(map.buildings().size()); ++k) extent.extend(map.building_box(k));
+  return extent;
+}
+
+Eigen::AlignedBox2d RouteArea(const planning::CityMap& map, const MapSampling& sampling) {
+  return sampling.imported() ? BuildingsExtent(map) : map.bounds();
+}
 
 std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling) {
   if (sampling.imported()) return ImportedCampaignMap(sampling);
@@ -258,11 +287,11 @@ void DrawWind(RandomStream& random, const WindSampling& wind, SampledRun& run) {
   run.scenario.wind.turbulence = wind.turbulence[random.UniformIndex(wind.turbulence.size())];
 }
 
-// Step 7, the home of one route attempt: uniform over the city until it is on open ground with `clearance` (m)
-// from every wall; the origin on an empty map.
-Eigen::Vector2d DrawHome(RandomStream& random, const planning::CityMap& map, double clearance) {
+// Step 7, the home of one route attempt: uniform over `bounds` (the city's area, RouteArea) until it is on open
+// ground with `clearance` (m) from every wall; the origin on an empty map.
+Eigen::Vector2d DrawHome(RandomStream& random, const planning::CityMap& map, const Eigen::AlignedBox2d& bounds,
+                         double clearance) {
   if (map.buildings().empty()) return Eigen::Vector2d::Zero();
-  const Eigen::AlignedBox2d bounds = map.bounds();
   Eigen::Vector2d home_NE;
   int home_attempts = 0;
   do {
@@ -317,7 +346,7 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
   sim::Scenario& scenario = run.scenario;
   const planning::CityMap& map = *scenario.map;
   const bool city = !map.buildings().empty();
-  const Eigen::AlignedBox2d bounds = map.bounds();
+  const Eigen::AlignedBox2d bounds = RouteArea(map, config.map);
   const double clearance = config.mission.wall_clearance_m;
   const bool endurance_tied = !config.mission.distance_m.has_value();
   const models::DragTable drag = models::DragTable::Default(scenario.configuration);
@@ -333,7 +362,7 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
                                    "in {} attempts, run {})",
                                    clearance, kMaxRouteAttempts, run.run_index));
     }
-    scenario.mission.home_NE = DrawHome(random, map, clearance);
+    scenario.mission.home_NE = DrawHome(random, map, bounds, clearance);
     run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
     const Eigen::Vector2d direction(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
     scenario.mission.cruise_altitude = config.mission.cruise_altitude_m;
@@ -391,7 +420,12 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
   scenario.name = fmt::format("{} run {}", config.name, run_index);
   scenario.seed = DeriveSeed(run.run_seed, kSimulatorStream);
   scenario.map = CampaignMap(config.map);
+  // Over an imported map the run has a geodetic frame (the map's origin): its plans export for QGroundControl,
+  // also when it is replayed from the results database.
+  if (config.map.imported()) scenario.geo_origin = ImportedCampaignCity(config.map).origin;
   scenario.mission.drop_hover_s = config.mission.drop_hover_s;
+  scenario.options.eod_load = config.options.eod_load;
+  scenario.options.cap_speed_after_isolation = config.options.cap_speed_after_isolation;
 
   // The draws in the header's fixed order (sampler.h): changing it changes every campaign.
   DrawMission(random, config, run);         // 1–2
@@ -400,6 +434,50 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
   DrawRoute(random, config, run);            // 7
   DrawFault(random, config.fault, run);      // 8
   return run;
+}
+
+SiteCoverage CalcSiteCoverage(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t runs) {
+  const planning::LandPractParams land_pract;  // the simulator's (sim/emergency_planner.cc builds it with defaults)
+  SiteCoverage coverage;
+  coverage.reach = land_pract.site_search_radius;
+  const std::shared_ptr<const planning::CityMap> map = CampaignMap(config.map);
+  coverage.sites = static_cast<int>(map->sites().size());
+  std::vector<int> near;
+  for (std::int64_t r = 0; r < runs; ++r) {
+    const SampledRun run = SampleRun(config, campaign_seed, r);
+    const planning::FlightPlan plan = planning::MakeDeliveryPlan(run.scenario.mission, run.scenario.limits);
+    const double length = plan.Length();
+    bool uncovered = false;
+    for (int k = 1; k <= land_pract.checkpoint_count; ++k) {
+      // LandPract's checkpoints (land_pract.cc): arc lengths k L / (N + 1).
+      const Eigen::Vector2d p_NE = plan.PointAtDistance(length * k / (land_pract.checkpoint_count + 1)).head<2>();
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const planning::LandingSite& site : map->sites()) nearest = std::min(nearest, (site.p_W.head<2>() - p_NE).norm());
+      coverage.largest_gap = std::max(coverage.largest_gap, nearest);
+      ++coverage.checkpoints;
+      if (!(nearest <= coverage.reach)) {
+        ++coverage.checkpoints_without_site;
+        uncovered = true;
+      }
+    }
+    ++coverage.runs;
+    coverage.runs_with_uncovered_checkpoint += uncovered ? 1 : 0;
+  }
+  return coverage;
+}
+
+std::string SiteCoverage::BriefReport() const {
+  std::string text = fmt::format(
+      "landing-site coverage: {} of {} checkpoints ({} runs, {} per plan) have no landing site within {:.0f} m "
+      "(LandPract's reach); {} of the runs have such a checkpoint; largest checkpoint-to-site distance {:.0f} m; "
+      "{} sites\n",
+      checkpoints_without_site, checkpoints, runs, runs > 0 ? checkpoints / runs : 0, reach,
+      runs_with_uncovered_checkpoint, largest_gap, sites);
+  if (!covered()) {
+    text += "  the sites do not cover the routes: give a sites file of the same district, or none (the map then "
+            "supplies its flat roofs and open areas)\n";
+  }
+  return text;
 }
 
 const char* PackConditionName(models::HealthClass health) {

@@ -8,14 +8,16 @@
 
 namespace uascma::campaign::sqlite {
 
+bool IsDiskFull(int code) {
+  const int primary = code & 0xff;
+  return primary == SQLITE_FULL || code == SQLITE_IOERR_WRITE || code == SQLITE_IOERR_FSYNC ||
+         code == SQLITE_IOERR_TRUNCATE || code == SQLITE_IOERR_SHMSIZE || code == SQLITE_IOERR_DIR_FSYNC;
+}
+
 std::string Describe(sqlite3* db, int code) {
   const int primary = code & 0xff;
   std::string message = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(code);
-  if (primary == SQLITE_FULL || (primary == SQLITE_IOERR && (code == SQLITE_IOERR_WRITE || code == SQLITE_IOERR_FSYNC ||
-                                                             code == SQLITE_IOERR_TRUNCATE))) {
-    return "free disk space: the disk or database is full (" + message +
-           "); every batch committed before is kept, continue with --resume";
-  }
+  if (IsDiskFull(code)) return "free disk space: the disk or database is full (" + message + ")";
   if (primary == SQLITE_NOTADB) return "an SQLite database written by 'uascma campaign' (" + message + ")";
   if (primary == SQLITE_BUSY || primary == SQLITE_LOCKED) {
     return "no other process writing this database (" + message + ")";
@@ -75,6 +77,7 @@ void Statement::Reset() {
 }
 
 bool Statement::IsNull(int column) const { return sqlite3_column_type(statement_, column) == SQLITE_NULL; }
+int Statement::ColumnType(int column) const { return sqlite3_column_type(statement_, column); }
 std::int64_t Statement::Integer(int column) const { return sqlite3_column_int64(statement_, column); }
 double Statement::Real(int column) const {
   if (IsNull(column)) return std::numeric_limits<double>::quiet_NaN();

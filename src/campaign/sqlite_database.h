@@ -11,6 +11,9 @@ namespace uascma::campaign::sqlite {
 
 // The error text of a failed call; a full disk gets a message that says so.
 std::string Describe(sqlite3* db, int code);
+// Whether an (extended) result code means the disk, or the database's page limit, is full: SQLITE_FULL, or an
+// I/O error writing, syncing or growing the file (a file-size limit, an ENOSPC seen as EIO).
+bool IsDiskFull(int code);
 
 class Statement {
  public:
@@ -33,6 +36,7 @@ class Statement {
 
   // Columns are 0-based.
   bool IsNull(int column) const;
+  int ColumnType(int column) const;  // SQLITE_INTEGER, SQLITE_FLOAT, SQLITE_TEXT, SQLITE_BLOB or SQLITE_NULL
   std::int64_t Integer(int column) const;
   double Real(int column) const;  // NULL → NaN
   std::string Text(int column) const;

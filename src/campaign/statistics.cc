@@ -52,7 +52,7 @@ std::string PValue(double p) { return p < 1e-4 ? fmt::format("{:.1e}", p) : fmt:
 
 // The outcome classes of statistics.h. A record's `failure` flag decides failure (the simulator's
 // sim::IsFailure); the name decides the rest, unknown names landing in "other".
-enum class OutcomeClass { kFailure, kCompleted, kEmergencyLanding, kTerminated, kGrounded, kOther };
+enum class OutcomeClass { kFailure, kCompleted, kEmergencyLanding, kTerminated, kGrounded, kLandedOffSite, kOther };
 
 OutcomeClass ClassOf(const RunRecord& r) {
   if (r.failure) return OutcomeClass::kFailure;
@@ -60,6 +60,7 @@ OutcomeClass ClassOf(const RunRecord& r) {
   if (r.outcome == "emergency_landing") return OutcomeClass::kEmergencyLanding;
   if (r.outcome == "terminated") return OutcomeClass::kTerminated;
   if (r.outcome == "grounded") return OutcomeClass::kGrounded;
+  if (r.outcome == "landed_off_site") return OutcomeClass::kLandedOffSite;
   return OutcomeClass::kOther;
 }
 
@@ -193,7 +194,19 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
           case OutcomeClass::kEmergencyLanding: ++g.emergency_landings; break;
           case OutcomeClass::kTerminated: ++g.terminations; break;
           case OutcomeClass::kGrounded: ++g.groundings; break;
+          case OutcomeClass::kLandedOffSite: ++g.off_site_landings; break;
           case OutcomeClass::kOther: ++g.others; break;
+        }
+        if (r.substitution_epochs > 0) {
+          ++g.flights_with_substitution;
+          g.substitution_epochs += r.substitution_epochs;
+          try {
+            for (const std::string& pair : nlohmann::json::parse(r.substitutions).get<std::vector<std::string>>()) {
+              ++g.substitutions[pair];
+            }
+          } catch (const nlohmann::json::exception&) {
+            throw InputError("results", "substitutions", "a JSON list of \"Chosen->Taken\" names, got '" + r.substitutions + "'");
+          }
         }
         average.push_back(r.average_reward);
         minimum.push_back(r.min_reward);
@@ -203,6 +216,7 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
       g.emergency_landing_rate = EstimateRate(g.emergency_landings, g.runs);
       g.termination_rate = EstimateRate(g.terminations, g.runs);
       g.grounded_rate = EstimateRate(g.groundings, g.runs);
+      g.off_site_rate = EstimateRate(g.off_site_landings, g.runs);
       g.other_rate = EstimateRate(g.others, g.runs);
       g.failure_wilson = WilsonInterval(g.failures, g.runs);
       g.failure_clopper_pearson = ClopperPearsonInterval(g.failures, g.runs);
@@ -303,6 +317,10 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
         {"emergency_landings", g.emergency_landings},
         {"terminations", g.terminations},
         {"groundings", g.groundings},
+        {"off_site_landings", g.off_site_landings},
+        {"flights_with_substitution", g.flights_with_substitution},
+        {"substitution_epochs", g.substitution_epochs},
+        {"substitutions", g.substitutions},
         {"other_outcomes", g.others},
         {"failure_rate", Number(g.failure_rate.value)},
         {"failure_rate_sem", Number(g.failure_rate.sem)},
@@ -325,6 +343,8 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
         {"termination_rate_sem", Number(g.termination_rate.sem)},
         {"grounded_rate", Number(g.grounded_rate.value)},
         {"grounded_rate_sem", Number(g.grounded_rate.sem)},
+        {"off_site_landing_rate", Number(g.off_site_rate.value)},
+        {"off_site_landing_rate_sem", Number(g.off_site_rate.sem)},
         {"other_outcome_rate", Number(g.other_rate.value)},
         {"other_outcome_rate_sem", Number(g.other_rate.sem)},
         {"average_reward", Number(g.average_reward.value)},
@@ -375,6 +395,27 @@ std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
                        Plain(g.average_reward), Plain(g.min_reward));
   }
   out += "Rates in % ± binomial SEM; rewards: per-flight mean and minimum of R(S,A) per 1 Hz epoch ± SEM.\n";
+  // Outcomes that are neither completions nor failures beyond the table's, and actions that could not be carried out.
+  std::string off_site, substituted;
+  for (const GroupStatistics& g : groups) {
+    if (g.off_site_landings > 0) {
+      off_site += fmt::format("  {} {}: {} of {} ({})\n", g.policy, g.battery_health, g.off_site_landings, g.runs,
+                              Percent(g.off_site_rate));
+    }
+    if (g.flights_with_substitution > 0) {
+      std::string pairs;
+      for (const auto& [pair, flights] : g.substitutions) pairs += fmt::format(" {} in {};", pair, flights);
+      substituted += fmt::format("  {} {}: {} of {} flights, {} epochs:{}\n", g.policy, g.battery_health,
+                                 g.flights_with_substitution, g.runs, g.substitution_epochs, pairs);
+    }
+  }
+  out += off_site.empty() ? "Landed off-site (a gentle touchdown on open ground outside the landing radius): none.\n"
+                          : "Landed off-site (a gentle touchdown on open ground outside the landing radius; neither "
+                            "completed nor failed):\n" + off_site;
+  out += substituted.empty()
+             ? "Actions that could not be carried out (decisions item 28): none.\n"
+             : "Actions that could not be carried out (decisions item 28: no plan found, the next-highest Q taken):\n" +
+                   substituted;
   if (any_other) {
     out += "Some flights ended with an outcome this report does not know; they are counted as other outcomes:\n";
     for (const GroupStatistics& g : groups) {

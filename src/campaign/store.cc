@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -26,6 +27,7 @@
 
 #include "sqlite_database.h"
 #include "uascma/common/error.h"
+#include "uascma/common/text.h"
 #include "uascma/common/version.h"
 
 namespace uascma::campaign {
@@ -327,7 +329,7 @@ void WriteHeader(sqlite::Database& db, const CampaignHeader& header) {
     policy.Bind(3, p.kind);
     policy.Bind(4, p.source);
     policy.Bind(5, p.hash);
-    policy.Bind(6, nlohmann::json(PolicyActionNames(p)).dump());
+    policy.Bind(6, PolicyActionsJson(p));
     policy.Step("write the policies");
   }
 }
@@ -365,17 +367,356 @@ CampaignHeader ReadHeader(sqlite::Database& db, std::int64_t* schema_version) {
       db.Prepare("SELECT slot, name, kind, source, hash, actions_json FROM policies ORDER BY slot");
   while (policies.Step("read the policies")) {
     const std::string where = fmt::format("{}: policies[{}]", path, policies.Integer(0));
-    std::vector<std::string> actions;
-    try {
-      actions = nlohmann::json::parse(policies.Text(5)).get<std::vector<std::string>>();
-    } catch (const nlohmann::json::exception&) {
-      throw InputError(where, "actions_json", "a JSON list of action names");
-    }
-    CampaignPolicy policy = MakeStoredPolicy(policies.Text(1), policies.Text(2), policies.Text(3), actions, where);
+    CampaignPolicy policy =
+        MakeStoredPolicy(policies.Text(1), policies.Text(2), policies.Text(3), policies.Text(5), where);
     if (policy.hash != policies.Text(4)) throw InputError(where, "hash", "the hash of its actions");
     header.policies.push_back(std::move(policy));
   }
   return header;
+}
+
+// ---- the store check (store.h: CheckStore) ----------------------------------------------------------------
+
+// Collects problems by kind, listing at most kMaxListed of each.
+class ProblemList {
+ public:
+  explicit ProblemList(StoreCheckResult* result) : result_(result) {}
+  void Add(const std::string& kind, const std::string& text) {
+    ++result_->problems_total;
+    if (++listed_[kind] <= StoreCheckResult::kMaxListed) result_->problems.push_back(text);
+  }
+  void NoteOmitted() {
+    for (const auto& [kind, count] : listed_) {
+      if (count > StoreCheckResult::kMaxListed) {
+        result_->problems.push_back(
+            fmt::format("({} more problems of the kind '{}' not listed)", count - StoreCheckResult::kMaxListed, kind));
+      }
+    }
+  }
+
+ private:
+  StoreCheckResult* result_;
+  std::map<std::string, std::int64_t> listed_;
+};
+
+bool TableExists(sqlite::Database& db, const std::string& name) {
+  sqlite::Statement select = db.Prepare("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?");
+  select.Bind(1, name);
+  select.Step("read the schema");
+  return select.Integer(0) == 1;
+}
+
+std::set<std::string> ColumnsOf(sqlite::Database& db, const std::string& table) {
+  std::set<std::string> columns;
+  sqlite::Statement info = db.Prepare(fmt::format("PRAGMA table_info({})", table));
+  while (info.Step("read the schema")) columns.insert(info.Text(1));
+  return columns;
+}
+
+// The SQLite storage classes a column of this record field type may hold (store.h's schema).
+template <typename T>
+std::vector<int> AllowedStorage() {
+  if constexpr (std::is_same_v<T, double>) return {SQLITE_FLOAT, SQLITE_INTEGER};
+  if constexpr (std::is_same_v<T, std::optional<double>>) return {SQLITE_FLOAT, SQLITE_INTEGER, SQLITE_NULL};
+  if constexpr (std::is_same_v<T, std::string>) return {SQLITE_TEXT};
+  return {SQLITE_INTEGER};  // std::int64_t, std::uint64_t (bit pattern), bool
+}
+
+const char* StorageName(int type) {
+  switch (type) {
+    case SQLITE_INTEGER: return "an integer";
+    case SQLITE_FLOAT: return "a real number";
+    case SQLITE_TEXT: return "text";
+    case SQLITE_BLOB: return "a blob";
+    default: return "NULL";
+  }
+}
+
+// The JSON text columns of a record and the shape each holds (record.h); empty when the text is right.
+std::string JsonColumnError(const std::string& column, const std::string& text) {
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception&) {
+    return "valid JSON";
+  }
+  if (!json.is_array()) return "a JSON list";
+  if (column == "initial_cell_voltage_v") {
+    if (json.size() != 6) return "a JSON list of 6 cell voltages";
+    for (const auto& v : json) {
+      if (!v.is_number()) return "a JSON list of 6 cell voltages (numbers)";
+    }
+  } else if (column == "actions") {
+    for (const auto& pair : json) {
+      if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number() || !pair[1].is_string()) {
+        return "a JSON list of [time_s, action name] pairs";
+      }
+    }
+  } else if (column == "substitutions") {
+    for (const auto& item : json) {
+      if (!item.is_string()) return "a JSON list of \"Chosen->Taken\" names";
+    }
+  }
+  return {};
+}
+
+bool IsJsonColumn(const std::string& column) {
+  return column == "initial_cell_voltage_v" || column == "actions" || column == "substitutions";
+}
+
+void CheckFlightRows(sqlite::Database& db, const CampaignHeader& header, const std::map<std::string, int>& slots,
+                     ProblemList& problems, StoreCheckResult* result) {
+  const std::int64_t policy_count = static_cast<std::int64_t>(slots.size());
+  sqlite::Statement select = db.Prepare(fmt::format("SELECT campaign_hash, {} FROM runs", ColumnList()));
+  std::int64_t row = 0;
+  while (select.Step("read the runs")) {
+    ++row;
+    // Identity first: how the problems below name the row.
+    const auto type = [&select](int column) { return select.ColumnType(column); };
+    const std::int64_t run_index = select.Integer(2);
+    const std::string policy = type(3) == SQLITE_TEXT ? select.Text(3) : "?";
+    const std::string where = fmt::format("runs row {} (run_index {}, policy '{}')", row, run_index,
+                                          IsValidUtf8(policy) ? policy : EscapeInvalidUtf8(policy));
+    if (type(0) != SQLITE_TEXT || select.Text(0) != header.campaign_hash) {
+      problems.Add("campaign_hash", where + ": campaign_hash: this campaign's hash " + header.campaign_hash);
+      continue;
+    }
+    ++result->flights;
+    int column = 1;
+    const RunRecord shape;
+    bool typed = true;
+    VisitRecordFields(shape, [&](const char* name, const auto& field) {
+      const std::vector<int> allowed = AllowedStorage<std::decay_t<decltype(field)>>();
+      const int stored = type(column);
+      if (std::find(allowed.begin(), allowed.end(), stored) == allowed.end()) {
+        typed = false;
+        problems.Add("types", fmt::format("{}: {}: {} (the column's type), got {}", where, name,
+                                          StorageName(allowed.front()), StorageName(stored)));
+      } else if (stored == SQLITE_TEXT) {
+        const std::string text = select.Text(column);
+        if (!IsValidUtf8(text)) {
+          typed = false;
+          problems.Add("text", fmt::format("{}: {}: text in UTF-8, got '{}'", where, name, EscapeInvalidUtf8(text)));
+        } else if (IsJsonColumn(name)) {
+          const std::string error = JsonColumnError(name, text);
+          if (!error.empty()) {
+            typed = false;
+            problems.Add("json", fmt::format("{}: {}: {}", where, name, error));
+          }
+        }
+      } else if constexpr (std::is_same_v<std::decay_t<decltype(field)>, bool>) {
+        if (select.Integer(column) != 0 && select.Integer(column) != 1) {
+          typed = false;
+          problems.Add("types", fmt::format("{}: {}: 0 or 1, got {}", where, name, select.Integer(column)));
+        }
+      } else if constexpr (std::is_same_v<std::decay_t<decltype(field)>, double> ||
+                           std::is_same_v<std::decay_t<decltype(field)>, std::optional<double>>) {
+        if (stored != SQLITE_NULL && !std::isfinite(select.Real(column))) {
+          typed = false;
+          problems.Add("types", fmt::format("{}: {}: a finite number", where, name));
+        }
+      }
+      ++column;
+    });
+    if (!typed) continue;
+    const auto slot = slots.find(policy);
+    if (slot == slots.end()) {
+      problems.Add("policy", fmt::format("{}: policy: one of the policies table, but '{}' is not there (a deleted "
+                                         "policies row?)",
+                                         where, policy));
+      continue;
+    }
+    if (run_index < 0 || run_index >= header.runs_requested) {
+      problems.Add("run_index", fmt::format("{}: run_index: 0 to runs_requested - 1 = {}", where,
+                                            header.runs_requested - 1));
+    }
+    const std::int64_t flight_id = select.Integer(1);
+    if (flight_id != run_index * policy_count + slot->second) {
+      problems.Add("flight_id", fmt::format("{}: flight_id: run_index x {} policies + slot {} = {}, got {}", where,
+                                            policy_count, slot->second, run_index * policy_count + slot->second,
+                                            flight_id));
+    }
+  }
+}
+
+void CheckClaims(sqlite::Database& db, const CampaignHeader& header, ProblemList& problems, StoreCheckResult* result) {
+  sqlite::Statement select = db.Prepare("SELECT campaign_hash, run_index, worker FROM claims");
+  while (select.Step("read the claims")) {
+    ++result->claims;
+    const std::string where = fmt::format("claims row (run_index {}, worker {})", select.Integer(1), select.Integer(2));
+    if (select.Text(0) != header.campaign_hash) {
+      problems.Add("claims", where + ": campaign_hash: this campaign's hash " + header.campaign_hash);
+    } else if (select.Integer(1) < 0 || select.Integer(1) >= header.runs_requested) {
+      problems.Add("claims", fmt::format("{}: run_index: 0 to runs_requested - 1 = {}", where, header.runs_requested - 1));
+    }
+  }
+}
+
+// The checks of CheckStore on an open connection (store.h lists them).
+void CheckDatabase(sqlite::Database& db, StoreCheckResult* result) {
+  ProblemList problems(result);
+  // 1. SQLite's own checks. A file that fails them is not read further: its rows cannot be trusted.
+  {
+    sqlite::Statement integrity = db.Prepare("PRAGMA integrity_check(100)");
+    while (integrity.Step("run SQLite's integrity check")) {
+      const std::string line = integrity.Text(0);
+      if (line != "ok") problems.Add("integrity", "SQLite integrity check: " + EscapeInvalidUtf8(line));
+    }
+  }
+  if (!result->ok()) {
+    problems.NoteOmitted();
+    return;
+  }
+  // 2. The schema.
+  result->schema_version = SchemaVersion(db);
+  if (result->schema_version != 1 && result->schema_version != kStoreSchemaVersion) {
+    problems.Add("schema", fmt::format("schema: version 1 to {} (PRAGMA user_version), got {}", kStoreSchemaVersion,
+                                       result->schema_version));
+    return;
+  }
+  std::vector<std::string> tables = {"campaign", "policies", "runs"};
+  if (result->schema_version >= 2) tables.insert(tables.end(), {"workers", "claims"});
+  for (const std::string& table : tables) {
+    if (!TableExists(db, table)) problems.Add("schema", fmt::format("schema: the table '{}', but it is missing", table));
+  }
+  if (!result->ok()) return;
+  {
+    const std::set<std::string> columns = ColumnsOf(db, "runs");
+    const RunRecord shape;
+    std::vector<std::string> missing = columns.count("campaign_hash") ? std::vector<std::string>{}
+                                                                      : std::vector<std::string>{"campaign_hash"};
+    VisitRecordFields(shape, [&](const char* name, const auto&) {
+      if (columns.count(name) == 0) missing.emplace_back(name);
+    });
+    for (const std::string& name : missing) {
+      problems.Add("schema", fmt::format("schema: runs.{}: a column of every flight row (written by another uascma "
+                                         "version?), but it is missing",
+                                         name));
+    }
+  }
+  if (!result->ok()) return;
+  if (result->schema_version >= 2) {
+    sqlite::Statement foreign = db.Prepare("PRAGMA foreign_key_check");
+    while (foreign.Step("run SQLite's foreign key check")) {
+      problems.Add("foreign key", fmt::format("{} row {}: refers to a {} row that does not exist", foreign.Text(0),
+                                              foreign.Integer(1), foreign.Text(2)));
+    }
+  }
+  // 3. The campaign row.
+  {
+    sqlite::Statement count = db.Prepare("SELECT count(*), sum(id = 1) FROM campaign");
+    count.Step("read the campaign");
+    if (count.Integer(0) != 1 || count.Integer(1) != 1) {
+      problems.Add("campaign", fmt::format("campaign: exactly one row (id 1), got {}", count.Integer(0)));
+      return;
+    }
+  }
+  sqlite::Statement campaign = db.Prepare(
+      "SELECT typeof(name), typeof(config_yaml), typeof(config_hash), typeof(campaign_hash), typeof(seed), "
+      "typeof(runs_requested), typeof(code_version), typeof(created_utc) FROM campaign WHERE id = 1");
+  campaign.Step("read the campaign");
+  const std::array<const char*, 8> campaign_columns = {"name",           "config_yaml",  "config_hash",
+                                                       "campaign_hash",  "seed",         "runs_requested",
+                                                       "code_version",   "created_utc"};
+  for (int c = 0; c < 8; ++c) {
+    const std::string expected = (c == 4 || c == 5) ? "integer" : "text";
+    if (campaign.Text(c) != expected) {
+      problems.Add("campaign", fmt::format("campaign: {}: {}, got {}", campaign_columns[c], expected, campaign.Text(c)));
+    }
+  }
+  if (!result->ok()) return;
+  {
+    sqlite::Statement texts =
+        db.Prepare("SELECT name, config_yaml, config_hash, campaign_hash, code_version, created_utc FROM campaign");
+    texts.Step("read the campaign");
+    for (int c = 0; c < 6; ++c) {
+      if (!IsValidUtf8(texts.Text(c))) {
+        problems.Add("campaign", fmt::format("campaign: {}: text in UTF-8", campaign_columns[c < 4 ? c : c + 2]));
+      }
+    }
+  }
+  if (!result->ok()) return;
+  // 4. The policies, read as every reader reads them.
+  std::int64_t schema = 0;
+  CampaignHeader header;
+  try {
+    header = ReadHeader(db, &schema);
+  } catch (const InputError& e) {
+    problems.Add("policies", e.what());
+    return;
+  }
+  result->campaign_name = header.name;
+  result->campaign_hash = header.campaign_hash;
+  result->runs_requested = header.runs_requested;
+  result->policies = static_cast<std::int64_t>(header.policies.size());
+  std::map<std::string, int> slots;
+  {
+    sqlite::Statement select = db.Prepare("SELECT slot, name FROM policies ORDER BY slot");
+    int expected = 0;
+    while (select.Step("read the policies")) {
+      if (select.Integer(0) != expected) {
+        problems.Add("policies", fmt::format("policies: slots 0, 1, … without gaps, but slot {} follows slot {} (a "
+                                             "deleted policies row?)",
+                                             select.Integer(0), expected - 1));
+      }
+      if (!IsValidUtf8(select.Text(1))) {
+        problems.Add("policies", fmt::format("policies[{}]: name: text in UTF-8", select.Integer(0)));
+      }
+      slots[select.Text(1)] = static_cast<int>(select.Integer(0));
+      expected = static_cast<int>(select.Integer(0)) + 1;
+    }
+  }
+  if (header.policies.empty()) problems.Add("policies", "policies: at least one policy, but the table is empty");
+  if (header.runs_requested < 0) {
+    problems.Add("campaign", fmt::format("campaign: runs_requested: 0 or more, got {}", header.runs_requested));
+  }
+  // The configuration and the two hashes tie the campaign row to the policies table.
+  try {
+    const CampaignConfig config = ParseCampaignConfig(header.config_yaml, "campaign.config_yaml");
+    if (CampaignConfigHash(config) != header.config_hash) {
+      problems.Add("campaign", "campaign: config_hash: the hash of config_yaml (edited, or written by another uascma "
+                               "version?)");
+    }
+  } catch (const InputError& e) {
+    problems.Add("campaign", std::string("campaign: config_yaml: a campaign configuration (") + e.what() + ")");
+  }
+  if (header.campaign_hash != header.config_hash + "-" + PolicySetHash(header.policies)) {
+    problems.Add("policies",
+                 fmt::format("policies: the policy set the campaign was created with (campaign_hash {}), but the {} "
+                             "row{} of the table hash to {} (a policies row deleted, added or edited?)",
+                             header.campaign_hash, header.policies.size(), header.policies.size() == 1 ? "" : "s",
+                             header.config_hash + "-" + PolicySetHash(header.policies)));
+  }
+  // 5. and 6. The flights and the claims.
+  CheckFlightRows(db, header, slots, problems, result);
+  if (result->schema_version >= 2) {
+    CheckClaims(db, header, problems, result);
+    sqlite::Statement workers = db.Prepare("SELECT count(*) FROM workers");
+    workers.Step("count the workers");
+    result->workers = workers.Integer(0);
+  }
+  problems.NoteOmitted();
+}
+
+// "PATH: database: an undamaged campaign database, but …" for Open.
+void RequireUndamaged(sqlite::Database& db) {
+  StoreCheckResult result;
+  try {
+    db.Execute("BEGIN", "check the database");
+    CheckDatabase(db, &result);
+    db.Execute("COMMIT", "check the database");
+  } catch (...) {
+    db.RollbackQuietly();
+    throw;
+  }
+  if (result.ok()) return;
+  throw InputError(db.path(), "database",
+                   fmt::format("an undamaged campaign database, but {}{} (it is not read, resumed into or replayed "
+                               "from; 'uascma store check {}' lists every problem)",
+                               result.problems.front(),
+                               result.problems_total > 1 ? fmt::format(" and {} more problems", result.problems_total - 1)
+                                                         : "",
+                               db.path()));
 }
 
 }  // namespace
@@ -497,11 +838,37 @@ std::optional<ResultsStore> ResultsStore::TryCreate(const std::filesystem::path&
     WriteHeader(db, header);
     if (as_worker) worker = InsertWorker(db, me);
     db.Execute("COMMIT", "create");
-    db.Close();  // checkpoints the WAL into the file and removes the -wal and -shm files
+    // Everything into the main file before it is published: the link below publishes that file alone,
+    // without its -wal. Closing checkpoints too, but a checkpoint that fails there (a full disk) goes
+    // unreported and would leave the committed pages only in the -wal (issue 26: a truncated database at
+    // the user's path), so the checkpoint is made, and its result checked, here.
+    {
+      sqlite::Statement checkpoint = db.Prepare("PRAGMA wal_checkpoint(TRUNCATE)");
+      checkpoint.Step("write the new database");
+      if (checkpoint.Integer(0) != 0 || checkpoint.Integer(1) != checkpoint.Integer(2)) {
+        throw InputError(name, "create",
+                         fmt::format("the new database written whole, but its checkpoint stopped ({} of {} pages)",
+                                     checkpoint.Integer(2), checkpoint.Integer(1)));
+      }
+    }
+    db.Close();
+    // The file as it will be published, read back and checked (store.h: CheckStore) on its own.
+    std::error_code size_ec;
+    if (std::filesystem::file_size(temporary.string() + "-wal", size_ec) > 0 && !size_ec) {
+      throw InputError(name, "create", "the new database written whole, but part of it is still in its -wal file");
+    }
+    {
+      sqlite::Database check(temporary.string(), SQLITE_OPEN_READWRITE, name);
+      RequireUndamaged(check);
+      check.Close();
+    }
     linked = LinkIntoPlace(temporary, path);
   } catch (const std::filesystem::filesystem_error& e) {
     RemoveSqliteFiles(temporary);
-    throw InputError(name, "create", std::string("a writable location (") + e.code().message() + ")");
+    throw InputError(name, "create", std::string("a writable location (") + e.code().message() + "); nothing was created");
+  } catch (const InputError& e) {
+    RemoveSqliteFiles(temporary);
+    throw InputError(std::string(e.what()) + "; nothing was created");
   } catch (...) {
     RemoveSqliteFiles(temporary);
     throw;
@@ -518,6 +885,27 @@ std::optional<ResultsStore> ResultsStore::TryCreate(const std::filesystem::path&
   return store;
 }
 
+StoreCheckResult CheckStore(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(path.string(), "file", "an existing campaign database");
+  }
+  sqlite::Database db(path.string(), SQLITE_OPEN_READONLY);
+  sqlite3_busy_timeout(db.handle(), StoreOptions{}.busy_timeout_ms);
+  StoreCheckResult result;
+  try {
+    db.Execute("BEGIN", "check the database");
+    CheckDatabase(db, &result);
+    db.Execute("COMMIT", "check the database");
+  } catch (const InputError& e) {
+    // SQLite refused to read further (not a database, a page it cannot decode): that is the finding.
+    db.RollbackQuietly();
+    ++result.problems_total;
+    result.problems.push_back(e.what());
+  }
+  return result;
+}
+
 ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOptions& options) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
@@ -526,6 +914,7 @@ ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOp
   auto connection = std::make_unique<Connection>();
   connection->db = sqlite::Database(path.string(), SQLITE_OPEN_READWRITE);
   ApplyConnectionOptions(connection->db, options);
+  RequireUndamaged(connection->db);  // a damaged file is named, never read or resumed into (store.h)
   CampaignHeader header = ReadHeader(connection->db, &connection->schema_version);
   connection->insert = connection->db.Prepare(
       fmt::format("INSERT OR IGNORE INTO runs (campaign_hash, {}) VALUES (?{})", ColumnList(),
@@ -569,6 +958,14 @@ void ResultsStore::Insert(const std::vector<RunRecord>& records) {
       insert.Step("write");
     }
     db.Execute("COMMIT", "write");
+  } catch (const InputError& e) {
+    const int code = sqlite3_extended_errcode(db.handle());
+    insert.Reset();
+    db.RollbackQuietly();
+    if (sqlite::IsDiskFull(code)) {
+      throw InputError(std::string(e.what()) + "; every batch committed before is kept, continue with --resume");
+    }
+    throw;
   } catch (...) {
     insert.Reset();
     db.RollbackQuietly();

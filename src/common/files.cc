@@ -10,16 +10,49 @@
 #include <random>
 #include <sstream>
 
+#include <map>
+#include <mutex>
+
 #include "uascma/common/error.h"
+#include "uascma/common/text.h"
 
 namespace uascma {
+namespace {
+
+// The staging folders of the OutputDirectory objects alive in this process, each with the user's path it
+// stands for: an error writing a file into one names the user's path (issue 26 item 9), never the hidden
+// staging folder the user did not ask for.
+std::mutex& StagingMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::map<std::filesystem::path, std::filesystem::path>& StagingFolders() {
+  static std::map<std::filesystem::path, std::filesystem::path> folders;
+  return folders;
+}
+
+// `path` as the user knows it: inside a live staging folder, the same name under the user's folder.
+std::string ShownPath(const std::filesystem::path& path) {
+  const std::lock_guard lock(StagingMutex());
+  for (std::filesystem::path folder = path; !folder.empty(); folder = folder.parent_path()) {
+    const auto it = StagingFolders().find(folder);
+    if (it != StagingFolders().end()) {
+      return folder == path ? it->second.string() : (it->second / path.lexically_relative(folder)).string();
+    }
+    if (folder == folder.root_path() || folder.parent_path() == folder) break;
+  }
+  return path.string();
+}
+
+}  // namespace
 
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view content) {
   namespace fs = std::filesystem;
   const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const std::string shown = ShownPath(path);
   std::error_code ec;
   if (!fs::is_directory(folder, ec)) {
-    throw InputError(path.string(), "path", "the folder '" + folder.string() + "' does not exist");
+    throw InputError(shown, "path", "the folder '" + ShownPath(folder) + "' does not exist");
   }
   // The temporary name is unique per process and call, so parallel writers never collide.
   static thread_local std::mt19937_64 name_stream{std::random_device{}()};
@@ -29,8 +62,7 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view con
   {
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (file == nullptr) {
-      throw InputError(path.string(), "path", std::string("a writable file (") +
-                                                   std::strerror(errno) + ")");
+      throw InputError(shown, "path", std::string("a writable file (") + std::strerror(errno) + ")");
     }
     const bool written = std::fwrite(content.data(), 1, content.size(), file) == content.size();
     const bool flushed = std::fflush(file) == 0 && ::fsync(::fileno(file)) == 0;
@@ -38,13 +70,13 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view con
     if (!written || !flushed || !closed) {
       const std::string reason = std::strerror(errno);
       fs::remove(temporary, ec);
-      throw InputError(path.string(), "path", "room to write the file (" + reason + ")");
+      throw InputError(shown, "path", "room to write the file (" + reason + ")");
     }
   }
   fs::rename(temporary, path, ec);
   if (ec) {
     fs::remove(temporary, ec);
-    throw InputError(path.string(), "path", "a path that can be replaced (" + ec.message() + ")");
+    throw InputError(shown, "path", "a path that can be replaced (" + ec.message() + ")");
   }
 }
 
@@ -62,6 +94,8 @@ OutputDirectory::OutputDirectory(std::string option, std::filesystem::path user_
   namespace fs = std::filesystem;
   const std::string shown = user_path_.string();
   if (shown.empty()) throw InputError(option_, "path", "a folder name");
+  // The folder's name reaches the files written into it (summaries, plots): UTF-8 or refused here (issue 26).
+  RequireUtf8(shown, option_, "folder name");
   std::error_code ec;
   // The folder itself, symbolic links resolved and a trailing "/" dropped, so that the staging folder is
   // its sibling on the same filesystem.
@@ -98,9 +132,15 @@ OutputDirectory::OutputDirectory(std::string option, std::filesystem::path user_
     throw InputError(option_, shown, "a folder it can write in");
   }
   target_ = target;
+  const std::lock_guard lock(StagingMutex());
+  StagingFolders()[staging_] = user_path_;
 }
 
 OutputDirectory::~OutputDirectory() {
+  if (!staging_.empty()) {
+    const std::lock_guard lock(StagingMutex());
+    StagingFolders().erase(staging_);
+  }
   if (!committed_ && !staging_.empty()) {
     std::error_code ec;
     std::filesystem::remove_all(staging_, ec);

@@ -1,8 +1,15 @@
 #include "uascma/common/yaml_io.h"
 
 #include <cmath>
+#include <map>
+#include <set>
+#include <utility>
+
+#include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
+#include "uascma/common/text.h"
 
 namespace uascma {
 namespace {
@@ -23,21 +30,79 @@ double ParseNumber(const YAML::Node& value, const std::string& source, const std
   return number;
 }
 
+std::string LineOf(const YAML::Node& node) { return "line " + std::to_string(node.Mark().line + 1); }
+
+// Walks the document once: every mapping's keys unique, every scalar UTF-8. An alias shares the node it
+// refers to, so containers already walked (known by their start in the text) are skipped: a document of
+// nested aliases ("billion laughs") costs its own size, not the size of its expansion.
+class DocumentCheck {
+ public:
+  explicit DocumentCheck(const std::string& source) : source_(source) {}
+
+  void Walk(const YAML::Node& node) {
+    if (node.IsScalar()) {
+      CheckUtf8(node);
+      return;
+    }
+    if (!node.IsMap() && !node.IsSequence()) return;
+    const YAML::Mark mark = node.Mark();
+    if (!visited_.insert({mark.pos, node.IsMap()}).second) return;
+    if (node.IsSequence()) {
+      for (const auto& item : node) Walk(item);
+      return;
+    }
+    std::map<std::string, int> lines;  // scalar key -> its line (0-based)
+    for (const auto& entry : node) {
+      Walk(entry.first);
+      Walk(entry.second);
+      if (!entry.first.IsScalar()) continue;
+      const int line = entry.first.Mark().line;
+      const auto [it, inserted] = lines.emplace(entry.first.Scalar(), line);
+      if (!inserted) {
+        throw InputError(source_, fmt::format("line {}", line + 1),
+                         fmt::format("each key once per mapping, but '{}' is also given on line {} (YAML tools "
+                                     "disagree on which value counts: remove one)",
+                                     EscapeInvalidUtf8(entry.first.Scalar()), it->second + 1));
+      }
+    }
+  }
+
+ private:
+  void CheckUtf8(const YAML::Node& node) const {
+    const std::string& text = node.Scalar();
+    if (IsValidUtf8(text)) return;
+    RequireUtf8(text, source_, LineOf(node));
+  }
+
+  const std::string& source_;
+  std::set<std::pair<std::size_t, bool>> visited_;  // (start offset, is a mapping) of containers walked
+};
+
 }  // namespace
+
+YAML::Node ParseYamlText(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
+  }
+  try {
+    DocumentCheck(source).Walk(root);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
+  }
+  return root;
+}
 
 YAML::Node LoadYamlFile(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path.string(), "file", "an existing YAML file");
   }
-  try {
-    YAML::Node root = YAML::LoadFile(path.string());
-    if (!root.IsMap()) throw InputError(path.string(), "(top level)", "a YAML mapping");
-    return root;
-  } catch (const YAML::Exception& e) {
-    throw InputError(path.string(), "line " + std::to_string(e.mark.line + 1),
-                     "valid YAML (" + e.msg + ")");
-  }
+  YAML::Node root = ParseYamlText(ReadFile(path), path.string());
+  if (!root.IsMap()) throw InputError(path.string(), "(top level)", "a YAML mapping");
+  return root;
 }
 
 double RequireNumber(const YAML::Node& node, const std::string& key, const std::string& source,

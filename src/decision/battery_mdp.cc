@@ -342,9 +342,107 @@ double BatteryReward(StateIndex state, PackAction action, const BatteryContext& 
   return 0.0;
 }
 
+// ================================ ours (issue 24) ================================================
+const char* BatteryFormulationName(BatteryFormulation formulation) {
+  return formulation == BatteryFormulation::kOurs ? "ours" : "dissertation";
+}
+
+int SwitchToggles(StateIndex state, PackAction action) {
+  UASCMA_CHECK(state >= 0 && state < kBatteryFailureState, "a non-failure battery state");
+  const BatteryFeatures f = BatteryStateFeatures(state);
+  const models::PerBranch<bool> on = models::SwitchesFor(action);
+  return (f.pack[0].switch_on != on[0] ? 1 : 0) + (f.pack[1].switch_on != on[1] ? 1 : 0);
+}
+
+double OursBatteryReward(StateIndex state, PackAction action, const BatteryContext& context,
+                         const BatteryRewardWeights& weights) {
+  if (state == kBatteryFailureState) return kBatteryFailureReward;  // eq. 4.8, per epoch
+  if (state == kBatteryCompleteState) return 0.0;                   // the plan is flown: nothing more to lose
+  const BatteryFeatures f = BatteryStateFeatures(state);
+  // Both packs' state terms whatever the action (eq. 4.3's averages), and eq. 4.7's w3 per toggled switch.
+  const double energy = EnergyReward(f.pack[0].energy, context.b1, context.b2) +
+                        EnergyReward(f.pack[1].energy, context.b2, context.b1);
+  const double voltage = VoltageReward(f.pack[0].voltage) + VoltageReward(f.pack[1].voltage);
+  return weights.w1 * energy / 2.0 + weights.w2 * voltage / 2.0 -
+         weights.w3 * static_cast<double>(SwitchToggles(state, action));
+}
+
+namespace {
+
+// The action that keeps a state's switches (UseBoth for both ON, and for the impossible both OFF).
+PackAction HoldAction(const BatteryFeatures& f) {
+  if (f.pack[0].switch_on && !f.pack[1].switch_on) return PackAction::kUseBatt1;
+  if (!f.pack[0].switch_on && f.pack[1].switch_on) return PackAction::kUseBatt2;
+  return PackAction::kUseBoth;
+}
+
+}  // namespace
+
+bool OursOffers(const BatteryFeatures& f, PackAction action) {
+  const bool both_on = f.pack[0].switch_on && f.pack[1].switch_on;
+  if (!both_on) return action == HoldAction(f);  // item 6: a dropped pack stays dropped
+  if (action == PackAction::kUseBoth) return true;
+  const int k = action == PackAction::kUseBatt1 ? 0 : 1;
+  return f.pack[k].energy == EnergyState::kS1;  // item 7: only onto a pack that can finish alone with t_sf (S1)
+}
+
+FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const BatteryContext& context,
+                              const BatteryRewardWeights& weights, BatteryModelStats* stats) {
+  std::string error;
+  if (!weights.IsValid(&error)) throw InputError("battery MDP", "weights", error);
+  std::vector<std::string> labels = BatteryStateLabels();
+  labels.emplace_back("COMPLETE");
+  FiniteMdpBuilder builder(std::move(labels), BatteryActionNames());
+  BatteryModelStats local;
+  std::vector<Transition> row;
+  for (StateIndex s = 0; s < kBatteryFailureState; ++s) {
+    bool any = false;
+    const BatteryFeatures features = BatteryStateFeatures(s);
+    for (PackAction action : kActions) {
+      const StateIndex switched = ApplySwitches(s, action);
+      const bool learned = switched == s;
+      if (learned) ++local.learned_rows;
+      else ++local.switch_rows;
+      if (!OursOffers(features, action)) continue;  // items 6-7
+      const auto& observed = counts.Row(context, switched, action);
+      const std::int64_t completed = counts.Completions(context, switched, action);
+      std::int64_t total = completed;
+      for (const auto& [next, count] : observed) total += count;
+      if (total == 0) {  // no evidence: the action is not offered here (item 5)
+        if (learned) ++local.unobserved_rows;
+        continue;
+      }
+      row.clear();
+      for (const auto& [next, count] : observed) {
+        row.push_back({next, static_cast<double>(count) / static_cast<double>(total)});
+      }
+      if (completed > 0) row.push_back({kBatteryCompleteState, static_cast<double>(completed) / static_cast<double>(total)});
+      if (learned) local.transitions += total;
+      builder.AddRow(s, ActionIndexOf(action), OursBatteryReward(s, action, context, weights), row);
+      any = true;
+    }
+    if (!any) {  // nothing offered was ever observed: hold the present switches (UseBoth at take-off), as a loop
+      const PackAction hold = HoldAction(features);
+      const Transition loop{ApplySwitches(s, hold), 1.0};
+      builder.AddRow(s, ActionIndexOf(hold), OursBatteryReward(s, hold, context, weights),
+                     std::span<const Transition>(&loop, 1));
+    }
+  }
+  for (StateIndex absorbing : {kBatteryFailureState, kBatteryCompleteState}) {
+    const Transition loop{absorbing, 1.0};
+    for (PackAction action : kActions) {
+      builder.AddRow(absorbing, ActionIndexOf(action), OursBatteryReward(absorbing, action, context, weights),
+                     std::span<const Transition>(&loop, 1));
+    }
+  }
+  if (stats) *stats = local;
+  return builder.Build();
+}
+
 // ================================ counts ==========================================================
 BatteryTransitionCounts::BatteryTransitionCounts()
-    : rows_(static_cast<std::size_t>(kBatteryNumContexts) * kBatteryNumStates * kBatteryNumActions) {}
+    : rows_(static_cast<std::size_t>(kBatteryNumContexts) * kBatteryNumStates * kBatteryNumActions),
+      completions_(rows_.size(), 0) {}
 
 std::size_t BatteryTransitionCounts::RowIndex(const BatteryContext& context, StateIndex state, PackAction action) {
   UASCMA_CHECK(state >= 0 && state < kBatteryNumStates, "a battery state index");
@@ -361,8 +459,20 @@ void BatteryTransitionCounts::Add(const BatteryContext& context, StateIndex stat
   rows_[RowIndex(context, state, action)][next] += count;
 }
 
+void BatteryTransitionCounts::AddCompletion(const BatteryContext& context, StateIndex state, PackAction action,
+                                            std::int64_t count) {
+  UASCMA_CHECK(state != kBatteryFailureState, "a completion from a non-failure state");
+  UASCMA_CHECK(count >= 0, "a non-negative count");
+  completions_[RowIndex(context, state, action)] += count;
+}
+
+std::int64_t BatteryTransitionCounts::Completions(const BatteryContext& context, StateIndex state,
+                                                 PackAction action) const {
+  return completions_[RowIndex(context, state, action)];
+}
+
 void BatteryTransitionCounts::AddFlight(const BatteryContext& context, PackAction action,
-                                        std::span<const StateIndex> states) {
+                                        std::span<const StateIndex> states, bool completed) {
   for (std::size_t k = 0; k < states.size(); ++k) {
     if (states[k] < 0 || states[k] >= kBatteryNumStates) {
       throw InputError("battery flight", fmt::format("states[{}]", k), "a battery MDP state index");
@@ -377,12 +487,37 @@ void BatteryTransitionCounts::AddFlight(const BatteryContext& context, PackActio
     if (states[k] == kBatteryFailureState) break;
     Add(context, states[k], action, states[k + 1]);
   }
+  if (completed && !states.empty() && states.back() != kBatteryFailureState) {
+    AddCompletion(context, states.back(), action);
+  }
   flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + ActionIndexOf(action))] += 1;
+}
+
+void BatteryTransitionCounts::AddSwitchingFlight(const BatteryContext& context, std::span<const StateIndex> states,
+                                                 std::span<const PackAction> actions, bool completed) {
+  UASCMA_CHECK(!actions.empty() && actions.size() <= states.size(), "an action per epoch");
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    if (states[k] < 0 || states[k] >= kBatteryNumStates) {
+      throw InputError("battery flight", fmt::format("states[{}]", k), "a battery MDP state index");
+    }
+  }
+  std::size_t last = 0;
+  for (std::size_t k = 0; k + 1 < states.size() && k < actions.size(); ++k) {
+    if (states[k] == kBatteryFailureState) break;
+    Add(context, ApplySwitches(states[k], actions[k]), actions[k], states[k + 1]);
+    last = k + 1;
+  }
+  const std::size_t end = std::min(last, actions.size() - 1);
+  if (completed && states[end] != kBatteryFailureState) {
+    AddCompletion(context, ApplySwitches(states[end], actions[end]), actions[end]);
+  }
+  flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + ActionIndexOf(actions.back()))] += 1;
 }
 
 void BatteryTransitionCounts::Merge(const BatteryTransitionCounts& other) {
   for (std::size_t r = 0; r < rows_.size(); ++r) {
     for (const auto& [next, count] : other.rows_[r]) rows_[r][next] += count;
+    completions_[r] += other.completions_[r];
   }
   for (std::size_t i = 0; i < flights_.size(); ++i) flights_[i] += other.flights_[i];
 }
@@ -478,13 +613,19 @@ std::string BatteryModelHash(const BatteryModel& model) {
     for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
       for (PackAction action : kActions) {
         const auto& row = model.counts.Row(context, s, action);
-        if (row.empty()) continue;
+        const std::int64_t completed = model.counts.Completions(context, s, action);
+        if (row.empty() && completed == 0) continue;
         fingerprint.Add(static_cast<std::int64_t>(BatteryContextIndex(context)));
         fingerprint.Add(static_cast<std::int64_t>(s));
         fingerprint.Add(ActionIndexOf(action));
         for (const auto& [next, count] : row) {
           fingerprint.Add(static_cast<std::int64_t>(next));
           fingerprint.Add(count);
+        }
+        // Completions only when counted, so a model without them keeps its hash.
+        if (completed > 0) {
+          fingerprint.Add(std::string_view("completed"));
+          fingerprint.Add(completed);
         }
       }
     }
@@ -502,10 +643,13 @@ nlohmann::json BatteryModelToJson(const BatteryModel& model) {
     for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
       for (PackAction action : kActions) {
         const auto& row = model.counts.Row(context, s, action);
-        if (row.empty()) continue;
+        const std::int64_t completed = model.counts.Completions(context, s, action);
+        if (row.empty() && completed == 0) continue;
         nlohmann::json next = nlohmann::json::object();
         for (const auto& [state, count] : row) next[BatteryStateLabel(state)] = count;
-        rows.push_back({{"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}});
+        nlohmann::json entry = {{"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}};
+        if (completed > 0) entry["completed"] = completed;
+        rows.push_back(std::move(entry));
       }
     }
     contexts.push_back({{"b1", BatteryHealthName(context.b1)},
@@ -562,6 +706,9 @@ BatteryModel BatteryModelFromJson(const nlohmann::json& json, const std::string&
       for (const auto& [label, count] : next.items()) {
         const StateIndex n = ParseBatteryState(label, source + ": " + row_where + ".next");
         model.counts.Add(context, s, action, n, CountValue(count, source, row_where + ".next." + label));
+      }
+      if (row.contains("completed")) {
+        model.counts.AddCompletion(context, s, action, CountValue(row.at("completed"), source, row_where + ".completed"));
       }
     }
   }
@@ -621,6 +768,42 @@ BatteryPolicySet SolveBatteryPolicies(const BatteryModel& model) {
   return set;
 }
 
+BatteryPolicySet SolveOursBatteryPolicies(const BatteryModel& model, double gamma) {
+  if (!(gamma > 0.0 && gamma < 1.0)) throw InputError("battery MDP", "gamma", fmt::format("in (0, 1), got {}", gamma));
+  BatteryPolicySet set;
+  set.model_hash = BatteryModelHash(model);
+  set.formulation = BatteryFormulation::kOurs;
+  set.gamma = gamma;
+  set.weights = model.weights;
+  PolicyIterationOptions options;
+  options.gamma = gamma;
+  options.evaluation = EvaluationMethod::kDirect;  // 290 states: exact
+  for (int c = 0; c < kBatteryNumContexts; ++c) {
+    BatteryContextPolicy& out = set.policies[static_cast<std::size_t>(c)];
+    out.context = BatteryContextFromIndex(c);
+    const FiniteMdp mdp = BuildOursBatteryMdp(model.counts, out.context, model.weights, &out.stats);
+    Policy policy = SolvePolicyIteration(mdp, options, &out.summary);
+    out.action.assign(policy.action.begin(), policy.action.begin() + kBatteryNumStates);  // COMPLETE dropped
+    out.value.assign(policy.value.begin(), policy.value.begin() + kBatteryNumStates);
+    out.mdp_hash = ModelHash(mdp);
+    // The counted rows (p over the counted next states, completions left out), for drawing Fig. 4.4.
+    for (StateIndex s = 0; s < kBatteryFailureState; ++s) {
+      for (PackAction action : kActions) {
+        const auto& counted = model.counts.Row(out.context, s, action);
+        if (!SwitchesMatch(s, action) || counted.empty()) continue;
+        std::int64_t total = 0;
+        for (const auto& [next, count] : counted) total += count;
+        BatteryLearnedRow row{s, action, {}};
+        for (const auto& [next, count] : counted) {
+          row.next.push_back({next, static_cast<double>(count) / static_cast<double>(total)});
+        }
+        out.observed_rows.push_back(std::move(row));
+      }
+    }
+  }
+  return set;
+}
+
 namespace {
 
 Fingerprint PolicyFingerprint(const BatteryPolicySet& set) {
@@ -628,6 +811,8 @@ Fingerprint PolicyFingerprint(const BatteryPolicySet& set) {
   fingerprint.Add(std::string_view(kBatteryPolicyFormat));
   fingerprint.Add(kBatteryFileVersion);
   fingerprint.Add(set.model_hash);
+  // Only ours is marked, so a dissertation policy file keeps its hash.
+  if (set.formulation == BatteryFormulation::kOurs) fingerprint.Add(std::string_view("formulation=ours"));
   fingerprint.Add(set.gamma);
   fingerprint.Add(set.weights.w1);
   fingerprint.Add(set.weights.w2);
@@ -653,6 +838,14 @@ const char* StatusName(SolverStatus status) {
   return status == SolverStatus::kConverged ? "converged" : "max_iterations";
 }
 
+BatteryFormulation FormulationFromJson(const nlohmann::json& json, const std::string& source) {
+  if (!json.contains("formulation")) return BatteryFormulation::kDissertation;
+  const std::string name = StringMember(json, "formulation", source);
+  if (name == "dissertation") return BatteryFormulation::kDissertation;
+  if (name == "ours") return BatteryFormulation::kOurs;
+  throw InputError(source, "formulation", fmt::format("dissertation | ours, got '{}'", name));
+}
+
 }  // namespace
 
 nlohmann::json BatteryPolicyToJson(const BatteryPolicySet& set) {
@@ -672,7 +865,7 @@ nlohmann::json BatteryPolicyToJson(const BatteryPolicySet& set) {
                         {"temperature", TemperatureClassName(p.context.temperature)},
                         {"mdp_hash", p.mdp_hash},
                         {"solver",
-                         {{"method", "vi"},
+                         {{"method", set.formulation == BatteryFormulation::kOurs ? "pi" : "vi"},
                           {"status", StatusName(p.summary.status)},
                           {"iterations", p.summary.iterations},
                           {"residual", p.summary.residual}}},
@@ -689,6 +882,7 @@ nlohmann::json BatteryPolicyToJson(const BatteryPolicySet& set) {
           {"version", kBatteryFileVersion},
           {"hash", PolicyFingerprint(set).Hex()},
           {"model_hash", set.model_hash},
+          {"formulation", BatteryFormulationName(set.formulation)},
           {"gamma", set.gamma},
           {"weights", WeightsJson(set.weights)},
           {"states", BatteryStateLabels()},
@@ -701,6 +895,7 @@ BatteryPolicySet BatteryPolicyFromJson(const nlohmann::json& json, const std::st
   BatteryPolicySet set;
   const std::string hash = StringMember(json, "hash", source);
   set.model_hash = StringMember(json, "model_hash", source);
+  set.formulation = FormulationFromJson(json, source);
   set.gamma = GammaFromJson(json, source);
   set.weights = WeightsFromJson(json, source);
   const auto& states = Member(json, "states", source, "", "the 289 state labels");

@@ -167,18 +167,24 @@ FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& w
   return BuildCmaMdp(weights);
 }
 
-Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file) {
+Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file,
+                     std::vector<std::vector<ActionIndex>>* ranking) {
   const PolicyDocument document = ReadPolicyFile(path);
-  return BindPolicy(document, CmaModelForPolicy(document, weights_file, path.string()), path.string());
+  const FiniteMdp mdp = CmaModelForPolicy(document, weights_file, path.string());
+  Policy bound = BindPolicy(document, mdp, path.string());
+  if (ranking != nullptr) *ranking = RankActionsByQ(mdp, document.gamma, bound.value, &bound.action);
+  return bound;
 }
 
-Policy SolveDefaultCmaPolicy() {
+Policy SolveDefaultCmaPolicy(std::vector<std::vector<ActionIndex>>* ranking) {
   const CmaConfig config;
   ValueIterationOptions options;
   options.gamma = config.gamma;
   SolverSummary summary;
-  Policy solved = SolveValueIteration(BuildCmaMdp(config.weights), options, &summary);
+  const FiniteMdp mdp = BuildCmaMdp(config.weights);
+  Policy solved = SolveValueIteration(mdp, options, &summary);
   UASCMA_CHECK(summary.status == SolverStatus::kConverged, "the CMA MDP must converge");
+  if (ranking != nullptr) *ranking = RankActionsByQ(mdp, config.gamma, solved.value, &solved.action);
   return solved;
 }
 

@@ -181,6 +181,25 @@ std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma,
   return policy;
 }
 
+std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, double gamma, const std::vector<double>& value,
+                                                     const std::vector<ActionIndex>* policy_action) {
+  std::vector<std::vector<ActionIndex>> ranking(static_cast<std::size_t>(mdp.num_states()));
+  for (StateIndex s = 0; s < mdp.num_states(); ++s) {
+    std::vector<std::pair<double, ActionIndex>> scored;
+    for (std::int64_t c = mdp.choice_begin(s); c < mdp.choice_end(s); ++c) {
+      scored.emplace_back(-ChoiceQValue(mdp, c, gamma, value), mdp.choice_action(c));
+    }
+    std::sort(scored.begin(), scored.end());  // decreasing Q, then increasing action index
+    std::vector<ActionIndex>& order = ranking[static_cast<std::size_t>(s)];
+    for (const auto& [minus_q, action] : scored) order.push_back(action);
+    if (policy_action != nullptr) {
+      const auto own = std::find(order.begin(), order.end(), (*policy_action)[static_cast<std::size_t>(s)]);
+      if (own != order.end()) std::rotate(order.begin(), own, own + 1);
+    }
+  }
+  return ranking;
+}
+
 Policy SolveValueIteration(const FiniteMdp& mdp, const ValueIterationOptions& options,
                            SolverSummary* summary) {
   std::string error;

@@ -7,6 +7,7 @@
 #include "map_import_detail.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
+#include "uascma/common/json_io.h"
 #include "uascma/planning/map_import.h"
 
 namespace uascma::planning {
@@ -96,27 +97,44 @@ void ReadFeature(const nlohmann::json& feature, const std::string& name, const s
   const nlohmann::json empty = nlohmann::json::object();
   const auto properties_it = feature.find("properties");
   const nlohmann::json& properties = properties_it != feature.end() ? *properties_it : empty;
-  if (!detail::IsBuildingValue(Property(properties, "building"))) {
-    detail::RecordSkip(&summary, source, name, SkipReason::kNotBuilding, "no building tag");
-    return;
-  }
   const auto coordinates = geometry_it->find("coordinates");
-  if (coordinates == geometry_it->end()) throw InputError(source, name, "geometry.coordinates");
-
-  GeoBuilding building;
-  building.id = Property(properties, "@id").value_or(name);
-  if (geometry_type == "Polygon") {
-    ReadPolygon(*coordinates, source, name, "polygon", &building.rings);
-  } else {
+  auto read_rings = [&](std::vector<std::vector<GeoPoint>>* rings) {
+    if (coordinates == geometry_it->end()) throw InputError(source, name, "geometry.coordinates");
+    if (geometry_type == "Polygon") {
+      ReadPolygon(*coordinates, source, name, "polygon", rings);
+      return;
+    }
     if (!coordinates->is_array() || coordinates->empty()) {
       throw InputError(source, name, "MultiPolygon coordinates as a non-empty array of polygons");
     }
     for (std::size_t p = 0; p < coordinates->size(); ++p) {
-      ReadPolygon((*coordinates)[p], source, name, fmt::format("polygon {}", p), &building.rings);
+      ReadPolygon((*coordinates)[p], source, name, fmt::format("polygon {}", p), rings);
     }
+  };
+  if (!detail::IsBuildingValue(Property(properties, "building"))) {
+    const auto kind = options.sites_from_map
+                          ? detail::OpenAreaKind([&](const char* key) { return Property(properties, key); })
+                          : std::nullopt;
+    if (!kind) {
+      detail::RecordSkip(&summary, source, name, SkipReason::kNotBuilding, "no building tag");
+      return;
+    }
+    GeoOpenArea area;
+    area.id = Property(properties, "@id").value_or(name);
+    area.kind = *kind;
+    read_rings(&area.rings);
+    data->open_areas.push_back(std::move(area));
+    ++summary.open_areas;
+    return;
   }
-  const auto height = detail::ResolveHeight(Property(properties, "height"), Property(properties, "building:levels"),
-                                            source, name, options, &summary);
+
+  GeoBuilding building;
+  building.id = Property(properties, "@id").value_or(name);
+  read_rings(&building.rings);
+  const detail::BuildingTags tags{Property(properties, "building"), Property(properties, "height"),
+                                  Property(properties, "building:levels"), Property(properties, "roof:shape")};
+  building.flat_roof = !tags.roof_shape || *tags.roof_shape == "flat";
+  const auto height = detail::ResolveHeight(tags, source, name, options, &summary);
   if (!height) return;  // skipped and counted
   building.height = *height;
   data->buildings.push_back(std::move(building));
@@ -130,6 +148,7 @@ void ParseGeoJsonBuildings(std::string_view text, const std::string& source, con
   nlohmann::json document;
   try {
     document = nlohmann::json::parse(text);
+    CheckJsonKeysUnique(text, source);  // common/json_io.h (issue 26 item 6)
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw InputError(source, "JSON", fmt::format("valid JSON ({})", e.what()));
   }
@@ -143,6 +162,7 @@ void ParseGeoJsonBuildings(std::string_view text, const std::string& source, con
   }
   ImportSummary& summary = data->summary;
   summary.sources.push_back(source);
+  const int missing_before = summary.skipped_count(SkipReason::kMissingHeight);
   for (std::size_t index = 0; index < features->size(); ++index) {
     const nlohmann::json& feature = (*features)[index];
     const std::string name = FeatureName(feature, index);
@@ -152,6 +172,7 @@ void ParseGeoJsonBuildings(std::string_view text, const std::string& source, con
       throw InputError(source, name, fmt::format("well-typed GeoJSON members ({})", e.what()));
     }
   }
+  detail::RequireHeightsResolved(missing_before, source, options, summary);
 }
 
 void ReadGeoJsonBuildings(const std::filesystem::path& path, const MapImportOptions& options, GeoMapData* data) {

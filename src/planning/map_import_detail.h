@@ -12,12 +12,30 @@ namespace uascma::planning::detail {
 // A `building` tag value that makes a feature a building: present and not "no".
 bool IsBuildingValue(const std::optional<std::string>& value);
 
-// The height (m) of a building feature from its `height` and `building:levels` tags, as the options say; nullopt
-// when the feature is to be skipped (recorded in `summary`). Throws InputError naming source and feature when the
-// height is missing (and no fallback is enabled) or is not a positive number of metres.
-std::optional<double> ResolveHeight(const std::optional<std::string>& height, const std::optional<std::string>& levels,
-                                    const std::string& source, const std::string& feature,
+// The tags of a building feature that its height and roof come from.
+struct BuildingTags {
+  std::optional<std::string> building;    // the building=* value
+  std::optional<std::string> height;      // m
+  std::optional<std::string> levels;      // building:levels
+  std::optional<std::string> roof_shape;  // roof:shape
+};
+
+// The height (m) of a building feature by the fall-backs of the options (map_import.h), counted by source in
+// `summary`; nullopt when it has none: then it is recorded as skipped (kMissingHeight), and
+// RequireHeightsResolved decides at the end of the file whether that is an error. Throws InputError naming source
+// and feature when a height or level tag is not a positive number.
+std::optional<double> ResolveHeight(const BuildingTags& tags, const std::string& source, const std::string& feature,
                                     const MapImportOptions& options, ImportSummary* summary);
+// Called by a reader after its file: unless skip_missing_height, throws InputError naming the first building of
+// this file without a height, with how many lacked one and the options that would resolve them. `missing_before`:
+// summary->skipped_count(kMissingHeight) before the file.
+void RequireHeightsResolved(int missing_before, const std::string& source, const MapImportOptions& options,
+                            const ImportSummary& summary);
+
+// "leisure=park", "amenity=parking", …: the kind of open area the tags make (map_import.h), nullopt for none.
+// `tag` looks a key up.
+template <typename TagLookup>
+std::optional<std::string> OpenAreaKind(TagLookup&& tag);
 
 void RecordSkip(ImportSummary* summary, const std::string& source, const std::string& feature, SkipReason reason,
                 std::string detail);
@@ -34,5 +52,27 @@ std::vector<GeoPoint> CleanRing(const std::vector<GeoPoint>& ring, const std::st
 std::optional<double> ParseNumber(std::string_view text);
 
 std::string_view Trim(std::string_view text);
+
+template <typename TagLookup>
+std::optional<std::string> OpenAreaKind(TagLookup&& tag) {
+  static constexpr const char* kLeisure[] = {"park", "pitch", "playground", "garden", "common", "recreation_ground",
+                                             "dog_park"};
+  static constexpr const char* kLanduse[] = {"grass", "recreation_ground", "meadow", "village_green"};
+  if (const std::optional<std::string> leisure = tag("leisure")) {
+    for (const char* value : kLeisure) {
+      if (*leisure == value) return "leisure=" + *leisure;
+    }
+  }
+  if (const std::optional<std::string> amenity = tag("amenity"); amenity && *amenity == "parking") {
+    const std::optional<std::string> parking = tag("parking");
+    if (!parking || (*parking != "underground" && *parking != "multi-storey")) return std::string("amenity=parking");
+  }
+  if (const std::optional<std::string> landuse = tag("landuse")) {
+    for (const char* value : kLanduse) {
+      if (*landuse == value) return "landuse=" + *landuse;
+    }
+  }
+  return std::nullopt;
+}
 
 }  // namespace uascma::planning::detail

@@ -111,6 +111,11 @@ class BuildingCollector : public osmium::handler::Handler {
       return;
     }
     if (!detail::IsBuildingValue(Tag(way.tags(), "building"))) {
+      if (OpenArea(way.tags())) {
+        expected_.insert(name);  // an open area: its polygon comes from the assembler
+        open_area_names_.insert(name);
+        return;
+      }
       detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotBuilding, "no building tag");
       return;
     }
@@ -138,6 +143,11 @@ class BuildingCollector : public osmium::handler::Handler {
       return;
     }
     if (!detail::IsBuildingValue(Tag(relation.tags(), "building"))) {
+      if (OpenArea(relation.tags())) {
+        expected_.insert(name);
+        open_area_names_.insert(name);
+        return;
+      }
       detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotBuilding, "no building tag");
       return;
     }
@@ -148,6 +158,11 @@ class BuildingCollector : public osmium::handler::Handler {
   void area(const osmium::Area& area) {
     const std::string name = fmt::format("{}/{}", area.from_way() ? "way" : "relation", area.orig_id());
     assembled_.insert(name);
+    const bool building_area = detail::IsBuildingValue(Tag(area.tags(), "building"));
+    if (!building_area && area.num_rings().first == 0) {  // an open area that does not close: no sites from it
+      detail::RecordSkip(&data_->summary, source_, name, SkipReason::kNotPolygon, "an open area that does not close");
+      return;
+    }
     if (area.num_rings().first == 0) {
       // The assembler could not build a polygon; its report names the problem and the object.
       std::string problem;
@@ -162,8 +177,7 @@ class BuildingCollector : public osmium::handler::Handler {
       throw InputError(source_, name,
                        "rings that close into a valid polygon" + (problem.empty() ? std::string() : " (" + problem + ")"));
     }
-    GeoBuilding building;
-    building.id = name;
+    std::vector<std::vector<GeoPoint>> rings;
     auto add_ring = [&](const osmium::NodeRefList& ring, const std::string& ring_name) {
       std::vector<GeoPoint> points;
       points.reserve(ring.size());
@@ -172,7 +186,7 @@ class BuildingCollector : public osmium::handler::Handler {
         detail::CheckGeoPoint(p, source_, name);
         points.push_back(p);
       }
-      building.rings.push_back(detail::CleanRing(points, source_, name, ring_name));
+      rings.push_back(detail::CleanRing(points, source_, name, ring_name));
     };
     int outer_index = 0;
     for (const auto& outer : area.outer_rings()) {
@@ -183,8 +197,20 @@ class BuildingCollector : public osmium::handler::Handler {
       }
       ++outer_index;
     }
-    const auto height = detail::ResolveHeight(Tag(area.tags(), "height"), Tag(area.tags(), "building:levels"),
-                                              source_, name, options_, &data_->summary);
+    if (!building_area) {  // an open area (sites_from_map)
+      const auto kind = OpenArea(area.tags());
+      if (!kind) return;
+      data_->open_areas.push_back({name, *kind, std::move(rings)});
+      ++data_->summary.open_areas;
+      return;
+    }
+    GeoBuilding building;
+    building.id = name;
+    building.rings = std::move(rings);
+    const detail::BuildingTags tags{Tag(area.tags(), "building"), Tag(area.tags(), "height"),
+                                    Tag(area.tags(), "building:levels"), Tag(area.tags(), "roof:shape")};
+    building.flat_roof = !tags.roof_shape || *tags.roof_shape == "flat";
+    const auto height = detail::ResolveHeight(tags, source_, name, options_, &data_->summary);
     if (!height) return;
     building.height = *height;
     data_->buildings.push_back(std::move(building));
@@ -192,7 +218,14 @@ class BuildingCollector : public osmium::handler::Handler {
   }
 
   const std::set<std::string>& expected() const { return expected_; }
+
+  // The open-area kind of a way's or relation's tags when sites are derived from the map, else nullopt.
+  std::optional<std::string> OpenArea(const osmium::TagList& tags) const {
+    if (!options_.sites_from_map) return std::nullopt;
+    return detail::OpenAreaKind([&](const char* key) { return Tag(tags, key); });
+  }
   const std::set<std::string>& assembled() const { return assembled_; }
+  const std::set<std::string>& open_area_names() const { return open_area_names_; }
 
  private:
   std::string source_;
@@ -201,6 +234,7 @@ class BuildingCollector : public osmium::handler::Handler {
   const std::ostringstream* problems_;
   std::set<std::string> expected_;   // building ways and relations that should become areas
   std::set<std::string> assembled_;  // the ones that did
+  std::set<std::string> open_area_names_;  // of expected_, the open areas (sites_from_map)
 };
 
 }  // namespace
@@ -227,6 +261,9 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
     osmium::TagsFilter filter{false};
     filter.add_rule(false, "building", "no");
     filter.add_rule(true, "building");
+    if (options.sites_from_map) {  // open areas too (map_import.h); the collector keeps the kinds it lists
+      for (const char* key : {"leisure", "amenity", "landuse"}) filter.add_rule(true, key);
+    }
     osmium::area::MultipolygonManager<osmium::area::Assembler> manager{config, filter};
 
     // Pass 1, as osmium::relations::read_relations does, with the tag guard ahead of the manager's filter.
@@ -239,6 +276,7 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
     }
 
     data->summary.sources.push_back(source);
+    const int missing_before = data->summary.skipped_count(SkipReason::kMissingHeight);
     BuildingCollector collector(source, options, data, &problems);
     using Index = osmium::index::map::FlexMem<osmium::unsigned_object_id_type, osmium::Location>;
     Index index;
@@ -261,8 +299,13 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
                            "members missing from the file");
         continue;
       }
+      if (collector.open_area_names().count(name)) {
+        detail::RecordSkip(&data->summary, source, name, SkipReason::kNotPolygon, "an open area libosmium cannot assemble");
+        continue;
+      }
       throw InputError(source, name, "a building polygon libosmium can assemble");
     }
+    detail::RequireHeightsResolved(missing_before, source, options, data->summary);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {

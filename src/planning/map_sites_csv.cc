@@ -7,6 +7,7 @@
 #include <fmt/ranges.h>
 
 #include "map_import_detail.h"
+#include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/planning/csv.h"
@@ -94,14 +95,19 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
     site.altitude = number_at(kAlt);
     site.risk = number_at(kRisk);
     site.radius = number_at(kRadius);
-    if (!(site.altitude >= 0.0)) {
-      throw InputError(source, feature, fmt::format("alt ≥ 0 m above ground, got {}", site.altitude));
+    // Issue 26: alt and radius had no upper bound (1e9 m was accepted). alt: 0 to 1000 m above ground, the
+    // cruise-altitude bound (above the tallest building of any city; Midtown's sites reach 221 m). radius: 0.1 m
+    // (smaller than any vehicle) to 1000 m (a site larger than a city park; Midtown's are 2-16 m). Our bounds.
+    constexpr Bounds kSiteAltitude{0.0, 1000.0, "m"};
+    constexpr Bounds kSiteRadius{0.1, 1000.0, "m"};
+    if (!kSiteAltitude.Contains(site.altitude)) {
+      throw InputError(source, feature + " alt", OutsideBoundsMessage(kSiteAltitude, site.altitude) + " above ground");
+    }
+    if (!kSiteRadius.Contains(site.radius)) {
+      throw InputError(source, feature + " radius", OutsideBoundsMessage(kSiteRadius, site.radius));
     }
     if (!(site.risk >= 0.0 && site.risk <= 1.0)) {
       throw InputError(source, feature, fmt::format("risk in [0, 1], got {}", site.risk));
-    }
-    if (!(site.radius > 0.0)) {
-      throw InputError(source, feature, fmt::format("radius > 0 m, got {}", site.radius));
     }
     data->sites.push_back(std::move(site));
     ++summary.sites;

@@ -20,6 +20,7 @@
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
+#include "uascma/common/json_io.h"
 
 namespace uascma::planning {
 namespace {
@@ -38,34 +39,66 @@ constexpr double kSamePlace = 1e-6;
 struct RawItem {
   std::string name;  // "item 3" / "line 5 (index 4)", for messages
   int number = 0;    // the item's position in the mission, from 1
+  int jump_id = -1;  // what a DO_JUMP's param1 names it by: QGroundControl's doJumpId, a .waypoints file's index
   int command = 0;
   int frame = 0;
   std::array<double, 7> params{};
+  // QGroundControl's terrain-calculated item (AltitudeMode 3) whose AMSL altitude was never computed
+  // (params[6] = null): its "Altitude" above the terrain.
+  std::optional<double> altitude_above_terrain;
 };
 
 struct RawMission {
   GeoPoint home;
   std::optional<double> home_amsl;
+  bool home_unset = false;  // ArduPilot's home of (0, 0): not yet known when the file was written
   std::vector<RawItem> items;
   std::vector<std::string> warnings;
   std::optional<double> planned_speed;
+  std::optional<int> firmware_type, vehicle_type;
+  std::vector<std::array<double, 3>> rally;  // latitude, longitude (degrees), altitude (m, relative)
+  struct Zone {
+    bool inclusion = true;
+    std::vector<GeoPoint> polygon;       // empty for a circle
+    GeoPoint centre;                     // of a circle
+    double radius = 0.0;                 // m, of a circle
+    std::string name;
+  };
+  std::vector<Zone> fence;
 };
 
-// Commands that do not move the vehicle: read, named in a warning, not modelled.
-bool DoesNotMove(int command) {
+// Commands that move the vehicle in a way uascma does not fly, with the reason a refusal gives. Every other command
+// outside the MAVLink navigation range (MAV_CMD 16-99: NAV_*) and the navigation-like user commands does not move
+// the vehicle (camera, gimbal, servo, relay, gripper, parachute, auxiliary functions, region of interest, yaw,
+// markers, …): it is skipped with a warning, whatever its number.
+std::optional<std::string> RefusalReason(int command) {
   switch (command) {
-    case 112:  // CONDITION_DELAY: delays the next DO command, not the flight
-    case 115:  // CONDITION_YAW
-    case 181: case 182: case 183: case 184:  // relays and servos
-    case 189:  // DO_LAND_START (a marker)
-    case 195: case 197: case 201:  // region of interest (yaw and gimbal pointing)
-    case 200: case 202: case 203: case 204: case 205: case 206: case 214:  // camera and mount
-    case 211:  // DO_GRIPPER
-    case 530: case 531: case 532: case 1000: case 2000: case 2001: case 2500: case 2501:  // camera, gimbal manager
-      return true;
-    default: return false;
+    case 17: return "it loiters until the operator intervenes (the mission never ends)";
+    case 113: return "it climbs or descends at a rate and holds the mission until then (not modelled)";
+    case 176: return "it changes the flight mode (the mission may stop)";
+    case 179: return "it moves the home that RETURN_TO_LAUNCH flies to (not modelled)";
+    case 185: return "it terminates the flight";
+    case 186: return "it changes the altitude outside a mission item (not modelled)";
+    case 190: return "it lands at a rally point chosen by the autopilot";
+    case 191: return "it aborts a landing (not modelled)";
+    case 192: return "it repositions the vehicle outside the mission (not modelled)";
+    case 193: return "it pauses the mission until the operator continues it";
+    case 224: return "it jumps to another item (not modelled)";
+    case 601: return "it jumps to a tag (not modelled)";
+    default: break;
   }
+  if ((command >= 16 && command <= 99) || (command >= 31000 && command <= 31004)) {
+    return "a navigation command that uascma does not fly";
+  }
+  return std::nullopt;
 }
+bool IsNavigation(int command) { return (command >= 16 && command <= 99) || (command >= 31000 && command <= 31004); }
+
+constexpr int kMavCmdDoJump = 177;
+constexpr int kMavCmdNavSplineWaypoint = 82;
+constexpr int kMavCmdNavRoi = 80;  // deprecated: points the camera, does not move the vehicle
+// A mission unrolled from DO_JUMPs is refused beyond this many items (nested loops multiply).
+constexpr std::size_t kMaxUnrolledItems = 100'000;
 
 std::string Lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -110,10 +143,112 @@ int JsonInteger(const nlohmann::json& object, const char* key, const std::string
   return it->get<int>();
 }
 
+// One SimpleItem (a MAVLink mission item) of a .plan.
+RawItem ReadSimpleItem(const nlohmann::json& item, const std::string& field, const std::string& source, int number) {
+  RawItem raw_item;
+  raw_item.number = number;
+  raw_item.name = fmt::format("{} (item {})", field, raw_item.number);
+  raw_item.command = JsonInteger(item, "command", source, field);
+  raw_item.frame = JsonInteger(item, "frame", source, field);
+  if (item.contains("doJumpId")) raw_item.jump_id = JsonInteger(item, "doJumpId", source, field);
+  const auto params = item.find("params");
+  if (params == item.end() || !params->is_array() || params->size() != 7) {
+    throw InputError(source, field + ".params", "a list of 7 numbers (param1–4, latitude, longitude, altitude)");
+  }
+  for (int p = 0; p < 7; ++p) {
+    raw_item.params[p] = JsonNumber((*params)[p], source, fmt::format("{}.params[{}]", field, p));
+  }
+  // QGroundControl's AltitudeMode 3 ("calculated above terrain"): params[6] is the AMSL altitude it computed from
+  // its terrain tiles, null when it had none; "Altitude" is the height above the terrain.
+  const auto mode = item.find("AltitudeMode");
+  if (mode != item.end() && mode->is_number_integer() && mode->get<int>() == 3 && std::isnan(raw_item.params[6])) {
+    const auto altitude = item.find("Altitude");
+    if (altitude != item.end() && altitude->is_number()) raw_item.altitude_above_terrain = altitude->get<double>();
+  }
+  return raw_item;
+}
+
+// [lat, lon] of a fence vertex or centre.
+GeoPoint JsonLatLon(const nlohmann::json& value, const std::string& source, const std::string& field) {
+  if (!value.is_array() || value.size() < 2 || !value[0].is_number() || !value[1].is_number()) {
+    throw InputError(source, field, "[latitude, longitude] in degrees");
+  }
+  const GeoPoint point{value[0].get<double>(), value[1].get<double>()};
+  detail::CheckGeoPoint(point, source, field);
+  return point;
+}
+
+// geoFence (version 2): {"polygons": [{"inclusion": bool, "polygon": [[lat, lon], …]}], "circles": [{"inclusion":
+// bool, "circle": {"center": [lat, lon], "radius": m}}]}.
+void ReadGeoFence(const nlohmann::json& document, const std::string& source, RawMission* raw) {
+  const auto fence = document.find("geoFence");
+  if (fence == document.end() || !fence->is_object()) return;
+  auto inclusion = [&](const nlohmann::json& zone, const std::string& field) {
+    const auto it = zone.find("inclusion");
+    if (it == zone.end()) return true;  // QGroundControl's default
+    if (!it->is_boolean()) throw InputError(source, field + ".inclusion", "true or false");
+    return it->get<bool>();
+  };
+  if (const auto polygons = fence->find("polygons"); polygons != fence->end() && polygons->is_array()) {
+    for (std::size_t i = 0; i < polygons->size(); ++i) {
+      const std::string field = fmt::format("geoFence.polygons[{}]", i);
+      const nlohmann::json& zone = (*polygons)[i];
+      if (!zone.is_object()) throw InputError(source, field, "an object");
+      RawMission::Zone out;
+      out.name = field;
+      out.inclusion = inclusion(zone, field);
+      const auto vertices = zone.find("polygon");
+      if (vertices == zone.end() || !vertices->is_array() || vertices->size() < 3) {
+        throw InputError(source, field + ".polygon", "at least 3 [latitude, longitude] vertices");
+      }
+      for (std::size_t v = 0; v < vertices->size(); ++v) {
+        out.polygon.push_back(JsonLatLon((*vertices)[v], source, fmt::format("{}.polygon[{}]", field, v)));
+      }
+      raw->fence.push_back(std::move(out));
+    }
+  }
+  if (const auto circles = fence->find("circles"); circles != fence->end() && circles->is_array()) {
+    for (std::size_t i = 0; i < circles->size(); ++i) {
+      const std::string field = fmt::format("geoFence.circles[{}]", i);
+      const nlohmann::json& zone = (*circles)[i];
+      const auto circle = zone.is_object() ? zone.find("circle") : zone.end();
+      if (!zone.is_object() || circle == zone.end() || !circle->is_object()) {
+        throw InputError(source, field, "{\"circle\": {\"center\": [lat, lon], \"radius\": m}, \"inclusion\": bool}");
+      }
+      RawMission::Zone out;
+      out.name = field;
+      out.inclusion = inclusion(zone, field);
+      out.centre = JsonLatLon(circle->value("center", nlohmann::json()), source, field + ".circle.center");
+      const auto radius = circle->find("radius");
+      if (radius == circle->end() || !radius->is_number() || !(radius->get<double>() > 0.0)) {
+        throw InputError(source, field + ".circle.radius", "a radius > 0 m");
+      }
+      out.radius = radius->get<double>();
+      raw->fence.push_back(std::move(out));
+    }
+  }
+}
+
+// rallyPoints (version 2): {"points": [[lat, lon, alt], …]}, the altitude relative to home.
+void ReadRallyPoints(const nlohmann::json& document, const std::string& source, RawMission* raw) {
+  const auto rally = document.find("rallyPoints");
+  if (rally == document.end() || !rally->is_object()) return;
+  const auto points = rally->find("points");
+  if (points == rally->end() || !points->is_array()) return;
+  for (std::size_t i = 0; i < points->size(); ++i) {
+    const std::string field = fmt::format("rallyPoints.points[{}]", i);
+    const nlohmann::json& point = (*points)[i];
+    const GeoPoint position = JsonLatLon(point, source, field);
+    const double altitude = point.size() >= 3 && point[2].is_number() ? point[2].get<double>() : 0.0;
+    raw->rally.push_back({position.lat_deg, position.lon_deg, altitude});
+  }
+}
+
 RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
   nlohmann::json document;
   try {
     document = nlohmann::json::parse(text);
+    CheckJsonKeysUnique(text, source);  // common/json_io.h (issue 26 item 6)
   } catch (const nlohmann::json::exception& error) {  // parse_error, or out_of_range for a number like 1e999
     throw InputError(source, "JSON", fmt::format("a QGroundControl plan; the parser says: {}", error.what()));
   }
@@ -132,6 +267,7 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
   raw.home.lat_deg = JsonNumber((*home_it)[0], source, "mission.plannedHomePosition[0]");
   raw.home.lon_deg = JsonNumber((*home_it)[1], source, "mission.plannedHomePosition[1]");
   detail::CheckGeoPoint(raw.home, source, "mission.plannedHomePosition");
+  raw.home_unset = raw.home.lat_deg == 0.0 && raw.home.lon_deg == 0.0;
   if (home_it->size() == 3) {
     const double altitude = JsonNumber((*home_it)[2], source, "mission.plannedHomePosition[2]");
     if (std::isfinite(altitude)) raw.home_amsl = altitude;
@@ -143,6 +279,10 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
     }
   }
 
+  for (const auto& [key, target] : {std::pair{"firmwareType", &raw.firmware_type}, std::pair{"vehicleType", &raw.vehicle_type}}) {
+    if (mission.contains(key)) *target = JsonInteger(mission, key, source, "mission");
+  }
+
   const auto items = mission.find("items");
   if (items == mission.end() || !items->is_array()) throw InputError(source, "mission.items", "a list of mission items");
   int number = 0;
@@ -152,42 +292,39 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
     if (!item.is_object()) throw InputError(source, field, "an object");
     const std::string type = JsonText(item, "type", "");
     if (type == "ComplexItem") {
-      throw InputError(source, field,
-                       fmt::format("a SimpleItem; the ComplexItem '{}' (a generated pattern) is not modelled: "
-                                   "convert it to waypoints in QGroundControl first",
-                                   JsonText(item, "complexItemType", "?")));
+      // QGroundControl stores the waypoints it generated for a survey or corridor scan in the item
+      // (TransectStyleComplexItem.Items, SimpleItems): a ground station flies those.
+      const std::string kind = JsonText(item, "complexItemType", "?");
+      const auto transect = item.find("TransectStyleComplexItem");
+      const nlohmann::json* stored = nullptr;
+      if (transect != item.end() && transect->is_object()) {
+        const auto list = transect->find("Items");
+        if (list != transect->end() && list->is_array() && !list->empty()) stored = &*list;
+      }
+      if (stored == nullptr) {
+        throw InputError(source, field,
+                         fmt::format("a ComplexItem with its generated items (TransectStyleComplexItem.Items); the "
+                                     "'{}' item stores none (QGroundControl generates it when the plan is loaded: "
+                                     "convert it to waypoints in QGroundControl first)", kind));
+      }
+      for (std::size_t j = 0; j < stored->size(); ++j) {
+        const std::string inner = fmt::format("{}.TransectStyleComplexItem.Items[{}]", field, j);
+        if (!(*stored)[j].is_object() || JsonText((*stored)[j], "type", "") != "SimpleItem") {
+          throw InputError(source, inner + ".type", "\"SimpleItem\"");
+        }
+        raw.items.push_back(ReadSimpleItem((*stored)[j], inner, source, ++number));
+      }
+      raw.warnings.push_back(fmt::format("{}: {}: the '{}' ComplexItem flown from its {} stored items", source, field,
+                                         kind, stored->size()));
+      continue;
     }
     if (type != "SimpleItem") {
       throw InputError(source, field + ".type", fmt::format("\"SimpleItem\", got {}", JsonText(item, "type", "none")));
     }
-    RawItem raw_item;
-    raw_item.number = ++number;
-    raw_item.name = fmt::format("{} (item {})", field, raw_item.number);
-    raw_item.command = JsonInteger(item, "command", source, field);
-    raw_item.frame = JsonInteger(item, "frame", source, field);
-    const auto params = item.find("params");
-    if (params == item.end() || !params->is_array() || params->size() != 7) {
-      throw InputError(source, field + ".params", "a list of 7 numbers (param1–4, latitude, longitude, altitude)");
-    }
-    for (int p = 0; p < 7; ++p) {
-      raw_item.params[p] = JsonNumber((*params)[p], source, fmt::format("{}.params[{}]", field, p));
-    }
-    raw.items.push_back(std::move(raw_item));
+    raw.items.push_back(ReadSimpleItem(item, field, source, ++number));
   }
-
-  auto non_empty = [&](const char* object, const char* list) {
-    const auto o = document.find(object);
-    if (o == document.end() || !o->is_object()) return false;
-    const auto l = o->find(list);
-    return l != o->end() && l->is_array() && !l->empty();
-  };
-  if (non_empty("geoFence", "polygons") || non_empty("geoFence", "circles")) {
-    raw.warnings.push_back(fmt::format("{}: geoFence: the geofence is not modelled (ignored)", source));
-  }
-  if (non_empty("rallyPoints", "points")) {
-    raw.warnings.push_back(fmt::format("{}: rallyPoints: rally points are not modelled (ignored; the emergency "
-                                       "planners use the map's landing sites)", source));
-  }
+  ReadGeoFence(document, source, &raw);
+  ReadRallyPoints(document, source, &raw);
   return raw;
 }
 
@@ -258,7 +395,10 @@ RawMission ReadQgcWpl(std::string_view text, const std::string& source) {
       have_home = true;
       raw.home = {item.params[4], item.params[5]};
       detail::CheckGeoPoint(raw.home, source, where + " (home)");
-      if (item.frame == kMavFrameGlobal || item.frame == kMavFrameGlobalInt) {
+      raw.home_unset = raw.home.lat_deg == 0.0 && raw.home.lon_deg == 0.0;
+      if (raw.home_unset) {
+        // Not known when the file was written: neither is its altitude (RawMission::home_unset).
+      } else if (item.frame == kMavFrameGlobal || item.frame == kMavFrameGlobalInt) {
         raw.home_amsl = item.params[6];
       } else {
         raw.warnings.push_back(fmt::format("{}: {} (home): frame {} is not absolute: the home altitude is unknown, "
@@ -268,11 +408,90 @@ RawMission ReadQgcWpl(std::string_view text, const std::string& source) {
     }
     if (!have_home) throw InputError(source, where, "the home position (index 0) before the mission items");
     item.number = ++number;
+    item.jump_id = index;
     item.name = fmt::format("{} (item {})", where, item.number);
     raw.items.push_back(std::move(item));
   }
   if (!have_home) throw InputError(source, "home", "a home line (index 0)");
   return raw;
+}
+
+// --- before flying: the home, the loops -------------------------------------------------------------------------
+// ArduPilot writes a home of (0, 0) when the vehicle's home was not yet known: a ground station then takes the
+// launch point from the mission, so does this: the first item with a position (warned).
+void ResolveUnsetHome(RawMission& raw, const std::string& source) {
+  if (!raw.home_unset) return;
+  for (const RawItem& item : raw.items) {
+    const double lat = item.params[4], lon = item.params[5];
+    if (IsNavigation(item.command) && std::isfinite(lat) && std::isfinite(lon) && !(lat == 0.0 && lon == 0.0)) {
+      raw.home = {lat, lon};
+      raw.home_amsl.reset();
+      raw.warnings.push_back(fmt::format("{}: home: unset (0, 0) in the file: taken from {} at ({:.7f}, {:.7f})",
+                                         source, item.name, lat, lon));
+      return;
+    }
+  }
+  throw InputError(source, "home", "a home position, or an item with a position to take it from; the home is (0, 0) "
+                                   "(unset) and no item has a position");
+}
+
+// DO_JUMP (param1: the target item's doJumpId, or its index in a .waypoints file; param2: how many times to jump)
+// is unrolled into the items it repeats, as the autopilot would fly them; an endless one (param2 < 0) is refused.
+std::vector<RawItem> UnrollJumps(const std::vector<RawItem>& items, const std::string& source,
+                                 std::vector<std::string>* warnings) {
+  std::vector<int> jumps_left(items.size(), 0);
+  bool any = false;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (items[i].command != kMavCmdDoJump) continue;
+    any = true;
+    const double repeat = items[i].params[1];
+    if (!std::isfinite(repeat) || repeat < 0.0) {
+      throw InputError(source, items[i].name,
+                       fmt::format("a DO_JUMP with a finite repeat count (param2 ≥ 0); param2 = {} repeats forever "
+                                   "and the mission would never end", repeat));
+    }
+    if (repeat != std::floor(repeat) || repeat > 1e6) {
+      throw InputError(source, items[i].name + " param2", fmt::format("a whole repeat count, got {}", repeat));
+    }
+    jumps_left[i] = static_cast<int>(repeat);
+  }
+  if (!any) return items;
+  std::vector<RawItem> flown;
+  std::vector<int> passes(items.size(), 0);
+  for (std::size_t pc = 0; pc < items.size();) {
+    const RawItem& item = items[pc];
+    if (item.command != kMavCmdDoJump) {
+      RawItem copy = item;
+      if (++passes[pc] > 1) copy.name += fmt::format(" (pass {})", passes[pc]);
+      flown.push_back(std::move(copy));
+      if (flown.size() > kMaxUnrolledItems) {
+        throw InputError(source, item.name, fmt::format("a mission of at most {} items once its DO_JUMPs are unrolled",
+                                                        kMaxUnrolledItems));
+      }
+      ++pc;
+      continue;
+    }
+    if (jumps_left[pc] == 0) {
+      ++pc;
+      continue;
+    }
+    --jumps_left[pc];
+    const double target = item.params[0];
+    std::size_t to = items.size();
+    for (std::size_t k = 0; k < items.size(); ++k) {
+      if (items[k].jump_id >= 0 && items[k].jump_id == target) to = k;
+    }
+    if (to == items.size()) {
+      throw InputError(source, item.name + " param1",
+                       fmt::format("the number of an item of the mission to jump to, got {}", target));
+    }
+    pc = to;
+  }
+  int total = 0;
+  for (std::size_t i = 0; i < items.size(); ++i) total += items[i].command == kMavCmdDoJump ? 1 : 0;
+  warnings->push_back(fmt::format("{}: {} DO_JUMP{} unrolled: {} items flown from {}", source, total,
+                                  total == 1 ? "" : "s", flown.size(), items.size()));
+  return flown;
 }
 
 // --- flying the items ---------------------------------------------------------------------------------------------
@@ -291,6 +510,31 @@ class MissionBuilder {
     mission_.home_W = Eigen::Vector3d::Zero();
     mission_.home_W.head<2>() = Local(raw.home, "home");
     position_ = mission_.home_W;
+    mission_.firmware_type = raw.firmware_type;
+    mission_.vehicle_type = raw.vehicle_type;
+    for (std::size_t i = 0; i < raw.rally.size(); ++i) {
+      RallyPoint rally;
+      rally.position = {raw.rally[i][0], raw.rally[i][1]};
+      rally.altitude = raw.rally[i][2];
+      const Eigen::Vector2d p_NE = Local(rally.position, fmt::format("rallyPoints.points[{}]", i));
+      rally.p_W = Eigen::Vector3d(p_NE.x(), p_NE.y(), 0.0);
+      mission_.rally_points.push_back(rally);
+    }
+    for (const RawMission::Zone& raw_zone : raw.fence) {
+      Geofence::Zone zone;
+      zone.inclusion = raw_zone.inclusion;
+      zone.name = raw_zone.name;
+      if (raw_zone.polygon.empty()) {
+        zone.centre_NE = Local(raw_zone.centre, raw_zone.name + ".circle.center");
+        zone.radius = raw_zone.radius;
+      } else {
+        for (const GeoPoint& vertex : raw_zone.polygon) zone.polygon_NE.push_back(Local(vertex, raw_zone.name));
+      }
+      mission_.geofence.zones.push_back(std::move(zone));
+    }
+    if (!mission_.geofence.Allows(mission_.home_W.head<2>())) {
+      Warn("home: outside the geofence (the emergency planners keep to it; the mission is flown as written)");
+    }
     if (options_.map && options_.map->IsInsideBuilding(mission_.home_W + Eigen::Vector3d(0, 0, -0.1))) {
       throw InputError(source_, "home",
                        fmt::format("a planned home on open ground; ({:.1f}, {:.1f}) m is inside building {}",
@@ -355,7 +599,22 @@ class MissionBuilder {
 
   // The item's height above home (m) from its altitude and frame.
   double Height(const RawItem& item) {
+    if (item.altitude_above_terrain) {
+      // QGroundControl's "calculated above terrain" without its terrain data: flown at "Altitude" above the map's
+      // ground (flat, z = 0: the height above home's ground level).
+      if (!terrain_warned_) {
+        Warn(fmt::format("{}: terrain-calculated altitude (AltitudeMode 3) with params[6] null: flown at its "
+                         "\"Altitude\" {:.1f} m over the map's ground (flat)", item.name, *item.altitude_above_terrain));
+        terrain_warned_ = true;
+      }
+      return *item.altitude_above_terrain;
+    }
     const double altitude = item.params[6];
+    if (std::isnan(altitude)) {
+      throw InputError(source_, item.name + " altitude",
+                       "a number of metres in params[6], got null (a terrain-calculated item needs AltitudeMode 3 and "
+                       "its \"Altitude\")");
+    }
     if (!std::isfinite(altitude)) throw InputError(source_, item.name + " altitude", "a finite number of metres");
     switch (item.frame) {
       case kMavFrameGlobalRelativeAlt:
@@ -477,6 +736,10 @@ class MissionBuilder {
 
   void Fly(const RawItem& item) {
     const std::string number = std::to_string(item.number);
+    if (item.command != kMavCmdDoChangeSpeed && (item.command == kMavCmdNavRoi || !RefusalReason(item.command))) {
+      Warn(fmt::format("{}: {} does not move the vehicle: skipped", item.name, MavCommandName(item.command)));
+      return;
+    }
     switch (item.frame) {
       case kMavFrameGlobal: case kMavFrameMission: case kMavFrameGlobalRelativeAlt: case kMavFrameGlobalInt:
       case kMavFrameGlobalRelativeAltInt: case kMavFrameGlobalTerrainAlt: case kMavFrameGlobalTerrainAltInt: break;
@@ -486,6 +749,9 @@ class MissionBuilder {
                                      "coordinates) is not modelled", item.frame));
     }
     switch (item.command) {
+      case kMavCmdNavSplineWaypoint:
+        Warn(fmt::format("{}: NAV_SPLINE_WAYPOINT flown as a NAV_WAYPOINT (straight legs, not the spline)", item.name));
+        [[fallthrough]];
       case kMavCmdNavWaypoint: {
         const Eigen::Vector2d p_NE = Horizontal(item, true);
         MoveTo(Eigen::Vector3d(p_NE.x(), p_NE.y(), -Height(item)), item, "waypoint " + number);
@@ -556,15 +822,14 @@ class MissionBuilder {
       }
       default: break;
     }
-    if (DoesNotMove(item.command)) {
-      Warn(fmt::format("{}: {} does not move the vehicle: not modelled", item.name, MavCommandName(item.command)));
-      return;
-    }
+    const std::optional<std::string> refused = RefusalReason(item.command);
+    UASCMA_CHECK(refused.has_value(), "commands that do not move the vehicle are skipped before");
     throw InputError(source_, item.name,
-                     fmt::format("a command that uascma models (NAV_WAYPOINT, NAV_TAKEOFF, NAV_LAND, "
+                     fmt::format("a command that uascma flies (NAV_WAYPOINT, NAV_SPLINE_WAYPOINT, NAV_TAKEOFF, NAV_LAND, "
                                  "NAV_RETURN_TO_LAUNCH, NAV_LOITER_TIME, NAV_LOITER_TURNS, NAV_LOITER_TO_ALT, NAV_DELAY, "
-                                 "DO_CHANGE_SPEED, or one that does not move the vehicle); {} is not modelled",
-                                 MavCommandName(item.command)));
+                                 "DO_CHANGE_SPEED, a finite DO_JUMP, or one that does not move the vehicle); {} is "
+                                 "refused: {}",
+                                 MavCommandName(item.command), *refused));
   }
 
   const RawMission& raw_;
@@ -595,7 +860,8 @@ std::string MavCommandName(int command) {
       {195, "DO_SET_ROI_LOCATION"}, {197, "DO_SET_ROI_NONE"}, {200, "DO_CONTROL_VIDEO"}, {201, "DO_SET_ROI"},
       {202, "DO_DIGICAM_CONFIGURE"}, {203, "DO_DIGICAM_CONTROL"}, {204, "DO_MOUNT_CONFIGURE"},
       {205, "DO_MOUNT_CONTROL"}, {206, "DO_SET_CAM_TRIGG_DIST"}, {207, "DO_FENCE_ENABLE"}, {208, "DO_PARACHUTE"},
-      {211, "DO_GRIPPER"}, {214, "DO_SET_CAM_TRIGG_INTERVAL"}, {530, "SET_CAMERA_MODE"}, {531, "SET_CAMERA_ZOOM"},
+      {211, "DO_GRIPPER"}, {214, "DO_SET_CAM_TRIGG_INTERVAL"}, {218, "DO_AUX_FUNCTION"}, {224, "DO_SET_MISSION_CURRENT"},
+      {601, "DO_JUMP_TAG"}, {31000, "WAYPOINT_USER_1"}, {530, "SET_CAMERA_MODE"}, {531, "SET_CAMERA_ZOOM"},
       {532, "SET_CAMERA_FOCUS"}, {1000, "DO_GIMBAL_MANAGER_PITCHYAW"}, {2000, "IMAGE_START_CAPTURE"},
       {2001, "IMAGE_STOP_CAPTURE"}, {2500, "VIDEO_START_CAPTURE"}, {2501, "VIDEO_STOP_CAPTURE"},
   };
@@ -636,7 +902,9 @@ Mission ParseMission(std::string_view text, const std::string& source, MissionFo
                      const MissionImportOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("mission import options: " + error);
-  const RawMission raw = format == MissionFormat::kQgcPlan ? ReadQgcPlan(text, source) : ReadQgcWpl(text, source);
+  RawMission raw = format == MissionFormat::kQgcPlan ? ReadQgcPlan(text, source) : ReadQgcWpl(text, source);
+  ResolveUnsetHome(raw, source);
+  raw.items = UnrollJumps(raw.items, source, &raw.warnings);
   Mission mission = MissionBuilder(raw, source, options).Build();
   mission.format = format;
   return mission;
@@ -649,6 +917,66 @@ Mission LoadMissionFile(const std::filesystem::path& path, const MissionImportOp
 
 FlightPlan MakeMissionPlan(const Mission& mission, const PlanLimits& limits) {
   return FlightPlan::Through(mission.home_W, mission.waypoints, limits);
+}
+
+bool Geofence::Zone::Contains(const Eigen::Vector2d& p_NE) const {
+  if (polygon_NE.empty()) return (p_NE - centre_NE).norm() <= radius;
+  // Even-odd crossing test.
+  bool inside = false;
+  for (std::size_t i = 0, j = polygon_NE.size() - 1; i < polygon_NE.size(); j = i++) {
+    const Eigen::Vector2d& a = polygon_NE[i];
+    const Eigen::Vector2d& b = polygon_NE[j];
+    if ((a.y() > p_NE.y()) != (b.y() > p_NE.y()) &&
+        p_NE.x() < (b.x() - a.x()) * (p_NE.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+bool Geofence::Allows(const Eigen::Vector2d& p_NE) const {
+  bool any_inclusion = false, in_inclusion = false;
+  for (const Zone& zone : zones) {
+    if (zone.inclusion) {
+      any_inclusion = true;
+      in_inclusion = in_inclusion || zone.Contains(p_NE);
+    } else if (zone.Contains(p_NE)) {
+      return false;
+    }
+  }
+  return !any_inclusion || in_inclusion;
+}
+
+bool Geofence::AllowsPath(std::span<const Eigen::Vector2d> path_NE, double step) const {
+  if (zones.empty()) return true;
+  for (std::size_t i = 0; i < path_NE.size(); ++i) {
+    if (!Allows(path_NE[i])) return false;
+    if (i + 1 == path_NE.size()) break;
+    const Eigen::Vector2d delta = path_NE[i + 1] - path_NE[i];
+    const int samples = static_cast<int>(std::ceil(delta.norm() / step));
+    for (int k = 1; k < samples; ++k) {
+      if (!Allows(path_NE[i] + delta * (static_cast<double>(k) / samples))) return false;
+    }
+  }
+  return true;
+}
+
+CityMap WithMissionSafety(const CityMap& map, const Mission& mission) {
+  if (mission.rally_points.empty() && mission.geofence.empty()) return map;
+  std::vector<LandingSite> sites;
+  for (const LandingSite& site : map.sites()) {
+    if (mission.geofence.Allows(site.p_W.head<2>())) sites.push_back(site);
+  }
+  for (std::size_t i = 0; i < mission.rally_points.size(); ++i) {
+    LandingSite site;
+    site.id = fmt::format("rally {}", i);
+    const Eigen::Vector2d p_NE = mission.rally_points[i].p_W.head<2>();
+    site.p_W = Eigen::Vector3d(p_NE.x(), p_NE.y(), -map.SurfaceAltitudeAt(p_NE));
+    site.radius = kRallyPointSiteRadius;
+    site.risk = 0.0;
+    sites.push_back(std::move(site));
+  }
+  return CityMap(map.buildings(), std::move(sites));
 }
 
 // --- export -----------------------------------------------------------------------------------------------------
@@ -745,8 +1073,8 @@ std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& opti
       {"rallyPoints", {{"points", nlohmann::json::array()}, {"version", 2}}},
       {"mission",
        {{"version", 2},
-        {"firmwareType", 0},  // MAV_AUTOPILOT_GENERIC
-        {"vehicleType", 13},  // MAV_TYPE_HEXAROTOR
+        {"firmwareType", options.firmware_type},  // MAV_AUTOPILOT
+        {"vehicleType", options.vehicle_type},    // MAV_TYPE
         {"cruiseSpeed", options.cruise_speed},
         {"hoverSpeed", options.cruise_speed},
         {"globalPlanAltitudeMode", 1},
@@ -758,6 +1086,30 @@ std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& opti
 
 void WriteQgcPlan(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options) {
   WriteFileAtomically(path, QgcPlanJson(plan, options));
+}
+
+std::string QgcWplText(const FlightPlan& plan, const QgcPlanExportOptions& options) {
+  // The items of the .plan export, one line each: the two formats carry the same MAVLink items.
+  const nlohmann::json document = nlohmann::json::parse(QgcPlanJson(plan, options));
+  const nlohmann::json& mission = document["mission"];
+  const nlohmann::json& home = mission["plannedHomePosition"];
+  std::string text = "QGC WPL 110\n";
+  text += fmt::format("0\t1\t{}\t{}\t0\t0\t0\t0\t{:.9f}\t{:.9f}\t{:.4f}\t1\n", static_cast<int>(kMavFrameGlobal),
+                      static_cast<int>(kMavCmdNavWaypoint), home[0].get<double>(), home[1].get<double>(),
+                      home[2].get<double>());
+  int index = 0;
+  for (const nlohmann::json& item : mission["items"]) {
+    std::array<double, 7> p{};
+    for (int k = 0; k < 7; ++k) p[k] = item["params"][k].is_null() ? 0.0 : item["params"][k].get<double>();
+    text += fmt::format("{}\t0\t{}\t{}\t{:.4f}\t{:.4f}\t{:.4f}\t{:.4f}\t{:.9f}\t{:.9f}\t{:.4f}\t1\n", ++index,
+                        item["frame"].get<int>(), item["command"].get<int>(), p[0], p[1], p[2], p[3], p[4], p[5], p[6]);
+  }
+  return text;
+}
+
+void WriteMissionFile(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options) {
+  const MissionFormat format = DetectMissionFormat(path);
+  WriteFileAtomically(path, format == MissionFormat::kQgcPlan ? QgcPlanJson(plan, options) : QgcWplText(plan, options));
 }
 
 }  // namespace uascma::planning

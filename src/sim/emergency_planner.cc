@@ -52,7 +52,13 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
   auto map = scenario.map;  // keeps the map alive as long as the planners
   MapEmergencyPlanner out;
   for (const auto& checkpoint : practical->checkpoints()) out.checkpoints_W.push_back(checkpoint.p_W);
-  out.planner = [map, planner, practical, asap, rotor_max](const EmergencyRequest& r) {
+  // A mission's geofence (planning/mission_file.h): an emergency path that leaves it is no plan (decision 28 then
+  // substitutes); its forbidden sites were already dropped from the map (WithMissionSafety).
+  std::shared_ptr<const planning::Geofence> fence;
+  if (scenario.route && !scenario.route->geofence.empty()) {
+    fence = std::make_shared<const planning::Geofence>(scenario.route->geofence);
+  }
+  out.planner = [map, planner, practical, asap, rotor_max, fence](const EmergencyRequest& r) {
     const planning::LandingRequest request{r.p_WB_W, r.v_WB_W, r.yaw, r.eod_s, r.original_plan_elapsed_s};
     planning::LandingResult result;
     const bool land_asap = r.action == decision::CmaAction::kLandAsap;
@@ -68,6 +74,15 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
     plan.status = result.status;
     plan.message = result.message;
     if (!result.ok()) return plan;
+    if (fence) {
+      std::vector<Eigen::Vector2d> path_NE{result.plan.start_W().head<2>()};
+      for (const auto& segment : result.plan.segments()) path_NE.push_back(segment.end_W.head<2>());
+      if (!fence->AllowsPath(path_NE)) {
+        plan.status = planning::LandingStatus::kNoFeasibleTrajectory;
+        plan.message = "the path to site " + result.site_id + " leaves the mission's geofence";
+        return plan;
+      }
+    }
     plan.plan = std::move(result.plan);
     plan.site = result.site_id;
     if (result.site >= 0) plan.site_radius = map->sites()[result.site].radius;

@@ -60,9 +60,11 @@ EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
   }
   FlightLog* log = options_.record ? &log_ : nullptr;
   EnvironmentStep out;
-  out.executed = decision::EffectiveCmaAction(action, state_.flight_status);
+  const decision::FlightStatus status = state_.flight_status;
   out.reward = decision::CmaEpochReward(options_.weights, state_.inputs.state, action);
-  Act(*model_, state_, action, options_.planner, log);
+  // An action that cannot be carried out is replaced by the next-highest of the default CMA policy's Q (decisions
+  // item 28); `executed` says what flew.
+  out.executed = decision::EffectiveCmaAction(Act(*model_, state_, action, options_.planner, log), status);
   StepToNextEpoch(*model_, state_, log);
   if (!state_.done()) {
     Observe(*model_, state_, log);

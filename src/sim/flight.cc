@@ -11,6 +11,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/speed_cap.h"
 
 namespace uascma::sim {
 namespace {
@@ -305,7 +306,9 @@ FlightModel::FlightModel(const Scenario& scenario)
       rotor_lag_(propulsion_.motor_time_constant, dt_),
       pack_step_(pack_.MakeFixedStep(dt_)),
       load_filter_gain_(1.0 - std::exp(-dt_ / scenario.options.load_current_time_constant_s)),
-      outcome_classifier_(scenario.options.outcome) {}
+      outcome_classifier_(scenario.options.outcome),
+      steady_load_{&scenario_.body, &drag_, &electrical_power_, wind_.MeanWind_W()},
+      nominal_load_profile_(std::make_shared<const LoadProfile>(nominal_plan_, steady_load_, models::kRotorCount)) {}
 
 // ---- the state ----------------------------------------------------------------------------------------------------
 FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
@@ -329,7 +332,9 @@ FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
                          6.0 * models::CalcElectricalPower(model.propulsion(), hover_thrust) / state.bus_voltage_v;
   state.load_current_a = state.pack_current_a;
   state.inputs.rul_s = kInfinity;
-  state.min_cell_voltage_v = kInfinity;
+  // The lowest cell voltage starts at the pack at rest (a flight that never takes off reports it; any step under
+  // load reads lower).
+  state.min_cell_voltage_v = model.pack().CalcOutputs(state.pack, 0.0).min_cell_voltage_v;
   return state;
 }
 
@@ -421,12 +426,113 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
   AdvanceClock(model, lead);
 }
 
+namespace {
+
+// Rotors the allocation flies: six, or four after the failure rule (decisions item 13).
+int ActiveRotors(const FlightState& state) {
+  return state.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
+}
+
+// A new executing plan: the forecast's profile is rebuilt at the next epoch (its bias ratio carries on).
+void StartPlan(FlightState& state) {
+  state.plan_start_s = state.time_s;
+  state.load_forecast.profile.reset();
+  state.load_forecast.have_last = false;
+}
+
+// The profile of the executing plan for the rotors that fly it (decision 25).
+void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
+  LoadForecastState& forecast = state.load_forecast;
+  const int rotors = ActiveRotors(state);
+  if (forecast.profile && forecast.profile->active_rotors() == rotors) return;
+  forecast.have_last = false;
+  const bool original = !state.on_emergency_plan && !state.nominal_replanned;
+  forecast.profile = original && rotors == models::kRotorCount
+                         ? model.nominal_load_profile()
+                         : std::make_shared<const LoadProfile>(state.plan(model), model.steady_load(), rotors);
+}
+
+// m/s: the airspeed the reconfigured vehicle can hold less the gust allowance (sim/speed_cap.h), with the thrust the
+// rotors give at the lowest bus voltage the flight can see, the cut-off's (3 cells × 3.3 V, decisions item 11): the
+// cap then holds to the end of the flight.
+double AuthorityAirspeed(const FlightModel& model, const FlightState& state) {
+  const double weight = model.scenario().body.mass * kGravity;
+  const double cutoff_bus_voltage_v = models::kCellsPerBranch * models::kCutoffVoltage;
+  const double available = ActiveRotors(state) * ThrustCap(model, cutoff_bus_voltage_v);
+  if (weight >= available) return 0.0;
+  const double max_tilt = std::acos(std::sqrt(weight / available));  // models::CalcControlAuthority's square
+  const models::WindParams& wind = model.scenario().wind;
+  const double altitude = std::max(-state.body.p_WB_W.z(), model.scenario().mission.cruise_altitude);
+  const models::DrydenIntensity gust =
+      models::CalcDrydenIntensity(wind.turbulence, altitude, wind.medium_band_altitude);
+  return std::max(0.0, CalcMaxLevelAirspeed(model.scenario().body, model.drag(), max_tilt) - gust.sigma_u);
+}
+
+// Re-plans the executing plan's rest at the capped speed from where the vehicle comes to rest (the braking move
+// first, as an emergency plan starts, when its line is clear). True when a plan was made.
+bool ReplanCapped(const FlightModel& model, FlightState& state, planning::FlightPlan& out) {
+  const Eigen::Vector3d p_W = state.body.p_WB_W;
+  const Eigen::Vector3d v_horizontal_W(state.body.v_WB_W.x(), state.body.v_WB_W.y(), 0.0);
+  const double accel = model.scenario().limits.horizontal_accel;
+  const Eigen::Vector3d stop_W = planning::BrakingStop(p_W, v_horizontal_W, accel);
+  const bool brake = v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(p_W, stop_W);
+  const Eigen::Vector2d wind_NE = model.wind().MeanWind_W().head<2>();
+  planning::FlightPlan rest = ReplanAtCappedSpeed(state.plan(model), state.time_s - state.plan_start_s,
+                                                  brake ? stop_W : p_W, model.scenario().limits, wind_NE,
+                                                  state.speed_cap_mps);
+  if (rest.empty()) return false;
+  out = brake ? planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, accel, rest) : std::move(rest);
+  return true;
+}
+
+// §4.4.2: at the first epoch after the allocation flies four rotors, the executing plan's rest is re-planned within
+// what they can hold (SimOptions::cap_speed_after_isolation).
+void CapSpeedAfterIsolation(const FlightModel& model, FlightState& state, FlightLog* log) {
+  if (!model.options().cap_speed_after_isolation || state.allocation_failure == models::kNoFailedMotor ||
+      std::isfinite(state.speed_cap_mps) || !state.airborne) {
+    return;
+  }
+  state.speed_cap_mps = AuthorityAirspeed(model, state);
+  const bool original = !state.on_emergency_plan;
+  const double original_elapsed = state.original_plan_elapsed_s();
+  const double original_left = state.plan(model).TimeRemaining(state.time_s - state.plan_start_s);
+  planning::FlightPlan capped;
+  if (!ReplanCapped(model, state, capped)) return;
+  AddEvent(log, state.time_s, fmt::format("speed capped at {:.1f} m/s airspeed (four rotors, §4.4.2): {:.0f} s left",
+                                          state.speed_cap_mps, capped.duration()));
+  if (original) {
+    state.replanned_nominal = std::move(capped);
+    state.nominal_replanned = true;
+    state.original_time_offset_s = original_elapsed;
+    state.original_time_scale = state.replanned_nominal.duration() > 0.0
+                                    ? original_left / state.replanned_nominal.duration()
+                                    : 1.0;
+  } else {
+    state.emergency_plan = std::move(capped);
+  }
+  StartPlan(state);
+}
+
+// The constant current of the 1 Hz EOD (SimOptions::eod_load).
+double EodCurrent(const FlightModel& model, FlightState& state) {
+  if (model.options().eod_load == EodLoad::kPresent) return state.load_current_a;
+  EnsureLoadProfile(model, state);
+  const double forecast =
+      ForecastCurrent(state.load_forecast, state.time_s - state.plan_start_s, state.energy_wh,
+                      1.0 / model.options().decision_rate_hz, state.bus_voltage_v, model.options().hotel_current_a);
+  return forecast > 0.0 ? forecast : state.load_current_a;  // under a second of plan left: the present load
+}
+
+}  // namespace
+
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log) {
-  // EOD at the present current (decisions item 14), taken as the pack current low-passed with the time constant
-  // of SimOptions::load_current_time_constant_s: the present load, not one gust-driven 5 ms sample nor the few
-  // seconds of the take-off climb.
+  // Guidance first: a vehicle flying on four rotors keeps to what they can hold (§4.4.2).
+  CapSpeedAfterIsolation(model, state, log);
+  // EOD at the expected load of the rest of the executing plan (decision 25) or at the present current, the pack
+  // current low-passed with SimOptions::load_current_time_constant_s (decision 14).
   const double t = state.time_s;
-  state.eod = prognostics::CalcPackEod(model.pack(), state.pack, state.load_current_a);
+  state.eod_current_a = EodCurrent(model, state);
+  state.eod = prognostics::CalcPackEod(model.pack(), state.pack, state.eod_current_a);
   DecisionInputs& inputs = state.inputs;
   inputs.time_s = t;
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.plan_start_s);
@@ -455,28 +561,37 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   return inputs;
 }
 
-void Act(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
-         FlightLog* log) {
+namespace {
+
+// True on the executing plan's last move when it is a vertical descent: the vehicle is landing at the plan's end.
+bool OnFinalDescent(const planning::FlightPlan& plan, double t_plan) {
+  if (plan.empty() || t_plan >= plan.duration()) return false;
+  const auto& segments = plan.segments();
+  const planning::PlanSegment& last = segments.back();
+  const int segment = plan.At(t_plan).segment;
+  const Eigen::Vector3d delta_W = last.end_W - last.start_W;
+  return segment + 1 == static_cast<int>(segments.size()) && last.kind == planning::PlanSegment::Kind::kMove &&
+         delta_W.z() > 0.0 && delta_W.head<2>().norm() < 1e-6;
+}
+
+// Asks the planner for an emergency plan for `action` and switches to it when there is one; otherwise says why not.
+// On the executing plan's final descent no emergency plan is sought: the vehicle is already landing at the end of
+// its plan, sooner than any emergency plan could (measured: a LandPract taken 1.4 s before a touchdown climbed away
+// and failed the battery 5 ms later, in a flight whose NoOp twin completed).
+bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
+                      FlightLog* log, std::string* why) {
   const double t = state.time_s;
-  // §5.5.3: "an emergency landing at t = 0 translates into not taking off" — any emergency action chosen before
-  // take-off keeps the vehicle on the ground (decision 21).
-  if (action != CmaAction::kNoOp && !state.airborne) {
-    AddAction(state, log, action);
-    state.outcome = Outcome::kGrounded;
-    state.reason = fmt::format("{} chosen before take-off in state {}: the vehicle stays on the ground",
-                               decision::CmaActionName(action), decision::CmaStateLabel(state.inputs.state));
-    return;
-  }
-  if (action == CmaAction::kTerminate) {
-    AddAction(state, log, action);
-    state.outcome = Outcome::kTerminated;
-    state.reason = fmt::format("Terminate in state {}", decision::CmaStateLabel(state.inputs.state));
-    return;
-  }
-  // Decisions item 9: an action equal to the executing one is a no-op.
-  if (decision::EffectiveCmaAction(action, state.flight_status) == CmaAction::kNoOp) return;
   const EmergencyPlanner& emergency_planner = planner ? planner : model.map_planner();
-  EmergencyPlan emergency;
+  if (!emergency_planner) {
+    *why = "the map has no landing sites";
+    return false;
+  }
+  const double t_plan = t - state.plan_start_s;
+  if (OnFinalDescent(state.plan(model), t_plan)) {
+    *why = fmt::format("on the final descent of the executing plan, {:.1f} s from its touchdown",
+                       state.plan(model).TimeRemaining(t_plan));
+    return false;
+  }
   // A moving vehicle first brakes to rest at the plan's horizontal acceleration limit (FlightPlan::AfterBraking);
   // the planners plan from where it stops, when the braking line is clear of buildings.
   const Eigen::Vector3d p_W = state.body.p_WB_W;
@@ -486,32 +601,97 @@ void Act(const FlightModel& model, FlightState& state, CmaAction action, const E
   const bool brake = v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(p_W, stop_W);
   const Eigen::Vector3d plan_from_W = brake ? stop_W : p_W;
   const Eigen::Vector3d plan_velocity_W = brake ? Eigen::Vector3d(0.0, 0.0, state.body.v_WB_W.z()) : state.body.v_WB_W;
-  if (emergency_planner) {
-    const bool nominal = !state.on_emergency_plan;
-    emergency = emergency_planner({action, t, plan_from_W, plan_velocity_W,
-                                   EulerFromRotation(state.body.q_WB.toRotationMatrix()).z(), state.allocation_failure,
-                                   state.eod.eod_s, nominal ? t - state.plan_start_s : model.nominal_plan().duration()});
-  } else {
-    emergency.message = "the map has no landing sites";
+  const double original_elapsed =
+      state.on_emergency_plan ? model.nominal_plan().duration() : state.original_plan_elapsed_s();
+  EmergencyPlan emergency =
+      emergency_planner({action, t, plan_from_W, plan_velocity_W, EulerFromRotation(state.body.q_WB.toRotationMatrix()).z(),
+                         state.allocation_failure, state.eod.eod_s, original_elapsed});
+  if (!emergency.ok()) {
+    *why = emergency.message.empty() ? planning::LandingStatusName(emergency.status) : emergency.message;
+    return false;
   }
-  if (emergency.ok()) {
-    if (brake) emergency.plan = planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, braking_accel, emergency.plan);
-    state.emergency_plan = std::move(emergency.plan);
-    state.emergency_site = emergency.site;
-    state.emergency_reach_margin = emergency.reach_margin;
-    state.emergency_site_radius = emergency.site_radius;
-    if (!emergency.footprint_NE.empty()) state.footprint_NE = std::move(emergency.footprint_NE);
-    state.on_emergency_plan = true;
-    state.plan_start_s = t;
-    state.flight_status = decision::FlightStatusAfter(action, state.flight_status);
-    AddAction(state, log, action);
-    AddEvent(log, t, fmt::format("{}: emergency plan to {} ({:.0f} s, RM {:.2f})", decision::CmaActionName(action),
-                                 emergency.site, state.emergency_plan.duration(), emergency.reach_margin));
-  } else if (state.last_action != action) {
-    AddAction(state, log, action);
-    const std::string why = emergency.message.empty() ? planning::LandingStatusName(emergency.status) : emergency.message;
-    AddEvent(log, t, fmt::format("{} requested: no emergency plan ({}), continuing", decision::CmaActionName(action), why));
+  if (brake) emergency.plan = planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, braking_accel, emergency.plan);
+  state.emergency_plan = std::move(emergency.plan);
+  state.emergency_site = emergency.site;
+  state.emergency_reach_margin = emergency.reach_margin;
+  state.emergency_site_radius = emergency.site_radius;
+  if (!emergency.footprint_NE.empty()) state.footprint_NE = std::move(emergency.footprint_NE);
+  state.on_emergency_plan = true;
+  StartPlan(state);
+  state.flight_status = decision::FlightStatusAfter(action, state.flight_status);
+  AddAction(state, log, action);
+  AddEvent(log, t, fmt::format("{}: emergency plan to {} ({:.0f} s, RM {:.2f})", decision::CmaActionName(action),
+                               emergency.site, state.emergency_plan.duration(), emergency.reach_margin));
+  // On four rotors the emergency plan too keeps to what they can hold (§4.4.2).
+  planning::FlightPlan capped;
+  if (std::isfinite(state.speed_cap_mps) && ReplanCapped(model, state, capped)) {
+    state.emergency_plan = std::move(capped);
+    StartPlan(state);
   }
+  return true;
+}
+
+// Decisions item 28: `taken` replaces `chosen`, which could not be carried out (`why`).
+void RecordSubstitution(FlightState& state, FlightLog* log, CmaAction chosen, CmaAction taken, const std::string& why) {
+  ++state.substitution_epochs;
+  const std::string pair = fmt::format("{}->{}", decision::CmaActionName(chosen), decision::CmaActionName(taken));
+  if (std::find(state.substitutions.begin(), state.substitutions.end(), pair) == state.substitutions.end()) {
+    state.substitutions.push_back(pair);
+  }
+  AddEvent(log, state.time_s, fmt::format("{} cannot be carried out ({}): {} instead (the next-highest Q)",
+                                          decision::CmaActionName(chosen), why, decision::CmaActionName(taken)));
+}
+
+}  // namespace
+
+CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
+              FlightLog* log, ActionRanking ranking) {
+  // §5.5.3: "an emergency landing at t = 0 translates into not taking off" — any emergency action chosen before
+  // take-off keeps the vehicle on the ground (decision 21).
+  if (action != CmaAction::kNoOp && !state.airborne) {
+    AddAction(state, log, action);
+    state.outcome = Outcome::kGrounded;
+    state.reason = fmt::format("{} chosen before take-off in state {}: the vehicle stays on the ground",
+                               decision::CmaActionName(action), decision::CmaStateLabel(state.inputs.state));
+    return action;
+  }
+  auto terminate = [&](CmaAction chosen) {
+    AddAction(state, log, CmaAction::kTerminate);
+    state.outcome = Outcome::kTerminated;
+    state.reason = chosen == CmaAction::kTerminate
+                       ? fmt::format("Terminate in state {}", decision::CmaStateLabel(state.inputs.state))
+                       : fmt::format("Terminate in state {} ({} could not be carried out)",
+                                     decision::CmaStateLabel(state.inputs.state), decision::CmaActionName(chosen));
+    return CmaAction::kTerminate;
+  };
+  if (action == CmaAction::kTerminate) return terminate(action);
+  // Decisions item 9: an action equal to the executing one is a no-op.
+  if (decision::EffectiveCmaAction(action, state.flight_status) == CmaAction::kNoOp) return action;
+  std::string why;
+  if (TryEmergencyPlan(model, state, action, planner, log, &why)) return action;
+  // Decisions item 28: the available action with the next-highest value that can be carried out now.
+  if (ranking.empty()) ranking = DefaultCmaActionRanking(state.inputs.state);
+  for (const decision::ActionIndex index : ranking) {
+    const auto next = static_cast<CmaAction>(index);
+    if (next == action || !decision::IsCmaActionAvailable(state.flight_status, next)) continue;
+    if (next == CmaAction::kTerminate) {
+      RecordSubstitution(state, log, action, next, why);
+      return terminate(action);
+    }
+    if (decision::EffectiveCmaAction(next, state.flight_status) == CmaAction::kNoOp) {  // NoOp, or what executes
+      RecordSubstitution(state, log, action, next, why);
+      return next;
+    }
+    std::string next_why;
+    if (TryEmergencyPlan(model, state, next, planner, log, &next_why)) {
+      RecordSubstitution(state, log, action, next, why);
+      return next;
+    }
+    why += "; " + std::string(decision::CmaActionName(next)) + ": " + next_why;
+  }
+  // NoOp and Terminate are available in every flight status (decisions item 3) and always carried out.
+  UASCMA_CHECK(false, "a ranking that holds NoOp or Terminate");
+  return CmaAction::kNoOp;
 }
 
 void SwitchPacks(FlightState& state, models::PackAction action) { state.pack.branch_on = models::SwitchesFor(action); }
@@ -534,7 +714,8 @@ void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& 
   const DecisionInputs& inputs = Observe(model, state, log);
   if (controllers.battery) DecideBattery(model, state, *controllers.battery, log);
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
-  Act(model, state, action, controllers.planner, log);
+  Act(model, state, action, controllers.planner, log,
+      controllers.policy ? controllers.policy->Ranking(inputs) : ActionRanking{});
   StepToNextEpoch(model, state, log);
 }
 

@@ -24,6 +24,7 @@ const char* OutcomeName(Outcome outcome) {
     case Outcome::kFailedCollision: return "failed_collision";
     case Outcome::kTimeout: return "timeout";
     case Outcome::kGrounded: return "grounded";
+    case Outcome::kLandedOffSite: return "landed_off_site";
   }
   return "unknown";
 }
@@ -36,7 +37,9 @@ bool IsFailure(Outcome outcome) {
 decision::CmaTerminal TerminalStateOf(Outcome outcome) {
   UASCMA_CHECK(outcome != Outcome::kInProgress, "a finished flight");
   // Grounded is a landing where the vehicle stands (LandASAP/LandPract chosen before take-off, §5.5.3): C.
-  if (outcome == Outcome::kCompleted || outcome == Outcome::kEmergencyLanding || outcome == Outcome::kGrounded) {
+  // A gentle touchdown off the site ends the flight safely on the ground: C as well.
+  if (outcome == Outcome::kCompleted || outcome == Outcome::kEmergencyLanding || outcome == Outcome::kGrounded ||
+      outcome == Outcome::kLandedOffSite) {
     return decision::CmaTerminal::kC;
   }
   if (outcome == Outcome::kTerminated) return decision::CmaTerminal::kT;
@@ -124,6 +127,14 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
   }
   if (in.airborne && altitude <= 0.0) {
     if (landing && gentle) return landed("touched down");
+    const double across = in.v_WB_W.head<2>().norm();
+    if (gentle && across <= limits.touchdown_speed) {
+      out.outcome = Outcome::kLandedOffSite;
+      out.reason = fmt::format("touched down on open ground at {:.1f} m/s down, {:.1f} m/s across, {:.1f} m from the "
+                               "landing point (radius {:.2f} m)",
+                               in.v_WB_W.z(), across, to_end, radius);
+      return out;
+    }
     out.outcome = Outcome::kFailedCollision;
     out.reason = fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", in.v_WB_W.z(), to_end);
     return out;

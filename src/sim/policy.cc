@@ -3,43 +3,89 @@
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "uascma/common/error.h"
 #include "uascma/common/hash.h"
+#include "uascma/common/text.h"
 #include "uascma/decision/policy_file.h"
 
 namespace uascma::sim {
 namespace {
 
-std::string HashOf(const std::string& kind, const std::vector<decision::ActionIndex>& actions) {
+using RankingTable = std::vector<std::vector<decision::ActionIndex>>;
+
+// The ranking enters the hash only when there is one, so a policy without one keeps the hash it always had.
+std::string HashOf(const std::string& kind, const std::vector<decision::ActionIndex>& actions, const RankingTable& ranking) {
   Fingerprint f;
   f.Add(std::string_view(kind));
   f.Add(static_cast<std::uint64_t>(actions.size()));
   for (decision::ActionIndex a : actions) f.Add(static_cast<int>(a));
+  if (!ranking.empty()) {
+    f.Add(std::string_view("ranking"));
+    for (const auto& order : ranking) {
+      f.Add(static_cast<std::uint64_t>(order.size()));
+      for (decision::ActionIndex a : order) f.Add(static_cast<int>(a));
+    }
+  }
   return f.Hex();
 }
 
-PolicyDefinition TableDefinition(std::string name, std::string source, std::vector<decision::ActionIndex> actions) {
+PolicyDefinition TableDefinition(std::string name, std::string source, std::vector<decision::ActionIndex> actions,
+                                 RankingTable ranking) {
   PolicyDefinition policy;
   policy.name = std::move(name);
   policy.kind = "table";
   policy.source = std::move(source);
   policy.actions = std::move(actions);
-  policy.hash = HashOf(policy.kind, policy.actions);
+  policy.ranking = std::move(ranking);
+  policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
   return policy;
+}
+
+// A ranking must list, per state, distinct actions led by the state's own.
+void CheckRanking(const std::vector<decision::ActionIndex>& actions, const RankingTable& ranking, const std::string& where) {
+  if (ranking.empty()) return;
+  if (ranking.size() != actions.size()) {
+    throw InputError(where, "actions", "one ranking per state");
+  }
+  for (std::size_t s = 0; s < ranking.size(); ++s) {
+    const auto& order = ranking[s];
+    std::vector<bool> seen(decision::kCmaNumActions, false);
+    for (decision::ActionIndex a : order) {
+      if (a < 0 || a >= decision::kCmaNumActions || seen[static_cast<std::size_t>(a)]) {
+        throw InputError(where, fmt::format("actions[{}]", s), "distinct action names");
+      }
+      seen[static_cast<std::size_t>(a)] = true;
+    }
+    if (order.empty() || order.front() != actions[s]) {
+      throw InputError(where, fmt::format("actions[{}]", s), "a ranking led by the state's action");
+    }
+  }
 }
 
 }  // namespace
 
-TablePolicy::TablePolicy(std::vector<decision::ActionIndex> action_per_state, std::string name)
-    : action_(std::move(action_per_state)), name_(std::move(name)) {
+ActionRanking DefaultCmaActionRanking(const decision::CmaState& state) {
+  static const RankingTable ranking = SolvedCmaPolicyDefinition().ranking;  // solved once (thread-safe static)
+  return ranking[static_cast<std::size_t>(decision::CmaStateIndex(state))];
+}
+
+TablePolicy::TablePolicy(std::vector<decision::ActionIndex> action_per_state, std::string name, RankingTable ranking)
+    : action_(std::move(action_per_state)), name_(std::move(name)), ranking_(std::move(ranking)) {
   if (static_cast<int>(action_.size()) < decision::kCmaNumTupleStates) {
     throw InputError("policy", "states", "an action for each of the 108 CMA states");
   }
+  CheckRanking(action_, ranking_, "policy " + name_);
 }
 
 decision::CmaAction TablePolicy::Decide(const DecisionInputs& inputs) {
   return static_cast<decision::CmaAction>(action_[decision::CmaStateIndex(inputs.state)]);
+}
+
+ActionRanking TablePolicy::Ranking(const DecisionInputs& inputs) const {
+  if (ranking_.empty()) return DefaultCmaActionRanking(inputs.state);
+  return ranking_[static_cast<std::size_t>(decision::CmaStateIndex(inputs.state))];
 }
 
 PolicyDefinition NoOpPolicyDefinition() {
@@ -47,17 +93,21 @@ PolicyDefinition NoOpPolicyDefinition() {
   policy.name = "noop";
   policy.kind = "noop";
   policy.source = "noop";
-  policy.hash = HashOf(policy.kind, policy.actions);
+  policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
   return policy;
 }
 
 PolicyDefinition SolvedCmaPolicyDefinition() {
-  return TableDefinition("cma", "cma default weights", decision::SolveDefaultCmaPolicy().action);
+  RankingTable ranking;
+  decision::Policy solved = decision::SolveDefaultCmaPolicy(&ranking);
+  return TableDefinition("cma", "cma default weights", std::move(solved.action), std::move(ranking));
 }
 
 PolicyDefinition PolicyDefinitionFromFile(const std::string& path) {
-  decision::Policy bound = decision::LoadCmaPolicy(path);  // the model hash is checked
-  return TableDefinition(std::filesystem::path(path).stem().string(), path, std::move(bound.action));
+  RankingTable ranking;
+  decision::Policy bound = decision::LoadCmaPolicy(path, "", &ranking);  // the model hash is checked
+  RequireUtf8(std::filesystem::path(path).stem().string(), EscapeInvalidUtf8(path), "name (the policy's name is the file's name)");
+  return TableDefinition(std::filesystem::path(path).stem().string(), path, std::move(bound.action), std::move(ranking));
 }
 
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field) {
@@ -70,7 +120,14 @@ PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& sourc
 }
 
 PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& kind, const std::string& source,
-                                  const std::vector<std::string>& action_names, const std::string& where) {
+                                  const std::string& actions_json, const std::string& where) {
+  nlohmann::json stored;
+  try {
+    stored = nlohmann::json::parse(actions_json);
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(where, "actions_json", "a JSON list of action names");
+  }
+  if (!stored.is_array()) throw InputError(where, "actions_json", "a JSON list of action names");
   if (kind == "noop") {
     PolicyDefinition policy = NoOpPolicyDefinition();
     policy.name = name;
@@ -78,14 +135,29 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
     return policy;
   }
   if (kind != "table") throw InputError(where, "kind", "'noop' or 'table', got '" + kind + "'");
-  if (static_cast<int>(action_names.size()) != decision::kCmaNumStates) {
+  if (static_cast<int>(stored.size()) != decision::kCmaNumStates) {
     throw InputError(where, "actions", fmt::format("{} actions, one per CMA state", decision::kCmaNumStates));
   }
+  auto parse = [&](const nlohmann::json& entry) {
+    if (!entry.is_string()) throw InputError(where, "actions_json", "action names (strings)");
+    return static_cast<decision::ActionIndex>(decision::ParseCmaAction(entry.get<std::string>(), where));
+  };
   std::vector<decision::ActionIndex> actions;
-  for (const std::string& action : action_names) {
-    actions.push_back(static_cast<decision::ActionIndex>(decision::ParseCmaAction(action, where)));
+  RankingTable ranking;
+  const bool ranked = !stored.empty() && stored.front().is_array();
+  for (const nlohmann::json& entry : stored) {
+    if (entry.is_array() != ranked) throw InputError(where, "actions_json", "entries all names or all rankings");
+    if (!ranked) {
+      actions.push_back(parse(entry));
+      continue;
+    }
+    std::vector<decision::ActionIndex>& order = ranking.emplace_back();
+    for (const nlohmann::json& a : entry) order.push_back(parse(a));
+    if (order.empty()) throw InputError(where, "actions_json", "a non-empty ranking per state");
+    actions.push_back(order.front());
   }
-  return TableDefinition(name, source, std::move(actions));
+  CheckRanking(actions, ranking, where);
+  return TableDefinition(name, source, std::move(actions), std::move(ranking));
 }
 
 std::vector<std::string> PolicyActionNames(const PolicyDefinition& policy) {
@@ -98,11 +170,22 @@ std::vector<std::string> PolicyActionNames(const PolicyDefinition& policy) {
 
 std::unique_ptr<DecisionPolicy> MakeDecisionPolicy(const PolicyDefinition& policy) {
   if (policy.kind == "noop") return std::make_unique<NoOpPolicy>();
-  return std::make_unique<TablePolicy>(policy.actions, policy.name);
+  return std::make_unique<TablePolicy>(policy.actions, policy.name, policy.ranking);
 }
 
 std::unique_ptr<DecisionPolicy> MakePolicy(const std::string& spec, const std::string& source) {
   return MakeDecisionPolicy(ResolvePolicy(spec, source));
+}
+
+std::string PolicyActionsJson(const PolicyDefinition& policy) {
+  if (policy.ranking.empty()) return nlohmann::json(PolicyActionNames(policy)).dump();
+  nlohmann::json stored = nlohmann::json::array();
+  for (const auto& order : policy.ranking) {
+    nlohmann::json names = nlohmann::json::array();
+    for (decision::ActionIndex a : order) names.push_back(decision::CmaActionName(static_cast<decision::CmaAction>(a)));
+    stored.push_back(std::move(names));
+  }
+  return stored.dump();
 }
 
 }  // namespace uascma::sim

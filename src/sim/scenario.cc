@@ -10,7 +10,10 @@
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
+#include "uascma/common/frames.h"
+#include "uascma/common/text.h"
 #include "uascma/common/yaml_io.h"
+#include "uascma/models/battery_pack.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
 #include "uascma/prognostics/motor_rul.h"
@@ -51,15 +54,17 @@ void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec&
 }
 
 // map: {procedural: {seed: 3}} | {buildings: [a.geojson, b.osm.pbf], sites: s.csv, origin: [lat, lon],
-//       height_from_levels: bool, metres_per_level: m, skip_missing_height: bool}
-// Sets sc.map, and sc.geo_origin for imported data.
+//       height_from_levels: bool, metres_per_level: m, skip_missing_height: bool, height_from_type: bool,
+//       default_height_m: m, sites_from_map: bool}
+// Sets sc.map, and sc.geo_origin for imported data. The import keys are `map info`'s options (map_import.h);
+// sites_from_map adds the map's own sites (flat roofs, open areas) to those of `sites`.
 void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
   RequireOnlyKeys(node, {"procedural", "buildings", "sites", "origin", "height_from_levels", "metres_per_level",
-                         "skip_missing_height"},
+                         "skip_missing_height", "height_from_type", "default_height_m", "sites_from_map"},
                   source, "map");
   if (const YAML::Node procedural = node["procedural"]) {
     for (const char* key : {"buildings", "sites", "origin", "height_from_levels", "metres_per_level",
-                            "skip_missing_height"}) {
+                            "skip_missing_height", "height_from_type", "default_height_m", "sites_from_map"}) {
       if (node[key]) throw InputError(source, std::string("map.") + key, "no import key beside map.procedural");
     }
     planning::ProceduralCityParams params;
@@ -114,6 +119,12 @@ void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
   options.metres_per_level = OptionalNumber(node, "metres_per_level", options.metres_per_level, source, "map");
   RequireWithin(options.metres_per_level, scenario_bounds::kMetresPerLevel, source, "map.metres_per_level");
   options.skip_missing_height = OptionalBool(node, "skip_missing_height", options.skip_missing_height, source, "map");
+  options.height_from_type = OptionalBool(node, "height_from_type", options.height_from_type, source, "map");
+  if (node["default_height_m"]) {
+    options.default_height = OptionalNumber(node, "default_height_m", 0.0, source, "map");
+    RequireWithin(*options.default_height, planning::kDefaultHeightBounds, source, "map.default_height_m");
+  }
+  options.sites_from_map = OptionalBool(node, "sites_from_map", options.sites_from_map, source, "map");
   std::string error;
   if (!options.IsValid(&error)) throw InputError(source + ": map." + error);
   planning::ImportedMap imported = planning::ImportCityMap(buildings, sites, options);
@@ -242,6 +253,90 @@ bool CheckPlausible(const Scenario& sc, std::string* error) {
          CheckAngleWithin(outcome.max_tilt, b::kMaxTilt, "options.max_tilt_deg", error);
 }
 
+// Whether the vehicle can hover at take-off with its packs (issue 26 item 4): a combination of numbers that are
+// each inside their bound can still be a vehicle that cannot fly, and flying it gives impossible numbers
+// (cells pulled below zero volts, negative energy). Knowable from the inputs, so refused before flying:
+//   1. thrust: hovering needs m g; the rotors give at most 6 T_max (Table 2.2 at 1900 µs, over six rotors;
+//      models::PropulsionParams::max_thrust);
+//   2. power: each rotor at m g / 6 draws P(T) (the power law fitted to Table 2.2), the bus I = P / V_bus
+//      (eq. 2.10) plus the hotel load. The packs at rest at their initial voltages give V_bus(I) by eqs.
+//      3.4–3.5 (BatteryPack::CalcSplit, diodes included), so I V_bus(I) has a largest value: a hover power
+//      above it cannot be drawn at all (the bus collapses);
+//   3. the current that does supply it must stay within I_max = 105 A (Table 4.1: the packs' rating, and the
+//      range in which the cell model keeps positive voltages even for cold, poor packs near empty,
+//      BoundsCliTest.TheWorstCaseInsideTheBoundsHasAPositiveBusVoltage).
+// A pack that supplies the hover current but reaches the 3.3 V cut-off soon (even at take-off) is flown: that
+// is the named outcome failed_battery, with physical numbers, as a campaign's cold, nearly empty packs are.
+bool CheckCanHover(const Scenario& sc, std::string* error) {
+  const models::PropulsionParams propulsion = models::PropulsionParams::ForConfiguration(sc.configuration);
+  constexpr int kRotors = 6;
+  const double hover_thrust_n = sc.body.mass * kGravity;
+  const double max_thrust_n = kRotors * propulsion.max_thrust;
+  const std::string vehicle = fmt::format("vehicle.mass_kg {:g} kg ({} propellers)", sc.body.mass,
+                                          models::PropellerConfigurationName(sc.configuration));
+  if (hover_thrust_n > max_thrust_n) {
+    if (error) {
+      *error = fmt::format("{}: expected a vehicle its rotors can hold up: hovering needs {:.1f} N, the six rotors give "
+                           "at most {:.2f} N (Table 2.2), so at most {:.3f} kg",
+                           vehicle, hover_thrust_n, max_thrust_n, max_thrust_n / kGravity);
+    }
+    return false;
+  }
+  const double hover_power_w = kRotors * models::CalcElectricalPower(propulsion, hover_thrust_n / kRotors);
+  const models::BatteryPack pack(models::MakePackParams(sc.battery.cell_health, sc.battery.ambient_temp_degf));
+  const models::PackState state = pack.MakeRestingState(sc.battery.initial_cell_voltage_v);
+  const auto power_at = [&](double current_a) { return current_a * pack.CalcSplit(state, current_a).bus_voltage_v; };
+  // I V_bus(I) rises from 0, peaks and falls to 0 where V_bus reaches 0: golden-section search for the peak
+  // on [0, I at V_bus = 0], found by doubling.
+  double zero_a = 1.0;
+  while (pack.CalcSplit(state, zero_a).bus_voltage_v > 0.0 && zero_a < 1e9) zero_a *= 2.0;
+  double low = 0.0;
+  double high = zero_a;
+  const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int i = 0; i < 200 && high - low > 1e-9 * zero_a; ++i) {
+    const double a = high - ratio * (high - low);
+    const double b = low + ratio * (high - low);
+    if (power_at(a) < power_at(b)) {
+      low = a;
+    } else {
+      high = b;
+    }
+  }
+  const double peak_a = 0.5 * (low + high);
+  const double total_power_w = hover_power_w + sc.options.hotel_current_a * pack.CalcSplit(state, 0.0).bus_voltage_v;
+  const std::string battery = fmt::format("battery (health {}, {:g} °F)",
+                                          models::HealthClassName(models::ClassifyHealth(sc.battery.cell_health)),
+                                          sc.battery.ambient_temp_degf);
+  if (total_power_w > power_at(peak_a)) {
+    if (error) {
+      *error = fmt::format("{} with {}: expected packs that can hover the vehicle: hovering draws {:.0f} W, the packs "
+                           "give at most {:.0f} W (at {:.0f} A)",
+                           vehicle, battery, total_power_w, power_at(peak_a), peak_a);
+    }
+    return false;
+  }
+  // The current that supplies the hover power: on the rising side of I V_bus(I), by bisection.
+  double current_low = 0.0;
+  double current_high = peak_a;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (current_low + current_high);
+    (power_at(mid) < total_power_w ? current_low : current_high) = mid;
+  }
+  const double current_a = current_high;
+  const models::PackOutputs outputs = pack.CalcOutputs(state, current_a);
+  if (current_a > models::kMaxPackCurrent) {
+    if (error) {
+      *error = fmt::format("{} with {}: expected packs that can hover the vehicle: hovering draws {:.1f} A ({:.0f} W; "
+                           "{} at {:.2f} V), beyond the packs' {:.0f} A (Table 4.1)",
+                           vehicle, battery, current_a, total_power_w,
+                           models::CellLabel(outputs.min_cell_branch, outputs.min_cell_index),
+                           outputs.min_cell_voltage_v, models::kMaxPackCurrent);
+    }
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool Scenario::IsValid(std::string* error) const {
@@ -261,6 +356,7 @@ bool Scenario::IsValid(std::string* error) const {
   if (!lqr.IsValid(&part_error)) return fail("lqr");
   if (!imm.IsValid(&part_error)) return fail("imm");
   if (!options.IsValid(&part_error)) return fail("options");
+  if (!CheckCanHover(*this, error)) return false;  // a combination of in-bounds numbers that cannot fly
   if (std::abs(lqr.dt * options.gnc_rate_hz - 1.0) > 1e-9) {
     part_error = "dt: expected 1 / options.gnc_rate_hz";
     return fail("lqr");
@@ -377,6 +473,12 @@ void ReadMissionFile(const YAML::Node& m, const std::string& source,
     path = name.is_absolute() ? name : std::filesystem::path(source).parent_path() / name;
   }
   sc.route = planning::LoadMissionFile(path, options);
+  // The mission's rally points join the landing sites LandPract and LandASAP may use, and the sites its geofence
+  // forbids leave (planning/mission_file.h, WithMissionSafety).
+  if (!sc.route->rally_points.empty() || !sc.route->geofence.empty()) {
+    sc.map = std::make_shared<const planning::CityMap>(
+        planning::WithMissionSafety(sc.map ? *sc.map : planning::CityMap(), *sc.route));
+  }
   sc.geo_origin = sc.route->origin;
   // Mirrored for the records (campaign metrics, the plot's extent): the route's home and its last point.
   sc.mission.home_NE = sc.route->home_W.head<2>();
@@ -430,8 +532,12 @@ void ReadFault(const YAML::Node& f, const std::string& source, FaultSpec& fault)
 
 void ReadOptions(const YAML::Node& o, const std::string& source, SimOptions& options) {
   RequireOnlyKeys(o, {"telemetry_rate_hz", "fault_detection", "reconfiguration", "sensor_noise", "max_tilt_deg",
-                      "max_cross_track_error_m", "safety_margin_s", "drag_feedforward"},
+                      "max_cross_track_error_m", "safety_margin_s", "drag_feedforward", "eod_load",
+                      "cap_speed_after_isolation"},
                   source, "options");
+  if (o["eod_load"]) options.eod_load = ParseEodLoad(RequireString(o, "eod_load", source, "options"), source, "options.eod_load");
+  options.cap_speed_after_isolation =
+      OptionalBool(o, "cap_speed_after_isolation", options.cap_speed_after_isolation, source, "options");
   options.safety_margin_s = OptionalNumber(o, "safety_margin_s", options.safety_margin_s, source, "options");
   options.telemetry_rate_hz = OptionalNumber(o, "telemetry_rate_hz", options.telemetry_rate_hz, source, "options");
   options.fault_detection = OptionalBool(o, "fault_detection", options.fault_detection, source, "options");
@@ -448,12 +554,7 @@ void ReadOptions(const YAML::Node& o, const std::string& source, SimOptions& opt
 }  // namespace
 
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source, const ScenarioLoadOptions& load) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
-  }
+  const YAML::Node root = ParseYamlText(yaml_text, source);  // duplicate keys and non-UTF-8 text refused
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
   RequireOnlyKeys(root, {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault",
                          "options"},
@@ -461,6 +562,8 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   ScenarioFile file;
   Scenario& sc = file.scenario;
   sc.name = root["name"] ? RequireString(root, "name", source, "") : std::filesystem::path(source).stem().string();
+  // A name from the file's name reaches every writer (summary.json, plots, campaign rows): UTF-8 or refused.
+  if (!root["name"]) RequireUtf8(sc.name, source, "name (taken from the file's name; give a name: key)");
   if (const YAML::Node seed = root["seed"]) {
     if (!seed.IsScalar()) throw InputError(source, "seed", "a seed from 0 to 2^64-1");
     sc.seed = ParseSeed(seed.Scalar(), source, "seed");

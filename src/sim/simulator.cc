@@ -26,6 +26,10 @@ SimResult MakeSimResult(const FlightModel& model, const FlightState& state, Flig
   result.max_tracking_error = state.max_tracking_error;
   result.max_tilt = std::acos(std::clamp(state.min_cos_tilt, -1.0, 1.0));
   result.energy_wh = state.energy_wh;
+  result.eod_load = EodLoadName(model.options().eod_load);
+  result.substitution_epochs = state.substitution_epochs;
+  result.substitutions = state.substitutions;
+  result.speed_cap_mps = state.speed_cap_mps;
   log.events.push_back({state.time_s, fmt::format("{}: {}", OutcomeName(state.outcome), state.reason)});
   result.events = std::move(log.events);
   result.actions = std::move(log.actions);
@@ -110,7 +114,7 @@ std::vector<SimResult> Simulator::RunTogether(std::span<DecisionPolicy* const> p
       FlightState own = state;  // the branch: both copies have the same future bit for bit
       FlightLog own_log = log;
       const auto act_start = std::chrono::steady_clock::now();
-      Act(model_, own, decided[i], planners[k], &own_log);
+      Act(model_, own, decided[i], planners[k], &own_log, policies[k]->Ranking(own.inputs));
       StepToNextEpoch(model_, own, &own_log);
       wall_s[k] += SecondsSince(act_start);
       fly_on(k, std::move(own), std::move(own_log));

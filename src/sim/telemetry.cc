@@ -93,6 +93,10 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
       {"cma_states", states},
       {"emergency_site", result.emergency_site},
       {"emergency_reach_margin", result.emergency_reach_margin},
+      {"eod_load", result.eod_load},
+      {"substitution_epochs", result.substitution_epochs},
+      {"substitutions", result.substitutions},
+      {"speed_cap_mps", std::isfinite(result.speed_cap_mps) ? nlohmann::json(result.speed_cap_mps) : nlohmann::json(nullptr)},
       {"events", events},
   };
   if (result.jam_time_s && result.isolation_time_s) {

@@ -250,6 +250,8 @@ TEST_F(CampaignCliTest, ReportOfAHandMadeDatabase) {
       r.run_index = run;
       r.policy = policy;
       r.flight_id = 2 * run + (policy == "cma" ? 0 : 1);
+      r.initial_cell_voltage_v = std::string("[4.1,4.1,4.1,4.1,4.1,4.1]");  // JSON columns hold JSON (store check)
+      r.actions = std::string("[]");
       r.outcome = outcome;
       r.failure = outcome == "failed_battery";
       r.average_reward = reward;

@@ -13,6 +13,7 @@
 
 #include "cli_runner.h"
 #include "uascma/common/files.h"
+#include "uascma/planning/map_import.h"
 #include "uascma/planning/mission_file.h"
 
 namespace uascma {
@@ -181,8 +182,22 @@ TEST(SimulateCliTest, OutWritesNominalPlanThatReadsBackToTheSameWaypoints) {
     EXPECT_LT((again.segments()[k].end_W - plan.segments()[k].end_W).norm(), kWaypointToleranceM) << "segment " << k;
   }
   EXPECT_NEAR(again.duration(), plan.duration(), 0.01);
+  // The same plan for Mission Planner (QGC WPL 110): its home and every waypoint within 1 cm of the .plan's.
+  ASSERT_TRUE(std::filesystem::exists(out / "nominal.waypoints")) << result.out;
+  EXPECT_FALSE(std::filesystem::exists(out / "emergency.waypoints"));
+  const planning::Mission wpl = planning::LoadMissionFile(out / "nominal.waypoints");
+  EXPECT_EQ(wpl.format, planning::MissionFormat::kQgcWpl);
+  EXPECT_LT(planning::LocalProjection(exported.origin).ToLocal(wpl.origin).norm(), kWaypointToleranceM);
+  EXPECT_LT((wpl.home_W - exported.home_W).norm(), kWaypointToleranceM);
+  ASSERT_EQ(wpl.waypoints.size(), exported.waypoints.size());
+  for (std::size_t k = 0; k < wpl.waypoints.size(); ++k) {
+    EXPECT_LT((wpl.waypoints[k].p_W - exported.waypoints[k].p_W).norm(), kWaypointToleranceM) << "waypoint " << k;
+    // s: WPL params are written with 4 decimals (QgcWplText).
+    EXPECT_NEAR(wpl.waypoints[k].hover_after_s, exported.waypoints[k].hover_after_s, 1e-4) << "waypoint " << k;
+  }
   const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
-  EXPECT_EQ(summary.at("files"), nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan"}));
+  EXPECT_EQ(summary.at("files"), nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan",
+                                                 "nominal.waypoints"}));
 }
 
 TEST(SimulateCliTest, ReusedOutFolderHoldsOnlyTheNewRunsFiles) {
@@ -267,8 +282,8 @@ TEST(SimulateCliTest, MissionOriginPlacesALocalScenarioAndTheEmergencyPlanIsExpo
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
   ASSERT_EQ(summary.at("outcome"), "emergency_landing") << summary.at("reason");
-  EXPECT_EQ(summary.at("files"),
-            nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan", "emergency.plan"}));
+  EXPECT_EQ(summary.at("files"), nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan",
+                                                 "nominal.waypoints", "emergency.plan", "emergency.waypoints"}));
   // Read back in the scenario's frame: the plan's start (plan.csv, 1 mm digits), in the air, is a waypoint (the
   // importer climbs there from the planned home first), and the plan ends with a landing.
   planning::MissionImportOptions frame;
@@ -290,6 +305,13 @@ TEST(SimulateCliTest, MissionOriginPlacesALocalScenarioAndTheEmergencyPlanIsExpo
   EXPECT_LT(start.z(), -1.0);  // in the air
   const nlohmann::json qgc = nlohmann::json::parse(testing_support::Slurp(out / "emergency.plan"));
   EXPECT_EQ(qgc.at("mission").at("items").back().at("command"), planning::kMavCmdNavLand);
+  // The same emergency plan for Mission Planner: every waypoint within 1 cm of the .plan's, in the same frame.
+  const planning::Mission wpl = planning::LoadMissionFile(out / "emergency.waypoints", frame);
+  ASSERT_EQ(wpl.waypoints.size(), emergency.waypoints.size());
+  for (std::size_t k = 0; k < wpl.waypoints.size(); ++k) {
+    EXPECT_LT((wpl.waypoints[k].p_W - emergency.waypoints[k].p_W).norm(), kWaypointToleranceM) << "waypoint " << k;
+  }
+  EXPECT_LT((wpl.home_W - emergency.home_W).norm(), kWaypointToleranceM);
 }
 
 TEST(SimulateCliTest, MissionExampleFliesOverTheImportedCityAndExportsInItsFrame) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "uascma/campaign/runner.h"
 #include "uascma/campaign/statistics.h"
@@ -33,32 +34,21 @@ const GroupStatistics& Group(const std::vector<GroupStatistics>& groups, const s
   return *it;
 }
 
-// Decisions items 19–20: a plan a healthy pack flies with its safety margin, no motor fault — nothing fails. The
-// CMA's state is N,NF,MM1,G,RM1 unless its 1 Hz EOD, propagated at the present (10 s low-passed) current as
-// decisions item 14 says, reads a gusty stretch of a long, fast or cold plan as the load of the rest of the flight
-// and judges RM0: measured at seed 1, 1 of these 150 flights and 8 of 600 (1.3 %, all with plans above 0.81 of the
-// healthy pack's endurance at 6–9 m/s in cold air or medium-moderate gusts) land on LandPract. Issue 11 asks for
-// none; README "Where we differ" has the trade-off (a slower filter misses Scenario I's jam). This test holds the
-// failures at zero and the false landings at the measured rate.
-TEST(HeadlineTest, HealthyPacksWithoutMotorFaultsNeverFail) {
+// Decisions items 19–20: a plan a healthy pack flies with its safety margin, no motor fault — nothing fails, and with
+// the 1 Hz EOD propagated at the expected load of the rest of the plan (decision 25) the CMA never lands or grounds
+// such a flight (issue 22; measured 0 of 600 at seeds 1 and 2; with the present current of decisions item 14, 8 of
+// 600 landed at seed 1).
+TEST(HeadlineTest, HealthyPacksWithoutMotorFaultsNeverFailAndAreNeverLanded) {
   CampaignConfig config;
   config.runs = 150;
   config.battery.health_weights = {1.0, 0.0, 0.0};
   config.fault.probability = 0.0;
   const std::vector<RunRecord> records = Fly(config);
   ASSERT_EQ(records.size(), 300u);
-  int cma_landings = 0;
   for (const RunRecord& r : records) {
-    EXPECT_FALSE(r.failure) << r.policy << " run " << r.run_index << ": " << r.outcome << ", " << r.reason;
-    if (r.policy == "noop") {
-      EXPECT_EQ(r.outcome, "completed") << "run " << r.run_index << ": " << r.reason;
-    } else if (r.outcome != "completed") {
-      EXPECT_EQ(r.outcome, "emergency_landing") << "run " << r.run_index << ": " << r.reason;
-      EXPECT_EQ(r.first_emergency_action, "LandPract") << "run " << r.run_index;
-      ++cma_landings;
-    }
+    EXPECT_EQ(r.outcome, "completed") << r.policy << " run " << r.run_index << ": " << r.reason;
+    EXPECT_EQ(r.first_emergency_action, "") << r.policy << " run " << r.run_index;
   }
-  EXPECT_LE(cma_landings, 2) << "the CMA's false landings in healthy fault-free flights (measured: 1 of 150)";
 }
 
 // The default campaign of §5.5 (930 flights, seed 1).
@@ -68,12 +58,31 @@ TEST(HeadlineTest, DefaultCampaignFailsOnlyFromModelledFaultsAndHealthDrivesTheB
   const std::vector<RunRecord> records = Fly(config);
   ASSERT_EQ(records.size(), 930u);
   // A flight without a motor fault fails only on its battery (a degraded pack): no collision, no loss of control.
+  // With a jam, guidance keeps the quadcopter within its authority (§4.4.2): no loss of control either. Every
+  // emergency decision of the CMA executes a plan or records a substitution (decision 28).
+  std::map<std::int64_t, const RunRecord*> noop;
   for (const RunRecord& r : records) {
+    if (r.policy == "noop") noop[r.run_index] = &r;
+  }
+  int early_landings_in_good_health = 0, good_health = 0;
+  for (const RunRecord& r : records) {
+    EXPECT_NE(r.outcome, "failed_control") << r.policy << " run " << r.run_index << ": " << r.reason;
     if (r.failure && !r.fault) {
       EXPECT_EQ(r.outcome, "failed_battery") << r.policy << " run " << r.run_index << ": " << r.reason;
       EXPECT_NE(r.battery_health, "G") << r.policy << " run " << r.run_index << ": " << r.reason;
     }
+    if (r.policy != "cma") continue;
+    EXPECT_FALSE(r.failure) << "run " << r.run_index << ": " << r.reason;  // measured: 0 in every health group
+    if (r.first_emergency_action_s) EXPECT_TRUE(r.num_actions > 0 || r.substitution_epochs > 0) << r.run_index;
+    if (r.battery_health != "G") continue;
+    ++good_health;
+    const bool before_fault = !r.fault || (r.first_emergency_action_s && *r.first_emergency_action_s < *r.fault_onset_s);
+    if (r.first_emergency_action_s && before_fault && noop.at(r.run_index)->outcome == "completed") {
+      ++early_landings_in_good_health;
+    }
   }
+  // Issue 22: the CMA's landings in good health before any fault, in flights NoOp completed: at most 1 % (measured 0).
+  EXPECT_LE(100 * early_landings_in_good_health, good_health);
   const std::vector<GroupStatistics> groups = Summarise(records, {"cma", "noop"});
   // NoOp's failure rate rises G → M → P, each gap larger than the standard error of the difference.
   const Estimate g = Group(groups, "noop", "G").failure_rate, m = Group(groups, "noop", "M").failure_rate,

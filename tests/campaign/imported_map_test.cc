@@ -2,14 +2,19 @@
 // fingerprint, and missions sampled over the real OpenStreetMap data of shared/data/osm (skipped without it).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
+#include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
+#include "uascma/planning/map_import.h"
+#include "uascma/sim/scenario.h"
 
 namespace uascma::campaign {
 namespace {
@@ -98,13 +103,21 @@ TEST(ImportedMapSamplerTest, MissionsAreSampledOverTheRealCityOnOpenGround) {
   EXPECT_EQ(map->buildings().size(), 1230u);
   EXPECT_EQ(map->sites().size(), 1828u);
   EXPECT_EQ(CampaignMap(config.map).get(), map.get());  // read once
+  const Eigen::AlignedBox2d extent = BuildingsExtent(*map);
+  EXPECT_FALSE(extent.contains(map->bounds()));  // the sites file reaches beyond the buildings
+  EXPECT_TRUE(RouteArea(*map, config.map).isApprox(extent));
   for (std::int64_t index = 0; index < 40; ++index) {
     const SampledRun run = SampleRun(config, 7, index);
     const auto& mission = run.scenario.mission;
     EXPECT_EQ(run.scenario.map.get(), map.get());
+    // Homes, destinations (hover points) over the city, not beside it: inside the buildings' extent (the Midtown
+    // sites lie 2 km away and do not widen it), on open ground with the wall clearance of decision 20.
     for (const Eigen::Vector2d& p : {mission.home_NE, mission.destination_NE}) {
-      EXPECT_TRUE(map->bounds().contains(p));
+      EXPECT_TRUE(extent.contains(p)) << "index " << index << " (" << p.transpose() << ")";
       EXPECT_FALSE(map->IsInsideBuilding(Eigen::Vector3d(p.x(), p.y(), -0.1))) << "index " << index;
+      const std::array<Eigen::Vector2d, 1> point = {p};
+      EXPECT_EQ(map->TallestBuildingUnder(point, config.mission.wall_clearance_m).building, planning::kNoBuilding)
+          << "index " << index;
     }
     // Never below the open-ground altitude over the imported map (its holes are not open ground).
     EXPECT_GE(mission.cruise_altitude, config.mission.cruise_altitude_m);
@@ -116,6 +129,209 @@ TEST(ImportedMapSamplerTest, MissionsAreSampledOverTheRealCityOnOpenGround) {
       ASSERT_FALSE(map->IsInsideBuilding(plan.At(t).p_W)) << "index " << index << " t " << t;
     }
   }
+}
+
+TEST(ImportedMapSamplerTest, SitesThatMissTheRoutesAreReportedAndTheMapSuppliesItsOwn) {
+  if (!std::filesystem::exists(OsmDataDir() / "upper-east-side-buildings.geojson")) {
+    GTEST_SKIP() << "shared/data/osm not present";
+  }
+  CampaignConfig config = ParseCampaignConfig(kImportedYaml, "c.yaml");
+  config.map.buildings = {(OsmDataDir() / "upper-east-side-buildings.geojson").string()};
+  // The Midtown sites lie ~2 km south of the Upper East Side: LandPract's 500 m reach misses every checkpoint.
+  config.map.sites = (OsmDataDir() / "midtown-landing-sites.csv").string();
+  constexpr std::int64_t kRuns = 20;
+  const SiteCoverage midtown = CalcSiteCoverage(config, 7, kRuns);
+  EXPECT_EQ(midtown.runs, kRuns);
+  EXPECT_EQ(midtown.checkpoints, kRuns * planning::LandPractParams{}.checkpoint_count);
+  EXPECT_EQ(midtown.checkpoints_without_site, midtown.checkpoints);
+  EXPECT_GT(midtown.largest_gap, 1000.0);
+  EXPECT_FALSE(midtown.covered());
+  EXPECT_NE(midtown.BriefReport().find("100 of 100 checkpoints"), std::string::npos) << midtown.BriefReport();
+
+  // Without a sites file the map supplies its flat roofs (map_import.h): every checkpoint has a site in reach.
+  config.map.sites.clear();
+  const auto map = CampaignMap(config.map);
+  EXPECT_EQ(map->buildings().size(), 1230u);
+  EXPECT_GT(map->sites().size(), 1000u);
+  for (const planning::LandingSite& site : map->sites()) EXPECT_TRUE(site.on_rooftop()) << site.id;
+  const SiteCoverage own = CalcSiteCoverage(config, 7, kRuns);
+  EXPECT_EQ(own.checkpoints_without_site, 0);
+  EXPECT_TRUE(own.covered());
+  EXPECT_LT(own.largest_gap, own.reach);
+}
+
+// ---- Buildings without heights: the import keys of `map info` in campaign and scenario files --------------
+
+// Six buildings, five without a height tag (one with building:levels, one with 14.5 m), a park and a surface car
+// park (tests/data/maps/no-heights.osm; map_import_test.cc counts them).
+std::string NoHeightsOsm() {
+  return (std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" / "data" / "maps" / "no-heights.osm").string();
+}
+constexpr double kHeightToleranceM = 1e-9;  // heights are copied, not computed in another way
+constexpr int kNoHeightsDerivedSites = 15;  // 5 flat roofs + 10 open-area sites (map_import_test.cc)
+
+std::string NoHeightsCampaign(const std::string& keys) {
+  return "map:\n  buildings: [" + NoHeightsOsm() + "]\n" + keys;
+}
+
+std::map<std::string, double> HeightsById(const planning::CityMap& map) {
+  std::map<std::string, double> heights;
+  for (const planning::Building& b : map.buildings()) heights[b.id] = b.height;
+  return heights;
+}
+
+// The canonical YAML gives back the same map section, the same text and the same fingerprint.
+void ExpectRoundTrip(const CampaignConfig& config) {
+  const CampaignConfig again = ParseCampaignConfig(CampaignConfigYaml(config), "canonical");
+  EXPECT_EQ(again.map, config.map);
+  EXPECT_EQ(CampaignConfigYaml(again), CampaignConfigYaml(config));
+  EXPECT_EQ(CampaignConfigHash(again), CampaignConfigHash(config));
+}
+
+TEST(ImportedMapHeightsTest, CampaignKeysImportBuildingsWithoutHeights) {
+  // Without a fall-back the import stops, as `map info` does without its flags.
+  const CampaignConfig bare = ParseCampaignConfig(NoHeightsCampaign(""), "c.yaml");
+  EXPECT_THROW((void)CampaignMap(bare.map), InputError);
+
+  // height_from_type: the building=* table (map_import.h); no sites file, so the map supplies its own sites.
+  const CampaignConfig by_type = ParseCampaignConfig(NoHeightsCampaign("  height_from_type: true\n"), "c.yaml");
+  EXPECT_TRUE(by_type.map.height_from_type);
+  EXPECT_TRUE(by_type.map.DerivesSites());
+  ExpectRoundTrip(by_type);
+  const auto typed = CampaignMap(by_type.map);
+  EXPECT_EQ(typed->buildings().size(), 6u);
+  EXPECT_EQ(static_cast<int>(typed->sites().size()), kNoHeightsDerivedSites);
+  std::map<std::string, double> heights = HeightsById(*typed);
+  EXPECT_NEAR(heights.at("way/101"), planning::BuildingTypeHeight("house"), kHeightToleranceM);
+  EXPECT_NEAR(heights.at("way/102"), planning::BuildingTypeHeight("apartments"), kHeightToleranceM);
+  EXPECT_NEAR(heights.at("way/104"), planning::BuildingTypeHeight("yes"), kHeightToleranceM);  // levels not asked
+  EXPECT_NEAR(heights.at("way/106"), 14.5, kHeightToleranceM);  // the height tag first
+
+  // default_height_m: every building still without a height gets it; levels first when asked.
+  const CampaignConfig by_default =
+      ParseCampaignConfig(NoHeightsCampaign("  height_from_levels: true\n  default_height_m: 8\n"), "c.yaml");
+  ASSERT_TRUE(by_default.map.default_height_m.has_value());
+  ExpectRoundTrip(by_default);
+  heights = HeightsById(*CampaignMap(by_default.map));
+  ASSERT_EQ(heights.size(), 6u);
+  for (const char* id : {"way/101", "way/102", "way/103", "way/105"}) {
+    EXPECT_NEAR(heights.at(id), 8.0, kHeightToleranceM) << id;
+  }
+  EXPECT_NEAR(heights.at("way/104"), 4 * by_default.map.metres_per_level, kHeightToleranceM);
+  EXPECT_NEAR(heights.at("way/106"), 14.5, kHeightToleranceM);
+}
+
+TEST(ImportedMapHeightsTest, CampaignSitesFromMapAddsToOrReplacesTheSitesFile) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "uascma_imported_map_sites_test";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path sites = dir / "one-site.csv";
+  // One ground site inside the park of no-heights.osm.
+  std::ofstream(sites) << "osm_id,lat,lon,alt,risk,radius\n900,47.1410,9.5205,0,0.2,5\n";
+  const std::string type = "  height_from_type: true\n";
+  auto sites_of = [](const CampaignConfig& config) { return CampaignMap(config.map)->sites().size(); };
+
+  // With a sites file and no key: the file's sites only (as before the key existed).
+  const CampaignConfig file_only = ParseCampaignConfig(NoHeightsCampaign(type + "  sites: " + sites.string() + "\n"), "c");
+  EXPECT_FALSE(file_only.map.DerivesSites());
+  EXPECT_EQ(sites_of(file_only), 1u);
+  // sites_from_map: true adds the map's own beside the file's.
+  const CampaignConfig both = ParseCampaignConfig(
+      NoHeightsCampaign(type + "  sites: " + sites.string() + "\n  sites_from_map: true\n"), "c");
+  EXPECT_TRUE(both.map.DerivesSites());
+  ExpectRoundTrip(both);
+  EXPECT_EQ(static_cast<int>(sites_of(both)), 1 + kNoHeightsDerivedSites);
+  // sites_from_map: false without a file: no sites at all (the emergency actions then have nowhere to go).
+  const CampaignConfig none = ParseCampaignConfig(NoHeightsCampaign(type + "  sites_from_map: false\n"), "c");
+  EXPECT_FALSE(none.map.DerivesSites());
+  ExpectRoundTrip(none);
+  EXPECT_EQ(sites_of(none), 0u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ImportedMapHeightsTest, NewKeysLeaveOlderFingerprintsAloneAndChangeTheirOwn) {
+  // The fingerprints kImportedYaml had before the three keys existed (printed by CampaignConfigHash as it was
+  // before them, built from the same tree): with and without its sites file.
+  CampaignConfig config = ParseCampaignConfig(kImportedYaml, "c.yaml");
+  EXPECT_EQ(CampaignConfigHash(config), "c6309fb213bca430");
+  CampaignConfig no_file = config;
+  no_file.map.sites.clear();
+  EXPECT_EQ(CampaignConfigHash(no_file), "d6386a4b961d6600");
+  // The explicit form of what the import does anyway is the same campaign.
+  CampaignConfig same = no_file;
+  same.map.sites_from_map = true;
+  EXPECT_EQ(CampaignConfigHash(same), CampaignConfigHash(no_file));
+  same = config;
+  same.map.sites_from_map = false;
+  EXPECT_EQ(CampaignConfigHash(same), CampaignConfigHash(config));
+  // Each key that changes the import changes the fingerprint.
+  CampaignConfig other = config;
+  other.map.sites_from_map = true;
+  EXPECT_NE(CampaignConfigHash(other), CampaignConfigHash(config));
+  other = no_file;
+  other.map.sites_from_map = false;
+  EXPECT_NE(CampaignConfigHash(other), CampaignConfigHash(no_file));
+  other = config;
+  other.map.height_from_type = true;
+  EXPECT_NE(CampaignConfigHash(other), CampaignConfigHash(config));
+  other = config;
+  other.map.default_height_m = 8.0;
+  const std::string eight = CampaignConfigHash(other);
+  EXPECT_NE(eight, CampaignConfigHash(config));
+  other.map.default_height_m = 9.0;
+  EXPECT_NE(CampaignConfigHash(other), eight);
+}
+
+TEST(ImportedMapHeightsTest, BadCampaignKeysAreNamed) {
+  auto error_of = [](const std::string& yaml) -> std::string {
+    try {
+      ParseCampaignConfig(yaml, "c.yaml");
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "";
+  };
+  // 1 to 500 m (planning::kDefaultHeightBounds, as --default-height).
+  EXPECT_NE(error_of(NoHeightsCampaign("  default_height_m: 0.5\n")).find("map.default_height_m"), std::string::npos);
+  EXPECT_NE(error_of(NoHeightsCampaign("  default_height_m: 501\n")).find("1 to 500 m"), std::string::npos);
+  EXPECT_EQ(error_of(NoHeightsCampaign("  default_height_m: 500\n")), "");
+  EXPECT_NE(error_of(NoHeightsCampaign("  sites_from_map: 2\n")).find("map.sites_from_map"), std::string::npos);
+  // Import keys without building files belong to no map.
+  for (const char* key : {"height_from_type: true", "default_height_m: 8", "sites_from_map: true"}) {
+    EXPECT_NE(error_of(std::string("map: {") + key + "}\n").find("map.buildings"), std::string::npos) << key;
+  }
+}
+
+TEST(ImportedMapHeightsTest, ScenarioKeysImportBuildingsWithoutHeights) {
+  auto scenario = [](const std::string& keys) {
+    return sim::ParseScenario("map: {buildings: [" + NoHeightsOsm() + "]" + keys + "}\n", "s.yaml").scenario;
+  };
+  EXPECT_THROW((void)scenario(""), InputError);
+  const sim::Scenario typed = scenario(", height_from_type: true");
+  ASSERT_TRUE(typed.map);
+  EXPECT_EQ(typed.map->buildings().size(), 6u);
+  EXPECT_TRUE(typed.map->sites().empty());  // a scenario's map supplies sites only when asked
+  EXPECT_NEAR(HeightsById(*typed.map).at("way/101"), planning::BuildingTypeHeight("house"), kHeightToleranceM);
+
+  const sim::Scenario by_default = scenario(", default_height_m: 8, sites_from_map: true");
+  const std::map<std::string, double> heights = HeightsById(*by_default.map);
+  ASSERT_EQ(heights.size(), 6u);
+  EXPECT_NEAR(heights.at("way/104"), 8.0, kHeightToleranceM);
+  EXPECT_NEAR(heights.at("way/106"), 14.5, kHeightToleranceM);
+  EXPECT_EQ(static_cast<int>(by_default.map->sites().size()), kNoHeightsDerivedSites);
+
+  auto error_of = [](const std::string& yaml) -> std::string {
+    try {
+      (void)sim::ParseScenario(yaml, "s.yaml");
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_NE(error_of("map: {buildings: [" + NoHeightsOsm() + "], default_height_m: 501}\n")
+                .find("s.yaml: map.default_height_m"),
+            std::string::npos);
+  EXPECT_NE(error_of("map: {procedural: {seed: 3}, height_from_type: true}\n").find("map.height_from_type"),
+            std::string::npos);
 }
 
 }  // namespace

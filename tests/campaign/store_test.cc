@@ -40,6 +40,8 @@ RunRecord Synthetic(std::int64_t run_index, const std::string& policy, std::size
   r.run_index = run_index;
   r.policy = policy;
   r.flight_id = run_index * 2 + (policy == "cma" ? 0 : 1);
+  r.initial_cell_voltage_v = std::string("[4.1,4.1,4.1,4.0,4.0,4.0]");  // JSON columns hold JSON (CheckStore)
+  r.actions = std::string("[]");
   r.run_seed = 0xffffffffffffff00ULL + static_cast<std::uint64_t>(run_index);  // above INT64_MAX
   r.distance_m = 0.1 + static_cast<double>(run_index) / 3.0;
   r.outcome = "completed";
@@ -349,7 +351,7 @@ TEST(StoreTest, AVersionOneFileIsReadAndRaisedWhenJoined) {
 TEST(StoreTest, AFullDiskKeepsEveryCommittedBatch) {
   TempDir dir;
   const auto path = dir.path / "c.db";
-  ResultsStore::Create(path, Header());
+  ResultsStore::Create(path, Header()).RecordRunsRequested(1000);  // every run below is one of the campaign's
   StoreOptions tiny;
   tiny.max_page_count = 40;  // 40 pages of 4 KiB: a few dozen rows with a 1 KiB reason each
   ResultsStore store = ResultsStore::Open(path, tiny);

@@ -373,5 +373,90 @@ TEST(BatteryContexts, HealthAndTemperatureClasses) {
   EXPECT_EQ(BatteryContextOf(health, 40.0), (BatteryContext{HealthClass::kM, HealthClass::kG, TemperatureClass::kLow}));
 }
 
+// Ours (issue 24) against a small case solved by hand. Context (F1,F1,TH), weights (0.2, 0.3, 0.5), γ = 0.999:
+//   A  = ILONS1C0ONS1C0: UseBoth counted 1 × FAILURE and 9 completions;
+//   A1 = ILONS1C0OFFS1C0 (pack 1 alone): UseBatt1 counted 10 completions;
+//   B  = ILONS1C0OFFS3C0 (pack 1 alone, the idle pack 2 in S3): UseBatt1 counted 5 × B and 5 completions;
+//   every other row unobserved. By hand (V_F = −30 / (1 − γ), V_COMPLETE = 0):
+//   V(A1) = 0 (stay: R = 0, then COMPLETE); from A: UseBoth Q = γ (0.1 V_F) = −2997, UseBatt1 Q = −w3 + γ V(A1)
+//   = −0.5 (one switch toggled) → π(A) = UseBatt1; UseBatt2 unavailable (its row unobserved).
+//   V(B) = R(B) / (1 − 0.5 γ), R(B) = w1 (0 + (−20)) / 2 = −2 (the idle pack's S3 is charged; eq. 4.1 would give 0).
+//   A state never observed, C = IHONS2C1ONS2C1: only UseBoth, holding: V = R / (1 − γ), R = w1 (−5 − 5)/2 +
+//   w2 (−10 − 10)/2 = −4.
+TEST(BatteryOursTest, ValuesMatchTheHandSolvedCase) {
+  const BatteryContext context{HealthClass::kG, HealthClass::kG, TemperatureClass::kHigh};
+  const PackFeatures s1c0{true, EnergyState::kS1, VoltageState::kC0};
+  const PackFeatures off_s1c0{false, EnergyState::kS1, VoltageState::kC0};
+  const PackFeatures off_s3c0{false, EnergyState::kS3, VoltageState::kC0};
+  const PackFeatures s2c1{true, EnergyState::kS2, VoltageState::kC1};
+  const StateIndex a = BatteryStateIndex(Features(CurrentLevel::kLow, s1c0, s1c0));
+  const StateIndex a1 = BatteryStateIndex(Features(CurrentLevel::kLow, s1c0, off_s1c0));
+  const StateIndex b = BatteryStateIndex(Features(CurrentLevel::kLow, s1c0, off_s3c0));
+  const StateIndex c = BatteryStateIndex(Features(CurrentLevel::kHigh, s2c1, s2c1));
+  BatteryModel model;
+  model.counts.Add(context, a, PackAction::kUseBoth, kBatteryFailureState, 1);
+  model.counts.AddCompletion(context, a, PackAction::kUseBoth, 9);
+  model.counts.AddCompletion(context, a1, PackAction::kUseBatt1, 10);
+  model.counts.Add(context, b, PackAction::kUseBatt1, b, 5);
+  model.counts.AddCompletion(context, b, PackAction::kUseBatt1, 5);
+  const double gamma = 0.999;
+  const BatteryPolicySet set = SolveOursBatteryPolicies(model, gamma);
+  EXPECT_EQ(set.formulation, BatteryFormulation::kOurs);
+  const BatteryContextPolicy& p = set.Select(context);
+  const double w1 = 0.2, w3 = 0.5;
+  const double v_failure = -30.0 / (1.0 - gamma);
+  constexpr double kExactTolerance = 1e-6;  // dense LU on 290 states, values up to 3e4
+  EXPECT_NEAR(p.value[kBatteryFailureState], v_failure, kExactTolerance);
+  EXPECT_NEAR(p.value[a1], 0.0, kExactTolerance);
+  EXPECT_EQ(p.action[a1], static_cast<int>(PackAction::kUseBatt1));
+  EXPECT_NEAR(p.value[a], -w3, kExactTolerance);
+  EXPECT_EQ(p.action[a], static_cast<int>(PackAction::kUseBatt1));
+  // The alternative it beat, by hand: UseBoth's 10 % failure.
+  EXPECT_LT(gamma * 0.1 * v_failure, -w3);
+  EXPECT_NEAR(p.value[b], (w1 * -20.0 / 2.0) / (1.0 - 0.5 * gamma), kExactTolerance);
+  EXPECT_NEAR(p.value[c], (w1 * -10.0 / 2.0 + 0.3 * -20.0 / 2.0) / (1.0 - gamma), kExactTolerance);
+  EXPECT_EQ(p.action[c], static_cast<int>(PackAction::kUseBoth));
+  // Rewards: the idle pack charged, and eq. 4.7 as a switching cost.
+  EXPECT_NEAR(OursBatteryReward(b, PackAction::kUseBatt1, context, model.weights), -2.0, kRewardTolerance);
+  EXPECT_NEAR(BatteryReward(b, PackAction::kUseBatt1, context, model.weights), 0.0, kRewardTolerance);  // eq. 4.1
+  EXPECT_EQ(SwitchToggles(a, PackAction::kUseBoth), 0);
+  EXPECT_EQ(SwitchToggles(a, PackAction::kUseBatt2), 1);
+  EXPECT_EQ(SwitchToggles(a1, PackAction::kUseBatt2), 2);
+  // Unobserved choices are not offered: A's UseBatt2 row, and every row of C but the fixed rule's.
+  BatteryModelStats stats;
+  const FiniteMdp mdp = BuildOursBatteryMdp(model.counts, context, model.weights, &stats);
+  EXPECT_EQ(mdp.FindChoice(a, static_cast<int>(PackAction::kUseBatt2)), -1);
+  EXPECT_EQ(mdp.FindChoice(c, static_cast<int>(PackAction::kUseBatt1)), -1);
+  EXPECT_GE(mdp.FindChoice(c, static_cast<int>(PackAction::kUseBoth)), 0);
+  EXPECT_EQ(stats.learned_rows, 216);
+  EXPECT_EQ(stats.unobserved_rows, 216 - 3);
+}
+
+TEST(BatteryOursTest, CompletionsRoundTripThroughTheModelFileAndOnlyOursSeesThem) {
+  BatteryModel model;
+  const BatteryContext context{HealthClass::kM, HealthClass::kG, TemperatureClass::kLow};
+  const StateIndex s = ParseBatteryState("IHONS1C0ONS1C0", "test");
+  const std::array<StateIndex, 2> flight = {s, s};
+  model.counts.AddFlight(context, PackAction::kUseBoth, flight, /*completed=*/true);
+  EXPECT_EQ(model.counts.Completions(context, s, PackAction::kUseBoth), 1);
+  const BatteryModel back = BatteryModelFromJson(BatteryModelToJson(model), "test");
+  EXPECT_EQ(back.counts.Completions(context, s, PackAction::kUseBoth), 1);
+  EXPECT_EQ(BatteryModelHash(back), BatteryModelHash(model));
+  // The dissertation's row is the counted self-transition only.
+  const FiniteMdp mdp = BuildBatteryMdp(model.counts, context, model.weights);
+  const auto choice = mdp.FindChoice(s, static_cast<int>(PackAction::kUseBoth));
+  ASSERT_EQ(mdp.choice_next_states(choice).size(), 1u);
+  EXPECT_EQ(mdp.choice_next_states(choice)[0], s);
+  // A policy file keeps its formulation; a dissertation file keeps its hash without the field.
+  const BatteryPolicySet ours = SolveOursBatteryPolicies(model, 0.99);
+  EXPECT_EQ(BatteryPolicyFromJson(BatteryPolicyToJson(ours), "test").formulation, BatteryFormulation::kOurs);
+  nlohmann::json dissertation = BatteryPolicyToJson(SolveBatteryPolicies(model));
+  dissertation.erase("formulation");
+  EXPECT_EQ(BatteryPolicyFromJson(dissertation, "test").formulation, BatteryFormulation::kDissertation);
+  nlohmann::json relabelled = BatteryPolicyToJson(ours);
+  relabelled["formulation"] = "dissertation";  // the hash covers it
+  EXPECT_THROW(BatteryPolicyFromJson(relabelled, "test"), InputError);
+}
+
 }  // namespace
 }  // namespace uascma::decision

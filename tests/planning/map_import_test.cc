@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <string>
 
@@ -292,7 +293,13 @@ TEST(LandingSiteCsvTest, AcceptsBothHeaderSpellingsAndRejectsBadRows) {
                    {"sites.csv", "line 2", "alt", "'abc'"});
   ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,0,1.5,2\n"); },
                    {"sites.csv", "line 2 (site 1)", "risk in [0, 1]"});
-  ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,0,0.5,0\n"); }, {"sites.csv", "radius > 0"});
+  ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,0,0.5,0\n"); },
+                   {"sites.csv", "radius", "0.1 to 1000 m, got 0"});
+  // Issue 26: the upper bounds of alt and radius (1e9 m was accepted).
+  ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,1e9,0.5,2\n"); },
+                   {"sites.csv", "line 2 (site 1) alt", "0 to 1000 m, got 1e+09"});
+  ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,0,0.5,1e9\n"); },
+                   {"sites.csv", "line 2 (site 1) radius", "0.1 to 1000 m, got 1e+09"});
   ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-190,0,0.5,2\n"); },
                    {"sites.csv", "longitude in [-180, 180]"});
   ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73\n"); }, {"sites.csv", "line 2", "fields"});
@@ -549,6 +556,130 @@ TEST(RealOsmDataTest, MidtownLandingSitesReadWithTheirColumnAliases) {
   EXPECT_NEAR(max_risk, 0.786929, 1e-6);
   // About 3 km (north–south) by 1.5 km of Midtown.
   EXPECT_NEAR(imported.map.bounds().sizes().x(), 2995.0, 50.0);
+}
+
+// --- buildings without heights, sites from the map (issues 25 and 22) ---------------------------------------------
+
+std::filesystem::path NoHeightsOsm() {
+  return std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" / "data" / "maps" / "no-heights.osm";
+}
+
+TEST(BuildingTypeHeightTest, StoreysTimesTheCtbuhStoreyHeight) {
+  int storeys = 0;
+  double storey = 0.0;
+  // Residential/hotel 3.1 m, office 3.9 m, unknown or mixed 3.5 m (CTBUH; map_import.h).
+  EXPECT_NEAR(BuildingTypeHeight("house", &storeys, &storey), 2 * 3.1, kHeightTolerance);
+  EXPECT_EQ(storeys, 2);
+  EXPECT_NEAR(BuildingTypeHeight("apartments"), 5 * 3.1, kHeightTolerance);
+  EXPECT_NEAR(BuildingTypeHeight("office"), 5 * 3.9, kHeightTolerance);
+  EXPECT_NEAR(BuildingTypeHeight("garage"), 3.1, kHeightTolerance);
+  EXPECT_NEAR(BuildingTypeHeight("yes", &storeys, &storey), 3 * 3.5, kHeightTolerance);
+  EXPECT_NEAR(storey, 3.5, kHeightTolerance);
+  EXPECT_NEAR(BuildingTypeHeight("no_such_value"), 3 * 3.5, kHeightTolerance);
+}
+
+TEST(OsmImportTest, BuildingsWithoutHeightsFailWithWhatWasRead) {
+  // Five of the six buildings carry no height tag: without a fall-back the import fails after reading the whole
+  // file, naming the first and counting them, and the summary of what was read travels with the error.
+  try {
+    (void)ImportCityMap(std::vector<std::filesystem::path>{NoHeightsOsm()}, {}, {});
+    ADD_FAILURE() << "expected a MapImportError";
+  } catch (const MapImportError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_NE(message.find("way/101"), std::string::npos) << message;
+    EXPECT_NE(message.find("5 of the 6 buildings"), std::string::npos) << message;
+    EXPECT_NE(message.find("--height-from-type"), std::string::npos) << message;
+    EXPECT_EQ(e.summary().buildings, 1);
+    EXPECT_EQ(e.summary().skipped_count(SkipReason::kMissingHeight), 5);
+    EXPECT_EQ(e.summary().height_count(HeightSource::kTag), 1);
+  }
+}
+
+TEST(OsmImportTest, BuildingsWithoutHeightsImportWithTheirHeightSourceCounted) {
+  MapImportOptions options;
+  options.height_from_levels = true;
+  options.height_from_type = true;
+  const ImportedMap imported = ImportCityMap(std::vector<std::filesystem::path>{NoHeightsOsm()}, {}, options);
+  const ImportSummary& s = imported.summary;
+  EXPECT_EQ(s.buildings, 6);
+  EXPECT_EQ(s.height_count(HeightSource::kTag), 1);           // way/106, 14.5 m
+  EXPECT_EQ(s.height_count(HeightSource::kLevels), 1);        // way/104, 4 levels
+  EXPECT_EQ(s.height_count(HeightSource::kBuildingType), 4);  // house, apartments, yes, garage
+  EXPECT_EQ(s.height_count(HeightSource::kDefault), 0);
+  EXPECT_EQ(s.skipped_count(SkipReason::kMissingHeight), 0);
+  EXPECT_NE(s.BriefReport().find("4 from the building type"), std::string::npos) << s.BriefReport();
+  std::map<std::string, double> heights;
+  for (const Building& b : imported.map.buildings()) heights[b.id] = b.height;
+  EXPECT_NEAR(heights.at("way/101"), BuildingTypeHeight("house"), kHeightTolerance);
+  EXPECT_NEAR(heights.at("way/102"), BuildingTypeHeight("apartments"), kHeightTolerance);
+  EXPECT_NEAR(heights.at("way/103"), BuildingTypeHeight("yes"), kHeightTolerance);
+  EXPECT_NEAR(heights.at("way/104"), 4 * options.metres_per_level, kHeightTolerance);
+  EXPECT_NEAR(heights.at("way/105"), BuildingTypeHeight("garage"), kHeightTolerance);
+  EXPECT_NEAR(heights.at("way/106"), 14.5, kHeightTolerance);
+
+  // A default height instead of the table: every building still without one gets it.
+  options.height_from_type = false;
+  options.default_height = 8.0;
+  const ImportedMap by_default = ImportCityMap(std::vector<std::filesystem::path>{NoHeightsOsm()}, {}, options);
+  EXPECT_EQ(by_default.summary.height_count(HeightSource::kDefault), 4);
+  EXPECT_EQ(by_default.summary.height_count(HeightSource::kLevels), 1);
+  options.default_height = 0.5;  // below kDefaultHeightBounds
+  ExpectInputError([&] { (void)ImportCityMap(std::vector<std::filesystem::path>{NoHeightsOsm()}, {}, options); },
+                   {"default_height"});
+}
+
+TEST(OsmImportTest, MapSuppliesSitesOnFlatRoofsAndOpenAreas) {
+  MapImportOptions options;
+  options.height_from_type = true;
+  options.sites_from_map = true;
+  const ImportedMap imported = ImportCityMap(std::vector<std::filesystem::path>{NoHeightsOsm()}, {}, options);
+  const ImportSummary& s = imported.summary;
+  // Flat roofs: every building but the gabled garage (way/105). Each 20 m square's centroid is 10 m from its
+  // walls, the 30 m one's 15 m.
+  EXPECT_EQ(s.derived_rooftop_sites, 5);
+  // Open areas: the park and the surface car park (the underground one is no landing site). The 100 m park holds
+  // a 3 x 3 grid 40 m apart, the outer points 10 m from its edge; the 30 m x 50 m car park its centre, 15 m from
+  // the edge, capped at 12 m.
+  EXPECT_EQ(s.open_areas, 2);
+  EXPECT_EQ(s.derived_open_sites, 10);
+  EXPECT_EQ(s.sites, 15);
+  EXPECT_EQ(s.rooftop_sites, 5);  // the CityMap puts each rooftop site on its building
+  constexpr double kProjectedSquareTolerance = 0.05;  // m: the test file's squares are laid out with a rounded scale
+  for (const LandingSite& site : imported.map.sites()) {
+    EXPECT_GE(site.radius, kMinDerivedSiteRadius);
+    EXPECT_NEAR(site.risk, DerivedSiteRisk(site.radius), 1e-12);
+    if (site.on_rooftop()) {
+      EXPECT_NEAR(site.altitude(), imported.map.building(site.building).height, kHeightTolerance);
+      const double expected = imported.map.building(site.building).id == "way/102" ? 15.0 : 10.0;
+      EXPECT_NEAR(site.radius, expected, kProjectedSquareTolerance) << site.id;
+    } else {
+      EXPECT_EQ(site.altitude(), 0.0);
+      EXPECT_FALSE(imported.map.IsInsideBuilding(site.p_W + Eigen::Vector3d(0, 0, -0.1))) << site.id;
+      EXPECT_NE(site.id.find(site.id.rfind("amenity=parking", 0) == 0 ? "way/202" : "leisure=park"), std::string::npos)
+          << site.id;
+    }
+  }
+  // Risk falls with the clear radius (procedural_city.h's fit): 0.698 − 0.192 ln 10.
+  EXPECT_NEAR(DerivedSiteRisk(10.0), 0.698 - 0.192 * std::log(10.0), 1e-12);
+  EXPECT_EQ(DerivedSiteRisk(1e6), 0.0);
+}
+
+TEST(RealOsmDataTest, UpperEastSideBuildingsImportWithTypeHeightsAndSupplyRooftopSites) {
+  SKIP_WITHOUT_SHARED_DATA();
+  MapImportOptions options;
+  options.height_from_levels = true;
+  options.height_from_type = true;
+  options.sites_from_map = true;
+  const ImportedMap imported =
+      ImportCityMap(std::vector<std::filesystem::path>{OsmDataDir() / "upper-east-side-buildings.geojson"}, {}, options);
+  const ImportSummary& s = imported.summary;
+  EXPECT_EQ(s.buildings, 1239);  // every building, 11 of them without a height tag
+  EXPECT_EQ(s.height_count(HeightSource::kTag), 1228);
+  EXPECT_EQ(s.height_count(HeightSource::kLevels), 2);
+  EXPECT_EQ(s.height_count(HeightSource::kBuildingType), 9);
+  EXPECT_GT(s.derived_rooftop_sites, 500);  // most Manhattan roofs are flat and wider than 4 m
+  EXPECT_EQ(s.rooftop_sites, s.derived_rooftop_sites);
 }
 
 }  // namespace

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 #include <proj.h>
 
+#include <unistd.h>
+
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -206,10 +209,10 @@ TEST(MissionFileTest, MissionWithoutLandingLandsWhereItEndsOrIsRefused) {
 }
 
 TEST(MissionFileTest, UnsupportedItemsAreReportedByName) {
-  const std::string jump = InputErrorOf([] { LoadMissionFile(MissionData("loop_jump.plan")); });
-  EXPECT_NE(jump.find("DO_JUMP (177)"), std::string::npos) << jump;
-  EXPECT_NE(jump.find("mission.items[2]"), std::string::npos) << jump;
-  EXPECT_NE(jump.find("loop_jump.plan"), std::string::npos) << jump;
+  // A finite DO_JUMP flies (unrolled): jump to item 2 three times, so waypoint 2 is flown four times.
+  const Mission loop = LoadMissionFile(MissionData("loop_jump.plan"));
+  EXPECT_TRUE(AnyWarningContains(loop, "1 DO_JUMP unrolled"));
+  EXPECT_EQ(loop.items, 3 + 4 - 1);  // takeoff, waypoint 2 four times, RTL (the jump itself is not flown)
 
   const std::string survey = InputErrorOf([] {
     ParseMission(R"({"fileType": "Plan", "mission": {"plannedHomePosition": [40.77, -73.96, 10], "items": [
@@ -217,6 +220,7 @@ TEST(MissionFileTest, UnsupportedItemsAreReportedByName) {
                  "survey.plan", MissionFormat::kQgcPlan);
   });
   EXPECT_NE(survey.find("'survey'"), std::string::npos) << survey;
+  EXPECT_NE(survey.find("TransectStyleComplexItem.Items"), std::string::npos) << survey;
 
   const std::string unlimited = InputErrorOf([] {
     ParseMission("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n"
@@ -231,7 +235,7 @@ TEST(MissionFileTest, UnsupportedItemsAreReportedByName) {
                  "1\t0\t3\t31000\t0\t0\t0\t0\t0\t0\t20\t1\n",
                  "odd.waypoints", MissionFormat::kQgcWpl);
   });
-  EXPECT_NE(unknown.find("command 31000"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("WAYPOINT_USER_1 (31000)"), std::string::npos) << unknown;
 }
 
 TEST(MissionFileTest, AltitudeFramesNeedWhatTheyReferTo) {
@@ -444,6 +448,155 @@ TEST(MissionFileTest, ExampleMissionFliesClearOfTheRealUpperEastSide) {
   const LandPractDatabase database = LandPractDatabase::Build(planner, plan, {});
   EXPECT_EQ(database.checkpoints().size(), 5u);
   EXPECT_GT(database.checkpoints().back().plan_time, 0.5 * plan.duration());
+}
+
+// --- the mission files of ground stations, as they mean them (issue 25) -------------------------------------------
+// Written from QGroundControl's "Plan File Format" page and the MAVLink / ArduPilot command lists: a survey
+// ComplexItem with its stored transect items, a spline waypoint, a terrain-calculated item whose AMSL altitude is
+// null, DO_AUX_FUNCTION and DO_PARACHUTE, a finite DO_JUMP, rally points and a geofence.
+
+TEST(GroundStationMissionTest, SurveyFenceAndRallyPlanFliesAsQGroundControlMeansIt) {
+  const Mission mission = LoadMissionFile(MissionData("survey_fence_rally.plan"));
+  // takeoff; the survey's four transect waypoints; the spline; the terrain item; waypoint 13; the jump back to
+  // item 10 twice (10, 13, 10, 13); return (approach, landing).
+  ASSERT_EQ(mission.waypoints.size(), 1u + 4u + 1u + 2u + 4u + 2u);
+  const std::vector<double> heights = {30, 40, 40, 40, 40, 35, 25, 25, 25, 25, 25, 25, 25, 0};
+  for (std::size_t i = 0; i < heights.size(); ++i) {
+    EXPECT_NEAR(-mission.waypoints[i].p_W.z(), heights[i], kExactHeight) << i << " " << mission.waypoints[i].label;
+  }
+  EXPECT_TRUE(AnyWarningContains(mission, "'survey' ComplexItem flown from its 6 stored items"));
+  EXPECT_TRUE(AnyWarningContains(mission, "NAV_SPLINE_WAYPOINT flown as a NAV_WAYPOINT"));
+  EXPECT_TRUE(AnyWarningContains(mission, "AltitudeMode 3"));
+  EXPECT_TRUE(AnyWarningContains(mission, "DO_AUX_FUNCTION (218) does not move the vehicle"));
+  EXPECT_TRUE(AnyWarningContains(mission, "DO_PARACHUTE (208) does not move the vehicle"));
+  EXPECT_TRUE(AnyWarningContains(mission, "DO_SET_CAM_TRIGG_DIST (206) does not move the vehicle"));
+  EXPECT_TRUE(AnyWarningContains(mission, "1 DO_JUMP unrolled"));
+  EXPECT_EQ(mission.firmware_type, 3);
+  EXPECT_EQ(mission.vehicle_type, 2);
+
+  // The geofence: inside the inclusion polygon, outside the exclusion circle.
+  ASSERT_EQ(mission.geofence.zones.size(), 2u);
+  const IndependentProjection proj(mission.origin);
+  ASSERT_TRUE(proj.ok());
+  EXPECT_TRUE(mission.geofence.Allows(mission.home_W.head<2>()));
+  EXPECT_FALSE(mission.geofence.Allows(proj.NorthEast(40.7725, -73.9575)));   // the excluded circle's centre
+  EXPECT_FALSE(mission.geofence.Allows(proj.NorthEast(40.7750, -73.9600)));   // north of the inclusion polygon
+  EXPECT_TRUE(mission.geofence.Allows(proj.NorthEast(40.7725, -73.9590)));    // 101 m west of the circle's centre
+  const std::array<Eigen::Vector2d, 2> across = {proj.NorthEast(40.7725, -73.9590), proj.NorthEast(40.7725, -73.9565)};
+  EXPECT_FALSE(mission.geofence.AllowsPath(across));  // a leg through the excluded circle
+
+  // Rally points become landing sites of the map (on the ground without buildings), and the sites the fence
+  // forbids are dropped.
+  ASSERT_EQ(mission.rally_points.size(), 2u);
+  const LandingSite outside{"outside", Eigen::Vector3d(proj.NorthEast(40.7750, -73.9600).x(),
+                                                         proj.NorthEast(40.7750, -73.9600).y(), 0.0),
+                            0.1, 5.0};
+  const CityMap with = WithMissionSafety(CityMap({}, {outside}), mission);
+  ASSERT_EQ(with.sites().size(), 2u);
+  for (const LandingSite& site : with.sites()) {
+    EXPECT_EQ(site.id.rfind("rally ", 0), 0u) << site.id;
+    EXPECT_EQ(site.risk, 0.0);
+    EXPECT_EQ(site.radius, kRallyPointSiteRadius);
+  }
+  EXPECT_NEAR((with.site(0).p_W.head<2>() - proj.NorthEast(40.7690, -73.9620)).norm(), 0.0, kProjectionTolerance);
+
+  // Export keeps the firmware and vehicle types.
+  QgcPlanExportOptions export_options;
+  export_options.origin = mission.origin;
+  export_options.firmware_type = *mission.firmware_type;
+  export_options.vehicle_type = *mission.vehicle_type;
+  const nlohmann::json exported = nlohmann::json::parse(QgcPlanJson(MakeMissionPlan(mission, {}), export_options));
+  EXPECT_EQ(exported["mission"]["firmwareType"], 3);
+  EXPECT_EQ(exported["mission"]["vehicleType"], 2);
+}
+
+TEST(GroundStationMissionTest, ArduPilotMissionWithUnsetHomeAndCrLfFlies) {
+  const Mission mission = LoadMissionFile(MissionData("ardupilot_unset_home_crlf.waypoints"));
+  // The home (0, 0) is the take-off item's position.
+  const IndependentProjection proj(mission.origin);
+  ASSERT_TRUE(proj.ok());
+  EXPECT_NEAR((mission.home_W.head<2>() - proj.NorthEast(-35.3632620, 149.1652370)).norm(), 0.0, kProjectionTolerance);
+  EXPECT_FALSE(mission.home_amsl.has_value());
+  EXPECT_TRUE(AnyWarningContains(mission, "unset (0, 0)"));
+  // takeoff; 2, 3 (spline), 4; the jump to index 2 once: 2, 3, 4; return (approach, landing).
+  ASSERT_EQ(mission.waypoints.size(), 1u + 3u + 3u + 2u);
+  EXPECT_NEAR((mission.waypoints[4].p_W.head<2>() - proj.NorthEast(-35.3628, 149.1652370)).norm(), 0.0,
+              kProjectionTolerance);
+  EXPECT_TRUE(AnyWarningContains(mission, "DO_AUX_FUNCTION (218) does not move the vehicle"));
+  EXPECT_TRUE(AnyWarningContains(mission, "DO_PARACHUTE (208) does not move the vehicle"));
+  EXPECT_TRUE(AnyWarningContains(mission, "DO_SET_SERVO (183) does not move the vehicle"));
+  // The same text with LF line ends reads the same.
+  std::string text = ReadFile(MissionData("ardupilot_unset_home_crlf.waypoints"));
+  ASSERT_NE(text.find("\r\n"), std::string::npos);
+  std::erase(text, '\r');
+  const Mission lf = ParseMission(text, "lf.waypoints", MissionFormat::kQgcWpl);
+  ExpectSameWaypoints(mission, lf, 1e-9);
+}
+
+TEST(GroundStationMissionTest, EveryRefusalNamesTheItemAndTheReason) {
+  const std::string home = "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t20\t1\n";
+  struct Case {
+    std::string text;
+    std::vector<std::string> parts;
+  };
+  const std::vector<Case> cases = {
+      {home + "2\t0\t3\t17\t0\t0\t10\t0\t40.776\t-73.955\t20\t1\n", {"line 4", "NAV_LOITER_UNLIM (17)", "never ends"}},
+      {home + "2\t0\t0\t176\t1\t4\t0\t0\t0\t0\t0\t1\n", {"line 4", "DO_SET_MODE (176)", "flight mode"}},
+      {home + "2\t0\t0\t185\t1\t0\t0\t0\t0\t0\t0\t1\n", {"line 4", "DO_FLIGHTTERMINATION (185)", "terminates"}},
+      {home + "2\t0\t3\t31000\t0\t0\t0\t0\t40.776\t-73.955\t20\t1\n", {"line 4", "WAYPOINT_USER_1 (31000)", "navigation"}},
+      {home + "2\t0\t3\t16\t0\t0\t0\t0\t40.776\t-73.955\t20\t1\n3\t0\t0\t177\t2\t-1\t0\t0\t0\t0\t0\t1\n",
+       {"line 5", "forever"}},
+      {home + "2\t0\t0\t177\t9\t1\t0\t0\t0\t0\t0\t1\n", {"line 4", "param1", "jump to, got 9"}},
+  };
+  for (const Case& c : cases) {
+    const std::string message = InputErrorOf([&] { ParseMission(c.text, "r.waypoints", MissionFormat::kQgcWpl); });
+    ASSERT_FALSE(message.empty()) << c.text;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    for (const std::string& part : c.parts) EXPECT_NE(message.find(part), std::string::npos) << message;
+  }
+  const std::string endless = InputErrorOf([] { LoadMissionFile(MissionData("endless_jump.waypoints")); });
+  EXPECT_NE(endless.find("line 5"), std::string::npos) << endless;
+  EXPECT_NE(endless.find("repeats forever"), std::string::npos) << endless;
+  // A structure scan stores no items; a null altitude outside AltitudeMode 3 says null.
+  const std::string scan = InputErrorOf([] {
+    ParseMission(R"({"fileType": "Plan", "mission": {"plannedHomePosition": [40.77, -73.96, 10], "items": [
+                   {"type": "ComplexItem", "complexItemType": "StructureScan", "version": 3}]}})",
+                 "scan.plan", MissionFormat::kQgcPlan);
+  });
+  EXPECT_NE(scan.find("mission.items[0]"), std::string::npos) << scan;
+  EXPECT_NE(scan.find("'StructureScan' item stores none"), std::string::npos) << scan;
+  const std::string null_altitude = InputErrorOf([] {
+    ParseMission(R"({"fileType": "Plan", "mission": {"plannedHomePosition": [40.77, -73.96, 10], "items": [
+                   {"type": "SimpleItem", "command": 22, "frame": 3, "AltitudeMode": 1,
+                    "params": [0, 0, 0, null, 40.77, -73.96, null]}]}})",
+                 "null.plan", MissionFormat::kQgcPlan);
+  });
+  EXPECT_NE(null_altitude.find("mission.items[0]"), std::string::npos) << null_altitude;
+  EXPECT_NE(null_altitude.find("got null"), std::string::npos) << null_altitude;
+}
+
+TEST(GroundStationMissionTest, WaypointsWriterRoundTripsWithinOneCentimetre) {
+  for (const char* name : {"delivery_loiter.plan", "survey_fence_rally.plan"}) {
+    SCOPED_TRACE(name);
+    const Mission mission = LoadMissionFile(MissionData(name));
+    const FlightPlan plan = MakeMissionPlan(mission, {});
+    QgcPlanExportOptions export_options;
+    export_options.origin = mission.origin;
+    export_options.home_amsl = mission.home_amsl.value_or(0.0);
+    const std::filesystem::path path =
+        std::filesystem::temp_directory_path() / fmt::format("uascma_mission_{}.waypoints", ::getpid());
+    WriteMissionFile(path, plan, export_options);
+    MissionImportOptions import_options;
+    import_options.origin = mission.origin;
+    const Mission again = LoadMissionFile(path, import_options);
+    std::filesystem::remove(path);
+    // The plan's waypoints (the writer writes the flown plan, not the file's items): the same plan again.
+    const FlightPlan replanned = MakeMissionPlan(again, {});
+    ASSERT_EQ(replanned.segments().size(), plan.segments().size());
+    for (std::size_t k = 0; k < plan.segments().size(); ++k) {
+      EXPECT_NEAR((replanned.segments()[k].end_W - plan.segments()[k].end_W).norm(), 0.0, kRoundTripTolerance) << k;
+    }
+  }
 }
 
 }  // namespace

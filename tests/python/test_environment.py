@@ -1,4 +1,5 @@
-"""The decision environment (sim::DecisionEnvironment) stepped from Python, Gym-style."""
+"""The decision environment (sim::DecisionEnvironment) stepped from Python through Gymnasium's API."""
+import importlib.util
 import math
 
 import numpy as np
@@ -11,13 +12,15 @@ WALL_CLOCK_FIELDS = ("wall_time_s", "realtime_factor", "policy")
 
 
 def fly(env, decide, seed=None):
-    """Steps a flight to its end; returns the observations, rewards and the last info."""
-    observation = env.reset(seed)
-    observations, rewards, info = [observation], [], None
-    done = False
-    while not done:
-        observation, reward, done, info = env.step(decide(observation))
-        observations.append(observation)
+    """Steps a flight to its end; returns the uascma.Observations, rewards and the last info.
+    decide(observation) takes the uascma.Observation behind the state index."""
+    _, info = env.reset(seed=seed)
+    observations, rewards = [info["observation"]], []
+    terminated = truncated = False
+    while not (terminated or truncated):
+        state, reward, terminated, truncated, info = env.step(decide(info["observation"]))
+        assert state == info["observation"].state_index
+        observations.append(info["observation"])
         rewards.append(reward)
     return observations, rewards, info
 
@@ -58,13 +61,109 @@ def test_reward_is_r_of_state_and_action_with_the_weights():
 
 
 def test_misuse_raises_input_error():
-    env = uascma.Environment(example("nominal.yaml"))
+    env = uascma.Environment(example("nominal.yaml"), unavailable="raise")
     with pytest.raises(uascma.InputError, match="Reset"):
         env.step("NoOp")
     env.reset()
     with pytest.raises(uascma.InputError, match="action"):
         env.step("Hover")
+    with pytest.raises(uascma.InputError, match="action"):
+        env.step(7)
+    with pytest.raises(uascma.InputError, match="options"):
+        env.reset(options={"wind": 3})
+    with pytest.raises(uascma.InputError, match="seed"):
+        env.reset(seed=-1)
     while not env.done:
         env.step("NoOp")
     with pytest.raises(uascma.InputError, match="ended"):
         env.step("NoOp")
+
+
+def test_gymnasium_documented_loop():
+    # The agent-environment loop exactly as Gymnasium's "Basic Usage" page writes it (gymnasium.farama.org,
+    # content/basic_usage), with uascma.Environment in place of gym.make(...).
+    env = uascma.Environment(example("jam-motor-3.yaml"))
+    steps = episodes = 0
+    observation, info = env.reset(seed=42)
+    for _ in range(1000):
+        action = env.action_space.sample()  # agent policy that uses the observation and info
+        observation, reward, terminated, truncated, info = env.step(action)
+        assert env.observation_space.contains(observation)
+        assert math.isfinite(reward) and isinstance(terminated, bool) and isinstance(truncated, bool)
+        steps += 1
+        if terminated or truncated:
+            episodes += 1
+            observation, info = env.reset()
+    env.close()
+    assert steps == 1000
+    # At most one epoch per second of flight (1 Hz) and the flights are minutes long: several episodes ended.
+    assert episodes >= 1
+
+
+def test_spaces_are_gymnasium_shaped():
+    env = uascma.Environment(example("nominal.yaml"))
+    assert env.action_space.n == 4 and env.action_space.shape == ()
+    assert env.observation_space.n == uascma.CMA_NUM_STATES and env.observation_space.shape == ()
+    assert repr(env.action_space) == "Discrete(4)"
+    env.action_space.seed(5)
+    draws = [env.action_space.sample() for _ in range(200)]
+    assert all(isinstance(a, np.integer) and env.action_space.contains(a) for a in draws)
+    assert set(int(a) for a in draws) == {0, 1, 2, 3}  # P(a value missing in 200 uniform draws) < 4 · 0.75^200
+    assert not env.action_space.contains(4) and not env.action_space.contains(-1)
+    assert not env.action_space.contains(1.0) and not env.action_space.contains("NoOp")
+    masked = [env.action_space.sample(mask=np.array([1, 1, 0, 0], dtype=np.int8)) for _ in range(50)]
+    assert set(int(a) for a in masked) <= {0, 1}
+    state, info = env.reset(seed=3)
+    assert isinstance(state, np.int64) and env.observation_space.contains(state)
+    assert set(info) >= {"observation", "action_mask", "state_label", "seed"}
+    np.testing.assert_array_equal(info["action_mask"], [1, 1, 1, 1])  # flight status N offers all four
+    assert info["action_mask"].dtype == np.int8
+
+
+def test_numpy_actions_and_seeds_are_taken():
+    q = np.array([0.1, -2.0, -3.0, 0.0])
+    env = uascma.Environment(example("nominal.yaml"))
+    env.reset(seed=np.uint64(4))
+    for action in (np.argmax(q), np.int32(0), np.array(0), np.array([0]), uascma.CmaAction.NoOp, "NoOp", 0):
+        _, _, _, _, info = env.step(action)
+        assert info["executed"] == "NoOp"
+    flight = uascma.run(example("nominal.yaml"), "noop", seed=np.int64(4), telemetry=False)
+    assert flight.seed == 4
+
+
+def test_seeds_replay_and_advance():
+    env = uascma.Environment(example("jam-motor-3.yaml"))
+    scenario_seed = uascma.load_scenario(example("jam-motor-3.yaml")).seed
+    _, first = env.reset()
+    _, second = env.reset()
+    _, again = env.reset(seed=scenario_seed)
+    assert first["seed"] == scenario_seed and second["seed"] == scenario_seed + 1 and again["seed"] == scenario_seed
+
+
+def test_unavailable_action_is_noop_by_default_and_raises_on_request():
+    # Decisions item 3: once LandASAP executes (ELASAP) only NoOp and Terminate are offered.
+    for unavailable in ("noop", "raise"):
+        env = uascma.Environment(example("scenario-1.yaml"), unavailable=unavailable)  # over a city: sites
+        env.reset(seed=1)
+        for _ in range(30):  # airborne: LandASAP before take-off grounds the flight (it ends)
+            env.step("NoOp")
+        _, _, _, _, info = env.step("LandASAP")
+        assert info["observation"].flight_status == uascma.FlightStatus.ELASAP
+        np.testing.assert_array_equal(info["action_mask"], [1, 1, 0, 0])
+        if unavailable == "raise":
+            with pytest.raises(uascma.InputError, match="available"):
+                env.step("LandPract")
+        else:
+            _, _, _, _, info = env.step("LandPract")
+            assert info["requested"] == "LandPract" and info["executed"] == "NoOp"
+
+
+@pytest.mark.skipif(importlib.util.find_spec("gymnasium") is None, reason="gymnasium is not installed")
+def test_matches_gymnasium_where_installed():
+    import gymnasium
+    from gymnasium.utils.env_checker import check_env
+
+    env = uascma.Environment(example("nominal.yaml"))
+    assert isinstance(env, gymnasium.Env)
+    assert isinstance(env.action_space, gymnasium.spaces.Discrete)
+    check_env(env, skip_render_check=True)

@@ -1,5 +1,6 @@
 """The Python examples (examples/python) run to the end and write what they say they write."""
 import os
+import shutil
 import subprocess
 import sys
 
@@ -11,7 +12,14 @@ EXAMPLES = os.path.join(SOURCE_DIR, "examples", "python")
 
 
 def run_example(name, *args, cwd):
-    result = subprocess.run([sys.executable, os.path.join(EXAMPLES, name), *map(str, args)], cwd=cwd,
+    """Runs the example as a user who copied examples/python alone would: from a copy of that folder, with the
+    current folder elsewhere (the examples find the scenarios they fly with uascma.example_file)."""
+    copy = os.path.join(str(cwd), "copied-examples")
+    if not os.path.isdir(copy):
+        shutil.copytree(EXAMPLES, copy)
+    elsewhere = os.path.join(str(cwd), "elsewhere")
+    os.makedirs(elsewhere, exist_ok=True)
+    result = subprocess.run([sys.executable, os.path.join(copy, name), *map(str, args)], cwd=elsewhere,
                             capture_output=True, text=True, timeout=600)
     assert result.returncode == 0, result.stderr
     return result.stdout

@@ -3,8 +3,14 @@
 // Run's flight with Run's rewards.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 #include "uascma/campaign/metrics.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/solvers.h"
 #include "uascma/sim/environment.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/policy.h"
@@ -186,6 +192,106 @@ TEST(DecisionEnvironmentTest, SetStateBranchesFromAnEpoch) {
   FlightState between = snapshot;
   Step(environment.model(), between);
   EXPECT_THROW(environment.SetState(between), InputError);  // not at an epoch
+}
+
+// Decisions item 28: what the executor falls back on is the solved policy's order of Q(s, a), its own action first,
+// computed here again from the model and the value function.
+TEST(SubstitutionTest, TheRankingIsTheSolvedPolicysOrderOfQ) {
+  const decision::CmaConfig config;
+  const decision::FiniteMdp mdp = decision::BuildCmaMdp(config.weights);
+  decision::ValueIterationOptions options;
+  options.gamma = config.gamma;
+  const decision::Policy solved = decision::SolveValueIteration(mdp, options);
+  const PolicyDefinition cma = SolvedCmaPolicyDefinition();
+  ASSERT_EQ(static_cast<int>(cma.ranking.size()), mdp.num_states());
+  int land_pract_states = 0, land_asap_next = 0;
+  for (decision::StateIndex s = 0; s < mdp.num_states(); ++s) {
+    const auto& order = cma.ranking[static_cast<std::size_t>(s)];
+    EXPECT_EQ(order.front(), solved.action[static_cast<std::size_t>(s)]);
+    EXPECT_EQ(static_cast<std::int64_t>(order.size()), mdp.choice_end(s) - mdp.choice_begin(s));
+    auto q = [&](decision::ActionIndex a) {
+      return decision::ChoiceQValue(mdp, mdp.FindChoice(s, a), config.gamma, solved.value);
+    };
+    for (std::size_t k = 1; k + 1 < order.size(); ++k) EXPECT_GE(q(order[k]), q(order[k + 1])) << "state " << s;
+    const bool battery_short = mdp.state_label(s).ends_with("RM0");
+    if (battery_short && order.front() == static_cast<decision::ActionIndex>(decision::CmaAction::kLandPract)) {
+      ++land_pract_states;
+      land_asap_next += order[1] == static_cast<decision::ActionIndex>(decision::CmaAction::kLandAsap);
+    }
+  }
+  // The dissertation's policy: where the battery is short (RM0) and it lands practically, landing as soon as possible
+  // is the next best (decision 28's example: LandASAP when LandPract has no stored path). (With a spall and RM1 it
+  // is NoOp, by 1e-3 or less: N,SF,MM0,G,RM1 has Q 2.6840 / 2.6830 / 2.5954 for LandPract / NoOp / LandASAP.)
+  EXPECT_EQ(land_pract_states, 18);
+  EXPECT_EQ(land_asap_next, land_pract_states);
+}
+
+// An emergency planner that finds nothing for LandPract and a straight descent for LandASAP.
+EmergencyPlan NoPractical(const EmergencyRequest& r) {
+  EmergencyPlan plan;
+  if (r.action == decision::CmaAction::kLandPract) {
+    plan.message = "no stored path from this checkpoint";
+    return plan;
+  }
+  plan.status = planning::LandingStatus::kOk;
+  const std::vector<planning::Waypoint> down = {{Eigen::Vector3d(r.p_WB_W.x(), r.p_WB_W.y(), 0.0), 0.0, "down", 0.0}};
+  plan.plan = planning::FlightPlan::Through(r.p_WB_W, down, planning::PlanLimits{});
+  plan.site = "below";
+  return plan;
+}
+
+TEST(SubstitutionTest, AnActionWithoutAPlanIsReplacedByTheNextInTheRankingAndRecorded) {
+  Scenario scenario = ShortJam();
+  scenario.fault.enabled = false;
+  const FlightModel model(scenario);
+  FlightState flying = MakeInitialState(model, 3);
+  for (int k = 0; k < 20; ++k) StepEpoch(model, flying, Controllers{});
+  ASSERT_TRUE(flying.airborne);
+  Observe(model, flying);
+  using decision::CmaAction;
+  auto index = [](CmaAction a) { return static_cast<decision::ActionIndex>(a); };
+  auto events_say = [](const FlightLog& log, const std::string& text) {
+    return std::any_of(log.events.begin(), log.events.end(),
+                       [&](const FlightEvent& e) { return e.what.find(text) != std::string::npos; });
+  };
+
+  // LandASAP next: it is planned and executes.
+  FlightState state = flying;
+  FlightLog log;
+  const std::vector<decision::ActionIndex> asap_next = {index(CmaAction::kLandPract), index(CmaAction::kLandAsap),
+                                                        index(CmaAction::kNoOp), index(CmaAction::kTerminate)};
+  EXPECT_EQ(Act(model, state, CmaAction::kLandPract, NoPractical, &log, asap_next), CmaAction::kLandAsap);
+  EXPECT_EQ(state.flight_status, decision::FlightStatus::kElAsap);
+  EXPECT_TRUE(state.on_emergency_plan);
+  EXPECT_EQ(state.substitution_epochs, 1);
+  EXPECT_EQ(state.substitutions, std::vector<std::string>{"LandPract->LandASAP"});
+  EXPECT_TRUE(events_say(log, "LandPract cannot be carried out (no stored path from this checkpoint): LandASAP"));
+  EXPECT_FALSE(events_say(log, "continuing"));
+
+  // NoOp next: the nominal plan goes on, and that is recorded too.
+  state = flying;
+  log = FlightLog{};
+  const std::vector<decision::ActionIndex> noop_next = {index(CmaAction::kLandPract), index(CmaAction::kNoOp),
+                                                        index(CmaAction::kLandAsap), index(CmaAction::kTerminate)};
+  EXPECT_EQ(Act(model, state, CmaAction::kLandPract, NoPractical, &log, noop_next), CmaAction::kNoOp);
+  EXPECT_FALSE(state.on_emergency_plan);
+  EXPECT_EQ(state.substitutions, std::vector<std::string>{"LandPract->NoOp"});
+
+  // Terminate next: the flight ends, terminated.
+  state = flying;
+  const std::vector<decision::ActionIndex> terminate_next = {index(CmaAction::kLandPract), index(CmaAction::kTerminate),
+                                                             index(CmaAction::kNoOp), index(CmaAction::kLandAsap)};
+  EXPECT_EQ(Act(model, state, CmaAction::kLandPract, NoPractical, nullptr, terminate_next), CmaAction::kTerminate);
+  EXPECT_EQ(state.outcome, Outcome::kTerminated);
+  EXPECT_EQ(state.substitutions, std::vector<std::string>{"LandPract->Terminate"});
+
+  // Without a ranking, the default CMA policy's order for the present state.
+  state = flying;
+  const ActionRanking fallback = DefaultCmaActionRanking(state.inputs.state);
+  const CmaAction taken = Act(model, state, CmaAction::kLandPract, NoPractical, nullptr);
+  EXPECT_NE(taken, CmaAction::kLandPract);
+  EXPECT_EQ(state.substitution_epochs, 1);
+  EXPECT_NE(std::find(fallback.begin(), fallback.end(), index(taken)), fallback.end());
 }
 
 }  // namespace

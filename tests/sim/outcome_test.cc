@@ -115,6 +115,34 @@ TEST(OutcomeTest, ARooftopTouchdownIsALandingOnTheSiteAndACollisionOffIt) {
   EXPECT_EQ(ClassifyOutcome(limits, in, map).outcome, Outcome::kFailedCollision);
 }
 
+// Issue 22 item 5: a gust on the final descent puts the vehicle down gently on open ground 4.5 m from the pad, outside
+// the 3.46 m landing radius: landed off-site, safe, neither completed nor failed. A building that is not the site,
+// or a touchdown too fast down or across, stays a failure.
+TEST(OutcomeTest, AGentleTouchdownOnOpenGroundOffTheSiteIsLandedOffSite) {
+  const OutcomeThresholds limits;
+  OutcomeInputs in = Cruising();
+  in.plan_end_W = Eigen::Vector3d(300, 0, 0);
+  in.plan_time_remaining_s = 0.0;
+  in.p_WB_W = Eigen::Vector3d(304.5, 0, 0.0);  // 4.5 m from the end point, on the ground
+  in.v_WB_W = Eigen::Vector3d(0.05, 0, 0.1);   // 0.1 m/s down (the measured case)
+  const planning::CityMap open;
+  const OutcomeDecision off = ClassifyOutcome(limits, in, open);
+  EXPECT_EQ(off.outcome, Outcome::kLandedOffSite);
+  EXPECT_NE(off.reason.find("4.5 m"), std::string::npos);
+  EXPECT_FALSE(IsFailure(Outcome::kLandedOffSite));
+  EXPECT_STREQ(OutcomeName(Outcome::kLandedOffSite), "landed_off_site");
+  EXPECT_EQ(TerminalStateOf(Outcome::kLandedOffSite), decision::CmaTerminal::kC);
+  in.v_WB_W = Eigen::Vector3d(limits.touchdown_speed + 0.1, 0, 0.1);  // skidding in across the ground
+  EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kFailedCollision);
+  in.v_WB_W = Eigen::Vector3d(0, 0, limits.touchdown_speed + 0.1);  // too fast down
+  EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kFailedCollision);
+  // Gently onto the roof of a building that is not the landing site: a collision.
+  const planning::CityMap map = OneBuilding();
+  in.v_WB_W = Eigen::Vector3d(0, 0, 0.1);
+  in.p_WB_W = Eigen::Vector3d(100, 0, -14.99);
+  EXPECT_EQ(ClassifyOutcome(limits, in, map).outcome, Outcome::kFailedCollision);
+}
+
 TEST(OutcomeTest, GroundedIsSafeAndNotCompletedAndEndsInC) {
   EXPECT_FALSE(IsFailure(Outcome::kGrounded));
   EXPECT_STREQ(OutcomeName(Outcome::kGrounded), "grounded");

@@ -84,6 +84,10 @@ double ReferenceBatteryEod(models::PackAction switches = models::PackAction::kUs
 // bisection on the plan's duration), wind, the packs of `params` and t_sf as the simulator's safety margin.
 sim::Scenario MakeBatteryScenario(const BatteryFlightParams& params);
 
+// The executor's view of a flight at an epoch: the pack, the present (low-passed) load, the time left on the
+// executing plan and t_sf (the scenario's safety margin).
+decision::BatteryObservation ObserveBatteryFlight(const sim::FlightModel& model, const sim::FlightState& state);
+
 // --- one flight ----------------------------------------------------------------------------------------
 // Called at 1 Hz with the time, the observation and its abstract state; returns the switch action.
 using BatterySwitchController =
@@ -106,6 +110,8 @@ struct BatteryFlightResult {
   std::vector<decision::StateIndex> states;                  // at 1 Hz from take-off (FAILURE last if failed)
   std::vector<std::pair<double, models::PackAction>> switches;  // (time, action) of every change, first included
   std::vector<BatteryEpoch> epochs;
+  double energy_used_wh = 0.0;                  // drawn from the packs over the flight (sim::FlightState::energy_wh)
+  models::PerBranch<double> charge_left_ah{};   // usable charge left per pack at the end: its emptiest cell's z·Q
 };
 
 // Flies `params` with the packs switched to `initial_switches` before take-off and `controller` at 1 Hz
@@ -118,11 +124,16 @@ BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, models::
 // one vehicle while their packs cap the rotors alike (sim::StepFollowing: the pack acts on the vehicle only
 // through the thrust cap), and a flight whose pack caps a rotor differently flies on alone from that step; every
 // result equals FlyBatteryFlight of the same flight alone, bit for bit (tests/campaign/battery_flights_test.cc).
-// Learning flies a draw's three actions so (one vehicle instead of three while they agree). At most three flights.
+// Learning flies a draw's three actions so (one vehicle instead of three while they agree); the evaluation
+// (campaign/battery_evaluation.h) every policy of a run; the hindsight search a family of schedules. Any number.
 struct BatteryFlightController {
   models::PackAction initial_switches = models::PackAction::kUseBoth;
   BatterySwitchController controller;
+  bool observe_pair_eod = false;  // fill BatteryObservation::pair_eod_s at every epoch (one more EOD propagation)
 };
+// One flight with a controller of the kind FlyBatteryFlights takes (its pair-EOD request kept).
+BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, const BatteryFlightController& flight,
+                                     const decision::BatteryThresholds& thresholds = {});
 struct BatteryFlightSharing {
   std::int64_t shared_steps = 0;  // GNC steps a flight took by following another's vehicle
   std::int64_t alone_steps = 0;   // GNC steps of flights that had left their group
@@ -150,12 +161,23 @@ class BatteryPolicySwitch final : public sim::BatterySwitchPolicy {
 std::unique_ptr<sim::BatterySwitchPolicy> LoadBatterySwitchPolicy(const std::filesystem::path& policy_file,
                                                                   const sim::Scenario& scenario);
 
+// Our discount (decision/battery_mdp.h, ours item 4): γ = 0.5^(1 s / T_max), T_max the longest plan of the draw
+// (plan_fraction[1] × ReferenceBatteryEod()): a failure at the end of the longest flight still weighs one half.
+double OursBatteryDiscount(const BatteryFlightRanges& ranges = {});
+
 // --- learning ------------------------------------------------------------------------------------------
 struct BatteryLearningOptions {
   std::int64_t runs = 5000;   // §4.3.2: 5,000 flights split equally between the actions
   std::uint64_t seed = 1;
   int jobs = 1;
   BatteryFlightRanges ranges;
+  // Ours (issue 24; `battery learn --drop-flights`): every draw flies a fourth flight, UseBoth then pack k alone for
+  // good from τ (k uniform on {1, 2}, τ uniform on [0, plan duration], drawn from the draw's own sub-stream, so the
+  // three constant-action flights are unchanged), counted with AddSwitchingFlight. Why: flights flown with one
+  // action throughout never visit the states a switching policy flies into (a pack dropped late, drained, beside a
+  // fresh one): their rows stay unobserved, and ours (decision/battery_mdp.h item 5) offers nothing there. N flights
+  // are then split between four kinds.
+  bool drop_flights = false;
   // Called after every flight with the number done (from any thread; may be empty).
   std::function<void(std::int64_t)> on_flight_done;
 };
@@ -182,17 +204,6 @@ EnergyTransitionCounts CountEnergyTransitions(const decision::BatteryTransitionC
 // constant-parameter view): rows that only had such transitions become unobserved.
 decision::BatteryTransitionCounts WithoutEnergyDynamics(const decision::BatteryTransitionCounts& counts);
 
-// --- case studies (Table 4.5) --------------------------------------------------------------------------
-struct CaseScenario {
-  std::string name;                 // e.g. "(F1,F2)"
-  BatteryFlightParams params;
-  std::string controller;           // "UseBoth" or "pi*"
-  BatteryFlightResult result;
-};
-// Case 1: flight time = one healthy pack's EOD, UseBoth; case 2: the same with π*; both over the nine
-// health pairs. Case 3: flight time = the EOD of both packs (see the .cc for the fraction), UseBoth, for
-// (F1,F2), (F1,F3), (F3,F3). Case 4: π* for (F2,F1). π* needs `policies` (InputError otherwise).
-std::vector<CaseScenario> RunCaseStudy(int number, const decision::BatteryPolicySet* policies);
-nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenarios);
+// Case studies (Table 4.5): campaign/battery_evaluation.h.
 
 }  // namespace uascma::campaign

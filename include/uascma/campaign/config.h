@@ -34,6 +34,9 @@
 //     onset_fraction: [0, 1]                     # onset uniform over the nominal flight (§5.4)
 //     motors: [1, 2, 3, 4, 5, 6]                 # the spalled motor, uniform (§5.4)
 //     time_per_growth_step_s: 0.7128             # spall → jam in ~17 s, as in §5.5.1–5.5.2
+//   options:
+//     eod_load: forecast                         # the 1 Hz EOD's load: forecast (decision 25) | present (item 14)
+//     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
 //
 // Ranges are [low, high] lists with low ≤ high; a draw is uniform on [low, high). Unknown keys are
 // errors (a typo would otherwise be silently ignored).
@@ -50,6 +53,7 @@
 
 #include "uascma/common/bounds.h"
 #include "uascma/models/wind.h"
+#include "uascma/sim/load_forecast.h"
 
 namespace uascma::campaign {
 
@@ -187,7 +191,14 @@ struct FaultSampling {
 //     height_from_levels: true                        # import fall-backs, as `map info`'s flags
 //     metres_per_level: 3
 //     skip_missing_height: true
+//     height_from_type: true                          # then the building=* table (map_import.h)
+//     default_height_m: 10                            # then this height, m (1-500 m, kDefaultHeightBounds)
+//     sites_from_map: true                            # landing sites from flat roofs and open areas
 // Home and destination are then drawn over the imported map's extent (buildings and sites), on open ground.
+// Landing sites (ours): without `sites_from_map` the map supplies its own sites only when there is no `sites`
+// file; `sites_from_map: true` adds them beside the file's, `false` keeps only the file's (none without one).
+// The canonical YAML writes the last three keys only when set, and the fingerprint takes them only when they
+// change the import, so the fingerprints of campaigns written before them stay as they were.
 struct MapSampling {
   std::uint64_t procedural_seed = 3;
   // City size in blocks (procedural_city.h): 56 × 20 blocks ≈ 4.4 km × 4.2 km. The plans of the default
@@ -202,7 +213,19 @@ struct MapSampling {
   bool height_from_levels = false;   // planning::MapImportOptions (defaults there)
   double metres_per_level = 3.0;     // m per storey, the importer's estimate
   bool skip_missing_height = false;
+  bool height_from_type = false;
+  std::optional<double> default_height_m;  // m
+  std::optional<bool> sites_from_map;       // unset: derive sites when there is no `sites` file
   bool imported() const { return !buildings.empty(); }
+  // Whether the import derives landing sites from the map (above).
+  bool DerivesSites() const { return sites_from_map.value_or(sites.empty()); }
+  bool operator==(const MapSampling&) const = default;
+};
+
+// The simulator options a campaign sets for every flight (sim::SimOptions); the rest keep their defaults.
+struct FlightOptions {
+  sim::EodLoad eod_load = sim::EodLoad::kForecast;  // decision 25; present: decision 14
+  bool cap_speed_after_isolation = true;            // §4.4.2, sim/speed_cap.h
 };
 
 struct CampaignConfig {
@@ -216,6 +239,7 @@ struct CampaignConfig {
   BatterySampling battery;
   WindSampling wind;
   FaultSampling fault;
+  FlightOptions options;
 
   // Every range ordered and inside its physical domain, weights non-negative with a positive sum,
   // probabilities in [0, 1], motors in 1..6, policies non-empty. Writes "field: expected …" to *error.

@@ -44,6 +44,7 @@ class RecordingPolicy final : public sim::DecisionPolicy {
   explicit RecordingPolicy(sim::DecisionPolicy& inner) : inner_(inner) {}
   decision::CmaAction Decide(const sim::DecisionInputs& inputs) override;
   std::string name() const override { return inner_.name(); }
+  sim::ActionRanking Ranking(const sim::DecisionInputs& inputs) const override { return inner_.Ranking(inputs); }
   const std::vector<EpochDecision>& decisions() const { return decisions_; }
 
  private:

@@ -51,8 +51,13 @@ struct RunRecord {
   std::string actions;                // JSON list of [time_s, "Action"]
   std::optional<double> first_emergency_action_s;  // first epoch whose decided action is not NoOp
   std::string first_emergency_action;              // its name, "" when none
+  // Decisions item 28: epochs at which the chosen action could not be carried out and another was taken, and the
+  // distinct substitutions as a JSON list of "Chosen->Taken".
+  std::int64_t substitution_epochs = 0;
+  std::string substitutions = "[]";
   std::optional<double> jam_time_s;
   std::optional<double> isolation_time_s;
+  std::optional<double> speed_cap_mps;  // the airspeed cap after a rotor isolation (§4.4.2); none without one
   double min_cell_voltage_v = 0.0;
   double energy_wh = 0.0;
   double max_tracking_error_m = 0.0;
@@ -101,8 +106,11 @@ void VisitRecordFields(Record& r, Visitor&& visit) {
   visit("actions", r.actions);
   visit("first_emergency_action_s", r.first_emergency_action_s);
   visit("first_emergency_action", r.first_emergency_action);
+  visit("substitution_epochs", r.substitution_epochs);
+  visit("substitutions", r.substitutions);
   visit("jam_time_s", r.jam_time_s);
   visit("isolation_time_s", r.isolation_time_s);
+  visit("speed_cap_mps", r.speed_cap_mps);
   visit("min_cell_voltage_v", r.min_cell_voltage_v);
   visit("energy_wh", r.energy_wh);
   visit("max_tracking_error_m", r.max_tracking_error_m);

@@ -21,8 +21,10 @@
 //   5. cold (probability cold_probability) → ambient cold_temp_degf, else warm_temp_degf
 //   6. wind speed, direction, then the Dryden category uniform over the list
 //   7. the route (decisions items 19–20). The endurance fraction f uniform on mission.endurance_fraction;
-//      then, until the route fits: home uniform over the city on open ground with mission.wall_clearance_m
-//      from every wall (the origin on an empty map), the bearing uniform on [0, 2π) from North, and
+//      then, until the route fits: home uniform over the city's area (RouteArea: over an imported map the
+//      buildings' extent, so that routes fly over the city and not beside it, whatever the sites file covers)
+//      on open ground with mission.wall_clearance_m from every wall (the origin on an empty map), the bearing
+//      uniform on [0, 2π) from North, and
 //        I_cruise   = the largest steady current of the plan: level flight out, level flight back (airspeed
 //                     |±V ê − w|, V the cruise speed, ê the bearing, w the mean wind) and the drop hover
 //                     (airspeed |w|), CalcLevelFlightCurrent;
@@ -33,7 +35,7 @@
 //                     cruise altitude 10 m above the tallest building within wall_clearance_m of the route
 //                     that the lowest altitude would give (the longest route along the bearing; it clears
 //                     the shorter final route too);
-//      the destination must lie inside the city with wall_clearance_m from every wall. With mission.distance_m
+//      the destination must lie inside the city's area with wall_clearance_m from every wall. With mission.distance_m
 //      set, the distance is drawn on it instead (the plan is then not tied to the pack).
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the
 //      fraction uniform on onset_fraction, then the motor uniform over the list.
@@ -105,8 +107,33 @@ struct SampledRun {
   sim::Scenario scenario;         // ready to fly
 };
 
-// The campaign's city (built once per configuration and shared by every run; seed 0: an empty map).
+// The campaign's city (built once per configuration and shared by every run; seed 0: an empty map). An imported
+// map without a sites file supplies its own sites (planning::MapImportOptions::sites_from_map: flat roofs and
+// open areas of the same files, dissertation §5.1).
 std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling);
+// The horizontal extent of the map's buildings (m; empty without buildings).
+Eigen::AlignedBox2d BuildingsExtent(const planning::CityMap& map);
+// Where step 7 draws homes and destinations: an imported map's buildings' extent (its sites may lie elsewhere);
+// the procedural city's bounds (unchanged: its sites lie among its blocks).
+Eigen::AlignedBox2d RouteArea(const planning::CityMap& map, const MapSampling& sampling);
+
+// Do the landing sites cover the sampled routes? For the first `runs` runs of the campaign (their nominal delivery
+// plans), the LandPract checkpoints (planning::LandPractParams: checkpoint_count at arc lengths k L / (N + 1)) and
+// whether any site lies within the planners' reach of each (LandPractParams::site_search_radius, 500 m).
+struct SiteCoverage {
+  int runs = 0;
+  int checkpoints = 0;
+  int checkpoints_without_site = 0;       // no site within `reach`
+  int runs_with_uncovered_checkpoint = 0;
+  double reach = 0.0;                     // m
+  double largest_gap = 0.0;               // m: the largest distance from a checkpoint to its nearest site (≤ the
+                                          // map's diagonal; +inf without sites)
+  int sites = 0;                          // the map's
+  bool covered() const { return checkpoints_without_site == 0; }
+  // One paragraph: the numbers, and what to do when checkpoints are uncovered.
+  std::string BriefReport() const;
+};
+SiteCoverage CalcSiteCoverage(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t runs);
 
 // Throws InputError when the configuration is invalid (CampaignConfig::IsValid).
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index);

@@ -26,6 +26,7 @@
 // The exact p is the one to read at campaign sizes (b + c is often below 25); χ² is printed beside it.
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,13 @@ struct GroupStatistics {
   std::string battery_health;  // "G", "M", "P" or "all"
   std::int64_t runs = 0;
   std::int64_t failures = 0, completions = 0, emergency_landings = 0, terminations = 0, groundings = 0,
-               others = 0;
-  Estimate failure_rate, completion_rate, emergency_landing_rate, termination_rate, grounded_rate, other_rate;
+               off_site_landings = 0, others = 0;
+  Estimate failure_rate, completion_rate, emergency_landing_rate, termination_rate, grounded_rate, off_site_rate,
+      other_rate;
+  // Decisions item 28: flights in which a chosen action could not be carried out and another was taken, the epochs
+  // of it, and each "Chosen->Taken" pair with the flights it happened in.
+  std::int64_t flights_with_substitution = 0, substitution_epochs = 0;
+  std::map<std::string, std::int64_t> substitutions;
   Interval failure_wilson, failure_clopper_pearson;        // of failure_rate
   Interval completion_wilson, completion_clopper_pearson;  // of completion_rate
   std::array<std::int64_t, kFailureCauseCount> failures_by_cause{};  // indexed by FailureCause; sums to failures

@@ -35,6 +35,10 @@
 // database keeps every batch committed before. Every error names the user's path, never the temporary
 // file, and the temporary file is removed on every error.
 //
+// Damage. Every Open first checks the file (CheckStore: SQLite's integrity check, then the schema's own
+// invariants) and refuses a damaged one with an InputError naming the file and the first problem: nothing
+// reports on it, resumes into it or replays from it. `uascma store check DB` lists every problem.
+//
 // Several processes. Each process writing the campaign registers as a worker and claims a run (in a
 // BEGIN IMMEDIATE transaction, the same discipline as the inserts) before flying it; a run is claimable
 // when it has flights missing and no claim, or its claim is held by a worker that is no longer alive:
@@ -124,6 +128,39 @@ struct ClaimResult {
   // Candidates examined and in none of the lists had every flight stored.
 };
 
+// What CheckStore found in a database file (issue 26 item 2).
+struct StoreCheckResult {
+  std::int64_t schema_version = 0;
+  std::string campaign_name;
+  std::string campaign_hash;
+  std::int64_t runs_requested = 0;
+  std::int64_t policies = 0;
+  std::int64_t flights = 0;
+  std::int64_t workers = 0;
+  std::int64_t claims = 0;
+  // Each "table or row: what is wrong", at most kMaxListed per kind of check; problems_total counts all.
+  std::vector<std::string> problems;
+  std::int64_t problems_total = 0;
+  static constexpr std::int64_t kMaxListed = 20;
+  bool ok() const { return problems_total == 0; }
+};
+
+// Checks the campaign database at `path` without changing it, in one read transaction (a consistent
+// snapshot while other processes write):
+//   1. SQLite's PRAGMA integrity_check and foreign_key_check (claims refer to existing workers);
+//   2. the schema: version 1 or 2, the tables of that version, a runs column for every RunRecord field;
+//   3. the campaign row: exactly one; its configuration parses and has config_hash; campaign_hash is
+//      config_hash + the hash of the policies table (so a deleted, added or edited policies row shows);
+//   4. the policies: slots 0..P-1, each row's actions and hash as MakeStoredPolicy reads them;
+//   5. every flight row: of this campaign, its policy in the policies table, 0 <= run_index <
+//      runs_requested, flight_id = run_index x P + slot, each column of its declared type (integer, real,
+//      NULL only where optional, text), booleans 0/1, text UTF-8, the JSON columns lists of the documented
+//      shape (initial_cell_voltage_v: 6 numbers; actions: [time_s, name] pairs; substitutions: names);
+//   6. claims of this campaign only, and for runs below runs_requested.
+// InputError naming `path` when the file is missing or cannot be opened as SQLite at all; every other
+// finding is a problem in the result.
+StoreCheckResult CheckStore(const std::filesystem::path& path);
+
 class ResultsStore {
  public:
   // A new store at `path`; InputError naming `path` when it exists (or appears while being created).
@@ -136,7 +173,8 @@ class ResultsStore {
   // is missing or not writable; no temporary file survives.
   static std::optional<ResultsStore> TryCreate(const std::filesystem::path& path, const CampaignHeader& header,
                                                const StoreOptions& options = {}, bool as_worker = false);
-  // An existing store; InputError naming the file when it is missing, not SQLite, or not a campaign.
+  // An existing store; InputError naming the file when it is missing, not SQLite, not a campaign, or
+  // damaged (CheckStore finds a problem: the first is named, with the count).
   static ResultsStore Open(const std::filesystem::path& path, const StoreOptions& options = {});
 
   ResultsStore(ResultsStore&&) noexcept;

@@ -9,8 +9,18 @@
 
 namespace uascma {
 
-// Parses a YAML file; a missing file or a syntax error becomes an InputError naming the file.
+// Parses a YAML file; a missing file or a syntax error becomes an InputError naming the file, and the
+// document is checked as ParseYamlText does.
 YAML::Node LoadYamlFile(const std::filesystem::path& path);
+
+// Parses YAML text (`source` names it in errors) and refuses, with an InputError naming the line(s):
+//   - a syntax error;
+//   - a key given twice in one mapping (issue 26 item 6): YAML 1.2 requires keys to be unique, and tools
+//     disagree on which value counts (yaml-cpp's node[key] returns the first, PyYAML keeps the last), so
+//     the file is refused naming both lines rather than read one way;
+//   - a scalar that is not UTF-8 (issue 26 item 3), naming its line.
+// An empty document gives a null node.
+YAML::Node ParseYamlText(const std::string& text, const std::string& source);
 
 // A required finite number at `node[key]`; `where` is the key path of `node` used in messages
 // ("weights.actions"), `source` the file name.

@@ -38,6 +38,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <span>
 #include <string>
@@ -110,6 +111,11 @@ struct BatteryObservation {
   // The actual worst cell of each pack now (FAILURE when a switched-in one is at 3.3 V); defaults to
   // min_cell_voltage_v when not set (negative).
   models::PerBranch<double> actual_min_cell_voltage_v = {-1.0, -1.0};
+  // The packs as switched now, at the present load: the time until their first cell reaches the cut-off, and the
+  // pack of that cell (−1: none). Filled only on request (campaign::BatteryFlightController::observe_pair_eod: ours'
+  // imminent-failure guard); NaN otherwise.
+  double pair_eod_s = std::numeric_limits<double>::quiet_NaN();
+  int pair_limiting_branch = -1;
 };
 
 // The abstract state of an observation (pure: Table 4.1 and the thresholds above).
@@ -184,7 +190,21 @@ class BatteryTransitionCounts {
   // One flight flown with `action` throughout: `states` are the abstract states at 1 Hz from take-off;
   // consecutive pairs are counted; counting stops at the first FAILURE (absorbing). Every state must
   // have the action's switches (InputError otherwise: the flight was not flown with that action).
-  void AddFlight(const BatteryContext& context, models::PackAction action, std::span<const StateIndex> states);
+  // `completed`: the flight completed its plan; its last state's row then counts one completion (ours: the
+  // absorbing COMPLETE of the formulation below; the dissertation's MDP has no such state and ignores it).
+  void AddFlight(const BatteryContext& context, models::PackAction action, std::span<const StateIndex> states,
+                 bool completed = false);
+  // A flight whose action changed in flight (ours: the drop flights of campaign::BatteryLearningOptions):
+  // `actions[k]` applied at epoch k from `states[k]`; the transition to states[k + 1] is counted in the row of
+  // (ApplySwitches(states[k], actions[k]), actions[k]), the switched state's learned row (the switch takes effect at
+  // once, §4.3.2); stops at the first FAILURE; a completion counts at the last epoch's switched row. The flight is
+  // counted under its last action.
+  void AddSwitchingFlight(const BatteryContext& context, std::span<const StateIndex> states,
+                          std::span<const models::PackAction> actions, bool completed);
+  // Flights that ended completed from `state` (their last epoch), per row.
+  void AddCompletion(const BatteryContext& context, StateIndex state, models::PackAction action,
+                     std::int64_t count = 1);
+  std::int64_t Completions(const BatteryContext& context, StateIndex state, models::PackAction action) const;
   void Merge(const BatteryTransitionCounts& other);
 
   // Row (state, action) of a context: next state → count, ordered by next state.
@@ -199,6 +219,7 @@ class BatteryTransitionCounts {
  private:
   static std::size_t RowIndex(const BatteryContext& context, StateIndex state, models::PackAction action);
   std::vector<std::map<StateIndex, std::int64_t>> rows_;       // [18 · 289 · 3]
+  std::vector<std::int64_t> completions_;                      // [18 · 289 · 3]
   std::array<std::int64_t, kBatteryNumContexts * kBatteryNumActions> flights_{};
 };
 
@@ -214,6 +235,54 @@ struct BatteryModelStats {
 FiniteMdp BuildBatteryMdp(const BatteryTransitionCounts& counts, const BatteryContext& context,
                           const BatteryRewardWeights& weights, BatteryModelStats* stats = nullptr);
 
+// --- Our formulation (issue 24; "ours", not the dissertation's) -----------------------------------
+// Why (the diagnosis, /work/notes/battery-readme.md): under eqs. 4.1-4.3 a single-pack action is charged only
+// the pack it uses, so leaving a weak pack idle hides its S3 from the reward; γ = 0.95 per 1 s epoch sees a
+// failure minutes ahead at 0.95^60 ≈ 0.05; an unobserved row is a reward-holding self-loop (an optimistic
+// attractor); and eq. 4.7 charges switch positions, not switching. Ours keeps the 289 states, the counted
+// rows, eqs. 4.5-4.8 and decision 22's weights (w1 energy, w2 voltage, w3 switches), and changes:
+//   1. both packs are charged whatever the action: R_state(s) = w1 ΣR_BiS/2 + w2 ΣR_BiC/2 (eq. 4.3's state
+//      part for every action: the idle pack still has to carry its share of the flight);
+//   2. eq. 4.7 read as a switching cost: −w3 per pack switch the action toggles (0 to stay, 1 from UseBoth to a
+//      single pack, 2 from one single pack to the other);
+//   3. two absorbing outcomes: FAILURE (−30 per epoch, eq. 4.8) and COMPLETE (0 per epoch), the latter counted
+//      from the flights that completed their plan (BatteryTransitionCounts::Completions). Every other reward is
+//      ≥ w1·(−25) + w2·(−10) > −30, so under any γ failing is worse than flying on;
+//   4. a discount that sees the whole flight: γ = 0.5^(1 s / T_max), T_max the longest plan of the learning
+//      draw, so a failure at its end still weighs half (campaign::OursBatteryDiscount);
+//   5. no evidence, no choice: an action whose (switched) row was never observed is unavailable in that state
+//      (not a self-loop); a state with nothing offered observed holds its switches (UseBoth at take-off) as a loop;
+//   6. a dropped pack stays dropped: from a single-pack state the only action keeps it. Measured (README): a
+//      rested pack's worst cell recovers above 3.4 V within a second, so the abstraction reads it C0 again and
+//      the dissertation's π* (and ours without this item) cycles between the packs at the C0/C1 boundary;
+//      coming back is a mirage of the observation, not energy;
+//   7. one pack alone only if it can finish alone: UseBatt_i is offered from UseBoth only when pack i is in
+//      S1 (Table 4.1: its EOD, alone at the present load, covers the remaining flight and the safety margin
+//      t_sf). Measured: in long flights both packs are S3 from take-off to the end (neither alone can finish,
+//      both together can), and the counted rows then made ours drop a pack that could not finish; a pack in
+//      S2 (inside the margin) dropped onto failed 1 s before the end, at the landing's current.
+//   8. (in the executor, campaign::OursImminentFailureGuard) with both packs in, when the pair as switched would
+//      bring a cell to 3.3 V before the plan ends and within t_sf (its EOD at the present load), the pack holding
+//      that cell is dropped. Measured: in case 4 the drops that complete lie at 725-737 s and those that fail at
+//      710-720 s, all in one abstract state (IHONS3C1ONS2C0): no policy on the 289 states can time it.
+// Solved exactly by policy iteration (dense evaluation). The MDP has 290 states: the 289 and COMPLETE (289);
+// the policy keeps the 289 (COMPLETE is never observed in flight). `uascma simulate --battery-policy` runs the table
+// only (items 1-7), without the guard.
+enum class BatteryFormulation { kDissertation = 0, kOurs = 1 };
+const char* BatteryFormulationName(BatteryFormulation formulation);  // "dissertation", "ours"
+inline constexpr StateIndex kBatteryCompleteState = 289;             // ours only
+inline constexpr int kOursNumStates = 290;
+
+// R(s, a) of ours (items 1-2 above); FAILURE −30, COMPLETE 0.
+double OursBatteryReward(StateIndex state, models::PackAction action, const BatteryContext& context,
+                         const BatteryRewardWeights& weights);
+// Pack switches `action` toggles from the state's (0, 1 or 2).
+int SwitchToggles(StateIndex state, models::PackAction action);
+// Whether ours offers `action` in a state of these features (items 6-7 above; evidence, item 5, apart).
+bool OursOffers(const BatteryFeatures& features, models::PackAction action);
+FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const BatteryContext& context,
+                              const BatteryRewardWeights& weights, BatteryModelStats* stats = nullptr);
+
 // --- Model files ----------------------------------------------------------------------------------
 // JSON:
 //   { "format": "uascma-battery-model", "version": 1, "hash": "…16 hex…",
@@ -222,7 +291,8 @@ FiniteMdp BuildBatteryMdp(const BatteryTransitionCounts& counts, const BatteryCo
 //     "contexts": [ { "b1": "F1", "b2": "F2", "temperature": "TH",
 //                     "flights": {"UseBatt1": n, "UseBatt2": n, "UseBoth": n},
 //                     "rows": [ {"state": "ILONS1C0OFFS1C0", "action": "UseBatt1",
-//                                "next": {"ILONS1C0OFFS1C0": 412, "IHONS1C0OFFS1C0": 3}}, … ] }, … ] }
+//                                "next": {"ILONS1C0OFFS1C0": 412, "IHONS1C0OFFS1C0": 3},
+//                                "completed": 2 /* optional: flights that completed from this state */}, … ] }, … ] }
 // "hash" fingerprints everything else (gamma, weights, counts): a hand-edited file is refused.
 inline constexpr const char* kBatteryModelFormat = "uascma-battery-model";
 inline constexpr const char* kBatteryPolicyFormat = "uascma-battery-policy";
@@ -264,6 +334,7 @@ struct BatteryContextPolicy {
 
 struct BatteryPolicySet {
   std::string model_hash;  // BatteryModelHash of the model it was solved from
+  BatteryFormulation formulation = BatteryFormulation::kDissertation;
   double gamma = 0.95;
   BatteryRewardWeights weights;
   std::array<BatteryContextPolicy, kBatteryNumContexts> policies;  // by BatteryContextIndex
@@ -274,8 +345,11 @@ struct BatteryPolicySet {
 
 // Value iteration per context (γ of the model, residual 1e-10).
 BatteryPolicySet SolveBatteryPolicies(const BatteryModel& model);
+// Ours (above): policy iteration per context at `gamma` (campaign::OursBatteryDiscount).
+BatteryPolicySet SolveOursBatteryPolicies(const BatteryModel& model, double gamma);
 
 // JSON: { "format": "uascma-battery-policy", "version": 1, "hash": …, "model_hash": …, "gamma": …,
+//         "formulation": "dissertation" | "ours" (absent: dissertation; fingerprinted only when ours),
 //         "weights": {…}, "states": [289 labels], "actions": ["UseBatt1", "UseBatt2", "UseBoth"],
 //         "policies": [ {"b1", "b2", "temperature", "mdp_hash", "solver": {…},
 //                        "stats": {"learned_rows", "unobserved_rows", "switch_rows", "transitions"},

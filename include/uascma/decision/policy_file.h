@@ -56,9 +56,13 @@ Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const st
 FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& weights_file,
                             const std::string& source);
 // Reads a CMA policy file and binds it to its model (hash checked): the action and value per state.
-Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file = "");
+// `ranking`, when given, receives per state the available actions by decreasing Q(s, a) of the bound model and
+// the file's values, the file's own action first (RankActionsByQ; decisions item 28).
+Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file = "",
+                     std::vector<std::vector<ActionIndex>>* ranking = nullptr);
 // The policy every command calls "cma": the CMA MDP with the dissertation's weights (eqs. 5.28–5.29) and
 // γ = 0.95 (decisions items 4–5), solved by value iteration.
-Policy SolveDefaultCmaPolicy();
+// `ranking` as LoadCmaPolicy's.
+Policy SolveDefaultCmaPolicy(std::vector<std::vector<ActionIndex>>* ranking = nullptr);
 
 }  // namespace uascma::decision

@@ -88,5 +88,10 @@ std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma,
                                       const std::vector<double>& value);
 double ChoiceQValue(const FiniteMdp& mdp, std::int64_t choice, double gamma,
                     const std::vector<double>& value);
+// Per state, its available actions by decreasing Q(s, a) under `value` (ties: the lower action index first), with
+// `policy_action[s]` moved to the front when given (a policy's own choice leads even where another action has the
+// same value). What an executor falls back on when the chosen action cannot be carried out (decisions item 28).
+std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, double gamma, const std::vector<double>& value,
+                                                     const std::vector<ActionIndex>* policy_action = nullptr);
 
 }  // namespace uascma::decision

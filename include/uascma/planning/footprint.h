@@ -97,6 +97,7 @@
 // Units: SI throughout (m, s, kg, N, rad). Every function here is a pure kernel: no clock, no RNG, no I/O.
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -274,6 +275,13 @@ struct FootprintResult {
   double effective_max_tilt = 0.0;  // rad, θ_eff
   BoundedAxisResult forward, backward, lateral;  // step-7 details of each case
   FootprintRegion region;
+  // With a Maclaurin order n > 0 (issue 26 item 5): the largest difference of the three limits from the closed
+  // form's (exact exponentials, the same params with order 0), over the size of the closed form's footprint
+  // (the largest of |x_f|, |x_b|, y_l); nothing with exact exponentials. Above kSeriesTolerance, `warning` names
+  // the error (the result is still the series'): the series is not accurate at this a t_f.
+  std::optional<double> series_relative_error;
+  std::string warning;  // one line, empty when none
+  static constexpr double kSeriesTolerance = 0.01;  // our choice: 1 % of the footprint's size
 
   bool ok() const { return status == FootprintStatus::kOk; }
   // Whether a world point (NED, m) lies in the footprint of a vehicle placed by `frame`.

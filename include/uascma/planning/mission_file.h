@@ -27,19 +27,39 @@
 //   20 NAV_RETURN_TO_LAUNCH  move at the current altitude to above home, descend to the ground at home
 //   178 DO_CHANGE_SPEED      param1 = 0 or 1 (air or ground speed), param2 > 0: the horizontal speed limit of the
 //                            moves that follow (Waypoint::max_speed); climb/descent speed changes are warned about
-// Commands that do not move the vehicle (camera, gimbal, servo, relay, gripper, region of interest, yaw, the
-// DO_LAND_START marker, CONDITION_DELAY) are read and named in Mission::warnings. Anything else — DO_JUMP (loops),
-// NAV_LOITER_UNLIM (never ends), DO_SET_HOME, an unknown command, a QGroundControl ComplexItem (survey, corridor or
-// structure scan) — is an InputError naming the item and its command. Items after a LAND or RTL are never flown
+//   82 NAV_SPLINE_WAYPOINT   flown as NAV_WAYPOINT, straight legs (warned: the spline is not modelled)
+//   177 DO_JUMP              unrolled: param1 names the target (QGroundControl's doJumpId; a .waypoints file's
+//                            index), param2 the number of jumps; the items are flown as the autopilot would fly
+//                            them (warned); a negative param2 (forever) is an InputError naming the item
+// QGroundControl ComplexItems (survey, corridor scan) are flown from the SimpleItems QGroundControl stored in them
+// (TransectStyleComplexItem.Items; warned); one that stores none (a structure scan) is an InputError naming it.
+// Every command that does not move the vehicle — whatever its number: camera, gimbal, servo, relay, gripper,
+// parachute, auxiliary function, region of interest, yaw, markers, CONDITION_DELAY/DISTANCE — is skipped and named
+// in Mission::warnings. Refused (InputError naming the item, the command and why): the navigation commands
+// (MAV_CMD 16–99, 31000–31004) not listed above (NAV_LOITER_UNLIM never ends, local frames, VTOL, follow, payload
+// place, guided), and the commands that move the vehicle outside the mission's items (CONDITION_CHANGE_ALT,
+// DO_SET_MODE, DO_SET_HOME, DO_FLIGHTTERMINATION, DO_CHANGE_ALTITUDE, DO_RALLY_LAND, DO_GO_AROUND, DO_REPOSITION,
+// DO_PAUSE_CONTINUE, DO_SET_MISSION_CURRENT, DO_JUMP_TAG). Items after a LAND or RTL are never flown
 // and are named in a warning. A mission that ends in the air lands vertically where it ends (warned), unless
 // MissionImportOptions::land_at_end is false (then it is an InputError: the simulator's flight must end landed).
-// Geofences and rally points of a .plan are named in a warning (not modelled).
+//
+// Home. ArduPilot writes a home of (0, 0) when it was not yet known: the home is then the first item with a
+// position (warned), its altitude unknown.
+//
+// Rally points and the geofence of a .plan ("rallyPoints": {"points": [[lat, lon, alt], …]}; "geoFence":
+// {"polygons": [{"inclusion": bool, "polygon": [[lat, lon], …]}], "circles": [{"inclusion": bool, "circle":
+// {"center": [lat, lon], "radius": m}}]}) are kept in Mission (rally_points, geofence). WithMissionSafety adds the
+// rally points to a map's landing sites (the operator's own safe landing sites, for LandPract and LandASAP) and
+// drops the sites the geofence forbids; Geofence::AllowsPath is what the emergency planners check their paths
+// against.
 //
 // Altitude frames (MAV_FRAME): 3/6 GLOBAL_RELATIVE_ALT(_INT), altitude above home; 0/5 GLOBAL(_INT), altitude
 // above mean sea level, allowed when the file gives the home's altitude (plannedHomePosition's third value; the
 // home line of a .waypoints file), then height above home = altitude − home altitude; 10/11 GLOBAL_TERRAIN_ALT
 // (_INT), read as above home (warned: the map's ground is flat, z = 0 everywhere); 2 MISSION for items without a
-// position. Local frames are an InputError.
+// position. Local frames are an InputError. QGroundControl's terrain-calculated items (AltitudeMode 3) whose
+// computed altitude is missing (params[6] = null) fly at their "Altitude" over the map's ground (warned); any
+// other null altitude is an InputError that says so.
 //
 // Local frame. Latitude/longitude go to W (x north, y east, z down, ground at z = 0 at home's level) through the
 // map importer's transverse Mercator projection (map_import.h, LocalProjection; PROJ): centred on
@@ -50,6 +70,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -77,6 +98,10 @@ enum MavCommand : int {
   kMavCmdNavDelay = 93,
   kMavCmdDoChangeSpeed = 178,
 };
+// MAV_AUTOPILOT and MAV_TYPE of an exported plan when the mission gives none: generic autopilot, hexarotor (the
+// dissertation's vehicle).
+inline constexpr int kMavAutopilotGeneric = 0;
+inline constexpr int kMavTypeHexarotor = 13;
 // MAV_FRAME numbers.
 enum MavFrame : int {
   kMavFrameGlobal = 0,
@@ -103,6 +128,30 @@ struct MissionImportOptions {
   bool IsValid(std::string* error) const;
 };
 
+// The geofence of a .plan in the local frame W: the vehicle stays inside at least one inclusion zone (when there is
+// any) and outside every exclusion zone (QGroundControl's and PX4's reading of several zones).
+struct Geofence {
+  struct Zone {
+    bool inclusion = true;
+    std::vector<Eigen::Vector2d> polygon_NE;  // m; empty for a circle
+    Eigen::Vector2d centre_NE = Eigen::Vector2d::Zero();
+    double radius = 0.0;                      // m, a circle's
+    std::string name;                         // "geoFence.polygons[0]"
+    bool Contains(const Eigen::Vector2d& p_NE) const;
+  };
+  std::vector<Zone> zones;
+  bool empty() const { return zones.empty(); }
+  bool Allows(const Eigen::Vector2d& p_NE) const;
+  // Every point of the horizontal polyline allowed (checked every `step` m along it and at its vertices).
+  bool AllowsPath(std::span<const Eigen::Vector2d> path_NE, double step = 1.0) const;
+};
+
+struct RallyPoint {
+  GeoPoint position;
+  double altitude = 0.0;                          // m above home, as the file gives it
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // on the ground below it (z = 0)
+};
+
 struct Mission {
   std::string source;                  // the file
   MissionFormat format = MissionFormat::kQgcPlan;
@@ -113,7 +162,11 @@ struct Mission {
   std::vector<Waypoint> waypoints;     // W, flown from home_W in order (FlightPlan::Through)
   std::vector<std::string> warnings;   // one line each: the items read but not modelled, and our choices
   std::optional<double> planned_speed;  // m/s: the .plan's "hoverSpeed" (multicopter default speed), if any
-  int items = 0;                       // mission items read (not counting the home)
+  int items = 0;                       // mission items read (not counting the home; DO_JUMPs unrolled)
+  std::optional<int> firmware_type;    // the .plan's mission.firmwareType (MAV_AUTOPILOT), kept for export
+  std::optional<int> vehicle_type;     // the .plan's mission.vehicleType (MAV_TYPE)
+  std::vector<RallyPoint> rally_points;
+  Geofence geofence;
 
   // The horizontal route home → waypoints (for CityMap::CruiseAltitude and the like), m.
   std::vector<Eigen::Vector2d> RouteNE() const;
@@ -128,6 +181,13 @@ Mission LoadMissionFile(const std::filesystem::path& path, const MissionImportOp
 // The mission's plan: FlightPlan::Through(mission.home_W, mission.waypoints, limits).
 FlightPlan MakeMissionPlan(const Mission& mission, const PlanLimits& limits);
 
+// m: the touchdown radius of a rally point's landing site: the landing radius a touchdown is judged by
+// (sim/outcome.h kHoverTrackingErrorBound, 3.46 m); its risk is 0, the operator's own safe site (ours).
+inline constexpr double kRallyPointSiteRadius = 3.46;
+// The map with the mission's rally points added to its landing sites ("rally N", on the roof or ground under
+// the point) and the sites outside its geofence removed; the map itself when the mission has neither.
+CityMap WithMissionSafety(const CityMap& map, const Mission& mission);
+
 // --- export -----------------------------------------------------------------------------------------------------
 struct QgcPlanExportOptions {
   GeoPoint origin;                      // of W (the map's or the mission's origin)
@@ -137,6 +197,8 @@ struct QgcPlanExportOptions {
   // m/s, written as the mission's "cruiseSpeed" and "hoverSpeed" (pass the PlanLimits' cruise speed: the moves
   // planned at another speed get a DO_CHANGE_SPEED)
   double cruise_speed = 5.0;
+  int firmware_type = kMavAutopilotGeneric;  // mission.firmwareType (pass Mission::firmware_type when known)
+  int vehicle_type = kMavTypeHexarotor;      // mission.vehicleType
   bool IsValid(std::string* error) const;
 };
 
@@ -150,5 +212,11 @@ struct QgcPlanExportOptions {
 std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& options);
 // Writes QgcPlanJson to `path` atomically (WriteFileAtomically).
 void WriteQgcPlan(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options);
+// The same items as QgcPlanJson in the QGC WPL 110 text of Mission Planner (.waypoints): the home line (index 0,
+// frame 0, altitude home_amsl), then one tab-separated line per item; latitude and longitude with 9 decimals
+// (0.1 mm), heights with 4. Reading it back with ParseMission gives the plan's waypoints within 1 cm.
+std::string QgcWplText(const FlightPlan& plan, const QgcPlanExportOptions& options);
+// Writes the plan as a .plan or a .waypoints file by the extension (DetectMissionFormat), atomically.
+void WriteMissionFile(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options);
 
 }  // namespace uascma::planning

@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -38,6 +39,7 @@
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/motor_rul.h"
+#include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
@@ -117,6 +119,9 @@ class FlightModel {
   const planning::CityMap& map() const { return *map_; }
   const gnc::LqrController& controller() const { return controller_; }
   double load_filter_gain() const { return load_filter_gain_; }
+  // The steady-flight load of a reference (sim/load_forecast.h), and the nominal plan's profile with six rotors.
+  const SteadyLoadModel& steady_load() const { return steady_load_; }
+  const std::shared_ptr<const LoadProfile>& nominal_load_profile() const { return nominal_load_profile_; }
   const OutcomeClassifier& outcome_classifier() const { return outcome_classifier_; }
 
  private:
@@ -141,6 +146,8 @@ class FlightModel {
   models::BatteryPack::FixedStep pack_step_;
   double load_filter_gain_;
   OutcomeClassifier outcome_classifier_;
+  SteadyLoadModel steady_load_;
+  std::shared_ptr<const LoadProfile> nominal_load_profile_;
 };
 
 // ---- the state ------------------------------------------------------------------------------------------------
@@ -161,7 +168,9 @@ struct FlightState {
   models::PackState pack;
   double bus_voltage_v = 0.0;
   double pack_current_a = 0.0;
-  double load_current_a = 0.0;  // low-passed pack current for the 1 Hz EOD (SimOptions)
+  double load_current_a = 0.0;  // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)
+  LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
+  double eod_current_a = 0.0;   // the constant current the last EOD was propagated at
 
   // Faults: the truth (the spall and the jam) and what the IMM has isolated.
   std::optional<prognostics::SpallJamEvent> spall;
@@ -174,13 +183,26 @@ struct FlightState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
   DecisionInputs inputs;
-  std::optional<decision::CmaAction> last_action;  // the last action that changed something (or was refused)
+  std::optional<decision::CmaAction> last_action;  // the last action that changed something
   std::optional<models::PackAction> battery_action;  // the battery executor's last action (none without one)
 
-  // The executing plan: the nominal one or an emergency plan.
+  // Actions that could not be carried out (decisions item 28): epochs at which the chosen action's planner found
+  // nothing and another action was taken, and each distinct "Chosen->Taken" pair in the order first seen.
+  int substitution_epochs = 0;
+  std::vector<std::string> substitutions;
+
+  // The executing plan: the nominal one (as planned, or re-planned at a capped speed) or an emergency plan.
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
   bool on_emergency_plan = false;
   planning::FlightPlan emergency_plan;
+  // After a rotor is isolated (§4.4.2): the horizontal speed the reconfigured vehicle can hold (m/s; +inf before),
+  // and the nominal plan's rest re-planned at it. original_time_offset_s and original_time_scale map the re-planned
+  // nominal plan's time to the original plan's (for LandPract's checkpoints).
+  double speed_cap_mps = std::numeric_limits<double>::infinity();
+  bool nominal_replanned = false;
+  planning::FlightPlan replanned_nominal;
+  double original_time_offset_s = 0.0;
+  double original_time_scale = 1.0;
   std::string emergency_site;
   double emergency_reach_margin = 0.0;
   double emergency_site_radius = 0.0;         // m
@@ -203,7 +225,12 @@ struct FlightState {
   std::string reason;
 
   const planning::FlightPlan& plan(const FlightModel& model) const {
-    return on_emergency_plan ? emergency_plan : model.nominal_plan();
+    if (on_emergency_plan) return emergency_plan;
+    return nominal_replanned ? replanned_nominal : model.nominal_plan();
+  }
+  // s along the original nominal plan (while on it).
+  double original_plan_elapsed_s() const {
+    return original_time_offset_s + original_time_scale * (time_s - plan_start_s);
   }
   bool done() const { return outcome != Outcome::kInProgress; }
 };
@@ -284,9 +311,12 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
 
 // Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
 // LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is
-// one; an action equal to the executing one is a no-op (decisions item 9).
-void Act(const FlightModel& model, FlightState& state, decision::CmaAction action, const EmergencyPlanner& planner,
-         FlightLog* log = nullptr);
+// one; an action equal to the executing one is a no-op (decisions item 9). When the planner finds nothing, the
+// action cannot be carried out at this epoch (decisions item 28): the next action of `ranking` (the state's
+// actions by decreasing Q; empty: the default CMA policy's) that can be is taken instead, and the substitution is
+// an event and counted in the state. Returns the action taken (NoOp and Terminate always can be).
+decision::CmaAction Act(const FlightModel& model, FlightState& state, decision::CmaAction action,
+                        const EmergencyPlanner& planner, FlightLog* log = nullptr, ActionRanking ranking = {});
 
 // Sets the pack switches (Table 4.3); takes effect at the next step.
 void SwitchPacks(FlightState& state, models::PackAction action);

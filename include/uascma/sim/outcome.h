@@ -14,8 +14,10 @@
 //                 -> kCompleted (original plan) or kEmergencyLanding (an emergency plan)
 //   4. contact:   a surface touched after take-off: the ground (altitude ≤ 0) or a roof (inside a building prism,
 //                 checked below the tallest roof + building_margin). A touchdown in the landing zone no faster than
-//                 touchdown_speed is a landing like 3, on a roof as on the ground (decision 21); any other contact
-//                 -> kFailedCollision
+//                 touchdown_speed is a landing like 3, on a roof as on the ground (decision 21). A touchdown on open
+//                 ground outside the landing zone, no faster than touchdown_speed down and across (a gust on the
+//                 final descent) -> kLandedOffSite: safe, neither completed nor failed. Any other contact (a roof that
+//                 is not the site, a hard or fast touchdown) -> kFailedCollision
 //   5. time:      the time limit (time_limit_factor x the original plan's duration + time_limit_margin_s)
 //                 -> kTimeout
 // kGrounded and kTerminated are set by the executor, not here: an emergency action chosen before take-off keeps
@@ -42,6 +44,8 @@ enum class Outcome {
   kTimeout,            // still flying at the time limit (counted as a failure)
   kGrounded,           // an emergency action chosen before take-off: the vehicle stays on the ground (§5.5.3);
                        // safe, neither failed nor completed (decision 21)
+  kLandedOffSite,      // touched down gently on open ground outside the landing radius: safe, neither completed
+                       // nor failed (issue 22 item 5)
 };
 const char* OutcomeName(Outcome outcome);
 bool IsFailure(Outcome outcome);

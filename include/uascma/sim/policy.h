@@ -10,6 +10,7 @@
 // and a run replays without the original file.
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,12 +30,22 @@ struct DecisionInputs {
   double motor_margin = 0.0;     // MM = 1 − t_remaining / t_RUL
 };
 
+// A state's available actions by decreasing value Q(s, a) of a solved policy, its own action first.
+using ActionRanking = std::span<const decision::ActionIndex>;
+
+// The default CMA policy's ranking in `state` (SolvedCmaPolicyDefinition, decisions item 28).
+ActionRanking DefaultCmaActionRanking(const decision::CmaState& state);
+
 // The pluggable decision module: called at 1 Hz, returns a CMA action.
 class DecisionPolicy {
  public:
   virtual ~DecisionPolicy() = default;
   virtual decision::CmaAction Decide(const DecisionInputs& inputs) = 0;
   virtual std::string name() const = 0;
+  // What the executor falls back on when the chosen action cannot be carried out at this epoch (a planner that
+  // finds nothing, decisions item 28): the state's actions by decreasing Q(s, a). A policy without values of its
+  // own (NoOp, a Python callable) falls back on the default CMA policy's values.
+  virtual ActionRanking Ranking(const DecisionInputs& inputs) const { return DefaultCmaActionRanking(inputs.state); }
 };
 
 // Always NoOp: the baseline.
@@ -45,15 +56,20 @@ class NoOpPolicy final : public DecisionPolicy {
 };
 
 // A solved CMA policy: the action of the abstract state's row.
+// `ranking` (per state, its actions by decreasing Q) is what the executor falls back on; empty: the default CMA
+// policy's.
 class TablePolicy final : public DecisionPolicy {
  public:
-  TablePolicy(std::vector<decision::ActionIndex> action_per_state, std::string name);
+  TablePolicy(std::vector<decision::ActionIndex> action_per_state, std::string name,
+              std::vector<std::vector<decision::ActionIndex>> ranking = {});
   decision::CmaAction Decide(const DecisionInputs& inputs) override;
   std::string name() const override { return name_; }
+  ActionRanking Ranking(const DecisionInputs& inputs) const override;
 
  private:
   std::vector<decision::ActionIndex> action_;
   std::string name_;
+  std::vector<std::vector<decision::ActionIndex>> ranking_;
 };
 
 struct PolicyDefinition {
@@ -61,7 +77,10 @@ struct PolicyDefinition {
   std::string kind;    // "noop" | "table"
   std::string source;  // "cma default weights", "noop", or the file it came from
   std::vector<decision::ActionIndex> actions;  // kind "table": the action of each CMA state (112)
-  std::string hash;    // 16 hex digits: fingerprint of the kind and the actions
+  // Kind "table": per state, its available actions by decreasing Q(s, a), actions[s] first (decisions item 28);
+  // empty: the executor falls back on the default CMA policy's ranking.
+  std::vector<std::vector<decision::ActionIndex>> ranking;
+  std::string hash;    // 16 hex digits: fingerprint of the kind, the actions and the ranking
 };
 
 PolicyDefinition NoOpPolicyDefinition();
@@ -70,11 +89,15 @@ PolicyDefinition SolvedCmaPolicyDefinition();
 PolicyDefinition PolicyDefinitionFromFile(const std::string& path);
 // "noop", "cma" or a policy JSON path; InputError names `source` (e.g. "--policy") and `field` otherwise.
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field = "policy");
-// A policy from its stored form (results store); InputError names `where` when malformed.
+// A policy from its stored form (results store): `actions_json` is PolicyActionsJson's text, a list with one entry
+// per state, an action name or the state's ranking as a list of names (its action first). InputError names
+// `where` when malformed.
 PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& kind, const std::string& source,
-                                  const std::vector<std::string>& action_names, const std::string& where);
+                                  const std::string& actions_json, const std::string& where);
 // The action names of a table policy, per state.
 std::vector<std::string> PolicyActionNames(const PolicyDefinition& policy);
+// The stored form of a policy's actions (and ranking, when it has one), as MakeStoredPolicy reads it.
+std::string PolicyActionsJson(const PolicyDefinition& policy);
 
 // A fresh decision module (policies keep no state across flights; one per flight keeps threads apart).
 std::unique_ptr<DecisionPolicy> MakeDecisionPolicy(const PolicyDefinition& policy);

@@ -13,7 +13,10 @@
 //     # origin: [40.78, -73.96]       #   local NED origin (default: the data's centre)
 //     # height_from_levels: false     #   a building without a height: building:levels × metres_per_level
 //     # metres_per_level: 3           #   m per storey (our estimate, map_import.h)
+//     # height_from_type: false       #   then the typical height of its building=* value (map_import.h table)
+//     # default_height_m: 10          #   then this height, m (1-500 m)
 //     # skip_missing_height: false    #   a building still without a height is skipped (counted), not an error
+//     # sites_from_map: false         #   add landing sites on flat roofs and open areas (beside `sites`)
 //   vehicle:
 //     configuration: tractor          # tractor | pusher (§2.5)
 //     mass_kg: 1.3
@@ -72,6 +75,7 @@
 #include "uascma/planning/flight_plan.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/mission_file.h"
+#include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 
 namespace uascma::sim {
@@ -122,6 +126,13 @@ struct SimOptions {
   // long enough to ignore gusts and the take-off climb, short enough to see a rotor failure's extra load
   // within half a minute; the dissertation's EOD curves, Figs. 5.22 and 5.25, are smooth).
   double load_current_time_constant_s = 10.0;
+  // The constant current the 1 Hz EOD is propagated at (decision 25, sim/load_forecast.h): the expected load of the
+  // rest of the executing plan (forecast, the default), or the present current low-passed as above (present,
+  // decision 14).
+  EodLoad eod_load = EodLoad::kForecast;
+  // After a rotor is isolated, guidance caps the executing plan's horizontal speed to what the quadcopter can hold
+  // against the mean wind with a gust allowance (§4.4.2, sim/speed_cap.h). Off: the plan's own speeds.
+  bool cap_speed_after_isolation = true;
   // s, t_sf of Table 4.4: the reach margin judges the plan with this much extra time,
   // RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf, Table 4.1, carried to the
   // CMA). 0 by default; campaigns sample it in [5, 10] s.

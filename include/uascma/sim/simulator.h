@@ -37,6 +37,12 @@ struct SimResult {
   double max_tracking_error = 0.0;   // m
   double max_tilt = 0.0;             // rad
   double energy_wh = 0.0;
+  std::string eod_load;                    // SimOptions::eod_load's name: what the 1 Hz EOD was propagated at
+  // Decisions item 28: epochs at which the chosen action could not be carried out and another was taken, and each
+  // distinct "Chosen->Taken" pair in the order first seen.
+  int substitution_epochs = 0;
+  std::vector<std::string> substitutions;
+  double speed_cap_mps = 0.0;              // the airspeed cap after a rotor isolation (+inf: none, §4.4.2)
   std::vector<FlightEvent> events;
   std::vector<std::pair<double, decision::CmaAction>> actions;  // (time, action) of every executed change
   std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch

@@ -1,0 +1,23 @@
+#pragma once
+// Text that enters uascma from a user (names in YAML files, file and folder names used as names) is UTF-8
+// or refused where it enters (issue 26 item 3): every writer (JSON summaries, SQLite, plots) can then carry
+// it losslessly, and none fails half-way with a JSON type error.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace uascma {
+
+// The byte offset of the first byte that does not start a well-formed UTF-8 sequence (RFC 3629: no overlong
+// forms, no surrogates U+D800–U+DFFF, nothing above U+10FFFF), or nothing when all of `text` is UTF-8.
+std::optional<std::size_t> FirstInvalidUtf8(std::string_view text);
+inline bool IsValidUtf8(std::string_view text) { return !FirstInvalidUtf8(text).has_value(); }
+
+// Throws InputError(source, field, "text in UTF-8, but byte N (0xHH) is not") unless `text` is UTF-8.
+void RequireUtf8(std::string_view text, const std::string& source, const std::string& field);
+
+// `text` with every byte that is not UTF-8 written as \xHH, for messages about such text.
+std::string EscapeInvalidUtf8(std::string_view text);
+
+}  // namespace uascma

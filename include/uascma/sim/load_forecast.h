@@ -1,0 +1,95 @@
+#pragma once
+// The expected load of the rest of a plan (decisions item 25, refining item 14): Fig. 4.2 names "expected motor
+// current draw" as an input of the decision, so the 1 Hz EOD is propagated at the current the rest of the
+// executing plan will draw, not at the present current alone (a gust or a climb read as the rest of the flight).
+//
+// A plan's load profile is computed once when the plan starts: per one-second bin of the plan, the mean electrical
+// power its reference asks of the rotors in steady flight — the thrust that gives the reference acceleration
+// against gravity and the drag at the reference air velocity (the reference velocity less the mean wind; the rigid
+// body's drag table, models/drag.h, at the incidence of that thrust), shared equally by the active rotors (six for
+// the hexacopter, four once a rotor is isolated and its opposite is switched off, decisions item 13), each drawing
+// the propulsion model's electrical power (models::ElectricalPowerTable). The energy still to come from any plan
+// time is then a lookup: LoadProfile::RemainingEnergyJ.
+//
+// At each epoch the forecast current is
+//   I_forecast = r · E_remaining / (t_remaining · V_bus) + I_hotel,
+// with V_bus the present bus voltage and r a slow correction of the model's bias: the ratio of the rotor energy
+// measured over each epoch to the profile's energy over the same plan time, low-passed with a 60 s time constant
+// (decision 25: "≥ 60 s"). The ratio absorbs what the steady model leaves out on average (the turbulence's extra
+// power, the controller's corrections); 60 s averages dozens of gust periods (Dryden length scales of 200-500 m at
+// 3-9 m/s, models/wind.h) so one gust cannot move it far.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "uascma/models/drag.h"
+#include "uascma/models/propulsion.h"
+#include "uascma/models/rigid_body.h"
+#include "uascma/planning/flight_plan.h"
+
+namespace uascma::sim {
+
+// How the 1 Hz EOD chooses its constant current (SimOptions::eod_load).
+enum class EodLoad {
+  kForecast,  // the expected current of the rest of the executing plan (decision 25; the default)
+  kPresent,   // the present pack current, low-passed (decision 14)
+};
+const char* EodLoadName(EodLoad load);
+// "forecast" | "present"; InputError naming `source` and `field` otherwise.
+EodLoad ParseEodLoad(const std::string& text, const std::string& source, const std::string& field);
+
+// What the steady load of a reference depends on.
+struct SteadyLoadModel {
+  const models::RigidBodyParams* body = nullptr;
+  const models::DragTable* drag = nullptr;
+  const models::ElectricalPowerTable* power = nullptr;
+  Eigen::Vector3d mean_wind_W = Eigen::Vector3d::Zero();
+};
+
+// W: the electrical power of `active_rotors` rotors sharing the steady thrust of flight at velocity v_W with
+// acceleration a_W (world frame, NED) in the mean wind.
+double CalcSteadyRotorPower(const SteadyLoadModel& model, const Eigen::Vector3d& v_W, const Eigen::Vector3d& a_W,
+                            int active_rotors);
+
+// The rotor energy of a plan per one-second bin, for one rotor configuration.
+class LoadProfile {
+ public:
+  LoadProfile() = default;
+  // Samples the plan's reference at the midpoints of quarter-second steps (four per bin).
+  LoadProfile(const planning::FlightPlan& plan, const SteadyLoadModel& model, int active_rotors);
+
+  int active_rotors() const { return active_rotors_; }
+  double duration_s() const { return duration_s_; }
+  // J from plan time t (s) to the plan's end; 0 after it. Linear within a bin.
+  double RemainingEnergyJ(double t) const;
+
+ private:
+  int active_rotors_ = 0;
+  double duration_s_ = 0.0;
+  std::vector<double> energy_after_j_;  // [i]: from bin i's start to the end; one more entry (0) than bins
+};
+
+// The state of the forecast carried by a flight between epochs.
+struct LoadForecastState {
+  std::shared_ptr<const LoadProfile> profile;  // of the executing plan and rotor configuration
+  double bias_ratio = 1.0;                     // r above
+  // At the last epoch, with the same profile: the profile's remaining energy and the measured energy so far.
+  bool have_last = false;
+  double last_remaining_j = 0.0;
+  double last_energy_wh = 0.0;
+  bool operator==(const LoadForecastState&) const = default;
+};
+
+// s: the time constant of the bias ratio (decision 25: a slow correction, at least 60 s).
+inline constexpr double kLoadBiasTimeConstantS = 60.0;
+
+// One epoch of the forecast: updates the bias ratio from the epoch just flown (plan time `t_plan`, measured energy
+// `energy_wh` since take-off, `epoch_s` long) and returns the forecast current (A) for the rest of the plan, or a
+// negative value when less than `min_remaining_s` of the plan is left (the caller then uses the present current).
+double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy_wh, double epoch_s,
+                       double bus_voltage_v, double hotel_current_a, double min_remaining_s = 1.0);
+
+}  // namespace uascma::sim

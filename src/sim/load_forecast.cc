@@ -1,0 +1,101 @@
+#include "uascma/sim/load_forecast.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "uascma/common/error.h"
+#include "uascma/common/frames.h"
+
+namespace uascma::sim {
+namespace {
+
+constexpr int kSamplesPerBin = 4;  // quarter-second samples: the trapezoids' accelerations last >= 0.5 s (ours)
+// The thrust direction and the drag's incidence depend on each other: a fixed-point iteration from level, until the
+// thrust vector moves by less than 1e-9 N (a contraction: the drag is < 0.3 m g over the table, models/drag.h).
+constexpr int kMaxIncidencePasses = 50;
+
+}  // namespace
+
+const char* EodLoadName(EodLoad load) { return load == EodLoad::kPresent ? "present" : "forecast"; }
+
+EodLoad ParseEodLoad(const std::string& text, const std::string& source, const std::string& field) {
+  if (text == "forecast") return EodLoad::kForecast;
+  if (text == "present") return EodLoad::kPresent;
+  throw InputError(source, field, "forecast or present, got '" + text + "'");
+}
+
+double CalcSteadyRotorPower(const SteadyLoadModel& model, const Eigen::Vector3d& v_W, const Eigen::Vector3d& a_W,
+                            int active_rotors) {
+  UASCMA_CHECK(model.body && model.drag && model.power && active_rotors > 0, "a complete steady-load model");
+  const double mass = model.body->mass;
+  const Eigen::Vector3d v_air_W = v_W - model.mean_wind_W;
+  const double airspeed = v_air_W.norm();
+  // The rigid body (models/rigid_body.cc): m a = −z_B T + m g e_z + D, so the thrust vector is m (a − g e_z) − D.
+  const Eigen::Vector3d inertial_W = mass * (a_W - Eigen::Vector3d(0.0, 0.0, kGravity));
+  Eigen::Vector3d thrust_W = inertial_W;
+  for (int pass = 0; pass < kMaxIncidencePasses && airspeed > 1e-9; ++pass) {
+    const Eigen::Vector3d z_B_W = -thrust_W.normalized();
+    const double incidence = std::asin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
+    const Eigen::Vector3d drag_W = -model.drag->Drag(airspeed, incidence) / airspeed * v_air_W;
+    const Eigen::Vector3d next_W = inertial_W - drag_W;
+    const bool converged = (next_W - thrust_W).norm() < 1e-9;
+    thrust_W = next_W;
+    if (converged) break;
+  }
+  const double per_rotor = thrust_W.norm() / active_rotors;
+  return active_rotors * model.power->Power(per_rotor);
+}
+
+LoadProfile::LoadProfile(const planning::FlightPlan& plan, const SteadyLoadModel& model, int active_rotors)
+    : active_rotors_(active_rotors), duration_s_(plan.duration()) {
+  const int bins = static_cast<int>(std::ceil(duration_s_));
+  energy_after_j_.assign(static_cast<std::size_t>(bins) + 1, 0.0);
+  std::vector<double> bin_energy(static_cast<std::size_t>(bins), 0.0);
+  for (int i = 0; i < bins; ++i) {
+    const double bin_end = std::min(static_cast<double>(i + 1), duration_s_);
+    const double bin_length = bin_end - i;
+    double power = 0.0;
+    for (int k = 0; k < kSamplesPerBin; ++k) {
+      const planning::PlanReference r = plan.At(i + (k + 0.5) * bin_length / kSamplesPerBin);
+      power += CalcSteadyRotorPower(model, r.v_W, r.a_W, active_rotors);
+    }
+    bin_energy[static_cast<std::size_t>(i)] = power / kSamplesPerBin * bin_length;
+  }
+  for (int i = bins - 1; i >= 0; --i) {
+    energy_after_j_[static_cast<std::size_t>(i)] =
+        energy_after_j_[static_cast<std::size_t>(i) + 1] + bin_energy[static_cast<std::size_t>(i)];
+  }
+}
+
+double LoadProfile::RemainingEnergyJ(double t) const {
+  if (energy_after_j_.size() < 2 || t >= duration_s_) return 0.0;
+  if (t <= 0.0) return energy_after_j_.front();
+  const std::size_t i = static_cast<std::size_t>(t);
+  const double bin_end = std::min(static_cast<double>(i + 1), duration_s_);
+  const double f = (t - static_cast<double>(i)) / (bin_end - static_cast<double>(i));
+  return energy_after_j_[i] + f * (energy_after_j_[i + 1] - energy_after_j_[i]);
+}
+
+double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy_wh, double epoch_s,
+                       double bus_voltage_v, double hotel_current_a, double min_remaining_s) {
+  UASCMA_CHECK(forecast.profile != nullptr, "a load profile of the executing plan");
+  const LoadProfile& profile = *forecast.profile;
+  const double remaining_j = profile.RemainingEnergyJ(t_plan);
+  const double voltage = std::max(bus_voltage_v, 1.0);
+  if (forecast.have_last) {
+    const double predicted_j = forecast.last_remaining_j - remaining_j;
+    const double measured_j = (energy_wh - forecast.last_energy_wh) * 3600.0 - hotel_current_a * voltage * epoch_s;
+    if (predicted_j > 0.0 && measured_j > 0.0) {
+      const double gain = 1.0 - std::exp(-epoch_s / kLoadBiasTimeConstantS);
+      forecast.bias_ratio += gain * (measured_j / predicted_j - forecast.bias_ratio);
+    }
+  }
+  forecast.have_last = true;
+  forecast.last_remaining_j = remaining_j;
+  forecast.last_energy_wh = energy_wh;
+  const double remaining_s = profile.duration_s() - t_plan;
+  if (remaining_s < min_remaining_s) return -1.0;
+  return forecast.bias_ratio * remaining_j / (remaining_s * voltage) + hotel_current_a;
+}
+
+}  // namespace uascma::sim

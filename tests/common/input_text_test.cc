@@ -1,0 +1,143 @@
+// Issue 26 items 3, 6 and 9 at the library level: text that is not UTF-8 and keys given twice are refused where
+// YAML and JSON enter (naming the line, both lines for a duplicate), and a write that fails inside an output
+// folder's staging copy names the user's path, not the hidden staging folder.
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "uascma/common/error.h"
+#include "uascma/common/files.h"
+#include "uascma/common/json_io.h"
+#include "uascma/common/text.h"
+#include "uascma/common/yaml_io.h"
+
+namespace uascma {
+namespace {
+
+std::string ErrorOf(const auto& call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Utf8Test, WellFormedSequencesPassAndEveryKindOfIllFormedByteIsFound) {
+  EXPECT_TRUE(IsValidUtf8("plain ASCII"));
+  EXPECT_TRUE(IsValidUtf8("\xC3\xA9t\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x9A\x81"));  // été € 🚁
+  // (text, offset of the first bad byte)
+  const std::pair<std::string, std::size_t> bad[] = {
+      {"a\xFF", 1},               // never in UTF-8
+      {"ab\x80", 2},              // a lone continuation byte
+      {"\xC0\xAF", 0},            // overlong '/'
+      {"\xE0\x80\xAF", 0},        // overlong, 3 bytes
+      {"\xED\xA0\x80", 0},        // a surrogate, U+D800
+      {"\xF4\x90\x80\x80", 0},    // above U+10FFFF
+      {"ok\xE2\x82", 2},          // truncated at the end
+  };
+  for (const auto& [text, offset] : bad) {
+    ASSERT_TRUE(FirstInvalidUtf8(text).has_value()) << EscapeInvalidUtf8(text);
+    EXPECT_EQ(*FirstInvalidUtf8(text), offset) << EscapeInvalidUtf8(text);
+  }
+  EXPECT_EQ(EscapeInvalidUtf8("a\xFF\xC3\xA9"), "a\\xFF\xC3\xA9");
+  const std::string message = ErrorOf([] { RequireUtf8("n\xFF", "s.yaml", "name"); });
+  EXPECT_EQ(message, "s.yaml: name: text in UTF-8, but byte 1 (0xFF) of 'n\\xFF' is not");
+}
+
+TEST(YamlTextTest, AKeyGivenTwiceIsRefusedNamingBothLines) {
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("name: a\nwind:\n  speed_mps: 1\nname: b\n", "s.yaml"); }),
+            "s.yaml: line 4: each key once per mapping, but 'name' is also given on line 1 (YAML tools disagree on "
+            "which value counts: remove one)");
+  // Nested mappings, flow mappings and mappings inside lists are checked too; the same key in two mappings is not
+  // a duplicate.
+  EXPECT_NE(ErrorOf([] { ParseYamlText("wind:\n  speed_mps: 1\n  speed_mps: 2\n", "s.yaml"); }).find("line 3"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseYamlText("map: {a: 1, a: 2}\n", "s.yaml"); }).find("'a' is also given on line 1"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseYamlText("l:\n  - {x: 1}\n  - x: 1\n    x: 2\n", "s.yaml"); }).find("line 4"),
+            std::string::npos);
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("a: {x: 1}\nb: {x: 1}\n", "s.yaml"); }), "");
+}
+
+TEST(YamlTextTest, TextThatIsNotUtf8IsRefusedNamingItsLine) {
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("seed: 1\nname: \"a\xFF\"\n", "s.yaml"); }),
+            "s.yaml: line 2: text in UTF-8, but byte 1 (0xFF) of 'a\\xFF' is not");
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("name: \xC3\xA9t\xC3\xA9\n", "s.yaml"); }), "");
+}
+
+TEST(YamlTextTest, NestedAliasesCostTheirTextNotTheirExpansion) {
+  // A "billion laughs" document: 2^30 leaves expanded, 30 mappings as written. The walk visits each once.
+  std::string text = "a0: &a0 {x: 1}\n";
+  for (int i = 1; i <= 30; ++i) {
+    text += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [*a" + std::to_string(i - 1) + ", *a" +
+            std::to_string(i - 1) + "]\n";
+  }
+  EXPECT_EQ(ErrorOf([&] { ParseYamlText(text, "laughs.yaml"); }), "");
+}
+
+TEST(JsonTextTest, AKeyGivenTwiceIsRefusedNamingBothLines) {
+  EXPECT_EQ(ErrorOf([] { ParseJsonText("{\n  \"name\": \"a\",\n  \"x\": 1,\n  \"name\": \"b\"\n}", "p.json"); }),
+            "p.json: line 4: each key once per object, but \"name\" is also given on line 2 (JSON tools disagree on "
+            "which value counts: remove one)");
+  // Escapes are decoded before keys are compared; strings that hold braces, quotes and keys' names are values.
+  EXPECT_NE(ErrorOf([] { ParseJsonText("{\"a\": 1, \"\\u0061\": 2}", "p.json"); }).find("\"a\" is also given"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseJsonText("[{\"k\": [1, {\"j\": 1, \"j\": 2}]}]", "p.json"); }).find("\"j\""),
+            std::string::npos);
+  EXPECT_EQ(ErrorOf([] { ParseJsonText("{\"a\": \"{\\\"a\\\": 1}\", \"b\": {\"a\": 1}, \"c\": [\"a\", \"a\"]}", "p.json"); }),
+            "");
+  // The syntax errors are reported as before.
+  EXPECT_EQ(ErrorOf([] { ParseJsonText("{\"a\": ", "p.json"); }).rfind("p.json: byte", 0), 0u);
+}
+
+TEST(OutputDirectoryMessagesTest, AFailedWriteInsideTheStagingFolderNamesTheUsersPath) {
+  const std::filesystem::path root =
+      std::filesystem::temp_directory_path() / ("uascma_input_text_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(root);
+  std::filesystem::create_directories(root);
+  const std::filesystem::path user = root / "results";
+  // A child process with a file-size limit of 64 bytes stands for a full disk (EFBIG on the write, SIGXFSZ
+  // ignored); it reports the message through a pipe.
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::close(fds[0]);
+    std::string message = "no error";
+    {
+      OutputDirectory out("--out", user);  // its marker file is smaller than the limit
+      ::signal(SIGXFSZ, SIG_IGN);
+      const rlimit limit{64, 64};
+      ::setrlimit(RLIMIT_FSIZE, &limit);
+      try {
+        WriteFileAtomically(out.staging() / "telemetry.csv", std::string(4096, 'x'));
+      } catch (const InputError& e) {
+        message = e.what();
+      }
+    }
+    (void)!::write(fds[1], message.data(), message.size());
+    ::close(fds[1]);
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  std::string message;
+  char buffer[512];
+  for (ssize_t n; (n = ::read(fds[0], buffer, sizeof buffer)) > 0;) message.append(buffer, static_cast<std::size_t>(n));
+  ::close(fds[0]);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  EXPECT_EQ(message.rfind((user / "telemetry.csv").string() + ": path: room to write the file", 0), 0u) << message;
+  EXPECT_EQ(message.find(".tmp."), std::string::npos) << message;
+  EXPECT_FALSE(std::filesystem::exists(user));  // nothing was committed
+  std::filesystem::remove_all(root);
+}
+
+}  // namespace
+}  // namespace uascma
