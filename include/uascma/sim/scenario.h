@@ -52,6 +52,8 @@
 //     reconfiguration: true
 //     sensor_noise: true
 //     drag_feedforward: true          # the LQR compensates the drag at the reference airspeed (gnc/lqr.h)
+//     eod_load: forecast              # the 1 Hz EOD's load: the plan's expected current (decision 25) | present
+//     cap_speed_after_isolation: true # after an isolation, fly within the quadcopter's authority (sim/speed_cap.h)
 //     safety_margin_s: 0              # t_sf in the reach margin (Table 4.4: 5-10 s in campaigns)
 //     max_tilt_deg: 69                # loss of control beyond it (sim/outcome.h)
 //     max_cross_track_error_m: 15     # loss of control beyond it (distance from the path, not the schedule)
