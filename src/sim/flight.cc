@@ -468,20 +468,38 @@ double AuthorityAirspeed(const FlightModel& model, const FlightState& state) {
   return std::max(0.0, CalcMaxLevelAirspeed(model.scenario().body, model.drag(), max_tilt) - gust.sigma_u);
 }
 
-// Re-plans the executing plan's rest at the capped speed from where the vehicle comes to rest (the braking move
-// first, as an emergency plan starts, when its line is clear). True when a plan was made.
+// Where a plan made now starts (as an emergency plan does): a moving vehicle first brakes to rest at the plan's
+// horizontal acceleration limit (FlightPlan::AfterBraking), and the plan starts where it stops, when the braking line
+// is clear of buildings; otherwise from where it is.
+struct PlanStart {
+  Eigen::Vector3d p_W, v_horizontal_W, stop_W;
+  double accel = 0.0;
+  bool brake = false;
+  Eigen::Vector3d from_W() const { return brake ? stop_W : p_W; }
+  planning::FlightPlan Then(planning::FlightPlan plan) const {
+    return brake ? planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, accel, plan) : plan;
+  }
+};
+
+PlanStart StartFromHere(const FlightModel& model, const FlightState& state) {
+  PlanStart start;
+  start.p_W = state.body.p_WB_W;
+  start.v_horizontal_W = Eigen::Vector3d(state.body.v_WB_W.x(), state.body.v_WB_W.y(), 0.0);
+  start.accel = model.scenario().limits.horizontal_accel;
+  start.stop_W = planning::BrakingStop(start.p_W, start.v_horizontal_W, start.accel);
+  start.brake = start.v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(start.p_W, start.stop_W);
+  return start;
+}
+
+// Re-plans the executing plan's rest at the capped speed, starting as an emergency plan does (StartFromHere). True
+// when a plan was made.
 bool ReplanCapped(const FlightModel& model, FlightState& state, planning::FlightPlan& out) {
-  const Eigen::Vector3d p_W = state.body.p_WB_W;
-  const Eigen::Vector3d v_horizontal_W(state.body.v_WB_W.x(), state.body.v_WB_W.y(), 0.0);
-  const double accel = model.scenario().limits.horizontal_accel;
-  const Eigen::Vector3d stop_W = planning::BrakingStop(p_W, v_horizontal_W, accel);
-  const bool brake = v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(p_W, stop_W);
+  const PlanStart start = StartFromHere(model, state);
   const Eigen::Vector2d wind_NE = model.wind().MeanWind_W().head<2>();
-  planning::FlightPlan rest = ReplanAtCappedSpeed(state.plan(model), state.time_s - state.plan_start_s,
-                                                  brake ? stop_W : p_W, model.scenario().limits, wind_NE,
-                                                  state.speed_cap_mps);
+  planning::FlightPlan rest = ReplanAtCappedSpeed(state.plan(model), state.time_s - state.plan_start_s, start.from_W(),
+                                                  model.scenario().limits, wind_NE, state.speed_cap_mps);
   if (rest.empty()) return false;
-  out = brake ? planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, accel, rest) : std::move(rest);
+  out = start.Then(std::move(rest));
   return true;
 }
 
@@ -592,26 +610,20 @@ bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction ac
                        state.plan(model).TimeRemaining(t_plan));
     return false;
   }
-  // A moving vehicle first brakes to rest at the plan's horizontal acceleration limit (FlightPlan::AfterBraking);
-  // the planners plan from where it stops, when the braking line is clear of buildings.
-  const Eigen::Vector3d p_W = state.body.p_WB_W;
-  const Eigen::Vector3d v_horizontal_W(state.body.v_WB_W.x(), state.body.v_WB_W.y(), 0.0);
-  const double braking_accel = model.scenario().limits.horizontal_accel;
-  const Eigen::Vector3d stop_W = planning::BrakingStop(p_W, v_horizontal_W, braking_accel);
-  const bool brake = v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(p_W, stop_W);
-  const Eigen::Vector3d plan_from_W = brake ? stop_W : p_W;
-  const Eigen::Vector3d plan_velocity_W = brake ? Eigen::Vector3d(0.0, 0.0, state.body.v_WB_W.z()) : state.body.v_WB_W;
+  // The planners plan from where a moving vehicle comes to rest (StartFromHere).
+  const PlanStart start = StartFromHere(model, state);
+  const Eigen::Vector3d plan_velocity_W =
+      start.brake ? Eigen::Vector3d(0.0, 0.0, state.body.v_WB_W.z()) : state.body.v_WB_W;
   const double original_elapsed =
       state.on_emergency_plan ? model.nominal_plan().duration() : state.original_plan_elapsed_s();
   EmergencyPlan emergency =
-      emergency_planner({action, t, plan_from_W, plan_velocity_W, EulerFromRotation(state.body.q_WB.toRotationMatrix()).z(),
+      emergency_planner({action, t, start.from_W(), plan_velocity_W, EulerFromRotation(state.body.q_WB.toRotationMatrix()).z(),
                          state.allocation_failure, state.eod.eod_s, original_elapsed});
   if (!emergency.ok()) {
     *why = emergency.message.empty() ? planning::LandingStatusName(emergency.status) : emergency.message;
     return false;
   }
-  if (brake) emergency.plan = planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, braking_accel, emergency.plan);
-  state.emergency_plan = std::move(emergency.plan);
+  state.emergency_plan = start.Then(std::move(emergency.plan));
   state.emergency_site = emergency.site;
   state.emergency_reach_margin = emergency.reach_margin;
   state.emergency_site_radius = emergency.site_radius;
