@@ -9,7 +9,8 @@
 
 #include "uascma/campaign/battery_evaluation.h"
 #include "uascma/campaign/battery_flights.h"
-#include "uascma/decision/battery_mdp.h"
+#include "uascma/decision/battery_mdp_file.h"
+#include "uascma/learning/battery_transition_estimation.h"
 
 namespace {
 
@@ -17,12 +18,12 @@ using namespace uascma;
 
 std::vector<campaign::BatteryPolicySpec> FourPolicies() {
   static const std::vector<campaign::BatteryPolicySpec> specs = [] {
-    campaign::BatteryLearningOptions learning;
-    learning.runs = 600;
-    learning.seed = 1;
-    learning.jobs = 2;
-    learning.drop_flights = true;
-    const decision::BatteryModel model = campaign::LearnBatteryModel(learning);
+    learning::BatteryLearningOptions learn_options;
+    learn_options.runs = 600;
+    learn_options.seed = 1;
+    learn_options.jobs = 2;
+    learn_options.drop_flights = true;
+    const decision::BatteryModel model = learning::LearnBatteryModel(learn_options);
     campaign::BatteryPolicySpec useboth, pistar, rule, ours;
     useboth.label = "useboth";
     pistar.kind = campaign::BatteryPolicyKind::kPiStar;

@@ -3,7 +3,8 @@
 #include <benchmark/benchmark.h>
 
 #include "uascma/campaign/battery_flights.h"
-#include "uascma/decision/battery_mdp.h"
+#include "uascma/decision/battery_mdp_file.h"
+#include "uascma/learning/battery_transition_estimation.h"
 
 namespace {
 
@@ -12,11 +13,11 @@ using namespace uascma;
 // A model learned from real flights once (600 flights, 2 threads), shared by the solve benchmark.
 const decision::BatteryModel& LearnedModel() {
   static const decision::BatteryModel model = [] {
-    campaign::BatteryLearningOptions options;
+    learning::BatteryLearningOptions options;
     options.runs = 600;
     options.seed = 1;
     options.jobs = 2;
-    return campaign::LearnBatteryModel(options);
+    return learning::LearnBatteryModel(options);
   }();
   return model;
 }
@@ -34,13 +35,13 @@ BENCHMARK(BM_SolveAllBatteryPolicies)->Unit(benchmark::kMillisecond);
 
 // Learning: `range(0)` flights on two threads (5,000 is the dissertation's count, §4.3.2).
 void BM_LearnBatteryModel(benchmark::State& state) {
-  campaign::BatteryLearningOptions options;
+  learning::BatteryLearningOptions options;
   options.runs = state.range(0);
   options.seed = 7;
   options.jobs = 2;
   for (auto _ : state) {
-    campaign::BatteryLearningSummary summary;
-    decision::BatteryModel model = campaign::LearnBatteryModel(options, &summary);
+    learning::BatteryLearningSummary summary;
+    decision::BatteryModel model = learning::LearnBatteryModel(options, &summary);
     benchmark::DoNotOptimize(model);
     state.counters["flights"] = static_cast<double>(summary.flights);
     state.counters["parameter_draws"] = static_cast<double>(summary.parameter_draws);

@@ -19,8 +19,9 @@ const CampaignPolicy& Cma() {
 
 void BM_SampleRun(benchmark::State& state) {
   const CampaignConfig config;
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once per campaign (campaign/world.h)
   std::int64_t index = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(SampleRun(config, 1, index++));
+  for (auto _ : state) benchmark::DoNotOptimize(SampleRun(config, world, 1, index++));
 }
 BENCHMARK(BM_SampleRun);
 
@@ -29,10 +30,11 @@ BENCHMARK(BM_SampleRun);
 void BM_FlyDissertationRun(benchmark::State& state) {
   const CampaignConfig config;
   const std::int64_t runs = state.range(0);
+  const CampaignWorld world = BuildCampaignWorld(config.map);
   std::int64_t index = 0;
   double sim_s = 0.0;
   for (auto _ : state) {
-    const SampledRun run = SampleRun(config, 1, index++ % runs);
+    const SampledRun run = SampleRun(config, world, 1, index++ % runs);
     const uascma::sim::Simulator simulator(run.scenario);
     const RunRecord record = FlyRun(simulator, run, Cma(), 0, 1);
     sim_s += record.sim_time_s;

@@ -45,8 +45,9 @@ int main(int argc, char** argv) {
   config.options.eod_load = sim::EodLoad::kForecast;
   Errors forecast, present;
   int flights = 0;
+  const campaign::CampaignWorld world = campaign::BuildCampaignWorld(config.map);
   for (int index = 0; index < runs; ++index) {
-    const campaign::SampledRun run = campaign::SampleRun(config, 1, index);
+    const campaign::SampledRun run = campaign::SampleRun(config, world, 1, index);
     const sim::FlightModel model(run.scenario);
     sim::FlightState state = sim::MakeInitialState(model, run.scenario.seed);
     struct Epoch {
@@ -56,10 +57,10 @@ int main(int argc, char** argv) {
     double charge_c = 0.0;
     while (!state.done()) {
       sim::Observe(model, state);
-      epochs.push_back({state.time_s, charge_c, state.eod_current_a, state.load_current_a});
+      epochs.push_back({state.time_s, charge_c, state.decision.eod_current_a, state.power.load_current_a});
       do {
         sim::Step(model, state);
-        charge_c += state.pack_current_a * model.dt();
+        charge_c += state.power.pack_current_a * model.dt();
       } while (!state.done() && !sim::IsDecisionEpoch(model, state));
     }
     if (state.outcome != sim::Outcome::kCompleted) continue;

@@ -19,6 +19,7 @@ function(uascma_library name)
     $<INSTALL_INTERFACE:include>)
   target_link_libraries(${target} PUBLIC ${ARG_DEPS})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+  uascma_use_pch(${target})  # UascmaPch.cmake
   install(TARGETS ${target} EXPORT uascmaTargets ARCHIVE DESTINATION lib)
   set(UASCMA_MODULES ${UASCMA_MODULES} ${target} CACHE INTERNAL "uascma module libraries")
 endfunction()

@@ -6,7 +6,7 @@
 
 #include "fuzz_support.h"
 #include "uascma/common/error.h"
-#include "uascma/decision/battery_mdp.h"
+#include "uascma/decision/battery_mdp_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto path = uascma::fuzz::WriteScratchFile(data, size, ".json");

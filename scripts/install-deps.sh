@@ -19,6 +19,7 @@ build=(
 test=(
   libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-pandas python3-pytest
+  chromium  # the browser test of `uascma reproduce`'s page (tests/apps/reproduce_browser_test.py)
 )
 fuzz=(
   clang libclang-rt-14-dev

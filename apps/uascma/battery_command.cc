@@ -15,12 +15,18 @@
 #include "commands.h"
 #include "output.h"
 #include "plotting.h"
+#include "uascma/campaign/battery_case_studies.h"
+#include "uascma/campaign/battery_controllers.h"
 #include "uascma/campaign/battery_evaluation.h"
 #include "uascma/campaign/battery_flights.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/progress.h"
 #include "uascma/decision/battery_mdp.h"
+#include "uascma/decision/battery_mdp_file.h"
+#include "uascma/decision/battery_model.h"
+#include "uascma/decision/battery_policy.h"
+#include "uascma/learning/battery_transition_estimation.h"
 
 namespace uascma::cli {
 namespace {
@@ -33,8 +39,6 @@ using models::PackAction;
 constexpr Bounds kFlightsBounds{1.0, 1e7, "flights"};
 constexpr Bounds kThreadsBounds{1.0, 256.0, "threads"};
 constexpr Bounds kCaseStudyBounds{1.0, 4.0, ""};
-
-constexpr std::array<PackAction, 3> kActions = {PackAction::kUseBatt1, PackAction::kUseBatt2, PackAction::kUseBoth};
 
 // An output file is checked before any work (issue 24): its folder exists and is writable, and the path is not a
 // folder. Exit 2 naming the option otherwise, with nothing written.
@@ -123,6 +127,53 @@ BatteryRewardWeights ParseWeightsOption(const std::string& text, const std::stri
   return weights;
 }
 
+// What `battery learn` prints: the counts, the unobserved learned rows, the energy transitions seen in flight and
+// how the flights shared their vehicle.
+void PrintLearnSummary(const std::string& out, const BatteryModel& model,
+                       const learning::BatteryLearningSummary& summary, bool json) {
+  int unobserved = 0;
+  EnergyTransitionCounts energy;
+  for (int c = 0; c < kBatteryNumContexts; ++c) {
+    BatteryModelStats stats;
+    BuildBatteryMdp(model.counts, BatteryContextFromIndex(c), model.weights, &stats);
+    unobserved += stats.unobserved_rows;
+    const auto e = CountEnergyTransitions(model.counts, BatteryContextFromIndex(c));
+    energy.s1_to_s2 += e.s1_to_s2;
+    energy.s2_to_s3 += e.s2_to_s3;
+    energy.s1_to_s3 += e.s1_to_s3;
+    energy.recoveries += e.recoveries;
+  }
+  if (json) {
+    PrintJson({{"out", out},
+               {"hash", BatteryModelHash(model)},
+               {"flights", summary.flights},
+               {"parameter_draws", summary.parameter_draws},
+               {"failures", summary.failures},
+               {"transitions", model.counts.total_transitions()},
+               {"unobserved_rows", unobserved},
+               {"learned_rows", 216 * kBatteryNumContexts},
+               {"energy_transitions",
+                {{"S1->S2", energy.s1_to_s2}, {"S2->S3", energy.s2_to_s3}, {"S1->S3", energy.s1_to_s3},
+                 {"recoveries", energy.recoveries}}},
+               {"shared_gnc_steps", summary.sharing.shared_steps},
+               {"alone_gnc_steps", summary.sharing.alone_steps},
+               {"wall_time_s", summary.wall_time_s}});
+    return;
+  }
+  std::printf("learned the battery MDP from %lld flights (%lld parameter draws, %lld reached FAILURE) in %.1f s\n"
+              "%lld transitions counted at 1 Hz; %d of %d learned rows unobserved (self-loops, decisions item 23)\n"
+              "energy transitions observed in flight: S1->S2 %lld, S2->S3 %lld, S1->S3 %lld, recoveries %lld\n"
+              "GNC steps that followed another action's vehicle: %lld; flown alone after the packs diverged: %lld\n"
+              "wrote %s (hash %s)\n",
+              static_cast<long long>(summary.flights), static_cast<long long>(summary.parameter_draws),
+              static_cast<long long>(summary.failures), summary.wall_time_s,
+              static_cast<long long>(model.counts.total_transitions()), unobserved, 216 * kBatteryNumContexts,
+              static_cast<long long>(energy.s1_to_s2), static_cast<long long>(energy.s2_to_s3),
+              static_cast<long long>(energy.s1_to_s3), static_cast<long long>(energy.recoveries),
+              static_cast<long long>(summary.sharing.shared_steps), static_cast<long long>(summary.sharing.alone_steps),
+              out.c_str(), BatteryModelHash(model).c_str());
+}
+
 // --- battery learn ---------------------------------------------------------------------------------
 void AddLearn(CLI::App* battery) {
   struct Options {
@@ -153,57 +204,17 @@ void AddLearn(CLI::App* battery) {
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
     CheckOutputFile(options->out, "--out");  // before the flights (issue 24)
     ProgressBar bar(options->runs, "battery learn");
-    campaign::BatteryLearningOptions learning;
-    learning.runs = options->runs;
-    learning.seed = options->seed;
-    learning.jobs = options->jobs;
-    learning.drop_flights = options->drop_flights;
-    learning.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
-    campaign::BatteryLearningSummary summary;
-    const BatteryModel model = campaign::LearnBatteryModel(learning, &summary);
+    learning::BatteryLearningOptions learn_options;
+    learn_options.runs = options->runs;
+    learn_options.seed = options->seed;
+    learn_options.jobs = options->jobs;
+    learn_options.drop_flights = options->drop_flights;
+    learn_options.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
+    learning::BatteryLearningSummary summary;
+    const BatteryModel model = learning::LearnBatteryModel(learn_options, &summary);
     bar.Finish();
     WriteFileAtomically(options->out, BatteryModelToJson(model).dump(1) + "\n");
-    int unobserved = 0;
-    campaign::EnergyTransitionCounts energy;
-    for (int c = 0; c < kBatteryNumContexts; ++c) {
-      BatteryModelStats stats;
-      BuildBatteryMdp(model.counts, BatteryContextFromIndex(c), model.weights, &stats);
-      unobserved += stats.unobserved_rows;
-      const auto e = campaign::CountEnergyTransitions(model.counts, BatteryContextFromIndex(c));
-      energy.s1_to_s2 += e.s1_to_s2;
-      energy.s2_to_s3 += e.s2_to_s3;
-      energy.s1_to_s3 += e.s1_to_s3;
-      energy.recoveries += e.recoveries;
-    }
-    if (options->json) {
-      PrintJson({{"out", options->out},
-                 {"hash", BatteryModelHash(model)},
-                 {"flights", summary.flights},
-                 {"parameter_draws", summary.parameter_draws},
-                 {"failures", summary.failures},
-                 {"transitions", model.counts.total_transitions()},
-                 {"unobserved_rows", unobserved},
-                 {"learned_rows", 216 * kBatteryNumContexts},
-                 {"energy_transitions",
-                  {{"S1->S2", energy.s1_to_s2}, {"S2->S3", energy.s2_to_s3}, {"S1->S3", energy.s1_to_s3},
-                   {"recoveries", energy.recoveries}}},
-                 {"shared_gnc_steps", summary.sharing.shared_steps},
-                 {"alone_gnc_steps", summary.sharing.alone_steps},
-                 {"wall_time_s", summary.wall_time_s}});
-      return;
-    }
-    std::printf("learned the battery MDP from %lld flights (%lld parameter draws, %lld reached FAILURE) in %.1f s\n"
-                "%lld transitions counted at 1 Hz; %d of %d learned rows unobserved (self-loops, decisions item 23)\n"
-                "energy transitions observed in flight: S1->S2 %lld, S2->S3 %lld, S1->S3 %lld, recoveries %lld\n"
-                "GNC steps that followed another action's vehicle: %lld; flown alone after the packs diverged: %lld\n"
-                "wrote %s (hash %s)\n",
-                static_cast<long long>(summary.flights), static_cast<long long>(summary.parameter_draws),
-                static_cast<long long>(summary.failures), summary.wall_time_s,
-                static_cast<long long>(model.counts.total_transitions()), unobserved, 216 * kBatteryNumContexts,
-                static_cast<long long>(energy.s1_to_s2), static_cast<long long>(energy.s2_to_s3),
-                static_cast<long long>(energy.s1_to_s3), static_cast<long long>(energy.recoveries),
-                static_cast<long long>(summary.sharing.shared_steps), static_cast<long long>(summary.sharing.alone_steps),
-                options->out.c_str(), BatteryModelHash(model).c_str());
+    PrintLearnSummary(options->out, model, summary, options->json);
   });
 }
 
@@ -240,7 +251,7 @@ void AddSolve(CLI::App* battery) {
     BatteryModel model = ReadBatteryModelFile(options->model);
     if (!options->weights.empty()) model.weights = ParseWeightsOption(options->weights, "--weights");
     if (options->without_energy_dynamics) {
-      model.counts = campaign::WithoutEnergyDynamics(model.counts);
+      model.counts = WithoutEnergyDynamics(model.counts);
       model.provenance["variant"] = "without energy dynamics";
     }
     const BatteryPolicySet set = options->formulation == "ours"
@@ -450,6 +461,42 @@ std::string EpochsCsv(const campaign::BatteryFlightResult& result) {
   return out;
 }
 
+// Case N's folder: one CSV of the 1 Hz epochs and one plot per scenario, and case-N.json.
+void WriteCaseFolder(OutputDirectory& folder, int number, const std::vector<campaign::CaseScenario>& scenarios,
+                     const nlohmann::json& json) {
+  const std::filesystem::path& dir = folder.staging();
+  for (std::size_t i = 0; i < scenarios.size(); ++i) {
+    const std::string stem = fmt::format("case-{}-scenario-{}", number, i + 1);
+    WriteFileAtomically(dir / (stem + ".csv"), EpochsCsv(scenarios[i].result));
+    nlohmann::json plot = json["scenarios"][i];
+    plot["csv"] = (dir / (stem + ".csv")).string();
+    plot["case"] = number;
+    PlotJson("battery_case.py", plot, (dir / (stem + ".png")).string());
+  }
+  WriteFileAtomically(dir / fmt::format("case-{}.json", number), json.dump(2) + "\n");
+  folder.Commit();
+}
+
+void PrintCaseStudy(int number, std::uint64_t seed, const std::vector<campaign::CaseScenario>& scenarios) {
+  std::printf("case study %d (Table 4.5), seed %llu\n", number, static_cast<unsigned long long>(seed));
+  for (const auto& scenario : scenarios) {
+    std::string switches;
+    for (const auto& [time_s, action] : scenario.result.switches) {
+      switches += fmt::format(" {}@{:.0f}s", models::PackActionName(action), time_s);
+    }
+    if (switches.size() > 200) switches = switches.substr(0, 200) + " ...";
+    std::printf("  %-8s %-15s plan %.0f s: %s at %.0f s; %d switches:%s\n", scenario.name.c_str(),
+                scenario.controller.c_str(), scenario.params.plan_duration_s,
+                sim::OutcomeName(scenario.result.outcome), scenario.result.end_time_s,
+                campaign::CountSwitches(scenario.result), switches.c_str());
+    if (!scenario.schedule.empty()) {
+      std::printf("           best of %d schedules (UseBoth; one late drop, %.0f s grid; one rest window, %.0f s grid): %s\n",
+                  scenario.schedules_flown, campaign::kHindsightSwitchGridS, campaign::kHindsightWindowGridS,
+                  scenario.schedule.c_str());
+    }
+  }
+}
+
 void AddCaseStudy(CLI::App* battery) {
   struct Options {
     int number = 0;
@@ -498,11 +545,11 @@ void AddCaseStudy(CLI::App* battery) {
     if (!options->out.empty()) folder.emplace("--out", options->out);
     if ((options->number == 2 || options->number == 4) && !policies) {
       ProgressBar bar(options->runs, "battery learn (pi*)");
-      campaign::BatteryLearningOptions learning;
-      learning.runs = options->runs;
-      learning.jobs = options->jobs;
-      learning.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
-      policies = SolveBatteryPolicies(campaign::LearnBatteryModel(learning));
+      learning::BatteryLearningOptions learn_options;
+      learn_options.runs = options->runs;
+      learn_options.jobs = options->jobs;
+      learn_options.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
+      policies = SolveBatteryPolicies(learning::LearnBatteryModel(learn_options));
     }
     campaign::CaseStudyOptions case_options;
     case_options.pistar = policies ? &*policies : nullptr;
@@ -510,40 +557,12 @@ void AddCaseStudy(CLI::App* battery) {
     case_options.seed = options->seed;
     const auto scenarios = campaign::RunCaseStudy(options->number, case_options);
     const nlohmann::json json = campaign::CaseStudyJson(options->number, scenarios);
-    if (folder) {
-      const std::filesystem::path& dir = folder->staging();
-      for (std::size_t i = 0; i < scenarios.size(); ++i) {
-        const std::string stem = fmt::format("case-{}-scenario-{}", options->number, i + 1);
-        WriteFileAtomically(dir / (stem + ".csv"), EpochsCsv(scenarios[i].result));
-        nlohmann::json plot = json["scenarios"][i];
-        plot["csv"] = (dir / (stem + ".csv")).string();
-        plot["case"] = options->number;
-        PlotJson("battery_case.py", plot, (dir / (stem + ".png")).string());
-      }
-      WriteFileAtomically(dir / fmt::format("case-{}.json", options->number), json.dump(2) + "\n");
-      folder->Commit();
-    }
+    if (folder) WriteCaseFolder(*folder, options->number, scenarios, json);
     if (options->json) {
       PrintJson(json);
       return;
     }
-    std::printf("case study %d (Table 4.5), seed %llu\n", options->number, static_cast<unsigned long long>(options->seed));
-    for (const auto& scenario : scenarios) {
-      std::string switches;
-      for (const auto& [time_s, action] : scenario.result.switches) {
-        switches += fmt::format(" {}@{:.0f}s", models::PackActionName(action), time_s);
-      }
-      if (switches.size() > 200) switches = switches.substr(0, 200) + " ...";
-      std::printf("  %-8s %-15s plan %.0f s: %s at %.0f s; %d switches:%s\n", scenario.name.c_str(),
-                  scenario.controller.c_str(), scenario.params.plan_duration_s,
-                  sim::OutcomeName(scenario.result.outcome), scenario.result.end_time_s,
-                  campaign::CountSwitches(scenario.result), switches.c_str());
-      if (!scenario.schedule.empty()) {
-        std::printf("           best of %d schedules (UseBoth; one late drop, %.0f s grid; one rest window, %.0f s grid): %s\n",
-                    scenario.schedules_flown, campaign::kHindsightSwitchGridS, campaign::kHindsightWindowGridS,
-                    scenario.schedule.c_str());
-      }
-    }
+    PrintCaseStudy(options->number, options->seed, scenarios);
     if (!options->out.empty()) std::printf("wrote %s\n", options->out.c_str());
   });
 }

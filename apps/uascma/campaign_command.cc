@@ -20,6 +20,7 @@
 #include "uascma/campaign/mpi_session.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/campaign/report.h"
+#include "uascma/campaign/run_summary.h"
 #include "uascma/campaign/runner.h"
 #include "uascma/common/error.h"
 #include "uascma/common/progress.h"
@@ -130,6 +131,7 @@ int Run(const CampaignOptions& options, MpiSession& mpi) {
   request.resume = options.resume;
   request.execute.jobs = options.jobs;
   request.execute.progress = true;
+  request.execute.notice = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
   request.execute.progress_label = fmt::format("campaign {}, flights", config.name);
   request.execute.flush_interval_s = options.commit_every_s;
   request.mpi = &mpi;
@@ -149,28 +151,14 @@ int Run(const CampaignOptions& options, MpiSession& mpi) {
 
   const ResultsStore store = ResultsStore::Open(options.db);
   const CampaignReport report = MakeCampaignReport(store);
-  const double rate = outcome.wall_time_s > 0.0 ? static_cast<double>(outcome.flights_flown) / outcome.wall_time_s : 0.0;
+  const CampaignRunSummary run{options.db, outcome};
   if (options.json) {
     nlohmann::json json = CampaignReportJson(report);
-    json["run"] = {{"db", options.db},
-                   {"flights_total", outcome.flights_total},
-                   {"flights_before", outcome.flights_before},
-                   {"flights_flown", outcome.flights_flown},
-                   {"flights_by_others", outcome.flights_by_others},
-                   {"wall_time_s", outcome.wall_time_s},
-                   {"flights_per_s", rate},
-                   {"jobs_per_rank", outcome.jobs},
-                   {"ranks", outcome.ranks}};
+    json["run"] = run.Json();
     PrintJson(json);
     return 0;
   }
-  std::printf("flew %lld flights (%lld already stored, %lld flown meanwhile by other processes, %lld in the "
-              "campaign) in %.1f s: %.1f flights/s on %d rank%s x %d thread%s; results in %s\n\n%s",
-              static_cast<long long>(outcome.flights_flown), static_cast<long long>(outcome.flights_before),
-              static_cast<long long>(outcome.flights_by_others), static_cast<long long>(outcome.flights_total),
-              outcome.wall_time_s, rate, outcome.ranks,
-              outcome.ranks == 1 ? "" : "s", outcome.jobs, outcome.jobs == 1 ? "" : "s", options.db.c_str(),
-              CampaignReportText(report).c_str());
+  std::printf("%s\n%s", run.Text().c_str(), CampaignReportText(report).c_str());
   return 0;
 }
 

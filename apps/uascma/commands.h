@@ -19,5 +19,7 @@ void AddMapCommand(CLI::App& app);        // map_command.cc
 void AddBatteryCommand(CLI::App& app);    // battery_command.cc
 void AddLearnCommand(CLI::App& app);      // learn_command.cc, learn_transitions_command.cc
 void AddStoreCommand(CLI::App& app);      // store_command.cc
+void AddReproduceCommand(CLI::App& app);  // reproduce_command.cc
+void AddDocsCommand(CLI::App& app);       // docs_command.cc
 
 }  // namespace uascma::cli

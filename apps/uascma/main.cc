@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
   uascma::cli::AddBatteryCommand(app);
   uascma::cli::AddLearnCommand(app);
   uascma::cli::AddStoreCommand(app);
+  uascma::cli::AddReproduceCommand(app);
+  uascma::cli::AddDocsCommand(app);
 
   try {
     app.parse(argc, argv);

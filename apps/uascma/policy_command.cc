@@ -17,6 +17,7 @@
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/cma_weights_json.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/decision/solvers.h"
 

@@ -18,6 +18,7 @@
 #include "uascma/common/files.h"
 #include "uascma/planning/mission_file.h"
 #include "uascma/sim/policy.h"
+#include "uascma/sim/flight_summary.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
 #include "uascma/sim/telemetry.h"
@@ -119,7 +120,8 @@ void AddSimulateCommand(CLI::App& app) {
     const sim::SimResult result = simulator.Run(*policy, {}, run);
     const bool geodetic = file.scenario.geo_origin.has_value();
     std::vector<std::string> written = {"telemetry.csv", "plan.csv", "summary.json"};
-    nlohmann::json summary = sim::SummaryJson(file.scenario, simulator.nominal_plan(), result);
+    const sim::FlightSummary flight{file.scenario, simulator.nominal_plan(), result, battery != nullptr};
+    nlohmann::json summary = flight.Json();
     if (out) {
       if (geodetic) {
         const planning::QgcPlanExportOptions qgc = ExportOptions(file.scenario, simulator.nominal_plan());
@@ -146,23 +148,7 @@ void AddSimulateCommand(CLI::App& app) {
       PrintJson(summary);
       return;
     }
-    std::printf("%s: %s (%s)\n", file.scenario.name.c_str(), sim::OutcomeName(result.outcome), result.reason.c_str());
-    std::printf("EOD load: %s (decision %s)\n", result.eod_load.c_str(), result.eod_load == "forecast" ? "25" : "14");
-    for (const auto& e : result.events) std::printf("  %8.2f s  %s\n", e.time_s, e.what.c_str());
-    if (std::isfinite(result.min_cell_voltage_v) && result.sim_time_s > 0.0) {
-      std::printf("flew %.1f s of simulated time in %.1f ms (%.0fx real time); min cell %.3f V, energy %.1f Wh\n",
-                  result.sim_time_s, result.wall_time_s * 1e3, result.realtime_factor(), result.min_cell_voltage_v,
-                  result.energy_wh);
-    } else {
-      // Grounded before take-off (issue 25): no step was flown, so there is no cell minimum nor a speed to report.
-      std::printf("flew no simulated time (%.1f s): the vehicle stayed on the ground, no cell was loaded\n",
-                  result.sim_time_s);
-    }
-    if (battery) {
-      std::printf("battery executor:");
-      for (const auto& [time_s, action] : result.battery_switches) std::printf(" %.0f s %s;", time_s, models::PackActionName(action));
-      std::printf("\n");
-    }
+    std::fputs(flight.Text().c_str(), stdout);
     if (out) {
       std::string list;
       for (const auto& name : written) list += (list.empty() ? "" : ",") + name;

@@ -15,12 +15,14 @@
 #include <future>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "uascma/common/bounds.h"
 #include "uascma/common/progress.h"
 
 namespace uascma::python {
@@ -39,6 +41,12 @@ PyObject* MissionWarningType();
 
 // A JSON value as the equivalent Python object (dict, list, str, float, int, bool, None).
 py::object JsonToPython(const nlohmann::json& json);
+
+// The Python property of a field-table key (campaign/config_fields.h, sim/scenario_fields.h):
+// "mission.cruise_speed_mps" → mission_cruise_speed_mps.
+std::string PropertyName(std::string_view key);
+// Its docstring: "key [bound]: expected (citation)".
+std::string FieldDoc(std::string_view key, const Bounds* bounds, std::string_view expected, std::string_view citation);
 
 // A new float64 array of the given shape (C order), uninitialised.
 inline py::array_t<double> NewArray(std::vector<py::ssize_t> shape) { return py::array_t<double>(shape); }

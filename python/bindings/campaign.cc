@@ -5,16 +5,24 @@
 
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
+#include <type_traits>
+#include <utility>
+#include <variant>
 #include <string>
 #include <vector>
 
 #include "bindings.h"
 #include "uascma/campaign/config.h"
+#include "uascma/campaign/config_fields.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/campaign/record.h"
+#include "uascma/campaign/report.h"
+#include "uascma/campaign/run_summary.h"
 #include "uascma/campaign/runner.h"
 #include "uascma/campaign/store.h"
 #include "uascma/common/error.h"
+#include "uascma/common/field_table.h"
 
 namespace uascma::python {
 namespace {
@@ -80,26 +88,114 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
                " (" + std::to_string(stopped->flights_flown) +
                " flown by this call); continue with the same arguments and resume=True";
       });
-  py::dict out;
-  out["db"] = db;
+  // The summary `uascma campaign --json` prints under "run" (campaign/run_summary.h), with the campaign's hash and
+  // `jobs` (= jobs_per_rank, the name this function has always returned).
+  py::dict out = JsonToPython(CampaignRunSummary{db, outcome}.Json());
   out["campaign_hash"] = outcome.campaign_hash;
-  out["flights_total"] = outcome.flights_total;
-  out["flights_before"] = outcome.flights_before;
-  out["flights_flown"] = outcome.flights_flown;
   out["jobs"] = outcome.jobs;
-  out["wall_time_s"] = outcome.wall_time_s;
   return out;
 }
 
+
+// The Python name of a campaign key: "mission.cruise_speed_mps" → mission_cruise_speed_mps.
+// A member of the configuration as Python sees it: ranges as (low, high), names as strings, unset as None.
+py::object ToPython(const CampaignFieldRef& value) {
+  return std::visit(
+      Overloaded{
+          [](const Range* r) -> py::object { return py::make_tuple(r->low, r->high); },
+          [](const std::optional<Range>* r) -> py::object {
+            return *r ? py::object(py::make_tuple((*r)->low, (*r)->high)) : py::object(py::none());
+          },
+          [](const CountRange* r) -> py::object { return py::make_tuple(r->low, r->high); },
+          [](const MediumFades* v) -> py::object { return py::str(MediumFadesName(*v)); },
+          [](const sim::EodLoad* v) -> py::object { return py::str(sim::EodLoadName(*v)); },
+          [](const std::vector<models::TurbulenceCategory>* v) -> py::object {
+            py::list names;
+            for (auto category : *v) names.append(models::TurbulenceCategoryName(category));
+            return names;
+          },
+          [](const auto* v) -> py::object { return py::cast(*v); },
+      },
+      value);
+}
+
+// Sets a member from Python (the same shapes as ToPython); the configuration is checked when a campaign runs.
+void FromPython(const CampaignFieldRef& value, const py::object& object, std::string_view key) {
+  std::visit(
+      Overloaded{
+          [&](Range* r) {
+            const auto pair = object.cast<std::pair<double, double>>();
+            *r = {pair.first, pair.second};
+          },
+          [&](std::optional<Range>* r) {
+            if (object.is_none()) return r->reset();
+            const auto pair = object.cast<std::pair<double, double>>();
+            *r = Range{pair.first, pair.second};
+          },
+          [&](CountRange* r) {
+            const auto pair = object.cast<std::pair<int, int>>();
+            *r = {pair.first, pair.second};
+          },
+          [&](MediumFades* v) {
+            const std::string name = object.cast<std::string>();
+            if (name != MediumFadesName(MediumFades::kOneKind) && name != MediumFadesName(MediumFades::kPerCell)) {
+              throw InputError("CampaignConfig", std::string(key), "one_kind | per_cell, got '" + name + "'");
+            }
+            *v = name == MediumFadesName(MediumFades::kPerCell) ? MediumFades::kPerCell : MediumFades::kOneKind;
+          },
+          [&](sim::EodLoad* v) { *v = sim::ParseEodLoad(object.cast<std::string>(), "CampaignConfig", std::string(key)); },
+          [&](std::vector<models::TurbulenceCategory>* v) {
+            v->clear();
+            for (const auto& name : object.cast<std::vector<std::string>>()) {
+              v->push_back(models::ParseTurbulenceCategory(name, "CampaignConfig." + std::string(key)));
+            }
+          },
+          [&](auto* v) { *v = object.cast<std::remove_pointer_t<decltype(v)>>(); },
+      },
+      value);
+}
+
+// One property per key of the field table (campaign/config_fields.h), documented with its bound and source.
+void AddConfigFieldProperties(py::class_<CampaignConfig>& cls) {
+  CampaignConfig defaults;
+  for (const CampaignFieldEntry& entry : CampaignFields(defaults)) {
+    const std::string key(entry.field.key);
+    auto find = [key](CampaignConfig& c) {
+      for (const CampaignFieldEntry& e : CampaignFields(c)) {
+        if (e.field.key == key) return e.value;
+      }
+      throw std::logic_error("no campaign key " + key);
+    };
+    const std::string doc = FieldDoc(entry.field.key, entry.field.bounds, entry.field.expected, entry.field.citation);
+    cls.def_property(
+        PropertyName(entry.field.key).c_str(), [find](CampaignConfig& c) { return ToPython(find(c)); },
+        [find, key](CampaignConfig& c, const py::object& object) { FromPython(find(c), object, key); }, doc.c_str());
+  }
+  cls.def_property_readonly_static(
+      "fields",
+      [](const py::object&) {
+        CampaignConfig c;
+        py::list rows;
+        for (const CampaignFieldEntry& e : CampaignFields(c)) {
+          py::dict row;
+          row["key"] = std::string(e.field.key);
+          row["property"] = PropertyName(e.field.key);
+          row["bound"] = e.field.bounds ? py::object(py::str(e.field.bounds->Text())) : py::object(py::none());
+          row["expected"] = std::string(e.field.expected);
+          row["citation"] = std::string(e.field.citation);
+          row["default"] = CampaignFieldText(e.value);
+          rows.append(row);
+        }
+        return rows;
+      },
+      "Every key of a campaign file: key, property name, bound, expected, citation, default (canonical YAML text)");
+}
 }  // namespace
 
 void InitCampaign(py::module_& m) {
-  py::class_<CampaignConfig>(m, "CampaignConfig", "A campaign's sampling settings (examples/campaign.yaml)")
-      .def_readwrite("name", &CampaignConfig::name)
-      .def_readwrite("seed", &CampaignConfig::seed)
-      .def_readwrite("runs", &CampaignConfig::runs)
-      .def_readwrite("policies", &CampaignConfig::policies)
-      .def_property_readonly("hash", [](const CampaignConfig& c) { return CampaignConfigHash(c); })
+  py::class_<CampaignConfig> config(m, "CampaignConfig", "A campaign's sampling settings (examples/campaign.yaml)");
+  AddConfigFieldProperties(config);
+  config.def_property_readonly("hash", [](const CampaignConfig& c) { return CampaignConfigHash(c); })
       .def("to_yaml", [](const CampaignConfig& c) { return CampaignConfigYaml(c); }, "The canonical YAML (every key)");
   m.def("load_campaign_config",
         [](const py::object& source) {
@@ -130,6 +226,15 @@ void InitCampaign(py::module_& m) {
         py::arg("db"),
         "Raises InputError naming the first problem when the campaign database is damaged (campaign/store.h: "
         "CheckStore, as `uascma store check DB`)");
+  m.def("campaign_report",
+        [](const std::string& db, bool text) -> py::object {
+          const CampaignReport report = MakeCampaignReport(ResultsStore::Open(db));
+          if (text) return py::str(CampaignReportText(report));
+          return JsonToPython(CampaignReportJson(report));
+        },
+        py::arg("db"), py::arg("text") = false,
+        "The campaign's report as `uascma report DB --json` prints it (a dict), or with text=True as `uascma report DB` "
+        "prints it (campaign/report.h)");
   m.def("read_records",
         [](const std::string& db) {
           const ResultsStore store = ResultsStore::Open(db);

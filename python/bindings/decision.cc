@@ -12,6 +12,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/cma_weights_json.h"
 #include "uascma/decision/finite_mdp.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/decision/solvers.h"

@@ -15,6 +15,19 @@ py::object JsonToPython(const nlohmann::json& json) {
   return py::module_::import("json").attr("loads")(json.dump());
 }
 
+std::string PropertyName(std::string_view key) {
+  std::string name(key);
+  for (char& c : name) c = c == '.' ? '_' : c;
+  return name;
+}
+
+std::string FieldDoc(std::string_view key, const Bounds* bounds, std::string_view expected, std::string_view citation) {
+  std::string doc(key);
+  if (bounds != nullptr) doc += " [" + bounds->Text() + "]";
+  if (!expected.empty()) doc += ": " + std::string(expected);
+  return doc + " (" + std::string(citation) + ")";
+}
+
 namespace {
 PyObject* mission_warning = nullptr;  // owned by the module's attribute (set once at import)
 }  // namespace

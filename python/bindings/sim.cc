@@ -4,7 +4,11 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <array>
 #include <cmath>
+#include <stdexcept>
+#include <type_traits>
+#include <variant>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -12,12 +16,15 @@
 
 #include "bindings.h"
 #include "uascma/common/error.h"
+#include "uascma/common/field_table.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/solvers.h"
 #include "uascma/sim/environment.h"
+#include "uascma/sim/flight_summary.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
+#include "uascma/sim/scenario_fields.h"
 #include "uascma/sim/simulator.h"
 #include "uascma/sim/telemetry.h"
 
@@ -241,11 +248,90 @@ std::unique_ptr<Environment> MakeEnvironment(const py::object& scenario, std::op
   return std::make_unique<Environment>(std::move(file), std::move(model), std::move(options));
 }
 
+
+// A scenario member as Python sees it: numbers in the key's unit (degrees for a degrees key), lists for vectors,
+// names for enumerations, None for an unset optional.
+py::object ScenarioValueToPython(const ScenarioField& f, const ScenarioFieldRef& value) {
+  constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
+  return std::visit(
+      Overloaded{
+          [](std::monostate) -> py::object { return py::none(); },
+          [&](const double* v) -> py::object { return py::float_(f.degrees ? *v * kDegreesPerRadian : *v); },
+          [](const Eigen::Vector2d* v) -> py::object { return py::make_tuple(v->x(), v->y()); },
+          [](const Eigen::Vector3d* v) -> py::object { return py::make_tuple(v->x(), v->y(), v->z()); },
+          [](const EodLoad* v) -> py::object { return py::str(EodLoadName(*v)); },
+          [](const models::PropellerConfiguration* v) -> py::object {
+            return py::str(std::string(models::PropellerConfigurationName(*v)));
+          },
+          [](const models::TurbulenceCategory* v) -> py::object {
+            return py::str(models::TurbulenceCategoryName(*v));
+          },
+          [](const auto* v) -> py::object { return py::cast(*v); },
+      },
+      value);
+}
+
+// Sets a scenario member from Python (the shapes above); Scenario::IsValid checks the scenario when it is flown.
+void ScenarioValueFromPython(const ScenarioField& f, const ScenarioFieldRef& value, const py::object& object) {
+  constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+  const std::string key(f.key);
+  std::visit(Overloaded{
+                 [](std::monostate) {},
+                 [&](double* v) { *v = object.cast<double>() * (f.degrees ? kRadiansPerDegree : 1.0); },
+                 [&](Eigen::Vector2d* v) {
+                   const auto xy = object.cast<std::array<double, 2>>();
+                   *v = Eigen::Vector2d(xy[0], xy[1]);
+                 },
+                 [&](Eigen::Vector3d* v) {
+                   const auto xyz = object.cast<std::array<double, 3>>();
+                   *v = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+                 },
+                 [&](EodLoad* v) { *v = ParseEodLoad(object.cast<std::string>(), "Scenario", key); },
+                 [&](models::PropellerConfiguration* v) {
+                   *v = models::ParsePropellerConfiguration(object.cast<std::string>(), "Scenario: " + key);
+                 },
+                 [&](models::TurbulenceCategory* v) {
+                   *v = models::ParseTurbulenceCategory(object.cast<std::string>(), "Scenario: " + key);
+                 },
+                 [&](auto* v) { *v = object.cast<std::remove_pointer_t<decltype(v)>>(); },
+             },
+             value);
+}
+
+// One property per key of the scenario field table that has a member: vehicle_mass_kg, wind_direction_deg, …
+void AddScenarioFieldProperties(py::class_<ScenarioFile>& cls) {
+  Scenario defaults;
+  for (const ScenarioFieldEntry& entry : ScenarioFields(defaults)) {
+    if (std::holds_alternative<std::monostate>(entry.value)) continue;
+    const std::string key(entry.field.key);
+    const std::string name = PropertyName(key);
+    auto find = [key](ScenarioFile& file) {
+      for (const ScenarioFieldEntry& e : ScenarioFields(file.scenario)) {
+        if (e.field.key == key) return e;
+      }
+      throw std::logic_error("no scenario key " + key);
+    };
+    const std::string doc = FieldDoc(entry.field.key, entry.field.bounds, entry.field.expected, entry.field.citation);
+    cls.def_property(
+        name.c_str(),
+        [find](ScenarioFile& file) {
+          const ScenarioFieldEntry e = find(file);
+          return ScenarioValueToPython(e.field, e.value);
+        },
+        [find](ScenarioFile& file, const py::object& object) {
+          const ScenarioFieldEntry e = find(file);
+          ScenarioValueFromPython(e.field, e.value, object);
+        },
+        doc.c_str());
+  }
+}
+
 }  // namespace
 
 void InitSim(py::module_& m) {
-  py::class_<ScenarioFile>(m, "Scenario", "A scenario (examples/*.yaml): everything one simulated flight needs")
-      .def_property("name", [](const ScenarioFile& f) { return f.scenario.name; },
+  py::class_<ScenarioFile> scenario(m, "Scenario", "A scenario (examples/*.yaml): everything one simulated flight needs");
+  AddScenarioFieldProperties(scenario);
+  scenario.def_property("name", [](const ScenarioFile& f) { return f.scenario.name; },
                     [](ScenarioFile& f, const std::string& name) { f.scenario.name = name; })
       .def_property("seed", [](const ScenarioFile& f) { return f.scenario.seed; },
                     [](ScenarioFile& f, std::uint64_t seed) { f.scenario.seed = seed; })
@@ -317,9 +403,12 @@ void InitSim(py::module_& m) {
                              "[(time_s, action name)] of every executed change")
       .def("summary",
            [](const Flight& f) {
-             return JsonToPython(SummaryJson(f.file.scenario, f.model->nominal_plan(), f.result));
+             return JsonToPython(FlightSummary{f.file.scenario, f.model->nominal_plan(), f.result}.Json());
            },
            "The summary dict (what `uascma simulate --json` prints)")
+      .def("summary_text",
+           [](const Flight& f) { return FlightSummary{f.file.scenario, f.model->nominal_plan(), f.result}.Text(); },
+           "The summary as `uascma simulate` prints it (sim/flight_summary.h)")
       .def("telemetry", [](const Flight& f) { return TelemetryArrays(f.result); },
            "A dict of arrays, N rows at the telemetry rate: t_s (N,); p_W, v_W, p_ref_W (N, 3) m, m/s in W (NED); "
            "euler (N, 3) rad roll, pitch, yaw; drag_W (N, 3) N; wind_W (N, 3) m/s; wrench_cmd, wrench (N, 4) "

@@ -1,38 +1,22 @@
 #include "uascma/campaign/battery_evaluation.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
-#include <mutex>
-#include <optional>
-#include <set>
-#include <thread>
 
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/common/parallel_for.h"
 
 namespace uascma::campaign {
 namespace {
 
 using decision::BatteryContext;
-using decision::StateIndex;
-using models::HealthClass;
-using models::PackAction;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-const char* KindName(BatteryPolicyKind kind) {
-  switch (kind) {
-    case BatteryPolicyKind::kUseBoth: return "useboth";
-    case BatteryPolicyKind::kVoltageRule: return "rule:voltage";
-    case BatteryPolicyKind::kPiStar: return "pistar";
-    case BatteryPolicyKind::kOurs: return "ours";
-  }
-  return "?";
-}
 
 double Median(std::vector<double> values) {
   if (values.empty()) return kNaN;
@@ -101,157 +85,71 @@ nlohmann::json SummaryJson(const BatteryPolicySummary& s) {
 
 }  // namespace
 
-// ================================ policies ========================================================
-std::vector<BatteryPolicySpec> ParseBatteryPolicies(const std::string& text, const std::string& option) {
-  std::vector<BatteryPolicySpec> specs;
-  std::set<std::string> seen;
-  std::size_t begin = 0;
-  while (begin <= text.size()) {
-    const std::size_t end = std::min(text.find(',', begin), text.size());
-    const std::string item = text.substr(begin, end - begin);
-    begin = end + 1;
-    BatteryPolicySpec spec;
-    const std::size_t colon = item.find(':');
-    const std::string name = item.substr(0, colon);
-    const std::string argument = colon == std::string::npos ? "" : item.substr(colon + 1);
-    if (name == "useboth" && argument.empty()) {
-      spec.kind = BatteryPolicyKind::kUseBoth;
-    } else if (name == "rule" && (argument == "voltage" || argument.rfind("voltage:", 0) == 0)) {
-      spec.kind = BatteryPolicyKind::kVoltageRule;
-      if (argument != "voltage") {
-        const std::string value = argument.substr(std::string("voltage:").size());
-        try {
-          std::size_t used = 0;
-          spec.drop_voltage_v = std::stod(value, &used);
-          if (used != value.size()) throw std::invalid_argument("trailing characters");
-        } catch (const std::exception&) {
-          throw InputError(option, item, fmt::format("rule:voltage:V with V a number of volts, got '{}'", value));
-        }
-        // Between the 3.3 V cut-off (Table 4.1) and a full cell (4.2 V).
-        if (!(spec.drop_voltage_v >= models::kCutoffVoltage && spec.drop_voltage_v <= 4.2)) {
-          throw InputError(option, item, fmt::format("a drop voltage in [3.3, 4.2] V, got {}", spec.drop_voltage_v));
-        }
-      }
-    } else if ((name == "pistar" || name == "ours") && !argument.empty()) {
-      spec.kind = name == "pistar" ? BatteryPolicyKind::kPiStar : BatteryPolicyKind::kOurs;
-      spec.file = argument;
-      auto policies = std::make_shared<decision::BatteryPolicySet>(decision::ReadBatteryPolicyFile(spec.file));
-      const auto wanted =
-          name == "pistar" ? decision::BatteryFormulation::kDissertation : decision::BatteryFormulation::kOurs;
-      if (policies->formulation != wanted) {
-        throw InputError(spec.file.string(), "formulation",
-                         fmt::format("'{}' for {}: (battery solve{}), got '{}'", decision::BatteryFormulationName(wanted),
-                                     name, name == "ours" ? " --formulation ours" : "",
-                                     decision::BatteryFormulationName(policies->formulation)));
-      }
-      spec.policies = std::move(policies);
-    } else {
-      throw InputError(option, item.empty() ? "(empty)" : item,
-                       "useboth | pistar:POLICY.json | ours:POLICY.json | rule:voltage[:V], separated by commas");
-    }
-    spec.label = KindName(spec.kind);
-    if (!seen.insert(spec.label).second) throw InputError(option, item, "each policy once");
-    specs.push_back(std::move(spec));
-    if (end == text.size()) break;
-  }
-  return specs;
-}
-
-BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, const BatteryContext& context) {
-  BatteryFlightController out;
-  out.initial_switches = PackAction::kUseBoth;
-  switch (spec.kind) {
-    case BatteryPolicyKind::kUseBoth:
-      out.controller = [](double, const decision::BatteryObservation&, StateIndex) { return PackAction::kUseBoth; };
-      break;
-    case BatteryPolicyKind::kPiStar: {
-      UASCMA_CHECK(spec.policies != nullptr, "a policy file read for pistar");
-      auto executor = std::make_shared<decision::BatteryPolicyExecutor>(*spec.policies, context);
-      out.controller = [executor](double, const decision::BatteryObservation&, StateIndex s) {
-        return executor->Decide(s);
-      };
-      break;
-    }
-    case BatteryPolicyKind::kOurs: {
-      UASCMA_CHECK(spec.policies != nullptr, "a policy file read for ours");
-      auto executor = std::make_shared<decision::BatteryPolicyExecutor>(*spec.policies, context);
-      out.observe_pair_eod = true;
-      out.controller = [executor](double, const decision::BatteryObservation& observation, StateIndex s) {
-        if (const auto guard = OursImminentFailureGuard(observation)) return *guard;
-        return executor->Decide(s);
-      };
-      break;
-    }
-    case BatteryPolicyKind::kVoltageRule: {
-      // The pack dropped (−1: none), kept across epochs of this one flight.
-      auto dropped = std::make_shared<int>(-1);
-      const double drop_v = spec.drop_voltage_v;
-      out.controller = [dropped, drop_v](double, const decision::BatteryObservation& observation, StateIndex) {
-        if (*dropped < 0) {
-          for (int j = 0; j < models::kBranchCount; ++j) {
-            const double v = observation.actual_min_cell_voltage_v[j];
-            if (observation.switch_on[j] && v >= 0.0 && v < drop_v) {
-              *dropped = j;
-              break;
-            }
-          }
-        }
-        if (*dropped == 0) return PackAction::kUseBatt2;
-        if (*dropped == 1) return PackAction::kUseBatt1;
-        return PackAction::kUseBoth;
-      };
-      break;
-    }
-  }
-  return out;
-}
-
-std::optional<PackAction> OursImminentFailureGuard(const decision::BatteryObservation& observation) {
-  if (!(observation.switch_on[0] && observation.switch_on[1])) return std::nullopt;  // already one pack
-  const double eod_s = observation.pair_eod_s;
-  const int limiting = observation.pair_limiting_branch;
-  if (!std::isfinite(eod_s) || limiting < 0) return std::nullopt;
-  // FAILURE (Table 4.1) before the end of the plan and within the safety margin t_sf: drop the limiting pack.
-  if (eod_s < observation.remaining_flight_s && eod_s < observation.safety_margin_s) {
-    return limiting == 0 ? PackAction::kUseBatt2 : PackAction::kUseBatt1;
-  }
-  return std::nullopt;
-}
-
-std::string SwitchSchedule::Describe() const {
-  std::string out;
-  for (const auto& [time_s, action] : steps) {
-    out += fmt::format("{}{}@{:.0f}", out.empty() ? "" : " ", models::PackActionName(action), time_s);
-  }
-  return out;
-}
-
-BatteryFlightController ScheduleController(const SwitchSchedule& schedule) {
-  UASCMA_CHECK(!schedule.steps.empty() && schedule.steps.front().first <= 0.0, "a schedule from 0 s");
-  auto steps = std::make_shared<const std::vector<std::pair<double, PackAction>>>(schedule.steps);
-  BatteryFlightController out;
-  out.initial_switches = PackAction::kUseBoth;
-  out.controller = [steps](double time_s, const decision::BatteryObservation&, StateIndex) {
-    PackAction action = steps->front().second;
-    for (const auto& [from_s, step_action] : *steps) {
-      if (time_s + 1e-9 >= from_s) action = step_action;
-    }
-    return action;
-  };
-  return out;
-}
-
-int CountSwitches(const BatteryFlightResult& result) {
-  int count = 0;
-  PackAction previous = PackAction::kUseBoth;
-  for (const auto& [time_s, action] : result.switches) {
-    if (action != previous) ++count;
-    previous = action;
-  }
-  return count;
-}
-
 // ================================ evaluation ======================================================
+namespace {
+
+// Run r: its flight drawn from Table 4.4, flown by every policy together (the same params value; each result
+// bit-identical to the flight flown alone).
+BatteryEvaluationRun FlyRun(const std::vector<BatteryPolicySpec>& policies, const BatteryEvaluationOptions& options,
+                            std::int64_t r) {
+  BatteryEvaluationRun run;
+  run.run = r;
+  run.params = SampleBatteryFlight(options.ranges, options.seed, r);
+  std::vector<BatteryFlightController> controllers;
+  for (const auto& p : policies) controllers.push_back(MakeBatteryController(p, run.params.context()));
+  for (const auto& result : FlyBatteryFlights(run.params, controllers)) run.flights.push_back(Summarise(result));
+  return run;
+}
+
+// Policy k's flights in the runs `keep` accepts.
+std::vector<const BatteryPolicyFlight*> Column(const BatteryEvaluation& evaluation, std::size_t k,
+                                               const std::function<bool(const BatteryEvaluationRun&)>& keep) {
+  std::vector<const BatteryPolicyFlight*> flights;
+  for (const auto& run : evaluation.runs) {
+    if (keep(run)) flights.push_back(&run.flights[k]);
+  }
+  return flights;
+}
+
+BatteryPairComparison ComparePolicies(const BatteryEvaluation& evaluation, std::size_t a, std::size_t b) {
+  BatteryPairComparison cmp;
+  cmp.first = evaluation.labels[a];
+  cmp.second = evaluation.labels[b];
+  for (const auto& run : evaluation.runs) {
+    const bool first = run.flights[a].completed(), second = run.flights[b].completed();
+    ++cmp.pairs;
+    if (first && second) ++cmp.both_completed;
+    else if (!first && !second) ++cmp.neither_completed;
+    else if (first) ++cmp.only_first_completed;
+    else ++cmp.only_second_completed;
+  }
+  cmp.exact_p = CalcMcNemarTest(cmp.only_first_completed, cmp.only_second_completed).exact_p;
+  return cmp;
+}
+
+// The summaries of the flown runs: per policy overall and per context flown, and every pair compared.
+void SummariseEvaluation(BatteryEvaluation& out) {
+  const std::size_t n = out.labels.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    out.overall.push_back(SummariseFlights(out.labels[k], Column(out, k, [](const BatteryEvaluationRun&) { return true; })));
+  }
+  for (int c = 0; c < decision::kBatteryNumContexts; ++c) {
+    const BatteryContext context = decision::BatteryContextFromIndex(c);
+    BatteryContextSummary group;
+    group.context = context;
+    for (std::size_t k = 0; k < n; ++k) {
+      group.policies.push_back(SummariseFlights(
+          out.labels[k], Column(out, k, [&context](const BatteryEvaluationRun& run) { return run.params.context() == context; })));
+    }
+    if (group.policies.front().runs > 0) out.by_context.push_back(std::move(group));
+  }
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = a + 1; b < n; ++b) out.comparisons.push_back(ComparePolicies(out, a, b));
+  }
+}
+
+}  // namespace
+
 BatteryEvaluation EvaluateBatteryPolicies(const std::vector<BatteryPolicySpec>& policies,
                                           const BatteryEvaluationOptions& options) {
   if (policies.empty()) throw InputError("--policies", "value", "at least one policy");
@@ -261,66 +159,18 @@ BatteryEvaluation EvaluateBatteryPolicies(const std::vector<BatteryPolicySpec>& 
   BatteryEvaluation out;
   out.seed = options.seed;
   for (const auto& p : policies) out.labels.push_back(p.label);
-  out.runs.resize(static_cast<std::size_t>(options.runs));
-  std::atomic<std::int64_t> next_run{0}, done{0};
-  auto worker = [&] {
-    std::vector<BatteryFlightController> controllers;
-    for (std::int64_t r = next_run++; r < options.runs; r = next_run++) {
-      BatteryEvaluationRun& run = out.runs[static_cast<std::size_t>(r)];
-      run.run = r;
-      run.params = SampleBatteryFlight(options.ranges, options.seed, r);
-      controllers.clear();
-      for (const auto& p : policies) controllers.push_back(MakeBatteryController(p, run.params.context()));
-      // Every policy on the one flight: the same params value, flown together (bit-identical to alone).
-      const std::vector<BatteryFlightResult> results = FlyBatteryFlights(run.params, controllers);
-      for (const auto& result : results) run.flights.push_back(Summarise(result));
-      const std::int64_t count = ++done;
-      if (options.on_run_done) options.on_run_done(count);
-    }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 1; j < options.jobs; ++j) threads.emplace_back(worker);
-  worker();
-  for (auto& thread : threads) thread.join();
-
-  const std::size_t n = policies.size();
-  auto column = [&](std::size_t k, const std::function<bool(const BatteryEvaluationRun&)>& keep) {
-    std::vector<const BatteryPolicyFlight*> flights;
-    for (const auto& run : out.runs) {
-      if (keep(run)) flights.push_back(&run.flights[k]);
-    }
-    return flights;
-  };
-  for (std::size_t k = 0; k < n; ++k) {
-    out.overall.push_back(SummariseFlights(out.labels[k], column(k, [](const BatteryEvaluationRun&) { return true; })));
-  }
-  for (int c = 0; c < decision::kBatteryNumContexts; ++c) {
-    const BatteryContext context = decision::BatteryContextFromIndex(c);
-    BatteryContextSummary group;
-    group.context = context;
-    for (std::size_t k = 0; k < n; ++k) {
-      group.policies.push_back(SummariseFlights(
-          out.labels[k], column(k, [&context](const BatteryEvaluationRun& run) { return run.params.context() == context; })));
-    }
-    if (group.policies.front().runs > 0) out.by_context.push_back(std::move(group));
-  }
-  for (std::size_t a = 0; a < n; ++a) {
-    for (std::size_t b = a + 1; b < n; ++b) {
-      BatteryPairComparison cmp;
-      cmp.first = out.labels[a];
-      cmp.second = out.labels[b];
-      for (const auto& run : out.runs) {
-        const bool first = run.flights[a].completed(), second = run.flights[b].completed();
-        ++cmp.pairs;
-        if (first && second) ++cmp.both_completed;
-        else if (!first && !second) ++cmp.neither_completed;
-        else if (first) ++cmp.only_first_completed;
-        else ++cmp.only_second_completed;
-      }
-      cmp.exact_p = CalcMcNemarTest(cmp.only_first_completed, cmp.only_second_completed).exact_p;
-      out.comparisons.push_back(cmp);
-    }
-  }
+  out.runs.reserve(static_cast<std::size_t>(options.runs));
+  ParallelOptions parallel;
+  parallel.jobs = options.jobs;
+  // Runs kept in run order, whatever the number of threads.
+  const std::int64_t merged = ParallelFor(
+      options.runs, parallel, [&](std::int64_t r) { return FlyRun(policies, options, r); },
+      [&](std::int64_t, BatteryEvaluationRun&& run) {
+        out.runs.push_back(std::move(run));
+        if (options.on_run_done) options.on_run_done(static_cast<std::int64_t>(out.runs.size()));
+      });
+  if (merged < options.runs) throw Cancelled();
+  SummariseEvaluation(out);
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -402,208 +252,6 @@ std::string BatteryEvaluationText(const BatteryEvaluation& evaluation) {
   }
   out += fmt::format("\n{:.1f} s wall\n", evaluation.wall_time_s);
   return out;
-}
-
-// ================================ case studies ====================================================
-namespace {
-
-models::PerCell<models::CellHealth> CellHealthOf(const models::PerBranch<HealthClass>& health) {
-  models::PerCell<models::CellHealth> cells{};
-  for (int j = 0; j < models::kBranchCount; ++j) {
-    for (auto& cell : cells[j]) cell = models::CellHealthForClass(health[j]);
-  }
-  return cells;
-}
-
-std::string PairName(HealthClass b1, HealthClass b2) {
-  return fmt::format("({},{})", decision::BatteryHealthName(b1), decision::BatteryHealthName(b2));
-}
-
-// Best of the family in hindsight: a completed flight first (then the most charge left, then the fewest switches),
-// else the latest failure.
-bool Better(const BatteryFlightResult& a, const BatteryFlightResult& b) {
-  const bool ac = a.outcome == sim::Outcome::kCompleted, bc = b.outcome == sim::Outcome::kCompleted;
-  if (ac != bc) return ac;
-  if (ac) {
-    const double qa = a.charge_left_ah[0] + a.charge_left_ah[1], qb = b.charge_left_ah[0] + b.charge_left_ah[1];
-    if (qa != qb) return qa > qb;
-    return CountSwitches(a) < CountSwitches(b);
-  }
-  return a.end_time_s > b.end_time_s;
-}
-
-}  // namespace
-
-BatteryFlightParams CaseFlightParams(const BatteryContext& context, double plan_duration_s) {
-  // One representative package drop (§4.3.3, Fig. 4.6), the same for every scenario: Table 4.4's middle
-  // values, cells at 4.1 V (ours); the context's temperature (77 °F warm, 40 °F cold as the learning draw).
-  BatteryFlightParams p;
-  p.seed = 1;
-  p.safety_margin_s = 7.5;
-  p.initial_cell_voltage_v = {{{4.1, 4.1, 4.1}, {4.1, 4.1, 4.1}}};
-  p.cruise_speed_mps = 5.0;
-  p.wind_speed_mps = 2.0;
-  p.wind_direction_rad = 1.0;
-  p.turbulence = models::TurbulenceCategory::kLowLight;
-  p.health = {context.b1, context.b2};
-  p.cells = CellHealthOf(p.health);
-  const BatteryFlightRanges ranges;
-  p.ambient_temp_degf = context.temperature == decision::TemperatureClass::kLow ? ranges.cold_temp_degf : ranges.warm_temp_degf;
-  p.plan_duration_s = plan_duration_s;
-  return p;
-}
-
-StateIndex TakeoffState(const BatteryFlightParams& params) {
-  // What FlyBatteryFlights' first epoch sees: the initial state with the take-off switches (UseBoth).
-  const sim::FlightModel model(MakeBatteryScenario(params));
-  sim::FlightState state = sim::MakeInitialState(model, params.seed);
-  sim::SwitchPacks(state, PackAction::kUseBoth);
-  return decision::AbstractBatteryState(ObserveBatteryFlight(model, state));
-}
-
-std::vector<SwitchSchedule> HindsightSchedules(double plan_duration_s, double window_grid_s, double switch_grid_s) {
-  UASCMA_CHECK(window_grid_s > 0.0 && switch_grid_s > 0.0 && plan_duration_s > 0.0, "positive grids and plan");
-  std::vector<SwitchSchedule> out;
-  out.push_back({{{0.0, PackAction::kUseBoth}}});
-  // (a) UseBoth, then pack k alone for good from t (t > 0 on the fine grid).
-  for (PackAction alone : {PackAction::kUseBatt1, PackAction::kUseBatt2}) {
-    for (double t = switch_grid_s; t < plan_duration_s; t += switch_grid_s) {
-      out.push_back({{{0.0, PackAction::kUseBoth}, {t, alone}}});
-    }
-  }
-  // (b) UseBoth with one window [t1, t2) of pack k alone on the coarse grid (t2 = the end: for good, from t1 = 0
-  // only, the rest being in (a)).
-  std::vector<double> times;
-  for (double t = 0.0; t < plan_duration_s; t += window_grid_s) times.push_back(t);
-  for (PackAction alone : {PackAction::kUseBatt1, PackAction::kUseBatt2}) {
-    for (std::size_t i = 0; i < times.size(); ++i) {
-      for (std::size_t j = i + 1; j <= times.size(); ++j) {
-        if (j == times.size() && i > 0) continue;  // in (a)
-        SwitchSchedule s;
-        if (times[i] > 0.0) s.steps.emplace_back(0.0, PackAction::kUseBoth);
-        s.steps.emplace_back(times[i], alone);
-        if (j < times.size()) s.steps.emplace_back(times[j], PackAction::kUseBoth);
-        out.push_back(std::move(s));
-      }
-    }
-  }
-  return out;
-}
-
-std::vector<CaseScenario> RunCaseStudy(int number, const CaseStudyOptions& options) {
-  if (number < 1 || number > 4) throw InputError("case-study", "N", fmt::format("1, 2, 3 or 4 (Table 4.5), got {}", number));
-  const bool uses_policy = number == 2 || number == 4;
-  if (uses_policy && options.pistar == nullptr) throw InputError("case-study", "--policy", "a battery policy file for pi*");
-  std::vector<std::pair<HealthClass, HealthClass>> pairs;
-  double plan_duration_s = 0.0;
-  if (number <= 2) {
-    // "battery pack EOD time is twice the flight time": the plan lasts one healthy pack's EOD.
-    plan_duration_s = ReferenceBatteryEod(PackAction::kUseBatt1);
-    for (int b1 = 0; b1 < 3; ++b1) {
-      for (int b2 = 0; b2 < 3; ++b2) pairs.emplace_back(static_cast<HealthClass>(b1), static_cast<HealthClass>(b2));
-    }
-  } else {
-    plan_duration_s = kCaseFlightFraction * ReferenceBatteryEod(PackAction::kUseBoth);  // decision 26
-    if (number == 3) {
-      pairs = {{HealthClass::kG, HealthClass::kM}, {HealthClass::kG, HealthClass::kP}, {HealthClass::kP, HealthClass::kP}};
-    } else {
-      pairs = {{HealthClass::kM, HealthClass::kG}};
-    }
-  }
-  std::vector<CaseScenario> scenarios;
-  for (const auto& [b1, b2] : pairs) {
-    BatteryFlightParams params = CaseFlightParams({b1, b2, decision::TemperatureClass::kHigh}, plan_duration_s);
-    params.seed = options.seed;
-    if (number == 4) {
-      // Fig. 4.11's caption: "Batt1 has one cell with capacity fade and Batt2 is healthy" (an F2 pack of
-      // Table 4.2); the other cases' packs are as their captions say, every cell faded (Figs. 4.9, 4.10).
-      params.cells[0] = {};
-      params.cells[0][0].capacity_fade = true;
-    }
-    // UseBoth (§4.3.3: "a similar scenario can be set up with a single action of UseBoth"), then each learned
-    // policy beside it on the same flight.
-    std::vector<std::pair<std::string, BatteryFlightController>> flown;
-    BatteryPolicySpec useboth;
-    flown.emplace_back("UseBoth", MakeBatteryController(useboth, params.context()));
-    if (uses_policy) {
-      BatteryPolicySpec pistar;
-      pistar.kind = BatteryPolicyKind::kPiStar;
-      pistar.policies = std::shared_ptr<const decision::BatteryPolicySet>(options.pistar, [](const auto*) {});
-      flown.emplace_back("pi*", MakeBatteryController(pistar, params.context()));
-      BatteryPolicySpec rule;
-      rule.kind = BatteryPolicyKind::kVoltageRule;
-      flown.emplace_back("rule:voltage", MakeBatteryController(rule, params.context()));
-      if (options.ours != nullptr) {
-        BatteryPolicySpec ours;
-        ours.kind = BatteryPolicyKind::kOurs;
-        ours.policies = std::shared_ptr<const decision::BatteryPolicySet>(options.ours, [](const auto*) {});
-        flown.emplace_back("ours", MakeBatteryController(ours, params.context()));
-      }
-    }
-    std::vector<BatteryFlightController> controllers;
-    for (const auto& f : flown) controllers.push_back(f.second);
-    const std::vector<BatteryFlightResult> results = FlyBatteryFlights(params, controllers);
-    for (std::size_t k = 0; k < flown.size(); ++k) {
-      CaseScenario scenario;
-      scenario.name = PairName(b1, b2);
-      scenario.params = params;
-      scenario.controller = flown[k].first;
-      scenario.result = results[k];
-      scenarios.push_back(std::move(scenario));
-    }
-    if (number == 4 && options.hindsight) {
-      const std::vector<SwitchSchedule> family = HindsightSchedules(plan_duration_s);
-      std::vector<BatteryFlightController> schedules;
-      for (const auto& s : family) schedules.push_back(ScheduleController(s));
-      const std::vector<BatteryFlightResult> tried = FlyBatteryFlights(params, schedules);
-      std::size_t best = 0;
-      for (std::size_t k = 1; k < tried.size(); ++k) {
-        if (Better(tried[k], tried[best])) best = k;
-      }
-      CaseScenario scenario;
-      scenario.name = PairName(b1, b2);
-      scenario.params = params;
-      scenario.controller = "hindsight-best";
-      scenario.schedule = family[best].Describe();
-      scenario.schedules_flown = static_cast<int>(family.size());
-      scenario.result = tried[best];
-      scenarios.push_back(std::move(scenario));
-    }
-  }
-  return scenarios;
-}
-
-nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenarios) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const CaseScenario& scenario : scenarios) {
-    nlohmann::json switches = nlohmann::json::array();
-    for (const auto& [time_s, action] : scenario.result.switches) {
-      switches.push_back({{"time_s", time_s}, {"action", models::PackActionName(action)}});
-    }
-    const BatteryContext context = scenario.params.context();
-    nlohmann::json entry = {{"name", scenario.name},
-                            {"b1", decision::BatteryHealthName(context.b1)},
-                            {"b2", decision::BatteryHealthName(context.b2)},
-                            {"temperature", decision::TemperatureClassName(context.temperature)},
-                            {"controller", scenario.controller},
-                            {"seed", scenario.params.seed},
-                            {"plan_duration_s", scenario.params.plan_duration_s},
-                            {"outcome", sim::OutcomeName(scenario.result.outcome)},
-                            {"end_time_s", scenario.result.end_time_s},
-                            {"switch_count", CountSwitches(scenario.result)},
-                            {"charge_left_ah", scenario.result.charge_left_ah[0] + scenario.result.charge_left_ah[1]},
-                            {"switches", switches}};
-    if (!scenario.schedule.empty()) {
-      entry["schedule"] = scenario.schedule;
-      entry["family"] = fmt::format("UseBoth; UseBoth then one pack alone for good from t ({:.0f} s grid); UseBoth with "
-                                    "one window [t1, t2) of one pack alone ({:.0f} s grid)",
-                                    kHindsightSwitchGridS, kHindsightWindowGridS);
-      entry["schedules_flown"] = scenario.schedules_flown;
-    }
-    out.push_back(std::move(entry));
-  }
-  return {{"case", number}, {"flight_fraction", number >= 3 ? nlohmann::json(kCaseFlightFraction) : nlohmann::json(nullptr)},
-          {"scenarios", out}};
 }
 
 }  // namespace uascma::campaign

@@ -1,35 +1,26 @@
 #include "uascma/campaign/battery_flights.h"
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <mutex>
-#include <thread>
-
-#include <fmt/format.h>
 
 #include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/common/random.h"
+#include "uascma/decision/battery_mdp_file.h"
 #include "uascma/models/propulsion.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/sim/branching.h"
 
 namespace uascma::campaign {
 namespace {
 
 using decision::BatteryContext;
-using decision::BatteryTransitionCounts;
 using decision::StateIndex;
 using models::HealthClass;
 using models::PackAction;
-
-constexpr std::array<PackAction, 3> kActions = {PackAction::kUseBatt1, PackAction::kUseBatt2, PackAction::kUseBoth};
-// Sub-streams of one draw (common/random.h DeriveSeed).
-enum DrawStream : std::uint64_t { kParameterStream = 1, kVehicleStream = 2, kDropStream = 3 };
 
 
 double Draw(RandomStream& random, const double (&range)[2]) { return random.Uniform(range[0], range[1]); }
@@ -58,8 +49,8 @@ double HoverCurrent(const models::BatteryPack& pack, const models::PackState& st
 }  // namespace
 
 decision::BatteryObservation ObserveBatteryFlight(const sim::FlightModel& model, const sim::FlightState& state) {
-  const double remaining_s = state.plan(model).TimeRemaining(state.time_s - state.plan_start_s);
-  return decision::ObserveBattery(model.pack(), state.pack, state.load_current_a, remaining_s,
+  const double remaining_s = state.plan(model).TimeRemaining(state.time_s - state.guidance.plan_start_s);
+  return decision::ObserveBattery(model.pack(), state.power.pack, state.power.load_current_a, remaining_s,
                                   model.options().safety_margin_s);
 }
 
@@ -79,9 +70,9 @@ std::array<models::CellHealth, models::kCellsPerBranch> DrawPackCells(RandomStre
 
 BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t draw) {
   const std::uint64_t draw_seed = DeriveSeed(seed, static_cast<std::uint64_t>(draw));
-  RandomStream random(DeriveSeed(draw_seed, kParameterStream));
+  RandomStream random(DeriveSeed(draw_seed, kBatteryParameterStream));
   BatteryFlightParams p;
-  p.seed = DeriveSeed(draw_seed, kVehicleStream);
+  p.seed = DeriveSeed(draw_seed, kBatteryVehicleStream);
   // Table 4.4, in a fixed order (changing it changes every learned model).
   p.safety_margin_s = Draw(random, ranges.safety_margin_s);
   for (auto& pack : p.initial_cell_voltage_v) {
@@ -103,7 +94,7 @@ double ReferenceBatteryEod(PackAction switches) {
   static const auto eods = [] {
     const models::BatteryPack pack;
     std::array<double, 3> out{};
-    for (PackAction action : kActions) {
+    for (PackAction action : decision::kBatteryActions) {
       const models::PackState state = pack.MakeRestingState(4.1, action);
       out[static_cast<std::size_t>(action)] = prognostics::CalcPackEod(pack, state, HoverCurrent(pack, state)).eod_s;
     }
@@ -156,7 +147,7 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
   PackAction Decide(const sim::FlightModel& model, const sim::FlightState& state) override {
     decision::BatteryObservation observation = ObserveBatteryFlight(model, state);
     if (observe_pair_eod_) {
-      const prognostics::EodResult pair = prognostics::CalcPackEod(model.pack(), state.pack, state.load_current_a);
+      const prognostics::EodResult pair = prognostics::CalcPackEod(model.pack(), state.power.pack, state.power.load_current_a);
       observation.pair_eod_s = pair.eod_s;
       observation.pair_limiting_branch = pair.limiting_branch;
     }
@@ -167,14 +158,14 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
     if (result_.switches.empty() || result_.switches.back().second != action) {
       result_.switches.emplace_back(state.time_s, action);
     }
-    models::PackState switched = state.pack;
+    models::PackState switched = state.power.pack;
     switched.branch_on = models::SwitchesFor(action);
     BatteryEpoch epoch;
     epoch.time_s = state.time_s;
     epoch.state = s;
     epoch.action = action;
-    epoch.total_current_a = state.pack_current_a;
-    epoch.branch_current_a = model.pack().CalcSplit(switched, state.pack_current_a).current_a;
+    epoch.total_current_a = state.power.pack_current_a;
+    epoch.branch_current_a = model.pack().CalcSplit(switched, state.power.pack_current_a).current_a;
     epoch.eod_s = observation.eod_s;
     epoch.min_cell_voltage_v = observation.min_cell_voltage_v;
     epoch.remaining_flight_s = remaining_s;
@@ -218,69 +209,22 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
     sim::SwitchPacks(states[k], flights[k].initial_switches);
     executors.emplace_back(flights[k].controller, flights[k].observe_pair_eod, thresholds, results[k]);
   }
-  // The flights fly one vehicle while their packs cap the rotors alike (sim::StepFollowing); one that leaves the
-  // group flies on alone. Fig. 4.3's loop: the battery executor at 1 Hz, the GNC steps between; no CMA (its
-  // Observe and a NoOp Act change nothing the flight reads, so sim::StepEpoch without them).
-  std::vector<bool> alone(n, false);
-  std::vector<sim::FlightState*> followers;
-  std::vector<std::size_t> follower_index;
-  // Any number of flights fly together (learning: a draw's three actions; evaluation: every policy of a run).
-  const std::unique_ptr<bool[]> stepped_flags(new bool[std::max<std::size_t>(n, 1)]());
-  bool* stepped = stepped_flags.get();
-  std::int64_t shared_steps = 0, alone_steps = 0;
-  auto first_flying = [&states]() -> const sim::FlightState* {
-    for (const sim::FlightState& state : states) {
-      if (!state.done()) return &state;
-    }
-    return nullptr;
-  };
-  // Invariant: every flight still flying is at the same GNC step.
-  for (const sim::FlightState* flying = first_flying(); flying != nullptr; flying = first_flying()) {
-    for (std::size_t k = 0; k < n; ++k) {
-      if (!states[k].done()) sim::DecideBattery(model, states[k], executors[k]);
-    }
-    do {
-      const std::int64_t next_step = flying->step + 1;
-      // The group: the flights still flying together; its first one leads.
-      std::size_t lead = n;
-      followers.clear();
-      follower_index.clear();
-      for (std::size_t k = 0; k < n; ++k) {
-        if (states[k].done() || alone[k]) continue;
-        if (lead == n) {
-          lead = k;
-        } else {
-          followers.push_back(&states[k]);
-          follower_index.push_back(k);
-        }
-      }
-      if (lead != n && !followers.empty()) {
-        sim::StepFollowing(model, states[lead], followers, std::span<bool>(stepped, followers.size()));
-        for (std::size_t j = 0; j < followers.size(); ++j) {
-          if (stepped[j]) ++shared_steps;
-          else alone[follower_index[j]] = true;  // its pack caps a rotor differently: on its own from this step
-        }
-      }
-      // Every flight not stepped yet (the lead of a group of one, those on their own) takes its step alone.
-      for (std::size_t k = 0; k < n; ++k) {
-        if (states[k].done() || states[k].step >= next_step) continue;
-        sim::Step(model, states[k]);
-        if (k != lead) ++alone_steps;
-      }
-      flying = first_flying();
-    } while (flying != nullptr && !sim::IsDecisionEpoch(model, *flying));
-  }
+  // The flights fly one vehicle while their packs cap the rotors alike; one that leaves the group flies on alone
+  // (sim/branching.h FlyFollowing: Fig. 4.3's loop, the battery executor at 1 Hz, the GNC steps between, no CMA).
+  std::vector<sim::BatterySwitchPolicy*> executor_pointers;
+  for (RecordingExecutor& executor : executors) executor_pointers.push_back(&executor);
+  const sim::SharingCounts counts = sim::FlyFollowing(model, states, executor_pointers);
   for (std::size_t k = 0; k < n; ++k) {
     results[k].outcome = states[k].outcome;
     results[k].end_time_s = states[k].time_s;
-    results[k].energy_used_wh = states[k].energy_wh;
-    for (int j = 0; j < models::kBranchCount; ++j) results[k].charge_left_ah[j] = PackChargeLeftAh(model.pack(), states[k].pack, j);
+    results[k].energy_used_wh = states[k].power.energy_wh;
+    for (int j = 0; j < models::kBranchCount; ++j) results[k].charge_left_ah[j] = PackChargeLeftAh(model.pack(), states[k].power.pack, j);
     // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.
     if (states[k].outcome == sim::Outcome::kFailedBattery) results[k].states.push_back(decision::kBatteryFailureState);
   }
   if (sharing) {
-    sharing->shared_steps += shared_steps;
-    sharing->alone_steps += alone_steps;
+    sharing->shared_steps += counts.shared_steps;
+    sharing->alone_steps += counts.alone_steps;
   }
   return results;
 }
@@ -296,144 +240,6 @@ PackAction BatteryPolicySwitch::Decide(const sim::FlightModel& model, const sim:
 std::unique_ptr<sim::BatterySwitchPolicy> LoadBatterySwitchPolicy(const std::filesystem::path& policy_file,
                                                                   const sim::Scenario& scenario) {
   return std::make_unique<BatteryPolicySwitch>(decision::ReadBatteryPolicyFile(policy_file), scenario);
-}
-
-// ================================ learning ========================================================
-decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, BatteryLearningSummary* summary) {
-  if (options.runs < 1) throw InputError("--runs", "value", fmt::format("at least 1 flight, got {}", options.runs));
-  if (options.jobs < 1) throw InputError("--jobs", "value", fmt::format("at least 1 thread, got {}", options.jobs));
-  const auto start = std::chrono::steady_clock::now();
-  const std::int64_t per_draw = options.drop_flights ? 4 : 3;
-  const std::int64_t draws = (options.runs + per_draw - 1) / per_draw;
-  std::atomic<std::int64_t> next_draw{0};
-  std::atomic<std::int64_t> done{0}, failures{0};
-  std::mutex merge_mutex;
-  decision::BatteryModel model;
-  BatteryFlightSharing sharing;
-  auto worker = [&] {
-    BatteryTransitionCounts local;
-    BatteryFlightSharing local_sharing;
-    std::int64_t local_failures = 0;
-    std::vector<BatteryFlightController> flights;
-    for (std::int64_t d = next_draw++; d < draws; d = next_draw++) {
-      const BatteryFlightParams params = SampleBatteryFlight(options.ranges, options.seed, d);
-      // The draw's actions flown together (FlyBatteryFlights: one vehicle while the packs cap the rotors alike).
-      flights.clear();
-      for (PackAction action : kActions) {
-        if (per_draw * d + static_cast<std::int64_t>(action) >= options.runs) break;
-        flights.push_back(
-            {action, [action](double, const decision::BatteryObservation&, StateIndex) { return action; }});
-      }
-      if (options.drop_flights && per_draw * d + 3 < options.runs) {
-        RandomStream drop_random(DeriveSeed(DeriveSeed(options.seed, static_cast<std::uint64_t>(d)), kDropStream));
-        const PackAction alone = drop_random.Bernoulli(0.5) ? PackAction::kUseBatt2 : PackAction::kUseBatt1;
-        const double drop_s = drop_random.Uniform(0.0, params.plan_duration_s);
-        flights.push_back({PackAction::kUseBoth, [alone, drop_s](double time_s, const decision::BatteryObservation&,
-                                                                 StateIndex) {
-                             return time_s >= drop_s ? alone : PackAction::kUseBoth;
-                           }});
-      }
-      const std::vector<BatteryFlightResult> results = FlyBatteryFlights(params, flights, {}, &local_sharing);
-      for (std::size_t k = 0; k < results.size(); ++k) {
-        const bool completed = results[k].outcome == sim::Outcome::kCompleted;
-        if (k == 3) {
-          std::vector<PackAction> actions;
-          for (const BatteryEpoch& e : results[k].epochs) actions.push_back(e.action);
-          local.AddSwitchingFlight(params.context(), results[k].states, actions, completed);
-        } else {
-          local.AddFlight(params.context(), flights[k].initial_switches, results[k].states, completed);
-        }
-        if (results[k].outcome == sim::Outcome::kFailedBattery) ++local_failures;
-        const std::int64_t count = ++done;
-        if (options.on_flight_done) options.on_flight_done(count);
-      }
-    }
-    const std::lock_guard<std::mutex> lock(merge_mutex);
-    model.counts.Merge(local);  // sums: the result does not depend on the number of threads
-    failures += local_failures;
-    sharing.shared_steps += local_sharing.shared_steps;
-    sharing.alone_steps += local_sharing.alone_steps;
-  };
-  std::vector<std::thread> threads;
-  for (int j = 1; j < options.jobs; ++j) threads.emplace_back(worker);
-  worker();
-  for (auto& thread : threads) thread.join();
-
-  const BatteryFlightRanges& r = options.ranges;
-  nlohmann::json turbulence = nlohmann::json::array();
-  for (auto category : r.turbulence) turbulence.push_back(models::TurbulenceCategoryName(category));
-  model.provenance = {
-      {"flights", options.runs},
-      {"seed", options.seed},
-      {"method",
-       "Monte Carlo flights of the full simulator (dissertation 4.3.2, Table 4.4), action held throughout, "
-       "counted at 1 Hz (campaign/battery_flights.h)"},
-      {"ranges",
-       {{"safety_margin_s", {r.safety_margin_s[0], r.safety_margin_s[1]}},
-        {"initial_cell_voltage_v", {r.initial_cell_voltage_v[0], r.initial_cell_voltage_v[1]}},
-        {"cruise_speed_mps", {r.cruise_speed_mps[0], r.cruise_speed_mps[1]}},
-        {"wind_speed_mps", {r.wind_speed_mps[0], r.wind_speed_mps[1]}},
-        {"wind_direction_rad", {r.wind_direction_rad[0], r.wind_direction_rad[1]}},
-        {"turbulence", turbulence},
-        {"plan_fraction_of_reference_eod", {r.plan_fraction[0], r.plan_fraction[1]}},
-        {"cold_probability", r.cold_probability}}},
-  };
-  if (options.drop_flights) {
-    model.provenance["drop_flights"] =
-        "every draw also flies UseBoth then one pack alone for good from a uniform time (ours, issue 24)";
-  }
-  if (summary) {
-    summary->flights = options.runs;
-    summary->parameter_draws = draws;
-    summary->failures = failures;
-    summary->sharing = sharing;
-    summary->wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-  return model;
-}
-
-EnergyTransitionCounts CountEnergyTransitions(const BatteryTransitionCounts& counts, const BatteryContext& context) {
-  EnergyTransitionCounts out;
-  for (StateIndex s = 0; s < decision::kBatteryFailureState; ++s) {
-    const decision::BatteryFeatures from = decision::BatteryStateFeatures(s);
-    for (PackAction action : kActions) {
-      for (const auto& [next, count] : counts.Row(context, s, action)) {
-        if (next == decision::kBatteryFailureState) continue;
-        const decision::BatteryFeatures to = decision::BatteryStateFeatures(next);
-        for (int j = 0; j < models::kBranchCount; ++j) {
-          const int a = static_cast<int>(from.pack[j].energy), b = static_cast<int>(to.pack[j].energy);
-          if (a == b) out.unchanged += count;
-          else if (a == 0 && b == 1) out.s1_to_s2 += count;
-          else if (a == 1 && b == 2) out.s2_to_s3 += count;
-          else if (a == 0 && b == 2) out.s1_to_s3 += count;
-          else out.recoveries += count;
-        }
-      }
-    }
-  }
-  return out;
-}
-
-BatteryTransitionCounts WithoutEnergyDynamics(const BatteryTransitionCounts& counts) {
-  BatteryTransitionCounts out;
-  for (int c = 0; c < decision::kBatteryNumContexts; ++c) {
-    const BatteryContext context = decision::BatteryContextFromIndex(c);
-    for (PackAction action : kActions) out.SetFlights(context, action, counts.flights(context, action));
-    for (StateIndex s = 0; s < decision::kBatteryFailureState; ++s) {
-      const decision::BatteryFeatures from = decision::BatteryStateFeatures(s);
-      for (PackAction action : kActions) {
-        for (const auto& [next, count] : counts.Row(context, s, action)) {
-          bool energy_changes = false;
-          if (next != decision::kBatteryFailureState) {
-            const decision::BatteryFeatures to = decision::BatteryStateFeatures(next);
-            for (int j = 0; j < models::kBranchCount; ++j) energy_changes |= to.pack[j].energy != from.pack[j].energy;
-          }
-          if (!energy_changes) out.Add(context, s, action, next, count);
-        }
-      }
-    }
-  }
-  return out;
 }
 
 }  // namespace uascma::campaign

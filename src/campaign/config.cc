@@ -1,10 +1,15 @@
+// The campaign configuration (config.h), every concern driven by the one field table (config_fields.h).
 #include "uascma/campaign/config.h"
 
+#include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <fmt/format.h>
 
+#include "uascma/campaign/config_fields.h"
 #include "uascma/common/error.h"
+#include "uascma/common/field_table.h"
 #include "uascma/common/files.h"
 #include "uascma/common/hash.h"
 #include "uascma/common/yaml_io.h"
@@ -13,330 +18,483 @@
 namespace uascma::campaign {
 namespace {
 
-std::string Join(const std::string& where, const std::string& key) {
-  return where.empty() ? key : where + "." + key;
+bool Fail(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
 }
 
-Range ReadRange(const YAML::Node& node, const std::string& key, Range fallback, const std::string& source,
-                const std::string& where) {
-  if (!node[key]) return fallback;
-  const std::vector<double> values = RequireNumberList(node, key, 2, source, where);
-  return {values[0], values[1]};
+// A label or path the canonical YAML can quote as it is.
+bool Plain(const std::string& text) { return text.find_first_of("\"\\\n\r") == std::string::npos; }
+
+// ---- the checks no bound states (ConfigField::check) ---------------------------------------------------------
+
+bool CheckName(const CampaignConfig& c, std::string* error) {
+  return Plain(c.name) || Fail(error, "name: expected a label without quotes, backslashes or line breaks");
 }
+
+bool CheckPolicies(const CampaignConfig& c, std::string* error) {
+  if (c.policies.empty()) return Fail(error, "policies: expected at least one policy");
+  for (const auto& policy : c.policies) {
+    if (policy.empty() || !Plain(policy)) return Fail(error, "policies: expected names or paths without quotes");
+  }
+  return true;
+}
+
+bool CheckBuildings(const CampaignConfig& c, std::string* error) {
+  for (const auto& file : c.map.buildings) {
+    if (file.empty() || !Plain(file)) return Fail(error, "map.buildings: expected file paths without quotes");
+  }
+  return true;
+}
+
+bool CheckSites(const CampaignConfig& c, std::string* error) {
+  return Plain(c.map.sites) || Fail(error, "map.sites: expected a file path without quotes");
+}
+
+bool CheckOrigin(const CampaignConfig& c, std::string* error) {
+  const auto& origin = c.map.origin_deg;
+  if (!origin || ((*origin)[0] >= -90.0 && (*origin)[0] <= 90.0 && (*origin)[1] >= -180.0 && (*origin)[1] <= 180.0)) {
+    return true;
+  }
+  return Fail(error, "map.origin: expected [latitude in [-90, 90], longitude in [-180, 180]] in degrees");
+}
+
+bool CheckMetresPerLevel(const CampaignConfig& c, std::string* error) {
+  if (c.map.metres_per_level > 0.0 && c.map.metres_per_level <= 20.0) return true;
+  return Fail(error, fmt::format("map.metres_per_level: expected a storey height in (0, 20] m, got {}",
+                                 c.map.metres_per_level));
+}
+
+bool CheckHealthWeights(const CampaignConfig& c, std::string* error) {
+  double sum = 0.0;
+  for (double w : c.battery.health_weights) sum += w;
+  if (c.battery.health_weights.size() == 3 && sum > 0.0) return true;
+  return Fail(error, "battery.health_weights: expected G, M, P with a positive sum");
+}
+
+// ---- the table -------------------------------------------------------------------------------------------------
+
+}  // namespace
+
+std::string_view ConfigField::section() const { return KeySection(key); }
+
+std::string_view ConfigField::leaf() const { return KeyLeaf(key); }
+
+namespace {
+
+// The rows of `map:` (config.h MapSampling).
+std::vector<CampaignFieldEntry> MapFields(MapSampling& m) {
+  using S = FieldScope;
+  namespace b = bounds;
+  return {
+      {{.key = "map.procedural_seed", .expected = "a seed; 0: open ground", .citation = "ours (procedural_city.h)",
+        .scope = S::kProceduralCity}, &m.procedural_seed},
+      {{.key = "map.blocks_north", .bounds = &b::kBlocks, .expected = "a whole number",
+        .citation = "ours: routes of ~3 km fit (config.h)"}, &m.blocks_north},
+      {{.key = "map.blocks_east", .bounds = &b::kBlocks, .expected = "a whole number",
+        .citation = "ours: routes of ~3 km fit (config.h)"}, &m.blocks_east},
+      {{.key = "map.buildings", .expected = "GeoJSON / .osm / .osm.pbf files, relative to the campaign file",
+        .citation = "§5.1; planning/map_import.h", .scope = S::kImportedMap, .check = CheckBuildings}, &m.buildings},
+      {{.key = "map.sites", .expected = "a landing-site CSV file", .citation = "§5.1", .scope = S::kImportedMap,
+        .written_when_unset = false, .check = CheckSites}, &m.sites},
+      {{.key = "map.origin", .expected = "[latitude in [-90, 90], longitude in [-180, 180]] in degrees",
+        .citation = "the data's centre", .scope = S::kImportedMap, .written_when_unset = false,
+        .check = CheckOrigin}, &m.origin_deg},
+      {{.key = "map.height_from_levels", .expected = "true | false", .citation = "planning/map_import.h",
+        .scope = S::kImportedMap}, &m.height_from_levels},
+      {{.key = "map.metres_per_level", .expected = "a storey height in (0, 20] m", .citation = "ours: 3 m",
+        .scope = S::kImportedMap, .check = CheckMetresPerLevel}, &m.metres_per_level},
+      {{.key = "map.skip_missing_height", .expected = "true | false", .citation = "planning/map_import.h",
+        .scope = S::kImportedMap}, &m.skip_missing_height},
+      {{.key = "map.height_from_type", .expected = "true | false", .citation = "planning/map_import.h",
+        .scope = S::kImportedMap, .only_when_set = true}, &m.height_from_type},
+      {{.key = "map.default_height_m", .bounds = &planning::kDefaultHeightBounds, .citation = "planning/map_import.h",
+        .scope = S::kImportedMap, .written_when_unset = false, .only_when_set = true}, &m.default_height_m},
+      {{.key = "map.sites_from_map", .expected = "true | false (unset: without a sites file)", .citation = "§5.1; ours",
+        .scope = S::kImportedMap, .written_when_unset = false, .only_when_set = true}, &m.sites_from_map},
+  };
+}
+
+}  // namespace
+
+std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
+  namespace b = bounds;
+  std::vector<CampaignFieldEntry> fields = {
+      {{.key = "name", .expected = "a label without quotes, backslashes or line breaks", .citation = "ours",
+        .hashed = false, .check = CheckName}, &c.name},
+      {{.key = "seed", .expected = "a seed, 0 to 2^64-1 (the command's --seed overrides it)", .citation = "ours"},
+       &c.seed},
+      {{.key = "runs", .bounds = &b::kRuns, .expected = "a whole number (--runs overrides it)",
+        .citation = "§5.5: 930 flights, two policies", .hashed = false}, &c.runs},
+      {{.key = "policies", .expected = "at least one of cma, noop or a policy file", .citation = "§5.5",
+        .hashed = false, .check = CheckPolicies}, &c.policies},
+  };
+  const std::vector<CampaignFieldEntry> map = MapFields(c.map);
+  fields.insert(fields.end(), map.begin(), map.end());
+  const std::vector<CampaignFieldEntry> sampling = {
+      {{.key = "mission.endurance_fraction", .bounds = &b::kEnduranceFraction, .citation = "decisions 19; ours",
+        .hash_tag = "mission/2"}, &c.mission.endurance_fraction},
+      {{.key = "mission.distance_m", .bounds = &b::kDistance, .expected = "a range, or null (endurance-tied plans)",
+        .citation = "ours"}, &c.mission.distance_m},
+      {{.key = "mission.wall_clearance_m", .bounds = &b::kWallClearance, .citation = "decisions 20; ours"},
+       &c.mission.wall_clearance_m},
+      {{.key = "mission.cruise_speed_mps", .bounds = &b::kCruiseSpeed, .citation = "Table 4.4"},
+       &c.mission.cruise_speed_mps},
+      {{.key = "mission.cruise_altitude_m", .bounds = &b::kCruiseAltitude, .citation = "defaults.md"},
+       &c.mission.cruise_altitude_m},
+      {{.key = "mission.drop_hover_s", .bounds = &b::kDropHover, .citation = "defaults.md"}, &c.mission.drop_hover_s},
+      {{.key = "safety_margin_s", .bounds = &b::kSafetyMargin, .citation = "Table 4.4 (t_sf)"}, &c.safety_margin_s},
+      {{.key = "battery.initial_cell_voltage_v", .bounds = &b::kInitialCellVoltage, .citation = "Table 4.4"},
+       &c.battery.initial_cell_voltage_v},
+      {{.key = "battery.health_weights", .bounds = &b::kHealthWeight, .expected = "G, M, P with a positive sum",
+        .citation = "decisions 20", .hash_tag = "battery/2", .check = CheckHealthWeights}, &c.battery.health_weights},
+      {{.key = "battery.degraded_cells", .bounds = &b::kDegradedCells, .expected = "whole numbers",
+        .citation = "Table 4.2; ours"}, &c.battery.degraded_cells},
+      {{.key = "battery.medium_fades", .expected = "one_kind | per_cell", .citation = "Table 4.2; ours"},
+       &c.battery.medium_fades},
+      {{.key = "battery.cold_probability", .bounds = &b::kProbability, .citation = "Table 4.2; ours"},
+       &c.battery.cold_probability},
+      {{.key = "battery.cold_temp_degf", .bounds = &b::kColdTemperature, .citation = "Table 3.2"},
+       &c.battery.cold_temp_degf},
+      {{.key = "battery.warm_temp_degf", .bounds = &b::kWarmTemperature, .citation = "Table 3.2; models/battery_cell.h"},
+       &c.battery.warm_temp_degf},
+      {{.key = "wind.speed_mps", .bounds = &b::kWindSpeed, .citation = "Table 4.4"}, &c.wind.speed_mps},
+      {{.key = "wind.direction_rad", .bounds = &b::kWindDirection, .citation = "Table 4.4"}, &c.wind.direction_rad},
+      {{.key = "wind.turbulence", .expected = "at least one category",
+        .citation = "Table 4.4 (low-light, low-moderate, medium-light, medium-moderate, none)"}, &c.wind.turbulence},
+      {{.key = "fault.probability", .bounds = &b::kProbability, .citation = "§5.4"}, &c.fault.probability},
+      {{.key = "fault.onset_fraction", .bounds = &b::kProbability, .citation = "§5.4"}, &c.fault.onset_fraction},
+      {{.key = "fault.motors", .bounds = &b::kMotor, .expected = "at least one motor", .citation = "§5.4"},
+       &c.fault.motors},
+      {{.key = "fault.time_per_growth_step_s", .bounds = &b::kTimePerGrowthStep,
+        .expected = "seconds, or null (Table 5.4's calibration)", .citation = "decisions 15"},
+       &c.fault.time_per_growth_step_s},
+      {{.key = "options.eod_load", .expected = "forecast | present", .citation = "decisions 25 (present: 14)",
+        .hash_tag = "options/1"}, &c.options.eod_load},
+      {{.key = "options.cap_speed_after_isolation", .expected = "true | false", .citation = "§4.4.2"},
+       &c.options.cap_speed_after_isolation},
+  };
+  fields.insert(fields.end(), sampling.begin(), sampling.end());
+  return fields;
+}
+
+namespace {
+
+std::vector<CampaignFieldEntry> Fields(const CampaignConfig& c) {
+  return CampaignFields(const_cast<CampaignConfig&>(c));  // read only: every caller below takes const
+}
+
+bool InScope(const ConfigField& f, const CampaignConfig& c) {
+  return f.scope != FieldScope::kImportedMap || c.map.imported();
+}
+
+// ---- the canonical YAML's text of a value ------------------------------------------------------------------------
+
+std::string Text(const std::string& s) { return "\"" + s + "\""; }
+std::string Text(std::uint64_t v) { return std::to_string(v); }
+std::string Text(std::int64_t v) { return fmt::format("{}", v); }
+std::string Text(int v) { return std::to_string(v); }
+std::string Text(bool v) { return v ? "true" : "false"; }
+std::string Text(double v) { return fmt::format("{}", v); }  // shortest round-trip form
+std::string Text(const Range& r) { return fmt::format("[{}, {}]", r.low, r.high); }
+std::string Text(const CountRange& r) { return fmt::format("[{}, {}]", r.low, r.high); }
+std::string Text(const std::array<double, 2>& a) { return fmt::format("[{}, {}]", a[0], a[1]); }
+std::string Text(MediumFades v) { return MediumFadesName(v); }
+std::string Text(sim::EodLoad v) { return sim::EodLoadName(v); }
+std::string Text(const std::vector<double>& w) {  // the health weights
+  return fmt::format("{{G: {}, M: {}, P: {}}}", w.at(0), w.at(1), w.at(2));
+}
+template <typename T>
+std::string Text(const std::vector<T>& list) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    out += i ? ", " : "";
+    if constexpr (std::is_same_v<T, models::TurbulenceCategory>) {
+      out += models::TurbulenceCategoryName(list[i]);
+    } else {
+      out += Text(list[i]);
+    }
+  }
+  return out + "]";
+}
+template <typename T>
+std::string Text(const std::optional<T>& v) {
+  return v ? Text(*v) : "null";
+}
+
+// Whether an optional holds a value (an empty path: none; a flag: true).
+template <typename T>
+bool IsSet(const T& v) {
+  if constexpr (std::is_same_v<T, std::string>) {
+    return !v.empty();
+  } else if constexpr (std::is_same_v<T, bool>) {
+    return v;
+  } else if constexpr (requires { v.has_value(); }) {
+    return v.has_value();
+  } else {
+    return true;
+  }
+}
+
+// ---- the fingerprint of a value ----------------------------------------------------------------------------------
+
+void HashValue(Fingerprint& f, const std::string& s) { f.Add(std::string_view(s)); }
+void HashValue(Fingerprint& f, std::uint64_t v) { f.Add(v); }
+void HashValue(Fingerprint& f, std::int64_t v) { f.Add(v); }
+void HashValue(Fingerprint& f, int v) { f.Add(v); }
+void HashValue(Fingerprint& f, bool v) { f.Add(v ? 1 : 0); }
+void HashValue(Fingerprint& f, double v) { f.Add(v); }
+void HashValue(Fingerprint& f, const Range& r) {
+  f.Add(r.low);
+  f.Add(r.high);
+}
+void HashValue(Fingerprint& f, const CountRange& r) {
+  f.Add(r.low);
+  f.Add(r.high);
+}
+void HashValue(Fingerprint& f, MediumFades v) { f.Add(std::string_view(MediumFadesName(v))); }
+void HashValue(Fingerprint& f, sim::EodLoad v) { f.Add(std::string_view(sim::EodLoadName(v))); }
+void HashValue(Fingerprint& f, const std::vector<std::string>& files) {  // map.buildings: each path, no count
+  for (const std::string& file : files) f.Add(std::string_view(file));
+}
+void HashValue(Fingerprint& f, const std::vector<double>& weights) {
+  for (double w : weights) f.Add(w);
+}
+void HashValue(Fingerprint& f, const std::vector<int>& motors) {
+  f.Add(static_cast<std::uint64_t>(motors.size()));
+  for (int motor : motors) f.Add(motor);
+}
+void HashValue(Fingerprint& f, const std::vector<models::TurbulenceCategory>& categories) {
+  f.Add(static_cast<std::uint64_t>(categories.size()));
+  for (auto category : categories) f.Add(static_cast<int>(category));
+}
+void HashValue(Fingerprint& f, const std::optional<std::array<double, 2>>& origin) {
+  f.Add(origin ? (*origin)[0] : 1000.0);  // 1000: no origin (outside the latitudes)
+  f.Add(origin ? (*origin)[1] : 1000.0);
+}
+void HashValue(Fingerprint& f, const std::optional<Range>& r) {
+  f.Add(r ? 1 : 0);
+  if (r) HashValue(f, *r);
+}
+void HashValue(Fingerprint& f, const std::optional<double>& v) { f.Add(v ? *v : -1.0); }  // -1: unset
+void HashValue(Fingerprint&, const std::optional<bool>&) {}  // only ever fingerprinted when set (below)
+
+// A ConfigField::only_when_set key: its leaf name and value when it changes the import. sites_from_map changes
+// it when it differs from its default (sites derived when there is no sites file).
+template <typename T>
+void HashWhenSet(Fingerprint& f, const ConfigField& field, const T& v, const CampaignConfig& c) {
+  if constexpr (std::is_same_v<T, std::optional<bool>>) {
+    if (c.map.DerivesSites() == c.map.sites.empty()) return;
+    f.Add(field.leaf());
+    f.Add(c.map.DerivesSites() ? 1 : 0);
+  } else if constexpr (std::is_same_v<T, bool>) {
+    if (v) f.Add(field.leaf());
+  } else if constexpr (requires(Fingerprint& g) { HashValue(g, *v); }) {
+    if (!IsSet(v)) return;
+    f.Add(field.leaf());
+    HashValue(f, *v);
+  }
+}
+
+// ---- the bound of a value ------------------------------------------------------------------------------------------
+
+bool CheckRange(const Range& r, const ConfigField& f, std::string* error) {
+  if (f.bounds->Contains(r.low) && f.bounds->Contains(r.high) && r.low <= r.high) return true;
+  return Fail(error, fmt::format("{}: expected [low, high] with low <= high, both from {}, got [{}, {}]", f.key,
+                                 f.bounds->Text(), r.low, r.high));
+}
+
+// The bound (and the count of a list) of one member; true when there is nothing to check.
+template <typename T>
+bool CheckValue(const ConfigField& f, const T& v, std::string* error) {
+  if constexpr (std::is_same_v<T, Range>) {
+    return CheckRange(v, f, error);
+  } else if constexpr (std::is_same_v<T, std::optional<Range>>) {
+    return !v || CheckRange(*v, f, error);
+  } else if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool> && !std::is_same_v<T, std::uint64_t>) {
+    return f.bounds == nullptr || CheckWithin(static_cast<double>(v), *f.bounds, f.key, error);
+  } else if constexpr (std::is_same_v<T, std::optional<double>>) {
+    return !v || CheckWithin(*v, *f.bounds, f.key, error);
+  } else if constexpr (std::is_same_v<T, CountRange>) {
+    if (!(CheckWithin(v.low, *f.bounds, f.key, error) && CheckWithin(v.high, *f.bounds, f.key, error))) return false;
+    return v.low <= v.high ||
+           Fail(error, fmt::format("{}: expected [low, high] with low <= high, got [{}, {}]", f.key, v.low, v.high));
+  } else if constexpr (std::is_same_v<T, std::vector<double>> || std::is_same_v<T, std::vector<int>>) {
+    if constexpr (std::is_same_v<T, std::vector<int>>) {
+      if (v.empty()) return Fail(error, fmt::format("{}: expected {}", f.key, f.expected));
+    }
+    for (auto x : v) {
+      if (!CheckWithin(x, *f.bounds, f.key, error)) return false;
+    }
+    return true;
+  } else if constexpr (std::is_same_v<T, std::vector<models::TurbulenceCategory>>) {
+    return !v.empty() || Fail(error, fmt::format("{}: expected {}", f.key, f.expected));
+  } else {
+    return true;  // strings, seeds, flags, names: ConfigField::check, the parser
+  }
+}
+
+
+// ---- the parser of a value ------------------------------------------------------------------------------------------
 
 // An integer within `bounds`, checked before the conversion (a cast of 1e300 to an integer is undefined).
-std::int64_t ReadInteger(const YAML::Node& node, const std::string& key, std::int64_t fallback, const Bounds& bounds,
-                         const std::string& source, const std::string& where) {
-  if (!node[key]) return fallback;
-  const double value = RequireNumber(node, key, source, where);
-  RequireWithin(value, bounds, source, Join(where, key));
-  if (value != std::floor(value)) {
-    throw InputError(source, Join(where, key), fmt::format("an integer, got {}", value));
-  }
+std::int64_t ReadInteger(const YAML::Node& node, const ConfigField& f, const std::string& source) {
+  const double value = RequireNumber(node, std::string(f.leaf()), source, std::string(f.section()));
+  RequireWithin(value, *f.bounds, source, std::string(f.key));
+  if (value != std::floor(value)) throw InputError(source, std::string(f.key), fmt::format("an integer, got {}", value));
   return static_cast<std::int64_t>(value);
 }
 
-// Seeds are unsigned 64-bit integers everywhere (common/bounds.h): "-1" is refused, not wrapped.
-std::uint64_t ReadSeed(const YAML::Node& node, const std::string& key, const std::string& source,
-                       const std::string& where) {
-  const YAML::Node value = node[key];
-  if (!value.IsScalar()) throw InputError(source, Join(where, key), "a seed from 0 to 2^64-1");
-  return ParseSeed(value.Scalar(), source, Join(where, key));
-}
-
-std::vector<std::string> ReadStringList(const YAML::Node& node, const std::string& key,
-                                        const std::string& source, const std::string& where) {
-  const YAML::Node value = node[key];
-  if (!value.IsSequence()) throw InputError(source, Join(where, key), "a list of names");
+std::vector<std::string> ReadStringList(const YAML::Node& value, const std::string& field, const std::string& source) {
+  if (!value.IsSequence()) throw InputError(source, field, "a list of names");
   std::vector<std::string> names;
   for (std::size_t i = 0; i < value.size(); ++i) {
-    if (!value[i].IsScalar()) {
-      throw InputError(source, fmt::format("{}[{}]", Join(where, key), i), "a name");
-    }
+    if (!value[i].IsScalar()) throw InputError(source, fmt::format("{}[{}]", field, i), "a name");
     names.push_back(value[i].Scalar());
   }
   return names;
 }
 
-YAML::Node OptionalMap(const YAML::Node& node, const std::string& key, const std::string& source,
-                       const std::string& where) {
-  if (!node[key]) return YAML::Node(YAML::NodeType::Map);
-  return RequireMap(node, key, source, where);
-}
+// Reads the key of `f` from its section `node` (present) into `v`. InputError names the file and the key path.
+struct ValueReader {
+  const YAML::Node& node;
+  const ConfigField& f;
+  const std::string& source;
+  std::string leaf = std::string(f.leaf());
+  std::string where = std::string(f.section());
+  std::string field = std::string(f.key);
+  YAML::Node value() const { return node[leaf]; }
 
-void ReadMission(const YAML::Node& root, const std::string& source, MissionSampling& m) {
-  const YAML::Node node = OptionalMap(root, "mission", source, "");
-  RequireOnlyKeys(node, {"endurance_fraction", "distance_m", "cruise_speed_mps", "cruise_altitude_m",
-                         "wall_clearance_m", "drop_hover_s"},
-                  source, "mission");
-  m.endurance_fraction = ReadRange(node, "endurance_fraction", m.endurance_fraction, source, "mission");
-  if (node["distance_m"]) {
-    if (node["distance_m"].IsNull()) {
-      m.distance_m.reset();
-    } else {
-      m.distance_m = ReadRange(node, "distance_m", Range{}, source, "mission");
-    }
+  void operator()(std::string& v) const { v = RequireString(node, leaf, source, where); }
+  void operator()(std::uint64_t& v) const {  // seeds: unsigned 64-bit everywhere (common/bounds.h), "-1" refused
+    if (!value().IsScalar()) throw InputError(source, field, "a seed from 0 to 2^64-1");
+    v = ParseSeed(value().Scalar(), source, field);
   }
-  m.wall_clearance_m = OptionalNumber(node, "wall_clearance_m", m.wall_clearance_m, source, "mission");
-  m.cruise_speed_mps = ReadRange(node, "cruise_speed_mps", m.cruise_speed_mps, source, "mission");
-  m.cruise_altitude_m = OptionalNumber(node, "cruise_altitude_m", m.cruise_altitude_m, source, "mission");
-  m.drop_hover_s = OptionalNumber(node, "drop_hover_s", m.drop_hover_s, source, "mission");
-}
-
-void ReadBattery(const YAML::Node& root, const std::string& source, BatterySampling& b) {
-  const YAML::Node node = OptionalMap(root, "battery", source, "");
-  RequireOnlyKeys(node, {"initial_cell_voltage_v", "health_weights", "degraded_cells", "medium_fades",
-                         "cold_probability", "cold_temp_degf", "warm_temp_degf"},
-                  source, "battery");
-  b.initial_cell_voltage_v = ReadRange(node, "initial_cell_voltage_v", b.initial_cell_voltage_v, source, "battery");
-  if (node["health_weights"]) {
-    const YAML::Node weights = RequireMap(node, "health_weights", source, "battery");
-    RequireOnlyKeys(weights, {"G", "M", "P"}, source, "battery.health_weights");
-    const char* names[] = {"G", "M", "P"};
-    for (int i = 0; i < 3; ++i) {
-      b.health_weights[i] = OptionalNumber(weights, names[i], b.health_weights[i], source, "battery.health_weights");
-    }
+  void operator()(std::int64_t& v) const { v = ReadInteger(node, f, source); }
+  void operator()(int& v) const { v = static_cast<int>(ReadInteger(node, f, source)); }
+  void operator()(bool& v) const { v = OptionalBool(node, leaf, v, source, where); }
+  void operator()(std::optional<bool>& v) const { v = OptionalBool(node, leaf, false, source, where); }
+  void operator()(double& v) const { v = OptionalNumber(node, leaf, v, source, where); }
+  void operator()(std::optional<double>& v) const {  // null: unset, for the keys the canonical YAML writes as null
+    const bool unset = value().IsNull() && f.written_when_unset;
+    v = unset ? std::nullopt : std::optional<double>(RequireNumber(node, leaf, source, where));
   }
-  if (node["degraded_cells"]) {
-    const std::vector<double> counts = RequireNumberList(node, "degraded_cells", 2, source, "battery");
+  void operator()(Range& v) const {
+    const std::vector<double> values = RequireNumberList(node, leaf, 2, source, where);
+    v = {values[0], values[1]};
+  }
+  void operator()(std::optional<Range>& v) const {
+    if (value().IsNull()) return v.reset();
+    (*this)(v.emplace());
+  }
+  void operator()(std::optional<std::array<double, 2>>& v) const {
+    const std::vector<double> values = RequireNumberList(node, leaf, 2, source, where);
+    v = std::array<double, 2>{values[0], values[1]};
+  }
+  void operator()(CountRange& v) const {
+    const std::vector<double> counts = RequireNumberList(node, leaf, 2, source, where);
     for (double count : counts) {
-      RequireWithin(count, bounds::kDegradedCells, source, "battery.degraded_cells");
+      RequireWithin(count, *f.bounds, source, field);
       if (count != std::floor(count)) {
-        throw InputError(source, "battery.degraded_cells", fmt::format("whole numbers of cells, got {}", count));
+        throw InputError(source, field, fmt::format("whole numbers of {}, got {}", f.bounds->unit, count));
       }
     }
-    b.degraded_cells = {static_cast<int>(counts[0]), static_cast<int>(counts[1])};
+    v = {static_cast<int>(counts[0]), static_cast<int>(counts[1])};
   }
-  if (node["medium_fades"]) {
-    const std::string fades = RequireString(node, "medium_fades", source, "battery");
-    if (fades == MediumFadesName(MediumFades::kOneKind)) {
-      b.medium_fades = MediumFades::kOneKind;
-    } else if (fades == MediumFadesName(MediumFades::kPerCell)) {
-      b.medium_fades = MediumFades::kPerCell;
-    } else {
-      throw InputError(source, "battery.medium_fades", fmt::format("one_kind | per_cell, got '{}'", fades));
+  void operator()(std::vector<std::string>& v) const { v = ReadStringList(value(), field, source); }
+  void operator()(std::vector<double>& weights) const {  // the health weights {G: …, M: …, P: …}
+    const YAML::Node map = RequireMap(node, leaf, source, where);
+    RequireOnlyKeys(map, {"G", "M", "P"}, source, field);
+    const char* names[] = {"G", "M", "P"};
+    for (int i = 0; i < 3; ++i) weights.at(i) = OptionalNumber(map, names[i], weights.at(i), source, field);
+  }
+  void operator()(std::vector<int>& motors) const {
+    const YAML::Node list = value();
+    if (!list.IsSequence()) throw InputError(source, field, "a list of motors 1..6");
+    motors.clear();
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string item = fmt::format("{}[{}]", field, i);
+      if (!list[i].IsScalar()) throw InputError(source, item, "a motor number 1..6");
+      try {
+        motors.push_back(list[i].as<int>());
+      } catch (const YAML::Exception&) {
+        throw InputError(source, item, "a motor number 1..6, got '" + list[i].Scalar() + "'");
+      }
+      RequireWithin(motors.back(), *f.bounds, source, item);
     }
   }
-  b.cold_probability = OptionalNumber(node, "cold_probability", b.cold_probability, source, "battery");
-  b.cold_temp_degf = OptionalNumber(node, "cold_temp_degf", b.cold_temp_degf, source, "battery");
-  b.warm_temp_degf = OptionalNumber(node, "warm_temp_degf", b.warm_temp_degf, source, "battery");
-}
-
-void ReadWind(const YAML::Node& root, const std::string& source, WindSampling& w) {
-  const YAML::Node node = OptionalMap(root, "wind", source, "");
-  RequireOnlyKeys(node, {"speed_mps", "direction_rad", "turbulence"}, source, "wind");
-  w.speed_mps = ReadRange(node, "speed_mps", w.speed_mps, source, "wind");
-  w.direction_rad = ReadRange(node, "direction_rad", w.direction_rad, source, "wind");
-  if (node["turbulence"]) {
-    w.turbulence.clear();
-    const std::vector<std::string> names = ReadStringList(node, "turbulence", source, "wind");
+  void operator()(std::vector<models::TurbulenceCategory>& categories) const {
+    const std::vector<std::string> names = ReadStringList(value(), field, source);
+    categories.clear();
     for (std::size_t i = 0; i < names.size(); ++i) {
       try {
-        w.turbulence.push_back(models::ParseTurbulenceCategory(names[i], source));
+        categories.push_back(models::ParseTurbulenceCategory(names[i], source));
       } catch (const InputError&) {
-        throw InputError(source, fmt::format("wind.turbulence[{}]", i),
-                         "one of low-light, low-moderate, medium-light, medium-moderate, none; got '" +
-                             names[i] + "'");
+        throw InputError(source, fmt::format("{}[{}]", field, i),
+                         "one of low-light, low-moderate, medium-light, medium-moderate, none; got '" + names[i] + "'");
       }
     }
   }
-}
-
-void ReadFault(const YAML::Node& root, const std::string& source, FaultSampling& f) {
-  const YAML::Node node = OptionalMap(root, "fault", source, "");
-  RequireOnlyKeys(node, {"probability", "onset_fraction", "motors", "time_per_growth_step_s"}, source, "fault");
-  f.probability = OptionalNumber(node, "probability", f.probability, source, "fault");
-  f.onset_fraction = ReadRange(node, "onset_fraction", f.onset_fraction, source, "fault");
-  if (node["motors"]) {
-    const YAML::Node motors = node["motors"];
-    if (!motors.IsSequence()) throw InputError(source, "fault.motors", "a list of motors 1..6");
-    f.motors.clear();
-    for (std::size_t i = 0; i < motors.size(); ++i) {
-      const std::string field = fmt::format("fault.motors[{}]", i);
-      if (!motors[i].IsScalar()) throw InputError(source, field, "a motor number 1..6");
-      int motor = 0;
-      try {
-        motor = motors[i].as<int>();
-      } catch (const YAML::Exception&) {
-        throw InputError(source, field, "a motor number 1..6, got '" + motors[i].Scalar() + "'");
-      }
-      RequireWithin(motor, bounds::kMotor, source, field);
-      f.motors.push_back(motor);
+  void operator()(MediumFades& v) const {
+    const std::string name = RequireString(node, leaf, source, where);
+    for (MediumFades fades : {MediumFades::kOneKind, MediumFades::kPerCell}) {
+      if (name == MediumFadesName(fades)) return void(v = fades);
     }
+    throw InputError(source, field, fmt::format("one_kind | per_cell, got '{}'", name));
   }
-  if (node["time_per_growth_step_s"]) {
-    if (node["time_per_growth_step_s"].IsNull()) {
-      f.time_per_growth_step_s.reset();
-    } else {
-      f.time_per_growth_step_s = RequireNumber(node, "time_per_growth_step_s", source, "fault");
+  void operator()(sim::EodLoad& v) const { v = sim::ParseEodLoad(RequireString(node, leaf, source, where), source, field); }
+};
+
+// Unknown keys are errors, at the top level and in each section (a typo would otherwise be silently ignored).
+void CheckKeys(const YAML::Node& root, const std::vector<CampaignFieldEntry>& fields, const std::string& source) {
+  std::vector<std::string> top;
+  for (const CampaignFieldEntry& entry : fields) {
+    const std::string name(entry.field.section().empty() ? entry.field.leaf() : entry.field.section());
+    if (std::find(top.begin(), top.end(), name) == top.end()) top.push_back(name);
+  }
+  RequireOnlyKeys(root, top, source, "");
+  for (const std::string& section : top) {
+    const YAML::Node node = root[section];
+    std::vector<std::string> keys;
+    for (const CampaignFieldEntry& entry : fields) {
+      if (entry.field.section() == section) keys.emplace_back(entry.field.leaf());
     }
+    if (node && !keys.empty()) RequireOnlyKeys(node, keys, source, section);
   }
 }
 
-std::string Number(double value) { return fmt::format("{}", value); }
-std::string RangeYaml(const Range& r) { return fmt::format("[{}, {}]", r.low, r.high); }
-
-}  // namespace
-
-const char* MediumFadesName(MediumFades fades) {
-  return fades == MediumFades::kPerCell ? "per_cell" : "one_kind";
-}
-
-bool CampaignConfig::IsValid(std::string* error) const {
-  auto fail = [error](std::string message) {
-    if (error) *error = std::move(message);
-    return false;
-  };
-  auto check_range = [&](const Range& r, const char* field, const Bounds& b) {
-    if (!(b.Contains(r.low) && b.Contains(r.high) && r.low <= r.high)) {
-      if (error) *error = fmt::format("{}: expected [low, high] with low <= high, both from {}, got [{}, {}]", field,
-                                      b.Text(), r.low, r.high);
-      return false;
-    }
-    return true;
-  };
-  auto plain = [](const std::string& text) {
-    return text.find_first_of("\"\\\n\r") == std::string::npos;
-  };
-  if (!plain(name)) return fail("name: expected a label without quotes, backslashes or line breaks");
-  if (!CheckWithin(static_cast<double>(runs), bounds::kRuns, "runs", error)) return false;
-  if (!CheckWithin(map.blocks_north, bounds::kBlocks, "map.blocks_north", error)) return false;
-  if (!CheckWithin(map.blocks_east, bounds::kBlocks, "map.blocks_east", error)) return false;
-  if (map.imported()) {
-    for (const auto& file : map.buildings) {
-      if (file.empty() || !plain(file)) return fail("map.buildings: expected file paths without quotes");
-    }
-    if (!plain(map.sites)) return fail("map.sites: expected a file path without quotes");
-    if (map.origin_deg && !((*map.origin_deg)[0] >= -90.0 && (*map.origin_deg)[0] <= 90.0 &&
-                            (*map.origin_deg)[1] >= -180.0 && (*map.origin_deg)[1] <= 180.0)) {
-      return fail("map.origin: expected [latitude in [-90, 90], longitude in [-180, 180]] in degrees");
-    }
-    if (!(map.metres_per_level > 0.0 && map.metres_per_level <= 20.0)) {
-      return fail(fmt::format("map.metres_per_level: expected a storey height in (0, 20] m, got {}", map.metres_per_level));
-    }
-    if (map.default_height_m &&
-        !CheckWithin(*map.default_height_m, planning::kDefaultHeightBounds, "map.default_height_m", error)) {
-      return false;
-    }
-  }
-  if (policies.empty()) return fail("policies: expected at least one policy");
-  for (const auto& policy : policies) {
-    if (policy.empty() || !plain(policy)) return fail("policies: expected names or paths without quotes");
-  }
-  if (!check_range(mission.endurance_fraction, "mission.endurance_fraction", bounds::kEnduranceFraction)) return false;
-  if (mission.distance_m && !check_range(*mission.distance_m, "mission.distance_m", bounds::kDistance)) return false;
-  if (!CheckWithin(mission.wall_clearance_m, bounds::kWallClearance, "mission.wall_clearance_m", error)) return false;
-  if (!check_range(mission.cruise_speed_mps, "mission.cruise_speed_mps", bounds::kCruiseSpeed)) return false;
-  if (!CheckWithin(mission.cruise_altitude_m, bounds::kCruiseAltitude, "mission.cruise_altitude_m", error)) return false;
-  if (!CheckWithin(mission.drop_hover_s, bounds::kDropHover, "mission.drop_hover_s", error)) return false;
-  if (!check_range(safety_margin_s, "safety_margin_s", bounds::kSafetyMargin)) return false;
-  if (!check_range(battery.initial_cell_voltage_v, "battery.initial_cell_voltage_v", bounds::kInitialCellVoltage)) {
-    return false;
-  }
-  double weight_sum = 0.0;
-  for (double w : battery.health_weights) {
-    if (!CheckWithin(w, bounds::kHealthWeight, "battery.health_weights", error)) return false;
-    weight_sum += w;
-  }
-  if (battery.health_weights.size() != 3 || !(weight_sum > 0.0)) {
-    return fail("battery.health_weights: expected G, M, P with a positive sum");
-  }
-  if (!(CheckWithin(battery.degraded_cells.low, bounds::kDegradedCells, "battery.degraded_cells", error) &&
-        CheckWithin(battery.degraded_cells.high, bounds::kDegradedCells, "battery.degraded_cells", error))) {
-    return false;
-  }
-  if (battery.degraded_cells.low > battery.degraded_cells.high) {
-    return fail(fmt::format("battery.degraded_cells: expected [low, high] with low <= high, got [{}, {}]",
-                            battery.degraded_cells.low, battery.degraded_cells.high));
-  }
-  if (!CheckWithin(battery.cold_probability, bounds::kProbability, "battery.cold_probability", error)) return false;
-  if (!CheckWithin(battery.cold_temp_degf, bounds::kColdTemperature, "battery.cold_temp_degf", error)) return false;
-  if (!CheckWithin(battery.warm_temp_degf, bounds::kWarmTemperature, "battery.warm_temp_degf", error)) return false;
-  if (!check_range(wind.speed_mps, "wind.speed_mps", bounds::kWindSpeed)) return false;
-  if (!check_range(wind.direction_rad, "wind.direction_rad", bounds::kWindDirection)) return false;
-  if (wind.turbulence.empty()) return fail("wind.turbulence: expected at least one category");
-  if (!CheckWithin(fault.probability, bounds::kProbability, "fault.probability", error)) return false;
-  if (!check_range(fault.onset_fraction, "fault.onset_fraction", bounds::kProbability)) return false;
-  if (fault.motors.empty()) return fail("fault.motors: expected at least one motor");
-  for (int motor : fault.motors) {
-    if (!CheckWithin(motor, bounds::kMotor, "fault.motors", error)) return false;
-  }
-  if (fault.time_per_growth_step_s &&
-      !CheckWithin(*fault.time_per_growth_step_s, bounds::kTimePerGrowthStep, "fault.time_per_growth_step_s", error)) {
-    return false;
-  }
-  return true;
-}
-
-// The imported-map keys of `map:` (config.h, MapSampling). Paths stay as written; LoadCampaignConfig resolves them.
-void ReadImportedMap(const YAML::Node& map, const std::string& source, MapSampling& m) {
+// The map's keys belong to one kind of map (config.h MapSampling): the procedural city's seed or building files,
+// and the import's own keys only with building files.
+void CheckMapKeys(const YAML::Node& map, const MapSampling& m, const std::string& source) {
   if (map["buildings"]) {
-    m.buildings = ReadStringList(map, "buildings", source, "map");
     if (m.buildings.empty()) throw InputError(source, "map.buildings", "a list of building files (GeoJSON or OSM)");
     if (map["procedural_seed"]) {
       throw InputError(source, "map", "either procedural_seed (the built-in city) or buildings (an imported one)");
     }
   }
-  if (map["sites"]) m.sites = RequireString(map, "sites", source, "map");
-  if (map["origin"]) {
-    const std::vector<double> origin = RequireNumberList(map, "origin", 2, source, "map");
-    m.origin_deg = std::array<double, 2>{origin[0], origin[1]};
-  }
-  m.height_from_levels = OptionalBool(map, "height_from_levels", m.height_from_levels, source, "map");
-  m.metres_per_level = OptionalNumber(map, "metres_per_level", m.metres_per_level, source, "map");
-  m.skip_missing_height = OptionalBool(map, "skip_missing_height", m.skip_missing_height, source, "map");
-  m.height_from_type = OptionalBool(map, "height_from_type", m.height_from_type, source, "map");
-  if (map["default_height_m"]) {
-    m.default_height_m = OptionalNumber(map, "default_height_m", 0.0, source, "map");
-    RequireWithin(*m.default_height_m, planning::kDefaultHeightBounds, source, "map.default_height_m");
-  }
-  if (map["sites_from_map"]) m.sites_from_map = OptionalBool(map, "sites_from_map", false, source, "map");
-  if (!m.imported() && (!m.sites.empty() || m.origin_deg || m.height_from_type || m.default_height_m ||
-                        m.sites_from_map)) {
+  if (!m.imported() && (!m.sites.empty() || m.origin_deg || m.height_from_type || m.default_height_m || m.sites_from_map)) {
     throw InputError(source, "map.buildings",
                      "building files: sites, origin, height_from_type, default_height_m and sites_from_map belong to "
                      "an imported map");
   }
 }
 
+}  // namespace
+
 CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::string& source) {
   const YAML::Node root = ParseYamlText(yaml_text, source);  // duplicate keys and non-UTF-8 text refused
   CampaignConfig config;
   if (root.IsNull()) return config;  // an empty file: every default
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
-  RequireOnlyKeys(root, {"name", "seed", "runs", "policies", "map", "mission", "safety_margin_s", "battery", "wind",
-                         "fault", "options"},
-                  source, "");
-  if (const YAML::Node map = root["map"]) {
-    RequireOnlyKeys(map, {"procedural_seed", "blocks_north", "blocks_east", "buildings", "sites", "origin",
-                          "height_from_levels", "metres_per_level", "skip_missing_height", "height_from_type",
-                          "default_height_m", "sites_from_map"},
-                    source, "map");
-    ReadImportedMap(map, source, config.map);
-    config.map.blocks_north =
-        static_cast<int>(ReadInteger(map, "blocks_north", config.map.blocks_north, bounds::kBlocks, source, "map"));
-    config.map.blocks_east =
-        static_cast<int>(ReadInteger(map, "blocks_east", config.map.blocks_east, bounds::kBlocks, source, "map"));
-    if (map["procedural_seed"]) config.map.procedural_seed = ReadSeed(map, "procedural_seed", source, "map");
+  const std::vector<CampaignFieldEntry> fields = CampaignFields(config);
+  CheckKeys(root, fields, source);
+  for (const CampaignFieldEntry& entry : fields) {
+    const std::string section(entry.field.section());
+    const YAML::Node node = section.empty() ? root : root[section];
+    if (!node || !node[std::string(entry.field.leaf())]) continue;
+    std::visit([&](auto* v) { ValueReader{node, entry.field, source}(*v); }, entry.value);
   }
-  if (root["name"]) config.name = RequireString(root, "name", source, "");
-  if (root["seed"]) config.seed = ReadSeed(root, "seed", source, "");
-  config.runs = ReadInteger(root, "runs", config.runs, bounds::kRuns, source, "");
-  if (root["policies"]) config.policies = ReadStringList(root, "policies", source, "");
-  ReadMission(root, source, config.mission);
-  config.safety_margin_s = ReadRange(root, "safety_margin_s", config.safety_margin_s, source, "");
-  ReadBattery(root, source, config.battery);
-  ReadWind(root, source, config.wind);
-  ReadFault(root, source, config.fault);
-  if (const YAML::Node options = root["options"]) {
-    RequireOnlyKeys(options, {"eod_load", "cap_speed_after_isolation"}, source, "options");
-    if (options["eod_load"]) {
-      config.options.eod_load =
-          sim::ParseEodLoad(RequireString(options, "eod_load", source, "options"), source, "options.eod_load");
-    }
-    config.options.cap_speed_after_isolation = OptionalBool(
-        options, "cap_speed_after_isolation", config.options.cap_speed_after_isolation, source, "options");
-  }
+  if (const YAML::Node map = root["map"]) CheckMapKeys(map, config.map, source);
   std::string error;
   if (!config.IsValid(&error)) {
     const auto colon = error.find(": ");
@@ -360,133 +518,58 @@ CampaignConfig LoadCampaignConfig(const std::filesystem::path& path) {
   return config;
 }
 
+const char* MediumFadesName(MediumFades fades) {
+  return fades == MediumFades::kPerCell ? "per_cell" : "one_kind";
+}
+
+std::string CampaignFieldText(const CampaignFieldRef& value) {
+  return std::visit([](const auto* v) { return Text(*v); }, value);
+}
+
+bool CampaignConfig::IsValid(std::string* error) const {
+  for (const CampaignFieldEntry& entry : Fields(*this)) {
+    const ConfigField& f = entry.field;
+    if (!InScope(f, *this)) continue;
+    if (!std::visit([&](const auto* v) { return CheckValue(f, *v, error); }, entry.value)) return false;
+    if (f.check != nullptr && !f.check(*this, error)) return false;
+  }
+  return true;
+}
+
 std::string CampaignConfigYaml(const CampaignConfig& c) {
   std::string out;
-  out += fmt::format("name: \"{}\"\n", c.name);
-  out += fmt::format("seed: {}\n", c.seed);
-  out += fmt::format("runs: {}\n", c.runs);
-  out += "policies: [";
-  for (std::size_t i = 0; i < c.policies.size(); ++i) out += (i ? ", \"" : "\"") + c.policies[i] + "\"";
-  out += "]\n";
-  out += "map:\n";
-  // An imported map has no procedural seed (the two exclude each other): it keeps the default, unwritten.
-  if (!c.map.imported()) out += "  procedural_seed: " + std::to_string(c.map.procedural_seed) + "\n";
-  out += "  blocks_north: " + std::to_string(c.map.blocks_north) + "\n";
-  out += "  blocks_east: " + std::to_string(c.map.blocks_east) + "\n";
-  if (c.map.imported()) {
-    out += "  buildings: [";
-    for (std::size_t i = 0; i < c.map.buildings.size(); ++i) out += (i ? ", \"" : "\"") + c.map.buildings[i] + "\"";
-    out += "]\n";
-    if (!c.map.sites.empty()) out += "  sites: \"" + c.map.sites + "\"\n";
-    if (c.map.origin_deg) {
-      out += "  origin: [" + Number((*c.map.origin_deg)[0]) + ", " + Number((*c.map.origin_deg)[1]) + "]\n";
+  std::string_view section;
+  for (const CampaignFieldEntry& entry : Fields(c)) {
+    const ConfigField& f = entry.field;
+    if (!InScope(f, c) || (f.scope == FieldScope::kProceduralCity && c.map.imported())) continue;
+    const bool set = std::visit([](const auto* v) { return IsSet(*v); }, entry.value);
+    if (!set && (!f.written_when_unset || f.only_when_set)) continue;
+    if (f.section() != section) {
+      section = f.section();
+      if (!section.empty()) out += fmt::format("{}:\n", section);
     }
-    out += fmt::format("  height_from_levels: {}\n", c.map.height_from_levels);
-    out += "  metres_per_level: " + Number(c.map.metres_per_level) + "\n";
-    out += fmt::format("  skip_missing_height: {}\n", c.map.skip_missing_height);
-    if (c.map.height_from_type) out += "  height_from_type: true\n";
-    if (c.map.default_height_m) out += "  default_height_m: " + Number(*c.map.default_height_m) + "\n";
-    if (c.map.sites_from_map) out += fmt::format("  sites_from_map: {}\n", *c.map.sites_from_map);
+    out += fmt::format("{}{}: {}\n", section.empty() ? "" : "  ", f.leaf(), CampaignFieldText(entry.value));
   }
-  out += "mission:\n";
-  out += "  endurance_fraction: " + RangeYaml(c.mission.endurance_fraction) + "\n";
-  out += "  distance_m: " + (c.mission.distance_m ? RangeYaml(*c.mission.distance_m) : std::string("null")) + "\n";
-  out += "  wall_clearance_m: " + Number(c.mission.wall_clearance_m) + "\n";
-  out += "  cruise_speed_mps: " + RangeYaml(c.mission.cruise_speed_mps) + "\n";
-  out += "  cruise_altitude_m: " + Number(c.mission.cruise_altitude_m) + "\n";
-  out += "  drop_hover_s: " + Number(c.mission.drop_hover_s) + "\n";
-  out += "safety_margin_s: " + RangeYaml(c.safety_margin_s) + "\n";
-  out += "battery:\n";
-  out += "  initial_cell_voltage_v: " + RangeYaml(c.battery.initial_cell_voltage_v) + "\n";
-  out += fmt::format("  health_weights: {{G: {}, M: {}, P: {}}}\n", c.battery.health_weights[0],
-                     c.battery.health_weights[1], c.battery.health_weights[2]);
-  out += fmt::format("  degraded_cells: [{}, {}]\n", c.battery.degraded_cells.low, c.battery.degraded_cells.high);
-  out += fmt::format("  medium_fades: {}\n", MediumFadesName(c.battery.medium_fades));
-  out += "  cold_probability: " + Number(c.battery.cold_probability) + "\n";
-  out += "  cold_temp_degf: " + Number(c.battery.cold_temp_degf) + "\n";
-  out += "  warm_temp_degf: " + Number(c.battery.warm_temp_degf) + "\n";
-  out += "wind:\n";
-  out += "  speed_mps: " + RangeYaml(c.wind.speed_mps) + "\n";
-  out += "  direction_rad: " + RangeYaml(c.wind.direction_rad) + "\n";
-  out += "  turbulence: [";
-  for (std::size_t i = 0; i < c.wind.turbulence.size(); ++i) {
-    out += (i ? ", " : "") + std::string(models::TurbulenceCategoryName(c.wind.turbulence[i]));
-  }
-  out += "]\n";
-  out += "fault:\n";
-  out += "  probability: " + Number(c.fault.probability) + "\n";
-  out += "  onset_fraction: " + RangeYaml(c.fault.onset_fraction) + "\n";
-  out += "  motors: [";
-  for (std::size_t i = 0; i < c.fault.motors.size(); ++i) out += fmt::format("{}{}", i ? ", " : "", c.fault.motors[i]);
-  out += "]\n";
-  out += "  time_per_growth_step_s: " +
-         (c.fault.time_per_growth_step_s ? Number(*c.fault.time_per_growth_step_s) : std::string("null")) + "\n";
-  out += "options:\n";
-  out += fmt::format("  eod_load: {}\n", sim::EodLoadName(c.options.eod_load));
-  out += fmt::format("  cap_speed_after_isolation: {}\n", c.options.cap_speed_after_isolation);
   return out;
 }
 
 std::string CampaignConfigHash(const CampaignConfig& c) {
   Fingerprint f;
   f.Add(std::string_view("uascma-campaign/1"));
-  f.Add(c.seed);
-  auto add_range = [&f](const Range& r) {
-    f.Add(r.low);
-    f.Add(r.high);
-  };
-  f.Add(c.map.procedural_seed);
-  f.Add(c.map.blocks_north);
-  f.Add(c.map.blocks_east);
-  if (c.map.imported()) {  // absent from older configurations' fingerprints, which stay as they were
-    for (const std::string& file : c.map.buildings) f.Add(std::string_view(file));
-    f.Add(std::string_view(c.map.sites));
-    f.Add(c.map.origin_deg ? (*c.map.origin_deg)[0] : 1000.0);  // 1000: no origin (outside the latitudes)
-    f.Add(c.map.origin_deg ? (*c.map.origin_deg)[1] : 1000.0);
-    f.Add(c.map.height_from_levels ? 1 : 0);
-    f.Add(c.map.metres_per_level);
-    f.Add(c.map.skip_missing_height ? 1 : 0);
-    // Later keys, each only when it changes the import (config.h): older fingerprints stay as they were.
-    if (c.map.height_from_type) f.Add(std::string_view("height_from_type"));
-    if (c.map.default_height_m) {
-      f.Add(std::string_view("default_height_m"));
-      f.Add(*c.map.default_height_m);
-    }
-    if (c.map.DerivesSites() != c.map.sites.empty()) {
-      f.Add(std::string_view("sites_from_map"));
-      f.Add(c.map.DerivesSites() ? 1 : 0);
-    }
+  for (const CampaignFieldEntry& entry : Fields(c)) {
+    const ConfigField& field = entry.field;
+    if (!field.hashed || !InScope(field, c)) continue;
+    if (!field.hash_tag.empty()) f.Add(field.hash_tag);
+    std::visit(
+        [&](const auto* v) {
+          if (field.only_when_set) {
+            HashWhenSet(f, field, *v, c);
+          } else {
+            HashValue(f, *v);
+          }
+        },
+        entry.value);
   }
-  f.Add(std::string_view("mission/2"));  // the endurance-tied plan of decisions item 19
-  add_range(c.mission.endurance_fraction);
-  f.Add(c.mission.distance_m ? 1 : 0);
-  if (c.mission.distance_m) add_range(*c.mission.distance_m);
-  f.Add(c.mission.wall_clearance_m);
-  add_range(c.mission.cruise_speed_mps);
-  f.Add(c.mission.cruise_altitude_m);
-  f.Add(c.mission.drop_hover_s);
-  add_range(c.safety_margin_s);
-  add_range(c.battery.initial_cell_voltage_v);
-  f.Add(std::string_view("battery/2"));  // BH drawn per flight, decisions item 20
-  for (double w : c.battery.health_weights) f.Add(w);
-  f.Add(c.battery.degraded_cells.low);
-  f.Add(c.battery.degraded_cells.high);
-  f.Add(std::string_view(MediumFadesName(c.battery.medium_fades)));
-  f.Add(c.battery.cold_probability);
-  f.Add(c.battery.cold_temp_degf);
-  f.Add(c.battery.warm_temp_degf);
-  add_range(c.wind.speed_mps);
-  add_range(c.wind.direction_rad);
-  f.Add(static_cast<std::uint64_t>(c.wind.turbulence.size()));
-  for (auto category : c.wind.turbulence) f.Add(static_cast<int>(category));
-  f.Add(c.fault.probability);
-  add_range(c.fault.onset_fraction);
-  f.Add(static_cast<std::uint64_t>(c.fault.motors.size()));
-  for (int motor : c.fault.motors) f.Add(motor);
-  f.Add(c.fault.time_per_growth_step_s ? *c.fault.time_per_growth_step_s : -1.0);
-  f.Add(std::string_view("options/1"));  // decision 25's load and §4.4.2's speed cap
-  f.Add(std::string_view(sim::EodLoadName(c.options.eod_load)));
-  f.Add(c.options.cap_speed_after_isolation ? 1 : 0);
   return f.Hex();
 }
 

@@ -4,34 +4,25 @@
 #include <type_traits>
 
 #include "uascma/common/error.h"
+#include "uascma/common/json_reader.h"
 
 namespace uascma::campaign {
 namespace {
 
+// One field of a record from its member of the same name (common/json_reader.h names the source and field).
 template <typename T>
-void ReadField(const nlohmann::json& json, const char* name, T& field, const std::string& source) {
-  if (!json.contains(name)) throw InputError(source, name, "a value, but the key is missing");
-  const nlohmann::json& value = json.at(name);
+void ReadField(const JsonValue& value, T& field) {
   if constexpr (std::is_same_v<T, std::optional<double>>) {
-    if (value.is_null()) {
-      field.reset();
-    } else if (value.is_number()) {
-      field = value.get<double>();
-    } else {
-      throw InputError(source, name, "a number or null");
-    }
+    if (value.IsMissing()) value.Fail("a number or null");
+    field = value.OptionalNumber("a number or null");
   } else if constexpr (std::is_same_v<T, std::string>) {
-    if (!value.is_string()) throw InputError(source, name, "a string");
-    field = value.get<std::string>();
+    field = value.String();
   } else if constexpr (std::is_same_v<T, bool>) {
-    if (!value.is_boolean()) throw InputError(source, name, "true or false");
-    field = value.get<bool>();
+    field = value.Bool();
   } else if constexpr (std::is_same_v<T, double>) {
-    if (!value.is_number()) throw InputError(source, name, "a number");
-    field = value.get<double>();
+    field = value.Number();
   } else {
-    if (!value.is_number_integer()) throw InputError(source, name, "an integer");
-    field = value.get<T>();
+    field = value.Integer<T>();
   }
 }
 
@@ -63,9 +54,10 @@ nlohmann::json RecordToJson(const RunRecord& record) {
 }
 
 RunRecord RecordFromJson(const nlohmann::json& json, const std::string& source) {
-  if (!json.is_object()) throw InputError(source, "record", "a JSON object");
+  const JsonValue root(&json, &source, "");
+  if (!root.IsObject()) throw InputError(source, "record", "a JSON object");
   RunRecord record;
-  VisitRecordFields(record, [&](const char* name, auto& field) { ReadField(json, name, field, source); });
+  VisitRecordFields(record, [&](const char* name, auto& field) { ReadField(root.Member(name), field); });
   return record;
 }
 

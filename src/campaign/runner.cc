@@ -1,7 +1,6 @@
 #include "uascma/campaign/runner.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
@@ -10,15 +9,18 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <string>
 #include <thread>
 #include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "mpi_transport.h"
 #include "uascma/campaign/mpi_session.h"
 #include "uascma/common/error.h"
+#include "uascma/common/parallel_for.h"
 #include "uascma/common/progress.h"
 
 namespace uascma::campaign {
@@ -36,20 +38,18 @@ struct LoopHooks {
   double tick_period_s = kHeartbeatPeriodSeconds;
 };
 
-// Hands the next task to a worker thread; nothing once the work is done. `stop` is raised when the work
-// must end early (an error); a source that waits for other processes checks it, and calls
+// Hands job `job` (0, 1, 2, … of ParallelFor) its task; nothing once the work is done. `stop` is raised when
+// the work must end early (an error, Ctrl-C); a source that waits for other processes checks it, and calls
 // `request_flush` first: the records this process has finished are handed to the sink at once rather
 // than at the next interval, since another process may be waiting for exactly those.
-using TaskSource =
-    std::function<std::optional<FlightTask>(const std::atomic<bool>& stop, const std::function<void()>& request_flush)>;
+using TaskSource = std::function<std::optional<FlightTask>(std::int64_t job, const CancellationToken& stop,
+                                                           const std::function<void()>& request_flush)>;
 
-// A TaskSource over a fixed list (which must outlive it), handed out in order to whichever thread asks.
+// A TaskSource over a fixed list (which must outlive it): job i flies tasks[i].
 TaskSource ListedTasks(const std::vector<FlightTask>& tasks) {
-  auto next = std::make_shared<std::atomic<std::size_t>>(0);
-  return [&tasks, next](const std::atomic<bool>&, const std::function<void()>&) -> std::optional<FlightTask> {
-    const std::size_t i = next->fetch_add(1);
-    if (i >= tasks.size()) return std::nullopt;
-    return tasks[i];
+  return [&tasks](std::int64_t job, const CancellationToken&, const std::function<void()>&) -> std::optional<FlightTask> {
+    if (job < 0 || static_cast<std::size_t>(job) >= tasks.size()) return std::nullopt;
+    return tasks[static_cast<std::size_t>(job)];
   };
 }
 
@@ -67,11 +67,15 @@ constexpr std::size_t kClaimWindow = 64;
 class ClaimedTasks {
  public:
   ClaimedTasks(ResultsStore& store, std::mutex& store_mutex, std::vector<std::int64_t> candidates,
-               std::vector<std::int64_t> held)
-      : store_(store), store_mutex_(store_mutex), candidates_(std::move(candidates)), held_(std::move(held)) {}
+               std::vector<std::int64_t> held, std::function<void(const std::string&)> notice)
+      : store_(store),
+        store_mutex_(store_mutex),
+        candidates_(std::move(candidates)),
+        held_(std::move(held)),
+        notice_(std::move(notice)) {}
 
-  std::optional<FlightTask> Next(const std::atomic<bool>& stop, const std::function<void()>& request_flush) {
-    while (!stop.load() && !StopRequested()) {
+  std::optional<FlightTask> Next(const CancellationToken& stop, const std::function<void()>& request_flush) {
+    while (!stop.IsCancelled()) {
       {
         const std::lock_guard lock(store_mutex_);
         if (cursor_ < candidates_.size()) {
@@ -91,6 +95,7 @@ class ClaimedTasks {
         held_ = std::move(still_held);
         if (!result.claimed.empty()) return std::move(result.claimed.front());
         if (held_.empty()) return std::nullopt;
+        NoticeWaiting();
       }
       request_flush();
       std::this_thread::sleep_for(std::chrono::duration<double>(kHeldRunsPollSeconds));
@@ -99,11 +104,42 @@ class ClaimedTasks {
   }
 
  private:
+  // Issue 26 item 9: a process that waits for runs other processes hold says for whom it waits, once the wait
+  // has lasted kFirstNoticeSeconds and then every kNoticePeriodSeconds (our choices: longer than a claim's round
+  // trip, short next to a user wondering why nothing moves). Runs this process's own threads fly are not waited
+  // for in that sense and are not named. Called with the store's mutex held.
+  void NoticeWaiting() {
+    constexpr double kFirstNoticeSeconds = 2.0;
+    constexpr double kNoticePeriodSeconds = 60.0;
+    if (!notice_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!waiting_since_) waiting_since_ = now;
+    const double waited_s = std::chrono::duration<double>(now - *waiting_since_).count();
+    const double due_s = last_notice_s_ < 0.0 ? kFirstNoticeSeconds : last_notice_s_ + kNoticePeriodSeconds;
+    if (waited_s < due_s) return;
+    std::map<std::int64_t, std::int64_t> runs_by_holder;
+    for (const std::int64_t run : held_) {
+      const std::int64_t holder = store_.ClaimHolder(run);
+      if (holder != 0 && holder != store_.worker_id()) ++runs_by_holder[holder];
+    }
+    if (runs_by_holder.empty()) return;
+    last_notice_s_ = waited_s;
+    std::vector<std::string> parts;
+    for (const auto& [holder, runs] : runs_by_holder) {
+      parts.push_back(fmt::format("{} run{} held by {}", runs, runs == 1 ? "" : "s", store_.DescribeWorker(holder)));
+    }
+    notice_(fmt::format("{}: waiting {:.0f} s for {}; they are flown here if that process ends", store_.path().string(),
+                        waited_s, fmt::join(parts, "; ")));
+  }
+
   ResultsStore& store_;
   std::mutex& store_mutex_;
   std::vector<std::int64_t> candidates_;
   std::size_t cursor_ = 0;  // candidates_[0, cursor_) examined
   std::vector<std::int64_t> held_;
+  std::function<void(const std::string&)> notice_;
+  std::optional<std::chrono::steady_clock::time_point> waiting_since_;
+  double last_notice_s_ = -1.0;
 };
 
 std::int64_t CountFlights(const std::vector<FlightTask>& tasks) {
@@ -112,137 +148,159 @@ std::int64_t CountFlights(const std::vector<FlightTask>& tasks) {
   return count;
 }
 
-int DefaultJobs(int local_ranks) {
-  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-  return std::max(1, static_cast<int>(hardware) / std::max(1, local_ranks));
-}
+int DefaultJobs(int local_ranks) { return std::max(1, HardwareThreads() / std::max(1, local_ranks)); }
 
-// The worker pool and the collecting loop of ExecuteFlights (header), with the progress bar and the
-// hooks supplied by the caller.
-// `max_tasks`: how many tasks `next` hands out at most (no more threads are started).
-void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<CampaignPolicy>& policies,
-                        const TaskSource& next_task, std::size_t max_tasks, const ExecuteOptions& options,
-                        const std::function<void(std::vector<RunRecord>&&)>& sink, ProgressBar* progress,
-                        const LoopHooks& hooks) {
-  const int num_policies = static_cast<int>(policies.size());
-  const int jobs = std::clamp(options.jobs > 0 ? options.jobs : DefaultJobs(1), 1,
-                              std::max(1, static_cast<int>(std::min<std::size_t>(max_tasks, 1 << 20))));
+// What the flying threads hand to the collecting loop of ExecuteFlightsImpl; every member under `mutex`.
+struct FlightsInFlight {
   std::mutex mutex;
   std::condition_variable ready;
-  std::vector<RunRecord> finished;
-  std::exception_ptr error;
-  int workers_running = max_tasks == 0 ? 0 : jobs;
-  bool flush_requested = false;  // a worker waits for other processes: commit what is finished now
-  std::atomic<bool> stop{false};
-  const std::function<void()> request_flush = [&] {
+  std::vector<RunRecord> finished;  // flown, not yet collected
+  bool flying = true;               // false once every flying thread has ended
+  bool flush_requested = false;     // a worker waits for other processes: commit what is finished now
+  std::exception_ptr error;         // the first failing task's (ParallelFor)
+
+  void RequestFlush() {
     {
       const std::lock_guard lock(mutex);
       flush_requested = true;
     }
     ready.notify_one();
-  };
-
-  auto work = [&] {
-    try {
-      // StopRequested (common/progress.h: Ctrl-C in the CLI or Python): no new run is started, the finished
-      // ones are handed to the sink as usual, and the caller reports the stop.
-      while (!stop.load() && !StopRequested()) {
-        const std::optional<FlightTask> next = next_task(stop, request_flush);
-        if (!next) break;
-        const FlightTask& task = *next;
-        const SampledRun run = SampleRun(config, config.seed, task.run_index);
-        const sim::Simulator simulator(run.scenario);  // built once, flown by every policy (paired)
-        // The run's policies fly one vehicle until their decisions differ (FlyRunTogether).
-        std::vector<const CampaignPolicy*> flown;
-        for (int slot : task.slots) flown.push_back(&policies[slot]);
-        std::vector<RunRecord> records =
-            FlyRunTogether(simulator, run, flown, task.slots, num_policies, options.planner_factory);
-        for (RunRecord& record : records) {
-          {
-            const std::lock_guard lock(mutex);
-            finished.push_back(std::move(record));
-          }
-          if (progress != nullptr) progress->Advance();
-          ready.notify_one();
-        }
-      }
-    } catch (...) {
-      const std::lock_guard lock(mutex);
-      if (!error) error = std::current_exception();
-      stop.store(true);
-    }
-    {
-      const std::lock_guard lock(mutex);
-      --workers_running;
-    }
-    ready.notify_one();
-  };
-  std::vector<std::thread> threads;
-  if (max_tasks > 0) {
-    for (int j = 0; j < jobs; ++j) threads.emplace_back(work);
   }
-  auto join = [&threads, &stop] {
-    stop.store(true);
-    for (std::thread& t : threads) {
-      if (t.joinable()) t.join();
-    }
-  };
+};
 
+// Flies the tasks `next_task` hands out on `jobs` threads (common/parallel_for.h; this thread is one of them) and
+// passes each task's records to `flights` as it ends. Unordered: the store orders its rows by flight_id, and
+// another process may be waiting for exactly the run just flown (ClaimedTasks). `cancel`: no new run is started
+// (StopRequested, i.e. Ctrl-C in the CLI or Python, through its parent; or the collecting loop failed); the
+// finished ones are handed over as usual and the caller reports the stop. Never throws: a task's failure is
+// left in flights.error.
+void FlyTasks(const CampaignConfig& config, const std::vector<CampaignPolicy>& policies, const TaskSource& next_task,
+              std::size_t max_tasks, const ExecuteOptions& options, const CancellationToken& cancel,
+              ProgressBar* progress, FlightsInFlight& flights) {
+  const int num_policies = static_cast<int>(policies.size());
+  ParallelOptions parallel;
+  parallel.jobs = options.jobs > 0 ? options.jobs : DefaultJobs(1);
+  parallel.ordered = false;
+  parallel.cancel = &cancel;
+  const std::function<void()> request_flush = [&flights] { flights.RequestFlush(); };
+  try {
+    // The campaign's world (campaign/world.h): RunCampaign's, or built once here for every task.
+    const std::shared_ptr<const CampaignWorld> world =
+        options.world ? options.world : std::make_shared<const CampaignWorld>(BuildCampaignWorld(config.map));
+    ParallelFor(
+        static_cast<std::int64_t>(max_tasks), parallel,
+        [&](std::int64_t job, const CancellationToken& stop) -> std::vector<RunRecord> {
+          const std::optional<FlightTask> task = next_task(job, stop, request_flush);
+          if (!task) return {};
+          const SampledRun run = SampleRun(config, *world, config.seed, task->run_index);
+          const sim::Simulator simulator(run.scenario);  // built once, flown by every policy (paired)
+          // The run's policies fly one vehicle until their decisions differ (FlyRunTogether).
+          std::vector<const CampaignPolicy*> flown;
+          for (int slot : task->slots) flown.push_back(&policies[slot]);
+          return FlyRunTogether(simulator, run, flown, task->slots, num_policies, options.planner_factory);
+        },
+        [&](std::int64_t, std::vector<RunRecord>&& records) {
+          if (records.empty()) return;
+          const auto count = static_cast<std::int64_t>(records.size());
+          {
+            const std::lock_guard lock(flights.mutex);
+            flights.finished.insert(flights.finished.end(), std::make_move_iterator(records.begin()),
+                                    std::make_move_iterator(records.end()));
+          }
+          if (progress != nullptr) progress->Advance(count);
+          flights.ready.notify_one();
+        });
+  } catch (...) {
+    const std::lock_guard lock(flights.mutex);
+    flights.error = std::current_exception();
+  }
+  {
+    const std::lock_guard lock(flights.mutex);
+    flights.flying = false;
+  }
+  flights.ready.notify_one();
+}
+
+// The collecting loop of ExecuteFlightsImpl: hands the finished records to `sink` in batches (flush_rows,
+// flush_interval_s, or at once when a worker asks), runs the hooks, until the flying has ended and (MPI) the
+// remote work is done, or the flying failed.
+void CollectFlights(FlightsInFlight& flights, const ExecuteOptions& options,
+                    const std::function<void(std::vector<RunRecord>&&)>& sink, const LoopHooks& hooks) {
   const auto interval = std::chrono::duration<double>(options.flush_interval_s);
   const auto tick_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(hooks.tick_period_s));
   auto last_flush = Clock::now();
   auto next_tick = last_flush + tick_period;
   std::vector<RunRecord> batch;
-  try {
-    while (true) {
-      bool local_done = false;
-      bool failed = false;
-      bool flush_now = false;
-      {
-        std::unique_lock lock(mutex);
-        auto deadline = last_flush + std::chrono::duration_cast<Clock::duration>(interval);
-        if (hooks.poll) {
-          deadline = std::min(deadline, Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                            std::chrono::duration<double>(hooks.poll_period_s)));
-        }
-        if (hooks.tick) deadline = std::min(deadline, next_tick);
-        ready.wait_until(lock, deadline, [&] {
-          return workers_running == 0 || static_cast<int>(finished.size()) >= options.flush_rows || flush_requested;
-        });
-        flush_now = std::exchange(flush_requested, false);
-        batch.insert(batch.end(), std::make_move_iterator(finished.begin()), std::make_move_iterator(finished.end()));
-        finished.clear();
-        local_done = workers_running == 0;
-        failed = error != nullptr;
+  while (true) {
+    bool local_done = false;
+    bool failed = false;
+    bool flush_now = false;
+    {
+      std::unique_lock lock(flights.mutex);
+      auto deadline = last_flush + std::chrono::duration_cast<Clock::duration>(interval);
+      if (hooks.poll) {
+        deadline = std::min(deadline, Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                          std::chrono::duration<double>(hooks.poll_period_s)));
       }
-      if (hooks.poll) hooks.poll();
-      if (hooks.tick && Clock::now() >= next_tick) {
-        hooks.tick();
-        next_tick = Clock::now() + tick_period;
-      }
-      const bool all_done = local_done && (!hooks.remote_done || hooks.remote_done());
-      const auto now = Clock::now();
-      const bool due = now - last_flush >= interval;
-      if (!batch.empty() &&
-          (all_done || static_cast<int>(batch.size()) >= options.flush_rows || due || flush_now || hooks.poll)) {
-        sink(std::move(batch));
-        batch.clear();
-        last_flush = now;
-      } else if (due) {
-        last_flush = now;  // nothing to hand over: the next deadline is a full interval away (no spinning)
-      }
-      if (all_done || (local_done && failed)) break;
-      if (local_done) {
-        // Only remote work is left: wait for it without spinning.
-        std::this_thread::sleep_for(std::chrono::duration<double>(hooks.poll_period_s));
-      }
+      if (hooks.tick) deadline = std::min(deadline, next_tick);
+      flights.ready.wait_until(lock, deadline, [&] {
+        return !flights.flying || static_cast<int>(flights.finished.size()) >= options.flush_rows ||
+               flights.flush_requested;
+      });
+      flush_now = std::exchange(flights.flush_requested, false);
+      batch.insert(batch.end(), std::make_move_iterator(flights.finished.begin()),
+                   std::make_move_iterator(flights.finished.end()));
+      flights.finished.clear();
+      local_done = !flights.flying;
+      failed = flights.error != nullptr;
     }
+    if (hooks.poll) hooks.poll();
+    if (hooks.tick && Clock::now() >= next_tick) {
+      hooks.tick();
+      next_tick = Clock::now() + tick_period;
+    }
+    const bool all_done = local_done && (!hooks.remote_done || hooks.remote_done());
+    const auto now = Clock::now();
+    const bool due = now - last_flush >= interval;
+    if (!batch.empty() &&
+        (all_done || static_cast<int>(batch.size()) >= options.flush_rows || due || flush_now || hooks.poll)) {
+      sink(std::move(batch));
+      batch.clear();
+      last_flush = now;
+    } else if (due) {
+      last_flush = now;  // nothing to hand over: the next deadline is a full interval away (no spinning)
+    }
+    if (all_done || (local_done && failed)) return;
+    if (local_done) {
+      // Only remote work is left: wait for it without spinning.
+      std::this_thread::sleep_for(std::chrono::duration<double>(hooks.poll_period_s));
+    }
+  }
+}
+
+// The flying threads and the collecting loop of ExecuteFlights (header), with the progress bar and the hooks
+// supplied by the caller. `max_tasks`: how many tasks `next_task` hands out at most (no more threads are started).
+void ExecuteFlightsImpl(const CampaignConfig& config, const std::vector<CampaignPolicy>& policies,
+                        const TaskSource& next_task, std::size_t max_tasks, const ExecuteOptions& options,
+                        const std::function<void(std::vector<RunRecord>&&)>& sink, ProgressBar* progress,
+                        const LoopHooks& hooks) {
+  FlightsInFlight flights;
+  CancellationToken cancel(&CancellationToken::Process());  // Ctrl-C, or raised here when collecting fails
+  std::thread flying;
+  if (max_tasks > 0) {
+    flying = std::thread([&] { FlyTasks(config, policies, next_task, max_tasks, options, cancel, progress, flights); });
+  } else {
+    flights.flying = false;
+  }
+  try {
+    CollectFlights(flights, options, sink, hooks);
   } catch (...) {
-    join();
+    cancel.Cancel();
+    if (flying.joinable()) flying.join();
     throw;
   }
-  join();
-  if (error) std::rethrow_exception(error);
+  if (flying.joinable()) flying.join();
+  if (flights.error) std::rethrow_exception(flights.error);
 }
 
 std::string ToBytes(const nlohmann::json& json) {
@@ -338,6 +396,7 @@ struct CampaignPlan {
   std::vector<std::int64_t> held;         // MPI root: of those, runs other workers held at the start
   std::vector<FlightTask> tasks;          // MPI: the runs rank 0 claimed for the ranks
   std::int64_t flights_missing = 0;
+  std::shared_ptr<const CampaignWorld> world;  // root: built for the preflight runs, then flown in
 };
 
 // Rank 0 (or the only process) joins the store as a worker and finds what is left to fly; under MPI it
@@ -350,8 +409,9 @@ CampaignPlan OpenStoreAndPlan(const CampaignRequest& request, const CampaignHead
     // runs' routes fit (sampler.h step 7), so such a campaign exits 2 leaving no database to block the corrected
     // run. The first runs stand for all: a map too small or a sites file missing fails every run.
     constexpr std::int64_t kPreflightRuns = 4;  // our choice: a few milliseconds of sampling
+    plan.world = std::make_shared<const CampaignWorld>(BuildCampaignWorld(request.config.map));
     for (std::int64_t run = 0; run < std::min(request.config.runs, kPreflightRuns); ++run) {
-      (void)SampleRun(request.config, request.config.seed, run);
+      (void)SampleRun(request.config, *plan.world, request.config.seed, run);
     }
     plan.store.emplace(OpenCampaignStore(request, header));
     plan.store->RecordRunsRequested(request.config.runs);
@@ -419,12 +479,12 @@ class RootStore {
   void FlyClaimedRuns(std::vector<std::int64_t> claim_from, std::vector<std::int64_t> held_by_others,
                       ProgressBar* progress) {
     const std::size_t most = claim_from.size() + held_by_others.size();
-    ClaimedTasks claims(store_, store_mutex_, std::move(claim_from), std::move(held_by_others));
+    ClaimedTasks claims(store_, store_mutex_, std::move(claim_from), std::move(held_by_others), execute_.notice);
     LoopHooks hooks;
     hooks.tick = [this] { Heartbeat(); };
     ExecuteFlightsImpl(
         request_.config, request_.policies,
-        [&claims](const std::atomic<bool>& stop, const std::function<void()>& request_flush) {
+        [&claims](std::int64_t, const CancellationToken& stop, const std::function<void()>& request_flush) {
           return claims.Next(stop, request_flush);
         },
         most, execute_, [this](std::vector<RunRecord>&& batch) { Insert(batch); }, progress, hooks);
@@ -550,6 +610,7 @@ CampaignOutcome RunCampaign(const CampaignRequest& request) {
 
   // ---- rank 0 (or the only process) joins the store as a worker and finds what is left to fly -------
   CampaignPlan plan = outcome.is_root ? OpenStoreAndPlan(request, header, mpi) : ReceivePlan(header, *mpi);
+  if (!execute.world) execute.world = plan.world;  // null on an MPI worker rank: FlyTasks builds its own
   outcome.flights_before = outcome.flights_total - plan.flights_missing;
   std::optional<RootStore> root;
   if (outcome.is_root) root.emplace(*plan.store, request, execute, outcome, start);

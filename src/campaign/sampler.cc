@@ -2,13 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <memory>
-#include <mutex>
-#include <tuple>
 
-#include "uascma/planning/map_import.h"
-#include "uascma/planning/procedural_city.h"
 
 #include <cmath>
 #include <limits>
@@ -130,49 +125,6 @@ std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index) {
   return DeriveSeed(campaign_seed, static_cast<std::uint64_t>(run_index));
 }
 
-namespace {
-
-// An imported city (config.h, MapSampling::imported) and its geodetic origin, read once per distinct setting.
-struct ImportedCity {
-  std::shared_ptr<const planning::CityMap> map;
-  planning::GeoPoint origin;
-};
-
-const ImportedCity& ImportedCampaignCity(const MapSampling& sampling) {
-  static std::mutex mutex;
-  static std::map<std::string, ImportedCity> cache;
-  std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|", sampling.sites, sampling.height_from_levels,
-                                sampling.metres_per_level, sampling.skip_missing_height, sampling.height_from_type,
-                                sampling.default_height_m.value_or(0.0), sampling.DerivesSites());
-  if (sampling.origin_deg) key += fmt::format("{}|{}|", (*sampling.origin_deg)[0], (*sampling.origin_deg)[1]);
-  for (const std::string& file : sampling.buildings) key += file + "|";
-  std::lock_guard lock(mutex);
-  ImportedCity& city = cache[key];
-  if (!city.map) {
-    planning::MapImportOptions options;
-    options.height_from_levels = sampling.height_from_levels;
-    options.metres_per_level = sampling.metres_per_level;
-    options.skip_missing_height = sampling.skip_missing_height;
-    options.height_from_type = sampling.height_from_type;
-    options.default_height = sampling.default_height_m;
-    // Without a landing-site file (or with sites_from_map: true) the map supplies its own sites: flat roofs and
-    // open areas (map_import.h; §5.1; config.h).
-    options.sites_from_map = sampling.DerivesSites();
-    if (sampling.origin_deg) options.origin = planning::GeoPoint{(*sampling.origin_deg)[0], (*sampling.origin_deg)[1]};
-    const std::vector<std::filesystem::path> files(sampling.buildings.begin(), sampling.buildings.end());
-    planning::ImportedMap imported = planning::ImportCityMap(files, sampling.sites, options);
-    city.origin = imported.summary.origin;
-    city.map = std::make_shared<const planning::CityMap>(std::move(imported.map));
-  }
-  return city;
-}
-
-std::shared_ptr<const planning::CityMap> ImportedCampaignMap(const MapSampling& sampling) {
-  return ImportedCampaignCity(sampling).map;
-}
-
-}  // namespace
-
 Eigen::AlignedBox2d BuildingsExtent(const planning::CityMap& map) {
   Eigen::AlignedBox2d extent;
   for (int k = 0; k < static_cast<int>(map.buildings().size()); ++k) extent.extend(map.building_box(k));
@@ -181,26 +133,6 @@ Eigen::AlignedBox2d BuildingsExtent(const planning::CityMap& map) {
 
 Eigen::AlignedBox2d RouteArea(const planning::CityMap& map, const MapSampling& sampling) {
   return sampling.imported() ? BuildingsExtent(map) : map.bounds();
-}
-
-std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling) {
-  if (sampling.imported()) return ImportedCampaignMap(sampling);
-  static std::mutex mutex;
-  static std::map<std::tuple<std::uint64_t, int, int>, std::shared_ptr<const planning::CityMap>> cache;
-  std::lock_guard lock(mutex);
-  auto& map = cache[{sampling.procedural_seed, sampling.blocks_north, sampling.blocks_east}];
-  if (!map) {
-    if (sampling.procedural_seed == 0) {
-      map = std::make_shared<const planning::CityMap>();
-    } else {
-      planning::ProceduralCityParams params;
-      params.seed = sampling.procedural_seed;
-      params.blocks_north = sampling.blocks_north;
-      params.blocks_east = sampling.blocks_east;
-      map = std::make_shared<const planning::CityMap>(planning::MakeProceduralCity(params));
-    }
-  }
-  return map;
 }
 
 double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragTable& drag, double airspeed) {
@@ -408,6 +340,11 @@ void DrawFault(RandomStream& random, const FaultSampling& fault, SampledRun& run
 }  // namespace
 
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index) {
+  return SampleRun(config, BuildCampaignWorld(config.map), campaign_seed, run_index);
+}
+
+SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, std::uint64_t campaign_seed,
+                     std::int64_t run_index) {
   std::string error;
   if (!config.IsValid(&error)) throw InputError("campaign configuration: " + error);
   if (run_index < 0) throw InputError("campaign", "run index", fmt::format(">= 0, got {}", run_index));
@@ -419,10 +356,11 @@ SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, 
   sim::Scenario& scenario = run.scenario;
   scenario.name = fmt::format("{} run {}", config.name, run_index);
   scenario.seed = DeriveSeed(run.run_seed, kSimulatorStream);
-  scenario.map = CampaignMap(config.map);
+  scenario.map = world.map;
+  scenario.map_obstacles = world.obstacles;
   // Over an imported map the run has a geodetic frame (the map's origin): its plans export for QGroundControl,
   // also when it is replayed from the results database.
-  if (config.map.imported()) scenario.geo_origin = ImportedCampaignCity(config.map).origin;
+  if (config.map.imported()) scenario.geo_origin = world.origin;
   scenario.mission.drop_hover_s = config.mission.drop_hover_s;
   scenario.options.eod_load = config.options.eod_load;
   scenario.options.cap_speed_after_isolation = config.options.cap_speed_after_isolation;
@@ -440,11 +378,11 @@ SiteCoverage CalcSiteCoverage(const CampaignConfig& config, std::uint64_t campai
   const planning::LandPractParams land_pract;  // the simulator's (sim/emergency_planner.cc builds it with defaults)
   SiteCoverage coverage;
   coverage.reach = land_pract.site_search_radius;
-  const std::shared_ptr<const planning::CityMap> map = CampaignMap(config.map);
+  const CampaignWorld world = BuildCampaignWorld(config.map);
+  const std::shared_ptr<const planning::CityMap> map = world.map;
   coverage.sites = static_cast<int>(map->sites().size());
-  std::vector<int> near;
   for (std::int64_t r = 0; r < runs; ++r) {
-    const SampledRun run = SampleRun(config, campaign_seed, r);
+    const SampledRun run = SampleRun(config, world, campaign_seed, r);
     const planning::FlightPlan plan = planning::MakeDeliveryPlan(run.scenario.mission, run.scenario.limits);
     const double length = plan.Length();
     bool uncovered = false;

@@ -287,72 +287,70 @@ std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& record
   return comparisons;
 }
 
-nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
-                                const std::vector<PairedComparison>& comparisons) {
-  nlohmann::json policies = nlohmann::json::object();
-  nlohmann::json order = nlohmann::json::array();
-  for (const GroupStatistics& g : groups) {
-    if (!policies.contains(g.policy)) {
-      policies[g.policy] = nlohmann::json::object();
-      order.push_back(g.policy);
-    }
-    nlohmann::json causes = nlohmann::json::object();
-    nlohmann::json cause_rates = nlohmann::json::object();
-    for (int c = 0; c < kFailureCauseCount; ++c) {
-      const char* name = FailureCauseName(static_cast<FailureCause>(c));
-      causes[name] = g.failures_by_cause[c];
-      cause_rates[name] = Number(EstimateRate(g.failures_by_cause[c], g.runs).value);
-    }
-    nlohmann::json by_fades = nlohmann::json::object();
-    for (int f = 0; f < kBatteryFadesCount; ++f) {
-      by_fades[BatteryFadesName(static_cast<BatteryFades>(f))] = {
-          {"runs", g.runs_by_fades[f]},
-          {"failures", g.failures_by_fades[f]},
-          {"failure_rate", Number(EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]).value)}};
-    }
-    policies[g.policy][g.battery_health] = {
-        {"runs", g.runs},
-        {"failures", g.failures},
-        {"completions", g.completions},
-        {"emergency_landings", g.emergency_landings},
-        {"terminations", g.terminations},
-        {"groundings", g.groundings},
-        {"off_site_landings", g.off_site_landings},
-        {"flights_with_substitution", g.flights_with_substitution},
-        {"substitution_epochs", g.substitution_epochs},
-        {"substitutions", g.substitutions},
-        {"other_outcomes", g.others},
-        {"failure_rate", Number(g.failure_rate.value)},
-        {"failure_rate_sem", Number(g.failure_rate.sem)},
-        {"failure_rate_wilson_low", Number(g.failure_wilson.low)},
-        {"failure_rate_wilson_high", Number(g.failure_wilson.high)},
-        {"failure_rate_clopper_pearson_low", Number(g.failure_clopper_pearson.low)},
-        {"failure_rate_clopper_pearson_high", Number(g.failure_clopper_pearson.high)},
-        {"failures_by_cause", causes},
-        {"by_battery_fades", by_fades},
-        {"failure_rate_by_cause", cause_rates},
-        {"completion_rate", Number(g.completion_rate.value)},
-        {"completion_rate_sem", Number(g.completion_rate.sem)},
-        {"completion_rate_wilson_low", Number(g.completion_wilson.low)},
-        {"completion_rate_wilson_high", Number(g.completion_wilson.high)},
-        {"completion_rate_clopper_pearson_low", Number(g.completion_clopper_pearson.low)},
-        {"completion_rate_clopper_pearson_high", Number(g.completion_clopper_pearson.high)},
-        {"emergency_landing_rate", Number(g.emergency_landing_rate.value)},
-        {"emergency_landing_rate_sem", Number(g.emergency_landing_rate.sem)},
-        {"termination_rate", Number(g.termination_rate.value)},
-        {"termination_rate_sem", Number(g.termination_rate.sem)},
-        {"grounded_rate", Number(g.grounded_rate.value)},
-        {"grounded_rate_sem", Number(g.grounded_rate.sem)},
-        {"off_site_landing_rate", Number(g.off_site_rate.value)},
-        {"off_site_landing_rate_sem", Number(g.off_site_rate.sem)},
-        {"other_outcome_rate", Number(g.other_rate.value)},
-        {"other_outcome_rate_sem", Number(g.other_rate.sem)},
-        {"average_reward", Number(g.average_reward.value)},
-        {"average_reward_sem", Number(g.average_reward.sem)},
-        {"min_reward", Number(g.min_reward.value)},
-        {"min_reward_sem", Number(g.min_reward.sem)},
-    };
+namespace {
+
+// One (policy, battery health) group of StatisticsToJson.
+nlohmann::json GroupJson(const GroupStatistics& g) {
+  nlohmann::json causes = nlohmann::json::object();
+  nlohmann::json cause_rates = nlohmann::json::object();
+  for (int c = 0; c < kFailureCauseCount; ++c) {
+    const char* name = FailureCauseName(static_cast<FailureCause>(c));
+    causes[name] = g.failures_by_cause[c];
+    cause_rates[name] = Number(EstimateRate(g.failures_by_cause[c], g.runs).value);
   }
+  nlohmann::json by_fades = nlohmann::json::object();
+  for (int f = 0; f < kBatteryFadesCount; ++f) {
+    by_fades[BatteryFadesName(static_cast<BatteryFades>(f))] = {
+        {"runs", g.runs_by_fades[f]},
+        {"failures", g.failures_by_fades[f]},
+        {"failure_rate", Number(EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]).value)}};
+  }
+  return {
+      {"runs", g.runs},
+      {"failures", g.failures},
+      {"completions", g.completions},
+      {"emergency_landings", g.emergency_landings},
+      {"terminations", g.terminations},
+      {"groundings", g.groundings},
+      {"off_site_landings", g.off_site_landings},
+      {"flights_with_substitution", g.flights_with_substitution},
+      {"substitution_epochs", g.substitution_epochs},
+      {"substitutions", g.substitutions},
+      {"other_outcomes", g.others},
+      {"failure_rate", Number(g.failure_rate.value)},
+      {"failure_rate_sem", Number(g.failure_rate.sem)},
+      {"failure_rate_wilson_low", Number(g.failure_wilson.low)},
+      {"failure_rate_wilson_high", Number(g.failure_wilson.high)},
+      {"failure_rate_clopper_pearson_low", Number(g.failure_clopper_pearson.low)},
+      {"failure_rate_clopper_pearson_high", Number(g.failure_clopper_pearson.high)},
+      {"failures_by_cause", causes},
+      {"by_battery_fades", by_fades},
+      {"failure_rate_by_cause", cause_rates},
+      {"completion_rate", Number(g.completion_rate.value)},
+      {"completion_rate_sem", Number(g.completion_rate.sem)},
+      {"completion_rate_wilson_low", Number(g.completion_wilson.low)},
+      {"completion_rate_wilson_high", Number(g.completion_wilson.high)},
+      {"completion_rate_clopper_pearson_low", Number(g.completion_clopper_pearson.low)},
+      {"completion_rate_clopper_pearson_high", Number(g.completion_clopper_pearson.high)},
+      {"emergency_landing_rate", Number(g.emergency_landing_rate.value)},
+      {"emergency_landing_rate_sem", Number(g.emergency_landing_rate.sem)},
+      {"termination_rate", Number(g.termination_rate.value)},
+      {"termination_rate_sem", Number(g.termination_rate.sem)},
+      {"grounded_rate", Number(g.grounded_rate.value)},
+      {"grounded_rate_sem", Number(g.grounded_rate.sem)},
+      {"off_site_landing_rate", Number(g.off_site_rate.value)},
+      {"off_site_landing_rate_sem", Number(g.off_site_rate.sem)},
+      {"other_outcome_rate", Number(g.other_rate.value)},
+      {"other_outcome_rate_sem", Number(g.other_rate.sem)},
+      {"average_reward", Number(g.average_reward.value)},
+      {"average_reward_sem", Number(g.average_reward.sem)},
+      {"min_reward", Number(g.min_reward.value)},
+      {"min_reward_sem", Number(g.min_reward.sem)},
+  };
+}
+
+// McNemar's paired comparisons of StatisticsToJson.
+nlohmann::json PairedJson(const std::vector<PairedComparison>& comparisons) {
   nlohmann::json paired = nlohmann::json::array();
   for (const PairedComparison& c : comparisons) {
     paired.push_back({{"policies", {c.first_policy, c.second_policy}},
@@ -366,6 +364,23 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
                       {"mcnemar_chi_squared", Number(c.test.chi_squared)},
                       {"mcnemar_chi_squared_p", Number(c.test.chi_squared_p)}});
   }
+  return paired;
+}
+
+}  // namespace
+
+nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
+                                const std::vector<PairedComparison>& comparisons) {
+  nlohmann::json policies = nlohmann::json::object();
+  nlohmann::json order = nlohmann::json::array();
+  for (const GroupStatistics& g : groups) {
+    if (!policies.contains(g.policy)) {
+      policies[g.policy] = nlohmann::json::object();
+      order.push_back(g.policy);
+    }
+    policies[g.policy][g.battery_health] = GroupJson(g);
+  }
+  const nlohmann::json paired = PairedJson(comparisons);
   return {{"policies", policies},
           {"policy_order", order},
           {"confidence_level", kConfidenceLevel},
@@ -376,26 +391,32 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
                                           {"noop", kDissertationPoorHealthFailureRateNoOp}}}}}};
 }
 
-std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
-                            const std::vector<PairedComparison>& comparisons) {
-  // 1. Outcome rates and rewards.
+namespace {
+
+// 1. Outcome rates and rewards, one row per group.
+std::string OutcomeRatesTable(const std::vector<GroupStatistics>& groups) {
   std::string out = fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n",
                                 "policy", "BH", "runs", "failure %", "completed %", "em. landing %", "terminated %",
                                 "grounded %", "avg reward", "min reward");
   out += std::string(133, '-') + "\n";
   std::string previous;
-  bool any_other = false;
   for (const GroupStatistics& g : groups) {
     if (!previous.empty() && g.policy != previous) out += "\n";
     previous = g.policy;
-    any_other = any_other || g.others > 0;
     out += fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy,
                        g.battery_health, g.runs, Percent(g.failure_rate), Percent(g.completion_rate),
                        Percent(g.emergency_landing_rate), Percent(g.termination_rate), Percent(g.grounded_rate),
                        Plain(g.average_reward), Plain(g.min_reward));
   }
   out += "Rates in % ± binomial SEM; rewards: per-flight mean and minimum of R(S,A) per 1 Hz epoch ± SEM.\n";
-  // Outcomes that are neither completions nor failures beyond the table's, and actions that could not be carried out.
+  return out;
+}
+
+// Outcomes that are neither completions nor failures beyond the table's, and actions that could not be carried out.
+std::string OutcomeNotes(const std::vector<GroupStatistics>& groups) {
+  std::string out;
+  bool any_other = false;
+  for (const GroupStatistics& g : groups) any_other = any_other || g.others > 0;
   std::string off_site, substituted;
   for (const GroupStatistics& g : groups) {
     if (g.off_site_landings > 0) {
@@ -422,14 +443,17 @@ std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
       if (g.others > 0) out += fmt::format("  {} {}: {} of {}\n", g.policy, g.battery_health, g.others, g.runs);
     }
   }
+  return out;
+}
 
-  // 2. Failure rate with its intervals, and the failures by cause.
-  out += fmt::format("\nFailure rate with {:.0f} % intervals, and failures by cause (flights)\n", 100.0 * kConfidenceLevel);
+// 2. Failure rate with its intervals, and the failures by cause.
+std::string FailureRatesTable(const std::vector<GroupStatistics>& groups) {
+  std::string out = fmt::format("\nFailure rate with {:.0f} % intervals, and failures by cause (flights)\n", 100.0 * kConfidenceLevel);
   out += fmt::format("{:<10} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", "policy", "BH",
                      "runs", "failures", "failure %", "Wilson", "Clopper-Pearson", "battery", "control", "collision",
                      "timeout", "other");
   out += std::string(118, '-') + "\n";
-  previous.clear();
+  std::string previous;
   for (const GroupStatistics& g : groups) {
     if (!previous.empty() && g.policy != previous) out += "\n";
     previous = g.policy;
@@ -440,8 +464,12 @@ std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
                        PercentInterval(g.failure_wilson), PercentInterval(g.failure_clopper_pearson), c[0], c[1], c[2],
                        c[3], c[4]);
   }
+  return out;
+}
 
-  // 3. McNemar's paired comparisons.
+// 3. McNemar's paired comparisons.
+std::string PairedTable(const std::vector<PairedComparison>& comparisons) {
+  std::string out;
   if (!comparisons.empty()) {
     out += "\nPaired comparison of failures on the same flights (McNemar): b = only the first failed, c = only the "
            "second\n";
@@ -455,8 +483,12 @@ std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
                          c.test.chi_squared, PValue(c.test.chi_squared_p));
     }
   }
+  return out;
+}
 
-  // 4. The dissertation's headline beside ours (§5.5.3, Fig. 5.30).
+// 4. The dissertation's headline beside ours (§5.5.3, Fig. 5.30), and the failures by the fades the batteries carry.
+std::string HeadlineTable(const std::vector<GroupStatistics>& groups) {
+  std::string out;
   auto poor = [&groups](const std::string& policy) -> const GroupStatistics* {
     for (const GroupStatistics& g : groups) {
       if (g.policy == policy && g.battery_health == "P") return &g;
@@ -489,6 +521,14 @@ std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
     out += "\n";
   }
   return out;
+}
+
+}  // namespace
+
+std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
+                            const std::vector<PairedComparison>& comparisons) {
+  return OutcomeRatesTable(groups) + OutcomeNotes(groups) + FailureRatesTable(groups) + PairedTable(comparisons) +
+         HeadlineTable(groups);
 }
 
 }  // namespace uascma::campaign

@@ -9,13 +9,13 @@
 
 #include <fmt/format.h>
 
+#include "uascma/common/cancellation.h"
+
 namespace uascma {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::atomic<bool> stop_requested{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "RequestStop must be async-signal-safe");
 std::atomic<bool> progress_on_stderr{true};
 
 // The live bars, oldest first, for CurrentProgress().
@@ -34,9 +34,10 @@ std::optional<ProgressSnapshot>& LastEnded() {
 
 }  // namespace
 
-void RequestStop() noexcept { stop_requested.store(true); }
-bool StopRequested() noexcept { return stop_requested.load(); }
-void ClearStopRequest() noexcept { stop_requested.store(false); }
+// The process-wide cancellation token (common/cancellation.h), which every ParallelFor watches by default.
+void RequestStop() noexcept { CancellationToken::Process().Cancel(); }
+bool StopRequested() noexcept { return CancellationToken::Process().IsCancelled(); }
+void ClearStopRequest() noexcept { CancellationToken::Process().Reset(); }
 void SetProgressOnStderr(bool enabled) noexcept { progress_on_stderr.store(enabled); }
 
 std::optional<ProgressSnapshot> CurrentProgress() {

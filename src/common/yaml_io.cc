@@ -128,15 +128,20 @@ YAML::Node RequireMap(const YAML::Node& node, const std::string& key, const std:
 
 void RequireOnlyKeys(const YAML::Node& node, std::initializer_list<const char*> allowed, const std::string& source,
                      const std::string& where) {
+  RequireOnlyKeys(node, std::vector<std::string>(allowed.begin(), allowed.end()), source, where);
+}
+
+void RequireOnlyKeys(const YAML::Node& node, const std::vector<std::string>& allowed, const std::string& source,
+                     const std::string& where) {
   if (!node.IsMap()) throw InputError(source, where.empty() ? "(top level)" : where, "a mapping");
   for (const auto& entry : node) {
     if (!entry.first.IsScalar()) throw InputError(source, where.empty() ? "(top level)" : where, "names as keys");
     const std::string key = entry.first.as<std::string>();
     bool known = false;
     std::string list;
-    for (const char* name : allowed) {
+    for (const std::string& name : allowed) {
       known = known || key == name;
-      list += (list.empty() ? "" : ", ") + std::string(name);
+      list += (list.empty() ? "" : ", ") + name;
     }
     if (!known) throw InputError(source, Join(where, key), "no such key here; expected one of: " + list);
   }

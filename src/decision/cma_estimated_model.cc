@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
-#include "uascma/common/json_io.h"
+#include "uascma/common/json_reader.h"
 #include "uascma/decision/cma_abstraction.h"
 
 namespace uascma::decision {
@@ -76,48 +76,52 @@ nlohmann::json CmaTransitionCountsToJson(const CmaTransitionCounts& counts) {
   return rows;
 }
 
-CmaTransitionCounts CmaTransitionCountsFromJson(const nlohmann::json& json, const std::string& source) {
-  if (!json.is_array()) throw InputError(source, "counts", "an array of rows {state, action, next}");
+namespace {
+
+// The counts of `rows` ([{state, action, next: {label: count}}], CmaTransitionCountsToJson).
+CmaTransitionCounts CountsFromRows(const JsonValue& rows) {
   const FiniteMdp& mdp = LabelModel();
   CmaTransitionCounts counts;
   std::set<std::pair<StateIndex, ActionIndex>> seen;
-  for (std::size_t i = 0; i < json.size(); ++i) {
-    const nlohmann::json& row = json[i];
-    const std::string where = fmt::format("counts[{}]", i);
-    if (!row.is_object() || !row.contains("state") || !row["state"].is_string() || !row.contains("action") ||
-        !row["action"].is_string() || !row.contains("next") || !row["next"].is_object()) {
-      throw InputError(source, where, "an object with a string 'state', a string 'action' and an object 'next'");
-    }
-    const StateIndex s = mdp.FindState(row["state"].get<std::string>());
-    if (s < 0 || s >= kCmaNumTupleStates) {
-      throw InputError(source, where + ".state", "a CMA tuple state such as N,NF,MM1,G,RM1");
-    }
-    const ActionIndex a = mdp.FindAction(row["action"].get<std::string>());
-    if (a < 0) throw InputError(source, where + ".action", "NoOp, Terminate, LandASAP or LandPract");
-    if (!IsTupleAvailable(s, a)) {
-      throw InputError(source, where + ".action", "an action available in the state (decisions item 3)");
-    }
-    if (!seen.insert({s, a}).second) throw InputError(source, where, "each (state, action) row at most once");
-    for (const auto& [label, value] : row["next"].items()) {
+  for (const JsonValue& row : rows.Elements("an array of rows {state, action, next}")) {
+    constexpr std::string_view kRow = "an object with a string 'state', a string 'action' and an object 'next'";
+    row.RequireObject(kRow);
+    const JsonValue state = row.Member("state");
+    const StateIndex s = mdp.FindState(state.String());
+    if (s < 0 || s >= kCmaNumTupleStates) state.FailExactly("a CMA tuple state such as N,NF,MM1,G,RM1");
+    const JsonValue action = row.Member("action");
+    const ActionIndex a = mdp.FindAction(action.String());
+    if (a < 0) action.FailExactly("NoOp, Terminate, LandASAP or LandPract");
+    if (!IsTupleAvailable(s, a)) action.FailExactly("an action available in the state (decisions item 3)");
+    if (!seen.insert({s, a}).second) row.FailExactly("each (state, action) row at most once");
+    for (const auto& [label, value] : row.Member("next").Members()) {
       const StateIndex n = mdp.FindState(label);
-      if (n < 0) throw InputError(source, where + ".next." + label, "a CMA state label");
-      if (!value.is_number_integer() || value.get<std::int64_t>() < 0) {
-        throw InputError(source, where + ".next." + label, "a count, an integer >= 0");
-      }
-      counts.Add(s, a, n, value.get<std::int64_t>());
+      if (n < 0) value.FailExactly("a CMA state label");
+      constexpr std::string_view kCount = "a count, an integer >= 0";
+      const std::int64_t count = value.Integer<std::int64_t>(kCount);
+      if (count < 0) value.Fail(kCount);
+      counts.Add(s, a, n, count);
     }
   }
   return counts;
 }
 
+}  // namespace
+
+CmaTransitionCounts CmaTransitionCountsFromJson(const nlohmann::json& json, const std::string& source) {
+  return CountsFromRows(JsonValue(&json, &source, "counts"));
+}
+
 CmaTransitionCounts ReadCmaTransitionsFile(const std::filesystem::path& path) {
-  const nlohmann::json json = ReadJsonFile(path);
-  if (!json.is_object() || !json.contains("format") || json["format"] != kCmaTransitionsFormat) {
-    throw InputError(path.string(), "format", fmt::format("\"{}\" (written by 'uascma learn transitions')",
-                                                          kCmaTransitionsFormat));
-  }
-  if (!json.contains("counts")) throw InputError(path.string(), "counts", "the transition counts");
-  return CmaTransitionCountsFromJson(json["counts"], path.string());
+  const JsonDocument document = JsonDocument::ReadFile(path);
+  const JsonValue root = document.root();
+  const std::string expected =
+      fmt::format("\"{}\" (written by 'uascma learn transitions')", kCmaTransitionsFormat);
+  root.RequireObject(expected);
+  root.Member("format").RequireString(kCmaTransitionsFormat, expected);
+  const JsonValue counts = root.Member("counts");
+  if (counts.IsMissing()) counts.Fail("the transition counts");
+  return CountsFromRows(counts);
 }
 
 std::vector<double> EstimatedRow(const CmaTransitionCounts& counts, StateIndex state, ActionIndex action) {

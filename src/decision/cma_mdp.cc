@@ -337,25 +337,6 @@ std::string CmaConfigYaml(const CmaConfig& config) {
       w.MM, w.BH, w.RM);
 }
 
-nlohmann::json CmaWeightsJson(const CmaWeights& weights) {
-  nlohmann::json json = nlohmann::json::object();
-  for (const auto& name : CmaWeights::Names()) json[name] = weights.Get(name);
-  return json;
-}
-
-CmaWeights CmaWeightsFromJson(const nlohmann::json& json, const std::string& source) {
-  CmaWeights weights;
-  for (const auto& name : CmaWeights::Names()) {
-    if (!json.is_object() || !json.contains(name) || !json.at(name).is_number()) {
-      throw InputError(source, "model_config.weights." + name, "a number");
-    }
-    const double value = json.at(name).get<double>();
-    RequireWithin(value, kCmaWeightBounds, source, "model_config.weights." + name);
-    weights.Set(name, value);
-  }
-  return weights;
-}
-
 FactoredMdpBuilder MakeCmaFactoredModel() {
   FactoredMdpBuilder model(kFeatures, kActionNames);
   model.AddTerminalState("C", "E");

@@ -4,9 +4,11 @@
 
 #include "uascma/common/error.h"
 #include "uascma/common/json_io.h"
+#include "uascma/common/json_reader.h"
 #include "uascma/common/hash.h"
 #include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/cma_weights_json.h"
 
 namespace uascma::decision {
 
@@ -69,45 +71,25 @@ nlohmann::json PolicyToJson(const PolicyDocument& document) {
           {"states", states}};
 }
 
-namespace {
-template <typename T>
-T Field(const nlohmann::json& json, const char* key, const std::string& source, const char* expected) {
-  if (!json.contains(key)) throw InputError(source, key, std::string(expected) + ", but it is missing");
-  try {
-    return json.at(key).get<T>();
-  } catch (const nlohmann::json::exception&) {
-    throw InputError(source, key, expected);
-  }
-}
-}  // namespace
-
 PolicyDocument PolicyFromJson(const nlohmann::json& json, const std::string& source) {
-  if (!json.is_object()) throw InputError(source, "(top level)", "a JSON object");
+  const JsonValue root(&json, &source, "");
+  root.RequireObject("a JSON object");
   PolicyDocument document;
-  const auto format = Field<std::string>(json, "format", source, "a string");
+  const std::string format = root.Member("format").String();
   if (format != kPolicyFormat) {
     throw InputError(source, "format", fmt::format("'{}', got '{}'", kPolicyFormat, format));
   }
-  document.model = Field<std::string>(json, "model", source, "a model name string");
-  document.model_hash = Field<std::string>(json, "model_hash", source, "a hash string");
-  document.gamma = Field<double>(json, "gamma", source, "a number");
-  RequireWithin(document.gamma, kGammaBounds, source, "gamma");
-  document.model_config = json.value("model_config", nlohmann::json::object());
-  document.solver = json.value("solver", nlohmann::json::object());
-  if (!json.contains("states") || !json.at("states").is_array()) {
-    throw InputError(source, "states", "an array of {state, action, value}");
-  }
-  std::size_t i = 0;
-  for (const auto& entry : json.at("states")) {
-    const std::string where = fmt::format("states[{}]", i++);
-    if (!entry.is_object() || !entry.contains("state") || !entry.at("state").is_string() ||
-        !entry.contains("action") || !entry.at("action").is_string() || !entry.contains("value") ||
-        !entry.at("value").is_number()) {
-      throw InputError(source, where, "an object with string 'state', string 'action', number 'value'");
-    }
-    document.state_labels.push_back(entry.at("state").get<std::string>());
-    document.action_names.push_back(entry.at("action").get<std::string>());
-    document.values.push_back(entry.at("value").get<double>());
+  document.model = root.Member("model").String("a model name string");
+  document.model_hash = root.Member("model_hash").String("a hash string");
+  document.gamma = root.Member("gamma").Number(kGammaBounds);
+  if (root.Has("model_config")) document.model_config = root.Member("model_config").json();
+  if (root.Has("solver")) document.solver = root.Member("solver").json();
+  for (const JsonValue& entry : root.Member("states").Elements("an array of {state, action, value}")) {
+    constexpr std::string_view kEntry = "an object with string 'state', string 'action', number 'value'";
+    entry.RequireObject(kEntry);
+    document.state_labels.push_back(entry.Member("state").String());
+    document.action_names.push_back(entry.Member("action").String());
+    document.values.push_back(entry.Member("value").Number());
   }
   return document;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -60,43 +61,82 @@ int ImmFilter::MapMode() const {
   return static_cast<int>(std::max_element(probability_.begin(), probability_.end()) - probability_.begin());
 }
 
-void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeasurement& measurement, double dt) {
-  // Markov switching: π(0→0) = 1 − 6ε, π(0→k) = ε, π(k→0) = δ, π(k→k) = 1 − δ, π(k→k') = 0 for k ≠ k'
-  // (one failure at a time). Mode 0 mixes from every mode; mode k only from 0 and k.
-  const double eps = params_.switch_probability;
-  const double delta = params_.recover_probability;
+namespace {
 
-  // 1. Mixing: predicted mode probabilities c_j and the mixing weights μ_{i|j}.
-  Lanes predicted, from_nominal;  // c_j, μ_{0|j}
+// The filter's lanes (ImmFilter::Lanes): modes 0…6 and an idle lane 7.
+constexpr int kImmLanes = 8;
+using ImmLanes = Eigen::Array<double, kImmLanes, 1>;
+
+// Step 1 of the cycle, the mixing: predicted mode probabilities c_j, the weights μ_{0|j} of the nominal mode in
+// the mix of mode j, and the weights μ_{i|0} of the nominal mode's mix.
+struct ModeMix {
+  ImmLanes predicted;            // c_j
+  ImmLanes from_nominal;         // μ_{0|j}
+  ImmLanes weight_into_nominal;  // μ_{i|0}; 0 in the idle lane
+};
+
+// Markov switching: π(0→0) = 1 − 6ε, π(0→k) = ε, π(k→0) = δ, π(k→k) = 1 − δ, π(k→k') = 0 for k ≠ k'
+// (one failure at a time). Mode 0 mixes from every mode; mode k only from 0 and k.
+ModeMix MixModes(const std::array<double, kImmModes>& probability, double eps, double delta) {
+  ModeMix mix;
   double failure_total = 0.0;
-  for (int i = 1; i < kImmModes; ++i) failure_total += probability_[i];
-  predicted[0] = (1.0 - 6.0 * eps) * probability_[0] + delta * failure_total;
-  Lanes weight_into_nominal = Lanes::Zero();  // μ_{i|0}; 0 in the idle lane
-  weight_into_nominal[0] = (1.0 - 6.0 * eps) * probability_[0] / predicted[0];
-  for (int i = 1; i < kImmModes; ++i) weight_into_nominal[i] = delta * probability_[i] / predicted[0];
-  from_nominal[0] = 0.0;  // lane 0 is overwritten below by the full mix; the idle lane 7 copies mode 0
-  from_nominal[kLanes - 1] = 1.0;
-  predicted[kLanes - 1] = 1.0;
+  for (int i = 1; i < kImmModes; ++i) failure_total += probability[i];
+  mix.predicted[0] = (1.0 - 6.0 * eps) * probability[0] + delta * failure_total;
+  mix.weight_into_nominal = ImmLanes::Zero();
+  mix.weight_into_nominal[0] = (1.0 - 6.0 * eps) * probability[0] / mix.predicted[0];
+  for (int i = 1; i < kImmModes; ++i) mix.weight_into_nominal[i] = delta * probability[i] / mix.predicted[0];
+  mix.from_nominal[0] = 0.0;  // lane 0 is overwritten below by the full mix; the idle lane 7 copies mode 0
+  mix.from_nominal[kImmLanes - 1] = 1.0;
+  mix.predicted[kImmLanes - 1] = 1.0;
   for (int j = 1; j < kImmModes; ++j) {
-    predicted[j] = eps * probability_[0] + (1.0 - delta) * probability_[j];
-    from_nominal[j] = eps * probability_[0] / predicted[j];
+    mix.predicted[j] = eps * probability[0] + (1.0 - delta) * probability[j];
+    mix.from_nominal[j] = eps * probability[0] / mix.predicted[j];
   }
-  const Lanes from_self = 1.0 - from_nominal;  // μ_{j|j}
-  const Lanes spread_weight = from_nominal * from_self;
+  return mix;
+}
 
-  // Mixed rates and variances. For the two-term mixes of modes j ≥ 1 (d = r_0 − r_j):
-  //   mean = μ0 r_0 + μj r_j,  var = μ0 v_0 + μj v_j + μ0 μj d²   (μ0 + μj = 1).
-  std::array<Lanes, 3> mixed_rate, mixed_variance;
+// Mixed rates and variances. For the two-term mixes of modes j ≥ 1 (d = r_0 − r_j):
+//   mean = μ0 r_0 + μj r_j,  var = μ0 v_0 + μj v_j + μ0 μj d²   (μ0 + μj = 1).
+void MixRates(const ModeMix& mix, const std::array<ImmLanes, 3>& rate, const std::array<ImmLanes, 3>& variance,
+              std::array<ImmLanes, 3>* mixed_rate, std::array<ImmLanes, 3>* mixed_variance) {
+  const ImmLanes from_self = 1.0 - mix.from_nominal;  // μ_{j|j}
+  const ImmLanes spread_weight = mix.from_nominal * from_self;
   for (int axis = 0; axis < 3; ++axis) {
-    const Lanes& r = rate_[axis];
-    const Lanes& v = variance_[axis];
-    const Lanes d = r[0] - r;
-    mixed_rate[axis] = from_nominal * r[0] + from_self * r;
-    mixed_variance[axis] = from_nominal * v[0] + from_self * v + spread_weight * d.square();
-    const double mean0 = (weight_into_nominal * r).sum();
-    mixed_rate[axis][0] = mean0;
-    mixed_variance[axis][0] = (weight_into_nominal * (v + (r - mean0).square())).sum();
+    const ImmLanes& r = rate[axis];
+    const ImmLanes& v = variance[axis];
+    const ImmLanes d = r[0] - r;
+    (*mixed_rate)[axis] = mix.from_nominal * r[0] + from_self * r;
+    (*mixed_variance)[axis] = mix.from_nominal * v[0] + from_self * v + spread_weight * d.square();
+    const double mean0 = (mix.weight_into_nominal * r).sum();
+    (*mixed_rate)[axis][0] = mean0;
+    (*mixed_variance)[axis][0] = (mix.weight_into_nominal * (v + (r - mean0).square())).sum();
   }
+}
+
+// 4. Mode probabilities ∝ c_j · L_j, L_j = exp(−½ q_j) / √det S_j. The exponent is shifted by its
+// minimum (no underflow) and the determinant enters as a square root (no logarithm). A floor keeps every
+// mode alive for the next switch.
+void UpdateModeProbabilities(const ImmLanes& predicted, const ImmLanes& quadratic, const ImmLanes& variance_product,
+                             std::array<double, kImmModes>* probability) {
+  const double least = quadratic.head<kImmModes>().minCoeff();
+  const ImmLanes weight = predicted / variance_product.sqrt();
+  double total = 0.0;
+  for (int j = 0; j < kImmModes; ++j) {
+    (*probability)[j] = weight[j] * std::exp(-0.5 * (quadratic[j] - least));
+    total += (*probability)[j];
+  }
+  const double inverse_total = 1.0 / total;
+  for (int j = 0; j < kImmModes; ++j) (*probability)[j] = std::max((*probability)[j] * inverse_total, 1e-12);
+}
+
+}  // namespace
+
+void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeasurement& measurement, double dt) {
+  static_assert(std::is_same_v<Lanes, ImmLanes>);
+  // 1. Mixing.
+  const ModeMix mix = MixModes(probability_, params_.switch_probability, params_.recover_probability);
+  std::array<Lanes, 3> mixed_rate, mixed_variance;
+  MixRates(mix, rate_, variance_, &mixed_rate, &mixed_variance);
 
   // Each mode's thrust and torques: the believed wrench less rotor j's share (lane j's mixing column).
   const models::BodyWrench all = mixing_ * believed_thrusts;
@@ -131,18 +171,7 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
     variance_product *= innovation_variance;
   }
 
-  // 4. Mode probabilities ∝ c_j · L_j, L_j = exp(−½ q_j) / √det S_j. The exponent is shifted by its
-  // minimum (no underflow) and the determinant enters as a square root (no logarithm). A floor keeps every
-  // mode alive for the next switch.
-  const double least = quadratic.head<kImmModes>().minCoeff();
-  const Lanes weight = predicted / variance_product.sqrt();
-  double total = 0.0;
-  for (int j = 0; j < kImmModes; ++j) {
-    probability_[j] = weight[j] * std::exp(-0.5 * (quadratic[j] - least));
-    total += probability_[j];
-  }
-  const double inverse_total = 1.0 / total;
-  for (int j = 0; j < kImmModes; ++j) probability_[j] = std::max(probability_[j] * inverse_total, 1e-12);
+  UpdateModeProbabilities(mix.predicted, quadratic, variance_product, &probability_);
   // Isolation: a failure mode that holds the MAP above the threshold for the required steps.
   const int map = MapMode();
   if (isolated_rotor_ == 0) {

@@ -10,6 +10,7 @@
 #include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/decision/cma_weights_json.h"
 
 namespace uascma::learning {
 namespace {
@@ -43,22 +44,24 @@ sim::Scenario OneMissionScenario(const campaign::SampledRun& anchor, const campa
 // The episodes' scenarios, with the anchor drawn once.
 class EpisodeSource {
  public:
-  explicit EpisodeSource(const CmaQLearningOptions& options) : options_(options) {
+  explicit EpisodeSource(const CmaQLearningOptions& options)
+      : options_(options), world_(campaign::BuildCampaignWorld(options.config.map)) {
     if (options.setting == EpisodeSetting::kOneMission) {
-      anchor_ = campaign::SampleRun(options.config, options.config.seed, options.anchor_run);
+      anchor_ = campaign::SampleRun(options.config, world_, options.config.seed, options.anchor_run);
     }
   }
   sim::Scenario Scenario(std::int64_t episode) const {
     if (options_.setting == EpisodeSetting::kCampaign) {
-      return campaign::SampleRun(options_.config, options_.config.seed, episode).scenario;
+      return campaign::SampleRun(options_.config, world_, options_.config.seed, episode).scenario;
     }
     // Draws after the anchor's own index, so the anchor's draw is not reused as an episode.
     const std::int64_t run = episode + options_.anchor_run + 1;
-    return OneMissionScenario(*anchor_, campaign::SampleRun(options_.config, options_.config.seed, run));
+    return OneMissionScenario(*anchor_, campaign::SampleRun(options_.config, world_, options_.config.seed, run));
   }
 
  private:
   const CmaQLearningOptions& options_;
+  const campaign::CampaignWorld world_;  // built once for every episode (campaign/world.h)
   std::optional<campaign::SampledRun> anchor_;
 };
 
@@ -110,7 +113,7 @@ StateIndex EncodeQState(QStateKind kind, const sim::Observation& observation, co
   const StateIndex tuple = decision::CmaStateIndex(observation.state);
   if (kind == QStateKind::kCma) return tuple;
   const double duration = state.plan(model).duration();
-  const double completion = duration > 0.0 ? (observation.time_s - state.plan_start_s) / duration : 1.0;
+  const double completion = duration > 0.0 ? (observation.time_s - state.guidance.plan_start_s) / duration : 1.0;
   const int bins = CompletionBin(completion) * kReachMarginBins + ReachMarginBin(observation.reach_margin);
   return bins * kCmaNumTupleStates + tuple;
 }

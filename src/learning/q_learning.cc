@@ -3,17 +3,14 @@
 #include <time.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <mutex>
-#include <thread>
 #include <utility>
 
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/common/parallel_for.h"
 
 namespace uascma::learning {
 namespace {
@@ -25,37 +22,17 @@ double ProcessCpuSeconds() {
 }
 
 // Flies episodes [first, first + count) against `snapshot` on `jobs` threads; episodes[k] is episode first + k.
+// Throws Cancelled when the work is stopped (common/cancellation.h) before every episode flew.
 std::vector<Episode> FlyBatch(const EpisodeFunction& fly, const QTable& snapshot, std::int64_t first, int count,
                               const QLearningOptions& options) {
-  std::vector<Episode> episodes(static_cast<std::size_t>(count));
-  std::atomic<int> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    while (true) {
-      const int k = next.fetch_add(1);
-      if (k >= count) return;
-      try {
-        const std::int64_t index = first + k;
-        episodes[static_cast<std::size_t>(k)] = fly(index, snapshot, options.epsilon.At(index));
-        if (options.on_episode_done) options.on_episode_done(index);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next.store(count);
-      }
-    }
-  };
-  const int threads = std::min(options.jobs, count);
-  if (threads <= 1) {
-    worker();
-  } else {
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-    for (std::thread& thread : pool) thread.join();
-  }
-  if (error) std::rethrow_exception(error);
-  return episodes;
+  ParallelOptions parallel;
+  parallel.jobs = options.jobs;
+  return ParallelMap(count, parallel, [&](std::int64_t k) {
+    const std::int64_t index = first + k;
+    Episode episode = fly(index, snapshot, options.epsilon.At(index));
+    if (options.on_episode_done) options.on_episode_done(index);
+    return episode;
+  });
 }
 
 // The greedy action of every visited state (-1 for states not visited yet).

@@ -3,18 +3,15 @@
 #include <time.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <exception>
 #include <memory>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
+#include "uascma/common/parallel_for.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/learning/cma_q_learning.h"
@@ -71,7 +68,13 @@ bool TransitionEstimationOptions::IsValid(std::string* error) const {
 
 decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options, std::int64_t run,
                                                   TransitionEstimationSummary* summary) {
-  const campaign::SampledRun sampled = campaign::SampleRun(options.config, options.config.seed, run);
+  return CountRunTransitions(options, campaign::BuildCampaignWorld(options.config.map), run, summary);
+}
+
+decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options,
+                                                  const campaign::CampaignWorld& world, std::int64_t run,
+                                                  TransitionEstimationSummary* summary) {
+  const campaign::SampledRun sampled = campaign::SampleRun(options.config, world, options.config.seed, run);
   auto model = std::make_shared<const sim::FlightModel>(sampled.scenario);
   sim::DecisionEnvironment flight(model);
   sim::DecisionEnvironment branch(model);
@@ -109,47 +112,32 @@ decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationO
   const auto wall_start = std::chrono::steady_clock::now();
   const double cpu_start = ProcessCpuSeconds();
   BehaviourPolicy();  // solved once before the threads start
-  const int threads = static_cast<int>(std::min<std::int64_t>(options.jobs, options.runs));
-  std::vector<decision::CmaTransitionCounts> per_thread(static_cast<std::size_t>(threads));
-  std::vector<TransitionEstimationSummary> per_thread_summary(static_cast<std::size_t>(threads));
-  std::atomic<std::int64_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto worker = [&](int t) {
-    while (true) {
-      const std::int64_t run = next.fetch_add(1);
-      if (run >= options.runs) return;
-      try {
-        TransitionEstimationSummary one;
-        per_thread[static_cast<std::size_t>(t)].Merge(CountRunTransitions(options, run, &one));
-        TransitionEstimationSummary& total = per_thread_summary[static_cast<std::size_t>(t)];
-        total.runs += one.runs;
-        total.epochs += one.epochs;
-        total.branches += one.branches;
-        total.explored += one.explored;
-        if (options.on_run_done) options.on_run_done(run);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        next.store(options.runs);
-      }
-    }
+  struct RunCounts {
+    decision::CmaTransitionCounts counts;
+    TransitionEstimationSummary summary;
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-  worker(0);
-  for (std::thread& thread : pool) thread.join();
-  if (failure) std::rethrow_exception(failure);
+  ParallelOptions parallel;
+  parallel.jobs = options.jobs;
   decision::CmaTransitionCounts counts;
   TransitionEstimationSummary total;
-  for (int t = 0; t < threads; ++t) {
-    counts.Merge(per_thread[static_cast<std::size_t>(t)]);
-    const TransitionEstimationSummary& one = per_thread_summary[static_cast<std::size_t>(t)];
-    total.runs += one.runs;
-    total.epochs += one.epochs;
-    total.branches += one.branches;
-    total.explored += one.explored;
-  }
+  const campaign::CampaignWorld world = campaign::BuildCampaignWorld(options.config.map);  // once for every run
+  // Merged in run order: the integer sums are the same for any number of threads.
+  const std::int64_t merged = ParallelFor(
+      options.runs, parallel,
+      [&options, &world](std::int64_t run) {
+        RunCounts one;
+        one.counts = CountRunTransitions(options, world, run, &one.summary);
+        if (options.on_run_done) options.on_run_done(run);
+        return one;
+      },
+      [&counts, &total](std::int64_t, RunCounts&& one) {
+        counts.Merge(one.counts);
+        total.runs += one.summary.runs;
+        total.epochs += one.summary.epochs;
+        total.branches += one.summary.branches;
+        total.explored += one.summary.explored;
+      });
+  if (merged < options.runs) throw Cancelled();
   total.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   total.cpu_time_s = ProcessCpuSeconds() - cpu_start;
   if (summary != nullptr) *summary = total;

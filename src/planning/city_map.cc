@@ -82,6 +82,45 @@ bool CityMapOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// The box of building `k`'s outline, once its height and rings are checked (InputError naming the building).
+Eigen::AlignedBox2d CheckedBuildingBox(const Building& b, std::size_t k) {
+  const std::string source = "building " + (b.id.empty() ? fmt::format("#{}", k) : b.id);
+  if (!(std::isfinite(b.height) && b.height > 0.0)) {
+    throw InputError(source, "height", fmt::format("a positive number of metres, got {}", b.height));
+  }
+  if (b.rings.empty()) throw InputError(source, "rings", "at least one ring");
+  Eigen::AlignedBox2d box;
+  for (std::size_t r = 0; r < b.rings.size(); ++r) {
+    if (b.rings[r].size() < 3) {
+      throw InputError(source, fmt::format("ring {}", r),
+                       fmt::format("at least 3 vertices, got {}", b.rings[r].size()));
+    }
+    for (const auto& p : b.rings[r]) {
+      if (!IsFinite(p)) throw InputError(source, fmt::format("ring {}", r), "finite coordinates");
+      box.extend(p);
+    }
+  }
+  return box;
+}
+
+// A landing site's own fields: InputError naming `source` for a bad one.
+void CheckSite(const LandingSite& site, const std::string& source) {
+  if (!site.p_W.allFinite()) throw InputError(source, "position", "finite coordinates");
+  if (!(site.altitude() >= 0.0)) {
+    throw InputError(source, "altitude", fmt::format("≥ 0 m (at or above the ground), got {} m", site.altitude()));
+  }
+  if (!(site.risk >= 0.0 && site.risk <= 1.0)) {
+    throw InputError(source, "risk", fmt::format("a number in [0, 1], got {}", site.risk));
+  }
+  if (!(std::isfinite(site.radius) && site.radius > 0.0)) {
+    throw InputError(source, "radius", fmt::format("a positive number of metres, got {}", site.radius));
+  }
+}
+
+}  // namespace
+
 CityMap::CityMap(std::vector<Building> buildings, std::vector<LandingSite> sites, const CityMapOptions& options)
     : buildings_(std::move(buildings)), sites_(std::move(sites)) {
   std::string error;
@@ -94,22 +133,7 @@ CityMap::CityMap(std::vector<Building> buildings, std::vector<LandingSite> sites
   heights_.reserve(buildings_.size());
   for (std::size_t k = 0; k < buildings_.size(); ++k) {
     const Building& b = buildings_[k];
-    const std::string source = "building " + (b.id.empty() ? fmt::format("#{}", k) : b.id);
-    if (!(std::isfinite(b.height) && b.height > 0.0)) {
-      throw InputError(source, "height", fmt::format("a positive number of metres, got {}", b.height));
-    }
-    if (b.rings.empty()) throw InputError(source, "rings", "at least one ring");
-    Eigen::AlignedBox2d box;
-    for (std::size_t r = 0; r < b.rings.size(); ++r) {
-      if (b.rings[r].size() < 3) {
-        throw InputError(source, fmt::format("ring {}", r),
-                         fmt::format("at least 3 vertices, got {}", b.rings[r].size()));
-      }
-      for (const auto& p : b.rings[r]) {
-        if (!IsFinite(p)) throw InputError(source, fmt::format("ring {}", r), "finite coordinates");
-        box.extend(p);
-      }
-    }
+    const Eigen::AlignedBox2d box = CheckedBuildingBox(b, k);
     const auto edges = EdgesOfRings(b.rings);
     edges_.insert(edges_.end(), edges.begin(), edges.end());
     edge_begin_.push_back(static_cast<int>(edges_.size()));
@@ -134,16 +158,7 @@ CityMap::CityMap(std::vector<Building> buildings, std::vector<LandingSite> sites
   for (std::size_t s = 0; s < sites_.size(); ++s) {
     LandingSite& site = sites_[s];
     const std::string source = "landing site " + (site.id.empty() ? fmt::format("#{}", s) : site.id);
-    if (!site.p_W.allFinite()) throw InputError(source, "position", "finite coordinates");
-    if (!(site.altitude() >= 0.0)) {
-      throw InputError(source, "altitude", fmt::format("≥ 0 m (at or above the ground), got {} m", site.altitude()));
-    }
-    if (!(site.risk >= 0.0 && site.risk <= 1.0)) {
-      throw InputError(source, "risk", fmt::format("a number in [0, 1], got {}", site.risk));
-    }
-    if (!(std::isfinite(site.radius) && site.radius > 0.0)) {
-      throw InputError(source, "radius", fmt::format("a positive number of metres, got {}", site.radius));
-    }
+    CheckSite(site, source);
     const Eigen::Vector2d p_NE = site.p_W.head<2>();
     site.building = kNoBuilding;
     double best_mismatch = std::numeric_limits<double>::infinity();

@@ -19,6 +19,37 @@ std::string TrimBlanks(const std::string& text) {
   return text.substr(begin, end - begin);
 }
 
+// The quoted field whose opening quote is at *i: its text ("" read as one quote). Moves *i past the closing
+// quote and the blanks after it, counts the line breaks inside into *line, and requires a comma, a line break
+// or the end next.
+std::string ReadQuotedField(std::string_view text, const std::string& source, std::size_t* i, int* line) {
+  const int opened = *line;
+  std::string field;
+  ++*i;
+  while (true) {
+    if (*i >= text.size()) {
+      throw InputError(source, fmt::format("line {}", opened), "a closing double quote for the field opened here");
+    }
+    if (text[*i] == '"') {
+      if (*i + 1 < text.size() && text[*i + 1] == '"') {
+        field += '"';
+        *i += 2;
+        continue;
+      }
+      ++*i;
+      break;
+    }
+    if (text[*i] == '\n') ++*line;
+    field += text[(*i)++];
+  }
+  // After the closing quote: blanks, then a comma, a line break or the end.
+  while (*i < text.size() && IsBlank(text[*i])) ++*i;
+  if (*i < text.size() && text[*i] != ',' && text[*i] != '\n' && text[*i] != '\r') {
+    throw InputError(source, fmt::format("line {}", *line), "a comma or the end of the line after a closing quote");
+  }
+  return field;
+}
+
 }  // namespace
 
 std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source) {
@@ -51,32 +82,9 @@ std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source
         throw InputError(source, fmt::format("line {}", line),
                          "a double quote only at the start of a field (write \"\" inside a quoted field)");
       }
-      const int opened = line;
-      field.clear();
+      field = ReadQuotedField(text, source, &i, &line);
       quoted = true;
       any_content = true;
-      ++i;
-      while (true) {
-        if (i >= text.size()) {
-          throw InputError(source, fmt::format("line {}", opened), "a closing double quote for the field opened here");
-        }
-        if (text[i] == '"') {
-          if (i + 1 < text.size() && text[i + 1] == '"') {
-            field += '"';
-            i += 2;
-            continue;
-          }
-          ++i;
-          break;
-        }
-        if (text[i] == '\n') ++line;
-        field += text[i++];
-      }
-      // After the closing quote: blanks, then a comma, a line break or the end.
-      while (i < text.size() && IsBlank(text[i])) ++i;
-      if (i < text.size() && text[i] != ',' && text[i] != '\n' && text[i] != '\r') {
-        throw InputError(source, fmt::format("line {}", line), "a comma or the end of the line after a closing quote");
-      }
       continue;
     }
     if (c == ',') {

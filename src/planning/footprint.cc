@@ -424,6 +424,36 @@ std::string FootprintResult::BriefReport() const {
       forward_limit, backward_limit, lateral_limit, region.center_x, region.semi_axis_x, region.semi_axis_y);
 }
 
+namespace {
+
+// The series measured against the closed form it truncates: result->series_relative_error, and a warning when it
+// exceeds FootprintResult::kSeriesTolerance.
+void CheckSeries(const FootprintParams& params, FootprintResult* result) {
+  // The series measured against the closed form it truncates (issue 26: order 5 at 100 s gave a footprint
+  // of zero width where the exact one is 962.5 / -925.1 / 943.8 m, without a word).
+  FootprintParams exact_params = params;
+  exact_params.maclaurin_order = 0;
+  const FootprintResult exact = CalcFootprint(exact_params);
+  const double size = std::max({std::abs(exact.forward_limit), std::abs(exact.backward_limit), exact.lateral_limit,
+                                1e-9});
+  const double error = std::max({std::abs(result->forward_limit - exact.forward_limit),
+                                 std::abs(result->backward_limit - exact.backward_limit),
+                                 std::abs(result->lateral_limit - exact.lateral_limit)}) /
+                       size;
+  result->series_relative_error = error;
+  if (!(error <= FootprintResult::kSeriesTolerance)) {
+    result->warning = fmt::format(
+        "the order-{} Maclaurin series is not accurate at a*t_f = {:.3g}: its limits (forward {:.1f}, backward "
+        "{:.1f}, lateral {:.1f} m) differ from the closed form's ({:.1f}, {:.1f}, {:.1f} m) by {:.3g} % of the "
+        "footprint (tolerance {:g} %); use the exact exponentials (order 0) or a higher order",
+        params.maclaurin_order, params.drag_slope / params.mass * params.eod, result->forward_limit,
+        result->backward_limit, result->lateral_limit, exact.forward_limit, exact.backward_limit, exact.lateral_limit,
+        100.0 * error, 100.0 * FootprintResult::kSeriesTolerance);
+  }
+}
+
+}  // namespace
+
 FootprintResult CalcFootprint(const FootprintParams& params) {
   std::string error, field;
   if (!params.IsValid(&error, &field)) throw InputError("footprint", field, error.substr(field.size() + 2));
@@ -481,29 +511,7 @@ FootprintResult CalcFootprint(const FootprintParams& params) {
   result.region.center_x = 0.5 * (front + back);
   result.region.semi_axis_x = 0.5 * (front - back);
   result.region.semi_axis_y = result.lateral_limit;
-  if (params.maclaurin_order > 0) {
-    // The series measured against the closed form it truncates (issue 26: order 5 at 100 s gave a footprint
-    // of zero width where the exact one is 962.5 / -925.1 / 943.8 m, without a word).
-    FootprintParams exact_params = params;
-    exact_params.maclaurin_order = 0;
-    const FootprintResult exact = CalcFootprint(exact_params);
-    const double size = std::max({std::abs(exact.forward_limit), std::abs(exact.backward_limit), exact.lateral_limit,
-                                  1e-9});
-    const double error = std::max({std::abs(result.forward_limit - exact.forward_limit),
-                                   std::abs(result.backward_limit - exact.backward_limit),
-                                   std::abs(result.lateral_limit - exact.lateral_limit)}) /
-                         size;
-    result.series_relative_error = error;
-    if (!(error <= FootprintResult::kSeriesTolerance)) {
-      result.warning = fmt::format(
-          "the order-{} Maclaurin series is not accurate at a*t_f = {:.3g}: its limits (forward {:.1f}, backward "
-          "{:.1f}, lateral {:.1f} m) differ from the closed form's ({:.1f}, {:.1f}, {:.1f} m) by {:.3g} % of the "
-          "footprint (tolerance {:g} %); use the exact exponentials (order 0) or a higher order",
-          params.maclaurin_order, params.drag_slope / params.mass * params.eod, result.forward_limit,
-          result.backward_limit, result.lateral_limit, exact.forward_limit, exact.backward_limit, exact.lateral_limit,
-          100.0 * error, 100.0 * FootprintResult::kSeriesTolerance);
-    }
-  }
+  if (params.maclaurin_order > 0) CheckSeries(params, &result);
   return result;
 }
 

@@ -196,6 +196,52 @@ std::vector<int> ObstacleSet::ActiveInBox(const Eigen::AlignedBox2d& box, double
   return active;
 }
 
+namespace {
+
+// The bounding box of the budget ellipse |p − s| + |p − g| ≤ max_length (all obstacles' box without a budget).
+Eigen::AlignedBox2d BudgetEllipseBox(const ObstacleSet& obstacles, const Eigen::Vector2d& s, const Eigen::Vector2d& g,
+                                     double max_length) {
+  Eigen::AlignedBox2d ellipse_box = obstacles.bounds();
+  if (std::isfinite(max_length)) {
+    const double major = 0.5 * max_length, focal = 0.5 * (g - s).norm();
+    const double minor = std::sqrt(std::max(major * major - focal * focal, 0.0));
+    const Eigen::Vector2d axis = focal > 0.0 ? Eigen::Vector2d((g - s).normalized()) : Eigen::Vector2d(1.0, 0.0);
+    const Eigen::Vector2d half(std::sqrt(major * major * axis.x() * axis.x() + minor * minor * axis.y() * axis.y()),
+                               std::sqrt(major * major * axis.y() * axis.y() + minor * minor * axis.x() * axis.x()));
+    const Eigen::Vector2d centre = 0.5 * (s + g);
+    ellipse_box = Eigen::AlignedBox2d(centre - half, centre + half);
+  }
+  return ellipse_box;
+}
+
+// Graph vertices: start, goal, and the corners inside the ellipse that are not strictly inside another active
+// obstacle (such a corner cannot be reached without crossing that obstacle).
+std::vector<Eigen::Vector2d> DetourGraphNodes(const ObstacleSet& obstacles, const Eigen::AlignedBox2d& ellipse_box,
+                                              const Eigen::Vector2d& s, const Eigen::Vector2d& g, double max_length,
+                                              double min_height, double tol) {
+  std::vector<Eigen::Vector2d> nodes = {s, g};
+  for (int k : obstacles.ActiveInBox(ellipse_box, min_height)) {
+    for (const Eigen::Vector2d& v : obstacles.obstacle(k).vertices_NE) {
+      if ((v - s).norm() + (v - g).norm() > max_length) continue;
+      if (obstacles.StrictlyContaining(v, min_height, tol, k) >= 0) continue;
+      nodes.push_back(v);
+    }
+  }
+  return nodes;
+}
+
+// The path to `goal` by the parents of the search, start first, and its length.
+void SetPathFromParents(const std::vector<Eigen::Vector2d>& nodes, const std::vector<int>& parent, int goal,
+                        DetourResult* result) {
+  for (int v = goal; v != -1; v = parent[v]) result->points_NE.push_back(nodes[v]);
+  std::reverse(result->points_NE.begin(), result->points_NE.end());
+  for (std::size_t i = 1; i < result->points_NE.size(); ++i) {
+    result->length += (result->points_NE[i] - result->points_NE[i - 1]).norm();
+  }
+}
+
+}  // namespace
+
 DetourResult ShortestDetour(const ObstacleSet& obstacles, const DetourProblem& problem) {
   DetourResult result;
   const double tol = problem.tolerance;
@@ -224,28 +270,10 @@ DetourResult ShortestDetour(const ObstacleSet& obstacles, const DetourProblem& p
     return result;
   }
 
-  // The budget ellipse |p − s| + |p − g| ≤ Λ and its bounding box (all obstacles without a budget).
+  // The budget ellipse |p − s| + |p − g| ≤ Λ: the graph's vertices lie inside it.
   const double max_length = TrapezoidMoveLength(budget, problem.max_speed, problem.accel);
-  Eigen::AlignedBox2d ellipse_box = obstacles.bounds();
-  if (std::isfinite(max_length)) {
-    const double major = 0.5 * max_length, focal = 0.5 * (g - s).norm();
-    const double minor = std::sqrt(std::max(major * major - focal * focal, 0.0));
-    const Eigen::Vector2d axis = focal > 0.0 ? Eigen::Vector2d((g - s).normalized()) : Eigen::Vector2d(1.0, 0.0);
-    const Eigen::Vector2d half(std::sqrt(major * major * axis.x() * axis.x() + minor * minor * axis.y() * axis.y()),
-                               std::sqrt(major * major * axis.y() * axis.y() + minor * minor * axis.x() * axis.x()));
-    const Eigen::Vector2d centre = 0.5 * (s + g);
-    ellipse_box = Eigen::AlignedBox2d(centre - half, centre + half);
-  }
-  // Graph vertices: start, goal, and the corners inside the ellipse that are not strictly inside another active
-  // obstacle (such a corner cannot be reached without crossing that obstacle).
-  std::vector<Eigen::Vector2d> nodes = {s, g};
-  for (int k : obstacles.ActiveInBox(ellipse_box, min_height)) {
-    for (const Eigen::Vector2d& v : obstacles.obstacle(k).vertices_NE) {
-      if ((v - s).norm() + (v - g).norm() > max_length) continue;
-      if (obstacles.StrictlyContaining(v, min_height, tol, k) >= 0) continue;
-      nodes.push_back(v);
-    }
-  }
+  const std::vector<Eigen::Vector2d> nodes =
+      DetourGraphNodes(obstacles, BudgetEllipseBox(obstacles, s, g, max_length), s, g, max_length, min_height, tol);
   const int count = static_cast<int>(nodes.size());
   result.graph_vertices = count;
   constexpr int kStart = 0, kGoal = 1;
@@ -282,11 +310,7 @@ DetourResult ShortestDetour(const ObstacleSet& obstacles, const DetourProblem& p
 
   result.status = DetourStatus::kFound;
   result.time = cost[kGoal];
-  for (int v = kGoal; v != -1; v = parent[v]) result.points_NE.push_back(nodes[v]);
-  std::reverse(result.points_NE.begin(), result.points_NE.end());
-  for (std::size_t i = 1; i < result.points_NE.size(); ++i) {
-    result.length += (result.points_NE[i] - result.points_NE[i - 1]).norm();
-  }
+  SetPathFromParents(nodes, parent, kGoal, &result);
   return result;
 }
 

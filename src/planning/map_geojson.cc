@@ -7,7 +7,7 @@
 #include "map_import_detail.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
-#include "uascma/common/json_io.h"
+#include "uascma/common/json_reader.h"
 #include "uascma/planning/map_import.h"
 
 namespace uascma::planning {
@@ -40,9 +40,10 @@ std::string FeatureName(const nlohmann::json& feature, std::size_t index) {
 }
 
 // One linear ring: an array of at least 4 [lon, lat] positions, the last equal to the first (RFC 7946 §3.1.6).
-std::vector<GeoPoint> ReadRing(const nlohmann::json& ring, const std::string& source, const std::string& feature,
-                               const std::string& ring_name) {
-  if (!ring.is_array()) throw InputError(source, feature, ring_name + " as an array of [lon, lat] positions");
+// `ring`'s path starts with the feature's name ("features[12] (way/248773492)"), `ring_name` says which ring.
+std::vector<GeoPoint> ReadRing(const JsonValue& ring, const std::string& feature, const std::string& ring_name) {
+  const std::string& source = ring.source();
+  if (!ring.IsArray()) throw InputError(source, feature, ring_name + " as an array of [lon, lat] positions");
   if (ring.size() < 4) {
     throw InputError(source, feature,
                      fmt::format("{} of at least 4 positions (3 corners and the closing one), got {}", ring_name,
@@ -50,13 +51,15 @@ std::vector<GeoPoint> ReadRing(const nlohmann::json& ring, const std::string& so
   }
   std::vector<GeoPoint> points;
   points.reserve(ring.size());
-  for (std::size_t k = 0; k < ring.size(); ++k) {
-    const auto& position = ring[k];
-    if (!position.is_array() || position.size() < 2 || !position[0].is_number() || !position[1].is_number()) {
+  const std::vector<JsonValue> positions = ring.Elements();
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    const JsonValue& position = positions[k];
+    const std::vector<JsonValue> lon_lat = position.IsArray() ? position.Elements() : std::vector<JsonValue>{};
+    if (lon_lat.size() < 2 || !lon_lat[0].IsNumber() || !lon_lat[1].IsNumber()) {
       throw InputError(source, feature, fmt::format("{} position {} as [lon, lat] numbers, got {}", ring_name, k,
-                                                    position.dump()));
+                                                    position.Brief()));
     }
-    const GeoPoint p{position[1].get<double>(), position[0].get<double>()};
+    const GeoPoint p{lon_lat[1].Number(), lon_lat[0].Number()};
     detail::CheckGeoPoint(p, source, fmt::format("{} {} position {}", feature, ring_name, k));
     points.push_back(p);
   }
@@ -69,48 +72,56 @@ std::vector<GeoPoint> ReadRing(const nlohmann::json& ring, const std::string& so
 }
 
 // The rings of a Polygon's coordinates (outer ring, then holes), appended to `rings`.
-void ReadPolygon(const nlohmann::json& polygon, const std::string& source, const std::string& feature,
-                 const std::string& name, std::vector<std::vector<GeoPoint>>* rings) {
-  if (!polygon.is_array() || polygon.empty()) {
-    throw InputError(source, feature, name + " as a non-empty array of rings");
+void ReadPolygon(const JsonValue& polygon, const std::string& feature, const std::string& name,
+                 std::vector<std::vector<GeoPoint>>* rings) {
+  if (!polygon.IsArray() || polygon.size() == 0) {
+    throw InputError(polygon.source(), feature, name + " as a non-empty array of rings");
   }
-  for (std::size_t r = 0; r < polygon.size(); ++r) {
-    rings->push_back(ReadRing(polygon[r], source, feature, fmt::format("{} ring {}", name, r)));
+  const std::vector<JsonValue> elements = polygon.Elements();
+  for (std::size_t r = 0; r < elements.size(); ++r) {
+    rings->push_back(ReadRing(elements[r], feature, fmt::format("{} ring {}", name, r)));
   }
 }
 
-// One feature of the collection: a building appended to `data`, or a skip recorded in its summary.
-void ReadFeature(const nlohmann::json& feature, const std::string& name, const std::string& source,
-                 const MapImportOptions& options, GeoMapData* data) {
+// The rings of a Polygon or MultiPolygon geometry, appended to `rings`.
+void ReadGeometryRings(const JsonValue& geometry, bool multi, const std::string& feature,
+                       std::vector<std::vector<GeoPoint>>* rings) {
+  const JsonValue coordinates = geometry.Member("coordinates");
+  if (coordinates.IsMissing()) throw InputError(geometry.source(), feature, "geometry.coordinates");
+  if (!multi) {
+    ReadPolygon(coordinates, feature, "polygon", rings);
+    return;
+  }
+  if (!coordinates.IsArray() || coordinates.size() == 0) {
+    throw InputError(geometry.source(), feature, "MultiPolygon coordinates as a non-empty array of polygons");
+  }
+  const std::vector<JsonValue> polygons = coordinates.Elements();
+  for (std::size_t p = 0; p < polygons.size(); ++p) {
+    ReadPolygon(polygons[p], feature, fmt::format("polygon {}", p), rings);
+  }
+}
+
+// One feature of the collection (its paths start with its name): a building appended to `data`, or a skip
+// recorded in its summary.
+void ReadFeature(const JsonValue& feature, const std::string& name, const MapImportOptions& options,
+                 GeoMapData* data) {
+  const std::string& source = feature.source();
   ImportSummary& summary = data->summary;
-  if (!feature.is_object() || feature.value("type", "") != "Feature") {
+  if (!feature.IsObject() || feature.Member("type").OptionalString().value_or("") != "Feature") {
     throw InputError(source, name, "a GeoJSON Feature object");
   }
   ++summary.features;
-  const auto geometry_it = feature.find("geometry");
+  const JsonValue geometry = feature.Member("geometry");
   const std::string geometry_type =
-      (geometry_it != feature.end() && geometry_it->is_object()) ? geometry_it->value("type", "") : "null";
+      geometry.IsObject() ? geometry.Member("type").OptionalString().value_or("") : "null";
   if (geometry_type != "Polygon" && geometry_type != "MultiPolygon") {
     detail::RecordSkip(&summary, source, name, SkipReason::kNotPolygon, "geometry " + geometry_type);
     return;
   }
   const nlohmann::json empty = nlohmann::json::object();
-  const auto properties_it = feature.find("properties");
-  const nlohmann::json& properties = properties_it != feature.end() ? *properties_it : empty;
-  const auto coordinates = geometry_it->find("coordinates");
-  auto read_rings = [&](std::vector<std::vector<GeoPoint>>* rings) {
-    if (coordinates == geometry_it->end()) throw InputError(source, name, "geometry.coordinates");
-    if (geometry_type == "Polygon") {
-      ReadPolygon(*coordinates, source, name, "polygon", rings);
-      return;
-    }
-    if (!coordinates->is_array() || coordinates->empty()) {
-      throw InputError(source, name, "MultiPolygon coordinates as a non-empty array of polygons");
-    }
-    for (std::size_t p = 0; p < coordinates->size(); ++p) {
-      ReadPolygon((*coordinates)[p], source, name, fmt::format("polygon {}", p), rings);
-    }
-  };
+  const JsonValue properties_value = feature.Member("properties");
+  const nlohmann::json& properties = properties_value.IsMissing() ? empty : properties_value.json();
+  const bool multi = geometry_type == "MultiPolygon";
   if (!detail::IsBuildingValue(Property(properties, "building"))) {
     const auto kind = options.sites_from_map
                           ? detail::OpenAreaKind([&](const char* key) { return Property(properties, key); })
@@ -122,7 +133,7 @@ void ReadFeature(const nlohmann::json& feature, const std::string& name, const s
     GeoOpenArea area;
     area.id = Property(properties, "@id").value_or(name);
     area.kind = *kind;
-    read_rings(&area.rings);
+    ReadGeometryRings(geometry, multi, name, &area.rings);
     data->open_areas.push_back(std::move(area));
     ++summary.open_areas;
     return;
@@ -130,7 +141,7 @@ void ReadFeature(const nlohmann::json& feature, const std::string& name, const s
 
   GeoBuilding building;
   building.id = Property(properties, "@id").value_or(name);
-  read_rings(&building.rings);
+  ReadGeometryRings(geometry, multi, name, &building.rings);
   const detail::BuildingTags tags{Property(properties, "building"), Property(properties, "height"),
                                   Property(properties, "building:levels"), Property(properties, "roof:shape")};
   building.flat_roof = !tags.roof_shape || *tags.roof_shape == "flat";
@@ -145,32 +156,19 @@ void ReadFeature(const nlohmann::json& feature, const std::string& name, const s
 
 void ParseGeoJsonBuildings(std::string_view text, const std::string& source, const MapImportOptions& options,
                            GeoMapData* data) {
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(text);
-    CheckJsonKeysUnique(text, source);  // common/json_io.h (issue 26 item 6)
-  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
-    throw InputError(source, "JSON", fmt::format("valid JSON ({})", e.what()));
-  }
-  const auto type = document.is_object() ? document.find("type") : document.end();
-  if (!document.is_object() || type == document.end() || *type != "FeatureCollection") {
+  const JsonDocument document = JsonDocument::Parse(text, source);  // common/json_reader.h (duplicate keys too)
+  const JsonValue root = document.root();
+  if (!root.IsObject() || root.Member("type").OptionalString().value_or("") != "FeatureCollection") {
     throw InputError(source, "type", "a GeoJSON FeatureCollection");
   }
-  const auto features = document.find("features");
-  if (features == document.end() || !features->is_array()) {
-    throw InputError(source, "features", "an array of GeoJSON features");
-  }
+  const std::vector<JsonValue> features = root.Member("features").Elements("an array of GeoJSON features");
   ImportSummary& summary = data->summary;
   summary.sources.push_back(source);
   const int missing_before = summary.skipped_count(SkipReason::kMissingHeight);
-  for (std::size_t index = 0; index < features->size(); ++index) {
-    const nlohmann::json& feature = (*features)[index];
-    const std::string name = FeatureName(feature, index);
-    try {
-      ReadFeature(feature, name, source, options, data);
-    } catch (const nlohmann::json::exception& e) {  // a member of the wrong JSON type
-      throw InputError(source, name, fmt::format("well-typed GeoJSON members ({})", e.what()));
-    }
+  for (std::size_t index = 0; index < features.size(); ++index) {
+    const std::string name = FeatureName(features[index].json(), index);
+    // The feature's members named under its name, OSM id included: "features[3] (way/7).geometry.type".
+    ReadFeature(JsonValue(&features[index].json(), &source, name), name, options, data);
   }
   detail::RequireHeightsResolved(missing_before, source, options, summary);
 }

@@ -371,63 +371,79 @@ std::vector<LandingSite> DeriveSites(const CityMap& map, const std::vector<bool>
   return sites;
 }
 
-}  // namespace
-
-CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options, ImportSummary* summary) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("map import options", "MapImportOptions", error);
+// "a.osm + b.geojson": the sources an import read, for messages ("map" when none is named).
+std::string SourcesName(const ImportSummary& summary) {
   std::string sources;
-  for (const auto& s : summary->sources) sources += (sources.empty() ? "" : " + ") + s;
+  for (const auto& s : summary.sources) sources += (sources.empty() ? "" : " + ") + s;
   if (sources.empty()) sources = "map";
+  return sources;
+}
+
+void RequireFeatures(const GeoMapData& data, const ImportSummary& summary, const std::string& sources) {
   if (data.buildings.empty() && data.sites.empty()) {
     throw InputError(sources, "features",
                      fmt::format("at least one building or landing site to import; read {} features, imported {} "
                                  "buildings, skipped {} ({} not a polygon, {} not a building, {} missing height, {} "
                                  "incomplete relation)",
-                                 summary->features, summary->buildings, summary->skipped_total(),
-                                 summary->skipped_count(SkipReason::kNotPolygon),
-                                 summary->skipped_count(SkipReason::kNotBuilding),
-                                 summary->skipped_count(SkipReason::kMissingHeight),
-                                 summary->skipped_count(SkipReason::kIncompleteRelation)));
+                                 summary.features, summary.buildings, summary.skipped_total(),
+                                 summary.skipped_count(SkipReason::kNotPolygon),
+                                 summary.skipped_count(SkipReason::kNotBuilding),
+                                 summary.skipped_count(SkipReason::kMissingHeight),
+                                 summary.skipped_count(SkipReason::kIncompleteRelation)));
   }
+}
 
-  // The data's latitude/longitude bounds; their centre is the default origin.
+// The data's latitude/longitude bounds (the open areas' too when sites are derived from them).
+struct GeoBounds {
   GeoPoint south_west{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   GeoPoint north_east{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  auto extend = [&](const GeoPoint& p) {
+  void Extend(const GeoPoint& p) {
     south_west.lat_deg = std::min(south_west.lat_deg, p.lat_deg);
     south_west.lon_deg = std::min(south_west.lon_deg, p.lon_deg);
     north_east.lat_deg = std::max(north_east.lat_deg, p.lat_deg);
     north_east.lon_deg = std::max(north_east.lon_deg, p.lon_deg);
-  };
+  }
+};
+
+GeoBounds DataBounds(const GeoMapData& data, bool with_open_areas) {
+  GeoBounds bounds;
   for (const auto& b : data.buildings) {
     for (const auto& ring : b.rings) {
-      for (const auto& p : ring) extend(p);
+      for (const auto& p : ring) bounds.Extend(p);
     }
   }
-  for (const auto& s : data.sites) extend(s.position);
-  if (options.sites_from_map) {
+  for (const auto& s : data.sites) bounds.Extend(s.position);
+  if (with_open_areas) {
     for (const auto& a : data.open_areas) {
       for (const auto& ring : a.rings) {
-        for (const auto& p : ring) extend(p);
+        for (const auto& p : ring) bounds.Extend(p);
       }
     }
   }
-  const GeoPoint origin = options.origin.value_or(GeoPoint{0.5 * (south_west.lat_deg + north_east.lat_deg),
-                                                           0.5 * (south_west.lon_deg + north_east.lon_deg)});
-  const LocalProjection projection(origin);
+  return bounds;
+}
 
-  auto project = [&](const GeoPoint& p, const std::string& what) {
+// Latitude/longitude to the local frame, refusing a point farther than max_distance_from_origin.
+struct PointProjector {
+  const LocalProjection& projection;
+  const GeoPoint& origin;
+  double max_distance_from_origin;
+  const std::string& sources;
+
+  Eigen::Vector2d operator()(const GeoPoint& p, const std::string& what) const {
     const Eigen::Vector2d p_NE = projection.ToLocal(p);
-    if (!(p_NE.norm() <= options.max_distance_from_origin)) {
+    if (!(p_NE.norm() <= max_distance_from_origin)) {
       throw InputError(sources, what,
                        fmt::format("a point within {:.0f} km of the map origin (lat {:.6f}, lon {:.6f}; a local flat "
                                    "frame), got one {:.0f} km away",
-                                   options.max_distance_from_origin / 1000.0, origin.lat_deg, origin.lon_deg,
+                                   max_distance_from_origin / 1000.0, origin.lat_deg, origin.lon_deg,
                                    p_NE.norm() / 1000.0));
     }
     return p_NE;
-  };
+  }
+};
+
+std::vector<Building> ProjectBuildings(const GeoMapData& data, const PointProjector& project) {
   std::vector<Building> buildings;
   buildings.reserve(data.buildings.size());
   for (const auto& geo : data.buildings) {
@@ -442,6 +458,10 @@ CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options
     }
     buildings.push_back(std::move(b));
   }
+  return buildings;
+}
+
+std::vector<LandingSite> ProjectSites(const GeoMapData& data, const PointProjector& project) {
   std::vector<LandingSite> sites;
   sites.reserve(data.sites.size());
   for (const auto& geo : data.sites) {
@@ -453,35 +473,30 @@ CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options
     s.radius = geo.radius;
     sites.push_back(std::move(s));
   }
+  return sites;
+}
 
-  CityMap map;
-  try {
-    if (options.sites_from_map) {
-      std::vector<bool> flat_roof;
-      for (const auto& geo : data.buildings) flat_roof.push_back(geo.flat_roof);
-      std::vector<std::pair<std::string, std::vector<Ring>>> areas;
-      for (const auto& geo : data.open_areas) {
-        std::vector<Ring> rings;
-        for (const auto& geo_ring : geo.rings) {
-          Ring ring;
-          for (const auto& p : geo_ring) ring.push_back(project(p, "open area " + geo.id));
-          rings.push_back(std::move(ring));
-        }
-        areas.emplace_back(geo.kind + " " + geo.id, std::move(rings));
-      }
-      const CityMap buildings_only(buildings, {}, options.map);
-      std::vector<LandingSite> derived = DeriveSites(buildings_only, flat_roof, areas, options.map, summary);
-      sites.insert(sites.end(), std::make_move_iterator(derived.begin()), std::make_move_iterator(derived.end()));
+// The sites derived from the map (flat roofs, open areas: DeriveSites) for the projected buildings.
+std::vector<LandingSite> DeriveProjectedSites(const GeoMapData& data, const std::vector<Building>& buildings,
+                                              const PointProjector& project, const MapImportOptions& options,
+                                              ImportSummary* summary) {
+  std::vector<bool> flat_roof;
+  for (const auto& geo : data.buildings) flat_roof.push_back(geo.flat_roof);
+  std::vector<std::pair<std::string, std::vector<Ring>>> areas;
+  for (const auto& geo : data.open_areas) {
+    std::vector<Ring> rings;
+    for (const auto& geo_ring : geo.rings) {
+      Ring ring;
+      for (const auto& p : geo_ring) ring.push_back(project(p, "open area " + geo.id));
+      rings.push_back(std::move(ring));
     }
-    map = CityMap(std::move(buildings), std::move(sites), options.map);
-  } catch (const InputError& e) {
-    throw InputError(sources + ": " + e.what());  // the map's message names the building or site
+    areas.emplace_back(geo.kind + " " + geo.id, std::move(rings));
   }
+  const CityMap buildings_only(buildings, {}, options.map);
+  return DeriveSites(buildings_only, flat_roof, areas, options.map, summary);
+}
 
-  summary->origin = origin;
-  summary->origin_from_data = !options.origin.has_value();
-  summary->south_west = south_west;
-  summary->north_east = north_east;
+void SummariseMap(const CityMap& map, ImportSummary* summary) {
   summary->bounds = map.bounds();
   summary->buildings = static_cast<int>(map.buildings().size());
   summary->sites = static_cast<int>(map.sites().size());
@@ -491,6 +506,41 @@ CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options
     summary->tallest_building = map.building(map.tallest_building()).id;
     summary->tallest_height = map.max_building_height();
   }
+}
+
+}  // namespace
+
+CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options, ImportSummary* summary) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("map import options", "MapImportOptions", error);
+  const std::string sources = SourcesName(*summary);
+  RequireFeatures(data, *summary, sources);
+
+  // The data's bounds; their centre is the default origin.
+  const GeoBounds bounds = DataBounds(data, options.sites_from_map);
+  const GeoPoint origin = options.origin.value_or(GeoPoint{0.5 * (bounds.south_west.lat_deg + bounds.north_east.lat_deg),
+                                                           0.5 * (bounds.south_west.lon_deg + bounds.north_east.lon_deg)});
+  const LocalProjection projection(origin);
+  const PointProjector project{projection, origin, options.max_distance_from_origin, sources};
+  std::vector<Building> buildings = ProjectBuildings(data, project);
+  std::vector<LandingSite> sites = ProjectSites(data, project);
+
+  CityMap map;
+  try {
+    if (options.sites_from_map) {
+      std::vector<LandingSite> derived = DeriveProjectedSites(data, buildings, project, options, summary);
+      sites.insert(sites.end(), std::make_move_iterator(derived.begin()), std::make_move_iterator(derived.end()));
+    }
+    map = CityMap(std::move(buildings), std::move(sites), options.map);
+  } catch (const InputError& e) {
+    throw InputError(sources + ": " + e.what());  // the map's message names the building or site
+  }
+
+  summary->origin = origin;
+  summary->origin_from_data = !options.origin.has_value();
+  summary->south_west = bounds.south_west;
+  summary->north_east = bounds.north_east;
+  SummariseMap(map, summary);
   return map;
 }
 

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "eod_internal.h"
 #include "uascma/common/error.h"
 
 namespace uascma::prognostics {
@@ -21,43 +22,8 @@ using models::kMaxRcPairs;
 using models::PackState;
 using models::PerBranch;
 using models::SelfCorrectingCell;
-
-const char* EodStatusName(EodStatus status) {
-  switch (status) {
-    case EodStatus::kReached: return "reached";
-    case EodStatus::kAlreadyBelowCutoff: return "already_below_cutoff";
-    case EodStatus::kNotReachedWithinHorizon: return "not_reached_within_horizon";
-    case EodStatus::kNoBranchConnected: return "no_branch_connected";
-  }
-  return "?";
-}
-
-bool EodOptions::IsValid(std::string* error) const {
-  auto fail = [error](const std::string& message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!CheckWithin(cutoff_v, models::kCutoffVoltageBounds, "cutoff_v", error)) return false;
-  if (!CheckWithin(horizon_s, kHorizonBounds, "horizon_s", error)) return false;
-  if (!(time_tolerance_s > 0.0)) return fail(fmt::format("time_tolerance_s: > 0, got {}", time_tolerance_s));
-  return true;
-}
-
-std::string EodResult::BriefReport() const {
-  std::string text = fmt::format("{}: EOD {:.6g} s", EodStatusName(status), eod_s);
-  if (limiting_branch >= 0) text += ", limiting " + models::CellLabel(limiting_branch, limiting_cell);
-  return text + fmt::format(" ({} segments)", segments);
-}
-
-double CalcReachMargin(const EodResult& eod, double flight_time_remaining_s) {
-  if (flight_time_remaining_s <= 0.0) return 1.0;
-  if (eod.eod_s <= 0.0) return -std::numeric_limits<double>::infinity();
-  return 1.0 - flight_time_remaining_s / eod.eod_s;
-}
-
-bool IsFlightTimeReachable(const EodResult& eod, double flight_time_remaining_s) {
-  return flight_time_remaining_s <= eod.eod_s;
-}
+using eod_internal::Ended;
+using eod_internal::RequireValid;
 
 namespace {
 
@@ -391,9 +357,7 @@ struct Problem {
 };
 
 EodResult Reached(EodStatus status, double eod_s, const Lane* lane, int segments, int evaluations) {
-  EodResult result;
-  result.status = status;
-  result.eod_s = eod_s;
+  EodResult result = Ended(status, eod_s);
   if (lane != nullptr) {
     result.limiting_branch = lane->branch;
     result.limiting_cell = lane->index;
@@ -618,11 +582,6 @@ EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& 
   }
 }
 
-void RequireValid(const EodOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("EOD options: " + error);
-}
-
 }  // namespace
 
 EodResult CalcCellEod(const SelfCorrectingCell& cell, const CellState& state, double current_a,
@@ -661,98 +620,6 @@ EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double to
     problem.r0_ohm[b] = pack.branch_r0_ohm(b);
   }
   return Propagate(problem, total_current_a, options);
-}
-
-// --- Fixed-step references ---------------------------------------------------------------------------
-namespace {
-
-void RequireStep(double dt_s) {
-  if (!(dt_s > 0.0 && std::isfinite(dt_s))) {
-    throw InputError("EOD reference", "dt_s", fmt::format("a positive step, got {}", dt_s));
-  }
-}
-
-// The cut-off crossing between step k − 1 (voltage v_before) and step k (v_after ≤ cutoff), linearly
-// interpolated, s.
-double InterpolatedCrossingS(long long k, double dt_s, double v_before, double v_after, double cutoff_v) {
-  const double fraction = v_before > v_after ? (v_before - cutoff_v) / (v_before - v_after) : 1.0;
-  return (static_cast<double>(k - 1) + std::clamp(fraction, 0.0, 1.0)) * dt_s;
-}
-
-EodResult ReachedAtStep(double eod_s, int branch, int cell, long long steps) {
-  EodResult result;
-  result.status = EodStatus::kReached;
-  result.eod_s = eod_s;
-  result.limiting_branch = branch;
-  result.limiting_cell = cell;
-  result.segments = static_cast<int>(std::min<long long>(steps, std::numeric_limits<int>::max()));
-  return result;
-}
-
-}  // namespace
-
-EodResult SimulatePackEod(const BatteryPack& pack, const PackState& state, double total_current_a, double dt_s,
-                          const EodOptions& options) {
-  RequireValid(options);
-  RequireStep(dt_s);
-  models::PackOutputs previous = pack.CalcOutputs(state, total_current_a);
-  if (!state.branch_on[0] && !state.branch_on[1]) return Reached(EodStatus::kNoBranchConnected, 0.0, nullptr, 0, 0);
-  EodResult result;
-  if (previous.min_cell_voltage_v <= options.cutoff_v) {
-    result.status = EodStatus::kAlreadyBelowCutoff;
-    result.limiting_branch = previous.min_cell_branch;
-    result.limiting_cell = previous.min_cell_index;
-    return result;
-  }
-  if (!(total_current_a > 0.0)) return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
-  PackState s = state;
-  const auto steps = static_cast<long long>(std::ceil(options.horizon_s / dt_s));
-  for (long long k = 1; k <= steps; ++k) {
-    s = pack.Step(s, total_current_a, dt_s);
-    const models::PackOutputs now = pack.CalcOutputs(s, total_current_a);
-    if (now.min_cell_voltage_v <= options.cutoff_v) {
-      // The earliest interpolated crossing among the cells that are at or below the cut-off.
-      result = ReachedAtStep(std::numeric_limits<double>::infinity(), -1, -1, k);
-      for (int b = 0; b < kBranchCount; ++b) {
-        if (!s.branch_on[b]) continue;
-        for (int c = 0; c < kCellsPerBranch; ++c) {
-          if (now.cell_voltage_v[b][c] > options.cutoff_v) continue;
-          const double crossing = InterpolatedCrossingS(k, dt_s, previous.cell_voltage_v[b][c],
-                                                        now.cell_voltage_v[b][c], options.cutoff_v);
-          if (crossing < result.eod_s) result = ReachedAtStep(crossing, b, c, k);
-        }
-      }
-      return result;
-    }
-    previous = now;
-  }
-  return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
-}
-
-EodResult SimulateCellEod(const SelfCorrectingCell& cell, const CellState& state, double current_a, double dt_s,
-                          const EodOptions& options) {
-  RequireValid(options);
-  RequireStep(dt_s);
-  double previous = cell.CalcTerminalVoltage(state, current_a);
-  EodResult result;
-  if (previous <= options.cutoff_v) {
-    result.status = EodStatus::kAlreadyBelowCutoff;
-    result.limiting_branch = 0;
-    result.limiting_cell = 0;
-    return result;
-  }
-  if (!(current_a > 0.0)) return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
-  CellState s = state;
-  const auto steps = static_cast<long long>(std::ceil(options.horizon_s / dt_s));
-  for (long long k = 1; k <= steps; ++k) {
-    s = cell.Step(s, current_a, dt_s);
-    const double v = cell.CalcTerminalVoltage(s, current_a);
-    if (v <= options.cutoff_v) {
-      return ReachedAtStep(InterpolatedCrossingS(k, dt_s, previous, v, options.cutoff_v), 0, 0, k);
-    }
-    previous = v;
-  }
-  return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
 }
 
 }  // namespace uascma::prognostics

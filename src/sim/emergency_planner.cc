@@ -3,43 +3,20 @@
 #include "uascma/sim/flight.h"
 
 #include <memory>
-#include <mutex>
 #include <vector>
 
 namespace uascma::sim {
-namespace {
-
-// The inflated building hulls of a map, shared by every flight over it: a campaign or a learning run builds a
-// FlightModel per flight over one city, and inflating ~20,000 hulls each time was ~8 ms of every flight. Keyed by
-// the map object (owner, not address) and the margin; an entry lives while its map does.
-std::shared_ptr<const planning::ObstacleSet> SharedObstacles(const std::shared_ptr<const planning::CityMap>& map,
-                                                             double lateral_margin) {
-  struct Entry {
-    std::weak_ptr<const planning::CityMap> map;
-    double lateral_margin;
-    std::shared_ptr<const planning::ObstacleSet> obstacles;
-  };
-  static std::mutex mutex;
-  static std::vector<Entry> cache;
-  const std::lock_guard lock(mutex);
-  std::erase_if(cache, [](const Entry& e) { return e.map.expired(); });
-  for (const Entry& e : cache) {
-    const bool same_map = !e.map.owner_before(map) && !map.owner_before(e.map);
-    if (same_map && e.lateral_margin == lateral_margin) return e.obstacles;
-  }
-  cache.push_back({map, lateral_margin, planning::LandingPathPlanner::InflateBuildings(*map, lateral_margin)});
-  return cache.back().obstacles;
-}
-
-}  // namespace
 
 MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
                                             const models::DragTable& drag, const models::PropulsionParams& propulsion) {
   if (!scenario.map || scenario.map->sites().empty()) return {};
   planning::LandingPathParams path;
   path.limits = scenario.limits;
-  auto planner = std::make_shared<const planning::LandingPathPlanner>(
-      *scenario.map, path, SharedObstacles(scenario.map, path.lateral_margin));
+  // The hulls built with the map (Scenario::map_obstacles: at the default margin, as `path` has it) or, for a
+  // scenario made without them, now.
+  auto obstacles = scenario.map_obstacles ? scenario.map_obstacles
+                                          : planning::LandingPathPlanner::InflateBuildings(*scenario.map, path.lateral_margin);
+  auto planner = std::make_shared<const planning::LandingPathPlanner>(*scenario.map, path, std::move(obstacles));
   auto practical = std::make_shared<const planning::LandPractDatabase>(
       planning::LandPractDatabase::Build(*planner, nominal_plan));
   planning::LandAsapParams asap;

@@ -4,6 +4,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/branching.h"
 
 namespace uascma::sim {
 
@@ -19,10 +20,10 @@ DecisionEnvironment::DecisionEnvironment(std::shared_ptr<const FlightModel> mode
 
 Observation DecisionEnvironment::MakeObservation() const {
   Observation o;
-  const DecisionInputs& inputs = state_.inputs;
+  const DecisionInputs& inputs = state_.decision.inputs;
   o.time_s = inputs.time_s;
   o.state = inputs.state;
-  o.flight_status = state_.flight_status;
+  o.flight_status = state_.decision.flight_status;
   o.reach_margin = inputs.reach_margin;
   o.motor_margin = inputs.motor_margin;
   o.eod_s = inputs.eod_s;
@@ -43,8 +44,7 @@ Observation DecisionEnvironment::Reset(std::uint64_t seed) {
   log_ = FlightLog{};
   log_.record_telemetry = options_.record_telemetry;
   FlightLog* log = options_.record ? &log_ : nullptr;
-  Observe(*model_, state_, log);
-  if (options_.battery_policy) DecideBattery(*model_, state_, *options_.battery_policy, log);
+  BeginEpoch(*model_, state_, options_.battery_policy, log);
   reset_ = true;
   observation_ = MakeObservation();
   return observation_;
@@ -53,22 +53,21 @@ Observation DecisionEnvironment::Reset(std::uint64_t seed) {
 EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
   if (!reset_) throw InputError("environment", "step", "Reset before the first Step");
   if (state_.done()) throw InputError("environment", "step", "a flight in progress (it has ended: Reset)");
-  if (options_.require_available_actions && !decision::IsCmaActionAvailable(state_.flight_status, action)) {
+  if (options_.require_available_actions && !decision::IsCmaActionAvailable(state_.decision.flight_status, action)) {
     throw InputError("environment", "action",
                      fmt::format("an action available in flight status {} (decisions item 3), got {}",
-                                 static_cast<int>(state_.flight_status), decision::CmaActionName(action)));
+                                 static_cast<int>(state_.decision.flight_status), decision::CmaActionName(action)));
   }
   FlightLog* log = options_.record ? &log_ : nullptr;
   EnvironmentStep out;
-  const decision::FlightStatus status = state_.flight_status;
-  out.reward = decision::CmaEpochReward(options_.weights, state_.inputs.state, action);
+  const decision::FlightStatus status = state_.decision.flight_status;
+  out.reward = decision::CmaEpochReward(options_.weights, state_.decision.inputs.state, action);
   // An action that cannot be carried out is replaced by the next-highest of the default CMA policy's Q (decisions
   // item 28); `executed` says what flew.
   out.executed = decision::EffectiveCmaAction(Act(*model_, state_, action, options_.planner, log), status);
   StepToNextEpoch(*model_, state_, log);
   if (!state_.done()) {
-    Observe(*model_, state_, log);
-    if (options_.battery_policy) DecideBattery(*model_, state_, *options_.battery_policy, log);
+    BeginEpoch(*model_, state_, options_.battery_policy, log);
   } else {
     out.reward += decision::CmaTerminalReward(options_.weights, TerminalStateOf(state_.outcome));
   }
@@ -80,10 +79,7 @@ EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
 }
 
 void DecisionEnvironment::SetState(const FlightState& state) {
-  if (!state.done() && !IsDecisionEpoch(*model_, state)) {
-    throw InputError("environment", "state", fmt::format("a state at a decision epoch, got step {}", state.step));
-  }
-  state_ = state;
+  state_ = RequireBranchPoint(*model_, state, "environment");  // sim/branching.h
   reset_ = true;
   observation_ = MakeObservation();
 }

@@ -1,7 +1,6 @@
 #include "uascma/sim/scenario.h"
 
 #include <cmath>
-#include <numbers>
 #include <utility>
 
 #include <fmt/format.h>
@@ -14,18 +13,18 @@
 #include "uascma/common/text.h"
 #include "uascma/common/yaml_io.h"
 #include "uascma/models/battery_pack.h"
+#include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
-#include "uascma/prognostics/motor_rul.h"
 #include "uascma/sim/scenario_bounds.h"
+#include "uascma/sim/scenario_fields.h"
 
 namespace uascma::sim {
 namespace {
 
-constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
 
 void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec& battery) {
-  RequireOnlyKeys(node, {"initial_cell_voltage_v", "ambient_temp_degf", "packs"}, source, "battery");
+  RequireOnlyKeys(node, ScenarioSectionKeys("battery"), source, "battery");
   if (const YAML::Node voltage = node["initial_cell_voltage_v"]) {
     if (voltage.IsScalar()) {
       const double v = RequireNumber(node, "initial_cell_voltage_v", source, "battery");
@@ -42,7 +41,6 @@ void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec&
       }
     }
   }
-  battery.ambient_temp_degf = OptionalNumber(node, "ambient_temp_degf", battery.ambient_temp_degf, source, "battery");
   if (const YAML::Node packs = node["packs"]) {
     if (!packs.IsSequence() || packs.size() != 2) throw InputError(source, "battery.packs", "a list of two health classes (G, M or P)");
     for (int b = 0; b < 2; ++b) {
@@ -76,8 +74,8 @@ void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
         if (!seed.IsScalar()) throw InputError(source, "map.procedural.seed", "a seed from 0 to 2^64-1");
         params.seed = ParseSeed(seed.Scalar(), source, "map.procedural.seed");
       }
-      // Block counts checked before the conversion to int (1 to 200 blocks, as campaigns: our bound).
-      constexpr Bounds kBlockBounds{1.0, 200.0, "blocks"};
+      // Block counts checked before the conversion to int (scenario_bounds::kBlocks).
+      constexpr const Bounds& kBlockBounds = scenario_bounds::kBlocks;
       for (auto [key, count] : {std::pair{"blocks_north", &params.blocks_north}, std::pair{"blocks_east", &params.blocks_east}}) {
         const double value = OptionalNumber(procedural, key, *count, source, "map.procedural");
         RequireWithin(value, kBlockBounds, source, std::string("map.procedural.") + key);
@@ -204,55 +202,6 @@ bool SimOptions::IsValid(std::string* error) const {
 
 namespace {
 
-// An angle kept in radians, bounded in the degrees its key is written in: compared in radians (the bound
-// converted exactly as the parser converts the value, so 89° passes a bound of 89°), reported in degrees.
-bool CheckAngleWithin(double radians, const Bounds& degrees, std::string_view field, std::string* error) {
-  if (radians >= degrees.low * kRadiansPerDegree && radians <= degrees.high * kRadiansPerDegree) return true;
-  if (error) *error = fmt::format("{}: expected {}", field, OutsideBoundsMessage(degrees, radians / kRadiansPerDegree));
-  return false;
-}
-
-// The plausibility bounds of every number a scenario file sets (scenario_bounds.h), named by its key.
-bool CheckPlausible(const Scenario& sc, std::string* error) {
-  namespace b = scenario_bounds;
-  const OutcomeThresholds& outcome = sc.options.outcome;
-  const Bounds& growth = prognostics::SpallGrowthParams::kTimePerGrowthStepBounds;
-  const struct { std::string field; double value; const Bounds& bounds; } checks[] = {
-      {"vehicle.mass_kg", sc.body.mass, b::kMass},
-      {"vehicle.inertia_kg_m2[0]", sc.body.inertia_diagonal.x(), b::kInertia},
-      {"vehicle.inertia_kg_m2[1]", sc.body.inertia_diagonal.y(), b::kInertia},
-      {"vehicle.inertia_kg_m2[2]", sc.body.inertia_diagonal.z(), b::kInertia},
-      {"battery.ambient_temp_degf", sc.battery.ambient_temp_degf, models::kAmbientTemperatureBounds},
-      {"wind.speed_mps", sc.wind.mean_speed, b::kWindSpeed},
-      {"mission.home_ne_m[0]", sc.mission.home_NE.x(), b::kPosition},
-      {"mission.home_ne_m[1]", sc.mission.home_NE.y(), b::kPosition},
-      {"mission.destination_ne_m[0]", sc.mission.destination_NE.x(), b::kPosition},
-      {"mission.destination_ne_m[1]", sc.mission.destination_NE.y(), b::kPosition},
-      {"mission.cruise_altitude_m", sc.mission.cruise_altitude, b::kCruiseAltitude},
-      {"mission.drop_hover_s", sc.mission.drop_hover_s, b::kDropHover},
-      {"limits.cruise_speed_mps", sc.limits.cruise_speed, b::kCruiseSpeed},
-      {"limits.vertical_speed_mps", sc.limits.vertical_speed, b::kVerticalSpeed},
-      {"limits.horizontal_accel_mps2", sc.limits.horizontal_accel, b::kHorizontalAccel},
-      {"limits.vertical_accel_mps2", sc.limits.vertical_accel, b::kVerticalAccel},
-      {"options.telemetry_rate_hz", sc.options.telemetry_rate_hz, b::kTelemetryRate},
-      {"options.safety_margin_s", sc.options.safety_margin_s, b::kSafetyMargin},
-      {"options.max_cross_track_error_m", outcome.max_cross_track_error, b::kMaxCrossTrackError},
-  };
-  for (const auto& check : checks) {
-    if (!CheckWithin(check.value, check.bounds, check.field, error)) return false;
-  }
-  if (sc.fault.enabled) {
-    if (!CheckWithin(sc.fault.spall_onset_s, b::kSpallOnset, "fault.spall_onset_s", error)) return false;
-    for (const auto& [field, tau] : {std::pair{"fault.time_per_growth_step_s", sc.fault.time_per_growth_step_s},
-                                     std::pair{"fault.prognosis_time_per_growth_step_s",
-                                               sc.fault.prognosis_time_per_growth_step_s}}) {
-      if (tau && !CheckWithin(*tau, growth, field, error)) return false;
-    }
-  }
-  return CheckAngleWithin(sc.wind.direction_rad, b::kWindDirection, "wind.direction_deg", error) &&
-         CheckAngleWithin(outcome.max_tilt, b::kMaxTilt, "options.max_tilt_deg", error);
-}
-
 // Whether the vehicle can hover at take-off with its packs (issue 26 item 4): a combination of numbers that are
 // each inside their bound can still be a vehicle that cannot fly, and flying it gives impossible numbers
 // (cells pulled below zero volts, negative energy). Knowable from the inputs, so refused before flying:
@@ -341,7 +290,7 @@ bool CheckCanHover(const Scenario& sc, std::string* error) {
 
 bool Scenario::IsValid(std::string* error) const {
   // The plausibility bounds first: they name the file's key and the bound (issue 16).
-  if (!CheckPlausible(*this, error)) return false;
+  if (!CheckScenarioBounds(*this, error)) return false;
   std::string part_error;
   auto fail = [&](const char* part) {
     if (error) *error = std::string(part) + ": " + part_error;
@@ -360,6 +309,10 @@ bool Scenario::IsValid(std::string* error) const {
   if (std::abs(lqr.dt * options.gnc_rate_hz - 1.0) > 1e-9) {
     part_error = "dt: expected 1 / options.gnc_rate_hz";
     return fail("lqr");
+  }
+  if (map_obstacles && (!map || map_obstacles->size() != static_cast<int>(map->buildings().size()))) {
+    if (error) *error = "map_obstacles: expected the hulls of the map's own buildings (Scenario::map_obstacles)";
+    return false;
   }
   if (geo_origin && !(std::abs(geo_origin->lat_deg) <= 90.0 && std::abs(geo_origin->lon_deg) <= 180.0)) {
     part_error = fmt::format("origin: expected [latitude, longitude] in degrees, got [{}, {}]", geo_origin->lat_deg,
@@ -410,27 +363,10 @@ bool Scenario::IsValid(std::string* error) const {
 
 namespace {
 
-void ReadVehicle(const YAML::Node& v, const std::string& source, Scenario& sc) {
-  RequireOnlyKeys(v, {"configuration", "mass_kg", "inertia_kg_m2"}, source, "vehicle");
-  if (v["configuration"]) {
-    sc.configuration = models::ParsePropellerConfiguration(RequireString(v, "configuration", source, "vehicle"),
-                                                           source + ": vehicle.configuration");
-  }
-  sc.body.mass = OptionalNumber(v, "mass_kg", sc.body.mass, source, "vehicle");
-  if (v["inertia_kg_m2"]) {
-    const auto inertia = RequireNumberList(v, "inertia_kg_m2", 3, source, "vehicle");
-    sc.body.inertia_diagonal = Eigen::Vector3d(inertia[0], inertia[1], inertia[2]);
-  }
-}
-
-void ReadWind(const YAML::Node& w, const std::string& source, models::WindParams& wind) {
-  RequireOnlyKeys(w, {"speed_mps", "direction_deg", "turbulence"}, source, "wind");
-  wind.mean_speed = OptionalNumber(w, "speed_mps", wind.mean_speed, source, "wind");
-  wind.direction_rad = OptionalNumber(w, "direction_deg", 0.0, source, "wind") * kRadiansPerDegree;
-  if (w["turbulence"]) {
-    wind.turbulence = models::ParseTurbulenceCategory(RequireString(w, "turbulence", source, "wind"),
-                                                      source + ": wind.turbulence");
-  }
+// vehicle:, wind:, limits:, options: — every key a row of the field table (scenario_fields.h).
+void ReadSection(const YAML::Node& node, const char* section, const std::string& source, Scenario& sc) {
+  RequireOnlyKeys(node, ScenarioSectionKeys(section), source, section);
+  ReadScenarioSection(node, section, source, sc);
 }
 
 // mission.origin: [lat, lon], the geodetic position of W's origin. Over an imported map the frame is the map's
@@ -487,68 +423,20 @@ void ReadMissionFile(const YAML::Node& m, const std::string& source,
 }
 
 // Returns whether the file sets the cruise altitude.
-bool ReadMission(const YAML::Node& m, const std::string& source, planning::DeliveryMission& mission) {
-  RequireOnlyKeys(m, {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s", "file", "land_at_end",
-                      "origin"},
-                  source, "mission");
+bool ReadMission(const YAML::Node& m, const std::string& source, Scenario& sc) {
+  RequireOnlyKeys(m, ScenarioSectionKeys("mission"), source, "mission");
   if (!m["file"]) {
     if (m["land_at_end"]) throw InputError(source, "mission.land_at_end", "only with mission.file (or simulate --mission)");
   }
-  if (m["home_ne_m"]) {
-    const auto home = RequireNumberList(m, "home_ne_m", 2, source, "mission");
-    mission.home_NE = Eigen::Vector2d(home[0], home[1]);
-  }
-  if (m["destination_ne_m"]) {
-    const auto destination = RequireNumberList(m, "destination_ne_m", 2, source, "mission");
-    mission.destination_NE = Eigen::Vector2d(destination[0], destination[1]);
-  }
-  mission.cruise_altitude = OptionalNumber(m, "cruise_altitude_m", mission.cruise_altitude, source, "mission");
-  mission.drop_hover_s = OptionalNumber(m, "drop_hover_s", mission.drop_hover_s, source, "mission");
+  ReadScenarioSection(m, "mission", source, sc);
   return static_cast<bool>(m["cruise_altitude_m"]);
 }
 
-void ReadLimits(const YAML::Node& l, const std::string& source, planning::PlanLimits& limits) {
-  RequireOnlyKeys(l, {"cruise_speed_mps", "vertical_speed_mps", "horizontal_accel_mps2", "vertical_accel_mps2"},
-                  source, "limits");
-  limits.cruise_speed = OptionalNumber(l, "cruise_speed_mps", limits.cruise_speed, source, "limits");
-  limits.vertical_speed = OptionalNumber(l, "vertical_speed_mps", limits.vertical_speed, source, "limits");
-  limits.horizontal_accel = OptionalNumber(l, "horizontal_accel_mps2", limits.horizontal_accel, source, "limits");
-  limits.vertical_accel = OptionalNumber(l, "vertical_accel_mps2", limits.vertical_accel, source, "limits");
-}
-
-void ReadFault(const YAML::Node& f, const std::string& source, FaultSpec& fault) {
-  RequireOnlyKeys(f, {"motor", "spall_onset_s", "time_per_growth_step_s", "prognosis_time_per_growth_step_s"}, source,
-                  "fault");
-  fault.enabled = true;
-  const double motor = RequireNumber(f, "motor", source, "fault");
-  if (motor != std::floor(motor) || motor < 1 || motor > 6) throw InputError(source, "fault.motor", "a motor number 1..6");
-  fault.motor = static_cast<int>(motor);
-  fault.spall_onset_s = RequireNumber(f, "spall_onset_s", source, "fault");
-  if (f["time_per_growth_step_s"]) fault.time_per_growth_step_s = RequireNumber(f, "time_per_growth_step_s", source, "fault");
-  if (f["prognosis_time_per_growth_step_s"]) {
-    fault.prognosis_time_per_growth_step_s = RequireNumber(f, "prognosis_time_per_growth_step_s", source, "fault");
-  }
-}
-
-void ReadOptions(const YAML::Node& o, const std::string& source, SimOptions& options) {
-  RequireOnlyKeys(o, {"telemetry_rate_hz", "fault_detection", "reconfiguration", "sensor_noise", "max_tilt_deg",
-                      "max_cross_track_error_m", "safety_margin_s", "drag_feedforward", "eod_load",
-                      "cap_speed_after_isolation"},
-                  source, "options");
-  if (o["eod_load"]) options.eod_load = ParseEodLoad(RequireString(o, "eod_load", source, "options"), source, "options.eod_load");
-  options.cap_speed_after_isolation =
-      OptionalBool(o, "cap_speed_after_isolation", options.cap_speed_after_isolation, source, "options");
-  options.safety_margin_s = OptionalNumber(o, "safety_margin_s", options.safety_margin_s, source, "options");
-  options.telemetry_rate_hz = OptionalNumber(o, "telemetry_rate_hz", options.telemetry_rate_hz, source, "options");
-  options.fault_detection = OptionalBool(o, "fault_detection", options.fault_detection, source, "options");
-  options.reconfiguration = OptionalBool(o, "reconfiguration", options.reconfiguration, source, "options");
-  options.sensor_noise = OptionalBool(o, "sensor_noise", options.sensor_noise, source, "options");
-  options.drag_feedforward = OptionalBool(o, "drag_feedforward", options.drag_feedforward, source, "options");
-  OutcomeThresholds& outcome = options.outcome;
-  outcome.max_tilt = OptionalNumber(o, "max_tilt_deg", outcome.max_tilt / kRadiansPerDegree, source, "options") *
-                     kRadiansPerDegree;
-  outcome.max_cross_track_error =
-      OptionalNumber(o, "max_cross_track_error_m", outcome.max_cross_track_error, source, "options");
+// fault: — its presence is the fault (§5.4); motor and onset required.
+void ReadFault(const YAML::Node& f, const std::string& source, Scenario& sc) {
+  RequireOnlyKeys(f, ScenarioSectionKeys("fault"), source, "fault");
+  sc.fault.enabled = true;
+  ReadScenarioSection(f, "fault", source, sc);
 }
 
 }  // namespace
@@ -569,20 +457,27 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     sc.seed = ParseSeed(seed.Scalar(), source, "seed");
   }
   if (root["policy"]) file.policy = RequireString(root, "policy", source, "");
-  if (const YAML::Node v = root["vehicle"]) ReadVehicle(v, source, sc);
-  if (const YAML::Node b = root["battery"]) ReadBattery(b, source, sc.battery);
-  if (const YAML::Node w = root["wind"]) ReadWind(w, source, sc.wind);
+  if (const YAML::Node v = root["vehicle"]) ReadSection(v, "vehicle", source, sc);
+  if (const YAML::Node b = root["battery"]) {
+    ReadBattery(b, source, sc.battery);
+    ReadScenarioSection(b, "battery", source, sc);
+  }
+  if (const YAML::Node w = root["wind"]) ReadSection(w, "wind", source, sc);
   if (const YAML::Node map = root["map"]) ReadMap(map, source, sc);
   const YAML::Node mission = root["mission"];
-  const bool cruise_altitude_given = mission && ReadMission(mission, source, sc.mission);
+  const bool cruise_altitude_given = mission && ReadMission(mission, source, sc);
   if (load.mission_file || (mission && mission["file"])) {
     ReadMissionFile(mission, source, load.mission_file, sc);
   } else if (const auto origin = ReadMissionOrigin(mission, source, sc)) {
     sc.geo_origin = origin;  // a local-metres mission placed on the globe (for the QGroundControl export)
   }
-  if (const YAML::Node l = root["limits"]) ReadLimits(l, source, sc.limits);
-  if (const YAML::Node f = root["fault"]) ReadFault(f, source, sc.fault);
-  if (const YAML::Node o = root["options"]) ReadOptions(o, source, sc.options);
+  if (const YAML::Node l = root["limits"]) ReadSection(l, "limits", source, sc);
+  if (const YAML::Node f = root["fault"]) ReadFault(f, source, sc);
+  if (const YAML::Node o = root["options"]) ReadSection(o, "options", source, sc);
+  // The map's inflated hulls, once for every flight of this scenario (Scenario::map_obstacles).
+  if (sc.map && !sc.map->sites().empty()) {
+    sc.map_obstacles = planning::LandingPathPlanner::InflateBuildings(*sc.map, planning::LandingPathParams{}.lateral_margin);
+  }
   // One validation for files, samplers and code alike (Scenario::IsValid).
   std::string error;
   if (!sc.IsValid(&error)) throw InputError(source + ": " + error);

@@ -2,10 +2,14 @@
 // Table 4.4 draw — and each result equals that flight flown alone, bit for bit; the paired counts add up; the
 // hindsight family and the schedule controller are what they say.
 #include "uascma/campaign/battery_evaluation.h"
+#include "uascma/campaign/battery_case_studies.h"
+#include "uascma/campaign/battery_controllers.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <stdexcept>
+#include <vector>
 
 #include "uascma/common/error.h"
 
@@ -162,6 +166,38 @@ TEST(BatteryEvaluationTest, PolicyListsAreCheckedBeforeAnyFlight) {
   EXPECT_EQ(specs[1].kind, BatteryPolicyKind::kVoltageRule);
   EXPECT_DOUBLE_EQ(specs[1].drop_voltage_v, 3.35);
   EXPECT_DOUBLE_EQ(ParseBatteryPolicies("rule:voltage", "--policies")[0].drop_voltage_v, kVoltageRuleDropVoltage);
+}
+
+// Issue 23: the evaluation's runs are flown by common/parallel_for.h: kept in run order (the same evaluation on one
+// thread or three), and a failure during the work reaches the caller instead of ending the process.
+TEST(BatteryEvaluationTest, RunsAreKeptInOrderAndAFailureReachesTheCaller) {
+  BatteryEvaluationOptions options;
+  options.runs = 4;
+  options.ranges.plan_fraction[0] = 0.05;  // short plans keep the test quick (ours)
+  options.ranges.plan_fraction[1] = 0.10;
+  const std::vector<BatteryPolicySpec> policies = ParseBatteryPolicies("useboth,rule:voltage", "--policies");
+  std::vector<std::int64_t> done;
+  options.on_run_done = [&done](std::int64_t count) { done.push_back(count); };
+  const BatteryEvaluation serial = EvaluateBatteryPolicies(policies, options);
+  options.jobs = 3;
+  const BatteryEvaluation parallel = EvaluateBatteryPolicies(policies, options);
+  EXPECT_EQ(done, (std::vector<std::int64_t>{1, 2, 3, 4, 1, 2, 3, 4}));
+  ASSERT_EQ(parallel.runs.size(), serial.runs.size());
+  for (std::size_t r = 0; r < serial.runs.size(); ++r) {
+    EXPECT_EQ(parallel.runs[r].run, static_cast<std::int64_t>(r));
+    for (std::size_t k = 0; k < policies.size(); ++k) {
+      const BatteryPolicyFlight& a = serial.runs[r].flights[k];
+      const BatteryPolicyFlight& b = parallel.runs[r].flights[k];
+      EXPECT_EQ(a.outcome, b.outcome);
+      EXPECT_EQ(std::memcmp(&a.end_time_s, &b.end_time_s, sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(&a.energy_used_wh, &b.energy_used_wh, sizeof(double)), 0);
+      EXPECT_EQ(a.switches, b.switches);
+    }
+  }
+  options.on_run_done = [](std::int64_t count) {
+    if (count == 2) throw std::runtime_error("progress report failed");
+  };
+  EXPECT_THROW(EvaluateBatteryPolicies(policies, options), std::runtime_error);
 }
 
 }  // namespace

@@ -98,18 +98,21 @@ TEST(ImportedMapSamplerTest, MissionsAreSampledOverTheRealCityOnOpenGround) {
   CampaignConfig config = ParseCampaignConfig(kImportedYaml, "c.yaml");
   config.map.buildings = {(OsmDataDir() / "upper-east-side-buildings.geojson").string()};
   config.map.sites = (OsmDataDir() / "midtown-landing-sites.csv").string();
-  const auto map = CampaignMap(config.map);
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // read once, shared by every run
+  const auto map = world.map;
   // 1,239 buildings, 9 skipped without height or levels (map_import.h); 1,828 sites.
   EXPECT_EQ(map->buildings().size(), 1230u);
   EXPECT_EQ(map->sites().size(), 1828u);
-  EXPECT_EQ(CampaignMap(config.map).get(), map.get());  // read once
+  ASSERT_NE(world.obstacles, nullptr);  // the emergency planners' hulls, one per building
+  EXPECT_EQ(world.obstacles->size(), static_cast<int>(map->buildings().size()));
   const Eigen::AlignedBox2d extent = BuildingsExtent(*map);
   EXPECT_FALSE(extent.contains(map->bounds()));  // the sites file reaches beyond the buildings
   EXPECT_TRUE(RouteArea(*map, config.map).isApprox(extent));
   for (std::int64_t index = 0; index < 40; ++index) {
-    const SampledRun run = SampleRun(config, 7, index);
+    const SampledRun run = SampleRun(config, world, 7, index);
     const auto& mission = run.scenario.mission;
     EXPECT_EQ(run.scenario.map.get(), map.get());
+    EXPECT_EQ(run.scenario.map_obstacles.get(), world.obstacles.get());
     // Homes, destinations (hover points) over the city, not beside it: inside the buildings' extent (the Midtown
     // sites lie 2 km away and do not widen it), on open ground with the wall clearance of decision 20.
     for (const Eigen::Vector2d& p : {mission.home_NE, mission.destination_NE}) {
@@ -150,7 +153,7 @@ TEST(ImportedMapSamplerTest, SitesThatMissTheRoutesAreReportedAndTheMapSuppliesI
 
   // Without a sites file the map supplies its flat roofs (map_import.h): every checkpoint has a site in reach.
   config.map.sites.clear();
-  const auto map = CampaignMap(config.map);
+  const auto map = BuildCampaignWorld(config.map).map;
   EXPECT_EQ(map->buildings().size(), 1230u);
   EXPECT_GT(map->sites().size(), 1000u);
   for (const planning::LandingSite& site : map->sites()) EXPECT_TRUE(site.on_rooftop()) << site.id;
@@ -191,14 +194,14 @@ void ExpectRoundTrip(const CampaignConfig& config) {
 TEST(ImportedMapHeightsTest, CampaignKeysImportBuildingsWithoutHeights) {
   // Without a fall-back the import stops, as `map info` does without its flags.
   const CampaignConfig bare = ParseCampaignConfig(NoHeightsCampaign(""), "c.yaml");
-  EXPECT_THROW((void)CampaignMap(bare.map), InputError);
+  EXPECT_THROW((void)BuildCampaignWorld(bare.map).map, InputError);
 
   // height_from_type: the building=* table (map_import.h); no sites file, so the map supplies its own sites.
   const CampaignConfig by_type = ParseCampaignConfig(NoHeightsCampaign("  height_from_type: true\n"), "c.yaml");
   EXPECT_TRUE(by_type.map.height_from_type);
   EXPECT_TRUE(by_type.map.DerivesSites());
   ExpectRoundTrip(by_type);
-  const auto typed = CampaignMap(by_type.map);
+  const auto typed = BuildCampaignWorld(by_type.map).map;
   EXPECT_EQ(typed->buildings().size(), 6u);
   EXPECT_EQ(static_cast<int>(typed->sites().size()), kNoHeightsDerivedSites);
   std::map<std::string, double> heights = HeightsById(*typed);
@@ -212,7 +215,7 @@ TEST(ImportedMapHeightsTest, CampaignKeysImportBuildingsWithoutHeights) {
       ParseCampaignConfig(NoHeightsCampaign("  height_from_levels: true\n  default_height_m: 8\n"), "c.yaml");
   ASSERT_TRUE(by_default.map.default_height_m.has_value());
   ExpectRoundTrip(by_default);
-  heights = HeightsById(*CampaignMap(by_default.map));
+  heights = HeightsById(*BuildCampaignWorld(by_default.map).map);
   ASSERT_EQ(heights.size(), 6u);
   for (const char* id : {"way/101", "way/102", "way/103", "way/105"}) {
     EXPECT_NEAR(heights.at(id), 8.0, kHeightToleranceM) << id;
@@ -228,7 +231,7 @@ TEST(ImportedMapHeightsTest, CampaignSitesFromMapAddsToOrReplacesTheSitesFile) {
   // One ground site inside the park of no-heights.osm.
   std::ofstream(sites) << "osm_id,lat,lon,alt,risk,radius\n900,47.1410,9.5205,0,0.2,5\n";
   const std::string type = "  height_from_type: true\n";
-  auto sites_of = [](const CampaignConfig& config) { return CampaignMap(config.map)->sites().size(); };
+  auto sites_of = [](const CampaignConfig& config) { return BuildCampaignWorld(config.map).map->sites().size(); };
 
   // With a sites file and no key: the file's sites only (as before the key existed).
   const CampaignConfig file_only = ParseCampaignConfig(NoHeightsCampaign(type + "  sites: " + sites.string() + "\n"), "c");

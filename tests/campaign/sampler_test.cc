@@ -34,9 +34,10 @@ bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 TEST(SamplerTest, SameSeedAndIndexGiveTheSameScenario) {
   const CampaignConfig config;
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (std::int64_t index : {0, 1, 17, 464}) {
-    const SampledRun a = SampleRun(config, 42, index);
-    const SampledRun b = SampleRun(config, 42, index);
+    const SampledRun a = SampleRun(config, world, 42, index);
+    const SampledRun b = SampleRun(config, world, 42, index);
     EXPECT_EQ(a.run_seed, b.run_seed);
     EXPECT_EQ(a.scenario.seed, b.scenario.seed);
     EXPECT_TRUE(SameBits(a.distance_m, b.distance_m));
@@ -51,10 +52,11 @@ TEST(SamplerTest, SameSeedAndIndexGiveTheSameScenario) {
 
 TEST(SamplerTest, RunsAndSeedsGiveDifferentScenarios) {
   const CampaignConfig config;
-  const SampledRun a = SampleRun(config, 42, 0);
-  EXPECT_NE(a.run_seed, SampleRun(config, 42, 1).run_seed);
-  EXPECT_NE(a.run_seed, SampleRun(config, 43, 0).run_seed);
-  EXPECT_NE(a.distance_m, SampleRun(config, 42, 1).distance_m);
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
+  const SampledRun a = SampleRun(config, world, 42, 0);
+  EXPECT_NE(a.run_seed, SampleRun(config, world, 42, 1).run_seed);
+  EXPECT_NE(a.run_seed, SampleRun(config, world, 43, 0).run_seed);
+  EXPECT_NE(a.distance_m, SampleRun(config, world, 42, 1).distance_m);
   EXPECT_NE(a.scenario.seed, a.run_seed);  // the simulator's stream is a sub-stream, not the run seed
   // The run seed alone replays: it is DeriveSeed(campaign seed, index).
   EXPECT_EQ(a.run_seed, RunSeed(42, 0));
@@ -62,8 +64,9 @@ TEST(SamplerTest, RunsAndSeedsGiveDifferentScenarios) {
 
 TEST(SamplerTest, EveryDrawRespectsItsRange) {
   const CampaignConfig config;
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < kSamples; ++i) {
-    const SampledRun run = SampleRun(config, 5, i);
+    const SampledRun run = SampleRun(config, world, 5, i);
     const sim::Scenario& s = run.scenario;
     EXPECT_TRUE(config.mission.endurance_fraction.Contains(run.endurance_fraction));
     EXPECT_NEAR((s.mission.destination_NE - s.mission.home_NE).norm(), run.distance_m, 1e-9 * run.distance_m);
@@ -131,8 +134,9 @@ TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
   int faults = 0, cold = 0, health_m = 0, health_p = 0, m_capacity_flights = 0, motor_3 = 0;
   int turbulence_medium_moderate = 0;
   double onset_fraction_sum = 0.0;
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < kSamples; ++i) {
-    const SampledRun run = SampleRun(config, 9, i);
+    const SampledRun run = SampleRun(config, world, 9, i);
     const sim::Scenario& s = run.scenario;
     if (s.fault.enabled) {
       ++faults;
@@ -175,8 +179,9 @@ TEST(SamplerTest, MediumFadesPerCellDrawEachCellsKind) {
   config.battery.health_weights = {0.0, 1.0, 0.0};
   config.battery.medium_fades = MediumFades::kPerCell;
   int cells = 0, capacity = 0, mixed_flights = 0;
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < kSamples; ++i) {
-    const SampledRun run = SampleRun(config, 5, i);
+    const SampledRun run = SampleRun(config, world, 5, i);
     ASSERT_EQ(run.battery_health, decision::BatteryHealth::kM);
     int flight_capacity = 0, flight_power = 0;
     for (const auto& pack : run.scenario.battery.cell_health) {
@@ -203,8 +208,9 @@ TEST(SamplerTest, ConfigurationChoicesTakeEffect) {
   config.battery.health_weights = {0.0, 0.0, 1.0};
   config.battery.degraded_cells = {6, 6};
   config.fault.time_per_growth_step_s.reset();
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < 50; ++i) {
-    const SampledRun run = SampleRun(config, 3, i);
+    const SampledRun run = SampleRun(config, world, 3, i);
     EXPECT_TRUE(run.scenario.fault.enabled);
     EXPECT_EQ(run.scenario.fault.motor, 4);
     EXPECT_NEAR(run.scenario.fault.spall_onset_s, 0.25 * run.plan_duration_s, 1e-12 * run.plan_duration_s);
@@ -223,8 +229,9 @@ TEST(SamplerTest, OneDegradedCellSitsAnywhereInTheBattery) {
   config.battery.health_weights = {0.0, 0.0, 1.0};
   config.battery.degraded_cells = {1, 1};
   std::array<int, models::kBranchCount * models::kCellsPerBranch> position{};
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < kSamples; ++i) {
-    const SampledRun run = SampleRun(config, 4, i);
+    const SampledRun run = SampleRun(config, world, 4, i);
     int degraded = 0;
     for (int b = 0; b < models::kBranchCount; ++b) {
       for (int c = 0; c < models::kCellsPerBranch; ++c) {
@@ -251,8 +258,9 @@ TEST(SamplerTest, HealthyPackFliesEveryPlanWithItsSafetyMargin) {
   const CampaignConfig config;
   const models::DragTable drag = models::DragTable::Default(models::PropellerConfiguration::kTractor);
   double shortest = 1e9, longest = 0.0;
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < kMissions; ++i) {
-    const SampledRun run = SampleRun(config, 21, i);
+    const SampledRun run = SampleRun(config, world, 21, i);
     const sim::Scenario& s = run.scenario;
     const double eod = CalcHealthyPackEod(s.battery, run.cruise_current_a);
     EXPECT_EQ(eod, run.healthy_eod_s);
@@ -294,7 +302,7 @@ TEST(SamplerTest, LevelFlightCurrentByHand) {
 TEST(SamplerTest, HoverPointsKeepTheirClearanceFromEveryWall) {
   constexpr int kMissions = 100;
   const CampaignConfig config;
-  const auto map = CampaignMap(config.map);
+  const auto map = BuildCampaignWorld(config.map).map;
   auto distance_to_walls = [&map](const Eigen::Vector2d& p) {
     double nearest = 1e18;
     for (int k = 0; k < static_cast<int>(map->buildings().size()); ++k) {
@@ -308,8 +316,9 @@ TEST(SamplerTest, HoverPointsKeepTheirClearanceFromEveryWall) {
     }
     return nearest;
   };
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < kMissions; ++i) {
-    const SampledRun run = SampleRun(config, 33, i);
+    const SampledRun run = SampleRun(config, world, 33, i);
     for (const Eigen::Vector2d& p : {run.scenario.mission.home_NE, run.scenario.mission.destination_NE}) {
       EXPECT_GE(distance_to_walls(p), config.mission.wall_clearance_m) << "run " << i;
       EXPECT_EQ(map->BuildingContaining(Eigen::Vector3d(p.x(), p.y(), -0.1)), planning::kNoBuilding);
@@ -320,8 +329,9 @@ TEST(SamplerTest, HoverPointsKeepTheirClearanceFromEveryWall) {
 // With mission.distance_m set the distance is drawn on it (short test campaigns, small imported maps).
 TEST(SamplerTest, ExplicitDistanceRangeIsDrawnUniformly) {
   CampaignConfig config = testing_support::ShortConfig();
+  const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < 200; ++i) {
-    const SampledRun run = SampleRun(config, 8, i);
+    const SampledRun run = SampleRun(config, world, 8, i);
     EXPECT_TRUE(config.mission.distance_m->Contains(run.distance_m));
     EXPECT_EQ(run.endurance_fraction, 0.0);
     EXPECT_GT(run.healthy_eod_s, run.plan_duration_s);  // recorded, and a 40 m hop is well within it

@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 
 #include <atomic>
+#include <csignal>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -323,6 +324,42 @@ TEST(StoreTest, ClaimsOfDeadAndForeignWorkers) {
   EXPECT_EQ(result.claimed[0].run_index, 0);  // dead pid
   EXPECT_EQ(result.claimed[1].run_index, 2);  // retired
   EXPECT_EQ(result.claimed[2].run_index, 3);  // lease lapsed
+}
+
+// Issue 26 item 9: what a waiting process says of the worker it waits for. A suspended process (SIGSTOP,
+// as Ctrl-Z does) is named as stopped with the command that resumes it; a running one, an ended one and
+// another machine's are told apart.
+TEST(StoreTest, AWorkerIsDescribedByWhatItsProcessIsDoing) {
+  TempDir dir;
+  const auto path = dir.path / "c.db";
+  ResultsStore::Create(path, Header());
+  const pid_t stopped = ::fork();
+  if (stopped == 0) {
+    ::pause();
+    ::_exit(0);
+  }
+  ASSERT_EQ(::kill(stopped, SIGSTOP), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(stopped, &status, WUNTRACED), stopped);
+  ASSERT_TRUE(WIFSTOPPED(status));
+  const WorkerIdentity me = ThisProcessIdentity();
+  const std::int64_t dead = DeadPid();
+  ExecuteSql(path, fmt::format("INSERT INTO workers (id, host, boot_id, pid_namespace, pid, start_ticks, started_utc, "
+                               "heartbeat_s) VALUES "
+                               "(1, '{0}', '{1}', '{2}', {3}, 0, 'x', 0), (2, '{0}', '{1}', '{2}', 1, 0, 'x', 0), "
+                               "(3, '{0}', '{1}', '{2}', {4}, 0, 'x', 0), (4, 'far', 'other-boot', 'pid:[1]', 77, 5, "
+                               "'x', 0);",
+                               me.host, me.boot_id, me.pid_namespace, stopped, dead));
+  const ResultsStore store = ResultsStore::Open(path);
+  const std::string suspended = store.DescribeWorker(1);
+  ::kill(stopped, SIGKILL);
+  ::waitpid(stopped, &status, 0);
+  EXPECT_NE(suspended.find(fmt::format("pid {} on this machine (stopped", stopped)), std::string::npos) << suspended;
+  EXPECT_NE(suspended.find(fmt::format("kill -CONT {}", stopped)), std::string::npos) << suspended;
+  EXPECT_EQ(store.DescribeWorker(2), "pid 1 on this machine (running)");
+  EXPECT_EQ(store.DescribeWorker(3), fmt::format("pid {} on this machine (ended)", dead));
+  EXPECT_EQ(store.DescribeWorker(4), "a process on host far (pid 77 there)");
+  EXPECT_EQ(store.DescribeWorker(99), "worker 99 (no longer registered)");
 }
 
 TEST(StoreTest, AVersionOneFileIsReadAndRaisedWhenJoined) {

@@ -1,5 +1,6 @@
-// The battery-reconfiguration MDP of dissertation §4.3 (decision/battery_mdp.h).
-#include "uascma/decision/battery_mdp.h"
+// The battery-reconfiguration MDP of dissertation §4.3 (decision/battery_mdp.h, battery_abstraction.h,
+// battery_model.h, battery_policy.h) and its files (decision/battery_mdp_file.h).
+#include "uascma/decision/battery_mdp_file.h"
 
 #include <gtest/gtest.h>
 
@@ -331,6 +332,35 @@ TEST(BatteryFiles, BadModelsNameTheField) {
             }).find("hash"),
             std::string::npos);
   EXPECT_NE(message([](nlohmann::json& j) { j["contexts"][0]["rows"][0]["action"] = "UseNone"; }).find("action"),
+            std::string::npos);
+}
+
+// Issue 23: the files are read with the typed JSON reader (common/json_reader.h): every message is
+// "<file>: <path in the document>: <what was expected>, got <what was there>".
+TEST(BatteryFiles, ReadErrorsNameTheFileThePathAndWhatWasExpected) {
+  const nlohmann::json good = BatteryModelToJson(SyntheticModel());
+  auto message = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json bad = good;
+    edit(bad);
+    return InputErrorMessage([&] { BatteryModelFromJson(bad, "m.json"); });
+  };
+  EXPECT_EQ(message([](nlohmann::json& j) { j["contexts"][4]["b1"] = "F4"; }),
+            "m.json: contexts[4].b1: F1 | F2 | F3 (Table 4.2), got 'F4'");
+  EXPECT_EQ(message([](nlohmann::json& j) { j["gamma"] = 1.5; }), "m.json: gamma: in [0, 1), got 1.5");
+  EXPECT_EQ(message([](nlohmann::json& j) { j["contexts"][0]["flights"]["UseBoth"] = -2; }),
+            "m.json: contexts[0].flights.UseBoth: a non-negative integer count, got -2");
+  EXPECT_EQ(message([](nlohmann::json& j) { j["contexts"][1]["rows"][0]["next"]["NOSUCHSTATE"] = 1; }),
+            "m.json: contexts[1].rows[0].next.NOSUCHSTATE: a battery MDP state such as ILONS1C0OFFS2C0 or FAILURE, "
+            "got 'NOSUCHSTATE'");
+  EXPECT_EQ(message([](nlohmann::json& j) { j.erase("contexts"); }), "m.json: contexts: an array of contexts, but it is missing");
+  const nlohmann::json policy = BatteryPolicyToJson(SolveBatteryPolicies(SyntheticModel()));
+  nlohmann::json bad = policy;
+  bad["policies"][3]["action"][7] = 2;
+  EXPECT_EQ(InputErrorMessage([&] { BatteryPolicyFromJson(bad, "p.json"); }),
+            "p.json: policies[3].action[7]: an action name, got 2");
+  bad = policy;
+  bad["policies"][0]["value"].erase(0);
+  EXPECT_NE(InputErrorMessage([&] { BatteryPolicyFromJson(bad, "p.json"); }).find("p.json: policies[0].value: an array of 289 numbers"),
             std::string::npos);
 }
 

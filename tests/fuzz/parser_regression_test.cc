@@ -17,7 +17,7 @@
 
 #include "uascma/campaign/config.h"
 #include "uascma/common/error.h"
-#include "uascma/decision/battery_mdp.h"
+#include "uascma/decision/battery_mdp_file.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/planning/map_import.h"

@@ -235,7 +235,7 @@ TEST(GeoJsonImportTest, MalformedInputNamesTheFileTheFeatureAndWhatWasExpected) 
         parse(FeatureCollection(
             R"({"type": "Feature", "properties": {"@id": "way/14"}, "geometry": {"type": 5, "coordinates": []}})"));
       },
-      {"bad.geojson", "features[0] (way/14)", "well-typed"});
+      {"bad.geojson", "features[0] (way/14).geometry.type", "a string, got 5"});
   // Without an id, the index names the feature.
   ExpectInputError([&] { parse(FeatureCollection(BuildingFeature(R"("building": "yes")", kSquare))); },
                    {"bad.geojson", "features[0]", "'height'"});

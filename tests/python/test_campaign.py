@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 import uascma
-from conftest import example, run_cli
+from conftest import cli_json, example, run_cli
 
 RUNS = 3
 SEED = 11
@@ -74,3 +74,29 @@ def test_errors_name_the_file_or_field(tmp_path):
         uascma.run_campaign({"runs": -3}, str(tmp_path / "x.db"))
     with pytest.raises(uascma.InputError, match="policies"):
         uascma.run_campaign(None, str(tmp_path / "y.db"), runs=1, policies=["cma", "cma"])
+
+
+def test_the_cli_and_python_share_the_summaries(databases):
+    """The report (campaign/report.h) and the run summary (campaign/run_summary.h) are formatted once, in the
+    library: Python returns what `uascma report` / `campaign --json` print."""
+    python_db, _ = databases
+    assert uascma.campaign_report(str(python_db), text=True) == run_cli("report", python_db).stdout
+    assert uascma.campaign_report(str(python_db)) == cli_json("report", python_db)
+    resumed = uascma.run_campaign(example("campaign.yaml"), str(python_db), runs=RUNS, seed=SEED, jobs=1, resume=True)
+    assert resumed["flights_flown"] == 0 and resumed["flights_before"] == RUNS * 2
+    assert {"flights_by_others", "flights_per_s", "jobs_per_rank", "ranks", "campaign_hash"} <= set(resumed)
+
+
+def test_campaign_config_properties_come_from_the_field_table():
+    config = uascma.load_campaign_config(example("campaign.yaml"))
+    keys = [row["key"] for row in uascma.CampaignConfig.fields]
+    assert keys[:4] == ["name", "seed", "runs", "policies"] and "mission.cruise_speed_mps" in keys
+    assert config.mission_cruise_speed_mps == (1.0, 9.0)  # Table 4.4
+    assert config.fault_time_per_growth_step_s == 0.7128
+    before = config.hash
+    config.mission_cruise_speed_mps = (2.0, 4.0)
+    config.wind_turbulence = ["none"]
+    assert config.hash != before
+    again = uascma.load_campaign_config(config.to_yaml())
+    assert again.mission_cruise_speed_mps == (2.0, 4.0) and again.wind_turbulence == ["none"]
+    assert again.hash == config.hash

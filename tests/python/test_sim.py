@@ -145,3 +145,29 @@ def test_telemetry_written_with_codes_before_names_reads_the_same(tmp_path):
     (tmp_path / "telemetry.csv").write_text("x,y\n1,2\n")
     with pytest.raises(uascma.InputError, match="t_s"):
         uascma.read_telemetry(str(tmp_path))
+
+
+def test_the_summary_text_is_the_clis(nominal):
+    """sim/flight_summary.h formats the text once: `uascma simulate` prints what Flight.summary_text() returns,
+    but for the wall-clock line's timing."""
+    cli = run_cli("simulate", example("nominal.yaml"), "--policy", "noop", "--seed", 5).stdout.splitlines()
+    mine = nominal.summary_text().splitlines()
+    assert len(mine) == len(cli)
+    for a, b in zip(mine, cli):
+        if a.startswith("flew "):  # "flew X s of simulated time in Y ms (Zx real time); ...": Y and Z are timings
+            assert a.split(" in ")[0] == b.split(" in ")[0] and a.split(";")[1] == b.split(";")[1]
+        else:
+            assert a == b
+
+
+def test_scenario_properties_come_from_the_field_table():
+    scenario = uascma.load_scenario(example("nominal.yaml"))
+    assert scenario.vehicle_mass_kg == scenario.mass
+    scenario.wind_direction_deg = 90.0
+    assert abs(scenario.wind_direction_deg - 90.0) < 1e-12  # held in radians, shown in degrees
+    scenario.vehicle_inertia_kg_m2 = (0.01, 0.012, 0.02)
+    assert scenario.vehicle_inertia_kg_m2 == (0.01, 0.012, 0.02)
+    scenario.options_eod_load = "present"
+    assert scenario.options_eod_load == "present"
+    with pytest.raises(uascma.InputError):
+        scenario.wind_turbulence = "hurricane"

@@ -16,6 +16,7 @@
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
+#include "same_flight.h"
 
 namespace uascma::sim {
 namespace {
@@ -38,19 +39,6 @@ Scenario ShortJam() {
   return scenario;
 }
 
-void ExpectSameFlight(const FlightState& a, const FlightState& b) {
-  EXPECT_EQ(a.outcome, b.outcome);
-  EXPECT_EQ(a.reason, b.reason);
-  EXPECT_EQ(a.step, b.step);
-  // Bit-identical, not approximately equal: the copies draw the same random numbers in the same order.
-  EXPECT_EQ(a.body.p_WB_W, b.body.p_WB_W);
-  EXPECT_EQ(a.body.v_WB_W, b.body.v_WB_W);
-  EXPECT_EQ(a.body.q_WB.coeffs(), b.body.q_WB.coeffs());
-  EXPECT_EQ(a.energy_wh, b.energy_wh);
-  EXPECT_EQ(a.min_cell_voltage_v, b.min_cell_voltage_v);
-  EXPECT_EQ(a.jam_time_s, b.jam_time_s);
-  EXPECT_EQ(a.isolation_time_s, b.isolation_time_s);
-}
 
 TEST(FlightTest, ACopiedStateHasTheSameFutureBitForBit) {
   const FlightModel model(ShortJam());
@@ -76,7 +64,7 @@ TEST(FlightTest, ACopiedStateHasTheSameFutureBitForBit) {
   ASSERT_FALSE(log_a.telemetry.empty());
   EXPECT_EQ(log_a.telemetry.back().p_W, log_b.telemetry.back().p_W);
   EXPECT_EQ(log_a.telemetry.back().cell_voltage, log_b.telemetry.back().cell_voltage);
-  EXPECT_TRUE(state.jam_time_s.has_value());  // the future held the jam: the fault streams were copied too
+  EXPECT_TRUE(state.faults.jam_time_s.has_value());  // the future held the jam: the fault streams were copied too
 }
 
 TEST(FlightTest, SteppingByEpochsIsRun) {
@@ -102,10 +90,10 @@ TEST(FlightTest, ScenarioOneBranchesAtTheSpallIntoNoOpAndCma) {
   FlightState state = MakeInitialState(model, model.scenario().seed);
   NoOpPolicy noop;
   const Controllers before{&noop, nullptr, {}};
-  while (!state.spall_onset_s && !state.done()) StepEpoch(model, state, before);
+  while (!state.faults.spall_onset_s && !state.done()) StepEpoch(model, state, before);
   ASSERT_FALSE(state.done());
-  ASSERT_TRUE(state.spall_onset_s.has_value());
-  EXPECT_NEAR(*state.spall_onset_s, 175.0, 1e-9);  // s, scenario-1.yaml
+  ASSERT_TRUE(state.faults.spall_onset_s.has_value());
+  EXPECT_NEAR(*state.faults.spall_onset_s, 175.0, 1e-9);  // s, scenario-1.yaml
 
   FlightState noop_branch = state;
   FlightState cma_branch = state;
@@ -117,7 +105,7 @@ TEST(FlightTest, ScenarioOneBranchesAtTheSpallIntoNoOpAndCma) {
   EXPECT_EQ(cma_branch.outcome, Outcome::kEmergencyLanding) << cma_branch.reason;
   ASSERT_FALSE(cma_log.actions.empty());
   EXPECT_EQ(cma_log.actions.front().second, decision::CmaAction::kLandPract);
-  EXPECT_EQ(noop_branch.jam_time_s, cma_branch.jam_time_s);  // the same fault in both futures
+  EXPECT_EQ(noop_branch.faults.jam_time_s, cma_branch.faults.jam_time_s);  // the same fault in both futures
 }
 
 // The environment taking the policy's actions flies Run's flight, and its undiscounted return is the campaign's
@@ -246,7 +234,7 @@ TEST(SubstitutionTest, AnActionWithoutAPlanIsReplacedByTheNextInTheRankingAndRec
   const FlightModel model(scenario);
   FlightState flying = MakeInitialState(model, 3);
   for (int k = 0; k < 20; ++k) StepEpoch(model, flying, Controllers{});
-  ASSERT_TRUE(flying.airborne);
+  ASSERT_TRUE(flying.vehicle.airborne);
   Observe(model, flying);
   using decision::CmaAction;
   auto index = [](CmaAction a) { return static_cast<decision::ActionIndex>(a); };
@@ -261,10 +249,10 @@ TEST(SubstitutionTest, AnActionWithoutAPlanIsReplacedByTheNextInTheRankingAndRec
   const std::vector<decision::ActionIndex> asap_next = {index(CmaAction::kLandPract), index(CmaAction::kLandAsap),
                                                         index(CmaAction::kNoOp), index(CmaAction::kTerminate)};
   EXPECT_EQ(Act(model, state, CmaAction::kLandPract, NoPractical, &log, asap_next), CmaAction::kLandAsap);
-  EXPECT_EQ(state.flight_status, decision::FlightStatus::kElAsap);
-  EXPECT_TRUE(state.on_emergency_plan);
-  EXPECT_EQ(state.substitution_epochs, 1);
-  EXPECT_EQ(state.substitutions, std::vector<std::string>{"LandPract->LandASAP"});
+  EXPECT_EQ(state.decision.flight_status, decision::FlightStatus::kElAsap);
+  EXPECT_TRUE(state.guidance.on_emergency_plan);
+  EXPECT_EQ(state.decision.substitution_epochs, 1);
+  EXPECT_EQ(state.decision.substitutions, std::vector<std::string>{"LandPract->LandASAP"});
   EXPECT_TRUE(events_say(log, "LandPract cannot be carried out (no stored path from this checkpoint): LandASAP"));
   EXPECT_FALSE(events_say(log, "continuing"));
 
@@ -274,8 +262,8 @@ TEST(SubstitutionTest, AnActionWithoutAPlanIsReplacedByTheNextInTheRankingAndRec
   const std::vector<decision::ActionIndex> noop_next = {index(CmaAction::kLandPract), index(CmaAction::kNoOp),
                                                         index(CmaAction::kLandAsap), index(CmaAction::kTerminate)};
   EXPECT_EQ(Act(model, state, CmaAction::kLandPract, NoPractical, &log, noop_next), CmaAction::kNoOp);
-  EXPECT_FALSE(state.on_emergency_plan);
-  EXPECT_EQ(state.substitutions, std::vector<std::string>{"LandPract->NoOp"});
+  EXPECT_FALSE(state.guidance.on_emergency_plan);
+  EXPECT_EQ(state.decision.substitutions, std::vector<std::string>{"LandPract->NoOp"});
 
   // Terminate next: the flight ends, terminated.
   state = flying;
@@ -283,14 +271,14 @@ TEST(SubstitutionTest, AnActionWithoutAPlanIsReplacedByTheNextInTheRankingAndRec
                                                              index(CmaAction::kNoOp), index(CmaAction::kLandAsap)};
   EXPECT_EQ(Act(model, state, CmaAction::kLandPract, NoPractical, nullptr, terminate_next), CmaAction::kTerminate);
   EXPECT_EQ(state.outcome, Outcome::kTerminated);
-  EXPECT_EQ(state.substitutions, std::vector<std::string>{"LandPract->Terminate"});
+  EXPECT_EQ(state.decision.substitutions, std::vector<std::string>{"LandPract->Terminate"});
 
   // Without a ranking, the default CMA policy's order for the present state.
   state = flying;
-  const ActionRanking fallback = DefaultCmaActionRanking(state.inputs.state);
+  const ActionRanking fallback = DefaultCmaActionRanking(state.decision.inputs.state);
   const CmaAction taken = Act(model, state, CmaAction::kLandPract, NoPractical, nullptr);
   EXPECT_NE(taken, CmaAction::kLandPract);
-  EXPECT_EQ(state.substitution_epochs, 1);
+  EXPECT_EQ(state.decision.substitution_epochs, 1);
   EXPECT_NE(std::find(fallback.begin(), fallback.end(), index(taken)), fallback.end());
 }
 

@@ -1,17 +1,16 @@
 #pragma once
-// Monte Carlo flights of the battery-reconfiguration MDP (dissertation §4.3.2, Fig. 4.3, Table 4.4) and the
-// case studies of §4.3.3 (Table 4.5, Figs. 4.8–4.11).
+// Monte Carlo flights of the battery-reconfiguration MDP (dissertation §4.3.2, Fig. 4.3, Table 4.4): the parameter
+// draw, the scenario of a flight, flights flown together, and the executor for any simulated flight.
 //
 // A battery flight is one flight of the full simulator (sim/flight.h: 200 Hz DLQR, rotor model, Dryden gusts,
 // the two-pack battery of eqs. 3.4-3.7 on the bus) with the 1 Hz battery executor hook
-// (sim::BatterySwitchPolicy): at every epoch the executor abstracts the pack (decision/battery_mdp.h:
+// (sim::BatterySwitchPolicy): at every epoch the executor abstracts the pack (decision/battery_abstraction.h:
 // per-pack EOD, RFD of the executing plan, t_sf, 3.4 V, 0.2·I_max), records the state and sets the switches —
 // the action held throughout for learning flights, the policy executor for π*. FAILURE is the simulator's
 // battery failure (a switched-in cell at 3.3 V, decisions item 11).
-// Learning (decisions item 23): flights k = 3·d + a share the parameter draw d (Table 4.4) and the simulator
-// seed, and fly action a ∈ {UseBatt1, UseBatt2, UseBoth} throughout (paired, common random numbers, as the
-// campaigns do); N flights are split equally between the actions; counted at 1 Hz per
-// (B1 health, B2 health, temperature). Every flight replays from (seed, k).
+// Learning the MDP's counts from these flights (decisions item 23): learning/battery_transition_estimation.h;
+// judging policies on them: campaign/battery_evaluation.h; the case studies of §4.3.3 (Table 4.5, Figs.
+// 4.8–4.11): campaign/battery_case_studies.h.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -21,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "uascma/common/random.h"
+#include "uascma/decision/battery_abstraction.h"
 #include "uascma/decision/battery_mdp.h"
+#include "uascma/decision/battery_policy.h"
 #include "uascma/models/battery_pack.h"
 #include "uascma/models/wind.h"
 #include "uascma/sim/flight.h"
@@ -74,6 +73,10 @@ struct BatteryFlightParams {
 // power or capacity fade in at least one cell"; F3 "power and capacity fade in at least one cell".
 std::array<models::CellHealth, models::kCellsPerBranch> DrawPackCells(RandomStream& random, models::HealthClass health);
 
+// Sub-streams of draw d's seed DeriveSeed(seed, d) (common/random.h): its parameters, its vehicle flight, and the
+// drop flight of learning (learning/battery_transition_estimation.h). Changing one changes every learned model.
+enum BatteryDrawStream : std::uint64_t { kBatteryParameterStream = 1, kBatteryVehicleStream = 2, kBatteryDropStream = 3 };
+
 // Draw d of a learning campaign (pure function of (seed, draw), style habit 7).
 BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t draw);
 
@@ -110,7 +113,7 @@ struct BatteryFlightResult {
   std::vector<decision::StateIndex> states;                  // at 1 Hz from take-off (FAILURE last if failed)
   std::vector<std::pair<double, models::PackAction>> switches;  // (time, action) of every change, first included
   std::vector<BatteryEpoch> epochs;
-  double energy_used_wh = 0.0;                  // drawn from the packs over the flight (sim::FlightState::energy_wh)
+  double energy_used_wh = 0.0;                  // drawn from the packs over the flight (sim::PowerState::energy_wh)
   models::PerBranch<double> charge_left_ah{};   // usable charge left per pack at the end: its emptiest cell's z·Q
 };
 
@@ -145,7 +148,7 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
 
 // --- the executor for any simulated flight (`uascma simulate --battery-policy POLICY.json`) ---------------------
 // A sim::BatterySwitchPolicy (sim/flight.h, RunOptions::battery_policy) that abstracts the pack at 1 Hz as
-// decision/battery_mdp.h says and applies the policy the decision tree of Fig. 4.5 picks for the scenario's
+// decision/battery_abstraction.h says and applies the policy the decision tree of Fig. 4.5 picks for the scenario's
 // pack health and ambient temperature. The executor keeps no state across calls.
 class BatteryPolicySwitch final : public sim::BatterySwitchPolicy {
  public:
@@ -164,46 +167,5 @@ std::unique_ptr<sim::BatterySwitchPolicy> LoadBatterySwitchPolicy(const std::fil
 // Our discount (decision/battery_mdp.h, ours item 4): γ = 0.5^(1 s / T_max), T_max the longest plan of the draw
 // (plan_fraction[1] × ReferenceBatteryEod()): a failure at the end of the longest flight still weighs one half.
 double OursBatteryDiscount(const BatteryFlightRanges& ranges = {});
-
-// --- learning ------------------------------------------------------------------------------------------
-struct BatteryLearningOptions {
-  std::int64_t runs = 5000;   // §4.3.2: 5,000 flights split equally between the actions
-  std::uint64_t seed = 1;
-  int jobs = 1;
-  BatteryFlightRanges ranges;
-  // Ours (issue 24; `battery learn --drop-flights`): every draw flies a fourth flight, UseBoth then pack k alone for
-  // good from τ (k uniform on {1, 2}, τ uniform on [0, plan duration], drawn from the draw's own sub-stream, so the
-  // three constant-action flights are unchanged), counted with AddSwitchingFlight. Why: flights flown with one
-  // action throughout never visit the states a switching policy flies into (a pack dropped late, drained, beside a
-  // fresh one): their rows stay unobserved, and ours (decision/battery_mdp.h item 5) offers nothing there. N flights
-  // are then split between four kinds.
-  bool drop_flights = false;
-  // Called after every flight with the number done (from any thread; may be empty).
-  std::function<void(std::int64_t)> on_flight_done;
-};
-
-struct BatteryLearningSummary {
-  std::int64_t flights = 0;
-  std::int64_t parameter_draws = 0;  // Table 4.4 draws, each flown with the three actions
-  std::int64_t failures = 0;        // flights that reached FAILURE
-  BatteryFlightSharing sharing;     // GNC steps that followed another flight's vehicle, and alone
-  double wall_time_s = 0.0;
-};
-
-decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, BatteryLearningSummary* summary = nullptr);
-
-// Transitions of one pack's energy feature (S1→S2, S2→S3, S1→S3 and back) counted in a model, per
-// context: what flights with constant parameters could not observe (§4.3.2, "dynamics from B_iS_{1,2}
-// states to B_iS_3 state elements are not observed").
-struct EnergyTransitionCounts {
-  std::int64_t s1_to_s2 = 0, s2_to_s3 = 0, s1_to_s3 = 0, recoveries = 0, unchanged = 0;
-};
-EnergyTransitionCounts CountEnergyTransitions(const decision::BatteryTransitionCounts& counts,
-                                              const decision::BatteryContext& context);
-// The same counts with every transition that changes a pack's energy feature removed (the dissertation's
-// constant-parameter view): rows that only had such transitions become unobserved.
-decision::BatteryTransitionCounts WithoutEnergyDynamics(const decision::BatteryTransitionCounts& counts);
-
-// Case studies (Table 4.5): campaign/battery_evaluation.h.
 
 }  // namespace uascma::campaign

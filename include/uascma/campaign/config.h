@@ -39,7 +39,9 @@
 //     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
 //
 // Ranges are [low, high] lists with low ≤ high; a draw is uniform on [low, high). Unknown keys are
-// errors (a typo would otherwise be silently ignored).
+// errors (a typo would otherwise be silently ignored). Each key is declared once, in the field table of
+// campaign/config_fields.h, which drives the parser, IsValid, the canonical YAML, the hash, the Python
+// properties and docs/input-bounds.md.
 //
 // Identity: CampaignConfigHash() fingerprints every sampled-parameter setting and the seed; the runs
 // count is not part of it (a campaign can be extended with --resume --runs N). The policies' identity is

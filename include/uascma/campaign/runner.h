@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,7 @@
 #include "uascma/campaign/policies.h"
 #include "uascma/campaign/record.h"
 #include "uascma/campaign/store.h"
+#include "uascma/campaign/world.h"
 
 namespace uascma::campaign {
 
@@ -53,6 +55,11 @@ struct ExecuteOptions {
   std::string progress_label = "campaign";
   double flush_interval_s = 2.0;     // hand records to `sink` at least this often …
   int flush_rows = 256;              // … or when this many are waiting
+  // The campaign's world (campaign/world.h), built once and shared by every flight; null: ExecuteFlights builds it.
+  std::shared_ptr<const CampaignWorld> world;
+  // A line for the user when a process sharing the store waits for runs other processes hold (issue 26: a
+  // waiting --resume says what it waits for); empty: silent.
+  std::function<void(const std::string&)> notice;
 };
 
 // Flies the tasks on worker threads; calls `sink` on the calling thread with batches of finished

@@ -54,6 +54,7 @@
 #include <string>
 
 #include "uascma/campaign/config.h"
+#include "uascma/campaign/world.h"
 #include "uascma/common/random.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/models/battery_pack.h"
@@ -107,10 +108,6 @@ struct SampledRun {
   sim::Scenario scenario;         // ready to fly
 };
 
-// The campaign's city (built once per configuration and shared by every run; seed 0: an empty map). An imported
-// map without a sites file supplies its own sites (planning::MapImportOptions::sites_from_map: flat roofs and
-// open areas of the same files, dissertation §5.1).
-std::shared_ptr<const planning::CityMap> CampaignMap(const MapSampling& sampling);
 // The horizontal extent of the map's buildings (m; empty without buildings).
 Eigen::AlignedBox2d BuildingsExtent(const planning::CityMap& map);
 // Where step 7 draws homes and destinations: an imported map's buildings' extent (its sites may lie elsewhere);
@@ -135,7 +132,11 @@ struct SiteCoverage {
 };
 SiteCoverage CalcSiteCoverage(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t runs);
 
-// Throws InputError when the configuration is invalid (CampaignConfig::IsValid).
+// Throws InputError when the configuration is invalid (CampaignConfig::IsValid). `world` is
+// BuildCampaignWorld(config.map), built once by the caller and shared by every run (campaign/world.h).
+SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, std::uint64_t campaign_seed,
+                     std::int64_t run_index);
+// One run alone (a replay, a test): builds the world for it. Callers sampling many runs build it once (above).
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index);
 
 // "F1" | "F2" | "F3" for a pack's health class G | M | P (Table 4.2).

@@ -62,10 +62,8 @@
 #include <vector>
 
 #include "uascma/campaign/config.h"
-#include "uascma/campaign/metrics.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/campaign/record.h"
-#include "uascma/campaign/sampler.h"
 
 namespace uascma::campaign {
 
@@ -220,6 +218,10 @@ class ResultsStore {
   ClaimResult ClaimRuns(const std::vector<std::int64_t>& candidates, std::size_t max_claims);
   // The worker holding the claim on run `run_index`, if any (0 when none).
   std::int64_t ClaimHolder(std::int64_t run_index) const;
+  // Who worker `worker` is, for a message to the user (issue 26 item 9: a waiting --resume says what it waits
+  // for): "pid P on this machine (stopped: ...)" with what the process is doing as far as this machine can tell
+  // (running, stopped by Ctrl-Z or SIGSTOP, ended), or "a process on host H" for another machine's worker.
+  std::string DescribeWorker(std::int64_t worker) const;
 
  private:
   struct Connection;

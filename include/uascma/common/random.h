@@ -68,6 +68,8 @@ class RandomStream {
   // Standard normal N(0, 1) by the ziggurat method (see the file comment).
   double Normal();
   double Normal(double mean, double standard_deviation) { return mean + standard_deviation * Normal(); }
+  // Equal streams draw the same numbers from here on (a flight state is compared whole, sim/flight.h).
+  bool operator==(const RandomStream&) const = default;
 
  private:
   static std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }

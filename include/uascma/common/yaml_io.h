@@ -39,6 +39,9 @@ YAML::Node RequireMap(const YAML::Node& node, const std::string& key, const std:
 // such as "turbulance" that would otherwise be silently ignored).
 void RequireOnlyKeys(const YAML::Node& node, std::initializer_list<const char*> allowed, const std::string& source,
                      const std::string& where);
+// The same for a list made at run time (the keys of a field table: campaign/config_fields.h, sim/scenario_fields.h).
+void RequireOnlyKeys(const YAML::Node& node, const std::vector<std::string>& allowed, const std::string& source,
+                     const std::string& where);
 
 // A required string at node[key].
 std::string RequireString(const YAML::Node& node, const std::string& key, const std::string& source,

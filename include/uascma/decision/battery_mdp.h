@@ -7,11 +7,6 @@
 // (current, then pack 1 switch/energy/voltage, then pack 2), and "FAILURE". Index (I slowest):
 //   index = ((((((I·2 + Sw1)·3 + S1)·2 + C1)·2 + Sw2)·3 + S2)·2 + C2),  I: L=0 H=1, Sw: OFF=0 ON=1,
 //   S: S1=0 S2=1 S3=2, C: C0=0 C1=1;  FAILURE = 288.
-// Abstraction from continuous quantities (Table 4.1; every threshold a BatteryThresholds field):
-//   S1: EOD > RFD + t_sf;  S2: RFD ≤ EOD ≤ RFD + t_sf (the table's "RFD > EOD > RFD + t_sf" is read as
-//   RFD + t_sf ≥ EOD ≥ RFD);  S3: EOD < RFD.  C0: min cell voltage ≥ 3.4 V, C1: below.  I_H: I > 0.2·I_max,
-//   I_max = 105 A, else I_L.  FAILURE: a cell of a switched-on pack at or below 3.3 V (decisions item 11).
-//   Per-pack quantities are the worst cell of the pack (§4.3.1.1).
 // Actions (Table 4.3): UseBatt1, UseBatt2, UseBoth = models::PackAction (same indices 0, 1, 2).
 // Context (Table 4.2): the health of each pack F1 (healthy) / F2 (medium) / F3 (unhealthy), the
 // models::HealthClass G / M / P, and the ambient temperature T_H (> 50 °F) / T_L (< 50 °F), constant in a
@@ -22,34 +17,20 @@
 //   R_BiS: 0 in S1; in S2 −5 when pack i's health is at least as good as the other pack's, else −10; in S3
 //   −20 likewise, else −25 (4.5).  R_BiC: 0 in C0, −10 in C1 (4.6).  R_BiSw: 1 ON, 0 OFF, of the state's
 //   present switches (4.7).  R(FAILURE, ·) = −30 (4.8), unweighted.  w1 + w2 + w3 = 1 (4.9).
-// Transitions (§4.3.2, decisions items 23-24): switching is deterministic and instantaneous. In a state
-//   whose switches already are the action's, the row is the 1 Hz transition frequencies counted in Monte
-//   Carlo flights flown with that action throughout (a "learned" row); a learned row never observed is a
-//   self-loop with p = 1 (reported as "unobserved"). In a state whose switches differ, the switch takes
-//   effect at once with p = 1 and without an intermediate state ("no intermediate change in any other MDP
-//   state feature"), and the epoch then evolves from the switched state: its row is the learned row of
-//   ApplySwitches(s, a) (so, unobserved, the switched state with p = 1 — the dissertation's example
-//   ILONS3C0ONS3C0 → ILONS3C0OFFS3C0 under UseBatt1). Every successor thus carries the action's switch
-//   positions with certainty. Our reading, not a pure switch step: a switch-only step would let a policy
-//   cycle UseBatt1 ↔ UseBoth while no time (no battery drain) passes, which the 1 Hz executor cannot do.
-//   FAILURE is absorbing.
-// Policies: value iteration, γ = 0.95 (§4.3.2.1, decisions item 24), one per context; the decision tree
-//   of Fig. 4.5 (temperature, then B1 health, then B2 health) picks one at take-off.
+// The Ch. IV vertical, laid out as the CMA's (decision/cma_*.h, learning/transition_estimation.h):
+//   decision/battery_mdp.h          this file: states, actions, contexts, rewards (both formulations)
+//   decision/battery_abstraction.h  continuous quantities → abstract state (Table 4.1's thresholds)
+//   decision/battery_model.h        transition counts and the MDP of a context built from them (§4.3.2)
+//   decision/battery_policy.h       the policies (value / policy iteration) and the 1 Hz executor
+//   decision/battery_mdp_file.h     the model and policy JSON files
+//   learning/battery_transition_estimation.h  the counts gathered from Monte Carlo flights (Table 4.4)
+//   campaign/battery_flights.h, battery_evaluation.h, battery_case_studies.h  flights, evaluation, Table 4.5
 #include <array>
-#include <cstdint>
-#include <filesystem>
-#include <limits>
-#include <map>
-#include <span>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "uascma/decision/finite_mdp.h"
-#include "uascma/decision/solvers.h"
 #include "uascma/models/battery_pack.h"
-#include "uascma/prognostics/eod.h"
 
 namespace uascma::decision {
 
@@ -87,56 +68,10 @@ StateIndex ApplySwitches(StateIndex state, models::PackAction action);
 // True when the state's switches already are the ones `action` sets (its row is learned from flights).
 bool SwitchesMatch(StateIndex state, models::PackAction action);
 
-// --- Abstraction from continuous quantities (Table 4.1) ------------------------------------------
-struct BatteryThresholds {
-  double critical_voltage_v = 3.4;              // C0/C1 boundary, Table 4.1
-  double failure_voltage_v = models::kCutoffVoltage;  // 3.3 V, Table 4.1, decisions item 11
-  double max_current_a = models::kMaxPackCurrent;     // I_max = 105 A, Table 4.1
-  double high_current_fraction = 0.2;           // I_H: I > 0.2 I_max, Table 4.1
-};
-
-EnergyState ClassifyEnergy(double eod_s, double remaining_flight_s, double safety_margin_s);
-VoltageState ClassifyVoltage(double min_cell_voltage_v, const BatteryThresholds& thresholds = {});
-CurrentLevel ClassifyCurrent(double total_current_a, const BatteryThresholds& thresholds = {});
-bool IsCellFailure(double min_cell_voltage_v, const BatteryThresholds& thresholds = {});
-
-// What the 1 Hz executor measures and predicts (the inputs of Fig. 4.2).
-struct BatteryObservation {
-  double total_current_a = 0.0;      // motor + hotel current drawn from the bus, A
-  double remaining_flight_s = 0.0;   // RFD: time left on the executing plan
-  double safety_margin_s = 0.0;      // t_sf (Table 4.4: 5–10 s)
-  models::PerBranch<bool> switch_on = {true, true};
-  models::PerBranch<double> eod_s{};              // per-pack EOD (see ObserveBattery)
-  models::PerBranch<double> min_cell_voltage_v{};  // worst cell of each pack, V (C0/C1; see ObserveBattery)
-  // The actual worst cell of each pack now (FAILURE when a switched-in one is at 3.3 V); defaults to
-  // min_cell_voltage_v when not set (negative).
-  models::PerBranch<double> actual_min_cell_voltage_v = {-1.0, -1.0};
-  // The packs as switched now, at the present load: the time until their first cell reaches the cut-off, and the
-  // pack of that cell (−1: none). Filled only on request (campaign::BatteryFlightController::observe_pair_eod: ours'
-  // imminent-failure guard); NaN otherwise.
-  double pair_eod_s = std::numeric_limits<double>::quiet_NaN();
-  int pair_limiting_branch = -1;
-};
-
-// The abstract state of an observation (pure: Table 4.1 and the thresholds above).
-StateIndex AbstractBatteryState(const BatteryObservation& observation, const BatteryThresholds& thresholds = {});
-
-// The observation of the pack model at one epoch. Each pack's features describe what it can do ALONE at the
-// present load, whatever the switches (our reading of "each battery's EOD", Fig. 4.2, and of §4.3.1.1: "when
-// the battery reaches B_iS_3 the battery will deplete before the mission ends"):
-//   eod_s[i]               the EOD of pack i's cells (prognostics/eod.h, decisions item 14) if pack i alone
-//                          carried the present total current;
-//   min_cell_voltage_v[i]  pack i's worst cell terminal voltage (eq. 3.3) if it carried that current alone.
-// So B_iS_1 reads "pack i alone can finish the mission with the margin" (the dissertation's "preference ... to
-// utilizing a single battery instead of both when both are in the B_iS_1 state"), and a switch changes no
-// pack feature at once, as the MDP assumes (§4.3.2: "no intermediate change in any other MDP state feature");
-// the features move only as the packs drain. Features under the present split would jump at every switch —
-// a resting pack's voltage recovers — and make the 1 Hz executor chatter between packs (measured).
-// FAILURE is judged on the actual pack (AbstractBatteryState: a switched-in pack's worst cell at 3.3 V), so
-// `failure_voltage_v` below is the actual worst cell of each switched-in pack.
-BatteryObservation ObserveBattery(const models::BatteryPack& pack, const models::PackState& state,
-                                  double total_current_a, double remaining_flight_s, double safety_margin_s,
-                                  const prognostics::EodOptions& eod_options = {});
+// The actions of Table 4.3 in index order.
+inline constexpr std::array<models::PackAction, kBatteryNumActions> kBatteryActions = {
+    models::PackAction::kUseBatt1, models::PackAction::kUseBatt2, models::PackAction::kUseBoth};
+inline ActionIndex BatteryActionIndex(models::PackAction action) { return static_cast<ActionIndex>(action); }
 
 // --- Context (Table 4.2) -------------------------------------------------------------------------
 enum class TemperatureClass { kHigh = 0, kLow = 1 };  // T_H: T > 50 °F, T_L: T < 50 °F
@@ -159,6 +94,9 @@ TemperatureClass ParseTemperatureClass(const std::string& name, const std::strin
 const char* BatteryHealthName(models::HealthClass health);  // "F1", "F2", "F3"
 // "F1" | "F2" | "F3"; InputError naming `source` otherwise.
 models::HealthClass ParseBatteryHealth(const std::string& name, const std::string& source);
+// The context of a battery as the simulator knows it: per-pack health of its cells (Table 4.2) and the
+// ambient temperature.
+BatteryContext BatteryContextOf(const models::PerCell<models::CellHealth>& cell_health, double ambient_temp_degf);
 
 // --- Rewards (eqs. 4.1–4.9, decisions item 22) ---------------------------------------------------
 struct BatteryRewardWeights {
@@ -178,62 +116,6 @@ inline constexpr double kBatteryFailureReward = -30.0;  // eq. 4.8
 
 double BatteryReward(StateIndex state, models::PackAction action, const BatteryContext& context,
                      const BatteryRewardWeights& weights);
-
-// --- Transition counts (§4.3.2, decisions item 23) ----------------------------------------------
-class BatteryTransitionCounts {
- public:
-  BatteryTransitionCounts();
-
-  // One observed 1 Hz transition.
-  void Add(const BatteryContext& context, StateIndex state, models::PackAction action, StateIndex next,
-           std::int64_t count = 1);
-  // One flight flown with `action` throughout: `states` are the abstract states at 1 Hz from take-off;
-  // consecutive pairs are counted; counting stops at the first FAILURE (absorbing). Every state must
-  // have the action's switches (InputError otherwise: the flight was not flown with that action).
-  // `completed`: the flight completed its plan; its last state's row then counts one completion (ours: the
-  // absorbing COMPLETE of the formulation below; the dissertation's MDP has no such state and ignores it).
-  void AddFlight(const BatteryContext& context, models::PackAction action, std::span<const StateIndex> states,
-                 bool completed = false);
-  // A flight whose action changed in flight (ours: the drop flights of campaign::BatteryLearningOptions):
-  // `actions[k]` applied at epoch k from `states[k]`; the transition to states[k + 1] is counted in the row of
-  // (ApplySwitches(states[k], actions[k]), actions[k]), the switched state's learned row (the switch takes effect at
-  // once, §4.3.2); stops at the first FAILURE; a completion counts at the last epoch's switched row. The flight is
-  // counted under its last action.
-  void AddSwitchingFlight(const BatteryContext& context, std::span<const StateIndex> states,
-                          std::span<const models::PackAction> actions, bool completed);
-  // Flights that ended completed from `state` (their last epoch), per row.
-  void AddCompletion(const BatteryContext& context, StateIndex state, models::PackAction action,
-                     std::int64_t count = 1);
-  std::int64_t Completions(const BatteryContext& context, StateIndex state, models::PackAction action) const;
-  void Merge(const BatteryTransitionCounts& other);
-
-  // Row (state, action) of a context: next state → count, ordered by next state.
-  const std::map<StateIndex, std::int64_t>& Row(const BatteryContext& context, StateIndex state,
-                                                models::PackAction action) const;
-  std::int64_t RowTotal(const BatteryContext& context, StateIndex state, models::PackAction action) const;
-  std::int64_t flights(const BatteryContext& context, models::PackAction action) const;
-  std::int64_t total_transitions() const;
-  std::int64_t total_flights() const;
-  void SetFlights(const BatteryContext& context, models::PackAction action, std::int64_t flights);
-
- private:
-  static std::size_t RowIndex(const BatteryContext& context, StateIndex state, models::PackAction action);
-  std::vector<std::map<StateIndex, std::int64_t>> rows_;       // [18 · 289 · 3]
-  std::vector<std::int64_t> completions_;                      // [18 · 289 · 3]
-  std::array<std::int64_t, kBatteryNumContexts * kBatteryNumActions> flights_{};
-};
-
-struct BatteryModelStats {
-  int learned_rows = 0;      // (state, action) rows whose switches match the action: 3 × 72 = 216
-  int unobserved_rows = 0;   // of those, never observed: self-loops (decisions item 23)
-  int switch_rows = 0;       // rows of states whose switches differ from the action's (switch, then the
-                             // switched state's learned row)
-  std::int64_t transitions = 0;  // counted 1 Hz transitions behind the learned rows
-};
-
-// The MDP of one context: rows as the file comment says, rewards of eqs. 4.1–4.9.
-FiniteMdp BuildBatteryMdp(const BatteryTransitionCounts& counts, const BatteryContext& context,
-                          const BatteryRewardWeights& weights, BatteryModelStats* stats = nullptr);
 
 // --- Our formulation (issue 24; "ours", not the dissertation's) -----------------------------------
 // Why (the diagnosis, /work/notes/battery-readme.md): under eqs. 4.1-4.3 a single-pack action is charged only
@@ -278,110 +160,9 @@ double OursBatteryReward(StateIndex state, models::PackAction action, const Batt
                          const BatteryRewardWeights& weights);
 // Pack switches `action` toggles from the state's (0, 1 or 2).
 int SwitchToggles(StateIndex state, models::PackAction action);
+// The action that keeps a state's switches (UseBoth for both ON, and for the impossible both OFF).
+models::PackAction HoldSwitchesAction(const BatteryFeatures& features);
 // Whether ours offers `action` in a state of these features (items 6-7 above; evidence, item 5, apart).
 bool OursOffers(const BatteryFeatures& features, models::PackAction action);
-FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const BatteryContext& context,
-                              const BatteryRewardWeights& weights, BatteryModelStats* stats = nullptr);
-
-// --- Model files ----------------------------------------------------------------------------------
-// JSON:
-//   { "format": "uascma-battery-model", "version": 1, "hash": "…16 hex…",
-//     "gamma": 0.95, "weights": {"w1": …, "w2": …, "w3": …},
-//     "provenance": {…how the counts were gathered: runs, seed, ranges…},
-//     "contexts": [ { "b1": "F1", "b2": "F2", "temperature": "TH",
-//                     "flights": {"UseBatt1": n, "UseBatt2": n, "UseBoth": n},
-//                     "rows": [ {"state": "ILONS1C0OFFS1C0", "action": "UseBatt1",
-//                                "next": {"ILONS1C0OFFS1C0": 412, "IHONS1C0OFFS1C0": 3},
-//                                "completed": 2 /* optional: flights that completed from this state */}, … ] }, … ] }
-// "hash" fingerprints everything else (gamma, weights, counts): a hand-edited file is refused.
-inline constexpr const char* kBatteryModelFormat = "uascma-battery-model";
-inline constexpr const char* kBatteryPolicyFormat = "uascma-battery-policy";
-inline constexpr int kBatteryFileVersion = 1;
-
-struct BatteryModel {
-  double gamma = 0.95;  // §4.3.2.1
-  BatteryRewardWeights weights;
-  nlohmann::json provenance = nlohmann::json::object();
-  BatteryTransitionCounts counts;
-};
-
-std::string BatteryModelHash(const BatteryModel& model);
-nlohmann::json BatteryModelToJson(const BatteryModel& model);
-// InputError naming `source` and the field: another format or version, a missing or mistyped field,
-// an unknown health, temperature, state or action name, a negative count, a hash mismatch.
-BatteryModel BatteryModelFromJson(const nlohmann::json& json, const std::string& source);
-BatteryModel ReadBatteryModelFile(const std::filesystem::path& path);
-
-// --- Policies ----------------------------------------------------------------------------------------
-// A learned row with evidence: p(next | state, action) from the counts.
-struct BatteryLearnedRow {
-  StateIndex state = 0;
-  models::PackAction action = models::PackAction::kUseBoth;
-  std::vector<Transition> next;
-};
-
-struct BatteryContextPolicy {
-  BatteryContext context;
-  std::vector<ActionIndex> action;  // [289]
-  std::vector<double> value;        // [289]
-  SolverSummary summary;
-  BatteryModelStats stats;
-  std::string mdp_hash;             // ModelHash of the context's MDP
-  // The observed rows of the MDP it was solved on (switch rows and self-loops follow from the rules), so
-  // the policy file alone draws the transition graph of Fig. 4.4.
-  std::vector<BatteryLearnedRow> observed_rows;
-};
-
-struct BatteryPolicySet {
-  std::string model_hash;  // BatteryModelHash of the model it was solved from
-  BatteryFormulation formulation = BatteryFormulation::kDissertation;
-  double gamma = 0.95;
-  BatteryRewardWeights weights;
-  std::array<BatteryContextPolicy, kBatteryNumContexts> policies;  // by BatteryContextIndex
-
-  // Fig. 4.5: temperature → B1 health → B2 health.
-  const BatteryContextPolicy& Select(const BatteryContext& context) const;
-};
-
-// Value iteration per context (γ of the model, residual 1e-10).
-BatteryPolicySet SolveBatteryPolicies(const BatteryModel& model);
-// Ours (above): policy iteration per context at `gamma` (campaign::OursBatteryDiscount).
-BatteryPolicySet SolveOursBatteryPolicies(const BatteryModel& model, double gamma);
-
-// JSON: { "format": "uascma-battery-policy", "version": 1, "hash": …, "model_hash": …, "gamma": …,
-//         "formulation": "dissertation" | "ours" (absent: dissertation; fingerprinted only when ours),
-//         "weights": {…}, "states": [289 labels], "actions": ["UseBatt1", "UseBatt2", "UseBoth"],
-//         "policies": [ {"b1", "b2", "temperature", "mdp_hash", "solver": {…},
-//                        "stats": {"learned_rows", "unobserved_rows", "switch_rows", "transitions"},
-//                        "action": [289 names], "value": [289 numbers],
-//                        "observed_rows": [{"state", "action", "next": {label: probability}}, …]}, … 18 ] }
-nlohmann::json BatteryPolicyToJson(const BatteryPolicySet& policies);
-BatteryPolicySet BatteryPolicyFromJson(const nlohmann::json& json, const std::string& source);
-BatteryPolicySet ReadBatteryPolicyFile(const std::filesystem::path& path);
-
-// The 1 Hz battery executor (decisions item 24): the context's policy looked up per abstract state; the
-// action takes effect at once.
-class BatteryPolicyExecutor {
- public:
-  BatteryPolicyExecutor(const BatteryPolicySet& policies, const BatteryContext& context);
-  models::PackAction Decide(StateIndex state) const;
-  models::PackAction Decide(const BatteryObservation& observation) const {
-    return Decide(AbstractBatteryState(observation, thresholds_));
-  }
-  const BatteryContext& context() const { return context_; }
-  const BatteryThresholds& thresholds() const { return thresholds_; }
-
- private:
-  BatteryContext context_;
-  std::vector<ActionIndex> action_;  // [289]
-  BatteryThresholds thresholds_;
-};
-
-// For `uascma simulate --battery-policy FILE`: reads the policy file and picks the context's policy by
-// the decision tree of Fig. 4.5. InputError naming the file and field on bad input.
-BatteryPolicyExecutor LoadBatteryPolicyExecutor(const std::filesystem::path& path, const BatteryContext& context);
-// The context of a battery as the simulator knows it: per-pack health of its cells (Table 4.2) and the
-// ambient temperature.
-BatteryContext BatteryContextOf(const models::PerCell<models::CellHealth>& cell_health, double ambient_temp_degf);
 
 }  // namespace uascma::decision

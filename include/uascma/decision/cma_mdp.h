@@ -13,8 +13,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "uascma/common/bounds.h"
 #include "uascma/decision/factored_mdp.h"
 #include "uascma/decision/finite_mdp.h"
@@ -41,6 +39,7 @@ struct CmaState {
   MotorMargin mm = MotorMargin::kMM1;
   BatteryHealth bh = BatteryHealth::kG;
   ReachMargin rm = ReachMargin::kRM1;
+  bool operator==(const CmaState&) const = default;
 };
 
 StateIndex CmaStateIndex(const CmaState& state);
@@ -102,10 +101,7 @@ inline constexpr Bounds kGammaBounds{0.0, 0.999, ""};
 // Every weight is required; InputError names the file and key of a missing or bad one.
 CmaConfig LoadCmaConfig(const std::filesystem::path& path);
 std::string CmaConfigYaml(const CmaConfig& config);
-// The weights as a JSON object {"C": …, …, "RM": …} (stored in policy files), and back (InputError naming
-// `source` and the missing or non-numeric weight).
-nlohmann::json CmaWeightsJson(const CmaWeights& weights);
-CmaWeights CmaWeightsFromJson(const nlohmann::json& json, const std::string& source);
+// The weights as JSON (policy files): decision/cma_weights_json.h.
 
 // The factored model (features, Tables 5.1–5.7, availability) and the composed MDP.
 FactoredMdpBuilder MakeCmaFactoredModel();

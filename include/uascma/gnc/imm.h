@@ -20,6 +20,7 @@
 #include <array>
 #include <string>
 
+#include "uascma/common/eigen_equal.h"
 #include "uascma/models/mixer.h"
 #include "uascma/models/rigid_body.h"
 
@@ -38,6 +39,7 @@ struct ImmParams {
   double isolation_probability = 0.99;  // MAP mode probability needed to declare a failure
   int isolation_steps = 4;              // … held for this many consecutive steps
   bool IsValid(std::string* error) const;
+  bool operator==(const ImmParams&) const = default;
 };
 
 struct ImmMeasurement {
@@ -62,6 +64,20 @@ class ImmFilter {
   // The rotor declared failed (1…6) once the MAP mode has held above the isolation probability for the
   // required steps, else 0. Latched: a declared failure stays declared.
   int isolated_rotor() const { return isolated_rotor_; }
+  // Exact, every member (a flight state is compared whole, sim/flight.h); the lanes are Eigen arrays, whose == is
+  // coefficient-wise (common/eigen_equal.h).
+  friend bool operator==(const ImmFilter& a, const ImmFilter& b) {
+    auto same_lanes = [](const auto& x, const auto& y) {
+      for (std::size_t k = 0; k < x.size(); ++k) {
+        if (!ExactlyEqual(x[k], y[k])) return false;
+      }
+      return true;
+    };
+    return a.params_ == b.params_ && a.body_ == b.body_ && a.mixing_ == b.mixing_ && same_lanes(a.rate_, b.rate_) &&
+           same_lanes(a.variance_, b.variance_) && same_lanes(a.column_, b.column_) && a.probability_ == b.probability_ &&
+           a.candidate_ == b.candidate_ && a.candidate_steps_ == b.candidate_steps_ &&
+           a.isolated_rotor_ == b.isolated_rotor_;
+  }
 
  private:
   ImmParams params_;

@@ -17,12 +17,13 @@
 // frequencies, and each count is an unbiased draw of the simulator's one-epoch transition from that flight
 // state.
 //
-// Determinism. A run's counts depend only on (configuration, seed, r); runs are split over `jobs` threads and
-// the integer counts summed, so the result is the same for any number of threads.
+// Determinism. A run's counts depend only on (configuration, seed, r); runs are flown on `jobs` threads and
+// the integer counts summed in run order (common/parallel_for.h), so the result is the same for any number of threads.
 #include <cstdint>
 #include <functional>
 
 #include "uascma/campaign/config.h"
+#include "uascma/campaign/world.h"
 #include "uascma/decision/cma_estimated_model.h"
 
 namespace uascma::learning {
@@ -49,6 +50,10 @@ struct TransitionEstimationSummary {
 
 // The counts of one run (file comment).
 decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options, std::int64_t run,
+                                                  TransitionEstimationSummary* summary = nullptr);
+// The same in the campaign's world, built once by the caller for every run (campaign/world.h).
+decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options,
+                                                  const campaign::CampaignWorld& world, std::int64_t run,
                                                   TransitionEstimationSummary* summary = nullptr);
 // InputError when the options are invalid.
 decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationOptions& options,

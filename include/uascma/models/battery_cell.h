@@ -71,6 +71,7 @@ struct CellState {
   std::array<double, kMaxRcPairs> rc_current_a{};  // i_Rj (unused pairs stay 0)
   double hysteresis = 0.0;                         // h, in [−1, 1]
   double hysteresis_sign = 0.0;                    // s of the last nonzero current, in {−1, 0, 1}
+  bool operator==(const CellState&) const = default;
 };
 
 // Degradation and temperature, Table 3.2 (shared/spec/decisions.md item 17).

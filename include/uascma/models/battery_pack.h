@@ -85,6 +85,7 @@ PackParams MakePackParams(const PerCell<CellHealth>& health = {},
 struct PackState {
   PerCell<CellState> cells{};
   PerBranch<bool> branch_on = {true, true};  // switch positions (Table 4.3)
+  bool operator==(const PackState&) const = default;
 };
 
 struct BranchSplit {

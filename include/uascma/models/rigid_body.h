@@ -24,6 +24,7 @@
 
 #include <string>
 
+#include "uascma/common/eigen_equal.h"
 #include "uascma/models/drag.h"
 
 namespace uascma::models {
@@ -33,6 +34,7 @@ struct RigidBodyParams {
   // kg·m², principal moments: estimate for a 450 mm hexacopter of this mass (defaults.md).
   Eigen::Vector3d inertia_diagonal = Eigen::Vector3d(0.011, 0.011, 0.021);
   bool IsValid(std::string* error) const;
+  bool operator==(const RigidBodyParams&) const = default;
 };
 
 struct RigidBodyState {
@@ -40,6 +42,11 @@ struct RigidBodyState {
   Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();
   Eigen::Quaterniond q_WB = Eigen::Quaterniond::Identity();
   Eigen::Vector3d w_WB_B = Eigen::Vector3d::Zero();
+  // Exact, coefficient by coefficient (common/eigen_equal.h: a Quaternion has no ==).
+  friend bool operator==(const RigidBodyState& a, const RigidBodyState& b) {
+    return ExactlyEqual(a.p_WB_W, b.p_WB_W) && ExactlyEqual(a.v_WB_W, b.v_WB_W) && ExactlyEqual(a.q_WB, b.q_WB) &&
+           ExactlyEqual(a.w_WB_B, b.w_WB_B);
+  }
 };
 
 // What acts on the body during a step: total rotor thrust along −z_B (N), body torque (N·m), wind (W).

@@ -59,6 +59,7 @@ struct WindParams {
 struct DrydenIntensity {
   double sigma_u = 0.0, sigma_v = 0.0, sigma_w = 0.0;
   double length_u = 1.0, length_v = 1.0, length_w = 1.0;
+  bool operator==(const DrydenIntensity&) const = default;
 };
 // Low band (h < 1000 ft, h floored at 10 ft): L_w = h, L_u = L_v = h / (0.177 + 0.000823 h)^1.2,
 // σ_w = 0.1 W20, σ_u = σ_v = σ_w / (0.177 + 0.000823 h)^0.4. Medium band: linear in h between the low
@@ -77,6 +78,7 @@ struct WindState {
   double w_lag1 = 0.0, w_lag2 = 0.0;
   DrydenIntensity intensity;
   double intensity_altitude = -1e9;  // m; far from any altitude: computed on first use
+  bool operator==(const WindState&) const = default;
 };
 inline constexpr double kIntensityAltitudeStep = 0.25;  // m
 

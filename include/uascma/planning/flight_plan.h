@@ -45,6 +45,7 @@ struct PlanSegment {
   double peak_speed = 0.0;            // m/s
   double accel_time = 0.0;            // s
   double cruise_speed = 0.0;          // m/s: the horizontal speed limit the move was planned with (0 for a hover)
+  bool operator==(const PlanSegment&) const = default;
 };
 
 // A straight rest-to-rest move of `length` m under a speed limit `max_speed` (m/s) and an acceleration
@@ -91,6 +92,7 @@ class FlightPlan {
   Eigen::Vector3d end_W() const { return segments_.empty() ? Eigen::Vector3d::Zero() : segments_.back().end_W; }
   // The point at arc length `distance` from the start (for checkpoints), m.
   Eigen::Vector3d PointAtDistance(double distance) const;
+  bool operator==(const FlightPlan&) const = default;
 
  private:
   void Append(const PlanSegment& segment);

@@ -74,6 +74,7 @@ struct EodResult {
 
   // e.g. "reached: EOD 1234.5 s, limiting pack 2 cell 1 (21 segments)".
   std::string BriefReport() const;
+  bool operator==(const EodResult&) const = default;
 };
 
 // EOD of one cell at a constant current (A, discharge > 0). A current ≤ 0 never discharges the cell:

@@ -89,6 +89,7 @@ struct SpallGrowthParams {
 
   // True when usable; otherwise writes the first problem ("field: expected …") to *error.
   bool IsValid(std::string* error) const;
+  bool operator==(const SpallGrowthParams&) const = default;
 };
 
 // One particle of the spall state: its area and the current values of its parameter walks.
@@ -96,6 +97,7 @@ struct SpallParticle {
   double area_mm2 = 0.0;
   double paris_coefficient = 0.0;  // C_D for the coming growth step
   double paris_exponent = 0.0;     // n for the coming growth step
+  bool operator==(const SpallParticle&) const = default;
 };
 
 // A spall history propagated to the threshold, in growth steps (τ-free, so one sample serves any τ).
@@ -145,6 +147,7 @@ class MotorRulModel {
   explicit MotorRulModel(const SpallGrowthParams& params = {});
 
   const SpallGrowthParams& params() const { return params_; }
+  bool operator==(const MotorRulModel&) const = default;
 
   // A particle at `area_mm2` with the nominal C_D and n.
   SpallParticle MakeParticle(double area_mm2) const;
@@ -237,6 +240,7 @@ class SpallJamEvent {
   // RUL now (item 5): PredictRulFromArea at the current area; t_RUL for MM is its mean_s. A jammed
   // motor has RUL 0.
   RulDistribution PredictRulNow(RandomStream& random) const;
+  bool operator==(const SpallJamEvent&) const = default;  // a value (sim/flight.h compares flight states whole)
 
  private:
   MotorRulModel model_;

@@ -3,12 +3,17 @@
 // once from a Scenario, a FlightState value that holds everything that changes during a flight, and the steps
 // that advance it (§5.4, Fig. 5.15):
 //
-//   Step        one GNC step of 1 / gnc_rate_hz (5 ms): spall growth → LQR → allocation → rotor lag → 6-DOF
-//               with drag and Dryden wind → battery pack → IMM → outcome (outcome.h);
+//   Step        one GNC step of 1 / gnc_rate_hz (5 ms), the vehicle's then the power system's: spall growth → LQR
+//               → allocation → rotor lag → 6-DOF with drag and Dryden wind → IMM, then battery pack → outcome
+//               (outcome.h);
 //   Observe     at a decision epoch (1 Hz): battery EOD, motor RUL, the reach and motor margins and the
 //               abstract CMA state (decision/cma_abstraction.h);
 //   Act         executes a CMA action chosen at that epoch (an emergency plan from the planner, or Terminate);
-//   StepEpoch   Observe → the controllers decide → Act → Step until the next epoch or the end of the flight.
+//   StepEpoch   BeginEpoch (Observe → the battery executor) → the CMA policy decides → Act → Step until the next
+//               epoch or the end of the flight.
+//
+// The state is made of parts (vehicle, power system, faults, decisions, guidance: see "the state" below), each a value
+// with ==. Flights that share a vehicle or branch from one another are sim/branching.h.
 //
 // A FlightState can be copied at any moment and both copies flown on: they have the same future bit for bit
 // (the random streams are part of the state). Nothing in the kernel reads a clock.
@@ -151,48 +156,76 @@ class FlightModel {
 };
 
 // ---- the state ------------------------------------------------------------------------------------------------
-// Everything that changes during one flight. A value: copy it to snapshot or branch a flight.
-struct FlightState {
-  // Time: the GNC steps taken; time_s = step · dt.
-  std::int64_t step = 0;
-  double time_s = 0.0;
+// Everything that changes during one flight, in parts. Each part is a value with an exact operator== (every member,
+// IEEE == on doubles, no tolerance): a snapshot, a branch or a shared vehicle is a copy of a part, never a list of
+// fields, and a test compares whole parts.
+//
+//   vehicle    what a GNC step changes on the airframe and its air: body, rotors, wind, random streams, extremes;
+//   power      the power system: the packs and their switches, the bus, the currents, the energy drawn;
+//   faults     the truth (the spall and the jam) and what the IMM has isolated;
+//   decision   the 1 Hz prognosis and decisions (Observe, Act, DecideBattery): EOD, RUL, the CMA's inputs and
+//              flight status, the actions taken;
+//   guidance   the executing plan: the nominal one (as planned, or re-planned at a capped speed) or an emergency
+//              plan, and where it started.
+// Flights that share a vehicle (sim/branching.h) share the vehicle part and each has its own power system.
 
-  // The vehicle.
+// The vehicle: written by the GNC step (rotors → 6-DOF with drag and Dryden wind, sim/flight.cc StepVehicle).
+struct VehicleState {
   models::RigidBodyState body;
   std::array<double, 6> rotor_speed{};     // rad/s, the true rotors (a jammed rotor is held at 0)
   std::array<double, 6> believed_speed{};  // rad/s, the commanded speeds through the lag model (what the IMM knows)
   bool airborne = false;                   // has been above OutcomeThresholds::airborne_height
-
-  // The environment and the power system.
   models::WindState wind;
+  // Random streams (common/random.h DeriveSeed from `seed`): independent, so e.g. the wind does not change when the
+  // sensor noise is switched off.
+  std::uint64_t seed = 0;
+  RandomStream wind_random, sensor_random, prognosis_random;
+  // Running extremes of the motion over the flight.
+  double max_tracking_error = 0.0;  // m
+  double min_cos_tilt = 1.0;        // the largest tilt is its acos
+  bool operator==(const VehicleState&) const = default;
+};
+
+// The power system: written by the power step (rotor currents → pack → bus voltage) and the pack switches.
+struct PowerState {
   models::PackState pack;
   double bus_voltage_v = 0.0;
   double pack_current_a = 0.0;
   double load_current_a = 0.0;  // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)
-  LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
-  double eod_current_a = 0.0;   // the constant current the last EOD was propagated at
+  double energy_wh = 0.0;       // drawn from the packs since take-off
+  double min_cell_voltage_v = 0.0;  // the lowest any cell has read
+  bool operator==(const PowerState&) const = default;
+};
 
-  // Faults: the truth (the spall and the jam) and what the IMM has isolated.
+// Faults: the truth (the spall and the jam) and what the IMM has isolated.
+struct FaultState {
   std::optional<prognostics::SpallJamEvent> spall;
   int jammed_rotor = 0;         // 1…6, 0: none
   gnc::ImmFilter imm;
   int allocation_failure = 0;   // the failed motor the allocation flies around (after isolation)
   std::optional<double> spall_onset_s, jam_time_s, isolation_time_s;
+  bool operator==(const FaultState&) const = default;
+};
 
-  // Prognosis and decision (updated at each epoch by Observe).
+// The 1 Hz prognosis and decisions (updated at each epoch by Observe, Act and DecideBattery).
+struct DecisionState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
+  double eod_current_a = 0.0;       // the constant current the last EOD was propagated at
+  LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
   DecisionInputs inputs;
-  std::optional<decision::CmaAction> last_action;  // the last action that changed something
+  decision::FlightStatus flight_status = decision::FlightStatus::kN;
+  std::optional<decision::CmaAction> last_action;    // the last action that changed something
   std::optional<models::PackAction> battery_action;  // the battery executor's last action (none without one)
-
   // Actions that could not be carried out (decisions item 28): epochs at which the chosen action's planner found
   // nothing and another action was taken, and each distinct "Chosen->Taken" pair in the order first seen.
   int substitution_epochs = 0;
   std::vector<std::string> substitutions;
+  bool operator==(const DecisionState&) const = default;
+};
 
-  // The executing plan: the nominal one (as planned, or re-planned at a capped speed) or an emergency plan.
-  decision::FlightStatus flight_status = decision::FlightStatus::kN;
+// The executing plan: the nominal one (as planned, or re-planned at a capped speed) or an emergency plan.
+struct GuidanceState {
   bool on_emergency_plan = false;
   planning::FlightPlan emergency_plan;
   // After a rotor is isolated (§4.4.2): the horizontal speed the reconfigured vehicle can hold (m/s; +inf before),
@@ -207,30 +240,35 @@ struct FlightState {
   double emergency_reach_margin = 0.0;
   double emergency_site_radius = 0.0;         // m
   std::vector<Eigen::Vector2d> footprint_NE;  // the last LandASAP footprint's boundary
-  double plan_start_s = 0.0;
+  double plan_start_s = 0.0;                  // s, flight time at which the executing plan started
+  bool operator==(const GuidanceState&) const = default;
+};
 
-  // Random streams (common/random.h DeriveSeed): independent, so e.g. the wind does not change when the sensor
-  // noise is switched off.
-  std::uint64_t seed = 0;
-  RandomStream wind_random, sensor_random, prognosis_random;
+// A flight: its clock, its parts and how it ended. A value: copy it to snapshot or branch a flight.
+struct FlightState {
+  // Time: the GNC steps taken; time_s = step · dt.
+  std::int64_t step = 0;
+  double time_s = 0.0;
 
-  // Running extremes over the flight.
-  double min_cell_voltage_v = 0.0;
-  double max_tracking_error = 0.0;  // m
-  double min_cos_tilt = 1.0;        // the largest tilt is its acos
-  double energy_wh = 0.0;
+  VehicleState vehicle;
+  PowerState power;
+  FaultState faults;
+  DecisionState decision;
+  GuidanceState guidance;
 
   // How it ended (kInProgress while flying).
   Outcome outcome = Outcome::kInProgress;
   std::string reason;
 
+  bool operator==(const FlightState&) const = default;
+
   const planning::FlightPlan& plan(const FlightModel& model) const {
-    if (on_emergency_plan) return emergency_plan;
-    return nominal_replanned ? replanned_nominal : model.nominal_plan();
+    if (guidance.on_emergency_plan) return guidance.emergency_plan;
+    return guidance.nominal_replanned ? guidance.replanned_nominal : model.nominal_plan();
   }
   // s along the original nominal plan (while on it).
   double original_plan_elapsed_s() const {
-    return original_time_offset_s + original_time_scale * (time_s - plan_start_s);
+    return guidance.original_time_offset_s + guidance.original_time_scale * (time_s - guidance.plan_start_s);
   }
   bool done() const { return outcome != Outcome::kInProgress; }
 };
@@ -293,20 +331,20 @@ void Step(const FlightModel& model, FlightState& state, FlightLog* log = nullptr
 // flight.
 void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
 
-// One GNC step of `lead` and, with it, of flights that follow its vehicle (the battery MDP's learning flights, Ch. IV:
-// one parameter draw flown with each pack action). A follower is a flight of the same model at the same step whose
-// state equals the lead's in everything but its power system (the pack and its switches, bus voltage, currents,
-// energy, lowest cell voltage) and its outcome. The pack acts on the vehicle only through the rotors' thrust cap
-// (∝ V_bus²): while the cap treats every rotor's command alike under both packs, the follower flies the lead's
-// trajectory bit for bit, so only its power system is stepped (and its outcome classified); the vehicle is copied.
+// One GNC step of `lead` and, with it, of flights that follow its vehicle (the battery MDP's flights, Ch. IV: one
+// parameter draw flown with each pack action, sim/branching.h FlyFollowing): the vehicle steps once, then each
+// power system. A follower is a flight of the same model at the same step with the lead's vehicle part (its power
+// system, decisions and outcome its own). The pack acts on the vehicle only through the rotors' thrust cap
+// (∝ V_bus²): while the cap treats every rotor's command alike under both packs, the follower flies the lead's vehicle
+// bit for bit, so only its power system is stepped (and its outcome classified) and the vehicle part is the lead's.
 // stepped[k] tells whether follower k was stepped; one whose cap binds differently this step is left as it was, a
 // complete flight state, to be flown on alone with Step. Requires no modelled fault and no fault detector
 // (SimOptions::fault_detection off, the Ch. IV loop). A flight flown this way equals the same flight flown alone
-// with Step (tested bit for bit: campaign/battery_flights.h, tests/sim/simulator_test.cc).
+// with Step, every part (tests/sim/branching_test.cc).
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
                    std::span<bool> stepped);
 
-// At an epoch: EOD, RUL, margins and the abstract CMA state into state.inputs (and the log's states).
+// At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states).
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
 
 // Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
@@ -325,8 +363,13 @@ void SwitchPacks(FlightState& state, models::PackAction action);
 // logged (an event "battery: UseBatt1" and FlightLog::battery_switches).
 void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPolicy& policy, FlightLog* log = nullptr);
 
-// One decision epoch: Observe, the battery executor and the policy decide (a null policy: NoOp), Act, then GNC
-// steps to the next epoch or the end of the flight. Must be called at an epoch.
+// The start of a decision epoch: Observe, then the battery executor decides (DecideBattery; none when `battery` is
+// null). Returns the observed inputs the CMA policy decides on.
+const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
+                                 FlightLog* log = nullptr);
+
+// One decision epoch: BeginEpoch, the policy decides (a null policy: NoOp), Act, then GNC steps to the next epoch or
+// the end of the flight. Must be called at an epoch.
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers,
                FlightLog* log = nullptr);
 

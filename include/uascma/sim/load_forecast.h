@@ -19,8 +19,10 @@
 // power, the controller's corrections); 60 s averages dozens of gust periods (Dryden length scales of 200-500 m at
 // 3-9 m/s, models/wind.h) so one gust cannot move it far.
 #include <array>
+#include <concepts>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -65,6 +67,7 @@ class LoadProfile {
   double duration_s() const { return duration_s_; }
   // J from plan time t (s) to the plan's end; 0 after it. Linear within a bin.
   double RemainingEnergyJ(double t) const;
+  bool operator==(const LoadProfile&) const = default;
 
  private:
   int active_rotors_ = 0;
@@ -72,10 +75,23 @@ class LoadProfile {
   std::vector<double> energy_after_j_;  // [i]: from bin i's start to the end; one more entry (0) than bins
 };
 
+// A profile shared between the flights (copies of a state) that fly the same plan, compared by value: two flights that
+// built the same profile apart hold equal forecasts.
+struct SharedLoadProfile : std::shared_ptr<const LoadProfile> {
+  using std::shared_ptr<const LoadProfile>::shared_ptr;
+  SharedLoadProfile(std::shared_ptr<const LoadProfile> profile)  // NOLINT(google-explicit-constructor): a value
+      : std::shared_ptr<const LoadProfile>(std::move(profile)) {}
+  // Two such profiles only (no conversions: a comparison with nullptr stays shared_ptr's).
+  template <std::same_as<SharedLoadProfile> Profile>
+  friend bool operator==(const Profile& a, const Profile& b) {
+    return a.get() == b.get() || (a && b && *a == *b);
+  }
+};
+
 // The state of the forecast carried by a flight between epochs.
 struct LoadForecastState {
-  std::shared_ptr<const LoadProfile> profile;  // of the executing plan and rotor configuration
-  double bias_ratio = 1.0;                     // r above
+  SharedLoadProfile profile;  // of the executing plan and rotor configuration
+  double bias_ratio = 1.0;    // r above
   // At the last epoch, with the same profile: the profile's remaining energy and the measured energy so far.
   bool have_last = false;
   double last_remaining_j = 0.0;

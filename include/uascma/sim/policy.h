@@ -28,6 +28,7 @@ struct DecisionInputs {
   double rul_s = std::numeric_limits<double>::infinity();  // +∞ without a motor fault
   double reach_margin = 0.0;     // RM = 1 − (t_remaining + t_sf) / t_EOD
   double motor_margin = 0.0;     // MM = 1 − t_remaining / t_RUL
+  bool operator==(const DecisionInputs&) const = default;
 };
 
 // A state's available actions by decreasing value Q(s, a) of a solved policy, its own action first.

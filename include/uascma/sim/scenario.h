@@ -75,6 +75,7 @@
 #include "uascma/models/wind.h"
 #include "uascma/planning/city_map.h"
 #include "uascma/planning/flight_plan.h"
+#include "uascma/planning/landing_detour.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/mission_file.h"
 #include "uascma/sim/load_forecast.h"
@@ -147,6 +148,10 @@ struct Scenario {
   // The city: buildings the vehicle can strike and the landing sites the emergency planners use. Shared
   // and immutable, so campaigns copy scenarios cheaply. Null: open ground, no sites.
   std::shared_ptr<const planning::CityMap> map;
+  // The map's buildings grown by the emergency planners' lateral margin (planning::LandingPathPlanner::
+  // InflateBuildings at LandingPathParams' default), built once with the map and shared by every flight over it
+  // (ParseScenario; a campaign's world, campaign/world.h). Null: each flight model inflates them itself.
+  std::shared_ptr<const planning::ObstacleSet> map_obstacles;
   models::RigidBodyParams body;
   models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
   BatterySpec battery;

@@ -67,5 +67,9 @@ inline constexpr Bounds kLatitude{-90.0, 90.0, "deg"};
 inline constexpr Bounds kLongitude{-180.0, 180.0, "deg"};
 // map.procedural.rooftop_site_probability: a probability.
 inline constexpr Bounds kProbability{0.0, 1.0, ""};
+// map.procedural.blocks_north, blocks_east: 1 to 200 blocks, as campaigns (campaign/config.h bounds::kBlocks). Ours.
+inline constexpr Bounds kBlocks{1.0, 200.0, "blocks"};
+// fault.motor: the hexacopter's motors 1..6 (Fig. 2.2 numbering).
+inline constexpr Bounds kMotor{1.0, 6.0, ""};
 
 }  // namespace uascma::sim::scenario_bounds

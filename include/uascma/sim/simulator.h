@@ -73,13 +73,8 @@ class Simulator {
   // Flies the scenario from its seed. `planner` replaces the map's emergency planners when given.
   SimResult Run(DecisionPolicy& policy, const EmergencyPlanner& planner = {}, const RunOptions& options = {}) const;
 
-  // Flies the scenario from its seed once for each policy and returns what Run would return for each, bit for bit
-  // (wall_time_s apart), sharing the flight while the policies agree: the flights of policies that have chosen
-  // NoOp at every epoch so far are one flight; at the first epoch where a policy chooses anything else its flight
-  // is copied (FlightState and FlightLog are values) and goes on alone. A campaign's paired policies (§5.5) so
-  // fly the vehicle once until the CMA first acts. planners[k] (empty: the map's) is policy k's; the battery
-  // executor of `options`, if any, is asked once per shared flight (it keeps no state). A shared stretch's wall
-  // time is split equally between its flights.
+  // sim/branching.h RunTogether over this simulator's model: each policy's Run, bit for bit (wall_time_s apart),
+  // flown as one flight while the policies agree (a campaign's paired policies, §5.5).
   std::vector<SimResult> RunTogether(std::span<DecisionPolicy* const> policies,
                                      std::span<const EmergencyPlanner> planners, const RunOptions& options = {}) const;
 

@@ -1,0 +1,33 @@
+#pragma once
+// The world a campaign's flights fly in, built once per campaign and passed to every run (issue 23; style habit 5:
+// model apart from state): the city (the built-in procedural city of the configuration's seed, or the imported
+// one), its geodetic origin, and the buildings' hulls inflated for the emergency planners. Immutable and shared
+// by every thread; a run's scenario (campaign/sampler.h) holds the same map and hulls, so no flight re-imports,
+// re-builds or re-inflates them.
+//
+// The LandPract database (planning/land_pract.h, §5.3.2.2) is not part of it: it is built for a nominal plan, and
+// each run draws its own (sim/emergency_planner.cc builds it when the flight model is made).
+#include <memory>
+#include <optional>
+
+#include "uascma/campaign/config.h"
+#include "uascma/planning/city_map.h"
+#include "uascma/planning/emergency_landing.h"
+#include "uascma/planning/map_import.h"
+
+namespace uascma::campaign {
+
+struct CampaignWorld {
+  // The campaign's city: procedural (seed 0: open ground, no buildings and no sites) or imported (an imported map
+  // without a sites file supplies its own sites: planning::MapImportOptions::sites_from_map, §5.1).
+  std::shared_ptr<const planning::CityMap> map;
+  std::optional<planning::GeoPoint> origin;  // an imported map's geodetic origin (its plans export for QGroundControl)
+  // Every building's hull grown by the emergency planners' lateral margin (planning::LandingPathParams,
+  // LandingPathPlanner::InflateBuildings); null when the map has no landing sites (no emergency planner is made).
+  std::shared_ptr<const planning::ObstacleSet> obstacles;
+};
+
+// Builds the world of `sampling` (reads the map files of an imported city: InputError naming the file).
+CampaignWorld BuildCampaignWorld(const MapSampling& sampling);
+
+}  // namespace uascma::campaign

@@ -1,0 +1,71 @@
+#include "uascma/decision/battery_abstraction.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace uascma::decision {
+
+// ================================ abstraction =====================================================
+EnergyState ClassifyEnergy(double eod_s, double remaining_flight_s, double safety_margin_s) {
+  if (eod_s > remaining_flight_s + safety_margin_s) return EnergyState::kS1;  // enough, with the margin
+  if (eod_s < remaining_flight_s) return EnergyState::kS3;                     // depletes before the end
+  return EnergyState::kS2;                                                      // enough, inside the margin
+}
+
+VoltageState ClassifyVoltage(double min_cell_voltage_v, const BatteryThresholds& thresholds) {
+  return min_cell_voltage_v >= thresholds.critical_voltage_v ? VoltageState::kC0 : VoltageState::kC1;
+}
+
+CurrentLevel ClassifyCurrent(double total_current_a, const BatteryThresholds& thresholds) {
+  return total_current_a > thresholds.high_current_fraction * thresholds.max_current_a ? CurrentLevel::kHigh
+                                                                                       : CurrentLevel::kLow;
+}
+
+bool IsCellFailure(double min_cell_voltage_v, const BatteryThresholds& thresholds) {
+  return min_cell_voltage_v <= thresholds.failure_voltage_v;
+}
+
+StateIndex AbstractBatteryState(const BatteryObservation& observation, const BatteryThresholds& thresholds) {
+  BatteryFeatures features;
+  features.current = ClassifyCurrent(observation.total_current_a, thresholds);
+  for (int j = 0; j < models::kBranchCount; ++j) {
+    const double actual_v = observation.actual_min_cell_voltage_v[j] >= 0.0 ? observation.actual_min_cell_voltage_v[j]
+                                                                           : observation.min_cell_voltage_v[j];
+    if (observation.switch_on[j] && IsCellFailure(actual_v, thresholds)) return kBatteryFailureState;
+  }
+  for (int j = 0; j < models::kBranchCount; ++j) {
+    features.pack[j].switch_on = observation.switch_on[j];
+    features.pack[j].energy =
+        ClassifyEnergy(observation.eod_s[j], observation.remaining_flight_s, observation.safety_margin_s);
+    features.pack[j].voltage = ClassifyVoltage(observation.min_cell_voltage_v[j], thresholds);
+  }
+  return BatteryStateIndex(features);
+}
+
+BatteryObservation ObserveBattery(const models::BatteryPack& pack, const models::PackState& state,
+                                  double total_current_a, double remaining_flight_s, double safety_margin_s,
+                                  const prognostics::EodOptions& eod_options) {
+  BatteryObservation observation;
+  observation.total_current_a = total_current_a;
+  observation.remaining_flight_s = remaining_flight_s;
+  observation.safety_margin_s = safety_margin_s;
+  observation.switch_on = state.branch_on;
+  const models::PackOutputs actual = pack.CalcOutputs(state, total_current_a);
+  for (int j = 0; j < models::kBranchCount; ++j) {
+    // Pack j alone carrying the whole present current: its EOD and its worst cell under that load.
+    models::PackState alone = state;
+    alone.branch_on = {j == 0, j == 1};
+    observation.eod_s[j] = prognostics::CalcPackEod(pack, alone, total_current_a, eod_options).eod_s;
+    const models::PackOutputs loaded = pack.CalcOutputs(alone, total_current_a);
+    double min_loaded_v = std::numeric_limits<double>::infinity(), min_actual_v = min_loaded_v;
+    for (int c = 0; c < models::kCellsPerBranch; ++c) {
+      min_loaded_v = std::min(min_loaded_v, loaded.cell_voltage_v[j][c]);
+      min_actual_v = std::min(min_actual_v, actual.cell_voltage_v[j][c]);
+    }
+    observation.min_cell_voltage_v[j] = min_loaded_v;
+    observation.actual_min_cell_voltage_v[j] = min_actual_v;
+  }
+  return observation;
+}
+
+}  // namespace uascma::decision

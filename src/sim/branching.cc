@@ -1,0 +1,157 @@
+#include "uascma/sim/branching.h"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+
+namespace uascma::sim {
+
+// ---- policies flown together until they differ (§5.5) ------------------------------------------------------------
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionPolicy* const> policies,
+                                   std::span<const EmergencyPlanner> planners, const RunOptions& options) {
+  UASCMA_CHECK(planners.size() == policies.size(), "one planner (possibly empty) per policy");
+  const std::size_t n = policies.size();
+  std::vector<SimResult> results(n);
+  std::vector<double> wall_s(n, 0.0);
+  auto finish = [&](std::size_t k, const FlightState& state, FlightLog log) {
+    results[k] = MakeSimResult(model, state, std::move(log), policies[k]->name());
+    results[k].wall_time_s = wall_s[k];
+  };
+  // A flight of one policy from a decision epoch, before its Observe, to its end: as Run flies it.
+  auto fly_on = [&](std::size_t k, FlightState state, FlightLog log) {
+    const auto start = std::chrono::steady_clock::now();
+    const Controllers controllers{policies[k], options.battery_policy, planners[k]};
+    while (!state.done()) StepEpoch(model, state, controllers, &log);
+    wall_s[k] += SecondsSince(start);
+    finish(k, state, std::move(log));
+  };
+
+  FlightState state = MakeInitialState(model, model.scenario().seed);
+  FlightLog log;
+  log.record_telemetry = options.record_telemetry;
+  std::vector<std::size_t> together(n);
+  for (std::size_t k = 0; k < n; ++k) together[k] = k;
+  std::vector<decision::CmaAction> decided;
+  while (!state.done() && together.size() > 1) {
+    // One epoch of the shared flight: StepEpoch with each policy deciding on the same observation.
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t sharing = together.size();
+    const DecisionInputs& inputs = BeginEpoch(model, state, options.battery_policy, &log);
+    decided.clear();
+    for (std::size_t k : together) decided.push_back(policies[k]->Decide(inputs));
+    std::vector<std::size_t> still;
+    for (std::size_t i = 0; i < together.size(); ++i) {
+      if (decided[i] == decision::CmaAction::kNoOp) still.push_back(together[i]);
+    }
+    const double shared_s = SecondsSince(start);
+    for (std::size_t i = 0; i < together.size(); ++i) {
+      wall_s[together[i]] += shared_s / static_cast<double>(sharing);
+      if (decided[i] == decision::CmaAction::kNoOp) continue;
+      const std::size_t k = together[i];
+      FlightState own = state;  // the branch: both copies have the same future bit for bit
+      FlightLog own_log = log;
+      const auto act_start = std::chrono::steady_clock::now();
+      Act(model, own, decided[i], planners[k], &own_log, policies[k]->Ranking(own.decision.inputs));
+      StepToNextEpoch(model, own, &own_log);
+      wall_s[k] += SecondsSince(act_start);
+      fly_on(k, std::move(own), std::move(own_log));
+    }
+    together = std::move(still);
+    if (together.empty()) return results;
+    const auto step_start = std::chrono::steady_clock::now();
+    Act(model, state, decision::CmaAction::kNoOp, planners[together.front()], &log);  // NoOp asks no planner
+    StepToNextEpoch(model, state, &log);
+    const double step_s = SecondsSince(step_start);
+    for (std::size_t k : together) wall_s[k] += step_s / static_cast<double>(together.size());
+  }
+  if (together.size() == 1) {
+    fly_on(together.front(), std::move(state), std::move(log));
+    return results;
+  }
+  // The flight ended while shared: every policy still in it has the same result.
+  for (std::size_t i = 0; i < together.size(); ++i) {
+    finish(together[i], state, i + 1 == together.size() ? std::move(log) : log);
+  }
+  return results;
+}
+
+// ---- flights that follow one vehicle (Ch. IV) ---------------------------------------------------------------------
+SharingCounts FlyFollowing(const FlightModel& model, std::span<FlightState> states,
+                           std::span<BatterySwitchPolicy* const> executors) {
+  UASCMA_CHECK(executors.size() == states.size(), "one battery executor per flight");
+  const std::size_t n = states.size();
+  SharingCounts counts;
+  std::vector<bool> alone(n, false);
+  std::vector<FlightState*> followers;
+  std::vector<std::size_t> follower_index;
+  const std::unique_ptr<bool[]> stepped_flags(new bool[std::max<std::size_t>(n, 1)]());
+  bool* stepped = stepped_flags.get();
+  auto first_flying = [&states]() -> const FlightState* {
+    for (const FlightState& state : states) {
+      if (!state.done()) return &state;
+    }
+    return nullptr;
+  };
+  // Invariant: every flight still flying is at the same GNC step.
+  for (const FlightState* flying = first_flying(); flying != nullptr; flying = first_flying()) {
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!states[k].done()) DecideBattery(model, states[k], *executors[k]);
+    }
+    do {
+      const std::int64_t next_step = flying->step + 1;
+      // The group: the flights still flying together; its first one leads.
+      std::size_t lead = n;
+      followers.clear();
+      follower_index.clear();
+      for (std::size_t k = 0; k < n; ++k) {
+        if (states[k].done() || alone[k]) continue;
+        if (lead == n) {
+          lead = k;
+        } else {
+          followers.push_back(&states[k]);
+          follower_index.push_back(k);
+        }
+      }
+      if (lead != n && !followers.empty()) {
+        StepFollowing(model, states[lead], followers, std::span<bool>(stepped, followers.size()));
+        for (std::size_t j = 0; j < followers.size(); ++j) {
+          if (stepped[j]) ++counts.shared_steps;
+          else alone[follower_index[j]] = true;  // its pack caps a rotor differently: on its own from this step
+        }
+      }
+      // Every flight not stepped yet (the lead of a group of one, those on their own) takes its step alone.
+      for (std::size_t k = 0; k < n; ++k) {
+        if (states[k].done() || states[k].step >= next_step) continue;
+        Step(model, states[k]);
+        if (k != lead) ++counts.alone_steps;
+      }
+      flying = first_flying();
+    } while (flying != nullptr && !IsDecisionEpoch(model, *flying));
+  }
+  return counts;
+}
+
+// ---- branch points ------------------------------------------------------------------------------------------------
+const FlightState& RequireBranchPoint(const FlightModel& model, const FlightState& state, std::string_view source) {
+  if (!IsBranchPoint(model, state)) {
+    throw InputError(std::string(source), "state", fmt::format("a state at a decision epoch, got step {}", state.step));
+  }
+  return state;
+}
+
+}  // namespace uascma::sim
