@@ -6,10 +6,12 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "mpi_launcher.h"
 #include "uascma/common/error.h"
 #include "uascma/common/version.h"
 
 int main(int argc, char** argv) {
+  uascma::cli::ContinueInMpiLauncher(argv);  // under mpirun: uascma-mpi, the tool with MPI
   CLI::App app{
       "uascma — risk-aware Contingency Management Autonomy for small multicopter UAS.\n"
       "Models, prognostics, decision policies (MDPs) and planners from the dissertation\n"

@@ -14,6 +14,7 @@
 #include "output.h"
 #include "plotting.h"
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 #include "uascma/reproduce/reproduce.h"
 
 namespace uascma::cli {
@@ -54,6 +55,9 @@ void Run(const ReproduceOptions& options) {
   };
   run.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   reproduce::ValidateOptions(run);  // before any work: nothing is written on bad input
+  // Staged beside --out and swapped in whole at the end: an error or Ctrl-C part-way (a plot script failing, say)
+  // leaves the previous folder as it was, never a half-written one.
+  OutputDirectory folder("--out", options.out);
   std::fprintf(stderr, "uascma reproduce: %s sample sizes, seed %llu, output %s\n",
                options.quick ? "--quick" : "the dissertation's", static_cast<unsigned long long>(options.seed),
                options.out.c_str());
@@ -61,7 +65,9 @@ void Run(const ReproduceOptions& options) {
     if (!options.json) std::printf("%s\n", reproduce::ItemLine(item).c_str());
     std::fflush(stdout);
   });
+  run.out = folder.staging();
   reproduce::WriteReport(report, run);
+  folder.Commit();
   if (options.json) {
     nlohmann::json results = reproduce::ResultsJson(report);
     results["timings"] = reproduce::TimingsJson(report);

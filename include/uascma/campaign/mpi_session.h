@@ -3,6 +3,9 @@
 // (CMake option UASCMA_WITH_MPI) and at run time: `uascma campaign` never needs MPI unless it was
 // launched by mpirun/mpiexec, which LaunchedUnderMpi() detects from the launcher's environment
 // (OMPI_COMM_WORLD_SIZE for Open MPI; PMI_SIZE / PMIX_RANK for other launchers).
+// MPI itself lives in the library uascma::campaign_mpi (src/campaign/mpi/), which a program links and
+// enables with UseMpi() before its first session; the MPI launcher uascma-mpi does, and `uascma` hands
+// over to it when started by mpirun, so that the plain tool never loads libmpi (issue 27 item 5).
 //
 // The session is owned by the program (the CLI command): MPI can be initialised and finalised once per
 // process. Only the thread that created the session calls MPI (MPI_THREAD_FUNNELED).
@@ -10,8 +13,10 @@
 
 namespace uascma::campaign {
 
-// True when this build links MPI.
+// True when this program has MPI (UseMpi() was called).
 bool BuiltWithMpi();
+// Gives this program MPI: later sessions call MPI_Init_thread. Defined in uascma::campaign_mpi only.
+void UseMpi();
 // True when the environment says an MPI launcher started this process.
 bool LaunchedUnderMpi();
 
