@@ -15,9 +15,13 @@
 #include "uascma/common/frames.h"
 #include "uascma/common/random.h"
 #include "uascma/models/drag.h"
+#include "uascma/models/mixer.h"
+#include "uascma/models/propulsion.h"
+#include "uascma/models/wind.h"
 #include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/sim/load_forecast.h"
 
 namespace uascma::campaign {
 namespace {
@@ -174,6 +178,41 @@ double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a) {
   return prognostics::CalcPackEod(pack, state, current_a).eod_s;
 }
 
+WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& drag, const planning::FlightPlan& plan) {
+  const double duration = plan.duration();
+  UASCMA_CHECK(duration > 0.0, "a nominal plan of positive duration");
+  WholeLoad load;
+  const models::ElectricalPowerTable power(models::PropulsionParams::ForConfiguration(scenario.configuration));
+  const Eigen::Vector3d mean_wind_W = models::WindModel(scenario.wind).MeanWind_W();
+  // The flight's own load model (sim/flight.cc's steady_load_): the take-off climb, both legs, the drop hover and
+  // the descent, each second's thrust with its acceleration and drag.
+  const sim::SteadyLoadModel model{&scenario.body, &drag, &power, mean_wind_W};
+  load.rotor_energy_j = sim::LoadProfile(plan, model, models::kRotorCount).RemainingEnergyJ(0.0);
+  // The gust allowance (ours, the speed cap's 1σ, sim/speed_cap.h): at each level airspeed of the plan the steady
+  // power at that airspeed raised by σ_u, less the power at it; the largest of the three over the whole plan.
+  load.gust_sigma_u_mps =
+      models::CalcDrydenIntensity(scenario.wind.turbulence, scenario.mission.cruise_altitude, scenario.wind.medium_band_altitude)
+          .sigma_u;
+  const sim::SteadyLoadModel still_air{&scenario.body, &drag, &power, Eigen::Vector3d::Zero()};
+  const auto level_power = [&](double airspeed) {
+    return sim::CalcSteadyRotorPower(still_air, Eigen::Vector3d(airspeed, 0.0, 0.0), Eigen::Vector3d::Zero(),
+                                     models::kRotorCount);
+  };
+  const Eigen::Vector2d wind_NE = mean_wind_W.head<2>();
+  const Eigen::Vector2d route_NE = scenario.mission.destination_NE - scenario.mission.home_NE;
+  const Eigen::Vector2d ground_NE =
+      route_NE.norm() > 0.0 ? Eigen::Vector2d(scenario.limits.cruise_speed * route_NE.normalized()) : Eigen::Vector2d::Zero();
+  for (const double airspeed : {(ground_NE - wind_NE).norm(), (-ground_NE - wind_NE).norm(), wind_NE.norm()}) {
+    load.gust_power_w = std::max(load.gust_power_w, level_power(airspeed + load.gust_sigma_u_mps) - level_power(airspeed));
+  }
+  // Power to pack current as CalcLevelFlightCurrent: over a bus at the planning voltage, plus the hotel load.
+  const double bus_voltage = kPlanningCellVoltage * models::kCellsPerBranch;
+  load.current_a = scenario.options.hotel_current_a +
+                   (load.rotor_energy_j + load.gust_power_w * duration) / (duration * bus_voltage);
+  load.eod_s = CalcHealthyPackEod(scenario.battery, load.current_a);
+  return load;
+}
+
 namespace {
 
 // Route attempts at most (step 7): the whole route, and the home within one route.
@@ -241,13 +280,14 @@ Eigen::Vector2d DrawHome(RandomStream& random, const planning::CityMap& map, con
 // I_cruise and EOD_healthy, on a city the cruise altitude, and the distance. `lowest_cruise`: the cruise
 // altitude never goes below it (DrawRoute).
 void SetEnduranceTiedDistance(SampledRun& run, const models::DragTable& drag, const Eigen::Vector2d& direction,
-                              double clearance, double lowest_cruise) {
+                              double clearance, double lowest_cruise, double longest_plan_s) {
   sim::Scenario& scenario = run.scenario;
   const planning::CityMap& map = *scenario.map;
   // Decisions item 19: plan = f (EOD_healthy − t_sf) at the plan's cruise current, the distance from it.
   run.cruise_current_a = CalcPlanCruiseCurrent(scenario, drag, direction);
   run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
-  const double target_s = run.endurance_fraction * (run.healthy_eod_s - run.safety_margin_s);
+  // `longest_plan_s`: the whole-load check's shortening (DrawRoute); +inf on a route's first pass.
+  const double target_s = std::min(run.endurance_fraction * (run.healthy_eod_s - run.safety_margin_s), longest_plan_s);
   if (!map.buildings().empty()) {
     // The altitude over the route and the route's length depend on each other. The route drawn with the
     // lowest possible altitude (no building under it) is the longest; 10 m above its tallest building
@@ -271,56 +311,89 @@ void SetEnduranceTiedDistance(SampledRun& run, const models::DragTable& drag, co
   }
 }
 
+// What DrawRoute needs of one campaign for every route attempt.
+struct RouteContext {
+  const planning::CityMap& map;
+  Eigen::AlignedBox2d bounds;
+  double clearance = 0.0;
+  bool endurance_tied = false;
+  double lowest_cruise = 0.0;
+  models::DragTable drag;
+};
+
+// Step 7 for the home and bearing of one attempt (drawn already; only a fixed distance is drawn here): the distance,
+// the destination, the cruise altitude, the nominal plan's duration and its whole-load check (decisions item 27).
+// False when the attempt is to be redrawn: the destination outside the city's area or too near a wall, or the plan
+// failing the whole-load check after kMaxWholeLoadShortenings shortenings (an endurance-tied plan) or at once (a
+// fixed distance).
+bool FitRoute(RandomStream& random, const CampaignConfig& config, const RouteContext& route, SampledRun& run) {
+  sim::Scenario& scenario = run.scenario;
+  const bool city = !route.map.buildings().empty();
+  const Eigen::Vector2d direction(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
+  if (!route.endurance_tied) run.distance_m = Draw(random, *config.mission.distance_m);
+  double longest_plan_s = std::numeric_limits<double>::infinity();
+  for (int shortening = 0;; ++shortening) {
+    scenario.mission.cruise_altitude = config.mission.cruise_altitude_m;
+    if (route.endurance_tied) {
+      SetEnduranceTiedDistance(run, route.drag, direction, route.clearance, route.lowest_cruise, longest_plan_s);
+    }
+    scenario.mission.destination_NE = scenario.mission.home_NE + run.distance_m * direction;
+    if (city) {
+      if (!route.bounds.contains(scenario.mission.destination_NE) ||
+          !ClearOfBuildings(route.map, scenario.mission.destination_NE, route.clearance)) {
+        return false;
+      }
+      if (!route.endurance_tied) {
+        const std::array<Eigen::Vector2d, 2> ends = {scenario.mission.home_NE, scenario.mission.destination_NE};
+        scenario.mission.cruise_altitude = std::max(
+            route.map.CruiseAltitude(ends, planning::kCruiseClearanceAboveBuildings, route.clearance), route.lowest_cruise);
+      }
+    }
+    const planning::FlightPlan plan = planning::MakeDeliveryPlan(scenario.mission, scenario.limits);
+    run.plan_duration_s = plan.duration();
+    const WholeLoad load = CalcWholeLoad(scenario, route.drag, plan);
+    run.whole_load_current_a = load.current_a;
+    run.whole_load_eod_s = load.eod_s;
+    if (run.whole_load_eod_s >= run.plan_duration_s + run.safety_margin_s) return true;
+    ++run.whole_load_refits;
+    if (!route.endurance_tied || shortening >= kMaxWholeLoadShortenings) return false;
+    // 1 s (the load profile's bin) below what the whole load allows: a shorter plan's mean current is a little
+    // higher (the climb and descent weigh more), so the limit itself would be approached from above only.
+    longest_plan_s = run.whole_load_eod_s - run.safety_margin_s - 1.0;
+  }
+}
+
 // Step 7: the route. The endurance fraction, then home (on open ground, clear of every wall) and the bearing,
-// redrawn until the destination is inside the city and clear of every wall too; then the nominal plan's
-// duration, and I_cruise and EOD_healthy of a drawn distance.
+// redrawn until the destination is inside the city and clear of every wall too and the nominal plan passes the
+// whole-load check (FitRoute); I_cruise and EOD_healthy also of a drawn distance.
 void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& run) {
   sim::Scenario& scenario = run.scenario;
   const planning::CityMap& map = *scenario.map;
-  const bool city = !map.buildings().empty();
-  const Eigen::AlignedBox2d bounds = RouteArea(map, config.map);
-  const double clearance = config.mission.wall_clearance_m;
-  const bool endurance_tied = !config.mission.distance_m.has_value();
-  const models::DragTable drag = models::DragTable::Default(scenario.configuration);
-  if (endurance_tied) run.endurance_fraction = Draw(random, config.mission.endurance_fraction);
   // An imported map covers only what its files hold: a route with no building under it crosses a hole in the data
   // (Manhattan is built up), not open ground, so it never cruises below the open-ground altitude. Measured (issue
   // 15): at 10 m over such holes the low-altitude Dryden gusts upset 2 of 300 fault-free flights at ~8 m/s.
-  const double lowest_cruise = config.map.imported() ? config.mission.cruise_altitude_m : 0.0;
+  const RouteContext route{map,
+                           RouteArea(map, config.map),
+                           config.mission.wall_clearance_m,
+                           !config.mission.distance_m.has_value(),
+                           config.map.imported() ? config.mission.cruise_altitude_m : 0.0,
+                           models::DragTable::Default(scenario.configuration)};
+  if (route.endurance_tied) run.endurance_fraction = Draw(random, config.mission.endurance_fraction);
   for (int attempt = 0;; ++attempt) {
     if (attempt > kMaxRouteAttempts) {
-      throw InputError("campaign", endurance_tied ? "map" : "mission.distance_m",
-                       fmt::format("a city large enough for the sampled routes with {} m from every wall (no route fit "
-                                   "in {} attempts, run {})",
-                                   clearance, kMaxRouteAttempts, run.run_index));
+      throw InputError("campaign", route.endurance_tied ? "map" : "mission.distance_m",
+                       fmt::format("a city large enough for the sampled routes with {} m from every wall, and plans a "
+                                   "healthy pack flies over their whole load (no route fit in {} attempts, run {})",
+                                   route.clearance, kMaxRouteAttempts, run.run_index));
     }
-    scenario.mission.home_NE = DrawHome(random, map, bounds, clearance);
+    scenario.mission.home_NE = DrawHome(random, map, route.bounds, route.clearance);
     run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
-    const Eigen::Vector2d direction(std::cos(run.bearing_rad), std::sin(run.bearing_rad));
-    scenario.mission.cruise_altitude = config.mission.cruise_altitude_m;
-    if (endurance_tied) {
-      SetEnduranceTiedDistance(run, drag, direction, clearance, lowest_cruise);
-    } else {
-      run.distance_m = Draw(random, *config.mission.distance_m);
-    }
-    scenario.mission.destination_NE = scenario.mission.home_NE + run.distance_m * direction;
-    if (!city) break;
-    if (!bounds.contains(scenario.mission.destination_NE) ||
-        !ClearOfBuildings(map, scenario.mission.destination_NE, clearance)) {
-      continue;
-    }
-    if (!endurance_tied) {
-      const std::array<Eigen::Vector2d, 2> route = {scenario.mission.home_NE, scenario.mission.destination_NE};
-      scenario.mission.cruise_altitude =
-          std::max(map.CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, clearance), lowest_cruise);
-    }
-    break;
+    if (FitRoute(random, config, route, run)) break;
   }
-  run.plan_duration_s = planning::MakeDeliveryPlan(scenario.mission, scenario.limits).duration();
-  if (!endurance_tied) {
+  if (!route.endurance_tied) {
     // Recorded for every run: the healthy pack's EOD at the plan's cruise current (not used to draw it).
     run.cruise_current_a = CalcPlanCruiseCurrent(
-        scenario, drag, Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad)));
+        scenario, route.drag, Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad)));
     run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
   }
 }

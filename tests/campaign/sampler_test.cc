@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -16,7 +17,11 @@
 #include "uascma/campaign/config.h"
 #include "uascma/common/error.h"
 #include "uascma/models/drag.h"
+#include "uascma/models/mixer.h"
+#include "uascma/models/propulsion.h"
+#include "uascma/models/wind.h"
 #include "uascma/planning/flight_plan.h"
+#include "uascma/sim/load_forecast.h"
 
 namespace uascma::campaign {
 namespace {
@@ -362,6 +367,101 @@ TEST(CampaignConfigTest, CanonicalYamlRoundTripsExactly) {
   other = config;
   other.battery.medium_fades = MediumFades::kOneKind;
   EXPECT_NE(CampaignConfigHash(other), CampaignConfigHash(config));
+}
+
+// Decisions item 27: the whole-load EOD of one plan against a hand computation. The rotor energy is integrated
+// again at 10 ms midpoints (the profile samples quarter seconds); the gust allowance is the steady power at the
+// level airspeeds raised by σ_u, computed along the route's own direction (CalcWholeLoad's along North).
+TEST(SamplerTest, WholeLoadEodIsTheHealthyPacksEodAtThePlansMeanCurrent) {
+  // Relative: the two quadratures differ only where the trapezoids switch acceleration inside a sample.
+  constexpr double kEnergyTolerance = 1e-3;
+  const CampaignConfig config;
+  const SampledRun run = SampleRun(config, 1, 0);
+  const sim::Scenario& s = run.scenario;
+  const models::DragTable drag = models::DragTable::Default(s.configuration);
+  const planning::FlightPlan plan = planning::MakeDeliveryPlan(s.mission, s.limits);
+  const WholeLoad load = CalcWholeLoad(s, drag, plan);
+  const models::ElectricalPowerTable power(models::PropulsionParams::ForConfiguration(s.configuration));
+  const Eigen::Vector3d wind_W = models::WindModel(s.wind).MeanWind_W();
+  const sim::SteadyLoadModel model{&s.body, &drag, &power, wind_W};
+  constexpr double kStep = 0.01;  // s
+  double energy = 0.0;
+  for (double t = 0.5 * kStep; t < plan.duration(); t += kStep) {
+    const planning::PlanReference r = plan.At(t);
+    energy += sim::CalcSteadyRotorPower(model, r.v_W, r.a_W, models::kRotorCount) * kStep;
+  }
+  EXPECT_NEAR(load.rotor_energy_j, energy, kEnergyTolerance * energy);
+  // The gust allowance: σ_u at the cruise altitude; the level airspeeds out, back and at the drop.
+  const double sigma_u =
+      models::CalcDrydenIntensity(s.wind.turbulence, s.mission.cruise_altitude, s.wind.medium_band_altitude).sigma_u;
+  EXPECT_EQ(load.gust_sigma_u_mps, sigma_u);
+  const Eigen::Vector3d e((s.mission.destination_NE - s.mission.home_NE).normalized().x(),
+                          (s.mission.destination_NE - s.mission.home_NE).normalized().y(), 0.0);
+  const sim::SteadyLoadModel still{&s.body, &drag, &power, Eigen::Vector3d::Zero()};
+  double gust = 0.0;
+  for (const Eigen::Vector3d air : {Eigen::Vector3d(run.cruise_speed_mps * e - wind_W),
+                                    Eigen::Vector3d(-run.cruise_speed_mps * e - wind_W), Eigen::Vector3d(-wind_W)}) {
+    const Eigen::Vector3d unit = air.norm() > 0.0 ? Eigen::Vector3d(air.normalized()) : Eigen::Vector3d::UnitX();
+    gust = std::max(gust, sim::CalcSteadyRotorPower(still, air + sigma_u * unit, Eigen::Vector3d::Zero(), 6) -
+                              sim::CalcSteadyRotorPower(still, air, Eigen::Vector3d::Zero(), 6));
+  }
+  EXPECT_NEAR(load.gust_power_w, gust, 1e-6 * gust + 1e-9);  // W: the same model along another axis
+  if (s.wind.turbulence != models::TurbulenceCategory::kNone) EXPECT_GT(gust, 0.0);
+  // I = I_hotel + (E + P_gust T) / (T · 3 · 3.7 V), and the healthy pack's EOD at it.
+  const double current = s.options.hotel_current_a +
+                         (energy + gust * plan.duration()) / (plan.duration() * kPlanningCellVoltage * 3.0);
+  EXPECT_NEAR(load.current_a, current, kEnergyTolerance * current);
+  EXPECT_EQ(load.eod_s, CalcHealthyPackEod(s.battery, load.current_a));
+  EXPECT_EQ(run.whole_load_eod_s, load.eod_s);
+  EXPECT_EQ(run.whole_load_current_a, load.current_a);
+  EXPECT_GE(run.whole_load_eod_s, run.plan_duration_s + run.safety_margin_s);
+}
+
+// A plan as long as the pack's cruise endurance with no margin (f near 1, t_sf 0) cannot also carry the climb,
+// the accelerations and the gusts: the check fires, and the run returned is shortened until it passes.
+TEST(SamplerTest, PlansTooLongForTheWholeLoadAreShortenedUntilTheyPass) {
+  CampaignConfig config;
+  config.mission.endurance_fraction = {0.999, 1.0};
+  config.safety_margin_s = {0.0, 0.0};
+  const CampaignWorld world = BuildCampaignWorld(config.map);
+  int fired = 0;
+  for (int i = 0; i < 20; ++i) {
+    const SampledRun run = SampleRun(config, world, 5, i);
+    EXPECT_GE(run.whole_load_eod_s, run.plan_duration_s + run.safety_margin_s) << "run " << i;
+    const double cruise_plan = run.endurance_fraction * (run.healthy_eod_s - run.safety_margin_s);
+    if (run.whole_load_refits > 0) {
+      ++fired;
+      EXPECT_LT(run.plan_duration_s, cruise_plan) << "run " << i << ": shortened below f (EOD_healthy − t_sf)";
+    } else {
+      EXPECT_NEAR(run.plan_duration_s, cruise_plan, 1e-6) << "run " << i;
+    }
+    const planning::FlightPlan plan = planning::MakeDeliveryPlan(run.scenario.mission, run.scenario.limits);
+    EXPECT_EQ(plan.duration(), run.plan_duration_s);
+    EXPECT_EQ(CalcWholeLoad(run.scenario, models::DragTable::Default(run.scenario.configuration), plan).eod_s,
+              run.whole_load_eod_s);
+  }
+  EXPECT_EQ(fired, 20) << "every plan at the cruise endurance fails the whole load";
+}
+
+// Decisions item 27 on the two example profiles (seed 1, 465 runs each): no nominal plan fails the whole-load check,
+// so the check draws nothing and both campaigns keep their runs. The smallest margin EOD_whole − (T + t_sf) is printed.
+TEST(SamplerTest, ExampleProfilesPassTheWholeLoadCheckWithoutARedraw) {
+  for (const char* file : {"campaign.yaml", "campaign-dissertation.yaml"}) {
+    const CampaignConfig config = LoadCampaignConfig(std::filesystem::path(UASCMA_SOURCE_DIR) / "examples" / file);
+    const CampaignWorld world = BuildCampaignWorld(config.map);
+    double smallest = 1e9, largest = -1e9, sum = 0.0;
+    for (std::int64_t i = 0; i < config.runs; ++i) {
+      const SampledRun run = SampleRun(config, world, config.seed, i);
+      EXPECT_EQ(run.whole_load_refits, 0) << file << " run " << i;
+      const double margin = run.whole_load_eod_s - (run.plan_duration_s + run.safety_margin_s);
+      EXPECT_GE(margin, 0.0) << file << " run " << i;
+      smallest = std::min(smallest, margin);
+      largest = std::max(largest, margin);
+      sum += margin;
+    }
+    std::printf("%s: %lld runs, EOD_whole - (T + t_sf) min %.1f s, mean %.1f s, max %.1f s\n", file,
+                static_cast<long long>(config.runs), smallest, sum / config.runs, largest);
+  }
 }
 
 TEST(CampaignConfigTest, DefaultsAreTheDissertations) {

@@ -37,6 +37,11 @@
 //                     the shorter final route too);
 //      the destination must lie inside the city's area with wall_clearance_m from every wall. With mission.distance_m
 //      set, the distance is drawn on it instead (the plan is then not tied to the pack).
+//      Then the whole-load check (decisions item 27, CalcWholeLoad below): a route whose nominal plan fails it is not
+//      kept. An endurance-tied plan is first shortened, with the same home and bearing and no draw, to 1 s (the
+//      load profile's bin; ours) below EOD_whole − t_sf, up to kMaxWholeLoadShortenings times; a fixed-distance
+//      route, or one still failing, is redrawn (the next route attempt). Measured: no run of examples/campaign.yaml
+//      nor examples/campaign-dissertation.yaml (seed 1) fails it, so neither campaign's draws change.
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the
 //      fraction uniform on onset_fraction, then the motor uniform over the list.
 //
@@ -59,6 +64,7 @@
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/models/battery_pack.h"
 #include "uascma/models/drag.h"
+#include "uascma/planning/flight_plan.h"
 #include "uascma/sim/simulator.h"
 
 namespace uascma::campaign {
@@ -91,6 +97,28 @@ double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTa
 // a constant current (A).
 double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a);
 
+// Decisions item 27: flyability by a healthy pack judged over the nominal plan's whole load (take-off climb, cruise,
+// drop hover, descent, a gust allowance and t_sf), not at the cruise current alone (item 19).
+//   E_rotor  = the plan's steady rotor energy, sim::LoadProfile(plan, {body, drag, power table, mean wind}, 6)
+//              .RemainingEnergyJ(0): each one-second bin's thrust against gravity, the reference acceleration and
+//              the drag at the reference air velocity (sim/load_forecast.h, what the flight's forecast uses);
+//   P_gust   = the gust allowance, ours: the largest, over the plan's three level airspeeds (out leg, leg back, drop
+//              hover; CalcPlanCruiseCurrent's), of the steady power at that airspeed raised by σ_u less the power at
+//              it, σ_u the scenario's Dryden longitudinal intensity at the cruise altitude (models/wind.h), the same
+//              1σ allowance as the speed cap's (sim/speed_cap.h); charged over the whole plan duration T;
+//   I_whole  = I_hotel + (E_rotor + P_gust T) / (T V_bus), V_bus = kPlanningCellVoltage × 3 (as CalcLevelFlightCurrent);
+//   EOD_whole = CalcHealthyPackEod at I_whole; the plan is flyable when EOD_whole >= T + t_sf.
+struct WholeLoad {
+  double rotor_energy_j = 0.0;  // E_rotor
+  double gust_sigma_u_mps = 0.0;  // σ_u at the cruise altitude
+  double gust_power_w = 0.0;    // P_gust
+  double current_a = 0.0;       // I_whole
+  double eod_s = 0.0;           // EOD_whole
+};
+// At most this many shortenings of one route attempt's endurance-tied plan before the route is redrawn (step 7).
+inline constexpr int kMaxWholeLoadShortenings = 20;
+WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& drag, const planning::FlightPlan& plan);
+
 struct SampledRun {
   std::int64_t run_index = 0;
   std::uint64_t run_seed = 0;
@@ -105,6 +133,9 @@ struct SampledRun {
   double endurance_fraction = 0.0;  // f of step 7 (0 when the distance was drawn instead)
   double cruise_current_a = 0.0;    // I_cruise of step 7
   double healthy_eod_s = 0.0;       // EOD_healthy of step 7
+  double whole_load_current_a = 0.0;  // I_whole of the nominal plan (CalcWholeLoad, decisions item 27)
+  double whole_load_eod_s = 0.0;      // EOD_whole: >= plan_duration_s + safety_margin_s for every sampled run
+  int whole_load_refits = 0;          // how often the check failed while step 7 drew this run (shortened or redrawn)
   sim::Scenario scenario;         // ready to fly
 };
 

@@ -64,13 +64,19 @@ namespace internal {
 std::int64_t RunParallel(std::int64_t count, const ParallelOptions& options,
                          const std::function<void(std::int64_t, const CancellationToken&)>& run,
                          const std::function<void(std::int64_t)>& deliver);
+
+// What a job returns: job(i, stop) when it takes the stop token, else job(i).
+template <typename Job>
+using JobResult =
+    typename std::conditional_t<std::is_invocable_v<Job&, std::int64_t, const CancellationToken&>,
+                                std::invoke_result<Job&, std::int64_t, const CancellationToken&>,
+                                std::invoke_result<Job&, std::int64_t>>::type;
 }  // namespace internal
 
 template <typename Job, typename Merge>
 std::int64_t ParallelFor(std::int64_t count, const ParallelOptions& options, Job&& job, Merge&& merge) {
   constexpr bool kTakesStop = std::is_invocable_v<Job&, std::int64_t, const CancellationToken&>;
-  using Result = std::conditional_t<kTakesStop, std::invoke_result<Job&, std::int64_t, const CancellationToken&>,
-                                    std::invoke_result<Job&, std::int64_t>>::type;
+  using Result = internal::JobResult<Job>;
   static_assert(!std::is_void_v<Result>, "a ParallelFor job returns its result (merge receives it)");
   std::mutex results_mutex;
   std::map<std::int64_t, Result> results;  // finished, not yet merged
@@ -99,8 +105,7 @@ std::int64_t ParallelFor(std::int64_t count, const ParallelOptions& options, Job
 template <typename Job>
 auto ParallelMap(std::int64_t count, const ParallelOptions& options, Job&& job) {
   constexpr bool kTakesStop = std::is_invocable_v<Job&, std::int64_t, const CancellationToken&>;
-  using Result = std::conditional_t<kTakesStop, std::invoke_result<Job&, std::int64_t, const CancellationToken&>,
-                                    std::invoke_result<Job&, std::int64_t>>::type;
+  using Result = internal::JobResult<Job>;
   std::vector<Result> results;
   results.reserve(static_cast<std::size_t>(count > 0 ? count : 0));
   ParallelOptions in_order = options;
