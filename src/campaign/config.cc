@@ -83,6 +83,8 @@ std::string_view ConfigField::leaf() const { return KeyLeaf(key); }
 namespace {
 
 // The rows of `map:` (config.h MapSampling).
+// A field table reads as one row per key: kept out of clang-format.
+// clang-format off
 std::vector<CampaignFieldEntry> MapFields(MapSampling& m) {
   using S = FieldScope;
   namespace b = bounds;
@@ -114,9 +116,12 @@ std::vector<CampaignFieldEntry> MapFields(MapSampling& m) {
         .scope = S::kImportedMap, .written_when_unset = false, .only_when_set = true}, &m.sites_from_map},
   };
 }
+// clang-format on
 
 }  // namespace
 
+// A field table reads as one row per key: kept out of clang-format.
+// clang-format off
 std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
   namespace b = bounds;
   std::vector<CampaignFieldEntry> fields = {
@@ -177,6 +182,7 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
   fields.insert(fields.end(), sampling.begin(), sampling.end());
   return fields;
 }
+// clang-format on
 
 namespace {
 

@@ -34,6 +34,18 @@ bool LandAsapParams::IsValid(std::string* error) const {
 }
 
 // --- LandASAP ------------------------------------------------------------------------------------------------------
+namespace {
+// Of the plans (fastest first), the one to the least risky site among those within `tie_window` (s) of the fastest.
+std::size_t LeastRiskyWithinTie(const CityMap& map, const std::vector<SitePlan>& plans, double tie_window) {
+  const double fastest = plans.front().path.flight_time;
+  std::size_t chosen = 0;
+  for (std::size_t i = 1; i < plans.size() && plans[i].path.flight_time <= fastest + tie_window; ++i) {
+    if (map.site(plans[i].site).risk < map.site(plans[chosen].site).risk) chosen = i;
+  }
+  return chosen;
+}
+}  // namespace
+
 LandingResult PlanLandAsap(const LandingPathPlanner& planner, const LandAsapParams& params,
                            const LandingRequest& request) {
   std::string error;
@@ -97,12 +109,7 @@ LandingResult PlanLandAsap(const LandingPathPlanner& planner, const LandAsapPara
                                  search.verification_failures);
     return result;
   }
-  const double fastest = search.plans.front().path.flight_time;
-  std::size_t chosen = 0;
-  for (std::size_t i = 1; i < search.plans.size() && search.plans[i].path.flight_time <= fastest + options.tie_window; ++i) {
-    if (map.site(search.plans[i].site).risk < map.site(search.plans[chosen].site).risk) chosen = i;
-  }
-  const SitePlan& best = search.plans[chosen];
+  const SitePlan& best = search.plans[LeastRiskyWithinTie(map, search.plans, options.tie_window)];
   result.status = LandingStatus::kOk;
   result.site = best.site;
   result.site_id = map.site(best.site).id;

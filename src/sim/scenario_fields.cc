@@ -22,6 +22,8 @@ constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
 constexpr std::monostate kApart{};  // a row read by its own code (scenario.cc)
 
 // The rows of the keys before the vehicle: identity, and the map (read by ReadMap).
+// A field table reads as one row per key: kept out of clang-format.
+// clang-format off
 std::vector<ScenarioFieldEntry> IdentityAndMapFields() {
   namespace b = scenario_bounds;
   return {
@@ -49,8 +51,11 @@ std::vector<ScenarioFieldEntry> IdentityAndMapFields() {
       {{.key = "map.sites_from_map", .expected = "true | false", .citation = "§5.1; ours"}, kApart},
   };
 }
+// clang-format on
 
 // The rows of the vehicle, battery, wind and mission.
+// A field table reads as one row per key: kept out of clang-format.
+// clang-format off
 std::vector<ScenarioFieldEntry> VehicleFields(Scenario& s) {
   namespace b = scenario_bounds;
   return {
@@ -81,8 +86,11 @@ std::vector<ScenarioFieldEntry> VehicleFields(Scenario& s) {
        kApart},
   };
 }
+// clang-format on
 
 // The rows of the limits, the fault and the options.
+// A field table reads as one row per key: kept out of clang-format.
+// clang-format off
 std::vector<ScenarioFieldEntry> FlightFields(Scenario& s) {
   namespace b = scenario_bounds;
   const Bounds* growth = &prognostics::SpallGrowthParams::kTimePerGrowthStepBounds;
@@ -122,6 +130,7 @@ std::vector<ScenarioFieldEntry> FlightFields(Scenario& s) {
        &o.outcome.max_cross_track_error},
   };
 }
+// clang-format on
 
 // Reads one row's key from its section `node` into `value` (the key is present).
 void ReadValue(const YAML::Node& node, const ScenarioField& f, const std::string& source, const ScenarioFieldRef& value) {
