@@ -39,7 +39,8 @@ void BM_FlyDissertationRun(benchmark::State& state) {
     const RunRecord record = FlyRun(simulator, run, Cma(), 0, 1);
     sim_s += record.sim_time_s;
   }
-  state.counters["flights/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["flights/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["sim_s/flight"] = sim_s / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_FlyDissertationRun)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();

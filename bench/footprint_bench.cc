@@ -17,7 +17,7 @@ FootprintParams Params(double eod, int maclaurin_order) {
   FootprintParams params;
   params.initial_speed = 9.0;  // m/s, Fig. 5.4
   params.eod = eod;
-  params.drag_slope = 0.55;    // N·s/m, ≈ the default table's slope at 9 m/s
+  params.drag_slope = 0.55;  // N·s/m, ≈ the default table's slope at 9 m/s
   params.maclaurin_order = maclaurin_order;
   return params;
 }

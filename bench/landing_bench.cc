@@ -183,7 +183,8 @@ BENCHMARK(BM_LandPractBuildDatabase)->Unit(benchmark::kMillisecond);
 
 // The 1,828 real Midtown sites without buildings: candidate gathering over real positions (straight paths).
 void BM_LandAsapMidtownSites(benchmark::State& state) {
-  const auto file = std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" / "midtown-landing-sites.csv";
+  const auto file =
+      std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" / "midtown-landing-sites.csv";
   if (!std::filesystem::exists(file)) {
     state.SkipWithError("shared/data/osm absent");
     return;

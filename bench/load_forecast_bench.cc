@@ -73,8 +73,10 @@ int main(int argc, char** argv) {
       present.relative.push_back(e.present_a / truth_a - 1.0);
     }
   }
-  std::printf("EOD load against the mean current drawn from each epoch to the end of the flight (%d completed NoOp "
-              "flights of %d sampled, default campaign, seed 1):\n", flights, runs);
+  std::printf(
+      "EOD load against the mean current drawn from each epoch to the end of the flight (%d completed NoOp "
+      "flights of %d sampled, default campaign, seed 1):\n",
+      flights, runs);
   forecast.Print("forecast");
   present.Print("present");
   return 0;

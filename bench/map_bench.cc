@@ -18,7 +18,9 @@ namespace {
 
 using namespace uascma::planning;
 
-std::filesystem::path OsmDataDir() { return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm"; }
+std::filesystem::path OsmDataDir() {
+  return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
+}
 
 struct BenchMap {
   CityMap map;
@@ -55,8 +57,8 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> RandomSegments(const Ci
   while (static_cast<int>(segments.size()) < count) {
     const Eigen::Vector3d a(random.Uniform(bounds.min().x(), bounds.max().x()),
                             random.Uniform(bounds.min().y(), bounds.max().y()), -random.Uniform(0.0, 60.0));
-    const Eigen::Vector3d b = a + Eigen::Vector3d(random.Uniform(-reach, reach), random.Uniform(-reach, reach),
-                                                  random.Uniform(-10.0, 10.0));
+    const Eigen::Vector3d b =
+        a + Eigen::Vector3d(random.Uniform(-reach, reach), random.Uniform(-reach, reach), random.Uniform(-10.0, 10.0));
     segments.emplace_back(a, b);
   }
   return segments;

@@ -18,8 +18,10 @@ using namespace uascma::models;
 void RunAllocation(benchmark::State& state, int failed_motor, double yaw) {
   const Mixer mixer(MixerParams{});
   const double hover = 1.3 * uascma::kGravity;
-  const BodyWrench wrenches[4] = {{hover, 0.05, -0.04, yaw}, {hover + 0.5, -0.03, 0.02, -yaw},
-                                  {hover - 0.4, 0.01, 0.06, yaw}, {hover, -0.06, -0.01, -yaw}};
+  const BodyWrench wrenches[4] = {{hover, 0.05, -0.04, yaw},
+                                  {hover + 0.5, -0.03, 0.02, -yaw},
+                                  {hover - 0.4, 0.01, 0.06, yaw},
+                                  {hover, -0.06, -0.01, -yaw}};
   int k = 0;
   for (auto _ : state) {
     AllocationResult result = mixer.Allocate(wrenches[k], failed_motor);

@@ -56,7 +56,8 @@ void BM_FifteenMinuteMissionByEpochs(benchmark::State& state) {
   for (auto _ : state) {
     environment.Reset(scenario.seed);
     sim::EnvironmentStep step;
-    do step = environment.Step(decision::CmaAction::kNoOp); while (!step.done);
+    do step = environment.Step(decision::CmaAction::kNoOp);
+    while (!step.done);
     simulated = environment.state().time_s;
     benchmark::DoNotOptimize(step.reward);
     if (step.outcome != sim::Outcome::kCompleted) state.SkipWithError("the benchmark mission did not complete");

@@ -1,5 +1,6 @@
 // uascma battery — the battery-reconfiguration MDP of dissertation Ch. IV (§4.3): learn its transitions from
 // Monte Carlo flights, solve one policy per health pair and temperature, show them, run the case studies.
+#include <unistd.h>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -7,7 +8,6 @@
 #include <optional>
 #include <set>
 #include <string>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -49,10 +49,12 @@ void CheckOutputFile(const std::string& path, const char* option) {
   if (std::filesystem::is_directory(file, ec)) throw InputError(option, path, "a file path, got a folder");
   const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
   if (!std::filesystem::is_directory(folder, ec)) {
-    throw InputError(option, path, fmt::format("a file in an existing folder, but '{}' does not exist", folder.string()));
+    throw InputError(option, path,
+                     fmt::format("a file in an existing folder, but '{}' does not exist", folder.string()));
   }
   if (::access(folder.c_str(), W_OK) != 0) {
-    throw InputError(option, path, fmt::format("a file in a writable folder, but '{}' is not writable", folder.string()));
+    throw InputError(option, path,
+                     fmt::format("a file in a writable folder, but '{}' is not writable", folder.string()));
   }
 }
 
@@ -91,15 +93,15 @@ struct ObservedRows {
 };
 
 // Decision 26's flight time: the state the case-study flight of each context starts in.
-double CaseFlightTimeS() {
-  return campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(PackAction::kUseBoth);
-}
+double CaseFlightTimeS() { return campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(PackAction::kUseBoth); }
 
 BatteryContext ParseContextOption(const std::string& text, const std::string& option) {
   const auto first = text.find(',');
   const auto second = first == std::string::npos ? std::string::npos : text.find(',', first + 1);
-  if (second == std::string::npos) throw InputError(option, "value", fmt::format("B1F,B2F,T such as F3,F3,TL, got '{}'", text));
-  return {ParseBatteryHealth(text.substr(0, first), option), ParseBatteryHealth(text.substr(first + 1, second - first - 1), option),
+  if (second == std::string::npos)
+    throw InputError(option, "value", fmt::format("B1F,B2F,T such as F3,F3,TL, got '{}'", text));
+  return {ParseBatteryHealth(text.substr(0, first), option),
+          ParseBatteryHealth(text.substr(first + 1, second - first - 1), option),
           ParseTemperatureClass(text.substr(second + 1), option)};
 }
 
@@ -115,7 +117,8 @@ BatteryRewardWeights ParseWeightsOption(const std::string& text, const std::stri
       *fields[i] = std::stod(text.substr(begin, end - begin), &used);
       if (used != end - begin) throw std::invalid_argument("trailing characters");
     } catch (const std::exception&) {
-      throw InputError(option, fmt::format("w{}", i + 1), fmt::format("a number, got '{}'", text.substr(begin, end - begin)));
+      throw InputError(option, fmt::format("w{}", i + 1),
+                       fmt::format("a number, got '{}'", text.substr(begin, end - begin)));
     }
     begin = end + 1;
   }
@@ -153,25 +156,28 @@ void PrintLearnSummary(const std::string& out, const BatteryModel& model,
                {"unobserved_rows", unobserved},
                {"learned_rows", 216 * kBatteryNumContexts},
                {"energy_transitions",
-                {{"S1->S2", energy.s1_to_s2}, {"S2->S3", energy.s2_to_s3}, {"S1->S3", energy.s1_to_s3},
+                {{"S1->S2", energy.s1_to_s2},
+                 {"S2->S3", energy.s2_to_s3},
+                 {"S1->S3", energy.s1_to_s3},
                  {"recoveries", energy.recoveries}}},
                {"shared_gnc_steps", summary.sharing.shared_steps},
                {"alone_gnc_steps", summary.sharing.alone_steps},
                {"wall_time_s", summary.wall_time_s}});
     return;
   }
-  std::printf("learned the battery MDP from %lld flights (%lld parameter draws, %lld reached FAILURE) in %.1f s\n"
-              "%lld transitions counted at 1 Hz; %d of %d learned rows unobserved (self-loops, decisions item 23)\n"
-              "energy transitions observed in flight: S1->S2 %lld, S2->S3 %lld, S1->S3 %lld, recoveries %lld\n"
-              "GNC steps that followed another action's vehicle: %lld; flown alone after the packs diverged: %lld\n"
-              "wrote %s (hash %s)\n",
-              static_cast<long long>(summary.flights), static_cast<long long>(summary.parameter_draws),
-              static_cast<long long>(summary.failures), summary.wall_time_s,
-              static_cast<long long>(model.counts.total_transitions()), unobserved, 216 * kBatteryNumContexts,
-              static_cast<long long>(energy.s1_to_s2), static_cast<long long>(energy.s2_to_s3),
-              static_cast<long long>(energy.s1_to_s3), static_cast<long long>(energy.recoveries),
-              static_cast<long long>(summary.sharing.shared_steps), static_cast<long long>(summary.sharing.alone_steps),
-              out.c_str(), BatteryModelHash(model).c_str());
+  std::printf(
+      "learned the battery MDP from %lld flights (%lld parameter draws, %lld reached FAILURE) in %.1f s\n"
+      "%lld transitions counted at 1 Hz; %d of %d learned rows unobserved (self-loops, decisions item 23)\n"
+      "energy transitions observed in flight: S1->S2 %lld, S2->S3 %lld, S1->S3 %lld, recoveries %lld\n"
+      "GNC steps that followed another action's vehicle: %lld; flown alone after the packs diverged: %lld\n"
+      "wrote %s (hash %s)\n",
+      static_cast<long long>(summary.flights), static_cast<long long>(summary.parameter_draws),
+      static_cast<long long>(summary.failures), summary.wall_time_s,
+      static_cast<long long>(model.counts.total_transitions()), unobserved, 216 * kBatteryNumContexts,
+      static_cast<long long>(energy.s1_to_s2), static_cast<long long>(energy.s2_to_s3),
+      static_cast<long long>(energy.s1_to_s3), static_cast<long long>(energy.recoveries),
+      static_cast<long long>(summary.sharing.shared_steps), static_cast<long long>(summary.sharing.alone_steps),
+      out.c_str(), BatteryModelHash(model).c_str());
 }
 
 // --- battery learn ---------------------------------------------------------------------------------
@@ -196,8 +202,8 @@ void AddLearn(CLI::App* battery) {
   AddBoundedOption(command, "--jobs", options->jobs, "Threads (the counts do not depend on it)", kThreadsBounds);
   command->add_option("--out", options->out, "Model JSON to write")->required();
   command->add_flag("--drop-flights", options->drop_flights,
-                   "Ours: every draw also flies UseBoth then one pack alone for good from a random time, so the\n"
-                   "states a switching policy flies into are observed (the flights are split four ways)");
+                    "Ours: every draw also flies UseBoth then one pack alone for good from a random time, so the\n"
+                    "states a switching policy flies into are observed (the flights are split four ways)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
     RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
@@ -240,10 +246,11 @@ void AddSolve(CLI::App* battery) {
                     "constant-parameter flights could not see them) before solving");
   command->add_option("--weights", options->weights,
                       "Reward weights w1,w2,w3 of eqs. 4.1-4.3 (sum 1, eq. 4.9) instead of the model's");
-  command->add_option("--formulation", options->formulation,
-                      "dissertation (pi*, eqs. 4.1-4.9, gamma of the model, value iteration) or ours (both packs\n"
-                      "charged, switching cost, absorbing COMPLETE/FAILURE, gamma seeing the longest plan, no\n"
-                      "choice without evidence; decision/battery_mdp.h)")
+  command
+      ->add_option("--formulation", options->formulation,
+                   "dissertation (pi*, eqs. 4.1-4.9, gamma of the model, value iteration) or ours (both packs\n"
+                   "charged, switching cost, absorbing COMPLETE/FAILURE, gamma seeing the longest plan, no\n"
+                   "choice without evidence; decision/battery_mdp.h)")
       ->check(CLI::IsMember({"dissertation", "ours"}));
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
@@ -271,17 +278,21 @@ void AddSolve(CLI::App* battery) {
                           {"transitions", p.stats.transitions}});
     }
     if (options->json) {
-      PrintJson({{"out", options->out}, {"model_hash", set.model_hash}, {"gamma", set.gamma},
+      PrintJson({{"out", options->out},
+                 {"model_hash", set.model_hash},
+                 {"gamma", set.gamma},
                  {"formulation", BatteryFormulationName(set.formulation)},
-                 {"solve_time_s", wall}, {"contexts", contexts}});
+                 {"solve_time_s", wall},
+                 {"contexts", contexts}});
       return;
     }
     const bool ours = set.formulation == BatteryFormulation::kOurs;
-    std::printf("solved %d battery policies (%s formulation, %s, gamma %.6g, %d %s in all, %.2f ms); %d of %d "
-                "learned rows were unobserved (%s)\nwrote %s\n",
-                kBatteryNumContexts, BatteryFormulationName(set.formulation), ours ? "policy iteration" : "value iteration",
-                set.gamma, iterations, ours ? "improvement steps" : "sweeps", 1e3 * wall, unobserved,
-                216 * kBatteryNumContexts, ours ? "actions not offered there" : "self-loops", options->out.c_str());
+    std::printf(
+        "solved %d battery policies (%s formulation, %s, gamma %.6g, %d %s in all, %.2f ms); %d of %d "
+        "learned rows were unobserved (%s)\nwrote %s\n",
+        kBatteryNumContexts, BatteryFormulationName(set.formulation), ours ? "policy iteration" : "value iteration",
+        set.gamma, iterations, ours ? "improvement steps" : "sweeps", 1e3 * wall, unobserved, 216 * kBatteryNumContexts,
+        ours ? "actions not offered there" : "self-loops", options->out.c_str());
   });
 }
 
@@ -327,9 +338,10 @@ std::string TransitionDot(const BatteryContextPolicy& policy, PackAction action)
       out += fmt::format("  \"{}\" [color=\"red\", style=\"rounded,filled\", fillcolor=\"#ffcdd2\"];\n",
                          BatteryStateLabel(s));
     } else if (unobserved) {
-      out += fmt::format("  \"{}\" [color=\"grey\", fontcolor=\"grey40\", style=\"rounded,dotted\", "
-                         "label=\"{}\\n(unobserved)\"];\n",
-                         BatteryStateLabel(s), BatteryStateLabel(s));
+      out += fmt::format(
+          "  \"{}\" [color=\"grey\", fontcolor=\"grey40\", style=\"rounded,dotted\", "
+          "label=\"{}\\n(unobserved)\"];\n",
+          BatteryStateLabel(s), BatteryStateLabel(s));
     } else {
       out += fmt::format("  \"{}\" [color=\"black\"];\n", BatteryStateLabel(s));
     }
@@ -416,7 +428,8 @@ void AddShow(CLI::App* battery) {
       return;
     }
     std::string text = fmt::format(
-        "battery policies {} ({} formulation, model {}, gamma {:.6g})\nFig. 4.5 decision tree over (T, B1F, B2F), one leaf per context; counts "
+        "battery policies {} ({} formulation, model {}, gamma {:.6g})\nFig. 4.5 decision tree over (T, B1F, B2F), one "
+        "leaf per context; counts "
         "over the 216 states that can occur (72 with both switches OFF cannot)\n"
         "take-off: the first state of the context's case-study flight ({:.0f} s plan, decision 26); * = the chosen "
         "action's row was never observed\n",
@@ -486,13 +499,13 @@ void PrintCaseStudy(int number, std::uint64_t seed, const std::vector<campaign::
     }
     if (switches.size() > 200) switches = switches.substr(0, 200) + " ...";
     std::printf("  %-8s %-15s plan %.0f s: %s at %.0f s; %d switches:%s\n", scenario.name.c_str(),
-                scenario.controller.c_str(), scenario.params.plan_duration_s,
-                sim::OutcomeName(scenario.result.outcome), scenario.result.end_time_s,
-                campaign::CountSwitches(scenario.result), switches.c_str());
+                scenario.controller.c_str(), scenario.params.plan_duration_s, sim::OutcomeName(scenario.result.outcome),
+                scenario.result.end_time_s, campaign::CountSwitches(scenario.result), switches.c_str());
     if (!scenario.schedule.empty()) {
-      std::printf("           best of %d schedules (UseBoth; one late drop, %.0f s grid; one rest window, %.0f s grid): %s\n",
-                  scenario.schedules_flown, campaign::kHindsightSwitchGridS, campaign::kHindsightWindowGridS,
-                  scenario.schedule.c_str());
+      std::printf(
+          "           best of %d schedules (UseBoth; one late drop, %.0f s grid; one rest window, %.0f s grid): %s\n",
+          scenario.schedules_flown, campaign::kHindsightSwitchGridS, campaign::kHindsightWindowGridS,
+          scenario.schedule.c_str());
     }
   }
 }
@@ -601,7 +614,8 @@ void AddEvaluate(CLI::App* battery) {
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
     CheckOutputFile(options->plot, "--plot");
     CheckOutputFile(options->out, "--out");
-    const std::vector<campaign::BatteryPolicySpec> policies = campaign::ParseBatteryPolicies(options->policies, "--policies");
+    const std::vector<campaign::BatteryPolicySpec> policies =
+        campaign::ParseBatteryPolicies(options->policies, "--policies");
     ProgressBar bar(options->runs, "battery evaluate");
     campaign::BatteryEvaluationOptions evaluation_options;
     evaluation_options.runs = options->runs;
@@ -610,8 +624,10 @@ void AddEvaluate(CLI::App* battery) {
     evaluation_options.on_run_done = [&bar](std::int64_t) { bar.Advance(); };
     const campaign::BatteryEvaluation evaluation = campaign::EvaluateBatteryPolicies(policies, evaluation_options);
     bar.Finish();
-    if (!options->out.empty()) WriteFileAtomically(options->out, campaign::BatteryEvaluationJson(evaluation, true).dump(1) + "\n");
-    if (!options->plot.empty()) PlotJsonWhole("battery_evaluation.py", campaign::BatteryEvaluationJson(evaluation, true), options->plot);
+    if (!options->out.empty())
+      WriteFileAtomically(options->out, campaign::BatteryEvaluationJson(evaluation, true).dump(1) + "\n");
+    if (!options->plot.empty())
+      PlotJsonWhole("battery_evaluation.py", campaign::BatteryEvaluationJson(evaluation, true), options->plot);
     if (options->json) {
       PrintJson(campaign::BatteryEvaluationJson(evaluation, options->runs_detail));
       return;

@@ -29,8 +29,7 @@ inline CLI::Validator BoundsValidator(const Bounds& bounds) {
 template <class T>
 CLI::Option* AddBoundedOption(CLI::App* command, const std::string& name, T& variable, const std::string& description,
                               const Bounds& bounds) {
-  return command->add_option(name, variable, description + " [" + bounds.Text() + "]")
-      ->check(BoundsValidator(bounds));
+  return command->add_option(name, variable, description + " [" + bounds.Text() + "]")->check(BoundsValidator(bounds));
 }
 
 // A seed option: one unsigned 64-bit type for every command, "-1" refused rather than wrapped.

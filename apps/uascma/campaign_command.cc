@@ -77,8 +77,9 @@ void CatchInterrupt() {
 
 // A word for a POSIX shell: as it is when it has only safe characters, else in single quotes.
 std::string ShellWord(const std::string& word) {
-  const bool safe = !word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                            "0123456789_-+=./,:@%") == std::string::npos;
+  const bool safe = !word.empty() && word.find_first_not_of(
+                                         "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                         "0123456789_-+=./,:@%") == std::string::npos;
   if (safe) return word;
   std::string quoted = "'";
   for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -102,7 +103,8 @@ std::string ResumeCommand(const CampaignOptions& options) {
   if (!options.seed.empty()) command += " --seed " + ShellWord(options.seed);
   command += " --db " + ShellWord(options.db);
   if (options.jobs != 0) command += fmt::format(" --jobs {}", options.jobs);
-  if (options.commit_every_s != CampaignOptions{}.commit_every_s) command += fmt::format(" --commit-every {}", options.commit_every_s);
+  if (options.commit_every_s != CampaignOptions{}.commit_every_s)
+    command += fmt::format(" --commit-every {}", options.commit_every_s);
   if (options.json) command += " --json";
   return command + " --resume";
 }
@@ -176,11 +178,15 @@ void AddCampaignCommand(CLI::App& app) {
   AddBoundedOption(command, "--runs", options->runs,
                    "Sampled scenarios, each flown by every policy (default: the file's runs, else 465)", bounds::kRuns);
   command->add_option("--policies", options->policies,
-                      "Comma-separated: cma (solved at start, default weights), noop, or policy JSON files\n(default: the file's policies, else cma,noop)");
+                      "Comma-separated: cma (solved at start, default weights), noop, or policy JSON files\n(default: "
+                      "the file's policies, else cma,noop)");
   AddSeedOption(command, "--seed", options->seed, "Campaign seed (default: the file's seed, else 1)");
-  command->add_option("--db", options->db, "SQLite results file (created; with --resume, continued; processes of one machine may share it)")->required();
-  AddBoundedOption(command, "--jobs", options->jobs, "Worker threads per process (default 0: all cores, shared by ranks)",
-                   kJobsBounds);
+  command
+      ->add_option("--db", options->db,
+                   "SQLite results file (created; with --resume, continued; processes of one machine may share it)")
+      ->required();
+  AddBoundedOption(command, "--jobs", options->jobs,
+                   "Worker threads per process (default 0: all cores, shared by ranks)", kJobsBounds);
   command->add_flag("--resume", options->resume, "Continue the campaign stored in --db where it stopped");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   AddBoundedOption(command, "--commit-every", options->commit_every_s,

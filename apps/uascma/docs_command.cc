@@ -18,9 +18,10 @@ void AddDocsCommand(CLI::App& app) {
   auto options = std::make_shared<Options>();
   CLI::App* docs = app.add_subcommand("docs", "Documents generated from the code");
   docs->require_subcommand(1);
-  CLI::App* bounds = docs->add_subcommand(
-      "input-bounds", "docs/input-bounds.md with its campaign-key table generated from the field table "
-                      "(campaign/config_fields.h): printed, or written in place with --write");
+  CLI::App* bounds =
+      docs->add_subcommand("input-bounds",
+                           "docs/input-bounds.md with its campaign-key table generated from the field table "
+                           "(campaign/config_fields.h): printed, or written in place with --write");
   bounds->add_option("--file", options->file, "The document (default docs/input-bounds.md, from the source folder)");
   bounds->add_flag("--write", options->write, "Rewrite the file instead of printing it");
   bounds->callback([options] {

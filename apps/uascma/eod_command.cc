@@ -93,20 +93,19 @@ void Run(const EodCommandOptions& options) {
   }
   const double soc = state.cells[0][0].soc_fraction;
 
-  nlohmann::json document = {
-      {"eod_s", result.eod_s},
-      {"status", EodStatusName(result.status)},
-      {"limiting_cell", LimitingCellJson(result)},
-      {"current_a", options.current_a},
-      {"initial_cell_voltage_v", options.initial_cell_voltage_v},
-      {"initial_soc_fraction", soc},
-      {"health", HealthClassName(health)},
-      {"temp_degf", options.temp_degf},
-      {"use", PackActionName(use)},
-      {"cutoff_v", options.cutoff_v},
-      {"branch_current_a", {now.split.current_a[0], now.split.current_a[1]}},
-      {"bus_voltage_v", now.split.bus_voltage_v},
-      {"segments", result.segments}};
+  nlohmann::json document = {{"eod_s", result.eod_s},
+                             {"status", EodStatusName(result.status)},
+                             {"limiting_cell", LimitingCellJson(result)},
+                             {"current_a", options.current_a},
+                             {"initial_cell_voltage_v", options.initial_cell_voltage_v},
+                             {"initial_soc_fraction", soc},
+                             {"health", HealthClassName(health)},
+                             {"temp_degf", options.temp_degf},
+                             {"use", PackActionName(use)},
+                             {"cutoff_v", options.cutoff_v},
+                             {"branch_current_a", {now.split.current_a[0], now.split.current_a[1]}},
+                             {"bus_voltage_v", now.split.bus_voltage_v},
+                             {"segments", result.segments}};
   std::string reference_text;
   if (options.reference_dt_s > 0.0) {
     const EodResult reference = SimulatePackEod(pack, state, options.current_a, options.reference_dt_s, eod_options);
@@ -175,9 +174,10 @@ void AddEodCommand(CLI::App& app) {
                    kCutoffVoltageBounds);
   AddBoundedOption(command, "--horizon-s", options->horizon_s, "Longest EOD searched, s (default 86400)",
                    EodOptions::kHorizonBounds);
-  command->add_option("--reference-dt-s", options->reference_dt_s,
-                      "Also run the fixed-step reference integration with this step, s, and compare [0 (off), or " +
-                          kReferenceStepBounds.Text() + "]")
+  command
+      ->add_option("--reference-dt-s", options->reference_dt_s,
+                   "Also run the fixed-step reference integration with this step, s, and compare [0 (off), or " +
+                       kReferenceStepBounds.Text() + "]")
       ->check(CLI::Validator(
           [](const std::string& text) {
             return text == "0" ? std::string() : BoundsValidator(kReferenceStepBounds)(text);

@@ -12,8 +12,8 @@
 
 #include <fmt/format.h>
 
-#include "commands.h"
 #include "bounded_option.h"
+#include "commands.h"
 #include "output.h"
 #include "plotting.h"
 #include "uascma/common/error.h"
@@ -29,7 +29,7 @@ using planning::FootprintParams;
 using planning::FootprintResult;
 using planning::FootprintStatus;
 
-constexpr int kPlotSweepCount = 10;  // footprints drawn by --plot: [1 s,] EOD/10, 2 EOD/10, …, EOD
+constexpr int kPlotSweepCount = 10;       // footprints drawn by --plot: [1 s,] EOD/10, 2 EOD/10, …, EOD
 constexpr double kPlotShortestEod = 1.0;  // s: Fig. 5.4 starts at 1 s, where the footprint is a cone ahead
 
 // Plausibility bounds of the options (issue 16). Ours unless cited: speeds up to 30 m/s (Table 4.4 samples
@@ -121,11 +121,14 @@ void DrawPlot(const Options& o, const FootprintParams& params, const std::string
     FootprintParams swept = params;
     swept.eod = eod;
     const FootprintResult r = Calculate(swept);
-    footprints.push_back({{"eod_s", swept.eod}, {"forward_m", r.forward_limit}, {"backward_m", r.backward_limit},
-                          {"lateral_m", r.lateral_limit}, {"shape", ShapeJson(r)}});
+    footprints.push_back({{"eod_s", swept.eod},
+                          {"forward_m", r.forward_limit},
+                          {"backward_m", r.backward_limit},
+                          {"lateral_m", r.lateral_limit},
+                          {"shape", ShapeJson(r)}});
   }
-  const nlohmann::json data = {{"speed_mps", o.speed_mps}, {"eod_s", params.eod}, {"model", ModelName(o.maclaurin)},
-                               {"footprints", footprints}};
+  const nlohmann::json data = {
+      {"speed_mps", o.speed_mps}, {"eod_s", params.eod}, {"model", ModelName(o.maclaurin)}, {"footprints", footprints}};
   PlotJson("footprint.py", data, png);
 }
 
@@ -174,17 +177,19 @@ void AddFootprintCommand(CLI::App& app) {
                  {"forward_m", r.forward_limit},
                  {"backward_m", r.backward_limit},
                  {"lateral_m", r.lateral_limit},
-                 {"unbounded", {{"forward_m", r.unbounded_forward_limit},
-                                {"backward_m", r.unbounded_backward_limit},
-                                {"lateral_m", r.unbounded_lateral_limit}}},
+                 {"unbounded",
+                  {{"forward_m", r.unbounded_forward_limit},
+                   {"backward_m", r.unbounded_backward_limit},
+                   {"lateral_m", r.unbounded_lateral_limit}}},
                  {"max_force_n", r.max_control_force},
                  {"effective_max_tilt_deg", r.effective_max_tilt * kDegreesPerRadian},
-                 {"saturation_s", {{"forward", r.forward.saturation_time},
-                                   {"backward", r.backward.saturation_time},
-                                   {"lateral", r.lateral.saturation_time}}},
+                 {"saturation_s",
+                  {{"forward", r.forward.saturation_time},
+                   {"backward", r.backward.saturation_time},
+                   {"lateral", r.lateral.saturation_time}}},
                  {"shape", ShapeJson(r)},
-                 {"series_relative_error", r.series_relative_error ? nlohmann::json(*r.series_relative_error)
-                                                                   : nlohmann::json(nullptr)},
+                 {"series_relative_error",
+                  r.series_relative_error ? nlohmann::json(*r.series_relative_error) : nlohmann::json(nullptr)},
                  {"warning", r.warning}});
       return;
     }

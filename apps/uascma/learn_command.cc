@@ -47,8 +47,8 @@ std::string CurveCsv(const QLearningResult& result) {
 }
 
 nlohmann::json CurvePlotJson(const QLearningResult& result, const CmaQLearningOptions& options) {
-  nlohmann::json episode = nlohmann::json::array(), returns = nlohmann::json::array(),
-                 mean = nlohmann::json::array(), visited = nlohmann::json::array();
+  nlohmann::json episode = nlohmann::json::array(), returns = nlohmann::json::array(), mean = nlohmann::json::array(),
+                 visited = nlohmann::json::array();
   for (const CurvePoint& p : result.curve) {
     episode.push_back(p.episode);
     returns.push_back(p.return_sum);
@@ -59,8 +59,8 @@ nlohmann::json CurvePlotJson(const QLearningResult& result, const CmaQLearningOp
       "Q-learning (Fig. 5.14): {} state, {} episodes, {}, alpha {}, gamma {}, epsilon {}",
       QStateKindName(options.state), EpisodeSettingName(options.setting), ExplorationName(options.exploration),
       options.learning.params.alpha, options.learning.params.gamma, options.learning.epsilon.start);
-  return {{"title", title}, {"episode", episode}, {"return", returns}, {"mean_return", mean},
-          {"states_visited", visited}};
+  return {
+      {"title", title}, {"episode", episode}, {"return", returns}, {"mean_return", mean}, {"states_visited", visited}};
 }
 
 struct QOptions {
@@ -89,19 +89,23 @@ void AddQOptions(CLI::App* command, QOptions& o) {
   command->add_option("--curve", o.curve, "Write the learning curve (Fig. 5.14) as CSV");
   command->add_option("--plot", o.plot, "Draw the learning curve to this PNG file");
   command->add_option("--campaign", o.campaign_file, "Campaign YAML: the distribution of missions, faults, health");
-  command->add_option("--setting", o.setting,
-                      "one-mission (§5.3.3: one route, faults and health drawn per episode) | campaign")
+  command
+      ->add_option("--setting", o.setting,
+                   "one-mission (§5.3.3: one route, faults and health drawn per episode) | campaign")
       ->check(CLI::IsMember({"one-mission", "campaign"}));
   command->add_option("--state", o.state, "binned (§5.3.3: completion and RM in 4 bins, 1,728) | cma (108)")
       ->check(CLI::IsMember({"binned", "cma"}));
-  command->add_option("--exploration", o.exploration,
-                      "epsilon-greedy (§5.3.3: a random action with probability epsilon at every epoch) |\n"
-                      "one-deviation (with probability epsilon per episode, one random action at a random epoch)")
+  command
+      ->add_option("--exploration", o.exploration,
+                   "epsilon-greedy (§5.3.3: a random action with probability epsilon at every epoch) |\n"
+                   "one-deviation (with probability epsilon per episode, one random action at a random epoch)")
       ->check(CLI::IsMember({"epsilon-greedy", "one-deviation"}));
   AddBoundedOption(command, "--alpha", o.alpha, "Step size (§5.3.3: 0.8)", kAlphaBounds);
   AddBoundedOption(command, "--gamma", o.gamma, "Discount factor (§5.3.3: 0.9)", kQGammaBounds);
-  AddBoundedOption(command, "--epsilon", o.epsilon, "Exploration at episode 0 (§5.3.3: 0.01; per epoch, or per episode\n"
-                   "with one-deviation)", kLearnProbabilityBounds);
+  AddBoundedOption(command, "--epsilon", o.epsilon,
+                   "Exploration at episode 0 (§5.3.3: 0.01; per epoch, or per episode\n"
+                   "with one-deviation)",
+                   kLearnProbabilityBounds);
   AddBoundedOption(command, "--epsilon-end", o.epsilon_end, "Exploration after the decay (default: --epsilon)",
                    kLearnProbabilityBounds);
   AddBoundedOption(command, "--epsilon-decay-episodes", o.epsilon_decay, "Episodes of the linear decay (0: none)",
@@ -114,7 +118,8 @@ void AddQOptions(CLI::App* command, QOptions& o) {
                    "Stop once the greedy policy of the visited states is unchanged for this many batches (0: "
                    "fly all episodes)",
                    kStableBounds);
-  AddBoundedOption(command, "--anchor-run", o.anchor_run, "one-mission: the campaign run whose route is flown (default 14: a 563 s plan,\n"
+  AddBoundedOption(command, "--anchor-run", o.anchor_run,
+                   "one-mission: the campaign run whose route is flown (default 14: a 563 s plan,\n"
                    "the mean of the default campaign's)",
                    kAnchorBounds);
   command->add_flag("--json", o.json, "Print the summary as JSON");
@@ -152,12 +157,19 @@ void PrintQSummary(const QOptions& o, const CmaQLearningOptions& options, const 
   const double tail_mean = tail / static_cast<double>(result.curve.size() - tail_from);
   const bool stable = result.status == QLearningStatus::kPolicyStable;
   if (o.json) {
-    PrintJson({{"out", o.out}, {"episodes", result.episodes}, {"status", stable ? "policy_stable" : "episode_limit"},
+    PrintJson({{"out", o.out},
+               {"episodes", result.episodes},
+               {"status", stable ? "policy_stable" : "episode_limit"},
                {"stable_since_episode", result.stable_since_episode},
-               {"states_visited", result.table.states_visited()}, {"learning_states", result.table.num_states()},
-               {"mean_return", result.curve.back().mean_return}, {"mean_return_last_tenth", tail_mean},
-               {"mean_episode_s", steps / episodes}, {"updates", result.updates},
-               {"cpu_ms_per_episode", cpu_ms}, {"wall_time_s", result.wall_time_s}, {"jobs", o.jobs},
+               {"states_visited", result.table.states_visited()},
+               {"learning_states", result.table.num_states()},
+               {"mean_return", result.curve.back().mean_return},
+               {"mean_return_last_tenth", tail_mean},
+               {"mean_episode_s", steps / episodes},
+               {"updates", result.updates},
+               {"cpu_ms_per_episode", cpu_ms},
+               {"wall_time_s", result.wall_time_s},
+               {"jobs", o.jobs},
                {"model_hash", document.model_hash}});
     return;
   }
@@ -214,7 +226,6 @@ campaign::CampaignConfig ResolveLearningCampaign(const std::string& file, const 
   if (!config.IsValid(&error)) throw InputError(file.empty() ? "campaign" : file, "config", error);
   return config;
 }
-
 
 void AddLearnCommand(CLI::App& app) {
   CLI::App* learn = app.add_subcommand(

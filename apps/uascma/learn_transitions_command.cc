@@ -95,19 +95,27 @@ nlohmann::json TransitionsDocument(const TransitionOptions& o, const learning::T
   for (const RowDivergence& d : ranked) largest.push_back(RowJson(d, counts, ddn));
   return {{"format", kCmaTransitionsFormat},
           {"provenance",
-           {{"runs", options.runs}, {"seed", std::to_string(options.config.seed)},
+           {{"runs", options.runs},
+            {"seed", std::to_string(options.config.seed)},
             {"campaign_config_hash", campaign::CampaignConfigHash(options.config)},
             {"exploration", options.exploration},
             {"unobserved_row_rule", "the DDN row of Tables 5.1-5.7 (decision/cma_estimated_model.h)"},
-            {"divergence", {{"total_variation", "0.5 sum |p_est - p_ddn|"},
-                            {"kl_nats", "KL(p_est || p_ddn), both smoothed (p + 1e-6) / (1 + 112e-6)"},
-                            {"ranked_rows_min_samples", o.min_samples}}}}},
+            {"divergence",
+             {{"total_variation", "0.5 sum |p_est - p_ddn|"},
+              {"kl_nats", "KL(p_est || p_ddn), both smoothed (p + 1e-6) / (1 + 112e-6)"},
+              {"ranked_rows_min_samples", o.min_samples}}}}},
           {"summary",
-           {{"flights", summary.runs}, {"epochs", summary.epochs}, {"branches", summary.branches},
-            {"explored_epochs", summary.explored}, {"transitions", counts.Total()},
-            {"available_rows", stats.available_rows}, {"observed_rows", stats.observed_rows},
-            {"unobserved_rows", stats.unobserved_rows}, {"wall_time_s", summary.wall_time_s},
-            {"cpu_time_s", summary.cpu_time_s}, {"estimated_model_hash", ModelHash(estimated)}}},
+           {{"flights", summary.runs},
+            {"epochs", summary.epochs},
+            {"branches", summary.branches},
+            {"explored_epochs", summary.explored},
+            {"transitions", counts.Total()},
+            {"available_rows", stats.available_rows},
+            {"observed_rows", stats.observed_rows},
+            {"unobserved_rows", stats.unobserved_rows},
+            {"wall_time_s", summary.wall_time_s},
+            {"cpu_time_s", summary.cpu_time_s},
+            {"estimated_model_hash", ModelHash(estimated)}}},
           {"policy_changes", PolicyChanges(ddn, estimated)},
           {"largest_disagreements", largest},
           {"rows", rows_json},
@@ -116,16 +124,19 @@ nlohmann::json TransitionsDocument(const TransitionOptions& o, const learning::T
 
 void PrintTransitionsSummary(const TransitionOptions& o, const nlohmann::json& document) {
   if (o.json) {
-    PrintJson({{"out", o.out}, {"summary", document["summary"]}, {"policy_changes", document["policy_changes"]},
+    PrintJson({{"out", o.out},
+               {"summary", document["summary"]},
+               {"policy_changes", document["policy_changes"]},
                {"largest_disagreements_by_tv", document["largest_disagreements"].size()}});
     return;
   }
   const nlohmann::json& s = document["summary"];
-  std::printf("counted %lld transitions at 1 Hz over %lld flights (%lld epochs, %lld one-epoch branches) in %.1f s\n"
-              "%d of %d available rows observed (the others keep the DDN row)\n",
-              s["transitions"].get<long long>(), s["flights"].get<long long>(), s["epochs"].get<long long>(),
-              s["branches"].get<long long>(), s["wall_time_s"].get<double>(), s["observed_rows"].get<int>(),
-              s["available_rows"].get<int>());
+  std::printf(
+      "counted %lld transitions at 1 Hz over %lld flights (%lld epochs, %lld one-epoch branches) in %.1f s\n"
+      "%d of %d available rows observed (the others keep the DDN row)\n",
+      s["transitions"].get<long long>(), s["flights"].get<long long>(), s["epochs"].get<long long>(),
+      s["branches"].get<long long>(), s["wall_time_s"].get<double>(), s["observed_rows"].get<int>(),
+      s["available_rows"].get<int>());
   std::printf("largest disagreements with the DDN tables (rows with >= %lld samples, by total variation):\n",
               static_cast<long long>(o.min_samples));
   for (const nlohmann::json& row : document["largest_disagreements"]) {
@@ -133,9 +144,10 @@ void PrintTransitionsSummary(const TransitionOptions& o, const nlohmann::json& d
                 row["action"].get<std::string>().c_str(), row["samples"].get<long long>(),
                 row["total_variation"].get<double>(), row["kl_nats"].get<double>());
   }
-  std::printf("the MDP solved on the estimated rows picks another action than the DDN model's in %zu of 108 "
-              "states\nwrote %s\n",
-              document["policy_changes"].size(), o.out.c_str());
+  std::printf(
+      "the MDP solved on the estimated rows picks another action than the DDN model's in %zu of 108 "
+      "states\nwrote %s\n",
+      document["policy_changes"].size(), o.out.c_str());
 }
 
 }  // namespace

@@ -22,14 +22,22 @@ struct Command {
 
 // Every command, in the order of `uascma --help`.
 constexpr std::array kCommands{
-    Command{"policy", uascma::cli::AddPolicyCommand},       Command{"simulate", uascma::cli::AddSimulateCommand},
-    Command{"plot", uascma::cli::AddPlotCommand},           Command{"thrust", uascma::cli::AddThrustCommand},
-    Command{"authority", uascma::cli::AddAuthorityCommand}, Command{"rul", uascma::cli::AddRulCommand},
-    Command{"eod", uascma::cli::AddEodCommand},             Command{"footprint", uascma::cli::AddFootprintCommand},
-    Command{"campaign", uascma::cli::AddCampaignCommand},   Command{"report", uascma::cli::AddReportCommand},
-    Command{"map", uascma::cli::AddMapCommand},             Command{"battery", uascma::cli::AddBatteryCommand},
-    Command{"learn", uascma::cli::AddLearnCommand},         Command{"store", uascma::cli::AddStoreCommand},
-    Command{"reproduce", uascma::cli::AddReproduceCommand}, Command{"docs", uascma::cli::AddDocsCommand},
+    Command{"policy", uascma::cli::AddPolicyCommand},
+    Command{"simulate", uascma::cli::AddSimulateCommand},
+    Command{"plot", uascma::cli::AddPlotCommand},
+    Command{"thrust", uascma::cli::AddThrustCommand},
+    Command{"authority", uascma::cli::AddAuthorityCommand},
+    Command{"rul", uascma::cli::AddRulCommand},
+    Command{"eod", uascma::cli::AddEodCommand},
+    Command{"footprint", uascma::cli::AddFootprintCommand},
+    Command{"campaign", uascma::cli::AddCampaignCommand},
+    Command{"report", uascma::cli::AddReportCommand},
+    Command{"map", uascma::cli::AddMapCommand},
+    Command{"battery", uascma::cli::AddBatteryCommand},
+    Command{"learn", uascma::cli::AddLearnCommand},
+    Command{"store", uascma::cli::AddStoreCommand},
+    Command{"reproduce", uascma::cli::AddReproduceCommand},
+    Command{"docs", uascma::cli::AddDocsCommand},
 };
 
 // The tool with the commands named `only` (every command when empty).

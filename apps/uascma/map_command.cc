@@ -13,8 +13,8 @@
 
 #include <fmt/format.h>
 
-#include "commands.h"
 #include "bounded_option.h"
+#include "commands.h"
 #include "output.h"
 #include "plotting.h"
 #include "uascma/campaign/config.h"
@@ -49,7 +49,8 @@ GeoPoint ParseOrigin(const std::string& text) {
     throw InputError("--origin", "value", expected);
   }
   if (!(lat >= -90.0 && lat <= 90.0 && lon >= -180.0 && lon <= 180.0)) {
-    throw InputError("--origin", "value", fmt::format("latitude in [-90, 90] and longitude in [-180, 180], got '{}'", text));
+    throw InputError("--origin", "value",
+                     fmt::format("latitude in [-90, 90] and longitude in [-180, 180], got '{}'", text));
   }
   return {lat, lon};
 }
@@ -108,14 +109,18 @@ nlohmann::json SummaryJson(const ImportSummary& s, bool procedural, std::uint64_
     out["bounds_deg"] = nullptr;
   } else {
     out["origin"] = {{"lat_deg", s.origin.lat_deg}, {"lon_deg", s.origin.lon_deg}, {"from_data", s.origin_from_data}};
-    out["bounds_deg"] = {{"lat_min", s.south_west.lat_deg}, {"lat_max", s.north_east.lat_deg},
-                         {"lon_min", s.south_west.lon_deg}, {"lon_max", s.north_east.lon_deg}};
+    out["bounds_deg"] = {{"lat_min", s.south_west.lat_deg},
+                         {"lat_max", s.north_east.lat_deg},
+                         {"lon_min", s.south_west.lon_deg},
+                         {"lon_max", s.north_east.lon_deg}};
   }
   if (s.bounds.isEmpty()) {
     out["bounds_m"] = nullptr;
   } else {
-    out["bounds_m"] = {{"x_min", s.bounds.min().x()}, {"x_max", s.bounds.max().x()},
-                       {"y_min", s.bounds.min().y()}, {"y_max", s.bounds.max().y()}};
+    out["bounds_m"] = {{"x_min", s.bounds.min().x()},
+                       {"x_max", s.bounds.max().x()},
+                       {"y_min", s.bounds.min().y()},
+                       {"y_max", s.bounds.max().y()}};
   }
   out["tallest_building"] = s.tallest_building.empty()
                                 ? nlohmann::json(nullptr)
@@ -159,8 +164,8 @@ nlohmann::json PlotData(const CityMap& map, const std::string& title) {
   }
   nlohmann::json sites = nlohmann::json::array();
   for (const LandingSite& s : map.sites()) {
-    sites.push_back({{"x", s.p_W.x()}, {"y", s.p_W.y()}, {"risk", s.risk}, {"radius", s.radius},
-                     {"rooftop", s.on_rooftop()}});
+    sites.push_back(
+        {{"x", s.p_W.x()}, {"y", s.p_W.y()}, {"risk", s.risk}, {"radius", s.radius}, {"rooftop", s.on_rooftop()}});
   }
   return {{"title", title}, {"buildings", buildings}, {"sites", sites}};
 }
@@ -189,8 +194,9 @@ void AddInfo(CLI::App* map_command) {
       "(and no --sites) the built-in procedural city of --seed. Data projected to a local transverse\n"
       "Mercator frame (x north, y east) centred on --origin or the centre of the data");
   command->add_option("files", options->files, "Building files (.geojson, .json, .osm, .osm.pbf)");
-  command->add_option("--sites", options->sites,
-                      "Landing-site CSV: osm_id, lat|gps.lat, lon|gps.lon, alt|gps.alt, risk|landing_site_risk, radius");
+  command->add_option(
+      "--sites", options->sites,
+      "Landing-site CSV: osm_id, lat|gps.lat, lon|gps.lon, alt|gps.alt, risk|landing_site_risk, radius");
   command->add_option("--origin", options->origin, "Origin of the local frame, LAT,LON in degrees");
   AddSeedOption(command, "--seed", options->seed, "Seed of the procedural city (no FILE) (default 1)");
   command->add_flag("--skip-missing-height", options->skip_missing_height,
@@ -202,9 +208,9 @@ void AddInfo(CLI::App* map_command) {
   command->add_flag("--height-from-type", options->height_from_type,
                     "Then take a missing height from the building=* value: typical storeys x the CTBUH storey\n"
                     "height (house 6.2 m, apartments 15.5 m, yes 10.5 m; the table in map_import.h)");
-  command->add_option("--default-height", options->default_height,
-                      "Then give every building still without a height this one (m, " +
-                          kDefaultHeightBounds.Text() + ")");
+  command->add_option(
+      "--default-height", options->default_height,
+      "Then give every building still without a height this one (m, " + kDefaultHeightBounds.Text() + ")");
   command->add_flag("--sites-from-map", options->sites_from_map,
                     "Derive landing sites from the map: flat-roof centroids and open areas (parks, pitches,\n"
                     "surface parking) of the same files (dissertation §5.1)");
@@ -261,8 +267,8 @@ void AddInfo(CLI::App* map_command) {
       for (const auto& source : summary.sources) {
         sources += (sources.empty() ? "" : ", ") + std::filesystem::path(source).filename().string();
       }
-      const std::string title = fmt::format("{} — {} buildings, {} landing sites", sources, summary.buildings,
-                                            summary.sites);
+      const std::string title =
+          fmt::format("{} — {} buildings, {} landing sites", sources, summary.buildings, summary.sites);
       PlotJson("city_map.py", PlotData(map, title), options->plot);
     }
     if (options->json) {
@@ -302,9 +308,14 @@ void AddCoverage(CLI::App* map_command) {
     const campaign::SiteCoverage c =
         campaign::CalcSiteCoverage(config, options->seed.value_or(config.seed), options->runs);
     if (options->json) {
-      PrintJson({{"runs", c.runs}, {"checkpoints", c.checkpoints}, {"checkpoints_without_site", c.checkpoints_without_site},
-                 {"runs_with_uncovered_checkpoint", c.runs_with_uncovered_checkpoint}, {"reach_m", c.reach},
-                 {"largest_gap_m", c.largest_gap}, {"sites", c.sites}, {"covered", c.covered()}});
+      PrintJson({{"runs", c.runs},
+                 {"checkpoints", c.checkpoints},
+                 {"checkpoints_without_site", c.checkpoints_without_site},
+                 {"runs_with_uncovered_checkpoint", c.runs_with_uncovered_checkpoint},
+                 {"reach_m", c.reach},
+                 {"largest_gap_m", c.largest_gap},
+                 {"sites", c.sites},
+                 {"covered", c.covered()}});
       return;
     }
     std::fputs(c.BriefReport().c_str(), stdout);

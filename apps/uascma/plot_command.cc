@@ -30,7 +30,8 @@ void AddPlotCommand(CLI::App& app) {
     }
     RunPlotScript("flight.py", {*folder});
     const bool city = std::filesystem::exists(std::filesystem::path(*folder) / "map.json");
-    std::printf("wrote %s/{path,states,forces,rotors,battery,eod,decisions%s}.png\n", folder->c_str(), city ? ",map" : "");
+    std::printf("wrote %s/{path,states,forces,rotors,battery,eod,decisions%s}.png\n", folder->c_str(),
+                city ? ",map" : "");
   });
 }
 

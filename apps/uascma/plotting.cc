@@ -26,9 +26,9 @@ std::filesystem::path FindScript(const std::string& script) {
     std::error_code ec;
     if (std::filesystem::is_regular_file(dir / script, ec)) return dir / script;
   }
-  throw InputError("plot", script, "the plotting script in $UASCMA_PLOTS_DIR, " +
-                                       std::string(UASCMA_SOURCE_PLOTS_DIR) + " or " +
-                                       UASCMA_INSTALLED_PLOTS_DIR);
+  throw InputError("plot", script,
+                   "the plotting script in $UASCMA_PLOTS_DIR, " + std::string(UASCMA_SOURCE_PLOTS_DIR) + " or " +
+                       UASCMA_INSTALLED_PLOTS_DIR);
 }
 
 }  // namespace

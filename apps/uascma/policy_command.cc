@@ -2,8 +2,8 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -13,8 +13,8 @@
 #include "commands.h"
 #include "output.h"
 #include "plotting.h"
-#include "uascma/common/files.h"
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 #include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/cma_weights_json.h"
@@ -130,13 +130,13 @@ void AddSolve(CLI::App* policy) {
     std::string content;
     if (options->format == "tsv") {
       for (StateIndex s = 0; s < kCmaNumTupleStates; ++s) {
-        content += fmt::format("{}\t{}\t{:.10g}\n", mdp.state_label(s),
-                               mdp.action_name(policy.action[s]), policy.value[s]);
+        content +=
+            fmt::format("{}\t{}\t{:.10g}\n", mdp.state_label(s), mdp.action_name(policy.action[s]), policy.value[s]);
       }
     } else {
-      const PolicyDocument document = MakePolicyDocument(
-          mdp, policy, "cma", config.gamma, model_config, summary,
-          options->method == "pi" ? "policy_iteration" : "value_iteration");
+      const PolicyDocument document =
+          MakePolicyDocument(mdp, policy, "cma", config.gamma, model_config, summary,
+                             options->method == "pi" ? "policy_iteration" : "value_iteration");
       content = PolicyToJson(document).dump(2) + "\n";
     }
     WriteOutput(options->out, content);
@@ -151,19 +151,19 @@ void AddSolve(CLI::App* policy) {
                  {"residual", summary.residual},
                  {"wall_time_s", summary.wall_time_s}});
     } else {
-      std::printf("solved CMA MDP (%d states, gamma %g): %s\nwrote %s; action at %s: %s\n",
-                  mdp.num_states(), config.gamma, summary.BriefReport().c_str(), options->out.c_str(),
-                  mdp.state_label(start).c_str(), mdp.action_name(policy.action[start]).c_str());
+      std::printf("solved CMA MDP (%d states, gamma %g): %s\nwrote %s; action at %s: %s\n", mdp.num_states(),
+                  config.gamma, summary.BriefReport().c_str(), options->out.c_str(), mdp.state_label(start).c_str(),
+                  mdp.action_name(policy.action[start]).c_str());
     }
   });
 }
 
 // --- policy show -------------------------------------------------------------------------------
 std::string QuadrantTable(const std::vector<QuadrantRow>& rows, const FiniteMdp& mdp) {
-  std::string out = fmt::format("{:<8} {:<3} {:<3} | {:<10} {:<10} {:<10} {:<10}\n", "FS", "MH", "BH",
-                                "I safe", "II hazard", "III hyper", "IV crit");
-  out += fmt::format("{:<8} {:<3} {:<3} | {:<10} {:<10} {:<10} {:<10}\n", "", "", "", "RM1,MM1",
-                     "RM1,MM0", "RM0,MM0", "RM0,MM1");
+  std::string out = fmt::format("{:<8} {:<3} {:<3} | {:<10} {:<10} {:<10} {:<10}\n", "FS", "MH", "BH", "I safe",
+                                "II hazard", "III hyper", "IV crit");
+  out += fmt::format("{:<8} {:<3} {:<3} | {:<10} {:<10} {:<10} {:<10}\n", "", "", "", "RM1,MM1", "RM1,MM0", "RM0,MM0",
+                     "RM0,MM1");
   out += std::string(61, '-') + "\n";
   const char* fs_names[] = {"N", "ELASAP", "ELPRACT"};
   const char* mh_names[] = {"NF", "SF", "JF"};
@@ -172,8 +172,8 @@ std::string QuadrantTable(const std::vector<QuadrantRow>& rows, const FiniteMdp&
   for (const QuadrantRow& row : rows) {
     if (row.fs != previous) out += "\n";
     previous = row.fs;
-    out += fmt::format("{:<8} {:<3} {:<3} |", fs_names[static_cast<int>(row.fs)],
-                       mh_names[static_cast<int>(row.mh)], bh_names[static_cast<int>(row.bh)]);
+    out += fmt::format("{:<8} {:<3} {:<3} |", fs_names[static_cast<int>(row.fs)], mh_names[static_cast<int>(row.mh)],
+                       bh_names[static_cast<int>(row.bh)]);
     for (const QuadrantCell& cell : row.quadrants) {
       out += fmt::format(" {:<10}", mdp.action_name(cell.action));
     }
@@ -201,8 +201,8 @@ void AddShow(CLI::App* policy) {
     const FiniteMdp mdp = CmaModelForPolicy(document, *weights_file, *file);
     const Policy policy = BindPolicy(document, mdp, *file);
     const auto rows = CmaQuadrantView(policy.action, policy.value);
-    nlohmann::json view = {{"model_hash", document.model_hash}, {"gamma", document.gamma},
-                           {"rows", nlohmann::json::array()}};
+    nlohmann::json view = {
+        {"model_hash", document.model_hash}, {"gamma", document.gamma}, {"rows", nlohmann::json::array()}};
     for (const QuadrantRow& row : rows) {
       nlohmann::json quadrants = nlohmann::json::object();
       for (int q = 0; q < 4; ++q) {
@@ -219,8 +219,8 @@ void AddShow(CLI::App* policy) {
       PrintJson(view);
       return;
     }
-    std::printf("CMA policy %s (model %s, gamma %g)\n\n%s", file->c_str(), document.model_hash.c_str(),
-                document.gamma, QuadrantTable(rows, mdp).c_str());
+    std::printf("CMA policy %s (model %s, gamma %g)\n\n%s", file->c_str(), document.model_hash.c_str(), document.gamma,
+                QuadrantTable(rows, mdp).c_str());
   });
 }
 
@@ -241,8 +241,9 @@ void AddSensitivity(CLI::App* policy) {
       "Sweep one reward weight, renormalising the others to keep the sum at one (Fig. 5.10), re-solve\n"
       "at each step and report which quadrant actions differ from the base policy (Figs. 5.11-5.12)");
   AddModelOptions(command, options->model, true);
-  command->add_option("--weight", options->weight,
-                      "Weight to sweep: C FL T E NoOp Terminate LandASAP LandPract FS MH MM BH RM")
+  command
+      ->add_option("--weight", options->weight,
+                   "Weight to sweep: C FL T E NoOp Terminate LandASAP LandPract FS MH MM BH RM")
       ->required();
   AddBoundedOption(command, "--from", options->from, "First value", kCmaWeightBounds)->required();
   AddBoundedOption(command, "--to", options->to, "Last value (>= --from)", kCmaWeightBounds)->required();
@@ -259,8 +260,10 @@ void AddSensitivity(CLI::App* policy) {
     const Policy base_policy = Solve(base_mdp, base.gamma, "vi", nullptr);
     const auto base_rows = CmaQuadrantView(base_policy.action, base_policy.value);
     nlohmann::json steps = nlohmann::json::array();
-    std::string text = fmt::format("Sweep of w_{} from {} to {} (others renormalised to sum 1 - w); changes "
-                                   "against the base policy:\n", options->weight, options->from, options->to);
+    std::string text = fmt::format(
+        "Sweep of w_{} from {} to {} (others renormalised to sum 1 - w); changes "
+        "against the base policy:\n",
+        options->weight, options->from, options->to);
     const int count = static_cast<int>(std::floor((options->to - options->from) / options->step + 1e-9)) + 1;
     for (int i = 0; i < count; ++i) {
       const double value = options->from + i * options->step;
@@ -276,10 +279,12 @@ void AddSensitivity(CLI::App* policy) {
           const ActionIndex to = rows[r].quadrants[q].action;
           if (from == to) continue;
           const std::string state = CmaStateLabel(rows[r].quadrants[q].state);
-          changes.push_back({{"state", state}, {"quadrant", kQuadrantNames[q]},
-                             {"from", mdp.action_name(from)}, {"to", mdp.action_name(to)}});
-          listed += fmt::format("\n    {:<22} Quad {:<3} {} -> {}", state, kQuadrantNames[q],
-                                mdp.action_name(from), mdp.action_name(to));
+          changes.push_back({{"state", state},
+                             {"quadrant", kQuadrantNames[q]},
+                             {"from", mdp.action_name(from)},
+                             {"to", mdp.action_name(to)}});
+          listed += fmt::format("\n    {:<22} Quad {:<3} {} -> {}", state, kQuadrantNames[q], mdp.action_name(from),
+                                mdp.action_name(to));
         }
       }
       steps.push_back({{"value", value}, {"weights", CmaWeightsJson(weights)}, {"changes", changes}});
@@ -287,8 +292,10 @@ void AddSensitivity(CLI::App* policy) {
                           changes.size() == 1 ? "" : "s", listed);
     }
     if (options->json) {
-      PrintJson({{"weight", options->weight}, {"gamma", base.gamma},
-                 {"base_weights", CmaWeightsJson(base.weights)}, {"steps", steps}});
+      PrintJson({{"weight", options->weight},
+                 {"gamma", base.gamma},
+                 {"base_weights", CmaWeightsJson(base.weights)},
+                 {"steps", steps}});
     } else {
       std::fputs(text.c_str(), stdout);
     }
@@ -298,8 +305,8 @@ void AddSensitivity(CLI::App* policy) {
 }  // namespace
 
 void AddPolicyCommand(CLI::App& app) {
-  CLI::App* policy = app.add_subcommand(
-      "policy", "The contingency-management MDP (§5.3.2): transitions, solve, show, sensitivity");
+  CLI::App* policy =
+      app.add_subcommand("policy", "The contingency-management MDP (§5.3.2): transitions, solve, show, sensitivity");
   policy->require_subcommand(1);
   AddTransitions(policy);
   AddSolve(policy);

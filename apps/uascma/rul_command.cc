@@ -31,8 +31,8 @@ constexpr std::uint64_t kHistoryStream = 1;
 
 void RequireCount(int value, const char* option, const char* what) {
   if (value < 1 || value > kMaxSamples) {
-    throw InputError(option, "value", fmt::format("a positive number of {} up to {}, got {}", what,
-                                                  kMaxSamples, value));
+    throw InputError(option, "value",
+                     fmt::format("a positive number of {} up to {}, got {}", what, kMaxSamples, value));
   }
 }
 
@@ -53,8 +53,8 @@ void AddRulCommand(CLI::App& app) {
       "n 1, zero-mean parameter noise): the RUL distribution of the particles from the initial spall\n"
       "and the per-second jam probability measured over spall histories as Table 5.4's 0.002809 was\n"
       "(jams per spalled 1 s epoch)");
-  AddBoundedOption(command, "--particles", options->particles, "Particles of the RUL distribution (default 100, §3.4.1)",
-                   kSampleBounds);
+  AddBoundedOption(command, "--particles", options->particles,
+                   "Particles of the RUL distribution (default 100, §3.4.1)", kSampleBounds);
   AddSeedOption(command, "--seed", options->seed, "Seed of the random streams (default 1)");
   AddBoundedOption(command, "--runs", options->runs,
                    "Spall histories for the jam probability (default 1000, as in §5.3.2.3)", kSampleBounds);
@@ -103,9 +103,9 @@ void AddRulCommand(CLI::App& app) {
         "Table 5.4: %.6f\n",
         params.initial_area_mm2, params.failure_area_mm2, options->particles,
         static_cast<unsigned long long>(options->seed), params.time_per_growth_step_s,
-        rul.status == RulStatus::kOk ? "" : " — some particles censored at the step horizon",
-        rul.mean_s, rul.p05_s, rul.p50_s, rul.p95_s, jam.jam_probability_per_epoch, options->runs,
-        jam.mean_time_to_jam_s, kTable54JamProbabilityPerEpoch);
+        rul.status == RulStatus::kOk ? "" : " — some particles censored at the step horizon", rul.mean_s, rul.p05_s,
+        rul.p50_s, rul.p95_s, jam.jam_probability_per_epoch, options->runs, jam.mean_time_to_jam_s,
+        kTable54JamProbabilityPerEpoch);
   });
 }
 

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "commands.h"
 #include "bounded_option.h"
+#include "commands.h"
 #include "output.h"
 #include "uascma/campaign/battery_flights.h"
 #include "uascma/campaign/policies.h"
@@ -17,8 +17,8 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/planning/mission_file.h"
-#include "uascma/sim/policy.h"
 #include "uascma/sim/flight_summary.h"
+#include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
 #include "uascma/sim/telemetry.h"
@@ -67,8 +67,9 @@ void AddSimulateCommand(CLI::App& app) {
       "--mission flies a .plan/.waypoints mission; --battery-policy runs the battery executor (Ch. IV) alongside\n"
       "the CMA policy; --replay DB RUN_ID flies one run of a campaign again, bit for bit");
   command->add_option("scenario", options->scenario, "Scenario YAML (see examples/)");
-  command->add_option("--replay", options->replay,
-                      "Fly one run of a campaign again from its database: DB RUN_ID (a flight id, or INDEX:POLICY)")
+  command
+      ->add_option("--replay", options->replay,
+                   "Fly one run of a campaign again from its database: DB RUN_ID (a flight id, or INDEX:POLICY)")
       ->expected(2);
   command->add_option("--out", options->out,
                       "Folder for telemetry.csv, plan.csv, summary.json (+ nominal/emergency .plan and .waypoints); "
@@ -85,21 +86,25 @@ void AddSimulateCommand(CLI::App& app) {
     sim::ScenarioFile file;
     std::unique_ptr<sim::DecisionPolicy> policy;
     if (!options->replay.empty()) {
-      if (!options->scenario.empty()) throw InputError("--replay", "scenario", "either a scenario file or --replay, not both");
-      if (!options->mission.empty()) throw InputError("--replay", "--mission", "either --mission or --replay, not both");
+      if (!options->scenario.empty())
+        throw InputError("--replay", "scenario", "either a scenario file or --replay, not both");
+      if (!options->mission.empty())
+        throw InputError("--replay", "--mission", "either --mission or --replay, not both");
       // The run's scenario is resampled from the stored campaign and its seed (bit-identical flight).
       const campaign::ReplayFlight flight = campaign::LoadReplay(options->replay[0], options->replay[1]);
       file.scenario = flight.run.scenario;
       policy = campaign::MakeDecisionPolicy(flight.policy);
     } else {
-      if (options->scenario.empty()) throw InputError("simulate", "scenario", "a scenario YAML file (or --replay DB RUN_ID)");
+      if (options->scenario.empty())
+        throw InputError("simulate", "scenario", "a scenario YAML file (or --replay DB RUN_ID)");
       sim::ScenarioLoadOptions load;
       if (!options->mission.empty()) load.mission_file = options->mission;
       file = sim::LoadScenarioFile(options->scenario, load);
     }
     // The importer's notes on the mission (items read but not modelled, our choices): one line each.
     if (file.scenario.route) {
-      for (const std::string& warning : file.scenario.route->warnings) std::fprintf(stderr, "warning: %s\n", warning.c_str());
+      for (const std::string& warning : file.scenario.route->warnings)
+        std::fprintf(stderr, "warning: %s\n", warning.c_str());
     }
     if (options->seed) file.scenario.seed = *options->seed;
     if (!policy || !options->policy.empty()) {
@@ -137,7 +142,8 @@ void AddSimulateCommand(CLI::App& app) {
       }
       summary["files"] = written;
       if (!geodetic) {
-        summary["qgc_plans"] = "not written: the scenario has no geodetic frame (no mission file, imported map or mission.origin)";
+        summary["qgc_plans"] =
+            "not written: the scenario has no geodetic frame (no mission file, imported map or mission.origin)";
       }
       sim::WriteFlightRecord(out->staging(), file.scenario, simulator.nominal_plan(), result, simulator.checkpoints());
       // The summary with this command's additions (the files written) replaces the record's.
@@ -153,7 +159,9 @@ void AddSimulateCommand(CLI::App& app) {
       std::string list;
       for (const auto& name : written) list += (list.empty() ? "" : ",") + name;
       std::printf("wrote %s/{%s}\n", options->out.c_str(), list.c_str());
-      if (!geodetic) std::printf("no .plan files: the scenario has no geodetic frame (no mission file, imported map or mission.origin)\n");
+      if (!geodetic)
+        std::printf(
+            "no .plan files: the scenario has no geodetic frame (no mission file, imported map or mission.origin)\n");
     }
   });
 }

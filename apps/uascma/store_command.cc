@@ -33,12 +33,13 @@ nlohmann::json CheckJson(const std::string& db, const campaign::StoreCheckResult
 
 void PrintCheck(const std::string& db, const campaign::StoreCheckResult& result) {
   if (!result.campaign_hash.empty()) {
-    std::printf("%s: campaign '%s' (hash %s, schema version %lld): %lld policies, %lld flights stored, %lld runs "
-                "requested, %lld workers, %lld claims\n",
-                db.c_str(), result.campaign_name.c_str(), result.campaign_hash.c_str(),
-                static_cast<long long>(result.schema_version), static_cast<long long>(result.policies),
-                static_cast<long long>(result.flights), static_cast<long long>(result.runs_requested),
-                static_cast<long long>(result.workers), static_cast<long long>(result.claims));
+    std::printf(
+        "%s: campaign '%s' (hash %s, schema version %lld): %lld policies, %lld flights stored, %lld runs "
+        "requested, %lld workers, %lld claims\n",
+        db.c_str(), result.campaign_name.c_str(), result.campaign_hash.c_str(),
+        static_cast<long long>(result.schema_version), static_cast<long long>(result.policies),
+        static_cast<long long>(result.flights), static_cast<long long>(result.runs_requested),
+        static_cast<long long>(result.workers), static_cast<long long>(result.claims));
   }
   if (result.ok()) {
     std::printf("%s: sound (SQLite's integrity check and the campaign's invariants hold)\n", db.c_str());
@@ -73,9 +74,10 @@ void AddStoreCommand(CLI::App& app) {
     }
     std::fflush(stdout);
     if (!result.ok()) {
-      throw InputError(*db, "database",
-                       fmt::format("an undamaged campaign database, but {} problem{} (listed {})", result.problems_total,
-                                   result.problems_total == 1 ? "" : "s", *json ? "in the JSON" : "above"));
+      throw InputError(
+          *db, "database",
+          fmt::format("an undamaged campaign database, but {} problem{} (listed {})", result.problems_total,
+                      result.problems_total == 1 ? "" : "s", *json ? "in the JSON" : "above"));
     }
   });
 }

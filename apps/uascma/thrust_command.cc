@@ -67,11 +67,11 @@ void AddThrustCommand(CLI::App& app) {
                  {"thrust_n", estimate.total_thrust}});
       return;
     }
-    WriteOutput("", fmt::format("{} hexacopter at {:g} us drawing {:g} W ({:.2f} W per motor):\n"
-                                "  estimated static thrust {:.3f} N ({:.3f} N per rotor at {:.0f} RPM; eqs. 2.12, 2.1)\n",
-                                models::PropellerConfigurationName(configuration), options->throttle_us,
-                                options->power_w, estimate.motor_power, estimate.total_thrust,
-                                estimate.rotor_thrust, estimate.rpm));
+    WriteOutput("",
+                fmt::format("{} hexacopter at {:g} us drawing {:g} W ({:.2f} W per motor):\n"
+                            "  estimated static thrust {:.3f} N ({:.3f} N per rotor at {:.0f} RPM; eqs. 2.12, 2.1)\n",
+                            models::PropellerConfigurationName(configuration), options->throttle_us, options->power_w,
+                            estimate.motor_power, estimate.total_thrust, estimate.rotor_thrust, estimate.rpm));
   });
 }
 

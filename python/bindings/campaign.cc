@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <variant>
-#include <string>
 #include <vector>
 
 #include "bindings.h"
@@ -81,7 +81,8 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
   request.execute.progress = true;  // counted for `progress`; nothing on stderr from Python (BeginLongCall)
   request.execute.progress_label = "campaign " + config.name + ", flights";
   const CampaignOutcome outcome = RunInterruptibly(
-      [request] { return RunCampaign(request); }, progress, [&db](const CampaignOutcome* stopped) -> std::string {
+      [request] { return RunCampaign(request); }, progress,
+      [&db](const CampaignOutcome* stopped) -> std::string {
         if (stopped == nullptr) return {};
         const std::int64_t stored = stopped->flights_before + stopped->flights_flown + stopped->flights_by_others;
         return std::to_string(stored) + " of " + std::to_string(stopped->flights_total) + " flights stored in " + db +
@@ -96,27 +97,25 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
   return out;
 }
 
-
 // The Python name of a campaign key: "mission.cruise_speed_mps" → mission_cruise_speed_mps.
 // A member of the configuration as Python sees it: ranges as (low, high), names as strings, unset as None.
 py::object ToPython(const CampaignFieldRef& value) {
-  return std::visit(
-      Overloaded{
-          [](const Range* r) -> py::object { return py::make_tuple(r->low, r->high); },
-          [](const std::optional<Range>* r) -> py::object {
-            return *r ? py::object(py::make_tuple((*r)->low, (*r)->high)) : py::object(py::none());
-          },
-          [](const CountRange* r) -> py::object { return py::make_tuple(r->low, r->high); },
-          [](const MediumFades* v) -> py::object { return py::str(MediumFadesName(*v)); },
-          [](const sim::EodLoad* v) -> py::object { return py::str(sim::EodLoadName(*v)); },
-          [](const std::vector<models::TurbulenceCategory>* v) -> py::object {
-            py::list names;
-            for (auto category : *v) names.append(models::TurbulenceCategoryName(category));
-            return names;
-          },
-          [](const auto* v) -> py::object { return py::cast(*v); },
-      },
-      value);
+  return std::visit(Overloaded{
+                        [](const Range* r) -> py::object { return py::make_tuple(r->low, r->high); },
+                        [](const std::optional<Range>* r) -> py::object {
+                          return *r ? py::object(py::make_tuple((*r)->low, (*r)->high)) : py::object(py::none());
+                        },
+                        [](const CountRange* r) -> py::object { return py::make_tuple(r->low, r->high); },
+                        [](const MediumFades* v) -> py::object { return py::str(MediumFadesName(*v)); },
+                        [](const sim::EodLoad* v) -> py::object { return py::str(sim::EodLoadName(*v)); },
+                        [](const std::vector<models::TurbulenceCategory>* v) -> py::object {
+                          py::list names;
+                          for (auto category : *v) names.append(models::TurbulenceCategoryName(category));
+                          return names;
+                        },
+                        [](const auto* v) -> py::object { return py::cast(*v); },
+                    },
+                    value);
 }
 
 // Sets a member from Python (the same shapes as ToPython); the configuration is checked when a campaign runs.
@@ -143,7 +142,9 @@ void FromPython(const CampaignFieldRef& value, const py::object& object, std::st
             }
             *v = name == MediumFadesName(MediumFades::kPerCell) ? MediumFades::kPerCell : MediumFades::kOneKind;
           },
-          [&](sim::EodLoad* v) { *v = sim::ParseEodLoad(object.cast<std::string>(), "CampaignConfig", std::string(key)); },
+          [&](sim::EodLoad* v) {
+            *v = sim::ParseEodLoad(object.cast<std::string>(), "CampaignConfig", std::string(key));
+          },
           [&](std::vector<models::TurbulenceCategory>* v) {
             v->clear();
             for (const auto& name : object.cast<std::vector<std::string>>()) {
@@ -196,13 +197,15 @@ void InitCampaign(py::module_& m) {
   py::class_<CampaignConfig> config(m, "CampaignConfig", "A campaign's sampling settings (examples/campaign.yaml)");
   AddConfigFieldProperties(config);
   config.def_property_readonly("hash", [](const CampaignConfig& c) { return CampaignConfigHash(c); })
-      .def("to_yaml", [](const CampaignConfig& c) { return CampaignConfigYaml(c); }, "The canonical YAML (every key)");
-  m.def("load_campaign_config",
-        [](const py::object& source) {
-          std::string policies_source;
-          return LoadConfigObject(source, &policies_source);
-        },
-        py::arg("source") = py::none(), "A campaign configuration from a path, YAML text or a dict (None: the defaults)");
+      .def(
+          "to_yaml", [](const CampaignConfig& c) { return CampaignConfigYaml(c); }, "The canonical YAML (every key)");
+  m.def(
+      "load_campaign_config",
+      [](const py::object& source) {
+        std::string policies_source;
+        return LoadConfigObject(source, &policies_source);
+      },
+      py::arg("source") = py::none(), "A campaign configuration from a path, YAML text or a dict (None: the defaults)");
   m.def("run_campaign", &RunCampaignFromPython, py::arg("config").none(true), py::arg("db"),
         py::arg("runs") = py::none(), py::arg("policies") = py::none(), py::arg("seed") = py::none(),
         py::arg("jobs") = 0, py::arg("resume") = false, py::arg("progress") = py::none(),
@@ -211,38 +214,41 @@ void InitCampaign(py::module_& m) {
         "progress: None or a callable progress(label, done, total, elapsed_s) (uascma.run_campaign wraps it: a "
         "callback, tqdm or lines). Ctrl-C stops it within a second, keeping every finished flight "
         "(KeyboardInterrupt says how many; resume=True continues)");
-  m.def("check_store",
-        [](const std::string& db) {
-          const StoreCheckResult result = CheckStore(db);
-          if (!result.ok()) {
-            throw InputError(db, "database",
-                             "an undamaged campaign database, but " + result.problems.front() +
-                                 (result.problems_total > 1 ? " and " + std::to_string(result.problems_total - 1) +
-                                                                  " more problems"
-                                                            : std::string()) +
-                                 " ('uascma store check " + db + "' lists every problem)");
-          }
-        },
-        py::arg("db"),
-        "Raises InputError naming the first problem when the campaign database is damaged (campaign/store.h: "
-        "CheckStore, as `uascma store check DB`)");
-  m.def("campaign_report",
-        [](const std::string& db, bool text) -> py::object {
-          const CampaignReport report = MakeCampaignReport(ResultsStore::Open(db));
-          if (text) return py::str(CampaignReportText(report));
-          return JsonToPython(CampaignReportJson(report));
-        },
-        py::arg("db"), py::arg("text") = false,
-        "The campaign's report as `uascma report DB --json` prints it (a dict), or with text=True as `uascma report DB` "
-        "prints it (campaign/report.h)");
-  m.def("read_records",
-        [](const std::string& db) {
-          const ResultsStore store = ResultsStore::Open(db);
-          py::list records;
-          for (const RunRecord& r : store.ReadRecords()) records.append(JsonToPython(RecordToJson(r)));
-          return records;
-        },
-        py::arg("db"), "Every stored flight as a dict of its record fields (ordered by run, then policy slot)");
+  m.def(
+      "check_store",
+      [](const std::string& db) {
+        const StoreCheckResult result = CheckStore(db);
+        if (!result.ok()) {
+          throw InputError(
+              db, "database",
+              "an undamaged campaign database, but " + result.problems.front() +
+                  (result.problems_total > 1 ? " and " + std::to_string(result.problems_total - 1) + " more problems"
+                                             : std::string()) +
+                  " ('uascma store check " + db + "' lists every problem)");
+        }
+      },
+      py::arg("db"),
+      "Raises InputError naming the first problem when the campaign database is damaged (campaign/store.h: "
+      "CheckStore, as `uascma store check DB`)");
+  m.def(
+      "campaign_report",
+      [](const std::string& db, bool text) -> py::object {
+        const CampaignReport report = MakeCampaignReport(ResultsStore::Open(db));
+        if (text) return py::str(CampaignReportText(report));
+        return JsonToPython(CampaignReportJson(report));
+      },
+      py::arg("db"), py::arg("text") = false,
+      "The campaign's report as `uascma report DB --json` prints it (a dict), or with text=True as `uascma report DB` "
+      "prints it (campaign/report.h)");
+  m.def(
+      "read_records",
+      [](const std::string& db) {
+        const ResultsStore store = ResultsStore::Open(db);
+        py::list records;
+        for (const RunRecord& r : store.ReadRecords()) records.append(JsonToPython(RecordToJson(r)));
+        return records;
+      },
+      py::arg("db"), "Every stored flight as a dict of its record fields (ordered by run, then policy slot)");
 }
 
 }  // namespace uascma::python

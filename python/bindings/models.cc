@@ -98,65 +98,74 @@ void InitModels(py::module_& m) {
   py::class_<PropulsionParams>(m, "PropulsionParams",
                                "One rotor: Table 2.1 coefficients (per RPM²), T_max (N), τ_m (s), power law")
       .def(py::init<>())
-      .def_static("for_configuration",
-                  [](const std::string& name) {
-                    return PropulsionParams::ForConfiguration(ParsePropellerConfiguration(name, "configuration"));
-                  },
-                  py::arg("configuration"), "'tractor' or 'pusher' (Table 2.1 row, Table 2.2 limits)")
+      .def_static(
+          "for_configuration",
+          [](const std::string& name) {
+            return PropulsionParams::ForConfiguration(ParsePropellerConfiguration(name, "configuration"));
+          },
+          py::arg("configuration"), "'tractor' or 'pusher' (Table 2.1 row, Table 2.2 limits)")
       .def_readwrite("configuration", &PropulsionParams::configuration)
       .def_readwrite("thrust_coefficient_n_per_rpm2", &PropulsionParams::thrust_coefficient_n_per_rpm2)
       .def_readwrite("torque_coefficient_nm_per_rpm2", &PropulsionParams::torque_coefficient_nm_per_rpm2)
       .def_readwrite("max_thrust", &PropulsionParams::max_thrust, "N per rotor")
       .def_readwrite("motor_time_constant", &PropulsionParams::motor_time_constant, "s")
       .def_readwrite("rpm_estimator", &PropulsionParams::rpm_estimator)
-      .def_property_readonly("power_at_one_newton", [](const PropulsionParams& p) { return p.electrical_power.power_at_one_newton; },
-                             "W, k of P = k (T / 1 N)^b")
-      .def_property_readonly("power_exponent", [](const PropulsionParams& p) { return p.electrical_power.exponent; },
-                             "b of P = k (T / 1 N)^b");
+      .def_property_readonly(
+          "power_at_one_newton", [](const PropulsionParams& p) { return p.electrical_power.power_at_one_newton; },
+          "W, k of P = k (T / 1 N)^b")
+      .def_property_readonly(
+          "power_exponent", [](const PropulsionParams& p) { return p.electrical_power.exponent; },
+          "b of P = k (T / 1 N)^b");
 
-  m.def("rotor_thrust",
-        [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& rotor_speed) {
-          return MapArray(rotor_speed, [&](double w) { return CalcRotorThrust(p, w); });
-        },
-        py::arg("params"), py::arg("rotor_speed"),
-        "Eq. 2.1: thrust (N) of one rotor at rotor_speed (rad/s); any array shape in, the same shape out");
-  m.def("rotor_torque",
-        [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& rotor_speed) {
-          return MapArray(rotor_speed, [&](double w) { return CalcRotorTorque(p, w); });
-        },
-        py::arg("params"), py::arg("rotor_speed"), "Eq. 2.2: reaction torque (N·m) at rotor_speed (rad/s)");
-  m.def("rotor_speed_for_thrust",
-        [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& thrust) {
-          return MapArray(thrust, [&](double t) { return CalcRotorSpeedForThrust(p, t); });
-        },
-        py::arg("params"), py::arg("thrust"), "Inverse of eq. 2.1: rotor speed (rad/s) for thrust (N)");
-  m.def("electrical_power",
-        [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& thrust) {
-          return MapArray(thrust, [&](double t) { return CalcElectricalPower(p, t); });
-        },
-        py::arg("params"), py::arg("thrust"), "Electrical power (W) of one rotor at thrust (N), the Table 2.2 power law");
-  m.def("estimate_rpm",
-        [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& throttle_us,
-           double motor_power) {
-          return MapArray(throttle_us, [&](double d) { return EstimateRpm(p.rpm_estimator, d, motor_power); });
-        },
-        py::arg("params"), py::arg("throttle_us"), py::arg("motor_power"),
-        "Eq. 2.12: RPM of one motor at throttle_us (µs, 1100–1900) drawing motor_power (W)");
-  m.def("estimate_static_thrust",
-        [](const std::string& configuration, double throttle_us, double vehicle_power) {
-          const PropulsionParams p =
-              PropulsionParams::ForConfiguration(ParsePropellerConfiguration(configuration, "--config"));
-          const StaticThrustEstimate e = EstimateStaticThrust(p, throttle_us, vehicle_power);
-          py::dict out;
-          out["total_thrust"] = e.total_thrust;
-          out["rotor_thrust"] = e.rotor_thrust;
-          out["rpm"] = e.rpm;
-          out["motor_power"] = e.motor_power;
-          return out;
-        },
-        py::arg("configuration"), py::arg("throttle_us"), py::arg("vehicle_power"),
-        "`uascma thrust`: the hexacopter's static thrust (N) at throttle_us (µs) drawing vehicle_power (W) "
-        "in total (eq. 2.12 per motor at P/6, eq. 2.1 × 6)");
+  m.def(
+      "rotor_thrust",
+      [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& rotor_speed) {
+        return MapArray(rotor_speed, [&](double w) { return CalcRotorThrust(p, w); });
+      },
+      py::arg("params"), py::arg("rotor_speed"),
+      "Eq. 2.1: thrust (N) of one rotor at rotor_speed (rad/s); any array shape in, the same shape out");
+  m.def(
+      "rotor_torque",
+      [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& rotor_speed) {
+        return MapArray(rotor_speed, [&](double w) { return CalcRotorTorque(p, w); });
+      },
+      py::arg("params"), py::arg("rotor_speed"), "Eq. 2.2: reaction torque (N·m) at rotor_speed (rad/s)");
+  m.def(
+      "rotor_speed_for_thrust",
+      [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& thrust) {
+        return MapArray(thrust, [&](double t) { return CalcRotorSpeedForThrust(p, t); });
+      },
+      py::arg("params"), py::arg("thrust"), "Inverse of eq. 2.1: rotor speed (rad/s) for thrust (N)");
+  m.def(
+      "electrical_power",
+      [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& thrust) {
+        return MapArray(thrust, [&](double t) { return CalcElectricalPower(p, t); });
+      },
+      py::arg("params"), py::arg("thrust"), "Electrical power (W) of one rotor at thrust (N), the Table 2.2 power law");
+  m.def(
+      "estimate_rpm",
+      [](const PropulsionParams& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& throttle_us,
+         double motor_power) {
+        return MapArray(throttle_us, [&](double d) { return EstimateRpm(p.rpm_estimator, d, motor_power); });
+      },
+      py::arg("params"), py::arg("throttle_us"), py::arg("motor_power"),
+      "Eq. 2.12: RPM of one motor at throttle_us (µs, 1100–1900) drawing motor_power (W)");
+  m.def(
+      "estimate_static_thrust",
+      [](const std::string& configuration, double throttle_us, double vehicle_power) {
+        const PropulsionParams p =
+            PropulsionParams::ForConfiguration(ParsePropellerConfiguration(configuration, "--config"));
+        const StaticThrustEstimate e = EstimateStaticThrust(p, throttle_us, vehicle_power);
+        py::dict out;
+        out["total_thrust"] = e.total_thrust;
+        out["rotor_thrust"] = e.rotor_thrust;
+        out["rpm"] = e.rpm;
+        out["motor_power"] = e.motor_power;
+        return out;
+      },
+      py::arg("configuration"), py::arg("throttle_us"), py::arg("vehicle_power"),
+      "`uascma thrust`: the hexacopter's static thrust (N) at throttle_us (µs) drawing vehicle_power (W) "
+      "in total (eq. 2.12 per motor at P/6, eq. 2.1 × 6)");
 
   // ---- mixer and control authority ----------------------------------------------------------------
   py::class_<MixerParams>(m, "MixerParams", "Arm length L (m), γ = C_Q/C_T (m), T_max per rotor (N)")
@@ -201,7 +210,9 @@ void InitModels(py::module_& m) {
   // ---- battery ----------------------------------------------------------------------------------
   py::class_<CellHealth>(m, "CellHealth", "Table 3.2: capacity fade Q → 0.8 Q, power fade R0 → 2 R0")
       .def(py::init<>())
-      .def(py::init([](bool capacity_fade, bool power_fade) { return CellHealth{capacity_fade, power_fade}; }),
+      .def(py::init([](bool capacity_fade, bool power_fade) {
+             return CellHealth{capacity_fade, power_fade};
+           }),
            py::arg("capacity_fade") = false, py::arg("power_fade") = false)
       .def_readwrite("capacity_fade", &CellHealth::capacity_fade)
       .def_readwrite("power_fade", &CellHealth::power_fade);
@@ -216,10 +227,12 @@ void InitModels(py::module_& m) {
       .def_readwrite("hysteresis_m0_v", &CellParams::hysteresis_m0_v)
       .def_readwrite("eta_charge", &CellParams::eta_charge)
       .def_readwrite("eta_discharge", &CellParams::eta_discharge)
-      .def_property("r1_ohm", [](const CellParams& p) { return p.rc[0].resistance_ohm; },
-                    [](CellParams& p, double v) { p.rc[0].resistance_ohm = v; })
-      .def_property("c1_f", [](const CellParams& p) { return p.rc[0].capacitance_f; },
-                    [](CellParams& p, double v) { p.rc[0].capacitance_f = v; });
+      .def_property(
+          "r1_ohm", [](const CellParams& p) { return p.rc[0].resistance_ohm; },
+          [](CellParams& p, double v) { p.rc[0].resistance_ohm = v; })
+      .def_property(
+          "c1_f", [](const CellParams& p) { return p.rc[0].capacitance_f; },
+          [](CellParams& p, double v) { p.rc[0].capacitance_f = v; });
 
   py::class_<CellState>(m, "CellState")
       .def(py::init<>())
@@ -233,36 +246,44 @@ void InitModels(py::module_& m) {
       .def_property_readonly("params", &SelfCorrectingCell::params)
       .def("resting_state", &SelfCorrectingCell::MakeRestingState, py::arg("rest_voltage_v"),
            py::arg("source") = "rest_voltage_v")
-      .def("terminal_voltage",
-           [](const SelfCorrectingCell& c, const CellState& s, double current_a) {
-             return c.CalcTerminalVoltage(s, current_a);
-           },
-           py::arg("state"), py::arg("current_a"), "Eq. 3.3 (V) at discharge current_a (A, > 0 discharges)")
-      .def("step",
-           [](const SelfCorrectingCell& c, const CellState& s, double current_a, double dt_s) {
-             return c.Step(s, current_a, dt_s);
-           },
-           py::arg("state"), py::arg("current_a"), py::arg("dt_s"), "Eqs. 3.1–3.2, exact over dt_s at constant current")
-      .def("ocv", [](const SelfCorrectingCell& c, const py::array_t<double, py::array::c_style | py::array::forcecast>& soc) {
-             return MapArray(soc, [&](double z) { return c.ocv().CalcVoltage(z); });
-           },
-           py::arg("soc_fraction"), "Open-circuit voltage (V) at each state of charge (any shape)");
+      .def(
+          "terminal_voltage",
+          [](const SelfCorrectingCell& c, const CellState& s, double current_a) {
+            return c.CalcTerminalVoltage(s, current_a);
+          },
+          py::arg("state"), py::arg("current_a"), "Eq. 3.3 (V) at discharge current_a (A, > 0 discharges)")
+      .def(
+          "step",
+          [](const SelfCorrectingCell& c, const CellState& s, double current_a, double dt_s) {
+            return c.Step(s, current_a, dt_s);
+          },
+          py::arg("state"), py::arg("current_a"), py::arg("dt_s"), "Eqs. 3.1–3.2, exact over dt_s at constant current")
+      .def(
+          "ocv",
+          [](const SelfCorrectingCell& c, const py::array_t<double, py::array::c_style | py::array::forcecast>& soc) {
+            return MapArray(soc, [&](double z) { return c.ocv().CalcVoltage(z); });
+          },
+          py::arg("soc_fraction"), "Open-circuit voltage (V) at each state of charge (any shape)");
 
   py::class_<PackState>(m, "PackState", "Both 3S packs: cell states and the two switches (Table 4.3)")
       .def(py::init<>())
-      .def_property_readonly("soc_fraction",
-                             [](const PackState& s) { return PerCellArray(s.cells, [](const CellState& c) { return c.soc_fraction; }); },
-                             "(2, 3): pack × cell state of charge")
-      .def_property("branch_on", [](const PackState& s) { return s.branch_on; },
-                    [](PackState& s, const std::array<bool, 2>& on) { s.branch_on = on; })
-      .def("cell", [](const PackState& s, int pack, int cell) { return s.cells.at(pack).at(cell); },
-           py::arg("pack"), py::arg("cell"), "Cell state, pack 0–1, cell 0–2");
+      .def_property_readonly(
+          "soc_fraction",
+          [](const PackState& s) { return PerCellArray(s.cells, [](const CellState& c) { return c.soc_fraction; }); },
+          "(2, 3): pack × cell state of charge")
+      .def_property(
+          "branch_on", [](const PackState& s) { return s.branch_on; },
+          [](PackState& s, const std::array<bool, 2>& on) { s.branch_on = on; })
+      .def(
+          "cell", [](const PackState& s, int pack, int cell) { return s.cells.at(pack).at(cell); }, py::arg("pack"),
+          py::arg("cell"), "Cell state, pack 0–1, cell 0–2");
 
   py::class_<PackOutputs>(m, "PackOutputs")
-      .def_property_readonly("cell_voltage_v",
-                             [](const PackOutputs& o) { return PerCellArray(o.cell_voltage_v, [](double v) { return v; }); },
-                             "(2, 3) V")
-      .def_property_readonly("branch_current_a", [](const PackOutputs& o) { return o.split.current_a; }, "(2,) A")
+      .def_property_readonly(
+          "cell_voltage_v",
+          [](const PackOutputs& o) { return PerCellArray(o.cell_voltage_v, [](double v) { return v; }); }, "(2, 3) V")
+      .def_property_readonly(
+          "branch_current_a", [](const PackOutputs& o) { return o.split.current_a; }, "(2,) A")
       .def_property_readonly("bus_voltage_v", [](const PackOutputs& o) { return o.split.bus_voltage_v; })
       .def_readonly("min_cell_voltage_v", &PackOutputs::min_cell_voltage_v);
 
@@ -273,22 +294,23 @@ void InitModels(py::module_& m) {
            }),
            py::arg("packs") = std::array<std::string, 2>{"G", "G"}, py::arg("ambient_temp_degf") = kRoomTemperatureDegf,
            "packs: health class per pack, 'G' none, 'M' power fade, 'P' power and capacity fade (Table 3.2)")
-      .def("resting_state",
-           [](const BatteryPack& p, py::object voltage) {
-             if (py::isinstance<py::float_>(voltage) || py::isinstance<py::int_>(voltage)) {
-               return p.MakeRestingState(voltage.cast<double>());
-             }
-             const auto a = voltage.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
-             if (a.ndim() != 2 || a.shape(0) != kBranchCount || a.shape(1) != kCellsPerBranch) {
-               throw InputError("resting_state", "cell_voltage_v", "one voltage or a (2, 3) array of voltages (V)");
-             }
-             PerCell<double> v{};
-             for (int b = 0; b < kBranchCount; ++b) {
-               for (int c = 0; c < kCellsPerBranch; ++c) v[b][c] = a.at(b, c);
-             }
-             return p.MakeRestingState(v);
-           },
-           py::arg("cell_voltage_v"), "Every cell at rest at this voltage (one number or a (2, 3) array, V)")
+      .def(
+          "resting_state",
+          [](const BatteryPack& p, py::object voltage) {
+            if (py::isinstance<py::float_>(voltage) || py::isinstance<py::int_>(voltage)) {
+              return p.MakeRestingState(voltage.cast<double>());
+            }
+            const auto a = voltage.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+            if (a.ndim() != 2 || a.shape(0) != kBranchCount || a.shape(1) != kCellsPerBranch) {
+              throw InputError("resting_state", "cell_voltage_v", "one voltage or a (2, 3) array of voltages (V)");
+            }
+            PerCell<double> v{};
+            for (int b = 0; b < kBranchCount; ++b) {
+              for (int c = 0; c < kCellsPerBranch; ++c) v[b][c] = a.at(b, c);
+            }
+            return p.MakeRestingState(v);
+          },
+          py::arg("cell_voltage_v"), "Every cell at rest at this voltage (one number or a (2, 3) array, V)")
       .def("outputs", &BatteryPack::CalcOutputs, py::arg("state"), py::arg("total_current_a"))
       .def("step", &BatteryPack::Step, py::arg("state"), py::arg("total_current_a"), py::arg("dt_s"))
       .def("simulate_discharge", &SimulateDischarge, py::arg("state"), py::arg("current_a"), py::arg("dt_s"),

@@ -38,8 +38,7 @@ void ProgressPoller::Poll(bool final) {
   if (progress_.is_none()) return;
   const std::optional<ProgressSnapshot> snapshot = CurrentProgress();
   if (!snapshot) return;
-  const bool changed =
-      snapshot->done != last_done_ || snapshot->total != last_total_ || snapshot->label != last_label_;
+  const bool changed = snapshot->done != last_done_ || snapshot->total != last_total_ || snapshot->label != last_label_;
   if (!changed && !final) return;
   last_done_ = snapshot->done;
   last_total_ = snapshot->total;

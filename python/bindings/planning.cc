@@ -55,19 +55,23 @@ void InitPlanning(py::module_& m) {
       .def_readonly("semi_axis_x", &FootprintRegion::semi_axis_x)
       .def_readonly("semi_axis_y", &FootprintRegion::semi_axis_y)
       .def("area", &FootprintRegion::Area, "m²")
-      .def("boundary", [](const FootprintRegion& r, int count) { return PointsArray(r.Boundary(count)); },
-           py::arg("count") = 64, "(count, 2) points (x_H, y_H) m, counter-clockwise from the forward limit")
-      .def("contains",
-           [](const FootprintRegion& r, const py::array_t<double, py::array::c_style | py::array::forcecast>& p_H,
-              double tolerance) {
-             if (p_H.ndim() != 2 || p_H.shape(1) != 2) throw InputError("contains", "p_H", "an (N, 2) array of points (m)");
-             py::array_t<bool> out(p_H.shape(0));
-             auto in = p_H.unchecked<2>();
-             auto o = out.mutable_unchecked<1>();
-             for (py::ssize_t i = 0; i < p_H.shape(0); ++i) o(i) = r.Contains(Eigen::Vector2d(in(i, 0), in(i, 1)), tolerance);
-             return out;
-           },
-           py::arg("p_H"), py::arg("tolerance") = 0.0, "(N,) bool: which of the (N, 2) points lie in the ellipse");
+      .def(
+          "boundary", [](const FootprintRegion& r, int count) { return PointsArray(r.Boundary(count)); },
+          py::arg("count") = 64, "(count, 2) points (x_H, y_H) m, counter-clockwise from the forward limit")
+      .def(
+          "contains",
+          [](const FootprintRegion& r, const py::array_t<double, py::array::c_style | py::array::forcecast>& p_H,
+             double tolerance) {
+            if (p_H.ndim() != 2 || p_H.shape(1) != 2)
+              throw InputError("contains", "p_H", "an (N, 2) array of points (m)");
+            py::array_t<bool> out(p_H.shape(0));
+            auto in = p_H.unchecked<2>();
+            auto o = out.mutable_unchecked<1>();
+            for (py::ssize_t i = 0; i < p_H.shape(0); ++i)
+              o(i) = r.Contains(Eigen::Vector2d(in(i, 0), in(i, 1)), tolerance);
+            return out;
+          },
+          py::arg("p_H"), py::arg("tolerance") = 0.0, "(N,) bool: which of the (N, 2) points lie in the ellipse");
 
   py::class_<FootprintResult>(m, "FootprintResult")
       .def_readonly("status", &FootprintResult::status)
@@ -86,14 +90,16 @@ void InitPlanning(py::module_& m) {
       .def("__repr__", [](const FootprintResult& r) { return "<FootprintResult " + r.BriefReport() + ">"; });
 
   m.def("footprint", &CalcFootprint, py::arg("params"), "Algorithm 1 (§5.3.1): the reachable footprint");
-  m.def("cruise_drag_slope",
-        [](double cruise_speed, double mass, const std::string& configuration) {
-          const auto table = models::DragTable::Default(models::ParsePropellerConfiguration(configuration, "configuration"));
-          return CruiseDragSlope(table, cruise_speed, mass);
-        },
-        py::arg("cruise_speed"), py::arg("mass") = FootprintParams{}.mass, py::arg("configuration") = "tractor",
-        "d_x of eq. 5.1 (N·s/m): the default drag table's slope at cruise_speed (m/s) and the trim pitch of mass (kg), "
-        "what `uascma footprint` uses when --drag-slope is not given");
+  m.def(
+      "cruise_drag_slope",
+      [](double cruise_speed, double mass, const std::string& configuration) {
+        const auto table =
+            models::DragTable::Default(models::ParsePropellerConfiguration(configuration, "configuration"));
+        return CruiseDragSlope(table, cruise_speed, mass);
+      },
+      py::arg("cruise_speed"), py::arg("mass") = FootprintParams{}.mass, py::arg("configuration") = "tractor",
+      "d_x of eq. 5.1 (N·s/m): the default drag table's slope at cruise_speed (m/s) and the trim pitch of mass (kg), "
+      "what `uascma footprint` uses when --drag-slope is not given");
 }
 
 }  // namespace uascma::python

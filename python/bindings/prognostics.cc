@@ -46,13 +46,14 @@ void InitPrognostics(py::module_& m) {
   m.def("pack_eod", &CalcPackEod, py::arg("pack"), py::arg("state"), py::arg("total_current_a"),
         py::arg("options") = EodOptions{},
         "EOD of the battery at a constant total discharge current (A), exact piecewise solution");
-  m.def("pack_eod_curve",
-        [](const models::BatteryPack& pack, const models::PackState& state,
-           const py::array_t<double, py::array::c_style | py::array::forcecast>& current_a, const EodOptions& options) {
-          return MapArray(current_a, [&](double i) { return CalcPackEod(pack, state, i, options).eod_s; });
-        },
-        py::arg("pack"), py::arg("state"), py::arg("total_current_a"), py::arg("options") = EodOptions{},
-        "EOD (s) for each constant current in total_current_a (A, any shape; same shape out)");
+  m.def(
+      "pack_eod_curve",
+      [](const models::BatteryPack& pack, const models::PackState& state,
+         const py::array_t<double, py::array::c_style | py::array::forcecast>& current_a, const EodOptions& options) {
+        return MapArray(current_a, [&](double i) { return CalcPackEod(pack, state, i, options).eod_s; });
+      },
+      py::arg("pack"), py::arg("state"), py::arg("total_current_a"), py::arg("options") = EodOptions{},
+      "EOD (s) for each constant current in total_current_a (A, any shape; same shape out)");
   m.def("cell_eod", &CalcCellEod, py::arg("cell"), py::arg("state"), py::arg("current_a"),
         py::arg("options") = EodOptions{});
   m.def("reach_margin", &CalcReachMargin, py::arg("eod"), py::arg("flight_time_remaining_s"),
@@ -81,8 +82,8 @@ void InitPrognostics(py::module_& m) {
       .def_readonly("p50_s", &RulDistribution::p50_s)
       .def_readonly("p95_s", &RulDistribution::p95_s)
       .def_readonly("jam_probability_per_epoch", &RulDistribution::jam_probability_per_epoch)
-      .def_property_readonly("rul_s", [](const RulDistribution& r) { return ToArray(r.rul_s); },
-                             "(particles,) s, in particle order");
+      .def_property_readonly(
+          "rul_s", [](const RulDistribution& r) { return ToArray(r.rul_s); }, "(particles,) s, in particle order");
   py::class_<JamProbabilityMeasurement>(m, "JamProbabilityMeasurement")
       .def_readonly("runs", &JamProbabilityMeasurement::runs)
       .def_readonly("jams", &JamProbabilityMeasurement::jams)
@@ -92,36 +93,39 @@ void InitPrognostics(py::module_& m) {
   py::class_<MotorRulModel>(m, "MotorRulModel", "Motor RUL from a spall (§3.4.1), immutable")
       .def(py::init<const SpallGrowthParams&>(), py::arg("params") = SpallGrowthParams{})
       .def_property_readonly("params", &MotorRulModel::params)
-      .def("predict_rul",
-           [](const MotorRulModel& model, double area_mm2, std::uint64_t seed) {
-             RandomStream random(seed);
-             return model.PredictRulFromArea(area_mm2, random);
-           },
-           py::arg("area_mm2"), py::arg("seed"), "RUL distribution of params.particles particles at area_mm2")
-      .def("measure_jam_probability",
-           [](const MotorRulModel& model, int runs, std::uint64_t seed) {
-             RandomStream random(seed);
-             return model.MeasureJamProbability(runs, random);
-           },
-           py::arg("runs"), py::arg("seed"), "Jams per spalled 1 s epoch over `runs` histories (Table 5.4's quantity)");
+      .def(
+          "predict_rul",
+          [](const MotorRulModel& model, double area_mm2, std::uint64_t seed) {
+            RandomStream random(seed);
+            return model.PredictRulFromArea(area_mm2, random);
+          },
+          py::arg("area_mm2"), py::arg("seed"), "RUL distribution of params.particles particles at area_mm2")
+      .def(
+          "measure_jam_probability",
+          [](const MotorRulModel& model, int runs, std::uint64_t seed) {
+            RandomStream random(seed);
+            return model.MeasureJamProbability(runs, random);
+          },
+          py::arg("runs"), py::arg("seed"), "Jams per spalled 1 s epoch over `runs` histories (Table 5.4's quantity)");
 
-  m.def("rul",
-        [](int particles, std::uint64_t seed, int runs, double time_per_step_s) {
-          SpallGrowthParams params;
-          params.particles = particles;
-          params.time_per_growth_step_s = time_per_step_s;
-          const MotorRulModel model(params);
-          RandomStream particle_random(DeriveSeed(seed, kRulParticleStream));
-          const RulDistribution rul = model.PredictRulFromArea(params.initial_area_mm2, particle_random);
-          RandomStream history_random(DeriveSeed(seed, kRulHistoryStream));
-          const JamProbabilityMeasurement jam = model.MeasureJamProbability(runs, history_random);
-          return py::make_tuple(rul, jam);
-        },
-        py::arg("particles") = SpallGrowthParams{}.particles, py::arg("seed") = 1,
-        py::arg("runs") = CalibrationOptions{}.runs,
-        py::arg("time_per_step_s") = SpallGrowthParams{}.time_per_growth_step_s,
-        "`uascma rul`: (RulDistribution from the initial spall, JamProbabilityMeasurement), drawn from the "
-        "same random streams as the CLI for the same seed");
+  m.def(
+      "rul",
+      [](int particles, std::uint64_t seed, int runs, double time_per_step_s) {
+        SpallGrowthParams params;
+        params.particles = particles;
+        params.time_per_growth_step_s = time_per_step_s;
+        const MotorRulModel model(params);
+        RandomStream particle_random(DeriveSeed(seed, kRulParticleStream));
+        const RulDistribution rul = model.PredictRulFromArea(params.initial_area_mm2, particle_random);
+        RandomStream history_random(DeriveSeed(seed, kRulHistoryStream));
+        const JamProbabilityMeasurement jam = model.MeasureJamProbability(runs, history_random);
+        return py::make_tuple(rul, jam);
+      },
+      py::arg("particles") = SpallGrowthParams{}.particles, py::arg("seed") = 1,
+      py::arg("runs") = CalibrationOptions{}.runs,
+      py::arg("time_per_step_s") = SpallGrowthParams{}.time_per_growth_step_s,
+      "`uascma rul`: (RulDistribution from the initial spall, JamProbabilityMeasurement), drawn from the "
+      "same random streams as the CLI for the same seed");
   m.attr("TABLE_5_4_JAM_PROBABILITY_PER_S") = kTable54JamProbabilityPerEpoch;
 }
 

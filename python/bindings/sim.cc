@@ -6,13 +6,13 @@
 
 #include <array>
 #include <cmath>
-#include <stdexcept>
-#include <type_traits>
-#include <variant>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <variant>
 
 #include "bindings.h"
 #include "uascma/common/error.h"
@@ -38,7 +38,9 @@ using decision::MakeCmaFactoredModel;
 // Scenario text, a path, or a dict (written as JSON, which YAML reads as it is).
 ScenarioFile ParseScenarioObject(const py::object& source, const ScenarioLoadOptions& load) {
   if (py::isinstance<ScenarioFile>(source)) {
-    if (load.mission_file) throw InputError("load_scenario", "mission", "a scenario path, YAML text or dict (a loaded Scenario keeps its mission)");
+    if (load.mission_file)
+      throw InputError("load_scenario", "mission",
+                       "a scenario path, YAML text or dict (a loaded Scenario keeps its mission)");
     return source.cast<ScenarioFile>();
   }
   if (py::isinstance<py::dict>(source)) {
@@ -87,7 +89,8 @@ class PythonPolicy final : public DecisionPolicy {
 
   static CmaAction ToAction(const py::handle& value) {
     if (py::isinstance<CmaAction>(value)) return value.cast<CmaAction>();
-    if (py::isinstance<py::str>(value)) return decision::ParseCmaAction(value.cast<std::string>(), "policy return value");
+    if (py::isinstance<py::str>(value))
+      return decision::ParseCmaAction(value.cast<std::string>(), "policy return value");
     // A Python int, a NumPy integer (np.argmax(q), Discrete.sample()) or a 0-d integer array: anything with
     // __index__ (bool aside, which would read True as Terminate).
     if (!PyBool_Check(value.ptr()) && PyIndex_Check(value.ptr())) {
@@ -96,7 +99,8 @@ class PythonPolicy final : public DecisionPolicy {
       const long long index = PyLong_AsLongLong(as_int.ptr());
       if (index == -1 && PyErr_Occurred()) PyErr_Clear();
       if (index < 0 || index >= decision::kCmaNumActions) {
-        throw InputError("policy return value", "action", "an action index 0–3, got " + py::repr(value).cast<std::string>());
+        throw InputError("policy return value", "action",
+                         "an action index 0–3, got " + py::repr(value).cast<std::string>());
       }
       return static_cast<CmaAction>(index);
     }
@@ -116,7 +120,8 @@ struct ResolvedPolicy {
 
 ResolvedPolicy ResolvePythonPolicy(const py::object& policy, const ScenarioFile& file) {
   if (policy.is_none()) return {MakeDecisionPolicy(ResolvePolicy(file.policy, file.scenario.name)), false};
-  if (py::isinstance<py::str>(policy)) return {MakeDecisionPolicy(ResolvePolicy(policy.cast<std::string>(), "run")), false};
+  if (py::isinstance<py::str>(policy))
+    return {MakeDecisionPolicy(ResolvePolicy(policy.cast<std::string>(), "run")), false};
   if (py::isinstance<decision::Policy>(policy)) {
     return {std::make_unique<TablePolicy>(policy.cast<decision::Policy>().action, "table"), false};
   }
@@ -125,7 +130,8 @@ ResolvedPolicy ResolvePythonPolicy(const py::object& policy, const ScenarioFile&
     return {std::make_unique<TablePolicy>(policy.attr("policy").cast<decision::Policy>().action, "table"), false};
   }
   if (PyCallable_Check(policy.ptr())) {
-    const std::string name = py::hasattr(policy, "__name__") ? py::str(policy.attr("__name__")).cast<std::string>() : "python";
+    const std::string name =
+        py::hasattr(policy, "__name__") ? py::str(policy.attr("__name__")).cast<std::string>() : "python";
     return {std::make_unique<PythonPolicy>(policy, name), true};
   }
   throw InputError("run", "policy", "'noop', 'cma', a policy file, a uascma.Policy or a callable");
@@ -178,8 +184,8 @@ py::dict TelemetryArrays(const SimResult& result) {
   d["pack_current"] = column([](const TelemetryRow& r) { return r.pack_current; });
   d["bus_voltage"] = column([](const TelemetryRow& r) { return r.bus_voltage; });
   d["branch_current"] = columns(2, [](const TelemetryRow& r, py::ssize_t j) { return r.branch_current[j]; });
-  d["cell_voltage"] = columns(6, [](const TelemetryRow& r, py::ssize_t j) { return r.cell_voltage[j]; })
-                          .attr("reshape")(n, 2, 3);
+  d["cell_voltage"] =
+      columns(6, [](const TelemetryRow& r, py::ssize_t j) { return r.cell_voltage[j]; }).attr("reshape")(n, 2, 3);
   d["eod_s"] = column([](const TelemetryRow& r) { return r.eod_s; });
   d["flight_time_remaining_s"] = column([](const TelemetryRow& r) { return r.flight_time_remaining_s; });
   d["rul_s"] = column([&](const TelemetryRow& r) { return finite_or_nan(r.rul_s); });
@@ -248,7 +254,6 @@ std::unique_ptr<Environment> MakeEnvironment(const py::object& scenario, std::op
   return std::make_unique<Environment>(std::move(file), std::move(model), std::move(options));
 }
 
-
 // A scenario member as Python sees it: numbers in the key's unit (degrees for a degrees key), lists for vectors,
 // names for enumerations, None for an unset optional.
 py::object ScenarioValueToPython(const ScenarioField& f, const ScenarioFieldRef& value) {
@@ -263,9 +268,7 @@ py::object ScenarioValueToPython(const ScenarioField& f, const ScenarioFieldRef&
           [](const models::PropellerConfiguration* v) -> py::object {
             return py::str(std::string(models::PropellerConfigurationName(*v)));
           },
-          [](const models::TurbulenceCategory* v) -> py::object {
-            return py::str(models::TurbulenceCategoryName(*v));
-          },
+          [](const models::TurbulenceCategory* v) -> py::object { return py::str(models::TurbulenceCategoryName(*v)); },
           [](const auto* v) -> py::object { return py::cast(*v); },
       },
       value);
@@ -329,17 +332,22 @@ void AddScenarioFieldProperties(py::class_<ScenarioFile>& cls) {
 }  // namespace
 
 void InitSim(py::module_& m) {
-  py::class_<ScenarioFile> scenario(m, "Scenario", "A scenario (examples/*.yaml): everything one simulated flight needs");
+  py::class_<ScenarioFile> scenario(m, "Scenario",
+                                    "A scenario (examples/*.yaml): everything one simulated flight needs");
   AddScenarioFieldProperties(scenario);
-  scenario.def_property("name", [](const ScenarioFile& f) { return f.scenario.name; },
-                    [](ScenarioFile& f, const std::string& name) { f.scenario.name = name; })
-      .def_property("seed", [](const ScenarioFile& f) { return f.scenario.seed; },
-                    [](ScenarioFile& f, std::uint64_t seed) { f.scenario.seed = seed; })
+  scenario
+      .def_property(
+          "name", [](const ScenarioFile& f) { return f.scenario.name; },
+          [](ScenarioFile& f, const std::string& name) { f.scenario.name = name; })
+      .def_property(
+          "seed", [](const ScenarioFile& f) { return f.scenario.seed; },
+          [](ScenarioFile& f, std::uint64_t seed) { f.scenario.seed = seed; })
       .def_readwrite("policy", &ScenarioFile::policy, "noop | cma | a policy file: the scenario's own policy")
       .def_property_readonly("has_map", [](const ScenarioFile& f) { return static_cast<bool>(f.scenario.map); })
       .def_property_readonly("fault_enabled", [](const ScenarioFile& f) { return f.scenario.fault.enabled; })
       .def_property_readonly("fault_motor", [](const ScenarioFile& f) { return f.scenario.fault.motor; })
-      .def_property_readonly("mass", [](const ScenarioFile& f) { return f.scenario.body.mass; }, "kg");
+      .def_property_readonly(
+          "mass", [](const ScenarioFile& f) { return f.scenario.body.mass; }, "kg");
   m.def("load_scenario", &LoadScenarioObject, py::arg("scenario"), py::arg("mission") = py::none(),
         "A scenario from a YAML file path, YAML text or a dict of the same keys (InputError naming the key); "
         "mission: a QGroundControl .plan or Mission Planner .waypoints file flown instead of the scenario's "
@@ -361,8 +369,10 @@ void InitSim(py::module_& m) {
       .def_readonly("fs", &decision::CmaState::fs)
       .def_readonly("mh", &decision::CmaState::mh)
       .def_readonly("bh", &decision::CmaState::bh)
-      .def_property_readonly("mm", [](const decision::CmaState& s) { return static_cast<int>(s.mm); }, "0 (MM0) or 1 (MM1)")
-      .def_property_readonly("rm", [](const decision::CmaState& s) { return static_cast<int>(s.rm); }, "0 (RM0) or 1 (RM1)")
+      .def_property_readonly(
+          "mm", [](const decision::CmaState& s) { return static_cast<int>(s.mm); }, "0 (MM0) or 1 (MM1)")
+      .def_property_readonly(
+          "rm", [](const decision::CmaState& s) { return static_cast<int>(s.rm); }, "0 (RM0) or 1 (RM1)")
       .def_property_readonly("index", [](const decision::CmaState& s) { return decision::CmaStateIndex(s); })
       .def_property_readonly("label", [](const decision::CmaState& s) { return decision::CmaStateLabel(s); })
       .def("__repr__", [](const decision::CmaState& s) { return "<CmaState " + decision::CmaStateLabel(s) + ">"; });
@@ -385,78 +395,93 @@ void InitSim(py::module_& m) {
       .def_property_readonly("seed", [](const Flight& f) { return f.result.seed; })
       .def_property_readonly("policy", [](const Flight& f) { return f.result.policy; })
       .def_property_readonly("scenario", [](const Flight& f) { return f.file; })
-      .def_property_readonly("events",
-                             [](const Flight& f) {
-                               py::list events;
-                               for (const FlightEvent& e : f.result.events) events.append(py::make_tuple(e.time_s, e.what));
-                               return events;
-                             },
-                             "[(time_s, text)]")
-      .def_property_readonly("actions",
-                             [](const Flight& f) {
-                               py::list actions;
-                               for (const auto& [t, a] : f.result.actions) {
-                                 actions.append(py::make_tuple(t, decision::CmaActionName(a)));
-                               }
-                               return actions;
-                             },
-                             "[(time_s, action name)] of every executed change")
-      .def("summary",
-           [](const Flight& f) {
-             return JsonToPython(FlightSummary{f.file.scenario, f.model->nominal_plan(), f.result}.Json());
-           },
-           "The summary dict (what `uascma simulate --json` prints)")
-      .def("summary_text",
-           [](const Flight& f) { return FlightSummary{f.file.scenario, f.model->nominal_plan(), f.result}.Text(); },
-           "The summary as `uascma simulate` prints it (sim/flight_summary.h)")
-      .def("telemetry", [](const Flight& f) { return TelemetryArrays(f.result); },
-           "A dict of arrays, N rows at the telemetry rate: t_s (N,); p_W, v_W, p_ref_W (N, 3) m, m/s in W (NED); "
-           "euler (N, 3) rad roll, pitch, yaw; drag_W (N, 3) N; wind_W (N, 3) m/s; wrench_cmd, wrench (N, 4) "
-           "(T N, τ N·m); rotor_thrust (N, 6) N; rotor_current (N, 6) A; pack_current, bus_voltage (N,) A, V; "
-           "branch_current (N, 2) A; cell_voltage (N, 2, 3) V; eod_s, flight_time_remaining_s, rul_s (NaN without "
-           "a fault) (N,) s; reach_margin, motor_margin (N,); cma_state, action, imm_mode (N,) int codes; "
-           "spall_area_mm2 (N,). Empty unless flown with telemetry=True")
-      .def("plan",
-           [](const Flight& f) {
-             const planning::FlightPlan& plan = f.model->nominal_plan();
-             const py::ssize_t n = static_cast<py::ssize_t>(std::floor(plan.duration())) + 1;
-             py::array_t<double> out({n, py::ssize_t{4}});
-             auto v = out.mutable_unchecked<2>();
-             for (py::ssize_t i = 0; i < n; ++i) {
-               const Eigen::Vector3d p = plan.At(static_cast<double>(i)).p_W;
-               v(i, 0) = static_cast<double>(i);
-               for (int j = 0; j < 3; ++j) v(i, j + 1) = p[j];
-             }
-             return out;
-           },
-           "The nominal plan at 1 Hz: (M, 4) columns t_s, north_m, east_m, down_m")
-      .def("telemetry_csv", [](const Flight& f) { return TelemetryCsv(f.result); }, "telemetry.csv as text")
-      .def("write",
-           [](const Flight& f, const std::string& folder) {
-             WriteFlightRecord(folder, f.file.scenario, f.model->nominal_plan(), f.result, f.model->checkpoints());
-           },
-           py::arg("folder"), "Writes telemetry.csv, plan.csv, summary.json (and map.json over a city), as `simulate --out`")
+      .def_property_readonly(
+          "events",
+          [](const Flight& f) {
+            py::list events;
+            for (const FlightEvent& e : f.result.events) events.append(py::make_tuple(e.time_s, e.what));
+            return events;
+          },
+          "[(time_s, text)]")
+      .def_property_readonly(
+          "actions",
+          [](const Flight& f) {
+            py::list actions;
+            for (const auto& [t, a] : f.result.actions) {
+              actions.append(py::make_tuple(t, decision::CmaActionName(a)));
+            }
+            return actions;
+          },
+          "[(time_s, action name)] of every executed change")
+      .def(
+          "summary",
+          [](const Flight& f) {
+            return JsonToPython(FlightSummary{f.file.scenario, f.model->nominal_plan(), f.result}.Json());
+          },
+          "The summary dict (what `uascma simulate --json` prints)")
+      .def(
+          "summary_text",
+          [](const Flight& f) {
+            return FlightSummary{f.file.scenario, f.model->nominal_plan(), f.result}.Text();
+          },
+          "The summary as `uascma simulate` prints it (sim/flight_summary.h)")
+      .def(
+          "telemetry", [](const Flight& f) { return TelemetryArrays(f.result); },
+          "A dict of arrays, N rows at the telemetry rate: t_s (N,); p_W, v_W, p_ref_W (N, 3) m, m/s in W (NED); "
+          "euler (N, 3) rad roll, pitch, yaw; drag_W (N, 3) N; wind_W (N, 3) m/s; wrench_cmd, wrench (N, 4) "
+          "(T N, τ N·m); rotor_thrust (N, 6) N; rotor_current (N, 6) A; pack_current, bus_voltage (N,) A, V; "
+          "branch_current (N, 2) A; cell_voltage (N, 2, 3) V; eod_s, flight_time_remaining_s, rul_s (NaN without "
+          "a fault) (N,) s; reach_margin, motor_margin (N,); cma_state, action, imm_mode (N,) int codes; "
+          "spall_area_mm2 (N,). Empty unless flown with telemetry=True")
+      .def(
+          "plan",
+          [](const Flight& f) {
+            const planning::FlightPlan& plan = f.model->nominal_plan();
+            const py::ssize_t n = static_cast<py::ssize_t>(std::floor(plan.duration())) + 1;
+            py::array_t<double> out({n, py::ssize_t{4}});
+            auto v = out.mutable_unchecked<2>();
+            for (py::ssize_t i = 0; i < n; ++i) {
+              const Eigen::Vector3d p = plan.At(static_cast<double>(i)).p_W;
+              v(i, 0) = static_cast<double>(i);
+              for (int j = 0; j < 3; ++j) v(i, j + 1) = p[j];
+            }
+            return out;
+          },
+          "The nominal plan at 1 Hz: (M, 4) columns t_s, north_m, east_m, down_m")
+      .def(
+          "telemetry_csv", [](const Flight& f) { return TelemetryCsv(f.result); }, "telemetry.csv as text")
+      .def(
+          "write",
+          [](const Flight& f, const std::string& folder) {
+            WriteFlightRecord(folder, f.file.scenario, f.model->nominal_plan(), f.result, f.model->checkpoints());
+          },
+          py::arg("folder"),
+          "Writes telemetry.csv, plan.csv, summary.json (and map.json over a city), as `simulate --out`")
       .def("__repr__", [](const Flight& f) {
         return "<Flight " + f.file.scenario.name + " " + f.result.policy + ": " + OutcomeName(f.result.outcome) + ">";
       });
 
-  py::class_<Observation>(m, "Observation",
-                          "What the decision module sees at an epoch: the CMA state (state_index is Gym's Discrete(112) "
-                          "observation) and the continuous quantities behind it (s, dimensionless margins)")
+  py::class_<Observation>(
+      m, "Observation",
+      "What the decision module sees at an epoch: the CMA state (state_index is Gym's Discrete(112) "
+      "observation) and the continuous quantities behind it (s, dimensionless margins)")
       .def_readonly("time_s", &Observation::time_s)
       .def_readonly("state", &Observation::state)
       .def_readonly("state_index", &Observation::state_index, "0–107, or 108–110 (C, T, FL) once the flight has ended")
-      .def_property_readonly("state_label", [](const Observation& o) {
-        return o.terminal ? MakeCmaFactoredModel().Label(o.state_index) : decision::CmaStateLabel(o.state);
-      })
+      .def_property_readonly("state_label",
+                             [](const Observation& o) {
+                               return o.terminal ? MakeCmaFactoredModel().Label(o.state_index)
+                                                 : decision::CmaStateLabel(o.state);
+                             })
       .def_readonly("flight_status", &Observation::flight_status)
       .def_readonly("reach_margin", &Observation::reach_margin)
       .def_readonly("motor_margin", &Observation::motor_margin)
       .def_readonly("eod_s", &Observation::eod_s)
       .def_readonly("rul_s", &Observation::rul_s, "+inf without a motor fault")
       .def_readonly("flight_time_remaining_s", &Observation::flight_time_remaining_s)
-      .def_property_readonly("terminal", [](const Observation& o) { return o.terminal.has_value(); },
-                             "True once the flight has ended (state C, T or FL)")
+      .def_property_readonly(
+          "terminal", [](const Observation& o) { return o.terminal.has_value(); },
+          "True once the flight has ended (state C, T or FL)")
       .def_property_readonly(
           "action_mask",
           [](const Observation& o) {
@@ -485,39 +510,42 @@ void InitSim(py::module_& m) {
            "5.28–5.29 by default); record: keep the flight's log for flight(); require_available_actions: an "
            "action the flight status does not offer raises InputError (decisions item 3); mission: a .plan or "
            ".waypoints file flown instead of the scenario's mission")
-      .def("reset",
-           [](Environment& e, std::optional<std::uint64_t> seed) {
-             return e.env.Reset(seed.value_or(e.file.scenario.seed));
-           },
-           py::arg("seed") = py::none(), "A new flight; seed None: the scenario's (the same flight as uascma.run)")
-      .def("step",
-           [](Environment& e, const py::object& action) {
-             const CmaAction parsed = PythonPolicy::ToAction(action);
-             EnvironmentStep step;
-             {
-               py::gil_scoped_release release;
-               step = e.env.Step(parsed);
-             }
-             py::dict info;
-             info["outcome"] = OutcomeName(step.outcome);
-             info["requested"] = decision::CmaActionName(parsed);
-             info["executed"] = decision::CmaActionName(step.executed);
-             return py::make_tuple(step.observation, step.reward, step.done, info);
-           },
-           py::arg("action"),
-           "Executes a CMA action (a CmaAction, an index 0–3 or a name) and flies to the next epoch: (observation, "
-           "reward R(S, A) [+ the terminal's reward when the flight ends], done, info {outcome, executed})")
+      .def(
+          "reset",
+          [](Environment& e, std::optional<std::uint64_t> seed) {
+            return e.env.Reset(seed.value_or(e.file.scenario.seed));
+          },
+          py::arg("seed") = py::none(), "A new flight; seed None: the scenario's (the same flight as uascma.run)")
+      .def(
+          "step",
+          [](Environment& e, const py::object& action) {
+            const CmaAction parsed = PythonPolicy::ToAction(action);
+            EnvironmentStep step;
+            {
+              py::gil_scoped_release release;
+              step = e.env.Step(parsed);
+            }
+            py::dict info;
+            info["outcome"] = OutcomeName(step.outcome);
+            info["requested"] = decision::CmaActionName(parsed);
+            info["executed"] = decision::CmaActionName(step.executed);
+            return py::make_tuple(step.observation, step.reward, step.done, info);
+          },
+          py::arg("action"),
+          "Executes a CMA action (a CmaAction, an index 0–3 or a name) and flies to the next epoch: (observation, "
+          "reward R(S, A) [+ the terminal's reward when the flight ends], done, info {outcome, executed})")
       .def_property_readonly("done", [](const Environment& e) { return e.env.done(); })
       .def_property_readonly("observation", [](const Environment& e) { return e.env.observation(); })
       .def_property_readonly("time_s", [](const Environment& e) { return e.env.state().time_s; })
       .def_property_readonly("scenario_seed", [](const Environment& e) { return e.file.scenario.seed; })
-      .def("flight",
-           [](const Environment& e, const std::string& policy) {
-             return Flight{e.file, e.model, e.env.Result(policy)};
-           },
-           py::arg("policy") = "environment",
-           "The flight so far as a uascma.Flight (events, actions and states when made with record=True; "
-           "telemetry with record_telemetry=True)");
+      .def(
+          "flight",
+          [](const Environment& e, const std::string& policy) {
+            return Flight{e.file, e.model, e.env.Result(policy)};
+          },
+          py::arg("policy") = "environment",
+          "The flight so far as a uascma.Flight (events, actions and states when made with record=True; "
+          "telemetry with record_telemetry=True)");
 
   m.def("run", &Run, py::arg("scenario"), py::arg("policy") = py::none(), py::arg("seed") = py::none(),
         py::arg("telemetry") = true, py::arg("mission") = py::none(),

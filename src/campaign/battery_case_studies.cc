@@ -58,7 +58,8 @@ BatteryFlightParams CaseFlightParams(const BatteryContext& context, double plan_
   p.health = {context.b1, context.b2};
   p.cells = CellHealthOf(p.health);
   const BatteryFlightRanges ranges;
-  p.ambient_temp_degf = context.temperature == decision::TemperatureClass::kLow ? ranges.cold_temp_degf : ranges.warm_temp_degf;
+  p.ambient_temp_degf =
+      context.temperature == decision::TemperatureClass::kLow ? ranges.cold_temp_degf : ranges.warm_temp_degf;
   p.plan_duration_s = plan_duration_s;
   return p;
 }
@@ -119,7 +120,8 @@ CaseDefinition DefineCase(int number) {
   } else {
     out.plan_duration_s = kCaseFlightFraction * ReferenceBatteryEod(PackAction::kUseBoth);  // decision 26
     if (number == 3) {
-      out.pairs = {{HealthClass::kG, HealthClass::kM}, {HealthClass::kG, HealthClass::kP}, {HealthClass::kP, HealthClass::kP}};
+      out.pairs = {
+          {HealthClass::kG, HealthClass::kM}, {HealthClass::kG, HealthClass::kP}, {HealthClass::kP, HealthClass::kP}};
     } else {
       out.pairs = {{HealthClass::kM, HealthClass::kG}};
     }
@@ -175,13 +177,16 @@ CaseScenario HindsightBest(const std::string& name, const BatteryFlightParams& p
 }  // namespace
 
 std::vector<CaseScenario> RunCaseStudy(int number, const CaseStudyOptions& options) {
-  if (number < 1 || number > 4) throw InputError("case-study", "N", fmt::format("1, 2, 3 or 4 (Table 4.5), got {}", number));
+  if (number < 1 || number > 4)
+    throw InputError("case-study", "N", fmt::format("1, 2, 3 or 4 (Table 4.5), got {}", number));
   const bool uses_policy = number == 2 || number == 4;
-  if (uses_policy && options.pistar == nullptr) throw InputError("case-study", "--policy", "a battery policy file for pi*");
+  if (uses_policy && options.pistar == nullptr)
+    throw InputError("case-study", "--policy", "a battery policy file for pi*");
   const CaseDefinition definition = DefineCase(number);
   std::vector<CaseScenario> scenarios;
   for (const auto& [b1, b2] : definition.pairs) {
-    BatteryFlightParams params = CaseFlightParams({b1, b2, decision::TemperatureClass::kHigh}, definition.plan_duration_s);
+    BatteryFlightParams params =
+        CaseFlightParams({b1, b2, decision::TemperatureClass::kHigh}, definition.plan_duration_s);
     params.seed = options.seed;
     if (number == 4) {
       // Fig. 4.11's caption: "Batt1 has one cell with capacity fade and Batt2 is healthy" (an F2 pack of
@@ -228,14 +233,16 @@ nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenar
                             {"switches", switches}};
     if (!scenario.schedule.empty()) {
       entry["schedule"] = scenario.schedule;
-      entry["family"] = fmt::format("UseBoth; UseBoth then one pack alone for good from t ({:.0f} s grid); UseBoth with "
-                                    "one window [t1, t2) of one pack alone ({:.0f} s grid)",
-                                    kHindsightSwitchGridS, kHindsightWindowGridS);
+      entry["family"] = fmt::format(
+          "UseBoth; UseBoth then one pack alone for good from t ({:.0f} s grid); UseBoth with "
+          "one window [t1, t2) of one pack alone ({:.0f} s grid)",
+          kHindsightSwitchGridS, kHindsightWindowGridS);
       entry["schedules_flown"] = scenario.schedules_flown;
     }
     out.push_back(std::move(entry));
   }
-  return {{"case", number}, {"flight_fraction", number >= 3 ? nlohmann::json(kCaseFlightFraction) : nlohmann::json(nullptr)},
+  return {{"case", number},
+          {"flight_fraction", number >= 3 ? nlohmann::json(kCaseFlightFraction) : nlohmann::json(nullptr)},
           {"scenarios", out}};
 }
 

@@ -19,10 +19,14 @@ using models::PackAction;
 
 const char* KindName(BatteryPolicyKind kind) {
   switch (kind) {
-    case BatteryPolicyKind::kUseBoth: return "useboth";
-    case BatteryPolicyKind::kVoltageRule: return "rule:voltage";
-    case BatteryPolicyKind::kPiStar: return "pistar";
-    case BatteryPolicyKind::kOurs: return "ours";
+    case BatteryPolicyKind::kUseBoth:
+      return "useboth";
+    case BatteryPolicyKind::kVoltageRule:
+      return "rule:voltage";
+    case BatteryPolicyKind::kPiStar:
+      return "pistar";
+    case BatteryPolicyKind::kOurs:
+      return "ours";
   }
   return "?";
 }
@@ -67,10 +71,11 @@ std::vector<BatteryPolicySpec> ParseBatteryPolicies(const std::string& text, con
       const auto wanted =
           name == "pistar" ? decision::BatteryFormulation::kDissertation : decision::BatteryFormulation::kOurs;
       if (policies->formulation != wanted) {
-        throw InputError(spec.file.string(), "formulation",
-                         fmt::format("'{}' for {}: (battery solve{}), got '{}'", decision::BatteryFormulationName(wanted),
-                                     name, name == "ours" ? " --formulation ours" : "",
-                                     decision::BatteryFormulationName(policies->formulation)));
+        throw InputError(
+            spec.file.string(), "formulation",
+            fmt::format("'{}' for {}: (battery solve{}), got '{}'", decision::BatteryFormulationName(wanted), name,
+                        name == "ours" ? " --formulation ours" : "",
+                        decision::BatteryFormulationName(policies->formulation)));
       }
       spec.policies = std::move(policies);
     } else {

@@ -44,7 +44,8 @@ BatteryPolicyFlight Summarise(const BatteryFlightResult& result) {
   return flight;
 }
 
-BatteryPolicySummary SummariseFlights(const std::string& label, const std::vector<const BatteryPolicyFlight*>& flights) {
+BatteryPolicySummary SummariseFlights(const std::string& label,
+                                      const std::vector<const BatteryPolicyFlight*>& flights) {
   BatteryPolicySummary out;
   out.label = label;
   std::vector<double> failure_times, charge_left, switches;
@@ -73,7 +74,8 @@ nlohmann::json SummaryJson(const BatteryPolicySummary& s) {
           {"runs", s.runs},
           {"completions", s.completions},
           {"failures", s.failures},
-          {"completion_rate", s.runs > 0 ? Number(static_cast<double>(s.completions) / static_cast<double>(s.runs)) : nullptr},
+          {"completion_rate",
+           s.runs > 0 ? Number(static_cast<double>(s.completions) / static_cast<double>(s.runs)) : nullptr},
           {"completion_wilson_low", Number(s.completion_wilson.low)},
           {"completion_wilson_high", Number(s.completion_wilson.high)},
           {"median_failure_time_s", Number(s.median_failure_time_s)},
@@ -118,10 +120,14 @@ BatteryPairComparison ComparePolicies(const BatteryEvaluation& evaluation, std::
   for (const auto& run : evaluation.runs) {
     const bool first = run.flights[a].completed(), second = run.flights[b].completed();
     ++cmp.pairs;
-    if (first && second) ++cmp.both_completed;
-    else if (!first && !second) ++cmp.neither_completed;
-    else if (first) ++cmp.only_first_completed;
-    else ++cmp.only_second_completed;
+    if (first && second)
+      ++cmp.both_completed;
+    else if (!first && !second)
+      ++cmp.neither_completed;
+    else if (first)
+      ++cmp.only_first_completed;
+    else
+      ++cmp.only_second_completed;
   }
   cmp.exact_p = CalcMcNemarTest(cmp.only_first_completed, cmp.only_second_completed).exact_p;
   return cmp;
@@ -131,7 +137,8 @@ BatteryPairComparison ComparePolicies(const BatteryEvaluation& evaluation, std::
 void SummariseEvaluation(BatteryEvaluation& out) {
   const std::size_t n = out.labels.size();
   for (std::size_t k = 0; k < n; ++k) {
-    out.overall.push_back(SummariseFlights(out.labels[k], Column(out, k, [](const BatteryEvaluationRun&) { return true; })));
+    out.overall.push_back(
+        SummariseFlights(out.labels[k], Column(out, k, [](const BatteryEvaluationRun&) { return true; })));
   }
   for (int c = 0; c < decision::kBatteryNumContexts; ++c) {
     const BatteryContext context = decision::BatteryContextFromIndex(c);
@@ -139,7 +146,8 @@ void SummariseEvaluation(BatteryEvaluation& out) {
     group.context = context;
     for (std::size_t k = 0; k < n; ++k) {
       group.policies.push_back(SummariseFlights(
-          out.labels[k], Column(out, k, [&context](const BatteryEvaluationRun& run) { return run.params.context() == context; })));
+          out.labels[k],
+          Column(out, k, [&context](const BatteryEvaluationRun& run) { return run.params.context() == context; })));
     }
     if (group.policies.front().runs > 0) out.by_context.push_back(std::move(group));
   }
@@ -230,17 +238,20 @@ std::string BatteryEvaluationText(const BatteryEvaluation& evaluation) {
   std::string out = fmt::format(
       "battery policies on {} paired flights of Table 4.4's draw (seed {}), every policy on the same flight\n\n",
       evaluation.runs.size(), evaluation.seed);
-  out += "policy        completed   95% Wilson        failed  median failure s  charge left Ah  switches median/mean/max\n";
+  out +=
+      "policy        completed   95% Wilson        failed  median failure s  charge left Ah  switches "
+      "median/mean/max\n";
   for (const auto& s : evaluation.overall) {
-    out += fmt::format("{:<13} {:>4}/{:<5} [{:5.1f}%, {:5.1f}%]  {:>6}  {:>16.0f}  {:>14.3f}  {:>6.0f} / {:.1f} / {}\n", s.label,
-                       s.completions, s.runs, 100.0 * s.completion_wilson.low, 100.0 * s.completion_wilson.high,
-                       s.failures, s.median_failure_time_s, s.mean_charge_left_ah, s.median_switches, s.mean_switches,
-                       s.max_switches);
+    out += fmt::format("{:<13} {:>4}/{:<5} [{:5.1f}%, {:5.1f}%]  {:>6}  {:>16.0f}  {:>14.3f}  {:>6.0f} / {:.1f} / {}\n",
+                       s.label, s.completions, s.runs, 100.0 * s.completion_wilson.low,
+                       100.0 * s.completion_wilson.high, s.failures, s.median_failure_time_s, s.mean_charge_left_ah,
+                       s.median_switches, s.mean_switches, s.max_switches);
   }
   out += "\npaired completions (McNemar, exact two-sided p): only A completed / only B completed\n";
   for (const auto& c : evaluation.comparisons) {
-    out += fmt::format("  {:<13} vs {:<13} {:>4} / {:<4} both {:>4}, neither {:>4}   p = {:.4g}\n", c.first, c.second,
-                       c.only_first_completed, c.only_second_completed, c.both_completed, c.neither_completed, c.exact_p);
+    out +=
+        fmt::format("  {:<13} vs {:<13} {:>4} / {:<4} both {:>4}, neither {:>4}   p = {:.4g}\n", c.first, c.second,
+                    c.only_first_completed, c.only_second_completed, c.both_completed, c.neither_completed, c.exact_p);
   }
   out += "\ncompleted per health pair and temperature (Table 4.2), runs in brackets\ncontext    ";
   for (const auto& label : evaluation.labels) out += fmt::format(" {:>13}", label);

@@ -22,19 +22,17 @@ using decision::StateIndex;
 using models::HealthClass;
 using models::PackAction;
 
-
 double Draw(RandomStream& random, const double (&range)[2]) { return random.Uniform(range[0], range[1]); }
 
 // Usable charge left in a pack (A·h): its cells are in series, so the pack stops at its emptiest cell.
 double PackChargeLeftAh(const models::BatteryPack& pack, const models::PackState& state, int branch) {
   double charge_as = std::numeric_limits<double>::infinity();
   for (int c = 0; c < models::kCellsPerBranch; ++c) {
-    charge_as = std::min(charge_as, std::max(0.0, state.cells[branch][c].soc_fraction) *
-                                        pack.cell(branch, c).capacity_as());
+    charge_as =
+        std::min(charge_as, std::max(0.0, state.cells[branch][c].soc_fraction) * pack.cell(branch, c).capacity_as());
   }
   return charge_as / 3600.0;
 }
-
 
 double HoverCurrent(const models::BatteryPack& pack, const models::PackState& state) {
   const sim::Scenario defaults;
@@ -128,7 +126,8 @@ sim::Scenario MakeBatteryScenario(const BatteryFlightParams& params) {
   for (int i = 0; i < 40; ++i) {
     const double mid = 0.5 * (low + high);
     scenario.mission.destination_NE = Eigen::Vector2d(mid, 0.0);
-    (planning::MakeDeliveryPlan(scenario.mission, scenario.limits).duration() < params.plan_duration_s ? low : high) = mid;
+    (planning::MakeDeliveryPlan(scenario.mission, scenario.limits).duration() < params.plan_duration_s ? low : high) =
+        mid;
   }
   scenario.mission.destination_NE = Eigen::Vector2d(0.5 * (low + high), 0.0);
   return scenario;
@@ -147,7 +146,8 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
   PackAction Decide(const sim::FlightModel& model, const sim::FlightState& state) override {
     decision::BatteryObservation observation = ObserveBatteryFlight(model, state);
     if (observe_pair_eod_) {
-      const prognostics::EodResult pair = prognostics::CalcPackEod(model.pack(), state.power.pack, state.power.load_current_a);
+      const prognostics::EodResult pair =
+          prognostics::CalcPackEod(model.pack(), state.power.pack, state.power.load_current_a);
       observation.pair_eod_s = pair.eod_s;
       observation.pair_limiting_branch = pair.limiting_branch;
     }
@@ -218,7 +218,8 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
     results[k].outcome = states[k].outcome;
     results[k].end_time_s = states[k].time_s;
     results[k].energy_used_wh = states[k].power.energy_wh;
-    for (int j = 0; j < models::kBranchCount; ++j) results[k].charge_left_ah[j] = PackChargeLeftAh(model.pack(), states[k].power.pack, j);
+    for (int j = 0; j < models::kBranchCount; ++j)
+      results[k].charge_left_ah[j] = PackChargeLeftAh(model.pack(), states[k].power.pack, j);
     // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.
     if (states[k].outcome == sim::Outcome::kFailedBattery) results[k].states.push_back(decision::kBatteryFailureState);
   }
@@ -231,7 +232,8 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
 
 // ================================ the executor for any flight ======================================
 BatteryPolicySwitch::BatteryPolicySwitch(const decision::BatteryPolicySet& policies, const sim::Scenario& scenario)
-    : executor_(policies, decision::BatteryContextOf(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)) {}
+    : executor_(policies,
+                decision::BatteryContextOf(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)) {}
 
 PackAction BatteryPolicySwitch::Decide(const sim::FlightModel& model, const sim::FlightState& state) {
   return executor_.Decide(ObserveBatteryFlight(model, state));

@@ -295,7 +295,7 @@ void HashWhenSet(Fingerprint& f, const ConfigField& field, const T& v, const Cam
     f.Add(c.map.DerivesSites() ? 1 : 0);
   } else if constexpr (std::is_same_v<T, bool>) {
     if (v) f.Add(field.leaf());
-  } else if constexpr (requires(Fingerprint& g) { HashValue(g, *v); }) {
+  } else if constexpr (requires(Fingerprint & g) { HashValue(g, *v); }) {
     if (!IsSet(v)) return;
     f.Add(field.leaf());
     HashValue(f, *v);
@@ -340,14 +340,14 @@ bool CheckValue(const ConfigField& f, const T& v, std::string* error) {
   }
 }
 
-
 // ---- the parser of a value ------------------------------------------------------------------------------------------
 
 // An integer within `bounds`, checked before the conversion (a cast of 1e300 to an integer is undefined).
 std::int64_t ReadInteger(const YAML::Node& node, const ConfigField& f, const std::string& source) {
   const double value = RequireNumber(node, std::string(f.leaf()), source, std::string(f.section()));
   RequireWithin(value, *f.bounds, source, std::string(f.key));
-  if (value != std::floor(value)) throw InputError(source, std::string(f.key), fmt::format("an integer, got {}", value));
+  if (value != std::floor(value))
+    throw InputError(source, std::string(f.key), fmt::format("an integer, got {}", value));
   return static_cast<std::int64_t>(value);
 }
 
@@ -448,7 +448,9 @@ struct ValueReader {
     }
     throw InputError(source, field, fmt::format("one_kind | per_cell, got '{}'", name));
   }
-  void operator()(sim::EodLoad& v) const { v = sim::ParseEodLoad(RequireString(node, leaf, source, where), source, field); }
+  void operator()(sim::EodLoad& v) const {
+    v = sim::ParseEodLoad(RequireString(node, leaf, source, where), source, field);
+  }
 };
 
 // Unknown keys are errors, at the top level and in each section (a typo would otherwise be silently ignored).
@@ -478,7 +480,8 @@ void CheckMapKeys(const YAML::Node& map, const MapSampling& m, const std::string
       throw InputError(source, "map", "either procedural_seed (the built-in city) or buildings (an imported one)");
     }
   }
-  if (!m.imported() && (!m.sites.empty() || m.origin_deg || m.height_from_type || m.default_height_m || m.sites_from_map)) {
+  if (!m.imported() &&
+      (!m.sites.empty() || m.origin_deg || m.height_from_type || m.default_height_m || m.sites_from_map)) {
     throw InputError(source, "map.buildings",
                      "building files: sites, origin, height_from_type, default_height_m and sites_from_map belong to "
                      "an imported map");
@@ -524,9 +527,7 @@ CampaignConfig LoadCampaignConfig(const std::filesystem::path& path) {
   return config;
 }
 
-const char* MediumFadesName(MediumFades fades) {
-  return fades == MediumFades::kPerCell ? "per_cell" : "one_kind";
-}
+const char* MediumFadesName(MediumFades fades) { return fades == MediumFades::kPerCell ? "per_cell" : "one_kind"; }
 
 std::string CampaignFieldText(const CampaignFieldRef& value) {
   return std::visit([](const auto* v) { return Text(*v); }, value);

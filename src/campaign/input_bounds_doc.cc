@@ -56,7 +56,8 @@ std::string CampaignBoundsTable() {
   for (const CampaignFieldEntry& entry : CampaignFields(defaults)) {
     const ConfigField& f = entry.field;
     std::string value = "`" + Cell(CampaignFieldText(entry.value)) + "`";
-    if (f.scope == FieldScope::kImportedMap) value = f.written_when_unset ? value + " (imported map)" : "(imported map)";
+    if (f.scope == FieldScope::kImportedMap)
+      value = f.written_when_unset ? value + " (imported map)" : "(imported map)";
     out += fmt::format("| `{}` | {} | {} | {} |\n", f.key, BoundText(f.bounds, f.expected), value, Cell(f.citation));
   }
   return out;

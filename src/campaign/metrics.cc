@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <memory>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 #include <nlohmann/json.hpp>
@@ -27,8 +27,8 @@ RewardTrace CalcRewardTrace(const std::vector<EpochDecision>& decisions, sim::Ou
   trace.reward.reserve(decisions.size() + 1);
   for (const EpochDecision& d : decisions) trace.reward.push_back(decision::CmaEpochReward(weights, d.state, d.action));
   trace.reward.push_back(decision::CmaTerminalReward(weights, sim::TerminalStateOf(outcome)));
-  trace.average = std::accumulate(trace.reward.begin(), trace.reward.end(), 0.0) /
-                  static_cast<double>(trace.reward.size());
+  trace.average =
+      std::accumulate(trace.reward.begin(), trace.reward.end(), 0.0) / static_cast<double>(trace.reward.size());
   trace.minimum = *std::min_element(trace.reward.begin(), trace.reward.end());
   return trace;
 }

@@ -14,11 +14,11 @@ std::string CampaignRunSummary::Text() const {
       "flew %lld flights (%lld already stored, %lld flown meanwhile by other processes, %lld in the campaign) in "
       "%.1f s: %.1f flights/s on %d rank%s x %d thread%s; results in %s\n";
   auto print = [&](char* buffer, std::size_t size) {
-    return std::snprintf(buffer, size, format, static_cast<long long>(outcome.flights_flown),
-                         static_cast<long long>(outcome.flights_before), static_cast<long long>(outcome.flights_by_others),
-                         static_cast<long long>(outcome.flights_total), outcome.wall_time_s, flights_per_s(),
-                         outcome.ranks, outcome.ranks == 1 ? "" : "s", outcome.jobs, outcome.jobs == 1 ? "" : "s",
-                         db.c_str());
+    return std::snprintf(
+        buffer, size, format, static_cast<long long>(outcome.flights_flown),
+        static_cast<long long>(outcome.flights_before), static_cast<long long>(outcome.flights_by_others),
+        static_cast<long long>(outcome.flights_total), outcome.wall_time_s, flights_per_s(), outcome.ranks,
+        outcome.ranks == 1 ? "" : "s", outcome.jobs, outcome.jobs == 1 ? "" : "s", db.c_str());
   };
   std::string text(static_cast<std::size_t>(print(nullptr, 0)), '\0');
   print(text.data(), text.size() + 1);

@@ -31,10 +31,10 @@ using Clock = std::chrono::steady_clock;
 // Hooks that let the calling thread do more than collect local records (MPI rank 0 receives the other
 // ranks' records between waits).
 struct LoopHooks {
-  std::function<void()> poll;                 // called on every pass of the collecting loop
-  std::function<bool()> remote_done;          // the loop ends when local work is done and this is true
+  std::function<void()> poll;         // called on every pass of the collecting loop
+  std::function<bool()> remote_done;  // the loop ends when local work is done and this is true
   double poll_period_s = 0.02;
-  std::function<void()> tick;                 // called every tick_period_s (the store's heartbeat)
+  std::function<void()> tick;  // called every tick_period_s (the store's heartbeat)
   double tick_period_s = kHeartbeatPeriodSeconds;
 };
 
@@ -47,10 +47,11 @@ using TaskSource = std::function<std::optional<FlightTask>(std::int64_t job, con
 
 // A TaskSource over a fixed list (which must outlive it): job i flies tasks[i].
 TaskSource ListedTasks(const std::vector<FlightTask>& tasks) {
-  return [&tasks](std::int64_t job, const CancellationToken&, const std::function<void()>&) -> std::optional<FlightTask> {
-    if (job < 0 || static_cast<std::size_t>(job) >= tasks.size()) return std::nullopt;
-    return tasks[static_cast<std::size_t>(job)];
-  };
+  return
+      [&tasks](std::int64_t job, const CancellationToken&, const std::function<void()>&) -> std::optional<FlightTask> {
+        if (job < 0 || static_cast<std::size_t>(job) >= tasks.size()) return std::nullopt;
+        return tasks[static_cast<std::size_t>(job)];
+      };
 }
 
 // How often a process that has nothing left to claim looks again at the runs other workers hold (our
@@ -227,7 +228,8 @@ void FlyTasks(const CampaignConfig& config, const std::vector<CampaignPolicy>& p
 void CollectFlights(FlightsInFlight& flights, const ExecuteOptions& options,
                     const std::function<void(std::vector<RunRecord>&&)>& sink, const LoopHooks& hooks) {
   const auto interval = std::chrono::duration<double>(options.flush_interval_s);
-  const auto tick_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(hooks.tick_period_s));
+  const auto tick_period =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(hooks.tick_period_s));
   auto last_flush = Clock::now();
   auto next_tick = last_flush + tick_period;
   std::vector<RunRecord> batch;
@@ -240,7 +242,7 @@ void CollectFlights(FlightsInFlight& flights, const ExecuteOptions& options,
       auto deadline = last_flush + std::chrono::duration_cast<Clock::duration>(interval);
       if (hooks.poll) {
         deadline = std::min(deadline, Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                          std::chrono::duration<double>(hooks.poll_period_s)));
+                                                         std::chrono::duration<double>(hooks.poll_period_s)));
       }
       if (hooks.tick) deadline = std::min(deadline, next_tick);
       flights.ready.wait_until(lock, deadline, [&] {
@@ -332,11 +334,11 @@ ResultsStore OpenCampaignStore(const CampaignRequest& request, const CampaignHea
     const std::string what = stored.config_hash != header.config_hash
                                  ? "its configuration or seed differs"
                                  : "its policies differ (names, or the actions of a policy)";
-    throw InputError(path, "campaign",
-                     fmt::format("the campaign being run (hash {}), but the file holds another campaign '{}' (hash {}, "
-                                 "seed {}, created {}): {}; use another --db",
-                                 header.campaign_hash, stored.name, stored.campaign_hash, stored.seed,
-                                 stored.created_utc, what));
+    throw InputError(
+        path, "campaign",
+        fmt::format("the campaign being run (hash {}), but the file holds another campaign '{}' (hash {}, "
+                    "seed {}, created {}): {}; use another --db",
+                    header.campaign_hash, stored.name, stored.campaign_hash, stored.seed, stored.created_utc, what));
   }
   if (existed && !request.resume && store.CountLiveWorkers() == 0) {
     throw InputError(path, "file",
@@ -391,10 +393,10 @@ namespace {
 
 // What rank 0 found in the store at the start, as each rank holds it.
 struct CampaignPlan {
-  std::optional<ResultsStore> store;      // root: the store, joined as a worker
-  std::vector<std::int64_t> candidates;   // root: runs with flights missing at the start
-  std::vector<std::int64_t> held;         // MPI root: of those, runs other workers held at the start
-  std::vector<FlightTask> tasks;          // MPI: the runs rank 0 claimed for the ranks
+  std::optional<ResultsStore> store;     // root: the store, joined as a worker
+  std::vector<std::int64_t> candidates;  // root: runs with flights missing at the start
+  std::vector<std::int64_t> held;        // MPI root: of those, runs other workers held at the start
+  std::vector<FlightTask> tasks;         // MPI: the runs rank 0 claimed for the ranks
   std::int64_t flights_missing = 0;
   std::shared_ptr<const CampaignWorld> world;  // root: built for the preflight runs, then flown in
 };
@@ -429,8 +431,10 @@ CampaignPlan OpenStoreAndPlan(const CampaignRequest& request, const CampaignHead
     if (mpi == nullptr) throw;
   }
   if (mpi != nullptr) {
-    std::string bytes = ToBytes({{"failure", failure}, {"campaign_hash", header.campaign_hash},
-                                 {"tasks", TasksToJson(plan.tasks)}, {"missing", plan.flights_missing}});
+    std::string bytes = ToBytes({{"failure", failure},
+                                 {"campaign_hash", header.campaign_hash},
+                                 {"tasks", TasksToJson(plan.tasks)},
+                                 {"missing", plan.flights_missing}});
     mpi::Broadcast(bytes, 0);
     if (!failure.empty()) throw InputError(failure);
   }
@@ -529,9 +533,8 @@ RankShare ShareOfRank(const std::vector<FlightTask>& tasks, const MpiSession& mp
 
 // MPI rank 0: flies its share while receiving the other ranks' records, writes them all, then waits for the
 // runs other processes held when it claimed (flying those whose worker died), and retires.
-void RunMpiRoot(const CampaignRequest& request, const ExecuteOptions& execute, RootStore& root,
-                const RankShare& share, const TaskSource& share_source, std::int64_t flights_missing,
-                std::vector<std::int64_t> held) {
+void RunMpiRoot(const CampaignRequest& request, const ExecuteOptions& execute, RootStore& root, const RankShare& share,
+                const TaskSource& share_source, std::int64_t flights_missing, std::vector<std::int64_t> held) {
   std::optional<ProgressBar> progress;
   if (execute.progress) progress.emplace(flights_missing, execute.progress_label);
   std::vector<RunRecord> pending;
@@ -559,13 +562,13 @@ void RunMpiRoot(const CampaignRequest& request, const ExecuteOptions& execute, R
   };
   hooks.remote_done = [&] { return received >= share.flights_elsewhere; };
   hooks.tick = [&root] { root.Heartbeat(); };
-  ExecuteFlightsImpl(request.config, request.policies, share_source, share.tasks.size(), execute,
-                     [&](std::vector<RunRecord>&& batch) {
-                       pending.insert(pending.end(), std::make_move_iterator(batch.begin()),
-                                      std::make_move_iterator(batch.end()));
-                       write(false);
-                     },
-                     progress ? &*progress : nullptr, hooks);
+  ExecuteFlightsImpl(
+      request.config, request.policies, share_source, share.tasks.size(), execute,
+      [&](std::vector<RunRecord>&& batch) {
+        pending.insert(pending.end(), std::make_move_iterator(batch.begin()), std::make_move_iterator(batch.end()));
+        write(false);
+      },
+      progress ? &*progress : nullptr, hooks);
   write(true);
   // Runs other processes held when rank 0 claimed: wait for them, fly those whose worker died.
   if (!held.empty()) root.FlyClaimedRuns({}, std::move(held), progress ? &*progress : nullptr);
@@ -578,14 +581,15 @@ void RunMpiWorker(const CampaignRequest& request, const ExecuteOptions& execute,
   ExecuteOptions worker = execute;
   worker.flush_interval_s = std::min(worker.flush_interval_s, 0.5);
   worker.flush_rows = std::min(worker.flush_rows, 64);
-  ExecuteFlightsImpl(request.config, request.policies, share_source, share.tasks.size(), worker,
-                     [&](std::vector<RunRecord>&& batch) {
-                       nlohmann::json list = nlohmann::json::array();
-                       for (const RunRecord& record : batch) list.push_back(RecordToJson(record));
-                       mpi::Send(ToBytes(list), 0, mpi::kTagRecords);
-                       outcome.flights_flown += static_cast<std::int64_t>(batch.size());
-                     },
-                     nullptr, LoopHooks{});
+  ExecuteFlightsImpl(
+      request.config, request.policies, share_source, share.tasks.size(), worker,
+      [&](std::vector<RunRecord>&& batch) {
+        nlohmann::json list = nlohmann::json::array();
+        for (const RunRecord& record : batch) list.push_back(RecordToJson(record));
+        mpi::Send(ToBytes(list), 0, mpi::kTagRecords);
+        outcome.flights_flown += static_cast<std::int64_t>(batch.size());
+      },
+      nullptr, LoopHooks{});
   outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
 }
 

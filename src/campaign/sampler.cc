@@ -4,7 +4,6 @@
 #include <array>
 #include <memory>
 
-
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -49,9 +48,8 @@ decision::BatteryHealth DrawBatteryHealth(RandomStream& random, const BatterySam
   const auto health = static_cast<decision::BatteryHealth>(DrawWeighted(random, battery.health_weights));
   cells = {};
   if (health == decision::BatteryHealth::kG) return health;
-  const int k = battery.degraded_cells.low +
-                static_cast<int>(random.UniformIndex(
-                    static_cast<std::uint64_t>(battery.degraded_cells.high - battery.degraded_cells.low + 1)));
+  const int k = battery.degraded_cells.low + static_cast<int>(random.UniformIndex(static_cast<std::uint64_t>(
+                                                 battery.degraded_cells.high - battery.degraded_cells.low + 1)));
   std::array<models::CellHealth*, models::kBranchCount * models::kCellsPerBranch> six;
   for (int b = 0; b < models::kBranchCount; ++b) {
     for (int c = 0; c < models::kCellsPerBranch; ++c) six[b * models::kCellsPerBranch + c] = &cells[b][c];
@@ -73,7 +71,8 @@ bool ClearOfBuildings(const planning::CityMap& map, const Eigen::Vector2d& p_NE,
 // negative number when even a zero distance lasts longer.
 double DistanceForPlanDuration(double duration, double cruise_altitude, double drop_hover_s,
                                const planning::PlanLimits& limits) {
-  const double vertical = planning::CalcTrapezoid(cruise_altitude, limits.vertical_speed, limits.vertical_accel).duration;
+  const double vertical =
+      planning::CalcTrapezoid(cruise_altitude, limits.vertical_speed, limits.vertical_accel).duration;
   const double leg = 0.5 * (duration - 2.0 * vertical - drop_hover_s);  // s per horizontal move
   if (leg < 0.0) return -1.0;
   const double v = limits.cruise_speed;
@@ -163,8 +162,8 @@ double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragT
 
 double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTable& drag,
                              const Eigen::Vector2d& direction_NE) {
-  const Eigen::Vector2d wind_NE =
-      scenario.wind.mean_speed * Eigen::Vector2d(std::cos(scenario.wind.direction_rad), std::sin(scenario.wind.direction_rad));
+  const Eigen::Vector2d wind_NE = scenario.wind.mean_speed * Eigen::Vector2d(std::cos(scenario.wind.direction_rad),
+                                                                             std::sin(scenario.wind.direction_rad));
   const Eigen::Vector2d ground_NE = scenario.limits.cruise_speed * direction_NE.normalized();
   // The out leg, the leg back, and the drop hover (airspeed = the wind): the largest current of the three.
   return std::max({CalcLevelFlightCurrent(scenario, drag, (ground_NE - wind_NE).norm()),
@@ -178,7 +177,8 @@ double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a) {
   return prognostics::CalcPackEod(pack, state, current_a).eod_s;
 }
 
-WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& drag, const planning::FlightPlan& plan) {
+WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& drag,
+                        const planning::FlightPlan& plan) {
   const double duration = plan.duration();
   UASCMA_CHECK(duration > 0.0, "a nominal plan of positive duration");
   WholeLoad load;
@@ -190,9 +190,9 @@ WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& 
   load.rotor_energy_j = sim::LoadProfile(plan, model, models::kRotorCount).RemainingEnergyJ(0.0);
   // The gust allowance (ours, the speed cap's 1σ, sim/speed_cap.h): at each level airspeed of the plan the steady
   // power at that airspeed raised by σ_u, less the power at it; the largest of the three over the whole plan.
-  load.gust_sigma_u_mps =
-      models::CalcDrydenIntensity(scenario.wind.turbulence, scenario.mission.cruise_altitude, scenario.wind.medium_band_altitude)
-          .sigma_u;
+  load.gust_sigma_u_mps = models::CalcDrydenIntensity(scenario.wind.turbulence, scenario.mission.cruise_altitude,
+                                                      scenario.wind.medium_band_altitude)
+                              .sigma_u;
   const sim::SteadyLoadModel still_air{&scenario.body, &drag, &power, Eigen::Vector3d::Zero()};
   const auto level_power = [&](double airspeed) {
     return sim::CalcSteadyRotorPower(still_air, Eigen::Vector3d(airspeed, 0.0, 0.0), Eigen::Vector3d::Zero(),
@@ -200,10 +200,12 @@ WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& 
   };
   const Eigen::Vector2d wind_NE = mean_wind_W.head<2>();
   const Eigen::Vector2d route_NE = scenario.mission.destination_NE - scenario.mission.home_NE;
-  const Eigen::Vector2d ground_NE =
-      route_NE.norm() > 0.0 ? Eigen::Vector2d(scenario.limits.cruise_speed * route_NE.normalized()) : Eigen::Vector2d::Zero();
+  const Eigen::Vector2d ground_NE = route_NE.norm() > 0.0
+                                        ? Eigen::Vector2d(scenario.limits.cruise_speed * route_NE.normalized())
+                                        : Eigen::Vector2d::Zero();
   for (const double airspeed : {(ground_NE - wind_NE).norm(), (-ground_NE - wind_NE).norm(), wind_NE.norm()}) {
-    load.gust_power_w = std::max(load.gust_power_w, level_power(airspeed + load.gust_sigma_u_mps) - level_power(airspeed));
+    load.gust_power_w =
+        std::max(load.gust_power_w, level_power(airspeed + load.gust_sigma_u_mps) - level_power(airspeed));
   }
   // Power to pack current as CalcLevelFlightCurrent: over a bus at the planning voltage, plus the hotel load.
   const double bus_voltage = kPlanningCellVoltage * models::kCellsPerBranch;
@@ -242,9 +244,9 @@ void DrawBattery(RandomStream& random, const BatterySampling& battery, SampledRu
   for (int b = 0; b < models::kBranchCount; ++b) {
     run.pack_health[b] = models::ClassifyHealth(scenario.battery.cell_health[b]);
   }
-  UASCMA_CHECK(static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)) ==
-                   static_cast<int>(run.battery_health),
-               "the drawn cells realise the drawn battery health");
+  UASCMA_CHECK(
+      static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)) == static_cast<int>(run.battery_health),
+      "the drawn cells realise the drawn battery health");
 
   // 5. Ambient temperature: only the 50 °F split matters (Table 3.2).
   run.cold = random.Bernoulli(battery.cold_probability);
@@ -303,8 +305,8 @@ void SetEnduranceTiedDistance(SampledRun& run, const models::DragTable& drag, co
     scenario.mission.cruise_altitude =
         std::max(map.CruiseAltitude(outer, planning::kCruiseClearanceAboveBuildings, clearance), lowest_cruise);
   }
-  run.distance_m =
-      DistanceForPlanDuration(target_s, scenario.mission.cruise_altitude, scenario.mission.drop_hover_s, scenario.limits);
+  run.distance_m = DistanceForPlanDuration(target_s, scenario.mission.cruise_altitude, scenario.mission.drop_hover_s,
+                                           scenario.limits);
   if (run.distance_m < 0.0) {
     throw InputError("campaign", "mission.endurance_fraction",
                      "plans long enough for the climb, the drop hover and the descent");
@@ -345,8 +347,9 @@ bool FitRoute(RandomStream& random, const CampaignConfig& config, const RouteCon
       }
       if (!route.endurance_tied) {
         const std::array<Eigen::Vector2d, 2> ends = {scenario.mission.home_NE, scenario.mission.destination_NE};
-        scenario.mission.cruise_altitude = std::max(
-            route.map.CruiseAltitude(ends, planning::kCruiseClearanceAboveBuildings, route.clearance), route.lowest_cruise);
+        scenario.mission.cruise_altitude =
+            std::max(route.map.CruiseAltitude(ends, planning::kCruiseClearanceAboveBuildings, route.clearance),
+                     route.lowest_cruise);
       }
     }
     const planning::FlightPlan plan = planning::MakeDeliveryPlan(scenario.mission, scenario.limits);
@@ -392,8 +395,8 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
   }
   if (!route.endurance_tied) {
     // Recorded for every run: the healthy pack's EOD at the plan's cruise current (not used to draw it).
-    run.cruise_current_a = CalcPlanCruiseCurrent(
-        scenario, route.drag, Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad)));
+    run.cruise_current_a = CalcPlanCruiseCurrent(scenario, route.drag,
+                                                 Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad)));
     run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
   }
 }
@@ -439,7 +442,7 @@ SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, s
   scenario.options.cap_speed_after_isolation = config.options.cap_speed_after_isolation;
 
   // The draws in the header's fixed order (sampler.h): changing it changes every campaign.
-  DrawMission(random, config, run);         // 1–2
+  DrawMission(random, config, run);          // 1–2
   DrawBattery(random, config.battery, run);  // 3–5
   DrawWind(random, config.wind, run);        // 6
   DrawRoute(random, config, run);            // 7
@@ -463,7 +466,8 @@ SiteCoverage CalcSiteCoverage(const CampaignConfig& config, std::uint64_t campai
       // LandPract's checkpoints (land_pract.cc): arc lengths k L / (N + 1).
       const Eigen::Vector2d p_NE = plan.PointAtDistance(length * k / (land_pract.checkpoint_count + 1)).head<2>();
       double nearest = std::numeric_limits<double>::infinity();
-      for (const planning::LandingSite& site : map->sites()) nearest = std::min(nearest, (site.p_W.head<2>() - p_NE).norm());
+      for (const planning::LandingSite& site : map->sites())
+        nearest = std::min(nearest, (site.p_W.head<2>() - p_NE).norm());
       coverage.largest_gap = std::max(coverage.largest_gap, nearest);
       ++coverage.checkpoints;
       if (!(nearest <= coverage.reach)) {
@@ -485,17 +489,21 @@ std::string SiteCoverage::BriefReport() const {
       checkpoints_without_site, checkpoints, runs, runs > 0 ? checkpoints / runs : 0, reach,
       runs_with_uncovered_checkpoint, largest_gap, sites);
   if (!covered()) {
-    text += "  the sites do not cover the routes: give a sites file of the same district, or none (the map then "
-            "supplies its flat roofs and open areas)\n";
+    text +=
+        "  the sites do not cover the routes: give a sites file of the same district, or none (the map then "
+        "supplies its flat roofs and open areas)\n";
   }
   return text;
 }
 
 const char* PackConditionName(models::HealthClass health) {
   switch (health) {
-    case models::HealthClass::kG: return "F1";
-    case models::HealthClass::kM: return "F2";
-    case models::HealthClass::kP: return "F3";
+    case models::HealthClass::kG:
+      return "F1";
+    case models::HealthClass::kM:
+      return "F2";
+    case models::HealthClass::kP:
+      return "F3";
   }
   return "F1";
 }

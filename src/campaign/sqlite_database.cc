@@ -35,7 +35,9 @@ Statement::~Statement() {
 }
 
 Statement::Statement(Statement&& other) noexcept
-    : db_(other.db_), statement_(std::exchange(other.statement_, nullptr)), path_(std::move(other.path_)),
+    : db_(other.db_),
+      statement_(std::exchange(other.statement_, nullptr)),
+      path_(std::move(other.path_)),
       last_code_(other.last_code_) {}
 
 Statement& Statement::operator=(Statement&& other) noexcept {

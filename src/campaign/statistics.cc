@@ -6,11 +6,11 @@
 #include <map>
 #include <utility>
 
+#include <fmt/format.h>
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/normal.hpp>
 #include <boost/math/special_functions/beta.hpp>
-#include <fmt/format.h>
 
 #include "uascma/common/error.h"
 
@@ -65,7 +65,8 @@ OutcomeClass ClassOf(const RunRecord& r) {
 }
 
 // Policies in the requested order, then the others by name.
-std::vector<std::string> PolicyOrder(const std::vector<RunRecord>& records, const std::vector<std::string>& policy_order) {
+std::vector<std::string> PolicyOrder(const std::vector<RunRecord>& records,
+                                     const std::vector<std::string>& policy_order) {
   std::vector<std::string> policies = policy_order;
   std::vector<std::string> others;
   for (const RunRecord& r : records) {
@@ -115,7 +116,8 @@ Interval WilsonInterval(std::int64_t successes, std::int64_t trials, double conf
   const double centre = (k + 0.5 * z2) / (n + z2);
   const double half = z / (n + z2) * std::sqrt(k * (n - k) / n + 0.25 * z2);
   // At k = 0 (k = n) the lower (upper) end is exactly 0 (1); clamp the round-off.
-  return {successes == 0 ? 0.0 : std::max(0.0, centre - half), successes == trials ? 1.0 : std::min(1.0, centre + half)};
+  return {successes == 0 ? 0.0 : std::max(0.0, centre - half),
+          successes == trials ? 1.0 : std::min(1.0, centre + half)};
 }
 
 Interval ClopperPearsonInterval(std::int64_t successes, std::int64_t trials, double confidence) {
@@ -138,11 +140,16 @@ RateEstimate EstimateRateWithIntervals(std::int64_t successes, std::int64_t tria
 
 const char* FailureCauseName(FailureCause cause) {
   switch (cause) {
-    case FailureCause::kBattery: return "battery";
-    case FailureCause::kLossOfControl: return "loss_of_control";
-    case FailureCause::kCollision: return "collision";
-    case FailureCause::kTimeout: return "timeout";
-    case FailureCause::kOther: return "other";
+    case FailureCause::kBattery:
+      return "battery";
+    case FailureCause::kLossOfControl:
+      return "loss_of_control";
+    case FailureCause::kCollision:
+      return "collision";
+    case FailureCause::kTimeout:
+      return "timeout";
+    case FailureCause::kOther:
+      return "other";
   }
   return "other";
 }
@@ -157,9 +164,12 @@ FailureCause FailureCauseOf(const std::string& outcome) {
 
 const char* BatteryFadesName(BatteryFades fades) {
   switch (fades) {
-    case BatteryFades::kNone: return "none";
-    case BatteryFades::kPowerOnly: return "power_only";
-    case BatteryFades::kCapacity: return "capacity";
+    case BatteryFades::kNone:
+      return "none";
+    case BatteryFades::kPowerOnly:
+      return "power_only";
+    case BatteryFades::kCapacity:
+      return "capacity";
   }
   return "none";
 }
@@ -190,12 +200,24 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
             ++g.failures_by_fades[fades];
             ++g.failures_by_cause[static_cast<int>(FailureCauseOf(r.outcome))];
             break;
-          case OutcomeClass::kCompleted: ++g.completions; break;
-          case OutcomeClass::kEmergencyLanding: ++g.emergency_landings; break;
-          case OutcomeClass::kTerminated: ++g.terminations; break;
-          case OutcomeClass::kGrounded: ++g.groundings; break;
-          case OutcomeClass::kLandedOffSite: ++g.off_site_landings; break;
-          case OutcomeClass::kOther: ++g.others; break;
+          case OutcomeClass::kCompleted:
+            ++g.completions;
+            break;
+          case OutcomeClass::kEmergencyLanding:
+            ++g.emergency_landings;
+            break;
+          case OutcomeClass::kTerminated:
+            ++g.terminations;
+            break;
+          case OutcomeClass::kGrounded:
+            ++g.groundings;
+            break;
+          case OutcomeClass::kLandedOffSite:
+            ++g.off_site_landings;
+            break;
+          case OutcomeClass::kOther:
+            ++g.others;
+            break;
         }
         if (r.substitution_epochs > 0) {
           ++g.flights_with_substitution;
@@ -205,7 +227,8 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
               ++g.substitutions[pair];
             }
           } catch (const nlohmann::json::exception&) {
-            throw InputError("results", "substitutions", "a JSON list of \"Chosen->Taken\" names, got '" + r.substitutions + "'");
+            throw InputError("results", "substitutions",
+                             "a JSON list of \"Chosen->Taken\" names, got '" + r.substitutions + "'");
           }
         }
         average.push_back(r.average_reward);
@@ -270,7 +293,8 @@ std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& record
         for (const auto& [index, flown] : runs) {
           const auto first = flown.find(c.first_policy);
           const auto second = flown.find(c.second_policy);
-          if (first == flown.end() || second == flown.end() || !InHealthGroup(*first->second, c.battery_health)) continue;
+          if (first == flown.end() || second == flown.end() || !InHealthGroup(*first->second, c.battery_health))
+            continue;
           ++c.pairs;
           const bool a_failed = first->second->failure;
           const bool b_failed = second->second->failure;
@@ -387,8 +411,8 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
           {"paired_comparisons", paired},
           {"dissertation",
            {{"source", "dissertation §5.5.3 (Fig. 5.30), shared/spec/README.md"},
-            {"poor_health_failure_rate", {{"cma", kDissertationPoorHealthFailureRateCma},
-                                          {"noop", kDissertationPoorHealthFailureRateNoOp}}}}}};
+            {"poor_health_failure_rate",
+             {{"cma", kDissertationPoorHealthFailureRateCma}, {"noop", kDissertationPoorHealthFailureRateNoOp}}}}}};
 }
 
 namespace {
@@ -432,7 +456,8 @@ std::string OutcomeNotes(const std::vector<GroupStatistics>& groups) {
   }
   out += off_site.empty() ? "Landed off-site (a gentle touchdown on open ground outside the landing radius): none.\n"
                           : "Landed off-site (a gentle touchdown on open ground outside the landing radius; neither "
-                            "completed nor failed):\n" + off_site;
+                            "completed nor failed):\n" +
+                                off_site;
   out += substituted.empty()
              ? "Actions that could not be carried out (decisions item 28): none.\n"
              : "Actions that could not be carried out (decisions item 28: no plan found, the next-highest Q taken):\n" +
@@ -448,7 +473,8 @@ std::string OutcomeNotes(const std::vector<GroupStatistics>& groups) {
 
 // 2. Failure rate with its intervals, and the failures by cause.
 std::string FailureRatesTable(const std::vector<GroupStatistics>& groups) {
-  std::string out = fmt::format("\nFailure rate with {:.0f} % intervals, and failures by cause (flights)\n", 100.0 * kConfidenceLevel);
+  std::string out = fmt::format("\nFailure rate with {:.0f} % intervals, and failures by cause (flights)\n",
+                                100.0 * kConfidenceLevel);
   out += fmt::format("{:<10} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", "policy", "BH",
                      "runs", "failures", "failure %", "Wilson", "Clopper-Pearson", "battery", "control", "collision",
                      "timeout", "other");
@@ -471,16 +497,17 @@ std::string FailureRatesTable(const std::vector<GroupStatistics>& groups) {
 std::string PairedTable(const std::vector<PairedComparison>& comparisons) {
   std::string out;
   if (!comparisons.empty()) {
-    out += "\nPaired comparison of failures on the same flights (McNemar): b = only the first failed, c = only the "
-           "second\n";
-    out += fmt::format("{:<22} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8} {:>10}\n", "policies", "BH", "pairs", "b", "c",
-                       "both", "exact p", "chi2(cc)", "chi2 p");
+    out +=
+        "\nPaired comparison of failures on the same flights (McNemar): b = only the first failed, c = only the "
+        "second\n";
+    out += fmt::format("{:<22} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8} {:>10}\n", "policies", "BH", "pairs", "b",
+                       "c", "both", "exact p", "chi2(cc)", "chi2 p");
     out += std::string(86, '-') + "\n";
     for (const PairedComparison& c : comparisons) {
       out += fmt::format("{:<22} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8.3f} {:>10}\n",
-                         c.first_policy + " vs " + c.second_policy, c.battery_health, c.pairs,
-                         c.test.only_first_failed, c.test.only_second_failed, c.both_failed, PValue(c.test.exact_p),
-                         c.test.chi_squared, PValue(c.test.chi_squared_p));
+                         c.first_policy + " vs " + c.second_policy, c.battery_health, c.pairs, c.test.only_first_failed,
+                         c.test.only_second_failed, c.both_failed, PValue(c.test.exact_p), c.test.chi_squared,
+                         PValue(c.test.chi_squared_p));
     }
   }
   return out;
@@ -508,15 +535,17 @@ std::string HeadlineTable(const std::vector<GroupStatistics>& groups) {
                        100.0 * h.dissertation);
   }
   // Where the rates come from: every health group's failures by the fades its batteries carry (Table 3.2).
-  out += "\nFailures by the fades the battery carries (all health groups): a capacity-faded cell (0.8 Q, Table 3.2) is\n"
-         "what runs a pack to the 3.3 V cut-off; power fade alone (2 R0) rarely does\n";
+  out +=
+      "\nFailures by the fades the battery carries (all health groups): a capacity-faded cell (0.8 Q, Table 3.2) is\n"
+      "what runs a pack to the 3.3 V cut-off; power fade alone (2 R0) rarely does\n";
   for (const GroupStatistics& g : groups) {
     if (g.battery_health != "all") continue;
     out += fmt::format("  {:<10}", g.policy);
     for (int f = kBatteryFadesCount; f-- > 0;) {
       const Estimate rate = EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]);
-      out += fmt::format("  {} {}/{} ({} %)", BatteryFadesName(static_cast<BatteryFades>(f)), g.failures_by_fades[f],
-                         g.runs_by_fades[f], std::isfinite(rate.value) ? fmt::format("{:.1f}", 100.0 * rate.value) : "-");
+      out +=
+          fmt::format("  {} {}/{} ({} %)", BatteryFadesName(static_cast<BatteryFades>(f)), g.failures_by_fades[f],
+                      g.runs_by_fades[f], std::isfinite(rate.value) ? fmt::format("{:.1f}", 100.0 * rate.value) : "-");
     }
     out += "\n";
   }

@@ -34,15 +34,15 @@ using store_internal::ApplyConnectionOptions;
 using store_internal::BindRecord;
 using store_internal::ColumnList;
 using store_internal::InsertWorker;
+using store_internal::kSchemaSql;
+using store_internal::kViewSql;
+using store_internal::kWorkSchemaSql;
 using store_internal::OpenWorkers;
 using store_internal::OpenWorkersMutex;
 using store_internal::ReadHeader;
 using store_internal::ReadRow;
-using store_internal::RunsTableSql;
-using store_internal::kSchemaSql;
-using store_internal::kViewSql;
-using store_internal::kWorkSchemaSql;
 using store_internal::RequireUndamaged;
+using store_internal::RunsTableSql;
 using store_internal::UtcNow;
 using store_internal::WriteHeader;
 
@@ -118,9 +118,9 @@ void RequireWritableFolder(const std::filesystem::path& folder, const std::strin
                                  std::filesystem::exists(folder, ec) ? "is not a folder" : "does not exist"));
   }
   if (::access(folder.c_str(), W_OK | X_OK) != 0) {
-    throw InputError(name, "folder",
-                     fmt::format("a folder you can write, but '{}' is not writable ({})", folder.string(),
-                                 std::strerror(errno)));
+    throw InputError(
+        name, "folder",
+        fmt::format("a folder you can write, but '{}' is not writable ({})", folder.string(), std::strerror(errno)));
   }
 }
 
@@ -188,12 +188,17 @@ CampaignHeader MakeCampaignHeader(const CampaignConfig& config, const std::vecto
 
 ResultsStore::ResultsStore(std::filesystem::path path, std::unique_ptr<Connection> connection, CampaignHeader header,
                            StoreOptions options)
-    : path_(std::move(path)), connection_(std::move(connection)), header_(std::move(header)),
+    : path_(std::move(path)),
+      connection_(std::move(connection)),
+      header_(std::move(header)),
       options_(std::move(options)) {}
 
 ResultsStore::ResultsStore(ResultsStore&& other) noexcept
-    : path_(std::move(other.path_)), connection_(std::move(other.connection_)), header_(std::move(other.header_)),
-      options_(std::move(other.options_)), worker_id_(std::exchange(other.worker_id_, 0)) {}
+    : path_(std::move(other.path_)),
+      connection_(std::move(other.connection_)),
+      header_(std::move(other.header_)),
+      options_(std::move(other.options_)),
+      worker_id_(std::exchange(other.worker_id_, 0)) {}
 
 ResultsStore& ResultsStore::operator=(ResultsStore&& other) noexcept {
   if (this != &other) {
@@ -240,7 +245,8 @@ std::optional<ResultsStore> ResultsStore::TryCreate(const std::filesystem::path&
     linked = LinkIntoPlace(temporary, path);
   } catch (const std::filesystem::filesystem_error& e) {
     RemoveSqliteFiles(temporary);
-    throw InputError(name, "create", std::string("a writable location (") + e.code().message() + "); nothing was created");
+    throw InputError(name, "create",
+                     std::string("a writable location (") + e.code().message() + "); nothing was created");
   } catch (const InputError& e) {
     RemoveSqliteFiles(temporary);
     throw InputError(std::string(e.what()) + "; nothing was created");
@@ -271,13 +277,12 @@ ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOp
   RequireUndamaged(connection->db);  // a damaged file is named, never read or resumed into (store.h)
   CampaignHeader header = ReadHeader(connection->db, &connection->schema_version);
   connection->insert = connection->db.Prepare(
-      fmt::format("INSERT OR IGNORE INTO runs (campaign_hash, {}) VALUES (?{})", ColumnList(),
-                  [] {
-                    std::string marks;
-                    const RunRecord empty;
-                    VisitRecordFields(empty, [&marks](const char*, const auto&) { marks += ", ?"; });
-                    return marks;
-                  }()));
+      fmt::format("INSERT OR IGNORE INTO runs (campaign_hash, {}) VALUES (?{})", ColumnList(), [] {
+        std::string marks;
+        const RunRecord empty;
+        VisitRecordFields(empty, [&marks](const char*, const auto&) { marks += ", ?"; });
+        return marks;
+      }()));
   connection->open_key = std::filesystem::weakly_canonical(path, ec).string();
   if (ec) connection->open_key = std::filesystem::absolute(path, ec).string();
   return ResultsStore(path, std::move(connection), std::move(header), options);
@@ -352,8 +357,8 @@ std::vector<RunRecord> ResultsStore::ReadRecords() const {
 }
 
 std::optional<RunRecord> ResultsStore::ReadRecord(std::int64_t run_index, const std::string& policy) const {
-  sqlite::Statement select = connection_->db.Prepare(fmt::format(
-      "SELECT {} FROM runs WHERE campaign_hash = ? AND run_index = ? AND policy = ?", ColumnList()));
+  sqlite::Statement select = connection_->db.Prepare(
+      fmt::format("SELECT {} FROM runs WHERE campaign_hash = ? AND run_index = ? AND policy = ?", ColumnList()));
   select.Bind(1, header_.campaign_hash);
   select.Bind(2, run_index);
   select.Bind(3, policy);

@@ -74,11 +74,16 @@ std::vector<int> AllowedStorage() {
 
 const char* StorageName(int type) {
   switch (type) {
-    case SQLITE_INTEGER: return "an integer";
-    case SQLITE_FLOAT: return "a real number";
-    case SQLITE_TEXT: return "text";
-    case SQLITE_BLOB: return "a blob";
-    default: return "NULL";
+    case SQLITE_INTEGER:
+      return "an integer";
+    case SQLITE_FLOAT:
+      return "a real number";
+    case SQLITE_TEXT:
+      return "text";
+    case SQLITE_BLOB:
+      return "a blob";
+    default:
+      return "NULL";
   }
 }
 
@@ -177,14 +182,14 @@ void CheckFlightRows(sqlite::Database& db, const CampaignHeader& header, const s
       continue;
     }
     if (run_index < 0 || run_index >= header.runs_requested) {
-      problems.Add("run_index", fmt::format("{}: run_index: 0 to runs_requested - 1 = {}", where,
-                                            header.runs_requested - 1));
+      problems.Add("run_index",
+                   fmt::format("{}: run_index: 0 to runs_requested - 1 = {}", where, header.runs_requested - 1));
     }
     const std::int64_t flight_id = select.Integer(1);
     if (flight_id != run_index * policy_count + slot->second) {
-      problems.Add("flight_id", fmt::format("{}: flight_id: run_index x {} policies + slot {} = {}, got {}", where,
-                                            policy_count, slot->second, run_index * policy_count + slot->second,
-                                            flight_id));
+      problems.Add("flight_id",
+                   fmt::format("{}: flight_id: run_index x {} policies + slot {} = {}, got {}", where, policy_count,
+                               slot->second, run_index * policy_count + slot->second, flight_id));
     }
   }
 }
@@ -197,7 +202,8 @@ void CheckClaims(sqlite::Database& db, const CampaignHeader& header, ProblemList
     if (select.Text(0) != header.campaign_hash) {
       problems.Add("claims", where + ": campaign_hash: this campaign's hash " + header.campaign_hash);
     } else if (select.Integer(1) < 0 || select.Integer(1) >= header.runs_requested) {
-      problems.Add("claims", fmt::format("{}: run_index: 0 to runs_requested - 1 = {}", where, header.runs_requested - 1));
+      problems.Add("claims",
+                   fmt::format("{}: run_index: 0 to runs_requested - 1 = {}", where, header.runs_requested - 1));
     }
   }
 }
@@ -223,14 +229,15 @@ bool CheckSchema(sqlite::Database& db, ProblemList& problems, StoreCheckResult* 
   std::vector<std::string> tables = {"campaign", "policies", "runs"};
   if (result->schema_version >= 2) tables.insert(tables.end(), {"workers", "claims"});
   for (const std::string& table : tables) {
-    if (!TableExists(db, table)) problems.Add("schema", fmt::format("schema: the table '{}', but it is missing", table));
+    if (!TableExists(db, table))
+      problems.Add("schema", fmt::format("schema: the table '{}', but it is missing", table));
   }
   if (!result->ok()) return false;
   {
     const std::set<std::string> columns = ColumnsOf(db, "runs");
     const RunRecord shape;
-    std::vector<std::string> missing = columns.count("campaign_hash") ? std::vector<std::string>{}
-                                                                      : std::vector<std::string>{"campaign_hash"};
+    std::vector<std::string> missing =
+        columns.count("campaign_hash") ? std::vector<std::string>{} : std::vector<std::string>{"campaign_hash"};
     VisitRecordFields(shape, [&](const char* name, const auto&) {
       if (columns.count(name) == 0) missing.emplace_back(name);
     });
@@ -266,13 +273,13 @@ bool CheckCampaignRow(sqlite::Database& db, ProblemList& problems, StoreCheckRes
       "SELECT typeof(name), typeof(config_yaml), typeof(config_hash), typeof(campaign_hash), typeof(seed), "
       "typeof(runs_requested), typeof(code_version), typeof(created_utc) FROM campaign WHERE id = 1");
   campaign.Step("read the campaign");
-  const std::array<const char*, 8> campaign_columns = {"name",           "config_yaml",  "config_hash",
-                                                       "campaign_hash",  "seed",         "runs_requested",
-                                                       "code_version",   "created_utc"};
+  const std::array<const char*, 8> campaign_columns = {"name", "config_yaml",    "config_hash",  "campaign_hash",
+                                                       "seed", "runs_requested", "code_version", "created_utc"};
   for (int c = 0; c < 8; ++c) {
     const std::string expected = (c == 4 || c == 5) ? "integer" : "text";
     if (campaign.Text(c) != expected) {
-      problems.Add("campaign", fmt::format("campaign: {}: {}, got {}", campaign_columns[c], expected, campaign.Text(c)));
+      problems.Add("campaign",
+                   fmt::format("campaign: {}: {}, got {}", campaign_columns[c], expected, campaign.Text(c)));
     }
   }
   if (!result->ok()) return false;
@@ -331,8 +338,9 @@ void CheckHeader(const CampaignHeader& header, ProblemList& problems) {
   try {
     const CampaignConfig config = ParseCampaignConfig(header.config_yaml, "campaign.config_yaml");
     if (CampaignConfigHash(config) != header.config_hash) {
-      problems.Add("campaign", "campaign: config_hash: the hash of config_yaml (edited, or written by another uascma "
-                               "version?)");
+      problems.Add("campaign",
+                   "campaign: config_hash: the hash of config_yaml (edited, or written by another uascma "
+                   "version?)");
     }
   } catch (const InputError& e) {
     problems.Add("campaign", std::string("campaign: config_yaml: a campaign configuration (") + e.what() + ")");
@@ -385,13 +393,13 @@ void RequireUndamaged(sqlite::Database& db) {
     throw;
   }
   if (result.ok()) return;
-  throw InputError(db.path(), "database",
-                   fmt::format("an undamaged campaign database, but {}{} (it is not read, resumed into or replayed "
-                               "from; 'uascma store check {}' lists every problem)",
-                               result.problems.front(),
-                               result.problems_total > 1 ? fmt::format(" and {} more problems", result.problems_total - 1)
-                                                         : "",
-                               db.path()));
+  throw InputError(
+      db.path(), "database",
+      fmt::format("an undamaged campaign database, but {}{} (it is not read, resumed into or replayed "
+                  "from; 'uascma store check {}' lists every problem)",
+                  result.problems.front(),
+                  result.problems_total > 1 ? fmt::format(" and {} more problems", result.problems_total - 1) : "",
+                  db.path()));
 }
 
 }  // namespace store_internal

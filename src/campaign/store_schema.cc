@@ -135,8 +135,8 @@ void WriteHeader(sqlite::Database& db, const CampaignHeader& header) {
   campaign.Bind(7, header.code_version);
   campaign.Bind(8, header.created_utc);
   campaign.Step("write the campaign");
-  sqlite::Statement policy = db.Prepare(
-      "INSERT INTO policies (slot, name, kind, source, hash, actions_json) VALUES (?, ?, ?, ?, ?, ?)");
+  sqlite::Statement policy =
+      db.Prepare("INSERT INTO policies (slot, name, kind, source, hash, actions_json) VALUES (?, ?, ?, ?, ?, ?)");
   for (std::size_t slot = 0; slot < header.policies.size(); ++slot) {
     const CampaignPolicy& p = header.policies[slot];
     policy.Reset();

@@ -24,11 +24,11 @@ namespace uascma::campaign {
 namespace {
 
 using store_internal::InsertWorker;
+using store_internal::kWorkSchemaSql;
 using store_internal::OpenWorkers;
 using store_internal::OpenWorkersMutex;
 using store_internal::SchemaVersion;
 using store_internal::UnixNowSeconds;
-using store_internal::kWorkSchemaSql;
 
 std::string FirstLine(const std::filesystem::path& file) {
   std::ifstream in(file);
@@ -255,7 +255,8 @@ ClaimResult ResultsStore::ClaimRuns(const std::vector<std::int64_t>& candidates,
       }
       sqlite::Statement claim = db.Prepare(
           "INSERT INTO claims (campaign_hash, run_index, worker, claimed_s) VALUES (?, ?, ?, ?) "
-          "ON CONFLICT (campaign_hash, run_index) DO UPDATE SET worker = excluded.worker, claimed_s = excluded.claimed_s");
+          "ON CONFLICT (campaign_hash, run_index) DO UPDATE SET worker = excluded.worker, claimed_s = "
+          "excluded.claimed_s");
       claim.Bind(1, header_.campaign_hash);
       claim.Bind(2, run_index);
       claim.Bind(3, worker_id_);
@@ -284,13 +285,15 @@ std::string ResultsStore::DescribeWorker(std::int64_t worker) const {
   }
   if (pid == me.pid) return fmt::format("this process (pid {})", pid);
   const auto stat = ReadProcessStat(pid);
-  if (!stat || (select.Integer(4) != 0 && stat->start_ticks != select.Integer(4)) || stat->state == 'Z' || stat->state == 'X') {
+  if (!stat || (select.Integer(4) != 0 && stat->start_ticks != select.Integer(4)) || stat->state == 'Z' ||
+      stat->state == 'X') {
     return fmt::format("pid {} on this machine (ended)", pid);
   }
   if (stat->state == 'T' || stat->state == 't') {
-    return fmt::format("pid {} on this machine (stopped: suspended by Ctrl-Z or SIGSTOP; 'fg' in its terminal or "
-                       "'kill -CONT {}' resumes it)",
-                       pid, pid);
+    return fmt::format(
+        "pid {} on this machine (stopped: suspended by Ctrl-Z or SIGSTOP; 'fg' in its terminal or "
+        "'kill -CONT {}' resumes it)",
+        pid, pid);
   }
   return fmt::format("pid {} on this machine (running)", pid);
 }

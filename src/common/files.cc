@@ -56,9 +56,8 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view con
   }
   // The temporary name is unique per process and call, so parallel writers never collide.
   static thread_local std::mt19937_64 name_stream{std::random_device{}()};
-  const fs::path temporary =
-      folder / (".tmp." + path.filename().string() + "." + std::to_string(::getpid()) + "." +
-                std::to_string(name_stream() % 1000000007ULL));
+  const fs::path temporary = folder / (".tmp." + path.filename().string() + "." + std::to_string(::getpid()) + "." +
+                                       std::to_string(name_stream() % 1000000007ULL));
   {
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (file == nullptr) {
@@ -125,7 +124,8 @@ OutputDirectory::OutputDirectory(std::string option, std::filesystem::path user_
     throw InputError(option_, shown, "a folder it can write in (" + reason + ")");
   }
   try {
-    WriteFileAtomically(staging_ / kOutputMarker, "This folder was written by uascma and is replaced whole by its next run.\n");
+    WriteFileAtomically(staging_ / kOutputMarker,
+                        "This folder was written by uascma and is replaced whole by its next run.\n");
   } catch (const InputError&) {
     fs::remove_all(staging_, ec);
     staging_.clear();

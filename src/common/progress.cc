@@ -64,16 +64,20 @@ std::string FormatProgressLine(const std::string& label, std::int64_t done, std:
   const double fraction = total > 0 ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
   const double rate = elapsed_s > 0.0 ? static_cast<double>(done) / elapsed_s : 0.0;
   // ETA at the mean rate so far; unknown before the first item.
-  const std::string eta = done >= total ? "done" : rate > 0.0 ? "ETA " + FormatDuration(static_cast<double>(total - done) / rate)
-                                                              : "ETA unknown";
+  const std::string eta = done >= total ? "done"
+                          : rate > 0.0  ? "ETA " + FormatDuration(static_cast<double>(total - done) / rate)
+                                        : "ETA unknown";
   return fmt::format("{}: {}/{} ({:.1f} %), {:.{}f}/s, {} elapsed, {}", label, done, total, 100.0 * fraction, rate,
-                     rate >= 10.0 ? 0 : rate >= 1.0 ? 1 : 2, FormatDuration(elapsed_s), eta);
+                     rate >= 10.0  ? 0
+                     : rate >= 1.0 ? 1
+                                   : 2,
+                     FormatDuration(elapsed_s), eta);
 }
 
 ProgressBar::ProgressBar(std::int64_t total, std::string label)
     : total_(total > 0 ? total : 1),
       label_(std::move(label)),
-      mode_(!progress_on_stderr.load()         ? Mode::kSilent
+      mode_(!progress_on_stderr.load()     ? Mode::kSilent
             : ::isatty(STDERR_FILENO) == 1 ? Mode::kBar
                                            : Mode::kLines),
       start_(Clock::now()),

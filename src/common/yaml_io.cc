@@ -14,9 +14,7 @@
 namespace uascma {
 namespace {
 
-std::string Join(const std::string& where, const std::string& key) {
-  return where.empty() ? key : where + "." + key;
-}
+std::string Join(const std::string& where, const std::string& key) { return where.empty() ? key : where + "." + key; }
 
 double ParseNumber(const YAML::Node& value, const std::string& source, const std::string& field) {
   if (!value.IsScalar()) throw InputError(source, field, "a number, got a non-scalar");
@@ -112,8 +110,8 @@ double RequireNumber(const YAML::Node& node, const std::string& key, const std::
   return ParseNumber(value, source, Join(where, key));
 }
 
-double OptionalNumber(const YAML::Node& node, const std::string& key, double fallback,
-                      const std::string& source, const std::string& where) {
+double OptionalNumber(const YAML::Node& node, const std::string& key, double fallback, const std::string& source,
+                      const std::string& where) {
   if (!node[key]) return fallback;
   return RequireNumber(node, key, source, where);
 }
@@ -162,7 +160,8 @@ bool OptionalBool(const YAML::Node& node, const std::string& key, bool fallback,
   try {
     return value.as<bool>();
   } catch (const YAML::Exception&) {
-    throw InputError(source, Join(where, key), "true or false, got '" + (value.IsScalar() ? value.Scalar() : "?") + "'");
+    throw InputError(source, Join(where, key),
+                     "true or false, got '" + (value.IsScalar() ? value.Scalar() : "?") + "'");
   }
 }
 
@@ -174,7 +173,8 @@ std::vector<double> RequireNumberList(const YAML::Node& node, const std::string&
     throw InputError(source, field, "a list of " + std::to_string(size) + " numbers");
   }
   std::vector<double> numbers;
-  for (std::size_t i = 0; i < size; ++i) numbers.push_back(ParseNumber(value[i], source, field + "[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < size; ++i)
+    numbers.push_back(ParseNumber(value[i], source, field + "[" + std::to_string(i) + "]"));
   return numbers;
 }
 

@@ -8,8 +8,8 @@ namespace uascma::decision {
 // ================================ abstraction =====================================================
 EnergyState ClassifyEnergy(double eod_s, double remaining_flight_s, double safety_margin_s) {
   if (eod_s > remaining_flight_s + safety_margin_s) return EnergyState::kS1;  // enough, with the margin
-  if (eod_s < remaining_flight_s) return EnergyState::kS3;                     // depletes before the end
-  return EnergyState::kS2;                                                      // enough, inside the margin
+  if (eod_s < remaining_flight_s) return EnergyState::kS3;                    // depletes before the end
+  return EnergyState::kS2;                                                    // enough, inside the margin
 }
 
 VoltageState ClassifyVoltage(double min_cell_voltage_v, const BatteryThresholds& thresholds) {
@@ -30,7 +30,7 @@ StateIndex AbstractBatteryState(const BatteryObservation& observation, const Bat
   features.current = ClassifyCurrent(observation.total_current_a, thresholds);
   for (int j = 0; j < models::kBranchCount; ++j) {
     const double actual_v = observation.actual_min_cell_voltage_v[j] >= 0.0 ? observation.actual_min_cell_voltage_v[j]
-                                                                           : observation.min_cell_voltage_v[j];
+                                                                            : observation.min_cell_voltage_v[j];
     if (observation.switch_on[j] && IsCellFailure(actual_v, thresholds)) return kBatteryFailureState;
   }
   for (int j = 0; j < models::kBranchCount; ++j) {

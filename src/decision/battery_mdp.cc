@@ -50,14 +50,17 @@ std::vector<std::string> MakeStateLabels() {
 double EnergyReward(EnergyState energy, HealthClass own, HealthClass other) {
   const bool at_least_as_good = static_cast<int>(own) <= static_cast<int>(other);
   switch (energy) {
-    case EnergyState::kS1: return 0.0;
-    case EnergyState::kS2: return at_least_as_good ? -5.0 : -10.0;
-    case EnergyState::kS3: return at_least_as_good ? -20.0 : -25.0;
+    case EnergyState::kS1:
+      return 0.0;
+    case EnergyState::kS2:
+      return at_least_as_good ? -5.0 : -10.0;
+    case EnergyState::kS3:
+      return at_least_as_good ? -20.0 : -25.0;
   }
   return 0.0;
 }
 double VoltageReward(VoltageState voltage) { return voltage == VoltageState::kC1 ? -10.0 : 0.0; }  // eq. 4.6
-double SwitchReward(bool on) { return on ? 1.0 : 0.0; }                                              // eq. 4.7
+double SwitchReward(bool on) { return on ? 1.0 : 0.0; }                                            // eq. 4.7
 
 }  // namespace
 
@@ -96,7 +99,8 @@ StateIndex ParseBatteryState(const std::string& label, const std::string& source
   const auto& labels = BatteryStateLabels();
   const auto it = std::find(labels.begin(), labels.end(), label);
   if (it == labels.end()) {
-    throw InputError(source, "state", fmt::format("a battery MDP state such as ILONS1C0OFFS2C0 or FAILURE, got '{}'", label));
+    throw InputError(source, "state",
+                     fmt::format("a battery MDP state such as ILONS1C0OFFS2C0 or FAILURE, got '{}'", label));
   }
   return static_cast<StateIndex>(it - labels.begin());
 }
@@ -144,9 +148,12 @@ TemperatureClass ParseTemperatureClass(const std::string& name, const std::strin
 
 const char* BatteryHealthName(HealthClass health) {
   switch (health) {
-    case HealthClass::kG: return "F1";
-    case HealthClass::kM: return "F2";
-    case HealthClass::kP: return "F3";
+    case HealthClass::kG:
+      return "F1";
+    case HealthClass::kM:
+      return "F2";
+    case HealthClass::kP:
+      return "F3";
   }
   return "?";
 }
@@ -187,9 +194,11 @@ double BatteryReward(StateIndex state, PackAction action, const BatteryContext& 
   const double voltage[2] = {VoltageReward(f.pack[0].voltage), VoltageReward(f.pack[1].voltage)};
   const double on[2] = {SwitchReward(f.pack[0].switch_on), SwitchReward(f.pack[1].switch_on)};
   switch (action) {
-    case PackAction::kUseBatt1: return weights.w1 * energy[0] + weights.w2 * voltage[0] - weights.w3 * on[1];  // 4.1
-    case PackAction::kUseBatt2: return weights.w1 * energy[1] + weights.w2 * voltage[1] - weights.w3 * on[0];  // 4.2
-    case PackAction::kUseBoth:                                                                                // 4.3
+    case PackAction::kUseBatt1:
+      return weights.w1 * energy[0] + weights.w2 * voltage[0] - weights.w3 * on[1];  // 4.1
+    case PackAction::kUseBatt2:
+      return weights.w1 * energy[1] + weights.w2 * voltage[1] - weights.w3 * on[0];  // 4.2
+    case PackAction::kUseBoth:                                                       // 4.3
       return weights.w1 * (energy[0] + energy[1]) / 2.0 + weights.w2 * (voltage[0] + voltage[1]) / 2.0 -
              weights.w3 * ((on[0] + on[1]) / 2.0 - 1.0);
   }
@@ -214,8 +223,8 @@ double OursBatteryReward(StateIndex state, PackAction action, const BatteryConte
   if (state == kBatteryCompleteState) return 0.0;                   // the plan is flown: nothing more to lose
   const BatteryFeatures f = BatteryStateFeatures(state);
   // Both packs' state terms whatever the action (eq. 4.3's averages), and eq. 4.7's w3 per toggled switch.
-  const double energy = EnergyReward(f.pack[0].energy, context.b1, context.b2) +
-                        EnergyReward(f.pack[1].energy, context.b2, context.b1);
+  const double energy =
+      EnergyReward(f.pack[0].energy, context.b1, context.b2) + EnergyReward(f.pack[1].energy, context.b2, context.b1);
   const double voltage = VoltageReward(f.pack[0].voltage) + VoltageReward(f.pack[1].voltage);
   return weights.w1 * energy / 2.0 + weights.w2 * voltage / 2.0 -
          weights.w3 * static_cast<double>(SwitchToggles(state, action));

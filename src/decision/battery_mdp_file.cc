@@ -154,7 +154,8 @@ BatteryFormulation FormulationFrom(const JsonValue& root) {
 }
 
 // The context of an entry, each once.
-int ContextIndexOnce(const JsonValue& entry, const BatteryContext& context, std::array<bool, kBatteryNumContexts>& seen) {
+int ContextIndexOnce(const JsonValue& entry, const BatteryContext& context,
+                     std::array<bool, kBatteryNumContexts>& seen) {
   const int index = BatteryContextIndex(context);
   if (seen[static_cast<std::size_t>(index)]) entry.FailExactly("each (b1, b2, temperature) once");
   seen[static_cast<std::size_t>(index)] = true;
@@ -261,7 +262,8 @@ nlohmann::json BatteryModelToJson(const BatteryModel& model) {
   for (int c = 0; c < kBatteryNumContexts; ++c) {
     const BatteryContext context = BatteryContextFromIndex(c);
     nlohmann::json flights = nlohmann::json::object();
-    for (PackAction action : kBatteryActions) flights[models::PackActionName(action)] = model.counts.flights(context, action);
+    for (PackAction action : kBatteryActions)
+      flights[models::PackActionName(action)] = model.counts.flights(context, action);
     nlohmann::json rows = nlohmann::json::array();
     for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
       for (PackAction action : kBatteryActions) {
@@ -270,7 +272,8 @@ nlohmann::json BatteryModelToJson(const BatteryModel& model) {
         if (row.empty() && completed == 0) continue;
         nlohmann::json next = nlohmann::json::object();
         for (const auto& [state, count] : row) next[BatteryStateLabel(state)] = count;
-        nlohmann::json entry = {{"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}};
+        nlohmann::json entry = {
+            {"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}};
         if (completed > 0) entry["completed"] = completed;
         rows.push_back(std::move(entry));
       }
@@ -281,12 +284,8 @@ nlohmann::json BatteryModelToJson(const BatteryModel& model) {
                         {"flights", flights},
                         {"rows", rows}});
   }
-  return {{"format", kBatteryModelFormat},
-          {"version", kBatteryFileVersion},
-          {"hash", BatteryModelHash(model)},
-          {"gamma", model.gamma},
-          {"weights", WeightsJson(model.weights)},
-          {"provenance", model.provenance},
+  return {{"format", kBatteryModelFormat}, {"version", kBatteryFileVersion},        {"hash", BatteryModelHash(model)},
+          {"gamma", model.gamma},          {"weights", WeightsJson(model.weights)}, {"provenance", model.provenance},
           {"contexts", contexts}};
 }
 
@@ -321,8 +320,8 @@ nlohmann::json BatteryPolicyToJson(const BatteryPolicySet& set) {
     for (const BatteryLearnedRow& row : p.observed_rows) {
       nlohmann::json next = nlohmann::json::object();
       for (const Transition& t : row.next) next[BatteryStateLabel(t.next_state)] = t.probability;
-      observed.push_back({{"state", BatteryStateLabel(row.state)}, {"action", models::PackActionName(row.action)},
-                          {"next", next}});
+      observed.push_back(
+          {{"state", BatteryStateLabel(row.state)}, {"action", models::PackActionName(row.action)}, {"next", next}});
     }
     policies.push_back({{"b1", BatteryHealthName(p.context.b1)},
                         {"b2", BatteryHealthName(p.context.b2)},

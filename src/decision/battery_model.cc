@@ -26,8 +26,10 @@ FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const Batte
     for (PackAction action : kBatteryActions) {
       const StateIndex switched = ApplySwitches(s, action);
       const bool learned = switched == s;
-      if (learned) ++local.learned_rows;
-      else ++local.switch_rows;
+      if (learned)
+        ++local.learned_rows;
+      else
+        ++local.switch_rows;
       if (!OursOffers(features, action)) continue;  // items 6-7
       const auto& observed = counts.Row(context, switched, action);
       const std::int64_t completed = counts.Completions(context, switched, action);
@@ -41,7 +43,8 @@ FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const Batte
       for (const auto& [next, count] : observed) {
         row.push_back({next, static_cast<double>(count) / static_cast<double>(total)});
       }
-      if (completed > 0) row.push_back({kBatteryCompleteState, static_cast<double>(completed) / static_cast<double>(total)});
+      if (completed > 0)
+        row.push_back({kBatteryCompleteState, static_cast<double>(completed) / static_cast<double>(total)});
       if (learned) local.transitions += total;
       builder.AddRow(s, BatteryActionIndex(action), OursBatteryReward(s, action, context, weights), row);
       any = true;
@@ -71,7 +74,8 @@ BatteryTransitionCounts::BatteryTransitionCounts()
 
 std::size_t BatteryTransitionCounts::RowIndex(const BatteryContext& context, StateIndex state, PackAction action) {
   UASCMA_CHECK(state >= 0 && state < kBatteryNumStates, "a battery state index");
-  return (static_cast<std::size_t>(BatteryContextIndex(context)) * kBatteryNumStates + static_cast<std::size_t>(state)) *
+  return (static_cast<std::size_t>(BatteryContextIndex(context)) * kBatteryNumStates +
+          static_cast<std::size_t>(state)) *
              kBatteryNumActions +
          static_cast<std::size_t>(BatteryActionIndex(action));
 }
@@ -92,7 +96,7 @@ void BatteryTransitionCounts::AddCompletion(const BatteryContext& context, State
 }
 
 std::int64_t BatteryTransitionCounts::Completions(const BatteryContext& context, StateIndex state,
-                                                 PackAction action) const {
+                                                  PackAction action) const {
   return completions_[RowIndex(context, state, action)];
 }
 
@@ -115,7 +119,8 @@ void BatteryTransitionCounts::AddFlight(const BatteryContext& context, PackActio
   if (completed && !states.empty() && states.back() != kBatteryFailureState) {
     AddCompletion(context, states.back(), action);
   }
-  flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + BatteryActionIndex(action))] += 1;
+  flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + BatteryActionIndex(action))] +=
+      1;
 }
 
 void BatteryTransitionCounts::AddSwitchingFlight(const BatteryContext& context, std::span<const StateIndex> states,
@@ -136,7 +141,8 @@ void BatteryTransitionCounts::AddSwitchingFlight(const BatteryContext& context, 
   if (completed && states[end] != kBatteryFailureState) {
     AddCompletion(context, ApplySwitches(states[end], actions[end]), actions[end]);
   }
-  flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + BatteryActionIndex(actions.back()))] += 1;
+  flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions +
+                                    BatteryActionIndex(actions.back()))] += 1;
 }
 
 void BatteryTransitionCounts::Merge(const BatteryTransitionCounts& other) {
@@ -160,11 +166,13 @@ std::int64_t BatteryTransitionCounts::RowTotal(const BatteryContext& context, St
 }
 
 std::int64_t BatteryTransitionCounts::flights(const BatteryContext& context, PackAction action) const {
-  return flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + BatteryActionIndex(action))];
+  return flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions +
+                                           BatteryActionIndex(action))];
 }
 
 void BatteryTransitionCounts::SetFlights(const BatteryContext& context, PackAction action, std::int64_t flights) {
-  flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + BatteryActionIndex(action))] = flights;
+  flights_[static_cast<std::size_t>(BatteryContextIndex(context) * kBatteryNumActions + BatteryActionIndex(action))] =
+      flights;
 }
 
 std::int64_t BatteryTransitionCounts::total_transitions() const {
@@ -200,8 +208,10 @@ FiniteMdp BuildBatteryMdp(const BatteryTransitionCounts& counts, const BatteryCo
         // then runs from the switched state, whose row under this action is what the flights counted.
         const StateIndex switched = ApplySwitches(s, action);
         const bool learned = switched == s;
-        if (learned) ++local.learned_rows;
-        else ++local.switch_rows;
+        if (learned)
+          ++local.learned_rows;
+        else
+          ++local.switch_rows;
         const auto& observed = counts.Row(context, switched, action);
         std::int64_t total = 0;
         for (const auto& [next, count] : observed) total += count;
@@ -232,11 +242,16 @@ EnergyTransitionCounts CountEnergyTransitions(const BatteryTransitionCounts& cou
         const BatteryFeatures to = BatteryStateFeatures(next);
         for (int j = 0; j < models::kBranchCount; ++j) {
           const int a = static_cast<int>(from.pack[j].energy), b = static_cast<int>(to.pack[j].energy);
-          if (a == b) out.unchanged += count;
-          else if (a == 0 && b == 1) out.s1_to_s2 += count;
-          else if (a == 1 && b == 2) out.s2_to_s3 += count;
-          else if (a == 0 && b == 2) out.s1_to_s3 += count;
-          else out.recoveries += count;
+          if (a == b)
+            out.unchanged += count;
+          else if (a == 0 && b == 1)
+            out.s1_to_s2 += count;
+          else if (a == 1 && b == 2)
+            out.s2_to_s3 += count;
+          else if (a == 0 && b == 2)
+            out.s1_to_s3 += count;
+          else
+            out.recoveries += count;
         }
       }
     }

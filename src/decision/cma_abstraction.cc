@@ -18,9 +18,12 @@ CmaState AbstractCmaState(FlightStatus flight_status, MotorHealth motor_health, 
 
 bool IsCmaActionAvailable(FlightStatus flight_status, CmaAction action) {
   switch (flight_status) {
-    case FlightStatus::kN: return true;
-    case FlightStatus::kElPract: return action != CmaAction::kLandPract;
-    case FlightStatus::kElAsap: return action == CmaAction::kNoOp || action == CmaAction::kTerminate;
+    case FlightStatus::kN:
+      return true;
+    case FlightStatus::kElPract:
+      return action != CmaAction::kLandPract;
+    case FlightStatus::kElAsap:
+      return action == CmaAction::kNoOp || action == CmaAction::kTerminate;
   }
   return false;
 }

@@ -19,9 +19,7 @@ const FiniteMdp& LabelModel() {
   return mdp;
 }
 
-bool IsTupleAvailable(StateIndex state, ActionIndex action) {
-  return LabelModel().IsAvailable(state, action);
-}
+bool IsTupleAvailable(StateIndex state, ActionIndex action) { return LabelModel().IsAvailable(state, action); }
 
 }  // namespace
 
@@ -115,8 +113,7 @@ CmaTransitionCounts CmaTransitionCountsFromJson(const nlohmann::json& json, cons
 CmaTransitionCounts ReadCmaTransitionsFile(const std::filesystem::path& path) {
   const JsonDocument document = JsonDocument::ReadFile(path);
   const JsonValue root = document.root();
-  const std::string expected =
-      fmt::format("\"{}\" (written by 'uascma learn transitions')", kCmaTransitionsFormat);
+  const std::string expected = fmt::format("\"{}\" (written by 'uascma learn transitions')", kCmaTransitionsFormat);
   root.RequireObject(expected);
   root.Member("format").RequireString(kCmaTransitionsFormat, expected);
   const JsonValue counts = root.Member("counts");

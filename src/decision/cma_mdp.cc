@@ -23,8 +23,8 @@ const std::vector<std::string> kTerminalNames = {"C", "T", "FL", "E"};
 
 // A row as the dissertation prints it: probabilities in its column order NoOp, LandASAP,
 // LandPract, Terminate, stored in ours (NoOp, Terminate, LandASAP, LandPract).
-ConditionalRow Printed(std::string next, std::vector<std::string> parents, double noop,
-                       double land_asap, double land_pract, double terminate) {
+ConditionalRow Printed(std::string next, std::vector<std::string> parents, double noop, double land_asap,
+                       double land_pract, double terminate) {
   return {std::move(next), std::move(parents), {noop, terminate, land_asap, land_pract}};
 }
 // A row of a table that does not depend on the action (Tables 5.2, 5.4).
@@ -34,17 +34,20 @@ ConditionalRow Any(std::string next, std::vector<std::string> parents, double p)
 
 // Table 5.1: P(FS_{t+1} | FS_t, A_t).
 ConditionalTable FlightStatusTable() {
-  return {"Table 5.1", "FS", {"FS"}, {
-      Printed("N", {"N"}, 1, 0, 0, 0),
-      Printed("ELASAP", {"N"}, 0, 1, 0, 0),
-      Printed("ELPRACT", {"N"}, 0, 0, 1, 0),
-      Printed("N", {"ELASAP"}, 0, 0, 0, 0),
-      Printed("ELASAP", {"ELASAP"}, 1, 0, 0, 0),
-      Printed("ELPRACT", {"ELASAP"}, 0, 0, 0, 0),
-      Printed("N", {"ELPRACT"}, 0, 0, 0, 0),
-      Printed("ELASAP", {"ELPRACT"}, 0, 1, 0, 0),
-      Printed("ELPRACT", {"ELPRACT"}, 1, 0, 0, 0),
-  }};
+  return {"Table 5.1",
+          "FS",
+          {"FS"},
+          {
+              Printed("N", {"N"}, 1, 0, 0, 0),
+              Printed("ELASAP", {"N"}, 0, 1, 0, 0),
+              Printed("ELPRACT", {"N"}, 0, 0, 1, 0),
+              Printed("N", {"ELASAP"}, 0, 0, 0, 0),
+              Printed("ELASAP", {"ELASAP"}, 1, 0, 0, 0),
+              Printed("ELPRACT", {"ELASAP"}, 0, 0, 0, 0),
+              Printed("N", {"ELPRACT"}, 0, 0, 0, 0),
+              Printed("ELASAP", {"ELPRACT"}, 0, 1, 0, 0),
+              Printed("ELPRACT", {"ELPRACT"}, 1, 0, 0, 0),
+          }};
 }
 
 // Table 5.2: P(BH_{t+1} | BH_t): health is constant during a flight.
@@ -61,32 +64,35 @@ ConditionalTable BatteryHealthTable() {
 // Table 5.3: P(RM_{t+1} | RM_t, BH_t, MM_t, A_t), values as printed (some pairs sum to 1.001 or
 // more; the composed rows are normalised, decisions item 1).
 ConditionalTable ReachMarginTable() {
-  return {"Table 5.3", "RM", {"RM", "BH", "MM"}, {
-      Printed("RM0", {"RM0", "G", "MM0"}, 1, 0.003, 0.0025, 0),
-      Printed("RM1", {"RM0", "G", "MM0"}, 0, 0.997, 0.9975, 0),
-      Printed("RM0", {"RM0", "M", "MM0"}, 1, 0.004, 0.0045, 0),
-      Printed("RM1", {"RM0", "M", "MM0"}, 0, 0.996, 0.9955, 0),
-      Printed("RM0", {"RM0", "P", "MM0"}, 1, 0.005, 0.0055, 0),
-      Printed("RM1", {"RM0", "P", "MM0"}, 0, 0.995, 0.9945, 0),
-      Printed("RM0", {"RM1", "G", "MM0"}, 0.005, 0.0003, 0.00035, 0),
-      Printed("RM1", {"RM1", "G", "MM0"}, 0.995, 0.9997, 0.99965, 0),
-      Printed("RM0", {"RM1", "M", "MM0"}, 0.01, 0.0004, 0.00045, 0),
-      Printed("RM1", {"RM1", "M", "MM0"}, 0.99, 0.9996, 0.99955, 0),
-      Printed("RM0", {"RM1", "P", "MM0"}, 0.05, 0.005, 0.0055, 0),
-      Printed("RM1", {"RM1", "P", "MM0"}, 0.95, 0.9995, 0.9945, 0),
-      Printed("RM0", {"RM0", "G", "MM1"}, 1, 0.0035, 0.004, 0),
-      Printed("RM1", {"RM0", "G", "MM1"}, 0, 0.9975, 0.996, 0),
-      Printed("RM0", {"RM0", "M", "MM1"}, 1, 0.0045, 0.005, 0),
-      Printed("RM1", {"RM0", "M", "MM1"}, 0, 0.9965, 0.995, 0),
-      Printed("RM0", {"RM0", "P", "MM1"}, 1, 0.0055, 0.006, 0),
-      Printed("RM1", {"RM0", "P", "MM1"}, 0, 0.9955, 0.994, 0),
-      Printed("RM0", {"RM1", "G", "MM1"}, 5e-05, 5e-06, 5.5e-06, 0),
-      Printed("RM1", {"RM1", "G", "MM1"}, 0.99995, 0.99999, 0.99999, 0),
-      Printed("RM0", {"RM1", "M", "MM1"}, 0.0005, 5e-05, 5.5e-05, 0),
-      Printed("RM1", {"RM1", "M", "MM1"}, 0.9995, 0.99995, 0.99994, 0),
-      Printed("RM0", {"RM1", "P", "MM1"}, 0.005, 0.0004, 0.00045, 0),
-      Printed("RM1", {"RM1", "P", "MM1"}, 0.995, 0.9996, 0.99955, 0),
-  }};
+  return {"Table 5.3",
+          "RM",
+          {"RM", "BH", "MM"},
+          {
+              Printed("RM0", {"RM0", "G", "MM0"}, 1, 0.003, 0.0025, 0),
+              Printed("RM1", {"RM0", "G", "MM0"}, 0, 0.997, 0.9975, 0),
+              Printed("RM0", {"RM0", "M", "MM0"}, 1, 0.004, 0.0045, 0),
+              Printed("RM1", {"RM0", "M", "MM0"}, 0, 0.996, 0.9955, 0),
+              Printed("RM0", {"RM0", "P", "MM0"}, 1, 0.005, 0.0055, 0),
+              Printed("RM1", {"RM0", "P", "MM0"}, 0, 0.995, 0.9945, 0),
+              Printed("RM0", {"RM1", "G", "MM0"}, 0.005, 0.0003, 0.00035, 0),
+              Printed("RM1", {"RM1", "G", "MM0"}, 0.995, 0.9997, 0.99965, 0),
+              Printed("RM0", {"RM1", "M", "MM0"}, 0.01, 0.0004, 0.00045, 0),
+              Printed("RM1", {"RM1", "M", "MM0"}, 0.99, 0.9996, 0.99955, 0),
+              Printed("RM0", {"RM1", "P", "MM0"}, 0.05, 0.005, 0.0055, 0),
+              Printed("RM1", {"RM1", "P", "MM0"}, 0.95, 0.9995, 0.9945, 0),
+              Printed("RM0", {"RM0", "G", "MM1"}, 1, 0.0035, 0.004, 0),
+              Printed("RM1", {"RM0", "G", "MM1"}, 0, 0.9975, 0.996, 0),
+              Printed("RM0", {"RM0", "M", "MM1"}, 1, 0.0045, 0.005, 0),
+              Printed("RM1", {"RM0", "M", "MM1"}, 0, 0.9965, 0.995, 0),
+              Printed("RM0", {"RM0", "P", "MM1"}, 1, 0.0055, 0.006, 0),
+              Printed("RM1", {"RM0", "P", "MM1"}, 0, 0.9955, 0.994, 0),
+              Printed("RM0", {"RM1", "G", "MM1"}, 5e-05, 5e-06, 5.5e-06, 0),
+              Printed("RM1", {"RM1", "G", "MM1"}, 0.99995, 0.99999, 0.99999, 0),
+              Printed("RM0", {"RM1", "M", "MM1"}, 0.0005, 5e-05, 5.5e-05, 0),
+              Printed("RM1", {"RM1", "M", "MM1"}, 0.9995, 0.99995, 0.99994, 0),
+              Printed("RM0", {"RM1", "P", "MM1"}, 0.005, 0.0004, 0.00045, 0),
+              Printed("RM1", {"RM1", "P", "MM1"}, 0.995, 0.9996, 0.99955, 0),
+          }};
 }
 
 // Table 5.4: P(MH_{t+1} | MH_t). The printed SF → JF value 0.002809 is the NoOp one; under the
@@ -95,79 +101,91 @@ ConditionalTable ReachMarginTable() {
 constexpr double kSpallToJamNoOp = 0.002809;
 constexpr double kSpallToJamLanding = 0.008583;
 ConditionalTable MotorHealthTable() {
-  return {"Table 5.4", "MH", {"MH"}, {
-      Any("NF", {"NF"}, 0.99995),
-      Any("SF", {"NF"}, 4.75e-05),
-      Any("JF", {"NF"}, 0),
-      Any("NF", {"SF"}, 0),
-      Printed("SF", {"SF"}, 0.99719, 1.0 - kSpallToJamLanding, 1.0 - kSpallToJamLanding, 0.99719),
-      Printed("JF", {"SF"}, kSpallToJamNoOp, kSpallToJamLanding, kSpallToJamLanding, kSpallToJamNoOp),
-      Any("NF", {"JF"}, 0),
-      Any("SF", {"JF"}, 0),
-      Any("JF", {"JF"}, 1),
-  }};
+  return {"Table 5.4",
+          "MH",
+          {"MH"},
+          {
+              Any("NF", {"NF"}, 0.99995),
+              Any("SF", {"NF"}, 4.75e-05),
+              Any("JF", {"NF"}, 0),
+              Any("NF", {"SF"}, 0),
+              Printed("SF", {"SF"}, 0.99719, 1.0 - kSpallToJamLanding, 1.0 - kSpallToJamLanding, 0.99719),
+              Printed("JF", {"SF"}, kSpallToJamNoOp, kSpallToJamLanding, kSpallToJamLanding, kSpallToJamNoOp),
+              Any("NF", {"JF"}, 0),
+              Any("SF", {"JF"}, 0),
+              Any("JF", {"JF"}, 1),
+          }};
 }
 
 // Table 5.5: P(MM_{t+1} | MM_t, MH_t, A_t).
 ConditionalTable MotorMarginTable() {
-  return {"Table 5.5", "MM", {"MM", "MH"}, {
-      Printed("MM0", {"MM0", "NF"}, 0, 0, 0, 0),
-      Printed("MM1", {"MM0", "NF"}, 1, 1, 1, 0),
-      Printed("MM0", {"MM0", "SF"}, 0.995, 0.9, 0.89, 0),
-      Printed("MM1", {"MM0", "SF"}, 0.005, 0.1, 0.11, 0),
-      Printed("MM0", {"MM0", "JF"}, 1, 1, 1, 0),
-      Printed("MM1", {"MM0", "JF"}, 0, 0, 0, 0),
-      Printed("MM0", {"MM1", "NF"}, 0, 0, 0, 0),
-      Printed("MM1", {"MM1", "NF"}, 1, 1, 1, 0),
-      Printed("MM0", {"MM1", "SF"}, 0.002809, 0.002, 0.0025, 0),
-      Printed("MM1", {"MM1", "SF"}, 0.99719, 0.998, 0.9975, 0),
-      Printed("MM0", {"MM1", "JF"}, 1, 1, 1, 0),
-      Printed("MM1", {"MM1", "JF"}, 0, 0, 0, 0),
-  }};
+  return {"Table 5.5",
+          "MM",
+          {"MM", "MH"},
+          {
+              Printed("MM0", {"MM0", "NF"}, 0, 0, 0, 0),
+              Printed("MM1", {"MM0", "NF"}, 1, 1, 1, 0),
+              Printed("MM0", {"MM0", "SF"}, 0.995, 0.9, 0.89, 0),
+              Printed("MM1", {"MM0", "SF"}, 0.005, 0.1, 0.11, 0),
+              Printed("MM0", {"MM0", "JF"}, 1, 1, 1, 0),
+              Printed("MM1", {"MM0", "JF"}, 0, 0, 0, 0),
+              Printed("MM0", {"MM1", "NF"}, 0, 0, 0, 0),
+              Printed("MM1", {"MM1", "NF"}, 1, 1, 1, 0),
+              Printed("MM0", {"MM1", "SF"}, 0.002809, 0.002, 0.0025, 0),
+              Printed("MM1", {"MM1", "SF"}, 0.99719, 0.998, 0.9975, 0),
+              Printed("MM0", {"MM1", "JF"}, 1, 1, 1, 0),
+              Printed("MM1", {"MM1", "JF"}, 0, 0, 0, 0),
+          }};
 }
 
 // Table 5.6: P(C_{t+1} | FS_t, RM_t, MM_t, A_t).
 ExitTable CompleteTable() {
-  return {"Table 5.6", "C", {"FS", "RM", "MM"}, {
-      Printed("", {"N", "RM0", "MM0"}, 0, 0, 0, 0),
-      Printed("", {"N", "RM0", "MM1"}, 0, 0, 0, 0),
-      Printed("", {"N", "RM1", "MM0"}, 0.08, 0.0095, 0.009, 0),
-      Printed("", {"N", "RM1", "MM1"}, 0.1, 0.01, 0.015, 0),
-      Printed("", {"ELASAP", "RM0", "MM0"}, 0, 0, 0, 0),
-      Printed("", {"ELASAP", "RM0", "MM1"}, 0, 0, 0, 0),
-      Printed("", {"ELASAP", "RM1", "MM0"}, 0.095, 0, 0, 0),
-      Printed("", {"ELASAP", "RM1", "MM1"}, 0.2, 0, 0, 0),
-      Printed("", {"ELPRACT", "RM0", "MM0"}, 0, 0, 0, 0),
-      Printed("", {"ELPRACT", "RM0", "MM1"}, 0, 0, 0, 0),
-      Printed("", {"ELPRACT", "RM1", "MM0"}, 0.09, 0.0095, 0, 0),
-      Printed("", {"ELPRACT", "RM1", "MM1"}, 0.15, 0.01, 0, 0),
-  }};
+  return {"Table 5.6",
+          "C",
+          {"FS", "RM", "MM"},
+          {
+              Printed("", {"N", "RM0", "MM0"}, 0, 0, 0, 0),
+              Printed("", {"N", "RM0", "MM1"}, 0, 0, 0, 0),
+              Printed("", {"N", "RM1", "MM0"}, 0.08, 0.0095, 0.009, 0),
+              Printed("", {"N", "RM1", "MM1"}, 0.1, 0.01, 0.015, 0),
+              Printed("", {"ELASAP", "RM0", "MM0"}, 0, 0, 0, 0),
+              Printed("", {"ELASAP", "RM0", "MM1"}, 0, 0, 0, 0),
+              Printed("", {"ELASAP", "RM1", "MM0"}, 0.095, 0, 0, 0),
+              Printed("", {"ELASAP", "RM1", "MM1"}, 0.2, 0, 0, 0),
+              Printed("", {"ELPRACT", "RM0", "MM0"}, 0, 0, 0, 0),
+              Printed("", {"ELPRACT", "RM0", "MM1"}, 0, 0, 0, 0),
+              Printed("", {"ELPRACT", "RM1", "MM0"}, 0.09, 0.0095, 0, 0),
+              Printed("", {"ELPRACT", "RM1", "MM1"}, 0.15, 0.01, 0, 0),
+          }};
 }
 
 // Table 5.7: P(FL_{t+1} | FS_t, RM_t, MM_t, A_t).
 ExitTable FailureTable() {
-  return {"Table 5.7", "FL", {"FS", "RM", "MM"}, {
-      Printed("", {"N", "RM0", "MM0"}, 1, 0.0002, 0.0002, 0),
-      Printed("", {"N", "RM0", "MM1"}, 1, 0.0001, 0.0003, 0),
-      Printed("", {"N", "RM1", "MM0"}, 0.01, 0, 0, 0),
-      Printed("", {"N", "RM1", "MM1"}, 0.001, 0, 0, 0),
-      Printed("", {"ELASAP", "RM0", "MM0"}, 1, 0, 0, 0),
-      Printed("", {"ELASAP", "RM0", "MM1"}, 1, 0, 0, 0),
-      Printed("", {"ELASAP", "RM1", "MM0"}, 0.009, 0, 0, 0),
-      Printed("", {"ELASAP", "RM1", "MM1"}, 0.0001, 0, 0, 0),
-      Printed("", {"ELPRACT", "RM0", "MM0"}, 1, 1, 0, 0),
-      Printed("", {"ELPRACT", "RM0", "MM1"}, 1, 1, 0, 0),
-      Printed("", {"ELPRACT", "RM1", "MM0"}, 0.0095, 0.00085, 0, 0),
-      Printed("", {"ELPRACT", "RM1", "MM1"}, 0.0005, 0.00075, 0, 0),
-  }};
+  return {"Table 5.7",
+          "FL",
+          {"FS", "RM", "MM"},
+          {
+              Printed("", {"N", "RM0", "MM0"}, 1, 0.0002, 0.0002, 0),
+              Printed("", {"N", "RM0", "MM1"}, 1, 0.0001, 0.0003, 0),
+              Printed("", {"N", "RM1", "MM0"}, 0.01, 0, 0, 0),
+              Printed("", {"N", "RM1", "MM1"}, 0.001, 0, 0, 0),
+              Printed("", {"ELASAP", "RM0", "MM0"}, 1, 0, 0, 0),
+              Printed("", {"ELASAP", "RM0", "MM1"}, 1, 0, 0, 0),
+              Printed("", {"ELASAP", "RM1", "MM0"}, 0.009, 0, 0, 0),
+              Printed("", {"ELASAP", "RM1", "MM1"}, 0.0001, 0, 0, 0),
+              Printed("", {"ELPRACT", "RM0", "MM0"}, 1, 1, 0, 0),
+              Printed("", {"ELPRACT", "RM0", "MM1"}, 1, 1, 0, 0),
+              Printed("", {"ELPRACT", "RM1", "MM0"}, 0.0095, 0.00085, 0, 0),
+              Printed("", {"ELPRACT", "RM1", "MM1"}, 0.0005, 0.00075, 0, 0),
+          }};
 }
 
 // Feature scores of eqs. 5.23–5.27.
-constexpr std::array<double, 3> kScoreFS = {1.0, -1.0, -1.0};  // N, ELASAP, ELPRACT (eq. 5.25)
-constexpr std::array<double, 3> kScoreMH = {1.0, 0.0, -1.0};   // NF, SF, JF (eq. 5.25)
-constexpr std::array<double, 2> kScoreMM = {-1.0, 1.0};        // MM0, MM1 (eq. 5.26)
-constexpr std::array<double, 3> kScoreBH = {1.0, 0.0, -1.0};   // G, M, P (eq. 5.26)
-constexpr std::array<double, 2> kScoreRM = {-1.0, 1.0};        // RM0, RM1 (eq. 5.27)
+constexpr std::array<double, 3> kScoreFS = {1.0, -1.0, -1.0};             // N, ELASAP, ELPRACT (eq. 5.25)
+constexpr std::array<double, 3> kScoreMH = {1.0, 0.0, -1.0};              // NF, SF, JF (eq. 5.25)
+constexpr std::array<double, 2> kScoreMM = {-1.0, 1.0};                   // MM0, MM1 (eq. 5.26)
+constexpr std::array<double, 3> kScoreBH = {1.0, 0.0, -1.0};              // G, M, P (eq. 5.26)
+constexpr std::array<double, 2> kScoreRM = {-1.0, 1.0};                   // RM0, RM1 (eq. 5.27)
 constexpr std::array<double, 4> kScoreTerminal = {1.0, -0.1, -1.0, 0.0};  // C, T, FL, E (eq. 5.23)
 constexpr std::array<double, 4> kScoreAction = {1.0, -1.0, -0.5, 0.5};    // NoOp, Terminate,
                                                                           // LandASAP, LandPract
@@ -177,29 +195,22 @@ int Radix(int feature) { return static_cast<int>(kFeatures[feature].values.size(
 }  // namespace
 
 StateIndex CmaStateIndex(const CmaState& state) {
-  const std::array<int, 5> values = {static_cast<int>(state.fs), static_cast<int>(state.mh),
-                                     static_cast<int>(state.mm), static_cast<int>(state.bh),
-                                     static_cast<int>(state.rm)};
+  const std::array<int, 5> values = {static_cast<int>(state.fs), static_cast<int>(state.mh), static_cast<int>(state.mm),
+                                     static_cast<int>(state.bh), static_cast<int>(state.rm)};
   StateIndex index = 0;
   for (int f = 0; f < 5; ++f) index = index * Radix(f) + values[f];
   return index;
 }
 
-StateIndex CmaTerminalIndex(CmaTerminal terminal) {
-  return kCmaNumTupleStates + static_cast<int>(terminal);
-}
+StateIndex CmaTerminalIndex(CmaTerminal terminal) { return kCmaNumTupleStates + static_cast<int>(terminal); }
 
 std::string CmaStateLabel(const CmaState& state) {
   return fmt::format("{},{},{},{},{}", kFeatures[0].values[static_cast<int>(state.fs)],
-                     kFeatures[1].values[static_cast<int>(state.mh)],
-                     kFeatures[2].values[static_cast<int>(state.mm)],
-                     kFeatures[3].values[static_cast<int>(state.bh)],
-                     kFeatures[4].values[static_cast<int>(state.rm)]);
+                     kFeatures[1].values[static_cast<int>(state.mh)], kFeatures[2].values[static_cast<int>(state.mm)],
+                     kFeatures[3].values[static_cast<int>(state.bh)], kFeatures[4].values[static_cast<int>(state.rm)]);
 }
 
-const char* CmaActionName(CmaAction action) {
-  return kActionNames[static_cast<int>(action)].c_str();
-}
+const char* CmaActionName(CmaAction action) { return kActionNames[static_cast<int>(action)].c_str(); }
 
 CmaState ParseCmaState(const std::string& label, const std::string& source) {
   std::array<int, 5> values{};
@@ -236,15 +247,15 @@ CmaAction ParseCmaAction(const std::string& name, const std::string& source) {
 }
 
 const std::vector<std::string>& CmaWeights::Names() {
-  static const std::vector<std::string> names = {"C",  "FL",  "T",  "E",  "NoOp", "Terminate", "LandASAP",
-                                                 "LandPract", "FS", "MH", "MM", "BH", "RM"};
+  static const std::vector<std::string> names = {"C",         "FL", "T",  "E",  "NoOp", "Terminate", "LandASAP",
+                                                 "LandPract", "FS", "MH", "MM", "BH",   "RM"};
   return names;
 }
 
 namespace {
 double* WeightSlot(CmaWeights& w, const std::string& name) {
-  double* slots[] = {&w.C,  &w.FL, &w.T,  &w.E,  &w.NoOp, &w.Terminate, &w.LandASAP,
-                     &w.LandPract, &w.FS, &w.MH, &w.MM, &w.BH, &w.RM};
+  double* slots[] = {&w.C,         &w.FL, &w.T,  &w.E,  &w.NoOp, &w.Terminate, &w.LandASAP,
+                     &w.LandPract, &w.FS, &w.MH, &w.MM, &w.BH,   &w.RM};
   const auto& names = CmaWeights::Names();
   std::string bare = name.rfind("w_", 0) == 0 ? name.substr(2) : name;
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -256,9 +267,7 @@ double* WeightSlot(CmaWeights& w, const std::string& name) {
 }
 }  // namespace
 
-double CmaWeights::Get(const std::string& name) const {
-  return *WeightSlot(const_cast<CmaWeights&>(*this), name);
-}
+double CmaWeights::Get(const std::string& name) const { return *WeightSlot(const_cast<CmaWeights&>(*this), name); }
 
 void CmaWeights::Set(const std::string& name, double value) { *WeightSlot(*this, name) = value; }
 
@@ -333,8 +342,7 @@ std::string CmaConfigYaml(const CmaConfig& config) {
       "  end_states: {{C: {}, FL: {}, T: {}, E: {}}}\n"
       "  actions: {{NoOp: {}, Terminate: {}, LandASAP: {}, LandPract: {}}}\n"
       "  state_features: {{FS: {}, MH: {}, MM: {}, BH: {}, RM: {}}}\n",
-      config.gamma, w.C, w.FL, w.T, w.E, w.NoOp, w.Terminate, w.LandASAP, w.LandPract, w.FS, w.MH,
-      w.MM, w.BH, w.RM);
+      config.gamma, w.C, w.FL, w.T, w.E, w.NoOp, w.Terminate, w.LandASAP, w.LandPract, w.FS, w.MH, w.MM, w.BH, w.RM);
 }
 
 FactoredMdpBuilder MakeCmaFactoredModel() {
@@ -374,9 +382,7 @@ FiniteMdp BuildCmaMdp(const CmaWeights& weights) {
   std::string error;
   if (!weights.IsValid(&error)) throw InputError("CMA weights: " + error);
   const FactoredMdpBuilder model = MakeCmaFactoredModel();
-  return model.Build([&weights](const FactoredState& s, ActionIndex a) {
-    return CmaReward(weights, s, a);
-  });
+  return model.Build([&weights](const FactoredState& s, ActionIndex a) { return CmaReward(weights, s, a); });
 }
 
 CmaState QuadrantState(FlightStatus fs, MotorHealth mh, BatteryHealth bh, int quadrant) {
@@ -388,14 +394,13 @@ CmaState QuadrantState(FlightStatus fs, MotorHealth mh, BatteryHealth bh, int qu
   return {fs, mh, mm[quadrant], bh, rm[quadrant]};
 }
 
-std::vector<QuadrantRow> CmaQuadrantView(const std::vector<ActionIndex>& action,
-                                         const std::vector<double>& value) {
+std::vector<QuadrantRow> CmaQuadrantView(const std::vector<ActionIndex>& action, const std::vector<double>& value) {
   std::vector<QuadrantRow> rows;
   for (int fs = 0; fs < 3; ++fs) {
     for (int mh = 0; mh < 3; ++mh) {
       for (int bh = 0; bh < 3; ++bh) {
-        QuadrantRow row{static_cast<FlightStatus>(fs), static_cast<MotorHealth>(mh),
-                        static_cast<BatteryHealth>(bh), {}};
+        QuadrantRow row{
+            static_cast<FlightStatus>(fs), static_cast<MotorHealth>(mh), static_cast<BatteryHealth>(bh), {}};
         for (int q = 0; q < 4; ++q) {
           const CmaState state = QuadrantState(row.fs, row.mh, row.bh, q);
           const StateIndex s = CmaStateIndex(state);

@@ -8,8 +8,7 @@
 
 namespace uascma::decision {
 
-FactoredMdpBuilder::FactoredMdpBuilder(std::vector<DiscreteFeature> features,
-                                       std::vector<std::string> actions)
+FactoredMdpBuilder::FactoredMdpBuilder(std::vector<DiscreteFeature> features, std::vector<std::string> actions)
     : features_(std::move(features)), actions_(std::move(actions)) {
   if (features_.empty()) throw InputError("factored MDP", "features", "at least one feature");
   if (actions_.empty()) throw InputError("factored MDP", "actions", "at least one action");
@@ -68,10 +67,10 @@ int FactoredMdpBuilder::CompiledTable::ParentIndex(const std::vector<int>& value
   return index;
 }
 
-FactoredMdpBuilder::CompiledTable FactoredMdpBuilder::Compile(
-    const std::string& table_name, const std::string& feature,
-    const std::vector<std::string>& parents, const std::vector<ConditionalRow>& rows,
-    bool is_exit) const {
+FactoredMdpBuilder::CompiledTable FactoredMdpBuilder::Compile(const std::string& table_name, const std::string& feature,
+                                                              const std::vector<std::string>& parents,
+                                                              const std::vector<ConditionalRow>& rows,
+                                                              bool is_exit) const {
   CompiledTable table;
   int feature_index = -1;
   if (!is_exit) {
@@ -87,8 +86,8 @@ FactoredMdpBuilder::CompiledTable FactoredMdpBuilder::Compile(
     table.num_parent_tuples *= table.parent_radix.back();
   }
   const int num_actions = static_cast<int>(actions_.size());
-  table.probability.assign(
-      static_cast<std::size_t>(num_actions * table.num_parent_tuples * table.num_next_values), 0.0);
+  table.probability.assign(static_cast<std::size_t>(num_actions * table.num_parent_tuples * table.num_next_values),
+                           0.0);
   std::vector<bool> seen(table.probability.size() / static_cast<std::size_t>(num_actions), false);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const ConditionalRow& row = rows[r];
@@ -103,8 +102,7 @@ FactoredMdpBuilder::CompiledTable FactoredMdpBuilder::Compile(
     for (std::size_t p = 0; p < parents.size(); ++p) {
       const int v = ValueIndex(table.parent_features[p], row.parent_values[p]);
       if (v < 0) {
-        throw InputError(table_name, where,
-                         fmt::format("a value of {}, got '{}'", parents[p], row.parent_values[p]));
+        throw InputError(table_name, where, fmt::format("a value of {}, got '{}'", parents[p], row.parent_values[p]));
       }
       parent_index = parent_index * table.parent_radix[p] + v;
     }
@@ -112,12 +110,10 @@ FactoredMdpBuilder::CompiledTable FactoredMdpBuilder::Compile(
     if (!is_exit) {
       next_index = ValueIndex(feature_index, row.next_value);
       if (next_index < 0) {
-        throw InputError(table_name, where,
-                         fmt::format("a value of {}, got '{}'", feature, row.next_value));
+        throw InputError(table_name, where, fmt::format("a value of {}, got '{}'", feature, row.next_value));
       }
     }
-    const std::size_t cell =
-        static_cast<std::size_t>(parent_index * table.num_next_values + next_index);
+    const std::size_t cell = static_cast<std::size_t>(parent_index * table.num_next_values + next_index);
     if (seen[cell]) throw InputError(table_name, where, "one row per (next value, parents)");
     seen[cell] = true;
     for (int a = 0; a < num_actions; ++a) {
@@ -256,8 +252,8 @@ FiniteMdp FactoredMdpBuilder::Build(const RewardFunction& reward) const {
           }
         }
         for (const auto& [terminal, table] : exit_tables_) {
-          const double p = table.probability[static_cast<std::size_t>(a) * table.num_parent_tuples +
-                                             table.ParentIndex(x.values)];
+          const double p =
+              table.probability[static_cast<std::size_t>(a) * table.num_parent_tuples + table.ParentIndex(x.values)];
           if (p > 0.0) row.push_back({num_tuple_states_ + terminal, p});
         }
       }

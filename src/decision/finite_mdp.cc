@@ -29,8 +29,7 @@ std::int64_t FiniteMdp::FindChoice(StateIndex s, ActionIndex a) const {
   return -1;
 }
 
-FiniteMdpBuilder::FiniteMdpBuilder(std::vector<std::string> state_labels,
-                                   std::vector<std::string> action_names) {
+FiniteMdpBuilder::FiniteMdpBuilder(std::vector<std::string> state_labels, std::vector<std::string> action_names) {
   if (state_labels.empty()) throw InputError("MDP", "states", "at least one state");
   if (action_names.empty()) throw InputError("MDP", "actions", "at least one action");
   mdp_.state_labels_ = std::move(state_labels);
@@ -51,8 +50,7 @@ void FiniteMdpBuilder::AddRow(StateIndex state, ActionIndex action, double rewar
                               std::span<const Transition> successors) {
   const int num_states = mdp_.num_states();
   if (state < 0 || state >= num_states) {
-    throw InputError("MDP", fmt::format("state {}", state),
-                     fmt::format("a state index in [0, {})", num_states));
+    throw InputError("MDP", fmt::format("state {}", state), fmt::format("a state index in [0, {})", num_states));
   }
   if (action < 0 || action >= mdp_.num_actions()) {
     throw InputError("MDP", fmt::format("state '{}', action {}", mdp_.state_labels_[state], action),
@@ -65,8 +63,8 @@ void FiniteMdpBuilder::AddRow(StateIndex state, ActionIndex action, double rewar
   }
   current_state_ = state;
   CloseStatesUpTo(state);
-  for (std::int64_t c = mdp_.state_choice_begin_[state];
-       c < static_cast<std::int64_t>(mdp_.choice_action_.size()); ++c) {
+  for (std::int64_t c = mdp_.state_choice_begin_[state]; c < static_cast<std::int64_t>(mdp_.choice_action_.size());
+       ++c) {
     if (mdp_.choice_action_[c] == action) throw InputError("MDP", where, "one row per action");
   }
   if (!std::isfinite(reward)) {
@@ -76,8 +74,7 @@ void FiniteMdpBuilder::AddRow(StateIndex state, ActionIndex action, double rewar
   double row_sum = 0.0;
   for (const Transition& t : successors) {
     if (t.next_state < 0 || t.next_state >= num_states) {
-      throw InputError("MDP", where,
-                       fmt::format("successor indices in [0, {}), got {}", num_states, t.next_state));
+      throw InputError("MDP", where, fmt::format("successor indices in [0, {}), got {}", num_states, t.next_state));
     }
     if (!std::isfinite(t.probability) || t.probability < 0.0 || t.probability > 1.0) {
       throw InputError("MDP", where + fmt::format(", successor '{}'", mdp_.state_labels_[t.next_state]),
@@ -87,8 +84,7 @@ void FiniteMdpBuilder::AddRow(StateIndex state, ActionIndex action, double rewar
   }
   if (std::abs(row_sum - 1.0) > kRowSumTolerance) {
     throw InputError("MDP", where,
-                     fmt::format("probabilities summing to 1 within {:g}, got {:.12g}",
-                                 kRowSumTolerance, row_sum));
+                     fmt::format("probabilities summing to 1 within {:g}, got {:.12g}", kRowSumTolerance, row_sum));
   }
   mdp_.choice_action_.push_back(action);
   mdp_.choice_reward_.push_back(reward);
@@ -104,8 +100,7 @@ FiniteMdp FiniteMdpBuilder::Build() {
   CloseStatesUpTo(num_states);
   for (StateIndex s = 0; s < num_states; ++s) {
     if (mdp_.state_choice_begin_[s] == mdp_.state_choice_begin_[s + 1]) {
-      throw InputError("MDP", fmt::format("state '{}'", mdp_.state_labels_[s]),
-                       "at least one available action");
+      throw InputError("MDP", fmt::format("state '{}'", mdp_.state_labels_[s]), "at least one available action");
     }
   }
   FiniteMdp built = std::move(mdp_);

@@ -3,9 +3,9 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/common/hash.h"
 #include "uascma/common/json_io.h"
 #include "uascma/common/json_reader.h"
-#include "uascma/common/hash.h"
 #include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/cma_weights_json.h"
@@ -33,9 +33,9 @@ std::string ModelHash(const FiniteMdp& mdp) {
   return fingerprint.Hex();
 }
 
-PolicyDocument MakePolicyDocument(const FiniteMdp& mdp, const Policy& policy, std::string model,
-                                  double gamma, nlohmann::json model_config,
-                                  const SolverSummary& summary, const std::string& method) {
+PolicyDocument MakePolicyDocument(const FiniteMdp& mdp, const Policy& policy, std::string model, double gamma,
+                                  nlohmann::json model_config, const SolverSummary& summary,
+                                  const std::string& method) {
   PolicyDocument document;
   document.model = std::move(model);
   document.model_hash = ModelHash(mdp);
@@ -58,9 +58,8 @@ PolicyDocument MakePolicyDocument(const FiniteMdp& mdp, const Policy& policy, st
 nlohmann::json PolicyToJson(const PolicyDocument& document) {
   nlohmann::json states = nlohmann::json::array();
   for (std::size_t i = 0; i < document.state_labels.size(); ++i) {
-    states.push_back({{"state", document.state_labels[i]},
-                      {"action", document.action_names[i]},
-                      {"value", document.values[i]}});
+    states.push_back(
+        {{"state", document.state_labels[i]}, {"action", document.action_names[i]}, {"value", document.values[i]}});
   }
   return {{"format", kPolicyFormat},
           {"model", document.model},
@@ -112,13 +111,14 @@ Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const st
   for (std::size_t i = 0; i < document.state_labels.size(); ++i) {
     const std::string where = fmt::format("states[{}]", i);
     const StateIndex s = mdp.FindState(document.state_labels[i]);
-    if (s < 0) throw InputError(source, where + ".state", "a state of the model, got '" + document.state_labels[i] + "'");
+    if (s < 0)
+      throw InputError(source, where + ".state", "a state of the model, got '" + document.state_labels[i] + "'");
     if (policy.action[s] >= 0) throw InputError(source, where + ".state", "each state once");
     const ActionIndex a = mdp.FindAction(document.action_names[i]);
     if (a < 0 || !mdp.IsAvailable(s, a)) {
-      throw InputError(source, where + ".action",
-                       "an action available in " + document.state_labels[i] + ", got '" +
-                           document.action_names[i] + "'");
+      throw InputError(
+          source, where + ".action",
+          "an action available in " + document.state_labels[i] + ", got '" + document.action_names[i] + "'");
     }
     policy.action[s] = a;
     policy.value[s] = document.values[i];
@@ -142,9 +142,8 @@ FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& w
   }
   // A policy solved on transitions estimated from flights (decision/cma_estimated_model.h) keeps their counts.
   if (document.model_config.contains("transition_counts")) {
-    return BuildEstimatedCmaMdp(
-        weights, CmaTransitionCountsFromJson(document.model_config.at("transition_counts"),
-                                             source + ": model_config.transition_counts"));
+    return BuildEstimatedCmaMdp(weights, CmaTransitionCountsFromJson(document.model_config.at("transition_counts"),
+                                                                     source + ": model_config.transition_counts"));
   }
   return BuildCmaMdp(weights);
 }

@@ -27,8 +27,8 @@ FiniteMdp MakeRandomMdp(int num_states, int num_actions, int successors, std::ui
         bool duplicate;
         do {  // distinct successors (rejection is cheap: successors << states in practice)
           next = static_cast<StateIndex>(random.UniformIndex(static_cast<std::uint64_t>(num_states)));
-          duplicate = std::any_of(row.begin(), row.begin() + k,
-                                  [next](const Transition& t) { return t.next_state == next; });
+          duplicate =
+              std::any_of(row.begin(), row.begin() + k, [next](const Transition& t) { return t.next_state == next; });
         } while (duplicate);
         row[k] = {next, 0.05 + random.Uniform()};
         total += row[k].probability;

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
+#include <Eigen/Dense>
 
 #include "uascma/common/error.h"
 
@@ -17,9 +17,7 @@ constexpr double kMinusInfinity = -std::numeric_limits<double>::infinity();
 
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void CheckGamma(double gamma) {
   if (!(gamma >= 0.0 && gamma < 1.0)) {
@@ -29,8 +27,7 @@ void CheckGamma(double gamma) {
 
 // Q(s, a) with the self-transition p(s|s,a) solved exactly, given the current values of the
 // other states: Q = (r + γ Σ_{s'≠s} p V(s')) / (1 − γ p_ss). Used by in-place sweeps.
-inline double SelfLoopSolvedQ(const FiniteMdp& mdp, std::int64_t c, StateIndex s, double gamma,
-                              const double* value) {
+inline double SelfLoopSolvedQ(const FiniteMdp& mdp, std::int64_t c, StateIndex s, double gamma, const double* value) {
   const auto& row_begin = mdp.choice_row_begin();
   const StateIndex* next = mdp.next_state().data();
   const double* prob = mdp.probability().data();
@@ -48,8 +45,8 @@ inline double SelfLoopSolvedQ(const FiniteMdp& mdp, std::int64_t c, StateIndex s
 
 // Σ_k p_k V(s'_k) over one row. Four partial sums break the floating-point add latency chain, which
 // otherwise bounds a sweep of 10-successor rows (measured: 5.8 → see bench/mdp_bench.cc).
-inline double RowExpectation(const StateIndex* next, const double* prob, std::int64_t begin,
-                             std::int64_t end, const double* value) {
+inline double RowExpectation(const StateIndex* next, const double* prob, std::int64_t begin, std::int64_t end,
+                             const double* value) {
   double sum0 = 0.0, sum1 = 0.0, sum2 = 0.0, sum3 = 0.0;
   std::int64_t k = begin;
   for (; k + 4 <= end; k += 4) {
@@ -82,20 +79,16 @@ double GaussSeidelSweep(const FiniteMdp& mdp, double gamma, std::vector<double>&
   return residual;
 }
 
-std::vector<std::int64_t> PolicyChoices(const FiniteMdp& mdp,
-                                        const std::vector<ActionIndex>& policy) {
+std::vector<std::int64_t> PolicyChoices(const FiniteMdp& mdp, const std::vector<ActionIndex>& policy) {
   if (static_cast<int>(policy.size()) != mdp.num_states()) {
     throw InputError("policy", "actions",
-                     fmt::format("one action per state ({}), got {}", mdp.num_states(),
-                                 policy.size()));
+                     fmt::format("one action per state ({}), got {}", mdp.num_states(), policy.size()));
   }
   std::vector<std::int64_t> choices(policy.size());
   for (StateIndex s = 0; s < mdp.num_states(); ++s) {
-    const std::int64_t c =
-        (policy[s] >= 0 && policy[s] < mdp.num_actions()) ? mdp.FindChoice(s, policy[s]) : -1;
+    const std::int64_t c = (policy[s] >= 0 && policy[s] < mdp.num_actions()) ? mdp.FindChoice(s, policy[s]) : -1;
     if (c < 0) {
-      throw InputError("policy", fmt::format("state '{}'", mdp.state_label(s)),
-                       "an action available in that state");
+      throw InputError("policy", fmt::format("state '{}'", mdp.state_label(s)), "an action available in that state");
     }
     choices[s] = c;
   }
@@ -122,13 +115,11 @@ bool ValueIterationOptions::IsValid(std::string* error) const {
 
 std::string SolverSummary::BriefReport() const {
   return fmt::format("{} after {} iterations, residual {:.3g}, {:.3g} ms{}",
-                     status == SolverStatus::kConverged ? "converged" : "stopped at max iterations",
-                     iterations, residual, wall_time_s * 1e3,
-                     message.empty() ? "" : " (" + message + ")");
+                     status == SolverStatus::kConverged ? "converged" : "stopped at max iterations", iterations,
+                     residual, wall_time_s * 1e3, message.empty() ? "" : " (" + message + ")");
 }
 
-double ChoiceQValue(const FiniteMdp& mdp, std::int64_t choice, double gamma,
-                    const std::vector<double>& value) {
+double ChoiceQValue(const FiniteMdp& mdp, std::int64_t choice, double gamma, const std::vector<double>& value) {
   double expected = 0.0;
   const auto next = mdp.choice_next_states(choice);
   const auto prob = mdp.choice_probabilities(choice);
@@ -136,8 +127,8 @@ double ChoiceQValue(const FiniteMdp& mdp, std::int64_t choice, double gamma,
   return mdp.choice_reward(choice) + gamma * expected;
 }
 
-double BellmanSweep(const FiniteMdp& mdp, double gamma, const std::vector<double>& in,
-                    std::vector<double>& out, std::vector<ActionIndex>* greedy) {
+double BellmanSweep(const FiniteMdp& mdp, double gamma, const std::vector<double>& in, std::vector<double>& out,
+                    std::vector<ActionIndex>* greedy) {
   const int num_states = mdp.num_states();
   out.resize(static_cast<std::size_t>(num_states));
   if (greedy != nullptr) greedy->resize(static_cast<std::size_t>(num_states));
@@ -165,8 +156,7 @@ double BellmanSweep(const FiniteMdp& mdp, double gamma, const std::vector<double
   return residual;
 }
 
-std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma,
-                                      const std::vector<double>& value) {
+std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma, const std::vector<double>& value) {
   std::vector<ActionIndex> policy(static_cast<std::size_t>(mdp.num_states()));
   for (StateIndex s = 0; s < mdp.num_states(); ++s) {
     double best = kMinusInfinity;
@@ -181,7 +171,8 @@ std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma,
   return policy;
 }
 
-std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, double gamma, const std::vector<double>& value,
+std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, double gamma,
+                                                     const std::vector<double>& value,
                                                      const std::vector<ActionIndex>* policy_action) {
   std::vector<std::vector<ActionIndex>> ranking(static_cast<std::size_t>(mdp.num_states()));
   for (StateIndex s = 0; s < mdp.num_states(); ++s) {
@@ -200,8 +191,7 @@ std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, doubl
   return ranking;
 }
 
-Policy SolveValueIteration(const FiniteMdp& mdp, const ValueIterationOptions& options,
-                           SolverSummary* summary) {
+Policy SolveValueIteration(const FiniteMdp& mdp, const ValueIterationOptions& options, SolverSummary* summary) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("value iteration options: " + error);
   const auto start = Clock::now();
@@ -239,8 +229,7 @@ std::vector<double> EvaluatePolicy(const FiniteMdp& mdp, const std::vector<Actio
   const int n = mdp.num_states();
   EvaluationMethod method = options.method;
   if (method == EvaluationMethod::kAuto) {
-    method = n <= kDirectEvaluationMaxStates ? EvaluationMethod::kDirect
-                                             : EvaluationMethod::kIterative;
+    method = n <= kDirectEvaluationMaxStates ? EvaluationMethod::kDirect : EvaluationMethod::kIterative;
   }
   if (method == EvaluationMethod::kDirect) {
     // (I − γ P_π) V = r_π, solved by LU with partial pivoting (the matrix is strictly diagonally
@@ -264,8 +253,7 @@ std::vector<double> EvaluatePolicy(const FiniteMdp& mdp, const std::vector<Actio
   return value;
 }
 
-Policy SolvePolicyIteration(const FiniteMdp& mdp, const PolicyIterationOptions& options,
-                            SolverSummary* summary) {
+Policy SolvePolicyIteration(const FiniteMdp& mdp, const PolicyIterationOptions& options, SolverSummary* summary) {
   CheckGamma(options.gamma);
   const auto start = Clock::now();
   Policy policy;
@@ -281,8 +269,7 @@ Policy SolvePolicyIteration(const FiniteMdp& mdp, const PolicyIterationOptions& 
     policy.value = EvaluatePolicy(mdp, policy.action, evaluation);
     bool changed = false;
     for (StateIndex s = 0; s < mdp.num_states(); ++s) {
-      const double incumbent =
-          ChoiceQValue(mdp, mdp.FindChoice(s, policy.action[s]), options.gamma, policy.value);
+      const double incumbent = ChoiceQValue(mdp, mdp.FindChoice(s, policy.action[s]), options.gamma, policy.value);
       double best = incumbent;
       for (std::int64_t c = mdp.choice_begin(s); c < mdp.choice_end(s); ++c) {
         const double q = ChoiceQValue(mdp, c, options.gamma, policy.value);

@@ -158,8 +158,8 @@ void ImmFilter::Step(const models::RotorThrusts& believed_thrusts, const ImmMeas
   for (int axis = 0; axis < 3; ++axis) {
     const int a1 = axis == 2 ? 0 : axis + 1, a2 = axis == 0 ? 2 : axis - 1;
     const Lanes torque = all[1 + axis] - column_[1 + axis] * thrust_removed;
-    const Lanes prior = mixed_rate[axis] + (dt / inertia[axis]) * (torque - (inertia[a2] - inertia[a1]) *
-                                                                          mixed_rate[a1] * mixed_rate[a2]);
+    const Lanes prior = mixed_rate[axis] +
+                        (dt / inertia[axis]) * (torque - (inertia[a2] - inertia[a1]) * mixed_rate[a1] * mixed_rate[a2]);
     const Lanes prior_variance = mixed_variance[axis] + process;
     const Lanes innovation_variance = prior_variance + gyro_variance;
     const Lanes inverse = innovation_variance.inverse();

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include <fmt/format.h>
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
-#include <fmt/format.h>
 
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
@@ -22,9 +22,20 @@ Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double limit) {
 }  // namespace
 
 bool LqrOptions::IsValid(std::string* error) const {
-  const double values[] = {dt, weights.position, weights.altitude, weights.velocity, weights.tilt, weights.yaw,
-                           weights.body_rate, weights.thrust, weights.roll_pitch_torque, weights.yaw_torque,
-                           max_horizontal_error, max_vertical_error, max_velocity_error, max_tilt};
+  const double values[] = {dt,
+                           weights.position,
+                           weights.altitude,
+                           weights.velocity,
+                           weights.tilt,
+                           weights.yaw,
+                           weights.body_rate,
+                           weights.thrust,
+                           weights.roll_pitch_torque,
+                           weights.yaw_torque,
+                           max_horizontal_error,
+                           max_vertical_error,
+                           max_velocity_error,
+                           max_tilt};
   for (double v : values) {
     if (!(v > 0.0 && std::isfinite(v))) {
       if (error) *error = "LQR options: every step, weight and limit must be a positive number";
@@ -36,11 +47,11 @@ bool LqrOptions::IsValid(std::string* error) const {
 
 LinearModel LinearizeHover(const models::RigidBodyParams& params) {
   LinearModel model;
-  model.A.block<3, 3>(0, 3).setIdentity();          // ṗ = v
-  model.A(3, 7) = -kGravity;                         // v̇_x = −g θ
-  model.A(4, 6) = kGravity;                          // v̇_y = g φ
-  model.A.block<3, 3>(6, 9).setIdentity();          // Euler rates = body rates near hover
-  model.B(5, 0) = -1.0 / params.mass;               // v̇_z = −δT / m (NED: more thrust, upwards)
+  model.A.block<3, 3>(0, 3).setIdentity();  // ṗ = v
+  model.A(3, 7) = -kGravity;                // v̇_x = −g θ
+  model.A(4, 6) = kGravity;                 // v̇_y = g φ
+  model.A.block<3, 3>(6, 9).setIdentity();  // Euler rates = body rates near hover
+  model.B(5, 0) = -1.0 / params.mass;       // v̇_z = −δT / m (NED: more thrust, upwards)
   for (int i = 0; i < 3; ++i) model.B(9 + i, 1 + i) = 1.0 / params.inertia_diagonal[i];
   return model;
 }
@@ -50,7 +61,7 @@ LinearModel DiscretizeZeroOrderHold(const LinearModel& continuous, double dt) {
   // sums are exact after a few terms; 12 terms keep it exact for any chain up to the state size.
   LinearModel discrete;
   StateMatrix term = StateMatrix::Identity();  // (A dt)^k / k!
-  StateMatrix integral = StateMatrix::Zero();   // Σ (A dt)^k / (k+1)! · dt
+  StateMatrix integral = StateMatrix::Zero();  // Σ (A dt)^k / (k+1)! · dt
   discrete.A.setZero();
   for (int k = 0; k < 12; ++k) {
     discrete.A += term;
@@ -70,8 +81,8 @@ RiccatiSolution SolveDiscreteRiccati(const StateMatrix& A, const InputMatrix& B,
   const StateMatrix identity = StateMatrix::Identity();
   for (solution.iterations = 1; solution.iterations <= max_iterations; ++solution.iterations) {
     const Eigen::PartialPivLU<StateMatrix> lu(identity + g * h);
-    const StateMatrix inv_a = lu.solve(a);            // (I + G H)⁻¹ A
-    const StateMatrix inv_g = lu.solve(g);            // (I + G H)⁻¹ G
+    const StateMatrix inv_a = lu.solve(a);  // (I + G H)⁻¹ A
+    const StateMatrix inv_g = lu.solve(g);  // (I + G H)⁻¹ G
     const StateMatrix next_h = h + a.transpose() * h * inv_a;
     const StateMatrix next_g = g + a * inv_g * a.transpose();
     const StateMatrix next_a = a * inv_a;
@@ -88,8 +99,7 @@ RiccatiSolution SolveDiscreteRiccati(const StateMatrix& A, const InputMatrix& B,
   solution.P = h;
   const Eigen::Matrix4d S = R + B.transpose() * h * B;
   solution.K = S.ldlt().solve(B.transpose() * h * A);
-  const StateMatrix residual =
-      Q + A.transpose() * h * A - A.transpose() * h * B * solution.K - h;
+  const StateMatrix residual = Q + A.transpose() * h * A - A.transpose() * h * B * solution.K - h;
   solution.residual = residual.cwiseAbs().maxCoeff();
   return solution;
 }
@@ -121,10 +131,9 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   // (a_x, a_y) is θ = atan(−a_x / G), φ = atan(a_y cθ / G) (exact; the small-angle θ = −a_x/g over-asks by
   // 10 % at the ~30° a 9 m/s cruise into a 3 m/s wind needs with the drag fed forward).
   const double vertical = std::max(kGravity - reference.a_W.z(), 1.0);  // m/s², a plan never asks for free fall
-  const double pitch_ref =
-      std::clamp(std::atan(-reference.a_W.x() / vertical), -options_.max_tilt, options_.max_tilt);
-  const double roll_ref = std::clamp(std::atan(reference.a_W.y() * std::cos(pitch_ref) / vertical),
-                                     -options_.max_tilt, options_.max_tilt);
+  const double pitch_ref = std::clamp(std::atan(-reference.a_W.x() / vertical), -options_.max_tilt, options_.max_tilt);
+  const double roll_ref =
+      std::clamp(std::atan(reference.a_W.y() * std::cos(pitch_ref) / vertical), -options_.max_tilt, options_.max_tilt);
   ControlState error;
   const Eigen::Vector3d position_error = state.p_WB_W - reference.p_W;
   error.head<2>() = ClampNorm(position_error.head<2>(), options_.max_horizontal_error);

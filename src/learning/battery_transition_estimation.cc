@@ -49,10 +49,10 @@ std::vector<BatteryFlightController> DrawControllers(const BatteryLearningOption
         DeriveSeed(DeriveSeed(options.seed, static_cast<std::uint64_t>(d)), campaign::kBatteryDropStream));
     const PackAction alone = drop_random.Bernoulli(0.5) ? PackAction::kUseBatt2 : PackAction::kUseBatt1;
     const double drop_s = drop_random.Uniform(0.0, params.plan_duration_s);
-    flights.push_back({PackAction::kUseBoth,
-                       [alone, drop_s](double time_s, const decision::BatteryObservation&, StateIndex) {
-                         return time_s >= drop_s ? alone : PackAction::kUseBoth;
-                       }});
+    flights.push_back(
+        {PackAction::kUseBoth, [alone, drop_s](double time_s, const decision::BatteryObservation&, StateIndex) {
+           return time_s >= drop_s ? alone : PackAction::kUseBoth;
+         }});
   }
   return flights;
 }

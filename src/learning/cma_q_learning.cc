@@ -23,9 +23,7 @@ using decision::kCmaNumTupleStates;
 // Tuple states per flight status: MH × MM × BH × RM = 3 · 2 · 3 · 2 (FS varies slowest, cma_mdp.h).
 constexpr int kTuplesPerFlightStatus = 36;
 
-FlightStatus FlightStatusOfTuple(StateIndex tuple) {
-  return static_cast<FlightStatus>(tuple / kTuplesPerFlightStatus);
-}
+FlightStatus FlightStatusOfTuple(StateIndex tuple) { return static_cast<FlightStatus>(tuple / kTuplesPerFlightStatus); }
 
 // The scenario of one episode given the anchor run (kOneMission) — see the header.
 sim::Scenario OneMissionScenario(const campaign::SampledRun& anchor, const campaign::SampledRun& draw) {
@@ -79,7 +77,7 @@ Episode FlyScenario(const CmaQLearningOptions& options, const sim::Scenario& sce
     deviation_epoch = static_cast<std::int64_t>(random.UniformIndex(static_cast<std::uint64_t>(std::max(1.0, epochs))));
   }
   for (std::int64_t epoch = 0; !environment.done(); ++epoch) {
-    const ActionIndex a = !one_deviation         ? snapshot.EpsilonGreedy(s, epsilon, random)
+    const ActionIndex a = !one_deviation             ? snapshot.EpsilonGreedy(s, epsilon, random)
                           : epoch == deviation_epoch ? snapshot.EpsilonGreedy(s, 1.0, random)
                                                      : snapshot.Greedy(s);
     const sim::EnvironmentStep step = environment.Step(static_cast<CmaAction>(a));
@@ -206,37 +204,35 @@ decision::PolicyDocument QPolicyDocument(const QTable& table, const CmaQLearning
   const decision::FiniteMdp mdp = decision::BuildCmaMdp(weights);
   decision::SolverSummary summary;
   summary.status = result.status == QLearningStatus::kPolicyStable ? decision::SolverStatus::kConverged
-                                                                    : decision::SolverStatus::kMaxIterations;
+                                                                   : decision::SolverStatus::kMaxIterations;
   summary.iterations = static_cast<int>(result.episodes);
   summary.wall_time_s = result.wall_time_s;
   summary.message = result.status == QLearningStatus::kPolicyStable ? "greedy policy stable" : "episode limit";
-  const nlohmann::json learning = {
-      {"state", QStateKindName(options.state)},
-      {"episodes_setting", EpisodeSettingName(options.setting)},
-      {"exploration", ExplorationName(options.exploration)},
-      {"episodes", result.episodes},
-      {"alpha", options.learning.params.alpha},
-      {"alpha_decay_visits", options.learning.params.alpha_decay_visits},
-      {"epsilon", {{"start", options.learning.epsilon.start}, {"end", options.learning.epsilon.end},
-                   {"decay_episodes", options.learning.epsilon.decay_episodes}}},
-      {"batch_size", options.learning.batch_size},
-      {"seed", std::to_string(options.config.seed)},
-      {"campaign_config_hash", campaign::CampaignConfigHash(options.config)},
-      {"anchor_run", options.anchor_run},
-      {"states_visited", table.states_visited()},
-      {"learning_states", table.num_states()}};
-  return decision::MakePolicyDocument(mdp, ProjectToCmaPolicy(table, options.state), "cma",
-                                      options.learning.params.gamma,
-                                      {{"weights", decision::CmaWeightsJson(weights)}, {"q_learning", learning}},
-                                      summary, "q_learning");
+  const nlohmann::json learning = {{"state", QStateKindName(options.state)},
+                                   {"episodes_setting", EpisodeSettingName(options.setting)},
+                                   {"exploration", ExplorationName(options.exploration)},
+                                   {"episodes", result.episodes},
+                                   {"alpha", options.learning.params.alpha},
+                                   {"alpha_decay_visits", options.learning.params.alpha_decay_visits},
+                                   {"epsilon",
+                                    {{"start", options.learning.epsilon.start},
+                                     {"end", options.learning.epsilon.end},
+                                     {"decay_episodes", options.learning.epsilon.decay_episodes}}},
+                                   {"batch_size", options.learning.batch_size},
+                                   {"seed", std::to_string(options.config.seed)},
+                                   {"campaign_config_hash", campaign::CampaignConfigHash(options.config)},
+                                   {"anchor_run", options.anchor_run},
+                                   {"states_visited", table.states_visited()},
+                                   {"learning_states", table.num_states()}};
+  return decision::MakePolicyDocument(
+      mdp, ProjectToCmaPolicy(table, options.state), "cma", options.learning.params.gamma,
+      {{"weights", decision::CmaWeightsJson(weights)}, {"q_learning", learning}}, summary, "q_learning");
 }
 
 const char* QStateKindName(QStateKind kind) { return kind == QStateKind::kCma ? "cma" : "binned"; }
 const char* ExplorationName(Exploration e) {
   return e == Exploration::kOneDeviation ? "one-deviation" : "epsilon-greedy";
 }
-const char* EpisodeSettingName(EpisodeSetting s) {
-  return s == EpisodeSetting::kCampaign ? "campaign" : "one-mission";
-}
+const char* EpisodeSettingName(EpisodeSetting s) { return s == EpisodeSetting::kCampaign ? "campaign" : "one-mission"; }
 
 }  // namespace uascma::learning

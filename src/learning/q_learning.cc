@@ -68,8 +68,8 @@ double EpsilonSchedule::At(std::int64_t episode) const {
 bool EpsilonSchedule::IsValid(std::string* error) const {
   if (start >= 0.0 && start <= 1.0 && end >= 0.0 && end <= 1.0 && decay_episodes >= 0) return true;
   if (error != nullptr) {
-    *error = fmt::format("epsilon: expected start and end in [0, 1] and decay episodes >= 0, got {}, {}, {}",
-                         start, end, decay_episodes);
+    *error = fmt::format("epsilon: expected start and end in [0, 1] and decay episodes >= 0, got {}, {}, {}", start,
+                         end, decay_episodes);
   }
   return false;
 }
@@ -197,8 +197,8 @@ QLearningResult RunQLearning(QTable initial, const EpisodeFunction& fly, const Q
 }
 
 std::vector<std::uint8_t> AvailableActions(const decision::FiniteMdp& mdp) {
-  std::vector<std::uint8_t> available(static_cast<std::size_t>(mdp.num_states()) *
-                                          static_cast<std::size_t>(mdp.num_actions()), 0);
+  std::vector<std::uint8_t> available(
+      static_cast<std::size_t>(mdp.num_states()) * static_cast<std::size_t>(mdp.num_actions()), 0);
   for (StateIndex s = 0; s < mdp.num_states(); ++s) {
     for (std::int64_t c = mdp.choice_begin(s); c < mdp.choice_end(s); ++c) {
       available[static_cast<std::size_t>(s) * static_cast<std::size_t>(mdp.num_actions()) +
@@ -208,9 +208,8 @@ std::vector<std::uint8_t> AvailableActions(const decision::FiniteMdp& mdp) {
   return available;
 }
 
-Episode SimulateMdpEpisode(const decision::FiniteMdp& mdp, const std::vector<std::uint8_t>& terminal,
-                           StateIndex start, int max_steps, const QTable& snapshot, double epsilon,
-                           std::uint64_t seed) {
+Episode SimulateMdpEpisode(const decision::FiniteMdp& mdp, const std::vector<std::uint8_t>& terminal, StateIndex start,
+                           int max_steps, const QTable& snapshot, double epsilon, std::uint64_t seed) {
   RandomStream random(seed);
   Episode episode;
   StateIndex s = start;

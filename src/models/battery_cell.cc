@@ -53,9 +53,8 @@ CellParams Table31Cell(int cell_number) {
   struct Row {
     double r0_mohm, r1_mohm, c1_kf, gamma, m_milli, m0_milli;
   };
-  constexpr Row kRows[3] = {{6.0, 9.9, 51.5, 300.0, 17.8, 5.1},
-                            {5.5, 8.8, 52.5, 200.0, 31.2, 5.3},
-                            {5.5, 8.7, 60.5, 300.0, 18.4, 5.2}};
+  constexpr Row kRows[3] = {
+      {6.0, 9.9, 51.5, 300.0, 17.8, 5.1}, {5.5, 8.8, 52.5, 200.0, 31.2, 5.3}, {5.5, 8.7, 60.5, 300.0, 18.4, 5.2}};
   const Row& row = kRows[cell_number - 1];
   CellParams params;
   params.r0_ohm = row.r0_mohm * 1e-3;

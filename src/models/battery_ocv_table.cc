@@ -13,12 +13,12 @@
 
 namespace uascma::models {
 
-OcvTable::OcvTable(std::vector<double> soc_fraction, std::vector<double> voltage_v,
-                   const std::string& source)
+OcvTable::OcvTable(std::vector<double> soc_fraction, std::vector<double> voltage_v, const std::string& source)
     : soc_fraction_(std::move(soc_fraction)), voltage_v_(std::move(voltage_v)) {
   if (soc_fraction_.size() != voltage_v_.size()) {
-    throw InputError(source, "points", fmt::format("as many voltages as SOC points, got {} and {}",
-                                                   voltage_v_.size(), soc_fraction_.size()));
+    throw InputError(
+        source, "points",
+        fmt::format("as many voltages as SOC points, got {} and {}", voltage_v_.size(), soc_fraction_.size()));
   }
   if (soc_fraction_.size() < 2) {
     throw InputError(source, "points", fmt::format("at least 2 points, got {}", soc_fraction_.size()));
@@ -38,8 +38,7 @@ OcvTable::OcvTable(std::vector<double> soc_fraction, std::vector<double> voltage
     }
     if (k > 0 && !(v > voltage_v_[k - 1])) {
       throw InputError(source, fmt::format("point {}", k + 1),
-                       fmt::format("voltage strictly increasing with SOC, got {} V after {} V", v,
-                                   voltage_v_[k - 1]));
+                       fmt::format("voltage strictly increasing with SOC, got {} V after {} V", v, voltage_v_[k - 1]));
     }
   }
   slope_v_.resize(soc_fraction_.size() - 1);
@@ -115,8 +114,7 @@ OcvTable ParseOcvTableCsv(std::string_view text, const std::string& source) {
   std::size_t start = 0;
   while (start <= text.size()) {
     const auto newline = text.find('\n', start);
-    const std::string_view raw =
-        text.substr(start, newline == std::string_view::npos ? text.npos : newline - start);
+    const std::string_view raw = text.substr(start, newline == std::string_view::npos ? text.npos : newline - start);
     start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
     ++line_number;
     const std::string line = Trim(raw);
@@ -145,8 +143,6 @@ OcvTable ParseOcvTableCsv(std::string_view text, const std::string& source) {
   return OcvTable(std::move(soc_fraction), std::move(voltage_v), source);
 }
 
-OcvTable LoadOcvTableCsv(const std::filesystem::path& path) {
-  return ParseOcvTableCsv(ReadFile(path), path.string());
-}
+OcvTable LoadOcvTableCsv(const std::filesystem::path& path) { return ParseOcvTableCsv(ReadFile(path), path.string()); }
 
 }  // namespace uascma::models

@@ -11,9 +11,12 @@ namespace uascma::models {
 
 PerBranch<bool> SwitchesFor(PackAction action) {
   switch (action) {
-    case PackAction::kUseBatt1: return {true, false};
-    case PackAction::kUseBatt2: return {false, true};
-    case PackAction::kUseBoth: return {true, true};
+    case PackAction::kUseBatt1:
+      return {true, false};
+    case PackAction::kUseBatt2:
+      return {false, true};
+    case PackAction::kUseBoth:
+      return {true, true};
   }
   UASCMA_CHECK(false, "unknown PackAction");
   return {false, false};
@@ -21,9 +24,12 @@ PerBranch<bool> SwitchesFor(PackAction action) {
 
 const char* PackActionName(PackAction action) {
   switch (action) {
-    case PackAction::kUseBatt1: return "UseBatt1";
-    case PackAction::kUseBatt2: return "UseBatt2";
-    case PackAction::kUseBoth: return "UseBoth";
+    case PackAction::kUseBatt1:
+      return "UseBatt1";
+    case PackAction::kUseBatt2:
+      return "UseBatt2";
+    case PackAction::kUseBoth:
+      return "UseBoth";
   }
   return "?";
 }
@@ -60,9 +66,12 @@ HealthClass ClassifyHealth(const PerCell<CellHealth>& cells) {
 
 const char* HealthClassName(HealthClass health) {
   switch (health) {
-    case HealthClass::kG: return "G";
-    case HealthClass::kM: return "M";
-    case HealthClass::kP: return "P";
+    case HealthClass::kG:
+      return "G";
+    case HealthClass::kM:
+      return "M";
+    case HealthClass::kP:
+      return "P";
   }
   return "?";
 }

@@ -97,7 +97,8 @@ DragTable DragTable::FromCsv(const std::filesystem::path& path) {
     try {
       std::size_t used = 0;
       const double value = std::stod(cell, &used);
-      if (used != cell.size() && cell.find_first_not_of(" \t\r", used) != std::string::npos) throw std::invalid_argument("");
+      if (used != cell.size() && cell.find_first_not_of(" \t\r", used) != std::string::npos)
+        throw std::invalid_argument("");
       return value;
     } catch (const std::exception&) {
       throw InputError(source, fmt::format("row {}, column {}", row, column), "a number, got '" + cell + "'");

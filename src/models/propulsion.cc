@@ -36,8 +36,7 @@ std::array<StaticThrustMeasurement, 2> StaticThrustTable(PropellerConfiguration 
 }
 
 ElectricalPowerLaw FitPowerLaw(double thrust_1, double power_1, double thrust_2, double power_2) {
-  if (!(PositiveFinite(thrust_1) && PositiveFinite(power_1) && PositiveFinite(thrust_2) &&
-        PositiveFinite(power_2)) ||
+  if (!(PositiveFinite(thrust_1) && PositiveFinite(power_1) && PositiveFinite(thrust_2) && PositiveFinite(power_2)) ||
       thrust_1 == thrust_2) {
     throw InputError("FitPowerLaw", "points",
                      fmt::format("two points of positive thrust and power with distinct thrusts, got "
@@ -133,8 +132,7 @@ double SaturateThrust(const PropulsionParams& params, double thrust) {
 }
 
 double EstimateRpm(const RpmEstimatorParams& params, double throttle_us, double motor_power) {
-  if (!(std::isfinite(throttle_us) && throttle_us >= params.min_throttle_us &&
-        throttle_us <= params.max_throttle_us)) {
+  if (!(std::isfinite(throttle_us) && throttle_us >= params.min_throttle_us && throttle_us <= params.max_throttle_us)) {
     throw InputError("RPM estimator (eq. 2.12)", "throttle_us",
                      fmt::format("a throttle command within the fitted {}-{} us, got {}", params.min_throttle_us,
                                  params.max_throttle_us, throttle_us));
@@ -147,14 +145,13 @@ double EstimateRpm(const RpmEstimatorParams& params, double throttle_us, double 
   const double x = (throttle_us - params.throttle_mean_us) / params.throttle_std_us;
   const double y = (motor_power - params.power_mean) / params.power_std;
   // Eq. 2.12, grouped by powers of x (Horner in x with y-polynomial coefficients).
-  const double rpm = (params.p00 + params.p01 * y + params.p02 * y * y) +
-                     x * ((params.p10 + params.p11 * y + params.p12 * y * y) +
-                          x * ((params.p20 + params.p21 * y) + x * params.p30));
+  const double rpm =
+      (params.p00 + params.p01 * y + params.p02 * y * y) +
+      x * ((params.p10 + params.p11 * y + params.p12 * y * y) + x * ((params.p20 + params.p21 * y) + x * params.p30));
   return std::max(rpm, 0.0);
 }
 
-StaticThrustEstimate EstimateStaticThrust(const PropulsionParams& params, double throttle_us,
-                                          double vehicle_power) {
+StaticThrustEstimate EstimateStaticThrust(const PropulsionParams& params, double throttle_us, double vehicle_power) {
   StaticThrustEstimate estimate;
   // Decisions item 12: eq. 2.12 is a per-motor fit, so each motor gets a sixth of the vehicle's power
   // (the six motors share one bus and receive the same throttle on the stand, §2.5.3.1).

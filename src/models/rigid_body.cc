@@ -40,10 +40,9 @@ RigidBodyRates CalcRigidBodyRates(const RigidBodyParams& params, const models::D
   // Only z_B in W is needed, the third column of R_WB. The quaternion is not unit inside an integrator
   // stage: the column of the normalised rotation is that of q divided by |q|².
   const double inverse_norm2 = 1.0 / q.squaredNorm();
-  const Eigen::Vector3d z_B_W = inverse_norm2 * Eigen::Vector3d(2.0 * (q.x() * q.z() + q.w() * q.y()),
-                                                                2.0 * (q.y() * q.z() - q.w() * q.x()),
-                                                                q.w() * q.w() - q.x() * q.x() - q.y() * q.y() +
-                                                                    q.z() * q.z());
+  const Eigen::Vector3d z_B_W =
+      inverse_norm2 * Eigen::Vector3d(2.0 * (q.x() * q.z() + q.w() * q.y()), 2.0 * (q.y() * q.z() - q.w() * q.x()),
+                                      q.w() * q.w() - q.x() * q.x() - q.y() * q.y() + q.z() * q.z());
   const Eigen::Vector3d v_air_W = state.v_WB_W - inputs.wind_W;
   const double airspeed = v_air_W.norm();
   if (airspeed > 1e-9) {
@@ -51,23 +50,21 @@ RigidBodyRates CalcRigidBodyRates(const RigidBodyParams& params, const models::D
     rates.drag_W = -drag.Drag(airspeed, incidence) / airspeed * v_air_W;
   }
   rates.p_dot = state.v_WB_W;
-  rates.v_dot = z_B_W * (-inputs.total_thrust / params.mass) + Eigen::Vector3d(0, 0, kGravity) +
-                rates.drag_W / params.mass;
+  rates.v_dot =
+      z_B_W * (-inputs.total_thrust / params.mass) + Eigen::Vector3d(0, 0, kGravity) + rates.drag_W / params.mass;
   const Eigen::Vector3d& w = state.w_WB_B;
   // q̇ = ½ q ⊗ (0, w), written out as (w, x, y, z).
-  rates.q_dot = 0.5 * Eigen::Vector4d(-q.x() * w.x() - q.y() * w.y() - q.z() * w.z(),
-                                      q.w() * w.x() + q.y() * w.z() - q.z() * w.y(),
-                                      q.w() * w.y() + q.z() * w.x() - q.x() * w.z(),
-                                      q.w() * w.z() + q.x() * w.y() - q.y() * w.x());
+  rates.q_dot = 0.5 * Eigen::Vector4d(
+                          -q.x() * w.x() - q.y() * w.y() - q.z() * w.z(), q.w() * w.x() + q.y() * w.z() - q.z() * w.y(),
+                          q.w() * w.y() + q.z() * w.x() - q.x() * w.z(), q.w() * w.z() + q.x() * w.y() - q.y() * w.x());
   const Eigen::Vector3d& inertia = params.inertia_diagonal;
   const Eigen::Vector3d angular_momentum = inertia.cwiseProduct(w);
   rates.w_dot = (inputs.torque_B - w.cross(angular_momentum)).cwiseQuotient(inertia);
   return rates;
 }
 
-RigidBodyState StepRigidBody(const RigidBodyParams& params, const models::DragTable& drag,
-                             const RigidBodyState& state, const BodyInputs& inputs, double dt,
-                             Integrator integrator) {
+RigidBodyState StepRigidBody(const RigidBodyParams& params, const models::DragTable& drag, const RigidBodyState& state,
+                             const BodyInputs& inputs, double dt, Integrator integrator) {
   const RigidBodyRates k1 = CalcRigidBodyRates(params, drag, state, inputs);
   RigidBodyState next;
   if (integrator == Integrator::kMidpoint) {

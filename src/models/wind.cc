@@ -14,10 +14,10 @@ namespace {
 
 constexpr double kFeetToMetres = 0.3048;
 constexpr double kKnotsToMetresPerSecond = 1852.0 / 3600.0;
-constexpr double kLowBandTopFt = 1000.0;     // MIL-F-8785C low-altitude model below 1000 ft
+constexpr double kLowBandTopFt = 1000.0;      // MIL-F-8785C low-altitude model below 1000 ft
 constexpr double kHighBandBottomFt = 2000.0;  // isotropic above 2000 ft
 constexpr double kIsotropicLengthFt = 1750.0;
-constexpr double kMinAltitudeFt = 10.0;      // the low-altitude model holds for h >= 10 ft
+constexpr double kMinAltitudeFt = 10.0;  // the low-altitude model holds for h >= 10 ft
 
 struct LowBand {
   double sigma_u, sigma_w, length_u, length_w;  // ft/s-agnostic: σ in m/s, lengths in ft
@@ -47,9 +47,8 @@ void SecondOrderStep(double& lag1, double& lag2, double input, double time_const
 }  // namespace
 
 TurbulenceCategory ParseTurbulenceCategory(const std::string& name, const std::string& source) {
-  for (auto category : {TurbulenceCategory::kNone, TurbulenceCategory::kLowLight,
-                        TurbulenceCategory::kLowModerate, TurbulenceCategory::kMediumLight,
-                        TurbulenceCategory::kMediumModerate}) {
+  for (auto category : {TurbulenceCategory::kNone, TurbulenceCategory::kLowLight, TurbulenceCategory::kLowModerate,
+                        TurbulenceCategory::kMediumLight, TurbulenceCategory::kMediumModerate}) {
     if (name == TurbulenceCategoryName(category)) return category;
   }
   throw InputError(source, "turbulence",
@@ -58,11 +57,16 @@ TurbulenceCategory ParseTurbulenceCategory(const std::string& name, const std::s
 
 const char* TurbulenceCategoryName(TurbulenceCategory category) {
   switch (category) {
-    case TurbulenceCategory::kNone: return "none";
-    case TurbulenceCategory::kLowLight: return "low-light";
-    case TurbulenceCategory::kLowModerate: return "low-moderate";
-    case TurbulenceCategory::kMediumLight: return "medium-light";
-    case TurbulenceCategory::kMediumModerate: return "medium-moderate";
+    case TurbulenceCategory::kNone:
+      return "none";
+    case TurbulenceCategory::kLowLight:
+      return "low-light";
+    case TurbulenceCategory::kLowModerate:
+      return "low-moderate";
+    case TurbulenceCategory::kMediumLight:
+      return "medium-light";
+    case TurbulenceCategory::kMediumModerate:
+      return "medium-moderate";
   }
   return "none";
 }
@@ -83,15 +87,12 @@ bool WindParams::IsValid(std::string* error) const {
   return true;
 }
 
-DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m,
-                                    double medium_band_altitude_m) {
+DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m, double medium_band_altitude_m) {
   if (category == TurbulenceCategory::kNone) return {};
-  const bool moderate = category == TurbulenceCategory::kLowModerate ||
-                        category == TurbulenceCategory::kMediumModerate;
+  const bool moderate = category == TurbulenceCategory::kLowModerate || category == TurbulenceCategory::kMediumModerate;
   const double w20 = (moderate ? 30.0 : 15.0) * kKnotsToMetresPerSecond;  // dryden.md: W20
   const double sigma_w = 0.1 * w20;
-  const bool medium = category == TurbulenceCategory::kMediumLight ||
-                      category == TurbulenceCategory::kMediumModerate;
+  const bool medium = category == TurbulenceCategory::kMediumLight || category == TurbulenceCategory::kMediumModerate;
   DrydenIntensity intensity;
   if (!medium) {
     const LowBand low = LowAltitudeModel(sigma_w, altitude_m / kFeetToMetres);
@@ -167,10 +168,10 @@ Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airs
   // v, w: white noise of PSD 2T (T = L/V of this step) held over the step, through the exact ZOH lags.
   const double time_constant_v = in.length_v / speed;
   const double time_constant_w = in.length_w / speed;
-  SecondOrderStep(state.v_lag1, state.v_lag2, std::sqrt(2.0 * time_constant_v / dt) * random.Normal(),
-                  time_constant_v, dt);
-  SecondOrderStep(state.w_lag1, state.w_lag2, std::sqrt(2.0 * time_constant_w / dt) * random.Normal(),
-                  time_constant_w, dt);
+  SecondOrderStep(state.v_lag1, state.v_lag2, std::sqrt(2.0 * time_constant_v / dt) * random.Normal(), time_constant_v,
+                  dt);
+  SecondOrderStep(state.w_lag1, state.w_lag2, std::sqrt(2.0 * time_constant_w / dt) * random.Normal(), time_constant_w,
+                  dt);
   return Evaluate(state, altitude_m);
 }
 

@@ -69,10 +69,13 @@ bool IsFinite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::is
 }  // namespace
 
 bool CityMapOptions::IsValid(std::string* error) const {
-  const struct { const char* name; double value; bool zero_allowed; } fields[] = {
-      {"building_cell_size", building_cell_size, true},
-      {"site_cell_size", site_cell_size, true},
-      {"roof_match_tolerance", roof_match_tolerance, true}};
+  const struct {
+    const char* name;
+    double value;
+    bool zero_allowed;
+  } fields[] = {{"building_cell_size", building_cell_size, true},
+                {"site_cell_size", site_cell_size, true},
+                {"roof_match_tolerance", roof_match_tolerance, true}};
   for (const auto& f : fields) {
     if (!(std::isfinite(f.value) && (f.value > 0.0 || (f.zero_allowed && f.value == 0.0)))) {
       if (error) *error = fmt::format("{}: expected a number ≥ 0, got {}", f.name, f.value);
@@ -253,20 +256,20 @@ bool CityMap::SegmentCollides(const Eigen::Vector3d& a_W, const Eigen::Vector3d&
 SegmentHit CityMap::FirstHit(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building) const {
   SegmentHit result;
   // The grid visits cells from a towards b, so an early contact usually comes first and prunes the rest.
-  VisitSegmentCandidates(
-      a_W, b_W, ignore_building,
-      [&](int k, double t0, double t1, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
-        if (result.hit && t0 > result.fraction) return true;  // cannot be earlier than the contact found
-        const auto s = FirstEntryIntoOutline(edges(k), from, to);
-        if (!s) return true;
-        const double t = t0 + *s * (t1 - t0);
-        if (!result.hit || t < result.fraction || (t == result.fraction && k < result.building)) {
-          result.hit = true;
-          result.fraction = t;
-          result.building = k;
-        }
-        return true;
-      });
+  VisitSegmentCandidates(a_W, b_W, ignore_building,
+                         [&](int k, double t0, double t1, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+                           if (result.hit && t0 > result.fraction)
+                             return true;  // cannot be earlier than the contact found
+                           const auto s = FirstEntryIntoOutline(edges(k), from, to);
+                           if (!s) return true;
+                           const double t = t0 + *s * (t1 - t0);
+                           if (!result.hit || t < result.fraction || (t == result.fraction && k < result.building)) {
+                             result.hit = true;
+                             result.fraction = t;
+                             result.building = k;
+                           }
+                           return true;
+                         });
   if (result.hit) result.p_W = a_W + result.fraction * (b_W - a_W);
   return result;
 }
@@ -286,8 +289,8 @@ RouteClearance CityMap::TallestBuildingUnder(std::span<const Eigen::Vector2d> ro
     const Eigen::AlignedBox2d corridor_box(a.cwiseMin(b) - reach, a.cwiseMax(b) + reach);
     building_grid_.VisitNearSegment(a, b, half_width, [&](int k) {
       // Only a taller building (or an equally tall one of lower index) can change the answer.
-      if (heights_[k] < result.height || (heights_[k] == result.height && result.building != kNoBuilding &&
-                                          k >= result.building)) {
+      if (heights_[k] < result.height ||
+          (heights_[k] == result.height && result.building != kNoBuilding && k >= result.building)) {
         return true;
       }
       if (!boxes_[k].intersects(corridor_box)) return true;

@@ -56,8 +56,8 @@ std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source
   std::vector<CsvRecord> records;
   CsvRecord record;
   std::string field;
-  bool quoted = false;        // the current field was quoted (its text is final, not trimmed)
-  bool any_content = false;   // the record has a comma, a quote or a non-blank character (not a blank line)
+  bool quoted = false;       // the current field was quoted (its text is final, not trimmed)
+  bool any_content = false;  // the record has a comma, a quote or a non-blank character (not a blank line)
   int line = 1;
   record.line = 1;
 

@@ -21,8 +21,7 @@ double AlongPathLimit(double horizontal_fraction, double vertical_fraction, doub
 }
 
 // Distance covered at time tau into a trapezoid segment (rest to rest).
-void Trapezoid(const PlanSegment& s, double length, double tau, double* distance, double* speed,
-               double* accel) {
+void Trapezoid(const PlanSegment& s, double length, double tau, double* distance, double* speed, double* accel) {
   const double ta = s.accel_time;
   const double coast = s.duration - 2.0 * ta;
   if (tau < ta) {
@@ -58,9 +57,13 @@ TrapezoidProfile CalcTrapezoid(double length, double max_speed, double accel) {
 }
 
 bool PlanLimits::IsValid(std::string* error) const {
-  const struct { const char* name; double value; } fields[] = {
-      {"cruise_speed", cruise_speed}, {"vertical_speed", vertical_speed},
-      {"horizontal_accel", horizontal_accel}, {"vertical_accel", vertical_accel}};
+  const struct {
+    const char* name;
+    double value;
+  } fields[] = {{"cruise_speed", cruise_speed},
+                {"vertical_speed", vertical_speed},
+                {"horizontal_accel", horizontal_accel},
+                {"vertical_accel", vertical_accel}};
   for (const auto& f : fields) {
     if (!(std::isfinite(f.value) && f.value > 0.0)) {
       if (error) *error = fmt::format("{}: expected a positive number, got {}", f.name, f.value);
@@ -95,7 +98,8 @@ FlightPlan FlightPlan::Through(const Eigen::Vector3d& start_W, const std::vector
   double time = 0.0;
   for (std::size_t i = 0; i < waypoints.size(); ++i) {
     const Waypoint& waypoint = waypoints[i];
-    if (!waypoint.p_W.allFinite()) throw InputError("flight plan", fmt::format("waypoint {}", i), "finite coordinates (m)");
+    if (!waypoint.p_W.allFinite())
+      throw InputError("flight plan", fmt::format("waypoint {}", i), "finite coordinates (m)");
     if (!(waypoint.hover_after_s >= 0.0 && std::isfinite(waypoint.hover_after_s))) {
       throw InputError("flight plan", fmt::format("waypoint {} hover", i),
                        fmt::format("a finite time >= 0 s, got {}", waypoint.hover_after_s));
@@ -147,7 +151,7 @@ void FlightPlan::Append(const PlanSegment& segment) {
   segments_.push_back(segment);
   length_.push_back(length);
   direction_W_.push_back(segment.kind == PlanSegment::Kind::kHover || length == 0.0 ? Eigen::Vector3d::Zero()
-                                                                                   : Eigen::Vector3d(delta / length));
+                                                                                    : Eigen::Vector3d(delta / length));
 }
 
 PlanReference FlightPlan::At(double time) const {
@@ -191,7 +195,7 @@ Eigen::Vector3d BrakingStop(const Eigen::Vector3d& start_W, const Eigen::Vector3
 }
 
 FlightPlan FlightPlan::AfterBraking(const Eigen::Vector3d& start_W, const Eigen::Vector3d& velocity_W, double accel,
-                                   const FlightPlan& then) {
+                                    const FlightPlan& then) {
   if (!(accel > 0.0 && std::isfinite(accel))) throw InputError("braking", "accel", "a positive acceleration (m/s²)");
   if (!start_W.allFinite() || !velocity_W.allFinite()) throw InputError("braking", "start", "finite values");
   FlightPlan plan;

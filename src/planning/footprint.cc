@@ -81,8 +81,7 @@ AxisState PropagateConstantForce(const AxisState& state, double force, double h,
 // plus a multiple of ψ(σ), and its responses are
 //   velocity: ∫₀^h e^{−aσ} ψ(τ_end + σ) dσ = ψ(τ_end) ψ(h) + e^{−a τ_end} ψ(h)²/2   (∫ e^{−aσ} ψ = ∫ ψ' ψ)
 //   position: ∫₀^h ψ(σ) ψ(τ_end + σ) dσ = ψ(τ_end) Ψ2(h) + e^{−a τ_end} H(h).
-AxisState PropagateOptimalForce(const AxisState& state, double gain, double h, double tau_end, double a,
-                                double mass) {
+AxisState PropagateOptimalForce(const AxisState& state, double gain, double h, double tau_end, double a, double mass) {
   const double psi_h = Psi(a, h);
   const double psi_end = Psi(a, tau_end);
   const double decay_end = std::exp(-a * tau_end);
@@ -131,8 +130,8 @@ void PhiFunctions(double z, int count, double* phi) {
 // T_n(a t0 + a σ) = Σ_i T_{n−i}(a t0) (a σ)^i / i!, and a monomial input σ^i has the exact responses
 //   ∫₀^h e^{−a(h−σ)} σ^i dσ = i! h^{i+1} φ_{i+1}(−a h),   ∫₀^h ψ(h − σ) σ^i dσ = i! h^{i+2} φ_{i+2}(−a h).
 // The i = 0 terms are folded into u*(t0) itself, which avoids the cancellation of −C1/d against C2 T_n.
-AxisState PropagateSeriesForce(const AxisState& state, const PmpConstants& constants, double t0, double h,
-                               double a, double mass, double drag_slope, int order) {
+AxisState PropagateSeriesForce(const AxisState& state, const PmpConstants& constants, double t0, double h, double a,
+                               double mass, double drag_slope, int order) {
   std::array<double, kMaxMaclaurinOrder + 1> sums{};
   std::array<double, kMaxMaclaurinOrder + 3> phi{};
   MaclaurinPartialSums(a * t0, order, sums.data());
@@ -169,15 +168,15 @@ PmpConstants SolvePmpConstants(const AxisProblem& problem, int maclaurin_order) 
   const double m = problem.mass, d = problem.drag_slope, tf = problem.final_time;
   if (!(d > 0.0) || !(tf > 0.0) || !(m > 0.0)) return {};
   const double a = d / m;
-  const double grow = ExpOrSeries(a * tf, maclaurin_order);     // e^{a t_f}  (or T_n)
-  const double decay = ExpOrSeries(-a * tf, maclaurin_order);   // e^{−a t_f} (or T_n)
+  const double grow = ExpOrSeries(a * tf, maclaurin_order);    // e^{a t_f}  (or T_n)
+  const double decay = ExpOrSeries(-a * tf, maclaurin_order);  // e^{−a t_f} (or T_n)
   Eigen::Matrix4d system;
   Eigen::Vector4d rhs;
   // Unknowns (C1, C2, C3, C4); at t = 0 both exponentials are 1.
-  system << 0.0, 1.0 / (2 * d * d), m / d, 1.0,                // x1(0) = x0        (5.5, corrected)
-      -1.0 / (d * d), 1.0 / (2 * d * m), -1.0, 0.0,             // x2(0) = v0        (5.6)
-      -1.0 / (d * d), grow / (2 * d * m), -decay, 0.0,          // x2(t_f) = v_f     (5.6)
-      m / d, -grow, 0.0, 0.0;                                   // λ2(t_f) = 0       (5.9)
+  system << 0.0, 1.0 / (2 * d * d), m / d, 1.0,         // x1(0) = x0        (5.5, corrected)
+      -1.0 / (d * d), 1.0 / (2 * d * m), -1.0, 0.0,     // x2(0) = v0        (5.6)
+      -1.0 / (d * d), grow / (2 * d * m), -decay, 0.0,  // x2(t_f) = v_f     (5.6)
+      m / d, -grow, 0.0, 0.0;                           // λ2(t_f) = 0       (5.9)
   rhs << problem.initial_position, problem.initial_velocity, problem.final_velocity, 0.0;
   if (!system.allFinite()) return {};
   // Equilibrate the columns (their scales differ by e^{a t_f}), then a full-pivot LU.
@@ -202,10 +201,10 @@ AxisOptimalState EvaluatePmpEquations(const PmpConstants& c, const AxisProblem& 
   const double decay = ExpOrSeries(-a * time, maclaurin_order);
   AxisOptimalState s;
   s.position = -c.c1 * time / (d * d) + c.c2 / (2 * d * d) * grow + m * c.c3 / d * decay + c.c4;  // (5.5)
-  s.velocity = -c.c1 / (d * d) + c.c2 / (2 * d * m) * grow - c.c3 * decay;                      // (5.6)
-  s.control = -c.c1 / d + c.c2 / m * grow;                                                       // (5.7)
-  s.costate_position = c.c1;                                                                     // (5.8)
-  s.costate_velocity = m * c.c1 / d - c.c2 * grow;                                               // (5.9)
+  s.velocity = -c.c1 / (d * d) + c.c2 / (2 * d * m) * grow - c.c3 * decay;                        // (5.6)
+  s.control = -c.c1 / d + c.c2 / m * grow;                                                        // (5.7)
+  s.costate_position = c.c1;                                                                      // (5.8)
+  s.costate_velocity = m * c.c1 / d - c.c2 * grow;                                                // (5.9)
   return s;
 }
 
@@ -243,7 +242,8 @@ double AxisOptimalSolution::Control(double time) const {
   if (status_ != PmpStatus::kSolved) return 0.0;
   const double a = problem_.drag_slope / problem_.mass;
   if (maclaurin_order_ > 0) {
-    return -constants_.c1 / problem_.drag_slope + constants_.c2 / problem_.mass * MaclaurinExp(a * time, maclaurin_order_);
+    return -constants_.c1 / problem_.drag_slope +
+           constants_.c2 / problem_.mass * MaclaurinExp(a * time, maclaurin_order_);
   }
   return gain_ * Psi(a, problem_.final_time - time);
 }
@@ -256,12 +256,12 @@ AxisOptimalState AxisOptimalSolution::At(double time) const {
   if (maclaurin_order_ > 0) return EvaluatePmpEquations(constants_, problem_, time, maclaurin_order_);
   const double m = problem_.mass, a = problem_.drag_slope / m;
   const double tau = problem_.final_time - time;
-  const AxisState state = PropagateOptimalForce({problem_.initial_position, problem_.initial_velocity}, gain_,
-                                                time, tau, a, m);
+  const AxisState state =
+      PropagateOptimalForce({problem_.initial_position, problem_.initial_velocity}, gain_, time, tau, a, m);
   s.position = state.position;
   s.velocity = state.velocity;
   s.control = gain_ * Psi(a, tau);
-  s.costate_position = -m * gain_;               // λ1 = C1
+  s.costate_position = -m * gain_;                // λ1 = C1
   s.costate_velocity = -m * gain_ * Psi(a, tau);  // λ2 = −m u*
   return s;
 }
@@ -329,10 +329,9 @@ BoundedAxisResult SimulateBoundedAxis(const AxisOptimalSolution& solution, doubl
   }
   const double h = tf - saturation_time;
   if (h > 0.0) {
-    state = solution.maclaurin_order() == 0
-                ? PropagateOptimalForce(state, solution.gain(), h, 0.0, a, m)
-                : PropagateSeriesForce(state, solution.constants(), saturation_time, h, a, m, d,
-                                       solution.maclaurin_order());
+    state = solution.maclaurin_order() == 0 ? PropagateOptimalForce(state, solution.gain(), h, 0.0, a, m)
+                                            : PropagateSeriesForce(state, solution.constants(), saturation_time, h, a,
+                                                                   m, d, solution.maclaurin_order());
   }
   result.final_position = state.position;
   result.final_velocity = state.velocity;
@@ -365,8 +364,7 @@ bool FootprintParams::IsValid(std::string* error, std::string* field) const {
                 maclaurin_order);
   }
   if (maclaurin_order > 0 && !(drag_slope > 0.0)) {
-    return fail("drag_slope", "a drag slope > 0 N*s/m for the Maclaurin series (C1..C4 divide by d_x)",
-                drag_slope);
+    return fail("drag_slope", "a drag slope > 0 N*s/m for the Maclaurin series (C1..C4 divide by d_x)", drag_slope);
   }
   return true;
 }
@@ -434,8 +432,8 @@ void CheckSeries(const FootprintParams& params, FootprintResult* result) {
   FootprintParams exact_params = params;
   exact_params.maclaurin_order = 0;
   const FootprintResult exact = CalcFootprint(exact_params);
-  const double size = std::max({std::abs(exact.forward_limit), std::abs(exact.backward_limit), exact.lateral_limit,
-                                1e-9});
+  const double size =
+      std::max({std::abs(exact.forward_limit), std::abs(exact.backward_limit), exact.lateral_limit, 1e-9});
   const double error = std::max({std::abs(result->forward_limit - exact.forward_limit),
                                  std::abs(result->backward_limit - exact.backward_limit),
                                  std::abs(result->lateral_limit - exact.lateral_limit)}) /

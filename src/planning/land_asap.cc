@@ -6,8 +6,8 @@
 
 #include <fmt/format.h>
 
-#include "uascma/common/error.h"
 #include "landing_internal.h"
+#include "uascma/common/error.h"
 
 namespace uascma::planning {
 using namespace landing_internal;
@@ -15,7 +15,8 @@ using namespace landing_internal;
 // --- parameters ---------------------------------------------------------------------------------------------------
 bool LandAsapParams::IsValid(std::string* error) const {
   if (!(std::isfinite(min_footprint_speed) && min_footprint_speed >= 0.0)) {
-    if (error) *error = fmt::format("min_footprint_speed: expected a finite number ≥ 0 m/s, got {}", min_footprint_speed);
+    if (error)
+      *error = fmt::format("min_footprint_speed: expected a finite number ≥ 0 m/s, got {}", min_footprint_speed);
     return false;
   }
   if (!(std::isfinite(footprint_tolerance) && footprint_tolerance >= 0.0)) {
@@ -80,8 +81,8 @@ LandingResult PlanLandAsap(const LandingPathPlanner& planner, const LandAsapPara
   }
   // Candidates: the map's site index over the ellipse's circumscribed circle about the vehicle, then the ellipse.
   const FootprintRegion& region = result.footprint.region;
-  const double radius = std::abs(region.center_x) + std::max(region.semi_axis_x, region.semi_axis_y) +
-                        params.footprint_tolerance;
+  const double radius =
+      std::abs(region.center_x) + std::max(region.semi_axis_x, region.semi_axis_y) + params.footprint_tolerance;
   std::vector<int> candidates;
   map.SitesWithinRadius(request.p_WB_W.head<2>(), radius, &candidates);
   std::erase_if(candidates, [&](int site) {
@@ -104,9 +105,10 @@ LandingResult PlanLandAsap(const LandingPathPlanner& planner, const LandAsapPara
   result.detour_searches = search.detour_searches;
   if (search.plans.empty()) {
     result.status = LandingStatus::kNoFeasibleTrajectory;
-    result.message = fmt::format("none of the {} sites in the footprint has a feasible path ({} infeasible, {} refused "
-                                 "by the collision check)", result.candidates, search.infeasible,
-                                 search.verification_failures);
+    result.message = fmt::format(
+        "none of the {} sites in the footprint has a feasible path ({} infeasible, {} refused "
+        "by the collision check)",
+        result.candidates, search.infeasible, search.verification_failures);
     return result;
   }
   const SitePlan& best = search.plans[LeastRiskyWithinTie(map, search.plans, options.tie_window)];

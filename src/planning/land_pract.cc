@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "uascma/common/error.h"
 #include "landing_internal.h"
+#include "uascma/common/error.h"
 
 namespace uascma::planning {
 using namespace landing_internal;
@@ -57,7 +57,8 @@ bool LandPractParams::IsValid(std::string* error) const {
     return fail(fmt::format("max_flight_time: expected > 0 s (or infinity), got {}", max_flight_time));
   }
   if (!(trajectories_per_checkpoint >= 1)) {
-    return fail(fmt::format("trajectories_per_checkpoint: expected an integer ≥ 1, got {}", trajectories_per_checkpoint));
+    return fail(
+        fmt::format("trajectories_per_checkpoint: expected an integer ≥ 1, got {}", trajectories_per_checkpoint));
   }
   return true;
 }
@@ -87,9 +88,11 @@ LandPractDatabase LandPractDatabase::Build(const LandingPathPlanner& planner, co
     checkpoint.p_W = nominal_plan.PointAtDistance(checkpoint.route_distance);
     checkpoint.plan_time = PlanTimeAtDistance(nominal_plan, checkpoint.route_distance);
     if (map.IsInsideBuilding(checkpoint.p_W)) {
-      throw InputError("LandPract", "nominal_plan",
-                       fmt::format("a plan clear of the buildings; checkpoint {} at ({:.1f}, {:.1f}, {:.1f}) m is inside "
-                                   "one", k - 1, checkpoint.p_W.x(), checkpoint.p_W.y(), checkpoint.p_W.z()));
+      throw InputError(
+          "LandPract", "nominal_plan",
+          fmt::format("a plan clear of the buildings; checkpoint {} at ({:.1f}, {:.1f}, {:.1f}) m is inside "
+                      "one",
+                      k - 1, checkpoint.p_W.x(), checkpoint.p_W.y(), checkpoint.p_W.z()));
     }
     map.SitesWithinRadius(checkpoint.p_W.head<2>(), params.site_search_radius, &candidates);
     SiteSearchResult search = planner.PlanToSites(checkpoint.p_W, candidates, options);
@@ -173,10 +176,15 @@ LandingResult LandPractDatabase::Plan(const LandingRequest& request) const {
   result.planned = choice.scanned;
   if (!result.ok()) {
     switch (result.status) {
-      case LandingStatus::kStartInsideBuilding: result.message = "the vehicle's position is inside a building"; break;
-      case LandingStatus::kNoFeasibleTrajectory: result.message = "the checkpoint is out of reach below the ceiling"; break;
-      default: result.message = checkpoints_.empty() ? "the database is empty"
-                                                      : fmt::format("checkpoint {} has no stored path", choice.checkpoint);
+      case LandingStatus::kStartInsideBuilding:
+        result.message = "the vehicle's position is inside a building";
+        break;
+      case LandingStatus::kNoFeasibleTrajectory:
+        result.message = "the checkpoint is out of reach below the ceiling";
+        break;
+      default:
+        result.message = checkpoints_.empty() ? "the database is empty"
+                                              : fmt::format("checkpoint {} has no stored path", choice.checkpoint);
     }
     return result;
   }

@@ -44,9 +44,11 @@ std::vector<Eigen::Vector2d> ConvexHull(std::span<const Eigen::Vector2d> points)
 ConvexObstacle FinishPolygon(std::vector<Eigen::Vector2d> vertices) {
   ConvexObstacle obstacle;
   for (const auto& v : vertices) {
-    if (obstacle.vertices_NE.empty() || (v - obstacle.vertices_NE.back()).norm() > 1e-9) obstacle.vertices_NE.push_back(v);
+    if (obstacle.vertices_NE.empty() || (v - obstacle.vertices_NE.back()).norm() > 1e-9)
+      obstacle.vertices_NE.push_back(v);
   }
-  while (obstacle.vertices_NE.size() > 1 && (obstacle.vertices_NE.back() - obstacle.vertices_NE.front()).norm() <= 1e-9) {
+  while (obstacle.vertices_NE.size() > 1 &&
+         (obstacle.vertices_NE.back() - obstacle.vertices_NE.front()).norm() <= 1e-9) {
     obstacle.vertices_NE.pop_back();
   }
   const std::size_t n = obstacle.vertices_NE.size();

@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "uascma/common/error.h"
 #include "landing_internal.h"
+#include "uascma/common/error.h"
 
 namespace uascma::planning {
 using namespace landing_internal;
@@ -80,7 +80,8 @@ double PathTime(const Eigen::Vector3d& start_W, const std::vector<Eigen::Vector3
 void RequireFinite(const LandingRequest& request, const char* source) {
   if (!request.p_WB_W.allFinite()) throw InputError(source, "p_WB_W", "finite coordinates (m)");
   if (!request.v_WB_W.allFinite()) throw InputError(source, "v_WB_W", "a finite velocity (m/s)");
-  if (!std::isfinite(request.yaw)) throw InputError(source, "yaw", fmt::format("a finite angle (rad), got {}", request.yaw));
+  if (!std::isfinite(request.yaw))
+    throw InputError(source, "yaw", fmt::format("a finite angle (rad), got {}", request.yaw));
   if (std::isnan(request.eod)) throw InputError(source, "eod", "a number of seconds, got NaN");
 }
 
@@ -109,25 +110,32 @@ bool LandingPathParams::IsValid(std::string* error) const {
   return true;
 }
 
-
-
 const char* LandingPathKindName(LandingPathKind kind) {
   switch (kind) {
-    case LandingPathKind::kNone: return "none";
-    case LandingPathKind::kClimbOver: return "climb-over";
-    case LandingPathKind::kDetour: return "detour";
-    case LandingPathKind::kViaCheckpoint: return "via checkpoint";
+    case LandingPathKind::kNone:
+      return "none";
+    case LandingPathKind::kClimbOver:
+      return "climb-over";
+    case LandingPathKind::kDetour:
+      return "detour";
+    case LandingPathKind::kViaCheckpoint:
+      return "via checkpoint";
   }
   return "?";
 }
 
 const char* LandingStatusName(LandingStatus status) {
   switch (status) {
-    case LandingStatus::kOk: return "ok";
-    case LandingStatus::kNoSiteInFootprint: return "no site in footprint";
-    case LandingStatus::kNoStoredTrajectory: return "no stored trajectory";
-    case LandingStatus::kNoFeasibleTrajectory: return "no feasible trajectory";
-    case LandingStatus::kStartInsideBuilding: return "start inside a building";
+    case LandingStatus::kOk:
+      return "ok";
+    case LandingStatus::kNoSiteInFootprint:
+      return "no site in footprint";
+    case LandingStatus::kNoStoredTrajectory:
+      return "no stored trajectory";
+    case LandingStatus::kNoFeasibleTrajectory:
+      return "no feasible trajectory";
+    case LandingStatus::kStartInsideBuilding:
+      return "start inside a building";
   }
   return "?";
 }
@@ -152,9 +160,11 @@ FlightPlan LandingPath::ToFlightPlan(const PlanLimits& limits) const {
 
 std::string LandingResult::BriefReport() const {
   if (!ok()) return fmt::format("{}: {}", LandingStatusName(status), message);
-  std::string report = fmt::format("site '{}' (risk {:.3f}) by {} in {:.2f} s, RM {:.4f}; {} candidates, {} planned, {} "
-                                   "detour searches", site_id, site_risk, LandingPathKindName(path.kind), flight_time,
-                                   reach_margin, candidates, planned, detour_searches);
+  std::string report = fmt::format(
+      "site '{}' (risk {:.3f}) by {} in {:.2f} s, RM {:.4f}; {} candidates, {} planned, {} "
+      "detour searches",
+      site_id, site_risk, LandingPathKindName(path.kind), flight_time, reach_margin, candidates, planned,
+      detour_searches);
   if (checkpoint >= 0) {
     report += fmt::format("; checkpoint {} ({:.2f} s to it + {:.2f} s stored)", checkpoint, time_to_checkpoint,
                           stored_flight_time);
@@ -255,7 +265,8 @@ LandingPath LandingPathPlanner::Detour(const Eigen::Vector3d& start_W, const Eig
   DetourResult detour = ShortestDetour(*obstacles_, problem);
   if (detour.found()) {
     for (std::size_t i = 1; i < detour.points_NE.size(); ++i) {
-      AppendPoint(start_W, Eigen::Vector3d(detour.points_NE[i].x(), detour.points_NE[i].y(), -altitude), &path.waypoints_W);
+      AppendPoint(start_W, Eigen::Vector3d(detour.points_NE[i].x(), detour.points_NE[i].y(), -altitude),
+                  &path.waypoints_W);
     }
     EndAt(start_W, target_W, &path.waypoints_W);
     path.kind = LandingPathKind::kDetour;
@@ -339,8 +350,8 @@ SiteSearchResult LandingPathPlanner::PlanToSites(const Eigen::Vector3d& start_W,
   std::vector<SitePlan>& kept = result.plans;
   // The time a site must not exceed to be kept: the keep-th fastest + the tie window (and the flight budget).
   const auto threshold = [&] {
-    const double kth = static_cast<int>(kept.size()) >= keep ? kept[keep - 1].path.flight_time + options.tie_window
-                                                             : kInfinity;
+    const double kth =
+        static_cast<int>(kept.size()) >= keep ? kept[keep - 1].path.flight_time + options.tie_window : kInfinity;
     return std::min(kth, options.max_flight_time);
   };
   for (const Candidate& candidate : order) {

@@ -45,9 +45,9 @@ std::vector<GeoPoint> ReadRing(const JsonValue& ring, const std::string& feature
   const std::string& source = ring.source();
   if (!ring.IsArray()) throw InputError(source, feature, ring_name + " as an array of [lon, lat] positions");
   if (ring.size() < 4) {
-    throw InputError(source, feature,
-                     fmt::format("{} of at least 4 positions (3 corners and the closing one), got {}", ring_name,
-                                 ring.size()));
+    throw InputError(
+        source, feature,
+        fmt::format("{} of at least 4 positions (3 corners and the closing one), got {}", ring_name, ring.size()));
   }
   std::vector<GeoPoint> points;
   points.reserve(ring.size());
@@ -56,8 +56,8 @@ std::vector<GeoPoint> ReadRing(const JsonValue& ring, const std::string& feature
     const JsonValue& position = positions[k];
     const std::vector<JsonValue> lon_lat = position.IsArray() ? position.Elements() : std::vector<JsonValue>{};
     if (lon_lat.size() < 2 || !lon_lat[0].IsNumber() || !lon_lat[1].IsNumber()) {
-      throw InputError(source, feature, fmt::format("{} position {} as [lon, lat] numbers, got {}", ring_name, k,
-                                                    position.Brief()));
+      throw InputError(source, feature,
+                       fmt::format("{} position {} as [lon, lat] numbers, got {}", ring_name, k, position.Brief()));
     }
     const GeoPoint p{lon_lat[1].Number(), lon_lat[0].Number()};
     detail::CheckGeoPoint(p, source, fmt::format("{} {} position {}", feature, ring_name, k));
@@ -103,8 +103,7 @@ void ReadGeometryRings(const JsonValue& geometry, bool multi, const std::string&
 
 // One feature of the collection (its paths start with its name): a building appended to `data`, or a skip
 // recorded in its summary.
-void ReadFeature(const JsonValue& feature, const std::string& name, const MapImportOptions& options,
-                 GeoMapData* data) {
+void ReadFeature(const JsonValue& feature, const std::string& name, const MapImportOptions& options, GeoMapData* data) {
   const std::string& source = feature.source();
   ImportSummary& summary = data->summary;
   if (!feature.IsObject() || feature.Member("type").OptionalString().value_or("") != "Feature") {

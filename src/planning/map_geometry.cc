@@ -114,13 +114,11 @@ std::optional<double> FirstEntryIntoOutline(std::span<const Edge2> edges, const 
   return std::nullopt;
 }
 
-bool SegmentMeetsOutline(std::span<const Edge2> edges, const Eigen::Vector2d& from_NE,
-                         const Eigen::Vector2d& to_NE) {
+bool SegmentMeetsOutline(std::span<const Edge2> edges, const Eigen::Vector2d& from_NE, const Eigen::Vector2d& to_NE) {
   return FirstEntry<true>(edges, from_NE, to_NE) <= 1.0;
 }
 
-std::optional<ParameterInterval> PartBelowRoof(double height, const Eigen::Vector3d& a_W,
-                                               const Eigen::Vector3d& b_W) {
+std::optional<ParameterInterval> PartBelowRoof(double height, const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W) {
   // z(t) = a.z + t (b.z − a.z) ≥ −height, a half-line in t, intersected with [0, 1].
   const double roof_z = -height;
   const double dz = b_W.z() - a_W.z();

@@ -11,8 +11,8 @@
 #include <fmt/format.h>
 
 #include "map_import_detail.h"
-#include "uascma/planning/map_geometry.h"
 #include "uascma/common/error.h"
+#include "uascma/planning/map_geometry.h"
 
 namespace uascma::planning {
 namespace detail {
@@ -39,7 +39,8 @@ bool IsBuildingValue(const std::optional<std::string>& value) { return value && 
 void RecordSkip(ImportSummary* summary, const std::string& source, const std::string& feature, SkipReason reason,
                 std::string detail) {
   const int count = ++summary->skipped[static_cast<int>(reason)];
-  if (count <= kMaxRecordedSkipsPerReason) summary->skipped_features.push_back({source, feature, reason, std::move(detail)});
+  if (count <= kMaxRecordedSkipsPerReason)
+    summary->skipped_features.push_back({source, feature, reason, std::move(detail)});
 }
 
 namespace {
@@ -50,7 +51,8 @@ double ParseHeightTag(const std::string& height, const std::string& source, cons
   if (!text.empty() && text.back() == 'm') text.remove_suffix(1);
   const auto value = ParseNumber(text);
   if (!value || *value <= 0.0) {
-    throw InputError(source, feature, fmt::format("a 'height' in metres > 0 (e.g. '12.5' or '12.5 m'), got '{}'", height));
+    throw InputError(source, feature,
+                     fmt::format("a 'height' in metres > 0 (e.g. '12.5' or '12.5 m'), got '{}'", height));
   }
   return *value;
 }
@@ -101,12 +103,11 @@ void RequireHeightsResolved(int missing_before, const std::string& source, const
     }
   }
   const int read = summary.buildings + missing;
-  throw InputError(source, first,
-                   fmt::format("{} (or a fall-back: {}); {} of the {} buildings read here have no height{}",
-                               options.height_from_levels ? "a 'height' or 'building:levels' tag"
-                                                          : "a 'height' tag in metres",
-                               FallbackOptionsText(), missing, read,
-                               summary.buildings > 0 ? "" : " (none has one)"));
+  throw InputError(
+      source, first,
+      fmt::format("{} (or a fall-back: {}); {} of the {} buildings read here have no height{}",
+                  options.height_from_levels ? "a 'height' or 'building:levels' tag" : "a 'height' tag in metres",
+                  FallbackOptionsText(), missing, read, summary.buildings > 0 ? "" : " (none has one)"));
 }
 
 void CheckGeoPoint(const GeoPoint& point, const std::string& source, const std::string& feature) {
@@ -141,8 +142,8 @@ bool MapImportOptions::IsValid(std::string* error) const {
     return false;
   }
   if (!(max_distance_from_origin > 0.0)) {
-    if (error) *error = fmt::format("max_distance_from_origin: expected a positive number, got {}",
-                                    max_distance_from_origin);
+    if (error)
+      *error = fmt::format("max_distance_from_origin: expected a positive number, got {}", max_distance_from_origin);
     return false;
   }
   if (default_height && !kDefaultHeightBounds.Contains(*default_height)) {
@@ -154,20 +155,28 @@ bool MapImportOptions::IsValid(std::string* error) const {
 
 std::string SkipReasonName(SkipReason reason) {
   switch (reason) {
-    case SkipReason::kNotPolygon: return "not_polygon";
-    case SkipReason::kNotBuilding: return "not_building";
-    case SkipReason::kMissingHeight: return "missing_height";
-    case SkipReason::kIncompleteRelation: return "incomplete_relation";
+    case SkipReason::kNotPolygon:
+      return "not_polygon";
+    case SkipReason::kNotBuilding:
+      return "not_building";
+    case SkipReason::kMissingHeight:
+      return "missing_height";
+    case SkipReason::kIncompleteRelation:
+      return "incomplete_relation";
   }
   return "unknown";
 }
 
 std::string HeightSourceName(HeightSource source) {
   switch (source) {
-    case HeightSource::kTag: return "height_tag";
-    case HeightSource::kLevels: return "building_levels";
-    case HeightSource::kBuildingType: return "building_type";
-    case HeightSource::kDefault: return "default_height";
+    case HeightSource::kTag:
+      return "height_tag";
+    case HeightSource::kLevels:
+      return "building_levels";
+    case HeightSource::kBuildingType:
+      return "building_type";
+    case HeightSource::kDefault:
+      return "default_height";
   }
   return "unknown";
 }
@@ -182,24 +191,63 @@ double BuildingTypeHeight(std::string_view building_value, int* storeys, double*
     double storey_height;
   };
   static constexpr Row kTable[] = {
-      {"house", 2, kResidential}, {"detached", 2, kResidential}, {"semidetached_house", 2, kResidential},
-      {"terrace", 2, kResidential}, {"farm", 2, kResidential}, {"bungalow", 1, kResidential},
-      {"cabin", 1, kResidential}, {"hut", 1, kResidential}, {"static_caravan", 1, kResidential},
-      {"houseboat", 1, kResidential}, {"residential", 3, kResidential}, {"dormitory", 4, kResidential},
-      {"apartments", 5, kResidential}, {"hotel", 6, kResidential},
-      {"retail", 1, kOffice}, {"supermarket", 1, kOffice}, {"kiosk", 1, kOffice}, {"kindergarten", 1, kOffice},
-      {"industrial", 2, kOffice}, {"warehouse", 2, kOffice}, {"manufacture", 2, kOffice},
-      {"fire_station", 2, kOffice}, {"train_station", 2, kOffice}, {"transportation", 2, kOffice},
-      {"chapel", 2, kOffice}, {"commercial", 3, kOffice}, {"civic", 3, kOffice}, {"public", 3, kOffice},
-      {"school", 3, kOffice}, {"sports_hall", 3, kOffice}, {"mosque", 3, kOffice}, {"synagogue", 3, kOffice},
-      {"temple", 3, kOffice}, {"religious", 3, kOffice}, {"government", 4, kOffice}, {"university", 4, kOffice},
-      {"college", 4, kOffice}, {"stadium", 4, kOffice}, {"church", 4, kOffice}, {"office", 5, kOffice},
-      {"hospital", 5, kOffice}, {"cathedral", 8, kOffice},
-      {"garage", 1, kResidential}, {"garages", 1, kResidential}, {"shed", 1, kResidential},
-      {"carport", 1, kResidential}, {"roof", 1, kResidential}, {"greenhouse", 1, kResidential},
-      {"farm_auxiliary", 1, kResidential}, {"stable", 1, kResidential}, {"cowshed", 1, kResidential},
-      {"service", 1, kResidential}, {"toilets", 1, kResidential}, {"container", 1, kResidential},
-      {"bunker", 1, kResidential}, {"ruins", 1, kResidential}, {"barn", 2, kResidential},
+      {"house", 2, kResidential},
+      {"detached", 2, kResidential},
+      {"semidetached_house", 2, kResidential},
+      {"terrace", 2, kResidential},
+      {"farm", 2, kResidential},
+      {"bungalow", 1, kResidential},
+      {"cabin", 1, kResidential},
+      {"hut", 1, kResidential},
+      {"static_caravan", 1, kResidential},
+      {"houseboat", 1, kResidential},
+      {"residential", 3, kResidential},
+      {"dormitory", 4, kResidential},
+      {"apartments", 5, kResidential},
+      {"hotel", 6, kResidential},
+      {"retail", 1, kOffice},
+      {"supermarket", 1, kOffice},
+      {"kiosk", 1, kOffice},
+      {"kindergarten", 1, kOffice},
+      {"industrial", 2, kOffice},
+      {"warehouse", 2, kOffice},
+      {"manufacture", 2, kOffice},
+      {"fire_station", 2, kOffice},
+      {"train_station", 2, kOffice},
+      {"transportation", 2, kOffice},
+      {"chapel", 2, kOffice},
+      {"commercial", 3, kOffice},
+      {"civic", 3, kOffice},
+      {"public", 3, kOffice},
+      {"school", 3, kOffice},
+      {"sports_hall", 3, kOffice},
+      {"mosque", 3, kOffice},
+      {"synagogue", 3, kOffice},
+      {"temple", 3, kOffice},
+      {"religious", 3, kOffice},
+      {"government", 4, kOffice},
+      {"university", 4, kOffice},
+      {"college", 4, kOffice},
+      {"stadium", 4, kOffice},
+      {"church", 4, kOffice},
+      {"office", 5, kOffice},
+      {"hospital", 5, kOffice},
+      {"cathedral", 8, kOffice},
+      {"garage", 1, kResidential},
+      {"garages", 1, kResidential},
+      {"shed", 1, kResidential},
+      {"carport", 1, kResidential},
+      {"roof", 1, kResidential},
+      {"greenhouse", 1, kResidential},
+      {"farm_auxiliary", 1, kResidential},
+      {"stable", 1, kResidential},
+      {"cowshed", 1, kResidential},
+      {"service", 1, kResidential},
+      {"toilets", 1, kResidential},
+      {"container", 1, kResidential},
+      {"bunker", 1, kResidential},
+      {"ruins", 1, kResidential},
+      {"barn", 2, kResidential},
   };
   Row row{building_value, 3, kMixed};  // "yes" and every other value
   for (const Row& r : kTable) {
@@ -227,16 +275,17 @@ std::string ImportSummary::BriefReport() const {
   std::string report = fmt::format("sources: {}\n", sources_text.empty() ? "(none)" : sources_text);
   report += fmt::format("features: {} read; {} buildings imported", features, buildings);
   if (buildings > 0) {
-    report += fmt::format(" (heights: {} from the height tag, {} from building:levels, {} from the building type, "
-                          "{} default)",
-                          height_count(HeightSource::kTag), height_count(HeightSource::kLevels),
-                          height_count(HeightSource::kBuildingType), height_count(HeightSource::kDefault));
+    report += fmt::format(
+        " (heights: {} from the height tag, {} from building:levels, {} from the building type, "
+        "{} default)",
+        height_count(HeightSource::kTag), height_count(HeightSource::kLevels),
+        height_count(HeightSource::kBuildingType), height_count(HeightSource::kDefault));
   }
-  report += fmt::format("; {} skipped ({} not a polygon, {} not a building, {} missing height, {} incomplete "
-                        "relation)\n",
-                        skipped_total(), skipped_count(SkipReason::kNotPolygon),
-                        skipped_count(SkipReason::kNotBuilding), skipped_count(SkipReason::kMissingHeight),
-                        skipped_count(SkipReason::kIncompleteRelation));
+  report += fmt::format(
+      "; {} skipped ({} not a polygon, {} not a building, {} missing height, {} incomplete "
+      "relation)\n",
+      skipped_total(), skipped_count(SkipReason::kNotPolygon), skipped_count(SkipReason::kNotBuilding),
+      skipped_count(SkipReason::kMissingHeight), skipped_count(SkipReason::kIncompleteRelation));
   report += fmt::format("landing sites: {} ({} on the roof of an imported building", sites, rooftop_sites);
   if (derived_rooftop_sites + derived_open_sites > 0) {
     report += fmt::format("; derived from the map: {} flat roofs, {} in {} open areas", derived_rooftop_sites,
@@ -248,10 +297,11 @@ std::string ImportSummary::BriefReport() const {
                           origin_from_data ? "centre of the data" : "given");
   }
   if (!bounds.isEmpty()) {
-    report += fmt::format("extent: x {:.1f} .. {:.1f} m (north), y {:.1f} .. {:.1f} m (east); lat {:.6f} .. {:.6f}, "
-                          "lon {:.6f} .. {:.6f}\n",
-                          bounds.min().x(), bounds.max().x(), bounds.min().y(), bounds.max().y(), south_west.lat_deg,
-                          north_east.lat_deg, south_west.lon_deg, north_east.lon_deg);
+    report += fmt::format(
+        "extent: x {:.1f} .. {:.1f} m (north), y {:.1f} .. {:.1f} m (east); lat {:.6f} .. {:.6f}, "
+        "lon {:.6f} .. {:.6f}\n",
+        bounds.min().x(), bounds.max().x(), bounds.min().y(), bounds.max().y(), south_west.lat_deg, north_east.lat_deg,
+        south_west.lon_deg, north_east.lon_deg);
   }
   if (!tallest_building.empty()) {
     report += fmt::format("tallest building: {}, {:.1f} m\n", tallest_building, tallest_height);
@@ -381,15 +431,15 @@ std::string SourcesName(const ImportSummary& summary) {
 
 void RequireFeatures(const GeoMapData& data, const ImportSummary& summary, const std::string& sources) {
   if (data.buildings.empty() && data.sites.empty()) {
-    throw InputError(sources, "features",
-                     fmt::format("at least one building or landing site to import; read {} features, imported {} "
-                                 "buildings, skipped {} ({} not a polygon, {} not a building, {} missing height, {} "
-                                 "incomplete relation)",
-                                 summary.features, summary.buildings, summary.skipped_total(),
-                                 summary.skipped_count(SkipReason::kNotPolygon),
-                                 summary.skipped_count(SkipReason::kNotBuilding),
-                                 summary.skipped_count(SkipReason::kMissingHeight),
-                                 summary.skipped_count(SkipReason::kIncompleteRelation)));
+    throw InputError(
+        sources, "features",
+        fmt::format("at least one building or landing site to import; read {} features, imported {} "
+                    "buildings, skipped {} ({} not a polygon, {} not a building, {} missing height, {} "
+                    "incomplete relation)",
+                    summary.features, summary.buildings, summary.skipped_total(),
+                    summary.skipped_count(SkipReason::kNotPolygon), summary.skipped_count(SkipReason::kNotBuilding),
+                    summary.skipped_count(SkipReason::kMissingHeight),
+                    summary.skipped_count(SkipReason::kIncompleteRelation)));
   }
 }
 
@@ -433,11 +483,11 @@ struct PointProjector {
   Eigen::Vector2d operator()(const GeoPoint& p, const std::string& what) const {
     const Eigen::Vector2d p_NE = projection.ToLocal(p);
     if (!(p_NE.norm() <= max_distance_from_origin)) {
-      throw InputError(sources, what,
-                       fmt::format("a point within {:.0f} km of the map origin (lat {:.6f}, lon {:.6f}; a local flat "
-                                   "frame), got one {:.0f} km away",
-                                   max_distance_from_origin / 1000.0, origin.lat_deg, origin.lon_deg,
-                                   p_NE.norm() / 1000.0));
+      throw InputError(
+          sources, what,
+          fmt::format("a point within {:.0f} km of the map origin (lat {:.6f}, lon {:.6f}; a local flat "
+                      "frame), got one {:.0f} km away",
+                      max_distance_from_origin / 1000.0, origin.lat_deg, origin.lon_deg, p_NE.norm() / 1000.0));
     }
     return p_NE;
   }
@@ -518,8 +568,9 @@ CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options
 
   // The data's bounds; their centre is the default origin.
   const GeoBounds bounds = DataBounds(data, options.sites_from_map);
-  const GeoPoint origin = options.origin.value_or(GeoPoint{0.5 * (bounds.south_west.lat_deg + bounds.north_east.lat_deg),
-                                                           0.5 * (bounds.south_west.lon_deg + bounds.north_east.lon_deg)});
+  const GeoPoint origin =
+      options.origin.value_or(GeoPoint{0.5 * (bounds.south_west.lat_deg + bounds.north_east.lat_deg),
+                                       0.5 * (bounds.south_west.lon_deg + bounds.north_east.lon_deg)});
   const LocalProjection projection(origin);
   const PointProjector project{projection, origin, options.max_distance_from_origin, sources};
   std::vector<Building> buildings = ProjectBuildings(data, project);
@@ -544,8 +595,8 @@ CityMap ProjectToCityMap(const GeoMapData& data, const MapImportOptions& options
   return map;
 }
 
-ImportedMap ImportCityMap(std::span<const std::filesystem::path> building_files,
-                          const std::filesystem::path& sites_csv, const MapImportOptions& options) {
+ImportedMap ImportCityMap(std::span<const std::filesystem::path> building_files, const std::filesystem::path& sites_csv,
+                          const MapImportOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("map import options", "MapImportOptions", error);
   GeoMapData data;

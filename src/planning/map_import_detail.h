@@ -55,7 +55,7 @@ std::string_view Trim(std::string_view text);
 
 template <typename TagLookup>
 std::optional<std::string> OpenAreaKind(TagLookup&& tag) {
-  static constexpr const char* kLeisure[] = {"park", "pitch", "playground", "garden", "common", "recreation_ground",
+  static constexpr const char* kLeisure[] = {"park",    "pitch", "playground", "garden", "common", "recreation_ground",
                                              "dog_park"};
   static constexpr const char* kLanduse[] = {"grass", "recreation_ground", "meadow", "village_green"};
   if (const std::optional<std::string> leisure = tag("leisure")) {

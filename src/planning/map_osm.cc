@@ -120,9 +120,9 @@ class BuildingCollector : public osmium::handler::Handler {
       return;
     }
     if (nodes.size() < 4) {
-      throw InputError(source_, name,
-                       fmt::format("a closed way of at least 4 nodes (3 corners and the closing one), got {}",
-                                   nodes.size()));
+      throw InputError(
+          source_, name,
+          fmt::format("a closed way of at least 4 nodes (3 corners and the closing one), got {}", nodes.size()));
     }
     for (const auto& node_ref : nodes) {
       if (!node_ref.location().valid()) {
@@ -174,8 +174,9 @@ class BuildingCollector : public osmium::handler::Handler {
           break;
         }
       }
-      throw InputError(source_, name,
-                       "rings that close into a valid polygon" + (problem.empty() ? std::string() : " (" + problem + ")"));
+      throw InputError(
+          source_, name,
+          "rings that close into a valid polygon" + (problem.empty() ? std::string() : " (" + problem + ")"));
     }
     std::vector<std::vector<GeoPoint>> rings;
     auto add_ring = [&](const osmium::NodeRefList& ring, const std::string& ring_name) {
@@ -232,8 +233,8 @@ class BuildingCollector : public osmium::handler::Handler {
   const MapImportOptions& options_;
   GeoMapData* data_;
   const std::ostringstream* problems_;
-  std::set<std::string> expected_;   // building ways and relations that should become areas
-  std::set<std::string> assembled_;  // the ones that did
+  std::set<std::string> expected_;         // building ways and relations that should become areas
+  std::set<std::string> assembled_;        // the ones that did
   std::set<std::string> open_area_names_;  // of expected_, the open areas (sites_from_map)
 };
 
@@ -281,7 +282,7 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
     using Index = osmium::index::map::FlexMem<osmium::unsigned_object_id_type, osmium::Location>;
     Index index;
     osmium::handler::NodeLocationsForWays<Index> locations{index};
-    locations.ignore_errors();  // a missing node is reported by the collector, naming the way
+    locations.ignore_errors();        // a missing node is reported by the collector, naming the way
     osmium::io::Reader reader{file};  // pass 2
     osmium::apply(reader, checker, locations, collector,
                   manager.handler([&collector](osmium::memory::Buffer&& buffer) { osmium::apply(buffer, collector); }));
@@ -300,7 +301,8 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
         continue;
       }
       if (collector.open_area_names().count(name)) {
-        detail::RecordSkip(&data->summary, source, name, SkipReason::kNotPolygon, "an open area libosmium cannot assemble");
+        detail::RecordSkip(&data->summary, source, name, SkipReason::kNotPolygon,
+                           "an open area libosmium cannot assemble");
         continue;
       }
       throw InputError(source, name, "a building polygon libosmium can assemble");

@@ -42,7 +42,8 @@ ProjApi LoadProj() {
   void* library = dlopen(UASCMA_PROJ_SONAME, RTLD_NOW | RTLD_LOCAL);
   if (library == nullptr) {
     const char* reason = dlerror();
-    throw std::runtime_error(fmt::format("PROJ could not be loaded: {}", reason != nullptr ? reason : UASCMA_PROJ_SONAME));
+    throw std::runtime_error(
+        fmt::format("PROJ could not be loaded: {}", reason != nullptr ? reason : UASCMA_PROJ_SONAME));
   }
   ProjApi api;
   Bind(library, "proj_context_create", api.context_create);

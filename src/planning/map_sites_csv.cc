@@ -47,7 +47,8 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
                           GeoMapData* data) {
   // Records, RFC 4180 (csv.h): a quoted field may hold commas, doubled quotes and line breaks.
   const std::vector<CsvRecord> records = SplitCsv(text, source);
-  if (records.empty()) throw InputError(source, "header", "a header row naming the columns osm_id, lat, lon, alt, risk, radius");
+  if (records.empty())
+    throw InputError(source, "header", "a header row naming the columns osm_id, lat, lon, alt, risk, radius");
 
   // The header: where each column is.
   const std::vector<std::string>& header = records.front().fields;
@@ -62,10 +63,11 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
     }
     if (where[c] < 0) {
       std::string aliases;
-      for (std::string_view alias : Columns()[c].aliases) aliases += (aliases.empty() ? "" : " | ") + std::string(alias);
+      for (std::string_view alias : Columns()[c].aliases)
+        aliases += (aliases.empty() ? "" : " | ") + std::string(alias);
       throw InputError(source, "header",
-                       fmt::format("a column '{}' (accepted names: {}); the header is '{}'", Columns()[c].name,
-                                   aliases, fmt::join(header, ",")));
+                       fmt::format("a column '{}' (accepted names: {}); the header is '{}'", Columns()[c].name, aliases,
+                                   fmt::join(header, ",")));
     }
   }
   const int needed = *std::max_element(where.begin(), where.end()) + 1;

@@ -17,19 +17,32 @@ namespace uascma::planning::mission_detail {
 // markers, …): it is skipped with a warning, whatever its number.
 std::optional<std::string> RefusalReason(int command) {
   switch (command) {
-    case 17: return "it loiters until the operator intervenes (the mission never ends)";
-    case 113: return "it climbs or descends at a rate and holds the mission until then (not modelled)";
-    case 176: return "it changes the flight mode (the mission may stop)";
-    case 179: return "it moves the home that RETURN_TO_LAUNCH flies to (not modelled)";
-    case 185: return "it terminates the flight";
-    case 186: return "it changes the altitude outside a mission item (not modelled)";
-    case 190: return "it lands at a rally point chosen by the autopilot";
-    case 191: return "it aborts a landing (not modelled)";
-    case 192: return "it repositions the vehicle outside the mission (not modelled)";
-    case 193: return "it pauses the mission until the operator continues it";
-    case 224: return "it jumps to another item (not modelled)";
-    case 601: return "it jumps to a tag (not modelled)";
-    default: break;
+    case 17:
+      return "it loiters until the operator intervenes (the mission never ends)";
+    case 113:
+      return "it climbs or descends at a rate and holds the mission until then (not modelled)";
+    case 176:
+      return "it changes the flight mode (the mission may stop)";
+    case 179:
+      return "it moves the home that RETURN_TO_LAUNCH flies to (not modelled)";
+    case 185:
+      return "it terminates the flight";
+    case 186:
+      return "it changes the altitude outside a mission item (not modelled)";
+    case 190:
+      return "it lands at a rally point chosen by the autopilot";
+    case 191:
+      return "it aborts a landing (not modelled)";
+    case 192:
+      return "it repositions the vehicle outside the mission (not modelled)";
+    case 193:
+      return "it pauses the mission until the operator continues it";
+    case 224:
+      return "it jumps to another item (not modelled)";
+    case 601:
+      return "it jumps to a tag (not modelled)";
+    default:
+      break;
   }
   if ((command >= 16 && command <= 99) || (command >= 31000 && command <= 31004)) {
     return "a navigation command that uascma does not fly";
@@ -44,8 +57,7 @@ namespace {
 class MissionBuilder {
  public:
   MissionBuilder(const RawMission& raw, const std::string& source, const MissionImportOptions& options)
-      : raw_(raw), source_(source), options_(options),
-        projection_(options.origin.value_or(raw.home)) {
+      : raw_(raw), source_(source), options_(options), projection_(options.origin.value_or(raw.home)) {
     mission_.source = source;
     mission_.home = raw.home;
     mission_.home_amsl = raw.home_amsl;
@@ -82,11 +94,13 @@ class MissionBuilder {
       Warn("home: outside the geofence (the emergency planners keep to it; the mission is flown as written)");
     }
     if (options_.map && options_.map->IsInsideBuilding(mission_.home_W + Eigen::Vector3d(0, 0, -0.1))) {
-      throw InputError(source_, "home",
-                       fmt::format("a planned home on open ground; ({:.1f}, {:.1f}) m is inside building {}",
-                                   mission_.home_W.x(), mission_.home_W.y(),
-                                   options_.map->building(options_.map->BuildingContaining(
-                                       mission_.home_W + Eigen::Vector3d(0, 0, -0.1))).id));
+      throw InputError(
+          source_, "home",
+          fmt::format(
+              "a planned home on open ground; ({:.1f}, {:.1f}) m is inside building {}", mission_.home_W.x(),
+              mission_.home_W.y(),
+              options_.map->building(options_.map->BuildingContaining(mission_.home_W + Eigen::Vector3d(0, 0, -0.1)))
+                  .id));
     }
   }
 
@@ -95,7 +109,8 @@ class MissionBuilder {
       if (ended_) {
         std::string names;
         for (std::size_t j = i; j < raw_.items.size(); ++j) {
-          names += fmt::format("{}{} {}", j == i ? "" : ", ", raw_.items[j].number, MavCommandName(raw_.items[j].command));
+          names +=
+              fmt::format("{}{} {}", j == i ? "" : ", ", raw_.items[j].number, MavCommandName(raw_.items[j].command));
         }
         Warn(fmt::format("items after the landing are never flown: {}", names));
         break;
@@ -126,10 +141,11 @@ class MissionBuilder {
     detail::CheckGeoPoint(point, source_, field);
     const Eigen::Vector2d p_NE = projection_.ToLocal(point);
     if (!(p_NE.allFinite() && p_NE.norm() <= options_.max_distance_from_origin)) {
-      throw InputError(source_, field,
-                       fmt::format("a point within {:.0f} km of the local origin ({:.6f}, {:.6f}); it is {:.1f} km away",
-                                   options_.max_distance_from_origin / 1000.0, projection_.origin().lat_deg,
-                                   projection_.origin().lon_deg, p_NE.norm() / 1000.0));
+      throw InputError(
+          source_, field,
+          fmt::format("a point within {:.0f} km of the local origin ({:.6f}, {:.6f}); it is {:.1f} km away",
+                      options_.max_distance_from_origin / 1000.0, projection_.origin().lat_deg,
+                      projection_.origin().lon_deg, p_NE.norm() / 1000.0));
     }
     return p_NE;
   }
@@ -149,8 +165,10 @@ class MissionBuilder {
       // QGroundControl's "calculated above terrain" without its terrain data: flown at "Altitude" above the map's
       // ground (flat, z = 0: the height above home's ground level).
       if (!terrain_warned_) {
-        Warn(fmt::format("{}: terrain-calculated altitude (AltitudeMode 3) with params[6] null: flown at its "
-                         "\"Altitude\" {:.1f} m over the map's ground (flat)", item.name, *item.altitude_above_terrain));
+        Warn(
+            fmt::format("{}: terrain-calculated altitude (AltitudeMode 3) with params[6] null: flown at its "
+                        "\"Altitude\" {:.1f} m over the map's ground (flat)",
+                        item.name, *item.altitude_above_terrain));
         terrain_warned_ = true;
       }
       return *item.altitude_above_terrain;
@@ -164,27 +182,29 @@ class MissionBuilder {
     if (!std::isfinite(altitude)) throw InputError(source_, item.name + " altitude", "a finite number of metres");
     switch (item.frame) {
       case kMavFrameGlobalRelativeAlt:
-      case kMavFrameGlobalRelativeAltInt: return altitude;
+      case kMavFrameGlobalRelativeAltInt:
+        return altitude;
       case kMavFrameGlobal:
       case kMavFrameGlobalInt:
         if (!raw_.home_amsl) {
           throw InputError(source_, item.name + " frame",
                            fmt::format("a relative altitude (frame 3): frame {} gives the altitude above mean sea "
-                                       "level, and the file gives no home altitude to refer it to", item.frame));
+                                       "level, and the file gives no home altitude to refer it to",
+                                       item.frame));
         }
         return altitude - *raw_.home_amsl;
       case kMavFrameGlobalTerrainAlt:
       case kMavFrameGlobalTerrainAltInt:
         if (!terrain_warned_) {
-          Warn(fmt::format("{} frame {} (above terrain): read as above home, the map's ground being flat",
-                           item.name, item.frame));
+          Warn(fmt::format("{} frame {} (above terrain): read as above home, the map's ground being flat", item.name,
+                           item.frame));
           terrain_warned_ = true;
         }
         return altitude;
       default:
         throw InputError(source_, item.name + " frame",
-                         fmt::format("a global frame (0, 3, 5, 6, 10 or 11) for {}, got {}", MavCommandName(item.command),
-                                     item.frame));
+                         fmt::format("a global frame (0, 3, 5, 6, 10 or 11) for {}, got {}",
+                                     MavCommandName(item.command), item.frame));
     }
   }
 
@@ -218,11 +238,12 @@ class MissionBuilder {
     if (!options_.map) return;
     const SegmentHit hit = options_.map->FirstHit(position_, target, ignore_building);
     if (hit.hit) {
-      throw InputError(source_, item.name,
-                       fmt::format("a leg clear of the buildings; the leg of {} to ({:.1f}, {:.1f}) m at {:.1f} m meets "
-                                   "building {} at ({:.1f}, {:.1f}) m, {:.1f} m up",
-                                   MavCommandName(item.command), target.x(), target.y(), -target.z(),
-                                   options_.map->building(hit.building).id, hit.p_W.x(), hit.p_W.y(), -hit.p_W.z()));
+      throw InputError(
+          source_, item.name,
+          fmt::format("a leg clear of the buildings; the leg of {} to ({:.1f}, {:.1f}) m at {:.1f} m meets "
+                      "building {} at ({:.1f}, {:.1f}) m, {:.1f} m up",
+                      MavCommandName(item.command), target.x(), target.y(), -target.z(),
+                      options_.map->building(hit.building).id, hit.p_W.x(), hit.p_W.y(), -hit.p_W.z()));
     }
   }
 
@@ -283,12 +304,19 @@ class MissionBuilder {
   // Frames with a global position, or MAV_FRAME_MISSION (no position).
   void CheckFrame(const RawItem& item) const {
     switch (item.frame) {
-      case kMavFrameGlobal: case kMavFrameMission: case kMavFrameGlobalRelativeAlt: case kMavFrameGlobalInt:
-      case kMavFrameGlobalRelativeAltInt: case kMavFrameGlobalTerrainAlt: case kMavFrameGlobalTerrainAltInt: return;
+      case kMavFrameGlobal:
+      case kMavFrameMission:
+      case kMavFrameGlobalRelativeAlt:
+      case kMavFrameGlobalInt:
+      case kMavFrameGlobalRelativeAltInt:
+      case kMavFrameGlobalTerrainAlt:
+      case kMavFrameGlobalTerrainAltInt:
+        return;
       default:
         throw InputError(source_, item.name + " frame",
                          fmt::format("a global frame (0, 3, 5, 6, 10 or 11) or 2 (no position); frame {} (local "
-                                     "coordinates) is not modelled", item.frame));
+                                     "coordinates) is not modelled",
+                                     item.frame));
     }
   }
 
@@ -301,24 +329,28 @@ class MissionBuilder {
       throw InputError(source_, item.name, "param1 turns ≥ 0 and a finite param3 radius (m)");
     }
     const double seconds = turns * 2.0 * kPi * radius / options_.loiter_turn_speed;
-    Warn(fmt::format("{}: NAV_LOITER_TURNS ({} turns of {} m) flown as a hover of {:.1f} s at the centre (the "
-                     "circle is not modelled)", item.name, turns, radius, seconds));
+    Warn(
+        fmt::format("{}: NAV_LOITER_TURNS ({} turns of {} m) flown as a hover of {:.1f} s at the centre (the "
+                    "circle is not modelled)",
+                    item.name, turns, radius, seconds));
     Hover(seconds, item, label);
   }
 
   // NAV_TAKEOFF: a vertical climb where the vehicle stands.
   void FlyTakeoff(const RawItem& item) {
     const double height = Height(item);
-    if (!(height > 0.0)) throw InputError(source_, item.name + " altitude", fmt::format("a height > 0 m, got {}", height));
+    if (!(height > 0.0))
+      throw InputError(source_, item.name + " altitude", fmt::format("a height > 0 m, got {}", height));
     const double lat = item.params[4], lon = item.params[5];
     if (std::isfinite(lat) && std::isfinite(lon) && !(lat == 0.0 && lon == 0.0)) {
       const double off = (Local({lat, lon}, item.name) - position_.head<2>()).norm();
       if (off > kTakeoffPositionTolerance) {
-        Warn(fmt::format("{}: the take-off position is {:.1f} m away: the vehicle climbs where it stands",
-                         item.name, off));
+        Warn(fmt::format("{}: the take-off position is {:.1f} m away: the vehicle climbs where it stands", item.name,
+                         off));
       }
     }
-    if (Airborne()) Warn(fmt::format("{}: NAV_TAKEOFF in the air: climbing or descending to {:.1f} m", item.name, height));
+    if (Airborne())
+      Warn(fmt::format("{}: NAV_TAKEOFF in the air: climbing or descending to {:.1f} m", item.name, height));
     MoveTo(Eigen::Vector3d(position_.x(), position_.y(), -height), item, "takeoff");
   }
 
@@ -359,7 +391,9 @@ class MissionBuilder {
         Hover(item.params[0], item, "loiter " + number);
         return;
       }
-      case kMavCmdNavLoiterTurns: FlyLoiterTurns(item, "loiter " + number); return;
+      case kMavCmdNavLoiterTurns:
+        FlyLoiterTurns(item, "loiter " + number);
+        return;
       case kMavCmdNavLoiterToAlt: {
         const Eigen::Vector2d p_NE = Horizontal(item, true);
         MoveTo(Eigen::Vector3d(p_NE.x(), p_NE.y(), -Height(item)), item, "loiter " + number);
@@ -373,20 +407,30 @@ class MissionBuilder {
         Hover(item.params[0], item, "delay " + number);
         return;
       }
-      case kMavCmdNavTakeoff: FlyTakeoff(item); return;
-      case kMavCmdNavLand: LandAt(Horizontal(item, true), item, "land"); return;
-      case kMavCmdNavReturnToLaunch: LandAt(mission_.home_W.head<2>(), item, "return"); return;
-      case kMavCmdDoChangeSpeed: ChangeSpeed(item); return;
-      default: break;
+      case kMavCmdNavTakeoff:
+        FlyTakeoff(item);
+        return;
+      case kMavCmdNavLand:
+        LandAt(Horizontal(item, true), item, "land");
+        return;
+      case kMavCmdNavReturnToLaunch:
+        LandAt(mission_.home_W.head<2>(), item, "return");
+        return;
+      case kMavCmdDoChangeSpeed:
+        ChangeSpeed(item);
+        return;
+      default:
+        break;
     }
     const std::optional<std::string> refused = RefusalReason(item.command);
     UASCMA_CHECK(refused.has_value(), "commands that do not move the vehicle are skipped before");
-    throw InputError(source_, item.name,
-                     fmt::format("a command that uascma flies (NAV_WAYPOINT, NAV_SPLINE_WAYPOINT, NAV_TAKEOFF, NAV_LAND, "
-                                 "NAV_RETURN_TO_LAUNCH, NAV_LOITER_TIME, NAV_LOITER_TURNS, NAV_LOITER_TO_ALT, NAV_DELAY, "
-                                 "DO_CHANGE_SPEED, a finite DO_JUMP, or one that does not move the vehicle); {} is "
-                                 "refused: {}",
-                                 MavCommandName(item.command), *refused));
+    throw InputError(
+        source_, item.name,
+        fmt::format("a command that uascma flies (NAV_WAYPOINT, NAV_SPLINE_WAYPOINT, NAV_TAKEOFF, NAV_LAND, "
+                    "NAV_RETURN_TO_LAUNCH, NAV_LOITER_TIME, NAV_LOITER_TURNS, NAV_LOITER_TO_ALT, NAV_DELAY, "
+                    "DO_CHANGE_SPEED, a finite DO_JUMP, or one that does not move the vehicle); {} is "
+                    "refused: {}",
+                    MavCommandName(item.command), *refused));
   }
 
   const RawMission& raw_;

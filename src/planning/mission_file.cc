@@ -29,23 +29,72 @@ std::string Lower(std::string text) {
 
 std::string MavCommandName(int command) {
   static const std::map<int, const char*> names = {
-      {16, "NAV_WAYPOINT"}, {17, "NAV_LOITER_UNLIM"}, {18, "NAV_LOITER_TURNS"}, {19, "NAV_LOITER_TIME"},
-      {20, "NAV_RETURN_TO_LAUNCH"}, {21, "NAV_LAND"}, {22, "NAV_TAKEOFF"}, {23, "NAV_LAND_LOCAL"},
-      {24, "NAV_TAKEOFF_LOCAL"}, {25, "NAV_FOLLOW"}, {30, "NAV_CONTINUE_AND_CHANGE_ALT"}, {31, "NAV_LOITER_TO_ALT"},
-      {32, "DO_FOLLOW"}, {34, "DO_ORBIT"}, {80, "NAV_ROI"}, {82, "NAV_SPLINE_WAYPOINT"}, {84, "NAV_VTOL_TAKEOFF"},
-      {85, "NAV_VTOL_LAND"}, {92, "NAV_GUIDED_ENABLE"}, {93, "NAV_DELAY"}, {94, "NAV_PAYLOAD_PLACE"},
-      {112, "CONDITION_DELAY"}, {113, "CONDITION_CHANGE_ALT"}, {114, "CONDITION_DISTANCE"}, {115, "CONDITION_YAW"},
-      {176, "DO_SET_MODE"}, {177, "DO_JUMP"}, {178, "DO_CHANGE_SPEED"}, {179, "DO_SET_HOME"},
-      {180, "DO_SET_PARAMETER"}, {181, "DO_SET_RELAY"}, {182, "DO_REPEAT_RELAY"}, {183, "DO_SET_SERVO"},
-      {184, "DO_REPEAT_SERVO"}, {185, "DO_FLIGHTTERMINATION"}, {186, "DO_CHANGE_ALTITUDE"}, {189, "DO_LAND_START"},
-      {190, "DO_RALLY_LAND"}, {191, "DO_GO_AROUND"}, {192, "DO_REPOSITION"}, {193, "DO_PAUSE_CONTINUE"},
-      {195, "DO_SET_ROI_LOCATION"}, {197, "DO_SET_ROI_NONE"}, {200, "DO_CONTROL_VIDEO"}, {201, "DO_SET_ROI"},
-      {202, "DO_DIGICAM_CONFIGURE"}, {203, "DO_DIGICAM_CONTROL"}, {204, "DO_MOUNT_CONFIGURE"},
-      {205, "DO_MOUNT_CONTROL"}, {206, "DO_SET_CAM_TRIGG_DIST"}, {207, "DO_FENCE_ENABLE"}, {208, "DO_PARACHUTE"},
-      {211, "DO_GRIPPER"}, {214, "DO_SET_CAM_TRIGG_INTERVAL"}, {218, "DO_AUX_FUNCTION"}, {224, "DO_SET_MISSION_CURRENT"},
-      {601, "DO_JUMP_TAG"}, {31000, "WAYPOINT_USER_1"}, {530, "SET_CAMERA_MODE"}, {531, "SET_CAMERA_ZOOM"},
-      {532, "SET_CAMERA_FOCUS"}, {1000, "DO_GIMBAL_MANAGER_PITCHYAW"}, {2000, "IMAGE_START_CAPTURE"},
-      {2001, "IMAGE_STOP_CAPTURE"}, {2500, "VIDEO_START_CAPTURE"}, {2501, "VIDEO_STOP_CAPTURE"},
+      {16, "NAV_WAYPOINT"},
+      {17, "NAV_LOITER_UNLIM"},
+      {18, "NAV_LOITER_TURNS"},
+      {19, "NAV_LOITER_TIME"},
+      {20, "NAV_RETURN_TO_LAUNCH"},
+      {21, "NAV_LAND"},
+      {22, "NAV_TAKEOFF"},
+      {23, "NAV_LAND_LOCAL"},
+      {24, "NAV_TAKEOFF_LOCAL"},
+      {25, "NAV_FOLLOW"},
+      {30, "NAV_CONTINUE_AND_CHANGE_ALT"},
+      {31, "NAV_LOITER_TO_ALT"},
+      {32, "DO_FOLLOW"},
+      {34, "DO_ORBIT"},
+      {80, "NAV_ROI"},
+      {82, "NAV_SPLINE_WAYPOINT"},
+      {84, "NAV_VTOL_TAKEOFF"},
+      {85, "NAV_VTOL_LAND"},
+      {92, "NAV_GUIDED_ENABLE"},
+      {93, "NAV_DELAY"},
+      {94, "NAV_PAYLOAD_PLACE"},
+      {112, "CONDITION_DELAY"},
+      {113, "CONDITION_CHANGE_ALT"},
+      {114, "CONDITION_DISTANCE"},
+      {115, "CONDITION_YAW"},
+      {176, "DO_SET_MODE"},
+      {177, "DO_JUMP"},
+      {178, "DO_CHANGE_SPEED"},
+      {179, "DO_SET_HOME"},
+      {180, "DO_SET_PARAMETER"},
+      {181, "DO_SET_RELAY"},
+      {182, "DO_REPEAT_RELAY"},
+      {183, "DO_SET_SERVO"},
+      {184, "DO_REPEAT_SERVO"},
+      {185, "DO_FLIGHTTERMINATION"},
+      {186, "DO_CHANGE_ALTITUDE"},
+      {189, "DO_LAND_START"},
+      {190, "DO_RALLY_LAND"},
+      {191, "DO_GO_AROUND"},
+      {192, "DO_REPOSITION"},
+      {193, "DO_PAUSE_CONTINUE"},
+      {195, "DO_SET_ROI_LOCATION"},
+      {197, "DO_SET_ROI_NONE"},
+      {200, "DO_CONTROL_VIDEO"},
+      {201, "DO_SET_ROI"},
+      {202, "DO_DIGICAM_CONFIGURE"},
+      {203, "DO_DIGICAM_CONTROL"},
+      {204, "DO_MOUNT_CONFIGURE"},
+      {205, "DO_MOUNT_CONTROL"},
+      {206, "DO_SET_CAM_TRIGG_DIST"},
+      {207, "DO_FENCE_ENABLE"},
+      {208, "DO_PARACHUTE"},
+      {211, "DO_GRIPPER"},
+      {214, "DO_SET_CAM_TRIGG_INTERVAL"},
+      {218, "DO_AUX_FUNCTION"},
+      {224, "DO_SET_MISSION_CURRENT"},
+      {601, "DO_JUMP_TAG"},
+      {31000, "WAYPOINT_USER_1"},
+      {530, "SET_CAMERA_MODE"},
+      {531, "SET_CAMERA_ZOOM"},
+      {532, "SET_CAMERA_FOCUS"},
+      {1000, "DO_GIMBAL_MANAGER_PITCHYAW"},
+      {2000, "IMAGE_START_CAPTURE"},
+      {2001, "IMAGE_STOP_CAPTURE"},
+      {2500, "VIDEO_START_CAPTURE"},
+      {2501, "VIDEO_STOP_CAPTURE"},
   };
   const auto it = names.find(command);
   return it != names.end() ? fmt::format("{} ({})", it->second, command) : fmt::format("command {}", command);
@@ -55,8 +104,7 @@ MissionFormat DetectMissionFormat(const std::filesystem::path& path) {
   const std::string extension = Lower(path.extension().string());
   if (extension == ".plan") return MissionFormat::kQgcPlan;
   if (extension == ".waypoints" || extension == ".wpl" || extension == ".txt") return MissionFormat::kQgcWpl;
-  throw InputError(path.string(), "extension",
-                   ".plan (QGroundControl JSON) or .waypoints / .wpl / .txt (QGC WPL 110)");
+  throw InputError(path.string(), "extension", ".plan (QGroundControl JSON) or .waypoints / .wpl / .txt (QGC WPL 110)");
 }
 
 bool MissionImportOptions::IsValid(std::string* error) const {
@@ -65,8 +113,9 @@ bool MissionImportOptions::IsValid(std::string* error) const {
     return false;
   }
   if (!(max_distance_from_origin > 0.0)) {
-    if (error) *error = fmt::format("max_distance_from_origin: expected a positive distance (m), got {}",
-                                    max_distance_from_origin);
+    if (error)
+      *error =
+          fmt::format("max_distance_from_origin: expected a positive distance (m), got {}", max_distance_from_origin);
     return false;
   }
   return true;

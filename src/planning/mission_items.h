@@ -59,9 +59,9 @@ struct RawMission {
   std::vector<std::array<double, 3>> rally;  // latitude, longitude (degrees), altitude (m, relative)
   struct Zone {
     bool inclusion = true;
-    std::vector<GeoPoint> polygon;       // empty for a circle
-    GeoPoint centre;                     // of a circle
-    double radius = 0.0;                 // m, of a circle
+    std::vector<GeoPoint> polygon;  // empty for a circle
+    GeoPoint centre;                // of a circle
+    double radius = 0.0;            // m, of a circle
     std::string name;
   };
   std::vector<Zone> fence;

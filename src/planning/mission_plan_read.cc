@@ -146,10 +146,11 @@ void ReadComplexItem(const JsonValue& item, int* number, RawMission* raw) {
   const JsonValue transect = item.Member("TransectStyleComplexItem");
   const JsonValue stored = transect.IsObject() ? transect.Member("Items") : transect;
   if (!transect.IsObject() || !stored.IsArray() || stored.size() == 0) {
-    item.FailExactly(fmt::format("a ComplexItem with its generated items (TransectStyleComplexItem.Items); the "
-                                 "'{}' item stores none (QGroundControl generates it when the plan is loaded: "
-                                 "convert it to waypoints in QGroundControl first)",
-                                 kind));
+    item.FailExactly(
+        fmt::format("a ComplexItem with its generated items (TransectStyleComplexItem.Items); the "
+                    "'{}' item stores none (QGroundControl generates it when the plan is loaded: "
+                    "convert it to waypoints in QGroundControl first)",
+                    kind));
   }
   for (const JsonValue& inner : stored.Elements()) {
     const JsonValue type = inner.IsObject() ? inner.Member("type") : inner;

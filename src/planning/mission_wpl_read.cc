@@ -52,12 +52,14 @@ int ReadItemLine(const std::string& line, const std::string& where, const std::s
   if (fields.size() != 12) {
     throw InputError(source, where,
                      fmt::format("12 fields (index, current, frame, command, param1–4, latitude, longitude, altitude, "
-                                 "autocontinue), got {}", fields.size()));
+                                 "autocontinue), got {}",
+                                 fields.size()));
   }
   std::array<double, 12> values{};
   for (int f = 0; f < 12; ++f) {
     const auto value = detail::ParseNumber(fields[f]);
-    if (!value) throw InputError(source, fmt::format("{} field {}", where, f + 1), fmt::format("a number, got '{}'", fields[f]));
+    if (!value)
+      throw InputError(source, fmt::format("{} field {}", where, f + 1), fmt::format("a number, got '{}'", fields[f]));
     values[f] = *value;
   }
   auto integer = [&](int f, const char* what) {
@@ -78,7 +80,8 @@ int ReadItemLine(const std::string& line, const std::string& where, const std::s
 // level.
 void ReadHomeLine(const RawItem& item, const std::string& where, const std::string& source, RawMission* raw) {
   if (item.command != kMavCmdNavWaypoint) {
-    throw InputError(source, where, fmt::format("the home position (index 0, command 16), got command {}", item.command));
+    throw InputError(source, where,
+                     fmt::format("the home position (index 0, command 16), got command {}", item.command));
   }
   raw->home = {item.params[4], item.params[5]};
   detail::CheckGeoPoint(raw->home, source, where + " (home)");
@@ -88,8 +91,10 @@ void ReadHomeLine(const RawItem& item, const std::string& where, const std::stri
   } else if (item.frame == kMavFrameGlobal || item.frame == kMavFrameGlobalInt) {
     raw->home_amsl = item.params[6];
   } else {
-    raw->warnings.push_back(fmt::format("{}: {} (home): frame {} is not absolute: the home altitude is unknown, "
-                                        "so items above mean sea level cannot be read", source, where, item.frame));
+    raw->warnings.push_back(
+        fmt::format("{}: {} (home): frame {} is not absolute: the home altitude is unknown, "
+                    "so items above mean sea level cannot be read",
+                    source, where, item.frame));
   }
 }
 
@@ -137,8 +142,9 @@ void ResolveUnsetHome(RawMission& raw, const std::string& source) {
       return;
     }
   }
-  throw InputError(source, "home", "a home position, or an item with a position to take it from; the home is (0, 0) "
-                                   "(unset) and no item has a position");
+  throw InputError(source, "home",
+                   "a home position, or an item with a position to take it from; the home is (0, 0) "
+                   "(unset) and no item has a position");
 }
 
 // DO_JUMP (param1: the target item's doJumpId, or its index in a .waypoints file; param2: how many times to jump)
@@ -154,7 +160,8 @@ std::vector<RawItem> UnrollJumps(const std::vector<RawItem>& items, const std::s
     if (!std::isfinite(repeat) || repeat < 0.0) {
       throw InputError(source, items[i].name,
                        fmt::format("a DO_JUMP with a finite repeat count (param2 ≥ 0); param2 = {} repeats forever "
-                                   "and the mission would never end", repeat));
+                                   "and the mission would never end",
+                                   repeat));
     }
     if (repeat != std::floor(repeat) || repeat > 1e6) {
       throw InputError(source, items[i].name + " param2", fmt::format("a whole repeat count, got {}", repeat));
@@ -171,8 +178,9 @@ std::vector<RawItem> UnrollJumps(const std::vector<RawItem>& items, const std::s
       if (++passes[pc] > 1) copy.name += fmt::format(" (pass {})", passes[pc]);
       flown.push_back(std::move(copy));
       if (flown.size() > kMaxUnrolledItems) {
-        throw InputError(source, item.name, fmt::format("a mission of at most {} items once its DO_JUMPs are unrolled",
-                                                        kMaxUnrolledItems));
+        throw InputError(
+            source, item.name,
+            fmt::format("a mission of at most {} items once its DO_JUMPs are unrolled", kMaxUnrolledItems));
       }
       ++pc;
       continue;

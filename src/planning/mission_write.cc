@@ -33,8 +33,8 @@ bool QgcPlanExportOptions::IsValid(std::string* error) const {
 namespace {
 
 // The plan's MAVLink items, heights relative to home (`home_W`), positions through `projection`.
-nlohmann::json PlanItems(const FlightPlan& plan, const QgcPlanExportOptions& options,
-                         const LocalProjection& projection, const Eigen::Vector3d& home_W) {
+nlohmann::json PlanItems(const FlightPlan& plan, const QgcPlanExportOptions& options, const LocalProjection& projection,
+                         const Eigen::Vector3d& home_W) {
   nlohmann::json items = nlohmann::json::array();
   auto add = [&](int command, const Eigen::Vector3d& p_W, double param1) {
     const GeoPoint point = projection.ToGeodetic(p_W.head<2>());
@@ -104,8 +104,7 @@ std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& opti
   if (!options.IsValid(&error)) throw InputError("plan export options: " + error);
   if (plan.empty()) throw InputError("plan export", "plan", "a flight plan with at least one segment");
   const LocalProjection projection(options.origin);
-  const Eigen::Vector3d home_W =
-      options.home_W.value_or(Eigen::Vector3d(plan.start_W().x(), plan.start_W().y(), 0.0));
+  const Eigen::Vector3d home_W = options.home_W.value_or(Eigen::Vector3d(plan.start_W().x(), plan.start_W().y(), 0.0));
   const GeoPoint home = projection.ToGeodetic(home_W.head<2>());
   const nlohmann::json items = PlanItems(plan, options, projection, home_W);
   const nlohmann::json document = {

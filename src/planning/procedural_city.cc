@@ -16,8 +16,8 @@ Ring Rectangle(double x0, double y0, double x1, double y1) { return {{x0, y0}, {
 
 // Landing risk of a touchdown area of `radius` m (the fit of procedural_city.h), clamped to [0, 1].
 double SiteRisk(const ProceduralCityParams& p, double radius, RandomStream& random) {
-  return std::clamp(p.risk_intercept + p.risk_per_log_radius * std::log(radius) + p.risk_noise * random.Normal(),
-                    0.0, 1.0);
+  return std::clamp(p.risk_intercept + p.risk_per_log_radius * std::log(radius) + p.risk_noise * random.Normal(), 0.0,
+                    1.0);
 }
 
 }  // namespace
@@ -28,21 +28,32 @@ bool ProceduralCityParams::IsValid(std::string* error) const {
     return false;
   };
   if (blocks_north < 1 || blocks_east < 1 || blocks_north > 1000 || blocks_east > 1000) {
-    return fail(fmt::format("blocks_north, blocks_east: expected 1 … 1000 each, got {} and {}", blocks_north,
-                            blocks_east));
+    return fail(
+        fmt::format("blocks_north, blocks_east: expected 1 … 1000 each, got {} and {}", blocks_north, blocks_east));
   }
-  const struct { const char* name; double value; } positive[] = {
-      {"block_north", block_north}, {"block_east", block_east}, {"street_width", street_width},
-      {"avenue_width", avenue_width}, {"lot_frontage_min", lot_frontage_min}, {"height_log_sigma", height_log_sigma},
-      {"height_min", height_min}, {"site_radius_min", site_radius_min}, {"park_site_spacing", park_site_spacing},
-      {"park_site_radius", park_site_radius}};
+  const struct {
+    const char* name;
+    double value;
+  } positive[] = {{"block_north", block_north},
+                  {"block_east", block_east},
+                  {"street_width", street_width},
+                  {"avenue_width", avenue_width},
+                  {"lot_frontage_min", lot_frontage_min},
+                  {"height_log_sigma", height_log_sigma},
+                  {"height_min", height_min},
+                  {"site_radius_min", site_radius_min},
+                  {"park_site_spacing", park_site_spacing},
+                  {"park_site_radius", park_site_radius}};
   for (const auto& f : positive) {
-    if (!(std::isfinite(f.value) && f.value > 0.0)) return fail(fmt::format("{}: expected > 0, got {}", f.name, f.value));
+    if (!(std::isfinite(f.value) && f.value > 0.0))
+      return fail(fmt::format("{}: expected > 0, got {}", f.name, f.value));
   }
-  const struct { const char* name; double value; } probabilities[] = {
-      {"open_lot_probability", open_lot_probability},
-      {"park_block_fraction", park_block_fraction},
-      {"rooftop_site_probability", rooftop_site_probability}};
+  const struct {
+    const char* name;
+    double value;
+  } probabilities[] = {{"open_lot_probability", open_lot_probability},
+                       {"park_block_fraction", park_block_fraction},
+                       {"rooftop_site_probability", rooftop_site_probability}};
   for (const auto& f : probabilities) {
     if (!(f.value >= 0.0 && f.value <= 1.0)) return fail(fmt::format("{}: expected 0 … 1, got {}", f.name, f.value));
   }
@@ -113,15 +124,14 @@ CityMap MakeProceduralCity(const ProceduralCityParams& p, const CityMapOptions& 
           if (random.Bernoulli(p.open_lot_probability)) continue;
           Building building;
           building.id = fmt::format("block {},{} lot {}/{}", i, j, row == 0 ? 's' : 'n', lot);
-          building.height = std::clamp(std::exp(random.Normal(p.height_log_mean, p.height_log_sigma)), p.height_min,
-                                       p.height_max);
+          building.height =
+              std::clamp(std::exp(random.Normal(p.height_log_mean, p.height_log_sigma)), p.height_min, p.height_max);
           building.rings.push_back(Rectangle(row_x0, lot_y0, row_x1, lot_y1));
           if (random.Bernoulli(p.rooftop_site_probability)) {
             // The roof centre, with a touchdown circle that fits the roof with 1 m to spare.
             const double cap = 0.5 * std::min(row_x1 - row_x0, lot_y1 - lot_y0) - 1.0;
-            const double radius =
-                std::min(p.site_radius_min + std::exp(random.Normal(p.site_radius_log_mean, p.site_radius_log_sigma)),
-                         cap);
+            const double radius = std::min(
+                p.site_radius_min + std::exp(random.Normal(p.site_radius_log_mean, p.site_radius_log_sigma)), cap);
             const double risk = SiteRisk(p, std::max(radius, p.site_radius_min), random);
             if (radius >= p.site_radius_min) {
               LandingSite site;

@@ -14,6 +14,8 @@
 
 namespace uascma::prognostics {
 
+using eod_internal::Ended;
+using eod_internal::RequireValid;
 using models::BatteryPack;
 using models::CellState;
 using models::kBranchCount;
@@ -22,15 +24,13 @@ using models::kMaxRcPairs;
 using models::PackState;
 using models::PerBranch;
 using models::SelfCorrectingCell;
-using eod_internal::Ended;
-using eod_internal::RequireValid;
 
 namespace {
 
 constexpr int kMaxLanes = kBranchCount * kCellsPerBranch;
 constexpr int kMaxRates = kMaxLanes * kMaxRcPairs;
-constexpr int kMaxSegments = 100000;  // a full discharge takes about one per OCV breakpoint and cell
-constexpr double kSocSnap = 1e-12;    // SOC within this of a breakpoint is on it (≈ 1e-8 s of discharge)
+constexpr int kMaxSegments = 100000;         // a full discharge takes about one per OCV breakpoint and cell
+constexpr double kSocSnap = 1e-12;           // SOC within this of a breakpoint is on it (≈ 1e-8 s of discharge)
 constexpr double kVoltageTolerance = 1e-10;  // V: a root this close to the cut-off is exact enough
 // Hysteresis this close to its discharge limit −1 moves the voltage by less than this: left as is.
 constexpr double kSettledHysteresisV = 1e-14;
@@ -95,10 +95,10 @@ struct Lane {
   int rc_count = 0;
   std::array<double, kMaxRcPairs> rc_ohm{}, rc_rate_per_s{};
   std::array<int, kMaxRcPairs> rc_slot{};  // index of the rate in Problem::rates
-  int segment = 0;                   // OCV segment (discharge direction) at the segment start
-  double slope_v = 0.0;              // dOCV/dz on it
-  double segment_start_soc = 0.0;    // its lower breakpoint (none for segment 0: the line is extended)
-  double segment_start_ocv_v = 0.0;  // OCV at that breakpoint
+  int segment = 0;                         // OCV segment (discharge direction) at the segment start
+  double slope_v = 0.0;                    // dOCV/dz on it
+  double segment_start_soc = 0.0;          // its lower breakpoint (none for segment 0: the line is extended)
+  double segment_start_ocv_v = 0.0;        // OCV at that breakpoint
 };
 
 Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch, int index) {
@@ -323,7 +323,7 @@ double TimeToCharge(const CurrentLaw& law, double charge_as, double estimate_s, 
       lo = t;
     }
     if (at.current_a > 0.0) {
-      const double df = at.current_a;                                 // f' = i(t)
+      const double df = at.current_a;                                // f' = i(t)
       const double d2f = -law.rate_per_s * law.delta_a * at.e_rate;  // f'' = di/dt
       const double step = 2.0 * f * df / (2.0 * df * df - f * d2f);  // Halley
       if (std::abs(step) <= 1e-3 * tolerance_s) return t - step;
@@ -341,8 +341,8 @@ struct Problem {
   int lane_count = 0;
   PerBranch<int> lane_begin{}, lane_end{};  // lanes [begin, end) of each branch
   PerBranch<bool> on{};
-  PerBranch<double> r0_ohm{};                // eq. 3.7
-  std::array<double, kMaxRates> rates{};     // the distinct RC rates 1/(R_j C_j) of the lanes
+  PerBranch<double> r0_ohm{};             // eq. 3.7
+  std::array<double, kMaxRates> rates{};  // the distinct RC rates 1/(R_j C_j) of the lanes
   int rate_count = 0;
 
   void AddLane(const Lane& lane) {
@@ -435,8 +435,8 @@ Segment MakeSegment(const Problem& problem, double current, double negligible_a,
       const int idle = 1 - active;
       law[active] = {current, 0.0, 0.0, 0.0};
       segment.conducting[active] = true;
-      const double unblock_s = (branch_ocv[active] - problem.r0_ohm[active] * current - branch_ocv[idle]) /
-                               (branch_k[active] * current);
+      const double unblock_s =
+          (branch_ocv[active] - problem.r0_ohm[active] * current - branch_ocv[idle]) / (branch_k[active] * current);
       segment.duration = std::min(segment.duration, std::max(unblock_s, 0.0));
     } else {
       // Both conduct: i⁰(t) = ī + Δ e^{−qt}, q = (K₀ + K₁)/(R₀ + R₁), ī = K₁ I/(K₀ + K₁) (eq.-3.4–3.7
@@ -474,8 +474,8 @@ void EndAtTheFirstBreakpoint(const Problem& problem, double remaining, const Eod
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
       const Lane& lane = problem.lanes[l];
       if (lane.segment == 0) continue;  // the lowest line extends below the table
-      charge_to_breakpoint[b] = std::min(
-          charge_to_breakpoint[b], (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
+      charge_to_breakpoint[b] = std::min(charge_to_breakpoint[b],
+                                         (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
     }
     if (charge_to_breakpoint[b] != kNone) estimate_s[b] = EstimateTimeToCharge(segment.law[b], charge_to_breakpoint[b]);
   }

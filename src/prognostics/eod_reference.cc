@@ -25,10 +25,14 @@ using models::SelfCorrectingCell;
 
 const char* EodStatusName(EodStatus status) {
   switch (status) {
-    case EodStatus::kReached: return "reached";
-    case EodStatus::kAlreadyBelowCutoff: return "already_below_cutoff";
-    case EodStatus::kNotReachedWithinHorizon: return "not_reached_within_horizon";
-    case EodStatus::kNoBranchConnected: return "no_branch_connected";
+    case EodStatus::kReached:
+      return "reached";
+    case EodStatus::kAlreadyBelowCutoff:
+      return "already_below_cutoff";
+    case EodStatus::kNotReachedWithinHorizon:
+      return "not_reached_within_horizon";
+    case EodStatus::kNoBranchConnected:
+      return "no_branch_connected";
   }
   return "?";
 }
@@ -130,8 +134,8 @@ EodResult SimulatePackEod(const BatteryPack& pack, const PackState& state, doubl
         if (!s.branch_on[b]) continue;
         for (int c = 0; c < kCellsPerBranch; ++c) {
           if (now.cell_voltage_v[b][c] > options.cutoff_v) continue;
-          const double crossing = InterpolatedCrossingS(k, dt_s, previous.cell_voltage_v[b][c],
-                                                        now.cell_voltage_v[b][c], options.cutoff_v);
+          const double crossing =
+              InterpolatedCrossingS(k, dt_s, previous.cell_voltage_v[b][c], now.cell_voltage_v[b][c], options.cutoff_v);
           if (crossing < result.eod_s) result = ReachedAtStep(crossing, b, c, k);
         }
       }

@@ -36,13 +36,11 @@ double LogRelative(double a, double x) {
 bool IsPositiveFinite(double value) { return std::isfinite(value) && value > 0.0; }
 
 // The epochs a history spends in SF before it is seen jammed (header, item 4).
-double SpalledEpochs(double time_s, double epoch_s) {
-  return std::max(1.0, std::ceil(time_s / epoch_s));
-}
+double SpalledEpochs(double time_s, double epoch_s) { return std::max(1.0, std::ceil(time_s / epoch_s)); }
 
 // jams / Σ spalled epochs: the header's item 4 on histories at a time scale τ.
-double JamsPerSpalledEpoch(std::span<const SpallHistory> histories, double time_per_growth_step_s,
-                           double epoch_s, double* spalled_epochs = nullptr) {
+double JamsPerSpalledEpoch(std::span<const SpallHistory> histories, double time_per_growth_step_s, double epoch_s,
+                           double* spalled_epochs = nullptr) {
   double epochs = 0.0;
   int jams = 0;
   for (const SpallHistory& history : histories) {
@@ -54,8 +52,7 @@ double JamsPerSpalledEpoch(std::span<const SpallHistory> histories, double time_
 }
 
 // `runs` histories from D₀ with the nominal parameters, one stream, in order.
-std::vector<SpallHistory> DrawHistoriesFromOnset(const MotorRulModel& model, int runs,
-                                                 RandomStream& random) {
+std::vector<SpallHistory> DrawHistoriesFromOnset(const MotorRulModel& model, int runs, RandomStream& random) {
   const SpallParticle onset = model.MakeParticle(model.params().initial_area_mm2);
   std::vector<SpallHistory> histories(static_cast<std::size_t>(runs));
   for (SpallHistory& history : histories) history = model.PropagateToFailure(onset, random);
@@ -102,8 +99,8 @@ bool SpallGrowthParams::IsValid(std::string* error) const {
     return fail(fmt::format("initial_area_mm2: a positive area in mm², got {}", initial_area_mm2));
   }
   if (!(std::isfinite(failure_area_mm2) && failure_area_mm2 > initial_area_mm2)) {
-    return fail(fmt::format("failure_area_mm2: a finite area above initial_area_mm2 ({}), got {}",
-                            initial_area_mm2, failure_area_mm2));
+    return fail(fmt::format("failure_area_mm2: a finite area above initial_area_mm2 ({}), got {}", initial_area_mm2,
+                            failure_area_mm2));
   }
   if (!IsPositiveFinite(paris_coefficient)) {
     return fail(fmt::format("paris_coefficient: a positive C_D, got {}", paris_coefficient));
@@ -112,12 +109,11 @@ bool SpallGrowthParams::IsValid(std::string* error) const {
     return fail(fmt::format("paris_exponent: a positive n, got {}", paris_exponent));
   }
   if (!(std::isfinite(paris_coefficient_noise_std) && paris_coefficient_noise_std >= 0.0)) {
-    return fail(fmt::format("paris_coefficient_noise_std: a standard deviation >= 0, got {}",
-                            paris_coefficient_noise_std));
+    return fail(
+        fmt::format("paris_coefficient_noise_std: a standard deviation >= 0, got {}", paris_coefficient_noise_std));
   }
   if (!(std::isfinite(paris_exponent_noise_std) && paris_exponent_noise_std >= 0.0)) {
-    return fail(fmt::format("paris_exponent_noise_std: a standard deviation >= 0, got {}",
-                            paris_exponent_noise_std));
+    return fail(fmt::format("paris_exponent_noise_std: a standard deviation >= 0, got {}", paris_exponent_noise_std));
   }
   if (!CheckWithin(time_per_growth_step_s, kTimePerGrowthStepBounds, "time_per_growth_step_s", error)) return false;
   if (max_growth_steps < 1) {
@@ -183,10 +179,9 @@ SpallParticle MotorRulModel::Step(const SpallParticle& particle, RandomStream& r
   next.area_mm2 = CalcAreaAfter(particle, 1.0);  // eq. 3.8, first line, over one whole step
   const double coefficient_noise = random.Normal();
   const double exponent_noise = random.Normal();
-  next.paris_coefficient = particle.paris_coefficient +
-                           params_.paris_coefficient_noise_std * coefficient_noise;  // C_D + ω_CD
-  next.paris_exponent = particle.paris_exponent +
-                        params_.paris_exponent_noise_std * exponent_noise;  // n + ω_n
+  next.paris_coefficient =
+      particle.paris_coefficient + params_.paris_coefficient_noise_std * coefficient_noise;           // C_D + ω_CD
+  next.paris_exponent = particle.paris_exponent + params_.paris_exponent_noise_std * exponent_noise;  // n + ω_n
   return next;
 }
 
@@ -209,8 +204,7 @@ SpallHistory MotorRulModel::PropagateToFailure(SpallParticle particle, RandomStr
   }
 }
 
-RulDistribution MotorRulModel::PredictRul(std::span<const SpallParticle> particles,
-                                          RandomStream& random) const {
+RulDistribution MotorRulModel::PredictRul(std::span<const SpallParticle> particles, RandomStream& random) const {
   if (particles.empty()) throw InputError("motor RUL", "particles", "at least one particle");
   RulDistribution result;
   result.particles = static_cast<int>(particles.size());
@@ -234,34 +228,30 @@ RulDistribution MotorRulModel::PredictRul(std::span<const SpallParticle> particl
   result.p05_s = Percentile(sorted, 0.05);
   result.p50_s = Percentile(sorted, 0.50);
   result.p95_s = Percentile(sorted, 0.95);
-  result.jam_probability_per_epoch =
-      JamsPerSpalledEpoch(histories, params_.time_per_growth_step_s, result.epoch_s);
+  result.jam_probability_per_epoch = JamsPerSpalledEpoch(histories, params_.time_per_growth_step_s, result.epoch_s);
   return result;
 }
 
 RulDistribution MotorRulModel::PredictRulFromArea(double area_mm2, RandomStream& random) const {
-  const std::vector<SpallParticle> particles(static_cast<std::size_t>(params_.particles),
-                                             MakeParticle(area_mm2));
+  const std::vector<SpallParticle> particles(static_cast<std::size_t>(params_.particles), MakeParticle(area_mm2));
   return PredictRul(particles, random);
 }
 
-JamProbabilityMeasurement MotorRulModel::MeasureJamProbability(int runs, RandomStream& random,
-                                                               double epoch_s) const {
+JamProbabilityMeasurement MotorRulModel::MeasureJamProbability(int runs, RandomStream& random, double epoch_s) const {
   if (runs < 1) throw InputError("jam probability", "runs", fmt::format("at least 1, got {}", runs));
   RequireValidEpoch(epoch_s, "jam probability");
   const std::vector<SpallHistory> histories = DrawHistoriesFromOnset(*this, runs, random);
   JamProbabilityMeasurement result;
   result.runs = runs;
   result.epoch_s = epoch_s;
-  result.mean_time_to_jam_s =
-      MeanStepsOfJammed(histories, &result.jams) * params_.time_per_growth_step_s;
-  result.jam_probability_per_epoch = JamsPerSpalledEpoch(
-      histories, params_.time_per_growth_step_s, epoch_s, &result.spalled_epochs);
+  result.mean_time_to_jam_s = MeanStepsOfJammed(histories, &result.jams) * params_.time_per_growth_step_s;
+  result.jam_probability_per_epoch =
+      JamsPerSpalledEpoch(histories, params_.time_per_growth_step_s, epoch_s, &result.spalled_epochs);
   return result;
 }
 
-double EstimateJamProbabilityPerEpoch(std::span<const SpallHistory> histories,
-                                      double time_per_growth_step_s, double epoch_s) {
+double EstimateJamProbabilityPerEpoch(std::span<const SpallHistory> histories, double time_per_growth_step_s,
+                                      double epoch_s) {
   if (histories.empty()) throw InputError("jam probability", "histories", "at least one history");
   if (!IsPositiveFinite(time_per_growth_step_s)) {
     throw InputError("jam probability", "time_per_growth_step_s",
@@ -273,8 +263,7 @@ double EstimateJamProbabilityPerEpoch(std::span<const SpallHistory> histories,
 
 // ---- Calibration ------------------------------------------------------------------------------
 
-CalibrationResult CalibrateTimePerGrowthStep(const SpallGrowthParams& params,
-                                             const CalibrationOptions& options) {
+CalibrationResult CalibrateTimePerGrowthStep(const SpallGrowthParams& params, const CalibrationOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("motor RUL calibration: " + error);
   const MotorRulModel model(params);
@@ -341,8 +330,7 @@ SpallJamStep SpallJamEvent::Advance(double dt_s) {
   while (!jammed_) {
     const double step_start_s = onset_time_s_ + growth_steps_done_ * time_per_step_s;
     const double step_end_s = step_start_s + time_per_step_s;
-    const double crossing_s =
-        step_start_s + time_per_step_s * model_.CalcStepsToReach(step_start_, failure_area_mm2);
+    const double crossing_s = step_start_s + time_per_step_s * model_.CalcStepsToReach(step_start_, failure_area_mm2);
     if (crossing_s <= std::min(target_s, step_end_s)) {
       jammed_ = true;
       jam_time_s_ = crossing_s;

@@ -50,7 +50,7 @@ nlohmann::json HealthBars(const std::vector<GroupStatistics>& groups, const std:
     nlohmann::json values = nlohmann::json::array(), errors = nlohmann::json::array();
     for (const std::string health : {"G", "M", "P"}) {
       const GroupStatistics& g = Group(groups, policy, health);
-      const campaign::Estimate e = metric == "failure"       ? g.failure_rate
+      const campaign::Estimate e = metric == "failure"      ? g.failure_rate
                                    : metric == "completion" ? g.completion_rate
                                                             : g.average_reward;
       const double scale = metric == "reward" ? 1.0 : 100.0;
@@ -67,15 +67,25 @@ nlohmann::json HealthBars(const std::vector<GroupStatistics>& groups, const std:
 void AddCampaignFigures(Item& item, const std::string& prefix, const std::vector<GroupStatistics>& groups) {
   const nlohmann::json categories = {"G", "M", "P"};
   item.figures.push_back(
-      {prefix + "-fig-5.30.png", "Fig. 5.30: failure rate ± SEM by battery health (markers: the dissertation's P values)",
-       {{"kind", "groups"}, {"categories", categories}, {"ylabel", "failure rate (%)"},
+      {prefix + "-fig-5.30.png",
+       "Fig. 5.30: failure rate ± SEM by battery health (markers: the dissertation's P values)",
+       {{"kind", "groups"},
+        {"categories", categories},
+        {"ylabel", "failure rate (%)"},
         {"series", HealthBars(groups, "failure")},
-        {"theirs", {{{"category", "P"}, {"series", 0}, {"value", 71.0}}, {{"category", "P"}, {"series", 1}, {"value", 1.3}}}}}});
-  item.figures.push_back({prefix + "-fig-5.31.png", "Fig. 5.31: original flight plan completed ± SEM by battery health",
-                          {{"kind", "groups"}, {"categories", categories}, {"ylabel", "completed (%)"},
+        {"theirs",
+         {{{"category", "P"}, {"series", 0}, {"value", 71.0}}, {{"category", "P"}, {"series", 1}, {"value", 1.3}}}}}});
+  item.figures.push_back({prefix + "-fig-5.31.png",
+                          "Fig. 5.31: original flight plan completed ± SEM by battery health",
+                          {{"kind", "groups"},
+                           {"categories", categories},
+                           {"ylabel", "completed (%)"},
                            {"series", HealthBars(groups, "completion")}}});
-  item.figures.push_back({prefix + "-fig-5.32.png", "Fig. 5.32: average reward per epoch ± SEM by battery health",
-                          {{"kind", "groups"}, {"categories", categories}, {"ylabel", "average R(S, A)"},
+  item.figures.push_back({prefix + "-fig-5.32.png",
+                          "Fig. 5.32: average reward per epoch ± SEM by battery health",
+                          {{"kind", "groups"},
+                           {"categories", categories},
+                           {"ylabel", "average R(S, A)"},
                            {"series", HealthBars(groups, "reward")}}});
 }
 
@@ -99,16 +109,19 @@ void AddShapeQuantities(Item& item, const std::vector<GroupStatistics>& groups, 
   item.quantities.push_back(CompareRate("CMA failure rate, poor health", cma_p.failures, cma_p.runs, 0.013,
                                         "the abstract's 1.3 %, our rate's 95 % Wilson interval", why_cma_p));
   for (const std::string health : {"M", "P"}) {
-    const bool lower = Group(groups, "cma", health).failure_rate.value < Group(groups, "noop", health).failure_rate.value;
+    const bool lower =
+        Group(groups, "cma", health).failure_rate.value < Group(groups, "noop", health).failure_rate.value;
     item.quantities.push_back(CompareText("CMA fails less than NoOp, " + health, lower ? "yes" : "no", "yes",
                                           "Fig. 5.30: 'the CMA offers improved safety in medium and poor health'",
                                           "NoOp fails no more often than the CMA here."));
   }
-  const bool cautious = Group(groups, "noop", "G").completion_rate.value > Group(groups, "cma", "G").completion_rate.value;
+  const bool cautious =
+      Group(groups, "noop", "G").completion_rate.value > Group(groups, "cma", "G").completion_rate.value;
   item.quantities.push_back(CompareText("NoOp completes more original plans in good health", cautious ? "yes" : "no",
                                         "yes", "Fig. 5.31: 'the Baseline Policy of NoOp has a higher completion rate'",
                                         "The CMA is not more cautious than NoOp in good health."));
-  const bool reward = Group(groups, "cma", "all").average_reward.value > Group(groups, "noop", "all").average_reward.value;
+  const bool reward =
+      Group(groups, "cma", "all").average_reward.value > Group(groups, "noop", "all").average_reward.value;
   item.quantities.push_back(CompareText("CMA's average reward above NoOp's", reward ? "yes" : "no", "yes",
                                         "Fig. 5.32: 'CMA has higher average reward values'",
                                         "NoOp's average reward is not below the CMA's."));
@@ -129,7 +142,8 @@ Item ReproduceCampaignDefault(const Context& context) {
   item.source = "§5.5.3, Figs. 5.30-5.32, abstract";
   const std::int64_t runs = context.options.quick ? 150 : 465;  // §5.5: 930 flights, CMA and NoOp
   const CampaignConfig config = LoadProfile(context, "campaign.yaml", runs, context.options.seed);
-  context.Log(fmt::format("campaign-default: {} runs x 2 policies (examples/campaign.yaml, seed {})", runs, config.seed));
+  context.Log(
+      fmt::format("campaign-default: {} runs x 2 policies (examples/campaign.yaml, seed {})", runs, config.seed));
   const std::vector<RunRecord> records = Fly(config, context);
   const std::vector<GroupStatistics> groups = campaign::Summarise(records, {"cma", "noop"});
   item.samples = {{"runs", runs}, {"flights", records.size()}};
@@ -141,11 +155,13 @@ Item ReproduceCampaignDefault(const Context& context) {
                   "(decision 19, ours), and a capacity-faded cell ends a flight only above ~0.8 of it, so NoOp fails "
                   "{:.1f} %; the dissertation profile (decision 27) calibrates the range to 71 %.",
                   100.0 * noop_p.failure_rate.value)));
-  AddShapeQuantities(item, groups, "The CMA fails fewer poor-health flights than the dissertation's 1.3 % (decisions "
-                                   "21, 25, 28: grounding, the load forecast, substitutions).");
+  AddShapeQuantities(item, groups,
+                     "The CMA fails fewer poor-health flights than the dissertation's 1.3 % (decisions "
+                     "21, 25, 28: grounding, the load forecast, substitutions).");
   item.data["groups"] = GroupsJson(groups);
   AddCampaignFigures(item, "campaign-default", groups);
-  item.notes.push_back("`uascma campaign examples/campaign.yaml --runs N --seed S`: the same flights (ExecuteFlights).");
+  item.notes.push_back(
+      "`uascma campaign examples/campaign.yaml --runs N --seed S`: the same flights (ExecuteFlights).");
   return item;
 }
 
@@ -232,10 +248,12 @@ void AddPlanLengthSensitivity(const Context& context, const CampaignConfig& prof
        fmt::format("Poor-health failure rates against the plan-length range [L, {:g}] (decision 27's parameter); "
                    "dotted: the dissertation's 71 % and 1.3 %, and the profile's L",
                    high),
-       {{"kind", "lines"}, {"xlabel", fmt::format("L, plans on [L, {:g}] of a healthy pack's endurance", high)},
+       {{"kind", "lines"},
+        {"xlabel", fmt::format("L, plans on [L, {:g}] of a healthy pack's endurance", high)},
         {"ylabel", "poor-health failure rate (%)"},
         {"series", {{{"label", "NoOp"}, {"x", xs}, {"y", noop}}, {{"label", "CMA"}, {"x", xs}, {"y", cma}}}},
-        {"hlines", {71.0, 1.3}}, {"vline", profile.mission.endurance_fraction.low}}});
+        {"hlines", {71.0, 1.3}},
+        {"vline", profile.mission.endurance_fraction.low}}});
 }
 
 void AddFlyability(const std::vector<RunRecord>& records, Item& item) {
@@ -266,12 +284,15 @@ Item ReproduceCampaignDissertation(const Context& context) {
   CampaignConfig profile = LoadProfile(context, "campaign-dissertation.yaml", calibration_runs, context.options.seed);
   const double file_low = profile.mission.endurance_fraction.low;
   const double high = profile.mission.endurance_fraction.high;
-  context.Log(fmt::format("campaign-dissertation: calibration, {} bisection steps of {} NoOp P flights (seed {})", steps,
-                          calibration_runs, context.options.seed));
+  context.Log(fmt::format("campaign-dissertation: calibration, {} bisection steps of {} NoOp P flights (seed {})",
+                          steps, calibration_runs, context.options.seed));
   const Calibration calibration = CalibrateLowEnd(context, profile, calibration_runs, steps);
   item.data["calibration"] = {{"parameter", "mission.endurance_fraction low end L, high end fixed"},
-                              {"high", high}, {"target", 0.71}, {"seed", context.options.seed},
-                              {"runs_per_step", calibration_runs}, {"steps", calibration.steps},
+                              {"high", high},
+                              {"target", 0.71},
+                              {"seed", context.options.seed},
+                              {"runs_per_step", calibration_runs},
+                              {"steps", calibration.steps},
                               {"result", calibration.result}};
   item.samples["calibration_runs_per_step"] = calibration_runs;
   item.samples["calibration_steps"] = steps;
@@ -280,7 +301,8 @@ Item ReproduceCampaignDissertation(const Context& context) {
       "calibrated L (this run) vs examples/campaign-dissertation.yaml", calibration.result, file_low, "",
       2.0 * resolution,
       fmt::format("the file holds the full run's result (7 steps of 300 flights, seed 1); two of this run's bisection "
-                  "intervals, (0.9 - 0.5) / 2^{} each", steps),
+                  "intervals, (0.9 - 0.5) / 2^{} each",
+                  steps),
       fmt::format("This run's calibration ({} steps of {} flights, seed {}) gives {:.4f}; the file holds the full "
                   "run's (7 x 300, seed 1), and a smaller or other-seed sample resolves L only to its own noise.",
                   steps, calibration_runs, context.options.seed, calibration.result),
@@ -289,23 +311,25 @@ Item ReproduceCampaignDissertation(const Context& context) {
   const std::int64_t runs = quick ? 150 : 465;
   profile.runs = runs;
   profile.seed = context.options.seed + 1;
-  context.Log(fmt::format("campaign-dissertation: {} runs x 2 policies, L = {:.4f} (seed {})", runs, file_low, profile.seed));
+  context.Log(
+      fmt::format("campaign-dissertation: {} runs x 2 policies, L = {:.4f} (seed {})", runs, file_low, profile.seed));
   const std::vector<RunRecord> records = Fly(profile, context);
   const std::vector<GroupStatistics> groups = campaign::Summarise(records, {"cma", "noop"});
   item.samples["runs"] = runs;
   item.samples["flights"] = records.size();
   const GroupStatistics& noop_p = Group(groups, "noop", "P");
-  item.quantities.push_back(CompareRate("NoOp failure rate, poor health (calibrated)", noop_p.failures, noop_p.runs, 0.71,
-                                        "the calibration target, on fresh flights (seed S + 1): the calibration's own "
-                                        "result with its interval",
-                                        fmt::format("On the profile's fresh flights NoOp fails {:.1f} %: the "
-                                                    "calibration's rate carries a binomial standard error of {:.1f} "
-                                                    "points ({} flights a step), and this sample's own is {:.1f}.",
-                                                    100.0 * noop_p.failure_rate.value,
-                                                    100.0 * std::sqrt(0.71 * 0.29 / calibration_runs),
-                                                    calibration_runs, 100.0 * noop_p.failure_rate.sem)));
-  AddShapeQuantities(item, groups, "A prediction: the CMA fails fewer poor-health flights than the dissertation's "
-                                   "1.3 % (decisions 21, 25, 28: grounding, the load forecast, substitutions).");
+  item.quantities.push_back(
+      CompareRate("NoOp failure rate, poor health (calibrated)", noop_p.failures, noop_p.runs, 0.71,
+                  "the calibration target, on fresh flights (seed S + 1): the calibration's own "
+                  "result with its interval",
+                  fmt::format("On the profile's fresh flights NoOp fails {:.1f} %: the "
+                              "calibration's rate carries a binomial standard error of {:.1f} "
+                              "points ({} flights a step), and this sample's own is {:.1f}.",
+                              100.0 * noop_p.failure_rate.value, 100.0 * std::sqrt(0.71 * 0.29 / calibration_runs),
+                              calibration_runs, 100.0 * noop_p.failure_rate.sem)));
+  AddShapeQuantities(item, groups,
+                     "A prediction: the CMA fails fewer poor-health flights than the dissertation's "
+                     "1.3 % (decisions 21, 25, 28: grounding, the load forecast, substitutions).");
   AddFlyability(records, item);
   // The headline is the prediction: the calibration's own check goes last.
   std::rotate(item.quantities.begin(), item.quantities.begin() + 1, item.quantities.end());

@@ -89,10 +89,10 @@ Item ReproduceCmaTables(const Context&) {
                                             "decision 1: the printed factors (some RM rows sum to 1.001) are "
                                             "composed, then each row normalised, as the dissertation says it did",
                                             "A composed row does not sum to one.", 3));
-  item.quantities.push_back(CompareAbsolute(
-      "P(JF | SF) under NoOp", MotorHealthMarginal(mdp, "N,SF,MM1,P,RM1", "NoOp", "JF"), 0.002809, "", 2e-6,
-      "Table 5.4 prints 0.002809; its row sums to 0.999999, so normalising moves it by 1e-6",
-      "The composed NoOp rows do not carry Table 5.4's factor."));
+  item.quantities.push_back(
+      CompareAbsolute("P(JF | SF) under NoOp", MotorHealthMarginal(mdp, "N,SF,MM1,P,RM1", "NoOp", "JF"), 0.002809, "",
+                      2e-6, "Table 5.4 prints 0.002809; its row sums to 0.999999, so normalising moves it by 1e-6",
+                      "The composed NoOp rows do not carry Table 5.4's factor."));
   item.quantities.push_back(CompareAbsolute(
       "P(JF | SF) under LandPract", MotorHealthMarginal(mdp, "N,SF,MM1,P,RM0", "LandPract", "JF"), 0.008583, "", 2e-6,
       "decision 2: the dissertation's complete tables use 0.008583 under the landing actions",
@@ -144,8 +144,9 @@ Item ReproduceCmaPolicy(const Context&) {
                                         "The solved policy differs from Fig. 5.13."));
   item.data["policy"] = QuadrantGrid(mdp, policy)["cells"];
   nlohmann::json grid = QuadrantGrid(mdp, policy);
-  item.figures.push_back({"cma-policy.png", "The solved CMA policy by quadrant (Fig. 5.9's view), γ 0.95, eqs. "
-                                            "5.28-5.29's weights",
+  item.figures.push_back({"cma-policy.png",
+                          "The solved CMA policy by quadrant (Fig. 5.9's view), γ 0.95, eqs. "
+                          "5.28-5.29's weights",
                           grid});
   item.notes.push_back("Value iteration, γ = 0.95 (decision 5), residual 1e-10, as `uascma policy solve --model cma`.");
   return item;
@@ -183,37 +184,47 @@ Item ReproduceSensitivity(const Context&) {
   const FiniteMdp high = decision::BuildCmaMdp(base.WithRenormalised("MM", 0.1));
   const Policy high_policy = decision::SolveValueIteration(high, {});
   int asap_quad2 = 0;
-  for (const std::string bh : {"G", "M"}) asap_quad2 += ActionAt(high, high_policy, "ELPRACT,SF,MM0," + bh + ",RM1") == "LandASAP";
-  item.quantities.push_back(CompareAbsolute(
-      "Fig. 5.11 (w_MM 0.1): LandASAP in Quad II, G and M", asap_quad2, 2, "of 2", 0.0,
-      "§5.3.2.5: 'LandASAP is also included in Quad II for Good and Medium battery health'",
-      "The larger w_MM does not add LandASAP to Quad II.", 3));
+  for (const std::string bh : {"G", "M"})
+    asap_quad2 += ActionAt(high, high_policy, "ELPRACT,SF,MM0," + bh + ",RM1") == "LandASAP";
+  item.quantities.push_back(
+      CompareAbsolute("Fig. 5.11 (w_MM 0.1): LandASAP in Quad II, G and M", asap_quad2, 2, "of 2", 0.0,
+                      "§5.3.2.5: 'LandASAP is also included in Quad II for Good and Medium battery health'",
+                      "The larger w_MM does not add LandASAP to Quad II.", 3));
   const FiniteMdp zero = decision::BuildCmaMdp(base.WithRenormalised("MM", 0.0));
   const Policy zero_policy = decision::SolveValueIteration(zero, {});
   int quad2_nominal = 0, quad1 = 0;
   for (const auto& mh : kMh) {
     for (const auto& bh : kBh) {
       quad2_nominal += ActionAt(zero, zero_policy, State("N", mh, kQuadrants[1].second, bh)) != "NoOp";
-      for (const auto& fs : kFs) quad1 += ActionAt(zero, zero_policy, State(fs, mh, kQuadrants[0].second, bh)) == "LandASAP";
+      for (const auto& fs : kFs)
+        quad1 += ActionAt(zero, zero_policy, State(fs, mh, kQuadrants[0].second, bh)) == "LandASAP";
     }
   }
-  item.quantities.push_back(CompareAbsolute("Fig. 5.12 (w_MM 0): landings in nominal Quad II", quad2_nominal, 0,
-                                            "states", 0.0, "§5.3.2.5: 'no consideration of emergency landing is made in Quad II'",
-                                            "w_MM = 0 still lands in Quad II.", 3));
-  item.quantities.push_back(CompareText("Fig. 5.12 (w_MM 0): LandASAP appears in Quad I", quad1 > 0 ? "yes" : "no", "yes",
-                                        "§5.3.2.5: 'LandASAP is recommended in Quad I'",
+  item.quantities.push_back(CompareAbsolute(
+      "Fig. 5.12 (w_MM 0): landings in nominal Quad II", quad2_nominal, 0, "states", 0.0,
+      "§5.3.2.5: 'no consideration of emergency landing is made in Quad II'", "w_MM = 0 still lands in Quad II.", 3));
+  item.quantities.push_back(CompareText("Fig. 5.12 (w_MM 0): LandASAP appears in Quad I", quad1 > 0 ? "yes" : "no",
+                                        "yes", "§5.3.2.5: 'LandASAP is recommended in Quad I'",
                                         "w_MM = 0 does not put LandASAP in Quad I."));
   item.data["w_mm"] = xs;
   item.data["quad2_landing_states"] = quad2_landings;
   item.data["quad1_landasap_states"] = quad1_asap;
-  item.figures.push_back({"sensitivity-weights.png", "Fig. 5.10: the weights renormalised as w_MM varies (eq. 5.22)",
-                          {{"kind", "lines"}, {"xlabel", "w_MM (before renormalising)"}, {"ylabel", "weight"},
-                           {"series", weights_series}, {"vline", base.MM}}});
+  item.figures.push_back({"sensitivity-weights.png",
+                          "Fig. 5.10: the weights renormalised as w_MM varies (eq. 5.22)",
+                          {{"kind", "lines"},
+                           {"xlabel", "w_MM (before renormalising)"},
+                           {"ylabel", "weight"},
+                           {"series", weights_series},
+                           {"vline", base.MM}}});
   item.figures.push_back(
-      {"sensitivity-policy.png", "Quadrant actions against w_MM (Figs. 5.11-5.12): landing states in Quad II, LandASAP in Quad I",
-       {{"kind", "lines"}, {"xlabel", "w_MM (before renormalising)"}, {"ylabel", "states (of 27)"},
-        {"series", {{{"label", "Quad II: LandPract/LandASAP"}, {"x", xs}, {"y", quad2_landings}},
-                    {{"label", "Quad I: LandASAP"}, {"x", xs}, {"y", quad1_asap}}}},
+      {"sensitivity-policy.png",
+       "Quadrant actions against w_MM (Figs. 5.11-5.12): landing states in Quad II, LandASAP in Quad I",
+       {{"kind", "lines"},
+        {"xlabel", "w_MM (before renormalising)"},
+        {"ylabel", "states (of 27)"},
+        {"series",
+         {{{"label", "Quad II: LandPract/LandASAP"}, {"x", xs}, {"y", quad2_landings}},
+          {{"label", "Quad I: LandASAP"}, {"x", xs}, {"y", quad1_asap}}}},
         {"vline", base.MM}}});
   return item;
 }
@@ -283,10 +294,11 @@ Item ReproduceScenario(const Context& context, const ScenarioExpectation& expect
   item.data["noop_sim_time_s"] = n.sim_time_s;
   item.data["cma_events"] = nlohmann::json::array();
   for (const auto& e : r.events) item.data["cma_events"].push_back({{"t", e.time_s}, {"what", e.what}});
-  item.figures.push_back({"timeline-" + expect.file.substr(0, expect.file.find('.')) + ".png",
-                          "Event timeline, ours (CMA) against the times the dissertation prints",
-                          {{"kind", "timeline"}, {"rows", {{{"label", "ours (CMA)"}, {"events", ours}},
-                                                           {{"label", "dissertation"}, {"events", theirs}}}}}});
+  item.figures.push_back(
+      {"timeline-" + expect.file.substr(0, expect.file.find('.')) + ".png",
+       "Event timeline, ours (CMA) against the times the dissertation prints",
+       {{"kind", "timeline"},
+        {"rows", {{{"label", "ours (CMA)"}, {"events", ours}}, {{"label", "dissertation"}, {"events", theirs}}}}}});
   item.notes.push_back("Flown as `uascma simulate examples/" + expect.file + " --policy cma|noop`.");
   return item;
 }
@@ -307,10 +319,9 @@ Item ReproduceScenarioTwo(const Context& context) {
 Item ReproduceBatteryMdpSize(const Context&) {
   Item item;
   item.source = "§4.3.2, Table 4.1, Fig. 4.4";
-  item.quantities.push_back(CompareAbsolute("battery MDP states", static_cast<double>(decision::BatteryStateLabels().size()),
-                                            289.0, "", 0.0,
-                                            "§4.3.2: |S| = 9 x 4 x 4 x 2 + 1 = 289, printed",
-                                            "The abstraction's state count differs.", 4));
+  item.quantities.push_back(
+      CompareAbsolute("battery MDP states", static_cast<double>(decision::BatteryStateLabels().size()), 289.0, "", 0.0,
+                      "§4.3.2: |S| = 9 x 4 x 4 x 2 + 1 = 289, printed", "The abstraction's state count differs.", 4));
   int distinct = 0;
   for (decision::StateIndex s = 0; s < decision::kBatteryNumStates; ++s) {
     distinct += decision::ParseBatteryState(decision::BatteryStateLabel(s), "reproduce") == s ? 1 : 0;

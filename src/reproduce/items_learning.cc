@@ -60,28 +60,33 @@ Item ReproduceQLearning(const Context& context) {
       "", 1.0,
       "the dissertation reads 'after 1000 episodes' off Fig. 5.14; within a factor of two (0-2,000) is the same "
       "reading of a plot",
-      fmt::format("The average settles at episode {}: our episodes end early (a random Terminate or landing at ε = 0.01 "
-                  "per epoch), and the dissertation prints neither its criterion nor its curve's values.",
-                  settled),
+      fmt::format(
+          "The average settles at episode {}: our episodes end early (a random Terminate or landing at ε = 0.01 "
+          "per epoch), and the dissertation prints neither its criterion nor its curve's values.",
+          settled),
       4));
   const int visited = result.table.states_visited();
   const int states = result.table.num_states();
-  item.quantities.push_back(CompareText(
-      "states visited below a fifth of the learning states", visited * 5 < states ? "yes" : "no", "yes",
-      "§5.3.3: 'only a few initial states of the MDP were explored' (a fifth: ours)",
-      fmt::format("{} of {} states were visited.", visited, states)));
+  item.quantities.push_back(CompareText("states visited below a fifth of the learning states",
+                                        visited * 5 < states ? "yes" : "no", "yes",
+                                        "§5.3.3: 'only a few initial states of the MDP were explored' (a fifth: ours)",
+                                        fmt::format("{} of {} states were visited.", visited, states)));
   nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
   const std::size_t stride = std::max<std::size_t>(1, result.curve.size() / 200);
   for (std::size_t i = 0; i < result.curve.size(); i += stride) {
     xs.push_back(result.curve[i].episode);
     ys.push_back(result.curve[i].mean_return);
   }
-  item.data = {{"settling_episode", settled}, {"states_visited", visited}, {"learning_states", states},
-               {"final_mean_return", result.curve.back().mean_return}, {"curve_episode", xs},
-               {"curve_mean_return", ys}};
-  item.figures.push_back({"q-learning.png", "Fig. 5.14: average sum of rewards over the episodes (α 0.8, γ 0.9, ε 0.01)",
-                          {{"kind", "lines"}, {"xlabel", "episode"}, {"ylabel", "average sum of rewards"},
-                           {"series", {{{"label", "ours"}, {"x", xs}, {"y", ys}}}}, {"vline", 1000}}});
+  item.data = {{"settling_episode", settled}, {"states_visited", visited},
+               {"learning_states", states},   {"final_mean_return", result.curve.back().mean_return},
+               {"curve_episode", xs},         {"curve_mean_return", ys}};
+  item.figures.push_back({"q-learning.png",
+                          "Fig. 5.14: average sum of rewards over the episodes (α 0.8, γ 0.9, ε 0.01)",
+                          {{"kind", "lines"},
+                           {"xlabel", "episode"},
+                           {"ylabel", "average sum of rewards"},
+                           {"series", {{{"label", "ours"}, {"x", xs}, {"y", ys}}}},
+                           {"vline", 1000}}});
   return item;
 }
 
@@ -97,7 +102,8 @@ std::string Outcomes(const std::vector<campaign::CaseScenario>& scenarios, const
   return out;
 }
 
-const campaign::CaseScenario* Find(const std::vector<campaign::CaseScenario>& scenarios, const std::string& controller) {
+const campaign::CaseScenario* Find(const std::vector<campaign::CaseScenario>& scenarios,
+                                   const std::string& controller) {
   for (const auto& s : scenarios) {
     if (s.controller == controller) return &s;
   }
@@ -116,13 +122,14 @@ void AddDecisionTree(Item& item, const decision::BatteryPolicySet& set, double f
     cells.push_back({decision::BatteryStateLabel(start),
                      decision::BatteryActionNames()[static_cast<std::size_t>(policy.action[start])]});
   }
-  item.quantities.push_back(CompareAbsolute("policies reached through the tree (B1, B2, T)", leaves, 18.0, "leaves", 0.0,
-                                            "Fig. 4.5: one π* per B1 health x B2 health x temperature",
+  item.quantities.push_back(CompareAbsolute("policies reached through the tree (B1, B2, T)", leaves, 18.0, "leaves",
+                                            0.0, "Fig. 4.5: one π* per B1 health x B2 health x temperature",
                                             "The tree does not select one policy per leaf.", 3));
   item.data["takeoff"] = cells;
-  item.figures.push_back({"battery-tree.png",
-                          "Fig. 4.5's leaves: π*'s action at the state each context's case-study flight takes off in",
-                          {{"kind", "grid"}, {"rows", rows}, {"cols", {"take-off state", "π* action"}}, {"cells", cells}}});
+  item.figures.push_back(
+      {"battery-tree.png",
+       "Fig. 4.5's leaves: π*'s action at the state each context's case-study flight takes off in",
+       {{"kind", "grid"}, {"rows", rows}, {"cols", {"take-off state", "π* action"}}, {"cells", cells}}});
 }
 
 }  // namespace
@@ -139,7 +146,8 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   context.Log(fmt::format("battery: learning from {} flights (seed {})", learn.runs, learn.seed));
   const decision::BatteryPolicySet pistar = decision::SolveBatteryPolicies(learning::LearnBatteryModel(learn));
   item.samples = {{"learning_flights", learn.runs}};
-  const double flight_time_s = campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(models::PackAction::kUseBoth);
+  const double flight_time_s =
+      campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(models::PackAction::kUseBoth);
   AddDecisionTree(item, pistar, flight_time_s);
   campaign::CaseStudyOptions options;
   options.pistar = &pistar;
@@ -147,10 +155,9 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   const auto case1 = campaign::RunCaseStudy(1, options);
   int completed = 0;
   for (const auto& s : case1) completed += s.result.outcome == sim::Outcome::kCompleted ? 1 : 0;
-  item.quantities.push_back(CompareAbsolute("case 1 (one pack's EOD, UseBoth): completed", completed,
-                                            static_cast<double>(case1.size()), "flights", 0.0,
-                                            "§4.3.3: 'all mission simulations were successful'",
-                                            "Some case-1 flights fail.", 3));
+  item.quantities.push_back(CompareAbsolute(
+      "case 1 (one pack's EOD, UseBoth): completed", completed, static_cast<double>(case1.size()), "flights", 0.0,
+      "§4.3.3: 'all mission simulations were successful'", "Some case-1 flights fail.", 3));
   const auto case3 = campaign::RunCaseStudy(3, options);
   item.quantities.push_back(CompareText(
       "case 3 (UseBoth) outcomes", Outcomes(case3, "UseBoth"), "(F1,F2) completed, (F1,F3) failed, (F3,F3) failed",
@@ -162,8 +169,9 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   const campaign::CaseScenario* pi = Find(case4, "pi*");
   const bool pi_completed = pi != nullptr && pi->result.outcome == sim::Outcome::kCompleted;
   item.quantities.push_back(CompareText(
-      "case 4 (F2,F1), π*: outcome", pi_completed ? "completed" : fmt::format("failed at {:.0f} s", pi->result.end_time_s),
-      "completed", "Fig. 4.11: 'The UAS is still able to complete the mission'",
+      "case 4 (F2,F1), π*: outcome",
+      pi_completed ? "completed" : fmt::format("failed at {:.0f} s", pi->result.end_time_s), "completed",
+      "Fig. 4.11: 'The UAS is still able to complete the mission'",
       fmt::format("A result, not a setting (decision 26): our π* switches {} times and fails; at γ = 0.95 per 1 s "
                   "epoch a failure 300 s ahead weighs 0.95^300 ≈ 2e-7 against the rewards' preference for one pack "
                   "(README 'Diagnosis of π*').",
@@ -171,9 +179,10 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   const std::string first = pi != nullptr && !pi->result.switches.empty()
                                 ? std::string(models::PackActionName(pi->result.switches.front().second))
                                 : "none";
-  item.quantities.push_back(CompareText("case 4, π*: the pack it switches to first", first, "UseBatt2",
-                                        "Fig. 4.11: 'UseBoth → UseBatt2 ... and not to UseBatt1 due to its poor health'",
-                                        "π* prefers another pack first."));
+  item.quantities.push_back(
+      CompareText("case 4, π*: the pack it switches to first", first, "UseBatt2",
+                  "Fig. 4.11: 'UseBoth → UseBatt2 ... and not to UseBatt1 due to its poor health'",
+                  "π* prefers another pack first."));
   const double first_s = pi != nullptr && !pi->result.switches.empty() ? pi->result.switches.front().first : NAN;
   item.quantities.push_back(CompareAbsolute(
       "case 4, π*: time of that switch", first_s, 20.0, "s", 10.0, "Fig. 4.11: 'at ~20sec', read off a plot: ±10 s",
@@ -184,15 +193,19 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   nlohmann::json cases = nlohmann::json::array();
   for (const auto* list : {&case1, &case3, &case4}) {
     for (const auto& s : *list) {
-      cases.push_back({{"scenario", s.name}, {"controller", s.controller}, {"outcome", sim::OutcomeName(s.result.outcome)},
-                       {"end_time_s", s.result.end_time_s}, {"switches", s.result.switches.size()}});
+      cases.push_back({{"scenario", s.name},
+                       {"controller", s.controller},
+                       {"outcome", sim::OutcomeName(s.result.outcome)},
+                       {"end_time_s", s.result.end_time_s},
+                       {"switches", s.result.switches.size()}});
     }
   }
   item.data["flight_time_s"] = flight_time_s;
   item.data["case_flights"] = cases;
-  item.notes.push_back(fmt::format("π* solved from {} learning flights (seed {}); `uascma battery learn`, `battery "
-                                   "solve`, `battery case-study 1|3|4` compute the same.",
-                                   learn.runs, learn.seed));
+  item.notes.push_back(
+      fmt::format("π* solved from {} learning flights (seed {}); `uascma battery learn`, `battery "
+                  "solve`, `battery case-study 1|3|4` compute the same.",
+                  learn.runs, learn.seed));
   return item;
 }
 

@@ -30,8 +30,8 @@ Item ReproduceTable22(const Context&) {
       // §2.5.2: "less than 10%, except at lower throttle inputs"; §2.6.1: "as high as 20% for low throttle".
       const double tolerance = low ? 0.20 : 0.10;
       const std::string name =
-          fmt::format("{} {:g} µs, {:g} W", std::string(models::PropellerConfigurationName(configuration)), row.throttle_us,
-                      row.total_power);
+          fmt::format("{} {:g} µs, {:g} W", std::string(models::PropellerConfigurationName(configuration)),
+                      row.throttle_us, row.total_power);
       const double error = (estimate.total_thrust - row.total_thrust) / row.total_thrust;
       item.quantities.push_back(CompareRelative(
           name, estimate.total_thrust, row.total_thrust, "N", tolerance,
@@ -43,9 +43,11 @@ Item ReproduceTable22(const Context&) {
       bars.push_back({{"label", name}, {"ours", estimate.total_thrust}, {"theirs", row.total_thrust}});
     }
   }
-  item.notes.push_back("Per motor P/6 into eq. 2.12 (decision 12), eq. 2.1 with Table 2.1's C_T, times six; the "
-                       "dissertation's 'Est Thrust' column is withheld, so ours is compared with the measured column.");
-  item.figures.push_back({"table-2.2.png", "Table 2.2: measured static thrust (dissertation) against eqs. 2.12 + 2.1 (ours)",
+  item.notes.push_back(
+      "Per motor P/6 into eq. 2.12 (decision 12), eq. 2.1 with Table 2.1's C_T, times six; the "
+      "dissertation's 'Est Thrust' column is withheld, so ours is compared with the measured column.");
+  item.figures.push_back({"table-2.2.png",
+                          "Table 2.2: measured static thrust (dissertation) against eqs. 2.12 + 2.1 (ours)",
                           {{"kind", "bars"}, {"ylabel", "total static thrust (N)"}, {"bars", bars}}});
   return item;
 }
@@ -75,14 +77,15 @@ Item ReproduceBatteryEod(const Context&) {
   item.source = "§3.3.1, Tables 3.1-3.2; §3.3.2.1";
   // Table 3.1, as printed: R0 (mΩ), R1 (mΩ), C1 (kF), Q (Ah), γ, M (1e-3), M0 (1e-3), η_charge, η_discharge.
   constexpr std::array<std::array<double, 9>, 3> kTable31 = {{{6, 9.9, 51.5, 3.0271, 300, 17.8, 5.1, 0.973, 1},
-                                                               {5.5, 8.8, 52.5, 3.0271, 200, 31.2, 5.3, 0.973, 1},
-                                                               {5.5, 8.7, 60.5, 3.0271, 300, 18.4, 5.2, 0.973, 1}}};
+                                                              {5.5, 8.8, 52.5, 3.0271, 200, 31.2, 5.3, 0.973, 1},
+                                                              {5.5, 8.7, 60.5, 3.0271, 300, 18.4, 5.2, 0.973, 1}}};
   int equal = 0;
   for (int c = 0; c < 3; ++c) {
     const models::CellParams p = models::Table31Cell(c + 1);
-    const std::array<double, 9> ours = {p.r0_ohm * 1e3,        p.rc[0].resistance_ohm * 1e3,   p.rc[0].capacitance_f * 1e-3,
-                                        p.capacity_ah,         p.hysteresis_gamma,    p.hysteresis_m_v * 1e3,
-                                        p.hysteresis_m0_v * 1e3, p.eta_charge,        p.eta_discharge};
+    const std::array<double, 9> ours = {
+        p.r0_ohm * 1e3,     p.rc[0].resistance_ohm * 1e3, p.rc[0].capacitance_f * 1e-3, p.capacity_ah,
+        p.hysteresis_gamma, p.hysteresis_m_v * 1e3,       p.hysteresis_m0_v * 1e3,      p.eta_charge,
+        p.eta_discharge};
     for (int k = 0; k < 9; ++k) equal += std::abs(ours[k] - kTable31[c][k]) <= 1e-9 * std::abs(kTable31[c][k]) ? 1 : 0;
   }
   item.quantities.push_back(CompareAbsolute("Table 3.1 parameters equal to the printed ones", equal, 27, "of 27", 0.0,
@@ -91,11 +94,12 @@ Item ReproduceBatteryEod(const Context&) {
   const models::CellParams nominal = models::Table31Cell(1);
   const models::CellParams faded = models::ApplyCellConditions(nominal, {true, true}, 40.0);
   item.quantities.push_back(CompareAbsolute("capacity fade Q ratio", faded.capacity_ah / nominal.capacity_ah, 0.8, "",
-                                            1e-12, "Table 3.2 prints the factor", "Table 3.2's factor is not applied."));
-  item.quantities.push_back(CompareAbsolute(
-      "power fade x cold R0 ratio (40 °F)", faded.r0_ohm / nominal.r0_ohm, 3.0, "", 1e-12,
-      "Table 3.2: 2 x R0, and 1.5 x R0 below 50 °F; both multiply (models/battery_cell.h)",
-      "Table 3.2's factors are not applied."));
+                                            1e-12, "Table 3.2 prints the factor",
+                                            "Table 3.2's factor is not applied."));
+  item.quantities.push_back(
+      CompareAbsolute("power fade x cold R0 ratio (40 °F)", faded.r0_ohm / nominal.r0_ohm, 3.0, "", 1e-12,
+                      "Table 3.2: 2 x R0, and 1.5 x R0 below 50 °F; both multiply (models/battery_cell.h)",
+                      "Table 3.2's factors are not applied."));
   const double small_current = 2.0;  // A: 1 A per pack, R0 losses ~0.1 % of the OCV
   const double healthy = PackEod(EveryCell({}), models::kRoomTemperatureDegf, small_current);
   const double capacity = PackEod(EveryCell({true, false}), models::kRoomTemperatureDegf, small_current);
@@ -113,17 +117,21 @@ Item ReproduceBatteryEod(const Context&) {
         xs.push_back(current);
         ys.push_back(PackEod(EveryCell(health), temp, current) / 60.0);
       }
-      series.push_back({{"label", fmt::format("{}, {:g} °F", label, temp)}, {"x", xs}, {"y", ys},
+      series.push_back({{"label", fmt::format("{}, {:g} °F", label, temp)},
+                        {"x", xs},
+                        {"y", ys},
                         {"dashed", temp < models::kColdThresholdDegf}});
     }
   }
   item.data["eod_healthy_2a_s"] = healthy;
   item.data["eod_capacity_fade_2a_s"] = capacity;
-  item.notes.push_back("Every cell of both packs at 4.1 V rest, UseBoth, each cell's ECS model propagated at the "
-                       "constant current to 3.3 V (decision 14), the pack EOD the minimum over its cells.");
-  item.figures.push_back({"battery-eod.png", "Pack EOD against a constant total current, by Table 3.2 condition",
-                          {{"kind", "lines"}, {"xlabel", "total current (A)"}, {"ylabel", "EOD (min)"},
-                           {"series", series}}});
+  item.notes.push_back(
+      "Every cell of both packs at 4.1 V rest, UseBoth, each cell's ECS model propagated at the "
+      "constant current to 3.3 V (decision 14), the pack EOD the minimum over its cells.");
+  item.figures.push_back(
+      {"battery-eod.png",
+       "Pack EOD against a constant total current, by Table 3.2 condition",
+       {{"kind", "lines"}, {"xlabel", "total current (A)"}, {"ylabel", "EOD (min)"}, {"series", series}}});
   return item;
 }
 
@@ -158,14 +166,14 @@ Item ReproduceMotorRul(const Context& context) {
       "RUL of {} particles from 0.01 to 1 mm² (C_D 0.2, n 1): mean {:.0f} s, 5-95 % [{:.0f}, {:.0f}] s; the "
       "dissertation prints no RUL value (Fig. 3.7 only).",
       params.particles, rul.mean_s, rul.p05_s, rul.p95_s));
-  item.figures.push_back(
-      {"motor-rul.png", "Motor RUL quantiles from the particles (Fig. 3.7's propagation)",
-       {{"kind", "bars"},
-        {"ylabel", "RUL (s)"},
-        {"bars", nlohmann::json::array({{{"label", "p05"}, {"ours", rul.p05_s}},
-                                        {{"label", "p50"}, {"ours", rul.p50_s}},
-                                        {{"label", "mean"}, {"ours", rul.mean_s}},
-                                        {{"label", "p95"}, {"ours", rul.p95_s}}})}}});
+  item.figures.push_back({"motor-rul.png",
+                          "Motor RUL quantiles from the particles (Fig. 3.7's propagation)",
+                          {{"kind", "bars"},
+                           {"ylabel", "RUL (s)"},
+                           {"bars", nlohmann::json::array({{{"label", "p05"}, {"ours", rul.p05_s}},
+                                                           {{"label", "p50"}, {"ours", rul.p50_s}},
+                                                           {{"label", "mean"}, {"ours", rul.mean_s}},
+                                                           {{"label", "p95"}, {"ours", rul.p95_s}}})}}});
   return item;
 }
 

@@ -23,8 +23,8 @@ std::string WithUnit(double value, const std::string& unit, int digits) {
   return unit.empty() ? Number(value, digits) : Number(value, digits) + " " + unit;
 }
 
-Quantity Numeric(std::string name, double ours, double theirs, std::string unit, std::string tolerance,
-                 std::string why, bool matches, std::string reason, int digits) {
+Quantity Numeric(std::string name, double ours, double theirs, std::string unit, std::string tolerance, std::string why,
+                 bool matches, std::string reason, int digits) {
   Quantity q;
   q.name = std::move(name);
   q.ours = ours;
@@ -43,11 +43,20 @@ std::string HtmlEscape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -81,10 +90,14 @@ const Quantity* Headline(const Item& item) {
 }
 
 nlohmann::json QuantityJson(const Quantity& q) {
-  nlohmann::json j = {{"name", q.name},           {"ours_text", q.ours_text},
-                      {"theirs_text", q.theirs_text}, {"unit", q.unit},
-                      {"tolerance", q.tolerance}, {"tolerance_why", q.tolerance_why},
-                      {"verdict", VerdictName(q.verdict)}, {"reason", q.reason}};
+  nlohmann::json j = {{"name", q.name},
+                      {"ours_text", q.ours_text},
+                      {"theirs_text", q.theirs_text},
+                      {"unit", q.unit},
+                      {"tolerance", q.tolerance},
+                      {"tolerance_why", q.tolerance_why},
+                      {"verdict", VerdictName(q.verdict)},
+                      {"reason", q.reason}};
   j["ours"] = q.ours ? nlohmann::json(*q.ours) : nlohmann::json(nullptr);
   j["theirs"] = q.theirs ? nlohmann::json(*q.theirs) : nlohmann::json(nullptr);
   return j;
@@ -106,8 +119,8 @@ Verdict Item::verdict() const {
 Quantity CompareAbsolute(std::string name, double ours, double theirs, std::string unit, double tolerance,
                          std::string why, std::string reason_if_differs, int digits) {
   const bool matches = std::isfinite(ours) && std::abs(ours - theirs) <= tolerance;
-  return Numeric(std::move(name), ours, theirs, unit, fmt::format("±{}", WithUnit(tolerance, unit, 3)),
-                 std::move(why), matches, std::move(reason_if_differs), digits);
+  return Numeric(std::move(name), ours, theirs, unit, fmt::format("±{}", WithUnit(tolerance, unit, 3)), std::move(why),
+                 matches, std::move(reason_if_differs), digits);
 }
 
 Quantity CompareRelative(std::string name, double ours, double theirs, std::string unit, double tolerance,
@@ -226,12 +239,8 @@ nlohmann::json ResultsJson(const Report& report) {
   }
   int differs = 0;
   for (const Item& item : report.items) differs += item.verdict() == Verdict::kDiffers ? 1 : 0;
-  return {{"tool", "uascma reproduce"},
-          {"seed", report.seed},
-          {"quick", report.quick},
-          {"items_total", report.items.size()},
-          {"items_differ", differs},
-          {"items", items}};
+  return {{"tool", "uascma reproduce"},         {"seed", report.seed},     {"quick", report.quick},
+          {"items_total", report.items.size()}, {"items_differ", differs}, {"items", items}};
 }
 
 nlohmann::json TimingsJson(const Report& report) {
@@ -261,8 +270,7 @@ static std::string MarkdownCell(const std::string& text) {
 }
 
 std::string SummaryMarkdown(const Report& report) {
-  std::string out = fmt::format(
-      "| item | source | ours | dissertation | verdict |\n|---|---|---|---|---|\n");
+  std::string out = fmt::format("| item | source | ours | dissertation | verdict |\n|---|---|---|---|---|\n");
   for (const Item& item : report.items) {
     const Quantity* q = Headline(item);
     out += fmt::format("| {} | {} | {} | {} | {}{} |\n", item.id, MarkdownCell(item.source),
@@ -294,9 +302,9 @@ std::string IndexHtml(const Report& report, const std::filesystem::path& dir) {
   for (const Item& item : report.items) {
     const Quantity* q = Headline(item);
     html << "<tr><td><a href=\"#item-" << item.id << "\">" << HtmlEscape(item.id) << "</a></td><td>"
-         << HtmlEscape(item.source) << "</td><td>" << HtmlEscape(q ? q->name + ": " + q->ours_text : "-")
-         << "</td><td>" << HtmlEscape(q ? q->theirs_text : "-") << "</td><td class=\"" << VerdictName(item.verdict())
-         << "\">" << VerdictName(item.verdict()) << "</td></tr>\n";
+         << HtmlEscape(item.source) << "</td><td>" << HtmlEscape(q ? q->name + ": " + q->ours_text : "-") << "</td><td>"
+         << HtmlEscape(q ? q->theirs_text : "-") << "</td><td class=\"" << VerdictName(item.verdict()) << "\">"
+         << VerdictName(item.verdict()) << "</td></tr>\n";
   }
   html << "</table>\n";
   for (const Item& item : report.items) {

@@ -130,8 +130,10 @@ SharingCounts FlyFollowing(const FlightModel& model, std::span<FlightState> stat
       if (lead != n && !followers.empty()) {
         StepFollowing(model, states[lead], followers, std::span<bool>(stepped, followers.size()));
         for (std::size_t j = 0; j < followers.size(); ++j) {
-          if (stepped[j]) ++counts.shared_steps;
-          else alone[follower_index[j]] = true;  // its pack caps a rotor differently: on its own from this step
+          if (stepped[j])
+            ++counts.shared_steps;
+          else
+            alone[follower_index[j]] = true;  // its pack caps a rotor differently: on its own from this step
         }
       }
       // Every flight not stepped yet (the lead of a group of one, those on their own) takes its step alone.

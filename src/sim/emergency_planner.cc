@@ -14,11 +14,12 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
   path.limits = scenario.limits;
   // The hulls built with the map (Scenario::map_obstacles: at the default margin, as `path` has it) or, for a
   // scenario made without them, now.
-  auto obstacles = scenario.map_obstacles ? scenario.map_obstacles
-                                          : planning::LandingPathPlanner::InflateBuildings(*scenario.map, path.lateral_margin);
+  auto obstacles = scenario.map_obstacles
+                       ? scenario.map_obstacles
+                       : planning::LandingPathPlanner::InflateBuildings(*scenario.map, path.lateral_margin);
   auto planner = std::make_shared<const planning::LandingPathPlanner>(*scenario.map, path, std::move(obstacles));
-  auto practical = std::make_shared<const planning::LandPractDatabase>(
-      planning::LandPractDatabase::Build(*planner, nominal_plan));
+  auto practical =
+      std::make_shared<const planning::LandPractDatabase>(planning::LandPractDatabase::Build(*planner, nominal_plan));
   planning::LandAsapParams asap;
   asap.footprint.mass = scenario.body.mass;
   asap.footprint.drag_slope = planning::CruiseDragSlope(drag, scenario.limits.cruise_speed, scenario.body.mass);

@@ -100,8 +100,9 @@ PlanStart StartFromHere(const FlightModel& model, const FlightState& state) {
 bool ReplanCapped(const FlightModel& model, FlightState& state, planning::FlightPlan& out) {
   const PlanStart start = StartFromHere(model, state);
   const Eigen::Vector2d wind_NE = model.wind().MeanWind_W().head<2>();
-  planning::FlightPlan rest = ReplanAtCappedSpeed(state.plan(model), state.time_s - state.guidance.plan_start_s, start.from_W(),
-                                                  model.scenario().limits, wind_NE, state.guidance.speed_cap_mps);
+  planning::FlightPlan rest =
+      ReplanAtCappedSpeed(state.plan(model), state.time_s - state.guidance.plan_start_s, start.from_W(),
+                          model.scenario().limits, wind_NE, state.guidance.speed_cap_mps);
   if (rest.empty()) return false;
   out = start.Then(std::move(rest));
   return true;
@@ -120,15 +121,16 @@ void CapSpeedAfterIsolation(const FlightModel& model, FlightState& state, Flight
   const double original_left = state.plan(model).TimeRemaining(state.time_s - state.guidance.plan_start_s);
   planning::FlightPlan capped;
   if (!ReplanCapped(model, state, capped)) return;
-  AddEvent(log, state.time_s, fmt::format("speed capped at {:.1f} m/s airspeed (four rotors, §4.4.2): {:.0f} s left",
-                                          state.guidance.speed_cap_mps, capped.duration()));
+  AddEvent(log, state.time_s,
+           fmt::format("speed capped at {:.1f} m/s airspeed (four rotors, §4.4.2): {:.0f} s left",
+                       state.guidance.speed_cap_mps, capped.duration()));
   if (original) {
     state.guidance.replanned_nominal = std::move(capped);
     state.guidance.nominal_replanned = true;
     state.guidance.original_time_offset_s = original_elapsed;
     state.guidance.original_time_scale = state.guidance.replanned_nominal.duration() > 0.0
-                                    ? original_left / state.guidance.replanned_nominal.duration()
-                                    : 1.0;
+                                             ? original_left / state.guidance.replanned_nominal.duration()
+                                             : 1.0;
   } else {
     state.guidance.emergency_plan = std::move(capped);
   }
@@ -139,9 +141,9 @@ void CapSpeedAfterIsolation(const FlightModel& model, FlightState& state, Flight
 double EodCurrent(const FlightModel& model, FlightState& state) {
   if (model.options().eod_load == EodLoad::kPresent) return state.power.load_current_a;
   EnsureLoadProfile(model, state);
-  const double forecast =
-      ForecastCurrent(state.decision.load_forecast, state.time_s - state.guidance.plan_start_s, state.power.energy_wh,
-                      1.0 / model.options().decision_rate_hz, state.power.bus_voltage_v, model.options().hotel_current_a);
+  const double forecast = ForecastCurrent(state.decision.load_forecast, state.time_s - state.guidance.plan_start_s,
+                                          state.power.energy_wh, 1.0 / model.options().decision_rate_hz,
+                                          state.power.bus_voltage_v, model.options().hotel_current_a);
   return forecast > 0.0 ? forecast : state.power.load_current_a;  // under a second of plan left: the present load
 }
 
@@ -159,8 +161,8 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   inputs.time_s = t;
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.guidance.plan_start_s);
   inputs.eod_s = state.decision.eod.eod_s;
-  inputs.reach_margin =
-      prognostics::CalcReachMargin(state.decision.eod, inputs.flight_time_remaining_s + model.options().safety_margin_s);
+  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod,
+                                                     inputs.flight_time_remaining_s + model.options().safety_margin_s);
   decision::MotorHealth motor_health = decision::MotorHealth::kNF;
   if (state.faults.allocation_failure != 0 || state.faults.imm.isolated_rotor() != 0) {
     motor_health = decision::MotorHealth::kJF;
@@ -172,7 +174,8 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
     motor_health = decision::MotorHealth::kSF;
     if (!state.decision.rul_at_onset_s) {
       const prognostics::MotorRulModel& rul = model.rul_model();
-      state.decision.rul_at_onset_s = rul.PredictRulFromArea(rul.params().initial_area_mm2, state.vehicle.prognosis_random).mean_s;
+      state.decision.rul_at_onset_s =
+          rul.PredictRulFromArea(rul.params().initial_area_mm2, state.vehicle.prognosis_random).mean_s;
     }
     inputs.rul_s = std::max(*state.decision.rul_at_onset_s - (t - *state.faults.spall_onset_s), 0.0);
   }
@@ -220,9 +223,9 @@ bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction ac
       start.brake ? Eigen::Vector3d(0.0, 0.0, state.vehicle.body.v_WB_W.z()) : state.vehicle.body.v_WB_W;
   const double original_elapsed =
       state.guidance.on_emergency_plan ? model.nominal_plan().duration() : state.original_plan_elapsed_s();
-  EmergencyPlan emergency =
-      emergency_planner({action, t, start.from_W(), plan_velocity_W, EulerFromRotation(state.vehicle.body.q_WB.toRotationMatrix()).z(),
-                         state.faults.allocation_failure, state.decision.eod.eod_s, original_elapsed});
+  EmergencyPlan emergency = emergency_planner(
+      {action, t, start.from_W(), plan_velocity_W, EulerFromRotation(state.vehicle.body.q_WB.toRotationMatrix()).z(),
+       state.faults.allocation_failure, state.decision.eod.eod_s, original_elapsed});
   if (!emergency.ok()) {
     *why = emergency.message.empty() ? planning::LandingStatusName(emergency.status) : emergency.message;
     return false;
@@ -236,8 +239,9 @@ bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction ac
   StartPlan(state);
   state.decision.flight_status = decision::FlightStatusAfter(action, state.decision.flight_status);
   AddAction(state, log, action);
-  AddEvent(log, t, fmt::format("{}: emergency plan to {} ({:.0f} s, RM {:.2f})", decision::CmaActionName(action),
-                               emergency.site, state.guidance.emergency_plan.duration(), emergency.reach_margin));
+  AddEvent(log, t,
+           fmt::format("{}: emergency plan to {} ({:.0f} s, RM {:.2f})", decision::CmaActionName(action),
+                       emergency.site, state.guidance.emergency_plan.duration(), emergency.reach_margin));
   // On four rotors the emergency plan too keeps to what they can hold (§4.4.2).
   planning::FlightPlan capped;
   if (std::isfinite(state.guidance.speed_cap_mps) && ReplanCapped(model, state, capped)) {
@@ -251,11 +255,13 @@ bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction ac
 void RecordSubstitution(FlightState& state, FlightLog* log, CmaAction chosen, CmaAction taken, const std::string& why) {
   ++state.decision.substitution_epochs;
   const std::string pair = fmt::format("{}->{}", decision::CmaActionName(chosen), decision::CmaActionName(taken));
-  if (std::find(state.decision.substitutions.begin(), state.decision.substitutions.end(), pair) == state.decision.substitutions.end()) {
+  if (std::find(state.decision.substitutions.begin(), state.decision.substitutions.end(), pair) ==
+      state.decision.substitutions.end()) {
     state.decision.substitutions.push_back(pair);
   }
-  AddEvent(log, state.time_s, fmt::format("{} cannot be carried out ({}): {} instead (the next-highest Q)",
-                                          decision::CmaActionName(chosen), why, decision::CmaActionName(taken)));
+  AddEvent(log, state.time_s,
+           fmt::format("{} cannot be carried out ({}): {} instead (the next-highest Q)",
+                       decision::CmaActionName(chosen), why, decision::CmaActionName(taken)));
 }
 
 }  // namespace
@@ -274,10 +280,11 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
   auto terminate = [&](CmaAction chosen) {
     AddAction(state, log, CmaAction::kTerminate);
     state.outcome = Outcome::kTerminated;
-    state.reason = chosen == CmaAction::kTerminate
-                       ? fmt::format("Terminate in state {}", decision::CmaStateLabel(state.decision.inputs.state))
-                       : fmt::format("Terminate in state {} ({} could not be carried out)",
-                                     decision::CmaStateLabel(state.decision.inputs.state), decision::CmaActionName(chosen));
+    state.reason =
+        chosen == CmaAction::kTerminate
+            ? fmt::format("Terminate in state {}", decision::CmaStateLabel(state.decision.inputs.state))
+            : fmt::format("Terminate in state {} ({} could not be carried out)",
+                          decision::CmaStateLabel(state.decision.inputs.state), decision::CmaActionName(chosen));
     return CmaAction::kTerminate;
   };
   if (action == CmaAction::kTerminate) return terminate(action);
@@ -294,7 +301,8 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
       RecordSubstitution(state, log, action, next, why);
       return terminate(action);
     }
-    if (decision::EffectiveCmaAction(next, state.decision.flight_status) == CmaAction::kNoOp) {  // NoOp, or what executes
+    if (decision::EffectiveCmaAction(next, state.decision.flight_status) ==
+        CmaAction::kNoOp) {  // NoOp, or what executes
       RecordSubstitution(state, log, action, next, why);
       return next;
     }
@@ -310,7 +318,9 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
   return CmaAction::kNoOp;
 }
 
-void SwitchPacks(FlightState& state, models::PackAction action) { state.power.pack.branch_on = models::SwitchesFor(action); }
+void SwitchPacks(FlightState& state, models::PackAction action) {
+  state.power.pack.branch_on = models::SwitchesFor(action);
+}
 
 void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPolicy& policy, FlightLog* log) {
   const models::PackAction action = policy.Decide(model, state);
@@ -323,7 +333,6 @@ void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPo
   }
   SwitchPacks(state, action);
 }
-
 
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
                                  FlightLog* log) {

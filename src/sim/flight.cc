@@ -55,9 +55,9 @@ struct StepSignals {
   gnc::Wrench command;
   models::BodyWrench achieved;
   models::RotorThrusts thrust;
-  models::RotorThrusts allocated;        // the allocation's rotor thrusts before the bus voltage's cap
-  double thrust_cap = 0.0;               // N per rotor at this step's bus voltage
-  std::array<double, 6> rotor_power{};   // W, electrical, per rotor
+  models::RotorThrusts allocated;       // the allocation's rotor thrusts before the bus voltage's cap
+  double thrust_cap = 0.0;              // N per rotor at this step's bus voltage
+  std::array<double, 6> rotor_power{};  // W, electrical, per rotor
   std::array<double, 6> rotor_current{};
   Eigen::Vector3d wind_W = Eigen::Vector3d::Zero();
   models::BodyInputs body_inputs;
@@ -148,7 +148,8 @@ void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s
   }
   power.pack_current_a = motors_current + model.options().hotel_current_a;
   power.load_current_a += model.load_filter_gain() * (power.pack_current_a - power.load_current_a);
-  const models::PackStepResult pack_step = model.pack().StepWithOutputs(power.pack, power.pack_current_a, model.pack_step());
+  const models::PackStepResult pack_step =
+      model.pack().StepWithOutputs(power.pack, power.pack_current_a, model.pack_step());
   power.pack = pack_step.next;
   s.pack_outputs = pack_step.outputs;
   power.bus_voltage_v = pack_step.outputs.split.bus_voltage_v;
@@ -163,7 +164,8 @@ void StepImm(const FlightModel& model, FlightState& state, const models::RigidBo
   const double dt = model.dt();
   const gnc::ImmParams& imm = model.scenario().imm;
   gnc::ImmMeasurement measurement;
-  const Eigen::Vector3d specific_force_W = (state.vehicle.body.v_WB_W - previous.v_WB_W) / dt - Eigen::Vector3d(0, 0, kGravity);
+  const Eigen::Vector3d specific_force_W =
+      (state.vehicle.body.v_WB_W - previous.v_WB_W) / dt - Eigen::Vector3d(0, 0, kGravity);
   measurement.gyro_B = state.vehicle.body.w_WB_B;
   measurement.specific_force_z_B = (s.R_WB.transpose() * specific_force_W).z();
   if (model.options().sensor_noise) {
@@ -176,8 +178,9 @@ void StepImm(const FlightModel& model, FlightState& state, const models::RigidBo
     const double now = state.time_s + dt;
     state.faults.isolation_time_s = now;
     const bool reconfigure = model.options().reconfiguration;
-    AddEvent(log, now, fmt::format("IMM isolated rotor {}{}", state.faults.imm.isolated_rotor(),
-                                   reconfigure ? ": quadcopter allocation" : " (reconfiguration disabled)"));
+    AddEvent(log, now,
+             fmt::format("IMM isolated rotor {}{}", state.faults.imm.isolated_rotor(),
+                         reconfigure ? ": quadcopter allocation" : " (reconfiguration disabled)"));
     if (reconfigure) state.faults.allocation_failure = state.faults.imm.isolated_rotor();
   }
 }
@@ -189,7 +192,8 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   row.v_W = state.vehicle.body.v_WB_W;
   row.p_ref_W = s.reference.p_W;
   row.euler = EulerFromRotation(s.R_WB);
-  row.drag_W = models::CalcRigidBodyRates(model.scenario().body, model.drag(), state.vehicle.body, s.body_inputs).drag_W;
+  row.drag_W =
+      models::CalcRigidBodyRates(model.scenario().body, model.drag(), state.vehicle.body, s.body_inputs).drag_W;
   row.wind_W = s.wind_W;
   row.wrench_cmd = s.command;
   row.wrench = s.achieved;
@@ -211,7 +215,8 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   row.motor_margin = inputs.motor_margin;
   row.cma_state = decision::CmaStateIndex(inputs.state);
   row.action = state.decision.last_action ? static_cast<int>(*state.decision.last_action) : 0;
-  row.imm_mode = state.faults.imm.isolated_rotor() != 0 ? state.faults.imm.isolated_rotor() : state.faults.imm.MapMode();
+  row.imm_mode =
+      state.faults.imm.isolated_rotor() != 0 ? state.faults.imm.isolated_rotor() : state.faults.imm.MapMode();
   row.spall_area_mm2 = state.faults.spall ? state.faults.spall->area_mm2() : 0.0;
   log.telemetry.push_back(row);
 }
@@ -316,8 +321,9 @@ FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
   state.faults.imm = gnc::ImmFilter(sc.imm, sc.body, model.mixer().mixing_matrix(models::kNoFailedMotor));
   state.power.bus_voltage_v = model.pack().CalcOutputs(state.power.pack, 0.0).split.bus_voltage_v;
   // Until the first step has drawn real current, the 1 Hz prognosis sees the hover draw.
-  state.power.pack_current_a = sc.options.hotel_current_a +
-                         6.0 * models::CalcElectricalPower(model.propulsion(), hover_thrust) / state.power.bus_voltage_v;
+  state.power.pack_current_a =
+      sc.options.hotel_current_a +
+      6.0 * models::CalcElectricalPower(model.propulsion(), hover_thrust) / state.power.bus_voltage_v;
   state.power.load_current_a = state.power.pack_current_a;
   state.decision.inputs.rul_s = kInfinity;
   // The lowest cell voltage starts at the pack at rest (a flight that never takes off reports it; any step under

@@ -15,16 +15,26 @@ namespace uascma::sim {
 
 const char* OutcomeName(Outcome outcome) {
   switch (outcome) {
-    case Outcome::kInProgress: return "in_progress";
-    case Outcome::kCompleted: return "completed";
-    case Outcome::kEmergencyLanding: return "emergency_landing";
-    case Outcome::kTerminated: return "terminated";
-    case Outcome::kFailedBattery: return "failed_battery";
-    case Outcome::kFailedControl: return "failed_control";
-    case Outcome::kFailedCollision: return "failed_collision";
-    case Outcome::kTimeout: return "timeout";
-    case Outcome::kGrounded: return "grounded";
-    case Outcome::kLandedOffSite: return "landed_off_site";
+    case Outcome::kInProgress:
+      return "in_progress";
+    case Outcome::kCompleted:
+      return "completed";
+    case Outcome::kEmergencyLanding:
+      return "emergency_landing";
+    case Outcome::kTerminated:
+      return "terminated";
+    case Outcome::kFailedBattery:
+      return "failed_battery";
+    case Outcome::kFailedControl:
+      return "failed_control";
+    case Outcome::kFailedCollision:
+      return "failed_collision";
+    case Outcome::kTimeout:
+      return "timeout";
+    case Outcome::kGrounded:
+      return "grounded";
+    case Outcome::kLandedOffSite:
+      return "landed_off_site";
   }
   return "unknown";
 }
@@ -47,11 +57,20 @@ decision::CmaTerminal TerminalStateOf(Outcome outcome) {
 }
 
 bool OutcomeThresholds::IsValid(std::string* error) const {
-  const struct { const char* name; double value; } positive[] = {
-      {"max_tilt", max_tilt}, {"max_cross_track_error", max_cross_track_error}, {"max_body_rate", max_body_rate}, {"touchdown_speed", touchdown_speed},
-      {"airborne_height", airborne_height}, {"landing_radius", landing_radius},
-      {"landing_window_s", landing_window_s}, {"landing_height", landing_height}, {"settled_height", settled_height},
-      {"settled_speed", settled_speed}, {"time_limit_factor", time_limit_factor}};
+  const struct {
+    const char* name;
+    double value;
+  } positive[] = {{"max_tilt", max_tilt},
+                  {"max_cross_track_error", max_cross_track_error},
+                  {"max_body_rate", max_body_rate},
+                  {"touchdown_speed", touchdown_speed},
+                  {"airborne_height", airborne_height},
+                  {"landing_radius", landing_radius},
+                  {"landing_window_s", landing_window_s},
+                  {"landing_height", landing_height},
+                  {"settled_height", settled_height},
+                  {"settled_speed", settled_speed},
+                  {"time_limit_factor", time_limit_factor}};
   for (const auto& f : positive) {
     if (!(f.value > 0.0 && std::isfinite(f.value))) {
       if (error) *error = fmt::format("{}: expected a positive number, got {}", f.name, f.value);
@@ -62,8 +81,8 @@ bool OutcomeThresholds::IsValid(std::string* error) const {
     if (error) *error = fmt::format("max_tilt: expected at most pi rad (180 deg), got {}", max_tilt);
     return false;
   }
-  for (const auto& [name, value] : {std::pair{"building_margin", building_margin},
-                                    std::pair{"time_limit_margin_s", time_limit_margin_s}}) {
+  for (const auto& [name, value] :
+       {std::pair{"building_margin", building_margin}, std::pair{"time_limit_margin_s", time_limit_margin_s}}) {
     if (!(value >= 0.0 && std::isfinite(value))) {
       if (error) *error = fmt::format("{}: expected a number >= 0, got {}", name, value);
       return false;
@@ -101,8 +120,8 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
   const double above_end = altitude - (-in.plan_end_W.z());
   const double to_end = (in.p_WB_W.head<2>() - in.plan_end_W.head<2>()).norm();
   const double radius = in.landing_radius > 0.0 ? in.landing_radius : limits.landing_radius;
-  const bool landing = to_end < radius && in.plan_time_remaining_s < limits.landing_window_s &&
-                       above_end < limits.landing_height;
+  const bool landing =
+      to_end < radius && in.plan_time_remaining_s < limits.landing_window_s && above_end < limits.landing_height;
   auto landed = [&](const char* how) {
     out.outcome = in.on_original_plan ? Outcome::kCompleted : Outcome::kEmergencyLanding;
     out.reason = in.on_original_plan ? fmt::format("{} at the destination of the original plan", how)
@@ -130,9 +149,10 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
     const double across = in.v_WB_W.head<2>().norm();
     if (gentle && across <= limits.touchdown_speed) {
       out.outcome = Outcome::kLandedOffSite;
-      out.reason = fmt::format("touched down on open ground at {:.1f} m/s down, {:.1f} m/s across, {:.1f} m from the "
-                               "landing point (radius {:.2f} m)",
-                               in.v_WB_W.z(), across, to_end, radius);
+      out.reason = fmt::format(
+          "touched down on open ground at {:.1f} m/s down, {:.1f} m/s across, {:.1f} m from the "
+          "landing point (radius {:.2f} m)",
+          in.v_WB_W.z(), across, to_end, radius);
       return out;
     }
     out.outcome = Outcome::kFailedCollision;

@@ -16,7 +16,8 @@ namespace {
 using RankingTable = std::vector<std::vector<decision::ActionIndex>>;
 
 // The ranking enters the hash only when there is one, so a policy without one keeps the hash it always had.
-std::string HashOf(const std::string& kind, const std::vector<decision::ActionIndex>& actions, const RankingTable& ranking) {
+std::string HashOf(const std::string& kind, const std::vector<decision::ActionIndex>& actions,
+                   const RankingTable& ranking) {
   Fingerprint f;
   f.Add(std::string_view(kind));
   f.Add(static_cast<std::uint64_t>(actions.size()));
@@ -44,7 +45,8 @@ PolicyDefinition TableDefinition(std::string name, std::string source, std::vect
 }
 
 // A ranking must list, per state, distinct actions led by the state's own.
-void CheckRanking(const std::vector<decision::ActionIndex>& actions, const RankingTable& ranking, const std::string& where) {
+void CheckRanking(const std::vector<decision::ActionIndex>& actions, const RankingTable& ranking,
+                  const std::string& where) {
   if (ranking.empty()) return;
   if (ranking.size() != actions.size()) {
     throw InputError(where, "actions", "one ranking per state");
@@ -106,8 +108,10 @@ PolicyDefinition SolvedCmaPolicyDefinition() {
 PolicyDefinition PolicyDefinitionFromFile(const std::string& path) {
   RankingTable ranking;
   decision::Policy bound = decision::LoadCmaPolicy(path, "", &ranking);  // the model hash is checked
-  RequireUtf8(std::filesystem::path(path).stem().string(), EscapeInvalidUtf8(path), "name (the policy's name is the file's name)");
-  return TableDefinition(std::filesystem::path(path).stem().string(), path, std::move(bound.action), std::move(ranking));
+  RequireUtf8(std::filesystem::path(path).stem().string(), EscapeInvalidUtf8(path),
+              "name (the policy's name is the file's name)");
+  return TableDefinition(std::filesystem::path(path).stem().string(), path, std::move(bound.action),
+                         std::move(ranking));
 }
 
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field) {

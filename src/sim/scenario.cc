@@ -22,7 +22,6 @@
 namespace uascma::sim {
 namespace {
 
-
 void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec& battery) {
   RequireOnlyKeys(node, ScenarioSectionKeys("battery"), source, "battery");
   if (const YAML::Node voltage = node["initial_cell_voltage_v"]) {
@@ -36,13 +35,15 @@ void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec&
       for (int b = 0; b < 2; ++b) {
         YAML::Node holder;
         holder["pack"] = voltage[b];
-        const auto cells = RequireNumberList(holder, "pack", 3, source, fmt::format("battery.initial_cell_voltage_v[{}]", b));
+        const auto cells =
+            RequireNumberList(holder, "pack", 3, source, fmt::format("battery.initial_cell_voltage_v[{}]", b));
         for (int c = 0; c < 3; ++c) battery.initial_cell_voltage_v[b][c] = cells[c];
       }
     }
   }
   if (const YAML::Node packs = node["packs"]) {
-    if (!packs.IsSequence() || packs.size() != 2) throw InputError(source, "battery.packs", "a list of two health classes (G, M or P)");
+    if (!packs.IsSequence() || packs.size() != 2)
+      throw InputError(source, "battery.packs", "a list of two health classes (G, M or P)");
     for (int b = 0; b < 2; ++b) {
       const std::string field = fmt::format("battery.packs[{}]", b);
       if (!packs[b].IsScalar()) throw InputError(source, field, "G, M or P");
@@ -57,8 +58,9 @@ void ReadBattery(const YAML::Node& node, const std::string& source, BatterySpec&
 // Sets sc.map, and sc.geo_origin for imported data. The import keys are `map info`'s options (map_import.h);
 // sites_from_map adds the map's own sites (flat roofs, open areas) to those of `sites`.
 void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
-  RequireOnlyKeys(node, {"procedural", "buildings", "sites", "origin", "height_from_levels", "metres_per_level",
-                         "skip_missing_height", "height_from_type", "default_height_m", "sites_from_map"},
+  RequireOnlyKeys(node,
+                  {"procedural", "buildings", "sites", "origin", "height_from_levels", "metres_per_level",
+                   "skip_missing_height", "height_from_type", "default_height_m", "sites_from_map"},
                   source, "map");
   if (const YAML::Node procedural = node["procedural"]) {
     for (const char* key : {"buildings", "sites", "origin", "height_from_levels", "metres_per_level",
@@ -76,10 +78,12 @@ void ReadMap(const YAML::Node& node, const std::string& source, Scenario& sc) {
       }
       // Block counts checked before the conversion to int (scenario_bounds::kBlocks).
       constexpr const Bounds& kBlockBounds = scenario_bounds::kBlocks;
-      for (auto [key, count] : {std::pair{"blocks_north", &params.blocks_north}, std::pair{"blocks_east", &params.blocks_east}}) {
+      for (auto [key, count] :
+           {std::pair{"blocks_north", &params.blocks_north}, std::pair{"blocks_east", &params.blocks_east}}) {
         const double value = OptionalNumber(procedural, key, *count, source, "map.procedural");
         RequireWithin(value, kBlockBounds, source, std::string("map.procedural.") + key);
-        if (value != std::floor(value)) throw InputError(source, std::string("map.procedural.") + key, "a whole number");
+        if (value != std::floor(value))
+          throw InputError(source, std::string("map.procedural.") + key, "a whole number");
         *count = static_cast<int>(value);
       }
       params.rooftop_site_probability = OptionalNumber(procedural, "rooftop_site_probability",
@@ -174,10 +178,14 @@ bool BatterySpec::IsValid(std::string* error) const {
 }
 
 bool SimOptions::IsValid(std::string* error) const {
-  const struct { const char* name; double value; } positive[] = {
-      {"gnc_rate_hz", gnc_rate_hz}, {"decision_rate_hz", decision_rate_hz},
-      {"telemetry_rate_hz", telemetry_rate_hz}, {"reference_bus_voltage_v", reference_bus_voltage_v},
-      {"load_current_time_constant_s", load_current_time_constant_s}};
+  const struct {
+    const char* name;
+    double value;
+  } positive[] = {{"gnc_rate_hz", gnc_rate_hz},
+                  {"decision_rate_hz", decision_rate_hz},
+                  {"telemetry_rate_hz", telemetry_rate_hz},
+                  {"reference_bus_voltage_v", reference_bus_voltage_v},
+                  {"load_current_time_constant_s", load_current_time_constant_s}};
   for (const auto& f : positive) {
     if (!(f.value > 0.0 && std::isfinite(f.value))) {
       if (error) *error = fmt::format("{}: expected a positive number, got {}", f.name, f.value);
@@ -225,9 +233,10 @@ bool CheckCanHover(const Scenario& sc, std::string* error) {
                                           models::PropellerConfigurationName(sc.configuration));
   if (hover_thrust_n > max_thrust_n) {
     if (error) {
-      *error = fmt::format("{}: expected a vehicle its rotors can hold up: hovering needs {:.1f} N, the six rotors give "
-                           "at most {:.2f} N (Table 2.2), so at most {:.3f} kg",
-                           vehicle, hover_thrust_n, max_thrust_n, max_thrust_n / kGravity);
+      *error = fmt::format(
+          "{}: expected a vehicle its rotors can hold up: hovering needs {:.1f} N, the six rotors give "
+          "at most {:.2f} N (Table 2.2), so at most {:.3f} kg",
+          vehicle, hover_thrust_n, max_thrust_n, max_thrust_n / kGravity);
     }
     return false;
   }
@@ -258,9 +267,10 @@ bool CheckCanHover(const Scenario& sc, std::string* error) {
                                           sc.battery.ambient_temp_degf);
   if (total_power_w > power_at(peak_a)) {
     if (error) {
-      *error = fmt::format("{} with {}: expected packs that can hover the vehicle: hovering draws {:.0f} W, the packs "
-                           "give at most {:.0f} W (at {:.0f} A)",
-                           vehicle, battery, total_power_w, power_at(peak_a), peak_a);
+      *error = fmt::format(
+          "{} with {}: expected packs that can hover the vehicle: hovering draws {:.0f} W, the packs "
+          "give at most {:.0f} W (at {:.0f} A)",
+          vehicle, battery, total_power_w, power_at(peak_a), peak_a);
     }
     return false;
   }
@@ -275,11 +285,12 @@ bool CheckCanHover(const Scenario& sc, std::string* error) {
   const models::PackOutputs outputs = pack.CalcOutputs(state, current_a);
   if (current_a > models::kMaxPackCurrent) {
     if (error) {
-      *error = fmt::format("{} with {}: expected packs that can hover the vehicle: hovering draws {:.1f} A ({:.0f} W; "
-                           "{} at {:.2f} V), beyond the packs' {:.0f} A (Table 4.1)",
-                           vehicle, battery, current_a, total_power_w,
-                           models::CellLabel(outputs.min_cell_branch, outputs.min_cell_index),
-                           outputs.min_cell_voltage_v, models::kMaxPackCurrent);
+      *error = fmt::format(
+          "{} with {}: expected packs that can hover the vehicle: hovering draws {:.1f} A ({:.0f} W; "
+          "{} at {:.2f} V), beyond the packs' {:.0f} A (Table 4.1)",
+          vehicle, battery, current_a, total_power_w,
+          models::CellLabel(outputs.min_cell_branch, outputs.min_cell_index), outputs.min_cell_voltage_v,
+          models::kMaxPackCurrent);
     }
     return false;
   }
@@ -339,17 +350,18 @@ bool Scenario::IsValid(std::string* error) const {
       const Eigen::Vector3d& home = route->home_W;
       const int building = map->BuildingContaining(Eigen::Vector3d(home.x(), home.y(), -0.1));
       if (building != planning::kNoBuilding) {
-        part_error = fmt::format("file: expected the planned home on open ground, but building {} stands at "
-                                 "({:.1f}, {:.1f}) m",
-                                 map->building(building).id, home.x(), home.y());
+        part_error = fmt::format(
+            "file: expected the planned home on open ground, but building {} stands at "
+            "({:.1f}, {:.1f}) m",
+            map->building(building).id, home.x(), home.y());
         return fail("mission");
       }
     }
     return true;  // the delivery keys are not flown
   }
   if (map) {
-    for (const auto& [key, point] : {std::pair{"home_ne_m", mission.home_NE},
-                                      std::pair{"destination_ne_m", mission.destination_NE}}) {
+    for (const auto& [key, point] :
+         {std::pair{"home_ne_m", mission.home_NE}, std::pair{"destination_ne_m", mission.destination_NE}}) {
       const int building = map->BuildingContaining(Eigen::Vector3d(point.x(), point.y(), -0.1));
       if (building != planning::kNoBuilding) {
         part_error = fmt::format("{}: expected a point on open ground, but building {} stands at ({:.1f}, {:.1f}) m",
@@ -371,7 +383,8 @@ void ReadSection(const YAML::Node& node, const char* section, const std::string&
 
 // mission.origin: [lat, lon], the geodetic position of W's origin. Over an imported map the frame is the map's
 // (map.origin), so that buildings and route share it: there it is an error.
-std::optional<planning::GeoPoint> ReadMissionOrigin(const YAML::Node& m, const std::string& source, const Scenario& sc) {
+std::optional<planning::GeoPoint> ReadMissionOrigin(const YAML::Node& m, const std::string& source,
+                                                    const Scenario& sc) {
   if (!m || !m["origin"]) return std::nullopt;
   if (sc.geo_origin) {
     throw InputError(source, "mission.origin",
@@ -391,7 +404,9 @@ void ReadMissionFile(const YAML::Node& m, const std::string& source,
   if (m) {
     if (m["file"]) {
       for (const char* key : {"home_ne_m", "destination_ne_m", "cruise_altitude_m", "drop_hover_s"}) {
-        if (m[key]) throw InputError(source, std::string("mission.") + key, "either mission.file or " + std::string(key) + ", not both");
+        if (m[key])
+          throw InputError(source, std::string("mission.") + key,
+                           "either mission.file or " + std::string(key) + ", not both");
       }
     }
     options.land_at_end = OptionalBool(m, "land_at_end", options.land_at_end, source, "mission");
@@ -418,15 +433,16 @@ void ReadMissionFile(const YAML::Node& m, const std::string& source,
   sc.geo_origin = sc.route->origin;
   // Mirrored for the records (campaign metrics, the plot's extent): the route's home and its last point.
   sc.mission.home_NE = sc.route->home_W.head<2>();
-  sc.mission.destination_NE = sc.route->waypoints.empty() ? sc.mission.home_NE
-                                                          : Eigen::Vector2d(sc.route->waypoints.back().p_W.head<2>());
+  sc.mission.destination_NE =
+      sc.route->waypoints.empty() ? sc.mission.home_NE : Eigen::Vector2d(sc.route->waypoints.back().p_W.head<2>());
 }
 
 // Returns whether the file sets the cruise altitude.
 bool ReadMission(const YAML::Node& m, const std::string& source, Scenario& sc) {
   RequireOnlyKeys(m, ScenarioSectionKeys("mission"), source, "mission");
   if (!m["file"]) {
-    if (m["land_at_end"]) throw InputError(source, "mission.land_at_end", "only with mission.file (or simulate --mission)");
+    if (m["land_at_end"])
+      throw InputError(source, "mission.land_at_end", "only with mission.file (or simulate --mission)");
   }
   ReadScenarioSection(m, "mission", source, sc);
   return static_cast<bool>(m["cruise_altitude_m"]);
@@ -444,9 +460,9 @@ void ReadFault(const YAML::Node& f, const std::string& source, Scenario& sc) {
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source, const ScenarioLoadOptions& load) {
   const YAML::Node root = ParseYamlText(yaml_text, source);  // duplicate keys and non-UTF-8 text refused
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
-  RequireOnlyKeys(root, {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault",
-                         "options"},
-                  source, "");
+  RequireOnlyKeys(
+      root, {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault", "options"},
+      source, "");
   ScenarioFile file;
   Scenario& sc = file.scenario;
   sc.name = root["name"] ? RequireString(root, "name", source, "") : std::filesystem::path(source).stem().string();
@@ -476,7 +492,8 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   if (const YAML::Node o = root["options"]) ReadSection(o, "options", source, sc);
   // The map's inflated hulls, once for every flight of this scenario (Scenario::map_obstacles).
   if (sc.map && !sc.map->sites().empty()) {
-    sc.map_obstacles = planning::LandingPathPlanner::InflateBuildings(*sc.map, planning::LandingPathParams{}.lateral_margin);
+    sc.map_obstacles =
+        planning::LandingPathPlanner::InflateBuildings(*sc.map, planning::LandingPathParams{}.lateral_margin);
   }
   // One validation for files, samplers and code alike (Scenario::IsValid).
   std::string error;

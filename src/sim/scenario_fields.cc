@@ -133,43 +133,45 @@ std::vector<ScenarioFieldEntry> FlightFields(Scenario& s) {
 // clang-format on
 
 // Reads one row's key from its section `node` into `value` (the key is present).
-void ReadValue(const YAML::Node& node, const ScenarioField& f, const std::string& source, const ScenarioFieldRef& value) {
+void ReadValue(const YAML::Node& node, const ScenarioField& f, const std::string& source,
+               const ScenarioFieldRef& value) {
   const std::string leaf(f.leaf());
   const std::string where(f.section());
   const std::string key(f.key);
-  std::visit(Overloaded{
-                 [](std::monostate) {},
-                 [&](double* v) {
-                   // A degrees key is converted even when absent (below): as scenario files always were.
-                   *v = f.degrees ? OptionalNumber(node, leaf, *v / kRadiansPerDegree, source, where) * kRadiansPerDegree
-                                  : RequireNumber(node, leaf, source, where);
-                 },
-                 [&](bool* v) { *v = OptionalBool(node, leaf, *v, source, where); },
-                 [&](int* v) {
-                   const double number = RequireNumber(node, leaf, source, where);
-                   if (number != std::floor(number) || !f.bounds->Contains(number)) {
-                     throw InputError(source, key, std::string(f.expected));
-                   }
-                   *v = static_cast<int>(number);
-                 },
-                 [&](std::optional<double>* v) { *v = RequireNumber(node, leaf, source, where); },
-                 [&](Eigen::Vector2d* v) {
-                   const auto list = RequireNumberList(node, leaf, 2, source, where);
-                   *v = Eigen::Vector2d(list[0], list[1]);
-                 },
-                 [&](Eigen::Vector3d* v) {
-                   const auto list = RequireNumberList(node, leaf, 3, source, where);
-                   *v = Eigen::Vector3d(list[0], list[1], list[2]);
-                 },
-                 [&](EodLoad* v) { *v = ParseEodLoad(RequireString(node, leaf, source, where), source, key); },
-                 [&](models::PropellerConfiguration* v) {
-                   *v = models::ParsePropellerConfiguration(RequireString(node, leaf, source, where), source + ": " + key);
-                 },
-                 [&](models::TurbulenceCategory* v) {
-                   *v = models::ParseTurbulenceCategory(RequireString(node, leaf, source, where), source + ": " + key);
-                 },
-             },
-             value);
+  std::visit(
+      Overloaded{
+          [](std::monostate) {},
+          [&](double* v) {
+            // A degrees key is converted even when absent (below): as scenario files always were.
+            *v = f.degrees ? OptionalNumber(node, leaf, *v / kRadiansPerDegree, source, where) * kRadiansPerDegree
+                           : RequireNumber(node, leaf, source, where);
+          },
+          [&](bool* v) { *v = OptionalBool(node, leaf, *v, source, where); },
+          [&](int* v) {
+            const double number = RequireNumber(node, leaf, source, where);
+            if (number != std::floor(number) || !f.bounds->Contains(number)) {
+              throw InputError(source, key, std::string(f.expected));
+            }
+            *v = static_cast<int>(number);
+          },
+          [&](std::optional<double>* v) { *v = RequireNumber(node, leaf, source, where); },
+          [&](Eigen::Vector2d* v) {
+            const auto list = RequireNumberList(node, leaf, 2, source, where);
+            *v = Eigen::Vector2d(list[0], list[1]);
+          },
+          [&](Eigen::Vector3d* v) {
+            const auto list = RequireNumberList(node, leaf, 3, source, where);
+            *v = Eigen::Vector3d(list[0], list[1], list[2]);
+          },
+          [&](EodLoad* v) { *v = ParseEodLoad(RequireString(node, leaf, source, where), source, key); },
+          [&](models::PropellerConfiguration* v) {
+            *v = models::ParsePropellerConfiguration(RequireString(node, leaf, source, where), source + ": " + key);
+          },
+          [&](models::TurbulenceCategory* v) {
+            *v = models::ParseTurbulenceCategory(RequireString(node, leaf, source, where), source + ": " + key);
+          },
+      },
+      value);
 }
 
 // An angle kept in radians, bounded in the degrees its key is written in: compared in radians (the bound
@@ -185,7 +187,8 @@ bool CheckValue(const ScenarioField& f, const ScenarioFieldRef& value, std::stri
   auto within = [&](double x, const std::string& field) { return CheckWithin(x, *f.bounds, field, error); };
   return std::visit(Overloaded{
                         [&](const double* v) {
-                          return f.degrees ? CheckAngleWithin(*v, *f.bounds, f.key, error) : within(*v, std::string(f.key));
+                          return f.degrees ? CheckAngleWithin(*v, *f.bounds, f.key, error)
+                                           : within(*v, std::string(f.key));
                         },
                         [&](const int* v) { return within(*v, std::string(f.key)); },
                         [&](const std::optional<double>* v) { return !*v || within(**v, std::string(f.key)); },
@@ -213,7 +216,8 @@ std::string_view ScenarioField::leaf() const { return KeyLeaf(key); }
 
 std::vector<ScenarioFieldEntry> ScenarioFields(Scenario& scenario) {
   std::vector<ScenarioFieldEntry> fields = IdentityAndMapFields();
-  for (auto part : {VehicleFields(scenario), FlightFields(scenario)}) fields.insert(fields.end(), part.begin(), part.end());
+  for (auto part : {VehicleFields(scenario), FlightFields(scenario)})
+    fields.insert(fields.end(), part.begin(), part.end());
   return fields;
 }
 

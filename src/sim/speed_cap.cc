@@ -48,9 +48,9 @@ double CalcGroundSpeedCap(const Eigen::Vector2d& direction_NE, const Eigen::Vect
   return std::max(0.0, along + std::sqrt(discriminant));
 }
 
-planning::FlightPlan ReplanAtCappedSpeed(const planning::FlightPlan& plan, double t_plan, const Eigen::Vector3d& start_W,
-                                         const planning::PlanLimits& limits, const Eigen::Vector2d& wind_NE,
-                                         double max_airspeed) {
+planning::FlightPlan ReplanAtCappedSpeed(const planning::FlightPlan& plan, double t_plan,
+                                         const Eigen::Vector3d& start_W, const planning::PlanLimits& limits,
+                                         const Eigen::Vector2d& wind_NE, double max_airspeed) {
   const auto& segments = plan.segments();
   if (segments.empty() || t_plan >= plan.duration()) return {};
   const int first = plan.At(t_plan).segment;

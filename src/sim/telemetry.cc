@@ -28,13 +28,15 @@ std::string TelemetryCsv(const SimResult& result) {
   std::vector<std::string> state_labels;
   for (int s = 0; s < cma_model.num_states(); ++s) state_labels.push_back("\"" + cma_model.Label(s) + "\"");
   auto state_label = [&](int index) -> const std::string& {
-    UASCMA_CHECK(index >= 0 && index < static_cast<int>(state_labels.size()), "telemetry: CMA state index out of range");
+    UASCMA_CHECK(index >= 0 && index < static_cast<int>(state_labels.size()),
+                 "telemetry: CMA state index out of range");
     return state_labels[index];
   };
   auto imm_mode_name = [](int mode) { return mode == 0 ? std::string("nominal") : fmt::format("rotor{}_out", mode); };
   for (const TelemetryRow& r : result.telemetry) {
-    out += fmt::format("{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}", r.t, r.p_W.x(), r.p_W.y(),
-                       r.p_W.z(), r.v_W.x(), r.v_W.y(), r.v_W.z(), r.p_ref_W.x(), r.p_ref_W.y(), r.p_ref_W.z());
+    out +=
+        fmt::format("{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}", r.t, r.p_W.x(), r.p_W.y(),
+                    r.p_W.z(), r.v_W.x(), r.v_W.y(), r.v_W.z(), r.p_ref_W.x(), r.p_ref_W.y(), r.p_ref_W.z());
     out += fmt::format(",{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.4f}", r.euler.x(), r.euler.y(),
                        r.euler.z(), r.drag_W.x(), r.drag_W.y(), r.drag_W.z(), r.wind_W.x(), r.wind_W.y(), r.wind_W.z());
     for (int i = 0; i < 4; ++i) out += fmt::format(",{:.5f}", r.wrench_cmd[i]);
@@ -55,7 +57,8 @@ std::string TelemetryCsv(const SimResult& result) {
   return out;
 }
 
-nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan& nominal_plan, const SimResult& result) {
+nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
+                           const SimResult& result) {
   nlohmann::json events = nlohmann::json::array();
   for (const auto& e : result.events) events.push_back({{"time_s", e.time_s}, {"what", e.what}});
   nlohmann::json actions = nlohmann::json::array();
@@ -65,8 +68,7 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
   const decision::FactoredMdpBuilder cma_model = decision::MakeCmaFactoredModel();
   for (std::size_t k = 0; k < result.states.size(); ++k) {
     if (k > 0 && result.states[k].second == result.states[k - 1].second) continue;
-    states.push_back({{"time_s", result.states[k].first},
-                      {"state", cma_model.Label(result.states[k].second)}});
+    states.push_back({{"time_s", result.states[k].first}, {"state", cma_model.Label(result.states[k].second)}});
   }
   auto optional = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
   nlohmann::json summary = {
@@ -96,7 +98,8 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
       {"eod_load", result.eod_load},
       {"substitution_epochs", result.substitution_epochs},
       {"substitutions", result.substitutions},
-      {"speed_cap_mps", std::isfinite(result.speed_cap_mps) ? nlohmann::json(result.speed_cap_mps) : nlohmann::json(nullptr)},
+      {"speed_cap_mps",
+       std::isfinite(result.speed_cap_mps) ? nlohmann::json(result.speed_cap_mps) : nlohmann::json(nullptr)},
       {"events", events},
   };
   if (result.jam_time_s && result.isolation_time_s) {
@@ -144,7 +147,10 @@ nlohmann::json MapJson(const Scenario& scenario, const SimResult& result,
   for (const auto& c : checkpoints_W) checkpoints.push_back({c.x(), c.y(), c.z()});
   nlohmann::json footprint = nlohmann::json::array();
   for (const auto& p : result.footprint_NE) footprint.push_back({p.x(), p.y()});
-  return {{"buildings", buildings}, {"sites", sites}, {"checkpoints", checkpoints}, {"footprint", footprint},
+  return {{"buildings", buildings},
+          {"sites", sites},
+          {"checkpoints", checkpoints},
+          {"footprint", footprint},
           {"emergency_site", result.emergency_site}};
 }
 

@@ -49,7 +49,7 @@ TEST_F(BatteryCli, LearnWritesTheCountsAndSolveOnePolicyPerContext) {
   ASSERT_EQ(learn_.exit_code, 0) << learn_.err;
   const auto summary = nlohmann::json::parse(learn_.out);
   EXPECT_EQ(summary["flights"], 60);
-  EXPECT_EQ(summary["parameter_draws"], 20);  // three actions per parameter draw
+  EXPECT_EQ(summary["parameter_draws"], 20);              // three actions per parameter draw
   EXPECT_GT(summary["transitions"].get<int>(), 60 * 60);  // flights last minutes, counted at 1 Hz
   const auto model = nlohmann::json::parse(Slurp(model_));
   EXPECT_EQ(model["format"], "uascma-battery-model");
@@ -237,8 +237,8 @@ TEST_F(BatteryCli, EvaluatePairsEveryPolicyOnEachFlight) {
   EXPECT_EQ(json["runs"], 4);
   ASSERT_EQ(json["paired_comparisons"].size(), 6u);
   for (const auto& c : json["paired_comparisons"]) {
-    EXPECT_EQ(c["both_completed"].get<int>() + c["neither_completed"].get<int>() + c["only_first_completed"].get<int>() +
-                  c["only_second_completed"].get<int>(),
+    EXPECT_EQ(c["both_completed"].get<int>() + c["neither_completed"].get<int>() +
+                  c["only_first_completed"].get<int>() + c["only_second_completed"].get<int>(),
               4);
   }
   for (const auto& o : json["overall"]) EXPECT_EQ(o["completions"].get<int>() + o["failures"].get<int>(), 4);

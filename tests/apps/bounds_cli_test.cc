@@ -120,10 +120,12 @@ TEST(BoundsCliTest, EveryNumericOptionOutsideItsBoundExitsTwoNamingOptionAndBoun
 
 TEST(BoundsCliTest, ValuesOnTheBoundsAreAccepted) {
   for (const std::string arguments :
-       {"thrust --config tractor --throttle-us 1900 --power-w 1300", "authority --failed-motors 1 --total-thrust-n 1000 --mass-kg 25",
+       {"thrust --config tractor --throttle-us 1900 --power-w 1300",
+        "authority --failed-motors 1 --total-thrust-n 1000 --mass-kg 25",
         "eod --current-a 0 --temp-degf -40 --horizon-s 1", "eod --current-a 105 --cutoff-v 2.5",
         "rul --particles 1 --runs 1 --time-per-step 3600 --seed 18446744073709551615",
-        "footprint --speed-mps 30 --eod-s 0 --max-tilt-deg 89", "policy solve --model cma --gamma 0.999 --format tsv"}) {
+        "footprint --speed-mps 30 --eod-s 0 --max-tilt-deg 89",
+        "policy solve --model cma --gamma 0.999 --format tsv"}) {
     const auto result = RunCli(arguments);
     EXPECT_EQ(result.exit_code, 0) << arguments << "\n" << result.err;
   }
@@ -140,9 +142,11 @@ TEST(BoundsCliTest, TheWorstCaseInsideTheBoundsHasAPositiveBusVoltage) {
 
 TEST(BoundsCliTest, HelpStatesTheBounds) {
   const std::vector<std::pair<std::string, std::string>> helps = {
-      {"eod --help", "0 to 105 A"},       {"thrust --help", "0 to 1300 W"},   {"authority --help", "0.05 to 25 kg"},
-      {"rul --help", "0.001 to 3600 s"}, {"footprint --help", "1 to 89 deg"}, {"map info --help", "1 to 10 m"},
-      {"policy solve --help", "0 to 0.999"}, {"campaign --help", "0 to 1024 threads"}, {"rul --help", "0 to 2^64-1"}};
+      {"eod --help", "0 to 105 A"},          {"thrust --help", "0 to 1300 W"},
+      {"authority --help", "0.05 to 25 kg"}, {"rul --help", "0.001 to 3600 s"},
+      {"footprint --help", "1 to 89 deg"},   {"map info --help", "1 to 10 m"},
+      {"policy solve --help", "0 to 0.999"}, {"campaign --help", "0 to 1024 threads"},
+      {"rul --help", "0 to 2^64-1"}};
   for (const auto& [arguments, bound] : helps) {
     const auto result = RunCli(arguments);
     EXPECT_EQ(result.exit_code, 0) << arguments;
@@ -156,7 +160,8 @@ TEST(BoundsCliTest, HelpStatesTheBounds) {
 TEST(BoundsCliTest, EveryCampaignYamlNumberOutsideItsBoundExitsTwo) {
   ScratchDir scratch("bounds_campaign");
   const std::string db = (scratch.path / "never.db").string();
-  const std::vector<std::pair<std::string, std::string>> cases = {  // YAML, field named
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      // YAML, field named
       {"seed: -1", "seed"},
       {"seed: 18446744073709551616", "seed"},
       {"runs: -1", "runs"},
@@ -400,15 +405,16 @@ TEST(BoundsCliTest, AVehicleHeavierThanItsRotorsCanHoldIsRefused) {
       (void)sim::ParseScenario(std::string("vehicle: {mass_kg: ") + mass + "}\n", "heavy.yaml");
       ADD_FAILURE() << mass << " kg loaded";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(std::string("heavy.yaml: vehicle.mass_kg ") + mass + " kg"), std::string::npos)
+      EXPECT_NE(std::string(e.what()).find(std::string("heavy.yaml: vehicle.mass_kg ") + mass + " kg"),
+                std::string::npos)
           << e.what();
       EXPECT_NE(std::string(e.what()).find("the six rotors give at most 26.85 N (Table 2.2), so at most 2.738 kg"),
                 std::string::npos)
           << e.what();
     }
   }
-  EXPECT_NO_THROW((void)sim::ParseScenario("vehicle: {mass_kg: 2.737}\nbattery: {packs: [P, P], ambient_temp_degf: -40}\n",
-                                           "heavy.yaml"));
+  EXPECT_NO_THROW((void)sim::ParseScenario(
+      "vehicle: {mass_kg: 2.737}\nbattery: {packs: [P, P], ambient_temp_degf: -40}\n", "heavy.yaml"));
 }
 
 // Every example scenario still loads: the bounds leave the shipped files' values alone.
@@ -453,9 +459,10 @@ TEST(BoundsCliTest, BatteryOptionsOutsideTheirBoundsExitTwo) {
   };
   for (const Case& c : cases) ExpectRefused(c);
   EXPECT_FALSE(std::filesystem::exists(out));
-  for (const auto& [arguments, bound] : std::vector<std::pair<std::string, std::string>>{
-           {"battery learn --help", "1 to 1e+07 flights"}, {"battery learn --help", "0 to 2^64-1"},
-           {"battery case-study --help", "1 to 256 threads"}}) {
+  for (const auto& [arguments, bound] :
+       std::vector<std::pair<std::string, std::string>>{{"battery learn --help", "1 to 1e+07 flights"},
+                                                        {"battery learn --help", "0 to 2^64-1"},
+                                                        {"battery case-study --help", "1 to 256 threads"}}) {
     const auto result = RunCli(arguments);
     EXPECT_NE(result.out.find(bound), std::string::npos) << arguments << "\n" << result.out;
   }
@@ -468,15 +475,16 @@ TEST(BoundsCliTest, MissionFileNumbersOutsideTheirBoundsExitTwo) {
   const auto scenario = std::filesystem::path(UASCMA_SOURCE_DIR) / "examples" / "nominal.yaml";
   const std::string out = (scratch.path / "never").string();
   auto waypoints = [](const std::string& item) {
-    return "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t25\t1\n" + item +
-           "\n3\t0\t3\t21\t0\t0\t0\t0\t40.776\t-73.955\t0\t1\n";
+    return "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t25\t1\n" +
+           item + "\n3\t0\t3\t21\t0\t0\t0\t0\t40.776\t-73.955\t0\t1\n";
   };
   const std::string plan_head =
       R"({"fileType": "Plan", "version": 1, "mission": {"version": 2, "plannedHomePosition": [40.77, -73.96, 10], )";
   const std::string plan_items =
       R"("items": [{"type": "SimpleItem", "command": 22, "frame": 3, "params": [0, 0, 0, null, 40.77, -73.96, 30]},
           {"type": "SimpleItem", "command": 21, "frame": 3, "params": [0, 0, 0, null, 40.771, -73.96, 0]}]}})";
-  const std::vector<std::tuple<std::string, std::string, std::string, std::string>> cases = {  // name, text, field, bound
+  const std::vector<std::tuple<std::string, std::string, std::string, std::string>> cases = {
+      // name, text, field, bound
       {"high.waypoints", waypoints("2\t0\t3\t16\t0\t0\t0\t0\t40.776\t-73.955\t1001\t1"), "line 4 (item 2) altitude",
        "0 to 1000 m above home"},
       {"hold.waypoints", waypoints("2\t0\t3\t16\t3601\t0\t0\t0\t40.776\t-73.955\t30\t1"), "line 4 (item 2) param1",

@@ -3,8 +3,8 @@
 // the report of a hand-made database.
 #include "cli_runner.h"
 
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -28,13 +28,11 @@ namespace {
 
 using campaign::ResultsStore;
 using campaign::RunRecord;
-using testing_support::RunCli;
 using testing_support::LineCount;
+using testing_support::RunCli;
 using testing_support::ScratchDir;
 
 constexpr int kRuns = 60;  // × 2 policies: ~1 s of flying on one thread
-
-
 
 void ExpectSameRows(const std::filesystem::path& a, const std::filesystem::path& b) {
   const std::vector<RunRecord> rows_a = ResultsStore::Open(a).ReadRecords();
@@ -108,8 +106,10 @@ TEST_F(CampaignCliTest, AHardKillLosesNothingAndCountsNothingTwice) {
   // Kill the campaign twice at different moments, then let it finish.
   for (const std::int64_t kill_after : {6, 50}) {
     const std::string runs = std::to_string(kRuns);
-    std::vector<std::string> args = {UASCMA_CLI_PATH, "campaign", Path("short.yaml").string(), "--runs", runs,
-                                     "--db", db.string(), "--jobs", "1", "--commit-every", "0.02", "--resume"};
+    std::vector<std::string> args = {UASCMA_CLI_PATH,  "campaign", Path("short.yaml").string(),
+                                     "--runs",         runs,       "--db",
+                                     db.string(),      "--jobs",   "1",
+                                     "--commit-every", "0.02",     "--resume"};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -230,7 +230,7 @@ TEST_F(CampaignCliTest, APolicyFileFliesLikeThePolicyItHolds) {
   for (std::size_t i = 0; i + 1 < rows.size(); i += 2) {
     EXPECT_EQ(rows[i].policy, "cma");
     EXPECT_EQ(rows[i + 1].policy, "tuned");  // named by the file stem
-    RunRecord same = rows[i + 1];  // the file holds the default-weight policy: the same flight
+    RunRecord same = rows[i + 1];            // the file holds the default-weight policy: the same flight
     same.policy = rows[i].policy;
     same.flight_id = rows[i].flight_id;
     EXPECT_EQ(campaign::FirstDifference(rows[i], same), std::nullopt) << "run " << rows[i].run_index;
@@ -280,8 +280,8 @@ TEST_F(CampaignCliTest, ReportOfAHandMadeDatabase) {
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("noop       P        2   100.0 ±  0.0"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("dissertation  71.0 %"), std::string::npos) << text.out;
-  for (const char* plot : {"failure_rate.png", "completion_rate.png", "rewards.png", "outcomes.png", "failure_causes.png",
-                           "failure_fades.png"}) {
+  for (const char* plot : {"failure_rate.png", "completion_rate.png", "rewards.png", "outcomes.png",
+                           "failure_causes.png", "failure_fades.png"}) {
     EXPECT_TRUE(std::filesystem::exists(Path("plots") / plot)) << plot;
   }
 }

@@ -35,12 +35,12 @@ namespace {
 
 using campaign::ResultsStore;
 using campaign::RunRecord;
+using campaign::testing_support::IntegrityCheck;
+using campaign::testing_support::StoredFlightsOrZero;
 using testing_support::LineCount;
 using testing_support::RunCli;
 using testing_support::ScratchDir;
 using testing_support::Slurp;
-using campaign::testing_support::IntegrityCheck;
-using campaign::testing_support::StoredFlightsOrZero;
 
 // Small campaigns keep the whole suite near half a minute on a shared 2-core machine: a process spends
 // most of its ~0.2 s starting up, so several of them really do overlap on the database.
@@ -132,8 +132,18 @@ class CampaignConcurrencyTest : public ::testing::Test {
   static const std::vector<RunRecord>& Reference(int seed, int runs) { return references_->at(Key(seed, runs)); }
   static std::filesystem::path Path(const std::string& name) { return dir_->path / name; }
   static std::vector<std::string> Args(const std::string& db, int runs, int seed) {
-    return {UASCMA_CLI_PATH, "campaign", Path("short.yaml").string(), "--runs", std::to_string(runs), "--seed",
-            std::to_string(seed), "--db", Path(db).string(), "--jobs", "1", "--json"};
+    return {UASCMA_CLI_PATH,
+            "campaign",
+            Path("short.yaml").string(),
+            "--runs",
+            std::to_string(runs),
+            "--seed",
+            std::to_string(seed),
+            "--db",
+            Path(db).string(),
+            "--jobs",
+            "1",
+            "--json"};
   }
   static std::string Join(const std::vector<std::string>& args) {
     std::string line;

@@ -1,8 +1,8 @@
 #pragma once
 // Runs the built `uascma` binary in a shell and captures exit code, stdout and stderr. Shared by the
 // command tests of every module.
-#include <unistd.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -31,8 +31,7 @@ inline std::string Slurp(const std::filesystem::path& path) {
 // A fresh folder under the system temp folder, removed at the end of the test.
 struct ScratchDir {
   explicit ScratchDir(const std::string& name)
-      : path(std::filesystem::temp_directory_path() /
-             ("uascma_test_" + name + "_" + std::to_string(::getpid()))) {
+      : path(std::filesystem::temp_directory_path() / ("uascma_test_" + name + "_" + std::to_string(::getpid()))) {
     std::filesystem::remove_all(path);
     std::filesystem::create_directories(path);
   }
@@ -45,8 +44,8 @@ inline RunResult RunCli(const std::string& arguments) {
   static int counter = 0;
   const auto base = std::filesystem::temp_directory_path() /
                     ("uascma_run_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  const std::string command = std::string(UASCMA_CLI_PATH) + " " + arguments + " >" + base.string() +
-                              ".out 2>" + base.string() + ".err";
+  const std::string command =
+      std::string(UASCMA_CLI_PATH) + " " + arguments + " >" + base.string() + ".out 2>" + base.string() + ".err";
   const int status = std::system(command.c_str());
   RunResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -57,9 +56,7 @@ inline RunResult RunCli(const std::string& arguments) {
   return result;
 }
 
-inline int LineCount(const std::string& text) {
-  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
-}
+inline int LineCount(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
 
 // Bad input: exit code 2, one line on stderr naming `option`, nothing on stdout.
 inline void ExpectBadInput(const RunResult& result, const std::string& option) {

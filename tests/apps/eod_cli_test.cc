@@ -14,8 +14,8 @@
 namespace uascma {
 namespace {
 
-using testing_support::RunCli;
 using testing_support::LineCount;
+using testing_support::RunCli;
 using testing_support::ScratchDir;
 
 // Seconds: the CLI prints the library's double through JSON (17 significant digits).

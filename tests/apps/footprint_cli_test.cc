@@ -12,8 +12,8 @@
 namespace uascma {
 namespace {
 
-using testing_support::RunCli;
 using testing_support::ExpectBadInput;
+using testing_support::RunCli;
 using testing_support::RunResult;
 using testing_support::ScratchDir;
 

@@ -7,8 +7,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sqlite3.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
 
@@ -91,7 +91,8 @@ TEST(HardenCliTest, NamesThatAreNotUtf8StopEveryWriterWithExitTwoWritingNothing)
       {"simulate " + nominal + " --policy '" + (scratch.path / "p\xFF.json").string() + "' --out " + out.string(),
        "name (the policy's name is the file's name)"},
       {"battery case-study 1 --out '" + out.string() + "\xFF'", "--out: folder name"},
-      {"campaign " + (scratch.path / "c.yaml").string() + " --db " + (scratch.path / "c.db").string(), "c.yaml: line 1"},
+      {"campaign " + (scratch.path / "c.yaml").string() + " --db " + (scratch.path / "c.db").string(),
+       "c.yaml: line 1"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.arguments);
@@ -104,7 +105,8 @@ TEST(HardenCliTest, NamesThatAreNotUtf8StopEveryWriterWithExitTwoWritingNothing)
   ASSERT_EQ(RunCli("campaign --runs 1 --jobs 1 --db " + db.string()).exit_code, 0);
   ExecuteSql(db, "UPDATE campaign SET name = CAST(X'6E61FF6D65' AS TEXT)");
   ExpectBadInput(RunCli("report " + db.string() + " --plots " + out.string()), "campaign: name: text in UTF-8");
-  ExpectBadInput(RunCli("simulate --replay " + db.string() + " 0 --out " + out.string()), "campaign: name: text in UTF-8");
+  ExpectBadInput(RunCli("simulate --replay " + db.string() + " 0 --out " + out.string()),
+                 "campaign: name: text in UTF-8");
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
@@ -112,8 +114,9 @@ TEST(HardenCliTest, DuplicateKeysAreRefusedNamingBothLines) {
   ScratchDir scratch("harden_duplicates");
   const auto scenario = scratch.path / "s.yaml";
   Write(scenario, "wind:\n  speed_mps: 1\n  direction_deg: 10\n  speed_mps: 3\n");
-  ExpectBadInput(RunCli("simulate " + scenario.string()), "s.yaml: line 4: each key once per mapping, but 'speed_mps' "
-                                                          "is also given on line 2");
+  ExpectBadInput(RunCli("simulate " + scenario.string()),
+                 "s.yaml: line 4: each key once per mapping, but 'speed_mps' "
+                 "is also given on line 2");
   const auto campaign = scratch.path / "c.yaml";
   Write(campaign, "runs: 1\nseed: 3\nruns: 2\n");
   ExpectBadInput(RunCli("campaign " + campaign.string() + " --db " + (scratch.path / "c.db").string()),
@@ -154,8 +157,8 @@ TEST(HardenCliTest, CampaignErrorsAreFoundBeforeTheDatabaseIsCreated) {
 TEST(HardenCliTest, AVehicleThatCannotHoverIsRefusedBeforeFlying) {
   ScratchDir scratch("harden_hover");
   Write(scratch.path / "heavy.yaml", "vehicle: {mass_kg: 25}\nbattery: {packs: [P, P]}\n");
-  const auto heavy = RunCli("simulate " + (scratch.path / "heavy.yaml").string() + " --out " +
-                            (scratch.path / "out").string());
+  const auto heavy =
+      RunCli("simulate " + (scratch.path / "heavy.yaml").string() + " --out " + (scratch.path / "out").string());
   ExpectBadInput(heavy, "vehicle.mass_kg 25 kg");
   EXPECT_NE(heavy.err.find("hovering needs 245.2 N, the six rotors give at most 26.85 N"), std::string::npos)
       << heavy.err;

@@ -14,8 +14,8 @@ namespace {
 
 using testing_support::ExpectBadInput;
 using testing_support::RunCli;
-using testing_support::ScratchDir;
 using testing_support::RunResult;
+using testing_support::ScratchDir;
 using testing_support::Slurp;
 
 // One small Q-learning run and one small transition estimate for the whole suite.
@@ -51,8 +51,8 @@ TEST_F(LearnCli, QLearningWritesAPolicyTheOtherCommandsUse) {
   EXPECT_EQ(testing_support::LineCount(Slurp(File("curve.csv"))), 5);  // header + 4 episodes
   const RunResult show = RunCli("policy show " + File("q2.json"));
   EXPECT_EQ(show.exit_code, 0) << show.err;
-  const RunResult fly = RunCli(std::string("simulate ") + UASCMA_SOURCE_DIR + "/examples/nominal.yaml --policy " +
-                               File("q2.json"));
+  const RunResult fly =
+      RunCli(std::string("simulate ") + UASCMA_SOURCE_DIR + "/examples/nominal.yaml --policy " + File("q2.json"));
   EXPECT_EQ(fly.exit_code, 0) << fly.err;
 }
 

@@ -17,12 +17,14 @@ namespace {
 using testing_support::RunCli;
 using testing_support::ScratchDir;
 
-std::filesystem::path OsmDataDir() { return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm"; }
+std::filesystem::path OsmDataDir() {
+  return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
+}
 
-#define SKIP_WITHOUT_SHARED_DATA()                                                          \
-  if (!std::filesystem::is_directory(OsmDataDir())) {                                       \
-    GTEST_SKIP() << "shared OSM data not found at " << OsmDataDir().string()               \
-                 << " (shared/ sits beside the repository; the real-data tests need it)";   \
+#define SKIP_WITHOUT_SHARED_DATA()                                                        \
+  if (!std::filesystem::is_directory(OsmDataDir())) {                                     \
+    GTEST_SKIP() << "shared OSM data not found at " << OsmDataDir().string()              \
+                 << " (shared/ sits beside the repository; the real-data tests need it)"; \
   }
 
 nlohmann::json RunJson(const std::string& arguments) {
@@ -70,9 +72,9 @@ TEST(MapCliTest, RealFilesReportTheirCounts) {
   EXPECT_EQ(broadway.at("buildings").get<int>(), 67);
   EXPECT_EQ(broadway.at("skipped").at("total").get<int>(), 0);
   EXPECT_TRUE(broadway.at("origin").at("from_data").get<bool>());
-  const nlohmann::json ues = RunJson("map info --json --skip-missing-height " + dir +
-                                     "/upper-east-side-buildings.geojson --sites " + dir +
-                                     "/midtown-landing-sites.csv --origin 40.7616,-73.9708");
+  const nlohmann::json ues =
+      RunJson("map info --json --skip-missing-height " + dir + "/upper-east-side-buildings.geojson --sites " + dir +
+              "/midtown-landing-sites.csv --origin 40.7616,-73.9708");
   EXPECT_EQ(ues.at("features").get<int>(), 1286);
   EXPECT_EQ(ues.at("buildings").get<int>(), 1228);
   EXPECT_EQ(ues.at("skipped").at("not_polygon").get<int>(), 47);
@@ -81,7 +83,8 @@ TEST(MapCliTest, RealFilesReportTheirCounts) {
   EXPECT_FALSE(ues.at("origin").at("from_data").get<bool>());
   EXPECT_NEAR(ues.at("tallest_building").at("height_m").get<double>(), 160.0, 1e-9);
   EXPECT_EQ(ues.at("skipped_features").size(), 58u);
-  const auto listed = RunCli("map info --skip-missing-height --list-skipped " + dir + "/upper-east-side-buildings.geojson");
+  const auto listed =
+      RunCli("map info --skip-missing-height --list-skipped " + dir + "/upper-east-side-buildings.geojson");
   EXPECT_EQ(listed.exit_code, 0) << listed.err;
   EXPECT_NE(listed.out.find("(node/2296577459) not_polygon (geometry Point)"), std::string::npos) << listed.out;
 }
@@ -114,7 +117,8 @@ TEST(MapCliTest, BadInputIsExitTwoOnOneLineNamingTheFileAndTheFeature) {
   ExpectOneLineErrorNaming("map info " + (scratch.path / "absent.geojson").string(), {"absent.geojson"});
   ExpectOneLineErrorNaming("map info --sites " + write("s.csv", "osm_id,lat,lon,alt,risk,radius\n5,40.7,-73.9,3,2,4\n"),
                            {"s.csv", "line 2 (site 5)", "risk in [0, 1]"});
-  ExpectOneLineErrorNaming("map info --sites " + write("ok.csv", "osm_id,lat,lon,alt,risk,radius\n5,40.7,-73.9,3,0.2,4\n") +
+  ExpectOneLineErrorNaming("map info --sites " +
+                               write("ok.csv", "osm_id,lat,lon,alt,risk,radius\n5,40.7,-73.9,3,0.2,4\n") +
                                " --origin 40.7",
                            {"--origin", "LAT,LON"});
   ExpectOneLineErrorNaming("map info --origin 40.7,-73.9", {"--origin"});  // the procedural city has no origin

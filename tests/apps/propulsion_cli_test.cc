@@ -11,8 +11,8 @@
 namespace uascma {
 namespace {
 
-using testing_support::RunCli;
 using testing_support::ExpectBadInput;
+using testing_support::RunCli;
 using testing_support::RunResult;
 
 // --- uascma thrust ----------------------------------------------------------------------------------
@@ -36,7 +36,7 @@ TEST(ThrustCliTest, PusherMakesMoreThrustThanTractorAtTheSamePower) {
   ASSERT_EQ(pusher.exit_code, 0) << pusher.err;
   const auto t = nlohmann::json::parse(tractor.out);
   const auto p = nlohmann::json::parse(pusher.out);
-  EXPECT_NEAR(t.at("rpm").get<double>(), p.at("rpm").get<double>(), 1e-9);  // one estimator for both
+  EXPECT_NEAR(t.at("rpm").get<double>(), p.at("rpm").get<double>(), 1e-9);    // one estimator for both
   EXPECT_GT(p.at("thrust_n").get<double>(), t.at("thrust_n").get<double>());  // Table 2.1: C_T larger
 }
 

@@ -42,7 +42,8 @@ TEST(SimulateCliTest, OutWritesTheFlightRecordAndPlotDrawsIt) {
   for (const char* file : {"telemetry.csv", "plan.csv", "summary.json"}) {
     EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(out) / file)) << file;
   }
-  const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(std::filesystem::path(out) / "summary.json"));
+  const nlohmann::json summary =
+      nlohmann::json::parse(testing_support::Slurp(std::filesystem::path(out) / "summary.json"));
   EXPECT_EQ(summary.at("isolated_rotor"), 3);
   EXPECT_LT(summary.at("detection_latency_s").get<double>(), 0.2);
   const auto plot = RunCli("plot " + out);
@@ -82,7 +83,9 @@ TEST(SimulateCliTest, ReplayFliesOneCampaignRunAgainBitForBit) {
   ScratchDir config_dir("simulate_replay_config");
   const auto config = config_dir.path / "short.yaml";
   std::ofstream(config) << "mission: {distance_m: [200, 300], cruise_speed_mps: [6, 8]}\n";
-  ASSERT_EQ(RunCli("campaign " + config.string() + " --runs 3 --policies cma,noop --seed 4 --db " + db + " --json").exit_code, 0);
+  ASSERT_EQ(
+      RunCli("campaign " + config.string() + " --runs 3 --policies cma,noop --seed 4 --db " + db + " --json").exit_code,
+      0);
   const auto first = RunCli("simulate --replay " + db + " 2:noop --json");
   ASSERT_EQ(first.exit_code, 0) << first.err;
   const auto again = RunCli("simulate --replay " + db + " 2:noop --json");
@@ -95,7 +98,9 @@ TEST(SimulateCliTest, ReplayFliesOneCampaignRunAgainBitForBit) {
 }
 
 // ---- mission files, QGroundControl export, the battery executor (issues 15 and 12) ----------------------------
-std::string MissionData(const std::string& name) { return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name; }
+std::string MissionData(const std::string& name) {
+  return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name;
+}
 
 // A scenario in `folder` flying delivery_loiter.plan (copied beside it, named relative to the scenario file).
 std::filesystem::path WriteMissionScenario(const std::filesystem::path& folder) {
@@ -196,8 +201,8 @@ TEST(SimulateCliTest, OutWritesNominalPlanThatReadsBackToTheSameWaypoints) {
     EXPECT_NEAR(wpl.waypoints[k].hover_after_s, exported.waypoints[k].hover_after_s, 1e-4) << "waypoint " << k;
   }
   const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
-  EXPECT_EQ(summary.at("files"), nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan",
-                                                 "nominal.waypoints"}));
+  EXPECT_EQ(summary.at("files"),
+            nlohmann::json({"telemetry.csv", "plan.csv", "summary.json", "nominal.plan", "nominal.waypoints"}));
 }
 
 TEST(SimulateCliTest, ReusedOutFolderHoldsOnlyTheNewRunsFiles) {
@@ -223,8 +228,8 @@ TEST(SimulateCliTest, BadBatteryPolicyIsExitTwoNamingTheFileAndWritesNothing) {
   std::ofstream(policy) << "{\"format\": \"something else\"}\n";
   const auto out = dir.path / "flight";
   for (const auto& file : {policy, dir.path / "missing.json"}) {
-    const auto result = RunCli("simulate " + Example("nominal.yaml") + " --battery-policy " + file.string() +
-                               " --out " + out.string());
+    const auto result =
+        RunCli("simulate " + Example("nominal.yaml") + " --battery-policy " + file.string() + " --out " + out.string());
     EXPECT_EQ(result.exit_code, 2) << result.err;
     EXPECT_NE(result.err.find(file.string()), std::string::npos) << result.err;
     EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;

@@ -21,8 +21,8 @@ using testing_support::Slurp;
 std::string LoaderReport(const std::string& environment, const std::string& program, const std::string& arguments,
                          const std::filesystem::path& scratch) {
   const auto report = scratch / "loader.txt";
-  const std::string command = "env " + environment + " LD_DEBUG=libs " + program + " " + arguments +
-                              " >/dev/null 2>" + report.string();
+  const std::string command =
+      "env " + environment + " LD_DEBUG=libs " + program + " " + arguments + " >/dev/null 2>" + report.string();
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
   return Slurp(report);
 }

@@ -30,8 +30,10 @@ std::shared_ptr<const decision::BatteryPolicySet> SwitchingPolicies() {
     p.value.assign(decision::kBatteryNumStates, 0.0);
     for (StateIndex s = 0; s < decision::kBatteryFailureState; ++s) {
       const auto f = decision::BatteryStateFeatures(s);
-      if (f.pack[1].voltage == decision::VoltageState::kC1) p.action[s] = static_cast<int>(PackAction::kUseBatt1);
-      else if (f.pack[0].voltage == decision::VoltageState::kC1) p.action[s] = static_cast<int>(PackAction::kUseBatt2);
+      if (f.pack[1].voltage == decision::VoltageState::kC1)
+        p.action[s] = static_cast<int>(PackAction::kUseBatt1);
+      else if (f.pack[0].voltage == decision::VoltageState::kC1)
+        p.action[s] = static_cast<int>(PackAction::kUseBatt2);
     }
   }
   return set;

@@ -28,47 +28,46 @@ struct StoredCase {
 };
 
 const StoredCase kStored[] = {
-    {"default",
-      "",
-     "7e9351e71d283024"},
+    {"default", "", "7e9351e71d283024"},
     {"distance",
-      "mission: {distance_m: [300, 900], cruise_altitude_m: 40.5}\n"
-      "fault: {time_per_growth_step_s: null, motors: [2, 5]}\n",
+     "mission: {distance_m: [300, 900], cruise_altitude_m: 40.5}\n"
+     "fault: {time_per_growth_step_s: null, motors: [2, 5]}\n",
      "09bc75e19746a37d"},
     {"imported_all",
-      "map:\n"
-      "  buildings: [/a/b.geojson, c.osm]\n"
-      "  sites: s.csv\n"
-      "  origin: [40.77, -73.96]\n"
-      "  height_from_levels: true\n"
-      "  metres_per_level: 3.5\n"
-      "  skip_missing_height: true\n"
-      "  height_from_type: true\n"
-      "  default_height_m: 12.25\n"
-      "  sites_from_map: true\n",
+     "map:\n"
+     "  buildings: [/a/b.geojson, c.osm]\n"
+     "  sites: s.csv\n"
+     "  origin: [40.77, -73.96]\n"
+     "  height_from_levels: true\n"
+     "  metres_per_level: 3.5\n"
+     "  skip_missing_height: true\n"
+     "  height_from_type: true\n"
+     "  default_height_m: 12.25\n"
+     "  sites_from_map: true\n",
      "a3738d9aebccdac3"},
     {"imported_sfm_false",
-      "map:\n"
-      "  buildings: [x.geojson]\n"
-      "  sites_from_map: false\n",
+     "map:\n"
+     "  buildings: [x.geojson]\n"
+     "  sites_from_map: false\n",
      "d7d0c1161a8eafc0"},
     {"imported_sites_sfm_false",
-      "map:\n"
-      "  buildings: [x.geojson]\n"
-      "  sites: s.csv\n"
-      "  sites_from_map: false\n",
+     "map:\n"
+     "  buildings: [x.geojson]\n"
+     "  sites: s.csv\n"
+     "  sites_from_map: false\n",
      "436c210e297dfaf6"},
     {"misc",
-      "name: t1\n"
-      "seed: 18446744073709551615\n"
-      "runs: 7\n"
-      "policies: [noop]\n"
-      "map: {procedural_seed: 0, blocks_north: 3, blocks_east: 200}\n"
-      "battery: {health_weights: {G: 0.1, M: 2, P: 0}, degraded_cells: [2, 2], medium_fades: per_cell, cold_probability: 0.25, cold_temp_degf: -3.5, warm_temp_degf: 100}\n"
-      "wind: {speed_mps: [0, 0.1], direction_rad: [-1, 12.5], turbulence: [none, medium-moderate]}\n"
-      "options: {eod_load: present, cap_speed_after_isolation: false}\n"
-      "safety_margin_s: [0, 0]\n"
-      "fault: {probability: 1, onset_fraction: [0.1, 0.3]}\n",
+     "name: t1\n"
+     "seed: 18446744073709551615\n"
+     "runs: 7\n"
+     "policies: [noop]\n"
+     "map: {procedural_seed: 0, blocks_north: 3, blocks_east: 200}\n"
+     "battery: {health_weights: {G: 0.1, M: 2, P: 0}, degraded_cells: [2, 2], medium_fades: per_cell, "
+     "cold_probability: 0.25, cold_temp_degf: -3.5, warm_temp_degf: 100}\n"
+     "wind: {speed_mps: [0, 0.1], direction_rad: [-1, 12.5], turbulence: [none, medium-moderate]}\n"
+     "options: {eod_load: present, cap_speed_after_isolation: false}\n"
+     "safety_margin_s: [0, 0]\n"
+     "fault: {probability: 1, onset_fraction: [0.1, 0.3]}\n",
      "cd7b0d21342405ef"},
 };
 
@@ -241,7 +240,7 @@ TEST(ScenarioFieldsTest, EveryBoundedKeyRefusesAValueAboveItsBound) {
     const std::string leaf(f.leaf());
     std::string yaml = section == "fault" ? "fault: {motor: 3, spall_onset_s: 175}\n" : "";
     if (section == "fault") {
-      yaml = leaf == "motor" ? fmt::format("fault: {{motor: {}, spall_onset_s: 175}}\n", value)
+      yaml = leaf == "motor"           ? fmt::format("fault: {{motor: {}, spall_onset_s: 175}}\n", value)
              : leaf == "spall_onset_s" ? fmt::format("fault: {{motor: 3, spall_onset_s: {}}}\n", value)
                                        : fmt::format("fault: {{motor: 3, spall_onset_s: 175, {}: {}}}\n", leaf, value);
     } else {

@@ -18,10 +18,9 @@ std::vector<RunRecord> Fly(const CampaignConfig& config) {
   ExecuteOptions options;
   options.jobs = 2;
   std::vector<RunRecord> records;
-  ExecuteFlights(config, policies, MissingFlights(config.runs, policies, {}), options,
-                 [&records](std::vector<RunRecord>&& batch) {
-                   records.insert(records.end(), batch.begin(), batch.end());
-                 });
+  ExecuteFlights(
+      config, policies, MissingFlights(config.runs, policies, {}), options,
+      [&records](std::vector<RunRecord>&& batch) { records.insert(records.end(), batch.begin(), batch.end()); });
   return records;
 }
 
@@ -76,7 +75,8 @@ TEST(HeadlineTest, DefaultCampaignFailsOnlyFromModelledFaultsAndHealthDrivesTheB
     if (r.first_emergency_action_s) EXPECT_TRUE(r.num_actions > 0 || r.substitution_epochs > 0) << r.run_index;
     if (r.battery_health != "G") continue;
     ++good_health;
-    const bool before_fault = !r.fault || (r.first_emergency_action_s && *r.first_emergency_action_s < *r.fault_onset_s);
+    const bool before_fault =
+        !r.fault || (r.first_emergency_action_s && *r.first_emergency_action_s < *r.fault_onset_s);
     if (r.first_emergency_action_s && before_fault && noop.at(r.run_index)->outcome == "completed") {
       ++early_landings_in_good_health;
     }

@@ -87,7 +87,8 @@ TEST(ImportedMapConfigTest, LoadResolvesMapFilesNextToTheCampaignFile) {
   std::ofstream(file) << kImportedYaml;
   const CampaignConfig config = LoadCampaignConfig(file);
   std::filesystem::remove_all(dir);
-  EXPECT_EQ(std::filesystem::path(config.map.buildings[0]), (dir / "upper-east-side-buildings.geojson").lexically_normal());
+  EXPECT_EQ(std::filesystem::path(config.map.buildings[0]),
+            (dir / "upper-east-side-buildings.geojson").lexically_normal());
   EXPECT_EQ(std::filesystem::path(config.map.sites), (dir / "midtown-landing-sites.csv").lexically_normal());
 }
 
@@ -208,7 +209,7 @@ TEST(ImportedMapHeightsTest, CampaignKeysImportBuildingsWithoutHeights) {
   EXPECT_NEAR(heights.at("way/101"), planning::BuildingTypeHeight("house"), kHeightToleranceM);
   EXPECT_NEAR(heights.at("way/102"), planning::BuildingTypeHeight("apartments"), kHeightToleranceM);
   EXPECT_NEAR(heights.at("way/104"), planning::BuildingTypeHeight("yes"), kHeightToleranceM);  // levels not asked
-  EXPECT_NEAR(heights.at("way/106"), 14.5, kHeightToleranceM);  // the height tag first
+  EXPECT_NEAR(heights.at("way/106"), 14.5, kHeightToleranceM);                                 // the height tag first
 
   // default_height_m: every building still without a height gets it; levels first when asked.
   const CampaignConfig by_default =
@@ -234,12 +235,13 @@ TEST(ImportedMapHeightsTest, CampaignSitesFromMapAddsToOrReplacesTheSitesFile) {
   auto sites_of = [](const CampaignConfig& config) { return BuildCampaignWorld(config.map).map->sites().size(); };
 
   // With a sites file and no key: the file's sites only (as before the key existed).
-  const CampaignConfig file_only = ParseCampaignConfig(NoHeightsCampaign(type + "  sites: " + sites.string() + "\n"), "c");
+  const CampaignConfig file_only =
+      ParseCampaignConfig(NoHeightsCampaign(type + "  sites: " + sites.string() + "\n"), "c");
   EXPECT_FALSE(file_only.map.DerivesSites());
   EXPECT_EQ(sites_of(file_only), 1u);
   // sites_from_map: true adds the map's own beside the file's.
-  const CampaignConfig both = ParseCampaignConfig(
-      NoHeightsCampaign(type + "  sites: " + sites.string() + "\n  sites_from_map: true\n"), "c");
+  const CampaignConfig both =
+      ParseCampaignConfig(NoHeightsCampaign(type + "  sites: " + sites.string() + "\n  sites_from_map: true\n"), "c");
   EXPECT_TRUE(both.map.DerivesSites());
   ExpectRoundTrip(both);
   EXPECT_EQ(static_cast<int>(sites_of(both)), 1 + kNoHeightsDerivedSites);

@@ -22,9 +22,9 @@ constexpr double kTolerance = 1e-12;
 // Default weights (eqs. 5.28–5.29): w_S = [FS 0, MH 0, MM 0.082, BH 0.041, RM 0.163],
 // w_A = [NoOp 0.082, Terminate 0, LandASAP 0.02, LandPract 0.041], w_E = [C 0.163, FL 0.408, T 0, E 0];
 // scores f (eqs. 5.23–5.27): MM1/G/RM1 → +1, MM0/P/RM0 → −1, FS ELPRACT → −1, NoOp 1, LandPract 0.5.
-constexpr double kSafeNoOp = 0.082 + 0.041 + 0.163 + 0.082;           // N,NF,MM1,G,RM1 + NoOp = 0.368
+constexpr double kSafeNoOp = 0.082 + 0.041 + 0.163 + 0.082;             // N,NF,MM1,G,RM1 + NoOp = 0.368
 constexpr double kCriticalLandPract = -0.082 - 0.041 - 0.163 + 0.0205;  // N,SF,MM0,P,RM0 + LandPract
-constexpr double kRepeatAsNoOp = -0.082 - 0.041 - 0.163 + 0.082;      // ELPRACT,…,P,RM0: repeat = NoOp
+constexpr double kRepeatAsNoOp = -0.082 - 0.041 - 0.163 + 0.082;        // ELPRACT,…,P,RM0: repeat = NoOp
 
 std::vector<EpochDecision> Decisions() {
   return {
@@ -32,8 +32,7 @@ std::vector<EpochDecision> Decisions() {
        CmaAction::kNoOp},
       {1.0, CmaState{FlightStatus::kN, MotorHealth::kSF, MotorMargin::kMM0, BatteryHealth::kP, ReachMargin::kRM0},
        CmaAction::kLandPract},
-      {2.0,
-       CmaState{FlightStatus::kElPract, MotorHealth::kSF, MotorMargin::kMM0, BatteryHealth::kP, ReachMargin::kRM0},
+      {2.0, CmaState{FlightStatus::kElPract, MotorHealth::kSF, MotorMargin::kMM0, BatteryHealth::kP, ReachMargin::kRM0},
        CmaAction::kLandPract},  // decisions item 9: already executing → NoOp
   };
 }
@@ -53,7 +52,7 @@ TEST(MetricsTest, EpochRewardsByHand) {
   EXPECT_NEAR(landed.minimum, kCriticalLandPract, kTolerance);
   const RewardTrace terminated = CalcRewardTrace(Decisions(), sim::Outcome::kTerminated);
   EXPECT_NEAR(terminated.reward.back(), 0.0, kTolerance);  // R(T) = 0 · (−0.1)
-  EXPECT_GT(landed.average, failed.average);  // landing beats crashing (§5.5.3)
+  EXPECT_GT(landed.average, failed.average);               // landing beats crashing (§5.5.3)
 }
 
 TEST(MetricsTest, TerminalStates) {

@@ -35,10 +35,9 @@ std::vector<RunRecord> Fly(const CampaignConfig& config, int jobs) {
   options.jobs = jobs;
   options.flush_rows = 3;  // many small batches
   std::vector<RunRecord> records;
-  ExecuteFlights(config, Policies(), MissingFlights(config.runs, Policies(), {}), options,
-                 [&records](std::vector<RunRecord>&& batch) {
-                   records.insert(records.end(), batch.begin(), batch.end());
-                 });
+  ExecuteFlights(
+      config, Policies(), MissingFlights(config.runs, Policies(), {}), options,
+      [&records](std::vector<RunRecord>&& batch) { records.insert(records.end(), batch.begin(), batch.end()); });
   std::sort(records.begin(), records.end(),
             [](const RunRecord& a, const RunRecord& b) { return a.flight_id < b.flight_id; });
   return records;

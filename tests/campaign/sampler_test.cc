@@ -48,7 +48,8 @@ TEST(SamplerTest, SameSeedAndIndexGiveTheSameScenario) {
     EXPECT_TRUE(SameBits(a.distance_m, b.distance_m));
     EXPECT_TRUE(SameBits(a.cruise_speed_mps, b.cruise_speed_mps));
     EXPECT_TRUE(SameBits(a.scenario.wind.direction_rad, b.scenario.wind.direction_rad));
-    EXPECT_TRUE(SameBits(a.scenario.battery.initial_cell_voltage_v[1][2], b.scenario.battery.initial_cell_voltage_v[1][2]));
+    EXPECT_TRUE(
+        SameBits(a.scenario.battery.initial_cell_voltage_v[1][2], b.scenario.battery.initial_cell_voltage_v[1][2]));
     EXPECT_EQ(CellHealthCode(a.scenario.battery.cell_health), CellHealthCode(b.scenario.battery.cell_health));
     EXPECT_EQ(a.scenario.fault.enabled, b.scenario.fault.enabled);
     EXPECT_TRUE(SameBits(a.scenario.fault.spall_onset_s, b.scenario.fault.spall_onset_s));
@@ -117,7 +118,9 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
       }
     }
     switch (run.battery_health) {
-      case decision::BatteryHealth::kG: EXPECT_EQ(degraded, 0); break;
+      case decision::BatteryHealth::kG:
+        EXPECT_EQ(degraded, 0);
+        break;
       case decision::BatteryHealth::kM:  // at least one faded cell, none with both fades
         EXPECT_GE(degraded, config.battery.degraded_cells.low);
         EXPECT_LE(degraded, config.battery.degraded_cells.high);
@@ -129,8 +132,7 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
         EXPECT_GE(both, 1);
         break;
     }
-    EXPECT_EQ(static_cast<int>(run.battery_health),
-              static_cast<int>(std::max(run.pack_health[0], run.pack_health[1])));
+    EXPECT_EQ(static_cast<int>(run.battery_health), static_cast<int>(std::max(run.pack_health[0], run.pack_health[1])));
   }
 }
 
@@ -408,8 +410,8 @@ TEST(SamplerTest, WholeLoadEodIsTheHealthyPacksEodAtThePlansMeanCurrent) {
   EXPECT_NEAR(load.gust_power_w, gust, 1e-6 * gust + 1e-9);  // W: the same model along another axis
   if (s.wind.turbulence != models::TurbulenceCategory::kNone) EXPECT_GT(gust, 0.0);
   // I = I_hotel + (E + P_gust T) / (T · 3 · 3.7 V), and the healthy pack's EOD at it.
-  const double current = s.options.hotel_current_a +
-                         (energy + gust * plan.duration()) / (plan.duration() * kPlanningCellVoltage * 3.0);
+  const double current =
+      s.options.hotel_current_a + (energy + gust * plan.duration()) / (plan.duration() * kPlanningCellVoltage * 3.0);
   EXPECT_NEAR(load.current_a, current, kEnergyTolerance * current);
   EXPECT_EQ(load.eod_s, CalcHealthyPackEod(s.battery, load.current_a));
   EXPECT_EQ(run.whole_load_eod_s, load.eod_s);

@@ -74,7 +74,7 @@ const GroupStatistics& Find(const std::vector<GroupStatistics>& groups, const st
 
 TEST(StatisticsTest, HandMadeCampaignGivesTheExpectedTable) {
   const auto groups = Summarise(HandMadeCampaign(), {"noop", "cma"});
-  ASSERT_EQ(groups.size(), 8u);  // 2 policies × G, M, P, all
+  ASSERT_EQ(groups.size(), 8u);              // 2 policies × G, M, P, all
   EXPECT_EQ(groups.front().policy, "noop");  // the requested order
   const GroupStatistics& cma_p = Find(groups, "cma", "P");
   EXPECT_EQ(cma_p.runs, 4);
@@ -98,8 +98,9 @@ TEST(StatisticsTest, HandMadeCampaignGivesTheExpectedTable) {
   // Rates of a group sum to one.
   for (const auto& g : groups) {
     if (g.runs == 0) continue;
-    EXPECT_NEAR(g.failure_rate.value + g.completion_rate.value + g.emergency_landing_rate.value +
-                    g.termination_rate.value, 1.0, kTolerance);
+    EXPECT_NEAR(
+        g.failure_rate.value + g.completion_rate.value + g.emergency_landing_rate.value + g.termination_rate.value, 1.0,
+        kTolerance);
   }
 }
 
@@ -224,9 +225,12 @@ TEST(StatisticsTest, PairedComparisonMatchesRunsByIndex) {
 
 TEST(StatisticsTest, FailuresByCauseGroundedAndUnknownOutcomes) {
   std::vector<RunRecord> records = {
-      Flight("noop", "P", "failed_battery", 0, 0),   Flight("noop", "P", "failed_battery", 0, 0),
-      Flight("noop", "P", "failed_control", 0, 0),   Flight("noop", "P", "failed_collision", 0, 0),
-      Flight("noop", "P", "timeout", 0, 0),          Flight("noop", "P", "grounded", 0, 0),
+      Flight("noop", "P", "failed_battery", 0, 0),
+      Flight("noop", "P", "failed_battery", 0, 0),
+      Flight("noop", "P", "failed_control", 0, 0),
+      Flight("noop", "P", "failed_collision", 0, 0),
+      Flight("noop", "P", "timeout", 0, 0),
+      Flight("noop", "P", "grounded", 0, 0),
       Flight("noop", "P", "landed_on_the_moon", 0, 0),
   };
   // A failure under a name this code does not know: counted as a failure of cause "other".
@@ -265,9 +269,9 @@ TEST(StatisticsTest, FailuresByTheBatterysFades) {
     return r;
   };
   const std::vector<RunRecord> records = {
-      flight("-,-,-|-,-,-", "G", "completed"),        flight("Q,-,-|-,-,-", "M", "failed_battery"),
-      flight("Q,Q,-|-,-,-", "M", "completed"),        flight("R,-,-|-,R,-", "M", "completed"),
-      flight("QR,-,-|-,-,R", "P", "failed_battery"),  flight("-,R,-|QR,-,-", "P", "failed_battery"),
+      flight("-,-,-|-,-,-", "G", "completed"),       flight("Q,-,-|-,-,-", "M", "failed_battery"),
+      flight("Q,Q,-|-,-,-", "M", "completed"),       flight("R,-,-|-,R,-", "M", "completed"),
+      flight("QR,-,-|-,-,R", "P", "failed_battery"), flight("-,R,-|QR,-,-", "P", "failed_battery"),
       flight("R,R,-|-,-,-", "M", "failed_control"),
   };
   EXPECT_EQ(BatteryFadesOf("QR,-,-|-,-,R"), BatteryFades::kCapacity);

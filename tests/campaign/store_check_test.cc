@@ -58,25 +58,37 @@ int FaultyOpen(sqlite3_vfs*, sqlite3_filename name, sqlite3_file* file, int flag
   const sqlite3_io_methods* r = faulty->real->pMethods;
   g_methods.iVersion = r->iVersion;
   g_methods.xClose = [](sqlite3_file* f) { return Real(f)->pMethods->xClose(Real(f)); };
-  g_methods.xRead = [](sqlite3_file* f, void* d, int n, sqlite3_int64 o) { return Real(f)->pMethods->xRead(Real(f), d, n, o); };
+  g_methods.xRead = [](sqlite3_file* f, void* d, int n, sqlite3_int64 o) {
+    return Real(f)->pMethods->xRead(Real(f), d, n, o);
+  };
   g_methods.xWrite = FaultyWrite;
   g_methods.xTruncate = [](sqlite3_file* f, sqlite3_int64 s) { return Real(f)->pMethods->xTruncate(Real(f), s); };
   g_methods.xSync = [](sqlite3_file* f, int flags) { return Real(f)->pMethods->xSync(Real(f), flags); };
   g_methods.xFileSize = [](sqlite3_file* f, sqlite3_int64* s) { return Real(f)->pMethods->xFileSize(Real(f), s); };
   g_methods.xLock = [](sqlite3_file* f, int l) { return Real(f)->pMethods->xLock(Real(f), l); };
   g_methods.xUnlock = [](sqlite3_file* f, int l) { return Real(f)->pMethods->xUnlock(Real(f), l); };
-  g_methods.xCheckReservedLock = [](sqlite3_file* f, int* o) { return Real(f)->pMethods->xCheckReservedLock(Real(f), o); };
-  g_methods.xFileControl = [](sqlite3_file* f, int op, void* a) { return Real(f)->pMethods->xFileControl(Real(f), op, a); };
+  g_methods.xCheckReservedLock = [](sqlite3_file* f, int* o) {
+    return Real(f)->pMethods->xCheckReservedLock(Real(f), o);
+  };
+  g_methods.xFileControl = [](sqlite3_file* f, int op, void* a) {
+    return Real(f)->pMethods->xFileControl(Real(f), op, a);
+  };
   g_methods.xSectorSize = [](sqlite3_file* f) { return Real(f)->pMethods->xSectorSize(Real(f)); };
   g_methods.xDeviceCharacteristics = [](sqlite3_file* f) { return Real(f)->pMethods->xDeviceCharacteristics(Real(f)); };
   g_methods.xShmMap = [](sqlite3_file* f, int p, int s, int e, void volatile** o) {
     return Real(f)->pMethods->xShmMap(Real(f), p, s, e, o);
   };
-  g_methods.xShmLock = [](sqlite3_file* f, int o, int n, int fl) { return Real(f)->pMethods->xShmLock(Real(f), o, n, fl); };
+  g_methods.xShmLock = [](sqlite3_file* f, int o, int n, int fl) {
+    return Real(f)->pMethods->xShmLock(Real(f), o, n, fl);
+  };
   g_methods.xShmBarrier = [](sqlite3_file* f) { Real(f)->pMethods->xShmBarrier(Real(f)); };
   g_methods.xShmUnmap = [](sqlite3_file* f, int d) { return Real(f)->pMethods->xShmUnmap(Real(f), d); };
-  g_methods.xFetch = [](sqlite3_file* f, sqlite3_int64 o, int n, void** p) { return Real(f)->pMethods->xFetch(Real(f), o, n, p); };
-  g_methods.xUnfetch = [](sqlite3_file* f, sqlite3_int64 o, void* p) { return Real(f)->pMethods->xUnfetch(Real(f), o, p); };
+  g_methods.xFetch = [](sqlite3_file* f, sqlite3_int64 o, int n, void** p) {
+    return Real(f)->pMethods->xFetch(Real(f), o, n, p);
+  };
+  g_methods.xUnfetch = [](sqlite3_file* f, sqlite3_int64 o, void* p) {
+    return Real(f)->pMethods->xUnfetch(Real(f), o, p);
+  };
   faulty->base.pMethods = &g_methods;
   return code;
 }
@@ -125,7 +137,8 @@ void ExecuteSql(const std::filesystem::path& path, const std::string& sql) {
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
   char* error = nullptr;
-  EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error), SQLITE_OK) << (error != nullptr ? error : "") << sql;
+  EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error), SQLITE_OK)
+      << (error != nullptr ? error : "") << sql;
   sqlite3_free(error);
   sqlite3_close(db);
 }
@@ -240,7 +253,8 @@ TEST(StoreCheckTest, DamagedStoresAreNamedAndRefused) {
        "reason: text in UTF-8, got 'f\\xFFo'"},
       {"flight_id out of step", "UPDATE runs SET flight_id = 99 WHERE run_index = 1 AND policy = 'cma'",
        "flight_id: run_index x 2 policies + slot 0 = 2, got 99"},
-      {"run beyond the runs requested", "UPDATE campaign SET runs_requested = 1", "run_index: 0 to runs_requested - 1 = 0"},
+      {"run beyond the runs requested", "UPDATE campaign SET runs_requested = 1",
+       "run_index: 0 to runs_requested - 1 = 0"},
       {"boolean out of range", "UPDATE runs SET failure = 5 WHERE run_index = 0 AND policy = 'cma'", "failure: 0 or 1"},
       {"edited configuration", "UPDATE campaign SET config_yaml = replace(config_yaml, 'seed: 11', 'seed: 12')",
        "config_hash: the hash of config_yaml"},
@@ -277,9 +291,10 @@ TEST(StoreCheckTest, AFileThatFailsSqlitesIntegrityCheckIsRefused) {
   ASSERT_EQ(IntegrityCheck(path), "ok");
   // Swap two bytes of an index's record area in the last page: the table and its index disagree, which
   // integrity_check finds and a plain read may not.
-  ExecuteSql(path, "PRAGMA writable_schema = 1; "
-                   "UPDATE sqlite_master SET sql = replace(sql, 'flight_id)', 'run_index)') "
-                   "WHERE name = 'runs_by_flight'; PRAGMA writable_schema = 0;");
+  ExecuteSql(path,
+             "PRAGMA writable_schema = 1; "
+             "UPDATE sqlite_master SET sql = replace(sql, 'flight_id)', 'run_index)') "
+             "WHERE name = 'runs_by_flight'; PRAGMA writable_schema = 0;");
   ASSERT_NE(IntegrityCheck(path), "ok");
   const StoreCheckResult result = CheckStore(path);
   EXPECT_FALSE(result.ok());

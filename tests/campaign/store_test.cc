@@ -12,8 +12,8 @@
 #include <sys/wait.h>
 
 #include <atomic>
-#include <csignal>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -289,22 +289,20 @@ TEST(StoreTest, ClaimsOfDeadAndForeignWorkers) {
   const auto path = dir.path / "c.db";
   ResultsStore::Create(path, Header());
   const WorkerIdentity me = ThisProcessIdentity();
-  const double now_s =
-      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const double now_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   const std::string hash = Header().campaign_hash;
   // Worker 1: a killed process of this machine. 2: a process of this machine still running (ourselves
   // under another worker row is not it: use pid 1, init, which always runs). 3: another machine, seen
   // a second ago. 4: another machine, silent for longer than the lease.
-  ExecuteSql(path, fmt::format(
-                       "INSERT INTO workers (id, host, boot_id, pid_namespace, pid, start_ticks, started_utc, "
-                       "heartbeat_s) VALUES "
-                       "(1, '{0}', '{1}', '{2}', {3}, 0, 'x', {4}), (2, '{0}', '{1}', '{2}', 1, 0, 'x', {4}), "
-                       "(3, 'far', 'other-boot', 'pid:[1]', 77, 5, 'x', {5}), "
-                       "(4, 'farther', 'other-boot', 'pid:[1]', 78, 5, 'x', {6});"
-                       "INSERT INTO claims (campaign_hash, run_index, worker, claimed_s) VALUES "
-                       "('{7}', 0, 1, 0), ('{7}', 1, 2, 0), ('{7}', 2, 3, 0), ('{7}', 3, 4, 0);",
-                       me.host, me.boot_id, me.pid_namespace, DeadPid(), now_s - 1000.0, now_s - 1.0,
-                       now_s - kClaimLeaseSeconds - 5.0, hash));
+  ExecuteSql(path, fmt::format("INSERT INTO workers (id, host, boot_id, pid_namespace, pid, start_ticks, started_utc, "
+                               "heartbeat_s) VALUES "
+                               "(1, '{0}', '{1}', '{2}', {3}, 0, 'x', {4}), (2, '{0}', '{1}', '{2}', 1, 0, 'x', {4}), "
+                               "(3, 'far', 'other-boot', 'pid:[1]', 77, 5, 'x', {5}), "
+                               "(4, 'farther', 'other-boot', 'pid:[1]', 78, 5, 'x', {6});"
+                               "INSERT INTO claims (campaign_hash, run_index, worker, claimed_s) VALUES "
+                               "('{7}', 0, 1, 0), ('{7}', 1, 2, 0), ('{7}', 2, 3, 0), ('{7}', 3, 4, 0);",
+                               me.host, me.boot_id, me.pid_namespace, DeadPid(), now_s - 1000.0, now_s - 1.0,
+                               now_s - kClaimLeaseSeconds - 5.0, hash));
   ResultsStore store = ResultsStore::Open(path);
   // A live worker of another machine: joining is refused (WAL works within one machine only).
   try {

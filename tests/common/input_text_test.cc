@@ -34,13 +34,13 @@ TEST(Utf8Test, WellFormedSequencesPassAndEveryKindOfIllFormedByteIsFound) {
   EXPECT_TRUE(IsValidUtf8("\xC3\xA9t\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x9A\x81"));  // été € 🚁
   // (text, offset of the first bad byte)
   const std::pair<std::string, std::size_t> bad[] = {
-      {"a\xFF", 1},               // never in UTF-8
-      {"ab\x80", 2},              // a lone continuation byte
-      {"\xC0\xAF", 0},            // overlong '/'
-      {"\xE0\x80\xAF", 0},        // overlong, 3 bytes
-      {"\xED\xA0\x80", 0},        // a surrogate, U+D800
-      {"\xF4\x90\x80\x80", 0},    // above U+10FFFF
-      {"ok\xE2\x82", 2},          // truncated at the end
+      {"a\xFF", 1},             // never in UTF-8
+      {"ab\x80", 2},            // a lone continuation byte
+      {"\xC0\xAF", 0},          // overlong '/'
+      {"\xE0\x80\xAF", 0},      // overlong, 3 bytes
+      {"\xED\xA0\x80", 0},      // a surrogate, U+D800
+      {"\xF4\x90\x80\x80", 0},  // above U+10FFFF
+      {"ok\xE2\x82", 2},        // truncated at the end
   };
   for (const auto& [text, offset] : bad) {
     ASSERT_TRUE(FirstInvalidUtf8(text).has_value()) << EscapeInvalidUtf8(text);
@@ -91,8 +91,9 @@ TEST(JsonTextTest, AKeyGivenTwiceIsRefusedNamingBothLines) {
             std::string::npos);
   EXPECT_NE(ErrorOf([] { ParseJsonText("[{\"k\": [1, {\"j\": 1, \"j\": 2}]}]", "p.json"); }).find("\"j\""),
             std::string::npos);
-  EXPECT_EQ(ErrorOf([] { ParseJsonText("{\"a\": \"{\\\"a\\\": 1}\", \"b\": {\"a\": 1}, \"c\": [\"a\", \"a\"]}", "p.json"); }),
-            "");
+  EXPECT_EQ(
+      ErrorOf([] { ParseJsonText("{\"a\": \"{\\\"a\\\": 1}\", \"b\": {\"a\": 1}, \"c\": [\"a\", \"a\"]}", "p.json"); }),
+      "");
   // The syntax errors are reported as before.
   EXPECT_EQ(ErrorOf([] { ParseJsonText("{\"a\": ", "p.json"); }).rfind("p.json: byte", 0), 0u);
 }

@@ -66,7 +66,8 @@ TEST(JsonReaderTest, ChecksBoundsAndIntegerRanges) {
   // 2^64-1 fits no signed type; -4 no unsigned one; 0.95 is no integer.
   EXPECT_EQ(ErrorOf([&] { root.Member("big").Integer<std::int64_t>(); }),
             "plan.json: big: an integer, got 18446744073709551615");
-  EXPECT_EQ(ErrorOf([&] { root.Member("negative").Integer<std::uint32_t>(); }), "plan.json: negative: an integer, got -4");
+  EXPECT_EQ(ErrorOf([&] { root.Member("negative").Integer<std::uint32_t>(); }),
+            "plan.json: negative: an integer, got -4");
   EXPECT_EQ(root.Member("negative").Integer<std::int8_t>(), -4);
   EXPECT_EQ(root.Member("big").Integer<std::uint64_t>(), 18446744073709551615ull);  // a seed's whole range
   EXPECT_EQ(root.Member("count").Integer<std::uint8_t>(), 3);

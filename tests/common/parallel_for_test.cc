@@ -48,7 +48,8 @@ TEST(ParallelForTest, MergesInJobOrderForAnyNumberOfThreads) {
     std::vector<std::int64_t> order;
     OrderedFold(jobs, &order);
     ASSERT_EQ(order.size(), 64u) << jobs << " threads";
-    for (std::size_t i = 0; i < order.size(); ++i) EXPECT_EQ(order[i], static_cast<std::int64_t>(i)) << jobs << " threads";
+    for (std::size_t i = 0; i < order.size(); ++i)
+      EXPECT_EQ(order[i], static_cast<std::int64_t>(i)) << jobs << " threads";
   }
 }
 
@@ -71,7 +72,9 @@ TEST(ParallelForTest, MapReturnsResultsInJobOrder) {
 
 TEST(ParallelForTest, NoJobsMeansNoCalls) {
   int calls = 0;
-  EXPECT_EQ(ParallelFor(0, ParallelOptions{}, [&](std::int64_t) { return ++calls; }, [](std::int64_t, int) {}), 0);
+  EXPECT_EQ(ParallelFor(
+                0, ParallelOptions{}, [&](std::int64_t) { return ++calls; }, [](std::int64_t, int) {}),
+            0);
   EXPECT_EQ(calls, 0);
 }
 

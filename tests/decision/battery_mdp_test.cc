@@ -52,7 +52,8 @@ BatteryTransitionCounts SyntheticCounts(std::uint64_t seed, int flights_per_acti
         }
         std::vector<StateIndex> states = {BatteryStateIndex(x)};
         for (int k = 0; k < 60; ++k) {
-          if (random.Bernoulli(0.1)) x.current = x.current == CurrentLevel::kLow ? CurrentLevel::kHigh : CurrentLevel::kLow;
+          if (random.Bernoulli(0.1))
+            x.current = x.current == CurrentLevel::kLow ? CurrentLevel::kHigh : CurrentLevel::kLow;
           bool failed = false;
           for (int j = 0; j < 2; ++j) {
             if (!on[j]) continue;
@@ -89,7 +90,8 @@ TEST(BatteryMdpStates, ThereAre289WithUniqueLabelsAndRoundTrip) {
   EXPECT_FALSE(f.pack[1].switch_on);
   EXPECT_EQ(f.pack[0].energy, EnergyState::kS3);
   EXPECT_EQ(f.pack[1].voltage, VoltageState::kC0);
-  EXPECT_NE(InputErrorMessage([] { ParseBatteryState("ILONS4C0OFFS3C0", "f.json"); }).find("f.json"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { ParseBatteryState("ILONS4C0OFFS3C0", "f.json"); }).find("f.json"),
+            std::string::npos);
 }
 
 TEST(BatteryMdpStates, Fig44SwitchExampleIsDeterministic) {
@@ -115,11 +117,11 @@ TEST(BatteryAbstraction, EnergyBoundariesAreRfdAndRfdPlusSafetyMargin) {
 
 TEST(BatteryAbstraction, VoltageCurrentAndFailureThresholds) {
   const double eps = 1e-9;
-  EXPECT_EQ(ClassifyVoltage(3.4), VoltageState::kC0);        // ≥ critical voltage
+  EXPECT_EQ(ClassifyVoltage(3.4), VoltageState::kC0);  // ≥ critical voltage
   EXPECT_EQ(ClassifyVoltage(3.4 - eps), VoltageState::kC1);
-  EXPECT_EQ(ClassifyCurrent(21.0), CurrentLevel::kLow);      // 0.2 × 105 A = 21 A
+  EXPECT_EQ(ClassifyCurrent(21.0), CurrentLevel::kLow);  // 0.2 × 105 A = 21 A
   EXPECT_EQ(ClassifyCurrent(21.0 + 1e-6), CurrentLevel::kHigh);
-  EXPECT_TRUE(IsCellFailure(3.3));                           // "≤ 3.3 VDC"
+  EXPECT_TRUE(IsCellFailure(3.3));  // "≤ 3.3 VDC"
   EXPECT_FALSE(IsCellFailure(3.3 + eps));
   BatteryThresholds custom;
   custom.max_current_a = 50.0;
@@ -352,7 +354,8 @@ TEST(BatteryFiles, ReadErrorsNameTheFileThePathAndWhatWasExpected) {
   EXPECT_EQ(message([](nlohmann::json& j) { j["contexts"][1]["rows"][0]["next"]["NOSUCHSTATE"] = 1; }),
             "m.json: contexts[1].rows[0].next.NOSUCHSTATE: a battery MDP state such as ILONS1C0OFFS2C0 or FAILURE, "
             "got 'NOSUCHSTATE'");
-  EXPECT_EQ(message([](nlohmann::json& j) { j.erase("contexts"); }), "m.json: contexts: an array of contexts, but it is missing");
+  EXPECT_EQ(message([](nlohmann::json& j) { j.erase("contexts"); }),
+            "m.json: contexts: an array of contexts, but it is missing");
   const nlohmann::json policy = BatteryPolicyToJson(SolveBatteryPolicies(SyntheticModel()));
   nlohmann::json bad = policy;
   bad["policies"][3]["action"][7] = 2;
@@ -360,7 +363,9 @@ TEST(BatteryFiles, ReadErrorsNameTheFileThePathAndWhatWasExpected) {
             "p.json: policies[3].action[7]: an action name, got 2");
   bad = policy;
   bad["policies"][0]["value"].erase(0);
-  EXPECT_NE(InputErrorMessage([&] { BatteryPolicyFromJson(bad, "p.json"); }).find("p.json: policies[0].value: an array of 289 numbers"),
+  EXPECT_NE(InputErrorMessage([&] {
+              BatteryPolicyFromJson(bad, "p.json");
+            }).find("p.json: policies[0].value: an array of 289 numbers"),
             std::string::npos);
 }
 

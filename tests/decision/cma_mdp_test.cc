@@ -1,8 +1,8 @@
 #include <cmath>
 #include <filesystem>
-#include <vector>
 #include <fstream>
 #include <map>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -44,8 +44,7 @@ TEST(CmaMdpTest, HasTheDissertationsStatesAndActionAvailability) {
   EXPECT_EQ(choices_by_fs["ELASAP"], 36 * 2);
   EXPECT_FALSE(mdp.IsAvailable(mdp.FindState("ELPRACT,NF,MM1,G,RM1"), 3));
   EXPECT_FALSE(mdp.IsAvailable(mdp.FindState("ELASAP,NF,MM1,G,RM1"), 2));
-  EXPECT_EQ(CmaStateIndex(ParseCmaState("ELASAP,SF,MM0,M,RM1", "test")),
-            mdp.FindState("ELASAP,SF,MM0,M,RM1"));
+  EXPECT_EQ(CmaStateIndex(ParseCmaState("ELASAP,SF,MM0,M,RM1", "test")), mdp.FindState("ELASAP,SF,MM0,M,RM1"));
 }
 
 TEST(CmaMdpTest, NominalNoOpRowIsTheNormalisedProductOfTables) {
@@ -155,8 +154,8 @@ class CmaConfigFileTest : public ::testing::Test {
  protected:
   std::filesystem::path Write(const std::string& text) {
     const auto path = std::filesystem::temp_directory_path() /
-                      ("uascma_cma_config_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                       "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
+                      ("uascma_cma_config_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
     std::ofstream(path) << text;
     written_.push_back(path);
     return path;

@@ -15,14 +15,20 @@ FactoredMdpBuilder MakeToyModel() {
   model.AddTerminalState("done", "end");
   model.AddTerminalState("halt", "end");
   model.AddTerminalState("end", "end");
-  model.SetTransitionTable({"toy A", "A", {"A"}, {
-      {"a0", {"a0"}, {0.7, 0}}, {"a1", {"a0"}, {0.3, 0}},
-      {"a0", {"a1"}, {0.0, 0}}, {"a1", {"a1"}, {1.0, 0}}}});
-  model.SetTransitionTable({"toy B", "B", {"A", "B"}, {
-      {"b0", {"a0", "b0"}, {0.9, 0}}, {"b1", {"a0", "b0"}, {0.1, 0}},
-      {"b1", {"a0", "b1"}, {1.0, 0}},
-      {"b0", {"a1", "b0"}, {0.5, 0}}, {"b1", {"a1", "b0"}, {0.5, 0}},
-      {"b1", {"a1", "b1"}, {1.0, 0}}}});
+  model.SetTransitionTable(
+      {"toy A",
+       "A",
+       {"A"},
+       {{"a0", {"a0"}, {0.7, 0}}, {"a1", {"a0"}, {0.3, 0}}, {"a0", {"a1"}, {0.0, 0}}, {"a1", {"a1"}, {1.0, 0}}}});
+  model.SetTransitionTable({"toy B",
+                            "B",
+                            {"A", "B"},
+                            {{"b0", {"a0", "b0"}, {0.9, 0}},
+                             {"b1", {"a0", "b0"}, {0.1, 0}},
+                             {"b1", {"a0", "b1"}, {1.0, 0}},
+                             {"b0", {"a1", "b0"}, {0.5, 0}},
+                             {"b1", {"a1", "b0"}, {0.5, 0}},
+                             {"b1", {"a1", "b1"}, {1.0, 0}}}});
   model.AddExitTable({"toy exit", "done", {"A"}, {{"", {"a1"}, {0.2, 0}}}});
   model.SetForcedExit("stop", "halt");
   model.RestrictActions("B", "b1", {"go"});

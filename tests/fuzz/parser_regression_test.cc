@@ -84,8 +84,9 @@ TEST(ParserRegressionTest, WeightsYamlWithANonScalarKeyOrAnUnknownTopLevelKey) {
                                                       "  state_features: {FS: 0, MH: 0, MM: 0.082, BH: 0.041, RM: "
                                                       "0.163, ? [x]: 1}\n");
   ExpectInputError([&] { decision::LoadCmaConfig(nested); }, {"weights.state_features"});
-  const auto typo = WriteScratch("typo.yaml", "gama: 0.9\nweights:\n" + weights +
-                                                  "  state_features: {FS: 0, MH: 0, MM: 0.082, BH: 0.041, RM: 0.163}\n");
+  const auto typo =
+      WriteScratch("typo.yaml", "gama: 0.9\nweights:\n" + weights +
+                                    "  state_features: {FS: 0, MH: 0, MM: 0.082, BH: 0.041, RM: 0.163}\n");
   ExpectInputError([&] { decision::LoadCmaConfig(typo); }, {"gama"});
   std::filesystem::remove(nested);
   std::filesystem::remove(typo);
@@ -157,7 +158,7 @@ TEST(ParserRegressionTest, OsmInputsThatHitLibosmiumUndefinedBehaviourAreInputEr
   // A dense-node block whose delta-coded timestamps overflow int64 when scaled (pbf_decoder.hpp:707): the fuzzer's
   // own input, kept in tests/data/fuzz (mutated from the seeds of fuzz/osm_seeds.cc, not OSM data).
   const auto dense = WriteScratch("-dense.osm.pbf", Slurp(std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" / "data" /
-                                                    "fuzz" / "dense-node-timestamp-overflow.osm.pbf"));
+                                                          "fuzz" / "dense-node-timestamp-overflow.osm.pbf"));
   ASSERT_EQ(std::filesystem::file_size(dense), 673u);
   for (const auto& path : {xml, pbf, dense}) {
     SCOPED_TRACE(path.string());
@@ -218,8 +219,8 @@ TEST(ParserRegressionTest, BatteryPolicySolverAndStatsMembersAreTyped) {
   const nlohmann::json good = decision::BatteryPolicyToJson(decision::SolveBatteryPolicies(decision::BatteryModel{}));
   ASSERT_NO_THROW((void)decision::BatteryPolicyFromJson(good, "p.json"));
   const std::vector<std::pair<std::string, nlohmann::json>> cases = {
-      {"solver.status", 5}, {"solver.iterations", 1e300}, {"solver.iterations", "many"},
-      {"solver.residual", "small"}, {"stats.learned_rows", -1}, {"stats.transitions", 1.5}};
+      {"solver.status", 5},         {"solver.iterations", 1e300}, {"solver.iterations", "many"},
+      {"solver.residual", "small"}, {"stats.learned_rows", -1},   {"stats.transitions", 1.5}};
   for (const auto& [member, value] : cases) {
     SCOPED_TRACE(member);
     nlohmann::json bad = good;
@@ -237,8 +238,9 @@ TEST(ParserRegressionTest, MalformedOsmFilesLeaveNoFileOpen) {
     return std::distance(std::filesystem::directory_iterator("/proc/self/fd"), std::filesystem::directory_iterator{});
   };
   const auto pbf = WriteScratch("-leak.osm.pbf", std::string("\x00\x00\x00\x0d\x2a\x09OSMHeader\x18\x32", 17));
-  const auto dense = WriteScratch("-leak-dense.osm.pbf", Slurp(std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" /
-                                                               "data" / "fuzz" / "dense-node-timestamp-overflow.osm.pbf"));
+  const auto dense =
+      WriteScratch("-leak-dense.osm.pbf", Slurp(std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" / "data" / "fuzz" /
+                                                "dense-node-timestamp-overflow.osm.pbf"));
   const auto xml = WriteScratch("-leak.osm", "<osm version=\"0.6\"><node id=\"1\" lat=\"x\"");
   for (const auto& path : {pbf, dense, xml}) {
     SCOPED_TRACE(path.string());

@@ -14,7 +14,7 @@
 namespace uascma::gnc {
 namespace {
 
-constexpr double kDt = 0.005;                 // s, the 200 Hz GNC step (§5.4)
+constexpr double kDt = 0.005;  // s, the 200 Hz GNC step (§5.4)
 // The filter floors each normalised probability at 1e-12 (keeps every mode alive), so the sum may exceed one by
 // up to 7e-12; rounding adds a few ulps.
 constexpr double kProbabilitySumTolerance = 1e-10;
@@ -22,8 +22,8 @@ constexpr double kProbabilitySumTolerance = 1e-10;
 struct Bench {
   models::RigidBodyParams body;
   models::MixingMatrix mixing = models::CalcMixingMatrix(
-      models::MixerParams::ForPropulsion(models::PropulsionParams::ForConfiguration(
-          models::PropellerConfiguration::kTractor)),
+      models::MixerParams::ForPropulsion(
+          models::PropulsionParams::ForConfiguration(models::PropellerConfiguration::kTractor)),
       models::kNoFailedMotor);
   models::RotorThrusts hover = models::RotorThrusts::Constant(1.3 * kGravity / 6.0);  // N per rotor
 };

@@ -2,8 +2,8 @@
 // nonlinear rigid body.
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "uascma/common/frames.h"
 #include "uascma/gnc/lqr.h"
@@ -85,9 +85,9 @@ TEST(LqrTest, DragFeedForwardCancelsTheRigidBodysDrag) {
   BodyInputs inputs;
   inputs.wind_W = Eigen::Vector3d(-2.0, 1.0, 0.0);
   const Eigen::Vector3d drag_W = models::CalcRigidBodyRates(params, TractorDrag(), state, inputs).drag_W;
-  const Eigen::Vector3d feedforward = CalcDragFeedForward(
-      params, TractorDrag(), state.q_WB.toRotationMatrix().col(2), state.v_WB_W, inputs.wind_W);
-  EXPECT_GT(drag_W.norm(), 0.1);  // N: a real drag at 7.6 m/s airspeed
+  const Eigen::Vector3d feedforward =
+      CalcDragFeedForward(params, TractorDrag(), state.q_WB.toRotationMatrix().col(2), state.v_WB_W, inputs.wind_W);
+  EXPECT_GT(drag_W.norm(), 0.1);                                         // N: a real drag at 7.6 m/s airspeed
   EXPECT_NEAR((feedforward + drag_W / params.mass).norm(), 0.0, 1e-12);  // m/s²
   EXPECT_EQ(CalcDragFeedForward(params, TractorDrag(), Eigen::Vector3d::UnitZ(), inputs.wind_W, inputs.wind_W),
             Eigen::Vector3d::Zero());  // no airspeed, no drag
@@ -108,8 +108,8 @@ double SteadyCruiseError(bool feedforward, double speed, const Eigen::Vector3d& 
     reference.p_W = Eigen::Vector3d(speed * t, 0, -10);
     planning::PlanReference target = reference;
     if (feedforward) {
-      target.a_W += CalcDragFeedForward(params, TractorDrag(), state.q_WB.toRotationMatrix().col(2), reference.v_W,
-                                        wind_W);
+      target.a_W +=
+          CalcDragFeedForward(params, TractorDrag(), state.q_WB.toRotationMatrix().col(2), reference.v_W, wind_W);
     }
     const Wrench w = controller.Compute(state, target);
     BodyInputs inputs;
@@ -127,8 +127,8 @@ TEST(LqrTest, DragFeedForwardRemovesTheSteadyCruiseLag) {
   const Eigen::Vector3d wind_W(-2.4, 1.8, 0.0);
   const double without = SteadyCruiseError(false, 9.0, wind_W);
   const double with = SteadyCruiseError(true, 9.0, wind_W);
-  EXPECT_GT(without, 0.5);          // m: the bare DLQR's drag lag at ~11.5 m/s airspeed
-  EXPECT_LT(with, 0.05);            // m: a steady wind known to the controller leaves (almost) none
+  EXPECT_GT(without, 0.5);  // m: the bare DLQR's drag lag at ~11.5 m/s airspeed
+  EXPECT_LT(with, 0.05);    // m: a steady wind known to the controller leaves (almost) none
   EXPECT_LT(with, 0.1 * without);
 }
 

@@ -37,7 +37,8 @@ TEST(BatteryLearningTest, TheCountsAreTheDrawsFlightsFlownAndCountedByHand) {
     const campaign::BatteryFlightParams params = campaign::SampleBatteryFlight(options.ranges, options.seed, d);
     for (PackAction action : decision::kBatteryActions) {
       const campaign::BatteryFlightResult flight = campaign::FlyBatteryFlight(
-          params, action, [action](double, const decision::BatteryObservation&, decision::StateIndex) { return action; });
+          params, action,
+          [action](double, const decision::BatteryObservation&, decision::StateIndex) { return action; });
       by_hand.counts.AddFlight(params.context(), action, flight.states, flight.outcome == sim::Outcome::kCompleted);
       if (flight.outcome == sim::Outcome::kFailedBattery) ++failures;
     }
@@ -51,7 +52,7 @@ TEST(BatteryLearningTest, TheCountsAreTheDrawsFlightsFlownAndCountedByHand) {
 
 TEST(BatteryLearningTest, TheModelDoesNotDependOnTheNumberOfThreads) {
   BatteryLearningOptions options = ShortFlights(11, 3);
-  options.drop_flights = true;                           // 3 draws of four flights, the last of three
+  options.drop_flights = true;  // 3 draws of four flights, the last of three
   std::vector<std::int64_t> done;
   options.on_flight_done = [&done](std::int64_t count) { done.push_back(count); };
   BatteryLearningSummary serial_summary, parallel_summary;

@@ -47,8 +47,8 @@ TEST(QLearningTest, ConvergesToTheValueIterationOptimumOfASmallMdp) {
   decision::ValueIterationOptions vi;
   vi.gamma = kGamma;
   const decision::Policy optimum = decision::SolveValueIteration(problem.mdp, vi);
-  const QLearningResult result = RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)),
-                                              MdpEpisodes(problem, 5), ConvergenceOptions());
+  const QLearningResult result =
+      RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)), MdpEpisodes(problem, 5), ConvergenceOptions());
   for (StateIndex s = 0; s < 6; ++s) {
     std::vector<double> q_star;
     for (std::int64_t c = problem.mdp.choice_begin(s); c < problem.mdp.choice_end(s); ++c) {
@@ -91,11 +91,11 @@ TEST(QLearningTest, TableDoesNotDependOnThreads) {
   QLearningOptions options = ConvergenceOptions();
   options.max_episodes = 200;
   options.epsilon = {0.3, 0.05, 150};
-  const QLearningResult one = RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)), MdpEpisodes(problem, 3),
-                                           options);
+  const QLearningResult one =
+      RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)), MdpEpisodes(problem, 3), options);
   options.jobs = 3;
-  const QLearningResult three = RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)), MdpEpisodes(problem, 3),
-                                             options);
+  const QLearningResult three =
+      RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)), MdpEpisodes(problem, 3), options);
   for (StateIndex s = 0; s < 6; ++s) {
     for (ActionIndex a = 0; a < 3; ++a) EXPECT_EQ(one.table.q(s, a), three.table.q(s, a));  // bit for bit
   }
@@ -108,8 +108,8 @@ TEST(QLearningTest, StopsWhenTheGreedyPolicyIsStable) {
   QLearningOptions options = ConvergenceOptions();
   options.max_episodes = 100000;
   options.stable_batches = 50;
-  const QLearningResult result = RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)), MdpEpisodes(problem, 5),
-                                              options);
+  const QLearningResult result =
+      RunQLearning(QTable(6, 3, AvailableActions(problem.mdp)), MdpEpisodes(problem, 5), options);
   ASSERT_EQ(result.status, QLearningStatus::kPolicyStable);
   EXPECT_LT(result.episodes, options.max_episodes);
   // The last 50 batches changed no greedy action.

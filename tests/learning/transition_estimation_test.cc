@@ -108,7 +108,8 @@ TEST(CmaQStateTest, BinsFollowSection533) {
     EXPECT_EQ(c, q % 108);
     const auto fs = static_cast<FlightStatus>(c / 36);
     for (int a = 0; a < 4; ++a) {
-      EXPECT_EQ(available[static_cast<std::size_t>(q) * 4 + a] != 0, IsCmaActionAvailable(fs, static_cast<CmaAction>(a)));
+      EXPECT_EQ(available[static_cast<std::size_t>(q) * 4 + a] != 0,
+                IsCmaActionAvailable(fs, static_cast<CmaAction>(a)));
     }
   }
 }
@@ -120,9 +121,9 @@ TEST(CmaQLearningTest, ProjectionIsVisitWeightedAndBindsToTheCmaModel) {
   for (int i = 0; i < 3; ++i) table.Update(0, 3, 1.0, 0, true, params);
   table.Update(108, 2, 2.0, 0, true, params);
   const Policy policy = ProjectToCmaPolicy(table, QStateKind::kBinned);
-  EXPECT_EQ(policy.action[0], 3);                  // (3·1 + 1·0) / 4 = 0.75 > (1·2) / 4 = 0.5
+  EXPECT_EQ(policy.action[0], 3);  // (3·1 + 1·0) / 4 = 0.75 > (1·2) / 4 = 0.5
   EXPECT_NEAR(policy.value[0], 0.75, 1e-12);
-  EXPECT_EQ(policy.action[1], 0);                  // never visited: NoOp
+  EXPECT_EQ(policy.action[1], 0);  // never visited: NoOp
   CmaQLearningOptions options;
   QLearningResult result{table, {}, QLearningStatus::kEpisodeLimit, 1, -1, 4, 0.0, 0.0};
   const PolicyDocument document = QPolicyDocument(table, options, result);

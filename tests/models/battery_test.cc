@@ -85,12 +85,18 @@ TEST(OcvTableTest, SegmentForDischargeIsTheSegmentAFallingSocIsIn) {
 TEST(OcvTableTest, RejectsTablesThatBreakTheContract) {
   EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 1.0}, {3.3}); }).find("as many voltages"), std::string::npos);
   EXPECT_NE(InputErrorMessage([] { OcvTable({0.5}, {3.7}); }).find("at least 2 points"), std::string::npos);
-  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 0.0, 1.0}, {3.3, 3.5, 4.2}); }).find("SOC strictly increasing"),
+  EXPECT_NE(InputErrorMessage([] {
+              OcvTable({0.0, 0.0, 1.0}, {3.3, 3.5, 4.2});
+            }).find("SOC strictly increasing"),
             std::string::npos);
-  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 0.5, 1.0}, {3.3, 3.8, 3.8}); }).find("voltage strictly increasing"),
+  EXPECT_NE(InputErrorMessage([] {
+              OcvTable({0.0, 0.5, 1.0}, {3.3, 3.8, 3.8});
+            }).find("voltage strictly increasing"),
             std::string::npos);
   EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 1.5}, {3.3, 4.2}); }).find("[0, 1]"), std::string::npos);
-  EXPECT_NE(InputErrorMessage([] { OcvTable({0.0, 1.0}, {3.3, std::nan("")}, "my.csv"); }).find("my.csv"),
+  EXPECT_NE(InputErrorMessage([] {
+              OcvTable({0.0, 1.0}, {3.3, std::nan("")}, "my.csv");
+            }).find("my.csv"),
             std::string::npos);
 }
 
@@ -118,16 +124,19 @@ TEST(OcvTableTest, CsvLoaderReadsPercentOrFractionAndSkipsComments) {
 }
 
 TEST(OcvTableTest, BadCsvIsInputErrorNamingFileAndLine) {
-  const std::string bad_number = InputErrorMessage([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.27\n5,abc\n", "t.csv"); });
+  const std::string bad_number =
+      InputErrorMessage([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.27\n5,abc\n", "t.csv"); });
   EXPECT_NE(bad_number.find("t.csv"), std::string::npos) << bad_number;
   EXPECT_NE(bad_number.find("line 3"), std::string::npos) << bad_number;
   EXPECT_NE(bad_number.find("5,abc"), std::string::npos) << bad_number;
-  EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("soc,volts\n0,3.3\n", "t.csv"); }).find("header"), std::string::npos);
+  EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("soc,volts\n0,3.3\n", "t.csv"); }).find("header"),
+            std::string::npos);
   EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("", "t.csv"); }).find("empty"), std::string::npos);
   EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.27,1\n", "t.csv"); }).find("line 2"),
             std::string::npos);
-  EXPECT_NE(InputErrorMessage([] { ParseOcvTableCsv("soc_percent,ocv_v\n0,3.5\n50,3.4\n", "t.csv"); })
-                .find("voltage strictly increasing"),
+  EXPECT_NE(InputErrorMessage([] {
+              ParseOcvTableCsv("soc_percent,ocv_v\n0,3.5\n50,3.4\n", "t.csv");
+            }).find("voltage strictly increasing"),
             std::string::npos);
   EXPECT_NE(InputErrorMessage([] { LoadOcvTableCsv("/nonexistent/ocv.csv"); }).find("/nonexistent/ocv.csv"),
             std::string::npos);
@@ -165,7 +174,8 @@ TEST(CellParamsTest, InvalidParametersAreInputErrorsNamingTheField) {
   std::string error;
   EXPECT_FALSE(params.IsValid(&error));
   EXPECT_NE(error.find("rc[0].capacitance_f"), std::string::npos) << error;
-  const std::string message = InputErrorMessage([&] { SelfCorrectingCell(params, DefaultOcvTable(), "pack 1 cell 2"); });
+  const std::string message =
+      InputErrorMessage([&] { SelfCorrectingCell(params, DefaultOcvTable(), "pack 1 cell 2"); });
   EXPECT_NE(message.find("pack 1 cell 2"), std::string::npos) << message;
   EXPECT_NE(message.find("capacitance"), std::string::npos) << message;
   params = CellParams{};

@@ -55,27 +55,27 @@ const double kS = std::sqrt(3.0) * kL / 2.0;
 // Eq. 4.11, M_nom, as printed.
 MixingMatrix Eq411() {
   MixingMatrix m;
-  m << 1, 1, 1, 1, 1, 1,                                    //
-      -kL / 2, -kL, -kL / 2, kL / 2, kL, kL / 2,            //
-      kS, 0, -kS, -kS, 0, kS,                               //
+  m << 1, 1, 1, 1, 1, 1,                          //
+      -kL / 2, -kL, -kL / 2, kL / 2, kL, kL / 2,  //
+      kS, 0, -kS, -kS, 0, kS,                     //
       -kGamma, kGamma, -kGamma, kGamma, -kGamma, kGamma;
   return m;
 }
 // Eq. 4.12 as printed (labelled M_{2,5}, used when motor 1 or 4 fails).
 MixingMatrix Eq412() {
   MixingMatrix m;
-  m << 1, 1, 1, 1, 1, 1,                                    //
-      -kL, -kL / 2, kL / 2, kL, kL / 2, -kL / 2,            //
-      0, -kS, -kS, 0, kS, kS,                               //
+  m << 1, 1, 1, 1, 1, 1,                          //
+      -kL, -kL / 2, kL / 2, kL, kL / 2, -kL / 2,  //
+      0, -kS, -kS, 0, kS, kS,                     //
       -kGamma, kGamma, -kGamma, kGamma, -kGamma, kGamma;
   return m;
 }
 // Eq. 4.13 as printed (M_{3,6}).
 MixingMatrix Eq413() {
   MixingMatrix m;
-  m << 1, 1, 1, 1, 1, 1,                                    //
-      kL / 2, -kL / 2, -kL, -kL / 2, kL / 2, kL,            //
-      kS, kS, 0, -kS, -kS, 0,                               //
+  m << 1, 1, 1, 1, 1, 1,                          //
+      kL / 2, -kL / 2, -kL, -kL / 2, kL / 2, kL,  //
+      kS, kS, 0, -kS, -kS, 0,                     //
       -kGamma, kGamma, -kGamma, kGamma, -kGamma, kGamma;
   return m;
 }
@@ -153,8 +153,7 @@ TEST(MixingMatrixTest, QuadcopterCasesHaveRankThreeAndCoupleYawToOneTorqueAxis) 
     // τz = (2γ/L)·τ⊥ for every thrust pattern, τ⊥ about the axis at ψ_e − 90°, e the pair's even motor.
     const int even = failed % 2 == 0 ? failed : OppositeMotor(failed);
     const double axis = RotorAzimuth(even) - std::numbers::pi / 2;
-    const Eigen::Matrix<double, 1, kRotorCount> perpendicular =
-        std::cos(axis) * m.row(1) + std::sin(axis) * m.row(2);
+    const Eigen::Matrix<double, 1, kRotorCount> perpendicular = std::cos(axis) * m.row(1) + std::sin(axis) * m.row(2);
     EXPECT_LT((m.row(3) - 2.0 * kGamma / kL * perpendicular).cwiseAbs().maxCoeff(), kMatrixTolerance)
         << "failed " << failed;
   }
@@ -166,9 +165,9 @@ TEST(MixingMatrixTest, Eq24TimesTheAllocationReproducesTheWrench) {
   const double ct = propulsion.thrust_coefficient_n_per_rpm2;
   const double cq = propulsion.torque_coefficient_nm_per_rpm2;
   Eigen::Matrix<double, 4, 6> eq24;
-  eq24 << ct, ct, ct, ct, ct, ct,                                                        //
-      kL * ct / 2, -kL * ct / 2, -kL * ct, -kL * ct / 2, kL * ct / 2, kL * ct,          //
-      kS * ct, kS * ct, 0, -kS * ct, -kS * ct, 0,                                         //
+  eq24 << ct, ct, ct, ct, ct, ct,                                               //
+      kL * ct / 2, -kL * ct / 2, -kL * ct, -kL * ct / 2, kL * ct / 2, kL * ct,  //
+      kS * ct, kS * ct, 0, -kS * ct, -kS * ct, 0,                               //
       cq, -cq, cq, -cq, cq, -cq;
   const Mixer mixer(MixerParams::ForPropulsion(propulsion));
   const BodyWrench commanded = ModerateWrench();
@@ -427,7 +426,7 @@ TEST(ControlAuthorityTest, AgreesWithABisectionOnTheAllocator) {
 }
 
 TEST(ControlAuthorityTest, TooHeavyToHoverIsReportedNotThrown) {
-  const Mixer mixer(WithTotalThrust(18.0));  // 12 N after a failure
+  const Mixer mixer(WithTotalThrust(18.0));                                // 12 N after a failure
   const ControlAuthority authority = CalcControlAuthority(mixer, 1, 1.3);  // 12.75 N weight
   EXPECT_EQ(authority.status, AuthorityStatus::kCannotHover);
   EXPECT_EQ(authority.max_tilt, 0.0);

@@ -13,8 +13,8 @@
 namespace uascma::models {
 namespace {
 
-constexpr double kRoundOff = 1e-12;      // relative, for closed forms evaluated in double
-constexpr double kRpmTolerance = 0.01;   // RPM, for the hand evaluations of eq. 2.12 below
+constexpr double kRoundOff = 1e-12;         // relative, for closed forms evaluated in double
+constexpr double kRpmTolerance = 0.01;      // RPM, for the hand evaluations of eq. 2.12 below
 constexpr double kThrustTolerance = 1e-12;  // N
 
 double RelativeError(double estimate, double measured) { return (estimate - measured) / measured; }
@@ -37,8 +37,8 @@ TEST(StaticThrustTest, FullThrottleRowsOfTable22AreWithinTenPercent) {
     ASSERT_DOUBLE_EQ(row.throttle_us, 1900.0);
     const StaticThrustEstimate estimate = EstimateStaticThrust(params, row.throttle_us, row.total_power);
     EXPECT_LT(std::abs(RelativeError(estimate.total_thrust, row.total_thrust)), kHighThrottleBound)
-        << PropellerConfigurationName(configuration) << ": " << estimate.total_thrust << " N vs "
-        << row.total_thrust << " N";
+        << PropellerConfigurationName(configuration) << ": " << estimate.total_thrust << " N vs " << row.total_thrust
+        << " N";
   }
   // Values for the record (computed by this model): tractor 24.21 N vs 26.85 N (−9.8 %), pusher
   // 30.46 N vs 31 N (−1.8 %); their mean |error|, 5.8 %, is the "approximately 5%" of §2.6.1.
@@ -186,7 +186,7 @@ TEST(ElectricalPowerTest, PowerGrowsWithThrustAndCurrentIsPowerOverVoltage) {
 
 // --- rotor-speed lag ----------------------------------------------------------------------------
 TEST(RotorSpeedLagTest, DecayIsExpOfMinusStepOverTimeConstant) {
-  const RotorSpeedLag lag(0.03, 0.005);  // τ_m of defaults.md, the 200 Hz GNC step
+  const RotorSpeedLag lag(0.03, 0.005);                    // τ_m of defaults.md, the 200 Hz GNC step
   EXPECT_NEAR(lag.decay(), 0.846481724890614, kRoundOff);  // e^{−1/6}
 }
 

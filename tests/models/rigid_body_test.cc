@@ -1,7 +1,7 @@
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "uascma/common/frames.h"
 #include "uascma/models/rigid_body.h"
@@ -89,8 +89,8 @@ TEST(RigidBodyTest, FiveMillisecondStepMatchesAFineReference) {
   const RigidBodyState rk4 = Fly({}, inputs, 2.0, 0.005, TractorDrag(), Integrator::kRk4);
   std::printf("5 ms step, 2 s manoeuvre: midpoint %.3g m, RK4 %.3g m\n", (midpoint.p_WB_W - fine.p_WB_W).norm(),
               (rk4.p_WB_W - fine.p_WB_W).norm());
-  EXPECT_NEAR((midpoint.p_WB_W - fine.p_WB_W).norm(), 0.0, 1e-4);  // m
-  EXPECT_NEAR((rk4.p_WB_W - fine.p_WB_W).norm(), 0.0, 1e-6);       // m
+  EXPECT_NEAR((midpoint.p_WB_W - fine.p_WB_W).norm(), 0.0, 1e-4);    // m
+  EXPECT_NEAR((rk4.p_WB_W - fine.p_WB_W).norm(), 0.0, 1e-6);         // m
   EXPECT_NEAR(midpoint.q_WB.angularDistance(fine.q_WB), 0.0, 1e-4);  // rad
   EXPECT_NEAR(rk4.q_WB.angularDistance(fine.q_WB), 0.0, 1e-6);       // rad
   // Halving the step divides the midpoint error by ~4 (second order).
@@ -99,7 +99,6 @@ TEST(RigidBodyTest, FiveMillisecondStepMatchesAFineReference) {
   EXPECT_GT(ratio, 3.0);
   EXPECT_LT(ratio, 5.0);
 }
-
 
 }  // namespace
 }  // namespace uascma::models

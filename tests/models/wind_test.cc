@@ -21,8 +21,7 @@ TEST(DrydenTest, LowAltitudeMatchesTheSpecCheckValues) {
   EXPECT_NEAR(in.sigma_u / in.sigma_w, 1.715849, 1e-6);
   // σ_w = 0.1 W20, W20 = 15 kt (light) and 30 kt (moderate).
   EXPECT_NEAR(in.sigma_w, 0.1 * 15.0 * 1852.0 / 3600.0, 1e-12);
-  const DrydenIntensity moderate =
-      CalcDrydenIntensity(TurbulenceCategory::kLowModerate, 100.0 * kFeet, 1500.0 * kFeet);
+  const DrydenIntensity moderate = CalcDrydenIntensity(TurbulenceCategory::kLowModerate, 100.0 * kFeet, 1500.0 * kFeet);
   EXPECT_NEAR(moderate.sigma_w, 2.0 * in.sigma_w, 1e-12);
 }
 
@@ -59,7 +58,12 @@ TEST_P(DrydenVarianceTest, SampleRmsMatchesSigma) {
   for (int k = 0; k < kSteps; ++k) {
     const Eigen::Vector3d gust = model.Step(state, kAltitude, kAirspeed, kDt, random) - model.MeanWind_W();
     const double u = gust.dot(axis_u), v = gust.dot(axis_v), w = gust.z();
-    sum_u += u; sum_uu += u * u; sum_v += v; sum_vv += v * v; sum_w += w; sum_ww += w * w;
+    sum_u += u;
+    sum_uu += u * u;
+    sum_v += v;
+    sum_vv += v * v;
+    sum_w += w;
+    sum_ww += w * w;
   }
   auto stddev = [](double sum, double sum_sq) {
     const double mean = sum / kSteps;
@@ -74,8 +78,7 @@ TEST_P(DrydenVarianceTest, SampleRmsMatchesSigma) {
 
 INSTANTIATE_TEST_SUITE_P(Categories, DrydenVarianceTest,
                          ::testing::Values(TurbulenceCategory::kLowLight, TurbulenceCategory::kLowModerate,
-                                           TurbulenceCategory::kMediumLight,
-                                           TurbulenceCategory::kMediumModerate));
+                                           TurbulenceCategory::kMediumLight, TurbulenceCategory::kMediumModerate));
 
 // A flight whose altitude and airspeed change (hover on the ground, climb, cruise, slow-down, slow flight),
 // flown by many seeds: at instants in every phase the spread of each gust channel across the seeds is σ of
@@ -88,16 +91,16 @@ struct ProfilePoint {
 };
 // Piecewise-linear profile: on the ground (h = 0, the model's 10 ft floor) hovering, a climb to 30 m at
 // 2 m/s, an acceleration to 9 m/s, cruise, a slow-down to 1 m/s in 4 s and slow flight.
-constexpr ProfilePoint kProfile[] = {{0.0, 0.0, 0.0},   {10.0, 0.0, 0.0},  {25.0, 30.0, 2.0},
-                                     {30.0, 30.0, 9.0}, {70.0, 30.0, 9.0}, {74.0, 30.0, 1.0},
-                                     {100.0, 30.0, 1.0}};
+constexpr ProfilePoint kProfile[] = {{0.0, 0.0, 0.0},   {10.0, 0.0, 0.0},  {25.0, 30.0, 2.0}, {30.0, 30.0, 9.0},
+                                     {70.0, 30.0, 9.0}, {74.0, 30.0, 1.0}, {100.0, 30.0, 1.0}};
 ProfilePoint ProfileAt(double t) {
   for (std::size_t i = 1; i < std::size(kProfile); ++i) {
     if (t <= kProfile[i].time_s) {
       const ProfilePoint& a = kProfile[i - 1];
       const ProfilePoint& b = kProfile[i];
       const double f = (t - a.time_s) / (b.time_s - a.time_s);
-      return {t, a.altitude_m + f * (b.altitude_m - a.altitude_m), a.airspeed_mps + f * (b.airspeed_mps - a.airspeed_mps)};
+      return {t, a.altitude_m + f * (b.altitude_m - a.altitude_m),
+              a.airspeed_mps + f * (b.airspeed_mps - a.airspeed_mps)};
     }
   }
   return kProfile[std::size(kProfile) - 1];

@@ -40,7 +40,9 @@ constexpr double kParameterTolerance = 1e-9;  // segment parameter t (dimensionl
 constexpr double kBoundaryBand = 1e-7;        // m: random points this close to an edge are left out of the
                                               // point-in-polygon comparison (the boundary may go either way)
 
-Ring Square(double x0, double y0, double side) { return {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}}; }
+Ring Square(double x0, double y0, double side) {
+  return {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
+}
 
 // A U-shaped (concave) outline: 30 m × 30 m with a 10 m × 20 m notch open to the north (+x).
 //   x 0..30, y 0..30; notch x 10..30, y 10..20.
@@ -159,9 +161,9 @@ TEST(MapGeometryTest, SegmentAgainstAPrismInClosedForm) {
 
 TEST(MapGeometryTest, SegmentOutlineDistanceInClosedForm) {
   const auto edges = EdgesOfRings({Square(0, 0, 10)});
-  EXPECT_NEAR(SegmentOutlineDistance(edges, {-5, 13}, {15, 13}), 3.0, kLengthTolerance);   // parallel, 3 m east
-  EXPECT_NEAR(SegmentOutlineDistance(edges, {13, 14}, {20, 20}), 5.0, kLengthTolerance);   // corner (10, 10)
-  EXPECT_NEAR(SegmentOutlineDistance(edges, {-5, 5}, {15, 5}), 0.0, kLengthTolerance);     // crosses
+  EXPECT_NEAR(SegmentOutlineDistance(edges, {-5, 13}, {15, 13}), 3.0, kLengthTolerance);  // parallel, 3 m east
+  EXPECT_NEAR(SegmentOutlineDistance(edges, {13, 14}, {20, 20}), 5.0, kLengthTolerance);  // corner (10, 10)
+  EXPECT_NEAR(SegmentOutlineDistance(edges, {-5, 5}, {15, 5}), 0.0, kLengthTolerance);    // crosses
 }
 
 // --- kernels against Boost.Geometry ------------------------------------------------------------------------
@@ -278,8 +280,8 @@ TEST(CityMapTest, ApproachOntoItsOwnRoofIsFreeWhenThatBuildingIsIgnored) {
   const CityMap map = TwoBuildingMap();
   const LandingSite& roof = map.site(0);
   const Eigen::Vector3d above = roof.p_W + Eigen::Vector3d(0, 0, -15);  // 15 m above the pad
-  EXPECT_TRUE(map.SegmentCollides(above, roof.p_W));                  // touches the roof …
-  EXPECT_FALSE(map.SegmentCollides(above, roof.p_W, roof.building));  // … which is its own
+  EXPECT_TRUE(map.SegmentCollides(above, roof.p_W));                    // touches the roof …
+  EXPECT_FALSE(map.SegmentCollides(above, roof.p_W, roof.building));    // … which is its own
   // A low pass into the U's notch and out again, at 10 m: clear inside the notch, hitting the far wall beyond.
   EXPECT_FALSE(map.SegmentCollides({85, 15, -10}, {65, 15, -10}));
   const SegmentHit hit = map.FirstHit({85, 15, -10}, {55, 15, -10});
@@ -371,8 +373,8 @@ void ExpectIndexAgreesWithLinearScan(const CityMap& map, std::uint64_t seed) {
     const Eigen::Vector3d a = random_point(60.0);
     // Mostly short hops (the simulator's steps), some long legs (a planner's candidate paths).
     const double reach = k % 4 == 0 ? 400.0 : 40.0;
-    const Eigen::Vector3d b = a + Eigen::Vector3d(random.Uniform(-reach, reach), random.Uniform(-reach, reach),
-                                                  random.Uniform(-20.0, 20.0));
+    const Eigen::Vector3d b =
+        a + Eigen::Vector3d(random.Uniform(-reach, reach), random.Uniform(-reach, reach), random.Uniform(-20.0, 20.0));
     const int ignore = k % 5 == 0 ? static_cast<int>(random.UniformIndex(map.buildings().size())) : kNoBuilding;
     const BruteHit expected = BruteFirstHit(map, edges, a, b, ignore);
     EXPECT_EQ(map.SegmentCollides(a, b, ignore), expected.t.has_value()) << "segment " << k;
@@ -407,9 +409,7 @@ void ExpectIndexAgreesWithLinearScan(const CityMap& map, std::uint64_t seed) {
   EXPECT_GT(misses, 40);
 }
 
-TEST(CityMapTest, IndexedQueriesAgreeWithALinearScan) {
-  ExpectIndexAgreesWithLinearScan(MakeProceduralCity(), 21);
-}
+TEST(CityMapTest, IndexedQueriesAgreeWithALinearScan) { ExpectIndexAgreesWithLinearScan(MakeProceduralCity(), 21); }
 
 TEST(CityMapTest, AnswersDoNotDependOnTheCellSize) {
   // Tiny cells (buildings span many cells, exercising deduplication) and huge ones (one cell holds everything).

@@ -36,11 +36,12 @@ TEST(CsvTest, PlainFieldsAreTrimmedAndBlankLinesSkipped) {
 }
 
 TEST(CsvTest, QuotedFieldsHoldCommasDoubledQuotesAndLineBreaks) {
-  const auto records = SplitCsv("id,name,note\n"
-                                "1,\"Roof, north\",\"say \"\"hi\"\"\"\n"
-                                "2, \"two\nlines\" ,\"\"\n"
-                                "3,\" kept \",end\n",
-                                "t.csv");
+  const auto records = SplitCsv(
+      "id,name,note\n"
+      "1,\"Roof, north\",\"say \"\"hi\"\"\"\n"
+      "2, \"two\nlines\" ,\"\"\n"
+      "3,\" kept \",end\n",
+      "t.csv");
   ASSERT_EQ(records.size(), 4u);
   EXPECT_EQ(records[1].fields, (Fields{"1", "Roof, north", "say \"hi\""}));
   EXPECT_EQ(records[2].fields, (Fields{"2", "two\nlines", ""}));
@@ -62,10 +63,11 @@ TEST(CsvTest, MalformedQuotingNamesTheLine) {
 
 TEST(CsvTest, LandingSiteReaderReadsQuotedIdsAndNumbers) {
   GeoMapData data;
-  ParseLandingSitesCsv("\"osm_id\",\"lat\",lon,alt,risk,radius\n"
-                       "\"way/1, roof\",\"40.74\",-73.99,12.5,0.25,3\n"
-                       "\"say \"\"B\"\"\",40.75,-73.98,0,0.5,\"4\"\n",
-                       "sites.csv", {}, &data);
+  ParseLandingSitesCsv(
+      "\"osm_id\",\"lat\",lon,alt,risk,radius\n"
+      "\"way/1, roof\",\"40.74\",-73.99,12.5,0.25,3\n"
+      "\"say \"\"B\"\"\",40.75,-73.98,0,0.5,\"4\"\n",
+      "sites.csv", {}, &data);
   ASSERT_EQ(data.sites.size(), 2u);
   EXPECT_EQ(data.sites[0].id, "way/1, roof");
   EXPECT_NEAR(data.sites[0].position.lat_deg, 40.74, 1e-12);

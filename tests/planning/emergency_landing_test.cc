@@ -28,11 +28,11 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Tolerances, each named for what it covers.
-constexpr double kTimeRoundOff = 1e-9;      // s: the same times summed in a different order
-constexpr double kLengthRoundOff = 1e-9;    // m: closed-form positions
-constexpr double kGeometrySlack = 1e-6;     // m: the strict-interior tolerance of the planner
-constexpr double kSampleSpacing = 0.05;     // s between samples of a plan (0.25 m at 5 m/s)
-constexpr double kMarginSlack = 1e-4;       // m: a detour may graze a grown hull within the geometry slack
+constexpr double kTimeRoundOff = 1e-9;    // s: the same times summed in a different order
+constexpr double kLengthRoundOff = 1e-9;  // m: closed-form positions
+constexpr double kGeometrySlack = 1e-6;   // m: the strict-interior tolerance of the planner
+constexpr double kSampleSpacing = 0.05;   // s between samples of a plan (0.25 m at 5 m/s)
+constexpr double kMarginSlack = 1e-4;     // m: a detour may graze a grown hull within the geometry slack
 
 Ring Rectangle(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 
@@ -68,8 +68,8 @@ void ExpectCollisionFree(const CityMap& map, const FlightPlan& plan, int site, c
     if (inside != kNoBuilding) {
       const bool on_own_roof_column =
           inside == landing.building && (p.head<2>() - landing.p_W.head<2>()).norm() < kGeometrySlack;
-      ASSERT_TRUE(on_own_roof_column) << "inside building " << map.building(inside).id << " at t = "
-                                      << plan.duration() * i / samples << " s, p = " << p.transpose();
+      ASSERT_TRUE(on_own_roof_column) << "inside building " << map.building(inside).id
+                                      << " at t = " << plan.duration() * i / samples << " s, p = " << p.transpose();
     }
     // Level flight: the clearances, building by building (independent of the grids and hulls).
     if (std::abs(reference.v_W.z()) < 1e-12 && reference.v_W.head<2>().norm() > 1e-9) {
@@ -97,9 +97,11 @@ void ExpectEndsAtSite(const CityMap& map, const FlightPlan& plan, const Eigen::V
 TEST(LandingMoveTimeTest, MatchesFlightPlanAndInverts) {
   const PlanLimits limits;
   for (double length : {0.5, 3.0, 12.5, 12.6, 80.0, 900.0}) {
-    const FlightPlan horizontal = FlightPlan::Through(Eigen::Vector3d(0, 0, -30), {Waypoint{Eigen::Vector3d(length, 0, -30), 0.0, "move"}}, limits);
+    const FlightPlan horizontal = FlightPlan::Through(Eigen::Vector3d(0, 0, -30),
+                                                      {Waypoint{Eigen::Vector3d(length, 0, -30), 0.0, "move"}}, limits);
     EXPECT_NEAR(Move(length, limits.cruise_speed, limits.horizontal_accel), horizontal.duration(), kTimeRoundOff);
-    const FlightPlan vertical = FlightPlan::Through(Eigen::Vector3d(0, 0, -length), {Waypoint{Eigen::Vector3d(0, 0, 0), 0.0, "move"}}, limits);
+    const FlightPlan vertical =
+        FlightPlan::Through(Eigen::Vector3d(0, 0, -length), {Waypoint{Eigen::Vector3d(0, 0, 0), 0.0, "move"}}, limits);
     EXPECT_NEAR(Move(length, limits.vertical_speed, limits.vertical_accel), vertical.duration(), kTimeRoundOff);
     const double time = Move(length, limits.cruise_speed, limits.horizontal_accel);
     EXPECT_NEAR(TrapezoidMoveLength(time, limits.cruise_speed, limits.horizontal_accel), length, 1e-9 * length);
@@ -129,8 +131,7 @@ TEST(LandingDetourGeometryTest, GrownHullHoldsTheMarginAndNoMore) {
   // strictly outside), and every vertex of the grown hull is within √2 · margin of the hull of the outline.
   const double margin = 4.0;
   const std::vector<std::vector<Eigen::Vector2d>> shapes = {
-      {{0, 0}, {30, 0}, {30, 10}, {10, 10}, {10, 20}, {30, 20}, {30, 30}, {0, 30}},
-      {{0, 0}, {60, 5}, {0, 8}}};
+      {{0, 0}, {30, 0}, {30, 10}, {10, 10}, {10, 20}, {30, 20}, {30, 30}, {0, 30}}, {{0, 0}, {60, 5}, {0, 8}}};
   RandomStream random(5);
   for (const auto& shape : shapes) {
     const ConvexObstacle grown = MakeInflatedHull(shape, margin);
@@ -141,7 +142,8 @@ TEST(LandingDetourGeometryTest, GrownHullHoldsTheMarginAndNoMore) {
       const std::size_t k = random.UniformIndex(shape.size());
       const Eigen::Vector2d on_edge = shape[k] + random.Uniform() * (shape[(k + 1) % shape.size()] - shape[k]);
       const double angle = random.Uniform(0.0, 2.0 * std::numbers::pi);
-      const Eigen::Vector2d p = on_edge + random.Uniform(0.0, margin) * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      const Eigen::Vector2d p =
+          on_edge + random.Uniform(0.0, margin) * Eigen::Vector2d(std::cos(angle), std::sin(angle));
       bool outside_an_edge = false;  // strictly outside the grown hull
       for (std::size_t e = 0; e < grown.normals.size(); ++e) {
         if (grown.normals[e].dot(p) > grown.offsets[e] + kGeometrySlack) outside_an_edge = true;
@@ -163,15 +165,15 @@ TEST(LandingDetourGeometryTest, GrownHullHoldsTheMarginAndNoMore) {
 TEST(LandingDetourGeometryTest, SegmentTestClosedFormCases) {
   const ConvexObstacle square = MakeInflatedHull(std::vector<Eigen::Vector2d>{{0, 0}, {10, 0}, {10, 10}, {0, 10}}, 0.0);
   const double tol = kGeometrySlack;
-  EXPECT_TRUE(square.SegmentCrossesInterior({-5, 5}, {15, 5}, tol));     // through the middle
-  EXPECT_TRUE(square.SegmentCrossesInterior({5, 5}, {5, 50}, tol));      // from inside
-  EXPECT_TRUE(square.SegmentCrossesInterior({0, 0}, {10, 10}, tol));     // the diagonal, corner to corner
-  EXPECT_TRUE(square.SegmentCrossesInterior({-1, 1.5}, {1.5, -1}, tol)); // cuts a corner
+  EXPECT_TRUE(square.SegmentCrossesInterior({-5, 5}, {15, 5}, tol));       // through the middle
+  EXPECT_TRUE(square.SegmentCrossesInterior({5, 5}, {5, 50}, tol));        // from inside
+  EXPECT_TRUE(square.SegmentCrossesInterior({0, 0}, {10, 10}, tol));       // the diagonal, corner to corner
+  EXPECT_TRUE(square.SegmentCrossesInterior({-1, 1.5}, {1.5, -1}, tol));   // cuts a corner
   EXPECT_FALSE(square.SegmentCrossesInterior({-1, 0.5}, {0.5, -1}, tol));  // misses the corner
-  EXPECT_FALSE(square.SegmentCrossesInterior({-5, 0}, {15, 0}, tol));    // slides along an edge
-  EXPECT_FALSE(square.SegmentCrossesInterior({-5, 5}, {5, -5}, tol));    // touches the corner (0, 0)
-  EXPECT_FALSE(square.SegmentCrossesInterior({-5, 11}, {15, 11}, tol));  // passes by
-  EXPECT_FALSE(square.SegmentCrossesInterior({10, 10}, {20, 20}, tol));  // leaves a corner outwards
+  EXPECT_FALSE(square.SegmentCrossesInterior({-5, 0}, {15, 0}, tol));      // slides along an edge
+  EXPECT_FALSE(square.SegmentCrossesInterior({-5, 5}, {5, -5}, tol));      // touches the corner (0, 0)
+  EXPECT_FALSE(square.SegmentCrossesInterior({-5, 11}, {15, 11}, tol));    // passes by
+  EXPECT_FALSE(square.SegmentCrossesInterior({10, 10}, {20, 20}, tol));    // leaves a corner outwards
   EXPECT_TRUE(square.StrictlyContains({5, 5}, tol));
   EXPECT_FALSE(square.StrictlyContains({10, 5}, tol));
 }
@@ -239,7 +241,8 @@ TEST(LandingDetourSearchTest, MatchesAllPairsReferenceOnRandomFields) {
     for (int k = 0; k < count; ++k) {
       const Eigen::Vector2d centre(random.Uniform(-80, 80), random.Uniform(-80, 80));
       std::vector<Eigen::Vector2d> points;
-      for (int j = 0; j < 6; ++j) points.push_back(centre + Eigen::Vector2d(random.Uniform(-20, 20), random.Uniform(-20, 20)));
+      for (int j = 0; j < 6; ++j)
+        points.push_back(centre + Eigen::Vector2d(random.Uniform(-20, 20), random.Uniform(-20, 20)));
       obstacles.push_back(MakeInflatedHull(points, random.Uniform(0.0, 5.0)));
     }
     const ObstacleSet set(std::move(obstacles));
@@ -267,7 +270,8 @@ TEST(LandingDetourSearchTest, MatchesAllPairsReferenceOnRandomFields) {
   EXPECT_GT(compared, 40);
 }
 
-// --- one site: climb-over against detour ------------------------------------------------------------------------------
+// --- one site: climb-over against detour
+// ------------------------------------------------------------------------------
 TEST(LandingPathTest, ClimbOverClosedForm) {
   // A 40 m block between the vehicle (30 m up) and a ground site 200 m north.
   const CityMap map({MakeBuilding("block", Rectangle(90, -30, 110, 30), 40.0)},
@@ -280,7 +284,8 @@ TEST(LandingPathTest, ClimbOverClosedForm) {
   ASSERT_EQ(path.kind, LandingPathKind::kClimbOver);
   EXPECT_NEAR(path.transit_altitude, 50.0, kLengthRoundOff);  // 40 m + 10 m clearance
   const PlanLimits& l = params.limits;
-  const double expected = Move(20.0, l.vertical_speed, l.vertical_accel) + Move(200.0, l.cruise_speed, l.horizontal_accel) +
+  const double expected = Move(20.0, l.vertical_speed, l.vertical_accel) +
+                          Move(200.0, l.cruise_speed, l.horizontal_accel) +
                           Move(50.0, l.vertical_speed, l.vertical_accel);
   EXPECT_NEAR(path.flight_time, expected, kTimeRoundOff);
   ASSERT_EQ(path.waypoints_W.size(), 3u);
@@ -293,9 +298,11 @@ TEST(LandingPathTest, ClimbOverClosedForm) {
   // The lower bound holds and the margin matters: a building 4 m beside the line (within 5 m) still counts.
   EXPECT_LE(planner.LowerBoundTime(start, map.site(0).p_W), path.flight_time);
   const CityMap beside({MakeBuilding("beside", Rectangle(90, 4, 110, 30), 40.0)}, {});
-  EXPECT_NEAR(LandingPathPlanner(beside, params).TransitAltitude(start, Eigen::Vector3d(200, 0, 0)), 50.0, kLengthRoundOff);
+  EXPECT_NEAR(LandingPathPlanner(beside, params).TransitAltitude(start, Eigen::Vector3d(200, 0, 0)), 50.0,
+              kLengthRoundOff);
   const CityMap away({MakeBuilding("away", Rectangle(90, 6, 110, 30), 40.0)}, {});
-  EXPECT_NEAR(LandingPathPlanner(away, params).TransitAltitude(start, Eigen::Vector3d(200, 0, 0)), 30.0, kLengthRoundOff);
+  EXPECT_NEAR(LandingPathPlanner(away, params).TransitAltitude(start, Eigen::Vector3d(200, 0, 0)), 30.0,
+              kLengthRoundOff);
 }
 
 TEST(LandingPathTest, DetourBeatsClimbAroundATallTower) {
@@ -382,7 +389,8 @@ TEST(LandingPathTest, DescendsOntoItsOwnRoofAndRespectsTheCeiling) {
   ExpectEndsAtSite(map, plan, start, 0);
   ExpectCollisionFree(map, plan, 0, params);
   // Over the wall or round it, the path ends with the descent in the site's column.
-  EXPECT_LT((path.waypoints_W[path.waypoints_W.size() - 2].head<2>() - Eigen::Vector2d(110, 0)).norm(), kLengthRoundOff);
+  EXPECT_LT((path.waypoints_W[path.waypoints_W.size() - 2].head<2>() - Eigen::Vector2d(110, 0)).norm(),
+            kLengthRoundOff);
   // A ceiling below the needed transit and no detour: no path.
   params.max_transit_altitude = 55.0;
   params.allow_detour = false;
@@ -513,7 +521,8 @@ TEST(LandAsapTest, PlanningEveryCandidateGivesTheSameChoiceAndNeverLeavesTheFoot
 TEST(LandAsapTest, EqualMarginsGoToTheLowerRisk) {
   // No buildings; sites 100 m north and south of a vehicle flying east: the same time (every plan starts at rest).
   // Then a 0.01 m longer flight is no longer a tie (2 ms ≫ 1e-9 · EOD).
-  const CityMap tie({}, {MakeSite("ahead", Eigen::Vector3d(100, 0, 0), 0.5), MakeSite("behind", Eigen::Vector3d(-100, 0, 0), 0.2)});
+  const CityMap tie(
+      {}, {MakeSite("ahead", Eigen::Vector3d(100, 0, 0), 0.5), MakeSite("behind", Eigen::Vector3d(-100, 0, 0), 0.2)});
   const LandingPathPlanner planner(tie);
   LandingRequest request;
   request.p_WB_W = Eigen::Vector3d(0, 0, -30);
@@ -698,7 +707,8 @@ TEST(LandPractTest, LookupIsTheMaximumRmOfTheCheckpointAndPlanMatchesIt) {
     // Reference: the nearest checkpoint by a linear scan, the leg by the FlightPlan of the climb-over.
     int nearest = 0;
     for (int k = 1; k < 5; ++k) {
-      if ((f.database.checkpoints()[k].p_W - p).norm() < (f.database.checkpoints()[nearest].p_W - p).norm() - 1e-3) nearest = k;
+      if ((f.database.checkpoints()[k].p_W - p).norm() < (f.database.checkpoints()[nearest].p_W - p).norm() - 1e-3)
+        nearest = k;
     }
     EXPECT_LT((f.database.checkpoints()[choice.checkpoint].p_W - f.database.checkpoints()[nearest].p_W).norm(), 1e-3);
     const LandingPath leg = planner.ClimbOver(p, f.database.checkpoints()[choice.checkpoint].p_W);
@@ -748,8 +758,8 @@ TEST(LandPractTest, EmptyDatabaseAndNoSitesGiveClearStatuses) {
 
 // --- real geometry ------------------------------------------------------------------------------------------------
 TEST(LandAsapTest, CollisionFreeOverRealUpperEastSideBuildings) {
-  const auto file = std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" /
-                    "upper-east-side-buildings.geojson";
+  const auto file =
+      std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" / "upper-east-side-buildings.geojson";
   if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
   MapImportOptions options;
   options.skip_missing_height = true;

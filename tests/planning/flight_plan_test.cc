@@ -74,7 +74,10 @@ TEST(FlightPlanTest, InvalidLimitsAreInputErrors) {
 // same inputs (a campaign replays runs from their seeds). Rebuilt here segment by segment from CalcTrapezoid: the
 // climb and the landing at the vertical limits, the cruises at the horizontal ones, the drop hover between.
 TEST(FlightPlanTest, DeliveryPlanIsBitForBitTheTrapezoidsOfItsFourMoves) {
-  const struct { Eigen::Vector2d home, destination; double altitude, hover, speed; } cases[] = {
+  const struct {
+    Eigen::Vector2d home, destination;
+    double altitude, hover, speed;
+  } cases[] = {
       {{0, 0}, {600, 0}, 30, 30, 5}, {{-120, 40}, {380, 260}, 41.5, 0, 8.7}, {{10, 10}, {13, 11}, 12, 12.5, 1}};
   for (const auto& c : cases) {
     DeliveryMission mission;
@@ -86,7 +89,10 @@ TEST(FlightPlanTest, DeliveryPlanIsBitForBitTheTrapezoidsOfItsFourMoves) {
     limits.cruise_speed = c.speed;
     const FlightPlan plan = MakeDeliveryPlan(mission, limits);
     const double cruise = (c.destination - c.home).norm();
-    struct Expected { PlanSegment::Kind kind; double length, speed, accel, hover; };
+    struct Expected {
+      PlanSegment::Kind kind;
+      double length, speed, accel, hover;
+    };
     std::vector<Expected> expected = {
         {PlanSegment::Kind::kMove, c.altitude, limits.vertical_speed, limits.vertical_accel, 0},
         {PlanSegment::Kind::kMove, cruise, limits.cruise_speed, limits.horizontal_accel, 0}};
@@ -145,8 +151,10 @@ TEST(FlightPlanTest, MultiWaypointPlansFlyEveryLegRestToRestAndCountAllThatRemai
   EXPECT_NEAR((plan.PointAtDistance(20 + 200 + 75) - Eigen::Vector3d(200, 75, -20)).norm(), 0.0, 1e-9);
   // A negative hover or speed, or a non-finite waypoint, is an input error.
   EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(1, 0, 0), -1, "x"}}, limits), InputError);
-  EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(1, 0, 0), 0, "x", -2}}, limits), InputError);
-  EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(NAN, 0, 0), 0, "x"}}, limits), InputError);
+  EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(1, 0, 0), 0, "x", -2}}, limits),
+               InputError);
+  EXPECT_THROW(FlightPlan::Through(Eigen::Vector3d::Zero(), {{Eigen::Vector3d(NAN, 0, 0), 0, "x"}}, limits),
+               InputError);
 }
 
 }  // namespace

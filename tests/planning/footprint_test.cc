@@ -28,10 +28,10 @@ constexpr double kDragSlope = 0.55;  // N·s/m, ≈ ρ f v of the default table 
 constexpr double kSpeed = 9.0;       // m/s, Fig. 5.4
 
 // Tolerances, each named for what it covers.
-constexpr double kRoundOff = 1e-10;            // relative: closed-form identities evaluated in double
-constexpr double kFiniteDifference = 1e-6;     // relative: central differences with step 1e-4 t_f
-constexpr double kConstantsAgreement = 1e-8;   // relative: the 4×4 system against the reduced closed form
-constexpr double kFineStep = 1e-6;             // m + relative 1e-8: RK4 with a 1 ms step against the exact pieces
+constexpr double kRoundOff = 1e-10;           // relative: closed-form identities evaluated in double
+constexpr double kFiniteDifference = 1e-6;    // relative: central differences with step 1e-4 t_f
+constexpr double kConstantsAgreement = 1e-8;  // relative: the 4×4 system against the reduced closed form
+constexpr double kFineStep = 1e-6;            // m + relative 1e-8: RK4 with a 1 ms step against the exact pieces
 
 AxisProblem MakeProblem(double v0, double vf, double eod, double drag_slope = kDragSlope) {
   AxisProblem p;
@@ -46,8 +46,8 @@ AxisProblem MakeProblem(double v0, double vf, double eod, double drag_slope = kD
 
 // The three cases of Algorithm 1 at v_init = 9 m/s, and a long EOD and a drag-free variant.
 std::vector<AxisProblem> Problems() {
-  return {MakeProblem(kSpeed, kSpeed, 20.0), MakeProblem(kSpeed, -kSpeed, 20.0), MakeProblem(0.0, kSpeed, 20.0),
-          MakeProblem(kSpeed, -kSpeed, 300.0), MakeProblem(4.0, -4.0, 7.0, 0.0), MakeProblem(2.0, 5.0, 1.5)};
+  return {MakeProblem(kSpeed, kSpeed, 20.0),   MakeProblem(kSpeed, -kSpeed, 20.0), MakeProblem(0.0, kSpeed, 20.0),
+          MakeProblem(kSpeed, -kSpeed, 300.0), MakeProblem(4.0, -4.0, 7.0, 0.0),   MakeProblem(2.0, 5.0, 1.5)};
 }
 
 double Hamiltonian(const AxisOptimalState& s, const AxisProblem& p) {  // eq. 5.4
@@ -209,9 +209,9 @@ TEST(FootprintPmpTest, ClosedFormEqualsTheDiscreteKktOptimum) {
   // midpoint rule's 1/24 for the cell average of u*, and the same order in the multiplier μ).
   constexpr int kIntervals = 400;
   constexpr double kSecondOrderConstant = 0.2;  // per Δ² × curvature; the midpoint rule alone gives 1/24
-  for (const AxisProblem& p : {MakeProblem(kSpeed, kSpeed, 20.0), MakeProblem(kSpeed, -kSpeed, 20.0),
-                               MakeProblem(0.0, kSpeed, 20.0), MakeProblem(kSpeed, -kSpeed, 100.0),
-                               MakeProblem(3.0, 3.0, 2.0)}) {
+  for (const AxisProblem& p :
+       {MakeProblem(kSpeed, kSpeed, 20.0), MakeProblem(kSpeed, -kSpeed, 20.0), MakeProblem(0.0, kSpeed, 20.0),
+        MakeProblem(kSpeed, -kSpeed, 100.0), MakeProblem(3.0, 3.0, 2.0)}) {
     const AxisOptimalSolution solution(p);
     const double a = p.drag_slope / p.mass;
     const double dt = p.final_time / kIntervals;
@@ -230,8 +230,7 @@ TEST(FootprintPmpTest, ClosedFormEqualsTheDiscreteKktOptimum) {
     }
     // The unbounded step 7 is the same closed form.
     const double closed_position = solution.At(p.final_time).position;
-    const double simulated =
-        SimulateBoundedAxis(solution, std::numeric_limits<double>::infinity()).final_position;
+    const double simulated = SimulateBoundedAxis(solution, std::numeric_limits<double>::infinity()).final_position;
     EXPECT_NEAR(simulated, closed_position, kRoundOff * position);
   }
 }
@@ -254,7 +253,8 @@ TEST(FootprintPmpTest, DragFreeLimitsHaveTheirHandDerivedValues) {
   EXPECT_NEAR(r.max_control_force, kMass * kGravity * std::tan(30.0 / 180.0 * kPi), 1e-9);
 }
 
-// --- step 7: exact pieces against a fine-step reference -----------------------------------------------------------------
+// --- step 7: exact pieces against a fine-step reference
+// -----------------------------------------------------------------
 double Rk4FinalPosition(const AxisOptimalSolution& solution, double max_force, double dt) {
   const AxisProblem& p = solution.problem();
   const double a = p.drag_slope / p.mass;
@@ -284,10 +284,10 @@ TEST(FootprintStepSevenTest, ExactPiecesMatchFineStepIntegration) {
     double dt;
   };
   const std::vector<Case> cases = {
-      {MakeProblem(kSpeed, kSpeed, 20.0), 0, 1e-3},   {MakeProblem(kSpeed, -kSpeed, 20.0), 0, 1e-3},
-      {MakeProblem(0.0, kSpeed, 20.0), 0, 1e-3},      {MakeProblem(kSpeed, -kSpeed, 300.0), 0, 5e-3},
-      {MakeProblem(kSpeed, -kSpeed, 5.0), 5, 1e-3},   {MakeProblem(0.0, kSpeed, 3.0), 5, 1e-3},
-      {MakeProblem(kSpeed, kSpeed, 30.0), 5, 1e-3},   {MakeProblem(kSpeed, -kSpeed, 8.0), 12, 1e-3},
+      {MakeProblem(kSpeed, kSpeed, 20.0), 0, 1e-3}, {MakeProblem(kSpeed, -kSpeed, 20.0), 0, 1e-3},
+      {MakeProblem(0.0, kSpeed, 20.0), 0, 1e-3},    {MakeProblem(kSpeed, -kSpeed, 300.0), 0, 5e-3},
+      {MakeProblem(kSpeed, -kSpeed, 5.0), 5, 1e-3}, {MakeProblem(0.0, kSpeed, 3.0), 5, 1e-3},
+      {MakeProblem(kSpeed, kSpeed, 30.0), 5, 1e-3}, {MakeProblem(kSpeed, -kSpeed, 8.0), 12, 1e-3},
       {MakeProblem(3.0, -3.0, 6.0, 0.05), 0, 1e-3}};
   for (const Case& c : cases) {
     const AxisOptimalSolution solution(c.problem, c.order);
@@ -342,9 +342,9 @@ FootprintParams Fig54Params(double eod, int order) {
 TEST(FootprintMaclaurinTest, SeriesAgreesWithExactWhenDragTimeIsSmallAndPartsWhenLarge) {
   // T_n(±a t_f) errs by (a t_f)^{n+1}/(n+1)!; the constants C1…C3 cancel to order (a t_f)², which amplifies it.
   struct Case {
-    double eod;         // s; a t_f = 0.42 × EOD
+    double eod;  // s; a t_f = 0.42 × EOD
     int order;
-    double tolerance;   // relative
+    double tolerance;  // relative
   };
   for (const Case& c : {Case{0.1, 5, 1e-7}, Case{0.5, 5, 1e-4}, Case{0.5, 10, 1e-9}, Case{10.0, 30, 1e-6}}) {
     const FootprintResult exact = CalcFootprint(Fig54Params(c.eod, 0));
@@ -530,8 +530,7 @@ TEST(FootprintRegionTest, HeadingFrameMapsToNed) {
   const HeadingFrame from_state =
       HeadingFrame::FromState(Eigen::Vector3d(1, 2, -10), Eigen::Vector3d(-3.0, 3.0, 0.5), 0.2);
   EXPECT_NEAR(from_state.heading, 3 * kPi / 4, 1e-12);  // course north-west… of (−3, 3): 135°
-  EXPECT_NEAR(HeadingFrame::FromState(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, 0, 2), 0.2).heading, 0.2,
-              1e-15);
+  EXPECT_NEAR(HeadingFrame::FromState(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, 0, 2), 0.2).heading, 0.2, 1e-15);
 
   // A world point in the footprint of a vehicle flying east.
   const FootprintResult r = CalcFootprint(Fig54Params(20.0, 0));

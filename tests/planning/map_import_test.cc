@@ -26,27 +26,30 @@
 namespace uascma::planning {
 namespace {
 
-constexpr double kProjectionTolerance = 1e-4;      // m: tmerc against the closed-form arc lengths over 100 m
-constexpr double kRoundTripTolerance = 1e-10;      // degrees (~1e-5 m)
-constexpr double kSameGeometryTolerance = 1e-9;    // m, two readers projecting the same coordinates
-constexpr double kHeightTolerance = 1e-9;          // m
+constexpr double kProjectionTolerance = 1e-4;    // m: tmerc against the closed-form arc lengths over 100 m
+constexpr double kRoundTripTolerance = 1e-10;    // degrees (~1e-5 m)
+constexpr double kSameGeometryTolerance = 1e-9;  // m, two readers projecting the same coordinates
+constexpr double kHeightTolerance = 1e-9;        // m
 
 // WGS84 (NIMA TR8350.2): semi-major axis and first eccentricity squared.
 constexpr double kWgs84A = 6378137.0;
 constexpr double kWgs84E2 = 6.69437999014e-3;
 
-std::filesystem::path OsmDataDir() { return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm"; }
+std::filesystem::path OsmDataDir() {
+  return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
+}
 
-#define SKIP_WITHOUT_SHARED_DATA()                                                                          \
-  if (!std::filesystem::is_directory(OsmDataDir())) {                                                       \
-    GTEST_SKIP() << "shared OSM data not found at " << OsmDataDir().string()                               \
-                 << " (shared/ sits beside the repository; the real-data tests need it)";                   \
+#define SKIP_WITHOUT_SHARED_DATA()                                                        \
+  if (!std::filesystem::is_directory(OsmDataDir())) {                                     \
+    GTEST_SKIP() << "shared OSM data not found at " << OsmDataDir().string()              \
+                 << " (shared/ sits beside the repository; the real-data tests need it)"; \
   }
 
 // A scratch folder for the files a test writes, removed at the end.
 struct Scratch {
   explicit Scratch(const std::string& name)
-      : path(std::filesystem::temp_directory_path() / ("uascma_map_import_" + name + "_" + std::to_string(::getpid()))) {
+      : path(std::filesystem::temp_directory_path() /
+             ("uascma_map_import_" + name + "_" + std::to_string(::getpid()))) {
     std::filesystem::remove_all(path);
     std::filesystem::create_directories(path);
   }
@@ -67,7 +70,8 @@ void ExpectInputError(F&& f, std::initializer_list<std::string> parts) {
   } catch (const InputError& e) {
     const std::string message = e.what();
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
+    for (const auto& part : parts)
+      EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
   }
 }
 
@@ -149,10 +153,10 @@ TEST(GeoJsonImportTest, ReadsPolygonsMultiPolygonsAndCountsWhatItSkips) {
   EXPECT_EQ(summary.skipped_features[0].detail, "geometry Point");
   ASSERT_EQ(data.buildings.size(), 3u);
   EXPECT_EQ(data.buildings[0].id, "way/1");
-  EXPECT_EQ(data.buildings[0].rings.size(), 2u);        // outer + courtyard
-  EXPECT_EQ(data.buildings[0].rings[0].size(), 4u);     // the closing position dropped
+  EXPECT_EQ(data.buildings[0].rings.size(), 2u);     // outer + courtyard
+  EXPECT_EQ(data.buildings[0].rings[0].size(), 4u);  // the closing position dropped
   EXPECT_NEAR(data.buildings[0].height, 20.0, kHeightTolerance);
-  EXPECT_EQ(data.buildings[1].rings.size(), 2u);        // two parts
+  EXPECT_EQ(data.buildings[1].rings.size(), 2u);  // two parts
   EXPECT_NEAR(data.buildings[1].height, 55.5, kHeightTolerance);
   EXPECT_NEAR(data.buildings[2].height, 4 * options.metres_per_level, kHeightTolerance);
 
@@ -175,8 +179,8 @@ std::string FeatureCollection(const std::string& feature) {
 }
 
 std::string BuildingFeature(const std::string& properties, const std::string& coordinates) {
-  return R"({"type": "Feature", "properties": {)" + properties + R"(}, "geometry": {"type": "Polygon", "coordinates": )" +
-         coordinates + "}}";
+  return R"({"type": "Feature", "properties": {)" + properties +
+         R"(}, "geometry": {"type": "Polygon", "coordinates": )" + coordinates + "}}";
 }
 
 const char* kSquare = "[[[-73.99, 40.738], [-73.989, 40.738], [-73.989, 40.739], [-73.99, 40.738]]]";
@@ -199,34 +203,38 @@ TEST(GeoJsonImportTest, MalformedInputNamesTheFileTheFeatureAndWhatWasExpected) 
   // 4 positions but only 2 distinct corners.
   ExpectInputError(
       [&] {
-        parse(FeatureCollection(BuildingFeature(
-            R"("@id": "way/8", "building": "yes", "height": "10")",
-            "[[[-73.99, 40.738], [-73.989, 40.738], [-73.989, 40.738], [-73.99, 40.738]]]")));
+        parse(FeatureCollection(
+            BuildingFeature(R"("@id": "way/8", "building": "yes", "height": "10")",
+                            "[[[-73.99, 40.738], [-73.989, 40.738], [-73.989, 40.738], [-73.99, 40.738]]]")));
       },
       {"bad.geojson", "way/8", "3 distinct corners"});
   // An unclosed ring.
   ExpectInputError(
       [&] {
-        parse(FeatureCollection(BuildingFeature(
-            R"("@id": "way/9", "building": "yes", "height": "10")",
-            "[[[-73.99, 40.738], [-73.989, 40.738], [-73.989, 40.739], [-73.99, 40.739]]]")));
+        parse(FeatureCollection(
+            BuildingFeature(R"("@id": "way/9", "building": "yes", "height": "10")",
+                            "[[[-73.99, 40.738], [-73.989, 40.738], [-73.989, 40.739], [-73.99, 40.739]]]")));
       },
       {"bad.geojson", "way/9", "closed"});
   // A missing height, then one that is not a number of metres.
   ExpectInputError([&] { parse(FeatureCollection(BuildingFeature(R"("@id": "way/10", "building": "yes")", kSquare))); },
                    {"bad.geojson", "features[0] (way/10)", "'height'"});
   ExpectInputError(
-      [&] { parse(FeatureCollection(BuildingFeature(R"("@id": "way/11", "building": "yes", "height": "40'")", kSquare))); },
+      [&] {
+        parse(FeatureCollection(BuildingFeature(R"("@id": "way/11", "building": "yes", "height": "40'")", kSquare)));
+      },
       {"bad.geojson", "way/11", "metres", "40'"});
   ExpectInputError(
-      [&] { parse(FeatureCollection(BuildingFeature(R"("@id": "way/12", "building": "yes", "height": "-3")", kSquare))); },
+      [&] {
+        parse(FeatureCollection(BuildingFeature(R"("@id": "way/12", "building": "yes", "height": "-3")", kSquare)));
+      },
       {"way/12", "> 0"});
   // Coordinates out of range (latitude 95°).
   ExpectInputError(
       [&] {
-        parse(FeatureCollection(BuildingFeature(
-            R"("@id": "way/13", "building": "yes", "height": "10")",
-            "[[[-73.99, 95.0], [-73.989, 40.738], [-73.989, 40.739], [-73.99, 95.0]]]")));
+        parse(FeatureCollection(
+            BuildingFeature(R"("@id": "way/13", "building": "yes", "height": "10")",
+                            "[[[-73.99, 95.0], [-73.989, 40.738], [-73.989, 40.739], [-73.99, 95.0]]]")));
       },
       {"bad.geojson", "way/13", "latitude in [-90, 90]"});
   // A member of the wrong JSON type.
@@ -387,16 +395,16 @@ TEST(OsmImportTest, ReadsBuildingWaysAndMultipolygonsFromXmlAndPbfAlike) {
     EXPECT_EQ(building_at(40.73825, -73.9895, 25.0), "way/100");
     EXPECT_EQ(building_at(40.73825, -73.9895, 26.0), "none");  // above its 25.5 m roof
     EXPECT_EQ(building_at(40.7391, -73.9890, 39.0), "relation/200");
-    EXPECT_EQ(building_at(40.7393, -73.9890, 1.0), "none");    // the courtyard
+    EXPECT_EQ(building_at(40.7393, -73.9890, 1.0), "none");        // the courtyard
     EXPECT_EQ(building_at(40.74015, -73.98975, 11.0), "way/103");  // 4 levels × 3 m
 
     // The same rectangle through the GeoJSON reader lands on the same local coordinates.
     GeoMapData json;
-    ParseGeoJsonBuildings(FeatureCollection(BuildingFeature(
-                              R"("@id": "way/100", "building": "yes", "height": "25.5")",
-                              "[[[-73.9900, 40.7380], [-73.9890, 40.7380], [-73.9890, 40.7385], [-73.9900, "
-                              "40.7385], [-73.9900, 40.7380]]]")),
-                          "same.geojson", options, &json);
+    ParseGeoJsonBuildings(
+        FeatureCollection(BuildingFeature(R"("@id": "way/100", "building": "yes", "height": "25.5")",
+                                          "[[[-73.9900, 40.7380], [-73.9890, 40.7380], [-73.9890, 40.7385], [-73.9900, "
+                                          "40.7385], [-73.9900, 40.7380]]]")),
+        "same.geojson", options, &json);
     ImportSummary json_summary = json.summary;
     const CityMap json_map = ProjectToCityMap(json, options, &json_summary);
     int osm_index = -1;
@@ -455,8 +463,12 @@ TEST(OsmImportTest, MalformedAndIncompleteInput) {
       },
       {"noheight.osm", "way/303", "'height'"});
   ExpectInputError([&] { read("broken.osm", "<osm><node id='1' lat='40' lon="); }, {"broken.osm", "OSM data"});
-  ExpectInputError([&] { GeoMapData d; ReadOsmBuildings(scratch.path / "absent.osm", options, &d); },
-                   {"absent.osm", "readable"});
+  ExpectInputError(
+      [&] {
+        GeoMapData d;
+        ReadOsmBuildings(scratch.path / "absent.osm", options, &d);
+      },
+      {"absent.osm", "readable"});
   // A multipolygon with a member outside the file (an extract cut through it) is skipped and counted.
   const ImportSummary summary = read("cut.osm", Osm(OsmNodes() + R"(
       <way id="304" version="1"><nd ref="5"/><nd ref="6"/><nd ref="7"/><nd ref="8"/><nd ref="5"/></way>
@@ -529,8 +541,8 @@ TEST(RealOsmDataTest, UpperEastSideNeedsAPolicyForItsElevenBuildingsWithoutHeigh
   for (int k = 0; k < 300; ++k) {
     const Eigen::Vector3d a(random.Uniform(map.bounds().min().x(), map.bounds().max().x()),
                             random.Uniform(map.bounds().min().y(), map.bounds().max().y()), -random.Uniform(0, 50));
-    const Eigen::Vector3d b = a + Eigen::Vector3d(random.Uniform(-150, 150), random.Uniform(-150, 150),
-                                                  random.Uniform(-10, 10));
+    const Eigen::Vector3d b =
+        a + Eigen::Vector3d(random.Uniform(-150, 150), random.Uniform(-150, 150), random.Uniform(-10, 10));
     bool expected = false;
     for (std::size_t i = 0; i < edges.size() && !expected; ++i) {
       expected = FirstEntryIntoPrism(edges[i], map.building(i).height, a, b).has_value();
@@ -644,7 +656,7 @@ TEST(OsmImportTest, MapSuppliesSitesOnFlatRoofsAndOpenAreas) {
   EXPECT_EQ(s.open_areas, 2);
   EXPECT_EQ(s.derived_open_sites, 10);
   EXPECT_EQ(s.sites, 15);
-  EXPECT_EQ(s.rooftop_sites, 5);  // the CityMap puts each rooftop site on its building
+  EXPECT_EQ(s.rooftop_sites, 5);                      // the CityMap puts each rooftop site on its building
   constexpr double kProjectedSquareTolerance = 0.05;  // m: the test file's squares are laid out with a rounded scale
   for (const LandingSite& site : imported.map.sites()) {
     EXPECT_GE(site.radius, kMinDerivedSiteRadius);
@@ -671,8 +683,8 @@ TEST(RealOsmDataTest, UpperEastSideBuildingsImportWithTypeHeightsAndSupplyRoofto
   options.height_from_levels = true;
   options.height_from_type = true;
   options.sites_from_map = true;
-  const ImportedMap imported =
-      ImportCityMap(std::vector<std::filesystem::path>{OsmDataDir() / "upper-east-side-buildings.geojson"}, {}, options);
+  const ImportedMap imported = ImportCityMap(
+      std::vector<std::filesystem::path>{OsmDataDir() / "upper-east-side-buildings.geojson"}, {}, options);
   const ImportSummary& s = imported.summary;
   EXPECT_EQ(s.buildings, 1239);  // every building, 11 of them without a height tag
   EXPECT_EQ(s.height_count(HeightSource::kTag), 1228);

@@ -39,9 +39,9 @@ class IndependentProjection {
  public:
   explicit IndependentProjection(const GeoPoint& origin) {
     context_ = proj_context_create();
-    const std::string target = fmt::format(
-        "+proj=tmerc +lat_0={:.15g} +lon_0={:.15g} +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m +type=crs",
-        origin.lat_deg, origin.lon_deg);
+    const std::string target =
+        fmt::format("+proj=tmerc +lat_0={:.15g} +lon_0={:.15g} +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m +type=crs",
+                    origin.lat_deg, origin.lon_deg);
     operation_ = proj_create_crs_to_crs(context_, "+proj=longlat +ellps=WGS84 +type=crs", target.c_str(), nullptr);
   }
   ~IndependentProjection() {
@@ -138,8 +138,10 @@ TEST(MissionFileTest, WaypointsFilesWithCrLfAndSpacesReadTheSame) {
   const std::string text = ReadFile(MissionData("survey.waypoints"));
   std::string windows;
   for (char c : text) {
-    if (c == '\n') windows += "\r\n";
-    else windows += c == '\t' ? ' ' : c;
+    if (c == '\n')
+      windows += "\r\n";
+    else
+      windows += c == '\t' ? ' ' : c;
   }
   const Mission a = ParseMission(text, "tabs.waypoints", MissionFormat::kQgcWpl);
   const Mission b = ParseMission(windows, "spaces.waypoints", MissionFormat::kQgcWpl);
@@ -203,9 +205,9 @@ TEST(MissionFileTest, MissionWithoutLandingLandsWhereItEndsOrIsRefused) {
   EXPECT_TRUE(AnyWarningContains(mission, "ends in the air"));
   MissionImportOptions strict;
   strict.land_at_end = false;
-  EXPECT_NE(InputErrorOf([&] { ParseMission(text, "open.waypoints", MissionFormat::kQgcWpl, strict); })
-                .find("ends landed"),
-            std::string::npos);
+  EXPECT_NE(
+      InputErrorOf([&] { ParseMission(text, "open.waypoints", MissionFormat::kQgcWpl, strict); }).find("ends landed"),
+      std::string::npos);
 }
 
 TEST(MissionFileTest, UnsupportedItemsAreReportedByName) {
@@ -223,17 +225,19 @@ TEST(MissionFileTest, UnsupportedItemsAreReportedByName) {
   EXPECT_NE(survey.find("TransectStyleComplexItem.Items"), std::string::npos) << survey;
 
   const std::string unlimited = InputErrorOf([] {
-    ParseMission("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n"
-                 "1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t20\t1\n2\t0\t3\t17\t0\t0\t10\t0\t40.776\t-73.955\t20\t1\n",
-                 "loiter.waypoints", MissionFormat::kQgcWpl);
+    ParseMission(
+        "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n"
+        "1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t20\t1\n2\t0\t3\t17\t0\t0\t10\t0\t40.776\t-73.955\t20\t1\n",
+        "loiter.waypoints", MissionFormat::kQgcWpl);
   });
   EXPECT_NE(unlimited.find("NAV_LOITER_UNLIM (17)"), std::string::npos) << unlimited;
   EXPECT_NE(unlimited.find("line 4"), std::string::npos) << unlimited;
 
   const std::string unknown = InputErrorOf([] {
-    ParseMission("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n"
-                 "1\t0\t3\t31000\t0\t0\t0\t0\t0\t0\t20\t1\n",
-                 "odd.waypoints", MissionFormat::kQgcWpl);
+    ParseMission(
+        "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n"
+        "1\t0\t3\t31000\t0\t0\t0\t0\t0\t0\t20\t1\n",
+        "odd.waypoints", MissionFormat::kQgcWpl);
   });
   EXPECT_NE(unknown.find("WAYPOINT_USER_1 (31000)"), std::string::npos) << unknown;
 }
@@ -323,10 +327,11 @@ TEST(MissionFileTest, DeliveryAndEmergencyPlansExportAndReadBack) {
 
   // An emergency plan starts in the air (here 30 m up, 200 m out) and ends on a roof 12 m up.
   const Eigen::Vector3d start(200, 0, -30);
-  const FlightPlan emergency = FlightPlan::Through(
-      start, {{Eigen::Vector3d(200, 0, -40), 0, "climb"}, {Eigen::Vector3d(260, 90, -40), 0, "transit"},
-              {Eigen::Vector3d(260, 90, -12), 0, "descent"}},
-      {});
+  const FlightPlan emergency = FlightPlan::Through(start,
+                                                   {{Eigen::Vector3d(200, 0, -40), 0, "climb"},
+                                                    {Eigen::Vector3d(260, 90, -40), 0, "transit"},
+                                                    {Eigen::Vector3d(260, 90, -12), 0, "descent"}},
+                                                   {});
   options.home_W = Eigen::Vector3d(delivery.home_NE.x(), delivery.home_NE.y(), 0);
   const nlohmann::json document = nlohmann::json::parse(QgcPlanJson(emergency, options));
   const auto& items = document["mission"]["items"];
@@ -346,8 +351,8 @@ TEST(MissionFileTest, LandOnARoofTouchesDownOnItWhenTheMapIsGiven) {
   Building building;
   building.id = "test block";
   building.height = 12.0;
-  building.rings = {{Eigen::Vector2d(80, -20), Eigen::Vector2d(120, -20), Eigen::Vector2d(120, 20),
-                     Eigen::Vector2d(80, 20)}};
+  building.rings = {
+      {Eigen::Vector2d(80, -20), Eigen::Vector2d(120, -20), Eigen::Vector2d(120, 20), Eigen::Vector2d(80, 20)}};
   const CityMap map({building}, {});
   const std::string text =
       "QGC WPL 110\n"
@@ -373,9 +378,10 @@ TEST(MissionFileTest, LandOnARoofTouchesDownOnItWhenTheMapIsGiven) {
   EXPECT_NE(error.find("line 4"), std::string::npos) << error;
   // A leg through the building (both ends clear, 5 m up on either side) is refused, naming the building.
   const GeoPoint beyond = projection.ToGeodetic(Eigen::Vector2d(200, 0));
-  const std::string low = "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n"
-                          "1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t5\t1\n" +
-                          fmt::format("2\t0\t3\t16\t0\t0\t0\t0\t{:.9f}\t{:.9f}\t5\t1\n", beyond.lat_deg, beyond.lon_deg);
+  const std::string low =
+      "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n"
+      "1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t5\t1\n" +
+      fmt::format("2\t0\t3\t16\t0\t0\t0\t0\t{:.9f}\t{:.9f}\t5\t1\n", beyond.lat_deg, beyond.lon_deg);
   const std::string through =
       InputErrorOf([&] { ParseMission(low, "through.waypoints", MissionFormat::kQgcWpl, options); });
   EXPECT_NE(through.find("meets building test block"), std::string::npos) << through;
@@ -436,8 +442,8 @@ TEST(MissionFileTest, ExampleMissionFliesClearOfTheRealUpperEastSide) {
   MissionImportOptions options;
   options.origin = imported.summary.origin;
   options.map = &imported.map;
-  const Mission mission =
-      LoadMissionFile(std::filesystem::path(UASCMA_SOURCE_DIR) / "examples" / "missions" / "upper-east-side.plan", options);
+  const Mission mission = LoadMissionFile(
+      std::filesystem::path(UASCMA_SOURCE_DIR) / "examples" / "missions" / "upper-east-side.plan", options);
   EXPECT_TRUE(mission.warnings.empty()) << mission.warnings.front();
   const FlightPlan plan = MakeMissionPlan(mission, {});
   EXPECT_NEAR((plan.end_W() - mission.home_W).norm(), 0.0, kExactHeight);  // RTL: landed at home
@@ -479,18 +485,18 @@ TEST(GroundStationMissionTest, SurveyFenceAndRallyPlanFliesAsQGroundControlMeans
   const IndependentProjection proj(mission.origin);
   ASSERT_TRUE(proj.ok());
   EXPECT_TRUE(mission.geofence.Allows(mission.home_W.head<2>()));
-  EXPECT_FALSE(mission.geofence.Allows(proj.NorthEast(40.7725, -73.9575)));   // the excluded circle's centre
-  EXPECT_FALSE(mission.geofence.Allows(proj.NorthEast(40.7750, -73.9600)));   // north of the inclusion polygon
-  EXPECT_TRUE(mission.geofence.Allows(proj.NorthEast(40.7725, -73.9590)));    // 101 m west of the circle's centre
+  EXPECT_FALSE(mission.geofence.Allows(proj.NorthEast(40.7725, -73.9575)));  // the excluded circle's centre
+  EXPECT_FALSE(mission.geofence.Allows(proj.NorthEast(40.7750, -73.9600)));  // north of the inclusion polygon
+  EXPECT_TRUE(mission.geofence.Allows(proj.NorthEast(40.7725, -73.9590)));   // 101 m west of the circle's centre
   const std::array<Eigen::Vector2d, 2> across = {proj.NorthEast(40.7725, -73.9590), proj.NorthEast(40.7725, -73.9565)};
   EXPECT_FALSE(mission.geofence.AllowsPath(across));  // a leg through the excluded circle
 
   // Rally points become landing sites of the map (on the ground without buildings), and the sites the fence
   // forbids are dropped.
   ASSERT_EQ(mission.rally_points.size(), 2u);
-  const LandingSite outside{"outside", Eigen::Vector3d(proj.NorthEast(40.7750, -73.9600).x(),
-                                                         proj.NorthEast(40.7750, -73.9600).y(), 0.0),
-                            0.1, 5.0};
+  const LandingSite outside{
+      "outside", Eigen::Vector3d(proj.NorthEast(40.7750, -73.9600).x(), proj.NorthEast(40.7750, -73.9600).y(), 0.0),
+      0.1, 5.0};
   const CityMap with = WithMissionSafety(CityMap({}, {outside}), mission);
   ASSERT_EQ(with.sites().size(), 2u);
   for (const LandingSite& site : with.sites()) {
@@ -534,7 +540,8 @@ TEST(GroundStationMissionTest, ArduPilotMissionWithUnsetHomeAndCrLfFlies) {
 }
 
 TEST(GroundStationMissionTest, EveryRefusalNamesTheItemAndTheReason) {
-  const std::string home = "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t20\t1\n";
+  const std::string home =
+      "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t40.775\t-73.955\t12\t1\n1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t20\t1\n";
   struct Case {
     std::string text;
     std::vector<std::string> parts;
@@ -543,7 +550,8 @@ TEST(GroundStationMissionTest, EveryRefusalNamesTheItemAndTheReason) {
       {home + "2\t0\t3\t17\t0\t0\t10\t0\t40.776\t-73.955\t20\t1\n", {"line 4", "NAV_LOITER_UNLIM (17)", "never ends"}},
       {home + "2\t0\t0\t176\t1\t4\t0\t0\t0\t0\t0\t1\n", {"line 4", "DO_SET_MODE (176)", "flight mode"}},
       {home + "2\t0\t0\t185\t1\t0\t0\t0\t0\t0\t0\t1\n", {"line 4", "DO_FLIGHTTERMINATION (185)", "terminates"}},
-      {home + "2\t0\t3\t31000\t0\t0\t0\t0\t40.776\t-73.955\t20\t1\n", {"line 4", "WAYPOINT_USER_1 (31000)", "navigation"}},
+      {home + "2\t0\t3\t31000\t0\t0\t0\t0\t40.776\t-73.955\t20\t1\n",
+       {"line 4", "WAYPOINT_USER_1 (31000)", "navigation"}},
       {home + "2\t0\t3\t16\t0\t0\t0\t0\t40.776\t-73.955\t20\t1\n3\t0\t0\t177\t2\t-1\t0\t0\t0\t0\t0\t1\n",
        {"line 5", "forever"}},
       {home + "2\t0\t0\t177\t9\t1\t0\t0\t0\t0\t0\t1\n", {"line 4", "param1", "jump to, got 9"}},

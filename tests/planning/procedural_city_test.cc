@@ -34,7 +34,8 @@ TEST(ProceduralCityTest, SameSeedReplaysBitForBitAndAnotherSeedDiffers) {
     EXPECT_EQ(a.site(s).risk, b.site(s).risk);
   }
   bool differs = a.buildings().size() != c.buildings().size();
-  for (std::size_t k = 0; !differs && k < a.buildings().size(); ++k) differs = a.building(k).height != c.building(k).height;
+  for (std::size_t k = 0; !differs && k < a.buildings().size(); ++k)
+    differs = a.building(k).height != c.building(k).height;
   EXPECT_TRUE(differs);
 }
 
@@ -108,8 +109,8 @@ TEST(ProceduralCityTest, HeightsAndSitesFollowTheirFits) {
   EXPECT_GT(ground, 0);  // at least one park
   const double area_km2 = map.bounds().volume() / 1e6;
   const double density = (rooftop + ground) / area_km2;
-  EXPECT_NEAR(density, 400.0, 0.3 * 400.0) << rooftop << " rooftop + " << ground << " ground sites over " << area_km2
-                                          << " km²";
+  EXPECT_NEAR(density, 400.0, 0.3 * 400.0)
+      << rooftop << " rooftop + " << ground << " ground sites over " << area_km2 << " km²";
   // Larger touchdown areas are safer (the risk fit's negative slope): compare the mean risks of the two halves.
   std::vector<std::pair<double, double>> by_radius;
   for (const LandingSite& site : map.sites()) by_radius.emplace_back(site.radius, site.risk);

@@ -40,16 +40,16 @@ void ExpectMatchesReference(const EodResult& fast, const EodResult& reference, c
   ASSERT_EQ(fast.status, EodStatus::kReached) << what << ": " << fast.BriefReport();
   ASSERT_EQ(reference.status, EodStatus::kReached) << what << ": " << reference.BriefReport();
   const double relative = std::abs(fast.eod_s - reference.eod_s) / reference.eod_s;
-  EXPECT_LT(relative, kRequiredRelativeTolerance) << what << ": " << fast.BriefReport() << " vs "
-                                                  << reference.BriefReport();
-  EXPECT_LT(relative, kExactRelativeTolerance) << what << ": " << fast.BriefReport() << " vs "
-                                               << reference.BriefReport();
+  EXPECT_LT(relative, kRequiredRelativeTolerance)
+      << what << ": " << fast.BriefReport() << " vs " << reference.BriefReport();
+  EXPECT_LT(relative, kExactRelativeTolerance)
+      << what << ": " << fast.BriefReport() << " vs " << reference.BriefReport();
 }
 
 TEST(CellEodTest, MatchesFineStepReferenceForCellsCurrentsAndHealth) {
   for (int number = 1; number <= 3; ++number) {
-    for (const CellHealth health : {CellHealth{}, CellHealth{.power_fade = true},
-                                    CellHealth{.capacity_fade = true, .power_fade = true}}) {
+    for (const CellHealth health :
+         {CellHealth{}, CellHealth{.power_fade = true}, CellHealth{.capacity_fade = true, .power_fade = true}}) {
       const SelfCorrectingCell cell(ApplyCellConditions(Table31Cell(number), health, kRoomTemperatureDegf),
                                     DefaultOcvTable());
       const CellState state = cell.MakeRestingState(4.08);
@@ -192,10 +192,9 @@ TEST(PackEodTest, SwitchedOffPackDoesNotCount) {
   for (auto& cell : health[0]) cell = {.capacity_fade = true, .power_fade = true};
   const BatteryPack pack(MakePackParams(health));
   const EodResult second_only = CalcPackEod(pack, pack.MakeRestingState(4.1, PackAction::kUseBatt2), 30.0);
-  ExpectMatchesReference(second_only,
-                         SimulatePackEod(pack, pack.MakeRestingState(4.1, PackAction::kUseBatt2), 30.0,
-                                         kReferenceStepS),
-                         "UseBatt2");
+  ExpectMatchesReference(
+      second_only, SimulatePackEod(pack, pack.MakeRestingState(4.1, PackAction::kUseBatt2), 30.0, kReferenceStepS),
+      "UseBatt2");
   EXPECT_EQ(second_only.limiting_branch, 1);
   // Pack 1 alone (poor) runs out sooner than pack 2 alone (good), both together last longest.
   const EodResult first_only = CalcPackEod(pack, pack.MakeRestingState(4.1, PackAction::kUseBatt1), 30.0);

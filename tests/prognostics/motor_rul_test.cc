@@ -119,8 +119,8 @@ TEST(MotorRulClosedFormTest, StepsToReachInvertsAreaAfterAcrossExponents) {
     const double steps = model.CalcStepsToReach(particle, 0.07);
     EXPECT_NEAR(model.CalcAreaAfter(particle, steps), 0.07, kClosedFormRelativeTolerance * 0.07) << n;
   }
-  EXPECT_NEAR(model.CalcStepsToReach({0.05, 0.2, 1.0 + 1e-13}, 0.07),
-              model.CalcStepsToReach({0.05, 0.2, 1.0}, 0.07), 1e-11);
+  EXPECT_NEAR(model.CalcStepsToReach({0.05, 0.2, 1.0 + 1e-13}, 0.07), model.CalcStepsToReach({0.05, 0.2, 1.0}, 0.07),
+              1e-11);
 }
 
 // ---- Calibration of τ to Table 5.4 (decisions item 15) -----------------------------------------
@@ -148,8 +148,7 @@ TEST(MotorRulCalibrationTest, StoredDefaultTimeScaleIsTheCalibrationOutput) {
               1e-4 * kTable54JamProbabilityPerEpoch);
   EXPECT_EQ(calibration.jams, 1000);
   // Wald: the mean step count is near the deterministic ln(100)/C_D (zero-mean parameter noise).
-  EXPECT_NEAR(calibration.mean_growth_steps_to_jam, kDeterministicStepsToFailure,
-              0.05 * kDeterministicStepsToFailure);
+  EXPECT_NEAR(calibration.mean_growth_steps_to_jam, kDeterministicStepsToFailure, 0.05 * kDeterministicStepsToFailure);
 }
 
 TEST(MotorRulCalibrationTest, FasterScenarioGrowthAndLandingLoadCalibrateToTheirTargets) {
@@ -347,8 +346,7 @@ TEST(MotorRulValidationTest, InvalidParametersNameTheirField) {
   EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("failure_area_mm2"), std::string::npos);
   params = {};
   params.paris_coefficient_noise_std = -0.1;
-  EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("paris_coefficient_noise_std"),
-            std::string::npos);
+  EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("paris_coefficient_noise_std"), std::string::npos);
   params = {};
   params.time_per_growth_step_s = 0.0;
   EXPECT_NE(InputErrorMessage([&] { MotorRulModel{params}; }).find("time_per_growth_step_s"), std::string::npos);

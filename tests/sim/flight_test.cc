@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "same_flight.h"
 #include "uascma/campaign/metrics.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/decision/cma_mdp.h"
@@ -16,7 +17,6 @@
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
-#include "same_flight.h"
 
 namespace uascma::sim {
 namespace {
@@ -38,7 +38,6 @@ Scenario ShortJam() {
   scenario.seed = 5;
   return scenario;
 }
-
 
 TEST(FlightTest, ACopiedStateHasTheSameFutureBitForBit) {
   const FlightModel model(ShortJam());
@@ -172,9 +171,11 @@ TEST(DecisionEnvironmentTest, SetStateBranchesFromAnEpoch) {
   for (int k = 0; k < 40; ++k) environment.Step(decision::CmaAction::kNoOp);
   const FlightState snapshot = environment.state();
   EnvironmentStep a, b;
-  do a = environment.Step(decision::CmaAction::kNoOp); while (!a.done);
+  do a = environment.Step(decision::CmaAction::kNoOp);
+  while (!a.done);
   environment.SetState(snapshot);
-  do b = environment.Step(decision::CmaAction::kNoOp); while (!b.done);
+  do b = environment.Step(decision::CmaAction::kNoOp);
+  while (!b.done);
   EXPECT_EQ(a.outcome, b.outcome);
   EXPECT_EQ(a.observation.time_s, b.observation.time_s);
   FlightState between = snapshot;

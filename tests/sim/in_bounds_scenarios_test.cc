@@ -20,9 +20,9 @@
 #include <numbers>
 #include <string>
 
+#include "uascma/common/frames.h"
 #include "uascma/common/random.h"
 #include "uascma/models/battery_pack.h"
-#include "uascma/common/frames.h"
 #include "uascma/models/ocv_table.h"
 #include "uascma/models/propulsion.h"
 #include "uascma/prognostics/motor_rul.h"
@@ -35,9 +35,9 @@ namespace uascma::sim {
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-constexpr int kScenarios = 300;                 // issue 26: "300 random scenarios"
-constexpr std::uint64_t kSeed = 26;             // ours: the issue's number; any fixed seed
-constexpr double kFlightCapS = 120.0;           // s of simulated time per flight at most (ours, see above)
+constexpr int kScenarios = 300;        // issue 26: "300 random scenarios"
+constexpr std::uint64_t kSeed = 26;    // ours: the issue's number; any fixed seed
+constexpr double kFlightCapS = 120.0;  // s of simulated time per flight at most (ours, see above)
 
 double Draw(RandomStream& random, const Bounds& bounds) { return random.Uniform(bounds.low, bounds.high); }
 
@@ -49,8 +49,8 @@ Scenario DrawScenario(RandomStream& random, int index, bool mass_within_thrust) 
   Scenario sc;
   sc.name = "in-bounds-" + std::to_string(index);
   sc.seed = random.Next();
-  sc.configuration = random.Bernoulli(0.5) ? models::PropellerConfiguration::kTractor
-                                           : models::PropellerConfiguration::kPusher;
+  sc.configuration =
+      random.Bernoulli(0.5) ? models::PropellerConfiguration::kTractor : models::PropellerConfiguration::kPusher;
   sc.body.mass = Draw(random, b::kMass);
   if (mass_within_thrust) {
     const double thrust_n = 6 * models::PropulsionParams::ForConfiguration(sc.configuration).max_thrust;
@@ -129,8 +129,8 @@ std::string RefusalKind(const std::string& error) {
 bool IsPhysical(const SimResult& r, const CellRange& range, std::string* why) {
   if (!(std::isfinite(r.min_cell_voltage_v) && r.min_cell_voltage_v >= range.low_v &&
         r.min_cell_voltage_v <= range.high_v)) {
-    *why = "min_cell_voltage_v " + std::to_string(r.min_cell_voltage_v) + " V outside [" +
-           std::to_string(range.low_v) + ", " + std::to_string(range.high_v) + "] V";
+    *why = "min_cell_voltage_v " + std::to_string(r.min_cell_voltage_v) + " V outside [" + std::to_string(range.low_v) +
+           ", " + std::to_string(range.high_v) + "] V";
     return false;
   }
   if (!(std::isfinite(r.energy_wh) && r.energy_wh >= 0.0)) {
@@ -179,8 +179,8 @@ class Tally {
     const SimResult r = simulator.Run(*noop, {}, {.record_telemetry = false});
     std::string why;
     EXPECT_TRUE(IsPhysical(r, CellRangeOf(sc), &why))
-        << why << " (outcome " << OutcomeName(r.outcome) << ": " << r.reason << "; mass " << sc.body.mass
-        << " kg, " << models::PropellerConfigurationName(sc.configuration) << ", "
+        << why << " (outcome " << OutcomeName(r.outcome) << ": " << r.reason << "; mass " << sc.body.mass << " kg, "
+        << models::PropellerConfigurationName(sc.configuration) << ", "
         << models::HealthClassName(models::ClassifyHealth(sc.battery.cell_health[0])) << "/"
         << models::HealthClassName(models::ClassifyHealth(sc.battery.cell_health[1])) << ", "
         << sc.battery.ambient_temp_degf << " °F, inertia " << sc.body.inertia_diagonal.transpose() << ")";
@@ -247,10 +247,9 @@ TEST(InBoundsScenariosTest, CornersOfTheBoundsAreRefusedByNameOrFlyPhysically) {
   const Bounds& temperature = models::kAmbientTemperatureBounds;
   Tally tally;
   for (int corner = 0; corner < 2 * 3 * 32; ++corner) {
-    const auto configuration = corner % 2 == 0 ? models::PropellerConfiguration::kTractor
-                                               : models::PropellerConfiguration::kPusher;
-    const double thrust_mass_kg =
-        6 * models::PropulsionParams::ForConfiguration(configuration).max_thrust / kGravity;
+    const auto configuration =
+        corner % 2 == 0 ? models::PropellerConfiguration::kTractor : models::PropellerConfiguration::kPusher;
+    const double thrust_mass_kg = 6 * models::PropulsionParams::ForConfiguration(configuration).max_thrust / kGravity;
     const double masses[] = {b::kMass.low, thrust_mass_kg * (1 - 1e-9), b::kMass.high};
     const int bits = corner / 6;  // one bit per two-valued number
     const auto pick = [&](int bit, double low, double high) { return (bits >> bit) & 1 ? high : low; };

@@ -14,7 +14,8 @@ namespace {
 
 struct Vehicle {
   models::RigidBodyParams body;
-  models::PropulsionParams propulsion = models::PropulsionParams::ForConfiguration(models::PropellerConfiguration::kTractor);
+  models::PropulsionParams propulsion =
+      models::PropulsionParams::ForConfiguration(models::PropellerConfiguration::kTractor);
   models::DragTable drag = models::DragTable::Default(models::PropellerConfiguration::kTractor);
   models::ElectricalPowerTable power{propulsion};
   SteadyLoadModel Model(const Eigen::Vector3d& wind_W = Eigen::Vector3d::Zero()) const {
@@ -133,8 +134,8 @@ TEST(SpeedCapTest, TheCapIsTheAirspeedAtTheAuthoritysTilt) {
 TEST(SpeedCapTest, GroundSpeedCapsInHeadTailAndCrossWind) {
   const double V = 8.0, w = 3.0;
   const Eigen::Vector2d north(1, 0);
-  EXPECT_NEAR(CalcGroundSpeedCap(north, Eigen::Vector2d(-w, 0), V), V - w, 1e-12);  // headwind
-  EXPECT_NEAR(CalcGroundSpeedCap(north, Eigen::Vector2d(w, 0), V), V + w, 1e-12);   // tailwind
+  EXPECT_NEAR(CalcGroundSpeedCap(north, Eigen::Vector2d(-w, 0), V), V - w, 1e-12);                    // headwind
+  EXPECT_NEAR(CalcGroundSpeedCap(north, Eigen::Vector2d(w, 0), V), V + w, 1e-12);                     // tailwind
   EXPECT_NEAR(CalcGroundSpeedCap(north, Eigen::Vector2d(0, w), V), std::sqrt(V * V - w * w), 1e-12);  // crosswind
   EXPECT_EQ(CalcGroundSpeedCap(north, Eigen::Vector2d(0, 9.0), V), 0.0);  // the crosswind alone exceeds it
 }

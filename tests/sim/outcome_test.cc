@@ -103,9 +103,9 @@ TEST(OutcomeTest, ARooftopTouchdownIsALandingOnTheSiteAndACollisionOffIt) {
   in.on_original_plan = false;
   in.emergency_site = "roof of block";
   in.plan_end_W = Eigen::Vector3d(100, 0, -15.0);  // the site on the 15 m roof
-  in.landing_radius = 3.0;                           // the site's radius (m)
+  in.landing_radius = 3.0;                         // the site's radius (m)
   in.plan_time_remaining_s = 0.5;
-  in.p_WB_W = Eigen::Vector3d(101.0, 1.0, -14.99);   // just inside the prism, 1.4 m from the site's centre
+  in.p_WB_W = Eigen::Vector3d(101.0, 1.0, -14.99);  // just inside the prism, 1.4 m from the site's centre
   in.v_WB_W = Eigen::Vector3d(0, 0, 0.4);
   EXPECT_EQ(ClassifyOutcome(limits, in, map).outcome, Outcome::kEmergencyLanding);
   in.v_WB_W.z() = limits.touchdown_speed + 0.1;  // too fast

@@ -38,7 +38,7 @@ TEST(ScenarioTest, ScenarioOneExecutesLandPractAfterTheJam) {
   EXPECT_NEAR(*r.jam_time_s - *r.spall_onset_s, 17.0, 5.0);  // s, "about 17 s later"
   EXPECT_EQ(r.isolated_rotor, 3);
   ASSERT_EQ(Actions(r), std::vector<decision::CmaAction>{decision::CmaAction::kLandPract});
-  EXPECT_GT(r.actions.front().first, *r.isolation_time_s);  // LandPract comes after the reconfiguration
+  EXPECT_GT(r.actions.front().first, *r.isolation_time_s);       // LandPract comes after the reconfiguration
   EXPECT_EQ(r.outcome, Outcome::kEmergencyLanding) << r.reason;  // landed: no building strike, no crash
   EXPECT_FALSE(r.emergency_site.empty());
   EXPECT_GT(r.emergency_reach_margin, 0.0);
@@ -63,9 +63,9 @@ TEST(ScenarioTest, ScenarioTwoEscalatesFromLandPractToLandAsapAfterTheJam) {
   const SimResult& r = flown.cma;
   ASSERT_TRUE(r.spall_onset_s && r.jam_time_s && r.isolation_time_s);
   EXPECT_NEAR(*r.spall_onset_s, 525.0, 1e-9);
-  ASSERT_EQ(Actions(r), (std::vector<decision::CmaAction>{decision::CmaAction::kLandPract,
-                                                          decision::CmaAction::kLandAsap}));
-  EXPECT_LT(r.actions[0].first, *r.jam_time_s);       // LandPract on the spall, before the jam
+  ASSERT_EQ(Actions(r),
+            (std::vector<decision::CmaAction>{decision::CmaAction::kLandPract, decision::CmaAction::kLandAsap}));
+  EXPECT_LT(r.actions[0].first, *r.jam_time_s);        // LandPract on the spall, before the jam
   EXPECT_GT(r.actions[1].first, *r.isolation_time_s);  // LandASAP after the reconfiguration
   EXPECT_EQ(r.outcome, Outcome::kEmergencyLanding) << r.reason;
   EXPECT_GT(r.emergency_reach_margin, 0.0);

@@ -3,12 +3,12 @@
 #include <filesystem>
 #include <fstream>
 
+#include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
 #include "uascma/sim/telemetry.h"
-#include "uascma/common/error.h"
 
 namespace uascma::sim {
 namespace {
@@ -114,9 +114,9 @@ TEST(SimulatorTest, HoverIsSteadyInCalmAir) {
     max_speed = std::max(max_speed, row.v_W.norm());
     max_tilt = std::max(max_tilt, std::hypot(row.euler.x(), row.euler.y()));
   }
-  EXPECT_LT(max_error, 0.05);   // m: the offset of a controller without integrator stays small
-  EXPECT_LT(max_speed, 0.02);   // m/s
-  EXPECT_LT(max_tilt, 0.01);    // rad
+  EXPECT_LT(max_error, 0.05);  // m: the offset of a controller without integrator stays small
+  EXPECT_LT(max_speed, 0.02);  // m/s
+  EXPECT_LT(max_tilt, 0.01);   // rad
 }
 
 TEST(SimulatorTest, PoorBatteryOnAPlanLongerThanItsEodFailsUnderNoOp) {
@@ -236,7 +236,9 @@ TEST(SimulatorTest, PoliciesFlownTogetherEqualEachFlownAlone) {
 }
 
 // Mission files and the map import keys in scenario files (issue 15).
-std::string MissionData(const std::string& name) { return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name; }
+std::string MissionData(const std::string& name) {
+  return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name;
+}
 
 // Two buildings ~500 m east of delivery_loiter.plan's route: one with a height, one with building:levels only.
 constexpr const char* kTwoBuildings = R"({"type": "FeatureCollection", "features": [
@@ -248,7 +250,8 @@ constexpr const char* kTwoBuildings = R"({"type": "FeatureCollection", "features
                                                     [-73.9490, 40.7762], [-73.9490, 40.7760]]]}}]})";
 
 struct ScenarioFolder {
-  ScenarioFolder() : path(std::filesystem::temp_directory_path() / ("uascma_scenario_mission_" + std::to_string(::getpid()))) {
+  ScenarioFolder()
+      : path(std::filesystem::temp_directory_path() / ("uascma_scenario_mission_" + std::to_string(::getpid()))) {
     std::filesystem::create_directories(path);
     std::filesystem::copy_file(MissionData("delivery_loiter.plan"), path / "m.plan",
                                std::filesystem::copy_options::overwrite_existing);
@@ -279,7 +282,8 @@ TEST(ScenarioFileTest, MissionFileIsFlownInTheMapsFrame) {
   EXPECT_EQ(plain.scenario.route->waypoints.size(), alone.waypoints.size());
   EXPECT_NEAR(plain.scenario.geo_origin->lat_deg, alone.home.lat_deg, 1e-12);
   const FlightModel model(plain.scenario);
-  EXPECT_NEAR(model.nominal_plan().duration(), planning::MakeMissionPlan(alone, plain.scenario.limits).duration(), 1e-9);
+  EXPECT_NEAR(model.nominal_plan().duration(), planning::MakeMissionPlan(alone, plain.scenario.limits).duration(),
+              1e-9);
   EXPECT_LT((model.nominal_plan().end_W() - alone.waypoints.back().p_W).norm(), 1e-9);
 
   // Over an imported map the default origin is the map's (the data's centre), so the route shifts with it.
@@ -305,8 +309,8 @@ TEST(ScenarioFileTest, MissionFileIsFlownInTheMapsFrame) {
   // Without a map, mission.origin sets the mission's frame; with home/destination keys it places them on the globe.
   const ScenarioFile own = ParseScenario("mission: {file: m.plan, origin: [40.771, -73.959]}\n", folder.Source());
   EXPECT_DOUBLE_EQ(own.scenario.route->origin.lat_deg, 40.771);
-  const ScenarioFile local = ParseScenario("mission: {destination_ne_m: [100, 0], origin: [40.771, -73.959]}\n",
-                                           folder.Source());
+  const ScenarioFile local =
+      ParseScenario("mission: {destination_ne_m: [100, 0], origin: [40.771, -73.959]}\n", folder.Source());
   EXPECT_FALSE(local.scenario.route.has_value());
   EXPECT_DOUBLE_EQ(local.scenario.geo_origin->lat_deg, 40.771);
 
@@ -329,7 +333,8 @@ TEST(ScenarioFileTest, MissionAndMapKeysAreCheckedByName) {
             std::string::npos);
   EXPECT_NE(ParseError("mission: {land_at_end: false}\n", source).find("mission.land_at_end"), std::string::npos);
   EXPECT_NE(ParseError("map: {buildings: [b.geojson], skip_missing_height: true}\n"
-                       "mission: {file: m.plan, origin: [40.771, -73.959]}\n", source)
+                       "mission: {file: m.plan, origin: [40.771, -73.959]}\n",
+                       source)
                 .find("mission.origin: no origin over an imported map"),
             std::string::npos);
   EXPECT_NE(ParseError("mission: {file: none.plan}\n", source).find("none.plan"), std::string::npos);

@@ -30,11 +30,11 @@ std::vector<SwitchSchedule> HindsightSchedules(double plan_duration_s, double wi
                                                double switch_grid_s = kHindsightSwitchGridS);
 
 struct CaseScenario {
-  std::string name;                 // e.g. "(F1,F2)"
+  std::string name;  // e.g. "(F1,F2)"
   BatteryFlightParams params;
-  std::string controller;           // "UseBoth", "pi*", "rule:voltage", "ours", "hindsight-best"
-  std::string schedule;             // the hindsight schedule (SwitchSchedule::Describe)
-  int schedules_flown = 0;          // hindsight: the family's size
+  std::string controller;   // "UseBoth", "pi*", "rule:voltage", "ours", "hindsight-best"
+  std::string schedule;     // the hindsight schedule (SwitchSchedule::Describe)
+  int schedules_flown = 0;  // hindsight: the family's size
   BatteryFlightResult result;
 };
 
@@ -45,9 +45,9 @@ struct CaseStudyOptions {
   bool hindsight = true;                               // case 4: the hindsight-best schedule
 };
 // Case 1: flight time = one healthy pack's EOD, UseBoth, nine health pairs. Case 2: the same flights with UseBoth,
-// π*, the voltage rule and ours (when given). Case 3: decision 26's flight time, UseBoth, (F1,F2), (F1,F3), (F3,F3). Case 4: the same
-// flight time, (F2,F1) with Fig. 4.11's pack 1 (one capacity-faded cell): UseBoth, π*, the voltage rule, ours (when
-// given) and the hindsight best. InputError when a case needs π* and none is given.
+// π*, the voltage rule and ours (when given). Case 3: decision 26's flight time, UseBoth, (F1,F2), (F1,F3), (F3,F3).
+// Case 4: the same flight time, (F2,F1) with Fig. 4.11's pack 1 (one capacity-faded cell): UseBoth, π*, the voltage
+// rule, ours (when given) and the hindsight best. InputError when a case needs π* and none is given.
 std::vector<CaseScenario> RunCaseStudy(int number, const CaseStudyOptions& options);
 nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenarios);
 

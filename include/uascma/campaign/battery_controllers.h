@@ -30,9 +30,9 @@ inline constexpr double kVoltageRuleDropVoltage = 3.31;  // V, the issue's rule 
 
 struct BatteryPolicySpec {
   BatteryPolicyKind kind = BatteryPolicyKind::kUseBoth;
-  std::string label;                 // "useboth", "pistar", "ours", "rule:voltage"
-  std::filesystem::path file;        // pistar, ours
-  double drop_voltage_v = kVoltageRuleDropVoltage;  // rule:voltage
+  std::string label;                                           // "useboth", "pistar", "ours", "rule:voltage"
+  std::filesystem::path file;                                  // pistar, ours
+  double drop_voltage_v = kVoltageRuleDropVoltage;             // rule:voltage
   std::shared_ptr<const decision::BatteryPolicySet> policies;  // pistar, ours: the file, read
 };
 

@@ -54,9 +54,9 @@ struct BatteryEvaluationRun {
 struct BatteryPolicySummary {
   std::string label;
   std::int64_t runs = 0, completions = 0, failures = 0;
-  Interval completion_wilson;                 // 95 %
-  double median_failure_time_s = 0.0;         // NaN without failures
-  double mean_charge_left_ah = 0.0;           // over completed flights (NaN without)
+  Interval completion_wilson;          // 95 %
+  double median_failure_time_s = 0.0;  // NaN without failures
+  double mean_charge_left_ah = 0.0;    // over completed flights (NaN without)
   double median_switches = 0.0, mean_switches = 0.0;
   int max_switches = 0;
 };

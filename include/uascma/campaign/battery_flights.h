@@ -33,10 +33,10 @@ namespace uascma::campaign {
 
 // --- the parameters of Table 4.4 ------------------------------------------------------------------
 struct BatteryFlightRanges {
-  double safety_margin_s[2] = {5.0, 10.0};          // Table 4.4, t_sf
-  double initial_cell_voltage_v[2] = {4.05, 4.12};  // Table 4.4, per cell
-  double cruise_speed_mps[2] = {1.0, 9.0};          // Table 4.4, Vel_hex
-  double wind_speed_mps[2] = {1.0, 3.0};            // Table 4.4
+  double safety_margin_s[2] = {5.0, 10.0};                       // Table 4.4, t_sf
+  double initial_cell_voltage_v[2] = {4.05, 4.12};               // Table 4.4, per cell
+  double cruise_speed_mps[2] = {1.0, 9.0};                       // Table 4.4, Vel_hex
+  double wind_speed_mps[2] = {1.0, 3.0};                         // Table 4.4
   double wind_direction_rad[2] = {0.0, 3.14159265358979323846};  // Table 4.4
   // Table 4.4's gust categories, drawn uniformly (Dryden).
   std::vector<models::TurbulenceCategory> turbulence{
@@ -46,13 +46,13 @@ struct BatteryFlightRanges {
   // 4.1 V per cell at the hover current. Ours: wide enough that single packs deplete (S3, FAILURE) and
   // both packs mostly do not, so every energy state and the failure are visited.
   double plan_fraction[2] = {0.25, 1.0};
-  double cold_probability = 0.5;   // Table 4.2: T_L vs T_H, ours: equally likely (as campaign/config.h)
-  double cold_temp_degf = 40.0;    // below 50 °F (Table 3.2)
-  double warm_temp_degf = 77.0;    // models::kRoomTemperatureDegf
+  double cold_probability = 0.5;  // Table 4.2: T_L vs T_H, ours: equally likely (as campaign/config.h)
+  double cold_temp_degf = 40.0;   // below 50 °F (Table 3.2)
+  double warm_temp_degf = 77.0;   // models::kRoomTemperatureDegf
 };
 
 struct BatteryFlightParams {
-  std::uint64_t seed = 0;                        // the vehicle flight's seed (wind, noise)
+  std::uint64_t seed = 0;  // the vehicle flight's seed (wind, noise)
   double safety_margin_s = 7.5;
   models::PerCell<double> initial_cell_voltage_v{};
   double cruise_speed_mps = 5.0;
@@ -63,7 +63,7 @@ struct BatteryFlightParams {
   // The cells that realise `health` (models::ClassifyHealth(cells[j]) == health[j]); flown by MakeBatteryScenario.
   models::PerCell<models::CellHealth> cells{};
   double ambient_temp_degf = 77.0;
-  double plan_duration_s = 600.0;                // target duration of the delivery plan
+  double plan_duration_s = 600.0;  // target duration of the delivery plan
 
   decision::BatteryContext context() const;
 };
@@ -75,7 +75,11 @@ std::array<models::CellHealth, models::kCellsPerBranch> DrawPackCells(RandomStre
 
 // Sub-streams of draw d's seed DeriveSeed(seed, d) (common/random.h): its parameters, its vehicle flight, and the
 // drop flight of learning (learning/battery_transition_estimation.h). Changing one changes every learned model.
-enum BatteryDrawStream : std::uint64_t { kBatteryParameterStream = 1, kBatteryVehicleStream = 2, kBatteryDropStream = 3 };
+enum BatteryDrawStream : std::uint64_t {
+  kBatteryParameterStream = 1,
+  kBatteryVehicleStream = 2,
+  kBatteryDropStream = 3
+};
 
 // Draw d of a learning campaign (pure function of (seed, draw), style habit 7).
 BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t draw);
@@ -100,8 +104,8 @@ struct BatteryEpoch {
   double time_s = 0.0;
   decision::StateIndex state = 0;
   models::PackAction action = models::PackAction::kUseBoth;  // applied from this epoch on
-  double total_current_a = 0.0;                // the pack current of the last GNC step
-  models::PerBranch<double> branch_current_a{};  // its split under the switches just set
+  double total_current_a = 0.0;                              // the pack current of the last GNC step
+  models::PerBranch<double> branch_current_a{};              // its split under the switches just set
   models::PerBranch<double> eod_s{};
   models::PerBranch<double> min_cell_voltage_v{};
   double remaining_flight_s = 0.0;
@@ -110,11 +114,11 @@ struct BatteryEpoch {
 struct BatteryFlightResult {
   sim::Outcome outcome = sim::Outcome::kInProgress;  // the simulator's outcome (kFailedBattery at 3.3 V)
   double end_time_s = 0.0;
-  std::vector<decision::StateIndex> states;                  // at 1 Hz from take-off (FAILURE last if failed)
+  std::vector<decision::StateIndex> states;                     // at 1 Hz from take-off (FAILURE last if failed)
   std::vector<std::pair<double, models::PackAction>> switches;  // (time, action) of every change, first included
   std::vector<BatteryEpoch> epochs;
-  double energy_used_wh = 0.0;                  // drawn from the packs over the flight (sim::PowerState::energy_wh)
-  models::PerBranch<double> charge_left_ah{};   // usable charge left per pack at the end: its emptiest cell's z·Q
+  double energy_used_wh = 0.0;                 // drawn from the packs over the flight (sim::PowerState::energy_wh)
+  models::PerBranch<double> charge_left_ah{};  // usable charge left per pack at the end: its emptiest cell's z·Q
 };
 
 // Flies `params` with the packs switched to `initial_switches` before take-off and `controller` at 1 Hz

@@ -10,8 +10,8 @@
 //   runs: 465                       # sampled scenarios (--runs overrides); each is flown by every policy
 //   policies: [cma, noop]           # cma | noop | a policy JSON file (--policies overrides)
 //   mission:
-//     endurance_fraction: [0.5, 0.9]  # plan = f × (healthy pack's EOD at the cruise current − t_sf) (decisions 19; ours)
-//     # distance_m: [300, 900]      # optional: draw the distance instead (the plan is then not tied to the pack)
+//     endurance_fraction: [0.5, 0.9]  # plan = f × (healthy pack's EOD at the cruise current − t_sf) (decisions 19;
+//     ours) # distance_m: [300, 900]      # optional: draw the distance instead (the plan is then not tied to the pack)
 //     cruise_speed_mps: [1, 9]      # Table 4.4, "hexacopter velocity"
 //     cruise_altitude_m: 30         # open ground only; over a city 10 m above the tallest building (defaults.md)
 //     wall_clearance_m: 5           # home, destination, route corridor: from every building wall (decisions 20)
@@ -69,24 +69,25 @@ namespace bounds {
 inline constexpr Bounds kRuns{0.0, 1e7, "runs"};
 // The map importer refuses data farther than 50 km from its origin (planning/map_import.h).
 inline constexpr Bounds kDistance{1.0, 50000.0, "m"};
-inline constexpr Bounds kCruiseSpeed{0.1, 30.0, "m/s"};      // Table 4.4 samples 1-9 m/s
-inline constexpr Bounds kCruiseAltitude{1.0, 1000.0, "m"};   // above the tallest building of any city
-inline constexpr Bounds kDropHover{0.0, 3600.0, "s"};        // 4x the packs' ~15 min hover endurance
-inline constexpr Bounds kSafetyMargin{0.0, 600.0, "s"};      // Table 4.4 samples 5-10 s
+inline constexpr Bounds kCruiseSpeed{0.1, 30.0, "m/s"};     // Table 4.4 samples 1-9 m/s
+inline constexpr Bounds kCruiseAltitude{1.0, 1000.0, "m"};  // above the tallest building of any city
+inline constexpr Bounds kDropHover{0.0, 3600.0, "s"};       // 4x the packs' ~15 min hover endurance
+inline constexpr Bounds kSafetyMargin{0.0, 600.0, "s"};     // Table 4.4 samples 5-10 s
 // The default OCV table spans 3.27-4.20 V (defaults.md); the cut-off is 3.3 V (§3.3.2.1).
 inline constexpr Bounds kInitialCellVoltage{3.3, 4.2, "V"};
-inline constexpr Bounds kHealthWeight{0.0, 1e6, ""};         // relative weights
-inline constexpr Bounds kDegradedCells{1.0, 6.0, "cells"};   // two 3S packs
-inline constexpr Bounds kEnduranceFraction{0.01, 1.0, ""};   // of EOD − t_sf: at most all of it (decisions 19)
-inline constexpr Bounds kWallClearance{0.0, 100.0, "m"};     // our bound: a city block is ~60 m deep
+inline constexpr Bounds kHealthWeight{0.0, 1e6, ""};        // relative weights
+inline constexpr Bounds kDegradedCells{1.0, 6.0, "cells"};  // two 3S packs
+inline constexpr Bounds kEnduranceFraction{0.01, 1.0, ""};  // of EOD − t_sf: at most all of it (decisions 19)
+inline constexpr Bounds kWallClearance{0.0, 100.0, "m"};    // our bound: a city block is ~60 m deep
 inline constexpr Bounds kProbability{0.0, 1.0, ""};
-inline constexpr Bounds kColdTemperature{-40.0, 49.999, "°F"};  // below 50 °F (Table 3.2), models::kAmbientTemperatureBounds
-inline constexpr Bounds kWarmTemperature{50.0, 140.0, "°F"};    // 50 °F or above (Table 3.2)
-inline constexpr Bounds kWindSpeed{0.0, 50.0, "m/s"};        // Table 4.4 samples 1-3 m/s
+inline constexpr Bounds kColdTemperature{-40.0, 49.999,
+                                         "°F"};  // below 50 °F (Table 3.2), models::kAmbientTemperatureBounds
+inline constexpr Bounds kWarmTemperature{50.0, 140.0, "°F"};  // 50 °F or above (Table 3.2)
+inline constexpr Bounds kWindSpeed{0.0, 50.0, "m/s"};         // Table 4.4 samples 1-3 m/s
 inline constexpr Bounds kWindDirection{-4.0 * kPi, 4.0 * kPi, "rad"};
-inline constexpr Bounds kMotor{1.0, 6.0, ""};                // the hexacopter's motors
+inline constexpr Bounds kMotor{1.0, 6.0, ""};                    // the hexacopter's motors
 inline constexpr Bounds kTimePerGrowthStep{0.001, 3600.0, "s"};  // decisions item 15: 0.7128 s, Table 5.4: 15.3 s
-inline constexpr Bounds kBlocks{1.0, 200.0, "blocks"};       // procedural city size per side
+inline constexpr Bounds kBlocks{1.0, 200.0, "blocks"};           // procedural city size per side
 }  // namespace bounds
 
 // A closed interval of a sampled parameter, in the unit its owner's name states.
@@ -126,7 +127,7 @@ struct MissionSampling {
   // computed over. (Faster cruise lags further behind the reference — up to 9.5 m
   // at 6–9 m/s, the controller's business — but away from the hover points, above the buildings.)
   double wall_clearance_m = 5.0;
-  double drop_hover_s = 30.0;        // defaults.md
+  double drop_hover_s = 30.0;  // defaults.md
 };
 
 // An inclusive range of counts.
@@ -163,16 +164,16 @@ struct BatterySampling {
 };
 
 struct WindSampling {
-  Range speed_mps{1.0, 3.0};        // Table 4.4
-  Range direction_rad{0.0, kPi};    // Table 4.4
+  Range speed_mps{1.0, 3.0};      // Table 4.4
+  Range direction_rad{0.0, kPi};  // Table 4.4
   std::vector<models::TurbulenceCategory> turbulence{
       models::TurbulenceCategory::kLowLight, models::TurbulenceCategory::kLowModerate,
       models::TurbulenceCategory::kMediumLight, models::TurbulenceCategory::kMediumModerate};  // Table 4.4
 };
 
 struct FaultSampling {
-  double probability = 0.5;            // §5.4: P(SF|NF) = 0.5 per simulated flight
-  Range onset_fraction{0.0, 1.0};      // of the nominal plan's duration: "uniform over the flight", §5.4
+  double probability = 0.5;                   // §5.4: P(SF|NF) = 0.5 per simulated flight
+  Range onset_fraction{0.0, 1.0};             // of the nominal plan's duration: "uniform over the flight", §5.4
   std::vector<int> motors{1, 2, 3, 4, 5, 6};  // §5.4, uniform
   // Growth speed of the simulated spall (sim::FaultSpec, decisions item 15). 0.7128 s per Paris-law
   // step jams the motor ~17 s after the onset, as in §5.5.1 (175 → 192 s) and §5.5.2 (525 → 542 s).
@@ -212,12 +213,12 @@ struct MapSampling {
   std::vector<std::string> buildings;
   std::string sites;
   std::optional<std::array<double, 2>> origin_deg;  // latitude, longitude
-  bool height_from_levels = false;   // planning::MapImportOptions (defaults there)
-  double metres_per_level = 3.0;     // m per storey, the importer's estimate
+  bool height_from_levels = false;                  // planning::MapImportOptions (defaults there)
+  double metres_per_level = 3.0;                    // m per storey, the importer's estimate
   bool skip_missing_height = false;
   bool height_from_type = false;
   std::optional<double> default_height_m;  // m
-  std::optional<bool> sites_from_map;       // unset: derive sites when there is no `sites` file
+  std::optional<bool> sites_from_map;      // unset: derive sites when there is no `sites` file
   bool imported() const { return !buildings.empty(); }
   // Whether the import derives landing sites from the map (above).
   bool DerivesSites() const { return sites_from_map.value_or(sites.empty()); }

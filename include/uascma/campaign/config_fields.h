@@ -40,7 +40,7 @@ struct ConfigField {
   std::string_view expected = {};  // what a value must be, beyond the bound (error messages, docs)
   std::string_view citation = {};  // where the default and bound come from: a dissertation section, a decision, ours
   FieldScope scope = FieldScope::kAlways;
-  bool hashed = true;              // in CampaignConfigHash (name, runs and policies are not: config.h)
+  bool hashed = true;  // in CampaignConfigHash (name, runs and policies are not: config.h)
   // A format version the fingerprint takes before this field ("mission/2": the endurance-tied plan of decision 19).
   std::string_view hash_tag = {};
   // An unset optional (or empty path) is written as `null` (true) or left out (false) in the canonical YAML.
@@ -48,7 +48,7 @@ struct ConfigField {
   // A key added after imported maps were fingerprinted: the YAML and the fingerprint take it only when it changes
   // the import (its leaf name, then its value), so that earlier fingerprints stay as they were.
   bool only_when_set = false;
-  ConfigCheck check = nullptr;     // run after the bound
+  ConfigCheck check = nullptr;       // run after the bound
   std::string_view section() const;  // "mission"; "" for a top-level key
   std::string_view leaf() const;     // "cruise_speed_mps"
 };

@@ -68,8 +68,8 @@ RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int sl
                         const sim::SimResult& result, const std::vector<EpochDecision>& decisions);
 
 // Flies `run` with `policy` on `simulator` (built from run.scenario) without telemetry.
-RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const CampaignPolicy& policy,
-                 int slot, int num_policies, const PlannerFactory& planner_factory = {});
+RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const CampaignPolicy& policy, int slot,
+                 int num_policies, const PlannerFactory& planner_factory = {});
 // Flies `run` with each policy (policies[k] in slot slots[k]) as FlyRun would each, sharing the flight while they
 // agree (sim::Simulator::RunTogether): the records equal FlyRun's, wall_time_s apart.
 std::vector<RunRecord> FlyRunTogether(const sim::Simulator& simulator, const SampledRun& run,

@@ -16,39 +16,39 @@ namespace uascma::campaign {
 
 struct RunRecord {
   // ---- identity: (run_index, policy) is unique within a campaign ----------------------------------
-  std::int64_t flight_id = 0;   // run_index × number of policies + policy slot (stable across resumes)
+  std::int64_t flight_id = 0;  // run_index × number of policies + policy slot (stable across resumes)
   std::int64_t run_index = 0;
   std::string policy;
-  std::uint64_t run_seed = 0;   // replays the scenario with the campaign's configuration
+  std::uint64_t run_seed = 0;  // replays the scenario with the campaign's configuration
   // ---- the sampled scenario (Table 4.4, §5.4) ------------------------------------------------------
   double distance_m = 0.0;
   double bearing_rad = 0.0;
   double destination_north_m = 0.0;
   double destination_east_m = 0.0;
   double cruise_speed_mps = 0.0;
-  double plan_duration_s = 0.0;       // the nominal delivery plan
-  double safety_margin_s = 0.0;       // t_sf (recorded; see campaign/sampler.h)
+  double plan_duration_s = 0.0;        // the nominal delivery plan
+  double safety_margin_s = 0.0;        // t_sf (recorded; see campaign/sampler.h)
   std::string initial_cell_voltage_v;  // JSON list of 6: pack 1 cells 1–3, pack 2 cells 1–3
   double initial_cell_voltage_min_v = 0.0;
-  std::string pack1_health;           // F1 | F2 | F3
+  std::string pack1_health;  // F1 | F2 | F3
   std::string pack2_health;
-  std::string cell_health;            // campaign::CellHealthCode
-  std::string battery_health;         // composite BH: G | M | P (decisions item 8)
+  std::string cell_health;     // campaign::CellHealthCode
+  std::string battery_health;  // composite BH: G | M | P (decisions item 8)
   double ambient_temp_degf = 0.0;
   double wind_speed_mps = 0.0;
   double wind_direction_rad = 0.0;
-  std::string turbulence;             // Dryden category name
+  std::string turbulence;  // Dryden category name
   bool fault = false;
-  std::int64_t fault_motor = 0;       // 1..6, 0 without a fault
+  std::int64_t fault_motor = 0;  // 1..6, 0 without a fault
   std::optional<double> fault_onset_s;
   // ---- the outcome (decisions items 10–11) ---------------------------------------------------------
-  std::string outcome;                // sim::OutcomeName
-  bool failure = false;               // sim::IsFailure (battery, control, collision, timeout)
+  std::string outcome;   // sim::OutcomeName
+  bool failure = false;  // sim::IsFailure (battery, control, collision, timeout)
   std::string reason;
   double sim_time_s = 0.0;
-  double wall_time_s = 0.0;           // the only field that differs between identical replays
-  std::int64_t num_actions = 0;       // executed action changes (sim::SimResult::actions)
-  std::string actions;                // JSON list of [time_s, "Action"]
+  double wall_time_s = 0.0;                        // the only field that differs between identical replays
+  std::int64_t num_actions = 0;                    // executed action changes (sim::SimResult::actions)
+  std::string actions;                             // JSON list of [time_s, "Action"]
   std::optional<double> first_emergency_action_s;  // first epoch whose decided action is not NoOp
   std::string first_emergency_action;              // its name, "" when none
   // Decisions item 28: epochs at which the chosen action could not be carried out and another was taken, and the
@@ -63,9 +63,9 @@ struct RunRecord {
   double max_tracking_error_m = 0.0;
   double max_tilt_rad = 0.0;
   // ---- rewards per 1 Hz epoch (§5.5.3, Fig. 5.32; campaign/metrics.h) ------------------------------
-  std::int64_t epochs = 0;            // reward terms: decision epochs + the terminal state
-  double average_reward = 0.0;        // mean of R(S, A) over the epochs
-  double min_reward = 0.0;            // minimum instantaneous reward
+  std::int64_t epochs = 0;      // reward terms: decision epochs + the terminal state
+  double average_reward = 0.0;  // mean of R(S, A) over the epochs
+  double min_reward = 0.0;      // minimum instantaneous reward
 };
 
 // Calls visit(name, field) for every field of the record, in column order. `Record` is RunRecord or

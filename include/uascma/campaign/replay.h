@@ -19,8 +19,8 @@ namespace uascma::campaign {
 // the policy that flew it, and what was recorded.
 struct ReplayFlight {
   CampaignConfig config;
-  SampledRun run;          // run.scenario is what to fly
-  CampaignPolicy policy;   // MakeDecisionPolicy(policy) flies it
+  SampledRun run;         // run.scenario is what to fly
+  CampaignPolicy policy;  // MakeDecisionPolicy(policy) flies it
   int policy_slot = 0;
   int num_policies = 0;
   RunRecord recorded;

@@ -12,9 +12,9 @@ namespace uascma::campaign {
 
 struct CampaignReport {
   CampaignHeader header;
-  std::int64_t flights = 0;              // stored
-  std::int64_t complete_runs = 0;        // runs flown by every policy
-  std::vector<GroupStatistics> groups;   // policies in slot order × G, M, P, all
+  std::int64_t flights = 0;                   // stored
+  std::int64_t complete_runs = 0;             // runs flown by every policy
+  std::vector<GroupStatistics> groups;        // policies in slot order × G, M, P, all
   std::vector<PairedComparison> comparisons;  // McNemar per pair of policies × G, M, P, all
 };
 

@@ -24,8 +24,8 @@
 // claims every free run with flights missing in one transaction, broadcasts them with the campaign hash;
 // rank r flies the runs at positions r, r + K, r + 2K, … of that list (static round-robin) with its own
 // threads and sends the records to rank 0, which alone writes them. Runs that other processes held
-// are then waited for (and flown when their worker died) by rank 0's threads. Every rank resolves the policies itself (solving the CMA
-// MDP is deterministic; policy files must be readable on every node).
+// are then waited for (and flown when their worker died) by rank 0's threads. Every rank resolves the policies itself
+// (solving the CMA MDP is deterministic; policy files must be readable on every node).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -49,12 +49,12 @@ std::vector<FlightTask> MissingFlights(std::int64_t runs, const std::vector<Camp
                                        const std::vector<std::pair<std::int64_t, std::string>>& stored);
 
 struct ExecuteOptions {
-  int jobs = 0;                      // worker threads; 0 → every hardware thread
-  PlannerFactory planner_factory;    // empty: no emergency-landing planner
-  bool progress = false;             // a progress bar on stderr (drawn only when it is a terminal)
+  int jobs = 0;                    // worker threads; 0 → every hardware thread
+  PlannerFactory planner_factory;  // empty: no emergency-landing planner
+  bool progress = false;           // a progress bar on stderr (drawn only when it is a terminal)
   std::string progress_label = "campaign";
-  double flush_interval_s = 2.0;     // hand records to `sink` at least this often …
-  int flush_rows = 256;              // … or when this many are waiting
+  double flush_interval_s = 2.0;  // hand records to `sink` at least this often …
+  int flush_rows = 256;           // … or when this many are waiting
   // The campaign's world (campaign/world.h), built once and shared by every flight; null: ExecuteFlights builds it.
   std::shared_ptr<const CampaignWorld> world;
   // A line for the user when a process sharing the store waits for runs other processes hold (issue 26: a
@@ -73,14 +73,14 @@ struct CampaignRequest {
   CampaignConfig config;                 // with seed, runs and policies resolved
   std::vector<CampaignPolicy> policies;  // ResolvePolicies(config.policies)
   std::filesystem::path db;
-  bool resume = false;                   // continue a campaign already in `db` (else `db` must not exist)
+  bool resume = false;  // continue a campaign already in `db` (else `db` must not exist)
   ExecuteOptions execute;
   StoreOptions store;
-  MpiSession* mpi = nullptr;             // an active session → distribute across its ranks
+  MpiSession* mpi = nullptr;  // an active session → distribute across its ranks
 };
 
 struct CampaignOutcome {
-  bool is_root = true;                 // rank 0 (or no MPI): the process that wrote the store
+  bool is_root = true;  // rank 0 (or no MPI): the process that wrote the store
   int ranks = 1;
   int jobs = 1;                        // threads per rank
   std::int64_t flights_total = 0;      // runs × policies

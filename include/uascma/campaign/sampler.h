@@ -106,14 +106,14 @@ double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a);
 //              hover; CalcPlanCruiseCurrent's), of the steady power at that airspeed raised by σ_u less the power at
 //              it, σ_u the scenario's Dryden longitudinal intensity at the cruise altitude (models/wind.h), the same
 //              1σ allowance as the speed cap's (sim/speed_cap.h); charged over the whole plan duration T;
-//   I_whole  = I_hotel + (E_rotor + P_gust T) / (T V_bus), V_bus = kPlanningCellVoltage × 3 (as CalcLevelFlightCurrent);
-//   EOD_whole = CalcHealthyPackEod at I_whole; the plan is flyable when EOD_whole >= T + t_sf.
+//   I_whole  = I_hotel + (E_rotor + P_gust T) / (T V_bus), V_bus = kPlanningCellVoltage × 3 (as
+//   CalcLevelFlightCurrent); EOD_whole = CalcHealthyPackEod at I_whole; the plan is flyable when EOD_whole >= T + t_sf.
 struct WholeLoad {
-  double rotor_energy_j = 0.0;  // E_rotor
+  double rotor_energy_j = 0.0;    // E_rotor
   double gust_sigma_u_mps = 0.0;  // σ_u at the cruise altitude
-  double gust_power_w = 0.0;    // P_gust
-  double current_a = 0.0;       // I_whole
-  double eod_s = 0.0;           // EOD_whole
+  double gust_power_w = 0.0;      // P_gust
+  double current_a = 0.0;         // I_whole
+  double eod_s = 0.0;             // EOD_whole
 };
 // At most this many shortenings of one route attempt's endurance-tied plan before the route is redrawn (step 7).
 inline constexpr int kMaxWholeLoadShortenings = 20;
@@ -122,21 +122,21 @@ WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& 
 struct SampledRun {
   std::int64_t run_index = 0;
   std::uint64_t run_seed = 0;
-  double distance_m = 0.0;        // destination distance from home
-  double bearing_rad = 0.0;       // destination bearing from North, clockwise
+  double distance_m = 0.0;   // destination distance from home
+  double bearing_rad = 0.0;  // destination bearing from North, clockwise
   double cruise_speed_mps = 0.0;
-  double safety_margin_s = 0.0;   // t_sf, also in scenario.options.safety_margin_s
+  double safety_margin_s = 0.0;                          // t_sf, also in scenario.options.safety_margin_s
   models::PerBranch<models::HealthClass> pack_health{};  // F1/F2/F3 per pack = G/M/P, from the cells
   decision::BatteryHealth battery_health = decision::BatteryHealth::kG;  // BH drawn (decisions 8, 20)
   bool cold = false;
-  double plan_duration_s = 0.0;   // the nominal delivery plan
-  double endurance_fraction = 0.0;  // f of step 7 (0 when the distance was drawn instead)
-  double cruise_current_a = 0.0;    // I_cruise of step 7
-  double healthy_eod_s = 0.0;       // EOD_healthy of step 7
+  double plan_duration_s = 0.0;       // the nominal delivery plan
+  double endurance_fraction = 0.0;    // f of step 7 (0 when the distance was drawn instead)
+  double cruise_current_a = 0.0;      // I_cruise of step 7
+  double healthy_eod_s = 0.0;         // EOD_healthy of step 7
   double whole_load_current_a = 0.0;  // I_whole of the nominal plan (CalcWholeLoad, decisions item 27)
   double whole_load_eod_s = 0.0;      // EOD_whole: >= plan_duration_s + safety_margin_s for every sampled run
   int whole_load_refits = 0;          // how often the check failed while step 7 drew this run (shortened or redrawn)
-  sim::Scenario scenario;         // ready to fly
+  sim::Scenario scenario;             // ready to fly
 };
 
 // The horizontal extent of the map's buildings (m; empty without buildings).
@@ -151,12 +151,12 @@ Eigen::AlignedBox2d RouteArea(const planning::CityMap& map, const MapSampling& s
 struct SiteCoverage {
   int runs = 0;
   int checkpoints = 0;
-  int checkpoints_without_site = 0;       // no site within `reach`
+  int checkpoints_without_site = 0;  // no site within `reach`
   int runs_with_uncovered_checkpoint = 0;
-  double reach = 0.0;                     // m
-  double largest_gap = 0.0;               // m: the largest distance from a checkpoint to its nearest site (≤ the
-                                          // map's diagonal; +inf without sites)
-  int sites = 0;                          // the map's
+  double reach = 0.0;        // m
+  double largest_gap = 0.0;  // m: the largest distance from a checkpoint to its nearest site (≤ the
+                             // map's diagonal; +inf without sites)
+  int sites = 0;             // the map's
   bool covered() const { return checkpoints_without_site == 0; }
   // One paragraph: the numbers, and what to do when checkpoints are uncovered.
   std::string BriefReport() const;

@@ -96,8 +96,8 @@ struct GroupStatistics {
   // of it, and each "Chosen->Taken" pair with the flights it happened in.
   std::int64_t flights_with_substitution = 0, substitution_epochs = 0;
   std::map<std::string, std::int64_t> substitutions;
-  Interval failure_wilson, failure_clopper_pearson;        // of failure_rate
-  Interval completion_wilson, completion_clopper_pearson;  // of completion_rate
+  Interval failure_wilson, failure_clopper_pearson;                  // of failure_rate
+  Interval completion_wilson, completion_clopper_pearson;            // of completion_rate
   std::array<std::int64_t, kFailureCauseCount> failures_by_cause{};  // indexed by FailureCause; sums to failures
   std::array<std::int64_t, kBatteryFadesCount> runs_by_fades{}, failures_by_fades{};  // indexed by BatteryFades
   Estimate average_reward, min_reward;

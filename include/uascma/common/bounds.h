@@ -13,9 +13,9 @@
 namespace uascma {
 
 struct Bounds {
-  double low = 0.0;        // smallest plausible value, inclusive
-  double high = 0.0;       // largest plausible value, inclusive
-  std::string_view unit;   // "A", "m/s", "" for a pure number
+  double low = 0.0;       // smallest plausible value, inclusive
+  double high = 0.0;      // largest plausible value, inclusive
+  std::string_view unit;  // "A", "m/s", "" for a pure number
 
   // Finite and low <= value <= high.
   bool Contains(double value) const { return value >= low && value <= high; }  // false for NaN

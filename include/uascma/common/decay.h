@@ -30,7 +30,8 @@ inline ExpDecay CalcExpDecay(double x) {
   }
   if (x >= 0.0 && x < kExpDecaySeriesLimit) {
     const double c =
-        x * (1 - x * 0.5 * (1 - x * k3 * (1 - x * 0.25 * (1 - x * k5 * (1 - x * k6 * (1 - x * k7 * (1 - x * 0.125)))))));
+        x *
+        (1 - x * 0.5 * (1 - x * k3 * (1 - x * 0.25 * (1 - x * k5 * (1 - x * k6 * (1 - x * k7 * (1 - x * 0.125)))))));
     return {1.0 - c, c};
   }
   return {std::exp(-x), -std::expm1(-x)};

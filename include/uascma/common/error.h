@@ -20,10 +20,8 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
-[[noreturn]] inline void CheckFailed(const char* condition, const char* message, const char* file,
-                                     int line) {
-  std::fprintf(stderr, "uascma: internal invariant failed at %s:%d: %s (%s)\n", file, line,
-               message, condition);
+[[noreturn]] inline void CheckFailed(const char* condition, const char* message, const char* file, int line) {
+  std::fprintf(stderr, "uascma: internal invariant failed at %s:%d: %s (%s)\n", file, line, message, condition);
   std::abort();
 }
 

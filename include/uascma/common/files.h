@@ -47,7 +47,7 @@ class OutputDirectory {
  private:
   std::string option_;
   std::filesystem::path user_path_;
-  std::filesystem::path target_;   // the folder itself: absolute, links resolved
+  std::filesystem::path target_;  // the folder itself: absolute, links resolved
   std::filesystem::path staging_;
   bool committed_ = false;
 };

@@ -19,7 +19,7 @@
 
 namespace uascma {
 
-inline constexpr double kGravity = 9.80665;  // m/s², standard gravity
+inline constexpr double kGravity = 9.80665;   // m/s², standard gravity
 inline constexpr double kAirDensity = 1.225;  // kg/m³, ISA sea level (shared/spec/defaults.md, drag)
 inline constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
 

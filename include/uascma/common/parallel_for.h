@@ -43,7 +43,7 @@
 namespace uascma {
 
 struct ParallelOptions {
-  int jobs = 1;  // threads, >= 1 (HardwareThreads() for all cores)
+  int jobs = 1;         // threads, >= 1 (HardwareThreads() for all cores)
   bool ordered = true;  // merge in job order (see above)
   // Raised: no further job starts. nullptr: only a failing job stops the work.
   const CancellationToken* cancel = &CancellationToken::Process();
@@ -67,10 +67,9 @@ std::int64_t RunParallel(std::int64_t count, const ParallelOptions& options,
 
 // What a job returns: job(i, stop) when it takes the stop token, else job(i).
 template <typename Job>
-using JobResult =
-    typename std::conditional_t<std::is_invocable_v<Job&, std::int64_t, const CancellationToken&>,
-                                std::invoke_result<Job&, std::int64_t, const CancellationToken&>,
-                                std::invoke_result<Job&, std::int64_t>>::type;
+using JobResult = typename std::conditional_t<std::is_invocable_v<Job&, std::int64_t, const CancellationToken&>,
+                                              std::invoke_result<Job&, std::int64_t, const CancellationToken&>,
+                                              std::invoke_result<Job&, std::int64_t>>::type;
 }  // namespace internal
 
 template <typename Job, typename Merge>

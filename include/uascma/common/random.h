@@ -82,7 +82,7 @@ namespace internal {
 // beyond r, stretched to the same area v. x[256] = 0.
 struct Ziggurat {
   static constexpr double kR = 3.6541528853610088;   // x[1], the start of the tail (256 layers)
-  static constexpr double kArea = 4.92867323399e-3;   // v, the area of every layer
+  static constexpr double kArea = 4.92867323399e-3;  // v, the area of every layer
   std::array<double, 257> x{};
   std::array<double, 257> f{};
   Ziggurat() {

@@ -28,8 +28,8 @@ double RequireNumber(const YAML::Node& node, const std::string& key, const std::
                      const std::string& where);
 
 // The same, but returns `fallback` when the key is absent.
-double OptionalNumber(const YAML::Node& node, const std::string& key, double fallback,
-                      const std::string& source, const std::string& where);
+double OptionalNumber(const YAML::Node& node, const std::string& key, double fallback, const std::string& source,
+                      const std::string& where);
 
 // A required map at node[key].
 YAML::Node RequireMap(const YAML::Node& node, const std::string& key, const std::string& source,

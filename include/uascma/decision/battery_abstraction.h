@@ -16,10 +16,10 @@
 namespace uascma::decision {
 
 struct BatteryThresholds {
-  double critical_voltage_v = 3.4;              // C0/C1 boundary, Table 4.1
+  double critical_voltage_v = 3.4;                    // C0/C1 boundary, Table 4.1
   double failure_voltage_v = models::kCutoffVoltage;  // 3.3 V, Table 4.1, decisions item 11
   double max_current_a = models::kMaxPackCurrent;     // I_max = 105 A, Table 4.1
-  double high_current_fraction = 0.2;           // I_H: I > 0.2 I_max, Table 4.1
+  double high_current_fraction = 0.2;                 // I_H: I > 0.2 I_max, Table 4.1
 };
 
 EnergyState ClassifyEnergy(double eod_s, double remaining_flight_s, double safety_margin_s);
@@ -29,11 +29,11 @@ bool IsCellFailure(double min_cell_voltage_v, const BatteryThresholds& threshold
 
 // What the 1 Hz executor measures and predicts (the inputs of Fig. 4.2).
 struct BatteryObservation {
-  double total_current_a = 0.0;      // motor + hotel current drawn from the bus, A
-  double remaining_flight_s = 0.0;   // RFD: time left on the executing plan
-  double safety_margin_s = 0.0;      // t_sf (Table 4.4: 5–10 s)
+  double total_current_a = 0.0;     // motor + hotel current drawn from the bus, A
+  double remaining_flight_s = 0.0;  // RFD: time left on the executing plan
+  double safety_margin_s = 0.0;     // t_sf (Table 4.4: 5–10 s)
   models::PerBranch<bool> switch_on = {true, true};
-  models::PerBranch<double> eod_s{};              // per-pack EOD (see ObserveBattery)
+  models::PerBranch<double> eod_s{};               // per-pack EOD (see ObserveBattery)
   models::PerBranch<double> min_cell_voltage_v{};  // worst cell of each pack, V (C0/C1; see ObserveBattery)
   // The actual worst cell of each pack now (FAILURE when a switched-in one is at 3.3 V); defaults to
   // min_cell_voltage_v when not set (negative).

@@ -35,9 +35,9 @@
 namespace uascma::decision {
 
 // --- State space (Table 4.1) ---------------------------------------------------------------------
-enum class CurrentLevel { kLow = 0, kHigh = 1 };           // I_L, I_H
-enum class EnergyState { kS1 = 0, kS2 = 1, kS3 = 2 };       // B_iS_1..3
-enum class VoltageState { kC0 = 0, kC1 = 1 };               // B_iC_0, B_iC_1
+enum class CurrentLevel { kLow = 0, kHigh = 1 };       // I_L, I_H
+enum class EnergyState { kS1 = 0, kS2 = 1, kS3 = 2 };  // B_iS_1..3
+enum class VoltageState { kC0 = 0, kC1 = 1 };          // B_iC_0, B_iC_1
 
 inline constexpr int kBatteryNumStates = 289;
 inline constexpr StateIndex kBatteryFailureState = 288;
@@ -61,8 +61,8 @@ BatteryFeatures BatteryStateFeatures(StateIndex state);
 std::string BatteryStateLabel(StateIndex state);  // "ILONS3C0OFFS3C0", "FAILURE"
 // Index of a label; InputError naming `source` otherwise.
 StateIndex ParseBatteryState(const std::string& label, const std::string& source);
-const std::vector<std::string>& BatteryStateLabels();   // [289], in index order
-const std::vector<std::string>& BatteryActionNames();   // "UseBatt1", "UseBatt2", "UseBoth"
+const std::vector<std::string>& BatteryStateLabels();  // [289], in index order
+const std::vector<std::string>& BatteryActionNames();  // "UseBatt1", "UseBatt2", "UseBoth"
 // The same state with the switches `action` sets (Table 4.3): the deterministic switch of §4.3.2.
 StateIndex ApplySwitches(StateIndex state, models::PackAction action);
 // True when the state's switches already are the ones `action` sets (its row is learned from flights).

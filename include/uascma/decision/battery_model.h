@@ -69,16 +69,16 @@ class BatteryTransitionCounts {
 
  private:
   static std::size_t RowIndex(const BatteryContext& context, StateIndex state, models::PackAction action);
-  std::vector<std::map<StateIndex, std::int64_t>> rows_;       // [18 · 289 · 3]
-  std::vector<std::int64_t> completions_;                      // [18 · 289 · 3]
+  std::vector<std::map<StateIndex, std::int64_t>> rows_;  // [18 · 289 · 3]
+  std::vector<std::int64_t> completions_;                 // [18 · 289 · 3]
   std::array<std::int64_t, kBatteryNumContexts * kBatteryNumActions> flights_{};
 };
 
 struct BatteryModelStats {
-  int learned_rows = 0;      // (state, action) rows whose switches match the action: 3 × 72 = 216
-  int unobserved_rows = 0;   // of those, never observed: self-loops (decisions item 23)
-  int switch_rows = 0;       // rows of states whose switches differ from the action's (switch, then the
-                             // switched state's learned row)
+  int learned_rows = 0;          // (state, action) rows whose switches match the action: 3 × 72 = 216
+  int unobserved_rows = 0;       // of those, never observed: self-loops (decisions item 23)
+  int switch_rows = 0;           // rows of states whose switches differ from the action's (switch, then the
+                                 // switched state's learned row)
   std::int64_t transitions = 0;  // counted 1 Hz transitions behind the learned rows
 };
 

@@ -28,7 +28,7 @@ struct BatteryContextPolicy {
   std::vector<double> value;        // [289]
   SolverSummary summary;
   BatteryModelStats stats;
-  std::string mdp_hash;             // ModelHash of the context's MDP
+  std::string mdp_hash;  // ModelHash of the context's MDP
   // The observed rows of the MDP it was solved on (switch rows and self-loops follow from the rules), so
   // the policy file alone draws the transition graph of Fig. 4.4.
   std::vector<BatteryLearnedRow> observed_rows;

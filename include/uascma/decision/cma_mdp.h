@@ -125,7 +125,6 @@ struct QuadrantRow {
 };
 inline constexpr std::array<const char*, 4> kQuadrantNames = {"I", "II", "III", "IV"};
 CmaState QuadrantState(FlightStatus fs, MotorHealth mh, BatteryHealth bh, int quadrant);
-std::vector<QuadrantRow> CmaQuadrantView(const std::vector<ActionIndex>& action,
-                                         const std::vector<double>& value);
+std::vector<QuadrantRow> CmaQuadrantView(const std::vector<ActionIndex>& action, const std::vector<double>& value);
 
 }  // namespace uascma::decision

@@ -31,8 +31,8 @@ struct DiscreteFeature {
 
 // One row of a printed conditional table: P(next_value | parent_values, a) for every action a.
 struct ConditionalRow {
-  std::string next_value;                   // ignored for exit tables
-  std::vector<std::string> parent_values;   // one per parent, in the table's parent order
+  std::string next_value;                     // ignored for exit tables
+  std::vector<std::string> parent_values;     // one per parent, in the table's parent order
   std::vector<double> probability_by_action;  // one per action, in the builder's action order
 };
 
@@ -54,8 +54,8 @@ struct ExitTable {
 
 // A state of the factored model: either a terminal state or a tuple of feature value indices.
 struct FactoredState {
-  int terminal = -1;          // index into terminal states, or -1
-  std::vector<int> values;    // [num_features] when terminal == -1
+  int terminal = -1;        // index into terminal states, or -1
+  std::vector<int> values;  // [num_features] when terminal == -1
   bool is_terminal() const { return terminal >= 0; }
 };
 
@@ -70,8 +70,7 @@ class FactoredMdpBuilder {
   void AddExitTable(ExitTable table);
   void SetForcedExit(const std::string& action, const std::string& terminal_state);
   // In states whose `feature` has `value`, only `allowed` actions are available. Rules intersect.
-  void RestrictActions(const std::string& feature, const std::string& value,
-                       std::vector<std::string> allowed);
+  void RestrictActions(const std::string& feature, const std::string& value, std::vector<std::string> allowed);
 
   using RewardFunction = std::function<double(const FactoredState&, ActionIndex)>;
   // Composes the rows and validates them (InputError naming the table, state or action).
@@ -85,10 +84,10 @@ class FactoredMdpBuilder {
   FactoredState Decode(StateIndex state) const;
   StateIndex Encode(const FactoredState& state) const;
   std::string Label(StateIndex state) const;
-  int FeatureIndex(const std::string& name) const;  // -1 when unknown
+  int FeatureIndex(const std::string& name) const;              // -1 when unknown
   int ValueIndex(int feature, const std::string& value) const;  // -1 when unknown
-  int TerminalIndex(const std::string& name) const;  // -1 when unknown
-  ActionIndex ActionIndexOf(const std::string& name) const;  // -1 when unknown
+  int TerminalIndex(const std::string& name) const;             // -1 when unknown
+  ActionIndex ActionIndexOf(const std::string& name) const;     // -1 when unknown
 
  private:
   // A table compiled to a dense array: probability[(action * num_parent_tuples + parents) *
@@ -102,17 +101,17 @@ class FactoredMdpBuilder {
     int ParentIndex(const std::vector<int>& values) const;
   };
   CompiledTable Compile(const std::string& table_name, const std::string& feature,
-                        const std::vector<std::string>& parents,
-                        const std::vector<ConditionalRow>& rows, bool is_exit) const;
+                        const std::vector<std::string>& parents, const std::vector<ConditionalRow>& rows,
+                        bool is_exit) const;
 
   std::vector<DiscreteFeature> features_;
   std::vector<std::string> actions_;
   int num_tuple_states_ = 1;
   std::vector<std::string> terminals_;
   std::vector<std::string> absorbs_into_;
-  std::vector<CompiledTable> feature_tables_;  // [num_features]; empty probability = not set
+  std::vector<CompiledTable> feature_tables_;               // [num_features]; empty probability = not set
   std::vector<std::pair<int, CompiledTable>> exit_tables_;  // (terminal, table)
-  std::vector<int> forced_exit_;  // [num_actions] terminal index or -1
+  std::vector<int> forced_exit_;                            // [num_actions] terminal index or -1
   // allowed_[feature][value][action]
   std::vector<std::vector<std::vector<bool>>> allowed_;
 };

@@ -87,8 +87,7 @@ class FiniteMdpBuilder {
  public:
   FiniteMdpBuilder(std::vector<std::string> state_labels, std::vector<std::string> action_names);
 
-  void AddRow(StateIndex state, ActionIndex action, double reward,
-              std::span<const Transition> successors);
+  void AddRow(StateIndex state, ActionIndex action, double reward, std::span<const Transition> successors);
   FiniteMdp Build();
 
   static constexpr double kRowSumTolerance = 1e-9;

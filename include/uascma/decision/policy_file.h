@@ -39,9 +39,8 @@ struct PolicyDocument {
   std::vector<double> values;             // per state
 };
 
-PolicyDocument MakePolicyDocument(const FiniteMdp& mdp, const Policy& policy, std::string model,
-                                  double gamma, nlohmann::json model_config,
-                                  const SolverSummary& summary, const std::string& method);
+PolicyDocument MakePolicyDocument(const FiniteMdp& mdp, const Policy& policy, std::string model, double gamma,
+                                  nlohmann::json model_config, const SolverSummary& summary, const std::string& method);
 nlohmann::json PolicyToJson(const PolicyDocument& document);
 // Structural checks only (fields present and typed); InputError names `source` and the field.
 PolicyDocument PolicyFromJson(const nlohmann::json& json, const std::string& source);
@@ -53,8 +52,7 @@ Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const st
 
 // The CMA model a policy file was solved for: the weights of `weights_file` when given, else the weights
 // the file records. InputError when the file is not a CMA policy or records no weights.
-FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& weights_file,
-                            const std::string& source);
+FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& weights_file, const std::string& source);
 // Reads a CMA policy file and binds it to its model (hash checked): the action and value per state.
 // `ranking`, when given, receives per state the available actions by decreasing Q(s, a) of the bound model and
 // the file's values, the file's own action first (RankActionsByQ; decisions item 28).

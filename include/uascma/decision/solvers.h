@@ -25,8 +25,8 @@ enum class SweepOrder {
 };
 
 struct ValueIterationOptions {
-  double gamma = 0.95;                  // shared/spec/decisions.md item 5
-  double residual_tolerance = 1e-10;    // stop when max_s |V_{k+1}(s) − V_k(s)| < this (item 5)
+  double gamma = 0.95;                // shared/spec/decisions.md item 5
+  double residual_tolerance = 1e-10;  // stop when max_s |V_{k+1}(s) − V_k(s)| < this (item 5)
   int max_iterations = 100000;
   SweepOrder order = SweepOrder::kGaussSeidel;
   bool IsValid(std::string* error) const;
@@ -36,8 +36,8 @@ enum class SolverStatus { kConverged, kMaxIterations };
 
 struct SolverSummary {
   SolverStatus status = SolverStatus::kMaxIterations;
-  int iterations = 0;          // sweeps (value iteration) or improvement steps (policy iteration)
-  double residual = 0.0;       // the last sweep's max |ΔV|; 0 for policy iteration's exact stop
+  int iterations = 0;     // sweeps (value iteration) or improvement steps (policy iteration)
+  double residual = 0.0;  // the last sweep's max |ΔV|; 0 for policy iteration's exact stop
   double wall_time_s = 0.0;
   std::string message;
   std::string BriefReport() const;
@@ -49,8 +49,8 @@ Policy SolveValueIteration(const FiniteMdp& mdp, const ValueIterationOptions& op
 
 // One Jacobi Bellman-optimality sweep: out = T(in), and the greedy action in `greedy` if given.
 // Exposed for benchmarks and tests. Returns max_s |out(s) − in(s)|.
-double BellmanSweep(const FiniteMdp& mdp, double gamma, const std::vector<double>& in,
-                    std::vector<double>& out, std::vector<ActionIndex>* greedy = nullptr);
+double BellmanSweep(const FiniteMdp& mdp, double gamma, const std::vector<double>& in, std::vector<double>& out,
+                    std::vector<ActionIndex>* greedy = nullptr);
 
 enum class EvaluationMethod {
   kAuto,       // kDirect up to kDirectEvaluationMaxStates states, kIterative beyond
@@ -84,14 +84,13 @@ Policy SolvePolicyIteration(const FiniteMdp& mdp, const PolicyIterationOptions& 
                             SolverSummary* summary = nullptr);
 
 // The greedy policy of a value function, and Q(s, a) for one choice.
-std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma,
-                                      const std::vector<double>& value);
-double ChoiceQValue(const FiniteMdp& mdp, std::int64_t choice, double gamma,
-                    const std::vector<double>& value);
+std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma, const std::vector<double>& value);
+double ChoiceQValue(const FiniteMdp& mdp, std::int64_t choice, double gamma, const std::vector<double>& value);
 // Per state, its available actions by decreasing Q(s, a) under `value` (ties: the lower action index first), with
 // `policy_action[s]` moved to the front when given (a policy's own choice leads even where another action has the
 // same value). What an executor falls back on when the chosen action cannot be carried out (decisions item 28).
-std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, double gamma, const std::vector<double>& value,
+std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, double gamma,
+                                                     const std::vector<double>& value,
                                                      const std::vector<ActionIndex>* policy_action = nullptr);
 
 }  // namespace uascma::decision

@@ -29,13 +29,13 @@ namespace uascma::gnc {
 inline constexpr int kImmModes = 7;  // nominal + one per rotor
 
 struct ImmParams {
-  double gyro_noise = 0.01;        // rad/s, 1σ per sample: a MEMS gyro at 200 Hz (our estimate)
-  double accel_noise = 0.15;       // m/s², 1σ per sample (our estimate)
+  double gyro_noise = 0.01;   // rad/s, 1σ per sample: a MEMS gyro at 200 Hz (our estimate)
+  double accel_noise = 0.15;  // m/s², 1σ per sample (our estimate)
   // rad/s² and m/s², 1σ: unmodelled angular and vertical accelerations (drag, gust, lag mismatch).
   double angular_process_noise = 2.0;
   double vertical_model_noise = 0.4;
-  double switch_probability = 1e-5;   // per step, nominal → one given failed rotor
-  double recover_probability = 1e-6;  // per step, failed rotor → nominal
+  double switch_probability = 1e-5;     // per step, nominal → one given failed rotor
+  double recover_probability = 1e-6;    // per step, failed rotor → nominal
   double isolation_probability = 0.99;  // MAP mode probability needed to declare a failure
   int isolation_steps = 4;              // … held for this many consecutive steps
   bool IsValid(std::string* error) const;
@@ -74,9 +74,9 @@ class ImmFilter {
       return true;
     };
     return a.params_ == b.params_ && a.body_ == b.body_ && a.mixing_ == b.mixing_ && same_lanes(a.rate_, b.rate_) &&
-           same_lanes(a.variance_, b.variance_) && same_lanes(a.column_, b.column_) && a.probability_ == b.probability_ &&
-           a.candidate_ == b.candidate_ && a.candidate_steps_ == b.candidate_steps_ &&
-           a.isolated_rotor_ == b.isolated_rotor_;
+           same_lanes(a.variance_, b.variance_) && same_lanes(a.column_, b.column_) &&
+           a.probability_ == b.probability_ && a.candidate_ == b.candidate_ &&
+           a.candidate_steps_ == b.candidate_steps_ && a.isolated_rotor_ == b.isolated_rotor_;
   }
 
  private:

@@ -13,8 +13,8 @@
 
 #include <string>
 
-#include "uascma/planning/flight_plan.h"
 #include "uascma/models/rigid_body.h"
+#include "uascma/planning/flight_plan.h"
 
 namespace uascma::gnc {
 
@@ -44,19 +44,18 @@ struct RiccatiSolution {
 };
 
 RiccatiSolution SolveDiscreteRiccati(const StateMatrix& A, const InputMatrix& B, const StateMatrix& Q,
-                                     const Eigen::Matrix4d& R, double tolerance = 1e-11,
-                                     int max_iterations = 60);
+                                     const Eigen::Matrix4d& R, double tolerance = 1e-11, int max_iterations = 60);
 
 // Bryson's-rule weights: each entry is the largest acceptable excursion (Q = diag(1/x²), R = diag(1/u²)).
 // Our estimates, tuned in simulation for a damped response at the defaults.md acceleration limits.
 struct LqrWeights {
-  double position = 1.0;        // m
-  double altitude = 0.5;        // m
-  double velocity = 1.0;        // m/s
-  double tilt = 0.25;           // rad
-  double yaw = 0.5;             // rad
-  double body_rate = 1.5;       // rad/s
-  double thrust = 4.0;          // N
+  double position = 1.0;           // m
+  double altitude = 0.5;           // m
+  double velocity = 1.0;           // m/s
+  double tilt = 0.25;              // rad
+  double yaw = 0.5;                // rad
+  double body_rate = 1.5;          // rad/s
+  double thrust = 4.0;             // N
   double roll_pitch_torque = 0.4;  // N·m
   double yaw_torque = 0.08;        // N·m
 };

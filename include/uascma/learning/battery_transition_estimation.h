@@ -23,7 +23,7 @@
 namespace uascma::learning {
 
 struct BatteryLearningOptions {
-  std::int64_t runs = 5000;   // §4.3.2: 5,000 flights split equally between the actions
+  std::int64_t runs = 5000;  // §4.3.2: 5,000 flights split equally between the actions
   std::uint64_t seed = 1;
   int jobs = 1;
   campaign::BatteryFlightRanges ranges;
@@ -40,15 +40,15 @@ struct BatteryLearningOptions {
 
 struct BatteryLearningSummary {
   std::int64_t flights = 0;
-  std::int64_t parameter_draws = 0;  // Table 4.4 draws, each flown with the three actions
-  std::int64_t failures = 0;        // flights that reached FAILURE
-  campaign::BatteryFlightSharing sharing;     // GNC steps that followed another flight's vehicle, and alone
+  std::int64_t parameter_draws = 0;        // Table 4.4 draws, each flown with the three actions
+  std::int64_t failures = 0;               // flights that reached FAILURE
+  campaign::BatteryFlightSharing sharing;  // GNC steps that followed another flight's vehicle, and alone
   double wall_time_s = 0.0;
 };
 
 // InputError for runs or jobs below 1; uascma::Cancelled when the process token (common/cancellation.h) stops
 // the work before every draw was flown.
-decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, BatteryLearningSummary* summary = nullptr);
-
+decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options,
+                                         BatteryLearningSummary* summary = nullptr);
 
 }  // namespace uascma::learning

@@ -54,8 +54,8 @@ enum class EpisodeSetting { kOneMission, kCampaign };
 //     is greedy. Each exploring episode tries one action in one state, at any phase of the flight.
 enum class Exploration { kEpsilonGreedy, kOneDeviation };
 
-inline constexpr int kCompletionBins = 4;  // §5.3.3
-inline constexpr int kReachMarginBins = 4;  // §5.3.3
+inline constexpr int kCompletionBins = 4;               // §5.3.3
+inline constexpr int kReachMarginBins = 4;              // §5.3.3
 inline constexpr std::uint64_t kExplorationStream = 3;  // after campaign/sampler.h's streams 1 and 2
 
 int NumQStates(QStateKind kind);
@@ -85,8 +85,7 @@ struct CmaQLearningOptions {
 // The scenario of episode `episode` (file comment).
 sim::Scenario EpisodeScenario(const CmaQLearningOptions& options, std::int64_t episode);
 // Flies episode `episode` ε-greedy on `snapshot`.
-Episode FlyCmaEpisode(const CmaQLearningOptions& options, std::int64_t episode, const QTable& snapshot,
-                      double epsilon);
+Episode FlyCmaEpisode(const CmaQLearningOptions& options, std::int64_t episode, const QTable& snapshot, double epsilon);
 QLearningResult LearnCmaQ(const CmaQLearningOptions& options);
 
 // The learned table projected on the CMA states (file comment); values are the projected max Q.
@@ -95,8 +94,8 @@ decision::Policy ProjectToCmaPolicy(const QTable& table, QStateKind kind);
 decision::PolicyDocument QPolicyDocument(const QTable& table, const CmaQLearningOptions& options,
                                          const QLearningResult& result);
 
-const char* QStateKindName(QStateKind kind);        // "binned" | "cma"
-const char* EpisodeSettingName(EpisodeSetting s);   // "one-mission" | "campaign"
-const char* ExplorationName(Exploration e);         // "epsilon-greedy" | "one-deviation"
+const char* QStateKindName(QStateKind kind);       // "binned" | "cma"
+const char* EpisodeSettingName(EpisodeSetting s);  // "one-mission" | "campaign"
+const char* ExplorationName(Exploration e);        // "epsilon-greedy" | "one-deviation"
 
 }  // namespace uascma::learning

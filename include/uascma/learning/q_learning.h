@@ -34,9 +34,9 @@ using decision::ActionIndex;
 using decision::StateIndex;
 
 struct QLearningParams {
-  double alpha = 0.8;              // §5.3.3 step size
-  double gamma = 0.9;              // §5.3.3 discount factor
-  double alpha_decay_visits = 0.0; // 0: constant α (the dissertation's); else α / (1 + n(s,a) / this)
+  double alpha = 0.8;               // §5.3.3 step size
+  double gamma = 0.9;               // §5.3.3 discount factor
+  double alpha_decay_visits = 0.0;  // 0: constant α (the dissertation's); else α / (1 + n(s,a) / this)
   bool IsValid(std::string* error) const;
 };
 
@@ -99,10 +99,10 @@ using EpisodeFunction = std::function<Episode(std::int64_t index, const QTable& 
 struct QLearningOptions {
   QLearningParams params;
   EpsilonSchedule epsilon;
-  std::int64_t max_episodes = 10000;  // §5.3.3
-  int batch_size = 16;                // episodes per frozen snapshot (ours; see the file comment)
-  int jobs = 1;                       // worker threads (results do not depend on it)
-  int stable_batches = 0;             // 0: fly max_episodes
+  std::int64_t max_episodes = 10000;                  // §5.3.3
+  int batch_size = 16;                                // episodes per frozen snapshot (ours; see the file comment)
+  int jobs = 1;                                       // worker threads (results do not depend on it)
+  int stable_batches = 0;                             // 0: fly max_episodes
   std::function<void(std::int64_t)> on_episode_done;  // from any thread, may be empty
   bool IsValid(std::string* error) const;
 };
@@ -112,9 +112,9 @@ struct CurvePoint {
   double return_sum = 0.0;
   double mean_return = 0.0;  // average over episodes 0 … episode (Fig. 5.14's "average sum of rewards")
   int steps = 0;
-  int states_visited = 0;    // after the episode's updates
+  int states_visited = 0;  // after the episode's updates
   double epsilon = 0.0;
-  int policy_changes = 0;    // greedy actions changed by the episode's batch (the batch's last episode only)
+  int policy_changes = 0;  // greedy actions changed by the episode's batch (the batch's last episode only)
 };
 
 enum class QLearningStatus { kEpisodeLimit, kPolicyStable };
@@ -136,9 +136,8 @@ QLearningResult RunQLearning(QTable initial, const EpisodeFunction& fly, const Q
 // A learning episode of a FiniteMdp (tests and benchmarks): from `start`, ε-greedy on `snapshot`, successors drawn
 // from the rows, ending after `max_steps` or on reaching a state in `terminal` (the reward of the step into it
 // included; terminal[s] != 0). Randomness from `seed` only.
-Episode SimulateMdpEpisode(const decision::FiniteMdp& mdp, const std::vector<std::uint8_t>& terminal,
-                           StateIndex start, int max_steps, const QTable& snapshot, double epsilon,
-                           std::uint64_t seed);
+Episode SimulateMdpEpisode(const decision::FiniteMdp& mdp, const std::vector<std::uint8_t>& terminal, StateIndex start,
+                           int max_steps, const QTable& snapshot, double epsilon, std::uint64_t seed);
 // The availability mask of a FiniteMdp's choices, for QTable.
 std::vector<std::uint8_t> AvailableActions(const decision::FiniteMdp& mdp);
 

@@ -41,9 +41,9 @@ struct TransitionEstimationOptions {
 
 struct TransitionEstimationSummary {
   std::int64_t runs = 0;
-  std::int64_t epochs = 0;        // epochs of the behaviour flights (each one counted transition)
-  std::int64_t branches = 0;      // one-epoch branches flown
-  std::int64_t explored = 0;      // epochs where the behaviour took a random action
+  std::int64_t epochs = 0;    // epochs of the behaviour flights (each one counted transition)
+  std::int64_t branches = 0;  // one-epoch branches flown
+  std::int64_t explored = 0;  // epochs where the behaviour took a random action
   double wall_time_s = 0.0;
   double cpu_time_s = 0.0;
 };

@@ -48,15 +48,15 @@ struct RcPair {
 
 // Identified parameters of one cell. The defaults are Table 3.1, cell 1.
 struct CellParams {
-  double r0_ohm = 6.0e-3;                                  // R0, Table 3.1
+  double r0_ohm = 6.0e-3;                                     // R0, Table 3.1
   std::array<RcPair, kMaxRcPairs> rc = {{{9.9e-3, 51.5e3}}};  // R1 = 9.9 mΩ, C1 = 51.5 kF, Table 3.1
-  int rc_pair_count = 1;                                   // pairs in use, 1..kMaxRcPairs
-  double capacity_ah = 3.0271;                             // Q, Table 3.1
-  double hysteresis_gamma = 300.0;                         // γ, dimensionless, Table 3.1
-  double hysteresis_m_v = 17.8e-3;                         // M, Table 3.1
-  double hysteresis_m0_v = 5.1e-3;                         // M0, Table 3.1
-  double eta_charge = 0.973;                               // η_Charge, Table 3.1
-  double eta_discharge = 1.0;                              // η_Discharge, Table 3.1
+  int rc_pair_count = 1;                                      // pairs in use, 1..kMaxRcPairs
+  double capacity_ah = 3.0271;                                // Q, Table 3.1
+  double hysteresis_gamma = 300.0;                            // γ, dimensionless, Table 3.1
+  double hysteresis_m_v = 17.8e-3;                            // M, Table 3.1
+  double hysteresis_m0_v = 5.1e-3;                            // M0, Table 3.1
+  double eta_charge = 0.973;                                  // η_Charge, Table 3.1
+  double eta_discharge = 1.0;                                 // η_Discharge, Table 3.1
 
   // Every value finite; R0, R_j, C_j, Q > 0; γ, M, M0 ≥ 0; η in (0, 1]; 1 ≤ rc_pair_count ≤ kMaxRcPairs.
   // On failure writes "field: expected …" to *error.
@@ -79,10 +79,10 @@ struct CellHealth {
   bool capacity_fade = false;  // Q → 0.8 Q
   bool power_fade = false;     // R0 → 2 R0
 };
-inline constexpr double kCapacityFadeFactor = 0.8;     // Table 3.2
-inline constexpr double kPowerFadeFactor = 2.0;        // Table 3.2
-inline constexpr double kColdResistanceFactor = 1.5;   // Table 3.2, "R0L: 1.5 × R0 if T < 50F"
-inline constexpr double kColdThresholdDegf = 50.0;     // Table 3.2 (strict: 50 °F itself is not cold)
+inline constexpr double kCapacityFadeFactor = 0.8;    // Table 3.2
+inline constexpr double kPowerFadeFactor = 2.0;       // Table 3.2
+inline constexpr double kColdResistanceFactor = 1.5;  // Table 3.2, "R0L: 1.5 × R0 if T < 50F"
+inline constexpr double kColdThresholdDegf = 50.0;    // Table 3.2 (strict: 50 °F itself is not cold)
 // Room temperature, 25 °C: an estimate; the identification of Table 3.1 ran at one room temperature
 // (§3.3.1.1) and Table 4.2 only splits at 50 °F.
 inline constexpr double kRoomTemperatureDegf = 77.0;
@@ -105,9 +105,7 @@ class SelfCorrectingCell {
   // 1 / (R_j C_j), per second.
   double rc_rate_per_s(int pair) const { return rc_rate_per_s_[pair]; }
   // η for a current: η_discharge for i > 0, η_charge otherwise.
-  double CalcEfficiency(double current_a) const {
-    return current_a > 0.0 ? params_.eta_discharge : params_.eta_charge;
-  }
+  double CalcEfficiency(double current_a) const { return current_a > 0.0 ? params_.eta_discharge : params_.eta_charge; }
 
   // Eq. 3.3 (Plett form) at the instant the current `current_a` flows.
   double CalcTerminalVoltage(const CellState& state, double current_a) const {
@@ -143,8 +141,8 @@ class SelfCorrectingCell {
 inline double SelfCorrectingCell::CalcTerminalVoltage(const CellState& state, double current_a, double ocv_v) const {
   // s = −sgn(i) while current flows, else the sign the cell last saw (Plett).
   const double s = current_a > 0.0 ? -1.0 : (current_a < 0.0 ? 1.0 : state.hysteresis_sign);
-  double v = ocv_v + params_.hysteresis_m0_v * s + params_.hysteresis_m_v * state.hysteresis -
-             params_.r0_ohm * current_a;
+  double v =
+      ocv_v + params_.hysteresis_m0_v * s + params_.hysteresis_m_v * state.hysteresis - params_.r0_ohm * current_a;
   for (int j = 0; j < kMaxRcPairs; ++j) v -= rc_resistance_ohm_[j] * state.rc_current_a[j];
   return v;
 }

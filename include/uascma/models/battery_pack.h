@@ -29,9 +29,9 @@
 
 namespace uascma::models {
 
-inline constexpr int kBranchCount = 2;     // two packs in parallel, Fig. 4.1
-inline constexpr int kCellsPerBranch = 3;  // each pack is 3S, §3.3.1.1
-inline constexpr double kCutoffVoltage = 3.3;  // per cell, ESCs cut out: §3.3.2.1, Table 4.1, decisions item 11
+inline constexpr int kBranchCount = 2;            // two packs in parallel, Fig. 4.1
+inline constexpr int kCellsPerBranch = 3;         // each pack is 3S, §3.3.1.1
+inline constexpr double kCutoffVoltage = 3.3;     // per cell, ESCs cut out: §3.3.2.1, Table 4.1, decisions item 11
 inline constexpr double kMaxPackCurrent = 105.0;  // I_max, A, Table 4.1
 // Plausibility bounds (issue 16, common/bounds.h) on the numbers a user gives the battery model.
 // Total current drawn from the packs: 0 to I_max (Table 4.1).
@@ -60,8 +60,8 @@ PackAction ParsePackAction(const std::string& name, const std::string& source);
 // G: no degraded cell; M: some cell has power fade or capacity fade but not both; P: some cell has both.
 enum class HealthClass { kG = 0, kM = 1, kP = 2 };
 HealthClass ClassifyHealth(const std::array<CellHealth, kCellsPerBranch>& branch);  // one pack (B_iF_*)
-HealthClass ClassifyHealth(const PerCell<CellHealth>& cells);  // the whole battery (CMA's BH)
-const char* HealthClassName(HealthClass health);  // "G", "M", "P"
+HealthClass ClassifyHealth(const PerCell<CellHealth>& cells);                       // the whole battery (CMA's BH)
+const char* HealthClassName(HealthClass health);                                    // "G", "M", "P"
 // "G" | "M" | "P"; InputError naming `source` otherwise.
 HealthClass ParseHealthClass(const std::string& name, const std::string& source);
 // The degradation that makes a cell of class G, M or P, used to build packs of a given health (the
@@ -73,12 +73,11 @@ CellHealth CellHealthForClass(HealthClass health);
 struct PackParams {
   PerCell<CellParams> cells = {{{Table31Cell(1), Table31Cell(2), Table31Cell(3)},
                                 {Table31Cell(1), Table31Cell(2), Table31Cell(3)}}};  // defaults.md
-  OcvTable ocv = DefaultOcvTable();  // one table for every cell
+  OcvTable ocv = DefaultOcvTable();                                                  // one table for every cell
 };
 
 // Table 3.1 cells 1–3 in both packs with Table 3.2 applied per cell and for the ambient temperature.
-PackParams MakePackParams(const PerCell<CellHealth>& health = {},
-                          double ambient_temp_degf = kRoomTemperatureDegf,
+PackParams MakePackParams(const PerCell<CellHealth>& health = {}, double ambient_temp_degf = kRoomTemperatureDegf,
                           const OcvTable& ocv = DefaultOcvTable());
 
 // --- State and outputs ----------------------------------------------------------------------------
@@ -89,9 +88,9 @@ struct PackState {
 };
 
 struct BranchSplit {
-  PerBranch<double> current_a{};    // i^j ≥ 0; sums to the total whenever some branch is on
-  PerBranch<bool> conducting{};     // switched on and not blocked by its diode
-  double bus_voltage_v = 0.0;       // V_bus of eq. 3.4 (0 when no branch is on)
+  PerBranch<double> current_a{};  // i^j ≥ 0; sums to the total whenever some branch is on
+  PerBranch<bool> conducting{};   // switched on and not blocked by its diode
+  double bus_voltage_v = 0.0;     // V_bus of eq. 3.4 (0 when no branch is on)
 };
 
 // Eqs. 3.4–3.5 with switches and diodes, from the branch open-circuit voltages (eq. 3.6) and ohmic
@@ -101,10 +100,10 @@ BranchSplit CalcBranchSplit(const PerBranch<double>& branch_ocv_v, const PerBran
 
 struct PackOutputs {
   BranchSplit split;
-  PerCell<double> cell_voltage_v{};    // eq. 3.3 of each cell at its branch current
+  PerCell<double> cell_voltage_v{};      // eq. 3.3 of each cell at its branch current
   PerBranch<double> branch_voltage_v{};  // Σ cell terminal voltages of the branch
-  double min_cell_voltage_v = 0.0;     // over the switched-on branches (the cells the ESCs see);
-  int min_cell_branch = -1;            //   −1, −1 and +inf when no branch is on
+  double min_cell_voltage_v = 0.0;       // over the switched-on branches (the cells the ESCs see);
+  int min_cell_branch = -1;              //   −1, −1 and +inf when no branch is on
   int min_cell_index = -1;
 };
 
@@ -122,7 +121,7 @@ class BatteryPack {
   const SelfCorrectingCell& cell(int branch, int index) const { return cells_[branch][index]; }
   const OcvTable& ocv() const { return cells_[0][0].ocv(); }
   double branch_r0_ohm(int branch) const { return branch_r0_ohm_[branch]; }  // eq. 3.7
-  double CalcBranchOcv(const PackState& state, int branch) const;              // eq. 3.6
+  double CalcBranchOcv(const PackState& state, int branch) const;            // eq. 3.6
 
   BranchSplit CalcSplit(const PackState& state, double total_current_a) const;
   PackOutputs CalcOutputs(const PackState& state, double total_current_a) const;

@@ -141,9 +141,7 @@ class Mixer {
   RotorThrusts AllocatePseudoInverse(const BodyWrench& commanded, int failed_motor) const;
 
   const MixingMatrix& mixing_matrix(int failed_motor) const { return CaseFor(failed_motor).mixing; }
-  const AllocationMatrix& allocation_matrix(int failed_motor) const {
-    return CaseFor(failed_motor).pseudo_inverse;
-  }
+  const AllocationMatrix& allocation_matrix(int failed_motor) const { return CaseFor(failed_motor).pseudo_inverse; }
   // Rotors still commanded (6, or 4 after the failure rule).
   int active_rotor_count(int failed_motor) const { return CaseFor(failed_motor).active_count; }
   // Whether τz can be set independently of T, τx, τy (true only with no failed motor).
@@ -155,11 +153,11 @@ class Mixer {
  private:
   // Everything Allocate needs for one failure case, computed at construction.
   struct Case {
-    MixingMatrix mixing;                                  // M (failed pair's columns zero)
-    AllocationMatrix pseudo_inverse;                      // M†
-    Eigen::Matrix<double, kRotorCount, 3> primary;        // A†, A = rows (T, τx, τy) of M
-    RotorThrusts yaw_direction;                           // thrusts per N·m of extra τz, A·d = 0
-    RotorThrusts active;                                  // 1 for commanded rotors, 0 for the pair
+    MixingMatrix mixing;                            // M (failed pair's columns zero)
+    AllocationMatrix pseudo_inverse;                // M†
+    Eigen::Matrix<double, kRotorCount, 3> primary;  // A†, A = rows (T, τx, τy) of M
+    RotorThrusts yaw_direction;                     // thrusts per N·m of extra τz, A·d = 0
+    RotorThrusts active;                            // 1 for commanded rotors, 0 for the pair
     int active_count = kRotorCount;
     bool yaw_controllable = true;
   };
@@ -187,10 +185,10 @@ enum class AuthorityStatus { kCanHover, kCannotHover };
 
 struct ControlAuthority {
   AuthorityStatus status = AuthorityStatus::kCannotHover;
-  double max_tilt = 0.0;             // rad, a: |φ| ≤ a and |θ| ≤ a hold altitude
-  double max_hover_thrust = 0.0;     // N, n · T_max of the active rotors
-  double weight = 0.0;               // N, m g
-  int active_rotors = 0;             // n
+  double max_tilt = 0.0;          // rad, a: |φ| ≤ a and |θ| ≤ a hold altitude
+  double max_hover_thrust = 0.0;  // N, n · T_max of the active rotors
+  double weight = 0.0;            // N, m g
+  int active_rotors = 0;          // n
 };
 
 // Throws InputError unless mass > 0 (kg, finite) and 0 ≤ failed_motor ≤ 6.

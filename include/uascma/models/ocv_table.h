@@ -25,8 +25,7 @@ namespace uascma::models {
 class OcvTable {
  public:
   // Throws InputError("<source>", "<field>", …) when the points break the contract above.
-  OcvTable(std::vector<double> soc_fraction, std::vector<double> voltage_v,
-           const std::string& source = "OCV table");
+  OcvTable(std::vector<double> soc_fraction, std::vector<double> voltage_v, const std::string& source = "OCV table");
 
   int point_count() const { return static_cast<int>(soc_fraction_.size()); }
   int segment_count() const { return point_count() - 1; }

@@ -26,8 +26,8 @@
 #include <cmath>
 #include <numbers>
 #include <string>
-#include <vector>
 #include <string_view>
+#include <vector>
 
 namespace uascma::models {
 
@@ -73,11 +73,11 @@ struct RpmEstimatorParams {
   double p30 = 450.0;
   double p21 = -17.38;
   double p12 = 69.46;
-  double throttle_mean_us = 1550.0;     // normalisation of δ_t, §2.5.2
+  double throttle_mean_us = 1550.0;  // normalisation of δ_t, §2.5.2
   double throttle_std_us = 201.9;
-  double power_mean = 71.11;            // W, normalisation of P_elec, §2.5.2
-  double power_std = 55.75;             // W
-  double min_throttle_us = 1100.0;      // the fitted throttle range, §2.4.1 and §2.5.2
+  double power_mean = 71.11;        // W, normalisation of P_elec, §2.5.2
+  double power_std = 55.75;         // W
+  double min_throttle_us = 1100.0;  // the fitted throttle range, §2.4.1 and §2.5.2
   double max_throttle_us = 1900.0;
 };
 
@@ -185,8 +185,7 @@ struct StaticThrustEstimate {
   double rpm;           // RPM of each motor (eq. 2.12)
   double motor_power;   // W, vehicle_power / 6
 };
-StaticThrustEstimate EstimateStaticThrust(const PropulsionParams& params, double throttle_us,
-                                          double vehicle_power);
+StaticThrustEstimate EstimateStaticThrust(const PropulsionParams& params, double throttle_us, double vehicle_power);
 
 // --- rotor-speed dynamics -------------------------------------------------------------------------
 // The first-order lag of the rotor speed behind its command, dω/dt = (ω_cmd − ω) / τ_m, discretised
@@ -202,7 +201,7 @@ class RotorSpeedLag {
     return commanded_rotor_speed + (rotor_speed - commanded_rotor_speed) * decay_;
   }
   double decay() const { return decay_; }  // exp(−Δt / τ_m)
-  double step() const { return step_; }     // Δt, s
+  double step() const { return step_; }    // Δt, s
 
  private:
   double step_;

@@ -71,8 +71,7 @@ RigidBodyRates CalcRigidBodyRates(const RigidBodyParams& params, const models::D
 enum class Integrator { kMidpoint, kRk4 };
 
 // One step of length dt (s); the quaternion is renormalised after the step.
-RigidBodyState StepRigidBody(const RigidBodyParams& params, const models::DragTable& drag,
-                             const RigidBodyState& state, const BodyInputs& inputs, double dt,
-                             Integrator integrator = Integrator::kMidpoint);
+RigidBodyState StepRigidBody(const RigidBodyParams& params, const models::DragTable& drag, const RigidBodyState& state,
+                             const BodyInputs& inputs, double dt, Integrator integrator = Integrator::kMidpoint);
 
 }  // namespace uascma::models

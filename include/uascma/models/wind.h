@@ -48,7 +48,7 @@ struct WindParams {
   double mean_speed = 0.0;     // m/s; Table 4.4 samples 1–3 m/s
   double direction_rad = 0.0;  // towards, from North clockwise; Table 4.4 samples 0–π
   TurbulenceCategory turbulence = TurbulenceCategory::kNone;
-  double min_airspeed = 1.0;   // m/s, V floor for the forming filters (dryden.md, "V_min = 1 m/s")
+  double min_airspeed = 1.0;  // m/s, V floor for the forming filters (dryden.md, "V_min = 1 m/s")
   // Altitude (m above ground) at which the "Medium" categories are evaluated: the middle of the
   // 1000–2000 ft band of MIL-F-8785C. Our estimate: the dissertation names the category, not a height.
   double medium_band_altitude = 1500.0 * 0.3048;
@@ -65,8 +65,7 @@ struct DrydenIntensity {
 // σ_w = 0.1 W20, σ_u = σ_v = σ_w / (0.177 + 0.000823 h)^0.4. Medium band: linear in h between the low
 // model at 1000 ft and the isotropic model at 2000 ft (L = 1750 ft, σ = σ_w). W20 = 15 kt (light) or
 // 30 kt (moderate).
-DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m,
-                                    double medium_band_altitude_m);
+DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m, double medium_band_altitude_m);
 
 // The filter states, dimensionless, in units of their channel's σ (shape: one first-order state for u,
 // two lag states for each of v and w; see above), and the intensity last computed, reused while the
@@ -91,8 +90,7 @@ class WindModel {
   WindState InitialState(double altitude_m, RandomStream& random) const;
   // Advances the gust filters by dt at the given altitude (m above ground) and airspeed (m/s), and
   // returns the wind velocity in W (NED), m/s.
-  Eigen::Vector3d Step(WindState& state, double altitude_m, double airspeed, double dt,
-                       RandomStream& random) const;
+  Eigen::Vector3d Step(WindState& state, double altitude_m, double airspeed, double dt, RandomStream& random) const;
   // The wind of a state at an altitude without advancing it: the mean plus σ(h) times the unit-scaled
   // states (the airspeed shapes the spectrum through the steps, not the output).
   Eigen::Vector3d Evaluate(WindState& state, double altitude_m) const;

@@ -40,12 +40,12 @@ struct Building {
 };
 
 struct LandingSite {
-  std::string id;                                   // e.g. the OSM id of its building or area
-  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();    // centre of the touchdown area; z = −altitude
-  double risk = 0.0;                                // 0 (safest) … 1, the site's landing risk
-  double radius = 0.0;                              // m, radius of the clear touchdown area
+  std::string id;                                 // e.g. the OSM id of its building or area
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // centre of the touchdown area; z = −altitude
+  double risk = 0.0;                              // 0 (safest) … 1, the site's landing risk
+  double radius = 0.0;                            // m, radius of the clear touchdown area
   int building = kNoBuilding;  // the building whose roof carries the site (set by CityMap), or kNoBuilding
-  double altitude() const { return -p_W.z(); }      // m above ground
+  double altitude() const { return -p_W.z(); }  // m above ground
   bool on_rooftop() const { return building != kNoBuilding; }
 };
 
@@ -94,8 +94,8 @@ class CityMap {
   const Eigen::AlignedBox2d& building_box(int building) const { return boxes_[building]; }
   // Horizontal extent (m) of the buildings and sites together; empty for an empty map.
   const Eigen::AlignedBox2d& bounds() const { return bounds_; }
-  double max_building_height() const { return max_height_; }       // m; 0 without buildings
-  int tallest_building() const { return tallest_; }                 // kNoBuilding without buildings
+  double max_building_height() const { return max_height_; }  // m; 0 without buildings
+  int tallest_building() const { return tallest_; }           // kNoBuilding without buildings
   const UniformGrid& building_grid() const { return building_grid_; }
   const UniformGrid& site_grid() const { return site_grid_; }
 
@@ -112,8 +112,7 @@ class CityMap {
   // True when the straight segment a_W → b_W meets a building prism (closed: touching a wall or a roof
   // counts). `ignore_building` is left out of the test: a landing site's approach descends onto its own roof
   // (pass LandingSite::building).
-  bool SegmentCollides(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W,
-                       int ignore_building = kNoBuilding) const;
+  bool SegmentCollides(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building = kNoBuilding) const;
   // The first contact along a_W → b_W (smallest t), or hit = false.
   SegmentHit FirstHit(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, int ignore_building = kNoBuilding) const;
 
@@ -147,10 +146,10 @@ class CityMap {
 
   std::vector<Building> buildings_;
   std::vector<LandingSite> sites_;
-  std::vector<Edge2> edges_;            // all outlines' edges, building after building
-  std::vector<int> edge_begin_;         // building k's edges: edges_[edge_begin_[k] .. edge_begin_[k + 1])
+  std::vector<Edge2> edges_;                // all outlines' edges, building after building
+  std::vector<int> edge_begin_;             // building k's edges: edges_[edge_begin_[k] .. edge_begin_[k + 1])
   std::vector<Eigen::AlignedBox2d> boxes_;  // each building's outline bounding box
-  std::vector<double> heights_;         // buildings_[k].height, contiguous for the inner loops
+  std::vector<double> heights_;             // buildings_[k].height, contiguous for the inner loops
   Eigen::AlignedBox2d bounds_;
   double max_height_ = 0.0;
   int tallest_ = kNoBuilding;

@@ -110,17 +110,17 @@ struct LandingPathParams {
   double vertical_clearance = kCruiseClearanceAboveBuildings;
   // m above ground: no climb-over above this (an airspace ceiling). Default: none (the dissertation sets none).
   double max_transit_altitude = std::numeric_limits<double>::infinity();
-  bool allow_detour = true;  // false: climb-over only
-  PlanLimits limits;         // speeds and accelerations of the plan (flight_plan.h)
+  bool allow_detour = true;          // false: climb-over only
+  PlanLimits limits;                 // speeds and accelerations of the plan (flight_plan.h)
   double geometry_tolerance = 1e-6;  // m: slack of the strict-interior tests of the detour (landing_detour.h)
   bool IsValid(std::string* error) const;
 };
 
 enum class LandingPathKind {
-  kNone,             // no feasible path
-  kClimbOver,        // climb, transit, descend
-  kDetour,           // around the buildings at the current altitude, then descend
-  kViaCheckpoint,    // LandPract: climb-over to the checkpoint, then a stored path
+  kNone,           // no feasible path
+  kClimbOver,      // climb, transit, descend
+  kDetour,         // around the buildings at the current altitude, then descend
+  kViaCheckpoint,  // LandPract: climb-over to the checkpoint, then a stored path
 };
 const char* LandingPathKindName(LandingPathKind kind);  // "none", "climb-over", "detour", "via checkpoint"
 
@@ -131,8 +131,8 @@ struct LandingPath {
   // differ (no zero-length moves).
   std::vector<Eigen::Vector3d> waypoints_W;
   double flight_time = std::numeric_limits<double>::infinity();  // s: the duration of ToFlightPlan()
-  double transit_altitude = 0.0;   // m above ground: H of the climb-over, a_start of the detour
-  double horizontal_length = 0.0;  // m
+  double transit_altitude = 0.0;      // m above ground: H of the climb-over, a_start of the detour
+  double horizontal_length = 0.0;     // m
   int target_building = kNoBuilding;  // the building whose roof carries the target (its descent may touch it)
 
   bool feasible() const { return kind != LandingPathKind::kNone; }
@@ -144,9 +144,9 @@ struct LandingPath {
 
 // One site's planned path in a multi-site search.
 struct SitePlan {
-  int site = -1;            // CityMap site index
-  double lower_bound = 0.0; // s, the class lower bound (header comment)
-  LandingPath path;         // feasible
+  int site = -1;             // CityMap site index
+  double lower_bound = 0.0;  // s, the class lower bound (header comment)
+  LandingPath path;          // feasible
 };
 
 struct SiteSearchOptions {
@@ -159,11 +159,11 @@ struct SiteSearchOptions {
 };
 
 struct SiteSearchResult {
-  std::vector<SitePlan> plans;  // sorted by (flight time, site risk, site index); all feasible
-  int candidates = 0;           // sites offered
-  int planned = 0;              // sites planned exactly (the rest pruned by their lower bound)
-  int infeasible = 0;           // planned without a feasible path (ceiling, start blocked)
-  int detour_searches = 0;      // visibility-graph searches run
+  std::vector<SitePlan> plans;    // sorted by (flight time, site risk, site index); all feasible
+  int candidates = 0;             // sites offered
+  int planned = 0;                // sites planned exactly (the rest pruned by their lower bound)
+  int infeasible = 0;             // planned without a feasible path (ceiling, start blocked)
+  int detour_searches = 0;        // visibility-graph searches run
   int verification_failures = 0;  // paths refused by the SegmentCollides check (0 unless something is wrong)
 };
 
@@ -175,8 +175,7 @@ class LandingPathPlanner {
   // The same planner over hulls already inflated for `map` by params.lateral_margin (InflateBuildings), shared
   // rather than rebuilt: a campaign builds one planner per flight over one city, and inflating the hulls of its
   // ~20,000 buildings is most of that cost. The result is identical to the constructor above.
-  LandingPathPlanner(const CityMap& map, const LandingPathParams& params,
-                     std::shared_ptr<const ObstacleSet> obstacles);
+  LandingPathPlanner(const CityMap& map, const LandingPathParams& params, std::shared_ptr<const ObstacleSet> obstacles);
   // The grown convex hull of every building of `map` (MakeInflatedHull by `lateral_margin`), with its height.
   static std::shared_ptr<const ObstacleSet> InflateBuildings(const CityMap& map, double lateral_margin);
 
@@ -228,8 +227,8 @@ class LandingPathPlanner {
 struct LandingRequest {
   Eigen::Vector3d p_WB_W = Eigen::Vector3d::Zero();  // m, the vehicle's position
   Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();  // m/s, its velocity
-  double yaw = 0.0;            // rad, the heading when hovering (HeadingFrame::FromState)
-  double eod = 0.0;            // s, t_EOD of the battery prognosis
+  double yaw = 0.0;                                  // rad, the heading when hovering (HeadingFrame::FromState)
+  double eod = 0.0;                                  // s, t_EOD of the battery prognosis
   // s since the start of the nominal plan (LandPract tells coinciding checkpoints apart); NaN when unknown.
   double plan_elapsed = std::numeric_limits<double>::quiet_NaN();
 };
@@ -249,12 +248,12 @@ struct LandingResult {
   int site = -1;        // CityMap site index
   std::string site_id;  // LandingSite::id
   double site_risk = 0.0;
-  LandingPath path;     // start → site (LandPract: through the checkpoint)
-  FlightPlan plan;      // path.ToFlightPlan(limits)
-  double flight_time = std::numeric_limits<double>::infinity();  // s, plan.duration()
-  double reach_margin = -std::numeric_limits<double>::infinity(); // RM = 1 − flight_time / eod (−∞ if eod ≤ 0)
-  int candidates = 0;   // LandASAP: sites in the footprint; LandPract: stored paths of the checkpoint
-  int planned = 0;      // LandASAP: candidates planned exactly; LandPract: stored paths scanned
+  LandingPath path;                                                // start → site (LandPract: through the checkpoint)
+  FlightPlan plan;                                                 // path.ToFlightPlan(limits)
+  double flight_time = std::numeric_limits<double>::infinity();    // s, plan.duration()
+  double reach_margin = -std::numeric_limits<double>::infinity();  // RM = 1 − flight_time / eod (−∞ if eod ≤ 0)
+  int candidates = 0;  // LandASAP: sites in the footprint; LandPract: stored paths of the checkpoint
+  int planned = 0;     // LandASAP: candidates planned exactly; LandPract: stored paths scanned
   int detour_searches = 0;
   // LandASAP only.
   FootprintResult footprint;
@@ -262,8 +261,8 @@ struct LandingResult {
   std::vector<SitePlan> candidate_plans;  // the planned candidates, fastest first (all with plan_all_candidates)
   // LandPract only.
   int checkpoint = -1;
-  double time_to_checkpoint = 0.0;   // s
-  double stored_flight_time = 0.0;   // s
+  double time_to_checkpoint = 0.0;  // s
+  double stored_flight_time = 0.0;  // s
 
   bool ok() const { return status == LandingStatus::kOk; }
   std::string BriefReport() const;  // one line
@@ -305,14 +304,14 @@ struct LandPractParams {
 
 struct Checkpoint {
   Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // m
-  double route_distance = 0.0;  // m along the nominal plan
-  double plan_time = 0.0;       // s: when the nominal plan passes it
+  double route_distance = 0.0;                    // m along the nominal plan
+  double plan_time = 0.0;                         // s: when the nominal plan passes it
 };
 
 struct StoredTrajectory {
   int site = -1;
-  double risk = 0.0;            // the site's risk (copied: the look-up reads only this array)
-  double flight_time = 0.0;     // s, checkpoint → site
+  double risk = 0.0;         // the site's risk (copied: the look-up reads only this array)
+  double flight_time = 0.0;  // s, checkpoint → site
   LandingPath path;
 };
 
@@ -320,13 +319,13 @@ struct StoredTrajectory {
 struct LandPractChoice {
   LandingStatus status = LandingStatus::kNoStoredTrajectory;
   int checkpoint = -1;
-  int entry = -1;                   // index into trajectories(checkpoint)
+  int entry = -1;  // index into trajectories(checkpoint)
   int site = -1;
-  double time_to_checkpoint = 0.0;  // s, climb-over from the vehicle to the checkpoint
-  double transit_altitude = 0.0;    // m, of that climb-over
-  double flight_time = std::numeric_limits<double>::infinity();   // s, to the checkpoint + stored
+  double time_to_checkpoint = 0.0;                               // s, climb-over from the vehicle to the checkpoint
+  double transit_altitude = 0.0;                                 // m, of that climb-over
+  double flight_time = std::numeric_limits<double>::infinity();  // s, to the checkpoint + stored
   double reach_margin = -std::numeric_limits<double>::infinity();
-  int scanned = 0;                  // stored paths looked at (1 + the RM ties)
+  int scanned = 0;  // stored paths looked at (1 + the RM ties)
 };
 
 class LandPractDatabase {

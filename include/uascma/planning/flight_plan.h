@@ -15,10 +15,10 @@
 namespace uascma::planning {
 
 struct PlanLimits {
-  double cruise_speed = 5.0;        // m/s horizontal; Table 4.4 samples 1–9 m/s
-  double vertical_speed = 2.0;      // m/s climb and descent; our estimate for a small hexacopter
-  double horizontal_accel = 2.0;    // m/s², defaults.md (estimate within the tested envelope)
-  double vertical_accel = 1.0;      // m/s², defaults.md
+  double cruise_speed = 5.0;      // m/s horizontal; Table 4.4 samples 1–9 m/s
+  double vertical_speed = 2.0;    // m/s climb and descent; our estimate for a small hexacopter
+  double horizontal_accel = 2.0;  // m/s², defaults.md (estimate within the tested envelope)
+  double vertical_accel = 1.0;    // m/s², defaults.md
   bool IsValid(std::string* error) const;
 };
 
@@ -35,16 +35,16 @@ struct PlanSegment {
   // vehicle moves, FlightPlan::AfterBraking).
   enum class Kind { kMove, kHover, kBrake };
   Kind kind = Kind::kMove;
-  std::string label;                  // "takeoff", "cruise out", "drop", …
+  std::string label;  // "takeoff", "cruise out", "drop", …
   Eigen::Vector3d start_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d end_W = Eigen::Vector3d::Zero();
-  double start_time = 0.0;            // s
-  double duration = 0.0;              // s
+  double start_time = 0.0;  // s
+  double duration = 0.0;    // s
   // Trapezoid along the segment: accelerate for accel_time at `accel`, coast at peak_speed, brake.
-  double accel = 0.0;                 // m/s²
-  double peak_speed = 0.0;            // m/s
-  double accel_time = 0.0;            // s
-  double cruise_speed = 0.0;          // m/s: the horizontal speed limit the move was planned with (0 for a hover)
+  double accel = 0.0;         // m/s²
+  double peak_speed = 0.0;    // m/s
+  double accel_time = 0.0;    // s
+  double cruise_speed = 0.0;  // m/s: the horizontal speed limit the move was planned with (0 for a hover)
   bool operator==(const PlanSegment&) const = default;
 };
 

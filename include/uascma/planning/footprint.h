@@ -51,9 +51,9 @@
 // a t_f ≪ 1 (relative error of order (a t_f)^{n+1}/(n+1)!). They part beyond: T_5(−z) is a poor e^{−z}
 // already at z ≈ 2 and turns negative at z ≈ 2.18; the series' u* is then not the optimum of eq. 5.3, nor
 // does it meet x2(t_f) = v_init. With the defaults (m = 1.3 kg; CruiseDragSlope gives d_x = 0.35 N·s/m at
-// 5 m/s, 0.84 at 9 m/s) a t_f = 1 at an EOD of 1.5–4 s, so for the EODs of Fig. 5.4 (1–50 s) the series footprint is NOT the exact one
-// (numbers in FOOTPRINT NOTES at the end of this header). The series needs d_x > 0, and its C1…C4 cancel
-// to order (a t_f)², which amplifies the series error at small a t_f too (5th order, a t_f = 0.2: 2e-5).
+// 5 m/s, 0.84 at 9 m/s) a t_f = 1 at an EOD of 1.5–4 s, so for the EODs of Fig. 5.4 (1–50 s) the series footprint is
+// NOT the exact one (numbers in FOOTPRINT NOTES at the end of this header). The series needs d_x > 0, and its C1…C4
+// cancel to order (a t_f)², which amplifies the series error at small a t_f too (5th order, a t_f = 0.2: 2e-5).
 //
 // BOUNDS (Algorithm 1, steps 3–6). θ_opt = −atan(u*/(m g)) (5.12), T_opt = m g / cos θ_opt (5.13). Step 5
 // bounds them by |θ| ≤ θ_max and T ≤ T_avail. We keep the level-flight condition T cos θ = m g of eq. 5.1
@@ -271,8 +271,8 @@ struct FootprintResult {
   double unbounded_forward_limit = 0.0;
   double unbounded_backward_limit = 0.0;
   double unbounded_lateral_limit = 0.0;
-  double max_control_force = 0.0;   // N, u_max
-  double effective_max_tilt = 0.0;  // rad, θ_eff
+  double max_control_force = 0.0;                // N, u_max
+  double effective_max_tilt = 0.0;               // rad, θ_eff
   BoundedAxisResult forward, backward, lateral;  // step-7 details of each case
   FootprintRegion region;
   // With a Maclaurin order n > 0 (issue 26 item 5): the largest difference of the three limits from the closed
@@ -280,7 +280,7 @@ struct FootprintResult {
   // (the largest of |x_f|, |x_b|, y_l); nothing with exact exponentials. Above kSeriesTolerance, `warning` names
   // the error (the result is still the series'): the series is not accurate at this a t_f.
   std::optional<double> series_relative_error;
-  std::string warning;  // one line, empty when none
+  std::string warning;                              // one line, empty when none
   static constexpr double kSeriesTolerance = 0.01;  // our choice: 1 % of the footprint's size
 
   bool ok() const { return status == FootprintStatus::kOk; }

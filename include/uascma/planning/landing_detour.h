@@ -113,9 +113,9 @@ class ObstacleSet {
 struct DetourProblem {
   Eigen::Vector2d start_NE = Eigen::Vector2d::Zero();  // m
   Eigen::Vector2d goal_NE = Eigen::Vector2d::Zero();   // m
-  double min_height = 0.0;  // m: the obstacles taller than this are in the way (ObstacleSet)
-  double max_speed = 5.0;   // m/s, PlanLimits::cruise_speed
-  double accel = 2.0;       // m/s², PlanLimits::horizontal_accel
+  double min_height = 0.0;                             // m: the obstacles taller than this are in the way (ObstacleSet)
+  double max_speed = 5.0;                              // m/s, PlanLimits::cruise_speed
+  double accel = 2.0;                                  // m/s², PlanLimits::horizontal_accel
   // s: only paths that take less than this are searched; +infinity searches them all.
   double time_budget = std::numeric_limits<double>::infinity();
   // m: the strict-interior tolerance of ConvexObstacle (numerical slack of the touching tests).
@@ -124,18 +124,18 @@ struct DetourProblem {
 
 enum class DetourStatus {
   kFound,
-  kStartBlocked,   // start or goal strictly inside an active obstacle (within the margin of a building)
-  kNotFound,       // no path within the budget (or none at all)
+  kStartBlocked,  // start or goal strictly inside an active obstacle (within the margin of a building)
+  kNotFound,      // no path within the budget (or none at all)
 };
 
 struct DetourResult {
   DetourStatus status = DetourStatus::kNotFound;
-  std::vector<Eigen::Vector2d> points_NE;  // the path: start, the obstacle corners it turns at, goal
+  std::vector<Eigen::Vector2d> points_NE;                 // the path: start, the obstacle corners it turns at, goal
   double time = std::numeric_limits<double>::infinity();  // s, Σ f(L_i)
-  double length = 0.0;                                     // m, Σ L_i
-  int graph_vertices = 0;     // the vertices inside the budget ellipse (start and goal included)
-  int settled = 0;            // vertices settled by the search
-  int visibility_tests = 0;   // segment tests
+  double length = 0.0;                                    // m, Σ L_i
+  int graph_vertices = 0;    // the vertices inside the budget ellipse (start and goal included)
+  int settled = 0;           // vertices settled by the search
+  int visibility_tests = 0;  // segment tests
   bool found() const { return status == DetourStatus::kFound; }
 };
 

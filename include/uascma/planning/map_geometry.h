@@ -46,8 +46,7 @@ std::optional<double> FirstEntryIntoOutline(std::span<const Edge2> edges, const 
                                             const Eigen::Vector2d& to_NE);
 
 // True when the 2-D segment meets the closed outline (stops at the first crossing it finds).
-bool SegmentMeetsOutline(std::span<const Edge2> edges, const Eigen::Vector2d& from_NE,
-                         const Eigen::Vector2d& to_NE);
+bool SegmentMeetsOutline(std::span<const Edge2> edges, const Eigen::Vector2d& from_NE, const Eigen::Vector2d& to_NE);
 
 // The part of the 3-D segment a_W → b_W below the roof z = −height, as the parameter interval
 // [t_begin, t_end] ⊂ [0, 1] of p(t) = a + t (b − a); nullopt when the whole segment is above the roof.
@@ -55,8 +54,7 @@ struct ParameterInterval {
   double begin = 0.0;
   double end = 1.0;
 };
-std::optional<ParameterInterval> PartBelowRoof(double height, const Eigen::Vector3d& a_W,
-                                               const Eigen::Vector3d& b_W);
+std::optional<ParameterInterval> PartBelowRoof(double height, const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W);
 
 // The smallest t in [0, 1] at which the 3-D segment p(t) = a_W + t (b_W − a_W) is inside the closed prism of
 // an outline of height `height` (m), or nullopt when it never is: the part of the segment below the roof

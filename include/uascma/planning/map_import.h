@@ -125,14 +125,14 @@ class LocalProjection {
 };
 
 struct MapImportOptions {
-  bool height_from_levels = false;  // a building without `height`: building:levels × metres_per_level
-  double metres_per_level = 3.0;    // m per storey (estimate; see the header comment)
-  bool height_from_type = false;    // then the typical height of its building=* value (BuildingTypeHeight)
+  bool height_from_levels = false;       // a building without `height`: building:levels × metres_per_level
+  double metres_per_level = 3.0;         // m per storey (estimate; see the header comment)
+  bool height_from_type = false;         // then the typical height of its building=* value (BuildingTypeHeight)
   std::optional<double> default_height;  // m: then this height for every building still without one
-  bool skip_missing_height = false;  // a building still without a height is skipped and counted, not an error
+  bool skip_missing_height = false;      // a building still without a height is skipped and counted, not an error
   // Derive landing sites from the map itself: flat rooftops and open areas (header comment).
   bool sites_from_map = false;
-  std::optional<GeoPoint> origin;    // the local frame's origin; default: the centre of the data
+  std::optional<GeoPoint> origin;  // the local frame's origin; default: the centre of the data
   // Refuse data farther than this (m) from the origin: the local frame is a flat projection (header comment).
   double max_distance_from_origin = 50'000.0;
   CityMapOptions map;
@@ -175,29 +175,29 @@ struct SkippedFeature {
   std::string source;   // the file
   std::string feature;  // "features[12] (node/2296577459)", "way/123"
   SkipReason reason = SkipReason::kNotPolygon;
-  std::string detail;   // e.g. "geometry Point", "no building tag"
+  std::string detail;  // e.g. "geometry Point", "no building tag"
 };
 
 struct ImportSummary {
-  std::vector<std::string> sources;  // the files read, in order
-  int features = 0;                  // map features seen (GeoJSON features; OSM objects with tags)
-  int buildings = 0;                 // imported
-  int heights_from_levels = 0;       // of which the height came from building:levels
+  std::vector<std::string> sources;                     // the files read, in order
+  int features = 0;                                     // map features seen (GeoJSON features; OSM objects with tags)
+  int buildings = 0;                                    // imported
+  int heights_from_levels = 0;                          // of which the height came from building:levels
   std::array<int, kNumHeightSources> height_sources{};  // imported buildings by the source of their height
-  int open_areas = 0;                // open areas read (parks, pitches, surface parking; header comment)
-  std::array<int, kNumSkipReasons> skipped{};  // by SkipReason
+  int open_areas = 0;                            // open areas read (parks, pitches, surface parking; header comment)
+  std::array<int, kNumSkipReasons> skipped{};    // by SkipReason
   std::vector<SkippedFeature> skipped_features;  // the first kMaxRecordedSkipsPerReason of each reason
-  int sites = 0;                     // landing sites imported
-  int rooftop_sites = 0;             // of which on the roof of an imported building (set by ProjectToCityMap)
-  int derived_rooftop_sites = 0;     // of the sites, derived from flat roofs (sites_from_map)
-  int derived_open_sites = 0;        // of the sites, derived from open areas (sites_from_map)
+  int sites = 0;                                 // landing sites imported
+  int rooftop_sites = 0;          // of which on the roof of an imported building (set by ProjectToCityMap)
+  int derived_rooftop_sites = 0;  // of the sites, derived from flat roofs (sites_from_map)
+  int derived_open_sites = 0;     // of the sites, derived from open areas (sites_from_map)
   // Set by ProjectToCityMap:
-  GeoPoint origin;                   // the local frame's origin
-  bool origin_from_data = true;      // false when it was given
-  GeoPoint south_west, north_east;   // latitude/longitude bounds of the data
-  Eigen::AlignedBox2d bounds;        // m, the map's horizontal extent in the local frame
-  std::string tallest_building;      // id, empty without buildings
-  double tallest_height = 0.0;       // m
+  GeoPoint origin;                  // the local frame's origin
+  bool origin_from_data = true;     // false when it was given
+  GeoPoint south_west, north_east;  // latitude/longitude bounds of the data
+  Eigen::AlignedBox2d bounds;       // m, the map's horizontal extent in the local frame
+  std::string tallest_building;     // id, empty without buildings
+  double tallest_height = 0.0;      // m
 
   int skipped_total() const;
   int skipped_count(SkipReason reason) const { return skipped[static_cast<int>(reason)]; }
@@ -208,17 +208,17 @@ struct ImportSummary {
 
 // Geodetic records collected by the readers.
 struct GeoBuilding {
-  std::string id;                              // "way/248773492", "relation/…"
-  std::vector<std::vector<GeoPoint>> rings;    // even-odd interior (map_geometry.h), closing vertex dropped
-  double height = 0.0;                         // m
-  bool flat_roof = true;                       // roof:shape absent or "flat" (a rooftop landing site may be derived)
+  std::string id;                            // "way/248773492", "relation/…"
+  std::vector<std::vector<GeoPoint>> rings;  // even-odd interior (map_geometry.h), closing vertex dropped
+  double height = 0.0;                       // m
+  bool flat_roof = true;                     // roof:shape absent or "flat" (a rooftop landing site may be derived)
 };
 
 // An open area of the map files (header comment): a candidate for ground landing sites.
 struct GeoOpenArea {
   std::string id;
-  std::string kind;                            // "leisure=park", "amenity=parking", …
-  std::vector<std::vector<GeoPoint>> rings;    // even-odd interior
+  std::string kind;                          // "leisure=park", "amenity=parking", …
+  std::vector<std::vector<GeoPoint>> rings;  // even-odd interior
 };
 
 struct GeoLandingSite {
@@ -273,7 +273,7 @@ class MapImportError : public InputError {
 };
 // Reads every building file and the optional landing-site CSV (empty path: none), then projects them into one
 // map. MapImportError (an InputError) on any failure, including when nothing at all was imported.
-ImportedMap ImportCityMap(std::span<const std::filesystem::path> building_files,
-                          const std::filesystem::path& sites_csv, const MapImportOptions& options);
+ImportedMap ImportCityMap(std::span<const std::filesystem::path> building_files, const std::filesystem::path& sites_csv,
+                          const MapImportOptions& options);
 
 }  // namespace uascma::planning

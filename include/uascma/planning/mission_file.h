@@ -116,12 +116,12 @@ enum MavFrame : int {
 std::string MavCommandName(int command);
 
 struct MissionImportOptions {
-  std::optional<GeoPoint> origin;   // the local frame's origin; default: the planned home
+  std::optional<GeoPoint> origin;  // the local frame's origin; default: the planned home
   // The map the mission flies over (not owned; null: flat open ground). With it, LAND touches down on the roof under
   // its point (CityMap::SurfaceAltitudeAt), and a home inside a building, a waypoint inside one or a straight leg
   // through one is an InputError naming the item and the building.
   const CityMap* map = nullptr;
-  bool land_at_end = true;          // a mission ending in the air lands vertically there (warned), else InputError
+  bool land_at_end = true;  // a mission ending in the air lands vertically there (warned), else InputError
   // m/s: the speed at which LOITER_TURNS circles are timed. Our estimate: PlanLimits' default cruise speed.
   double loiter_turn_speed = 5.0;
   double max_distance_from_origin = 50'000.0;  // m, as MapImportOptions (the flat-projection limit)
@@ -135,8 +135,8 @@ struct Geofence {
     bool inclusion = true;
     std::vector<Eigen::Vector2d> polygon_NE;  // m; empty for a circle
     Eigen::Vector2d centre_NE = Eigen::Vector2d::Zero();
-    double radius = 0.0;                      // m, a circle's
-    std::string name;                         // "geoFence.polygons[0]"
+    double radius = 0.0;  // m, a circle's
+    std::string name;     // "geoFence.polygons[0]"
     bool Contains(const Eigen::Vector2d& p_NE) const;
   };
   std::vector<Zone> zones;
@@ -153,18 +153,18 @@ struct RallyPoint {
 };
 
 struct Mission {
-  std::string source;                  // the file
+  std::string source;  // the file
   MissionFormat format = MissionFormat::kQgcPlan;
-  GeoPoint home;                       // the planned home, WGS84
-  std::optional<double> home_amsl;     // m above mean sea level, when the file gives it
-  GeoPoint origin;                     // the local frame's origin
+  GeoPoint home;                                     // the planned home, WGS84
+  std::optional<double> home_amsl;                   // m above mean sea level, when the file gives it
+  GeoPoint origin;                                   // the local frame's origin
   Eigen::Vector3d home_W = Eigen::Vector3d::Zero();  // home in W, on the ground (z = 0)
-  std::vector<Waypoint> waypoints;     // W, flown from home_W in order (FlightPlan::Through)
-  std::vector<std::string> warnings;   // one line each: the items read but not modelled, and our choices
+  std::vector<Waypoint> waypoints;                   // W, flown from home_W in order (FlightPlan::Through)
+  std::vector<std::string> warnings;                 // one line each: the items read but not modelled, and our choices
   std::optional<double> planned_speed;  // m/s: the .plan's "hoverSpeed" (multicopter default speed), if any
-  int items = 0;                       // mission items read (not counting the home; DO_JUMPs unrolled)
-  std::optional<int> firmware_type;    // the .plan's mission.firmwareType (MAV_AUTOPILOT), kept for export
-  std::optional<int> vehicle_type;     // the .plan's mission.vehicleType (MAV_TYPE)
+  int items = 0;                        // mission items read (not counting the home; DO_JUMPs unrolled)
+  std::optional<int> firmware_type;     // the .plan's mission.firmwareType (MAV_AUTOPILOT), kept for export
+  std::optional<int> vehicle_type;      // the .plan's mission.vehicleType (MAV_TYPE)
   std::vector<RallyPoint> rally_points;
   Geofence geofence;
 
@@ -190,8 +190,8 @@ CityMap WithMissionSafety(const CityMap& map, const Mission& mission);
 
 // --- export -----------------------------------------------------------------------------------------------------
 struct QgcPlanExportOptions {
-  GeoPoint origin;                      // of W (the map's or the mission's origin)
-  double home_amsl = 0.0;               // m above mean sea level of W's ground (0 when unknown)
+  GeoPoint origin;         // of W (the map's or the mission's origin)
+  double home_amsl = 0.0;  // m above mean sea level of W's ground (0 when unknown)
   // The planned home in W (on the ground); default: the plan's start with z = 0.
   std::optional<Eigen::Vector3d> home_W;
   // m/s, written as the mission's "cruiseSpeed" and "hoverSpeed" (pass the PlanLimits' cruise speed: the moves

@@ -38,14 +38,14 @@ namespace uascma::planning {
 
 struct ProceduralCityParams {
   std::uint64_t seed = 1;
-  int blocks_north = 12;              // blocks along x
-  int blocks_east = 4;                // blocks along y
-  double block_north = 61.0;          // m, block depth between streets (200 ft, 1811 plan)
-  double block_east = 180.0;          // m, block length between avenues (~600 ft)
-  double street_width = 18.3;         // m (60 ft)
-  double avenue_width = 30.5;         // m (100 ft)
-  double lot_frontage_min = 12.0;     // m
-  double lot_frontage_max = 40.0;     // m
+  int blocks_north = 12;           // blocks along x
+  int blocks_east = 4;             // blocks along y
+  double block_north = 61.0;       // m, block depth between streets (200 ft, 1811 plan)
+  double block_east = 180.0;       // m, block length between avenues (~600 ft)
+  double street_width = 18.3;      // m (60 ft)
+  double avenue_width = 30.5;      // m (100 ft)
+  double lot_frontage_min = 12.0;  // m
+  double lot_frontage_max = 40.0;  // m
   double open_lot_probability = 0.08;
   double height_log_mean = 2.99;      // mean of ln(height / 1 m)
   double height_log_sigma = 0.50;     // standard deviation of ln(height / 1 m)
@@ -53,14 +53,14 @@ struct ProceduralCityParams {
   double height_max = 200.0;          // m
   double park_block_fraction = 0.06;  // at least one park when > 0
   double rooftop_site_probability = 0.55;
-  double site_radius_min = 2.0;       // m
-  double site_radius_log_mean = -0.47;   // ln of (radius − min) / 1 m
+  double site_radius_min = 2.0;         // m
+  double site_radius_log_mean = -0.47;  // ln of (radius − min) / 1 m
   double site_radius_log_sigma = 1.12;
   double risk_intercept = 0.698;
-  double risk_per_log_radius = -0.192;   // per ln(radius / 1 m)
+  double risk_per_log_radius = -0.192;  // per ln(radius / 1 m)
   double risk_noise = 0.041;
-  double park_site_spacing = 40.0;    // m
-  double park_site_radius = 12.0;     // m
+  double park_site_spacing = 40.0;  // m
+  double park_site_radius = 12.0;   // m
   bool IsValid(std::string* error) const;
 };
 

@@ -58,7 +58,7 @@ struct EodOptions {
   double horizon_s = 86400.0;                // one day: far beyond any flight of the vehicle
   // Plausible horizons: 1 s to one week (our bound; a week is ~700x the pack's hover endurance).
   static constexpr Bounds kHorizonBounds{1.0, 604800.0, "s"};
-  double time_tolerance_s = 1e-6;            // root accuracy of the crossing time
+  double time_tolerance_s = 1e-6;  // root accuracy of the crossing time
   // cutoff_v within models::kCutoffVoltageBounds, horizon_s within kHorizonBounds, time_tolerance_s > 0;
   // writes the reason to *error on failure.
   bool IsValid(std::string* error) const;
@@ -66,10 +66,10 @@ struct EodOptions {
 
 struct EodResult {
   EodStatus status = EodStatus::kNotReachedWithinHorizon;
-  double eod_s = 0.0;        // time until the first cell reaches the cut-off (see EodStatus)
-  int limiting_branch = -1;  // pack index 0..1 of the limiting cell (−1 when none)
-  int limiting_cell = -1;    // cell index 0..2 in its pack (−1 when none)
-  int segments = 0;          // linear segments propagated (cost figure)
+  double eod_s = 0.0;           // time until the first cell reaches the cut-off (see EodStatus)
+  int limiting_branch = -1;     // pack index 0..1 of the limiting cell (−1 when none)
+  int limiting_cell = -1;       // cell index 0..2 in its pack (−1 when none)
+  int segments = 0;             // linear segments propagated (cost figure)
   int voltage_evaluations = 0;  // closed-form voltage evaluations in the crossing search (cost figure)
 
   // e.g. "reached: EOD 1234.5 s, limiting pack 2 cell 1 (21 segments)".
@@ -92,8 +92,8 @@ EodResult CalcPackEod(const models::BatteryPack& pack, const models::PackState& 
 // validation of CalcPackEod/CalcCellEod.
 EodResult SimulatePackEod(const models::BatteryPack& pack, const models::PackState& state, double total_current_a,
                           double dt_s, const EodOptions& options = {});
-EodResult SimulateCellEod(const models::SelfCorrectingCell& cell, const models::CellState& state,
-                          double current_a, double dt_s, const EodOptions& options = {});
+EodResult SimulateCellEod(const models::SelfCorrectingCell& cell, const models::CellState& state, double current_a,
+                          double dt_s, const EodOptions& options = {});
 
 // Decisions item 7: RM = 1 − t_flight / t_EOD. RM ≥ 0 ⇔ the remaining flight time fits in the EOD.
 // With t_flight ≤ 0, RM = 1; with t_EOD = 0 and t_flight > 0, RM = −∞. A kNotReachedWithinHorizon result

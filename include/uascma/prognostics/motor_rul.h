@@ -131,8 +131,8 @@ struct RulDistribution {
 struct JamProbabilityMeasurement {
   int runs = 0;
   int jams = 0;
-  double spalled_epochs = 0.0;        // Σ max(1, ⌈T/epoch⌉) over the runs
-  double mean_time_to_jam_s = 0.0;    // over the jammed runs (NaN when none jammed)
+  double spalled_epochs = 0.0;             // Σ max(1, ⌈T/epoch⌉) over the runs
+  double mean_time_to_jam_s = 0.0;         // over the jammed runs (NaN when none jammed)
   double jam_probability_per_epoch = 0.0;  // jams / spalled_epochs (item 4)
   double epoch_s = kCmaEpoch_s;
 };
@@ -175,24 +175,23 @@ class MotorRulModel {
 
   // The per-epoch jam probability measured as the dissertation did (item 4): `runs` histories from
   // D₀. Throws InputError when runs < 1 or epoch_s is not positive.
-  JamProbabilityMeasurement MeasureJamProbability(int runs, RandomStream& random,
-                                                  double epoch_s = kCmaEpoch_s) const;
+  JamProbabilityMeasurement MeasureJamProbability(int runs, RandomStream& random, double epoch_s = kCmaEpoch_s) const;
 
  private:
   SpallGrowthParams params_;
 };
 
 // The estimator of item 4 on given histories at a given τ: jams / Σ max(1, ⌈τ·steps/epoch⌉).
-double EstimateJamProbabilityPerEpoch(std::span<const SpallHistory> histories,
-                                      double time_per_growth_step_s, double epoch_s);
+double EstimateJamProbabilityPerEpoch(std::span<const SpallHistory> histories, double time_per_growth_step_s,
+                                      double epoch_s);
 
 // ---- Calibration of τ (decisions item 15) -----------------------------------------------------
 
 struct CalibrationOptions {
   double target_jam_probability_per_epoch = kTable54JamProbabilityPerEpoch;  // Table 5.4
-  double epoch_s = kCmaEpoch_s;    // 1 s CMA epoch, shared/spec/defaults.md
-  int runs = 1000;                 // §5.3.2.3: "1000 simulations of the motor prognosis algorithm"
-  std::uint64_t seed = 15;         // arbitrary fixed seed (15: the decision's number)
+  double epoch_s = kCmaEpoch_s;                                              // 1 s CMA epoch, shared/spec/defaults.md
+  int runs = 1000;          // §5.3.2.3: "1000 simulations of the motor prognosis algorithm"
+  std::uint64_t seed = 15;  // arbitrary fixed seed (15: the decision's number)
   bool IsValid(std::string* error) const;
 };
 
@@ -209,8 +208,7 @@ struct CalibrationResult {
 // non-increasing step function of τ and the result is the smallest τ with p̂(τ) ≤ target, found by
 // bisection between the bounds that ⌈x⌉ ∈ [x, x+1) gives. The params' own τ is ignored.
 // Throws InputError for invalid params or options, or a target above jams/runs (unreachable).
-CalibrationResult CalibrateTimePerGrowthStep(const SpallGrowthParams& params,
-                                             const CalibrationOptions& options = {});
+CalibrationResult CalibrateTimePerGrowthStep(const SpallGrowthParams& params, const CalibrationOptions& options = {});
 
 // ---- The spall → jam event of one motor (for the simulator) -----------------------------------
 
@@ -245,8 +243,8 @@ class SpallJamEvent {
  private:
   MotorRulModel model_;
   RandomStream random_;
-  SpallParticle step_start_;            // state at the start of the current growth step
-  double onset_time_s_;                 // the current step starts at onset + steps done · τ
+  SpallParticle step_start_;  // state at the start of the current growth step
+  double onset_time_s_;       // the current step starts at onset + steps done · τ
   std::int64_t growth_steps_done_ = 0;
   double time_s_;
   double area_mm2_;

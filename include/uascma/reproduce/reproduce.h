@@ -31,10 +31,10 @@ struct Quantity {
   std::optional<double> ours, theirs;
   std::string ours_text, theirs_text;  // as printed (value and unit)
   std::string unit;
-  std::string tolerance;               // stated, e.g. "±20 % (§2.6.1)"
-  std::string tolerance_why;           // why that tolerance
+  std::string tolerance;      // stated, e.g. "±20 % (§2.6.1)"
+  std::string tolerance_why;  // why that tolerance
   Verdict verdict = Verdict::kMatches;
-  std::string reason;                  // for "differs": one sentence with its number
+  std::string reason;  // for "differs": one sentence with its number
 };
 
 // |ours − theirs| ≤ tolerance (absolute, in `unit`).
@@ -58,9 +58,9 @@ struct Figure {
 };
 
 struct Item {
-  std::string id;        // "table-2.2"
-  std::string title;     // "Static thrust, estimated (eqs. 2.1, 2.12)"
-  std::string source;    // "§2.5.3.1, Table 2.2"
+  std::string id;      // "table-2.2"
+  std::string title;   // "Static thrust, estimated (eqs. 2.1, 2.12)"
+  std::string source;  // "§2.5.3.1, Table 2.2"
   std::vector<Quantity> quantities;
   std::vector<Figure> figures;
   nlohmann::json samples = nlohmann::json::object();  // sample sizes used

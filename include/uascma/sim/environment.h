@@ -21,11 +21,11 @@
 namespace uascma::sim {
 
 struct EnvironmentOptions {
-  decision::CmaWeights weights;  // for R(S, A) (eqs. 5.28–5.29 by default)
-  EmergencyPlanner planner;      // empty: the map's LandPract/LandASAP planners
+  decision::CmaWeights weights;                   // for R(S, A) (eqs. 5.28–5.29 by default)
+  EmergencyPlanner planner;                       // empty: the map's LandPract/LandASAP planners
   BatterySwitchPolicy* battery_policy = nullptr;  // the 1 Hz battery executor; null: both packs on
-  bool record = false;           // keep the flight's events, actions and states (Result())
-  bool record_telemetry = false; // … and its telemetry rows
+  bool record = false;                            // keep the flight's events, actions and states (Result())
+  bool record_telemetry = false;                  // … and its telemetry rows
   // Decisions item 3: an action not available in the flight status (ELPRACT offers NoOp, Terminate, LandASAP;
   // ELASAP NoOp, Terminate) is refused with an InputError. Off, any action is taken, and one equal to the
   // executing emergency action is executed as NoOp (item 9).
@@ -36,7 +36,7 @@ struct EnvironmentOptions {
 struct Observation {
   double time_s = 0.0;
   decision::CmaState state;
-  decision::StateIndex state_index = 0;   // CmaStateIndex, or the terminal's CmaTerminalIndex once done
+  decision::StateIndex state_index = 0;           // CmaStateIndex, or the terminal's CmaTerminalIndex once done
   std::optional<decision::CmaTerminal> terminal;  // C, T or FL once the flight has ended
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
   double reach_margin = 0.0;

@@ -58,8 +58,8 @@ struct EmergencyRequest {
   double time_s = 0.0;
   Eigen::Vector3d p_WB_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();
-  double yaw = 0.0;        // rad
-  int failed_motor = 0;    // the rotor the allocation has switched off (0: none): fewer rotors, less reach
+  double yaw = 0.0;      // rad
+  int failed_motor = 0;  // the rotor the allocation has switched off (0: none): fewer rotors, less reach
   double eod_s = 0.0;
   double original_plan_elapsed_s = 0.0;  // how far along the nominal plan the vehicle is
 };
@@ -68,7 +68,7 @@ struct EmergencyPlan {
   planning::LandingStatus status = planning::LandingStatus::kNoFeasibleTrajectory;
   std::string message;  // why no plan; empty when ok()
   planning::FlightPlan plan;
-  std::string site;     // a label of the landing site
+  std::string site;          // a label of the landing site
   double site_radius = 0.0;  // m, the site's clear touchdown radius (0: unknown, OutcomeThresholds::landing_radius)
   double reach_margin = 0.0;
   std::vector<Eigen::Vector2d> footprint_NE;  // LandASAP: the footprint's boundary in W (north, east), m
@@ -104,8 +104,8 @@ class FlightModel {
 
   const Scenario& scenario() const { return scenario_; }
   const SimOptions& options() const { return scenario_.options; }
-  double dt() const { return dt_; }                          // s, the GNC step
-  int steps_per_epoch() const { return steps_per_epoch_; }   // GNC steps per decision epoch
+  double dt() const { return dt_; }                         // s, the GNC step
+  int steps_per_epoch() const { return steps_per_epoch_; }  // GNC steps per decision epoch
   double time_limit_s() const { return time_limit_s_; }
   const planning::FlightPlan& nominal_plan() const { return nominal_plan_; }
   decision::BatteryHealth battery_health() const { return battery_health_; }
@@ -137,8 +137,8 @@ class FlightModel {
   models::DragTable drag_;
   models::WindModel wind_;
   models::BatteryPack pack_;
-  prognostics::MotorRulModel rul_model_;      // the prognosis (calibrated to Table 5.4, decisions item 15)
-  prognostics::MotorRulModel spall_truth_;    // the simulated spall (the scenario's growth speed)
+  prognostics::MotorRulModel rul_model_;    // the prognosis (calibrated to Table 5.4, decisions item 15)
+  prognostics::MotorRulModel spall_truth_;  // the simulated spall (the scenario's growth speed)
   std::shared_ptr<const planning::CityMap> map_;
   gnc::LqrController controller_;
   planning::FlightPlan nominal_plan_;
@@ -191,8 +191,8 @@ struct PowerState {
   models::PackState pack;
   double bus_voltage_v = 0.0;
   double pack_current_a = 0.0;
-  double load_current_a = 0.0;  // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)
-  double energy_wh = 0.0;       // drawn from the packs since take-off
+  double load_current_a = 0.0;      // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)
+  double energy_wh = 0.0;           // drawn from the packs since take-off
   double min_cell_voltage_v = 0.0;  // the lowest any cell has read
   bool operator==(const PowerState&) const = default;
 };
@@ -200,9 +200,9 @@ struct PowerState {
 // Faults: the truth (the spall and the jam) and what the IMM has isolated.
 struct FaultState {
   std::optional<prognostics::SpallJamEvent> spall;
-  int jammed_rotor = 0;         // 1…6, 0: none
+  int jammed_rotor = 0;  // 1…6, 0: none
   gnc::ImmFilter imm;
-  int allocation_failure = 0;   // the failed motor the allocation flies around (after isolation)
+  int allocation_failure = 0;  // the failed motor the allocation flies around (after isolation)
   std::optional<double> spall_onset_s, jam_time_s, isolation_time_s;
   bool operator==(const FaultState&) const = default;
 };
@@ -282,10 +282,10 @@ struct FlightEvent {
 // One row of telemetry (SI units, frames in the names).
 struct TelemetryRow {
   double t = 0;
-  Eigen::Vector3d p_W, v_W, p_ref_W, euler;           // euler: roll, pitch, yaw (rad)
+  Eigen::Vector3d p_W, v_W, p_ref_W, euler;  // euler: roll, pitch, yaw (rad)
   Eigen::Vector3d drag_W, wind_W;
-  Eigen::Vector4d wrench_cmd;                          // T, τx, τy, τz commanded
-  Eigen::Vector4d wrench;                              // achieved by the rotors
+  Eigen::Vector4d wrench_cmd;  // T, τx, τy, τz commanded
+  Eigen::Vector4d wrench;      // achieved by the rotors
   std::array<double, 6> rotor_thrust{}, rotor_current{};
   double pack_current = 0, bus_voltage = 0;
   std::array<double, 2> branch_current{};
@@ -370,7 +370,6 @@ const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, B
 
 // One decision epoch: BeginEpoch, the policy decides (a null policy: NoOp), Act, then GNC steps to the next epoch or
 // the end of the flight. Must be called at an epoch.
-void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers,
-               FlightLog* log = nullptr);
+void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log = nullptr);
 
 }  // namespace uascma::sim

@@ -35,17 +35,17 @@ namespace uascma::sim {
 
 enum class Outcome {
   kInProgress,
-  kCompleted,          // landed at the end of the original plan
-  kEmergencyLanding,   // landed at the end of an emergency plan
-  kTerminated,         // Terminate: parachute and motors cut
-  kFailedBattery,      // a cell reached the 3.3 V cut-off
-  kFailedControl,      // attitude or tracking error beyond the bounds
-  kFailedCollision,    // struck the ground (or a building) outside a landing
-  kTimeout,            // still flying at the time limit (counted as a failure)
-  kGrounded,           // an emergency action chosen before take-off: the vehicle stays on the ground (§5.5.3);
-                       // safe, neither failed nor completed (decision 21)
-  kLandedOffSite,      // touched down gently on open ground outside the landing radius: safe, neither completed
-                       // nor failed (issue 22 item 5)
+  kCompleted,         // landed at the end of the original plan
+  kEmergencyLanding,  // landed at the end of an emergency plan
+  kTerminated,        // Terminate: parachute and motors cut
+  kFailedBattery,     // a cell reached the 3.3 V cut-off
+  kFailedControl,     // attitude or tracking error beyond the bounds
+  kFailedCollision,   // struck the ground (or a building) outside a landing
+  kTimeout,           // still flying at the time limit (counted as a failure)
+  kGrounded,          // an emergency action chosen before take-off: the vehicle stays on the ground (§5.5.3);
+                      // safe, neither failed nor completed (decision 21)
+  kLandedOffSite,     // touched down gently on open ground outside the landing radius: safe, neither completed
+                      // nor failed (issue 22 item 5)
 };
 const char* OutcomeName(Outcome outcome);
 bool IsFailure(Outcome outcome);
@@ -61,48 +61,48 @@ decision::CmaTerminal TerminalStateOf(Outcome outcome);
 inline constexpr double kHoverTrackingErrorBound = 3.46;
 
 struct OutcomeThresholds {
-  double max_tilt = 1.2;             // rad (~69°): beyond it the flight is out of control (our bound)
+  double max_tilt = 1.2;                // rad (~69°): beyond it the flight is out of control (our bound)
   double max_cross_track_error = 15.0;  // m from the reference path: out of control (our bound)
   // rad/s, |ω_B|: two turns per second, a tumble (our bound). Measured over 200 flights of the default campaign
   // (both policies, bound lifted): median of the per-flight maxima 1.6 rad/s, 95th percentile 3.2 (rotor jams),
   // largest 6.8 — the attitude transient when an emergency plan replaces a lagging reference, in flights that then
   // landed safely. The bound is about twice that.
   double max_body_rate = 4.0 * 3.14159265358979323846;
-  double touchdown_speed = 1.5;      // m/s: faster ground contact is a crash (our bound)
-  double airborne_height = 0.5;      // m above the ground: the vehicle has taken off (our bound)
+  double touchdown_speed = 1.5;  // m/s: faster ground contact is a crash (our bound)
+  double airborne_height = 0.5;  // m above the ground: the vehicle has taken off (our bound)
   // m, horizontal distance to the plan's end point within which a touchdown is a landing, where the plan gives
   // none (the destination; an emergency site's own radius is used for it). Tied to the tracking error (issue 11
   // item 4): the measured hover tracking-error bound below, the same one the campaigns' wall clearance covers
   // (campaign/config.h wall_clearance_m = 0.30 m vehicle radius + this + margin), so every touchdown the
   // controller can make at a hover point counts and none of them can reach a wall.
   double landing_radius = kHoverTrackingErrorBound;
-  double landing_window_s = 5.0;     // s: the plan's last seconds count as the landing (our bound)
-  double landing_height = 0.5;       // m above the end point: inside the landing zone (our bound)
-  double settled_height = 0.3;       // m above the end point: touched down (our bound)
-  double settled_speed = 0.5;        // m/s: at rest after touchdown (our bound)
-  double building_margin = 0.5;      // m above the tallest roof: no building can be struck (our bound)
-  double time_limit_factor = 2.5;    // the flight times out at this x the original plan's duration …
-  double time_limit_margin_s = 60.0; // … + this (s)
+  double landing_window_s = 5.0;      // s: the plan's last seconds count as the landing (our bound)
+  double landing_height = 0.5;        // m above the end point: inside the landing zone (our bound)
+  double settled_height = 0.3;        // m above the end point: touched down (our bound)
+  double settled_speed = 0.5;         // m/s: at rest after touchdown (our bound)
+  double building_margin = 0.5;       // m above the tallest roof: no building can be struck (our bound)
+  double time_limit_factor = 2.5;     // the flight times out at this x the original plan's duration …
+  double time_limit_margin_s = 60.0;  // … + this (s)
   bool IsValid(std::string* error) const;
 };
 
 // What the classification sees after one step. Frames: W is NED (common/frames.h).
 struct OutcomeInputs {
-  double time_s = 0.0;                 // at the end of the step
+  double time_s = 0.0;  // at the end of the step
   Eigen::Vector3d p_WB_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();
-  double cos_tilt = 1.0;               // R_WB(2, 2): cosine of the angle between z_B and z_W
-  double body_rate = 0.0;              // rad/s, |ω_B|
-  double cross_track_error = 0.0;      // m, distance from the reference path (see above)
-  double min_cell_voltage_v = 4.2;     // over the switched-on branches
-  int min_cell_branch = 0;             // 0, 1: the branch and cell of that voltage (models::CellLabel)
+  double cos_tilt = 1.0;            // R_WB(2, 2): cosine of the angle between z_B and z_W
+  double body_rate = 0.0;           // rad/s, |ω_B|
+  double cross_track_error = 0.0;   // m, distance from the reference path (see above)
+  double min_cell_voltage_v = 4.2;  // over the switched-on branches
+  int min_cell_branch = 0;          // 0, 1: the branch and cell of that voltage (models::CellLabel)
   int min_cell_index = 0;
   bool airborne = false;               // has been above airborne_height
   double plan_time_remaining_s = 0.0;  // of the executing plan
   Eigen::Vector3d plan_end_W = Eigen::Vector3d::Zero();
-  double landing_radius = 0.0;         // m: the executing plan's site radius; 0: OutcomeThresholds::landing_radius
+  double landing_radius = 0.0;  // m: the executing plan's site radius; 0: OutcomeThresholds::landing_radius
   bool on_original_plan = true;
-  std::string_view emergency_site;     // the executing emergency plan's site, for the reason
+  std::string_view emergency_site;  // the executing emergency plan's site, for the reason
   double time_limit_s = 0.0;
 };
 

@@ -26,8 +26,8 @@ struct DecisionInputs {
   double flight_time_remaining_s = 0.0;  // on the executing plan
   double eod_s = 0.0;
   double rul_s = std::numeric_limits<double>::infinity();  // +∞ without a motor fault
-  double reach_margin = 0.0;     // RM = 1 − (t_remaining + t_sf) / t_EOD
-  double motor_margin = 0.0;     // MM = 1 − t_remaining / t_RUL
+  double reach_margin = 0.0;                               // RM = 1 − (t_remaining + t_sf) / t_EOD
+  double motor_margin = 0.0;                               // MM = 1 − t_remaining / t_RUL
   bool operator==(const DecisionInputs&) const = default;
 };
 
@@ -74,14 +74,14 @@ class TablePolicy final : public DecisionPolicy {
 };
 
 struct PolicyDefinition {
-  std::string name;    // "cma", "noop", a file stem: unique within a campaign
-  std::string kind;    // "noop" | "table"
-  std::string source;  // "cma default weights", "noop", or the file it came from
+  std::string name;                            // "cma", "noop", a file stem: unique within a campaign
+  std::string kind;                            // "noop" | "table"
+  std::string source;                          // "cma default weights", "noop", or the file it came from
   std::vector<decision::ActionIndex> actions;  // kind "table": the action of each CMA state (112)
   // Kind "table": per state, its available actions by decreasing Q(s, a), actions[s] first (decisions item 28);
   // empty: the executor falls back on the default CMA policy's ranking.
   std::vector<std::vector<decision::ActionIndex>> ranking;
-  std::string hash;    // 16 hex digits: fingerprint of the kind, the actions and the ranking
+  std::string hash;  // 16 hex digits: fingerprint of the kind, the actions and the ranking
 };
 
 PolicyDefinition NoOpPolicyDefinition();

@@ -116,12 +116,12 @@ struct SimOptions {
   // battery MDP, no fault detector; Table 4.4 draws no motor fault), which the battery MDP's learning flights
   // fly (campaign/battery_flights.h).
   bool fault_detection = true;
-  bool reconfiguration = true;      // switch to the quadcopter allocation when the IMM isolates a rotor
-  bool sensor_noise = true;         // gyro and accelerometer noise for the IMM
+  bool reconfiguration = true;  // switch to the quadcopter allocation when the IMM isolates a rotor
+  bool sensor_noise = true;     // gyro and accelerometer noise for the IMM
   // The LQR adds the drag at the reference air velocity (less the steady wind) to its reference acceleration
   // (gnc/lqr.h CalcDragFeedForward; issue 11 item 3). Off: the dissertation's bare DLQR (§4.3.3).
   bool drag_feedforward = true;
-  double hotel_current_a = 0.5;     // A: onboard computer, radio, sensors (our estimate; §4.3.2 calls it small)
+  double hotel_current_a = 0.5;  // A: onboard computer, radio, sensors (our estimate; §4.3.2 calls it small)
   // Bus voltage at which the rotors reach their Table 2.2 maximum thrust; rotor thrust capacity scales
   // as (V_bus / V_ref)² (speed ∝ voltage, thrust ∝ speed²). Our estimate: a 3S pack at 3.7 V per cell.
   double reference_bus_voltage_v = 11.1;

@@ -9,8 +9,8 @@
 
 namespace uascma::sim::scenario_bounds {
 
-// vehicle.mass_kg: the hexacopter is 1.3 kg with two packs (defaults.md; ~1 kg with one pack, §2.4.2). 0.05 kg is a palm-sized
-// micro drone; 25 kg is the upper limit of a small unmanned aircraft (FAA Part 107: 55 lb). Our bound.
+// vehicle.mass_kg: the hexacopter is 1.3 kg with two packs (defaults.md; ~1 kg with one pack, §2.4.2). 0.05 kg is a
+// palm-sized micro drone; 25 kg is the upper limit of a small unmanned aircraft (FAA Part 107: 55 lb). Our bound.
 inline constexpr Bounds kMass{0.05, 25.0, "kg"};
 // vehicle.inertia_kg_m2, each principal moment: 0.011, 0.011, 0.021 kg m² (defaults.md's estimate). 1e-5 kg m²
 // is a 50 g micro drone's; 10 kg m² is beyond a 25 kg octocopter's (about 25 kg × (0.6 m)²). Our bound.

@@ -12,8 +12,8 @@
 #include <variant>
 #include <vector>
 
-#include <Eigen/Core>
 #include <yaml-cpp/yaml.h>
+#include <Eigen/Core>
 
 #include "uascma/common/bounds.h"
 #include "uascma/sim/scenario.h"
@@ -21,13 +21,13 @@
 namespace uascma::sim {
 
 struct ScenarioField {
-  std::string_view key = {};       // "vehicle.mass_kg"
-  const Bounds* bounds = nullptr;  // each number's bound, each element of a list's; null: `expected` says it
-  std::string_view expected = {};  // beyond the bound (error messages, docs)
-  std::string_view citation = {};  // where the default and bound come from
-  bool degrees = false;            // written in degrees, held in radians (the bound is in degrees)
-  bool fault_only = false;         // checked only when the scenario has a fault
-  bool required = false;           // must be given when its section is (fault.motor, fault.spall_onset_s)
+  std::string_view key = {};         // "vehicle.mass_kg"
+  const Bounds* bounds = nullptr;    // each number's bound, each element of a list's; null: `expected` says it
+  std::string_view expected = {};    // beyond the bound (error messages, docs)
+  std::string_view citation = {};    // where the default and bound come from
+  bool degrees = false;              // written in degrees, held in radians (the bound is in degrees)
+  bool fault_only = false;           // checked only when the scenario has a fault
+  bool required = false;             // must be given when its section is (fault.motor, fault.spall_onset_s)
   std::string_view section() const;  // "vehicle"
   std::string_view leaf() const;     // "mass_kg"
 };

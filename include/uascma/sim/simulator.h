@@ -34,25 +34,25 @@ struct SimResult {
   std::optional<double> spall_onset_s, jam_time_s, isolation_time_s;
   int isolated_rotor = 0;
   double min_cell_voltage_v = 0.0;
-  double max_tracking_error = 0.0;   // m
-  double max_tilt = 0.0;             // rad
+  double max_tracking_error = 0.0;  // m
+  double max_tilt = 0.0;            // rad
   double energy_wh = 0.0;
-  std::string eod_load;                    // SimOptions::eod_load's name: what the 1 Hz EOD was propagated at
+  std::string eod_load;  // SimOptions::eod_load's name: what the 1 Hz EOD was propagated at
   // Decisions item 28: epochs at which the chosen action could not be carried out and another was taken, and each
   // distinct "Chosen->Taken" pair in the order first seen.
   int substitution_epochs = 0;
   std::vector<std::string> substitutions;
-  double speed_cap_mps = 0.0;              // the airspeed cap after a rotor isolation (+inf: none, §4.4.2)
+  double speed_cap_mps = 0.0;  // the airspeed cap after a rotor isolation (+inf: none, §4.4.2)
   std::vector<FlightEvent> events;
-  std::vector<std::pair<double, decision::CmaAction>> actions;  // (time, action) of every executed change
-  std::vector<std::pair<double, decision::StateIndex>> states;  // CMA state at every epoch
+  std::vector<std::pair<double, decision::CmaAction>> actions;          // (time, action) of every executed change
+  std::vector<std::pair<double, decision::StateIndex>> states;          // CMA state at every epoch
   std::vector<std::pair<double, models::PackAction>> battery_switches;  // the battery executor's changes
   std::vector<TelemetryRow> telemetry;
-  std::vector<Eigen::Vector3d> executed_plan_ref;                // for plotting: the emergency plans
+  std::vector<Eigen::Vector3d> executed_plan_ref;      // for plotting: the emergency plans
   std::optional<planning::FlightPlan> emergency_plan;  // the emergency plan flown at the end, when one was
-  std::vector<Eigen::Vector2d> footprint_NE;  // the LandASAP footprint boundary, when one was planned
-  std::string emergency_site;              // the site of the last emergency plan ("" when none)
-  double emergency_reach_margin = 0.0;     // its RM when it was chosen
+  std::vector<Eigen::Vector2d> footprint_NE;           // the LandASAP footprint boundary, when one was planned
+  std::string emergency_site;                          // the site of the last emergency plan ("" when none)
+  double emergency_reach_margin = 0.0;                 // its RM when it was chosen
   double realtime_factor() const { return wall_time_s > 0 ? sim_time_s / wall_time_s : 0.0; }
 };
 

@@ -33,8 +33,8 @@ double CalcGroundSpeedCap(const Eigen::Vector2d& direction_NE, const Eigen::Vect
 // The rest of `plan` from plan time `t_plan`, flown from `start_W` (where the vehicle will be at rest) through the
 // remaining waypoints and hovers, each move's horizontal speed limit the smaller of what it was planned with and
 // its cap along its direction at `max_airspeed` in `wind_NE`. Empty when nothing of the plan is left.
-planning::FlightPlan ReplanAtCappedSpeed(const planning::FlightPlan& plan, double t_plan, const Eigen::Vector3d& start_W,
-                                         const planning::PlanLimits& limits, const Eigen::Vector2d& wind_NE,
-                                         double max_airspeed);
+planning::FlightPlan ReplanAtCappedSpeed(const planning::FlightPlan& plan, double t_plan,
+                                         const Eigen::Vector3d& start_W, const planning::PlanLimits& limits,
+                                         const Eigen::Vector2d& wind_NE, double max_airspeed);
 
 }  // namespace uascma::sim
