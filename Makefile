@@ -4,10 +4,11 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
 # `make demo` builds only the library and the command-line tool (what the demo runs; its plots need only
-# Debian's python3-matplotlib): no tests, benchmarks or Python module, and installs only the `build` packages.
+# Debian's python3-matplotlib): no tests, benchmarks, Python module or MPI launcher (uascma-mpi), and installs only
+# the `build` packages (Open MPI, with its compilers and fabric libraries, is in the `test` group).
 # `make test` (and build, bench) configures the same folder with everything on and builds the rest.
-DEMO_OPTIONS = -DUASCMA_BUILD_TESTS=OFF -DUASCMA_BUILD_BENCHMARKS=OFF -DUASCMA_BUILD_PYTHON=OFF
-FULL_OPTIONS = -DUASCMA_BUILD_TESTS=ON -DUASCMA_BUILD_BENCHMARKS=ON -DUASCMA_BUILD_PYTHON=ON
+DEMO_OPTIONS = -DUASCMA_BUILD_TESTS=OFF -DUASCMA_BUILD_BENCHMARKS=OFF -DUASCMA_BUILD_PYTHON=OFF -DUASCMA_WITH_MPI=OFF
+FULL_OPTIONS = -DUASCMA_BUILD_TESTS=ON -DUASCMA_BUILD_BENCHMARKS=ON -DUASCMA_BUILD_PYTHON=ON -DUASCMA_WITH_MPI=ON
 
 .PHONY: deps deps-demo configure build demo test bench clean check-sanitizers fuzz
 # `make check-sanitizers`: the whole suite under ASan + UBSan in its own build folder (issue 16).

@@ -8,11 +8,13 @@
 # which also shows a source file that relies on a header only the precompiled header brings in.
 # ccache caches files compiled with a precompiled header given sloppiness = pch_defines,time_macros; clang
 # (scripts/fuzz.sh, scripts/check-sanitizers.sh) uses CMake's clang form of the same header.
-# Unity builds of the libraries (opt-in, ours): each library compiled as files of 8 sources each, which parse the
-# shared headers and generate the inline code they use once per 8 files. Measured on the campaign library (22 files):
-# 93 s of compile CPU one by one, 46 s as 3 unity files. Off by default until the whole suite has run with it: sources
-# of one library then share their anonymous namespaces, where two helpers of the same name would clash.
-option(UASCMA_UNITY "Compile each library as unity files of 8 sources" OFF)
+# Unity builds of the libraries (ours, on by default): each library compiled as files of 8 sources each, which parse
+# the shared headers and generate the inline code they use once per 8 files. Measured on the campaign library (22
+# files): 93 s of compile CPU one by one, 46 s as 3 unity files. The sources of one library then share their
+# anonymous namespaces, so file-local helpers have names unique within their library (two of one name either clash
+# or, with other parameter types, silently overload). -DUASCMA_UNITY=OFF compiles each source alone, as
+# scripts/check-sanitizers.sh and scripts/fuzz.sh do.
+option(UASCMA_UNITY "Compile each library as unity files of 8 sources" ON)
 option(UASCMA_PCH "Precompile the heavy third-party headers (Eigen, nlohmann/json, fmt, yaml-cpp; CLI11 for the CLI)" ON)
 
 set(UASCMA_PCH_HEADERS

@@ -11,3 +11,6 @@ if [[ -f "$build/python/uascma/__init__.py" ]]; then
   echo "== python_env_bench"
   PYTHONPATH="$build/python" /usr/bin/python3 "$(dirname "$0")/../bench/python_env_bench.py"
 fi
+# Start-up of `uascma` and of `import uascma` (issue 27 item 5; bench/startup_bench.py).
+echo "== startup_bench"
+/usr/bin/python3 "$(dirname "$0")/../bench/startup_bench.py" "$build"

@@ -5,6 +5,8 @@
 # The Python module is left out (-DUASCMA_BUILD_PYTHON=OFF): /usr/bin/python3 is not built with ASan, so an
 # instrumented extension module only loads with libasan preloaded into the interpreter, and then LeakSanitizer
 # reports the interpreter's own never-freed objects; its pytest files run in the ordinary `make test`.
+# Each source is compiled alone (-DUASCMA_UNITY=OFF), so that this build also catches a source file that relies
+# on an include or a file-local name of another source of its unity file.
 # libosmium's known UB in its headers is suppressed by scripts/ubsan-suppressions.txt (nothing of ours).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +17,7 @@ if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=cc
 
 start=$(date +%s)
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DUASCMA_SANITIZE=ON -DUASCMA_BUILD_BENCHMARKS=OFF \
-  -DUASCMA_BUILD_PYTHON=OFF "${launcher[@]}" >/dev/null
+  -DUASCMA_BUILD_PYTHON=OFF -DUASCMA_UNITY=OFF "${launcher[@]}" >/dev/null
 cmake --build "$build" -j "$jobs"
 built=$(date +%s)
 

@@ -6,6 +6,7 @@
 # leak or out-of-memory, whose input is then in BUILD_DIR/fuzz/artifacts/PARSER/.
 # Usage: fuzz.sh [BUILD_DIR [SECONDS [JOBS [PARALLEL]]]]   (JOBS: build threads)
 # The seeds that the tool writes come from $UASCMA_CLI, else the instrumented build's CLI.
+# Each source is compiled alone (-DUASCMA_UNITY=OFF): the harnesses and their coverage map to single files.
 # FUZZ_PARSERS="weights_yaml geojson …" runs only those (default: all thirteen). The fuzzers run at nice 15.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,7 +19,7 @@ shared=${UASCMA_SHARED_DATA:-$root/../shared/data}
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DUASCMA_FUZZ=ON \
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DUASCMA_FUZZ=ON -DUASCMA_UNITY=OFF \
   -DUASCMA_BUILD_TESTS=OFF -DUASCMA_BUILD_BENCHMARKS=OFF -DUASCMA_BUILD_PYTHON=OFF "${launcher[@]}" >/dev/null
 parsers=(${FUZZ_PARSERS:-scenario_yaml campaign_yaml weights_yaml policy_json geojson osm_xml osm_pbf sites_csv
   results_store mission_plan mission_wpl battery_model battery_policy cma_transitions})

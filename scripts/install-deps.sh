@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages uascma builds on (see shared/spec/dependencies.md), by group:
 #   build  the library, the command-line tool and the demo's plots  (make demo)
-#   test   the tests, benchmarks and the Python module              (make test: build + test)
+#   test   MPI, the tests, benchmarks and the Python module         (make test: build + test)
 #   fuzz   clang and its sanitizer runtimes                         (make fuzz, make check-sanitizers)
 # Usage: install-deps.sh [GROUP...]   (default: build test). Runs as root (no sudo). Installs only what is
 # missing, so a second run is quick.
@@ -11,12 +11,12 @@ build=(
   build-essential cmake pkg-config
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libsqlite3-dev
-  libopenmpi-dev openmpi-bin
   libboost-math-dev
   libosmium2-dev libprotozero-dev libexpat1-dev libbz2-dev zlib1g-dev libproj-dev
   python3-matplotlib python3-numpy
 )
 test=(
+  libopenmpi-dev openmpi-bin  # campaigns across MPI ranks (uascma-mpi); the demo builds without them
   libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-pandas python3-pytest
   chromium  # the browser test of `uascma reproduce`'s page (tests/apps/reproduce_browser_test.py)

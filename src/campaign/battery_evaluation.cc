@@ -16,25 +16,25 @@ namespace {
 
 using decision::BatteryContext;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kEvaluationNaN = std::numeric_limits<double>::quiet_NaN();
 
 double Median(std::vector<double> values) {
-  if (values.empty()) return kNaN;
+  if (values.empty()) return kEvaluationNaN;
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 double Mean(const std::vector<double>& values) {
-  if (values.empty()) return kNaN;
+  if (values.empty()) return kEvaluationNaN;
   double sum = 0.0;
   for (double v : values) sum += v;
   return sum / static_cast<double>(values.size());
 }
 
-nlohmann::json Number(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+nlohmann::json EvaluationJsonNumber(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
 
-BatteryPolicyFlight Summarise(const BatteryFlightResult& result) {
+BatteryPolicyFlight SummarisePolicyFlight(const BatteryFlightResult& result) {
   BatteryPolicyFlight flight;
   flight.outcome = result.outcome;
   flight.end_time_s = result.end_time_s;
@@ -75,13 +75,13 @@ nlohmann::json SummaryJson(const BatteryPolicySummary& s) {
           {"completions", s.completions},
           {"failures", s.failures},
           {"completion_rate",
-           s.runs > 0 ? Number(static_cast<double>(s.completions) / static_cast<double>(s.runs)) : nullptr},
-          {"completion_wilson_low", Number(s.completion_wilson.low)},
-          {"completion_wilson_high", Number(s.completion_wilson.high)},
-          {"median_failure_time_s", Number(s.median_failure_time_s)},
-          {"mean_charge_left_ah_completed", Number(s.mean_charge_left_ah)},
-          {"median_switches", Number(s.median_switches)},
-          {"mean_switches", Number(s.mean_switches)},
+           s.runs > 0 ? EvaluationJsonNumber(static_cast<double>(s.completions) / static_cast<double>(s.runs)) : nullptr},
+          {"completion_wilson_low", EvaluationJsonNumber(s.completion_wilson.low)},
+          {"completion_wilson_high", EvaluationJsonNumber(s.completion_wilson.high)},
+          {"median_failure_time_s", EvaluationJsonNumber(s.median_failure_time_s)},
+          {"mean_charge_left_ah_completed", EvaluationJsonNumber(s.mean_charge_left_ah)},
+          {"median_switches", EvaluationJsonNumber(s.median_switches)},
+          {"mean_switches", EvaluationJsonNumber(s.mean_switches)},
           {"max_switches", s.max_switches}};
 }
 
@@ -92,14 +92,14 @@ namespace {
 
 // Run r: its flight drawn from Table 4.4, flown by every policy together (the same params value; each result
 // bit-identical to the flight flown alone).
-BatteryEvaluationRun FlyRun(const std::vector<BatteryPolicySpec>& policies, const BatteryEvaluationOptions& options,
+BatteryEvaluationRun FlyEvaluationRun(const std::vector<BatteryPolicySpec>& policies, const BatteryEvaluationOptions& options,
                             std::int64_t r) {
   BatteryEvaluationRun run;
   run.run = r;
   run.params = SampleBatteryFlight(options.ranges, options.seed, r);
   std::vector<BatteryFlightController> controllers;
   for (const auto& p : policies) controllers.push_back(MakeBatteryController(p, run.params.context()));
-  for (const auto& result : FlyBatteryFlights(run.params, controllers)) run.flights.push_back(Summarise(result));
+  for (const auto& result : FlyBatteryFlights(run.params, controllers)) run.flights.push_back(SummarisePolicyFlight(result));
   return run;
 }
 
@@ -172,7 +172,7 @@ BatteryEvaluation EvaluateBatteryPolicies(const std::vector<BatteryPolicySpec>& 
   parallel.jobs = options.jobs;
   // Runs kept in run order, whatever the number of threads.
   const std::int64_t merged = ParallelFor(
-      options.runs, parallel, [&](std::int64_t r) { return FlyRun(policies, options, r); },
+      options.runs, parallel, [&](std::int64_t r) { return FlyEvaluationRun(policies, options, r); },
       [&](std::int64_t, BatteryEvaluationRun&& run) {
         out.runs.push_back(std::move(run));
         if (options.on_run_done) options.on_run_done(static_cast<std::int64_t>(out.runs.size()));

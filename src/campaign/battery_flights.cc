@@ -22,7 +22,7 @@ using decision::StateIndex;
 using models::HealthClass;
 using models::PackAction;
 
-double Draw(RandomStream& random, const double (&range)[2]) { return random.Uniform(range[0], range[1]); }
+double DrawInRange(RandomStream& random, const double (&range)[2]) { return random.Uniform(range[0], range[1]); }
 
 // Usable charge left in a pack (A·h): its cells are in series, so the pack stops at its emptiest cell.
 double PackChargeLeftAh(const models::BatteryPack& pack, const models::PackState& state, int branch) {
@@ -72,17 +72,17 @@ BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::
   BatteryFlightParams p;
   p.seed = DeriveSeed(draw_seed, kBatteryVehicleStream);
   // Table 4.4, in a fixed order (changing it changes every learned model).
-  p.safety_margin_s = Draw(random, ranges.safety_margin_s);
+  p.safety_margin_s = DrawInRange(random, ranges.safety_margin_s);
   for (auto& pack : p.initial_cell_voltage_v) {
-    for (double& v : pack) v = Draw(random, ranges.initial_cell_voltage_v);
+    for (double& v : pack) v = DrawInRange(random, ranges.initial_cell_voltage_v);
   }
-  p.cruise_speed_mps = Draw(random, ranges.cruise_speed_mps);
-  p.wind_speed_mps = Draw(random, ranges.wind_speed_mps);
-  p.wind_direction_rad = Draw(random, ranges.wind_direction_rad);
+  p.cruise_speed_mps = DrawInRange(random, ranges.cruise_speed_mps);
+  p.wind_speed_mps = DrawInRange(random, ranges.wind_speed_mps);
+  p.wind_direction_rad = DrawInRange(random, ranges.wind_direction_rad);
   p.turbulence = ranges.turbulence[random.UniformIndex(ranges.turbulence.size())];
   for (auto& h : p.health) h = static_cast<HealthClass>(random.UniformIndex(3));
   p.ambient_temp_degf = random.Bernoulli(ranges.cold_probability) ? ranges.cold_temp_degf : ranges.warm_temp_degf;
-  p.plan_duration_s = Draw(random, ranges.plan_fraction) * ReferenceBatteryEod();
+  p.plan_duration_s = DrawInRange(random, ranges.plan_fraction) * ReferenceBatteryEod();
   // Drawn last, so the draws above keep their values (a change of this realisation leaves them alone).
   for (int j = 0; j < models::kBranchCount; ++j) p.cells[j] = DrawPackCells(random, p.health[j]);
   return p;

@@ -24,31 +24,31 @@ bool Fail(std::string* error, std::string message) {
 }
 
 // A label or path the canonical YAML can quote as it is.
-bool Plain(const std::string& text) { return text.find_first_of("\"\\\n\r") == std::string::npos; }
+bool IsPlainYamlScalar(const std::string& text) { return text.find_first_of("\"\\\n\r") == std::string::npos; }
 
 // ---- the checks no bound states (ConfigField::check) ---------------------------------------------------------
 
 bool CheckName(const CampaignConfig& c, std::string* error) {
-  return Plain(c.name) || Fail(error, "name: expected a label without quotes, backslashes or line breaks");
+  return IsPlainYamlScalar(c.name) || Fail(error, "name: expected a label without quotes, backslashes or line breaks");
 }
 
-bool CheckPolicies(const CampaignConfig& c, std::string* error) {
+bool CheckConfigPolicies(const CampaignConfig& c, std::string* error) {
   if (c.policies.empty()) return Fail(error, "policies: expected at least one policy");
   for (const auto& policy : c.policies) {
-    if (policy.empty() || !Plain(policy)) return Fail(error, "policies: expected names or paths without quotes");
+    if (policy.empty() || !IsPlainYamlScalar(policy)) return Fail(error, "policies: expected names or paths without quotes");
   }
   return true;
 }
 
 bool CheckBuildings(const CampaignConfig& c, std::string* error) {
   for (const auto& file : c.map.buildings) {
-    if (file.empty() || !Plain(file)) return Fail(error, "map.buildings: expected file paths without quotes");
+    if (file.empty() || !IsPlainYamlScalar(file)) return Fail(error, "map.buildings: expected file paths without quotes");
   }
   return true;
 }
 
 bool CheckSites(const CampaignConfig& c, std::string* error) {
-  return Plain(c.map.sites) || Fail(error, "map.sites: expected a file path without quotes");
+  return IsPlainYamlScalar(c.map.sites) || Fail(error, "map.sites: expected a file path without quotes");
 }
 
 bool CheckOrigin(const CampaignConfig& c, std::string* error) {
@@ -132,7 +132,7 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
       {{.key = "runs", .bounds = &b::kRuns, .expected = "a whole number (--runs overrides it)",
         .citation = "§5.5: 930 flights, two policies", .hashed = false}, &c.runs},
       {{.key = "policies", .expected = "at least one of cma, noop or a policy file", .citation = "§5.5",
-        .hashed = false, .check = CheckPolicies}, &c.policies},
+        .hashed = false, .check = CheckConfigPolicies}, &c.policies},
   };
   const std::vector<CampaignFieldEntry> map = MapFields(c.map);
   fields.insert(fields.end(), map.begin(), map.end());

@@ -17,9 +17,9 @@
 namespace uascma::campaign {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kStatisticsNaN = std::numeric_limits<double>::quiet_NaN();
 
-nlohmann::json Number(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+nlohmann::json StatisticsJsonNumber(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
 
 void RequireCounts(std::int64_t successes, std::int64_t trials, const char* what) {
   if (trials < 0 || successes < 0 || successes > trials) {
@@ -43,7 +43,7 @@ std::string PercentInterval(const Interval& i) {
   return fmt::format("[{:5.1f}, {:5.1f}]", 100.0 * i.low, 100.0 * i.high);
 }
 
-std::string Plain(const Estimate& e) {
+std::string PlainEstimateText(const Estimate& e) {
   if (!std::isfinite(e.value)) return "-";
   return fmt::format("{:+.4f} ± {:.4f}", e.value, e.sem);
 }
@@ -87,13 +87,13 @@ bool InHealthGroup(const RunRecord& r, const std::string& health) {
 }  // namespace
 
 Estimate EstimateRate(std::int64_t successes, std::int64_t trials) {
-  if (trials <= 0) return {kNaN, kNaN};
+  if (trials <= 0) return {kStatisticsNaN, kStatisticsNaN};
   const double p = static_cast<double>(successes) / static_cast<double>(trials);
   return {p, std::sqrt(p * (1.0 - p) / static_cast<double>(trials))};
 }
 
 Estimate EstimateMean(const std::vector<double>& values) {
-  if (values.empty()) return {kNaN, kNaN};
+  if (values.empty()) return {kStatisticsNaN, kStatisticsNaN};
   const double n = static_cast<double>(values.size());
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -107,7 +107,7 @@ Estimate EstimateMean(const std::vector<double>& values) {
 Interval WilsonInterval(std::int64_t successes, std::int64_t trials, double confidence) {
   RequireCounts(successes, trials, "WilsonInterval");
   RequireConfidence(confidence, "WilsonInterval");
-  if (trials == 0) return {kNaN, kNaN};
+  if (trials == 0) return {kStatisticsNaN, kStatisticsNaN};
   // z = Φ⁻¹(1 − α/2), α = 1 − confidence (1.959964 at 95 %).
   const double z = boost::math::quantile(boost::math::normal_distribution<double>(), 0.5 + 0.5 * confidence);
   const double n = static_cast<double>(trials);
@@ -123,7 +123,7 @@ Interval WilsonInterval(std::int64_t successes, std::int64_t trials, double conf
 Interval ClopperPearsonInterval(std::int64_t successes, std::int64_t trials, double confidence) {
   RequireCounts(successes, trials, "ClopperPearsonInterval");
   RequireConfidence(confidence, "ClopperPearsonInterval");
-  if (trials == 0) return {kNaN, kNaN};
+  if (trials == 0) return {kStatisticsNaN, kStatisticsNaN};
   const double alpha = 1.0 - confidence;
   const double k = static_cast<double>(successes);
   const double n = static_cast<double>(trials);
@@ -320,14 +320,14 @@ nlohmann::json GroupJson(const GroupStatistics& g) {
   for (int c = 0; c < kFailureCauseCount; ++c) {
     const char* name = FailureCauseName(static_cast<FailureCause>(c));
     causes[name] = g.failures_by_cause[c];
-    cause_rates[name] = Number(EstimateRate(g.failures_by_cause[c], g.runs).value);
+    cause_rates[name] = StatisticsJsonNumber(EstimateRate(g.failures_by_cause[c], g.runs).value);
   }
   nlohmann::json by_fades = nlohmann::json::object();
   for (int f = 0; f < kBatteryFadesCount; ++f) {
     by_fades[BatteryFadesName(static_cast<BatteryFades>(f))] = {
         {"runs", g.runs_by_fades[f]},
         {"failures", g.failures_by_fades[f]},
-        {"failure_rate", Number(EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]).value)}};
+        {"failure_rate", StatisticsJsonNumber(EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]).value)}};
   }
   return {
       {"runs", g.runs},
@@ -341,35 +341,35 @@ nlohmann::json GroupJson(const GroupStatistics& g) {
       {"substitution_epochs", g.substitution_epochs},
       {"substitutions", g.substitutions},
       {"other_outcomes", g.others},
-      {"failure_rate", Number(g.failure_rate.value)},
-      {"failure_rate_sem", Number(g.failure_rate.sem)},
-      {"failure_rate_wilson_low", Number(g.failure_wilson.low)},
-      {"failure_rate_wilson_high", Number(g.failure_wilson.high)},
-      {"failure_rate_clopper_pearson_low", Number(g.failure_clopper_pearson.low)},
-      {"failure_rate_clopper_pearson_high", Number(g.failure_clopper_pearson.high)},
+      {"failure_rate", StatisticsJsonNumber(g.failure_rate.value)},
+      {"failure_rate_sem", StatisticsJsonNumber(g.failure_rate.sem)},
+      {"failure_rate_wilson_low", StatisticsJsonNumber(g.failure_wilson.low)},
+      {"failure_rate_wilson_high", StatisticsJsonNumber(g.failure_wilson.high)},
+      {"failure_rate_clopper_pearson_low", StatisticsJsonNumber(g.failure_clopper_pearson.low)},
+      {"failure_rate_clopper_pearson_high", StatisticsJsonNumber(g.failure_clopper_pearson.high)},
       {"failures_by_cause", causes},
       {"by_battery_fades", by_fades},
       {"failure_rate_by_cause", cause_rates},
-      {"completion_rate", Number(g.completion_rate.value)},
-      {"completion_rate_sem", Number(g.completion_rate.sem)},
-      {"completion_rate_wilson_low", Number(g.completion_wilson.low)},
-      {"completion_rate_wilson_high", Number(g.completion_wilson.high)},
-      {"completion_rate_clopper_pearson_low", Number(g.completion_clopper_pearson.low)},
-      {"completion_rate_clopper_pearson_high", Number(g.completion_clopper_pearson.high)},
-      {"emergency_landing_rate", Number(g.emergency_landing_rate.value)},
-      {"emergency_landing_rate_sem", Number(g.emergency_landing_rate.sem)},
-      {"termination_rate", Number(g.termination_rate.value)},
-      {"termination_rate_sem", Number(g.termination_rate.sem)},
-      {"grounded_rate", Number(g.grounded_rate.value)},
-      {"grounded_rate_sem", Number(g.grounded_rate.sem)},
-      {"off_site_landing_rate", Number(g.off_site_rate.value)},
-      {"off_site_landing_rate_sem", Number(g.off_site_rate.sem)},
-      {"other_outcome_rate", Number(g.other_rate.value)},
-      {"other_outcome_rate_sem", Number(g.other_rate.sem)},
-      {"average_reward", Number(g.average_reward.value)},
-      {"average_reward_sem", Number(g.average_reward.sem)},
-      {"min_reward", Number(g.min_reward.value)},
-      {"min_reward_sem", Number(g.min_reward.sem)},
+      {"completion_rate", StatisticsJsonNumber(g.completion_rate.value)},
+      {"completion_rate_sem", StatisticsJsonNumber(g.completion_rate.sem)},
+      {"completion_rate_wilson_low", StatisticsJsonNumber(g.completion_wilson.low)},
+      {"completion_rate_wilson_high", StatisticsJsonNumber(g.completion_wilson.high)},
+      {"completion_rate_clopper_pearson_low", StatisticsJsonNumber(g.completion_clopper_pearson.low)},
+      {"completion_rate_clopper_pearson_high", StatisticsJsonNumber(g.completion_clopper_pearson.high)},
+      {"emergency_landing_rate", StatisticsJsonNumber(g.emergency_landing_rate.value)},
+      {"emergency_landing_rate_sem", StatisticsJsonNumber(g.emergency_landing_rate.sem)},
+      {"termination_rate", StatisticsJsonNumber(g.termination_rate.value)},
+      {"termination_rate_sem", StatisticsJsonNumber(g.termination_rate.sem)},
+      {"grounded_rate", StatisticsJsonNumber(g.grounded_rate.value)},
+      {"grounded_rate_sem", StatisticsJsonNumber(g.grounded_rate.sem)},
+      {"off_site_landing_rate", StatisticsJsonNumber(g.off_site_rate.value)},
+      {"off_site_landing_rate_sem", StatisticsJsonNumber(g.off_site_rate.sem)},
+      {"other_outcome_rate", StatisticsJsonNumber(g.other_rate.value)},
+      {"other_outcome_rate_sem", StatisticsJsonNumber(g.other_rate.sem)},
+      {"average_reward", StatisticsJsonNumber(g.average_reward.value)},
+      {"average_reward_sem", StatisticsJsonNumber(g.average_reward.sem)},
+      {"min_reward", StatisticsJsonNumber(g.min_reward.value)},
+      {"min_reward_sem", StatisticsJsonNumber(g.min_reward.sem)},
   };
 }
 
@@ -384,9 +384,9 @@ nlohmann::json PairedJson(const std::vector<PairedComparison>& comparisons) {
                       {"neither_failed", c.neither_failed},
                       {"only_first_failed", c.test.only_first_failed},
                       {"only_second_failed", c.test.only_second_failed},
-                      {"mcnemar_exact_p", Number(c.test.exact_p)},
-                      {"mcnemar_chi_squared", Number(c.test.chi_squared)},
-                      {"mcnemar_chi_squared_p", Number(c.test.chi_squared_p)}});
+                      {"mcnemar_exact_p", StatisticsJsonNumber(c.test.exact_p)},
+                      {"mcnemar_chi_squared", StatisticsJsonNumber(c.test.chi_squared)},
+                      {"mcnemar_chi_squared_p", StatisticsJsonNumber(c.test.chi_squared_p)}});
   }
   return paired;
 }
@@ -430,7 +430,7 @@ std::string OutcomeRatesTable(const std::vector<GroupStatistics>& groups) {
     out += fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy,
                        g.battery_health, g.runs, Percent(g.failure_rate), Percent(g.completion_rate),
                        Percent(g.emergency_landing_rate), Percent(g.termination_rate), Percent(g.grounded_rate),
-                       Plain(g.average_reward), Plain(g.min_reward));
+                       PlainEstimateText(g.average_reward), PlainEstimateText(g.min_reward));
   }
   out += "Rates in % ± binomial SEM; rewards: per-flight mean and minimum of R(S,A) per 1 Hz epoch ± SEM.\n";
   return out;

@@ -298,7 +298,7 @@ bool CheckCampaignRow(sqlite::Database& db, ProblemList& problems, StoreCheckRes
 
 // 4. The policies, read as every reader reads them, into `header`, and the slot of each policy name. False
 // when the header cannot be read.
-bool CheckPolicies(sqlite::Database& db, ProblemList& problems, StoreCheckResult* result, CampaignHeader* header,
+bool CheckStoredPolicies(sqlite::Database& db, ProblemList& problems, StoreCheckResult* result, CampaignHeader* header,
                    std::map<std::string, int>* slots) {
   std::int64_t schema = 0;
   try {
@@ -369,7 +369,7 @@ void CheckDatabase(sqlite::Database& db, StoreCheckResult* result) {
   if (!CheckCampaignRow(db, problems, result)) return;
   CampaignHeader header;
   std::map<std::string, int> slots;
-  if (!CheckPolicies(db, problems, result, &header, &slots)) return;
+  if (!CheckStoredPolicies(db, problems, result, &header, &slots)) return;
   CheckHeader(header, problems);
   // 5. and 6. The flights and the claims.
   CheckFlightRows(db, header, slots, problems, result);

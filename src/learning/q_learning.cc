@@ -15,7 +15,7 @@
 namespace uascma::learning {
 namespace {
 
-double ProcessCpuSeconds() {
+double LearningProcessCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
@@ -157,7 +157,7 @@ QLearningResult RunQLearning(QTable initial, const EpisodeFunction& fly, const Q
   std::string error;
   if (!options.IsValid(&error)) throw InputError("q-learning", "options", error);
   const auto wall_start = std::chrono::steady_clock::now();
-  const double cpu_start = ProcessCpuSeconds();
+  const double cpu_start = LearningProcessCpuSeconds();
   QLearningResult result{std::move(initial), {}, QLearningStatus::kEpisodeLimit, 0, -1, 0, 0.0, 0.0};
   double return_total = 0.0;
   int stable = 0;
@@ -192,7 +192,7 @@ QLearningResult RunQLearning(QTable initial, const EpisodeFunction& fly, const Q
     }
   }
   result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  result.cpu_time_s = ProcessCpuSeconds() - cpu_start;
+  result.cpu_time_s = LearningProcessCpuSeconds() - cpu_start;
   return result;
 }
 

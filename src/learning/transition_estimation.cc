@@ -22,7 +22,7 @@ namespace {
 
 using decision::CmaAction;
 
-double ProcessCpuSeconds() {
+double EstimationProcessCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
@@ -110,7 +110,7 @@ decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationO
   std::string error;
   if (!options.IsValid(&error)) throw InputError("transitions", "options", error);
   const auto wall_start = std::chrono::steady_clock::now();
-  const double cpu_start = ProcessCpuSeconds();
+  const double cpu_start = EstimationProcessCpuSeconds();
   BehaviourPolicy();  // solved once before the threads start
   struct RunCounts {
     decision::CmaTransitionCounts counts;
@@ -139,7 +139,7 @@ decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationO
       });
   if (merged < options.runs) throw Cancelled();
   total.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  total.cpu_time_s = ProcessCpuSeconds() - cpu_start;
+  total.cpu_time_s = EstimationProcessCpuSeconds() - cpu_start;
   if (summary != nullptr) *summary = total;
   return counts;
 }

@@ -20,7 +20,7 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 // genuine singular values span about two decades (T row ~2.4, yaw row ~0.03), round-off ~1e-17.
 constexpr double kRankTolerance = 1e-9;
 
-bool PositiveFinite(double value) { return std::isfinite(value) && value > 0.0; }
+bool PositiveFiniteMixerInput(double value) { return std::isfinite(value) && value > 0.0; }
 
 void CheckRotor(int rotor, const char* field) {
   if (rotor < 1 || rotor > kRotorCount) {
@@ -65,9 +65,9 @@ bool MixerParams::IsValid(std::string* error) const {
     if (error != nullptr) *error = reason;
     return false;
   };
-  if (!PositiveFinite(arm_length)) return fail("arm_length must be > 0 m");
-  if (!PositiveFinite(yaw_torque_per_thrust)) return fail("yaw_torque_per_thrust must be > 0 m");
-  if (!PositiveFinite(max_rotor_thrust)) return fail("max_rotor_thrust must be > 0 N");
+  if (!PositiveFiniteMixerInput(arm_length)) return fail("arm_length must be > 0 m");
+  if (!PositiveFiniteMixerInput(yaw_torque_per_thrust)) return fail("yaw_torque_per_thrust must be > 0 m");
+  if (!PositiveFiniteMixerInput(max_rotor_thrust)) return fail("max_rotor_thrust must be > 0 N");
   return true;
 }
 
@@ -264,7 +264,7 @@ AllocationResult Mixer::Allocate(const BodyWrench& commanded, int failed_motor) 
 // --- control authority ---------------------------------------------------------------------------
 
 ControlAuthority CalcControlAuthority(const Mixer& mixer, int failed_motor, double mass) {
-  if (!PositiveFinite(mass)) {
+  if (!PositiveFiniteMixerInput(mass)) {
     throw InputError("control authority", "mass", fmt::format("a mass > 0 kg, got {}", mass));
   }
   ControlAuthority authority;

@@ -13,7 +13,7 @@ namespace {
 // The hexacopter has six identical propulsion units (§2.4.2); Table 2.2 is the sum of the six.
 constexpr double kRotorsPerVehicle = 6.0;
 
-bool PositiveFinite(double value) { return std::isfinite(value) && value > 0.0; }
+bool PositiveFinitePropulsionInput(double value) { return std::isfinite(value) && value > 0.0; }
 
 }  // namespace
 
@@ -36,7 +36,7 @@ std::array<StaticThrustMeasurement, 2> StaticThrustTable(PropellerConfiguration 
 }
 
 ElectricalPowerLaw FitPowerLaw(double thrust_1, double power_1, double thrust_2, double power_2) {
-  if (!(PositiveFinite(thrust_1) && PositiveFinite(power_1) && PositiveFinite(thrust_2) && PositiveFinite(power_2)) ||
+  if (!(PositiveFinitePropulsionInput(thrust_1) && PositiveFinitePropulsionInput(power_1) && PositiveFinitePropulsionInput(thrust_2) && PositiveFinitePropulsionInput(power_2)) ||
       thrust_1 == thrust_2) {
     throw InputError("FitPowerLaw", "points",
                      fmt::format("two points of positive thrust and power with distinct thrusts, got "
@@ -72,15 +72,15 @@ bool PropulsionParams::IsValid(std::string* error) const {
     if (error != nullptr) *error = reason;
     return false;
   };
-  if (!PositiveFinite(thrust_coefficient_n_per_rpm2)) return fail("thrust_coefficient_n_per_rpm2 must be > 0");
-  if (!PositiveFinite(torque_coefficient_nm_per_rpm2)) return fail("torque_coefficient_nm_per_rpm2 must be > 0");
-  if (!PositiveFinite(max_thrust)) return fail("max_thrust must be > 0 N");
-  if (!PositiveFinite(motor_time_constant)) return fail("motor_time_constant must be > 0 s");
-  if (!PositiveFinite(electrical_power.power_at_one_newton) || !PositiveFinite(electrical_power.exponent)) {
+  if (!PositiveFinitePropulsionInput(thrust_coefficient_n_per_rpm2)) return fail("thrust_coefficient_n_per_rpm2 must be > 0");
+  if (!PositiveFinitePropulsionInput(torque_coefficient_nm_per_rpm2)) return fail("torque_coefficient_nm_per_rpm2 must be > 0");
+  if (!PositiveFinitePropulsionInput(max_thrust)) return fail("max_thrust must be > 0 N");
+  if (!PositiveFinitePropulsionInput(motor_time_constant)) return fail("motor_time_constant must be > 0 s");
+  if (!PositiveFinitePropulsionInput(electrical_power.power_at_one_newton) || !PositiveFinitePropulsionInput(electrical_power.exponent)) {
     return fail("electrical_power: power_at_one_newton and exponent must be > 0");
   }
   const RpmEstimatorParams& rpm = rpm_estimator;
-  if (!PositiveFinite(rpm.throttle_std_us) || !PositiveFinite(rpm.power_std)) {
+  if (!PositiveFinitePropulsionInput(rpm.throttle_std_us) || !PositiveFinitePropulsionInput(rpm.power_std)) {
     return fail("rpm_estimator: the normalising standard deviations must be > 0");
   }
   if (!(rpm.min_throttle_us < rpm.max_throttle_us)) {
@@ -121,7 +121,7 @@ ElectricalPowerTable::ElectricalPowerTable(const PropulsionParams& params, int i
 }
 
 double CalcMotorCurrent(double electrical_power, double bus_voltage) {
-  if (!PositiveFinite(bus_voltage)) {
+  if (!PositiveFinitePropulsionInput(bus_voltage)) {
     throw InputError("CalcMotorCurrent", "bus_voltage", fmt::format("a voltage > 0 V, got {}", bus_voltage));
   }
   return electrical_power / bus_voltage;  // eq. 2.10
@@ -163,10 +163,10 @@ StaticThrustEstimate EstimateStaticThrust(const PropulsionParams& params, double
 }
 
 RotorSpeedLag::RotorSpeedLag(double time_constant, double step) : step_(step), decay_(0.0) {
-  if (!PositiveFinite(time_constant)) {
+  if (!PositiveFinitePropulsionInput(time_constant)) {
     throw InputError("RotorSpeedLag", "time_constant", fmt::format("a time constant > 0 s, got {}", time_constant));
   }
-  if (!PositiveFinite(step)) {
+  if (!PositiveFinitePropulsionInput(step)) {
     throw InputError("RotorSpeedLag", "step", fmt::format("a time step > 0 s, got {}", step));
   }
   // The exact solution of dω/dt = (ω_cmd − ω)/τ over Δt with ω_cmd constant:

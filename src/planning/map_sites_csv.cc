@@ -35,7 +35,7 @@ const std::array<ColumnSpec, kNumColumns>& Columns() {
   return columns;
 }
 
-std::string Lower(std::string_view text) {
+std::string LowerCsvHeader(std::string_view text) {
   std::string out(text);
   std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
   return out;
@@ -56,7 +56,7 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
   where.fill(-1);
   for (int c = 0; c < kNumColumns; ++c) {
     for (std::size_t f = 0; f < header.size() && where[c] < 0; ++f) {
-      const std::string name = Lower(header[f]);
+      const std::string name = LowerCsvHeader(header[f]);
       for (std::string_view alias : Columns()[c].aliases) {
         if (name == alias) where[c] = static_cast<int>(f);
       }

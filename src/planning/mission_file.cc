@@ -20,7 +20,7 @@ namespace {
 
 using mission_detail::kSamePlace;
 
-std::string Lower(std::string text) {
+std::string LowerExtension(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
   return text;
 }
@@ -101,7 +101,7 @@ std::string MavCommandName(int command) {
 }
 
 MissionFormat DetectMissionFormat(const std::filesystem::path& path) {
-  const std::string extension = Lower(path.extension().string());
+  const std::string extension = LowerExtension(path.extension().string());
   if (extension == ".plan") return MissionFormat::kQgcPlan;
   if (extension == ".waypoints" || extension == ".wpl" || extension == ".txt") return MissionFormat::kQgcWpl;
   throw InputError(path.string(), "extension", ".plan (QGroundControl JSON) or .waypoints / .wpl / .txt (QGC WPL 110)");

@@ -22,7 +22,7 @@ namespace {
 using internal::AddEvent;
 using internal::ThrustCap;
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kRulBeforePrognosis = std::numeric_limits<double>::infinity();
 // m/s: below this reference speed the plan is at rest and the whole position error counts as cross-track (ours).
 constexpr double kMovingReferenceSpeed = 0.1;
 
@@ -325,7 +325,7 @@ FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
       sc.options.hotel_current_a +
       6.0 * models::CalcElectricalPower(model.propulsion(), hover_thrust) / state.power.bus_voltage_v;
   state.power.load_current_a = state.power.pack_current_a;
-  state.decision.inputs.rul_s = kInfinity;
+  state.decision.inputs.rul_s = kRulBeforePrognosis;
   // The lowest cell voltage starts at the pack at rest (a flight that never takes off reports it; any step under
   // load reads lower).
   state.power.min_cell_voltage_v = model.pack().CalcOutputs(state.power.pack, 0.0).min_cell_voltage_v;

@@ -9,7 +9,7 @@
 namespace uascma::sim {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kUncappedAirspeed = std::numeric_limits<double>::infinity();
 constexpr double kMaxSearchAirspeed = 60.0;  // m/s: beyond the drag table's use (Table 4.4 cruises at 1-9 m/s)
 // m: a move shorter than this horizontally is vertical (take-off, landing): its horizontal speed is not capped.
 constexpr double kVerticalMove = 0.5;
@@ -31,7 +31,7 @@ double LevelTilt(const models::RigidBodyParams& body, const models::DragTable& d
 }  // namespace
 
 double CalcMaxLevelAirspeed(const models::RigidBodyParams& body, const models::DragTable& drag, double max_tilt) {
-  if (LevelTilt(body, drag, kMaxSearchAirspeed) <= max_tilt) return kInfinity;
+  if (LevelTilt(body, drag, kMaxSearchAirspeed) <= max_tilt) return kUncappedAirspeed;
   double low = 0.0, high = kMaxSearchAirspeed;
   while (high - low > 1e-6) {
     const double mid = 0.5 * (low + high);

@@ -103,7 +103,6 @@ std::int64_t ParallelFor(std::int64_t count, const ParallelOptions& options, Job
 // ParallelFor collecting the results in job order. Throws Cancelled when cancelled before every job ran.
 template <typename Job>
 auto ParallelMap(std::int64_t count, const ParallelOptions& options, Job&& job) {
-  constexpr bool kTakesStop = std::is_invocable_v<Job&, std::int64_t, const CancellationToken&>;
   using Result = internal::JobResult<Job>;
   std::vector<Result> results;
   results.reserve(static_cast<std::size_t>(count > 0 ? count : 0));
