@@ -32,7 +32,9 @@ double Mean(const std::vector<double>& values) {
   return sum / static_cast<double>(values.size());
 }
 
-nlohmann::json EvaluationJsonNumber(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+nlohmann::json EvaluationJsonNumber(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
 
 BatteryPolicyFlight SummarisePolicyFlight(const BatteryFlightResult& result) {
   BatteryPolicyFlight flight;
@@ -70,19 +72,20 @@ BatteryPolicySummary SummariseFlights(const std::string& label,
 }
 
 nlohmann::json SummaryJson(const BatteryPolicySummary& s) {
-  return {{"policy", s.label},
-          {"runs", s.runs},
-          {"completions", s.completions},
-          {"failures", s.failures},
-          {"completion_rate",
-           s.runs > 0 ? EvaluationJsonNumber(static_cast<double>(s.completions) / static_cast<double>(s.runs)) : nullptr},
-          {"completion_wilson_low", EvaluationJsonNumber(s.completion_wilson.low)},
-          {"completion_wilson_high", EvaluationJsonNumber(s.completion_wilson.high)},
-          {"median_failure_time_s", EvaluationJsonNumber(s.median_failure_time_s)},
-          {"mean_charge_left_ah_completed", EvaluationJsonNumber(s.mean_charge_left_ah)},
-          {"median_switches", EvaluationJsonNumber(s.median_switches)},
-          {"mean_switches", EvaluationJsonNumber(s.mean_switches)},
-          {"max_switches", s.max_switches}};
+  return {
+      {"policy", s.label},
+      {"runs", s.runs},
+      {"completions", s.completions},
+      {"failures", s.failures},
+      {"completion_rate",
+       s.runs > 0 ? EvaluationJsonNumber(static_cast<double>(s.completions) / static_cast<double>(s.runs)) : nullptr},
+      {"completion_wilson_low", EvaluationJsonNumber(s.completion_wilson.low)},
+      {"completion_wilson_high", EvaluationJsonNumber(s.completion_wilson.high)},
+      {"median_failure_time_s", EvaluationJsonNumber(s.median_failure_time_s)},
+      {"mean_charge_left_ah_completed", EvaluationJsonNumber(s.mean_charge_left_ah)},
+      {"median_switches", EvaluationJsonNumber(s.median_switches)},
+      {"mean_switches", EvaluationJsonNumber(s.mean_switches)},
+      {"max_switches", s.max_switches}};
 }
 
 }  // namespace
@@ -92,14 +95,15 @@ namespace {
 
 // Run r: its flight drawn from Table 4.4, flown by every policy together (the same params value; each result
 // bit-identical to the flight flown alone).
-BatteryEvaluationRun FlyEvaluationRun(const std::vector<BatteryPolicySpec>& policies, const BatteryEvaluationOptions& options,
-                            std::int64_t r) {
+BatteryEvaluationRun FlyEvaluationRun(const std::vector<BatteryPolicySpec>& policies,
+                                      const BatteryEvaluationOptions& options, std::int64_t r) {
   BatteryEvaluationRun run;
   run.run = r;
   run.params = SampleBatteryFlight(options.ranges, options.seed, r);
   std::vector<BatteryFlightController> controllers;
   for (const auto& p : policies) controllers.push_back(MakeBatteryController(p, run.params.context()));
-  for (const auto& result : FlyBatteryFlights(run.params, controllers)) run.flights.push_back(SummarisePolicyFlight(result));
+  for (const auto& result : FlyBatteryFlights(run.params, controllers))
+    run.flights.push_back(SummarisePolicyFlight(result));
   return run;
 }
 

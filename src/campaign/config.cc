@@ -35,14 +35,16 @@ bool CheckName(const CampaignConfig& c, std::string* error) {
 bool CheckConfigPolicies(const CampaignConfig& c, std::string* error) {
   if (c.policies.empty()) return Fail(error, "policies: expected at least one policy");
   for (const auto& policy : c.policies) {
-    if (policy.empty() || !IsPlainYamlScalar(policy)) return Fail(error, "policies: expected names or paths without quotes");
+    if (policy.empty() || !IsPlainYamlScalar(policy))
+      return Fail(error, "policies: expected names or paths without quotes");
   }
   return true;
 }
 
 bool CheckBuildings(const CampaignConfig& c, std::string* error) {
   for (const auto& file : c.map.buildings) {
-    if (file.empty() || !IsPlainYamlScalar(file)) return Fail(error, "map.buildings: expected file paths without quotes");
+    if (file.empty() || !IsPlainYamlScalar(file))
+      return Fail(error, "map.buildings: expected file paths without quotes");
   }
   return true;
 }

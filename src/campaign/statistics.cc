@@ -19,7 +19,9 @@ namespace {
 
 constexpr double kStatisticsNaN = std::numeric_limits<double>::quiet_NaN();
 
-nlohmann::json StatisticsJsonNumber(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+nlohmann::json StatisticsJsonNumber(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
 
 void RequireCounts(std::int64_t successes, std::int64_t trials, const char* what) {
   if (trials < 0 || successes < 0 || successes > trials) {

@@ -299,7 +299,7 @@ bool CheckCampaignRow(sqlite::Database& db, ProblemList& problems, StoreCheckRes
 // 4. The policies, read as every reader reads them, into `header`, and the slot of each policy name. False
 // when the header cannot be read.
 bool CheckStoredPolicies(sqlite::Database& db, ProblemList& problems, StoreCheckResult* result, CampaignHeader* header,
-                   std::map<std::string, int>* slots) {
+                         std::map<std::string, int>* slots) {
   std::int64_t schema = 0;
   try {
     *header = ReadHeader(db, &schema);

@@ -36,7 +36,8 @@ std::array<StaticThrustMeasurement, 2> StaticThrustTable(PropellerConfiguration 
 }
 
 ElectricalPowerLaw FitPowerLaw(double thrust_1, double power_1, double thrust_2, double power_2) {
-  if (!(PositiveFinitePropulsionInput(thrust_1) && PositiveFinitePropulsionInput(power_1) && PositiveFinitePropulsionInput(thrust_2) && PositiveFinitePropulsionInput(power_2)) ||
+  if (!(PositiveFinitePropulsionInput(thrust_1) && PositiveFinitePropulsionInput(power_1) &&
+        PositiveFinitePropulsionInput(thrust_2) && PositiveFinitePropulsionInput(power_2)) ||
       thrust_1 == thrust_2) {
     throw InputError("FitPowerLaw", "points",
                      fmt::format("two points of positive thrust and power with distinct thrusts, got "
@@ -72,11 +73,14 @@ bool PropulsionParams::IsValid(std::string* error) const {
     if (error != nullptr) *error = reason;
     return false;
   };
-  if (!PositiveFinitePropulsionInput(thrust_coefficient_n_per_rpm2)) return fail("thrust_coefficient_n_per_rpm2 must be > 0");
-  if (!PositiveFinitePropulsionInput(torque_coefficient_nm_per_rpm2)) return fail("torque_coefficient_nm_per_rpm2 must be > 0");
+  if (!PositiveFinitePropulsionInput(thrust_coefficient_n_per_rpm2))
+    return fail("thrust_coefficient_n_per_rpm2 must be > 0");
+  if (!PositiveFinitePropulsionInput(torque_coefficient_nm_per_rpm2))
+    return fail("torque_coefficient_nm_per_rpm2 must be > 0");
   if (!PositiveFinitePropulsionInput(max_thrust)) return fail("max_thrust must be > 0 N");
   if (!PositiveFinitePropulsionInput(motor_time_constant)) return fail("motor_time_constant must be > 0 s");
-  if (!PositiveFinitePropulsionInput(electrical_power.power_at_one_newton) || !PositiveFinitePropulsionInput(electrical_power.exponent)) {
+  if (!PositiveFinitePropulsionInput(electrical_power.power_at_one_newton) ||
+      !PositiveFinitePropulsionInput(electrical_power.exponent)) {
     return fail("electrical_power: power_at_one_newton and exponent must be > 0");
   }
   const RpmEstimatorParams& rpm = rpm_estimator;

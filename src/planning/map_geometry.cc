@@ -8,7 +8,9 @@ namespace uascma::planning {
 namespace {
 
 // z-component of the cross product of two horizontal vectors.
-inline double SegmentCross2d(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
+inline double SegmentCross2d(const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+  return u.x() * v.y() - u.y() * v.x();
+}
 
 // The smallest s in [0, 1] at which p(s) = p + s r meets the closed edge a → b, or +∞.
 //
