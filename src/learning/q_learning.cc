@@ -1,7 +1,5 @@
 #include "uascma/learning/q_learning.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,17 +7,12 @@
 
 #include <fmt/format.h>
 
+#include "uascma/common/cpu_time.h"
 #include "uascma/common/error.h"
 #include "uascma/common/parallel_for.h"
 
 namespace uascma::learning {
 namespace {
-
-double LearningProcessCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 // Flies episodes [first, first + count) against `snapshot` on `jobs` threads; episodes[k] is episode first + k.
 // Throws Cancelled when the work is stopped (common/cancellation.h) before every episode flew.
@@ -157,7 +150,7 @@ QLearningResult RunQLearning(QTable initial, const EpisodeFunction& fly, const Q
   std::string error;
   if (!options.IsValid(&error)) throw InputError("q-learning", "options", error);
   const auto wall_start = std::chrono::steady_clock::now();
-  const double cpu_start = LearningProcessCpuSeconds();
+  const double cpu_start = ProcessCpuSeconds();
   QLearningResult result{std::move(initial), {}, QLearningStatus::kEpisodeLimit, 0, -1, 0, 0.0, 0.0};
   double return_total = 0.0;
   int stable = 0;
@@ -192,7 +185,7 @@ QLearningResult RunQLearning(QTable initial, const EpisodeFunction& fly, const Q
     }
   }
   result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  result.cpu_time_s = LearningProcessCpuSeconds() - cpu_start;
+  result.cpu_time_s = ProcessCpuSeconds() - cpu_start;
   return result;
 }
 

@@ -1,7 +1,5 @@
 #include "uascma/learning/transition_estimation.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <memory>
@@ -10,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "uascma/campaign/sampler.h"
+#include "uascma/common/cpu_time.h"
 #include "uascma/common/error.h"
 #include "uascma/common/parallel_for.h"
 #include "uascma/decision/cma_abstraction.h"
@@ -21,12 +20,6 @@ namespace uascma::learning {
 namespace {
 
 using decision::CmaAction;
-
-double EstimationProcessCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 const decision::Policy& BehaviourPolicy() {
   static const decision::Policy policy = decision::SolveDefaultCmaPolicy();
@@ -110,7 +103,7 @@ decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationO
   std::string error;
   if (!options.IsValid(&error)) throw InputError("transitions", "options", error);
   const auto wall_start = std::chrono::steady_clock::now();
-  const double cpu_start = EstimationProcessCpuSeconds();
+  const double cpu_start = ProcessCpuSeconds();
   BehaviourPolicy();  // solved once before the threads start
   struct RunCounts {
     decision::CmaTransitionCounts counts;
@@ -139,7 +132,7 @@ decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationO
       });
   if (merged < options.runs) throw Cancelled();
   total.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  total.cpu_time_s = EstimationProcessCpuSeconds() - cpu_start;
+  total.cpu_time_s = ProcessCpuSeconds() - cpu_start;
   if (summary != nullptr) *summary = total;
   return counts;
 }

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "uascma/campaign/statistics.h"
+#include "uascma/common/cpu_time.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/reproduce/reproduce.h"
@@ -102,8 +102,6 @@ nlohmann::json QuantityJson(const Quantity& q) {
   j["theirs"] = q.theirs ? nlohmann::json(*q.theirs) : nlohmann::json(nullptr);
   return j;
 }
-
-double ProcessCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 }  // namespace
 
