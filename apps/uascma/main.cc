@@ -84,13 +84,11 @@ std::unique_ptr<CLI::App> ParseWithNamedCommand(int argc, char** argv, int& exit
   return app;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  uascma::cli::ContinueInMpiLauncher(argv);  // under mpirun: uascma-mpi, the tool with MPI
+// The message and exit code of an error that ends the tool, written in this one place: bad input 2, anything
+// else 1 (an internal error).
+int ExitCodeOfError(const std::exception_ptr& error) {
   try {
-    int exit_code = 0;
-    if (ParseWithNamedCommand(argc, argv, exit_code) != nullptr) return exit_code;
+    std::rethrow_exception(error);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "uascma: error: %s (see 'uascma --help')\n", e.what());
     return 2;
@@ -100,6 +98,18 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "uascma: internal error: %s\n", e.what());
     return 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  uascma::cli::ContinueInMpiLauncher(argv);  // under mpirun: uascma-mpi, the tool with MPI
+  try {
+    int exit_code = 0;
+    if (ParseWithNamedCommand(argc, argv, exit_code) != nullptr) return exit_code;
+  } catch (...) {
+    return ExitCodeOfError(std::current_exception());
   }
   const std::unique_ptr<CLI::App> app_ptr = MakeApp({});
   CLI::App& app = *app_ptr;
@@ -112,15 +122,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "uascma: error: %s (see 'uascma --help')\n", e.what());
-    return 2;
-  } catch (const uascma::InputError& e) {
-    std::fprintf(stderr, "uascma: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "uascma: internal error: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return ExitCodeOfError(std::current_exception());
   }
   return 0;
 }
