@@ -1,6 +1,7 @@
 #include "uascma/planning/landing_detour.h"
 
 #include "uascma/planning/flight_plan.h"
+#include "uascma/planning/map_geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +13,6 @@
 
 namespace uascma::planning {
 namespace {
-
-double DetourCross2d(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
 
 // The convex hull of the points, counter-clockwise, collinear and repeated points dropped (Andrew's monotone
 // chain: sort, then build the lower and upper chains keeping only left turns).
@@ -27,12 +26,12 @@ std::vector<Eigen::Vector2d> ConvexHull(std::span<const Eigen::Vector2d> points)
   std::vector<Eigen::Vector2d> hull(2 * sorted.size());
   std::size_t k = 0;
   for (const auto& p : sorted) {  // lower chain
-    while (k >= 2 && DetourCross2d(hull[k - 1] - hull[k - 2], p - hull[k - 2]) <= 0.0) --k;
+    while (k >= 2 && Cross2d(hull[k - 1] - hull[k - 2], p - hull[k - 2]) <= 0.0) --k;
     hull[k++] = p;
   }
   const std::size_t lower = k + 1;
   for (auto it = sorted.rbegin() + 1; it != sorted.rend(); ++it) {  // upper chain
-    while (k >= lower && DetourCross2d(hull[k - 1] - hull[k - 2], *it - hull[k - 2]) <= 0.0) --k;
+    while (k >= lower && Cross2d(hull[k - 1] - hull[k - 2], *it - hull[k - 2]) <= 0.0) --k;
     hull[k++] = *it;
   }
   hull.resize(k - 1);  // the last point repeats the first
@@ -137,7 +136,7 @@ ConvexObstacle MakeInflatedHull(std::span<const Eigen::Vector2d> points, double 
     const Eigen::Vector2d n_in = Eigen::Vector2d(e_in.y(), -e_in.x()).normalized();
     const Eigen::Vector2d n_out = Eigen::Vector2d(e_out.y(), -e_out.x()).normalized();
     const double theta_in = std::atan2(n_in.y(), n_in.x());
-    const double phi = std::atan2(DetourCross2d(n_in, n_out), n_in.dot(n_out));  // (0, π) on a convex ccw hull
+    const double phi = std::atan2(Cross2d(n_in, n_out), n_in.dot(n_out));  // (0, π) on a convex ccw hull
     const int pieces = std::max(1, static_cast<int>(std::ceil(phi / (0.5 * std::numbers::pi) - 1e-12)));
     const double step = phi / pieces;
     const double reach = margin / std::cos(0.5 * step);

@@ -7,11 +7,6 @@
 namespace uascma::planning {
 namespace {
 
-// z-component of the cross product of two horizontal vectors.
-inline double SegmentCross2d(const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
-  return u.x() * v.y() - u.y() * v.x();
-}
-
 // The smallest s in [0, 1] at which p(s) = p + s r meets the closed edge a → b, or +∞.
 //
 // Write the edge as a + u e, u in [0, 1]. Where the lines are not parallel, p + s r = a + u e gives
@@ -22,9 +17,9 @@ inline double FirstMeeting(const Eigen::Vector2d& p, const Eigen::Vector2d& r, c
   constexpr double kNever = std::numeric_limits<double>::infinity();
   const Eigen::Vector2d e = edge.b_NE - edge.a_NE;
   const Eigen::Vector2d w = edge.a_NE - p;
-  const double denominator = SegmentCross2d(r, e);
-  const double s_numerator = SegmentCross2d(w, e);
-  const double u_numerator = SegmentCross2d(w, r);
+  const double denominator = Cross2d(r, e);
+  const double s_numerator = Cross2d(w, e);
+  const double u_numerator = Cross2d(w, r);
   if (denominator != 0.0) {
     // s and u in [0, 1] without dividing first: both numerators have the sign of the denominator and no
     // larger magnitude.
@@ -43,7 +38,7 @@ inline double FirstMeeting(const Eigen::Vector2d& p, const Eigen::Vector2d& r, c
     // The segment is a point: does it lie on the edge? (collinearity is already established when e ≠ 0)
     const double ee = e.squaredNorm();
     if (ee == 0.0) return w.squaredNorm() == 0.0 ? 0.0 : kNever;
-    if (SegmentCross2d(w, e) != 0.0) return kNever;
+    if (Cross2d(w, e) != 0.0) return kNever;
     const double u = -w.dot(e) / ee;
     return (u >= 0.0 && u <= 1.0) ? 0.0 : kNever;
   }
@@ -96,7 +91,7 @@ std::vector<Edge2> EdgesOfRings(const std::vector<Ring>& rings) {
 
 double TwiceSignedArea(const Ring& ring) {
   double sum = 0.0;
-  for (std::size_t i = 0; i < ring.size(); ++i) sum += SegmentCross2d(ring[i], ring[(i + 1) % ring.size()]);
+  for (std::size_t i = 0; i < ring.size(); ++i) sum += Cross2d(ring[i], ring[(i + 1) % ring.size()]);
   return sum;
 }
 

@@ -24,6 +24,9 @@ namespace uascma::planning {
 
 using Ring = std::vector<Eigen::Vector2d>;  // vertices p_NE, m; closed implicitly (last → first)
 
+// The z component of the cross product u × v of two plane vectors (m² for vectors in m): > 0 when v turns left of u.
+inline double Cross2d(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
+
 // One straight edge of an outline, from a_NE to b_NE (m).
 struct Edge2 {
   Eigen::Vector2d a_NE = Eigen::Vector2d::Zero();
