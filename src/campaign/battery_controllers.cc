@@ -111,7 +111,7 @@ BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, con
       out.observe_pair_eod = true;
       out.controller = [executor](double, const decision::BatteryObservation& observation, StateIndex s) {
         if (const auto guard = OursImminentFailureGuard(observation)) return *guard;
-        return executor->Decide(s);
+        return OursDropCheck(executor->Decide(s), observation, executor->thresholds());
       };
       break;
     }
@@ -149,6 +149,21 @@ std::optional<PackAction> OursImminentFailureGuard(const decision::BatteryObserv
     return limiting == 0 ? PackAction::kUseBatt2 : PackAction::kUseBatt1;
   }
   return std::nullopt;
+}
+
+PackAction OursDropCheck(PackAction table_action, const decision::BatteryObservation& observation,
+                         const decision::BatteryThresholds& thresholds) {
+  if (!(observation.switch_on[0] && observation.switch_on[1]) || table_action == PackAction::kUseBoth) {
+    return table_action;
+  }
+  const int k = table_action == PackAction::kUseBatt1 ? 0 : 1;
+  const double eod_s = observation.alone_power_eod_s[k];
+  const double min_cell_v = observation.alone_power_min_cell_voltage_v[k];
+  if (std::isnan(eod_s) || std::isnan(min_cell_v)) return PackAction::kUseBoth;  // not observed: no evidence
+  const bool can_finish = decision::ClassifyEnergy(eod_s, observation.remaining_flight_s,
+                                                   observation.safety_margin_s) == decision::EnergyState::kS1;
+  const bool above_critical = decision::ClassifyVoltage(min_cell_v, thresholds) == decision::VoltageState::kC0;
+  return can_finish && above_critical ? table_action : PackAction::kUseBoth;
 }
 
 std::string SwitchSchedule::Describe() const {

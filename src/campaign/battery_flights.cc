@@ -150,6 +150,10 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
           prognostics::CalcPackEod(model.pack(), state.power.pack, state.power.load_current_a);
       observation.pair_eod_s = pair.eod_s;
       observation.pair_limiting_branch = pair.limiting_branch;
+      // Ours' drop check reads it only while both packs are in (a dropped pack stays dropped).
+      if (state.power.pack.branch_on[0] && state.power.pack.branch_on[1]) {
+        decision::ObserveAloneAtPower(model.pack(), state.power.pack, state.power.load_current_a, observation);
+      }
     }
     const double remaining_s = observation.remaining_flight_s;
     const StateIndex s = decision::AbstractBatteryState(observation, thresholds_);

@@ -1,6 +1,7 @@
 #include "uascma/decision/battery_abstraction.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace uascma::decision {
@@ -66,6 +67,44 @@ BatteryObservation ObserveBattery(const models::BatteryPack& pack, const models:
     observation.actual_min_cell_voltage_v[j] = min_actual_v;
   }
   return observation;
+}
+
+namespace {
+
+// The current at which `alone` carries `power_w` on its own bus (I·V(I) = P); +inf when it cannot.
+double CurrentAtPower(const models::BatteryPack& pack, const models::PackState& alone, double power_w, double start_a) {
+  double current_a = start_a;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const double bus_v = pack.CalcSplit(alone, current_a).bus_voltage_v;
+    if (!(bus_v > 0.0)) break;
+    const double next_a = power_w / bus_v;
+    if (std::abs(next_a - current_a) < 1e-9) return next_a;
+    current_a = next_a;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+void ObserveAloneAtPower(const models::BatteryPack& pack, const models::PackState& state, double total_current_a,
+                         BatteryObservation& observation, const prognostics::EodOptions& eod_options) {
+  const double power_w = total_current_a * pack.CalcSplit(state, total_current_a).bus_voltage_v;
+  for (int j = 0; j < models::kBranchCount; ++j) {
+    models::PackState alone = state;
+    alone.branch_on = {j == 0, j == 1};
+    const double current_a = CurrentAtPower(pack, alone, power_w, total_current_a);
+    observation.alone_power_current_a[j] = current_a;
+    if (!std::isfinite(current_a)) {
+      observation.alone_power_eod_s[j] = 0.0;
+      observation.alone_power_min_cell_voltage_v[j] = 0.0;
+      continue;
+    }
+    observation.alone_power_eod_s[j] = prognostics::CalcPackEod(pack, alone, current_a, eod_options).eod_s;
+    const models::PackOutputs loaded = pack.CalcOutputs(alone, current_a);
+    double min_v = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < models::kCellsPerBranch; ++c) min_v = std::min(min_v, loaded.cell_voltage_v[j][c]);
+    observation.alone_power_min_cell_voltage_v[j] = min_v;
+  }
 }
 
 }  // namespace uascma::decision

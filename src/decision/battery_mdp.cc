@@ -241,7 +241,8 @@ bool OursOffers(const BatteryFeatures& f, PackAction action) {
   if (!both_on) return action == HoldSwitchesAction(f);  // item 6: a dropped pack stays dropped
   if (action == PackAction::kUseBoth) return true;
   const int k = action == PackAction::kUseBatt1 ? 0 : 1;
-  return f.pack[k].energy == EnergyState::kS1;  // item 7: only onto a pack that can finish alone with t_sf (S1)
+  // Item 7: only onto a pack that can finish alone with t_sf (S1) and is not critical alone (C0).
+  return f.pack[k].energy == EnergyState::kS1 && f.pack[k].voltage == VoltageState::kC0;
 }
 
 }  // namespace uascma::decision

@@ -122,6 +122,26 @@ TEST(BatteryEvaluationTest, TheGuardDropsTheLimitingPackOnlyWhenFailureIsImminen
   EXPECT_FALSE(OursImminentFailureGuard(unobserved).has_value());
 }
 
+TEST(BatteryEvaluationTest, TheDropCheckKeepsATableDropOnlyOntoAPackThatCanCarryThePowerAlone) {
+  decision::BatteryObservation o;
+  o.safety_margin_s = 5.0;
+  o.remaining_flight_s = 100.0;
+  o.alone_power_eod_s = {120.0, 90.0};              // pack 1 alone: S1 (> 105 s); pack 2: S3
+  o.alone_power_min_cell_voltage_v = {3.45, 3.60};  // pack 1 above 3.4 V (C0)
+  EXPECT_EQ(OursDropCheck(PackAction::kUseBatt1, o), PackAction::kUseBatt1);
+  EXPECT_EQ(OursDropCheck(PackAction::kUseBatt2, o), PackAction::kUseBoth);  // pack 2 cannot finish alone
+  o.alone_power_min_cell_voltage_v[0] = 3.39;                                // C1: critical alone
+  EXPECT_EQ(OursDropCheck(PackAction::kUseBatt1, o), PackAction::kUseBoth);
+  o.alone_power_min_cell_voltage_v[0] = 3.45;
+  o.alone_power_eod_s[0] = 104.0;  // S2: inside t_sf
+  EXPECT_EQ(OursDropCheck(PackAction::kUseBatt1, o), PackAction::kUseBoth);
+  EXPECT_EQ(OursDropCheck(PackAction::kUseBoth, o), PackAction::kUseBoth);
+  o.switch_on = {true, false};  // already one pack: the table's choice stands (item 6 keeps it)
+  EXPECT_EQ(OursDropCheck(PackAction::kUseBatt1, o), PackAction::kUseBatt1);
+  decision::BatteryObservation unobserved;  // not requested: NaN, no evidence for a drop
+  EXPECT_EQ(OursDropCheck(PackAction::kUseBatt1, unobserved), PackAction::kUseBoth);
+}
+
 TEST(BatteryEvaluationTest, TheRuleDropsAPackForGoodAndNeverBoth) {
   BatteryPolicySpec rule;
   rule.kind = BatteryPolicyKind::kVoltageRule;

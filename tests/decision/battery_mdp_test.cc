@@ -179,6 +179,53 @@ TEST(BatteryAbstraction, PackFeaturesAreWhatEachPackDoesAloneAndDoNotJumpAtASwit
   EXPECT_FALSE(o1.switch_on[1]);
 }
 
+TEST(BatteryAbstraction, EachPackAloneCarriesThePresentPowerAtTheClosedFormCurrent) {
+  models::PerCell<models::CellHealth> health{};
+  for (auto& cell : health[1]) cell = models::CellHealthForClass(HealthClass::kP);
+  const models::BatteryPack pack(models::MakePackParams(health));
+  const double current_a = 20.0;
+  const models::PackState both = pack.MakeRestingState(3.8, PackAction::kUseBoth);
+  BatteryObservation o = ObserveBattery(pack, both, current_a, 600.0, 5.0);
+  ObserveAloneAtPower(pack, both, current_a, o);
+  const double power_w = current_a * pack.CalcSplit(both, current_a).bus_voltage_v;
+  for (int j = 0; j < 2; ++j) {
+    // One branch alone: V(I) = OCV_j − R_j I (eqs. 3.6-3.7), so I·V(I) = P has the smaller root
+    // I = (OCV − sqrt(OCV² − 4 R P)) / (2 R); the iteration must land on it.
+    models::PackState alone = both;
+    alone.branch_on = {j == 0, j == 1};
+    const double ocv_v = pack.CalcBranchOcv(both, j);
+    const double r_ohm = (ocv_v - pack.CalcSplit(alone, 1.0).bus_voltage_v) / 1.0;
+    const double closed_a = (ocv_v - std::sqrt(ocv_v * ocv_v - 4.0 * r_ohm * power_w)) / (2.0 * r_ohm);
+    EXPECT_NEAR(o.alone_power_current_a[j], closed_a, 1e-8);  // A
+    EXPECT_GT(o.alone_power_current_a[j], current_a);         // one pack's bus sags more than the pair's
+    // The EOD at the closed-form current: within the EOD's own root tolerance (EodOptions, 1e-6 s).
+    EXPECT_NEAR(o.alone_power_eod_s[j], prognostics::CalcPackEod(pack, alone, closed_a).eod_s, 1e-6);
+    EXPECT_LT(o.alone_power_eod_s[j], o.eod_s[j]);  // more current, less time
+    EXPECT_LT(o.alone_power_min_cell_voltage_v[j], o.min_cell_voltage_v[j]);
+  }
+  // With only pack 1 in, pack 1 alone is the present bus: the same current.
+  const models::PackState one = pack.MakeRestingState(3.8, PackAction::kUseBatt1);
+  BatteryObservation o1 = ObserveBattery(pack, one, current_a, 600.0, 5.0);
+  ObserveAloneAtPower(pack, one, current_a, o1);
+  EXPECT_NEAR(o1.alone_power_current_a[0], current_a, 1e-8);
+  // 120 A: the pair carries ~1.2 kW, beyond what the faded pack 2 can alone (OCV²/4R ≈ 1 kW): +inf, EOD 0.
+  BatteryObservation o2 = ObserveBattery(pack, both, 120.0, 600.0, 5.0);
+  ObserveAloneAtPower(pack, both, 120.0, o2);
+  EXPECT_TRUE(std::isfinite(o2.alone_power_current_a[0]));
+  EXPECT_TRUE(std::isinf(o2.alone_power_current_a[1]));
+  EXPECT_EQ(o2.alone_power_eod_s[1], 0.0);
+}
+
+TEST(BatteryOursTest, OffersOnePackAloneOnlyWhenItCanFinishAndIsNotCritical) {
+  const PackFeatures s1c0{true, EnergyState::kS1, VoltageState::kC0};
+  const PackFeatures s1c1{true, EnergyState::kS1, VoltageState::kC1};
+  const PackFeatures s2c0{true, EnergyState::kS2, VoltageState::kC0};
+  EXPECT_TRUE(OursOffers(Features(CurrentLevel::kLow, s1c0, s1c1), PackAction::kUseBatt1));
+  EXPECT_FALSE(OursOffers(Features(CurrentLevel::kLow, s1c0, s1c1), PackAction::kUseBatt2));  // C1: critical
+  EXPECT_FALSE(OursOffers(Features(CurrentLevel::kLow, s2c0, s1c0), PackAction::kUseBatt1));  // S2: in the margin
+  EXPECT_TRUE(OursOffers(Features(CurrentLevel::kLow, s2c0, s1c1), PackAction::kUseBoth));
+}
+
 // --- rewards (eqs. 4.1–4.9, decisions item 22) --------------------------------------------------------
 TEST(BatteryRewards, MatchHandComputedValues) {
   const BatteryRewardWeights w{0.5, 0.3, 0.2};

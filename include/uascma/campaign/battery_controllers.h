@@ -51,6 +51,14 @@ BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, con
 // dropping at 725-737 s completes, at 710-720 s fails, all one abstract state). Empty: the MDP decides.
 std::optional<models::PackAction> OursImminentFailureGuard(const decision::BatteryObservation& observation);
 
+// Ours' drop check (issue 24, item 9): with both packs in, the table's UseBatt_k stands only when pack k alone,
+// drawing the present bus power (BatteryObservation::alone_power_*), is still S1 and C0 (Table 4.1: its EOD covers
+// the rest of the plan and t_sf; its worst cell is at or above the 3.4 V critical voltage); otherwise UseBoth. Why:
+// the table's features read each pack alone at the present current, but the load is a power: alone, a pack holds a
+// lower bus voltage and draws more (measured in the README). Any other action passes unchanged.
+models::PackAction OursDropCheck(models::PackAction table_action, const decision::BatteryObservation& observation,
+                                 const decision::BatteryThresholds& thresholds = {});
+
 // A fixed schedule: `steps` (time from, action), the first at 0 s.
 struct SwitchSchedule {
   std::vector<std::pair<double, models::PackAction>> steps;

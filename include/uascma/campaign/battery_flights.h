@@ -136,7 +136,9 @@ BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, models::
 struct BatteryFlightController {
   models::PackAction initial_switches = models::PackAction::kUseBoth;
   BatterySwitchController controller;
-  bool observe_pair_eod = false;  // fill BatteryObservation::pair_eod_s at every epoch (one more EOD propagation)
+  // Fill BatteryObservation::pair_eod_s at every epoch (one more EOD propagation) and, while both packs are in,
+  // its alone_power_* fields (decision::ObserveAloneAtPower: two more): what ours' guard and drop check read.
+  bool observe_pair_eod = false;
 };
 // One flight with a controller of the kind FlyBatteryFlights takes (its pair-EOD request kept).
 BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, const BatteryFlightController& flight,

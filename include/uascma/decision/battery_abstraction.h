@@ -43,6 +43,13 @@ struct BatteryObservation {
   // imminent-failure guard); NaN otherwise.
   double pair_eod_s = std::numeric_limits<double>::quiet_NaN();
   int pair_limiting_branch = -1;
+  // Each pack alone drawing the present bus POWER rather than the present current (ObserveAloneAtPower): the
+  // vehicle's load is a power, and one pack alone holds a lower bus voltage than the pair, so it draws more
+  // current. That current, the pack's EOD at it and its worst cell under it. Filled with pair_eod_s; NaN otherwise.
+  models::PerBranch<double> alone_power_current_a = {std::numeric_limits<double>::quiet_NaN(),
+                                                     std::numeric_limits<double>::quiet_NaN()};
+  models::PerBranch<double> alone_power_eod_s = alone_power_current_a;
+  models::PerBranch<double> alone_power_min_cell_voltage_v = alone_power_current_a;
 };
 
 // The abstract state of an observation (pure: Table 4.1 and the thresholds above).
@@ -64,5 +71,13 @@ StateIndex AbstractBatteryState(const BatteryObservation& observation, const Bat
 BatteryObservation ObserveBattery(const models::BatteryPack& pack, const models::PackState& state,
                                   double total_current_a, double remaining_flight_s, double safety_margin_s,
                                   const prognostics::EodOptions& eod_options = {});
+
+// Fills observation.alone_power_*: for each pack j alone, the current I_j that carries the present bus power
+// P = I·V_bus (I = total_current_a, V_bus the bus under the present switches), I_j·V_alone(I_j) = P solved by
+// fixed-point iteration (|ΔI| < 1e-9 A; the map contracts by R·I/V, a few per cent for these packs), then the
+// EOD at I_j (decision 14's constant-current propagation) and the worst cell under I_j. A pack whose bus cannot
+// carry P at any current gets I_j = +inf, EOD 0 and a worst cell of 0 V.
+void ObserveAloneAtPower(const models::BatteryPack& pack, const models::PackState& state, double total_current_a,
+                         BatteryObservation& observation, const prognostics::EodOptions& eod_options = {});
 
 }  // namespace uascma::decision

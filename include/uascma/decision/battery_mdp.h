@@ -118,8 +118,8 @@ double BatteryReward(StateIndex state, models::PackAction action, const BatteryC
                      const BatteryRewardWeights& weights);
 
 // --- Our formulation (issue 24; "ours", not the dissertation's) -----------------------------------
-// Why (the diagnosis, /work/notes/battery-readme.md): under eqs. 4.1-4.3 a single-pack action is charged only
-// the pack it uses, so leaving a weak pack idle hides its S3 from the reward; γ = 0.95 per 1 s epoch sees a
+// Why (the diagnosis, README "Battery reconfiguration, judged"): under eqs. 4.1-4.3 a single-pack action is charged
+// only the pack it uses, so leaving a weak pack idle hides its S3 from the reward; γ = 0.95 per 1 s epoch sees a
 // failure minutes ahead at 0.95^60 ≈ 0.05; an unobserved row is a reward-holding self-loop (an optimistic
 // attractor); and eq. 4.7 charges switch positions, not switching. Ours keeps the 289 states, the counted
 // rows, eqs. 4.5-4.8 and decision 22's weights (w1 energy, w2 voltage, w3 switches), and changes:
@@ -139,17 +139,24 @@ double BatteryReward(StateIndex state, models::PackAction action, const BatteryC
 //      the dissertation's π* (and ours without this item) cycles between the packs at the C0/C1 boundary;
 //      coming back is a mirage of the observation, not energy;
 //   7. one pack alone only if it can finish alone: UseBatt_i is offered from UseBoth only when pack i is in
-//      S1 (Table 4.1: its EOD, alone at the present load, covers the remaining flight and the safety margin
-//      t_sf). Measured: in long flights both packs are S3 from take-off to the end (neither alone can finish,
-//      both together can), and the counted rows then made ours drop a pack that could not finish; a pack in
-//      S2 (inside the margin) dropped onto failed 1 s before the end, at the landing's current.
+//      S1 and C0 (Table 4.1: its EOD, alone at the present load, covers the remaining flight and the safety
+//      margin t_sf, and its worst cell alone at that load is at or above the 3.4 V critical voltage). Measured:
+//      in long flights both packs are S3 from take-off to the end (neither alone can finish, both together can),
+//      and the counted rows then made ours drop a pack that could not finish; a pack in S2 (inside the margin)
+//      dropped onto failed 1 s before the end, at the landing's current; a pack in S1 but C1 (worst cell alone
+//      3.342 V, 42 mV above the cut-off) dropped onto failed 9 s later (seed 2024, run 378).
 //   8. (in the executor, campaign::OursImminentFailureGuard) with both packs in, when the pair as switched would
 //      bring a cell to 3.3 V before the plan ends and within t_sf (its EOD at the present load), the pack holding
 //      that cell is dropped. Measured: in case 4 the drops that complete lie at 725-737 s and those that fail at
 //      710-720 s, all in one abstract state (IHONS3C1ONS2C0): no policy on the 289 states can time it.
+//   9. (in the executor, campaign::OursDropCheck) the table's drop onto pack i stands only if pack i is still S1
+//      and C0 when it carries the present bus POWER alone (decision::ObserveAloneAtPower): the load is a power and
+//      one pack holds a lower bus voltage than two, so it draws more current than the features of item 7 assume.
+//      Measured (seed 2024, run 172): S1 and C0 at the present 21.7 A, the pack drew 23.6-26 A alone and
+//      failed 12 s after the drop, 75 s before the end of the plan that UseBoth completed.
 // Solved exactly by policy iteration (dense evaluation). The MDP has 290 states: the 289 and COMPLETE (289);
 // the policy keeps the 289 (COMPLETE is never observed in flight). `uascma simulate --battery-policy` runs the table
-// only (items 1-7), without the guard.
+// only (items 1-7), without the guard and the drop check.
 enum class BatteryFormulation { kDissertation = 0, kOurs = 1 };
 const char* BatteryFormulationName(BatteryFormulation formulation);  // "dissertation", "ours"
 inline constexpr StateIndex kBatteryCompleteState = 289;             // ours only
