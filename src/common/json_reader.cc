@@ -7,6 +7,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/json_io.h"
+#include "uascma/common/text.h"
 
 namespace uascma {
 namespace {
@@ -24,7 +25,8 @@ const nlohmann::json& JsonValue::json() const {
 std::string JsonValue::Brief() const {
   if (json_ == nullptr) return "nothing";
   std::string text = json_->dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  if (text.size() > kBriefCharacters) text = text.substr(0, kBriefCharacters - 3) + "...";
+  // Cut between characters: a UTF-8 sequence split at the cut would make the message itself invalid text.
+  if (text.size() > kBriefCharacters) text = std::string(Utf8Prefix(text, kBriefCharacters - 3)) + "...";
   return text;
 }
 

@@ -1,5 +1,7 @@
 #include "uascma/common/text.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
@@ -46,6 +48,16 @@ std::optional<std::size_t> FirstInvalidUtf8(std::string_view text) {
     i += length;
   }
   return std::nullopt;
+}
+
+std::string_view Utf8Prefix(std::string_view text, std::size_t max_bytes) {
+  std::size_t end = 0;
+  while (end < text.size()) {
+    const std::size_t next = end + std::max<std::size_t>(SequenceLength(text, end), 1);
+    if (next > max_bytes) break;
+    end = next;
+  }
+  return text.substr(0, end);
 }
 
 void RequireUtf8(std::string_view text, const std::string& source, const std::string& field) {

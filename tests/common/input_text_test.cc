@@ -51,6 +51,17 @@ TEST(Utf8Test, WellFormedSequencesPassAndEveryKindOfIllFormedByteIsFound) {
   EXPECT_EQ(message, "s.yaml: name: text in UTF-8, but byte 1 (0xFF) of 'n\\xFF' is not");
 }
 
+TEST(Utf8Test, APrefixEndsBetweenCharacters) {
+  const std::string text = "ab\xC3\xA9\xE2\x82\xAC";  // "abé€": 1 + 1 + 2 + 3 bytes
+  EXPECT_EQ(Utf8Prefix(text, 3), "ab");               // é would need bytes 2-3
+  EXPECT_EQ(Utf8Prefix(text, 4), "ab\xC3\xA9");
+  EXPECT_EQ(Utf8Prefix(text, 6), "ab\xC3\xA9");  // € would need bytes 4-6
+  EXPECT_EQ(Utf8Prefix(text, 7), text);
+  EXPECT_EQ(Utf8Prefix(text, 100), text);
+  EXPECT_EQ(Utf8Prefix("a\xFF\xFFb", 2), "a\xFF");  // a byte that starts nothing counts as one
+  for (std::size_t n = 0; n <= text.size(); ++n) EXPECT_TRUE(IsValidUtf8(Utf8Prefix(text, n))) << n;
+}
+
 TEST(YamlTextTest, AKeyGivenTwiceIsRefusedNamingBothLines) {
   EXPECT_EQ(ErrorOf([] { ParseYamlText("name: a\nwind:\n  speed_mps: 1\nname: b\n", "s.yaml"); }),
             "s.yaml: line 4: each key once per mapping, but 'name' is also given on line 1 (YAML tools disagree on "

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "uascma/common/error.h"
+#include "uascma/common/text.h"
 
 namespace uascma {
 namespace {
@@ -55,6 +56,16 @@ TEST(JsonReaderTest, NamesSourceFullPathAndExpectation) {
   EXPECT_EQ(ErrorOf([&] { root.Member("name").Member("x"); }), "plan.json: name: an object, got \"a\"");
   EXPECT_EQ(ErrorOf([&] { root.Member("count").RequireString("Plan"); }), "plan.json: count: \"Plan\", got 3");
   EXPECT_EQ(ErrorOf([&] { root.Elements(); }).rfind("plan.json: (top level): an array, got {", 0), 0u);
+}
+
+TEST(JsonReaderTest, AShortenedValueInAMessageIsNotCutInsideACharacter) {
+  // The dump is '"' + 55 'a' + "é"...: a cut at 57 bytes would split the first é (bytes 56-57).
+  std::string value(55, 'a');
+  for (int k = 0; k < 10; ++k) value += "\xC3\xA9";
+  const JsonDocument document = JsonDocument::Parse("{\"name\": \"" + value + "\"}", "plan.json");
+  const std::string message = ErrorOf([&] { document.root().Member("name").Number(); });
+  EXPECT_TRUE(IsValidUtf8(message)) << message;
+  EXPECT_EQ(message, "plan.json: name: a number, got \"" + std::string(55, 'a') + "...");
 }
 
 TEST(JsonReaderTest, ChecksBoundsAndIntegerRanges) {

@@ -20,4 +20,8 @@ void RequireUtf8(std::string_view text, const std::string& source, const std::st
 // `text` with every byte that is not UTF-8 written as \xHH, for messages about such text.
 std::string EscapeInvalidUtf8(std::string_view text);
 
+// The longest prefix of `text` of at most `max_bytes` bytes that ends between two UTF-8 sequences (a byte that
+// starts no well-formed sequence counts as one), for shortening text in messages without cutting a character.
+std::string_view Utf8Prefix(std::string_view text, std::size_t max_bytes);
+
 }  // namespace uascma
