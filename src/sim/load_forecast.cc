@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
@@ -51,13 +52,23 @@ LoadProfile::LoadProfile(const planning::FlightPlan& plan, const SteadyLoadModel
   const int bins = static_cast<int>(std::ceil(duration_s_));
   energy_after_j_.assign(static_cast<std::size_t>(bins) + 1, 0.0);
   std::vector<double> bin_energy(static_cast<std::size_t>(bins), 0.0);
+  // Legs of constant velocity repeat one (v, a) sample after sample: its power is computed once (the same
+  // arithmetic on the same inputs, so the same bits).
+  Eigen::Vector3d last_v_W = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d last_a_W = last_v_W;
+  double last_power = 0.0;
   for (int i = 0; i < bins; ++i) {
     const double bin_end = std::min(static_cast<double>(i + 1), duration_s_);
     const double bin_length = bin_end - i;
     double power = 0.0;
     for (int k = 0; k < kSamplesPerBin; ++k) {
       const planning::PlanReference r = plan.At(i + (k + 0.5) * bin_length / kSamplesPerBin);
-      power += CalcSteadyRotorPower(model, r.v_W, r.a_W, active_rotors);
+      if (r.v_W != last_v_W || r.a_W != last_a_W) {
+        last_v_W = r.v_W;
+        last_a_W = r.a_W;
+        last_power = CalcSteadyRotorPower(model, r.v_W, r.a_W, active_rotors);
+      }
+      power += last_power;
     }
     bin_energy[static_cast<std::size_t>(i)] = power / kSamplesPerBin * bin_length;
   }
