@@ -66,6 +66,8 @@ class ImmFilter {
   int MapMode() const;
   double ModeProbability(int mode) const { return lanes_.probability[mode]; }
   const std::array<double, kImmModes>& probabilities() const { return lanes_.probability; }
+  // Every mode's body-rate estimate and variance, [axis][mode] (lane 7 idle: a copy of mode 0), and probabilities.
+  const ImmLaneState& lanes() const { return lanes_; }
   // The rotor declared failed (1…6) once the MAP mode has held above the isolation probability for the
   // required steps, else 0. Latched: a declared failure stays declared.
   int isolated_rotor() const { return isolated_rotor_; }
