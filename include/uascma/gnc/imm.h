@@ -11,16 +11,16 @@
 //   gyro:            z_w = w + noise
 //   accelerometer:   z_a = −T_j / m + noise   (specific force along z_B; drag along z_B is ignored)
 // where (T_j, τ_j) = M_j · thrusts and M_j is the hexacopter mixing matrix with column j zeroed. The
-// three axes are filtered independently (diagonal covariances). The modes are stored as eight lanes (the
-// seven modes and one idle lane) so that every per-mode line is four SSE2 operations with no remainder:
-// one cycle of all seven modes takes about 110 ns, a quarter of a simulator step (measured with callgrind
-// and bench/sim_bench: the IMM is ~23 % of a 476 ns step).
+// three axes are filtered independently (diagonal covariances). The seven modes are computed together, as lanes
+// (gnc/imm_lanes.h: structure of arrays, AVX-512, AVX2 or SSE2 chosen at run time, the same bits on each): one
+// cycle is ~600 instructions on AVX2 (callgrind, `uascma simulate examples/nominal.yaml`), ~350 on AVX-512, where
+// the Eigen version it replaced took 1,636 with its seven libm exp (bench/imm_bench.cc times each path).
 #include <Eigen/Core>
 
 #include <array>
 #include <string>
 
-#include "uascma/common/eigen_equal.h"
+#include "uascma/gnc/imm_lanes.h"
 #include "uascma/models/mixer.h"
 #include "uascma/models/rigid_body.h"
 
@@ -55,42 +55,29 @@ class ImmFilter {
 
   void Reset(const Eigen::Vector3d& w_WB_B);
   // One cycle: mixing, prediction under `believed_thrusts` held over dt, update with the measurement.
-  void Step(const models::RotorThrusts& believed_thrusts, const ImmMeasurement& measurement, double dt);
+  void Step(const models::RotorThrusts& believed_thrusts, const ImmMeasurement& measurement, double dt) {
+    StepOn(ImmSimdPath(), believed_thrusts, measurement, dt);
+  }
+  // The same on a given instruction set (gnc/imm_lanes.h; the same bits on every one): for tests and benchmarks.
+  void StepOn(SimdPath path, const models::RotorThrusts& believed_thrusts, const ImmMeasurement& measurement,
+              double dt);
 
   // The MAP mode: 0 nominal, k = rotor k failed.
   int MapMode() const;
-  double ModeProbability(int mode) const { return probability_[mode]; }
-  const std::array<double, kImmModes>& probabilities() const { return probability_; }
+  double ModeProbability(int mode) const { return lanes_.probability[mode]; }
+  const std::array<double, kImmModes>& probabilities() const { return lanes_.probability; }
+  // Every mode's body-rate estimate and variance, [axis][mode] (lane 7 idle: a copy of mode 0), and probabilities.
+  const ImmLaneState& lanes() const { return lanes_; }
   // The rotor declared failed (1…6) once the MAP mode has held above the isolation probability for the
   // required steps, else 0. Latched: a declared failure stays declared.
   int isolated_rotor() const { return isolated_rotor_; }
-  // Exact, every member (a flight state is compared whole, sim/flight.h); the lanes are Eigen arrays, whose == is
-  // coefficient-wise (common/eigen_equal.h).
-  friend bool operator==(const ImmFilter& a, const ImmFilter& b) {
-    auto same_lanes = [](const auto& x, const auto& y) {
-      for (std::size_t k = 0; k < x.size(); ++k) {
-        if (!ExactlyEqual(x[k], y[k])) return false;
-      }
-      return true;
-    };
-    return a.params_ == b.params_ && a.body_ == b.body_ && a.mixing_ == b.mixing_ && same_lanes(a.rate_, b.rate_) &&
-           same_lanes(a.variance_, b.variance_) && same_lanes(a.column_, b.column_) &&
-           a.probability_ == b.probability_ && a.candidate_ == b.candidate_ &&
-           a.candidate_steps_ == b.candidate_steps_ && a.isolated_rotor_ == b.isolated_rotor_;
-  }
+  // Exact, every member (a flight state is compared whole, sim/flight.h).
+  bool operator==(const ImmFilter&) const = default;
 
  private:
   ImmParams params_;
-  models::RigidBodyParams body_;
-  models::MixingMatrix mixing_ = models::MixingMatrix::Zero();
-  // Structure of arrays, [axis][lane]: lanes 0…6 are the modes, lane 7 is idle (it carries a copy of the
-  // nominal mode, never read), so the per-mode arithmetic vectorises without a remainder.
-  static constexpr int kLanes = 8;
-  using Lanes = Eigen::Array<double, kLanes, 1>;
-  std::array<Lanes, 3> rate_;      // w_B estimate of each mode
-  std::array<Lanes, 3> variance_;  // its diagonal covariance
-  std::array<Lanes, 4> column_;    // [T, τx, τy, τz][lane]: rotor j's mixing column in lane j, 0 in lanes 0, 7
-  std::array<double, kImmModes> probability_{};
+  ImmLaneModel model_;  // constants derived from the parameters, the body and the healthy mixing matrix
+  ImmLaneState lanes_;  // the modes' rates, variances and probabilities
   int candidate_ = 0;
   int candidate_steps_ = 0;
   int isolated_rotor_ = 0;
