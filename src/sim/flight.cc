@@ -275,6 +275,22 @@ void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignal
 }  // namespace
 
 // ---- the model ----------------------------------------------------------------------------------------------------
+namespace {
+
+// The scenario's profile of the nominal plan when it was built from this plan and load model (the same arithmetic
+// on the same inputs: the same numbers), else a new one.
+std::shared_ptr<const LoadProfile> NominalLoadProfile(const Scenario& scenario, const planning::FlightPlan& plan,
+                                                      const SteadyLoadModel& load) {
+  const std::shared_ptr<const KeyedLoadProfile>& keyed = scenario.nominal_load_profile;
+  if (keyed && keyed->plan == plan && keyed->body == scenario.body && keyed->configuration == scenario.configuration &&
+      keyed->mean_wind_W == load.mean_wind_W) {
+    return std::shared_ptr<const LoadProfile>(keyed, &keyed->profile);  // shares the scenario's ownership
+  }
+  return std::make_shared<const LoadProfile>(plan, load, models::kRotorCount);
+}
+
+}  // namespace
+
 FlightModel::FlightModel(const Scenario& scenario)
     : scenario_(Validated(scenario)),
       propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
@@ -301,7 +317,7 @@ FlightModel::FlightModel(const Scenario& scenario)
       load_filter_gain_(1.0 - std::exp(-dt_ / scenario.options.load_current_time_constant_s)),
       outcome_classifier_(scenario.options.outcome),
       steady_load_{&scenario_.body, &drag_, &electrical_power_, wind_.MeanWind_W()},
-      nominal_load_profile_(std::make_shared<const LoadProfile>(nominal_plan_, steady_load_, models::kRotorCount)) {}
+      nominal_load_profile_(NominalLoadProfile(scenario_, nominal_plan_, steady_load_)) {}
 
 // ---- the state ----------------------------------------------------------------------------------------------------
 FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {

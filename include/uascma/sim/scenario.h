@@ -152,6 +152,10 @@ struct Scenario {
   // InflateBuildings at LandingPathParams' default), built once with the map and shared by every flight over it
   // (ParseScenario; a campaign's world, campaign/world.h). Null: each flight model inflates them itself.
   std::shared_ptr<const planning::ObstacleSet> map_obstacles;
+  // The nominal plan's load profile when the scenario's builder has it already (a campaign's sampler, for its
+  // whole-load check): FlightModel reuses it when its key is this scenario's nominal plan, body, configuration and
+  // mean wind, and builds its own otherwise (sim/load_forecast.h KeyedLoadProfile). Null: built by the model.
+  std::shared_ptr<const KeyedLoadProfile> nominal_load_profile;
   models::RigidBodyParams body;
   models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
   BatterySpec battery;
