@@ -14,6 +14,7 @@
 #include "uascma/common/hash.h"
 #include "uascma/common/yaml_io.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/sim/scenario_bounds.h"
 
 namespace uascma::campaign {
 namespace {
@@ -180,6 +181,12 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
         .hash_tag = "options/1"}, &c.options.eod_load},
       {{.key = "options.cap_speed_after_isolation", .expected = "true | false", .citation = "§4.4.2"},
        &c.options.cap_speed_after_isolation},
+      {{.key = "options.pack_rate_hz", .bounds = &sim::scenario_bounds::kPackRate,
+        .expected = "a rate dividing 200 Hz that 1 Hz divides (unset: the simulator's)", .citation = "ours (README)",
+        .written_when_unset = false, .only_when_set = true}, &c.options.pack_rate_hz},
+      {{.key = "options.wind_rate_hz", .bounds = &sim::scenario_bounds::kWindRate,
+        .expected = "a rate dividing 200 Hz (unset: the simulator's)", .citation = "ours (README)",
+        .written_when_unset = false, .only_when_set = true}, &c.options.wind_rate_hz},
   };
   fields.insert(fields.end(), sampling.begin(), sampling.end());
   return fields;

@@ -187,7 +187,9 @@ WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& 
   // The flight's own load model (sim/flight.cc's steady_load_): the take-off climb, both legs, the drop hover and
   // the descent, each second's thrust with its acceleration and drag.
   const sim::SteadyLoadModel model{&scenario.body, &drag, &power, mean_wind_W};
-  load.rotor_energy_j = sim::LoadProfile(plan, model, models::kRotorCount).RemainingEnergyJ(0.0);
+  load.profile = std::make_shared<const sim::KeyedLoadProfile>(sim::KeyedLoadProfile{
+      plan, scenario.body, scenario.configuration, mean_wind_W, sim::LoadProfile(plan, model, models::kRotorCount)});
+  load.rotor_energy_j = load.profile->profile.RemainingEnergyJ(0.0);
   // The gust allowance (ours, the speed cap's 1σ, sim/speed_cap.h): at each level airspeed of the plan the steady
   // power at that airspeed raised by σ_u, less the power at it; the largest of the three over the whole plan.
   load.gust_sigma_u_mps = models::CalcDrydenIntensity(scenario.wind.turbulence, scenario.mission.cruise_altitude,
@@ -357,7 +359,12 @@ bool FitRoute(RandomStream& random, const CampaignConfig& config, const RouteCon
     const WholeLoad load = CalcWholeLoad(scenario, route.drag, plan);
     run.whole_load_current_a = load.current_a;
     run.whole_load_eod_s = load.eod_s;
-    if (run.whole_load_eod_s >= run.plan_duration_s + run.safety_margin_s) return true;
+    if (run.whole_load_eod_s >= run.plan_duration_s + run.safety_margin_s) {
+      // The flight model's own profile (route.drag is the configuration's default table, DrawRoute; FlightModel
+      // checks the rest of the key): built once per run.
+      scenario.nominal_load_profile = load.profile;
+      return true;
+    }
     ++run.whole_load_refits;
     if (!route.endurance_tied || shortening >= kMaxWholeLoadShortenings) return false;
     // 1 s (the load profile's bin) below what the whole load allows: a shorter plan's mean current is a little
@@ -440,6 +447,8 @@ SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, s
   scenario.mission.drop_hover_s = config.mission.drop_hover_s;
   scenario.options.eod_load = config.options.eod_load;
   scenario.options.cap_speed_after_isolation = config.options.cap_speed_after_isolation;
+  if (config.options.pack_rate_hz) scenario.options.pack_rate_hz = *config.options.pack_rate_hz;
+  if (config.options.wind_rate_hz) scenario.options.wind_rate_hz = *config.options.wind_rate_hz;
 
   // The draws in the header's fixed order (sampler.h): changing it changes every campaign.
   DrawMission(random, config, run);          // 1–2

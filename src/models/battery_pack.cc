@@ -52,6 +52,23 @@ HealthClass Classify(const CellHealth* cells, int count) {
   return worst;
 }
 
+// The branch voltages (Σ cell terminal voltages) and the lowest cell of the switched-on branches.
+void SummarisePackCells(const PerBranch<bool>& branch_on, PackOutputs& out) {
+  out.min_cell_voltage_v = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < kBranchCount; ++b) {
+    out.branch_voltage_v[b] = 0.0;
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const double v = out.cell_voltage_v[b][c];
+      out.branch_voltage_v[b] += v;
+      if (branch_on[b] && v < out.min_cell_voltage_v) {
+        out.min_cell_voltage_v = v;
+        out.min_cell_branch = b;
+        out.min_cell_index = c;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 HealthClass ClassifyHealth(const std::array<CellHealth, kCellsPerBranch>& branch) {
@@ -172,21 +189,83 @@ PackOutputs BatteryPack::CalcOutputs(const PackState& state, double total_curren
   }
   PackOutputs out;
   out.split = CalcBranchSplit(branch_ocv_v, branch_r0_ohm_, state.branch_on, total_current_a);
-  out.min_cell_voltage_v = std::numeric_limits<double>::infinity();
   for (int b = 0; b < kBranchCount; ++b) {
-    out.branch_voltage_v[b] = 0.0;
     for (int c = 0; c < kCellsPerBranch; ++c) {
-      const double v = cells_[b][c].CalcTerminalVoltage(state.cells[b][c], out.split.current_a[b], ocv_v[b][c]);
-      out.cell_voltage_v[b][c] = v;
-      out.branch_voltage_v[b] += v;
-      if (state.branch_on[b] && v < out.min_cell_voltage_v) {
-        out.min_cell_voltage_v = v;
-        out.min_cell_branch = b;
-        out.min_cell_index = c;
-      }
+      out.cell_voltage_v[b][c] =
+          cells_[b][c].CalcTerminalVoltage(state.cells[b][c], out.split.current_a[b], ocv_v[b][c]);
     }
   }
+  SummarisePackCells(state.branch_on, out);
   return out;
+}
+
+PackLinearisation BatteryPack::Linearise(const PackState& state) const {
+  PackLinearisation at;
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const SelfCorrectingCell& cell = cells_[b][c];
+      const CellState& x = state.cells[b][c];
+      const CellParams& p = cell.params();
+      const int segment = cell.ocv().SegmentForDischarge(x.soc_fraction);
+      const double ocv_v = cell.ocv().CalcVoltageOnSegment(segment, x.soc_fraction);
+      // Eq. 3.3 at i = 0 without M0 s (the pack's discharge current sets s): OCV + M h − Σ R_j i_Rj.
+      double v = ocv_v + p.hysteresis_m_v * x.hysteresis;
+      // Per A·s drawn (discharge, η = η_discharge): dz/dq = −η/Q; dh/dq = −η γ (h + 1)/Q (eq. 3.2); and
+      // R_j di_Rj = R_j (i − i_Rj) dt / (R_j C_j) (eq. 3.1): −R_j/(R_j C_j) per A·s, +R_j i_Rj/(R_j C_j) per second.
+      const double dz_dq = -p.eta_discharge / cell.capacity_as();
+      const double docv_dq = cell.ocv().segment_slope_v(segment) * dz_dq;
+      double dv_dq = docv_dq + p.hysteresis_m_v * p.hysteresis_gamma * (x.hysteresis + 1.0) * dz_dq;
+      double dv_dt = 0.0;
+      for (int j = 0; j < p.rc_pair_count; ++j) {
+        const double r = p.rc[j].resistance_ohm;
+        v -= r * x.rc_current_a[j];
+        dv_dq -= r * cell.rc_rate_per_s(j);
+        dv_dt += r * cell.rc_rate_per_s(j) * x.rc_current_a[j];
+      }
+      at.voltage_v[b][c] = v;
+      at.dv_dcharge[b][c] = dv_dq;
+      at.dv_dtime[b][c] = dv_dt;
+      at.ocv_v[b] += ocv_v;
+      at.docv_dcharge[b] += docv_dq;
+    }
+  }
+  return at;
+}
+
+PackOutputs BatteryPack::CalcLinearisedOutputs(const PackState& state, const PackLinearisation& at,
+                                               const PerBranch<double>& charge_as, double elapsed_s,
+                                               double total_current_a) const {
+  const PerBranch<double> branch_ocv_v = {at.ocv_v[0] + at.docv_dcharge[0] * charge_as[0],
+                                          at.ocv_v[1] + at.docv_dcharge[1] * charge_as[1]};
+  PackOutputs out;
+  out.split = CalcBranchSplit(branch_ocv_v, branch_r0_ohm_, state.branch_on, total_current_a);
+  for (int b = 0; b < kBranchCount; ++b) {
+    const double current_a = out.split.current_a[b];  // ≥ 0: s = −1 while it flows, else the stored sign
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const CellParams& p = cells_[b][c].params();
+      const double s = current_a > 0.0 ? -1.0 : state.cells[b][c].hysteresis_sign;
+      out.cell_voltage_v[b][c] = at.voltage_v[b][c] + at.dv_dcharge[b][c] * charge_as[b] +
+                                 at.dv_dtime[b][c] * elapsed_s + p.hysteresis_m0_v * s - p.r0_ohm * current_a;
+    }
+  }
+  SummarisePackCells(state.branch_on, out);
+  return out;
+}
+
+PackState BatteryPack::Advance(const PackState& state, const PerBranch<double>& charge_as, double duration_s,
+                               const FixedStep* step) const {
+  UASCMA_CHECK(duration_s > 0.0, "the pack advances over a positive duration");
+  PackState next = state;
+  for (int b = 0; b < kBranchCount; ++b) {
+    UASCMA_DCHECK(charge_as[b] >= 0.0, "a branch only discharges (its diode)");
+    const double mean_current_a = charge_as[b] / duration_s;
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const SelfCorrectingCell& cell = cells_[b][c];
+      next.cells[b][c] = step ? cell.Step(state.cells[b][c], mean_current_a, duration_s, step->rc_decay[b][c])
+                              : cell.Step(state.cells[b][c], mean_current_a, duration_s);
+    }
+  }
+  return next;
 }
 
 PackState BatteryPack::Step(const PackState& state, double total_current_a, double dt_s) const {

@@ -44,6 +44,27 @@ void SecondOrderStep(double& lag1, double& lag2, double input, double time_const
   lag2 = next_lag2;
 }
 
+// Exact step over Δ = r T of the unit-scaled two-lag state under continuous white noise (wind.h): x ← Φ x + ξ,
+// ξ ~ N(0, Q) through Q's Cholesky factor. Q₂₂ − Q₁₂²/Q₁₁ ≈ r³/6 is a difference of O(r) terms: its relative
+// rounding error is ~ε/r², 1e-8 at the smallest r of a flight (Δ = 0.05 s, T = 533 s); clamped at 0. (libm's exp
+// and expm1 rather than CalcExpDecay: once per slow step, and the GNC-rate step keeps its inlined CalcExpDecay.)
+void SecondOrderExactStep(double& lag1, double& lag2, double r, RandomStream& random) {
+  const double e = std::exp(-r);
+  const double c = -std::expm1(-2.0 * r);  // 1 − e², without cancellation
+  const double e2 = 1.0 - c;
+  const double q11 = c;
+  const double q12 = 0.5 * c - r * e2;
+  const double q22 = 0.5 * c - (r * r + r) * e2;
+  const double l11 = std::sqrt(q11);
+  const double l21 = q12 / l11;
+  const double l22 = std::sqrt(std::max(q22 - l21 * l21, 0.0));
+  const double eta1 = random.Normal();
+  const double eta2 = random.Normal();
+  const double next_lag2 = e * (r * lag1 + lag2) + l21 * eta1 + l22 * eta2;
+  lag1 = e * lag1 + l11 * eta1;
+  lag2 = next_lag2;
+}
+
 }  // namespace
 
 TurbulenceCategory ParseTurbulenceCategory(const std::string& name, const std::string& source) {
@@ -114,9 +135,10 @@ DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude
   return intensity;
 }
 
-WindModel::WindModel(const WindParams& params) : params_(params) {
+WindModel::WindModel(const WindParams& params, int substeps) : params_(params), substeps_(substeps) {
   std::string error;
   if (!params.IsValid(&error)) throw InputError("wind: " + error);
+  UASCMA_CHECK(substeps >= 1, "the wind filters advance every substeps >= 1 calls");
   const double north = std::cos(params.direction_rad);
   const double east = std::sin(params.direction_rad);
   axis_u_W_ = Eigen::Vector3d(north, east, 0.0);
@@ -149,6 +171,7 @@ Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
   if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
   // σ(h) of the present altitude times the unit-scaled states: the variance is σ(h)² whatever the
   // altitude and airspeed were before (wind.h).
+  // (CalcWind's arithmetic, written out: the GNC-rate step inlines it.)
   const DrydenIntensity& in = IntensityAt(state, altitude_m);
   const double gust_u = in.sigma_u * state.u;
   const double gust_v = SecondOrderOutput(state.v_lag1, state.v_lag2, in.sigma_v);
@@ -156,9 +179,50 @@ Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
   return mean_W_ + gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
 }
 
+Eigen::Vector3d WindModel::CalcWind(const DrydenIntensity& in, double u, double v_lag1, double v_lag2, double w_lag1,
+                                    double w_lag2) const {
+  const double gust_u = in.sigma_u * u;
+  const double gust_v = SecondOrderOutput(v_lag1, v_lag2, in.sigma_v);
+  const double gust_w = SecondOrderOutput(w_lag1, w_lag2, in.sigma_w);
+  return mean_W_ + gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
+}
+
+// substeps > 1 (wind.h): at a slow sample, the next one drawn over Δ = substeps · dt with this call's T = L/V;
+// every call, the states interpolated at the call's end.
+Eigen::Vector3d WindModel::StepSlow(WindState& state, double altitude_m, double airspeed, double dt,
+                                    RandomStream& random) const {
+  const DrydenIntensity& in = IntensityAt(state, altitude_m);
+  if (state.substep == 0) {
+    const double speed = std::max(airspeed, params_.min_airspeed);
+    const double interval = substeps_ * dt;
+    const double x_u = speed * interval / in.length_u;
+    std::array<double, 5>& x = state.ahead;
+    x = {state.u, state.v_lag1, state.v_lag2, state.w_lag1, state.w_lag2};
+    x[0] = std::exp(-x_u) * x[0] + std::sqrt(-std::expm1(-2.0 * x_u)) * random.Normal();  // √(1 − a²)
+    SecondOrderExactStep(x[1], x[2], speed * interval / in.length_v, random);
+    SecondOrderExactStep(x[3], x[4], speed * interval / in.length_w, random);
+  }
+  ++state.substep;
+  const std::array<double, 5>& x = state.ahead;
+  if (state.substep == substeps_) {
+    state.substep = 0;
+    state.u = x[0];
+    state.v_lag1 = x[1];
+    state.v_lag2 = x[2];
+    state.w_lag1 = x[3];
+    state.w_lag2 = x[4];
+    return CalcWind(in, x[0], x[1], x[2], x[3], x[4]);
+  }
+  const double f = static_cast<double>(state.substep) / substeps_;
+  auto at = [f](double from, double to) { return from + f * (to - from); };
+  return CalcWind(in, at(state.u, x[0]), at(state.v_lag1, x[1]), at(state.v_lag2, x[2]), at(state.w_lag1, x[3]),
+                  at(state.w_lag2, x[4]));
+}
+
 Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airspeed, double dt,
                                 RandomStream& random) const {
   if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
+  if (substeps_ > 1) return StepSlow(state, altitude_m, airspeed, dt, random);
   const DrydenIntensity& in = IntensityAt(state, altitude_m);
   const double speed = std::max(airspeed, params_.min_airspeed);
   // u: exact Gauss–Markov step of the unit-variance state, with this step's L_u / V.

@@ -138,6 +138,18 @@ void StepBody(const FlightModel& model, VehicleState& vehicle, StepSignals& s) {
 }
 
 // ---- power: rotor currents → pack → bus voltage ------------------------------------------------------------------
+// The pack's slow step: its state advanced with the charge each branch drew since the last one (a full slow step, or
+// the part of one a flight ended in), and linearised anew.
+void AdvancePack(const FlightModel& model, PowerState& power) {
+  if (power.pack_substeps == 0) return;
+  const bool full = power.pack_substeps == model.pack_substeps();
+  power.pack = model.pack().Advance(power.pack, power.pack_charge_as, power.pack_substeps * model.dt(),
+                                    full ? &model.pack_step() : nullptr);
+  power.pack_linear = model.pack().Linearise(power.pack);
+  power.pack_charge_as = {0.0, 0.0};
+  power.pack_substeps = 0;
+}
+
 // The rotors' electrical power (StepVehicle's) drawn at this power system's bus voltage, through its packs.
 void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s) {
   const double inverse_bus_voltage = InverseBusVoltage(power.bus_voltage_v);
@@ -148,13 +160,24 @@ void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s
   }
   power.pack_current_a = motors_current + model.options().hotel_current_a;
   power.load_current_a += model.load_filter_gain() * (power.pack_current_a - power.load_current_a);
-  const models::PackStepResult pack_step =
-      model.pack().StepWithOutputs(power.pack, power.pack_current_a, model.pack_step());
-  power.pack = pack_step.next;
-  s.pack_outputs = pack_step.outputs;
-  power.bus_voltage_v = pack_step.outputs.split.bus_voltage_v;
+  if (model.pack_substeps() == 1) {  // the pack's state at the GNC rate
+    const models::PackStepResult pack_step =
+        model.pack().StepWithOutputs(power.pack, power.pack_current_a, model.pack_step());
+    power.pack = pack_step.next;
+    s.pack_outputs = pack_step.outputs;
+  } else {
+    // The outputs at this step's current from the pack's last slow step and the charge drawn since; then this
+    // step's charge, and the slow step when its GNC steps are done (models/battery_pack.h PackLinearisation).
+    s.pack_outputs = model.pack().CalcLinearisedOutputs(power.pack, power.pack_linear, power.pack_charge_as,
+                                                        power.pack_substeps * model.dt(), power.pack_current_a);
+    for (int b = 0; b < models::kBranchCount; ++b) {
+      power.pack_charge_as[b] += s.pack_outputs.split.current_a[b] * model.dt();
+    }
+    if (++power.pack_substeps == model.pack_substeps()) AdvancePack(model, power);
+  }
+  power.bus_voltage_v = s.pack_outputs.split.bus_voltage_v;
   power.energy_wh += power.bus_voltage_v * power.pack_current_a * model.dt() / 3600.0;
-  power.min_cell_voltage_v = std::min(power.min_cell_voltage_v, pack_step.outputs.min_cell_voltage_v);
+  power.min_cell_voltage_v = std::min(power.min_cell_voltage_v, s.pack_outputs.min_cell_voltage_v);
 }
 
 // ---- rotor failure detection and isolation (IMM) ----------------------------------------------------------------
@@ -241,6 +264,7 @@ void UpdateExtremes(const FlightModel& model, VehicleState& vehicle, const StepS
 }
 
 void AdvanceClock(const FlightModel& model, FlightState& state) {
+  if (state.done()) AdvancePack(model, state.power);  // a finished flight's pack is its present state
   ++state.step;
   state.time_s = static_cast<double>(state.step) * model.dt();
 }
@@ -275,13 +299,29 @@ void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignal
 }  // namespace
 
 // ---- the model ----------------------------------------------------------------------------------------------------
+namespace {
+
+// The scenario's profile of the nominal plan when it was built from this plan and load model (the same arithmetic
+// on the same inputs: the same numbers), else a new one.
+std::shared_ptr<const LoadProfile> NominalLoadProfile(const Scenario& scenario, const planning::FlightPlan& plan,
+                                                      const SteadyLoadModel& load) {
+  const std::shared_ptr<const KeyedLoadProfile>& keyed = scenario.nominal_load_profile;
+  if (keyed && keyed->plan == plan && keyed->body == scenario.body && keyed->configuration == scenario.configuration &&
+      keyed->mean_wind_W == load.mean_wind_W) {
+    return std::shared_ptr<const LoadProfile>(keyed, &keyed->profile);  // shares the scenario's ownership
+  }
+  return std::make_shared<const LoadProfile>(plan, load, models::kRotorCount);
+}
+
+}  // namespace
+
 FlightModel::FlightModel(const Scenario& scenario)
     : scenario_(Validated(scenario)),
       propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
       electrical_power_(propulsion_),
       mixer_(models::MixerParams::ForPropulsion(propulsion_)),
       drag_(models::DragTable::Default(scenario.configuration)),
-      wind_(scenario.wind),
+      wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
       rul_model_(PrognosisGrowth(scenario.fault)),
       spall_truth_(TruthGrowth(scenario.fault)),
@@ -297,11 +337,12 @@ FlightModel::FlightModel(const Scenario& scenario)
       time_limit_s_(scenario.options.outcome.time_limit_factor * nominal_plan_.duration() +
                     scenario.options.outcome.time_limit_margin_s),
       rotor_lag_(propulsion_.motor_time_constant, dt_),
-      pack_step_(pack_.MakeFixedStep(dt_)),
+      pack_substeps_(static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.pack_rate_hz))),
+      pack_step_(pack_.MakeFixedStep(pack_substeps_ * dt_)),
       load_filter_gain_(1.0 - std::exp(-dt_ / scenario.options.load_current_time_constant_s)),
       outcome_classifier_(scenario.options.outcome),
       steady_load_{&scenario_.body, &drag_, &electrical_power_, wind_.MeanWind_W()},
-      nominal_load_profile_(std::make_shared<const LoadProfile>(nominal_plan_, steady_load_, models::kRotorCount)) {}
+      nominal_load_profile_(NominalLoadProfile(scenario_, nominal_plan_, steady_load_)) {}
 
 // ---- the state ----------------------------------------------------------------------------------------------------
 FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
@@ -314,6 +355,7 @@ FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
   state.vehicle.body.p_WB_W = model.nominal_plan().start_W();
   state.vehicle.wind = model.wind().InitialState(0.0, state.vehicle.wind_random);
   state.power.pack = model.pack().MakeRestingState(sc.battery.initial_cell_voltage_v);
+  state.power.pack_linear = model.pack().Linearise(state.power.pack);
   const double hover_thrust = sc.body.mass * kGravity / 6.0;
   const double hover_speed = models::CalcRotorSpeedForThrust(model.propulsion(), hover_thrust);
   state.vehicle.rotor_speed.fill(hover_speed);

@@ -197,6 +197,23 @@ bool SimOptions::IsValid(std::string* error) const {
     if (error) *error = "decision_rate_hz: expected to divide gnc_rate_hz";
     return false;
   }
+  const double pack_ratio = gnc_rate_hz / pack_rate_hz;
+  const double epoch_ratio = pack_rate_hz / decision_rate_hz;
+  if (!(pack_rate_hz > 0.0 && pack_rate_hz <= gnc_rate_hz && std::abs(pack_ratio - std::round(pack_ratio)) <= 1e-9 &&
+        std::abs(epoch_ratio - std::round(epoch_ratio)) <= 1e-9)) {
+    if (error) {
+      *error = fmt::format(
+          "pack_rate_hz: expected a rate that divides gnc_rate_hz and that decision_rate_hz divides, "
+          "got {} Hz",
+          pack_rate_hz);
+    }
+    return false;
+  }
+  const double wind_ratio = gnc_rate_hz / wind_rate_hz;
+  if (!(wind_rate_hz > 0.0 && wind_rate_hz <= gnc_rate_hz && std::abs(wind_ratio - std::round(wind_ratio)) <= 1e-9)) {
+    if (error) *error = fmt::format("wind_rate_hz: expected a rate that divides gnc_rate_hz, got {} Hz", wind_rate_hz);
+    return false;
+  }
   if (!(safety_margin_s >= 0.0 && std::isfinite(safety_margin_s))) {
     if (error) *error = "safety_margin_s: expected >= 0 s";
     return false;

@@ -94,5 +94,28 @@ TEST(MetricsTest, OneShortFlightIsRecordedWhole) {
   EXPECT_EQ(FirstDifference(record, FlyRun(simulator, run, NoOpCampaignPolicy(), 1, 2)), std::nullopt);
 }
 
+// Issue 27 item 3: the sampler's load profile of the nominal plan (its whole-load check) is the flight model's, built
+// once per run. The model shares it; it equals the profile the model builds without it; a scenario changed after
+// sampling (another mean wind) builds its own; and a run flown with it and without it gives the same record.
+TEST(MetricsTest, TheSamplersLoadProfileIsTheModelsAndGivesTheSameRecord) {
+  const CampaignConfig config = testing_support::ShortConfig();
+  const SampledRun run = SampleRun(config, config.seed, 4);
+  ASSERT_NE(run.scenario.nominal_load_profile, nullptr);
+  const sim::LoadProfile* sampled = &run.scenario.nominal_load_profile->profile;
+  const sim::Simulator shared(run.scenario);
+  EXPECT_EQ(shared.model().nominal_load_profile().get(), sampled);
+  SampledRun alone = run;
+  alone.scenario.nominal_load_profile = nullptr;
+  const sim::Simulator own(alone.scenario);
+  ASSERT_NE(own.model().nominal_load_profile().get(), sampled);
+  EXPECT_TRUE(*own.model().nominal_load_profile() == *sampled);
+  sim::Scenario windier = run.scenario;
+  windier.wind.mean_speed += 1.0;
+  EXPECT_NE(sim::FlightModel(windier).nominal_load_profile().get(), sampled);
+  EXPECT_EQ(
+      FirstDifference(FlyRun(shared, run, NoOpCampaignPolicy(), 1, 2), FlyRun(own, alone, NoOpCampaignPolicy(), 1, 2)),
+      std::nullopt);
+}
+
 }  // namespace
 }  // namespace uascma::campaign

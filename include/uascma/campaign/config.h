@@ -229,6 +229,10 @@ struct MapSampling {
 struct FlightOptions {
   sim::EodLoad eod_load = sim::EodLoad::kForecast;  // decision 25; present: decision 14
   bool cap_speed_after_isolation = true;            // §4.4.2, sim/speed_cap.h
+  // The pack's and the Dryden filters' rates (sim::SimOptions); unset: the simulator's defaults. Set to the GNC rate
+  // (200) to fly the campaign with both at the GNC rate (README "Subsystem rates").
+  std::optional<double> pack_rate_hz;
+  std::optional<double> wind_rate_hz;
 };
 
 struct CampaignConfig {

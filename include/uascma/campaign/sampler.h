@@ -57,6 +57,7 @@
 // corrections and the final sag are not modelled.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 
@@ -116,6 +117,9 @@ struct WholeLoad {
   double gust_power_w = 0.0;      // P_gust
   double current_a = 0.0;         // I_whole
   double eod_s = 0.0;             // EOD_whole
+  // The plan's load profile (rotor_energy_j is its whole energy), keyed for a flight model (sim/load_forecast.h):
+  // with `drag` the configuration's default table it is the flight's nominal profile.
+  std::shared_ptr<const sim::KeyedLoadProfile> profile;
 };
 // At most this many shortenings of one route attempt's endurance-tied plan before the route is redrawn (step 7).
 inline constexpr int kMaxWholeLoadShortenings = 20;

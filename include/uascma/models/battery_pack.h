@@ -107,6 +107,29 @@ struct PackOutputs {
   int min_cell_index = -1;
 };
 
+// ---- The pack stepped slower than its load (ours; README "Subsystem rates") ----------------------------
+// The pack's states move on time scales of seconds to minutes (R1·C1 ≈ 500 s; z and h move with the charge
+// drawn), its load at the controller's rate. So the state advances once per slow step with the charge each
+// branch drew in it, and the 200 Hz outputs come from the state linearised in that charge:
+//   z and h are functions of the charge drawn q alone while the current keeps its sign (eqs. 3.1–3.2: a
+//   branch current is ≥ 0), so advancing them with the mean current q / T is EXACT; i_R's ZOH form is exact
+//   for a constant current and, for a varying one, off by O(T / (R1 C1)) of the current's variation.
+//   Between slow steps a cell's terminal voltage (eq. 3.3) at the present branch current i, the charge q its
+//   branch drew and the time t since the state was advanced is, to first order in q and t,
+//     v = [OCV(z) + M h − Σ R_j i_Rj] + q ∂v/∂q + t ∂v/∂t + M0 s − R0 i,
+//     ∂v/∂q = −η/Q (OCV'(z) + M γ (h + 1)) − Σ R_j / (R_j C_j)   (OCV' on z's segment; dh/dq of eq. 3.2; eq. 3.1's
+//     ∂v/∂t = Σ R_j i_Rj / (R_j C_j)                              di_R/dt = (i − i_R)/(R_j C_j) integrated)
+//   and the branch OCVs of the split (eq. 3.6) E_j + q_j ∂E_j/∂q likewise. Exact for z within an OCV segment;
+//   the rest is off by second-order terms, (γ q/Q)² of h and (T/(R1 C1))² of i_R.
+struct PackLinearisation {
+  PerCell<double> voltage_v{};       // OCV(z) + M h − Σ R_j i_Rj: eq. 3.3 without the current's terms
+  PerCell<double> dv_dcharge{};      // ∂v/∂q, V per A·s drawn by the cell's branch
+  PerCell<double> dv_dtime{};        // ∂v/∂t, V/s
+  PerBranch<double> ocv_v{};         // eq. 3.6
+  PerBranch<double> docv_dcharge{};  // ∂E_j/∂q_j, V per A·s
+  bool operator==(const PackLinearisation&) const = default;
+};
+
 struct PackStepResult {
   PackOutputs outputs;  // at the start of the step, with the applied current (v[k] of state k, input k)
   PackState next;       // state k+1
@@ -136,6 +159,17 @@ class BatteryPack {
   };
   FixedStep MakeFixedStep(double dt_s) const;
   PackStepResult StepWithOutputs(const PackState& state, double total_current_a, const FixedStep& step) const;
+
+  // The slow step (see PackLinearisation): the state's linearisation; the outputs at `total_current_a` when
+  // each branch has drawn `charge_as` (A·s, ≥ 0) in the `elapsed_s` since `state` (whose linearisation `at` is);
+  // `state` advanced
+  // by `duration_s` with each branch's charge drawn at its mean current (`step`, when given, holds the RC
+  // decay factors of `duration_s`).
+  PackLinearisation Linearise(const PackState& state) const;
+  PackOutputs CalcLinearisedOutputs(const PackState& state, const PackLinearisation& at,
+                                    const PerBranch<double>& charge_as, double elapsed_s, double total_current_a) const;
+  PackState Advance(const PackState& state, const PerBranch<double>& charge_as, double duration_s,
+                    const FixedStep* step = nullptr) const;
 
   // Every cell at rest at `cell_voltage_v` (z = OCV⁻¹(v) per cell), switches from `action`. InputError
   // naming `source` when a voltage is outside the OCV table.

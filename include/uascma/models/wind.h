@@ -30,7 +30,20 @@
 //     shortest T of the low band, 3 m / 10 m/s, and 5 ms).
 //   * The initial state is drawn from the stationary distribution of every channel, so the gusts have
 //     their variance from the first step.
+// At a lower rate than the caller's (WindModel's `substeps` > 1; ours, README "Subsystem rates"): the filters
+// advance once every `substeps` calls, over Δ = substeps · dt, by their EXACT discretisation under continuous
+// white noise (not the held noise above), so the slow samples have the forming filters' statistics at any Δ:
+//   * u: x ← a x + √(1 − a²) η, a = e^{−Δ/T} (as above, with Δ);
+//   * v, w, r = Δ/T, e = e^{−r}: x ← Φ x + ξ, Φ = e [[1, 0], [r, 1]], ξ ~ N(0, Q) drawn through Q's Cholesky
+//     factor, Q = P − Φ P Φᵀ for the stationary P = [[1, ½], [½, ½]]:
+//       Q₁₁ = 1 − e²,  Q₁₂ = ½ (1 − e²) − r e²,  Q₂₂ = ½ (1 − e²) − (r² + r) e²;
+//     the slow samples' autocorrelation is then exactly Dryden's, R(τ) = σ² (1 − τ/(2T)) e^{−τ/T} (τ = kΔ);
+//   * between the slow samples each unit state is interpolated linearly (the sample ahead is drawn when the
+//     interval starts), so the gust moves smoothly at the caller's rate; mid-interval the interpolation lowers
+//     the variance by a factor ½ (1 + ρ(Δ)), ρ(Δ) ≥ 1 − Δ/T for u and 1 − O((Δ/T)²) for v and w.
 #include <Eigen/Core>
+
+#include <array>
 
 #include <string>
 
@@ -77,19 +90,27 @@ struct WindState {
   double w_lag1 = 0.0, w_lag2 = 0.0;
   DrydenIntensity intensity;
   double intensity_altitude = -1e9;  // m; far from any altitude: computed on first use
+  // With substeps > 1: the unit states u, v₁, v₂, w₁, w₂ at the next slow sample (the fields above hold the last
+  // one), and the calls since the last sample.
+  std::array<double, 5> ahead{};
+  int substep = 0;
   bool operator==(const WindState&) const = default;
 };
 inline constexpr double kIntensityAltitudeStep = 0.25;  // m
 
 class WindModel {
  public:
-  explicit WindModel(const WindParams& params);
+  // `substeps` ≥ 1: the filters advance once every `substeps` calls of Step (see above; 1: every call).
+  explicit WindModel(const WindParams& params, int substeps = 1);
   const WindParams& params() const { return params_; }
+  int substeps() const { return substeps_; }
 
   // A state drawn from the stationary distribution of every channel (u, v and w).
   WindState InitialState(double altitude_m, RandomStream& random) const;
   // Advances the gust filters by dt at the given altitude (m above ground) and airspeed (m/s), and
-  // returns the wind velocity in W (NED), m/s.
+  // returns the wind velocity in W (NED), m/s. With substeps > 1, every substeps-th call (the first included)
+  // draws the next slow sample over substeps · dt at this altitude and airspeed; every call returns the wind of
+  // the states interpolated at its end.
   Eigen::Vector3d Step(WindState& state, double altitude_m, double airspeed, double dt, RandomStream& random) const;
   // The wind of a state at an altitude without advancing it: the mean plus σ(h) times the unit-scaled
   // states (the airspeed shapes the spectrum through the steps, not the output).
@@ -98,7 +119,11 @@ class WindModel {
 
  private:
   const DrydenIntensity& IntensityAt(WindState& state, double altitude_m) const;
+  Eigen::Vector3d CalcWind(const DrydenIntensity& in, double u, double v_lag1, double v_lag2, double w_lag1,
+                           double w_lag2) const;
+  Eigen::Vector3d StepSlow(WindState& state, double altitude_m, double airspeed, double dt, RandomStream& random) const;
   WindParams params_;
+  int substeps_ = 1;
   Eigen::Vector3d mean_W_;
   Eigen::Vector3d axis_u_W_, axis_v_W_;
 };

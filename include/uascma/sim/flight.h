@@ -117,7 +117,9 @@ class FlightModel {
   const models::DragTable& drag() const { return drag_; }
   const models::WindModel& wind() const { return wind_; }
   const models::BatteryPack& pack() const { return pack_; }
+  // The pack's slow step (SimOptions::pack_rate_hz): its length with its RC decay factors, in GNC steps.
   const models::BatteryPack::FixedStep& pack_step() const { return pack_step_; }
+  int pack_substeps() const { return pack_substeps_; }
   const models::RotorSpeedLag& rotor_lag() const { return rotor_lag_; }
   const prognostics::MotorRulModel& rul_model() const { return rul_model_; }
   const prognostics::MotorRulModel& spall_truth() const { return spall_truth_; }
@@ -148,6 +150,7 @@ class FlightModel {
   int steps_per_epoch_;
   double time_limit_s_;
   models::RotorSpeedLag rotor_lag_;
+  int pack_substeps_;
   models::BatteryPack::FixedStep pack_step_;
   double load_filter_gain_;
   OutcomeClassifier outcome_classifier_;
@@ -188,7 +191,13 @@ struct VehicleState {
 
 // The power system: written by the power step (rotor currents → pack → bus voltage) and the pack switches.
 struct PowerState {
+  // The pack as of its last slow step (SimOptions::pack_rate_hz), its linearisation there, and the charge each branch
+  // has drawn in the GNC steps since (models/battery_pack.h PackLinearisation). At every decision epoch and at the
+  // end of a flight the charge is 0: `pack` is the present state.
   models::PackState pack;
+  models::PackLinearisation pack_linear;
+  models::PerBranch<double> pack_charge_as{};
+  int pack_substeps = 0;
   double bus_voltage_v = 0.0;
   double pack_current_a = 0.0;
   double load_current_a = 0.0;      // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)

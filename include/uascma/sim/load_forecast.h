@@ -88,6 +88,18 @@ struct SharedLoadProfile : std::shared_ptr<const LoadProfile> {
   }
 };
 
+// A nominal plan's profile with what it was built from: a scenario may carry one (Scenario::nominal_load_profile) so
+// that its flight model reuses it instead of building the same profile again. The key is the plan, the body, the
+// propeller configuration (its default drag table and its propulsion's electrical power) and the mean wind; the
+// profile is of models::kRotorCount rotors. campaign/sampler.cc builds it for the whole-load check of each run.
+struct KeyedLoadProfile {
+  planning::FlightPlan plan;
+  models::RigidBodyParams body;
+  models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
+  Eigen::Vector3d mean_wind_W = Eigen::Vector3d::Zero();
+  LoadProfile profile;
+};
+
 // The state of the forecast carried by a flight between epochs.
 struct LoadForecastState {
   SharedLoadProfile profile;  // of the executing plan and rotor configuration

@@ -110,7 +110,14 @@ struct SimOptions {
   double gnc_rate_hz = 200.0;       // §4.3.2, §5.4
   double decision_rate_hz = 1.0;    // EOD, RUL, CMA: §5.4
   double telemetry_rate_hz = 10.0;  // rows per simulated second in the CSV
-  OutcomeThresholds outcome;        // how a flight ends (outcome.h)
+  // The battery pack's state advances at this rate (its outputs stay at the GNC rate; models/battery_pack.h
+  // PackLinearisation). Ours, measured (README "Subsystem rates"): 10 Hz. It divides the GNC rate, and the decision
+  // rate divides it (the 1 Hz EOD reads an advanced state).
+  double pack_rate_hz = 10.0;
+  // The Dryden filters' rate (models/wind.h, `substeps`: exact discretisation, interpolated at the GNC rate). Ours,
+  // measured (README "Subsystem rates"). It divides the GNC rate.
+  double wind_rate_hz = 200.0;
+  OutcomeThresholds outcome;  // how a flight ends (outcome.h)
   // The IMM rotor-fault detector runs every GNC step (§4.4, §5.4). Off: no detection, so no isolation and no
   // reconfiguration — the loop of Ch. IV's battery simulations (Fig. 4.3: DLQR → motor model → battery → EOD →
   // battery MDP, no fault detector; Table 4.4 draws no motor fault), which the battery MDP's learning flights
@@ -152,6 +159,10 @@ struct Scenario {
   // InflateBuildings at LandingPathParams' default), built once with the map and shared by every flight over it
   // (ParseScenario; a campaign's world, campaign/world.h). Null: each flight model inflates them itself.
   std::shared_ptr<const planning::ObstacleSet> map_obstacles;
+  // The nominal plan's load profile when the scenario's builder has it already (a campaign's sampler, for its
+  // whole-load check): FlightModel reuses it when its key is this scenario's nominal plan, body, configuration and
+  // mean wind, and builds its own otherwise (sim/load_forecast.h KeyedLoadProfile). Null: built by the model.
+  std::shared_ptr<const KeyedLoadProfile> nominal_load_profile;
   models::RigidBodyParams body;
   models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
   BatterySpec battery;

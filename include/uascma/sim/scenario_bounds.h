@@ -49,6 +49,11 @@ inline constexpr Bounds kSpallOnset{0.0, 7200.0, "s"};
 // options.telemetry_rate_hz: 10 Hz by default; at most the GNC rate of 200 Hz (§4.3.2), the rate the state is
 // computed at; 0.1 Hz still gives a row every 10 s. Our bound.
 inline constexpr Bounds kTelemetryRate{0.1, 200.0, "Hz"};
+// options.pack_rate_hz: the pack's state rate, 10 Hz by default (ours, measured); from the 1 Hz decision rate
+// to the GNC rate of 200 Hz.
+inline constexpr Bounds kPackRate{1.0, 200.0, "Hz"};
+// options.wind_rate_hz: the Dryden filters' rate (ours, measured); from 1 Hz to the GNC rate of 200 Hz.
+inline constexpr Bounds kWindRate{1.0, 200.0, "Hz"};
 // options.safety_margin_s: t_sf of Table 4.4 is sampled in 5–10 s; 600 s is the campaign's bound.
 inline constexpr Bounds kSafetyMargin{0.0, 600.0, "s"};
 // options.max_tilt_deg: 69° by default (sim/outcome.h); below 1° every gust is a loss of control and 90° is
