@@ -19,6 +19,11 @@ Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double limit) {
   return n > limit ? Eigen::Vector2d(v * (limit / n)) : v;
 }
 
+// The rotation by −ψ, [[cos ψ, sin ψ], [−sin ψ, cos ψ]] v, written out.
+Eigen::Vector2d RotateToHeading(double cos_yaw, double sin_yaw, Eigen::Vector2d v) {
+  return {cos_yaw * v.x() + sin_yaw * v.y(), -sin_yaw * v.x() + cos_yaw * v.y()};
+}
+
 }  // namespace
 
 bool LqrOptions::IsValid(std::string* error) const {
@@ -121,6 +126,7 @@ LqrController::LqrController(const models::RigidBodyParams& params, const LqrOpt
   if (solution_.status != RiccatiStatus::kConverged) {
     throw InputError("LQR weights", "Riccati equation", "a converging solution (check the weights)");
   }
+  negative_gain_ = -solution_.K;
 }
 
 Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const {
@@ -146,14 +152,13 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   const double heading_norm = std::sqrt(R_WB(0, 0) * R_WB(0, 0) + R_WB(1, 0) * R_WB(1, 0));
   const double cos_yaw = heading_norm > 0.0 ? R_WB(0, 0) / heading_norm : 1.0;
   const double sin_yaw = heading_norm > 0.0 ? R_WB(1, 0) / heading_norm : 0.0;
-  const Eigen::Matrix2d to_heading{{cos_yaw, sin_yaw}, {-sin_yaw, cos_yaw}};
-  error.head<2>() = to_heading * Eigen::Vector2d(error.head<2>());
-  error.segment<2>(3) = to_heading * Eigen::Vector2d(error.segment<2>(3));
+  error.head<2>() = RotateToHeading(cos_yaw, sin_yaw, error.head<2>());
+  error.segment<2>(3) = RotateToHeading(cos_yaw, sin_yaw, error.segment<2>(3));
   error(6) = euler.x() - roll_ref;
   error(7) = euler.y() - pitch_ref;
   error(8) = euler.z();  // atan2: already in [−π, π], the reference heading being 0
   error.tail<3>() = state.w_WB_B;
-  const Eigen::Vector4d u = -solution_.K * error;
+  const Eigen::Vector4d u = negative_gain_ * error;
   Wrench wrench;
   // Hover thrust plus feed-forward, corrected for tilt so the vertical component holds altitude.
   const double cos_tilt = std::max(R_WB(2, 2), 0.5);
