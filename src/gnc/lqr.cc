@@ -161,9 +161,13 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   // (a_x, a_y) is θ = atan(−a_x / G), φ = atan(a_y cθ / G) (exact; the small-angle θ = −a_x/g over-asks by
   // 10 % at the ~30° a 9 m/s cruise into a 3 m/s wind needs with the drag fed forward).
   const double vertical = std::max(kGravity - reference.a_W.z(), 1.0);  // m/s², a plan never asks for free fall
-  const double pitch_ref = std::clamp(FastAtan(-reference.a_W.x() / vertical), -options_.max_tilt, options_.max_tilt);
+  const double pitch_tan = -reference.a_W.x() / vertical;
+  const double pitch_ref = std::clamp(FastAtan(pitch_tan), -options_.max_tilt, options_.max_tilt);
+  // cos θ = cos(atan t) = 1 / √(1 + t²) while the clamp does not bite (no cos call in the 200 Hz step).
+  const double cos_pitch_ref =
+      std::abs(pitch_ref) < options_.max_tilt ? 1.0 / std::sqrt(1.0 + pitch_tan * pitch_tan) : std::cos(pitch_ref);
   const double roll_ref =
-      std::clamp(FastAtan(reference.a_W.y() * std::cos(pitch_ref) / vertical), -options_.max_tilt, options_.max_tilt);
+      std::clamp(FastAtan(reference.a_W.y() * cos_pitch_ref / vertical), -options_.max_tilt, options_.max_tilt);
   ControlState error;
   const Eigen::Vector3d position_error = state.p_WB_W - reference.p_W;
   error.head<2>() = ClampNorm(position_error.head<2>(), options_.max_horizontal_error);
