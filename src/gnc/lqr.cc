@@ -9,7 +9,6 @@
 #include <Eigen/Geometry>
 
 #include "uascma/common/error.h"
-#include "uascma/common/fast_angles.h"
 #include "uascma/common/frames.h"
 
 namespace uascma::gnc {
@@ -152,22 +151,15 @@ LqrController::LqrController(const models::RigidBodyParams& params, const LqrOpt
 
 Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const {
   const Eigen::Matrix3d R_WB = state.q_WB.toRotationMatrix();
-  // EulerFromRotation (common/frames.h) with the inline angles of common/fast_angles.h.
-  const double roll = FastAtan2(R_WB(2, 1), R_WB(2, 2));
-  const double pitch = FastAsin(std::clamp(-R_WB(2, 0), -1.0, 1.0));
-  const double yaw = FastAtan2(R_WB(1, 0), R_WB(0, 0));
+  const Eigen::Vector3d euler = EulerFromRotation(R_WB);
   // The reference acceleration becomes a reference tilt and a thrust feed-forward: with z_B = (cφ sθ, −sφ, cφ cθ)
   // (Z-Y-X angles, ψ = 0) and the thrust's vertical share held at m G, G = g − a_z, the tilt that produces
   // (a_x, a_y) is θ = atan(−a_x / G), φ = atan(a_y cθ / G) (exact; the small-angle θ = −a_x/g over-asks by
   // 10 % at the ~30° a 9 m/s cruise into a 3 m/s wind needs with the drag fed forward).
   const double vertical = std::max(kGravity - reference.a_W.z(), 1.0);  // m/s², a plan never asks for free fall
-  const double pitch_tan = -reference.a_W.x() / vertical;
-  const double pitch_ref = std::clamp(FastAtan(pitch_tan), -options_.max_tilt, options_.max_tilt);
-  // cos θ = cos(atan t) = 1 / √(1 + t²) while the clamp does not bite (no cos call in the 200 Hz step).
-  const double cos_pitch_ref =
-      std::abs(pitch_ref) < options_.max_tilt ? 1.0 / std::sqrt(1.0 + pitch_tan * pitch_tan) : std::cos(pitch_ref);
+  const double pitch_ref = std::clamp(std::atan(-reference.a_W.x() / vertical), -options_.max_tilt, options_.max_tilt);
   const double roll_ref =
-      std::clamp(FastAtan(reference.a_W.y() * cos_pitch_ref / vertical), -options_.max_tilt, options_.max_tilt);
+      std::clamp(std::atan(reference.a_W.y() * std::cos(pitch_ref) / vertical), -options_.max_tilt, options_.max_tilt);
   ControlState error;
   const Eigen::Vector3d position_error = state.p_WB_W - reference.p_W;
   error.head<2>() = ClampNorm(position_error.head<2>(), options_.max_horizontal_error);
@@ -182,9 +174,9 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   const double sin_yaw = heading_norm > 0.0 ? R_WB(1, 0) / heading_norm : 0.0;
   error.head<2>() = RotateToHeading(cos_yaw, sin_yaw, error.head<2>());
   error.segment<2>(3) = RotateToHeading(cos_yaw, sin_yaw, error.segment<2>(3));
-  error(6) = roll - roll_ref;
-  error(7) = pitch - pitch_ref;
-  error(8) = yaw;  // atan2: already in [−π, π], the reference heading being 0
+  error(6) = euler.x() - roll_ref;
+  error(7) = euler.y() - pitch_ref;
+  error(8) = euler.z();  // atan2: already in [−π, π], the reference heading being 0
   error.tail<3>() = state.w_WB_B;
   const GainMatrix& g = negative_gain_;  // u = −K x over the nonzero entries of kGainRowColumns, written out
   const Eigen::Vector4d u(g(0, 2) * error(2) + g(0, 5) * error(5),
@@ -205,7 +197,7 @@ Eigen::Vector3d CalcDragFeedForward(const models::RigidBodyParams& params, const
   const Eigen::Vector3d v_air_W = v_ref_W - wind_estimate_W;
   const double airspeed = v_air_W.norm();
   if (!(airspeed > 1e-9)) return Eigen::Vector3d::Zero();
-  const double incidence = FastAsin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
+  const double incidence = std::asin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
   return drag.Drag(airspeed, incidence) / (params.mass * airspeed) * v_air_W;
 }
 

@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 
-#include "uascma/common/fast_angles.h"
 #include "uascma/common/frames.h"
 
 namespace uascma::models {
@@ -47,8 +46,7 @@ RigidBodyRates CalcRigidBodyRates(const RigidBodyParams& params, const models::D
   const Eigen::Vector3d v_air_W = state.v_WB_W - inputs.wind_W;
   const double airspeed = v_air_W.norm();
   if (airspeed > 1e-9) {
-    // asin to 4.5e-16 rad, inline (common/fast_angles.h): the step evaluates it twice.
-    const double incidence = FastAsin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
+    const double incidence = std::asin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
     rates.drag_W = -drag.Drag(airspeed, incidence) / airspeed * v_air_W;
   }
   rates.p_dot = state.v_WB_W;
