@@ -11,6 +11,9 @@ if [[ -f "$build/python/uascma/__init__.py" ]]; then
   echo "== python_env_bench"
   PYTHONPATH="$build/python" /usr/bin/python3 "$(dirname "$0")/../bench/python_env_bench.py"
 fi
+# Instructions per 200 Hz GNC step on examples/nominal.yaml (issue 27; bench/step_instructions.sh, callgrind).
+echo "== step_instructions"
+bash "$(dirname "$0")/../bench/step_instructions.sh" "$build"
 # Start-up of `uascma` and of `import uascma` (issue 27 item 5; bench/startup_bench.py).
 echo "== startup_bench"
 /usr/bin/python3 "$(dirname "$0")/../bench/startup_bench.py" "$build"

@@ -18,6 +18,7 @@ build=(
 test=(
   libopenmpi-dev openmpi-bin  # campaigns across MPI ranks (uascma-mpi); the demo builds without them
   libgtest-dev libbenchmark-dev
+  valgrind  # callgrind: the instructions per GNC step of `make bench` (bench/step_instructions.sh)
   pybind11-dev python3-dev python3-pandas python3-pytest
   chromium  # the browser test of `uascma reproduce`'s page (tests/apps/reproduce_browser_test.py)
 )

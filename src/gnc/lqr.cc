@@ -19,6 +19,25 @@ Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double limit) {
   return n > limit ? Eigen::Vector2d(v * (limit / n)) : v;
 }
 
+// The columns of the state that each input's gain row reads: the hover model decouples (LinearizeHover) into thrust
+// ← (z, v_z), τx ← (y, v_y, roll, p), τy ← (x, v_x, pitch, q), τz ← (yaw, r), and with diagonal Q and R the Riccati
+// solution keeps every other entry of K an exact zero (a product with an exact zero factor is a zero; partial pivoting
+// never picks a zero). The constructor checks it; Compute sums these entries only, in column order, which are the
+// same sums as the dense product (whose other terms add exact zeros).
+constexpr int kGainRowColumns[4][4] = {{2, 5, -1, -1}, {1, 4, 6, 9}, {0, 3, 7, 10}, {8, 11, -1, -1}};
+
+bool InGainPattern(int row, int column) {
+  for (int k = 0; k < 4; ++k) {
+    if (kGainRowColumns[row][k] == column) return true;
+  }
+  return false;
+}
+
+// The rotation by −ψ, [[cos ψ, sin ψ], [−sin ψ, cos ψ]] v, written out.
+Eigen::Vector2d RotateToHeading(double cos_yaw, double sin_yaw, Eigen::Vector2d v) {
+  return {cos_yaw * v.x() + sin_yaw * v.y(), -sin_yaw * v.x() + cos_yaw * v.y()};
+}
+
 }  // namespace
 
 bool LqrOptions::IsValid(std::string* error) const {
@@ -121,6 +140,13 @@ LqrController::LqrController(const models::RigidBodyParams& params, const LqrOpt
   if (solution_.status != RiccatiStatus::kConverged) {
     throw InputError("LQR weights", "Riccati equation", "a converging solution (check the weights)");
   }
+  negative_gain_ = -solution_.K;
+  for (int row = 0; row < 4; ++row) {
+    for (int column = 0; column < 12; ++column) {
+      UASCMA_CHECK(InGainPattern(row, column) || negative_gain_(row, column) == 0.0,
+                   "the LQR gain must keep the hover model's decoupling (kGainRowColumns)");
+    }
+  }
 }
 
 Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const {
@@ -146,14 +172,17 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   const double heading_norm = std::sqrt(R_WB(0, 0) * R_WB(0, 0) + R_WB(1, 0) * R_WB(1, 0));
   const double cos_yaw = heading_norm > 0.0 ? R_WB(0, 0) / heading_norm : 1.0;
   const double sin_yaw = heading_norm > 0.0 ? R_WB(1, 0) / heading_norm : 0.0;
-  const Eigen::Matrix2d to_heading{{cos_yaw, sin_yaw}, {-sin_yaw, cos_yaw}};
-  error.head<2>() = to_heading * Eigen::Vector2d(error.head<2>());
-  error.segment<2>(3) = to_heading * Eigen::Vector2d(error.segment<2>(3));
+  error.head<2>() = RotateToHeading(cos_yaw, sin_yaw, error.head<2>());
+  error.segment<2>(3) = RotateToHeading(cos_yaw, sin_yaw, error.segment<2>(3));
   error(6) = euler.x() - roll_ref;
   error(7) = euler.y() - pitch_ref;
   error(8) = euler.z();  // atan2: already in [−π, π], the reference heading being 0
   error.tail<3>() = state.w_WB_B;
-  const Eigen::Vector4d u = -solution_.K * error;
+  const GainMatrix& g = negative_gain_;  // u = −K x over the nonzero entries of kGainRowColumns, written out
+  const Eigen::Vector4d u(g(0, 2) * error(2) + g(0, 5) * error(5),
+                          g(1, 1) * error(1) + g(1, 4) * error(4) + g(1, 6) * error(6) + g(1, 9) * error(9),
+                          g(2, 0) * error(0) + g(2, 3) * error(3) + g(2, 7) * error(7) + g(2, 10) * error(10),
+                          g(3, 8) * error(8) + g(3, 11) * error(11));
   Wrench wrench;
   // Hover thrust plus feed-forward, corrected for tilt so the vertical component holds altitude.
   const double cos_tilt = std::max(R_WB(2, 2), 0.5);

@@ -26,29 +26,16 @@ double UniformStep(const std::vector<double>& axis) {
 }  // namespace
 
 DragTable::Axis::Axis(std::vector<double> axis_values, double uniform_step)
-    : values(std::move(axis_values)), inverse_uniform_step(uniform_step > 0.0 ? 1.0 / uniform_step : 0.0) {
+    : values(std::move(axis_values)),
+      inverse_uniform_step(uniform_step > 0.0 ? 1.0 / uniform_step : 0.0),
+      front(values.front()),
+      back(values.back()),
+      last_cell(static_cast<int>(values.size()) - 2) {
   for (std::size_t i = 0; i + 1 < values.size(); ++i) inverse_width.push_back(1.0 / (values[i + 1] - values[i]));
 }
 
-// Index i with values[i] <= x < values[i+1] (clamped to the table), and the fraction within the cell.
-void DragTable::Axis::Locate(double x, int* index, double* fraction) const {
-  const int last_cell = static_cast<int>(values.size()) - 2;
-  if (x <= values.front()) {
-    *index = 0;
-    *fraction = 0.0;
-    return;
-  }
-  if (x >= values.back()) {
-    *index = last_cell;
-    *fraction = 1.0;
-    return;
-  }
-  if (inverse_uniform_step > 0.0) {
-    *index = std::min(static_cast<int>((x - values.front()) * inverse_uniform_step), last_cell);
-  } else {
-    *index = static_cast<int>(std::upper_bound(values.begin(), values.end(), x) - values.begin()) - 1;
-  }
-  *fraction = (x - values[*index]) * inverse_width[*index];
+int DragTable::Axis::SearchCell(double x) const {
+  return static_cast<int>(std::upper_bound(values.begin(), values.end(), x) - values.begin()) - 1;
 }
 
 DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_rad, std::vector<double> drag_n,
@@ -133,15 +120,16 @@ DragTable DragTable::FromCsv(const std::filesystem::path& path) {
 
 double DragTable::Drag(double airspeed, double pitch) const {
   airspeed = std::max(airspeed, 0.0);
-  const double top = airspeeds_.back();
+  const double top = airspeed_axis_.back;
   const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;
-  int i, j;
-  double fi, fj;
-  airspeed_axis_.Locate(std::min(airspeed, top), &i, &fi);
-  pitch_axis_.Locate(pitch, &j, &fj);
-  const double low = (1 - fj) * At(i, j) + fj * At(i, j + 1);
-  const double high = (1 - fj) * At(i + 1, j) + fj * At(i + 1, j + 1);
-  return growth * ((1 - fi) * low + fi * high);
+  const Axis::Bracket v = airspeed_axis_.Locate(std::min(airspeed, top));
+  const Axis::Bracket p = pitch_axis_.Locate(pitch);
+  const double fj = p.fraction;
+  const double* row = &drag_[static_cast<std::size_t>(v.index) * pitches_.size() + p.index];
+  const double* next_row = row + pitches_.size();
+  const double low = (1 - fj) * row[0] + fj * row[1];
+  const double high = (1 - fj) * next_row[0] + fj * next_row[1];
+  return growth * ((1 - v.fraction) * low + v.fraction * high);
 }
 
 double DragTable::DragSlope(double airspeed, double pitch) const {

@@ -126,18 +126,23 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
     out.outcome = in.on_original_plan ? Outcome::kCompleted : Outcome::kEmergencyLanding;
     out.reason = in.on_original_plan ? fmt::format("{} at the destination of the original plan", how)
                                      : fmt::format("{} at the emergency site {}", how, in.emergency_site);
-    return out;
   };
+  // Every path returns `out` itself (no other object), so that it is built in the caller's slot (NRVO), not moved
+  // there at every step.
   if (in.airborne && landing && in.plan_time_remaining_s <= 0.0 && above_end < limits.settled_height &&
       in.v_WB_W.norm() < limits.settled_speed) {
-    return landed("landed");
+    landed("landed");
+    return out;
   }
   // Contact with a surface: a roof (inside a building prism, only possible below the tallest roof) or the ground.
   const bool gentle = in.v_WB_W.z() <= limits.touchdown_speed;  // NED: +z is down
   if (altitude < map.max_building_height() + limits.building_margin) {
     const int building = map.BuildingContaining(in.p_WB_W);
     if (building != planning::kNoBuilding) {
-      if (in.airborne && landing && gentle) return landed("touched down on the roof");
+      if (in.airborne && landing && gentle) {
+        landed("touched down on the roof");
+        return out;
+      }
       out.outcome = Outcome::kFailedCollision;
       out.reason = fmt::format("struck building {} at {:.1f} m, {:.1f} m/s down", map.building(building).id, altitude,
                                in.v_WB_W.z());
@@ -145,7 +150,10 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
     }
   }
   if (in.airborne && altitude <= 0.0) {
-    if (landing && gentle) return landed("touched down");
+    if (landing && gentle) {
+      landed("touched down");
+      return out;
+    }
     const double across = in.v_WB_W.head<2>().norm();
     if (gentle && across <= limits.touchdown_speed) {
       out.outcome = Outcome::kLandedOffSite;

@@ -1,6 +1,8 @@
 // The LQR flight controller (gnc/lqr.h): the Riccati solution, the discretisation, and the closed loop on the
 // nonlinear rigid body.
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
@@ -53,6 +55,45 @@ TEST(LqrTest, ZeroOrderHoldMatchesTheFirstTermsOfTheExponential) {
   EXPECT_NEAR(d.A(0, 7), -kGravity * dt * dt / 2.0, 1e-15);
   // Torque τy to x-position: −g/Iyy · dt⁴/24.
   EXPECT_NEAR(d.B(0, 2), -kGravity / 0.011 * std::pow(dt, 4) / 24.0, 1e-15);
+}
+
+TEST(LqrTest, GainKeepsTheHoverDecouplingAndComputeIsItsDenseProduct) {
+  // Compute sums only the gain entries of the decoupled hover model (lqr.cc kGainRowColumns). For several vehicles and
+  // weights the other entries are exact zeros (else the constructor aborts), and at level attitude with no reference
+  // acceleration (every angle 0, no clamp) Compute's torques are −K x exactly, the dense product's bits: EXPECT_EQ on
+  // doubles on purpose.
+  models::RigidBodyParams heavy;
+  heavy.mass = 2.4;
+  heavy.inertia_diagonal = Eigen::Vector3d(0.02, 0.03, 0.05);
+  LqrOptions stiff;
+  stiff.weights.position = 0.3;
+  stiff.weights.yaw_torque = 0.5;
+  stiff.dt = 0.01;
+  for (const auto& [params, options] : {std::pair{models::RigidBodyParams{}, LqrOptions{}}, std::pair{heavy, stiff}}) {
+    const LqrController controller(params, options);
+    int nonzero = 0;
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 12; ++j) nonzero += controller.gain()(i, j) != 0.0;
+    }
+    EXPECT_EQ(nonzero, 12);
+    for (int trial = 0; trial < 20; ++trial) {
+      RigidBodyState state;
+      state.p_WB_W = 0.1 * Eigen::Vector3d(std::sin(trial), std::cos(3.0 * trial), std::sin(5.0 * trial));
+      state.v_WB_W = 0.1 * Eigen::Vector3d(std::cos(trial), std::sin(2.0 * trial), std::cos(7.0 * trial));
+      state.w_WB_B = 0.2 * Eigen::Vector3d(std::sin(11.0 * trial), std::cos(13.0 * trial), std::sin(17.0 * trial));
+      const Wrench wrench = controller.Compute(state, {});
+      ControlState x = ControlState::Zero();
+      x.head<3>() = state.p_WB_W;
+      x.segment<3>(3) = state.v_WB_W;
+      x.tail<3>() = state.w_WB_B;
+      const GainMatrix negative_gain = -controller.gain();
+      const Eigen::Vector4d u = negative_gain * x;
+      EXPECT_EQ(wrench(1), u(1));
+      EXPECT_EQ(wrench(2), u(2));
+      EXPECT_EQ(wrench(3), u(3));
+      EXPECT_EQ(wrench(0), std::max(params.mass * kGravity + u(0), 0.0));
+    }
+  }
 }
 
 TEST(LqrTest, ClosedLoopNonlinearHoverSettlesAfterAStep) {

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
@@ -98,6 +99,39 @@ TEST(RigidBodyTest, FiveMillisecondStepMatchesAFineReference) {
   const double ratio = (midpoint.p_WB_W - fine.p_WB_W).norm() / (half.p_WB_W - fine.p_WB_W).norm();
   EXPECT_GT(ratio, 3.0);
   EXPECT_LT(ratio, 5.0);
+}
+
+// A bilinear function of (airspeed, pitch) is reproduced by the table's bilinear interpolation to round-off,
+// whichever cell a point falls in: on uniform axes (the direct index) and on non-uniform ones (the binary search).
+double Bilinear(double airspeed, double pitch) { return 2.0 + 2.0 * airspeed + 3.0 * pitch + 0.5 * airspeed * pitch; }
+
+DragTable TabulateBilinear(const std::vector<double>& airspeeds, const std::vector<double>& pitches) {
+  std::vector<double> drag;
+  for (double v : airspeeds) {
+    for (double p : pitches) drag.push_back(Bilinear(v, p));
+  }
+  return DragTable(airspeeds, pitches, drag, "bilinear");
+}
+
+TEST(DragTableTest, InterpolatesABilinearFunctionExactlyOnUniformAndNonUniformAxes) {
+  const DragTable uniform = TabulateBilinear({0, 1, 2, 3, 4}, {-0.5, -0.25, 0.0, 0.25, 0.5});
+  const DragTable non_uniform = TabulateBilinear({0, 0.5, 2, 2.25, 4}, {-0.5, -0.4, 0.1, 0.2, 0.5});
+  for (int a = 0; a <= 40; ++a) {
+    for (int p = 0; p <= 20; ++p) {
+      const double airspeed = 0.1 * a;       // 0…4 m/s, breakpoints included
+      const double pitch = -0.5 + 0.05 * p;  // −0.5…0.5 rad
+      EXPECT_NEAR(uniform.Drag(airspeed, pitch), Bilinear(airspeed, pitch), 1e-12) << airspeed << ", " << pitch;
+      EXPECT_NEAR(non_uniform.Drag(airspeed, pitch), Bilinear(airspeed, pitch), 1e-12) << airspeed << ", " << pitch;
+    }
+  }
+}
+
+TEST(DragTableTest, ClampsThePitchAndGrowsAsTheSquareBeyondTheLastAirspeed) {
+  const DragTable table = TabulateBilinear({0, 0.5, 2, 2.25, 4}, {-0.5, -0.4, 0.1, 0.2, 0.5});
+  EXPECT_NEAR(table.Drag(3.0, 0.9), Bilinear(3.0, 0.5), 1e-12);
+  EXPECT_NEAR(table.Drag(3.0, -2.0), Bilinear(3.0, -0.5), 1e-12);
+  EXPECT_NEAR(table.Drag(-1.0, 0.1), Bilinear(0.0, 0.1), 1e-12);       // a negative airspeed counts as 0
+  EXPECT_NEAR(table.Drag(8.0, 0.1), Bilinear(4.0, 0.1) * 4.0, 1e-12);  // (8 / 4)² from the table's edge
 }
 
 }  // namespace

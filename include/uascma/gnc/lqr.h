@@ -91,6 +91,7 @@ class LqrController {
   LqrOptions options_;
   LinearModel discrete_;
   RiccatiSolution solution_;
+  GainMatrix negative_gain_;  // −K, so that u = −K x is one product per step
 };
 
 // Drag feed-forward (issue 11, item 3): the acceleration the rotors must add to the reference's so that the

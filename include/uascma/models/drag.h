@@ -5,6 +5,7 @@
 // tractor, 1.25× for the pusher (its 25 % higher drag, Abstract / §2.6.2), over 0–10 m/s and −30°…+30°.
 // A CSV with the same axes replaces it. Beyond the last airspeed the drag grows as v² from the table's
 // edge; pitch is clamped to the table.
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -32,15 +33,31 @@ class DragTable {
   const std::vector<double>& pitches() const { return pitches_; }
 
  private:
-  double At(int i, int j) const { return drag_[static_cast<std::size_t>(i) * pitches_.size() + j]; }
-  // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search).
+  // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search). Locate is
+  // inline: the 6-DOF evaluates the table twice per 200 Hz step and the drag feed-forward once. A non-uniform axis (a
+  // CSV table) keeps its binary search: the table is shared by every thread of a campaign, so it remembers nothing.
   struct Axis {
     Axis() = default;
     Axis(std::vector<double> axis_values, double uniform_step);
     std::vector<double> values;
     double inverse_uniform_step = 0.0;  // 1 / the uniform spacing; 0 when the spacing is not uniform
     std::vector<double> inverse_width;  // [cell] 1 / (values[i+1] − values[i])
-    void Locate(double x, int* index, double* fraction) const;
+    double front = 0.0, back = 0.0;     // values.front(), values.back()
+    int last_cell = 0;                  // values.size() − 2
+    // The cell i with values[i] <= x < values[i+1] (clamped to the table), and the fraction within the cell.
+    struct Bracket {
+      int index;
+      double fraction;
+    };
+    Bracket Locate(double x) const {
+      if (x <= front) return {0, 0.0};
+      if (x >= back) return {last_cell, 1.0};
+      const int index = inverse_uniform_step > 0.0
+                            ? std::min(static_cast<int>((x - front) * inverse_uniform_step), last_cell)
+                            : SearchCell(x);
+      return {index, (x - values[index]) * inverse_width[index]};
+    }
+    int SearchCell(double x) const;  // binary search, for a non-uniform axis
   };
   Axis airspeed_axis_, pitch_axis_;
   std::vector<double> airspeeds_;  // m/s, ascending
