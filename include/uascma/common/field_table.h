@@ -23,5 +23,8 @@ template <typename... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
+// The deduction guide C++20 makes implicit for aggregates; clang 14 (the fuzz and sanitizer builds) still needs it.
+template <typename... F>
+Overloaded(F...) -> Overloaded<F...>;
 
 }  // namespace uascma
