@@ -14,6 +14,11 @@ fi
 # Instructions per 200 Hz GNC step on examples/nominal.yaml (issue 27; bench/step_instructions.sh, callgrind).
 echo "== step_instructions"
 bash "$(dirname "$0")/../bench/step_instructions.sh" "$build"
+# The 10,000-flight campaign, battery learning and Q-learning as timed CLI runs (issue 27; ~10 CPU minutes).
+if [[ "${HEADLINE_SKIP:-0}" != 1 ]]; then
+  echo "== headline (HEADLINE_SKIP=1 skips it)"
+  bash "$(dirname "$0")/../bench/headline.sh" "$build"
+fi
 # Start-up of `uascma` and of `import uascma` (issue 27 item 5; bench/startup_bench.py).
 echo "== startup_bench"
 /usr/bin/python3 "$(dirname "$0")/../bench/startup_bench.py" "$build"
