@@ -5,6 +5,24 @@
 #include <limits>
 
 namespace uascma::decision {
+namespace {
+
+// Pack `branch` alone (the other switched off) carrying `current_a`: its EOD and its worst cell's voltage.
+struct AloneAtCurrent {
+  double eod_s;
+  double min_cell_voltage_v;
+};
+AloneAtCurrent PackAloneAt(const models::BatteryPack& pack, const models::PackState& state, int branch,
+                           double current_a, const prognostics::EodOptions& eod_options) {
+  models::PackState alone = state;
+  alone.branch_on = {branch == 0, branch == 1};
+  const models::PackOutputs loaded = pack.CalcOutputs(alone, current_a);
+  double min_v = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < models::kCellsPerBranch; ++c) min_v = std::min(min_v, loaded.cell_voltage_v[branch][c]);
+  return {prognostics::CalcPackEod(pack, alone, current_a, eod_options).eod_s, min_v};
+}
+
+}  // namespace
 
 // ================================ abstraction =====================================================
 EnergyState ClassifyEnergy(double eod_s, double remaining_flight_s, double safety_margin_s) {
@@ -54,16 +72,12 @@ BatteryObservation ObserveBattery(const models::BatteryPack& pack, const models:
   const models::PackOutputs actual = pack.CalcOutputs(state, total_current_a);
   for (int j = 0; j < models::kBranchCount; ++j) {
     // Pack j alone carrying the whole present current: its EOD and its worst cell under that load.
-    models::PackState alone = state;
-    alone.branch_on = {j == 0, j == 1};
-    observation.eod_s[j] = prognostics::CalcPackEod(pack, alone, total_current_a, eod_options).eod_s;
-    const models::PackOutputs loaded = pack.CalcOutputs(alone, total_current_a);
-    double min_loaded_v = std::numeric_limits<double>::infinity(), min_actual_v = min_loaded_v;
-    for (int c = 0; c < models::kCellsPerBranch; ++c) {
-      min_loaded_v = std::min(min_loaded_v, loaded.cell_voltage_v[j][c]);
+    const AloneAtCurrent alone = PackAloneAt(pack, state, j, total_current_a, eod_options);
+    observation.eod_s[j] = alone.eod_s;
+    observation.min_cell_voltage_v[j] = alone.min_cell_voltage_v;
+    double min_actual_v = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < models::kCellsPerBranch; ++c)
       min_actual_v = std::min(min_actual_v, actual.cell_voltage_v[j][c]);
-    }
-    observation.min_cell_voltage_v[j] = min_loaded_v;
     observation.actual_min_cell_voltage_v[j] = min_actual_v;
   }
   return observation;
@@ -99,11 +113,9 @@ void ObserveAloneAtPower(const models::BatteryPack& pack, const models::PackStat
       observation.alone_power_min_cell_voltage_v[j] = 0.0;
       continue;
     }
-    observation.alone_power_eod_s[j] = prognostics::CalcPackEod(pack, alone, current_a, eod_options).eod_s;
-    const models::PackOutputs loaded = pack.CalcOutputs(alone, current_a);
-    double min_v = std::numeric_limits<double>::infinity();
-    for (int c = 0; c < models::kCellsPerBranch; ++c) min_v = std::min(min_v, loaded.cell_voltage_v[j][c]);
-    observation.alone_power_min_cell_voltage_v[j] = min_v;
+    const AloneAtCurrent at_power = PackAloneAt(pack, state, j, current_a, eod_options);
+    observation.alone_power_eod_s[j] = at_power.eod_s;
+    observation.alone_power_min_cell_voltage_v[j] = at_power.min_cell_voltage_v;
   }
 }
 
