@@ -44,6 +44,7 @@
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/motor_rul.h"
+#include "uascma/sim/eod_error_model.h"
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"
@@ -129,6 +130,10 @@ class FlightModel {
   // The steady-flight load of a reference (sim/load_forecast.h), and the nominal plan's profile with six rotors.
   const SteadyLoadModel& steady_load() const { return steady_load_; }
   const std::shared_ptr<const LoadProfile>& nominal_load_profile() const { return nominal_load_profile_; }
+  // The load forecast's measured error the 1 Hz EOD distribution uses: the scenario's, else the default table.
+  const EodErrorModel& eod_error_model() const {
+    return scenario_.eod_error_model ? *scenario_.eod_error_model : EodErrorModel::Default();
+  }
   const OutcomeClassifier& outcome_classifier() const { return outcome_classifier_; }
 
  private:
@@ -221,6 +226,7 @@ struct DecisionState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
   double eod_current_a = 0.0;       // the constant current the last EOD was propagated at
+  EodLoadError eod_load_error;      // the load forecast's error the EOD's distribution assumed (eod_error_model.h)
   LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
   DecisionInputs inputs;
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
@@ -300,6 +306,7 @@ struct TelemetryRow {
   std::array<double, 2> branch_current{};
   std::array<double, 6> cell_voltage{};
   double eod_s = 0, flight_time_remaining_s = 0, rul_s = 0, reach_margin = 0, motor_margin = 0;
+  double eod_p05_s = 0, eod_p50_s = 0, eod_p95_s = 0, eod_short_probability = 0;  // DecisionInputs' distribution
   int cma_state = 0, action = 0, imm_mode = 0;
   double spall_area_mm2 = 0;
 };

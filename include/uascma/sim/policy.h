@@ -28,6 +28,13 @@ struct DecisionInputs {
   double rul_s = std::numeric_limits<double>::infinity();  // +∞ without a motor fault
   double reach_margin = 0.0;                               // RM = 1 − (t_remaining + t_sf) / t_EOD
   double motor_margin = 0.0;                               // MM = 1 − t_remaining / t_RUL
+  // The EOD as a distribution (issue 29): its 5, 50 and 95 % quantiles (s) and the chance that the EOD falls short
+  // of the rest of the plan with its margin, P(EOD < t_remaining + t_sf), from the load forecast's measured error
+  // (sim/eod_error_model.h). With no uncertainty (an empty error model) the quantiles are eod_s and the chance 0 or 1.
+  double eod_p05_s = 0.0;
+  double eod_p50_s = 0.0;
+  double eod_p95_s = 0.0;
+  double eod_short_probability = 0.0;
   bool operator==(const DecisionInputs&) const = default;
 };
 
