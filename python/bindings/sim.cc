@@ -86,6 +86,7 @@ class PythonPolicy final : public DecisionPolicy {
   PythonPolicy(py::object fn, std::string name) : fn_(std::move(fn)), name_(std::move(name)) {}
   CmaAction Decide(const DecisionInputs& inputs) override { return ToAction(fn_(inputs)); }
   std::string name() const override { return name_; }
+  bool ReadsEodDistribution() const override { return true; }  // a callable may read any input
 
   static CmaAction ToAction(const py::handle& value) {
     if (py::isinstance<CmaAction>(value)) return value.cast<CmaAction>();

@@ -184,7 +184,7 @@ void ObserveEodDistribution(const FlightModel& model, FlightState& state, Decisi
 
 }  // namespace
 
-const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log) {
+const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log, bool eod_distribution) {
   // Guidance first: a vehicle flying on four rotors keeps to what they can hold (§4.4.2).
   CapSpeedAfterIsolation(model, state, log);
   // EOD at the expected load of the rest of the executing plan (decision 25) or at the present current, the pack
@@ -217,7 +217,13 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
   inputs.state = decision::AbstractCmaState(state.decision.flight_status, motor_health, model.battery_health(),
                                             inputs.reach_margin, inputs.motor_margin);
-  ObserveEodDistribution(model, state, inputs);
+  inputs.has_eod_distribution = eod_distribution;
+  if (eod_distribution) {
+    ObserveEodDistribution(model, state, inputs);
+  } else {
+    state.decision.eod_load_error = {};
+    inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_short_probability = 0.0;
+  }
   if (log) log->states.emplace_back(t, decision::CmaStateIndex(inputs.state));
   return inputs;
 }
@@ -371,8 +377,8 @@ void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPo
 }
 
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
-                                 FlightLog* log) {
-  const DecisionInputs& inputs = Observe(model, state, log);
+                                 FlightLog* log, bool eod_distribution) {
+  const DecisionInputs& inputs = Observe(model, state, log, eod_distribution);
   if (battery) DecideBattery(model, state, *battery, log);
   return inputs;
 }
@@ -380,7 +386,8 @@ const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, B
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
   if (state.done()) return;
   UASCMA_CHECK(IsDecisionEpoch(model, state), "StepEpoch starts at a decision epoch");
-  const DecisionInputs& inputs = BeginEpoch(model, state, controllers.battery, log);
+  const DecisionInputs& inputs =
+      BeginEpoch(model, state, controllers.battery, log, NeedsEodDistribution(controllers.policy, log));
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
   Act(model, state, action, controllers.planner, log,
       controllers.policy ? controllers.policy->Ranking(inputs) : ActionRanking{});

@@ -360,8 +360,10 @@ void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* lo
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
                    std::span<bool> stepped);
 
-// At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states).
-const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
+// At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states), and with
+// `eod_distribution` the EOD's distribution from the model's error table (DecisionInputs::has_eod_distribution).
+const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr,
+                              bool eod_distribution = true);
 
 // Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
 // LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is
@@ -382,10 +384,15 @@ void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPo
 // The start of a decision epoch: Observe, then the battery executor decides (DecideBattery; none when `battery` is
 // null). Returns the observed inputs the CMA policy decides on.
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
-                                 FlightLog* log = nullptr);
+                                 FlightLog* log = nullptr, bool eod_distribution = true);
 
-// One decision epoch: BeginEpoch, the policy decides (a null policy: NoOp), Act, then GNC steps to the next epoch or
-// the end of the flight. Must be called at an epoch.
+// Whether an epoch computes the EOD's distribution: when the policy reads it or the log records telemetry.
+inline bool NeedsEodDistribution(const DecisionPolicy* policy, const FlightLog* log) {
+  return (policy && policy->ReadsEodDistribution()) || (log && log->record_telemetry);
+}
+
+// One decision epoch: BeginEpoch (the EOD's distribution when NeedsEodDistribution), the policy decides (a null
+// policy: NoOp), Act, then GNC steps to the next epoch or the end of the flight. Must be called at an epoch.
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log = nullptr);
 
 }  // namespace uascma::sim
