@@ -8,6 +8,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/random.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/eod_distribution.h"
 #include "uascma/prognostics/motor_rul.h"
 
 namespace uascma::python {
@@ -54,6 +55,36 @@ void InitPrognostics(py::module_& m) {
       },
       py::arg("pack"), py::arg("state"), py::arg("total_current_a"), py::arg("options") = EodOptions{},
       "EOD (s) for each constant current in total_current_a (A, any shape; same shape out)");
+  py::class_<EodUncertainty>(m, "EodUncertainty", "1σ of each EOD input (0 = exactly known), issue 29")
+      .def(py::init<>())
+      .def_readwrite("load_log_mean", &EodUncertainty::load_log_mean, "bias of ln(I_actual / I_forecast)")
+      .def_readwrite("load_log_sigma", &EodUncertainty::load_log_sigma, "1σ of ln(I_actual / I_forecast)")
+      .def_readwrite("soc_sigma", &EodUncertainty::soc_sigma, "1σ of every cell's SOC (fraction, common)")
+      .def_readwrite("r0_log_sigma", &EodUncertainty::r0_log_sigma, "1σ of ln R0 of the cells")
+      .def_readwrite("capacity_log_sigma", &EodUncertainty::capacity_log_sigma, "1σ of ln Q of the cells")
+      .def_readwrite("cold_probability", &EodUncertainty::cold_probability,
+                     "P(cold class, R0 x1.5) when uncertain; < 0: the class is known");
+  py::class_<EodDistribution>(m, "EodDistribution", "The EOD as a distribution (log-normal mixture), issue 29")
+      .def_readonly("point", &EodDistribution::point, "CalcPackEod at the given current (the point EOD)")
+      .def_readonly("components", &EodDistribution::components)
+      .def_readonly("weight", &EodDistribution::weight)
+      .def_readonly("log_median", &EodDistribution::log_median)
+      .def_readonly("log_sigma", &EodDistribution::log_sigma, "σ of ln EOD below the median")
+      .def_readonly("log_sigma_above", &EodDistribution::log_sigma_above, "σ of ln EOD above the median")
+      .def_readonly("centre_eod_s", &EodDistribution::centre_eod_s)
+      .def_readonly("log_secants", &EodDistribution::log_secants, "ln EOD change at 1σ of load, SOC, R0, capacity")
+      .def_readonly("evaluations", &EodDistribution::evaluations, "CalcPackEod calls made")
+      .def("quantile", &EodDistribution::Quantile, py::arg("p"), "EOD (s) at probability p in (0, 1)")
+      .def("probability_before", &EodDistribution::ProbabilityBefore, py::arg("t_s"), "P(EOD < t_s)")
+      .def(
+          "quantiles",
+          [](const EodDistribution& d, const py::array_t<double, py::array::c_style | py::array::forcecast>& p) {
+            return MapArray(p, [&](double level) { return d.Quantile(level); });
+          },
+          py::arg("p"), "EOD (s) at each probability in p (any shape; same shape out)");
+  m.def("pack_eod_distribution", &CalcPackEodDistribution, py::arg("pack"), py::arg("state"), py::arg("current_a"),
+        py::arg("uncertainty"), py::arg("options") = EodOptions{},
+        "The EOD as a distribution at a constant current (A) under the given uncertainty (issue 29)");
   m.def("cell_eod", &CalcCellEod, py::arg("cell"), py::arg("state"), py::arg("current_a"),
         py::arg("options") = EodOptions{});
   m.def("reach_margin", &CalcReachMargin, py::arg("eod"), py::arg("flight_time_remaining_s"),
