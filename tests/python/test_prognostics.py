@@ -87,3 +87,26 @@ def test_eod_distribution_equals_the_cli():
     assert distribution.evaluations == 5  # point, centre (biased load), load, SOC both sides
     with pytest.raises(uascma.InputError):
         distribution.quantile(1.5)
+
+
+def test_rul_calibration_equals_the_cli():
+    python = uascma.rul_calibration(histories=200, seed=3, prognosis_time_per_step_s=0.7128)
+    cli = cli_json("rul", "--calibrate", "--histories", 200, "--seed", 3, "--time-per-step", 0.7128)
+    assert python.predictions == cli["predictions"]
+    for mine, theirs in zip(python.report.intervals, cli["intervals"]):
+        assert mine.covered == theirs["covered"]
+    assert python.report.saxena.mean_relative_accuracy == pytest.approx(
+        cli["saxena"]["mean_relative_accuracy"], rel=ROUND_OFF)
+
+
+def test_calibration_report_of_a_grid():
+    # Truths on a grid of the uniform distribution on [0, 100] s: each central interval covers its share.
+    levels = uascma.standard_quantile_levels()
+    n = 1000
+    quantiles = np.tile(100.0 * np.array(levels), (n, 1))
+    truths = (np.arange(n) + 0.5) / n * 100.0
+    report = uascma.calibration_report(levels, quantiles, truths, np.zeros(n), np.arange(n))
+    assert [c.covered for c in report.intervals] == [500, 800, 900, 950]
+    assert report.pit_histogram == [100] * 10
+    with pytest.raises(uascma.InputError):
+        uascma.calibration_report(levels, quantiles[:, :3], truths, np.zeros(n), np.arange(n))
