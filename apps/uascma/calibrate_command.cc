@@ -4,6 +4,7 @@
 //                         F.inc (the committed default table is that source);
 //   calibrate eod         fly a TEST campaign (another seed) the same way and score the flights' EOD distributions:
 //                         coverage of the 50/80/90/95 % intervals per health group, the reliability table and plot.
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "bounded_option.h"
+#include "calibration_output.h"
 #include "commands.h"
 #include "output.h"
 #include "plotting.h"
@@ -112,13 +114,13 @@ void AddErrorCommand(CLI::App& calibrate) {
     const nlohmann::json model = campaign::EodErrorModelJson(fit.model);
     if (!options->out.empty()) WriteOutput(options->out, model.dump(2) + "\n");
     if (!options->cxx.empty()) WriteOutput(options->cxx, campaign::EodErrorModelCxx(fit.model));
-    const campaign::EodCalibration scored = campaign::ScoreEodCalibration(runs);
+    const auto censored = std::count_if(runs.begin(), runs.end(), [](const auto& run) { return !run.cutoff_time_s; });
     nlohmann::json variables = nlohmann::json::object();
     for (const auto& [name, sigma] : fit.variable_sigmas) variables[name] = sigma;
     nlohmann::json summary = {{"samples", fit.samples},
                               {"flights", fit.flights},
-                              {"runs", scored.runs},
-                              {"censored_runs", scored.censored_runs},
+                              {"runs", runs.size()},
+                              {"censored_runs", censored},
                               {"overall_log_mean", fit.overall_mean},
                               {"overall_log_sigma", fit.overall_sigma},
                               {"pooled_log_sigma", variables},
@@ -132,11 +134,33 @@ void AddErrorCommand(CLI::App& calibrate) {
         "Load forecast error ln(I_actual / I_forecast) over %lld predictions of %lld flights (%lld runs, %lld "
         "censored)\n  overall: mean %+.4f, sd %.4f\n  pooled sd inside the cells (battery health, motor "
         "health, turbulence, bin) by variable:",
-        static_cast<long long>(fit.samples), static_cast<long long>(fit.flights), static_cast<long long>(scored.runs),
-        static_cast<long long>(scored.censored_runs), fit.overall_mean, fit.overall_sigma);
+        static_cast<long long>(fit.samples), static_cast<long long>(fit.flights), static_cast<long long>(runs.size()),
+        static_cast<long long>(censored), fit.overall_mean, fit.overall_sigma);
     for (const auto& [name, sigma] : fit.variable_sigmas) std::printf(" %s %.4f", name.c_str(), sigma);
     std::printf("\n  kept: %s\n", sim::EodErrorVariableName(fit.model.variable()));
   });
+}
+
+nlohmann::json CalibrationJson(const campaign::EodCalibration& calibration) {
+  nlohmann::json groups = nlohmann::json::array();
+  for (const campaign::EodCalibrationGroup& g : calibration.groups) {
+    nlohmann::json coverage = nlohmann::json::object(), load_only = nlohmann::json::object();
+    for (const prognostics::IntervalCoverage& c : g.report.intervals) {
+      coverage[fmt::format("{:.0f}", 100 * c.nominal)] = c.fraction;
+    }
+    for (int l = 0; l < 4; ++l) load_only[fmt::format("{:.0f}", 100 * campaign::kCoverageLevels[l])] = g.ZCoverage(l);
+    groups.push_back({{"group", g.label},
+                      {"flights", g.flights},
+                      {"samples", g.samples},
+                      {"coverage", coverage},
+                      {"load_only_coverage", load_only},
+                      {"report", CalibrationReportJson(g.report)}});
+  }
+  return {{"runs", calibration.runs},
+          {"scored_runs", calibration.scored_runs},
+          {"censored_runs", calibration.censored_runs},
+          {"unscored_predictions", calibration.unscored_predictions},
+          {"groups", groups}};
 }
 
 void PrintCalibration(const campaign::EodCalibration& c, const std::string& model_source) {
@@ -144,22 +168,20 @@ void PrintCalibration(const campaign::EodCalibration& c, const std::string& mode
               static_cast<long long>(c.runs), static_cast<long long>(c.scored_runs),
               static_cast<long long>(c.censored_runs), static_cast<long long>(c.unscored_predictions),
               model_source.c_str());
-  std::printf("  group  flights  predictions    50 %%    80 %%    90 %%    95 %%   (flight's p05-p95)\n");
+  std::printf(
+      "  coverage of the true EOD by the central intervals (%%), and the load-only check (|z|), per group:\n"
+      "  group  flights  predictions    50    80    90    95  |  50    80    90    95  |  PH (s)  a-l   RA\n");
   for (const auto& g : c.groups) {
-    std::printf(
-        "  %-5s  %7lld  %11lld  %6.1f  %6.1f  %6.1f  %6.1f   (%.1f)\n", g.label.c_str(),
-        static_cast<long long>(g.flights), static_cast<long long>(g.samples), 100 * g.Coverage(0), 100 * g.Coverage(1),
-        100 * g.Coverage(2), 100 * g.Coverage(3),
-        g.samples ? 100.0 * static_cast<double>(g.inside_flight_p05_p95) / static_cast<double>(g.samples) : 0.0);
+    std::printf("  %-5s  %7lld  %11lld ", g.label.c_str(), static_cast<long long>(g.flights),
+                static_cast<long long>(g.samples));
+    for (const prognostics::IntervalCoverage& i : g.report.intervals) std::printf(" %5.1f", 100 * i.fraction);
+    std::printf("  |");
+    for (int l = 0; l < 4; ++l) std::printf(" %5.1f", 100 * g.ZCoverage(l));
+    const prognostics::SaxenaMetrics& s = g.report.saxena;
+    std::printf("  | %6.1f  %4.2f  %5.3f\n", s.mean_prognostic_horizon_s, s.alpha_lambda_fraction,
+                s.mean_relative_accuracy);
   }
-  std::printf("  reliability, fraction of predictions with PIT <= p:\n  p     ");
-  for (std::size_t k = 0; k < c.groups.front().reliability.size(); ++k) std::printf(" %5.2f", 0.05 * (k + 1));
-  std::printf("\n");
-  for (const auto& g : c.groups) {
-    std::printf("  %-5s ", g.label.c_str());
-    for (double r : g.reliability) std::printf(" %5.3f", r);
-    std::printf("\n");
-  }
+  for (const auto& g : c.groups) std::printf("  %s:\n%s", g.label.c_str(), CalibrationReportText(g.report).c_str());
 }
 
 void AddEodCalibrationCommand(CLI::App& calibrate) {
@@ -187,7 +209,7 @@ void AddEodCalibrationCommand(CLI::App& calibrate) {
     const std::string source = model ? options->model : sim::EodErrorModel::Default().command();
     const auto runs = FlyTwins(options->campaign, model);
     const campaign::EodCalibration calibration = campaign::ScoreEodCalibration(runs);
-    nlohmann::json out = campaign::EodCalibrationJson(calibration);
+    nlohmann::json out = CalibrationJson(calibration);
     out["error_model"] = source.empty() ? "none (the empty table)" : source;
     out["campaign"] = CampaignArguments(options->campaign);
     if (!options->plot.empty()) PlotJson("eod_reliability.py", out, options->plot);

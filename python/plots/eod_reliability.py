@@ -5,8 +5,8 @@ the coverage of the central 50/80/90/95 % intervals against their nominal probab
 
 Usage: eod_reliability.py CALIBRATION.json OUT.png
 CALIBRATION.json (written by `uascma calibrate eod --plot`): {"groups": [{"group": "G", "samples": n, "flights": n,
-"coverage": {"50": c, "80": c, "90": c, "95": c}, "reliability": {"nominal": [...], "observed": [...]}}, ...],
-"error_model": str, "campaign": str}.
+"coverage": {"50": c, "80": c, "90": c, "95": c}, "report": {"reliability": [{"nominal": p, "observed": f}, ...]}},
+...], "error_model": str, "campaign": str}.
 """
 import json
 import sys
@@ -30,15 +30,17 @@ def main(source, target):
         label = f"{group['group']} ({group['flights']} flights, {group['samples']} predictions)"
         colour = COLOURS.get(group["group"], "#555555")
         width = 2.2 if group["group"] == "all" else 1.4
-        rel = group["reliability"]
-        reliability.plot([0] + rel["nominal"] + [1], [0] + rel["observed"] + [1], marker=".", color=colour,
-                         linewidth=width, label=label)
+        rows = group["report"]["reliability"]
+        nominal = [row["nominal"] for row in rows]
+        observed = [row["observed"] for row in rows]
+        reliability.plot([0] + nominal + [1], [0] + observed + [1], marker=".", color=colour, linewidth=width,
+                         label=label)
         levels = sorted(group["coverage"], key=float)
         coverage.plot([float(level) / 100 for level in levels], [group["coverage"][level] for level in levels],
                       marker="o", color=colour, linewidth=width, label=label)
     reliability.set_xlabel("p")
-    reliability.set_ylabel("fraction of predictions with P(EOD_pred < EOD_true) <= p")
-    reliability.set_title("(a) reliability (PIT)")
+    reliability.set_ylabel("observed fraction of true EODs <= the predicted p quantile")
+    reliability.set_title("(a) reliability")
     coverage.set_xlabel("nominal probability of the central interval")
     coverage.set_ylabel("observed coverage of the true EOD")
     coverage.set_title("(b) interval coverage")

@@ -12,6 +12,7 @@
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/json_reader.h"
+#include "uascma/prognostics/calibration.h"
 
 namespace uascma::campaign {
 namespace {
@@ -83,7 +84,8 @@ std::pair<sim::EodErrorModel, double> FitVariable(const std::vector<EodTruthRun>
           // The values of the finest level with enough flights (the counts stay the cell's own).
           for (int level = 0; level < kFallbackLevels; ++level) {
             const auto found = sums[level].find(keys[level]);
-            if (found == sums[level].end() || found->second.flights < kMinFlightsPerCell) continue;
+            if (found == sums[level].end()) continue;
+            if (found->second.flights < kMinFlightsPerCell && level + 1 < kFallbackLevels) continue;
             const sim::EodErrorCell values = found->second.Cell();
             cell.log_mean = values.log_mean;
             cell.log_sigma = values.log_sigma;
@@ -98,8 +100,8 @@ std::pair<sim::EodErrorModel, double> FitVariable(const std::vector<EodTruthRun>
   std::int64_t count = 0;
   for (const EodTruthRun& run : runs) {
     for (const EodTruthSample& s : run.samples) {
-      const sim::EodLoadError error = model.At(ContextOf(s));
-      squares += (s.log_ratio - error.log_mean) * (s.log_ratio - error.log_mean);
+      const double deviation = s.log_ratio - model.At(ContextOf(s)).load_log_mean;
+      squares += deviation * deviation;
       ++count;
     }
   }
@@ -221,11 +223,11 @@ std::string EodErrorModelCxx(const sim::EodErrorModel& model) {
 EodCalibration ScoreEodCalibration(const std::vector<EodTruthRun>& runs) {
   EodCalibration out;
   std::array<EodCalibrationGroup, 4> groups;
+  std::array<prognostics::PredictionSet, 4> sets;
   std::array<std::int64_t, 4> last_run{-1, -1, -1, -1};
-  constexpr int kReliabilityPoints = 19;
   for (int g = 0; g < 4; ++g) {
     groups[g].label = g < 3 ? kGroupLabels[g] : "all";
-    groups[g].reliability.assign(kReliabilityPoints, 0.0);
+    sets[g].levels = prognostics::StandardQuantileLevels();
   }
   std::array<double, 4> half_widths{};
   for (int l = 0; l < 4; ++l) half_widths[l] = sim::StandardNormalQuantile(0.5 * (1.0 + kCoverageLevels[l]));
@@ -241,46 +243,21 @@ EodCalibration ScoreEodCalibration(const std::vector<EodTruthRun>& runs) {
     for (const EodTruthSample& s : run.samples) {
       const double deviation = s.log_ratio - s.eod_load_log_mean;
       const double z = s.eod_load_log_sigma > 0.0 ? deviation / s.eod_load_log_sigma
-                       : deviation == 0.0         ? 0.0
                                                   : std::copysign(std::numeric_limits<double>::infinity(), deviation);
-      const double pit = sim::StandardNormalCdf(-z);
       for (const int g : {s.battery_health, 3}) {
         EodCalibrationGroup& group = groups[g];
         ++group.samples;
         if (last_run[g] != run.run_index) ++group.flights, last_run[g] = run.run_index;
-        for (int l = 0; l < 4; ++l) group.inside[l] += std::abs(z) <= half_widths[l] ? 1 : 0;
-        group.inside_flight_p05_p95 += s.eod_p05_s <= s.true_eod_s && s.true_eod_s <= s.eod_p95_s ? 1 : 0;
-        for (int k = 0; k < kReliabilityPoints; ++k) group.reliability[k] += pit <= 0.05 * (k + 1) ? 1.0 : 0.0;
+        for (int l = 0; l < 4; ++l) group.z_inside[l] += std::abs(z) <= half_widths[l] ? 1 : 0;
+        sets[g].predictions.push_back({static_cast<int>(run.run_index), s.time_s, s.true_eod_s, s.eod_quantiles_s});
       }
     }
   }
-  for (EodCalibrationGroup& group : groups) {
-    for (double& r : group.reliability) r = group.samples ? r / static_cast<double>(group.samples) : 0.0;
-    out.groups.push_back(std::move(group));
+  for (int g = 0; g < 4; ++g) {
+    if (!sets[g].predictions.empty()) groups[g].report = prognostics::CalcCalibrationReport(sets[g]);
+    out.groups.push_back(std::move(groups[g]));
   }
   return out;
-}
-
-nlohmann::json EodCalibrationJson(const EodCalibration& calibration) {
-  nlohmann::json groups = nlohmann::json::array();
-  for (const EodCalibrationGroup& g : calibration.groups) {
-    nlohmann::json coverage = nlohmann::json::object();
-    for (int l = 0; l < 4; ++l) coverage[fmt::format("{:.0f}", 100 * kCoverageLevels[l])] = g.Coverage(l);
-    nlohmann::json nominal = nlohmann::json::array();
-    for (std::size_t k = 0; k < g.reliability.size(); ++k) nominal.push_back(0.05 * static_cast<double>(k + 1));
-    groups.push_back(
-        {{"group", g.label},
-         {"samples", g.samples},
-         {"flights", g.flights},
-         {"coverage", coverage},
-         {"flight_p05_p95_coverage", g.samples ? static_cast<double>(g.inside_flight_p05_p95) / g.samples : 0.0},
-         {"reliability", {{"nominal", nominal}, {"observed", g.reliability}}}});
-  }
-  return {{"runs", calibration.runs},
-          {"scored_runs", calibration.scored_runs},
-          {"censored_runs", calibration.censored_runs},
-          {"unscored_predictions", calibration.unscored_predictions},
-          {"groups", groups}};
 }
 
 }  // namespace uascma::campaign

@@ -7,6 +7,7 @@
 #include "uascma/campaign/sampler.h"
 #include "uascma/campaign/world.h"
 #include "uascma/common/parallel_for.h"
+#include "uascma/prognostics/calibration.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/sim/eod_truth.h"
 #include "uascma/sim/flight.h"
@@ -42,7 +43,7 @@ EodTruthRun FlyTruthRun(const CampaignConfig& config, const CampaignWorld& world
   run.cold = sampled.cold;
   run.fault = sampled.scenario.fault.enabled;
   run.predictions = static_cast<int>(flight.predictions.size());
-  static const std::vector<double> levels = EodQuantileLevels();
+  static const std::vector<double> levels = prognostics::StandardQuantileLevels();
   for (const sim::EodTruthPrediction& p : flight.predictions) {
     const double truth = flight.cutoff_time_s ? flight.TrueEod(p) : 0.0;
     const std::optional<double> actual = truth > 0.0 && p.eod_current_a > 0.0
@@ -66,16 +67,11 @@ EodTruthRun FlyTruthRun(const CampaignConfig& config, const CampaignWorld& world
     s.eod_p50_s = p.inputs.eod_p50_s;
     s.eod_p95_s = p.inputs.eod_p95_s;
     s.eod_short_probability = p.inputs.eod_short_probability;
-    s.eod_load_log_mean = p.load_error.log_mean;
-    s.eod_load_log_sigma = p.load_error.log_sigma;
-    if (p.load_error.log_sigma > 0.0) {
-      for (double level : levels) {
-        const double z = sim::StandardNormalQuantile(1.0 - level);
-        s.eod_quantiles_s.push_back(
-            prognostics::CalcPackEod(model.pack(), p.pack,
-                                     p.eod_current_a * std::exp(p.load_error.log_mean + p.load_error.log_sigma * z))
-                .eod_s);
-      }
+    s.eod_load_log_mean = p.uncertainty.load_log_mean;
+    s.eod_load_log_sigma = p.uncertainty.load_log_sigma;
+    // Without spread (an empty table: the training campaign) a point at the EOD.
+    for (double level : levels) {
+      s.eod_quantiles_s.push_back(p.uncertainty.load_log_sigma > 0.0 ? p.distribution.Quantile(level) : p.eod_s);
     }
     run.samples.push_back(s);
   }
@@ -83,13 +79,6 @@ EodTruthRun FlyTruthRun(const CampaignConfig& config, const CampaignWorld& world
 }
 
 }  // namespace
-
-std::vector<double> EodQuantileLevels() {
-  std::vector<double> levels = {0.025};
-  for (int k = 1; k <= 19; ++k) levels.push_back(0.05 * k);
-  levels.push_back(0.975);
-  return levels;
-}
 
 std::optional<double> CalcEquivalentCurrent(const models::BatteryPack& pack, const models::PackState& state,
                                             double eod_s, double guess_a) {

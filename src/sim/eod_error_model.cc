@@ -72,10 +72,13 @@ std::size_t EodErrorModel::CellIndex(const EodErrorContext& context) const {
                    static_cast<int>(context.turbulence), Bin(Variable(context)));
 }
 
-EodLoadError EodErrorModel::At(const EodErrorContext& context) const {
-  if (empty()) return {};
+prognostics::EodUncertainty EodErrorModel::At(const EodErrorContext& context) const {
+  prognostics::EodUncertainty uncertainty;
+  if (empty()) return uncertainty;
   const EodErrorCell& cell = cells_[CellIndex(context)];
-  return {cell.log_mean, cell.log_sigma};
+  uncertainty.load_log_mean = cell.log_mean;
+  uncertainty.load_log_sigma = cell.log_sigma;
+  return uncertainty;
 }
 
 const EodErrorModel& EodErrorModel::Default() {

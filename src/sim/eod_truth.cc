@@ -53,7 +53,8 @@ EodTruthFlight FlyEodTruthTwin(const FlightModel& model) {
       prediction.motor_health = inputs.state.mh;
       prediction.pack = state.power.pack;
       prediction.inputs = inputs;
-      prediction.load_error = state.decision.eod_load_error;
+      prediction.uncertainty = state.decision.eod_uncertainty;
+      prediction.distribution = state.decision.eod_distribution;
       flight.predictions.push_back(std::move(prediction));
     }
     Step(model, state);

@@ -147,39 +147,29 @@ double EodCurrent(const FlightModel& model, FlightState& state) {
   return forecast > 0.0 ? forecast : state.power.load_current_a;  // under a second of plan left: the present load
 }
 
-// The EOD's distribution (issue 29, sim/eod_error_model.h): the EOD at the forecast current times e^E, E ~ N(μ, σ²)
-// the load forecast's measured error, whose quantile p is the EOD at the current's quantile 1 − p (the EOD falls as
-// the current grows). P(EOD < t_remaining + t_sf) takes ln EOD as normal through the 5 and 95 % quantiles (ours: two
-// more EOD propagations would not give the chance exactly either, and the two quantiles are computed already).
+// The EOD's distribution (issue 29): prognostics::CalcPackEodDistribution at the forecast current with the load
+// forecast's measured error of this epoch's cell (sim/eod_error_model.h): its 5/50/95 % quantiles and
+// P(EOD < t_remaining + t_sf). Without uncertainty, a point at the EOD.
 void ObserveEodDistribution(const FlightModel& model, FlightState& state, DecisionInputs& inputs) {
-  static const double kZ95 = StandardNormalQuantile(0.95);
-  const EodLoadError error =
+  const prognostics::EodUncertainty uncertainty =
       model.eod_error_model().At({model.battery_health(), inputs.state.mh, model.scenario().wind.turbulence,
                                   inputs.flight_time_remaining_s, inputs.eod_s});
-  state.decision.eod_load_error = error;
+  state.decision.eod_uncertainty = uncertainty;
   const double needed_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
-  const double current_a = state.decision.eod_current_a;
-  if ((error.log_sigma <= 0.0 && error.log_mean == 0.0) || !(current_a > 0.0) ||
-      state.decision.eod.status != prognostics::EodStatus::kReached) {
+  if ((uncertainty.load_log_sigma <= 0.0 && uncertainty.load_log_mean == 0.0) ||
+      !(state.decision.eod_current_a > 0.0)) {
+    state.decision.eod_distribution = {};
+    state.decision.eod_distribution.point = state.decision.eod;
     inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_s;
     inputs.eod_short_probability = inputs.eod_s < needed_s ? 1.0 : 0.0;
     return;
   }
-  auto eod_at = [&](double z) {
-    return prognostics::CalcPackEod(model.pack(), state.power.pack,
-                                    current_a * std::exp(error.log_mean + error.log_sigma * z))
-        .eod_s;
-  };
-  inputs.eod_p05_s = eod_at(kZ95);
-  inputs.eod_p50_s = error.log_mean == 0.0 ? inputs.eod_s : eod_at(0.0);
-  inputs.eod_p95_s = eod_at(-kZ95);
-  if (!(inputs.eod_p05_s > 0.0) || !(needed_s > 0.0)) {
-    inputs.eod_short_probability = inputs.eod_p50_s < needed_s ? 1.0 : 0.0;
-    return;
-  }
-  const double log_sigma = std::log(inputs.eod_p95_s / inputs.eod_p05_s) / (2.0 * kZ95);
-  inputs.eod_short_probability = log_sigma > 0.0 ? StandardNormalCdf(std::log(needed_s / inputs.eod_p50_s) / log_sigma)
-                                                 : (inputs.eod_p50_s < needed_s ? 1.0 : 0.0);
+  const prognostics::EodDistribution& distribution = state.decision.eod_distribution =
+      prognostics::CalcPackEodDistribution(model.pack(), state.power.pack, state.decision.eod_current_a, uncertainty);
+  inputs.eod_p05_s = distribution.Quantile(0.05);
+  inputs.eod_p50_s = distribution.Quantile(0.50);
+  inputs.eod_p95_s = distribution.Quantile(0.95);
+  inputs.eod_short_probability = distribution.ProbabilityBefore(needed_s);
 }
 
 }  // namespace
@@ -221,7 +211,8 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   if (eod_distribution) {
     ObserveEodDistribution(model, state, inputs);
   } else {
-    state.decision.eod_load_error = {};
+    state.decision.eod_uncertainty = {};
+    state.decision.eod_distribution = {};
     inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_short_probability = 0.0;
   }
   if (log) log->states.emplace_back(t, decision::CmaStateIndex(inputs.state));

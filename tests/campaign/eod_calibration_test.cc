@@ -63,15 +63,16 @@ sim::EodErrorModel TwoBinModel() {
 TEST(EodCalibrationTest, ErrorModelLooksUpTheCellOfItsContext) {
   const sim::EodErrorModel model = TwoBinModel();
   using decision::BatteryHealth, decision::MotorHealth, models::TurbulenceCategory;
-  const sim::EodLoadError a =
+  const prognostics::EodUncertainty a =
       model.At({BatteryHealth::kM, MotorHealth::kJF, TurbulenceCategory::kLowModerate, 100.0, 400.0});  // φ 0.25
-  EXPECT_NEAR(a.log_mean, 0.01 + 0.002 + 0.0002, 1e-15);
-  EXPECT_EQ(a.log_sigma, 0.1);
-  const sim::EodLoadError b =
+  EXPECT_NEAR(a.load_log_mean, 0.01 + 0.002 + 0.0002, 1e-15);
+  EXPECT_EQ(a.load_log_sigma, 0.1);
+  EXPECT_EQ(a.soc_sigma, 0.0);
+  const prognostics::EodUncertainty b =
       model.At({BatteryHealth::kP, MotorHealth::kNF, TurbulenceCategory::kMediumModerate, 200.0, 400.0});  // edge
-  EXPECT_NEAR(b.log_mean, 0.02 + 0.0004, 1e-15);
-  EXPECT_EQ(b.log_sigma, 1.1);
-  EXPECT_EQ(sim::EodErrorModel().At({}), sim::EodLoadError{});
+  EXPECT_NEAR(b.load_log_mean, 0.02 + 0.0004, 1e-15);
+  EXPECT_EQ(b.load_log_sigma, 1.1);
+  EXPECT_EQ(sim::EodErrorModel().At({}), prognostics::EodUncertainty{});
 }
 
 TEST(EodCalibrationTest, ModelJsonRoundTripsAndTheCxxSourceNamesItsCommand) {
@@ -85,7 +86,7 @@ TEST(EodCalibrationTest, ModelJsonRoundTripsAndTheCxxSourceNamesItsCommand) {
 
 // A run of battery health `group`, one sample per error, each at time remaining `t_rem` with the point EOD `eod_s`.
 EodTruthRun SyntheticRun(std::int64_t index, int group, double t_rem, const std::vector<double>& errors,
-                         sim::EodLoadError used = {}, double eod_s = 1000.0) {
+                         double eod_s = 1000.0) {
   EodTruthRun run;
   run.run_index = index;
   run.battery_health = group;
@@ -96,8 +97,6 @@ EodTruthRun SyntheticRun(std::int64_t index, int group, double t_rem, const std:
     s.flight_time_remaining_s = t_rem;
     s.eod_s = eod_s;
     s.log_ratio = e;
-    s.eod_load_log_mean = used.log_mean;
-    s.eod_load_log_sigma = used.log_sigma;
     run.samples.push_back(s);
   }
   run.predictions = static_cast<int>(errors.size());
@@ -112,8 +111,8 @@ TEST(EodCalibrationTest, FitTakesEachCellsMeanAndSpreadAndTheBetterVariable) {
   // without turbulence, which it shares with G.
   std::vector<EodTruthRun> runs;
   for (int f = 0; f < 12; ++f) runs.push_back(SyntheticRun(f, 0, 50.0, {0.0, 0.2}));
-  for (int f = 12; f < 24; ++f) runs.push_back(SyntheticRun(f, 0, 700.0, {-0.2, 0.0}, {}, 14000.0));
-  for (int f = 24; f < 27; ++f) runs.push_back(SyntheticRun(f, 1, 700.0, {0.3, 0.5}, {}, 14000.0));
+  for (int f = 12; f < 24; ++f) runs.push_back(SyntheticRun(f, 0, 700.0, {-0.2, 0.0}, 14000.0));
+  for (int f = 24; f < 27; ++f) runs.push_back(SyntheticRun(f, 1, 700.0, {0.3, 0.5}, 14000.0));
   const EodErrorFit fit = FitEodErrorModel(runs, "test");
   ASSERT_EQ(fit.model.variable(), sim::EodErrorVariable::kTimeRemaining);
   ASSERT_EQ(fit.variable_sigmas.size(), 3u);
@@ -140,14 +139,23 @@ TEST(EodCalibrationTest, FitTakesEachCellsMeanAndSpreadAndTheBetterVariable) {
   EXPECT_EQ(fit.flights, 27);
 }
 
-TEST(EodCalibrationTest, CoverageAndReliabilityCountTheStandardisedErrors) {
-  // Used distribution μ 0.1, σ 0.2; errors at z = 0, ±0.5, ±1.0, ±1.5, ±2.0 (nine samples in one P flight).
-  std::vector<double> errors;
-  for (double z : {0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5, 2.0, -2.0}) errors.push_back(0.1 + 0.2 * z);
-  std::vector<EodTruthRun> runs = {SyntheticRun(0, 2, 100.0, errors, {0.1, 0.2})};
-  EodTruthRun censored = SyntheticRun(1, 0, 100.0, {0.0});
-  censored.cutoff_time_s.reset();
-  runs.push_back(censored);
+TEST(EodCalibrationTest, ScoresTheFlightsQuantilesAndTheStandardisedErrors) {
+  // Nine predictions of one P flight at t = 0 … 8 s. Each predicts EOD uniform on [500, 1500] s (quantile at level p:
+  // 500 + 1000 p) and its truth lies at the level u below; its load error sits at z below for μ 0.1, σ 0.2.
+  const std::vector<double> u = {0.5, 0.3, 0.7, 0.12, 0.88, 0.04, 0.96, 0.01, 0.99};
+  const std::vector<double> z = {0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5, 2.0, -2.0};
+  EodTruthRun run = SyntheticRun(0, 2, 100.0, std::vector<double>(u.size(), 0.0));
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    EodTruthSample& s = run.samples[k];
+    s.time_s = static_cast<double>(k);
+    s.true_eod_s = 500.0 + 1000.0 * u[k];
+    for (double level : prognostics::StandardQuantileLevels()) s.eod_quantiles_s.push_back(500.0 + 1000.0 * level);
+    s.eod_load_log_mean = 0.1;
+    s.eod_load_log_sigma = 0.2;
+    s.log_ratio = 0.1 + 0.2 * z[k];
+  }
+  std::vector<EodTruthRun> runs = {run, SyntheticRun(1, 0, 100.0, {0.0})};
+  runs.back().cutoff_time_s.reset();  // censored: not scored
   const EodCalibration c = ScoreEodCalibration(runs);
   EXPECT_EQ(c.runs, 2);
   EXPECT_EQ(c.censored_runs, 1);
@@ -155,15 +163,15 @@ TEST(EodCalibrationTest, CoverageAndReliabilityCountTheStandardisedErrors) {
   const EodCalibrationGroup& p = c.groups[2];
   EXPECT_EQ(p.label, "P");
   EXPECT_EQ(p.samples, 9);
-  // Half-widths: 50 % 0.674, 80 % 1.282, 90 % 1.645, 95 % 1.960.
-  EXPECT_EQ(p.inside[0], 3);  // 0, ±0.5
-  EXPECT_EQ(p.inside[1], 5);  // and ±1.0
-  EXPECT_EQ(p.inside[2], 7);  // and ±1.5
-  EXPECT_EQ(p.inside[3], 7);
-  // PIT = Φ(−z): ≤ 0.05 for z ≥ 1.645 (one), ≤ 0.5 for z ≥ 0 (five), ≤ 0.95 for all but z = −2 (eight).
-  EXPECT_NEAR(p.reliability[0], 1.0 / 9, 1e-12);
-  EXPECT_NEAR(p.reliability[9], 5.0 / 9, 1e-12);
-  EXPECT_NEAR(p.reliability[18], 8.0 / 9, 1e-12);
+  EXPECT_EQ(p.flights, 1);
+  // Central intervals [q(0.25), q(0.75)], [q(0.1), q(0.9)], [q(0.05), q(0.95)], [q(0.025), q(0.975)].
+  ASSERT_EQ(p.report.intervals.size(), 4u);
+  EXPECT_EQ(p.report.intervals[0].covered, 3);  // u 0.5, 0.3, 0.7
+  EXPECT_EQ(p.report.intervals[1].covered, 5);  // and 0.12, 0.88
+  EXPECT_EQ(p.report.intervals[2].covered, 5);
+  EXPECT_EQ(p.report.intervals[3].covered, 7);  // and 0.04, 0.96
+  // The load-only check, half-widths 0.674, 1.282, 1.645, 1.960 in z.
+  EXPECT_EQ(p.z_inside, (std::array<std::int64_t, 4>{3, 5, 7, 7}));
   EXPECT_EQ(c.groups[3].samples, 9);  // "all"; the censored G run adds nothing
   EXPECT_EQ(c.groups[0].samples, 0);
 }
@@ -191,11 +199,18 @@ TEST(EodCalibrationTest, TruthTwinHoldsAtTheTopOfItsFinalDescentUntilTheCutoff) 
     EXPECT_NEAR(p.time_s, static_cast<double>(k), 1e-9);  // every 1 Hz epoch before the hold
     EXPECT_LT(p.time_s, *flight.hold_start_s);
     EXPECT_GT(flight.TrueEod(p), 0.0);
-    EXPECT_EQ(p.load_error, (sim::EodLoadError{0.02, 0.1}));
-    if (k % 60 == 30 && p.eod_current_a > 0.0) {  // the flight's quantiles: the EOD at the current's quantiles
+    EXPECT_EQ(p.uncertainty.load_log_mean, 0.02);
+    EXPECT_EQ(p.uncertainty.load_log_sigma, 0.1);
+    ASSERT_TRUE(p.inputs.has_eod_distribution);
+    if (k % 60 == 30 && p.eod_current_a > 0.0) {
+      // The flight's quantiles are its distribution's, and close to the EOD at the current's quantile (load only:
+      // exact up to CalcPackEodDistribution's one-secant log-normal, prognostics/eod_distribution.h).
+      EXPECT_EQ(p.inputs.eod_p05_s, p.distribution.Quantile(0.05));
       const double at_p05 =
           prognostics::CalcPackEod(model.pack(), p.pack, p.eod_current_a * std::exp(0.02 + 0.1 * z95)).eod_s;
-      EXPECT_DOUBLE_EQ(p.inputs.eod_p05_s, at_p05);
+      EXPECT_NEAR(p.inputs.eod_p05_s, at_p05, 0.01 * at_p05);
+      EXPECT_EQ(p.inputs.eod_short_probability,
+                p.distribution.ProbabilityBefore(p.flight_time_remaining_s + sampled.safety_margin_s));
       EXPECT_LT(p.inputs.eod_p05_s, p.inputs.eod_p50_s);
       EXPECT_LT(p.inputs.eod_p50_s, p.inputs.eod_p95_s);
       EXPECT_GE(p.inputs.eod_short_probability, 0.0);

@@ -5,17 +5,20 @@
 // Fit (FitEodErrorModel, ours): per cell (battery health, motor health, turbulence, bin of the conditioning variable,
 // sim/eod_error_model.h) the mean and sample standard deviation of e = ln(I_actual / I_forecast) over the training
 // predictions. A cell with predictions from fewer than kMinFlightsPerCell flights takes the values of the first coarser
-// cell that has enough, dropping the bin, then the battery health, then the turbulence, then the motor health (a
-// bias measured on a handful of flights is one flight's wind, not the forecast's). Each variable is fitted; the one
+// cell that has enough, dropping the bin, then the battery health, then the turbulence, then the motor health, down to
+// all predictions whatever their number (a bias measured on a handful of flights is one flight's wind, not the
+// forecast's). Each variable is fitted; the one
 // whose cells leave the smallest pooled spread (the root mean square of e − its cell's mean over every prediction) is
 // kept.
 //
-// Scoring (ScoreEodCalibration): a prediction's distribution is the flight's own (the cell its epoch used), so the
-// standardised error z = (e − μ)/σ says everything: the central interval of probability c holds the true EOD iff
-// |z| ≤ Φ⁻¹((1 + c)/2), and the probability integral transform is PIT = P(EOD_pred < EOD_true) = Φ(−z) (the EOD
-// falls as the current grows). Coverage of the 50/80/90/95 % intervals and the reliability table (the fraction of
-// predictions with PIT ≤ p, p = 0.05 … 0.95) per health group and overall; the flight's own 5-95 % quantiles
-// (DecisionInputs) are scored too, a check that the flight computes the distribution the table says.
+// Scoring (ScoreEodCalibration): each scored prediction's distribution is the flight's own (DecisionState: the cell
+// its epoch used, through prognostics::CalcPackEodDistribution), given by its quantiles at the standard levels, and
+// judged by prognostics/calibration.h per health group and overall: coverage of the central 50/80/90/95 % intervals
+// (with Wilson intervals), the reliability table, the PIT histogram, and Saxena et al.'s prognostic horizon, α-λ
+// accuracy and relative accuracy (one unit per flight, times from take-off, end of life the cut-off). Beside it, the
+// exact load-only check: the standardised error z = (e − μ)/σ of the cell's normal ln-current error, whose central
+// interval of probability c holds the true EOD iff |z| ≤ Φ⁻¹((1 + c)/2) (what the distribution would cover if
+// CalcPackEodDistribution's split log-normal were exact).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -23,8 +26,9 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-
 #include "uascma/campaign/eod_truth_campaign.h"
+
+#include "uascma/prognostics/calibration.h"
 #include "uascma/sim/eod_error_model.h"
 
 namespace uascma::campaign {
@@ -47,9 +51,10 @@ struct EodErrorFit {
 };
 EodErrorFit FitEodErrorModel(const std::vector<EodTruthRun>& runs, const std::string& command);
 
-// The model as JSON ({"kind": "uascma eod error model", "version": 1, "command", "variable", "edges", "groups": {"G":
-// [cells], "M", "P"}}) and back (InputError naming the file and field), and as the C++ initializer the default table
-// is (src/sim/eod_error_table.inc).
+// The model as JSON ({"kind": "uascma eod error model", "version": 1, "command", "variable", "edges", "cells":
+// [{samples, flights, log_mean, log_sigma, battery_health, motor_health, turbulence, bin}] in CellIndex order}) and
+// back (InputError naming the file and field), and as the C++ initializer the default table is
+// (src/sim/eod_error_table.inc).
 nlohmann::json EodErrorModelJson(const sim::EodErrorModel& model);
 sim::EodErrorModel ReadEodErrorModel(const std::string& path);
 std::string EodErrorModelCxx(const sim::EodErrorModel& model);
@@ -59,16 +64,14 @@ inline constexpr std::array<double, 4> kCoverageLevels = {0.50, 0.80, 0.90, 0.95
 struct EodCalibrationGroup {
   std::string label;  // "G", "M", "P", "all"
   std::int64_t samples = 0, flights = 0;
-  std::array<std::int64_t, 4> inside{};    // per kCoverageLevels
-  std::int64_t inside_flight_p05_p95 = 0;  // truth within the flight's own 5-95 % quantiles
-  std::vector<double> reliability;         // fraction with PIT <= p, p = 0.05, 0.10, … 0.95
-  double Coverage(int level) const { return samples ? static_cast<double>(inside[level]) / samples : 0.0; }
+  prognostics::CalibrationReport report;   // of the flights' quantiles
+  std::array<std::int64_t, 4> z_inside{};  // the exact load-only check, per kCoverageLevels
+  double ZCoverage(int level) const { return samples ? static_cast<double>(z_inside[level]) / samples : 0.0; }
 };
 struct EodCalibration {
   std::vector<EodCalibrationGroup> groups;  // G, M, P, all
   std::int64_t runs = 0, scored_runs = 0, censored_runs = 0, unscored_predictions = 0;
 };
 EodCalibration ScoreEodCalibration(const std::vector<EodTruthRun>& runs);
-nlohmann::json EodCalibrationJson(const EodCalibration& calibration);
 
 }  // namespace uascma::campaign

@@ -35,13 +35,10 @@ struct EodTruthSample {
   // The flight's own distribution at the epoch (DecisionInputs): its 5/50/95 % quantiles and P(EOD < t_rem + t_sf).
   double eod_p05_s = 0.0, eod_p50_s = 0.0, eod_p95_s = 0.0, eod_short_probability = 0.0;
   double eod_load_log_mean = 0.0, eod_load_log_sigma = 0.0;  // the uncertainty it used (sim/eod_error_model.h)
-  // The EOD's quantiles (s) at kEodQuantileLevels: the EOD at the current's quantile 1 − p (empty without spread).
+  // The flight's EOD distribution's quantiles (s) at prognostics::StandardQuantileLevels() (the point EOD at every
+  // level without spread).
   std::vector<double> eod_quantiles_s;
 };
-
-// 0.025, 0.05, 0.10, …, 0.90, 0.95, 0.975: the ends of the central 50/80/90/95 % intervals and every reliability
-// level 0.05 … 0.95 (prognostics/calibration.h's StandardQuantileLevels).
-std::vector<double> EodQuantileLevels();
 
 struct EodTruthRun {
   std::int64_t run_index = 0;

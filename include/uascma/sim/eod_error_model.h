@@ -21,21 +21,16 @@
 // --cxx src/sim/eod_error_table.inc`, on a training campaign; the default table (Default()) is that generated source,
 // committed with the command that made it in its first line. With the pack state read exactly (the simulator's
 // default: no sensing noise) the load is the only unknown of the EOD, so the distribution is that of the EOD at the
-// current I_forecast · e^E, E ~ N(mean, sigma²): an EOD quantile p is the EOD at the current quantile 1 − p.
+// current I_forecast · e^E, E ~ N(mean, sigma²) (an EOD quantile p is the EOD at the current quantile 1 − p),
+// computed by prognostics::CalcPackEodDistribution from At's EodUncertainty.
 #include <string>
 #include <vector>
 
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/models/wind.h"
+#include "uascma/prognostics/eod_distribution.h"
 
 namespace uascma::sim {
-
-// 1σ and bias of ln(I_actual / I_forecast); zero: the forecast exactly right.
-struct EodLoadError {
-  double log_mean = 0.0;
-  double log_sigma = 0.0;
-  bool operator==(const EodLoadError&) const = default;
-};
 
 // Φ(z) and its inverse Φ⁻¹(p), p in (0, 1), of the standard normal distribution (Newton's iteration on Φ, to 1e-12).
 double StandardNormalCdf(double z);
@@ -86,7 +81,10 @@ class EodErrorModel {
   int Bin(double value) const;
   std::size_t CellIndex(int battery_health, int motor_health, int turbulence, int bin) const;
   std::size_t CellIndex(const EodErrorContext& context) const;
-  EodLoadError At(const EodErrorContext& context) const;
+  // The load forecast's error of the context's cell as the EOD distribution's uncertainty
+  // (prognostics/eod_distribution.h): load_log_mean and load_log_sigma, every other source 0 (the pack state is the
+  // simulator's, read exactly). The empty model: no uncertainty.
+  prognostics::EodUncertainty At(const EodErrorContext& context) const;
 
   EodErrorVariable variable() const { return variable_; }
   const std::vector<double>& edges() const { return edges_; }

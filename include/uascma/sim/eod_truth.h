@@ -30,9 +30,10 @@ struct EodTruthPrediction {
   double eod_current_a = 0.0;            // the constant current it was propagated at (the load forecast)
   double flight_time_remaining_s = 0.0;  // on the executing plan
   decision::MotorHealth motor_health = decision::MotorHealth::kNF;
-  models::PackState pack;   // the pack's state at the epoch (the state the EOD was propagated from)
-  DecisionInputs inputs;    // what the decision module saw (the EOD distribution's quantiles among them)
-  EodLoadError load_error;  // the load forecast's error that distribution assumed
+  models::PackState pack;  // the pack's state at the epoch (the state the EOD was propagated from)
+  DecisionInputs inputs;   // what the decision module saw (the EOD distribution's quantiles among them)
+  prognostics::EodUncertainty uncertainty;    // the load forecast's error that distribution assumed
+  prognostics::EodDistribution distribution;  // the EOD's distribution at the epoch (DecisionState)
 };
 
 struct EodTruthFlight {

@@ -43,6 +43,7 @@
 #include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/eod_distribution.h"
 #include "uascma/prognostics/motor_rul.h"
 #include "uascma/sim/eod_error_model.h"
 #include "uascma/sim/load_forecast.h"
@@ -225,8 +226,11 @@ struct FaultState {
 struct DecisionState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
-  double eod_current_a = 0.0;       // the constant current the last EOD was propagated at
-  EodLoadError eod_load_error;      // the load forecast's error the EOD's distribution assumed (eod_error_model.h)
+  double eod_current_a = 0.0;  // the constant current the last EOD was propagated at
+  // The EOD's distribution (DecisionInputs::has_eod_distribution) and the uncertainty it was propagated with: the load
+  // forecast's measured error (eod_error_model.h). Default values when not computed.
+  prognostics::EodUncertainty eod_uncertainty;
+  prognostics::EodDistribution eod_distribution;
   LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
   DecisionInputs inputs;
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
