@@ -68,6 +68,7 @@ std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionP
       FlightState own = state;  // the branch: both copies have the same future bit for bit
       FlightLog own_log = log;
       const auto act_start = std::chrono::steady_clock::now();
+      RecordEodAtAction(model, own, decided[i]);
       Act(model, own, decided[i], planners[k], &own_log, policies[k]->Ranking(own.decision.inputs));
       StepToNextEpoch(model, own, &own_log);
       wall_s[k] += SecondsSince(act_start);

@@ -374,12 +374,24 @@ const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, B
   return inputs;
 }
 
+void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction action) {
+  if (action == CmaAction::kNoOp || state.decision.eod_at_first_action) return;
+  DecisionInputs& inputs = state.decision.inputs;
+  if (!inputs.has_eod_distribution) {
+    ObserveEodDistribution(model, state, inputs);
+    inputs.has_eod_distribution = true;
+  }
+  state.decision.eod_at_first_action = EodAtAction{inputs.time_s,    inputs.eod_s,     inputs.eod_p05_s,
+                                                   inputs.eod_p50_s, inputs.eod_p95_s, inputs.eod_short_probability};
+}
+
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
   if (state.done()) return;
   UASCMA_CHECK(IsDecisionEpoch(model, state), "StepEpoch starts at a decision epoch");
   const DecisionInputs& inputs =
       BeginEpoch(model, state, controllers.battery, log, NeedsEodDistribution(controllers.policy, log));
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
+  RecordEodAtAction(model, state, action);
   Act(model, state, action, controllers.planner, log,
       controllers.policy ? controllers.policy->Ranking(inputs) : ActionRanking{});
   StepToNextEpoch(model, state, log);

@@ -56,6 +56,7 @@ SimResult MakeSimResult(const FlightModel& model, const FlightState& state, Flig
   result.max_tilt = std::acos(std::clamp(state.vehicle.min_cos_tilt, -1.0, 1.0));
   result.energy_wh = state.power.energy_wh;
   result.end_reserve_s = EndReserveS(model, state);
+  result.eod_at_first_action = state.decision.eod_at_first_action;
   result.eod_load = EodLoadName(model.options().eod_load);
   result.substitution_epochs = state.decision.substitution_epochs;
   result.substitutions = state.decision.substitutions;

@@ -60,6 +60,17 @@ std::string TelemetryCsv(const SimResult& result) {
   return out;
 }
 
+namespace {
+
+// The EOD's distribution when the CMA first acted, or null.
+nlohmann::json EodAtActionJson(const std::optional<EodAtAction>& at) {
+  if (!at) return nullptr;
+  return {{"time_s", at->time_s}, {"eod_s", at->eod_s}, {"p05_s", at->p05_s},
+          {"p50_s", at->p50_s},   {"p95_s", at->p95_s}, {"short_probability", at->short_probability}};
+}
+
+}  // namespace
+
 nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
                            const SimResult& result) {
   nlohmann::json events = nlohmann::json::array();
@@ -93,6 +104,7 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
       {"min_cell_voltage_v", result.min_cell_voltage_v},
       {"energy_wh", result.energy_wh},
       {"end_reserve_s", result.end_reserve_s},
+      {"eod_at_first_action", EodAtActionJson(result.eod_at_first_action)},
       {"max_tracking_error_m", result.max_tracking_error},
       {"max_tilt_deg", result.max_tilt * 180.0 / 3.14159265358979323846},
       {"actions", actions},

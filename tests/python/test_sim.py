@@ -112,6 +112,27 @@ def test_a_python_callable_flies_like_the_same_policy_in_cpp():
     assert python.outcome == table.outcome and python.sim_time_s == table.sim_time_s
 
 
+def test_the_eod_distribution_reaches_telemetry_decision_inputs_and_the_summary(nominal):
+    # Issue 29: the 5/50/95 % quantiles are ordered at every row, the chance of falling short is a probability.
+    t = nominal.telemetry()
+    flying = t["eod_s"] > 0
+    assert flying.any()
+    assert (t["eod_p05_s"][flying] <= t["eod_p50_s"][flying]).all()
+    assert (t["eod_p50_s"][flying] <= t["eod_p95_s"][flying]).all()
+    assert ((0 <= t["eod_short_probability"]) & (t["eod_short_probability"] <= 1)).all()
+    # A Python callable sees the distribution; the CMA's first action records it in the summary.
+    seen = []
+
+    def watch(inputs):
+        seen.append((inputs.eod_p05_s, inputs.eod_p95_s, inputs.eod_short_probability))
+        return "NoOp"
+
+    uascma.run(example("nominal.yaml"), watch, telemetry=False)
+    assert all(p05 <= p95 and 0 <= short <= 1 for p05, p95, short in seen[1:])
+    acted = uascma.run(example("jam-motor-3.yaml"), "cma", telemetry=False).summary()["eod_at_first_action"]
+    assert acted is None or acted["p05_s"] <= acted["p50_s"] <= acted["p95_s"]
+
+
 def test_errors_raise_input_error_naming_the_field(tmp_path):
     with pytest.raises(uascma.InputError, match="wind.speedd_mps|speedd_mps"):
         uascma.run("name: typo\nwind:\n  speedd_mps: 2\n")

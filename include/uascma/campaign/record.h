@@ -61,6 +61,10 @@ struct RunRecord {
   double min_cell_voltage_v = 0.0;
   double energy_wh = 0.0;
   double end_reserve_s = 0.0;  // sim::SimResult::end_reserve_s: how long the pack could still have hovered at the end
+  // The EOD's distribution when the CMA first acted (sim::SimResult::eod_at_first_action; issue 29): its 5/50/95 %
+  // quantiles and P(EOD < t_remaining + t_sf). None: it never acted.
+  std::optional<double> first_action_eod_p05_s, first_action_eod_p50_s, first_action_eod_p95_s;
+  std::optional<double> first_action_eod_short_probability;
   double max_tracking_error_m = 0.0;
   double max_tilt_rad = 0.0;
   // ---- rewards per 1 Hz epoch (§5.5.3, Fig. 5.32; campaign/metrics.h) ------------------------------
@@ -115,6 +119,10 @@ void VisitRecordFields(Record& r, Visitor&& visit) {
   visit("min_cell_voltage_v", r.min_cell_voltage_v);
   visit("energy_wh", r.energy_wh);
   visit("end_reserve_s", r.end_reserve_s);
+  visit("first_action_eod_p05_s", r.first_action_eod_p05_s);
+  visit("first_action_eod_p50_s", r.first_action_eod_p50_s);
+  visit("first_action_eod_p95_s", r.first_action_eod_p95_s);
+  visit("first_action_eod_short_probability", r.first_action_eod_short_probability);
   visit("max_tracking_error_m", r.max_tracking_error_m);
   visit("max_tilt_rad", r.max_tilt_rad);
   visit("epochs", r.epochs);

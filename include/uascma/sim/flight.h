@@ -222,6 +222,16 @@ struct FaultState {
   bool operator==(const FaultState&) const = default;
 };
 
+// The EOD's distribution at the first epoch whose decided action was not NoOp (issue 29): what the CMA's EOD said
+// when it acted. Computed at that epoch for the record when the policy does not read the distribution itself.
+struct EodAtAction {
+  double time_s = 0.0;
+  double eod_s = 0.0;  // the point EOD
+  double p05_s = 0.0, p50_s = 0.0, p95_s = 0.0;
+  double short_probability = 0.0;  // P(EOD < t_remaining + t_sf)
+  bool operator==(const EodAtAction&) const = default;
+};
+
 // The 1 Hz prognosis and decisions (updated at each epoch by Observe, Act and DecideBattery).
 struct DecisionState {
   std::optional<double> rul_at_onset_s;
@@ -231,6 +241,7 @@ struct DecisionState {
   // forecast's measured error (eod_error_model.h). Default values when not computed.
   prognostics::EodUncertainty eod_uncertainty;
   prognostics::EodDistribution eod_distribution;
+  std::optional<EodAtAction> eod_at_first_action;
   LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
   DecisionInputs inputs;
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
@@ -395,8 +406,13 @@ inline bool NeedsEodDistribution(const DecisionPolicy* policy, const FlightLog* 
   return (policy && policy->ReadsEodDistribution()) || (log && log->record_telemetry);
 }
 
+// After the policy decided `action` at this epoch (after Observe, before Act): at the first action that is not NoOp,
+// the EOD's distribution into DecisionState::eod_at_first_action (computed now if the epoch did not).
+void RecordEodAtAction(const FlightModel& model, FlightState& state, decision::CmaAction action);
+
 // One decision epoch: BeginEpoch (the EOD's distribution when NeedsEodDistribution), the policy decides (a null
-// policy: NoOp), Act, then GNC steps to the next epoch or the end of the flight. Must be called at an epoch.
+// policy: NoOp), RecordEodAtAction, Act, then GNC steps to the next epoch or the end of the flight. Must be called at
+// an epoch.
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log = nullptr);
 
 }  // namespace uascma::sim
