@@ -134,7 +134,8 @@ ResolvedPolicy ResolvePythonPolicy(const py::object& policy, const ScenarioFile&
         py::hasattr(policy, "__name__") ? py::str(policy.attr("__name__")).cast<std::string>() : "python";
     return {std::make_unique<PythonPolicy>(policy, name), true};
   }
-  throw InputError("run", "policy", "'noop', 'cma', a policy file, a uascma.Policy or a callable");
+  throw InputError("run", "policy",
+                   "'noop', 'cma', 'cma-risk', 'cma-qmdp', a policy file, a uascma.Policy or a callable");
 }
 
 // A finished flight and the model it was flown on.
@@ -384,7 +385,13 @@ void InitSim(py::module_& m) {
       .def_readonly("eod_s", &DecisionInputs::eod_s)
       .def_readonly("rul_s", &DecisionInputs::rul_s, "+inf without a motor fault")
       .def_readonly("reach_margin", &DecisionInputs::reach_margin)
-      .def_readonly("motor_margin", &DecisionInputs::motor_margin);
+      .def_readonly("motor_margin", &DecisionInputs::motor_margin)
+      .def_readonly("motor_health_belief", &DecisionInputs::motor_health_belief,
+                    "b(NF, SF, JF): one-hot at the point MH with exact sensing (sim/sensing.h)")
+      .def_readonly("eod_short_probability", &DecisionInputs::eod_short_probability,
+                    "b(RM0) = P(EOD < t_remaining + t_sf)")
+      .def_readonly("rul_if_spall_s", &DecisionInputs::rul_if_spall_s,
+                    "the RUL of a spall detected now (+inf before the prognosis ran)");
 
   py::class_<Flight>(m, "Flight", "One simulated flight: outcome, summary, telemetry and the record files")
       .def_property_readonly("outcome", [](const Flight& f) { return std::string(OutcomeName(f.result.outcome)); })
@@ -550,7 +557,8 @@ void InitSim(py::module_& m) {
   m.def("run", &Run, py::arg("scenario"), py::arg("policy") = py::none(), py::arg("seed") = py::none(),
         py::arg("telemetry") = true, py::arg("mission") = py::none(),
         "Flies one scenario (a path, YAML text, a dict or a Scenario) with a policy: None (the scenario's), "
-        "'noop', 'cma', a policy file, a uascma.Policy / CmaSolution, or a callable f(DecisionInputs) -> action. "
+        "'noop', 'cma', 'cma-risk', 'cma-qmdp', a policy file, a uascma.Policy / CmaSolution, or a callable "
+        "f(DecisionInputs) -> action. "
         "seed None keeps the scenario's; mission: a .plan or .waypoints file flown instead of the scenario's "
         "mission. The same flight as `uascma simulate` for the same seed. Ctrl-C raises KeyboardInterrupt when "
         "the flight in the air ends (a flight takes a fraction of a second; a Python policy: at its next call)");

@@ -187,6 +187,9 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
       {{.key = "options.wind_rate_hz", .bounds = &sim::scenario_bounds::kWindRate,
         .expected = "a rate dividing 200 Hz (unset: the simulator's)", .citation = "ours (README)",
         .written_when_unset = false, .only_when_set = true}, &c.options.wind_rate_hz},
+      {{.key = "options.noisy_sensing", .expected = "true | false (unset: false, exact sensing)",
+        .citation = "issue 29; sim/sensing.h", .written_when_unset = false, .only_when_set = true},
+       &c.options.noisy_sensing},
   };
   fields.insert(fields.end(), sampling.begin(), sampling.end());
   return fields;

@@ -48,6 +48,7 @@
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
+#include "uascma/sim/sensing.h"
 
 namespace uascma::sim {
 
@@ -130,6 +131,8 @@ class FlightModel {
   const SteadyLoadModel& steady_load() const { return steady_load_; }
   const std::shared_ptr<const LoadProfile>& nominal_load_profile() const { return nominal_load_profile_; }
   const OutcomeClassifier& outcome_classifier() const { return outcome_classifier_; }
+  // SimOptions::noisy_sensing: the vibration noise of the IMM's samples at this vehicle's hover (sim/sensing.h).
+  const VibrationNoise& vibration_noise() const { return vibration_noise_; }
 
  private:
   Scenario scenario_;
@@ -156,6 +159,7 @@ class FlightModel {
   OutcomeClassifier outcome_classifier_;
   SteadyLoadModel steady_load_;
   std::shared_ptr<const LoadProfile> nominal_load_profile_;
+  VibrationNoise vibration_noise_;
 };
 
 // ---- the state ------------------------------------------------------------------------------------------------
@@ -183,6 +187,7 @@ struct VehicleState {
   // sensor noise is switched off.
   std::uint64_t seed = 0;
   RandomStream wind_random, sensor_random, prognosis_random;
+  RandomStream vibration_random;  // SimOptions::noisy_sensing: the vibration noise of the IMM's samples
   // Running extremes of the motion over the flight.
   double max_tracking_error = 0.0;  // m
   double min_cos_tilt = 1.0;        // the largest tilt is its acos
@@ -203,6 +208,7 @@ struct PowerState {
   double load_current_a = 0.0;      // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)
   double energy_wh = 0.0;           // drawn from the packs since take-off
   double min_cell_voltage_v = 0.0;  // the lowest any cell has read
+  PowerSensing sensing;             // SimOptions::noisy_sensing: what the CMA reads of it (sim/sensing.h)
   bool operator==(const PowerState&) const = default;
 };
 
@@ -230,6 +236,11 @@ struct DecisionState {
   // nothing and another action was taken, and each distinct "Chosen->Taken" pair in the order first seen.
   int substitution_epochs = 0;
   std::vector<std::string> substitutions;
+  // SimOptions::noisy_sensing: the spall indicator's stream, the first epoch it read "spall" (the point CMA's
+  // detection, latched) and the Bayes filter's P(spall) (sim/sensing.h).
+  RandomStream indicator_random;
+  std::optional<double> spall_detected_s;
+  double spall_probability = 0.0;
   bool operator==(const DecisionState&) const = default;
 };
 
