@@ -302,6 +302,10 @@ void HashValue(Fingerprint&, const std::optional<bool>&) {}  // only ever finger
 template <typename T>
 void HashWhenSet(Fingerprint& f, const ConfigField& field, const T& v, const CampaignConfig& c) {
   if constexpr (std::is_same_v<T, std::optional<bool>>) {
+    if (field.key != "map.sites_from_map") {  // a switch that is off unless set true (options.noisy_sensing)
+      if (v.value_or(false)) f.Add(field.leaf());
+      return;
+    }
     if (c.map.DerivesSites() == c.map.sites.empty()) return;
     f.Add(field.leaf());
     f.Add(c.map.DerivesSites() ? 1 : 0);

@@ -167,6 +167,7 @@ void SensePower(const FlightModel& model, PowerState& power) {
   const double current_a = ReadCurrent(params, sensing.errors, power.pack_current_a, sensing.random);
   sensing.bus_voltage_v = ReadBusVoltage(params, sensing.errors, power.bus_voltage_v, sensing.random);
   sensing.charge_error_as += (current_a - power.pack_current_a) * model.dt();
+  sensing.charge_read_as += current_a * model.dt();
   sensing.energy_wh += sensing.bus_voltage_v * current_a * model.dt() / 3600.0;
   sensing.load_current_a += model.load_filter_gain() * (current_a - sensing.load_current_a);
 }
@@ -402,12 +403,23 @@ void InitialiseSensing(const FlightModel& model, FlightState& state) {
   const double read_v = ReadBusVoltage(params, sensing.errors, rest_v, sensing.random);
   const models::SelfCorrectingCell& cell = model.pack().cell(0, 0);
   const double soc = state.power.pack.cells[0][0].soc_fraction;
-  sensing.initial_soc_error = (read_v - rest_v) / models::kCellsPerBranch / OcvSlope(cell.ocv(), soc);
+  sensing.ocv_slope_v_per_soc = OcvSlope(cell.ocv(), soc);
+  sensing.initial_soc_error = (read_v - rest_v) / models::kCellsPerBranch / sensing.ocv_slope_v_per_soc;
   sensing.bus_voltage_v = read_v;
+  sensing.rest_voltage_v = read_v;
   sensing.load_current_a = state.power.load_current_a;
 }
 
 }  // namespace
+
+double CalcSocEstimateSigma(const FlightModel& model, const FlightState& state) {
+  if (!model.options().noisy_sensing) return 0.0;
+  const PowerSensing& sensing = state.power.sensing;
+  const double mean_current_a = state.time_s > 0.0 ? sensing.charge_read_as / state.time_s : 0.0;
+  return CalcSocEstimateSigma(model.options().sensing, state.time_s, mean_current_a,
+                              model.pack().cell(0, 0).capacity_as(), sensing.ocv_slope_v_per_soc, model.dt(),
+                              sensing.rest_voltage_v);
+}
 
 FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
   const Scenario& sc = model.scenario();

@@ -167,10 +167,10 @@ TEST(SensingFlightTest, NoiseChangesWhatTheCmaReadsNotTheWind) {
   const double cell_as = noisy.pack().cell(0, 0).capacity_as();
   const double error = SocEstimateError(b.power.sensing, cell_as);
   EXPECT_NE(error, 0.0);
-  const double slope = 0.7;  // V per SOC, a lower bound of the OCV slope near full (the tolerance grows as it falls)
-  const double sigma = CalcSocEstimateSigma(noisy.options().sensing, b.time_s, b.power.load_current_a, cell_as, slope,
-                                            noisy.dt(), b.power.bus_voltage_v);
+  const double sigma = CalcSocEstimateSigma(noisy, b);
+  EXPECT_GT(sigma, 0.0);
   EXPECT_LT(std::abs(error), 5.0 * sigma);
+  EXPECT_EQ(CalcSocEstimateSigma(exact, a), 0.0);
   EXPECT_NEAR(b.power.sensing.energy_wh, b.power.energy_wh, 0.02 * b.power.energy_wh);
   const double total = b.decision.inputs.motor_health_belief[0] + b.decision.inputs.motor_health_belief[1] +
                        b.decision.inputs.motor_health_belief[2];

@@ -339,6 +339,11 @@ struct Controllers {
 // The state at take-off time 0 for the given seed: on the ground at home, rotors at hover speed, packs at rest.
 FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed);
 
+// Noisy sensing (sim/sensing.h): the 1σ of the SOC error of the CMA's estimate at this state (CalcSocEstimateSigma of
+// the settings at the flight's elapsed time and mean read current, the nominal cell's capacity and the OCV slope its
+// rest-voltage reading went through): what EodUncertainty::soc_sigma takes. 0 without noisy sensing.
+double CalcSocEstimateSigma(const FlightModel& model, const FlightState& state);
+
 // True at a decision epoch (every steps_per_epoch GNC steps, from step 0).
 inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) {
   return state.step % model.steps_per_epoch() == 0;

@@ -94,11 +94,14 @@ double ReadBusVoltage(const SensingParams& params, const PowerSensorErrors& erro
 struct PowerSensing {
   RandomStream random;
   PowerSensorErrors errors;
-  double initial_soc_error = 0.0;  // the SOC from the rest voltage read before take-off, less the truth
-  double charge_error_as = 0.0;    // ∫ (I_read − I) dt since take-off, A·s
-  double energy_wh = 0.0;          // ∫ V_read I_read dt
-  double load_current_a = 0.0;     // I_read low-passed (decision 14's filter)
-  double bus_voltage_v = 0.0;      // the last reading
+  double initial_soc_error = 0.0;    // the SOC from the rest voltage read before take-off, less the truth
+  double charge_error_as = 0.0;      // ∫ (I_read − I) dt since take-off, A·s
+  double energy_wh = 0.0;            // ∫ V_read I_read dt
+  double load_current_a = 0.0;       // I_read low-passed (decision 14's filter)
+  double bus_voltage_v = 0.0;        // the last reading
+  double charge_read_as = 0.0;       // ∫ I_read dt since take-off
+  double rest_voltage_v = 0.0;       // the bus voltage read at rest before take-off
+  double ocv_slope_v_per_soc = 0.0;  // dOCV/dz of a cell at the initial SOC (what the reading went through)
   bool operator==(const PowerSensing&) const = default;
 };
 
