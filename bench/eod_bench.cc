@@ -3,11 +3,13 @@
 //    for scale, NASA ProgPy's battery EOD prediction takes 0.3–2.3 s, so this is 4–5 orders lower);
 //  - the same from a state in mid-flight (polarised RC pairs, settled hysteresis);
 //  - one simulation step of the pack (the simulator steps it at 200 Hz) and of a single cell;
-//  - the fixed-step (10 ms) reference EOD the fast method replaces, for comparison.
+//  - the fixed-step (10 ms) reference EOD the fast method replaces, for comparison;
+//  - the EOD distribution of one epoch and a decision from it (issue 29: <= 50 us per epoch), mid-flight.
 #include <benchmark/benchmark.h>
 
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/eod_distribution.h"
 
 namespace {
 
@@ -100,6 +102,40 @@ void BM_PackEodFixedStepReference(benchmark::State& state) {
   state.counters["eod_s"] = result.eod_s;
 }
 BENCHMARK(BM_PackEodFixedStepReference)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// Issue 29: the EOD distribution at one 1 Hz epoch plus what a risk-aware decision reads from it, P(EOD <
+// t_flight) and three quantiles, mid-flight (120 s at 45 A, then 25 A). Sources: 0 = load and SOC (what the
+// flight's error model measures); 1 = every source and an uncertain temperature class (the most calls). The
+// 1σ values are those of eod_distribution_test (the cost does not depend on them, only on which are > 0).
+void BM_EodDistributionAndDecision(benchmark::State& state) {
+  const BatteryPack pack = MakePack(static_cast<int>(state.range(0)));
+  PackState flying = pack.MakeRestingState(kRestVoltage);
+  for (int k = 0; k < 120; ++k) flying = pack.Step(flying, 45.0, 1.0);
+  uascma::prognostics::EodUncertainty uncertainty;
+  uncertainty.load_log_mean = 0.02;
+  uncertainty.load_log_sigma = 0.08;
+  uncertainty.soc_sigma = 0.02;
+  if (state.range(1) == 1) {
+    uncertainty.r0_log_sigma = 0.10;
+    uncertainty.capacity_log_sigma = 0.03;
+    uncertainty.cold_probability = 0.3;
+  }
+  const double flight_time_s = 0.8 * CalcPackEod(pack, flying, 25.0).eod_s;
+  uascma::prognostics::EodDistribution distribution;
+  double risk = 0.0;
+  for (auto _ : state) {
+    distribution = uascma::prognostics::CalcPackEodDistribution(pack, flying, 25.0, uncertainty);
+    risk = distribution.ProbabilityBefore(flight_time_s);
+    benchmark::DoNotOptimize(risk);
+    benchmark::DoNotOptimize(distribution.Quantile(0.05) + distribution.Quantile(0.5) + distribution.Quantile(0.95));
+  }
+  state.counters["calls"] = distribution.evaluations;
+  state.counters["risk"] = risk;
+}
+BENCHMARK(BM_EodDistributionAndDecision)
+    ->ArgNames({"health", "sources"})
+    ->ArgsProduct({{0, 2}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

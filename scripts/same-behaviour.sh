@@ -5,6 +5,8 @@
 #   rows ordered by flight_id;
 # - the battery model learned from 5,000 flights (seed 1): its model hash (skipped with --quick);
 # - Scenario I and II: the --json summary without wall_time_s and realtime_factor.
+# SAME_BEHAVIOUR_IGNORE="name1,name2" leaves those runs columns and summary keys out as well: a change that only
+# adds a column or a key compares with the new names ignored (and says so in its commit).
 set -euo pipefail
 build="$(cd "$1" && pwd)"
 out="$2"
@@ -16,7 +18,10 @@ trap 'rm -rf "$work"' EXIT
 cd "$here"
 {
   "$cli" campaign examples/campaign.yaml --db "$work/c.db" --seed 1 --jobs 2 > /dev/null
-  columns=$(sqlite3 "$work/c.db" "select group_concat(name, ',') from pragma_table_info('runs') where name != 'wall_time_s'")
+  ignore="${SAME_BEHAVIOUR_IGNORE:-}"
+  ignored="'wall_time_s'"
+  for name in ${ignore//,/ }; do ignored+=",'$name'"; done
+  columns=$(sqlite3 "$work/c.db" "select group_concat(name, ',') from pragma_table_info('runs') where name not in ($ignored)")
   echo "campaign seed 1 runs: $(sqlite3 "$work/c.db" "select count(*) from runs") rows, md5 $(sqlite3 "$work/c.db" \
     "select $columns from runs order by flight_id" | md5sum | cut -d' ' -f1)"
   if [[ "$quick" != "--quick" ]]; then
@@ -25,11 +30,12 @@ cd "$here"
   fi
   for s in scenario-1 scenario-2; do
     echo "$s: $("$cli" simulate "examples/$s.yaml" --json | python3 -c "
-import json, sys
+import json, os, sys
 d = json.load(sys.stdin)
+skip = {'wall_time_s', 'realtime_factor'} | set(filter(None, os.environ.get('SAME_BEHAVIOUR_IGNORE', '').split(',')))
 def strip(x):
     if isinstance(x, dict):
-        return {k: strip(v) for k, v in x.items() if k not in ('wall_time_s', 'realtime_factor')}
+        return {k: strip(v) for k, v in x.items() if k not in skip}
     if isinstance(x, list):
         return [strip(v) for v in x]
     return x

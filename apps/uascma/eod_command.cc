@@ -8,6 +8,9 @@
 // (R0 → 2 R0, Q → 0.8 Q). --temp-degf below 50 °F multiplies R0 by 1.5 as well.
 // JSON: eod_s is always a number (0 when already below the cut-off or no pack is on; the horizon, a lower
 // bound, when not reached); limiting_cell is {"pack": 1|2, "cell": 1..3} (1-based) or null.
+// --quantiles (issue 29): the EOD as a distribution (prognostics/eod_distribution.h) from the 1σ of each
+// source given (--load-log-mean/--load-log-sigma, --soc-sigma, --r0-log-sigma, --capacity-log-sigma,
+// --cold-probability); JSON adds "distribution" {levels, quantiles_s, ...}.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -21,6 +24,7 @@
 #include "uascma/common/error.h"
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/eod_distribution.h"
 
 namespace uascma::cli {
 namespace {
@@ -39,7 +43,57 @@ struct EodCommandOptions {
   double horizon_s = EodOptions{}.horizon_s;
   double reference_dt_s = 0.0;
   bool json = false;
+  bool quantiles = false;
+  EodUncertainty uncertainty;
+  double before_s = std::nan("");  // --probability-before-s
 };
+
+// The levels printed by --quantiles (ours: the ends of the 90 % and 50 % central intervals, the median and
+// the 80 % interval's ends).
+constexpr double kPrintedLevels[] = {0.05, 0.10, 0.25, 0.50, 0.75, 0.90, 0.95};
+
+// --quantiles: the distribution into the JSON document and its text lines.
+std::string AddDistribution(const EodCommandOptions& options, const BatteryPack& pack, const PackState& state,
+                            const EodOptions& eod_options, nlohmann::json& document) {
+  if (options.uncertainty.cold_probability >= 0.0 && options.temp_degf < kColdThresholdDegf) {
+    throw InputError("--cold-probability", "value",
+                     "an uncertain temperature class with a warm --temp-degf (>= 50 °F): the cold class is the "
+                     "warm pack's R0 x 1.5");
+  }
+  const EodDistribution distribution =
+      CalcPackEodDistribution(pack, state, options.current_a, options.uncertainty, eod_options);
+  nlohmann::json levels = nlohmann::json::array(), quantiles = nlohmann::json::array();
+  std::string text = fmt::format("EOD distribution ({} CalcPackEod calls):", distribution.evaluations);
+  for (double level : kPrintedLevels) {
+    const double quantile_s = distribution.Quantile(level);
+    levels.push_back(level);
+    quantiles.push_back(quantile_s);
+    text += fmt::format(" p{:02.0f} {:.1f} s", 100.0 * level, quantile_s);
+  }
+  text += "\n";
+  const EodUncertainty& u = options.uncertainty;
+  document["distribution"] = {{"levels", levels},
+                              {"quantiles_s", quantiles},
+                              {"components", distribution.components},
+                              {"weight", {distribution.weight[0], distribution.weight[1]}},
+                              {"centre_eod_s", {distribution.centre_eod_s[0], distribution.centre_eod_s[1]}},
+                              {"log_sigma", {distribution.log_sigma[0], distribution.log_sigma[1]}},
+                              {"log_sigma_above", {distribution.log_sigma_above[0], distribution.log_sigma_above[1]}},
+                              {"evaluations", distribution.evaluations},
+                              {"uncertainty",
+                               {{"load_log_mean", u.load_log_mean},
+                                {"load_log_sigma", u.load_log_sigma},
+                                {"soc_sigma", u.soc_sigma},
+                                {"r0_log_sigma", u.r0_log_sigma},
+                                {"capacity_log_sigma", u.capacity_log_sigma},
+                                {"cold_probability", u.cold_probability}}}};
+  if (!std::isnan(options.before_s)) {
+    const double probability = distribution.ProbabilityBefore(options.before_s);
+    document["distribution"]["probability_before"] = {{"t_s", options.before_s}, {"probability", probability}};
+    text += fmt::format("P(EOD < {} s) = {:.4f}\n", options.before_s, probability);
+  }
+  return text;
+}
 
 PerCell<CellHealth> HealthOfEveryCell(HealthClass health) {
   PerCell<CellHealth> cells{};
@@ -61,6 +115,8 @@ std::string FormatDuration(double seconds) {
 // --reference-dt-s: 0 (off), else 1 ms to 60 s (our bound: below 1 ms a day's horizon takes 10^8 steps;
 // above 60 s the fixed step no longer resolves a discharge of minutes).
 constexpr Bounds kReferenceStepBounds{0.001, 60.0, "s"};
+// --cold-probability: a probability (given, the class is uncertain).
+constexpr Bounds kColdProbabilityBounds{0.0, 1.0, ""};
 
 void Run(const EodCommandOptions& options) {
   // The CLI checked each option against its bounds; EodOptions::IsValid holds the same ones for callers
@@ -107,6 +163,8 @@ void Run(const EodCommandOptions& options) {
                              {"bus_voltage_v", now.split.bus_voltage_v},
                              {"segments", result.segments}};
   std::string reference_text;
+  const bool wants_distribution = options.quantiles || !std::isnan(options.before_s);
+  if (wants_distribution) reference_text += AddDistribution(options, pack, state, eod_options, document);
   if (options.reference_dt_s > 0.0) {
     const EodResult reference = SimulatePackEod(pack, state, options.current_a, options.reference_dt_s, eod_options);
     const double difference = reference.eod_s > 0.0 ? (result.eod_s - reference.eod_s) / reference.eod_s : 0.0;
@@ -115,8 +173,8 @@ void Run(const EodCommandOptions& options) {
                              {"status", EodStatusName(reference.status)},
                              {"limiting_cell", LimitingCellJson(reference)},
                              {"relative_difference", difference}};
-    reference_text = fmt::format("fixed-step reference (dt {} s): {}; relative difference {:.2e}\n",
-                                 options.reference_dt_s, reference.BriefReport(), difference);
+    reference_text += fmt::format("fixed-step reference (dt {} s): {}; relative difference {:.2e}\n",
+                                  options.reference_dt_s, reference.BriefReport(), difference);
   }
   if (options.json) {
     PrintJson(document);
@@ -183,6 +241,26 @@ void AddEodCommand(CLI::App& app) {
             return text == "0" ? std::string() : BoundsValidator(kReferenceStepBounds)(text);
           },
           "STEP"));
+  command->add_flag("--quantiles", options->quantiles,
+                    "Also the EOD as a distribution (issue 29) from the 1σ given below: quantiles p05-p95");
+  AddBoundedOption(command, "--load-log-mean", options->uncertainty.load_log_mean,
+                   "With --quantiles: bias of ln(I_actual / I), the load's error (default 0)",
+                   EodUncertainty::kLoadLogMeanBounds);
+  AddBoundedOption(command, "--load-log-sigma", options->uncertainty.load_log_sigma,
+                   "With --quantiles: 1σ of ln(I_actual / I) (default 0)", EodUncertainty::kLogSigmaBounds);
+  AddBoundedOption(command, "--soc-sigma", options->uncertainty.soc_sigma,
+                   "With --quantiles: 1σ of every cell's SOC estimate, fraction (default 0)",
+                   EodUncertainty::kSocSigmaBounds);
+  AddBoundedOption(command, "--r0-log-sigma", options->uncertainty.r0_log_sigma,
+                   "With --quantiles: 1σ of ln R0 of the cells (default 0)", EodUncertainty::kLogSigmaBounds);
+  AddBoundedOption(command, "--capacity-log-sigma", options->uncertainty.capacity_log_sigma,
+                   "With --quantiles: 1σ of ln Q of the cells (default 0)", EodUncertainty::kLogSigmaBounds);
+  AddBoundedOption(command, "--cold-probability", options->uncertainty.cold_probability,
+                   "With --quantiles: P(cold class, R0 x1.5, Table 3.2) when the class is uncertain "
+                   "(default: known)",
+                   kColdProbabilityBounds);
+  AddBoundedOption(command, "--probability-before-s", options->before_s,
+                   "Also print P(EOD < this time), s (implies --quantiles)", EodOptions::kHorizonBounds);
   command->add_flag("--json", options->json,
                     "Print JSON: eod_s (a number), status, limiting_cell {pack, cell} (1-based) or null, inputs");
   command->callback([options] { Run(*options); });

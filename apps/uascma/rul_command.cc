@@ -1,5 +1,7 @@
 // uascma rul — motor remaining useful life from a bearing spall (dissertation §3.4.1, eq. 3.8) and the
 // per-second jam probability of a spalled motor measured as Table 5.4 was (decisions item 15).
+// --quantiles adds the particle RUL's quantiles; --calibrate (issue 29) scores the RUL distribution against
+// the jam times of simulated spalls instead (prognostics/rul_calibration.h).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -9,11 +11,13 @@
 #include <fmt/format.h>
 
 #include "bounded_option.h"
+#include "calibration_output.h"
 #include "commands.h"
 #include "output.h"
 #include "uascma/common/error.h"
 #include "uascma/common/random.h"
 #include "uascma/prognostics/motor_rul.h"
+#include "uascma/prognostics/rul_calibration.h"
 
 namespace uascma::cli {
 namespace {
@@ -36,17 +40,60 @@ void RequireCount(int value, const char* option, const char* what) {
   }
 }
 
+struct RulCommandOptions {
+  int particles = SpallGrowthParams{}.particles;
+  std::uint64_t seed = 1;
+  int runs = CalibrationOptions{}.runs;
+  double time_per_step_s = SpallGrowthParams{}.time_per_growth_step_s;
+  bool json = false;
+  bool quantiles = false;
+  bool calibrate = false;
+  int histories = RulCalibrationOptions{}.histories;
+  double truth_time_per_step_s = kCampaignTruthTimePerGrowthStep_s;
+  std::string mode = RulPredictionModeName(RulPredictionMode::kOnsetCountdown);
+};
+
+// --calibrate: the prognoser (--time-per-step, --particles) against --histories spalls growing at
+// --truth-time-per-step.
+void RunRulCalibration(const RulCommandOptions& options) {
+  RulCalibrationOptions calibration_options;
+  calibration_options.histories = options.histories;
+  calibration_options.seed = options.seed;
+  calibration_options.truth_time_per_growth_step_s = options.truth_time_per_step_s;
+  calibration_options.prognosis_time_per_growth_step_s = options.time_per_step_s;
+  calibration_options.particles = options.particles;
+  calibration_options.mode = ParseRulPredictionMode(options.mode, "--mode");
+  const RulCalibration calibration = CalibrateRul(calibration_options);
+  const double ratio = options.time_per_step_s / options.truth_time_per_step_s;
+  if (options.json) {
+    nlohmann::json document = CalibrationReportJson(calibration.report);
+    document["histories"] = options.histories;
+    document["seed"] = options.seed;
+    document["mode"] = options.mode;
+    document["truth_time_per_growth_step_s"] = options.truth_time_per_step_s;
+    document["prognosis_time_per_growth_step_s"] = options.time_per_step_s;
+    document["time_scale_ratio"] = ratio;
+    document["predictions"] = calibration.predictions.predictions.size();
+    document["censored_histories"] = calibration.censored_histories;
+    document["mean_jam_time_s"] = calibration.mean_jam_time_s;
+    document["mean_predicted_rul_at_onset_s"] = calibration.mean_predicted_rul_at_onset_s;
+    PrintJson(document);
+    return;
+  }
+  std::printf(
+      "Motor RUL calibration: %d spall histories (seed %llu) growing at %g s per step, the prognoser at %g s per "
+      "step (x%.2f), %s, a prediction every 1 s epoch before the jam (%zu)\n"
+      "  mean jam time %.2f s after the onset; mean predicted RUL at the onset %.2f s; %d censored\n%s",
+      options.histories, static_cast<unsigned long long>(options.seed), options.truth_time_per_step_s,
+      options.time_per_step_s, ratio, options.mode.c_str(), calibration.predictions.predictions.size(),
+      calibration.mean_jam_time_s, calibration.mean_predicted_rul_at_onset_s, calibration.censored_histories,
+      CalibrationReportText(calibration.report).c_str());
+}
+
 }  // namespace
 
 void AddRulCommand(CLI::App& app) {
-  struct Options {
-    int particles = SpallGrowthParams{}.particles;
-    std::uint64_t seed = 1;
-    int runs = CalibrationOptions{}.runs;
-    double time_per_step_s = SpallGrowthParams{}.time_per_growth_step_s;
-    bool json = false;
-  };
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<RulCommandOptions>();
   CLI::App* command = app.add_subcommand(
       "rul",
       "Motor RUL from a bearing spall (§3.4.1, eq. 3.8: Paris-law growth from 0.01 to 1 mm², C_D 0.2,\n"
@@ -63,8 +110,28 @@ void AddRulCommand(CLI::App& app) {
                                SpallGrowthParams{}.time_per_growth_step_s),
                    SpallGrowthParams::kTimePerGrowthStepBounds);
   command->add_flag("--json", options->json, "Print the result as JSON");
+  command->add_flag("--quantiles", options->quantiles,
+                    "Also the particle RUL's quantiles at p = 0.025, 0.05, 0.10, ..., 0.95, 0.975 (issue 29)");
+  command->add_flag("--calibrate", options->calibrate,
+                    "Instead: score the RUL distribution (prognoser at --time-per-step) against the jam times of\n"
+                    "--histories simulated spalls growing at --truth-time-per-step: interval coverage, reliability,\n"
+                    "PIT, Saxena et al. PH / alpha-lambda / RA (issue 29)");
+  AddBoundedOption(command, "--histories", options->histories, "With --calibrate: spall histories (default 930)",
+                   RulCalibrationOptions::kHistoryBounds);
+  AddBoundedOption(command, "--truth-time-per-step", options->truth_time_per_step_s,
+                   "With --calibrate: seconds per growth step of the simulated spall (default 0.7128, the "
+                   "campaigns' fault.time_per_growth_step_s)",
+                   SpallGrowthParams::kTimePerGrowthStepBounds);
+  command->add_option("--mode", options->mode,
+                      "With --calibrate: onset_countdown (the CMA: predicted at the onset, counted down) or "
+                      "observed_area (re-predicted every epoch from the spall's area)");
   command->callback([options] {
     RequireCount(options->particles, "--particles", "particles");
+    if (options->calibrate) {
+      RequireWithin(options->time_per_step_s, SpallGrowthParams::kTimePerGrowthStepBounds, "--time-per-step", "value");
+      RunRulCalibration(*options);
+      return;
+    }
     RequireCount(options->runs, "--runs", "runs");
     RequireWithin(options->time_per_step_s, SpallGrowthParams::kTimePerGrowthStepBounds, "--time-per-step", "value");
     SpallGrowthParams params;
@@ -77,22 +144,26 @@ void AddRulCommand(CLI::App& app) {
     RandomStream history_random(DeriveSeed(options->seed, kHistoryStream));
     const JamProbabilityMeasurement jam = model.MeasureJamProbability(options->runs, history_random);
     const char* status = rul.status == RulStatus::kOk ? "ok" : "horizon_reached";
+    const std::vector<double> levels = StandardQuantileLevels();
+    const std::vector<double> quantiles = CalcRulQuantiles(rul, levels);
 
     if (options->json) {
-      PrintJson({{"particles", options->particles},
-                 {"seed", options->seed},
-                 {"runs", options->runs},
-                 {"time_per_growth_step_s", params.time_per_growth_step_s},
-                 {"initial_area_mm2", params.initial_area_mm2},
-                 {"failure_area_mm2", params.failure_area_mm2},
-                 {"status", status},
-                 {"rul_mean_s", rul.mean_s},
-                 {"rul_p05_s", rul.p05_s},
-                 {"rul_p50_s", rul.p50_s},
-                 {"rul_p95_s", rul.p95_s},
-                 {"jam_probability_per_s", jam.jam_probability_per_epoch},
-                 {"mean_time_to_jam_s", jam.mean_time_to_jam_s},
-                 {"table_5_4_jam_probability_per_s", kTable54JamProbabilityPerEpoch}});
+      nlohmann::json document = {{"particles", options->particles},
+                                 {"seed", options->seed},
+                                 {"runs", options->runs},
+                                 {"time_per_growth_step_s", params.time_per_growth_step_s},
+                                 {"initial_area_mm2", params.initial_area_mm2},
+                                 {"failure_area_mm2", params.failure_area_mm2},
+                                 {"status", status},
+                                 {"rul_mean_s", rul.mean_s},
+                                 {"rul_p05_s", rul.p05_s},
+                                 {"rul_p50_s", rul.p50_s},
+                                 {"rul_p95_s", rul.p95_s},
+                                 {"jam_probability_per_s", jam.jam_probability_per_epoch},
+                                 {"mean_time_to_jam_s", jam.mean_time_to_jam_s},
+                                 {"table_5_4_jam_probability_per_s", kTable54JamProbabilityPerEpoch}};
+      if (options->quantiles) document["rul_quantiles"] = {{"levels", levels}, {"quantiles_s", quantiles}};
+      PrintJson(document);
       return;
     }
     std::printf(
@@ -106,6 +177,11 @@ void AddRulCommand(CLI::App& app) {
         rul.status == RulStatus::kOk ? "" : " — some particles censored at the step horizon", rul.mean_s, rul.p05_s,
         rul.p50_s, rul.p95_s, jam.jam_probability_per_epoch, options->runs, jam.mean_time_to_jam_s,
         kTable54JamProbabilityPerEpoch);
+    if (options->quantiles) {
+      std::printf("  RUL quantiles:");
+      for (std::size_t i = 0; i < levels.size(); ++i) std::printf(" p%g %.1f s", 100.0 * levels[i], quantiles[i]);
+      std::printf("\n");
+    }
   });
 }
 

@@ -24,7 +24,7 @@ Areas
 -----
 * models: ``PropulsionParams``, ``rotor_thrust``, ``electrical_power``, ``estimate_rpm``, ``Mixer``,
   ``control_authority``, ``Cell``, ``BatteryPack`` (``simulate_discharge``).
-* prognostics: ``pack_eod``, ``pack_eod_curve``, ``MotorRulModel``, ``rul``.
+* prognostics: ``pack_eod``, ``pack_eod_curve``, ``pack_eod_distribution`` (``EodUncertainty``), ``MotorRulModel``, ``rul``.
 * planning: ``FootprintParams``, ``footprint``.
 * decision: ``build_mdp``, ``solve``, ``evaluate_policy``, ``CmaWeights``, ``build_cma_mdp``, ``solve_cma``,
   ``load_policy``, ``read_policy_file``.

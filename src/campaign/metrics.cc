@@ -93,6 +93,7 @@ RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int sl
   if (std::isfinite(result.speed_cap_mps)) r.speed_cap_mps = result.speed_cap_mps;
   r.min_cell_voltage_v = result.min_cell_voltage_v;
   r.energy_wh = result.energy_wh;
+  r.end_reserve_s = result.end_reserve_s;
   r.max_tracking_error_m = result.max_tracking_error;
   r.max_tilt_rad = result.max_tilt;
 

@@ -417,6 +417,7 @@ void DrawFault(RandomStream& random, const FaultSampling& fault, SampledRun& run
     spec.spall_onset_s = Draw(random, fault.onset_fraction) * run.plan_duration_s;
     spec.motor = fault.motors[random.UniformIndex(fault.motors.size())];
     spec.time_per_growth_step_s = fault.time_per_growth_step_s;
+    spec.prognosis_time_per_growth_step_s = fault.prognosis_time_per_growth_step_s;
   }
 }
 

@@ -86,7 +86,37 @@ bool InHealthGroup(const RunRecord& r, const std::string& health) {
   return health == "all" || r.battery_health == health;
 }
 
+void CountUnnecessaryLandings(const std::vector<RunRecord>& records, std::vector<GroupStatistics>& groups) {
+  const std::map<std::int64_t, const RunRecord*> noop = NoOpFlightsByRun(records);
+  if (noop.empty()) return;
+  for (GroupStatistics& g : groups) {
+    g.has_noop_twin = true;
+    for (const RunRecord& r : records) {
+      if (r.policy == g.policy && InHealthGroup(r, g.battery_health) && IsUnnecessaryLanding(r, noop)) {
+        ++g.unnecessary_landings;
+      }
+    }
+    g.unnecessary_landing_rate = EstimateRate(g.unnecessary_landings, g.runs);
+  }
+}
+
 }  // namespace
+
+std::map<std::int64_t, const RunRecord*> NoOpFlightsByRun(const std::vector<RunRecord>& records) {
+  std::map<std::int64_t, const RunRecord*> noop;
+  for (const RunRecord& r : records) {
+    if (r.policy == kNoOpPolicy) noop[r.run_index] = &r;
+  }
+  return noop;
+}
+
+bool IsUnnecessaryLanding(const RunRecord& record, const std::map<std::int64_t, const RunRecord*>& noop_by_run) {
+  const OutcomeClass outcome = ClassOf(record);
+  if (outcome != OutcomeClass::kEmergencyLanding && outcome != OutcomeClass::kLandedOffSite) return false;
+  const auto twin = noop_by_run.find(record.run_index);
+  return twin != noop_by_run.end() && ClassOf(*twin->second) == OutcomeClass::kCompleted &&
+         twin->second->end_reserve_s >= twin->second->safety_margin_s;
+}
 
 Estimate EstimateRate(std::int64_t successes, std::int64_t trials) {
   if (trials <= 0) return {kStatisticsNaN, kStatisticsNaN};
@@ -252,6 +282,7 @@ std::vector<GroupStatistics> Summarise(const std::vector<RunRecord>& records,
       groups.push_back(std::move(g));
     }
   }
+  CountUnnecessaryLandings(records, groups);
   return groups;
 }
 
@@ -283,6 +314,7 @@ std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& record
   // run_index → policy → the record flown.
   std::map<std::int64_t, std::map<std::string, const RunRecord*>> runs;
   for (const RunRecord& r : records) runs[r.run_index][r.policy] = &r;
+  const std::map<std::int64_t, const RunRecord*> noop = NoOpFlightsByRun(records);
   std::vector<PairedComparison> comparisons;
   for (std::size_t i = 0; i < policies.size(); ++i) {
     for (std::size_t j = i + 1; j < policies.size(); ++j) {
@@ -291,7 +323,7 @@ std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& record
         c.first_policy = policies[i];
         c.second_policy = policies[j];
         c.battery_health = health;
-        std::int64_t b = 0, d = 0;
+        std::int64_t b = 0, d = 0, first_unnecessary = 0, second_unnecessary = 0;
         for (const auto& [index, flown] : runs) {
           const auto first = flown.find(c.first_policy);
           const auto second = flown.find(c.second_policy);
@@ -304,8 +336,13 @@ std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& record
           if (!a_failed && !b_failed) ++c.neither_failed;
           if (a_failed && !b_failed) ++b;
           if (!a_failed && b_failed) ++d;
+          const bool a_unnecessary = IsUnnecessaryLanding(*first->second, noop);
+          const bool b_unnecessary = IsUnnecessaryLanding(*second->second, noop);
+          first_unnecessary += a_unnecessary && !b_unnecessary;
+          second_unnecessary += b_unnecessary && !a_unnecessary;
         }
         c.test = CalcMcNemarTest(b, d);
+        if (!noop.empty()) c.unnecessary_test = CalcMcNemarTest(first_unnecessary, second_unnecessary);
         comparisons.push_back(std::move(c));
       }
     }
@@ -343,6 +380,9 @@ nlohmann::json GroupJson(const GroupStatistics& g) {
       {"substitution_epochs", g.substitution_epochs},
       {"substitutions", g.substitutions},
       {"other_outcomes", g.others},
+      {"unnecessary_landings", g.has_noop_twin ? nlohmann::json(g.unnecessary_landings) : nlohmann::json()},
+      {"unnecessary_landing_rate",
+       g.has_noop_twin ? StatisticsJsonNumber(g.unnecessary_landing_rate.value) : nlohmann::json()},
       {"failure_rate", StatisticsJsonNumber(g.failure_rate.value)},
       {"failure_rate_sem", StatisticsJsonNumber(g.failure_rate.sem)},
       {"failure_rate_wilson_low", StatisticsJsonNumber(g.failure_wilson.low)},
@@ -379,16 +419,22 @@ nlohmann::json GroupJson(const GroupStatistics& g) {
 nlohmann::json PairedJson(const std::vector<PairedComparison>& comparisons) {
   nlohmann::json paired = nlohmann::json::array();
   for (const PairedComparison& c : comparisons) {
-    paired.push_back({{"policies", {c.first_policy, c.second_policy}},
-                      {"battery_health", c.battery_health},
-                      {"pairs", c.pairs},
-                      {"both_failed", c.both_failed},
-                      {"neither_failed", c.neither_failed},
-                      {"only_first_failed", c.test.only_first_failed},
-                      {"only_second_failed", c.test.only_second_failed},
-                      {"mcnemar_exact_p", StatisticsJsonNumber(c.test.exact_p)},
-                      {"mcnemar_chi_squared", StatisticsJsonNumber(c.test.chi_squared)},
-                      {"mcnemar_chi_squared_p", StatisticsJsonNumber(c.test.chi_squared_p)}});
+    paired.push_back(
+        {{"policies", {c.first_policy, c.second_policy}},
+         {"battery_health", c.battery_health},
+         {"pairs", c.pairs},
+         {"both_failed", c.both_failed},
+         {"neither_failed", c.neither_failed},
+         {"only_first_failed", c.test.only_first_failed},
+         {"only_second_failed", c.test.only_second_failed},
+         {"mcnemar_exact_p", StatisticsJsonNumber(c.test.exact_p)},
+         {"mcnemar_chi_squared", StatisticsJsonNumber(c.test.chi_squared)},
+         {"mcnemar_chi_squared_p", StatisticsJsonNumber(c.test.chi_squared_p)},
+         {"unnecessary_landings",
+          c.unnecessary_test ? nlohmann::json{{"only_first", c.unnecessary_test->only_first_failed},
+                                              {"only_second", c.unnecessary_test->only_second_failed},
+                                              {"mcnemar_exact_p", StatisticsJsonNumber(c.unnecessary_test->exact_p)}}
+                             : nlohmann::json()}});
   }
   return paired;
 }
@@ -515,6 +561,26 @@ std::string PairedTable(const std::vector<PairedComparison>& comparisons) {
   return out;
 }
 
+// 3b. Unnecessary landings per group and their paired comparison ("" without a NoOp twin).
+std::string UnnecessaryLandingsTable(const std::vector<GroupStatistics>& groups,
+                                     const std::vector<PairedComparison>& comparisons) {
+  if (groups.empty() || !groups.front().has_noop_twin) return "";
+  std::string out =
+      "\nUnnecessary landings: an emergency landing in a run whose NoOp flight completed with t_sf of hover left\n";
+  for (const GroupStatistics& g : groups) {
+    out += fmt::format("  {:<10} {:<3} {:>5} of {:>5} ({} %)\n", g.policy, g.battery_health, g.unnecessary_landings,
+                       g.runs, Percent(g.unnecessary_landing_rate));
+  }
+  out += "Paired (McNemar): b = only the first landed unnecessarily, c = only the second\n";
+  for (const PairedComparison& c : comparisons) {
+    if (!c.unnecessary_test) continue;
+    out += fmt::format("  {:<22} {:<3} b {:>5}  c {:>5}  exact p {}\n", c.first_policy + " vs " + c.second_policy,
+                       c.battery_health, c.unnecessary_test->only_first_failed, c.unnecessary_test->only_second_failed,
+                       PValue(c.unnecessary_test->exact_p));
+  }
+  return out;
+}
+
 // 4. The dissertation's headline beside ours (§5.5.3, Fig. 5.30), and the failures by the fades the batteries carry.
 std::string HeadlineTable(const std::vector<GroupStatistics>& groups) {
   std::string out;
@@ -559,7 +625,7 @@ std::string HeadlineTable(const std::vector<GroupStatistics>& groups) {
 std::string StatisticsTable(const std::vector<GroupStatistics>& groups,
                             const std::vector<PairedComparison>& comparisons) {
   return OutcomeRatesTable(groups) + OutcomeNotes(groups) + FailureRatesTable(groups) + PairedTable(comparisons) +
-         HeadlineTable(groups);
+         UnnecessaryLandingsTable(groups, comparisons) + HeadlineTable(groups);
 }
 
 }  // namespace uascma::campaign

@@ -10,6 +10,34 @@
 #include "uascma/sim/branching.h"
 
 namespace uascma::sim {
+namespace {
+
+// s: how long the true pack, as the flight left it, could still hover the vehicle (its EOD at the steady hover current
+// of the rotors that fly: six, or four after an isolation, decisions item 13, in the mean wind, plus the hotel load).
+// The current solves I = P_hover / V_bus(I) + I_hotel by fixed-point iteration from the bus voltage at rest, a
+// contraction by (dV/dI)·I/V (the pack's resistance against its load resistance, small); iterated to 1e-6 A.
+// What the report's unnecessary landings compare with t_sf (campaign/statistics.h).
+double EndReserveS(const FlightModel& model, const FlightState& state) {
+  if (!std::any_of(state.power.pack.branch_on.begin(), state.power.pack.branch_on.end(), [](bool on) { return on; })) {
+    return 0.0;
+  }
+  const int rotors =
+      state.faults.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
+  const double power_w =
+      CalcSteadyRotorPower(model.steady_load(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), rotors);
+  double current_a = 0.0;
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    const double bus_v = model.pack().CalcOutputs(state.power.pack, current_a).split.bus_voltage_v;
+    if (!(bus_v > 0.0)) return 0.0;
+    const double next_a = power_w / bus_v + model.options().hotel_current_a;
+    const bool converged = std::abs(next_a - current_a) < 1e-6;
+    current_a = next_a;
+    if (converged) break;
+  }
+  return prognostics::CalcPackEod(model.pack(), state.power.pack, current_a).eod_s;
+}
+
+}  // namespace
 
 SimResult MakeSimResult(const FlightModel& model, const FlightState& state, FlightLog log, const std::string& policy) {
   SimResult result;
@@ -27,6 +55,7 @@ SimResult MakeSimResult(const FlightModel& model, const FlightState& state, Flig
   result.max_tracking_error = state.vehicle.max_tracking_error;
   result.max_tilt = std::acos(std::clamp(state.vehicle.min_cos_tilt, -1.0, 1.0));
   result.energy_wh = state.power.energy_wh;
+  result.end_reserve_s = EndReserveS(model, state);
   result.eod_load = EodLoadName(model.options().eod_load);
   result.substitution_epochs = state.decision.substitution_epochs;
   result.substitutions = state.decision.substitutions;

@@ -89,6 +89,7 @@ nlohmann::json SummaryJson(const Scenario& scenario, const planning::FlightPlan&
       {"isolated_rotor", result.isolated_rotor},
       {"min_cell_voltage_v", result.min_cell_voltage_v},
       {"energy_wh", result.energy_wh},
+      {"end_reserve_s", result.end_reserve_s},
       {"max_tracking_error_m", result.max_tracking_error},
       {"max_tilt_deg", result.max_tilt * 180.0 / 3.14159265358979323846},
       {"actions", actions},

@@ -10,6 +10,7 @@
 #include "cli_runner.h"
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/eod_distribution.h"
 
 namespace uascma {
 namespace {
@@ -110,6 +111,40 @@ TEST(EodCliTest, BadInputIsExitTwoWithOneLineNamingTheOption) {
     EXPECT_NE(result.err.find(c.option), std::string::npos) << c.arguments << ": " << result.err;
     EXPECT_TRUE(result.out.empty()) << c.arguments;
   }
+}
+
+TEST(EodCliTest, QuantilesAreTheLibrarysDistribution) {
+  const nlohmann::json out = RunJson(
+      "eod --current-a 30 --quantiles --load-log-mean 0.02 --load-log-sigma 0.08 --soc-sigma 0.02 "
+      "--cold-probability 0.3 --probability-before-s 550");
+  const models::BatteryPack battery;
+  prognostics::EodUncertainty uncertainty;
+  uncertainty.load_log_mean = 0.02;
+  uncertainty.load_log_sigma = 0.08;
+  uncertainty.soc_sigma = 0.02;
+  uncertainty.cold_probability = 0.3;
+  const prognostics::EodDistribution expected =
+      prognostics::CalcPackEodDistribution(battery, battery.MakeRestingState(4.1), 30.0, uncertainty);
+  const nlohmann::json& distribution = out.at("distribution");
+  const auto& levels = distribution.at("levels");
+  const auto& quantiles = distribution.at("quantiles_s");
+  ASSERT_EQ(levels.size(), quantiles.size());
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    EXPECT_NEAR(quantiles[i].get<double>(), expected.Quantile(levels[i].get<double>()), kPrintedTolerance);
+    if (i > 0) EXPECT_GT(quantiles[i].get<double>(), quantiles[i - 1].get<double>());
+  }
+  EXPECT_NEAR(distribution.at("probability_before").at("probability").get<double>(), expected.ProbabilityBefore(550.0),
+              kPrintedTolerance);
+  const auto text = RunCli("eod --current-a 30 --quantiles --soc-sigma 0.02");
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.out.find("p95"), std::string::npos) << text.out;
+  // The cold class of an uncertain class is the warm pack's R0 x 1.5: a cold --temp-degf is refused.
+  const auto cold = RunCli("eod --current-a 30 --quantiles --temp-degf 40 --cold-probability 0.3");
+  EXPECT_EQ(cold.exit_code, 2);
+  EXPECT_NE(cold.err.find("--cold-probability"), std::string::npos) << cold.err;
+  const auto negative = RunCli("eod --current-a 30 --quantiles --soc-sigma -0.1");
+  EXPECT_EQ(negative.exit_code, 2);
+  EXPECT_NE(negative.err.find("--soc-sigma"), std::string::npos) << negative.err;
 }
 
 TEST(EodCliTest, HelpExitsZero) {

@@ -75,6 +75,25 @@ TEST(RulCliTest, TextOutputAndHelpExitZero) {
   EXPECT_EQ(RunCli("rul --help").exit_code, 0);
 }
 
+TEST(RulCliTest, QuantilesAndCalibrationOfTheRulDistribution) {
+  const nlohmann::json rul = RunJson("rul --quantiles --json --runs 10");
+  const auto& quantiles = rul.at("rul_quantiles").at("quantiles_s");
+  ASSERT_EQ(quantiles.size(), rul.at("rul_quantiles").at("levels").size());
+  EXPECT_NEAR(quantiles[1].get<double>(), rul.at("rul_p05_s").get<double>(), 1e-9);  // level 0.05
+  // The campaigns' default (truth 0.7128 s per step, prognoser Table 5.4's) covers no jam; with the truth's time
+  // scale the 90 % interval covers 85-95 % of the jam times (issue 29).
+  const nlohmann::json missed = RunJson("rul --calibrate --histories 200 --json");
+  EXPECT_EQ(missed.at("intervals")[2].at("covered"), 0);
+  EXPECT_GT(missed.at("time_scale_ratio").get<double>(), 20.0);
+  const nlohmann::json matched = RunJson("rul --calibrate --histories 930 --time-per-step 0.7128 --json");
+  const double covered = matched.at("intervals")[2].at("fraction");
+  EXPECT_EQ(matched.at("intervals")[2].at("nominal"), 0.9);
+  EXPECT_GT(covered, 0.85);
+  EXPECT_LT(covered, 0.95);
+  ExpectOneLineErrorNaming("rul --calibrate --mode sideways", "--mode");
+  ExpectOneLineErrorNaming("rul --calibrate --histories 0", "--histories");
+}
+
 TEST(RulCliTest, BadInputIsExitTwoOnOneLineNamingTheOption) {
   ExpectOneLineErrorNaming("rul --particles 0", "--particles");
   ExpectOneLineErrorNaming("rul --particles -5", "--particles");

@@ -200,8 +200,22 @@ TEST(ConfigFieldsTest, EveryKeyIsDeclaredOnceWithItsSource) {
           << entry.field.key;
     }
   }
-  // 39 + options.pack_rate_hz and options.wind_rate_hz (issue 27 item 2) + options.noisy_sensing (issue 29)
-  EXPECT_EQ(keys.size(), 42u);
+  // 39 + options.pack_rate_hz and options.wind_rate_hz (issue 27 item 2) + fault.prognosis_time_per_growth_step_s
+  // and options.noisy_sensing (issue 29).
+  EXPECT_EQ(keys.size(), 43u);
+}
+
+// Issue 29: the prognoser's time scale is left out of the YAML and the fingerprint unless set.
+TEST(ConfigFieldsTest, ThePrognosisTimeScaleEntersTheFingerprintOnlyWhenSet) {
+  const CampaignConfig defaults;
+  CampaignConfig shared = defaults;
+  shared.fault.prognosis_time_per_growth_step_s = 0.7128;
+  EXPECT_EQ(CampaignConfigYaml(defaults).find("prognosis_time_per_growth_step_s"), std::string::npos);
+  EXPECT_NE(CampaignConfigYaml(shared).find("  prognosis_time_per_growth_step_s: 0.7128\n"), std::string::npos);
+  EXPECT_NE(CampaignConfigHash(shared), CampaignConfigHash(defaults));
+  const CampaignConfig parsed = ParseCampaignConfig(CampaignConfigYaml(shared), "shared");
+  EXPECT_EQ(parsed.fault.prognosis_time_per_growth_step_s, 0.7128);
+  EXPECT_EQ(CampaignConfigHash(parsed), CampaignConfigHash(shared));
 }
 
 // Each bound refuses a value just outside it, naming the file and the key (one case per kind of member).

@@ -216,6 +216,7 @@ TEST(SamplerTest, ConfigurationChoicesTakeEffect) {
   config.battery.health_weights = {0.0, 0.0, 1.0};
   config.battery.degraded_cells = {6, 6};
   config.fault.time_per_growth_step_s.reset();
+  config.fault.prognosis_time_per_growth_step_s = 0.7128;
   const CampaignWorld world = BuildCampaignWorld(config.map);  // once, as a campaign builds it
   for (int i = 0; i < 50; ++i) {
     const SampledRun run = SampleRun(config, world, 3, i);
@@ -223,6 +224,7 @@ TEST(SamplerTest, ConfigurationChoicesTakeEffect) {
     EXPECT_EQ(run.scenario.fault.motor, 4);
     EXPECT_NEAR(run.scenario.fault.spall_onset_s, 0.25 * run.plan_duration_s, 1e-12 * run.plan_duration_s);
     EXPECT_FALSE(run.scenario.fault.time_per_growth_step_s.has_value());
+    EXPECT_EQ(run.scenario.fault.prognosis_time_per_growth_step_s, 0.7128);
     // Six degraded cells in P: every cell faded, at least one with both.
     const std::string code = CellHealthCode(run.scenario.battery.cell_health);
     EXPECT_EQ(code.find('-'), std::string::npos) << code;

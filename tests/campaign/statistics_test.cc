@@ -297,5 +297,64 @@ TEST(StatisticsTest, FailuresByTheBatterysFades) {
   EXPECT_NE(table.find("capacity 3/4 (75.0 %)  power_only 1/2 (50.0 %)  none 0/1 (0.0 %)"), std::string::npos) << table;
 }
 
+TEST(StatisticsTest, UnnecessaryLandingsAreLandingsWhoseNoOpTwinCompletedWithTheMargin) {
+  // t_sf = 60 s in every run. NoOp: run 0 completed with 61 s of hover left, run 1 completed with 59 s, run 2
+  // failed, run 3 completed with 60 s (exactly t_sf: enough). cma lands in runs 0, 1, 2 and lands off-site in run 3:
+  // unnecessary in runs 0 and 3 (2 of 4). risk lands in run 1 only: none unnecessary. Pairs (cma, risk): b = 2, c = 0.
+  const char* noop[] = {"completed", "completed", "failed_battery", "completed"};
+  const double reserve[] = {61.0, 59.0, 0.0, 60.0};
+  const char* cma[] = {"emergency_landing", "emergency_landing", "emergency_landing", "landed_off_site"};
+  const char* risk[] = {"completed", "emergency_landing", "failed_battery", "completed"};
+  std::vector<RunRecord> records;
+  for (int run = 0; run < 4; ++run) {
+    for (RunRecord r : {Paired(run, "noop", "P", noop[run]), Paired(run, "cma", "P", cma[run]),
+                        Paired(run, "risk", "P", risk[run])}) {
+      r.safety_margin_s = 60.0;
+      r.end_reserve_s = r.policy == "noop" ? reserve[run] : 0.0;
+      records.push_back(r);
+    }
+  }
+  const auto noop_by_run = NoOpFlightsByRun(records);
+  ASSERT_EQ(noop_by_run.size(), 4u);
+  EXPECT_TRUE(IsUnnecessaryLanding(records[1], noop_by_run));    // run 0, cma
+  EXPECT_FALSE(IsUnnecessaryLanding(records[4], noop_by_run));   // run 1, cma: NoOp had 59 s < t_sf
+  EXPECT_FALSE(IsUnnecessaryLanding(records[7], noop_by_run));   // run 2, cma: NoOp failed
+  EXPECT_TRUE(IsUnnecessaryLanding(records[10], noop_by_run));   // run 3, cma: off-site, NoOp had exactly t_sf
+  EXPECT_FALSE(IsUnnecessaryLanding(records[11], noop_by_run));  // run 3, risk completed
+  const std::vector<std::string> order = {"noop", "cma", "risk"};
+  const auto groups = Summarise(records, order);
+  auto group = [&groups](const std::string& policy, const std::string& health) {
+    return *std::find_if(groups.begin(), groups.end(),
+                         [&](const GroupStatistics& g) { return g.policy == policy && g.battery_health == health; });
+  };
+  EXPECT_TRUE(group("cma", "P").has_noop_twin);
+  EXPECT_EQ(group("cma", "P").unnecessary_landings, 2);
+  EXPECT_NEAR(group("cma", "P").unnecessary_landing_rate.value, 0.5, kTolerance);
+  EXPECT_EQ(group("risk", "all").unnecessary_landings, 0);
+  EXPECT_EQ(group("noop", "P").unnecessary_landings, 0);
+  EXPECT_EQ(group("cma", "G").runs, 0);
+  const auto comparisons = ComparePaired(records, order);
+  const auto pair = std::find_if(comparisons.begin(), comparisons.end(), [](const PairedComparison& c) {
+    return c.first_policy == "cma" && c.second_policy == "risk" && c.battery_health == "P";
+  });
+  ASSERT_NE(pair, comparisons.end());
+  ASSERT_TRUE(pair->unnecessary_test.has_value());
+  EXPECT_EQ(pair->unnecessary_test->only_first_failed, 2);
+  EXPECT_EQ(pair->unnecessary_test->only_second_failed, 0);
+  EXPECT_NEAR(pair->unnecessary_test->exact_p, 0.5, kTolerance);  // 2 · P(X ≤ 0), X ~ Bin(2, ½)
+  const std::string table = StatisticsTable(groups, comparisons);
+  EXPECT_NE(table.find("Unnecessary landings"), std::string::npos) << table;
+  const nlohmann::json json = StatisticsToJson(groups, comparisons);
+  EXPECT_EQ(json["policies"]["cma"]["P"]["unnecessary_landings"], 2);
+}
+
+TEST(StatisticsTest, NoUnnecessaryLandingsWithoutANoOpTwin) {
+  std::vector<RunRecord> records = {Paired(0, "cma", "G", "emergency_landing")};
+  const auto groups = Summarise(records, {"cma"});
+  EXPECT_FALSE(groups.front().has_noop_twin);
+  EXPECT_TRUE(StatisticsToJson(groups, {})["policies"]["cma"]["G"]["unnecessary_landings"].is_null());
+  EXPECT_EQ(StatisticsTable(groups, {}).find("Unnecessary landings"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace uascma::campaign

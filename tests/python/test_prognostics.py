@@ -67,3 +67,46 @@ def test_footprint_equals_the_cli_and_its_boundary_is_an_ellipse():
 def test_footprint_names_the_bad_field():
     with pytest.raises(uascma.InputError, match="eod"):
         uascma.footprint(uascma.FootprintParams(initial_speed=5.0, eod=-1.0))
+
+
+def test_eod_distribution_equals_the_cli():
+    pack = uascma.BatteryPack()
+    uncertainty = uascma.EodUncertainty()
+    uncertainty.load_log_mean = 0.02
+    uncertainty.load_log_sigma = 0.08
+    uncertainty.soc_sigma = 0.02
+    distribution = uascma.pack_eod_distribution(pack, pack.resting_state(4.1), 30.0, uncertainty)
+    cli = cli_json("eod", "--current-a", 30, "--quantiles", "--load-log-mean", 0.02, "--load-log-sigma", 0.08,
+                   "--soc-sigma", 0.02)["distribution"]
+    levels = np.array(cli["levels"])
+    assert distribution.quantiles(levels) == pytest.approx(cli["quantiles_s"], rel=ROUND_OFF)
+    # P(EOD < q(p)) = p, and the quantiles increase.
+    for p in levels:
+        assert distribution.probability_before(distribution.quantile(p)) == pytest.approx(p, abs=1e-9)
+    assert np.all(np.diff(distribution.quantiles(levels)) > 0.0)
+    assert distribution.evaluations == 5  # point, centre (biased load), load, SOC both sides
+    with pytest.raises(uascma.InputError):
+        distribution.quantile(1.5)
+
+
+def test_rul_calibration_equals_the_cli():
+    python = uascma.rul_calibration(histories=200, seed=3, prognosis_time_per_step_s=0.7128)
+    cli = cli_json("rul", "--calibrate", "--histories", 200, "--seed", 3, "--time-per-step", 0.7128)
+    assert python.predictions == cli["predictions"]
+    for mine, theirs in zip(python.report.intervals, cli["intervals"]):
+        assert mine.covered == theirs["covered"]
+    assert python.report.saxena.mean_relative_accuracy == pytest.approx(
+        cli["saxena"]["mean_relative_accuracy"], rel=ROUND_OFF)
+
+
+def test_calibration_report_of_a_grid():
+    # Truths on a grid of the uniform distribution on [0, 100] s: each central interval covers its share.
+    levels = uascma.standard_quantile_levels()
+    n = 1000
+    quantiles = np.tile(100.0 * np.array(levels), (n, 1))
+    truths = (np.arange(n) + 0.5) / n * 100.0
+    report = uascma.calibration_report(levels, quantiles, truths, np.zeros(n), np.arange(n))
+    assert [c.covered for c in report.intervals] == [500, 800, 900, 950]
+    assert report.pit_histogram == [100] * 10
+    with pytest.raises(uascma.InputError):
+        uascma.calibration_report(levels, quantiles[:, :3], truths, np.zeros(n), np.arange(n))

@@ -82,6 +82,37 @@ TEST(FlightTest, SteppingByEpochsIsRun) {
   EXPECT_EQ(stepped.events.size(), run.events.size());
 }
 
+// The end reserve (SimResult::end_reserve_s, the report's unnecessary landings): the pack's EOD at the hover current,
+// bracketed by two currents that need no fixed point: the hover power over the bus voltage at rest (the bus only
+// sags under load, so the current is at least this: an upper bound of the reserve) and over the cut-off bus voltage
+// (3 × 3.3 V: the current at most this while the reserve is positive: a lower bound). After a jam (ShortJam) four
+// rotors hover.
+TEST(FlightTest, TheEndReserveIsThePacksEodAtTheHoverCurrent) {
+  const Simulator simulator(ShortJam());
+  const FlightModel& model = simulator.model();
+  NoOpPolicy noop;
+  FlightState state = MakeInitialState(model, simulator.scenario().seed);
+  const Controllers controllers{&noop, nullptr, {}};
+  while (!state.done()) StepEpoch(model, state, controllers);
+  const SimResult result = MakeSimResult(model, state, FlightLog{}, noop.name());
+  ASSERT_NE(state.faults.allocation_failure, models::kNoFailedMotor);
+  const double power_w = CalcSteadyRotorPower(model.steady_load(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                              models::kRotorCount - 2);
+  const double rest_v = model.pack().CalcOutputs(state.power.pack, 0.0).split.bus_voltage_v;
+  const double hotel_a = model.options().hotel_current_a;
+  const double cutoff_bus_v = models::kCellsPerBranch * models::kCutoffVoltage;
+  const double upper = prognostics::CalcPackEod(model.pack(), state.power.pack, power_w / rest_v + hotel_a).eod_s;
+  const double lower = prognostics::CalcPackEod(model.pack(), state.power.pack, power_w / cutoff_bus_v + hotel_a).eod_s;
+  EXPECT_GT(result.end_reserve_s, 0.0);
+  EXPECT_LE(result.end_reserve_s, upper);
+  EXPECT_GE(result.end_reserve_s, lower);
+  // Four rotors of a heavier share hover dearer than six (the power law of the propulsion model): the reserve with
+  // six would be longer.
+  const double six_w =
+      CalcSteadyRotorPower(model.steady_load(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), models::kRotorCount);
+  EXPECT_GT(power_w, six_w);
+}
+
 // §5.5.1's flight, branched at the spall onset: the same past, then NoOp runs the battery to the cut-off while
 // the CMA policy lands on a LandPract site (tests/sim/scenarios_test.cc checks the whole flights).
 TEST(FlightTest, ScenarioOneBranchesAtTheSpallIntoNoOpAndCma) {

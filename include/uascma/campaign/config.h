@@ -34,6 +34,7 @@
 //     onset_fraction: [0, 1]                     # onset uniform over the nominal flight (§5.4)
 //     motors: [1, 2, 3, 4, 5, 6]                 # the spalled motor, uniform (§5.4)
 //     time_per_growth_step_s: 0.7128             # spall → jam in ~17 s, as in §5.5.1–5.5.2
+//     prognosis_time_per_growth_step_s: 0.7128   # optional: the prognoser shares it (unset: Table 5.4)
 //   options:
 //     eod_load: forecast                         # the 1 Hz EOD's load: forecast (decision 25) | present (item 14)
 //     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
@@ -180,6 +181,11 @@ struct FaultSampling {
   // step jams the motor ~17 s after the onset, as in §5.5.1 (175 → 192 s) and §5.5.2 (525 → 542 s).
   // Absent (YAML: null) → the prognosis default calibrated to Table 5.4 (minutes to jam).
   std::optional<double> time_per_growth_step_s = 0.7128;
+  // The prognoser's own time scale (sim::FaultSpec::prognosis_time_per_growth_step_s). Absent (the default):
+  // Table 5.4's calibration, 21.5 times slower than the 0.7128 s above, so the CMA's RUL (~356 s) misses every
+  // jam (~17 s; issue 29, `uascma rul --calibrate`). Set to time_per_growth_step_s, the prognoser's particles
+  // follow the law the spall follows (§3.4.1: one Paris law for both) and its RUL intervals cover the jam times.
+  std::optional<double> prognosis_time_per_growth_step_s;
 };
 
 // The city the flights fly over: the built-in procedural city of this seed (0: open ground, no buildings

@@ -60,6 +60,7 @@ struct RunRecord {
   std::optional<double> speed_cap_mps;  // the airspeed cap after a rotor isolation (§4.4.2); none without one
   double min_cell_voltage_v = 0.0;
   double energy_wh = 0.0;
+  double end_reserve_s = 0.0;  // sim::SimResult::end_reserve_s: how long the pack could still have hovered at the end
   double max_tracking_error_m = 0.0;
   double max_tilt_rad = 0.0;
   // ---- rewards per 1 Hz epoch (§5.5.3, Fig. 5.32; campaign/metrics.h) ------------------------------
@@ -113,6 +114,7 @@ void VisitRecordFields(Record& r, Visitor&& visit) {
   visit("speed_cap_mps", r.speed_cap_mps);
   visit("min_cell_voltage_v", r.min_cell_voltage_v);
   visit("energy_wh", r.energy_wh);
+  visit("end_reserve_s", r.end_reserve_s);
   visit("max_tracking_error_m", r.max_tracking_error_m);
   visit("max_tilt_rad", r.max_tilt_rad);
   visit("epochs", r.epochs);

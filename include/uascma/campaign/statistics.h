@@ -27,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,10 @@ struct GroupStatistics {
   std::array<std::int64_t, kFailureCauseCount> failures_by_cause{};  // indexed by FailureCause; sums to failures
   std::array<std::int64_t, kBatteryFadesCount> runs_by_fades{}, failures_by_fades{};  // indexed by BatteryFades
   Estimate average_reward, min_reward;
+  // Unnecessary landings (CountUnnecessaryLandings): counted only when the campaign flew the NoOp policy.
+  bool has_noop_twin = false;
+  std::int64_t unnecessary_landings = 0;
+  Estimate unnecessary_landing_rate;
 };
 
 inline constexpr const char* kHealthGroups[] = {"G", "M", "P", "all"};
@@ -127,11 +132,22 @@ struct PairedComparison {
   std::int64_t pairs = 0;      // runs flown by both
   std::int64_t both_failed = 0, neither_failed = 0;
   McNemarTest test;
+  // McNemar on unnecessary landings (b = only the first landed unnecessarily), when the campaign flew NoOp.
+  std::optional<McNemarTest> unnecessary_test;
 };
 // For every pair of policies (in Summarise's order, first before second) and every health group: the runs
 // flown by both policies, matched by run_index.
 std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& records,
                                             const std::vector<std::string>& policy_order = {});
+
+// Unnecessary landings (issue 29): an emergency landing, on a site or off it, in a run whose NoOp flight (policy
+// kNoOpPolicy) completed with at least t_sf of hover left (RunRecord::end_reserve_s >= safety_margin_s, the run's
+// own t_sf): the landing kept the vehicle safe from nothing. Summarise counts them per group (has_noop_twin,
+// unnecessary_landings), ComparePaired tests them per pair (unnecessary_test), StatisticsTable prints them.
+inline constexpr const char* kNoOpPolicy = "noop";
+// The NoOp flight of each run (empty when the campaign flew no NoOp).
+std::map<std::int64_t, const RunRecord*> NoOpFlightsByRun(const std::vector<RunRecord>& records);
+bool IsUnnecessaryLanding(const RunRecord& record, const std::map<std::int64_t, const RunRecord*>& noop_by_run);
 
 // The dissertation's headline for comparison (§5.5.3, shared/spec/README.md): poor battery health,
 // failure rate of CMA 1.3 % vs NoOp 71 %.

@@ -37,6 +37,9 @@ struct SimResult {
   double max_tracking_error = 0.0;  // m
   double max_tilt = 0.0;            // rad
   double energy_wh = 0.0;
+  // s: the true pack's EOD at the end of the flight at the vehicle's steady hover current (how long it could still
+  // have hovered; 0 once a cell is at the cut-off).
+  double end_reserve_s = 0.0;
   std::string eod_load;  // SimOptions::eod_load's name: what the 1 Hz EOD was propagated at
   // Decisions item 28: epochs at which the chosen action could not be carried out and another was taken, and each
   // distinct "Chosen->Taken" pair in the order first seen.

@@ -1,0 +1,67 @@
+#pragma once
+// The motor RUL as a distribution and its calibration against the jam times of simulated spalls (issue 29
+// item 2). The RUL distribution is the prognoser's 100 particles (motor_rul.h, §3.4.1): its quantiles are
+// the particles' (type 7, as RulDistribution's p05/p50/p95). The truth is what the simulator draws: one
+// SpallJamEvent per history (the spall's own growth time scale τ_truth), from its onset to the exact jam.
+//
+// A history h (its seed DeriveSeed(seed, h); the truth spall draws from sub-stream 3, the prognoser from
+// sub-stream 4, the numbers sim/flight.cc gives its kSpallStream and kPrognosisStream) is scored at every
+// epoch t_k = k · epoch_s from the onset while the motor has not jammed (t_k < T_jam); the truth is
+// T_jam − t_k. Two ways to predict (RulPredictionMode):
+//   kOnsetCountdown  what the CMA does (sim/epoch.cc): the particles' RUL from the initial spall at the
+//                    onset, counted down with the flight time, max(q − t_k, 0);
+//   kObservedArea    the spall area is fully observable (§5.3.2.1): re-predicted at every epoch from the
+//                    area the truth spall has then, with the nominal C_D and n (the prognoser does not see the
+//                    truth's parameter walk).
+// Times are from the onset (the unit's life for the Saxena metrics). Pure and replayable from the seed.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "uascma/common/bounds.h"
+#include "uascma/prognostics/calibration.h"
+#include "uascma/prognostics/motor_rul.h"
+
+namespace uascma::prognostics {
+
+// τ of the simulated spall in the campaigns (campaign/config.h fault.time_per_growth_step_s, decisions item
+// 15: a spall jams in ~17 s as in §5.5.1-5.5.2).
+inline constexpr double kCampaignTruthTimePerGrowthStep_s = 0.7128;
+
+// Quantiles of the particles' RUL at `levels` (each in [0, 1]), linear between order statistics.
+std::vector<double> CalcRulQuantiles(const RulDistribution& rul, const std::vector<double>& levels);
+
+enum class RulPredictionMode { kOnsetCountdown = 0, kObservedArea = 1 };
+const char* RulPredictionModeName(RulPredictionMode mode);  // "onset_countdown", "observed_area"
+// InputError naming `source` and the valid names otherwise.
+RulPredictionMode ParseRulPredictionMode(const std::string& name, const std::string& source);
+
+struct RulCalibrationOptions {
+  int histories = 930;  // issue 29: >= 930 spall histories (the size of the dissertation's campaign, §5.5)
+  std::uint64_t seed = 29;
+  double truth_time_per_growth_step_s = kCampaignTruthTimePerGrowthStep_s;
+  // What the CMA's prognoser uses unless a scenario sets fault.prognosis_time_per_growth_step_s: the
+  // Table 5.4 calibration (motor_rul.h).
+  double prognosis_time_per_growth_step_s = SpallGrowthParams{}.time_per_growth_step_s;
+  RulPredictionMode mode = RulPredictionMode::kOnsetCountdown;
+  double epoch_s = kCmaEpoch_s;  // the CMA's 1 Hz epoch
+  int particles = SpallGrowthParams{}.particles;
+  // Our bound on histories: 1 to 10^6 (10^6 fast-growth histories take about a minute).
+  static constexpr Bounds kHistoryBounds{1.0, 1e6, ""};
+  bool IsValid(std::string* error) const;
+};
+
+struct RulCalibration {
+  RulCalibrationOptions options;
+  PredictionSet predictions;                   // levels: StandardQuantileLevels(); unit = history index
+  std::vector<double> jam_time_s;              // [histories] truth: time from the onset to the jam
+  int censored_histories = 0;                  // not jammed within the truth's step horizon: not scored
+  double mean_jam_time_s = 0.0;                // over the jammed histories
+  double mean_predicted_rul_at_onset_s = 0.0;  // the particles' mean RUL at the onset (the CMA's t_RUL), averaged
+  CalibrationReport report;                    // at the standard levels, Saxena defaults
+};
+
+// Throws InputError for invalid options.
+RulCalibration CalibrateRul(const RulCalibrationOptions& options);
+
+}  // namespace uascma::prognostics

@@ -1,0 +1,245 @@
+// The EOD as a distribution (see the header): secants of ln EOD over 1σ of each source towards the shorter
+// EOD, a log-normal per temperature class, a two-component mixture when the class is uncertain.
+#include "uascma/prognostics/eod_distribution.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include "uascma/common/error.h"
+
+namespace uascma::prognostics {
+namespace {
+
+using models::BatteryPack;
+using models::PackParams;
+using models::PackState;
+
+constexpr char kDistributionSource[] = "EOD distribution";
+
+// Standard normal CDF and density.
+double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+double NormalDensity(double z) { return std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::acos(-1.0)); }
+
+// The pack with every cell's R0 and Q scaled (the RC pairs and the OCV table unchanged).
+BatteryPack ScaledPack(const BatteryPack& pack, double r0_factor, double capacity_factor) {
+  PackParams params;
+  params.ocv = pack.ocv();
+  for (int b = 0; b < models::kBranchCount; ++b) {
+    for (int c = 0; c < models::kCellsPerBranch; ++c) {
+      models::CellParams cell = pack.cell(b, c).params();
+      cell.r0_ohm *= r0_factor;
+      cell.capacity_ah *= capacity_factor;
+      params.cells[b][c] = cell;
+    }
+  }
+  return BatteryPack(params);
+}
+
+// Every cell's SOC shifted by `shift`, clamped to [0, 1].
+PackState ShiftedSoc(const PackState& state, double shift) {
+  PackState shifted = state;
+  for (auto& branch : shifted.cells) {
+    for (auto& cell : branch) cell.soc_fraction = std::clamp(cell.soc_fraction + shift, 0.0, 1.0);
+  }
+  return shifted;
+}
+
+double LogEod(double eod_s) { return std::log(std::max(eod_s, kEodDistributionFloor_s)); }
+
+struct Component {
+  double centre_s = 0.0;
+  std::array<double, kEodSourceCount> secants{};
+  double soc_long_secant = 0.0;  // ln T at SOC +1σ − ln T_c (the longer side)
+  int evaluations = 0;
+};
+
+// The centre and, when asked, the secants of one class (its pack `base`). `centre_known` (≥ 0) is the
+// centre EOD already computed (the point when the bias is 0 and the class is known).
+Component CalcComponent(const BatteryPack& base, const PackState& state, double centre_current_a,
+                        const EodUncertainty& uncertainty, const EodOptions& options, bool with_secants,
+                        double centre_known_s) {
+  Component component;
+  auto eod = [&](const BatteryPack& pack, const PackState& at, double current_a) {
+    ++component.evaluations;
+    return CalcPackEod(pack, at, current_a, options).eod_s;
+  };
+  component.centre_s = centre_known_s >= 0.0 ? centre_known_s : eod(base, state, centre_current_a);
+  if (!with_secants || component.centre_s <= 0.0) return component;
+  const double log_centre = std::log(component.centre_s);
+  auto secant = [&](EodSource source, double eod_s) {
+    component.secants[static_cast<int>(source)] = LogEod(eod_s) - log_centre;
+  };
+  if (uncertainty.load_log_sigma > 0.0) {
+    secant(EodSource::kLoad, eod(base, state, centre_current_a * std::exp(uncertainty.load_log_sigma)));
+  }
+  if (uncertainty.soc_sigma > 0.0) {
+    secant(EodSource::kSoc, eod(base, ShiftedSoc(state, -uncertainty.soc_sigma), centre_current_a));
+    component.soc_long_secant =
+        LogEod(eod(base, ShiftedSoc(state, uncertainty.soc_sigma), centre_current_a)) - log_centre;
+  }
+  if (uncertainty.r0_log_sigma > 0.0) {
+    secant(EodSource::kR0, eod(ScaledPack(base, std::exp(uncertainty.r0_log_sigma), 1.0), state, centre_current_a));
+  }
+  if (uncertainty.capacity_log_sigma > 0.0) {
+    const BatteryPack smaller = ScaledPack(base, 1.0, std::exp(-uncertainty.capacity_log_sigma));
+    secant(EodSource::kCapacity, eod(smaller, state, centre_current_a));
+  }
+  return component;
+}
+
+// σ of ln T below the median (every short-side secant) and above it (the SOC's long-side secant instead of
+// its short-side one).
+double SecantSigma(const std::array<double, kEodSourceCount>& secants) {
+  double variance = 0.0;
+  for (double a : secants) variance += a * a;
+  return std::sqrt(variance);
+}
+double SecantSigmaAbove(const Component& component) {
+  std::array<double, kEodSourceCount> secants = component.secants;
+  secants[static_cast<int>(EodSource::kSoc)] = component.soc_long_secant;
+  return SecantSigma(secants);
+}
+
+}  // namespace
+
+const char* EodSourceName(EodSource source) {
+  switch (source) {
+    case EodSource::kLoad:
+      return "load";
+    case EodSource::kSoc:
+      return "soc";
+    case EodSource::kR0:
+      return "r0";
+    case EodSource::kCapacity:
+      return "capacity";
+  }
+  return "unknown";
+}
+
+bool EodUncertainty::IsValid(std::string* error) const {
+  if (!CheckWithin(load_log_mean, kLoadLogMeanBounds, "load_log_mean", error)) return false;
+  if (!CheckWithin(load_log_sigma, kLogSigmaBounds, "load_log_sigma", error)) return false;
+  if (!CheckWithin(soc_sigma, kSocSigmaBounds, "soc_sigma", error)) return false;
+  if (!CheckWithin(r0_log_sigma, kLogSigmaBounds, "r0_log_sigma", error)) return false;
+  if (!CheckWithin(capacity_log_sigma, kLogSigmaBounds, "capacity_log_sigma", error)) return false;
+  if (std::isnan(cold_probability) || cold_probability > 1.0) {
+    if (error != nullptr) *error = "cold_probability: expected < 0 (class known) or from 0 to 1";
+    return false;
+  }
+  return true;
+}
+
+double EodDistribution::SideSigma(int k, double log_t) const {
+  return log_t < log_median[k] ? log_sigma[k] : log_sigma_above[k];
+}
+
+double EodDistribution::ProbabilityBefore(double t_s) const {
+  if (!(t_s > 0.0)) return 0.0;
+  const double x = std::log(t_s);
+  double probability = 0.0;
+  for (int k = 0; k < components; ++k) {
+    if (centre_eod_s[k] <= 0.0) {
+      probability += weight[k];  // a point mass at 0 s: EOD < t for every t > 0
+    } else if (SideSigma(k, x) > 0.0) {
+      probability += weight[k] * NormalCdf((x - log_median[k]) / SideSigma(k, x));
+    } else if (x > log_median[k]) {
+      probability += weight[k];
+    }
+  }
+  return std::min(probability, 1.0);
+}
+
+double EodDistribution::Quantile(double p) const {
+  if (!(p > 0.0 && p < 1.0)) {
+    std::ostringstream got;
+    got << "a probability inside (0, 1), got " << p;
+    throw InputError(kDistributionSource, "quantile level", got.str());
+  }
+  double at_zero = 0.0, low = std::numeric_limits<double>::infinity(), high = -low;
+  for (int k = 0; k < components; ++k) {
+    if (centre_eod_s[k] <= 0.0) {
+      at_zero += weight[k];
+    } else {
+      low = std::min(low, log_median[k] - 12.0 * log_sigma[k] - 1.0);  // 12σ: Φ below 1e-32
+      high = std::max(high, log_median[k] + 12.0 * log_sigma_above[k] + 1.0);
+    }
+  }
+  if (p <= at_zero || !(low < high)) return 0.0;
+  // Safeguarded Newton on F(ln t) = p: the bracket [low, high] shrinks at every step.
+  double x = 0.5 * (low + high);
+  for (int iteration = 0; iteration < 200 && high - low > 1e-12; ++iteration) {
+    const double cdf = ProbabilityBefore(std::exp(x));
+    if (std::abs(cdf - p) < 1e-14) break;
+    if (cdf < p)
+      low = x;
+    else
+      high = x;
+    double density = 0.0;
+    for (int k = 0; k < components; ++k) {
+      const double side_sigma = SideSigma(k, x);
+      if (centre_eod_s[k] > 0.0 && side_sigma > 0.0) {
+        density += weight[k] * NormalDensity((x - log_median[k]) / side_sigma) / side_sigma;
+      }
+    }
+    const double newton = density > 0.0 ? x - (cdf - p) / density : low - 1.0;
+    // Newton's step when it stays inside the bracket (at convergence it may land on an end), else bisection.
+    x = newton >= low && newton <= high && newton != x ? newton : 0.5 * (low + high);
+  }
+  return std::exp(x);
+}
+
+EodDistribution CalcPackEodDistribution(const BatteryPack& pack, const PackState& state, double current_a,
+                                        const EodUncertainty& uncertainty, const EodOptions& options) {
+  std::string error;
+  if (!uncertainty.IsValid(&error)) throw InputError(kDistributionSource, "uncertainty", error);
+  if (!(current_a >= 0.0) || !std::isfinite(current_a)) {
+    throw InputError(kDistributionSource, "current_a", "a finite discharge current >= 0 A");
+  }
+  EodDistribution distribution;
+  distribution.point = CalcPackEod(pack, state, current_a, options);
+  const double centre_current_a = current_a * std::exp(uncertainty.load_log_mean);
+  const bool class_known = uncertainty.cold_probability < 0.0;
+  const double cold_weight = class_known ? 0.0 : uncertainty.cold_probability;
+  const bool only_cold = cold_weight >= 1.0;
+  std::optional<BatteryPack> cold_pack;  // built only when the cold class has some probability
+  if (cold_weight > 0.0) cold_pack.emplace(ScaledPack(pack, models::kColdResistanceFactor, 1.0));
+  const BatteryPack& base = only_cold ? *cold_pack : pack;
+  const double known_s = !only_cold && uncertainty.load_log_mean == 0.0 ? distribution.point.eod_s : -1.0;
+  const Component main = CalcComponent(base, state, centre_current_a, uncertainty, options, true, known_s);
+  distribution.evaluations = 1 + main.evaluations;
+  distribution.log_secants = main.secants;
+  distribution.soc_log_secant_longer = main.soc_long_secant;
+  const double sigma = SecantSigma(main.secants);
+  const double sigma_above = SecantSigmaAbove(main);
+  auto set = [&](int k, double weight, double centre_s) {
+    distribution.weight[k] = weight;
+    distribution.centre_eod_s[k] = centre_s;
+    distribution.log_median[k] = centre_s > 0.0 ? std::log(centre_s) : 0.0;
+    distribution.log_sigma[k] = centre_s > 0.0 ? sigma : 0.0;
+    distribution.log_sigma_above[k] = centre_s > 0.0 ? sigma_above : 0.0;
+  };
+  set(0, 1.0 - (only_cold ? 0.0 : cold_weight), main.centre_s);
+  if (cold_weight > 0.0 && !only_cold) {
+    const Component cold = CalcComponent(*cold_pack, state, centre_current_a, uncertainty, options, false, -1.0);
+    distribution.evaluations += cold.evaluations;
+    distribution.components = 2;
+    set(1, cold_weight, cold.centre_s);
+  }
+  if (only_cold) distribution.weight[0] = 1.0;
+  return distribution;
+}
+
+EodSample PerturbEodInputs(const BatteryPack& pack, const PackState& state, double current_a,
+                           const EodUncertainty& uncertainty, const std::array<double, kEodSourceCount>& u, bool cold) {
+  const double r0_factor = std::exp(uncertainty.r0_log_sigma * u[static_cast<int>(EodSource::kR0)]) *
+                           (cold ? models::kColdResistanceFactor : 1.0);
+  const double capacity_factor = std::exp(uncertainty.capacity_log_sigma * u[static_cast<int>(EodSource::kCapacity)]);
+  const double load = uncertainty.load_log_mean + uncertainty.load_log_sigma * u[static_cast<int>(EodSource::kLoad)];
+  return {ScaledPack(pack, r0_factor, capacity_factor),
+          ShiftedSoc(state, uncertainty.soc_sigma * u[static_cast<int>(EodSource::kSoc)]), current_a * std::exp(load)};
+}
+
+}  // namespace uascma::prognostics

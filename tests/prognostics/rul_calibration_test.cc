@@ -1,0 +1,95 @@
+// The motor RUL distribution against the jam times of simulated spalls (issue 29 item 2): the particle
+// quantiles, calibration when the prognoser and the spall share the growth time scale, and the miss when
+// they do not (the campaigns' default: the truth grows at 0.7128 s per step, the prognoser at Table 5.4's).
+#include "uascma/prognostics/rul_calibration.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "uascma/common/error.h"
+#include "uascma/common/random.h"
+
+namespace uascma::prognostics {
+namespace {
+
+constexpr double kTight = 1e-12;
+
+TEST(RulCalibrationTest, ParticleQuantilesAreTheDistributionsPercentiles) {
+  const MotorRulModel model;
+  RandomStream random(5);
+  const RulDistribution rul = model.PredictRulFromArea(0.01, random);
+  const std::vector<double> quantiles = CalcRulQuantiles(rul, {0.05, 0.50, 0.95});
+  EXPECT_NEAR(quantiles[0], rul.p05_s, kTight * rul.p05_s);
+  EXPECT_NEAR(quantiles[1], rul.p50_s, kTight * rul.p50_s);
+  EXPECT_NEAR(quantiles[2], rul.p95_s, kTight * rul.p95_s);
+  EXPECT_THROW(CalcRulQuantiles(rul, {1.5}), InputError);
+}
+
+// The predictions made at the onset (one per history).
+PredictionSet AtOnset(const RulCalibration& calibration) {
+  PredictionSet onset;
+  onset.levels = calibration.predictions.levels;
+  for (const QuantilePrediction& prediction : calibration.predictions.predictions) {
+    if (prediction.time_s == 0.0) onset.predictions.push_back(prediction);
+  }
+  return onset;
+}
+
+TEST(RulCalibrationTest, APrognoserWithTheSpallsTimeScaleIsCalibratedAtTheOnset) {
+  // Same law, same parameters, same start: each onset truth is one more draw of the particles' distribution,
+  // so its PIT is uniform. Expected coverage of a central interval from 100 particles' type-7 quantiles:
+  // (position of the upper − position of the lower order statistic) / (n + 1), e.g. (94.05 − 4.95) / 101 =
+  // 0.882 for 90 % and 0.490 for 50 %. Tolerance: 4 binomial σ over 930 histories (0.042 at 90 %, 0.066 at
+  // 50 %).
+  RulCalibrationOptions options;
+  options.prognosis_time_per_growth_step_s = options.truth_time_per_growth_step_s;
+  const RulCalibration calibration = CalibrateRul(options);
+  const PredictionSet onset = AtOnset(calibration);
+  ASSERT_EQ(onset.predictions.size(), 930u);
+  EXPECT_EQ(calibration.censored_histories, 0);
+  const double n = 930.0;
+  for (const double level : {0.5, 0.9}) {
+    const double lower = 99.0 * 0.5 * (1.0 - level), upper = 99.0 * 0.5 * (1.0 + level);
+    const double expected = (upper - lower) / 101.0;
+    const double tolerance = 4.0 * std::sqrt(expected * (1.0 - expected) / n);
+    EXPECT_NEAR(CalcIntervalCoverage(onset, level).fraction, expected, tolerance) << level;
+  }
+  // The mean RUL at the onset is the mean jam time (both ~ 23 steps x 0.7128 s), within 4 standard errors
+  // of the jam times' mean (their spread is about 7 %, motor_rul.h).
+  EXPECT_NEAR(calibration.mean_predicted_rul_at_onset_s, calibration.mean_jam_time_s,
+              4.0 * 0.07 * calibration.mean_jam_time_s / std::sqrt(n));
+}
+
+TEST(RulCalibrationTest, TheCampaignDefaultsPrognoserMissesEveryJam) {
+  // Truth 0.7128 s per step, prognoser Table 5.4's 15.33 s: the RUL is 21.5 times too long, every truth lies
+  // below every interval.
+  const RulCalibration calibration = CalibrateRul(RulCalibrationOptions{});
+  const IntervalCoverage coverage = CalcIntervalCoverage(calibration.predictions, 0.95);
+  EXPECT_EQ(coverage.covered, 0);
+  EXPECT_EQ(coverage.below, coverage.predictions);
+  EXPECT_GT(calibration.mean_predicted_rul_at_onset_s, 10.0 * calibration.mean_jam_time_s);
+}
+
+TEST(RulCalibrationTest, ReplaysFromTheSeedAndScoresEveryEpochBeforeTheJam) {
+  RulCalibrationOptions options;
+  options.histories = 20;
+  options.mode = RulPredictionMode::kObservedArea;
+  const RulCalibration first = CalibrateRul(options);
+  const RulCalibration again = CalibrateRul(options);
+  ASSERT_EQ(first.predictions.predictions.size(), again.predictions.predictions.size());
+  for (std::size_t i = 0; i < first.predictions.predictions.size(); ++i) {
+    EXPECT_EQ(first.predictions.predictions[i].quantiles_s, again.predictions.predictions[i].quantiles_s);
+  }
+  std::size_t expected = 0;
+  for (double jam_s : first.jam_time_s) expected += static_cast<std::size_t>(std::ceil(jam_s / options.epoch_s));
+  EXPECT_EQ(first.predictions.predictions.size(), expected);
+  options.seed += 1;
+  EXPECT_NE(CalibrateRul(options).jam_time_s, first.jam_time_s);
+  options.histories = 0;
+  EXPECT_THROW(CalibrateRul(options), InputError);
+}
+
+}  // namespace
+}  // namespace uascma::prognostics
