@@ -5,11 +5,11 @@
 // What the issue bounds: the EOD distribution and the decision <= 50 µs per epoch; these are the decision's share.
 #include <benchmark/benchmark.h>
 
+#include <memory>
+
 #include "uascma/sim/belief_policy.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/sensing.h"
-
-#include <memory>
 
 namespace {
 

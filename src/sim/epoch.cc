@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/prognostics/eod_distribution.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/speed_cap.h"
 
@@ -221,6 +223,22 @@ decision::MotorHealth ObserveMotorHealth(const FlightModel& model, FlightState& 
   return decision::MotorHealth::kSF;
 }
 
+// b(RM0) = P(EOD < t_remaining + t_sf) under noisy sensing: the EOD distribution (prognostics/eod_distribution.h) of
+// the sensed pack at the EOD's current with the SOC estimate's 1σ, the one source this sensing states (the load
+// forecast's error is measured apart, issue 29: sim/eod_error_model.h where it is merged). Its median is the point
+// EOD, so b(RM0) > 0.5 exactly when the point RM is RM0.
+double SensedEodShortProbability(const FlightModel& model, FlightState& state, const models::PackState& sensed) {
+  const DecisionInputs& inputs = state.decision.inputs;
+  const double horizon_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
+  if (horizon_s <= 0.0) return 0.0;
+  prognostics::EodUncertainty uncertainty;
+  uncertainty.soc_sigma =
+      std::min(CalcSocEstimateSigma(model, state), prognostics::EodUncertainty::kSocSigmaBounds.high);
+  const prognostics::EodDistribution distribution =
+      prognostics::CalcPackEodDistribution(model.pack(), sensed, state.decision.eod_current_a, uncertainty);
+  return distribution.ProbabilityBefore(horizon_s);
+}
+
 }  // namespace
 
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log) {
@@ -231,8 +249,10 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   const double t = state.time_s;
   const bool noisy = model.options().noisy_sensing;
   state.decision.eod_current_a = EodCurrent(model, state);
-  state.decision.eod = prognostics::CalcPackEod(model.pack(), noisy ? SensedPack(model, state) : state.power.pack,
-                                                state.decision.eod_current_a);
+  const std::optional<models::PackState> sensed =
+      noisy ? std::optional<models::PackState>(SensedPack(model, state)) : std::nullopt;
+  state.decision.eod =
+      prognostics::CalcPackEod(model.pack(), sensed ? *sensed : state.power.pack, state.decision.eod_current_a);
   DecisionInputs& inputs = state.decision.inputs;
   inputs.time_s = t;
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.guidance.plan_start_s);
@@ -245,8 +265,8 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
     inputs.motor_health_belief[static_cast<std::size_t>(motor_health)] = 1.0;
     if (motor_health == decision::MotorHealth::kSF) inputs.rul_if_spall_s = inputs.rul_s;
   }
-  // b(RM0): the point RM's until the EOD distribution is plumbed in (issue 29, eodcal).
-  inputs.eod_short_probability = inputs.reach_margin < 0.0 ? 1.0 : 0.0;
+  inputs.eod_short_probability =
+      sensed ? SensedEodShortProbability(model, state, *sensed) : (inputs.reach_margin < 0.0 ? 1.0 : 0.0);
   inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
   inputs.state = decision::AbstractCmaState(state.decision.flight_status, motor_health, model.battery_health(),
                                             inputs.reach_margin, inputs.motor_margin);

@@ -163,7 +163,14 @@ TEST(SensingFlightTest, NoiseChangesWhatTheCmaReadsNotTheWind) {
   EXPECT_EQ(a.power.pack, b.power.pack);
   EXPECT_EQ(a.power.sensing.errors, PowerSensorErrors{});  // nothing drawn without the setting
   EXPECT_NE(b.power.sensing.errors, PowerSensorErrors{});
-  for (int epoch = 0; epoch < 60 && !b.done(); ++epoch) StepEpoch(noisy, b, Controllers{});
+  for (int epoch = 0; epoch < 60 && !b.done(); ++epoch) {
+    StepEpoch(noisy, b, Controllers{});
+    // b(RM0) from the EOD distribution around the sensed pack's point EOD: above one half exactly at RM0.
+    const DecisionInputs& inputs = b.decision.inputs;
+    ASSERT_GE(inputs.eod_short_probability, 0.0);
+    ASSERT_LE(inputs.eod_short_probability, 1.0);
+    if (inputs.eod_short_probability != 0.5) EXPECT_EQ(inputs.eod_short_probability > 0.5, inputs.reach_margin < 0.0);
+  }
   const double cell_as = noisy.pack().cell(0, 0).capacity_as();
   const double error = SocEstimateError(b.power.sensing, cell_as);
   EXPECT_NE(error, 0.0);
@@ -175,6 +182,33 @@ TEST(SensingFlightTest, NoiseChangesWhatTheCmaReadsNotTheWind) {
   const double total = b.decision.inputs.motor_health_belief[0] + b.decision.inputs.motor_health_belief[1] +
                        b.decision.inputs.motor_health_belief[2];
   EXPECT_NEAR(total, 1.0, 1e-12);
+}
+
+// A poor, cold pack on a plan longer than its EOD (examples/poor-battery-long.yaml), NoOp, noise on: b(RM0) crosses
+// from near 0 to near 1 through uncertain epochs, above one half exactly where the point RM is RM0.
+TEST(SensingFlightTest, ReachBeliefCrossesOneHalfWhereThePointMarginTurns) {
+  Scenario scenario = NoisyScenario(true);
+  scenario.seed = 3;
+  scenario.battery.initial_cell_voltage_v = {{{4.05, 4.05, 4.05}, {4.05, 4.05, 4.05}}};
+  scenario.battery.ambient_temp_degf = 40.0;
+  scenario.battery.cell_health = {PackHealthPreset(models::HealthClass::kP), PackHealthPreset(models::HealthClass::kP)};
+  scenario.mission.destination_NE = Eigen::Vector2d(1080, 540);  // 0.6 of the example's: the plan ~ the EOD
+  scenario.mission.cruise_altitude = 40.0;
+  scenario.limits.cruise_speed = 4.0;
+  const FlightModel model(scenario);
+  FlightState state = MakeInitialState(model, scenario.seed);
+  int uncertain = 0, short_epochs = 0;
+  while (!state.done()) {
+    StepEpoch(model, state, Controllers{});
+    const DecisionInputs& inputs = state.decision.inputs;
+    if (inputs.eod_short_probability != 0.5) {
+      EXPECT_EQ(inputs.eod_short_probability > 0.5, inputs.reach_margin < 0.0) << inputs.time_s;
+    }
+    uncertain += inputs.eod_short_probability > 0.01 && inputs.eod_short_probability < 0.99;
+    short_epochs += inputs.reach_margin < 0.0;
+  }
+  EXPECT_GT(short_epochs, 0);
+  EXPECT_GT(uncertain, 0);
 }
 
 }  // namespace
