@@ -127,7 +127,7 @@ ActionRanking RiskCmaPolicy::Ranking(const DecisionInputs& inputs) const {
   return DefaultCmaActionRanking(ChosenState(inputs));
 }
 
-decision::CmaAction QmdpCmaPolicy::Decide(const DecisionInputs& inputs) {
+void QmdpCmaPolicy::Rank(const DecisionInputs& inputs) const {
   const std::vector<StateBelief> belief = CmaStateBelief(inputs);
   // Ties keep the order of the most probable state's ranking (the first of equal probabilities).
   const auto map = std::max_element(belief.begin(), belief.end(), [](const StateBelief& x, const StateBelief& y) {
@@ -135,11 +135,15 @@ decision::CmaAction QmdpCmaPolicy::Decide(const DecisionInputs& inputs) {
   });
   ranking_ = QmdpRanking(DefaultCmaQValues(), belief, DefaultCmaActionRanking(map->state));
   ranked_for_ = inputs;
+}
+
+decision::CmaAction QmdpCmaPolicy::Decide(const DecisionInputs& inputs) {
+  Rank(inputs);
   return static_cast<CmaAction>(ranking_.front());
 }
 
 ActionRanking QmdpCmaPolicy::Ranking(const DecisionInputs& inputs) const {
-  if (ranking_.empty() || !(inputs == ranked_for_)) const_cast<QmdpCmaPolicy*>(this)->Decide(inputs);
+  if (ranking_.empty() || !(inputs == ranked_for_)) Rank(inputs);
   return ranking_;
 }
 

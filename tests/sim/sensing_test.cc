@@ -184,6 +184,20 @@ TEST(SensingFlightTest, NoiseChangesWhatTheCmaReadsNotTheWind) {
   EXPECT_NEAR(total, 1.0, 1e-12);
 }
 
+// The vibration reaches the IMM: at the cited level no fault-free flight here isolates a rotor, at 32 times it (raw
+// 480 m/s², 11 m/s² after the low-pass against the IMM's assumed 0.15) the IMM declares a false failure (measured:
+// 0 of 30 flights at raw 15-120 m/s², 9 of 20 at 240, 20 of 20 at 480).
+TEST(SensingFlightTest, VibrationFarBeyondTheImmsNoiseGivesFalseIsolations) {
+  for (const double raw : {15.0, 480.0}) {
+    Scenario scenario = NoisyScenario(true);
+    scenario.options.sensing.vibration_raw_accel_sigma = raw;
+    const FlightModel model(scenario);
+    FlightState state = MakeInitialState(model, 9);
+    while (!state.done() && !state.faults.isolation_time_s) StepEpoch(model, state, Controllers{});
+    EXPECT_EQ(state.faults.isolation_time_s.has_value(), raw > 100.0) << raw;
+  }
+}
+
 // A poor, cold pack on a plan longer than its EOD (examples/poor-battery-long.yaml), NoOp, noise on: b(RM0) crosses
 // from near 0 to near 1 through uncertain epochs, above one half exactly where the point RM is RM0.
 TEST(SensingFlightTest, ReachBeliefCrossesOneHalfWhereThePointMarginTurns) {

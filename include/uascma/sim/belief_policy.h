@@ -75,9 +75,11 @@ class QmdpCmaPolicy final : public DecisionPolicy {
   ActionRanking Ranking(const DecisionInputs& inputs) const override;
 
  private:
+  // The expected-Q order for `inputs`, kept for the epoch's Ranking (recomputed when asked for other inputs).
+  void Rank(const DecisionInputs& inputs) const;
   std::string name_;
-  std::vector<decision::ActionIndex> ranking_;
-  DecisionInputs ranked_for_;
+  mutable std::vector<decision::ActionIndex> ranking_;
+  mutable DecisionInputs ranked_for_;
 };
 
 }  // namespace uascma::sim

@@ -32,8 +32,8 @@ struct SensingParams {
   double current_gain_sigma = 0.0033;
   // Shunt offset voltage ±10 µV max (SBOS547B) over the shunt, read as 3σ: V per flight, 1σ.
   double shunt_offset_sigma_v = 10e-6 / 3.0;
-  // One LSB of the shunt voltage, 2.5 µV (SBOS547B): white noise of 1σ = LSB / √12 per sample, plus the LSB itself
-  // as the ADC's input noise (ours): V, 1σ per sample.
+  // V, 1σ per sample: one LSB of the shunt voltage, 2.5 µV (SBOS547B). Ours: the ADC's input noise taken as one LSB,
+  // above the quantisation's LSB / √12.
   double shunt_noise_v = 2.5e-6;
   // Bus voltage: offset ±7.5 mV max, gain error 0.1 % max (SBOS547B), each read as 3σ, per flight; noise one LSB of
   // 1.25 mV per sample.
