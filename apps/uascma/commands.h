@@ -21,5 +21,6 @@ void AddLearnCommand(CLI::App& app);      // learn_command.cc, learn_transitions
 void AddStoreCommand(CLI::App& app);      // store_command.cc
 void AddReproduceCommand(CLI::App& app);  // reproduce_command.cc
 void AddDocsCommand(CLI::App& app);       // docs_command.cc
+void AddCalibrateCommand(CLI::App& app);  // calibrate_command.cc
 
 }  // namespace uascma::cli

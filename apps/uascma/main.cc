@@ -38,6 +38,7 @@ constexpr std::array kCommands{
     Command{"store", uascma::cli::AddStoreCommand},
     Command{"reproduce", uascma::cli::AddReproduceCommand},
     Command{"docs", uascma::cli::AddDocsCommand},
+    Command{"calibrate", uascma::cli::AddCalibrateCommand},
 };
 
 // The tool with the commands named `only` (every command when empty).

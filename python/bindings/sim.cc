@@ -86,6 +86,7 @@ class PythonPolicy final : public DecisionPolicy {
   PythonPolicy(py::object fn, std::string name) : fn_(std::move(fn)), name_(std::move(name)) {}
   CmaAction Decide(const DecisionInputs& inputs) override { return ToAction(fn_(inputs)); }
   std::string name() const override { return name_; }
+  bool ReadsEodDistribution() const override { return true; }  // a callable may read any input
 
   static CmaAction ToAction(const py::handle& value) {
     if (py::isinstance<CmaAction>(value)) return value.cast<CmaAction>();
@@ -192,6 +193,10 @@ py::dict TelemetryArrays(const SimResult& result) {
   d["rul_s"] = column([&](const TelemetryRow& r) { return finite_or_nan(r.rul_s); });
   d["reach_margin"] = column([](const TelemetryRow& r) { return r.reach_margin; });
   d["motor_margin"] = column([](const TelemetryRow& r) { return r.motor_margin; });
+  d["eod_p05_s"] = column([](const TelemetryRow& r) { return r.eod_p05_s; });
+  d["eod_p50_s"] = column([](const TelemetryRow& r) { return r.eod_p50_s; });
+  d["eod_p95_s"] = column([](const TelemetryRow& r) { return r.eod_p95_s; });
+  d["eod_short_probability"] = column([](const TelemetryRow& r) { return r.eod_short_probability; });
   d["cma_state"] = codes([](const TelemetryRow& r) { return r.cma_state; });
   d["action"] = codes([](const TelemetryRow& r) { return r.action; });
   d["imm_mode"] = codes([](const TelemetryRow& r) { return r.imm_mode; });
@@ -386,10 +391,13 @@ void InitSim(py::module_& m) {
       .def_readonly("rul_s", &DecisionInputs::rul_s, "+inf without a motor fault")
       .def_readonly("reach_margin", &DecisionInputs::reach_margin)
       .def_readonly("motor_margin", &DecisionInputs::motor_margin)
+      .def_readonly("eod_p05_s", &DecisionInputs::eod_p05_s, "5 % quantile of the EOD's distribution (issue 29)")
+      .def_readonly("eod_p50_s", &DecisionInputs::eod_p50_s, "its median")
+      .def_readonly("eod_p95_s", &DecisionInputs::eod_p95_s, "its 95 % quantile")
+      .def_readonly("eod_short_probability", &DecisionInputs::eod_short_probability,
+                    "P(EOD < flight_time_remaining_s + t_sf)")
       .def_readonly("motor_health_belief", &DecisionInputs::motor_health_belief,
                     "b(NF, SF, JF): one-hot at the point MH with exact sensing (sim/sensing.h)")
-      .def_readonly("eod_short_probability", &DecisionInputs::eod_short_probability,
-                    "b(RM0) = P(EOD < t_remaining + t_sf)")
       .def_readonly("rul_if_spall_s", &DecisionInputs::rul_if_spall_s,
                     "the RUL of a spall detected now (+inf before the prognosis ran)");
 
@@ -439,7 +447,8 @@ void InitSim(py::module_& m) {
           "(T N, τ N·m); rotor_thrust (N, 6) N; rotor_current (N, 6) A; pack_current, bus_voltage (N,) A, V; "
           "branch_current (N, 2) A; cell_voltage (N, 2, 3) V; eod_s, flight_time_remaining_s, rul_s (NaN without "
           "a fault) (N,) s; reach_margin, motor_margin (N,); cma_state, action, imm_mode (N,) int codes; "
-          "spall_area_mm2 (N,). Empty unless flown with telemetry=True")
+          "spall_area_mm2 (N,); eod_p05_s, eod_p50_s, eod_p95_s (N,) s and eod_short_probability (N,): the EOD's "
+          "distribution (issue 29). Empty unless flown with telemetry=True")
       .def(
           "plan",
           [](const Flight& f) {

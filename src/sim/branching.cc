@@ -51,7 +51,9 @@ std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionP
     // One epoch of the shared flight: StepEpoch with each policy deciding on the same observation.
     const auto start = std::chrono::steady_clock::now();
     const std::size_t sharing = together.size();
-    const DecisionInputs& inputs = BeginEpoch(model, state, options.battery_policy, &log);
+    bool eod_distribution = log.record_telemetry;
+    for (std::size_t k : together) eod_distribution = eod_distribution || NeedsEodDistribution(policies[k], nullptr);
+    const DecisionInputs& inputs = BeginEpoch(model, state, options.battery_policy, &log, eod_distribution);
     decided.clear();
     for (std::size_t k : together) decided.push_back(policies[k]->Decide(inputs));
     std::vector<std::size_t> still;

@@ -44,7 +44,7 @@ Observation DecisionEnvironment::Reset(std::uint64_t seed) {
   log_ = FlightLog{};
   log_.record_telemetry = options_.record_telemetry;
   FlightLog* log = options_.record ? &log_ : nullptr;
-  BeginEpoch(*model_, state_, options_.battery_policy, log);
+  BeginEpoch(*model_, state_, options_.battery_policy, log, log && log->record_telemetry);
   reset_ = true;
   observation_ = MakeObservation();
   return observation_;
@@ -67,7 +67,7 @@ EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
   out.executed = decision::EffectiveCmaAction(Act(*model_, state_, action, options_.planner, log), status);
   StepToNextEpoch(*model_, state_, log);
   if (!state_.done()) {
-    BeginEpoch(*model_, state_, options_.battery_policy, log);
+    BeginEpoch(*model_, state_, options_.battery_policy, log, log && log->record_telemetry);
   } else {
     out.reward += decision::CmaTerminalReward(options_.weights, TerminalStateOf(state_.outcome));
   }

@@ -223,25 +223,42 @@ decision::MotorHealth ObserveMotorHealth(const FlightModel& model, FlightState& 
   return decision::MotorHealth::kSF;
 }
 
-// b(RM0) = P(EOD < t_remaining + t_sf) under noisy sensing: the EOD distribution (prognostics/eod_distribution.h) of
-// the sensed pack at the EOD's current with the SOC estimate's 1σ, the one source this sensing states (the load
-// forecast's error is measured apart, issue 29: sim/eod_error_model.h where it is merged). Its median is the point
-// EOD, so b(RM0) > 0.5 exactly when the point RM is RM0.
-double SensedEodShortProbability(const FlightModel& model, FlightState& state, const models::PackState& sensed) {
-  const DecisionInputs& inputs = state.decision.inputs;
-  const double horizon_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
-  if (horizon_s <= 0.0) return 0.0;
-  prognostics::EodUncertainty uncertainty;
-  uncertainty.soc_sigma =
-      std::min(CalcSocEstimateSigma(model, state), prognostics::EodUncertainty::kSocSigmaBounds.high);
-  const prognostics::EodDistribution distribution =
-      prognostics::CalcPackEodDistribution(model.pack(), sensed, state.decision.eod_current_a, uncertainty);
-  return distribution.ProbabilityBefore(horizon_s);
+// The EOD's distribution (issue 29): prognostics::CalcPackEodDistribution at the forecast current with the load
+// forecast's measured error of this epoch's cell (sim/eod_error_model.h): its 5/50/95 % quantiles and
+// P(EOD < t_remaining + t_sf). Without uncertainty, a point at the EOD. Under noisy sensing (sim/sensing.h) the
+// distribution is the sensed pack's (`pack`) and the SOC estimate's 1σ joins the error model's.
+void ObserveEodDistribution(const FlightModel& model, FlightState& state, DecisionInputs& inputs,
+                            const models::PackState& pack) {
+  prognostics::EodUncertainty uncertainty =
+      model.eod_error_model().At({model.battery_health(), inputs.state.mh, model.scenario().wind.turbulence,
+                                  inputs.flight_time_remaining_s, inputs.eod_s});
+  const bool noisy = model.options().noisy_sensing;
+  if (noisy) {
+    uncertainty.soc_sigma = std::min(std::hypot(uncertainty.soc_sigma, CalcSocEstimateSigma(model, state)),
+                                     prognostics::EodUncertainty::kSocSigmaBounds.high);
+  }
+  state.decision.eod_uncertainty = uncertainty;
+  const double needed_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
+  const bool point =
+      uncertainty.load_log_sigma <= 0.0 && uncertainty.load_log_mean == 0.0 && (!noisy || uncertainty.soc_sigma <= 0.0);
+  if (point || !(state.decision.eod_current_a > 0.0)) {
+    state.decision.eod_distribution = {};
+    state.decision.eod_distribution.point = state.decision.eod;
+    inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_s;
+    inputs.eod_short_probability = inputs.eod_s < needed_s ? 1.0 : 0.0;
+    return;
+  }
+  const prognostics::EodDistribution& distribution = state.decision.eod_distribution =
+      prognostics::CalcPackEodDistribution(model.pack(), pack, state.decision.eod_current_a, uncertainty);
+  inputs.eod_p05_s = distribution.Quantile(0.05);
+  inputs.eod_p50_s = distribution.Quantile(0.50);
+  inputs.eod_p95_s = distribution.Quantile(0.95);
+  inputs.eod_short_probability = distribution.ProbabilityBefore(needed_s);
 }
 
 }  // namespace
 
-const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log) {
+const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log, bool eod_distribution) {
   // Guidance first: a vehicle flying on four rotors keeps to what they can hold (§4.4.2).
   CapSpeedAfterIsolation(model, state, log);
   // EOD at the expected load of the rest of the executing plan (decision 25) or at the present current, the pack
@@ -265,11 +282,17 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
     inputs.motor_health_belief[static_cast<std::size_t>(motor_health)] = 1.0;
     if (motor_health == decision::MotorHealth::kSF) inputs.rul_if_spall_s = inputs.rul_s;
   }
-  inputs.eod_short_probability =
-      sensed ? SensedEodShortProbability(model, state, *sensed) : (inputs.reach_margin < 0.0 ? 1.0 : 0.0);
   inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
   inputs.state = decision::AbstractCmaState(state.decision.flight_status, motor_health, model.battery_health(),
                                             inputs.reach_margin, inputs.motor_margin);
+  inputs.has_eod_distribution = eod_distribution;
+  if (eod_distribution) {
+    ObserveEodDistribution(model, state, inputs, sensed ? *sensed : state.power.pack);
+  } else {
+    state.decision.eod_uncertainty = {};
+    state.decision.eod_distribution = {};
+    inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_short_probability = 0.0;
+  }
   if (log) log->states.emplace_back(t, decision::CmaStateIndex(inputs.state));
   return inputs;
 }
@@ -423,8 +446,8 @@ void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPo
 }
 
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
-                                 FlightLog* log) {
-  const DecisionInputs& inputs = Observe(model, state, log);
+                                 FlightLog* log, bool eod_distribution) {
+  const DecisionInputs& inputs = Observe(model, state, log, eod_distribution);
   if (battery) DecideBattery(model, state, *battery, log);
   return inputs;
 }
@@ -432,7 +455,8 @@ const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, B
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
   if (state.done()) return;
   UASCMA_CHECK(IsDecisionEpoch(model, state), "StepEpoch starts at a decision epoch");
-  const DecisionInputs& inputs = BeginEpoch(model, state, controllers.battery, log);
+  const DecisionInputs& inputs =
+      BeginEpoch(model, state, controllers.battery, log, NeedsEodDistribution(controllers.policy, log));
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
   Act(model, state, action, controllers.planner, log,
       controllers.policy ? controllers.policy->Ranking(inputs) : ActionRanking{});

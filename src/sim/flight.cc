@@ -264,6 +264,10 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   row.flight_time_remaining_s = inputs.flight_time_remaining_s;
   row.rul_s = inputs.rul_s;
   row.reach_margin = inputs.reach_margin;
+  row.eod_p05_s = inputs.eod_p05_s;
+  row.eod_p50_s = inputs.eod_p50_s;
+  row.eod_p95_s = inputs.eod_p95_s;
+  row.eod_short_probability = inputs.eod_short_probability;
   row.motor_margin = inputs.motor_margin;
   row.cma_state = decision::CmaStateIndex(inputs.state);
   row.action = state.decision.last_action ? static_cast<int>(*state.decision.last_action) : 0;

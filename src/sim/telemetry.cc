@@ -22,7 +22,8 @@ std::string TelemetryCsv(const SimResult& result) {
   for (int b = 1; b <= 2; ++b) {
     for (int c = 1; c <= 3; ++c) out += fmt::format(",cell_p{}c{}_v", b, c);
   }
-  out += ",eod_s,flight_time_remaining_s,rul_s,reach_margin,motor_margin,cma_state,action,imm_mode,spall_area_mm2\n";
+  out += ",eod_s,flight_time_remaining_s,rul_s,reach_margin,motor_margin,cma_state,action,imm_mode,spall_area_mm2";
+  out += ",eod_p05_s,eod_p50_s,eod_p95_s,eod_short_probability\n";
   // Names, not codes: the CMA state label (quoted, it holds commas), the action name and the IMM mode.
   const decision::FactoredMdpBuilder cma_model = decision::MakeCmaFactoredModel();
   std::vector<std::string> state_labels;
@@ -49,10 +50,12 @@ std::string TelemetryCsv(const SimResult& result) {
     // No spall, no RUL: an empty field (NaN to pandas and NumPy), not a sentinel number. A margin of −∞
     // (a jammed motor, an EOD of zero) is written as -inf, which both read back as −∞.
     const std::string rul = std::isfinite(r.rul_s) ? fmt::format("{:.3f}", r.rul_s) : std::string();
-    out += fmt::format(",{:.3f},{:.3f},{},{:.5f},{:.5f},{},{},{},{:.5f}\n", r.eod_s, r.flight_time_remaining_s, rul,
+    out += fmt::format(",{:.3f},{:.3f},{},{:.5f},{:.5f},{},{},{},{:.5f}", r.eod_s, r.flight_time_remaining_s, rul,
                        r.reach_margin, r.motor_margin, state_label(r.cma_state),
                        decision::CmaActionName(static_cast<decision::CmaAction>(r.action)), imm_mode_name(r.imm_mode),
                        r.spall_area_mm2);
+    out +=
+        fmt::format(",{:.3f},{:.3f},{:.3f},{:.5f}\n", r.eod_p05_s, r.eod_p50_s, r.eod_p95_s, r.eod_short_probability);
   }
   return out;
 }

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "uascma/common/random.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/sensing.h"
 
@@ -163,14 +165,7 @@ TEST(SensingFlightTest, NoiseChangesWhatTheCmaReadsNotTheWind) {
   EXPECT_EQ(a.power.pack, b.power.pack);
   EXPECT_EQ(a.power.sensing.errors, PowerSensorErrors{});  // nothing drawn without the setting
   EXPECT_NE(b.power.sensing.errors, PowerSensorErrors{});
-  for (int epoch = 0; epoch < 60 && !b.done(); ++epoch) {
-    StepEpoch(noisy, b, Controllers{});
-    // b(RM0) from the EOD distribution around the sensed pack's point EOD: above one half exactly at RM0.
-    const DecisionInputs& inputs = b.decision.inputs;
-    ASSERT_GE(inputs.eod_short_probability, 0.0);
-    ASSERT_LE(inputs.eod_short_probability, 1.0);
-    if (inputs.eod_short_probability != 0.5) EXPECT_EQ(inputs.eod_short_probability > 0.5, inputs.reach_margin < 0.0);
-  }
+  for (int epoch = 0; epoch < 60 && !b.done(); ++epoch) StepEpoch(noisy, b, Controllers{});
   const double cell_as = noisy.pack().cell(0, 0).capacity_as();
   const double error = SocEstimateError(b.power.sensing, cell_as);
   EXPECT_NE(error, 0.0);
@@ -198,9 +193,19 @@ TEST(SensingFlightTest, VibrationFarBeyondTheImmsNoiseGivesFalseIsolations) {
   }
 }
 
-// A poor, cold pack on a plan longer than its EOD (examples/poor-battery-long.yaml), NoOp, noise on: b(RM0) crosses
-// from near 0 to near 1 through uncertain epochs, above one half exactly where the point RM is RM0.
-TEST(SensingFlightTest, ReachBeliefCrossesOneHalfWhereThePointMarginTurns) {
+// NoOp that asks for the EOD's distribution (as cma-risk and cma-qmdp do).
+class NoOpReadingTheEod final : public DecisionPolicy {
+ public:
+  decision::CmaAction Decide(const DecisionInputs&) override { return decision::CmaAction::kNoOp; }
+  std::string name() const override { return "noop-reading"; }
+  bool ReadsEodDistribution() const override { return true; }
+};
+
+// A poor, cold pack on a plan about as long as its EOD (examples/poor-battery-long.yaml's, shortened), NoOp, noise
+// on: the EOD distribution takes the SOC estimate's 1σ beside the load forecast's error, and b(RM0) goes from low
+// to high through uncertain epochs, on the short side wherever the point margin is well below 0 and the long side
+// well above (±0.3: beyond the error model's load bias, ours).
+TEST(SensingFlightTest, ReachBeliefTakesTheSocSigmaAndTurnsWithTheMargin) {
   Scenario scenario = NoisyScenario(true);
   scenario.seed = 3;
   scenario.battery.initial_cell_voltage_v = {{{4.05, 4.05, 4.05}, {4.05, 4.05, 4.05}}};
@@ -211,13 +216,19 @@ TEST(SensingFlightTest, ReachBeliefCrossesOneHalfWhereThePointMarginTurns) {
   scenario.limits.cruise_speed = 4.0;
   const FlightModel model(scenario);
   FlightState state = MakeInitialState(model, scenario.seed);
+  NoOpReadingTheEod policy;
   int uncertain = 0, short_epochs = 0;
   while (!state.done()) {
-    StepEpoch(model, state, Controllers{});
+    const double soc_sigma = CalcSocEstimateSigma(model, state);  // at the epoch Observe reads
+    StepEpoch(model, state, Controllers{.policy = &policy});
     const DecisionInputs& inputs = state.decision.inputs;
-    if (inputs.eod_short_probability != 0.5) {
-      EXPECT_EQ(inputs.eod_short_probability > 0.5, inputs.reach_margin < 0.0) << inputs.time_s;
-    }
+    ASSERT_TRUE(inputs.has_eod_distribution);
+    EXPECT_GE(state.decision.eod_uncertainty.soc_sigma, soc_sigma * (1.0 - 1e-12));
+    EXPECT_GT(state.decision.eod_uncertainty.soc_sigma, 0.0);
+    ASSERT_GE(inputs.eod_short_probability, 0.0);
+    ASSERT_LE(inputs.eod_short_probability, 1.0);
+    if (inputs.reach_margin < -0.3 && inputs.eod_s > 1.0) EXPECT_GT(inputs.eod_short_probability, 0.5) << inputs.time_s;
+    if (inputs.reach_margin > 0.3) EXPECT_LT(inputs.eod_short_probability, 0.5) << inputs.time_s;
     uncertain += inputs.eod_short_probability > 0.01 && inputs.eod_short_probability < 0.99;
     short_epochs += inputs.reach_margin < 0.0;
   }

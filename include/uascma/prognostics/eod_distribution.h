@@ -57,6 +57,7 @@ struct EodUncertainty {             // 1σ of each source; 0 = exactly known
   static constexpr Bounds kSocSigmaBounds{0.0, 0.5, ""};
   // Every field within its bound, cold_probability < 0 or within [0, 1]; writes "field: expected …".
   bool IsValid(std::string* error) const;
+  bool operator==(const EodUncertainty&) const = default;
 };
 
 // The sources in the order of EodDistribution::log_secants.
@@ -80,6 +81,7 @@ struct EodDistribution {
   double Quantile(double p) const;                        // s; p in (0, 1), InputError otherwise
   double ProbabilityBefore(double t_s) const;             // P(EOD < t_s)
   double SideSigma(int component, double log_t_s) const;  // log_sigma below the median, log_sigma_above from it
+  bool operator==(const EodDistribution&) const = default;
 };
 
 // Throws InputError for an invalid uncertainty or options, or a negative current.

@@ -10,7 +10,11 @@
 // The belief over states (CmaStateBelief): FS and BH are known (the flight status and the pack's health class), so
 // b(s) = b_MH(mh) · b_RM(rm) over the six (MH, RM) pairs, each state's MM the motor margin at its MH's RUL (NF: none,
 // +∞; SF: DecisionInputs::rul_if_spall_s; JF: 0, MM0). With exact sensing the beliefs are one-hot at the point state
-// and both policies choose what "cma" chooses, with its ranking (tests/sim/belief_policy_test.cc).
+// and both policies choose what "cma" chooses (given b(RM0) in {0, 1}), with its ranking
+// (tests/sim/belief_policy_test.cc). b(RM0) is DecisionInputs::eod_short_probability: the kernel computes the EOD's
+// distribution for these policies (ReadsEodDistribution) from the load forecast's measured error
+// (sim/eod_error_model.h) and, under noisy sensing, the SOC estimate's 1σ (sim/sensing.h): so even with exact sensing
+// it is a chance, not the point RM's 0 or 1.
 #include <array>
 #include <span>
 #include <vector>
@@ -59,6 +63,7 @@ class RiskCmaPolicy final : public DecisionPolicy {
   decision::CmaAction Decide(const DecisionInputs& inputs) override;
   std::string name() const override { return name_; }
   ActionRanking Ranking(const DecisionInputs& inputs) const override;
+  bool ReadsEodDistribution() const override { return true; }  // b(RM0) = eod_short_probability
   // The state whose action it takes.
   static decision::CmaState ChosenState(const DecisionInputs& inputs);
 
@@ -73,6 +78,7 @@ class QmdpCmaPolicy final : public DecisionPolicy {
   decision::CmaAction Decide(const DecisionInputs& inputs) override;
   std::string name() const override { return name_; }
   ActionRanking Ranking(const DecisionInputs& inputs) const override;
+  bool ReadsEodDistribution() const override { return true; }  // b(RM0) = eod_short_probability
 
  private:
   // The expected-Q order for `inputs`, kept for the epoch's Ranking (recomputed when asked for other inputs).

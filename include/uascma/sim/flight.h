@@ -43,7 +43,9 @@
 #include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/eod_distribution.h"
 #include "uascma/prognostics/motor_rul.h"
+#include "uascma/sim/eod_error_model.h"
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"
@@ -130,6 +132,10 @@ class FlightModel {
   // The steady-flight load of a reference (sim/load_forecast.h), and the nominal plan's profile with six rotors.
   const SteadyLoadModel& steady_load() const { return steady_load_; }
   const std::shared_ptr<const LoadProfile>& nominal_load_profile() const { return nominal_load_profile_; }
+  // The load forecast's measured error the 1 Hz EOD distribution uses: the scenario's, else the default table.
+  const EodErrorModel& eod_error_model() const {
+    return scenario_.eod_error_model ? *scenario_.eod_error_model : EodErrorModel::Default();
+  }
   const OutcomeClassifier& outcome_classifier() const { return outcome_classifier_; }
   // SimOptions::noisy_sensing: the vibration noise of the IMM's samples at this vehicle's hover (sim/sensing.h).
   const VibrationNoise& vibration_noise() const { return vibration_noise_; }
@@ -226,7 +232,11 @@ struct FaultState {
 struct DecisionState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
-  double eod_current_a = 0.0;       // the constant current the last EOD was propagated at
+  double eod_current_a = 0.0;  // the constant current the last EOD was propagated at
+  // The EOD's distribution (DecisionInputs::has_eod_distribution) and the uncertainty it was propagated with: the load
+  // forecast's measured error (eod_error_model.h). Default values when not computed.
+  prognostics::EodUncertainty eod_uncertainty;
+  prognostics::EodDistribution eod_distribution;
   LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
   DecisionInputs inputs;
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
@@ -311,6 +321,7 @@ struct TelemetryRow {
   std::array<double, 2> branch_current{};
   std::array<double, 6> cell_voltage{};
   double eod_s = 0, flight_time_remaining_s = 0, rul_s = 0, reach_margin = 0, motor_margin = 0;
+  double eod_p05_s = 0, eod_p50_s = 0, eod_p95_s = 0, eod_short_probability = 0;  // DecisionInputs' distribution
   int cma_state = 0, action = 0, imm_mode = 0;
   double spall_area_mm2 = 0;
 };
@@ -369,8 +380,10 @@ void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* lo
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
                    std::span<bool> stepped);
 
-// At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states).
-const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
+// At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states), and with
+// `eod_distribution` the EOD's distribution from the model's error table (DecisionInputs::has_eod_distribution).
+const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr,
+                              bool eod_distribution = true);
 
 // Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
 // LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is
@@ -391,10 +404,15 @@ void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPo
 // The start of a decision epoch: Observe, then the battery executor decides (DecideBattery; none when `battery` is
 // null). Returns the observed inputs the CMA policy decides on.
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
-                                 FlightLog* log = nullptr);
+                                 FlightLog* log = nullptr, bool eod_distribution = true);
 
-// One decision epoch: BeginEpoch, the policy decides (a null policy: NoOp), Act, then GNC steps to the next epoch or
-// the end of the flight. Must be called at an epoch.
+// Whether an epoch computes the EOD's distribution: when the policy reads it or the log records telemetry.
+inline bool NeedsEodDistribution(const DecisionPolicy* policy, const FlightLog* log) {
+  return (policy && policy->ReadsEodDistribution()) || (log && log->record_telemetry);
+}
+
+// One decision epoch: BeginEpoch (the EOD's distribution when NeedsEodDistribution), the policy decides (a null
+// policy: NoOp), Act, then GNC steps to the next epoch or the end of the flight. Must be called at an epoch.
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log = nullptr);
 
 }  // namespace uascma::sim

@@ -32,11 +32,20 @@ struct DecisionInputs {
   double rul_s = std::numeric_limits<double>::infinity();  // +∞ without a motor fault
   double reach_margin = 0.0;                               // RM = 1 − (t_remaining + t_sf) / t_EOD
   double motor_margin = 0.0;                               // MM = 1 − t_remaining / t_RUL
-  // Beliefs (issue 29): b(NF, SF, JF) of the motor health (sim/sensing.h MotorHealthBelief under noisy sensing; the
-  // point MH's one-hot without it); b(RM0) = P(EOD < t_remaining + t_sf); and the RUL the prognosis gives a spall
-  // detected now (the motor margin of a belief's SF states; +∞ until the prognosis has run).
-  std::array<double, 3> motor_health_belief{1.0, 0.0, 0.0};
+  // The EOD as a distribution (issue 29): its 5, 50 and 95 % quantiles (s) and the chance that the EOD falls short
+  // of the rest of the plan with its margin, P(EOD < t_remaining + t_sf), from the load forecast's measured error
+  // (sim/eod_error_model.h). With no uncertainty (an empty error model) the quantiles are eod_s and the chance 0 or 1.
+  // Computed only when asked for (has_eod_distribution; Observe's `eod_distribution`: a policy that reads them, the
+  // telemetry, the EOD calibration); otherwise all four are 0.
+  bool has_eod_distribution = false;
+  double eod_p05_s = 0.0;
+  double eod_p50_s = 0.0;
+  double eod_p95_s = 0.0;
   double eod_short_probability = 0.0;
+  // The motor-health belief b(NF, SF, JF) (issue 29; sim/sensing.h MotorHealthBelief under noisy sensing, the point
+  // MH's one-hot without it) and the RUL the prognosis gives a spall detected now (the motor margin of a belief's SF
+  // states; +∞ until the prognosis has run).
+  std::array<double, 3> motor_health_belief{1.0, 0.0, 0.0};
   double rul_if_spall_s = std::numeric_limits<double>::infinity();
   bool operator==(const DecisionInputs&) const = default;
 };
@@ -57,6 +66,9 @@ class DecisionPolicy {
   // finds nothing, decisions item 28): the state's actions by decreasing Q(s, a). A policy without values of its
   // own (NoOp, a Python callable) falls back on the default CMA policy's values.
   virtual ActionRanking Ranking(const DecisionInputs& inputs) const { return DefaultCmaActionRanking(inputs.state); }
+  // True when Decide reads the EOD's distribution (DecisionInputs::eod_p05_s … eod_short_probability): the kernel
+  // computes it at every epoch for such a policy only (three more EOD propagations per epoch).
+  virtual bool ReadsEodDistribution() const { return false; }
 };
 
 // Always NoOp: the baseline.

@@ -79,6 +79,7 @@
 #include "uascma/planning/landing_detour.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/mission_file.h"
+#include "uascma/sim/eod_error_model.h"
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/sensing.h"
@@ -171,6 +172,10 @@ struct Scenario {
   // whole-load check): FlightModel reuses it when its key is this scenario's nominal plan, body, configuration and
   // mean wind, and builds its own otherwise (sim/load_forecast.h KeyedLoadProfile). Null: built by the model.
   std::shared_ptr<const KeyedLoadProfile> nominal_load_profile;
+  // The load forecast's error table of the 1 Hz EOD distribution (sim/eod_error_model.h; `uascma calibrate eod
+  // --model`). Null: EodErrorModel::Default(), the committed table. Read only by the distribution, which no built-in
+  // policy but the risk-aware ones reads.
+  std::shared_ptr<const EodErrorModel> eod_error_model;
   models::RigidBodyParams body;
   models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
   BatterySpec battery;
