@@ -135,7 +135,8 @@ ResolvedPolicy ResolvePythonPolicy(const py::object& policy, const ScenarioFile&
         py::hasattr(policy, "__name__") ? py::str(policy.attr("__name__")).cast<std::string>() : "python";
     return {std::make_unique<PythonPolicy>(policy, name), true};
   }
-  throw InputError("run", "policy", "'noop', 'cma', a policy file, a uascma.Policy or a callable");
+  throw InputError("run", "policy",
+                   "'noop', 'cma', 'cma-risk', 'cma-qmdp', a policy file, a uascma.Policy or a callable");
 }
 
 // A finished flight and the model it was flown on.
@@ -394,7 +395,11 @@ void InitSim(py::module_& m) {
       .def_readonly("eod_p50_s", &DecisionInputs::eod_p50_s, "its median")
       .def_readonly("eod_p95_s", &DecisionInputs::eod_p95_s, "its 95 % quantile")
       .def_readonly("eod_short_probability", &DecisionInputs::eod_short_probability,
-                    "P(EOD < flight_time_remaining_s + t_sf)");
+                    "P(EOD < flight_time_remaining_s + t_sf)")
+      .def_readonly("motor_health_belief", &DecisionInputs::motor_health_belief,
+                    "b(NF, SF, JF): one-hot at the point MH with exact sensing (sim/sensing.h)")
+      .def_readonly("rul_if_spall_s", &DecisionInputs::rul_if_spall_s,
+                    "the RUL of a spall detected now (+inf before the prognosis ran)");
 
   py::class_<Flight>(m, "Flight", "One simulated flight: outcome, summary, telemetry and the record files")
       .def_property_readonly("outcome", [](const Flight& f) { return std::string(OutcomeName(f.result.outcome)); })
@@ -561,7 +566,8 @@ void InitSim(py::module_& m) {
   m.def("run", &Run, py::arg("scenario"), py::arg("policy") = py::none(), py::arg("seed") = py::none(),
         py::arg("telemetry") = true, py::arg("mission") = py::none(),
         "Flies one scenario (a path, YAML text, a dict or a Scenario) with a policy: None (the scenario's), "
-        "'noop', 'cma', a policy file, a uascma.Policy / CmaSolution, or a callable f(DecisionInputs) -> action. "
+        "'noop', 'cma', 'cma-risk', 'cma-qmdp', a policy file, a uascma.Policy / CmaSolution, or a callable "
+        "f(DecisionInputs) -> action. "
         "seed None keeps the scenario's; mission: a .plan or .waypoints file flown instead of the scenario's "
         "mission. The same flight as `uascma simulate` for the same seed. Ctrl-C raises KeyboardInterrupt when "
         "the flight in the air ends (a flight takes a fraction of a second; a Python policy: at its next call)");

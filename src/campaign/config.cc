@@ -190,6 +190,9 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
       {{.key = "options.wind_rate_hz", .bounds = &sim::scenario_bounds::kWindRate,
         .expected = "a rate dividing 200 Hz (unset: the simulator's)", .citation = "ours (README)",
         .written_when_unset = false, .only_when_set = true}, &c.options.wind_rate_hz},
+      {{.key = "options.noisy_sensing", .expected = "true | false (unset: false, exact sensing)",
+        .citation = "issue 29; sim/sensing.h", .written_when_unset = false, .only_when_set = true},
+       &c.options.noisy_sensing},
   };
   fields.insert(fields.end(), sampling.begin(), sampling.end());
   return fields;
@@ -302,6 +305,10 @@ void HashValue(Fingerprint&, const std::optional<bool>&) {}  // only ever finger
 template <typename T>
 void HashWhenSet(Fingerprint& f, const ConfigField& field, const T& v, const CampaignConfig& c) {
   if constexpr (std::is_same_v<T, std::optional<bool>>) {
+    if (field.key != "map.sites_from_map") {  // a switch that is off unless set true (options.noisy_sensing)
+      if (v.value_or(false)) f.Add(field.leaf());
+      return;
+    }
     if (c.map.DerivesSites() == c.map.sites.empty()) return;
     f.Add(field.leaf());
     f.Add(c.map.DerivesSites() ? 1 : 0);

@@ -450,6 +450,7 @@ SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, s
   scenario.options.cap_speed_after_isolation = config.options.cap_speed_after_isolation;
   if (config.options.pack_rate_hz) scenario.options.pack_rate_hz = *config.options.pack_rate_hz;
   if (config.options.wind_rate_hz) scenario.options.wind_rate_hz = *config.options.wind_rate_hz;
+  if (config.options.noisy_sensing) scenario.options.noisy_sensing = *config.options.noisy_sensing;
 
   // The draws in the header's fixed order (sampler.h): changing it changes every campaign.
   DrawMission(random, config, run);          // 1–2

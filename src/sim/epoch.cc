@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/prognostics/eod_distribution.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/speed_cap.h"
 
@@ -137,27 +139,109 @@ void CapSpeedAfterIsolation(const FlightModel& model, FlightState& state, Flight
   StartPlan(state);
 }
 
-// The constant current of the 1 Hz EOD (SimOptions::eod_load).
+// The constant current of the 1 Hz EOD (SimOptions::eod_load), from what the CMA reads (sim/sensing.h under noisy
+// sensing).
 double EodCurrent(const FlightModel& model, FlightState& state) {
-  if (model.options().eod_load == EodLoad::kPresent) return state.power.load_current_a;
+  const bool noisy = model.options().noisy_sensing;
+  const double load_a = noisy ? state.power.sensing.load_current_a : state.power.load_current_a;
+  if (model.options().eod_load == EodLoad::kPresent) return load_a;
   EnsureLoadProfile(model, state);
-  const double forecast = ForecastCurrent(state.decision.load_forecast, state.time_s - state.guidance.plan_start_s,
-                                          state.power.energy_wh, 1.0 / model.options().decision_rate_hz,
-                                          state.power.bus_voltage_v, model.options().hotel_current_a);
-  return forecast > 0.0 ? forecast : state.power.load_current_a;  // under a second of plan left: the present load
+  const double forecast = ForecastCurrent(
+      state.decision.load_forecast, state.time_s - state.guidance.plan_start_s,
+      noisy ? state.power.sensing.energy_wh : state.power.energy_wh, 1.0 / model.options().decision_rate_hz,
+      noisy ? state.power.sensing.bus_voltage_v : state.power.bus_voltage_v, model.options().hotel_current_a);
+  return forecast > 0.0 ? forecast : load_a;  // under a second of plan left: the present load
+}
+
+// The pack state the CMA's EOD starts from: the truth, or under noisy sensing the truth with every cell's SOC moved by
+// the estimate's error (sim/sensing.h SocEstimateError, the counter assuming the nominal cell's capacity; the RC and
+// hysteresis states are the model's own: ours).
+models::PackState SensedPack(const FlightModel& model, const FlightState& state) {
+  models::PackState pack = state.power.pack;
+  const double error = SocEstimateError(state.power.sensing, model.pack().cell(0, 0).capacity_as());
+  for (auto& branch : pack.cells) {
+    for (auto& cell : branch) cell.soc_fraction = std::clamp(cell.soc_fraction + error, 0.0, 1.0);
+  }
+  return pack;
+}
+
+// The prognosis (§3.4.1, §5.3.2.1: "When a spalling fault in the motor is detected, t_RUL is calculated using Paris'
+// Law"): the calibrated model's particle mean from the initial spall, computed once (its stream serves nothing else,
+// so the value does not depend on when).
+double PrognosisRul(const FlightModel& model, FlightState& state) {
+  if (!state.decision.rul_at_onset_s) {
+    const prognostics::MotorRulModel& rul = model.rul_model();
+    state.decision.rul_at_onset_s =
+        rul.PredictRulFromArea(rul.params().initial_area_mm2, state.vehicle.prognosis_random).mean_s;
+  }
+  return *state.decision.rul_at_onset_s;
+}
+
+// §5.4's fault model: a spall in a flight with probability 0.5 (P(SF|NF) per simulated flight), its onset uniform over
+// the nominal flight: the spall filter's prior.
+constexpr double kSpallFaultProbability = 0.5;
+
+// Noisy sensing: the spall indicator's reading, the point CMA's latched detection, the Bayes filter and b(NF, SF, JF).
+void ObserveSpallIndicator(const FlightModel& model, FlightState& state, bool isolated, DecisionInputs& inputs,
+                           FlightLog* log) {
+  const SensingParams& params = model.options().sensing;
+  DecisionState& decision = state.decision;
+  const double t = state.time_s;
+  const bool reading = ReadSpallIndicator(params, state.faults.spall.has_value(), decision.indicator_random);
+  if (reading && !decision.spall_detected_s) {
+    decision.spall_detected_s = t;
+    AddEvent(log, t,
+             state.faults.spall ? "spall indicator: spall (the point CMA's SF from now)"
+                                : "spall indicator: spall, a false positive (the point CMA's SF from now)");
+  }
+  const double hazard = SpallOnsetHazard(kSpallFaultProbability, model.nominal_plan().duration(), t,
+                                         1.0 / model.options().decision_rate_hz);
+  decision.spall_probability = UpdateSpallProbability(PredictSpallProbability(decision.spall_probability, hazard),
+                                                      reading, params.spall_false_positive, params.spall_miss);
+  const double p_jammed =
+      isolated ? 1.0 : (model.options().fault_detection ? 1.0 - state.faults.imm.ModeProbability(0) : 0.0);
+  inputs.motor_health_belief = MotorHealthBelief(decision.spall_probability, p_jammed);
+  const double since_s = decision.spall_detected_s ? t - *decision.spall_detected_s : 0.0;
+  inputs.rul_if_spall_s = std::max(PrognosisRul(model, state) - since_s, 0.0);
+}
+
+// MH and the RUL: JF once a rotor is isolated; SF from the spall's onset (the truth), or under noisy sensing from the
+// indicator's first "spall" (latched), the RUL counted down from then.
+decision::MotorHealth ObserveMotorHealth(const FlightModel& model, FlightState& state, DecisionInputs& inputs,
+                                         FlightLog* log) {
+  const bool noisy = model.options().noisy_sensing;
+  const bool isolated = state.faults.allocation_failure != 0 || state.faults.imm.isolated_rotor() != 0;
+  if (noisy) ObserveSpallIndicator(model, state, isolated, inputs, log);
+  if (isolated) {
+    inputs.rul_s = 0.0;
+    return decision::MotorHealth::kJF;
+  }
+  const std::optional<double> detected_s =
+      noisy ? state.decision.spall_detected_s : (state.faults.spall ? state.faults.spall_onset_s : std::nullopt);
+  if (!detected_s) return decision::MotorHealth::kNF;
+  inputs.rul_s = std::max(PrognosisRul(model, state) - (state.time_s - *detected_s), 0.0);
+  return decision::MotorHealth::kSF;
 }
 
 // The EOD's distribution (issue 29): prognostics::CalcPackEodDistribution at the forecast current with the load
 // forecast's measured error of this epoch's cell (sim/eod_error_model.h): its 5/50/95 % quantiles and
-// P(EOD < t_remaining + t_sf). Without uncertainty, a point at the EOD.
-void ObserveEodDistribution(const FlightModel& model, FlightState& state, DecisionInputs& inputs) {
-  const prognostics::EodUncertainty uncertainty =
+// P(EOD < t_remaining + t_sf). Without uncertainty, a point at the EOD. Under noisy sensing (sim/sensing.h) the
+// distribution is the sensed pack's (`pack`) and the SOC estimate's 1σ joins the error model's.
+void ObserveEodDistribution(const FlightModel& model, FlightState& state, DecisionInputs& inputs,
+                            const models::PackState& pack) {
+  prognostics::EodUncertainty uncertainty =
       model.eod_error_model().At({model.battery_health(), inputs.state.mh, model.scenario().wind.turbulence,
                                   inputs.flight_time_remaining_s, inputs.eod_s});
+  const bool noisy = model.options().noisy_sensing;
+  if (noisy) {
+    uncertainty.soc_sigma = std::min(std::hypot(uncertainty.soc_sigma, CalcSocEstimateSigma(model, state)),
+                                     prognostics::EodUncertainty::kSocSigmaBounds.high);
+  }
   state.decision.eod_uncertainty = uncertainty;
   const double needed_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
-  if ((uncertainty.load_log_sigma <= 0.0 && uncertainty.load_log_mean == 0.0) ||
-      !(state.decision.eod_current_a > 0.0)) {
+  const bool point =
+      uncertainty.load_log_sigma <= 0.0 && uncertainty.load_log_mean == 0.0 && (!noisy || uncertainty.soc_sigma <= 0.0);
+  if (point || !(state.decision.eod_current_a > 0.0)) {
     state.decision.eod_distribution = {};
     state.decision.eod_distribution.point = state.decision.eod;
     inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_s;
@@ -165,7 +249,7 @@ void ObserveEodDistribution(const FlightModel& model, FlightState& state, Decisi
     return;
   }
   const prognostics::EodDistribution& distribution = state.decision.eod_distribution =
-      prognostics::CalcPackEodDistribution(model.pack(), state.power.pack, state.decision.eod_current_a, uncertainty);
+      prognostics::CalcPackEodDistribution(model.pack(), pack, state.decision.eod_current_a, uncertainty);
   inputs.eod_p05_s = distribution.Quantile(0.05);
   inputs.eod_p50_s = distribution.Quantile(0.50);
   inputs.eod_p95_s = distribution.Quantile(0.95);
@@ -180,36 +264,30 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   // EOD at the expected load of the rest of the executing plan (decision 25) or at the present current, the pack
   // current low-passed with SimOptions::load_current_time_constant_s (decision 14).
   const double t = state.time_s;
+  const bool noisy = model.options().noisy_sensing;
   state.decision.eod_current_a = EodCurrent(model, state);
-  state.decision.eod = prognostics::CalcPackEod(model.pack(), state.power.pack, state.decision.eod_current_a);
+  const std::optional<models::PackState> sensed =
+      noisy ? std::optional<models::PackState>(SensedPack(model, state)) : std::nullopt;
+  state.decision.eod =
+      prognostics::CalcPackEod(model.pack(), sensed ? *sensed : state.power.pack, state.decision.eod_current_a);
   DecisionInputs& inputs = state.decision.inputs;
   inputs.time_s = t;
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.guidance.plan_start_s);
   inputs.eod_s = state.decision.eod.eod_s;
   inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod,
                                                      inputs.flight_time_remaining_s + model.options().safety_margin_s);
-  decision::MotorHealth motor_health = decision::MotorHealth::kNF;
-  if (state.faults.allocation_failure != 0 || state.faults.imm.isolated_rotor() != 0) {
-    motor_health = decision::MotorHealth::kJF;
-    inputs.rul_s = 0.0;
-  } else if (state.faults.spall) {
-    // The prognosis (§3.4.1, §5.3.2.1: "When a spalling fault in the motor is detected, t_RUL is calculated using
-    // Paris' Law"): the calibrated model's particle mean from the initial spall, computed at detection, then
-    // counted down with the flight time.
-    motor_health = decision::MotorHealth::kSF;
-    if (!state.decision.rul_at_onset_s) {
-      const prognostics::MotorRulModel& rul = model.rul_model();
-      state.decision.rul_at_onset_s =
-          rul.PredictRulFromArea(rul.params().initial_area_mm2, state.vehicle.prognosis_random).mean_s;
-    }
-    inputs.rul_s = std::max(*state.decision.rul_at_onset_s - (t - *state.faults.spall_onset_s), 0.0);
+  const decision::MotorHealth motor_health = ObserveMotorHealth(model, state, inputs, log);
+  if (!noisy) {  // the beliefs of exact sensing: the point MH
+    inputs.motor_health_belief = {0.0, 0.0, 0.0};
+    inputs.motor_health_belief[static_cast<std::size_t>(motor_health)] = 1.0;
+    if (motor_health == decision::MotorHealth::kSF) inputs.rul_if_spall_s = inputs.rul_s;
   }
   inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
   inputs.state = decision::AbstractCmaState(state.decision.flight_status, motor_health, model.battery_health(),
                                             inputs.reach_margin, inputs.motor_margin);
   inputs.has_eod_distribution = eod_distribution;
   if (eod_distribution) {
-    ObserveEodDistribution(model, state, inputs);
+    ObserveEodDistribution(model, state, inputs, sensed ? *sensed : state.power.pack);
   } else {
     state.decision.eod_uncertainty = {};
     state.decision.eod_distribution = {};

@@ -28,7 +28,16 @@ constexpr double kMovingReferenceSpeed = 0.1;
 
 // Independent random streams of one flight (common/random.h DeriveSeed), so that e.g. the wind does not
 // change when the sensor noise is switched off.
-enum Stream : std::uint64_t { kWindStream = 1, kSensorStream = 2, kSpallStream = 3, kPrognosisStream = 4 };
+// Streams 5-7 are drawn only with SimOptions::noisy_sensing (sim/sensing.h).
+enum Stream : std::uint64_t {
+  kWindStream = 1,
+  kSensorStream = 2,
+  kSpallStream = 3,
+  kPrognosisStream = 4,
+  kVibrationStream = 5,
+  kPowerSensingStream = 6,
+  kSpallIndicatorStream = 7
+};
 
 prognostics::SpallGrowthParams TruthGrowth(const FaultSpec& fault) {
   prognostics::SpallGrowthParams params;
@@ -150,6 +159,19 @@ void AdvancePack(const FlightModel& model, PowerState& power) {
   power.pack_substeps = 0;
 }
 
+// Noisy sensing (sim/sensing.h): the power module's readings of this step's current and bus voltage, the error of the
+// charge the CMA counts, the energy and the low-passed load it reads.
+void SensePower(const FlightModel& model, PowerState& power) {
+  PowerSensing& sensing = power.sensing;
+  const SensingParams& params = model.options().sensing;
+  const double current_a = ReadCurrent(params, sensing.errors, power.pack_current_a, sensing.random);
+  sensing.bus_voltage_v = ReadBusVoltage(params, sensing.errors, power.bus_voltage_v, sensing.random);
+  sensing.charge_error_as += (current_a - power.pack_current_a) * model.dt();
+  sensing.charge_read_as += current_a * model.dt();
+  sensing.energy_wh += sensing.bus_voltage_v * current_a * model.dt() / 3600.0;
+  sensing.load_current_a += model.load_filter_gain() * (current_a - sensing.load_current_a);
+}
+
 // The rotors' electrical power (StepVehicle's) drawn at this power system's bus voltage, through its packs.
 void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s) {
   const double inverse_bus_voltage = InverseBusVoltage(power.bus_voltage_v);
@@ -178,6 +200,7 @@ void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s
   power.bus_voltage_v = s.pack_outputs.split.bus_voltage_v;
   power.energy_wh += power.bus_voltage_v * power.pack_current_a * model.dt() / 3600.0;
   power.min_cell_voltage_v = std::min(power.min_cell_voltage_v, s.pack_outputs.min_cell_voltage_v);
+  if (model.options().noisy_sensing) SensePower(model, power);
 }
 
 // ---- rotor failure detection and isolation (IMM) ----------------------------------------------------------------
@@ -195,6 +218,12 @@ void StepImm(const FlightModel& model, FlightState& state, const models::RigidBo
     RandomStream& random = state.vehicle.sensor_random;
     measurement.gyro_B += imm.gyro_noise * Eigen::Vector3d(random.Normal(), random.Normal(), random.Normal());
     measurement.specific_force_z_B += imm.accel_noise * random.Normal();
+  }
+  if (model.options().noisy_sensing) {  // vibration beyond what the IMM assumes (sim/sensing.h)
+    RandomStream& random = state.vehicle.vibration_random;
+    const VibrationNoise& vibration = model.vibration_noise();
+    measurement.gyro_B += vibration.gyro_sigma * Eigen::Vector3d(random.Normal(), random.Normal(), random.Normal());
+    measurement.specific_force_z_B += vibration.accel_sigma * random.Normal();
   }
   state.faults.imm.Step(believed, measurement, dt);
   if (state.faults.imm.isolated_rotor() != 0) {
@@ -346,9 +375,56 @@ FlightModel::FlightModel(const Scenario& scenario)
       load_filter_gain_(1.0 - std::exp(-dt_ / scenario.options.load_current_time_constant_s)),
       outcome_classifier_(scenario.options.outcome),
       steady_load_{&scenario_.body, &drag_, &electrical_power_, wind_.MeanWind_W()},
-      nominal_load_profile_(NominalLoadProfile(scenario_, nominal_plan_, steady_load_)) {}
+      nominal_load_profile_(NominalLoadProfile(scenario_, nominal_plan_, steady_load_)),
+      vibration_noise_(CalcVibrationNoise(
+          scenario.options.sensing,
+          models::CalcRotorSpeedForThrust(propulsion_, scenario.body.mass * kGravity / models::kRotorCount),
+          scenario.body.mass, scenario.body.inertia_diagonal.x(), mixer_.params().arm_length)) {}
 
 // ---- the state ----------------------------------------------------------------------------------------------------
+namespace {
+
+// dOCV/dz (V per unit SOC) at `soc`, by a central difference of ±0.005 (ours; the table is piecewise linear).
+double OcvSlope(const models::OcvTable& ocv, double soc) {
+  constexpr double kHalfStep = 0.005;
+  const double lo = std::max(soc - kHalfStep, 0.0);
+  const double hi = std::min(soc + kHalfStep, 1.0);
+  return (ocv.CalcVoltage(hi) - ocv.CalcVoltage(lo)) / (hi - lo);
+}
+
+// Noisy sensing's streams and per-flight errors, and the SOC the CMA reads from the rest voltage before take-off
+// (one bus reading over three cells, through the OCV slope at the first cell's SOC). Nothing is drawn without it.
+void InitialiseSensing(const FlightModel& model, FlightState& state) {
+  const std::uint64_t seed = state.vehicle.seed;
+  state.vehicle.vibration_random = RandomStream(DeriveSeed(seed, kVibrationStream));
+  state.power.sensing.random = RandomStream(DeriveSeed(seed, kPowerSensingStream));
+  state.decision.indicator_random = RandomStream(DeriveSeed(seed, kSpallIndicatorStream));
+  if (!model.options().noisy_sensing) return;
+  PowerSensing& sensing = state.power.sensing;
+  const SensingParams& params = model.options().sensing;
+  sensing.errors = DrawPowerSensorErrors(params, sensing.random);
+  const double rest_v = state.power.bus_voltage_v;
+  const double read_v = ReadBusVoltage(params, sensing.errors, rest_v, sensing.random);
+  const models::SelfCorrectingCell& cell = model.pack().cell(0, 0);
+  const double soc = state.power.pack.cells[0][0].soc_fraction;
+  sensing.ocv_slope_v_per_soc = OcvSlope(cell.ocv(), soc);
+  sensing.initial_soc_error = (read_v - rest_v) / models::kCellsPerBranch / sensing.ocv_slope_v_per_soc;
+  sensing.bus_voltage_v = read_v;
+  sensing.rest_voltage_v = read_v;
+  sensing.load_current_a = state.power.load_current_a;
+}
+
+}  // namespace
+
+double CalcSocEstimateSigma(const FlightModel& model, const FlightState& state) {
+  if (!model.options().noisy_sensing) return 0.0;
+  const PowerSensing& sensing = state.power.sensing;
+  const double mean_current_a = state.time_s > 0.0 ? sensing.charge_read_as / state.time_s : 0.0;
+  return CalcSocEstimateSigma(model.options().sensing, state.time_s, mean_current_a,
+                              model.pack().cell(0, 0).capacity_as(), sensing.ocv_slope_v_per_soc, model.dt(),
+                              sensing.rest_voltage_v);
+}
+
 FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
   const Scenario& sc = model.scenario();
   FlightState state;
@@ -372,6 +448,7 @@ FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
       6.0 * models::CalcElectricalPower(model.propulsion(), hover_thrust) / state.power.bus_voltage_v;
   state.power.load_current_a = state.power.pack_current_a;
   state.decision.inputs.rul_s = kRulBeforePrognosis;
+  InitialiseSensing(model, state);
   // The lowest cell voltage starts at the pack at rest (a flight that never takes off reports it; any step under
   // load reads lower).
   state.power.min_cell_voltage_v = model.pack().CalcOutputs(state.power.pack, 0.0).min_cell_voltage_v;

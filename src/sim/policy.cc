@@ -9,6 +9,7 @@
 #include "uascma/common/hash.h"
 #include "uascma/common/text.h"
 #include "uascma/decision/policy_file.h"
+#include "uascma/sim/belief_policy.h"
 
 namespace uascma::sim {
 namespace {
@@ -114,11 +115,20 @@ PolicyDefinition PolicyDefinitionFromFile(const std::string& path) {
                          std::move(ranking));
 }
 
+PolicyDefinition BeliefCmaPolicyDefinition(const std::string& kind) {
+  PolicyDefinition policy = SolvedCmaPolicyDefinition();
+  policy.name = kind;
+  policy.kind = kind;
+  policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
+  return policy;
+}
+
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field) {
   if (spec == "noop") return NoOpPolicyDefinition();
   if (spec == "cma") return SolvedCmaPolicyDefinition();
+  if (IsBeliefPolicyKind(spec)) return BeliefCmaPolicyDefinition(spec);
   if (std::filesystem::path(spec).extension() != ".json") {
-    throw InputError(source, field, "noop, cma or a policy JSON file (*.json), got '" + spec + "'");
+    throw InputError(source, field, "noop, cma, cma-risk, cma-qmdp or a policy JSON file (*.json), got '" + spec + "'");
   }
   return PolicyDefinitionFromFile(spec);  // names the file when it is missing or does not bind
 }
@@ -138,7 +148,9 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
     policy.source = source;
     return policy;
   }
-  if (kind != "table") throw InputError(where, "kind", "'noop' or 'table', got '" + kind + "'");
+  if (kind != "table" && !IsBeliefPolicyKind(kind)) {
+    throw InputError(where, "kind", "'noop', 'table', 'cma-risk' or 'cma-qmdp', got '" + kind + "'");
+  }
   if (static_cast<int>(stored.size()) != decision::kCmaNumStates) {
     throw InputError(where, "actions", fmt::format("{} actions, one per CMA state", decision::kCmaNumStates));
   }
@@ -161,7 +173,12 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
     actions.push_back(order.front());
   }
   CheckRanking(actions, ranking, where);
-  return TableDefinition(name, source, std::move(actions), std::move(ranking));
+  PolicyDefinition policy = TableDefinition(name, source, std::move(actions), std::move(ranking));
+  if (IsBeliefPolicyKind(kind)) {  // the default CMA policy's table, decided on beliefs
+    policy.kind = kind;
+    policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
+  }
+  return policy;
 }
 
 std::vector<std::string> PolicyActionNames(const PolicyDefinition& policy) {
@@ -174,6 +191,8 @@ std::vector<std::string> PolicyActionNames(const PolicyDefinition& policy) {
 
 std::unique_ptr<DecisionPolicy> MakeDecisionPolicy(const PolicyDefinition& policy) {
   if (policy.kind == "noop") return std::make_unique<NoOpPolicy>();
+  if (policy.kind == "cma-risk") return std::make_unique<RiskCmaPolicy>(policy.name);
+  if (policy.kind == "cma-qmdp") return std::make_unique<QmdpCmaPolicy>(policy.name);
   return std::make_unique<TablePolicy>(policy.actions, policy.name, policy.ranking);
 }
 

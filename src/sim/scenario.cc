@@ -222,6 +222,7 @@ bool SimOptions::IsValid(std::string* error) const {
     if (error) *error = "hotel_current_a: expected >= 0 A";
     return false;
   }
+  if (!sensing.IsValid(error)) return false;
   return outcome.IsValid(error);
 }
 

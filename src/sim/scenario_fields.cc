@@ -128,6 +128,8 @@ std::vector<ScenarioFieldEntry> FlightFields(Scenario& s) {
        &o.cap_speed_after_isolation},
       {{.key = "options.safety_margin_s", .bounds = &b::kSafetyMargin, .citation = "Table 4.4: 5-10 s"},
        &o.safety_margin_s},
+      {{.key = "options.noisy_sensing", .expected = "true | false", .citation = "issue 29; sim/sensing.h"},
+       &o.noisy_sensing},
       {{.key = "options.max_tilt_deg", .bounds = &b::kMaxTilt, .citation = "ours (sim/outcome.h)", .degrees = true},
        &o.outcome.max_tilt},
       {{.key = "options.max_cross_track_error_m", .bounds = &b::kMaxCrossTrackError, .citation = "ours (sim/outcome.h)"},

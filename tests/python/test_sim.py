@@ -192,3 +192,29 @@ def test_scenario_properties_come_from_the_field_table():
     assert scenario.options_eod_load == "present"
     with pytest.raises(uascma.InputError):
         scenario.wind_turbulence = "hurricane"
+
+
+def test_policies_on_beliefs_under_noisy_sensing(tmp_path):
+    """Issue 29: options.noisy_sensing gives the decision module beliefs; cma-risk and cma-qmdp are policies by name,
+    and without noise they fly the cma flight."""
+    exact = uascma.run(example("jam-motor-3.yaml"), "cma", telemetry=False)
+    for name in ("cma-risk", "cma-qmdp"):
+        other = uascma.run(example("jam-motor-3.yaml"), name, telemetry=False)
+        assert other.actions == exact.actions and other.sim_time_s == exact.sim_time_s, name
+    text = open(example("jam-motor-3.yaml")).read() + "options: {noisy_sensing: true}\n"
+    noisy_path = tmp_path / "noisy.yaml"
+    noisy_path.write_text(text)
+    beliefs = []
+
+    def record(inputs):
+        beliefs.append((inputs.time_s, tuple(inputs.motor_health_belief), inputs.eod_short_probability))
+        return "NoOp"
+
+    uascma.run(str(noisy_path), record, telemetry=False)
+    assert all(abs(sum(b) - 1.0) < 1e-12 for _, b, _ in beliefs)
+    assert all(0.0 <= p <= 1.0 for _, _, p in beliefs)
+    # The spall starts at 60 s: the belief in SF or JF rises above the prior afterwards.
+    assert max(b[1] + b[2] for t, b, _ in beliefs if t > 60.0) > 0.5
+    assert uascma.run(str(noisy_path), "cma-qmdp", telemetry=False).outcome
+    scenario = uascma.load_scenario(str(noisy_path))
+    assert scenario.options_noisy_sensing is True

@@ -38,6 +38,7 @@
 //   options:
 //     eod_load: forecast                         # the 1 Hz EOD's load: forecast (decision 25) | present (item 14)
 //     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
+//     noisy_sensing: false                       # issue 29: sensor noise, vibration, a spall indicator (sim/sensing.h)
 //
 // Ranges are [low, high] lists with low ≤ high; a draw is uniform on [low, high). Unknown keys are
 // errors (a typo would otherwise be silently ignored). Each key is declared once, in the field table of
@@ -239,6 +240,8 @@ struct FlightOptions {
   // (200) to fly the campaign with both at the GNC rate (README "Subsystem rates").
   std::optional<double> pack_rate_hz;
   std::optional<double> wind_rate_hz;
+  // Noisy sensing for every flight (sim::SimOptions::noisy_sensing, sim/sensing.h); unset: off.
+  std::optional<bool> noisy_sensing;
 };
 
 struct CampaignConfig {

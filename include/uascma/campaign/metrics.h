@@ -45,6 +45,7 @@ class RecordingPolicy final : public sim::DecisionPolicy {
   decision::CmaAction Decide(const sim::DecisionInputs& inputs) override;
   std::string name() const override { return inner_.name(); }
   sim::ActionRanking Ranking(const sim::DecisionInputs& inputs) const override { return inner_.Ranking(inputs); }
+  bool ReadsEodDistribution() const override { return inner_.ReadsEodDistribution(); }
   const std::vector<EpochDecision>& decisions() const { return decisions_; }
 
  private:

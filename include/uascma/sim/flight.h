@@ -50,6 +50,7 @@
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
+#include "uascma/sim/sensing.h"
 
 namespace uascma::sim {
 
@@ -136,6 +137,8 @@ class FlightModel {
     return scenario_.eod_error_model ? *scenario_.eod_error_model : EodErrorModel::Default();
   }
   const OutcomeClassifier& outcome_classifier() const { return outcome_classifier_; }
+  // SimOptions::noisy_sensing: the vibration noise of the IMM's samples at this vehicle's hover (sim/sensing.h).
+  const VibrationNoise& vibration_noise() const { return vibration_noise_; }
 
  private:
   Scenario scenario_;
@@ -162,6 +165,7 @@ class FlightModel {
   OutcomeClassifier outcome_classifier_;
   SteadyLoadModel steady_load_;
   std::shared_ptr<const LoadProfile> nominal_load_profile_;
+  VibrationNoise vibration_noise_;
 };
 
 // ---- the state ------------------------------------------------------------------------------------------------
@@ -189,6 +193,7 @@ struct VehicleState {
   // sensor noise is switched off.
   std::uint64_t seed = 0;
   RandomStream wind_random, sensor_random, prognosis_random;
+  RandomStream vibration_random;  // SimOptions::noisy_sensing: the vibration noise of the IMM's samples
   // Running extremes of the motion over the flight.
   double max_tracking_error = 0.0;  // m
   double min_cos_tilt = 1.0;        // the largest tilt is its acos
@@ -209,6 +214,7 @@ struct PowerState {
   double load_current_a = 0.0;      // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)
   double energy_wh = 0.0;           // drawn from the packs since take-off
   double min_cell_voltage_v = 0.0;  // the lowest any cell has read
+  PowerSensing sensing;             // SimOptions::noisy_sensing: what the CMA reads of it (sim/sensing.h)
   bool operator==(const PowerState&) const = default;
 };
 
@@ -251,6 +257,11 @@ struct DecisionState {
   // nothing and another action was taken, and each distinct "Chosen->Taken" pair in the order first seen.
   int substitution_epochs = 0;
   std::vector<std::string> substitutions;
+  // SimOptions::noisy_sensing: the spall indicator's stream, the first epoch it read "spall" (the point CMA's
+  // detection, latched) and the Bayes filter's P(spall) (sim/sensing.h).
+  RandomStream indicator_random;
+  std::optional<double> spall_detected_s;
+  double spall_probability = 0.0;
   bool operator==(const DecisionState&) const = default;
 };
 
@@ -349,6 +360,11 @@ struct Controllers {
 // ---- the steps --------------------------------------------------------------------------------------------------
 // The state at take-off time 0 for the given seed: on the ground at home, rotors at hover speed, packs at rest.
 FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed);
+
+// Noisy sensing (sim/sensing.h): the 1σ of the SOC error of the CMA's estimate at this state (CalcSocEstimateSigma of
+// the settings at the flight's elapsed time and mean read current, the nominal cell's capacity and the OCV slope its
+// rest-voltage reading went through): what EodUncertainty::soc_sigma takes. 0 without noisy sensing.
+double CalcSocEstimateSigma(const FlightModel& model, const FlightState& state);
 
 // True at a decision epoch (every steps_per_epoch GNC steps, from step 0).
 inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) {

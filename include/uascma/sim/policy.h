@@ -4,10 +4,14 @@
 //   "noop"       always NoOp: the baseline;
 //   "cma"        the CMA MDP with the dissertation's weights (eqs. 5.28–5.29) and γ = 0.95 (decisions item 5),
 //                solved by value iteration (decision/policy_file.h SolveDefaultCmaPolicy);
+//   "cma-risk"   the default CMA policy deciding on beliefs: RM0 when P(EOD < t_remaining + t_sf) exceeds a level
+//                derived from its values, MH the belief's MAP (sim/belief_policy.h);
+//   "cma-qmdp"   QMDP over the default CMA policy's Q-values and the beliefs (sim/belief_policy.h);
 //   FILE.json    a policy file written by `uascma policy solve`; its model hash is checked against the CMA model
 //                rebuilt from the weights it records. Named by the file stem ("tuned.json" → "tuned").
 // A PolicyDefinition is plain data (the action of every CMA state), so campaigns store it with their results
 // and a run replays without the original file.
+#include <array>
 #include <limits>
 #include <memory>
 #include <span>
@@ -38,6 +42,11 @@ struct DecisionInputs {
   double eod_p50_s = 0.0;
   double eod_p95_s = 0.0;
   double eod_short_probability = 0.0;
+  // The motor-health belief b(NF, SF, JF) (issue 29; sim/sensing.h MotorHealthBelief under noisy sensing, the point
+  // MH's one-hot without it) and the RUL the prognosis gives a spall detected now (the motor margin of a belief's SF
+  // states; +∞ until the prognosis has run).
+  std::array<double, 3> motor_health_belief{1.0, 0.0, 0.0};
+  double rul_if_spall_s = std::numeric_limits<double>::infinity();
   bool operator==(const DecisionInputs&) const = default;
 };
 
@@ -88,7 +97,7 @@ class TablePolicy final : public DecisionPolicy {
 
 struct PolicyDefinition {
   std::string name;                            // "cma", "noop", a file stem: unique within a campaign
-  std::string kind;                            // "noop" | "table"
+  std::string kind;                            // "noop" | "table" | "cma-risk" | "cma-qmdp" (the default table's)
   std::string source;                          // "cma default weights", "noop", or the file it came from
   std::vector<decision::ActionIndex> actions;  // kind "table": the action of each CMA state (112)
   // Kind "table": per state, its available actions by decreasing Q(s, a), actions[s] first (decisions item 28);
@@ -98,6 +107,8 @@ struct PolicyDefinition {
 };
 
 PolicyDefinition NoOpPolicyDefinition();
+// "cma-risk" or "cma-qmdp": the policies that decide on beliefs over the default CMA policy.
+inline bool IsBeliefPolicyKind(const std::string& kind) { return kind == "cma-risk" || kind == "cma-qmdp"; }
 PolicyDefinition SolvedCmaPolicyDefinition();
 // A policy file; InputError names the file and field when it does not bind to the CMA model.
 PolicyDefinition PolicyDefinitionFromFile(const std::string& path);

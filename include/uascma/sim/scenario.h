@@ -5,7 +5,7 @@
 //
 //   name: nominal
 //   seed: 1
-//   policy: noop                      # noop | cma | path/to/policy.json (the CLI's --policy overrides)
+//   policy: noop                      # noop | cma | cma-risk | cma-qmdp | path/to/policy.json (--policy overrides)
 //   map:                              # absent: open ground, no landing sites
 //     procedural: {seed: 3}           # the built-in procedural city, or real data:
 //     # buildings: [city.geojson]     #   GeoJSON (Overpass) / .osm / .osm.pbf, relative to this file
@@ -55,6 +55,7 @@
 //     eod_load: forecast              # the 1 Hz EOD's load: the plan's expected current (decision 25) | present
 //     cap_speed_after_isolation: true # after an isolation, fly within the quadcopter's authority (sim/speed_cap.h)
 //     safety_margin_s: 0              # t_sf in the reach margin (Table 4.4: 5-10 s in campaigns)
+//     noisy_sensing: false            # sensor noise, vibration and a spall indicator for the CMA (sim/sensing.h)
 //     max_tilt_deg: 69                # loss of control beyond it (sim/outcome.h)
 //     max_cross_track_error_m: 15     # loss of control beyond it (distance from the path, not the schedule)
 //
@@ -81,6 +82,7 @@
 #include "uascma/sim/eod_error_model.h"
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
+#include "uascma/sim/sensing.h"
 
 namespace uascma::sim {
 
@@ -148,6 +150,12 @@ struct SimOptions {
   // RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf, Table 4.1, carried to the
   // CMA). 0 by default; campaigns sample it in [5, 10] s.
   double safety_margin_s = 0.0;
+  // Noisy sensing (issue 29, sim/sensing.h): the CMA reads the pack current and bus voltage through a power module
+  // with errors and noise (its SOC by coulomb counting from the rest voltage read at take-off), the IMM's samples
+  // carry vibration noise, and the spall is seen through an indicator with false positives and misses. Off (the
+  // default): the truth, as always.
+  bool noisy_sensing = false;
+  SensingParams sensing;  // the magnitudes (cited in sim/sensing.h)
   bool IsValid(std::string* error) const;
 };
 

@@ -1,0 +1,91 @@
+#pragma once
+// Decisions on beliefs (issue 29 item 3): two policies over the solved default CMA policy (decision/policy_file.h
+// SolveDefaultCmaPolicy) that read the beliefs of DecisionInputs instead of the point state alone.
+//
+//   "cma-risk"  the CMA table in the state whose RM is RM0 when b(RM0) = P(EOD < t_remaining + t_sf) exceeds the
+//               level CmaRiskLevel derives from the solved policy's values, and whose MH is the belief's MAP;
+//   "cma-qmdp"  QMDP (Littman, Cassandra & Kaelbling, "Learning policies for partially observable environments:
+//               scaling up", ICML 1995): argmax_a Σ_s b(s) Q(s, a), b over the CMA states that differ in MH and RM.
+//
+// The belief over states (CmaStateBelief): FS and BH are known (the flight status and the pack's health class), so
+// b(s) = b_MH(mh) · b_RM(rm) over the six (MH, RM) pairs, each state's MM the motor margin at its MH's RUL (NF: none,
+// +∞; SF: DecisionInputs::rul_if_spall_s; JF: 0, MM0). With exact sensing the beliefs are one-hot at the point state
+// and both policies choose what "cma" chooses (given b(RM0) in {0, 1}), with its ranking
+// (tests/sim/belief_policy_test.cc). b(RM0) is DecisionInputs::eod_short_probability: the kernel computes the EOD's
+// distribution for these policies (ReadsEodDistribution) from the load forecast's measured error
+// (sim/eod_error_model.h) and, under noisy sensing, the SOC estimate's 1σ (sim/sensing.h): so even with exact sensing
+// it is a chance, not the point RM's 0 or 1.
+#include <array>
+#include <span>
+#include <vector>
+
+#include "uascma/decision/cma_mdp.h"
+#include "uascma/sim/policy.h"
+
+namespace uascma::sim {
+
+// Q(s, a) = R(s, a) + γ Σ_s' P(s'|s, a) V(s') of a solved CMA policy, per state index (decision::CmaStateIndex), per
+// action; −∞ where the action is unavailable.
+using CmaQTable = std::vector<std::array<double, decision::kCmaNumActions>>;
+// The default CMA policy's (solved once, thread-safe static).
+const CmaQTable& DefaultCmaQValues();
+
+struct StateBelief {
+  decision::CmaState state;
+  double probability = 0.0;
+};
+// The states with b(s) > 0 (file comment), MH-major, RM0 before RM1.
+std::vector<StateBelief> CmaStateBelief(const DecisionInputs& inputs);
+
+// The actions available in `flight_status` by decreasing Σ_s b(s) Q(s, a); ties keep the order of `tie_order` (the
+// MAP state's ranking: with a one-hot belief this is that state's ranking). Every state of `belief` shares the
+// flight status.
+std::vector<decision::ActionIndex> QmdpRanking(const CmaQTable& q, std::span<const StateBelief> belief,
+                                               std::span<const decision::ActionIndex> tie_order);
+
+// cma-risk's level in the pair of states s0 (RM0) and s1 (RM1) that differ only in RM, with actions a0 = π(s0) and
+// a1 = π(s1) of the policy: the b(RM0) at which a0 and a1 have the same expected value,
+//   p* = (Q(s1, a1) − Q(s1, a0)) / [(Q(s1, a1) − Q(s1, a0)) + (Q(s0, a0) − Q(s0, a1))],
+// above which a0 (acting as in RM0) has the larger expected Q: the expected cost of flying on against landing
+// under the CMA's rewards. NaN when a0 == a1 (the RM does not change the action).
+double CmaRiskLevel(const CmaQTable& q, std::span<const decision::ActionIndex> policy, const decision::CmaState& s0,
+                    const decision::CmaState& s1);
+
+// The MAP motor health of a belief b(NF, SF, JF) (ties: the healthier).
+decision::MotorHealth MapMotorHealth(const std::array<double, 3>& belief);
+// The CMA state of `inputs` with motor health `mh` (its MM at that MH's RUL) and reach margin `rm`.
+decision::CmaState StateWith(const DecisionInputs& inputs, decision::MotorHealth mh, decision::ReachMargin rm);
+
+// "cma-risk" (file comment).
+class RiskCmaPolicy final : public DecisionPolicy {
+ public:
+  explicit RiskCmaPolicy(std::string name = "cma-risk") : name_(std::move(name)) {}
+  decision::CmaAction Decide(const DecisionInputs& inputs) override;
+  std::string name() const override { return name_; }
+  ActionRanking Ranking(const DecisionInputs& inputs) const override;
+  bool ReadsEodDistribution() const override { return true; }  // b(RM0) = eod_short_probability
+  // The state whose action it takes.
+  static decision::CmaState ChosenState(const DecisionInputs& inputs);
+
+ private:
+  std::string name_;
+};
+
+// "cma-qmdp" (file comment). Its ranking is the expected-Q order of the last Decide.
+class QmdpCmaPolicy final : public DecisionPolicy {
+ public:
+  explicit QmdpCmaPolicy(std::string name = "cma-qmdp") : name_(std::move(name)) {}
+  decision::CmaAction Decide(const DecisionInputs& inputs) override;
+  std::string name() const override { return name_; }
+  ActionRanking Ranking(const DecisionInputs& inputs) const override;
+  bool ReadsEodDistribution() const override { return true; }  // b(RM0) = eod_short_probability
+
+ private:
+  // The expected-Q order for `inputs`, kept for the epoch's Ranking (recomputed when asked for other inputs).
+  void Rank(const DecisionInputs& inputs) const;
+  std::string name_;
+  mutable std::vector<decision::ActionIndex> ranking_;
+  mutable DecisionInputs ranked_for_;
+};
+
+}  // namespace uascma::sim

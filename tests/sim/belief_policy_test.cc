@@ -1,0 +1,181 @@
+// The policies on beliefs (sim/belief_policy.h): QMDP and the risk level against a belief case solved by hand, the
+// belief over states, and both policies equal to "cma" when the beliefs are one-hot (exact sensing).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/belief_policy.h"
+#include "uascma/sim/policy.h"
+#include "uascma/sim/simulator.h"
+
+namespace uascma::sim {
+namespace {
+
+using decision::ActionIndex;
+using decision::CmaAction;
+using decision::CmaState;
+using decision::MotorHealth;
+using decision::ReachMargin;
+
+constexpr auto kNoOp = static_cast<ActionIndex>(CmaAction::kNoOp);
+constexpr auto kTerminate = static_cast<ActionIndex>(CmaAction::kTerminate);
+constexpr auto kLandAsap = static_cast<ActionIndex>(CmaAction::kLandAsap);
+constexpr auto kLandPract = static_cast<ActionIndex>(CmaAction::kLandPract);
+
+// Two states that differ in RM only, with Q-values chosen by hand (every other state of the table unused):
+//   s0 (RM0): NoOp −1, Terminate −5, LandASAP −2, LandPract 0.5   → π(s0) = LandPract
+//   s1 (RM1): NoOp  2, Terminate −5, LandASAP −1, LandPract 1     → π(s1) = NoOp
+// Under b(s0) = p: E[Q(NoOp)] = 2 − 3p, E[Q(LandPract)] = 1 − 0.5p, E[Q(LandASAP)] = −1 − p, E[Q(Terminate)] = −5:
+// NoOp leads below p = 0.4, LandPract above; the risk level (a0 = LandPract, a1 = NoOp) is
+// (2 − 1) / ((2 − 1) + (0.5 − (−1))) = 0.4.
+struct HandCase {
+  CmaState s0{decision::FlightStatus::kN, MotorHealth::kNF, decision::MotorMargin::kMM1, decision::BatteryHealth::kG,
+              ReachMargin::kRM0};
+  CmaState s1{decision::FlightStatus::kN, MotorHealth::kNF, decision::MotorMargin::kMM1, decision::BatteryHealth::kG,
+              ReachMargin::kRM1};
+  CmaQTable q = CmaQTable(decision::kCmaNumStates, {0.0, 0.0, 0.0, 0.0});
+  std::vector<ActionIndex> policy = std::vector<ActionIndex>(decision::kCmaNumStates, kNoOp);
+  HandCase() {
+    // Actions in the enum's order: NoOp, Terminate, LandASAP, LandPract.
+    static_assert(kNoOp == 0 && kTerminate == 1 && kLandAsap == 2 && kLandPract == 3);
+    q[decision::CmaStateIndex(s0)] = {-1.0, -5.0, -2.0, 0.5};
+    q[decision::CmaStateIndex(s1)] = {2.0, -5.0, -1.0, 1.0};
+    policy[decision::CmaStateIndex(s0)] = kLandPract;
+    policy[decision::CmaStateIndex(s1)] = kNoOp;
+  }
+  std::vector<ActionIndex> Qmdp(double p_rm0) const {
+    const std::vector<StateBelief> belief = {{s0, p_rm0}, {s1, 1.0 - p_rm0}};
+    const std::vector<ActionIndex> tie_order = {kNoOp, kLandPract, kLandAsap, kTerminate};
+    return QmdpRanking(q, belief, tie_order);
+  }
+};
+
+TEST(QmdpTest, TwoStateBeliefSolvedByHand) {
+  const HandCase c;
+  // p = 0.3: NoOp 1.1, LandPract 0.85, LandASAP −1.3, Terminate −5.
+  EXPECT_EQ(c.Qmdp(0.3), (std::vector<ActionIndex>{kNoOp, kLandPract, kLandAsap, kTerminate}));
+  // p = 0.6: LandPract 0.7, NoOp 0.2, LandASAP −1.6, Terminate −5.
+  EXPECT_EQ(c.Qmdp(0.6), (std::vector<ActionIndex>{kLandPract, kNoOp, kLandAsap, kTerminate}));
+  // The switch at p = 0.4, where NoOp and LandPract both give 0.8.
+  EXPECT_EQ(c.Qmdp(0.399).front(), kNoOp);
+  EXPECT_EQ(c.Qmdp(0.401).front(), kLandPract);
+  EXPECT_NEAR(CmaRiskLevel(c.q, c.policy, c.s0, c.s1), 0.4, 1e-15);
+}
+
+TEST(QmdpTest, OnlyTheFlightStatusActionsAreRanked) {
+  HandCase c;
+  c.s0.fs = c.s1.fs = decision::FlightStatus::kElAsap;  // NoOp and Terminate only (decisions item 3)
+  c.q[decision::CmaStateIndex(c.s0)] = {-1.0, -0.5, 0.0, 0.0};
+  c.q[decision::CmaStateIndex(c.s1)] = {1.0, -0.5, 0.0, 0.0};
+  // b(s0) = 0.8: NoOp −0.6, Terminate −0.5.
+  EXPECT_EQ(c.Qmdp(0.8), (std::vector<ActionIndex>{kTerminate, kNoOp}));
+}
+
+// The inputs of exact sensing in `state`: one-hot beliefs, the RUL that gives its MM.
+DecisionInputs OneHotInputs(const CmaState& state) {
+  DecisionInputs inputs;
+  inputs.state = state;
+  inputs.flight_time_remaining_s = 100.0;
+  inputs.motor_health_belief = {0.0, 0.0, 0.0};
+  inputs.motor_health_belief[static_cast<std::size_t>(state.mh)] = 1.0;
+  inputs.eod_short_probability = state.rm == ReachMargin::kRM0 ? 1.0 : 0.0;
+  inputs.rul_if_spall_s = state.mm == decision::MotorMargin::kMM1 ? 1000.0 : 10.0;
+  return inputs;
+}
+
+// Every state the abstraction can give (NF with MM1, SF with either, JF with MM0).
+bool Reachable(const CmaState& s) {
+  if (s.mh == MotorHealth::kNF) return s.mm == decision::MotorMargin::kMM1;
+  if (s.mh == MotorHealth::kJF) return s.mm == decision::MotorMargin::kMM0;
+  return true;
+}
+
+TEST(BeliefPolicyTest, OneHotBeliefsChooseAsTheCmaTableWithItsRanking) {
+  const PolicyDefinition cma = SolvedCmaPolicyDefinition();
+  RiskCmaPolicy risk;
+  QmdpCmaPolicy qmdp;
+  int checked = 0;
+  for (int fs = 0; fs < 3; ++fs) {
+    for (int mh = 0; mh < 3; ++mh) {
+      for (int mm = 0; mm < 2; ++mm) {
+        for (int bh = 0; bh < 3; ++bh) {
+          for (int rm = 0; rm < 2; ++rm) {
+            const CmaState state{static_cast<decision::FlightStatus>(fs), static_cast<MotorHealth>(mh),
+                                 static_cast<decision::MotorMargin>(mm), static_cast<decision::BatteryHealth>(bh),
+                                 static_cast<ReachMargin>(rm)};
+            if (!Reachable(state)) continue;
+            const DecisionInputs inputs = OneHotInputs(state);
+            const auto index = static_cast<std::size_t>(decision::CmaStateIndex(state));
+            const auto expected = static_cast<CmaAction>(cma.actions[index]);
+            EXPECT_EQ(risk.Decide(inputs), expected) << decision::CmaStateLabel(state);
+            EXPECT_EQ(qmdp.Decide(inputs), expected) << decision::CmaStateLabel(state);
+            const ActionRanking r = qmdp.Ranking(inputs);
+            EXPECT_EQ(std::vector<ActionIndex>(r.begin(), r.end()), cma.ranking[index])
+                << decision::CmaStateLabel(state);
+            const ActionRanking rr = risk.Ranking(inputs);
+            EXPECT_EQ(std::vector<ActionIndex>(rr.begin(), rr.end()), cma.ranking[index]);
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(checked, 3 * 3 * 2 * 4);  // (NF: 1 MM, SF: 2, JF: 1) × 3 FS × 3 BH × 2 RM
+}
+
+TEST(BeliefPolicyTest, StateBeliefIsTheProductOfTheMotorAndReachBeliefs) {
+  DecisionInputs inputs = OneHotInputs(CmaState{});
+  inputs.motor_health_belief = {0.7, 0.2, 0.1};
+  inputs.eod_short_probability = 0.25;
+  inputs.rul_if_spall_s = 50.0;  // shorter than the 100 s left: the SF states are MM0
+  const std::vector<StateBelief> belief = CmaStateBelief(inputs);
+  ASSERT_EQ(belief.size(), 6u);
+  double total = 0.0;
+  for (const StateBelief& b : belief) total += b.probability;
+  EXPECT_NEAR(total, 1.0, 1e-15);
+  EXPECT_EQ(belief[0].state.rm, ReachMargin::kRM0);
+  EXPECT_NEAR(belief[0].probability, 0.7 * 0.25, 1e-15);
+  EXPECT_EQ(belief[2].state.mh, MotorHealth::kSF);
+  EXPECT_EQ(belief[2].state.mm, decision::MotorMargin::kMM0);
+  EXPECT_EQ(belief[4].state.mm, decision::MotorMargin::kMM0);  // JF
+  EXPECT_EQ(belief[0].state.mm, decision::MotorMargin::kMM1);  // NF
+  EXPECT_EQ(MapMotorHealth(inputs.motor_health_belief), MotorHealth::kNF);
+  EXPECT_EQ(MapMotorHealth({0.3, 0.3, 0.4}), MotorHealth::kJF);
+}
+
+TEST(BeliefPolicyTest, ResolvedByNameAndStoredWithTheirKind) {
+  for (const char* name : {"cma-risk", "cma-qmdp"}) {
+    const PolicyDefinition policy = ResolvePolicy(name, "test");
+    EXPECT_EQ(policy.kind, name);
+    EXPECT_NE(policy.hash, SolvedCmaPolicyDefinition().hash);
+    const PolicyDefinition stored =
+        MakeStoredPolicy(policy.name, policy.kind, policy.source, PolicyActionsJson(policy), "store");
+    EXPECT_EQ(stored.hash, policy.hash);
+    EXPECT_EQ(MakeDecisionPolicy(stored)->name(), name);
+  }
+}
+
+// Exact sensing: a flight under either policy is the "cma" flight (Scenario I's fault, a poor pack).
+TEST(BeliefPolicyTest, WithoutNoiseTheFlightsAreTheCmaFlight) {
+  Scenario scenario;
+  scenario.name = "belief";
+  scenario.mission.destination_NE = Eigen::Vector2d(300, 200);
+  scenario.fault.enabled = true;
+  scenario.fault.motor = 3;
+  scenario.fault.spall_onset_s = 40.0;
+  scenario.fault.time_per_growth_step_s = 0.7128;
+  scenario.seed = 3;
+  const Simulator simulator(scenario);
+  const SimResult cma = simulator.Run(*MakePolicy("cma", "test"));
+  for (const char* name : {"cma-risk", "cma-qmdp"}) {
+    const SimResult other = simulator.Run(*MakePolicy(name, "test"));
+    EXPECT_EQ(other.outcome, cma.outcome) << name;
+    EXPECT_EQ(other.sim_time_s, cma.sim_time_s) << name;
+    EXPECT_EQ(other.energy_wh, cma.energy_wh) << name;
+    EXPECT_EQ(other.actions, cma.actions) << name;
+  }
+}
+
+}  // namespace
+}  // namespace uascma::sim
