@@ -94,6 +94,7 @@ void CountUnnecessaryLandings(const std::vector<RunRecord>& records, std::vector
     for (const RunRecord& r : records) {
       if (r.policy == g.policy && InHealthGroup(r, g.battery_health) && IsUnnecessaryLanding(r, noop)) {
         ++g.unnecessary_landings;
+        g.unnecessary_landings_fault_free += r.fault ? 0 : 1;
       }
     }
     g.unnecessary_landing_rate = EstimateRate(g.unnecessary_landings, g.runs);
@@ -381,6 +382,8 @@ nlohmann::json GroupJson(const GroupStatistics& g) {
       {"substitutions", g.substitutions},
       {"other_outcomes", g.others},
       {"unnecessary_landings", g.has_noop_twin ? nlohmann::json(g.unnecessary_landings) : nlohmann::json()},
+      {"unnecessary_landings_fault_free",
+       g.has_noop_twin ? nlohmann::json(g.unnecessary_landings_fault_free) : nlohmann::json()},
       {"unnecessary_landing_rate",
        g.has_noop_twin ? StatisticsJsonNumber(g.unnecessary_landing_rate.value) : nlohmann::json()},
       {"failure_rate", StatisticsJsonNumber(g.failure_rate.value)},
@@ -566,10 +569,12 @@ std::string UnnecessaryLandingsTable(const std::vector<GroupStatistics>& groups,
                                      const std::vector<PairedComparison>& comparisons) {
   if (groups.empty() || !groups.front().has_noop_twin) return "";
   std::string out =
-      "\nUnnecessary landings: an emergency landing in a run whose NoOp flight completed with t_sf of hover left\n";
+      "\nUnnecessary landings: an emergency landing in a run whose NoOp flight completed with t_sf of hover left\n"
+      "(of them, in runs without a motor fault: for the battery, or a spall alarm with no spall)\n";
   for (const GroupStatistics& g : groups) {
-    out += fmt::format("  {:<10} {:<3} {:>5} of {:>5} ({} %)\n", g.policy, g.battery_health, g.unnecessary_landings,
-                       g.runs, Percent(g.unnecessary_landing_rate));
+    out += fmt::format("  {:<10} {:<3} {:>5} of {:>5} ({} %), {:>5} without a fault\n", g.policy, g.battery_health,
+                       g.unnecessary_landings, g.runs, Percent(g.unnecessary_landing_rate),
+                       g.unnecessary_landings_fault_free);
   }
   out += "Paired (McNemar): b = only the first landed unnecessarily, c = only the second\n";
   for (const PairedComparison& c : comparisons) {

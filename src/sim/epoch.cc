@@ -455,8 +455,9 @@ const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, B
 void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction action) {
   if (action == CmaAction::kNoOp || state.decision.eod_at_first_action) return;
   DecisionInputs& inputs = state.decision.inputs;
-  if (!inputs.has_eod_distribution) {
-    ObserveEodDistribution(model, state, inputs);
+  if (!inputs.has_eod_distribution) {  // the pack the epoch's EOD was computed from (Observe)
+    ObserveEodDistribution(model, state, inputs,
+                           model.options().noisy_sensing ? SensedPack(model, state) : state.power.pack);
     inputs.has_eod_distribution = true;
   }
   state.decision.eod_at_first_action = EodAtAction{inputs.time_s,    inputs.eod_s,     inputs.eod_p05_s,

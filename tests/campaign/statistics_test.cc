@@ -311,6 +311,7 @@ TEST(StatisticsTest, UnnecessaryLandingsAreLandingsWhoseNoOpTwinCompletedWithThe
                         Paired(run, "risk", "P", risk[run])}) {
       r.safety_margin_s = 60.0;
       r.end_reserve_s = r.policy == "noop" ? reserve[run] : 0.0;
+      r.fault = run == 3;  // a spalled motor in run 3
       records.push_back(r);
     }
   }
@@ -329,6 +330,7 @@ TEST(StatisticsTest, UnnecessaryLandingsAreLandingsWhoseNoOpTwinCompletedWithThe
   };
   EXPECT_TRUE(group("cma", "P").has_noop_twin);
   EXPECT_EQ(group("cma", "P").unnecessary_landings, 2);
+  EXPECT_EQ(group("cma", "P").unnecessary_landings_fault_free, 1);  // run 0
   EXPECT_NEAR(group("cma", "P").unnecessary_landing_rate.value, 0.5, kTolerance);
   EXPECT_EQ(group("risk", "all").unnecessary_landings, 0);
   EXPECT_EQ(group("noop", "P").unnecessary_landings, 0);

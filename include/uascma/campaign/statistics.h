@@ -105,6 +105,10 @@ struct GroupStatistics {
   // Unnecessary landings (CountUnnecessaryLandings): counted only when the campaign flew the NoOp policy.
   bool has_noop_twin = false;
   std::int64_t unnecessary_landings = 0;
+  // Those of them in runs without a motor fault (RunRecord::fault false): a landing for a battery the flight did not
+  // need to fear, or for a spall alarm with no spall; the rest follow a real spall or jam (the policy's choice for
+  // its motor-health state, which the NoOp flight survived).
+  std::int64_t unnecessary_landings_fault_free = 0;
   Estimate unnecessary_landing_rate;
 };
 
