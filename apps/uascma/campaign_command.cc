@@ -177,9 +177,11 @@ void AddCampaignCommand(CLI::App& app) {
                       "Campaign YAML file (default: the dissertation's settings; see examples/campaign.yaml)");
   AddBoundedOption(command, "--runs", options->runs,
                    "Sampled scenarios, each flown by every policy (default: the file's runs, else 465)", bounds::kRuns);
-  command->add_option("--policies", options->policies,
-                      "Comma-separated: cma (solved at start, default weights), noop, or policy JSON files\n(default: "
-                      "the file's policies, else cma,noop)");
+  command->add_option(
+      "--policies", options->policies,
+      "Comma-separated: cma (solved at start, default weights), noop, cma-risk, cma-qmdp (on beliefs),\nor "
+      "policy JSON files (default: "
+      "the file's policies, else cma,noop)");
   AddSeedOption(command, "--seed", options->seed, "Campaign seed (default: the file's seed, else 1)");
   command
       ->add_option("--db", options->db,
