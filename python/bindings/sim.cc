@@ -197,6 +197,9 @@ py::dict TelemetryArrays(const SimResult& result) {
   d["eod_p50_s"] = column([](const TelemetryRow& r) { return r.eod_p50_s; });
   d["eod_p95_s"] = column([](const TelemetryRow& r) { return r.eod_p95_s; });
   d["eod_short_probability"] = column([](const TelemetryRow& r) { return r.eod_short_probability; });
+  // b(NF, SF, JF) per row (issue 29): one-hot under exact sensing.
+  d["motor_health_belief"] = columns(
+      3, [](const TelemetryRow& r, py::ssize_t j) { return r.motor_health_belief[static_cast<std::size_t>(j)]; });
   d["cma_state"] = codes([](const TelemetryRow& r) { return r.cma_state; });
   d["action"] = codes([](const TelemetryRow& r) { return r.action; });
   d["imm_mode"] = codes([](const TelemetryRow& r) { return r.imm_mode; });

@@ -268,6 +268,7 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   row.eod_p50_s = inputs.eod_p50_s;
   row.eod_p95_s = inputs.eod_p95_s;
   row.eod_short_probability = inputs.eod_short_probability;
+  row.motor_health_belief = inputs.motor_health_belief;
   row.motor_margin = inputs.motor_margin;
   row.cma_state = decision::CmaStateIndex(inputs.state);
   row.action = state.decision.last_action ? static_cast<int>(*state.decision.last_action) : 0;

@@ -23,7 +23,7 @@ std::string TelemetryCsv(const SimResult& result) {
     for (int c = 1; c <= 3; ++c) out += fmt::format(",cell_p{}c{}_v", b, c);
   }
   out += ",eod_s,flight_time_remaining_s,rul_s,reach_margin,motor_margin,cma_state,action,imm_mode,spall_area_mm2";
-  out += ",eod_p05_s,eod_p50_s,eod_p95_s,eod_short_probability\n";
+  out += ",eod_p05_s,eod_p50_s,eod_p95_s,eod_short_probability,belief_nf,belief_sf,belief_jf\n";
   // Names, not codes: the CMA state label (quoted, it holds commas), the action name and the IMM mode.
   const decision::FactoredMdpBuilder cma_model = decision::MakeCmaFactoredModel();
   std::vector<std::string> state_labels;
@@ -54,8 +54,9 @@ std::string TelemetryCsv(const SimResult& result) {
                        r.reach_margin, r.motor_margin, state_label(r.cma_state),
                        decision::CmaActionName(static_cast<decision::CmaAction>(r.action)), imm_mode_name(r.imm_mode),
                        r.spall_area_mm2);
-    out +=
-        fmt::format(",{:.3f},{:.3f},{:.3f},{:.5f}\n", r.eod_p05_s, r.eod_p50_s, r.eod_p95_s, r.eod_short_probability);
+    out += fmt::format(",{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.5f},{:.5f}\n", r.eod_p05_s, r.eod_p50_s, r.eod_p95_s,
+                       r.eod_short_probability, r.motor_health_belief[0], r.motor_health_belief[1],
+                       r.motor_health_belief[2]);
   }
   return out;
 }

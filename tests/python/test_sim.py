@@ -210,8 +210,12 @@ def test_policies_on_beliefs_under_noisy_sensing(tmp_path):
         beliefs.append((inputs.time_s, tuple(inputs.motor_health_belief), inputs.eod_short_probability))
         return "NoOp"
 
-    uascma.run(str(noisy_path), record, telemetry=False)
+    flight = uascma.run(str(noisy_path), record)
     assert all(abs(sum(b) - 1.0) < 1e-12 for _, b, _ in beliefs)
+    # The telemetry carries the same belief, one row per GNC step (it changes at the 1 Hz epochs).
+    belief = flight.telemetry()["motor_health_belief"]
+    assert belief.shape[1] == 3 and abs(belief.sum(axis=1) - 1.0).max() < 1e-12
+    assert belief[:, 1:].sum(axis=1).max() == max(b[1] + b[2] for _, b, _ in beliefs)
     assert all(0.0 <= p <= 1.0 for _, _, p in beliefs)
     # The spall starts at 60 s: the belief in SF or JF rises above the prior afterwards.
     assert max(b[1] + b[2] for t, b, _ in beliefs if t > 60.0) > 0.5

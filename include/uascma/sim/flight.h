@@ -333,6 +333,7 @@ struct TelemetryRow {
   std::array<double, 6> cell_voltage{};
   double eod_s = 0, flight_time_remaining_s = 0, rul_s = 0, reach_margin = 0, motor_margin = 0;
   double eod_p05_s = 0, eod_p50_s = 0, eod_p95_s = 0, eod_short_probability = 0;  // DecisionInputs' distribution
+  std::array<double, 3> motor_health_belief{1.0, 0.0, 0.0};  // b(NF, SF, JF), DecisionInputs' (one-hot when exact)
   int cma_state = 0, action = 0, imm_mode = 0;
   double spall_area_mm2 = 0;
 };
