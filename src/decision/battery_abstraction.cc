@@ -83,30 +83,14 @@ BatteryObservation ObserveBattery(const models::BatteryPack& pack, const models:
   return observation;
 }
 
-namespace {
-
-// The current at which `alone` carries `power_w` on its own bus (I·V(I) = P); +inf when it cannot.
-double CurrentAtPower(const models::BatteryPack& pack, const models::PackState& alone, double power_w, double start_a) {
-  double current_a = start_a;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    const double bus_v = pack.CalcSplit(alone, current_a).bus_voltage_v;
-    if (!(bus_v > 0.0)) break;
-    const double next_a = power_w / bus_v;
-    if (std::abs(next_a - current_a) < 1e-9) return next_a;
-    current_a = next_a;
-  }
-  return std::numeric_limits<double>::infinity();
-}
-
-}  // namespace
-
 void ObserveAloneAtPower(const models::BatteryPack& pack, const models::PackState& state, double total_current_a,
                          BatteryObservation& observation, const prognostics::EodOptions& eod_options) {
   const double power_w = total_current_a * pack.CalcSplit(state, total_current_a).bus_voltage_v;
   for (int j = 0; j < models::kBranchCount; ++j) {
     models::PackState alone = state;
     alone.branch_on = {j == 0, j == 1};
-    const double current_a = CurrentAtPower(pack, alone, power_w, total_current_a);
+    // The current at which `alone` carries the power on its own bus (I·V(I) = P); +inf when it cannot.
+    const double current_a = pack.CalcCurrentAtPower(alone, power_w, total_current_a);
     observation.alone_power_current_a[j] = current_a;
     if (!std::isfinite(current_a)) {
       observation.alone_power_eod_s[j] = 0.0;

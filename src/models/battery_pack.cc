@@ -177,6 +177,19 @@ BranchSplit BatteryPack::CalcSplit(const PackState& state, double total_current_
                          total_current_a);
 }
 
+double BatteryPack::CalcCurrentAtPower(const PackState& state, double power_w, double start_a,
+                                       double constant_a) const {
+  double current_a = start_a;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const double bus_v = CalcSplit(state, current_a).bus_voltage_v;
+    if (!(bus_v > 0.0)) break;
+    const double next_a = power_w / bus_v + constant_a;
+    if (std::abs(next_a - current_a) < 1e-9) return next_a;
+    current_a = next_a;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 PackOutputs BatteryPack::CalcOutputs(const PackState& state, double total_current_a) const {
   // OCV(z) of every cell, once: the split (eqs. 3.4–3.6) and the terminal voltages (eq. 3.3) share it.
   PerCell<double> ocv_v;

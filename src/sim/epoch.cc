@@ -22,6 +22,7 @@ namespace uascma::sim {
 namespace {
 
 using decision::CmaAction;
+using internal::ActiveRotors;
 using internal::AddEvent;
 using internal::ThrustCap;
 
@@ -32,11 +33,6 @@ constexpr double kBrakingSpeed = 0.5;
 void AddAction(FlightState& state, FlightLog* log, CmaAction action) {
   state.decision.last_action = action;
   if (log) log->actions.emplace_back(state.time_s, action);
-}
-
-// Rotors the allocation flies: six, or four after the failure rule (decisions item 13).
-int ActiveRotors(const FlightState& state) {
-  return state.faults.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
 }
 
 // A new executing plan: the forecast's profile is rebuilt at the next epoch (its bias ratio carries on).

@@ -1,5 +1,6 @@
 #pragma once
-// What the GNC step (flight.cc) and the decision epoch (epoch.cc) of the kernel share; not part of the API.
+// What the GNC step (flight.cc), the decision epoch (epoch.cc) and the result (simulator.cc) of the kernel share; not
+// part of the API.
 #include <algorithm>
 #include <string>
 #include <utility>
@@ -16,6 +17,11 @@ inline void AddEvent(FlightLog* log, double time_s, std::string what) {
 inline double ThrustCap(const FlightModel& model, double bus_voltage_v) {
   const double voltage_ratio = std::min(1.0, bus_voltage_v / model.options().reference_bus_voltage_v);
   return model.propulsion().max_thrust * voltage_ratio * voltage_ratio;
+}
+
+// Rotors the allocation flies: six, or four after the failure rule (decisions item 13).
+inline int ActiveRotors(const FlightState& state) {
+  return state.faults.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
 }
 
 }  // namespace uascma::sim::internal

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "flight_internal.h"
 #include "uascma/common/error.h"
 #include "uascma/sim/branching.h"
 
@@ -13,28 +14,15 @@ namespace uascma::sim {
 namespace {
 
 // s: how long the true pack, as the flight left it, could still hover the vehicle (its EOD at the steady hover current
-// of the rotors that fly: six, or four after an isolation, decisions item 13, in the mean wind, plus the hotel load).
-// The current solves I = P_hover / V_bus(I) + I_hotel by fixed-point iteration from the bus voltage at rest, a
-// contraction by (dV/dI)·I/V (the pack's resistance against its load resistance, small); iterated to 1e-6 A.
-// What the report's unnecessary landings compare with t_sf (campaign/statistics.h).
+// of the rotors that fly: six, or four after an isolation, decisions item 13, in the mean wind, plus the hotel load:
+// I = P_hover / V_bus(I) + I_hotel). What the report's unnecessary landings compare with t_sf
+// (campaign/statistics.h). 0 when the bus cannot carry the hover (no pack on, or past its power).
 double EndReserveS(const FlightModel& model, const FlightState& state) {
-  if (!std::any_of(state.power.pack.branch_on.begin(), state.power.pack.branch_on.end(), [](bool on) { return on; })) {
-    return 0.0;
-  }
-  const int rotors =
-      state.faults.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
-  const double power_w =
-      CalcSteadyRotorPower(model.steady_load(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), rotors);
-  double current_a = 0.0;
-  for (int iteration = 0; iteration < 50; ++iteration) {
-    const double bus_v = model.pack().CalcOutputs(state.power.pack, current_a).split.bus_voltage_v;
-    if (!(bus_v > 0.0)) return 0.0;
-    const double next_a = power_w / bus_v + model.options().hotel_current_a;
-    const bool converged = std::abs(next_a - current_a) < 1e-6;
-    current_a = next_a;
-    if (converged) break;
-  }
-  return prognostics::CalcPackEod(model.pack(), state.power.pack, current_a).eod_s;
+  const double power_w = CalcSteadyRotorPower(model.steady_load(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                              internal::ActiveRotors(state));
+  const double current_a =
+      model.pack().CalcCurrentAtPower(state.power.pack, power_w, 0.0, model.options().hotel_current_a);
+  return std::isfinite(current_a) ? prognostics::CalcPackEod(model.pack(), state.power.pack, current_a).eod_s : 0.0;
 }
 
 }  // namespace

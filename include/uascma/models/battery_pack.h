@@ -148,6 +148,10 @@ class BatteryPack {
 
   BranchSplit CalcSplit(const PackState& state, double total_current_a) const;
   PackOutputs CalcOutputs(const PackState& state, double total_current_a) const;
+  // The total current (A) at which the switched-on branches deliver `power_w` to the bus on top of a constant
+  // `constant_a`: the fixed point I = P / V_bus(I) + constant_a iterated from `start_a` until two iterates agree to
+  // 1e-9 A; +inf when the bus cannot carry it (a bus voltage <= 0, or no agreement within 100 iterations).
+  double CalcCurrentAtPower(const PackState& state, double power_w, double start_a, double constant_a = 0.0) const;
   // Every cell advanced exactly over dt_s with its branch current held constant (split at the start of
   // the step). Cells of a switched-off or blocked branch rest (i = 0).
   PackState Step(const PackState& state, double total_current_a, double dt_s) const;
