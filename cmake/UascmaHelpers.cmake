@@ -20,11 +20,21 @@ function(uascma_library name)
   target_link_libraries(${target} PUBLIC ${ARG_DEPS})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
   uascma_use_pch(${target})  # UascmaPch.cmake
+  if(UASCMA_LTO_ACTIVE AND name IN_LIST UASCMA_LTO_MODULES)  # CMakeLists.txt, UASCMA_LTO
+    target_compile_options(${target} PRIVATE -flto=auto -ffat-lto-objects)
+  endif()
   if(UASCMA_UNITY)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
   endif()
   install(TARGETS ${target} EXPORT uascmaTargets ARCHIVE DESTINATION lib)
   set(UASCMA_MODULES ${UASCMA_MODULES} ${target} CACHE INTERNAL "uascma module libraries")
+endfunction()
+
+# Links `target` (an executable) with link-time optimisation when UASCMA_LTO is active (CMakeLists.txt).
+function(uascma_link_optimised target)
+  if(UASCMA_LTO_ACTIVE)
+    target_link_options(${target} PRIVATE -flto=auto)
+  endif()
 endfunction()
 
 function(uascma_test name)
