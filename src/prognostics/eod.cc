@@ -84,7 +84,7 @@ inline RcAt MakeRcAt(double a, const CurrentLaw& law, double t) {
 // One discharging cell: its model constants, its state at the start of the present segment and the OCV
 // segment it is in.
 struct Lane {
-  const SelfCorrectingCell* cell = nullptr;  // not owned
+  const models::OcvTable* ocv = nullptr;  // not owned
   CellState state;
   int branch = 0;
   int index = 0;
@@ -101,17 +101,24 @@ struct Lane {
   double segment_start_ocv_v = 0.0;        // OCV at that breakpoint
 };
 
-Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch, int index) {
+// As battery_cell.cc converts the capacity: Q = capacity_ah · 3600 s/h.
+constexpr double kSecondsPerHour = 3600.0;
+
+// `scaling` gives the R0 and Q of the cell a pack rebuilt with scaled CellParams would hold, the same
+// products in the same order: R0 · f₀ · f₁ (a factor 1 is exact) and (capacity_ah · f) · 3600.
+Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch, int index,
+              const eod_internal::CellScaling& scaling = {}) {
   Lane lane;
-  lane.cell = &cell;
+  lane.ocv = &cell.ocv();
   lane.state = state;
   lane.branch = branch;
   lane.index = index;
   const auto& p = cell.params();
-  lane.eta_per_as = p.eta_discharge / cell.capacity_as();
-  lane.charge_per_soc_as = cell.capacity_as() / p.eta_discharge;
-  lane.hysteresis_per_as = p.eta_discharge * p.hysteresis_gamma / cell.capacity_as();
-  lane.r0_ohm = p.r0_ohm;
+  const double capacity_as = p.capacity_ah * scaling.capacity_factor * kSecondsPerHour;
+  lane.eta_per_as = p.eta_discharge / capacity_as;
+  lane.charge_per_soc_as = capacity_as / p.eta_discharge;
+  lane.hysteresis_per_as = p.eta_discharge * p.hysteresis_gamma / capacity_as;
+  lane.r0_ohm = p.r0_ohm * scaling.r0_factors[0] * scaling.r0_factors[1];
   lane.m_v = p.hysteresis_m_v;
   lane.m0_v = p.hysteresis_m0_v;
   lane.rc_count = p.rc_pair_count;
@@ -123,7 +130,7 @@ Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch
 }
 
 void UpdateSegment(Lane& lane) {
-  const auto& ocv = lane.cell->ocv();
+  const auto& ocv = *lane.ocv;
   lane.segment = ocv.SegmentForDischarge(lane.state.soc_fraction);
   lane.slope_v = ocv.segment_slope_v(lane.segment);
   lane.segment_start_soc = ocv.segment_start_soc(lane.segment);
@@ -367,15 +374,27 @@ EodResult Reached(EodStatus status, double eod_s, const Lane* lane, int segments
   return result;
 }
 
+// Eq. 3.3 as SelfCorrectingCell::CalcTerminalVoltage computes it (the same operations in the same order; the
+// lane's rc_ohm is 0 beyond its pairs, as the cell's), from the lane's R0, which may be scaled.
+double LaneTerminalVoltage(const Lane& lane, double current_a, double ocv_v) {
+  const double s = current_a > 0.0 ? -1.0 : (current_a < 0.0 ? 1.0 : lane.state.hysteresis_sign);
+  double v = ocv_v + lane.m0_v * s + lane.m_v * lane.state.hysteresis - lane.r0_ohm * current_a;
+  for (int j = 0; j < kMaxRcPairs; ++j) v -= lane.rc_ohm[j] * lane.state.rc_current_a[j];
+  return v;
+}
+
 // The present: the voltages with the present split (eqs. 3.4–3.5), the stored state, s = −sgn(i). A result
 // when the EOD is decided before any propagation (no branch, already below the cut-off, no discharge).
 std::optional<EodResult> CheckPresent(const Problem& problem, double total_current_a, const EodOptions& options) {
   if (!problem.on[0] && !problem.on[1]) return Reached(EodStatus::kNoBranchConnected, 0.0, nullptr, 0, 0);
+  // OCV(z) on the lane's segment (UpdateSegment has found it): OcvTable::CalcVoltage's own expression.
+  std::array<double, kMaxLanes> lane_ocv{};
   PerBranch<double> ocv_now{};
   for (int b = 0; b < kBranchCount; ++b) {
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
       const Lane& lane = problem.lanes[l];
-      ocv_now[b] += lane.cell->ocv().CalcVoltage(lane.state.soc_fraction);
+      lane_ocv[l] = lane.ocv->CalcVoltageOnSegment(lane.segment, lane.state.soc_fraction);
+      ocv_now[b] += lane_ocv[l];
     }
   }
   const models::BranchSplit split_now =
@@ -387,7 +406,7 @@ std::optional<EodResult> CheckPresent(const Problem& problem, double total_curre
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
       const Lane& lane = problem.lanes[l];
       const double current = total_current_a > 0.0 ? split_now.current_a[b] : total_current_a;
-      const double v = lane.cell->CalcTerminalVoltage(lane.state, current);
+      const double v = LaneTerminalVoltage(lane, current, lane_ocv[l]);
       if (v < lowest_v) {
         lowest_v = v;
         lowest = &lane;
@@ -558,10 +577,10 @@ void AdvanceLanes(Problem& problem, const Segment& segment, const std::array<Eva
 }
 
 EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& options) {
+  for (int l = 0; l < problem.lane_count; ++l) UpdateSegment(problem.lanes[l]);  // CheckPresent reads the segment
   if (const std::optional<EodResult> decided = CheckPresent(problem, total_current_a, options)) return *decided;
   const double current = total_current_a;
   const double negligible_a = 1e-9 * std::max(current, 1.0);
-  for (int l = 0; l < problem.lane_count; ++l) UpdateSegment(problem.lanes[l]);
   double t = 0.0;
   int evaluations = 0;
   for (int segment_count = 0;; ++segment_count) {
@@ -621,5 +640,34 @@ EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double to
   }
   return Propagate(problem, total_current_a, options);
 }
+
+namespace eod_internal {
+
+std::optional<EodResult> CalcScaledPackEod(const BatteryPack& pack, const PackState& state, double total_current_a,
+                                           const CellScaling& scaling, const EodOptions& options) {
+  RequireValid(options);
+  if (!(total_current_a >= 0.0 && std::isfinite(total_current_a))) {
+    throw InputError("EOD", "total current", fmt::format("a finite discharge current >= 0 A, got {}", total_current_a));
+  }
+  auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };  // CellParams::IsValid's test
+  Problem problem;
+  for (int b = 0; b < kBranchCount; ++b) {
+    problem.lane_begin[b] = problem.lane_count;
+    problem.r0_ohm[b] = 0.0;  // eq. 3.7, summed as BatteryPack's constructor sums it
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const Lane lane = MakeLane(pack.cell(b, c), state.cells[b][c], b, c, scaling);
+      if (!positive(lane.r0_ohm) || !positive(pack.cell(b, c).params().capacity_ah * scaling.capacity_factor)) {
+        return std::nullopt;
+      }
+      problem.AddLane(lane);
+      problem.r0_ohm[b] += lane.r0_ohm;
+    }
+    problem.lane_end[b] = problem.lane_count;
+    problem.on[b] = state.branch_on[b];
+  }
+  return Propagate(problem, total_current_a, options);
+}
+
+}  // namespace eod_internal
 
 }  // namespace uascma::prognostics
