@@ -151,8 +151,19 @@ struct Eval {
   std::array<double, kMaxRcPairs> rc_current_a;
 };
 
-// `rc[lane.rc_slot[j]]` holds the RcAt of the lane's pair j at at.t.
-inline void Evaluate(const Lane& lane, const CurrentLaw& law, const BranchAt& at, const RcAt* rc, Eval* e) {
+// (e^{−qt} − e^{−at}) / (a − q) for the RC rate a under the law (rc: MakeRcAt(a, law, at.t)): taken directly unless
+// |a − q| t < 1e-4 (the difference of the exponentials then keeps at least 12 digits), else as
+// e^{−min(a,q) t} · t · Phi1(|a − q| t), free of cancellation.
+inline double RcQuotient(double a, const CurrentLaw& law, const BranchAt& at, const RcAt& rc) {
+  const double gap = a - law.rate_per_s;
+  return std::abs(gap) * at.t > 1e-4 ? (at.e_rate - rc.decay) * rc.inverse_gap_s
+                                     : (gap > 0.0 ? at.e_rate : rc.decay) * at.t * Phi1(std::abs(gap) * at.t);
+}
+
+// `rc[lane.rc_slot[j]]` holds the RcAt of the lane's pair j at at.t; `quotients[lane.rc_slot[j]]`, when given, its
+// RcQuotient (a function of the rate, q, t and e^{−qt} only).
+inline void Evaluate(const Lane& lane, const CurrentLaw& law, const BranchAt& at, const RcAt* rc, Eval* e,
+                     const double* quotients = nullptr) {
   e->t = at.t;
   e->current_a = at.current_a;
   e->e_rate = at.e_rate;
@@ -168,18 +179,12 @@ inline void Evaluate(const Lane& lane, const CurrentLaw& law, const BranchAt& at
   double v = e->v_rest - lane.r0_ohm * e->current_a;
   // di_R/dt = a (i − i_R), a = 1/(R C), driven by mean + delta e^{−qt}:
   //   i_R = mean + (i_R0 − mean) e^{−at} + delta a (e^{−qt} − e^{−at}) / (a − q).
-  // The last quotient is taken directly unless |a − q| t < 1e-4 (the difference of the exponentials then
-  // keeps at least 12 digits), else as e^{−min(a,q) t} · t · Phi1(|a − q| t), free of cancellation.
   for (int j = 0; j < lane.rc_count; ++j) {
     const double a = lane.rc_rate_per_s[j];
-    const RcAt& rc_j = rc[lane.rc_slot[j]];
-    const double e_a = rc_j.decay;
-    double i_r = law.mean_a + (lane.state.rc_current_a[j] - law.mean_a) * e_a;
+    const int slot = lane.rc_slot[j];
+    double i_r = law.mean_a + (lane.state.rc_current_a[j] - law.mean_a) * rc[slot].decay;
     if (law.delta_a != 0.0) {
-      const double gap = a - law.rate_per_s;
-      const double quotient = std::abs(gap) * at.t > 1e-4
-                                  ? (at.e_rate - e_a) * rc_j.inverse_gap_s
-                                  : (gap > 0.0 ? at.e_rate : e_a) * at.t * Phi1(std::abs(gap) * at.t);
+      const double quotient = quotients != nullptr ? quotients[slot] : RcQuotient(a, law, at, rc[slot]);
       i_r += law.delta_a * a * quotient;
     }
     e->rc_current_a[j] = i_r;
@@ -400,12 +405,19 @@ struct BranchSums {
   PerBranch<double> ocv_v{}, k{};
   PerBranch<double> charge_to_breakpoint = {kNone, kNone};
 
+  // The lane's OCV and charge to its breakpoint (K changes only with a lane's segment: SumK).
   void Add(int b, const Lane& lane) {
     ocv_v[b] += lane.ocv_v;
-    k[b] += lane.slope_v * lane.eta_per_as;
     if (lane.segment == 0) return;  // the lowest line extends below the table
     charge_to_breakpoint[b] =
         std::min(charge_to_breakpoint[b], (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
+  }
+
+  void SumK(const Problem& problem, int b) {
+    k[b] = 0.0;
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      k[b] += problem.lanes[l].slope_v * problem.lanes[l].eta_per_as;
+    }
   }
 };
 
@@ -502,8 +514,9 @@ struct Crossing {
   const Lane* limiting = nullptr;
 };
 
-// The lane to the state `e` at its segment's end; on (or past) its lower breakpoint, onto the segment below.
-void AdvanceLane(Lane& lane, const Eval& e) {
+// The lane to the state `e` at its segment's end; on (or past) its lower breakpoint, onto the segment below
+// (then true).
+bool AdvanceLane(Lane& lane, const Eval& e) {
   lane.state.soc_fraction = e.soc;
   lane.state.hysteresis = e.hysteresis;
   lane.state.hysteresis_sign = -1.0;
@@ -517,23 +530,36 @@ void AdvanceLane(Lane& lane, const Eval& e) {
     lane.state.soc_fraction = std::min(lane.state.soc_fraction, lane.segment_start_soc);
     UpdateSegment(lane, lane.segment);
     lane.ocv_v = LaneOcv(lane, lane.state.soc_fraction);
+    return true;
   }
+  return false;
 }
 
 // In one pass over the switched-on lanes: the first cut-off crossing of any conducting lane inside [0, duration]
 // (each searched from its state at the segment's start), every lane to the segment's end (a lane blocked by its
-// diode rests: its RC currents relax) and the sums the next segment starts from. The RC terms are computed once
-// per distinct rate. When a crossing is found the lanes' new states are not used.
+// diode rests: its RC currents relax) and the sums the next segment starts from (`next` holds the present K). The RC
+// terms are computed once per distinct rate. When a crossing is found the lanes' new states are not used.
 Crossing CrossOrAdvance(Problem& problem, Segment& segment, const EodOptions& options, BranchSums& next,
                         int& evaluations) {
   std::array<RcAt, kMaxRates> rc_at;
   const CurrentLaw& shared_law = segment.conducting[0] ? segment.law[0] : segment.law[1];  // the laws share q
   for (int r = 0; r < problem.rate_count; ++r) rc_at[r] = MakeRcAt(problem.rates[r], shared_law, segment.duration);
   EndBranches(segment);
+  // Each rate's RcQuotient, once for the branches with a transient (delta ≠ 0): when both have one they share q, t
+  // and e^{−qt} (EndBranches' one expm1, or 1 at t = 0), hence the quotient.
+  std::array<double, kMaxRates> quotients;
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!segment.conducting[b] || segment.law[b].delta_a == 0.0) continue;
+    for (int r = 0; r < problem.rate_count; ++r) {
+      quotients[r] = RcQuotient(problem.rates[r], segment.law[b], segment.branch_end[b], rc_at[r]);
+    }
+    break;
+  }
   Crossing crossing;
   for (int b = 0; b < kBranchCount; ++b) {
     if (!problem.on[b]) continue;
     const CurrentLaw& law = segment.law[b];
+    bool moved = false;  // some lane onto another OCV segment: K_b changes
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
       Lane& lane = problem.lanes[l];
       if (!segment.conducting[b]) {  // e^{−a t} of MakeRcAt is the relaxation factor
@@ -542,7 +568,7 @@ Crossing CrossOrAdvance(Problem& problem, Segment& segment, const EodOptions& op
         continue;
       }
       Eval end;
-      Evaluate(lane, law, segment.branch_end[b], rc_at.data(), &end);
+      Evaluate(lane, law, segment.branch_end[b], rc_at.data(), &end, quotients.data());
       // Most segments end far above the cut-off: the lower bound over the whole segment settles it.
       const double start_current = law.mean_a + law.delta_a;
       if (LowerBound(lane, start_current, lane.state.rc_current_a.data(), end) <= options.cutoff_v) {
@@ -556,9 +582,10 @@ Crossing CrossOrAdvance(Problem& problem, Segment& segment, const EodOptions& op
           crossing.limiting = &lane;
         }
       }
-      AdvanceLane(lane, end);
+      moved = AdvanceLane(lane, end) || moved;
       next.Add(b, lane);
     }
+    if (moved) next.SumK(problem, b);
   }
   return crossing;
 }
@@ -575,6 +602,7 @@ EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& 
       lane.ocv_v = LaneOcv(lane, lane.state.soc_fraction);
       if (problem.on[b]) sums.Add(b, lane);
     }
+    if (problem.on[b]) sums.SumK(problem, b);
   }
   double t = 0.0;
   int evaluations = 0;
@@ -586,7 +614,7 @@ EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& 
     }
     Segment segment = MakeSegment(problem, sums, current, negligible_a, remaining);
     EndAtTheFirstBreakpoint(sums, remaining, options, segment);
-    sums = BranchSums{};
+    sums = BranchSums{.ocv_v = {}, .k = sums.k};
     const Crossing crossing = CrossOrAdvance(problem, segment, options, sums, evaluations);
     if (crossing.limiting != nullptr) {
       return Reached(EodStatus::kReached, t + crossing.first_s, crossing.limiting, segment_count + 1, evaluations);
