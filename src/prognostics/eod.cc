@@ -10,12 +10,20 @@
 #include <fmt/format.h>
 
 #include "eod_internal.h"
+#include "eod_law.h"
 #include "uascma/common/error.h"
 
 namespace uascma::prognostics {
 
+using eod_internal::BranchAt;
+using eod_internal::CurrentLaw;
 using eod_internal::Ended;
+using eod_internal::EstimateTimeToCharge;
+using eod_internal::EvaluateBranch;
+using eod_internal::EvaluateBranchWith;
+using eod_internal::IsFlatAt;
 using eod_internal::RequireValid;
+using eod_internal::TimeToCharge;
 using models::BatteryPack;
 using models::CellState;
 using models::kBranchCount;
@@ -42,33 +50,6 @@ inline double Phi1(double x) {
   return -std::expm1(-x) / x;
 }
 
-// A branch current on one segment: i(t) = mean + delta · e^{−rate t}, A (rate in 1/s).
-struct CurrentLaw {
-  double mean_a = 0.0;
-  double delta_a = 0.0;
-  double rate_per_s = 0.0;
-  double inverse_rate_s = 0.0;  // 1 / rate (unused when delta is 0)
-};
-
-// The branch-level quantities at time t, shared by the cells of the branch.
-struct BranchAt {
-  double t;
-  double current_a;  // i(t)
-  double e_rate;     // e^{−rate t}
-  double charge_as;  // ∫₀ᵗ i = mean t + delta (1 − e^{−rate t}) / rate
-};
-
-inline BranchAt EvaluateBranch(const CurrentLaw& law, double t) {
-  if (law.delta_a == 0.0 || t == 0.0) {
-    const double current = law.mean_a + law.delta_a;
-    return {t, current, 1.0, current * t};
-  }
-  // One expm1 gives both e^{−qt} and 1 − e^{−qt} without cancellation.
-  const double em1 = std::expm1(-law.rate_per_s * t);
-  return {t, law.mean_a + law.delta_a * (1.0 + em1), 1.0 + em1,
-          law.mean_a * t - law.delta_a * em1 * law.inverse_rate_s};
-}
-
 // e^{−a t} and 1/(a − q) of one RC rate a at the evaluation time (shared by every cell with that rate;
 // both packs use cells 1–3 of Table 3.1, and both branch laws of a segment share q).
 struct RcAt {
@@ -84,7 +65,7 @@ inline RcAt MakeRcAt(double a, const CurrentLaw& law, double t) {
 // One discharging cell: its model constants, its state at the start of the present segment and the OCV
 // segment it is in.
 struct Lane {
-  const SelfCorrectingCell* cell = nullptr;  // not owned
+  const models::OcvTable* ocv = nullptr;  // not owned
   CellState state;
   int branch = 0;
   int index = 0;
@@ -99,19 +80,27 @@ struct Lane {
   double slope_v = 0.0;                    // dOCV/dz on it
   double segment_start_soc = 0.0;          // its lower breakpoint (none for segment 0: the line is extended)
   double segment_start_ocv_v = 0.0;        // OCV at that breakpoint
+  double ocv_v = 0.0;                      // LaneOcv at the state's SOC (kept by Propagate for the branch sums)
 };
 
-Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch, int index) {
+// As battery_cell.cc converts the capacity: Q = capacity_ah · 3600 s/h.
+constexpr double kSecondsPerHour = 3600.0;
+
+// `scaling` gives the R0 and Q of the cell a pack rebuilt with scaled CellParams would hold, the same
+// products in the same order: R0 · f₀ · f₁ (a factor 1 is exact) and (capacity_ah · f) · 3600.
+Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch, int index,
+              const eod_internal::CellScaling& scaling = {}) {
   Lane lane;
-  lane.cell = &cell;
+  lane.ocv = &cell.ocv();
   lane.state = state;
   lane.branch = branch;
   lane.index = index;
   const auto& p = cell.params();
-  lane.eta_per_as = p.eta_discharge / cell.capacity_as();
-  lane.charge_per_soc_as = cell.capacity_as() / p.eta_discharge;
-  lane.hysteresis_per_as = p.eta_discharge * p.hysteresis_gamma / cell.capacity_as();
-  lane.r0_ohm = p.r0_ohm;
+  const double capacity_as = p.capacity_ah * scaling.capacity_factor * kSecondsPerHour;
+  lane.eta_per_as = p.eta_discharge / capacity_as;
+  lane.charge_per_soc_as = capacity_as / p.eta_discharge;
+  lane.hysteresis_per_as = p.eta_discharge * p.hysteresis_gamma / capacity_as;
+  lane.r0_ohm = p.r0_ohm * scaling.r0_factors[0] * scaling.r0_factors[1];
   lane.m_v = p.hysteresis_m_v;
   lane.m0_v = p.hysteresis_m0_v;
   lane.rc_count = p.rc_pair_count;
@@ -122,9 +111,23 @@ Lane MakeLane(const SelfCorrectingCell& cell, const CellState& state, int branch
   return lane;
 }
 
-void UpdateSegment(Lane& lane) {
-  const auto& ocv = lane.cell->ocv();
-  lane.segment = ocv.SegmentForDischarge(lane.state.soc_fraction);
+// OcvTable::SegmentForDischarge(soc) walked to from segment k: both end at the one k with (k = 0 or soc > z_k) and
+// (k = last or soc ≤ z_{k+1}) whatever they start from (the points strictly increase), so this is the table's
+// answer; a NaN satisfies no comparison, so it is left to the table.
+int SegmentFrom(const models::OcvTable& ocv, int k, double soc) {
+  if (std::isnan(soc)) return ocv.SegmentForDischarge(soc);
+  const double* z = ocv.soc_fraction().data();
+  const int last = ocv.segment_count() - 1;
+  while (k > 0 && soc <= z[k]) --k;
+  while (k < last && soc > z[k + 1]) ++k;
+  return k;
+}
+
+// The lane's OCV segment from its SOC; `from` a segment near it (the present one when it moves on).
+void UpdateSegment(Lane& lane, std::optional<int> from = std::nullopt) {
+  const auto& ocv = *lane.ocv;
+  lane.segment =
+      from ? SegmentFrom(ocv, *from, lane.state.soc_fraction) : ocv.SegmentForDischarge(lane.state.soc_fraction);
   lane.slope_v = ocv.segment_slope_v(lane.segment);
   lane.segment_start_soc = ocv.segment_start_soc(lane.segment);
   lane.segment_start_ocv_v = ocv.CalcVoltageOnSegment(lane.segment, lane.segment_start_soc);
@@ -139,6 +142,8 @@ inline double LaneOcv(const Lane& lane, double soc) {
 struct Eval {
   double t;
   double v;          // terminal voltage, eq. 3.3 with s = −1
+  double ocv_v;      // its first term, OCV(z) on the lane's segment line
+  double v_rest;     // its terms before the currents', OCV(z) − M0 + M h (LowerBound continues from them)
   double current_a;  // i(t)
   double e_rate;     // e^{−rate t} of the current law
   double soc;
@@ -146,8 +151,19 @@ struct Eval {
   std::array<double, kMaxRcPairs> rc_current_a;
 };
 
-// `rc[j]` holds the RcAt of the lane's pair j at at.t.
-inline void Evaluate(const Lane& lane, const CurrentLaw& law, const BranchAt& at, const RcAt* rc, Eval* e) {
+// (e^{−qt} − e^{−at}) / (a − q) for the RC rate a under the law (rc: MakeRcAt(a, law, at.t)): taken directly unless
+// |a − q| t < 1e-4 (the difference of the exponentials then keeps at least 12 digits), else as
+// e^{−min(a,q) t} · t · Phi1(|a − q| t), free of cancellation.
+inline double RcQuotient(double a, const CurrentLaw& law, const BranchAt& at, const RcAt& rc) {
+  const double gap = a - law.rate_per_s;
+  return std::abs(gap) * at.t > 1e-4 ? (at.e_rate - rc.decay) * rc.inverse_gap_s
+                                     : (gap > 0.0 ? at.e_rate : rc.decay) * at.t * Phi1(std::abs(gap) * at.t);
+}
+
+// `rc[lane.rc_slot[j]]` holds the RcAt of the lane's pair j at at.t; `quotients[lane.rc_slot[j]]`, when given, its
+// RcQuotient (a function of the rate, q, t and e^{−qt} only).
+inline void Evaluate(const Lane& lane, const CurrentLaw& law, const BranchAt& at, const RcAt* rc, Eval* e,
+                     const double* quotients = nullptr) {
   e->t = at.t;
   e->current_a = at.current_a;
   e->e_rate = at.e_rate;
@@ -158,20 +174,17 @@ inline void Evaluate(const Lane& lane, const CurrentLaw& law, const BranchAt& at
   e->hysteresis = h_plus_1 * lane.m_v > kSettledHysteresisV
                       ? -1.0 + h_plus_1 * std::exp(-lane.hysteresis_per_as * at.charge_as)
                       : lane.state.hysteresis;
-  double v = LaneOcv(lane, e->soc) - lane.m0_v + lane.m_v * e->hysteresis - lane.r0_ohm * e->current_a;
+  e->ocv_v = LaneOcv(lane, e->soc);
+  e->v_rest = e->ocv_v - lane.m0_v + lane.m_v * e->hysteresis;
+  double v = e->v_rest - lane.r0_ohm * e->current_a;
   // di_R/dt = a (i − i_R), a = 1/(R C), driven by mean + delta e^{−qt}:
   //   i_R = mean + (i_R0 − mean) e^{−at} + delta a (e^{−qt} − e^{−at}) / (a − q).
-  // The last quotient is taken directly unless |a − q| t < 1e-4 (the difference of the exponentials then
-  // keeps at least 12 digits), else as e^{−min(a,q) t} · t · Phi1(|a − q| t), free of cancellation.
   for (int j = 0; j < lane.rc_count; ++j) {
     const double a = lane.rc_rate_per_s[j];
-    const double e_a = rc[j].decay;
-    double i_r = law.mean_a + (lane.state.rc_current_a[j] - law.mean_a) * e_a;
+    const int slot = lane.rc_slot[j];
+    double i_r = law.mean_a + (lane.state.rc_current_a[j] - law.mean_a) * rc[slot].decay;
     if (law.delta_a != 0.0) {
-      const double gap = a - law.rate_per_s;
-      const double quotient = std::abs(gap) * at.t > 1e-4
-                                  ? (at.e_rate - e_a) * rc[j].inverse_gap_s
-                                  : (gap > 0.0 ? at.e_rate : e_a) * at.t * Phi1(std::abs(gap) * at.t);
+      const double quotient = quotients != nullptr ? quotients[slot] : RcQuotient(a, law, at, rc[slot]);
       i_r += law.delta_a * a * quotient;
     }
     e->rc_current_a[j] = i_r;
@@ -187,7 +200,9 @@ inline void EvaluateStart(const Lane& lane, const CurrentLaw& law, Eval* e) {
   e->e_rate = 1.0;
   e->soc = lane.state.soc_fraction;
   e->hysteresis = lane.state.hysteresis;
-  double v = LaneOcv(lane, e->soc) - lane.m0_v + lane.m_v * e->hysteresis - lane.r0_ohm * e->current_a;
+  e->ocv_v = LaneOcv(lane, e->soc);
+  e->v_rest = e->ocv_v - lane.m0_v + lane.m_v * e->hysteresis;
+  double v = e->v_rest - lane.r0_ohm * e->current_a;
   for (int j = 0; j < lane.rc_count; ++j) {
     e->rc_current_a[j] = lane.state.rc_current_a[j];
     v -= lane.rc_ohm[j] * e->rc_current_a[j];
@@ -211,7 +226,7 @@ double Slope(const Lane& lane, const CurrentLaw& law, const Eval& e) {
 // max(i_R(t1), max i).
 inline double LowerBound(const Lane& lane, double current1_a, const double* rc_current1_a, const Eval& e2) {
   const double i_max = std::max(current1_a, e2.current_a);
-  double lb = LaneOcv(lane, e2.soc) - lane.m0_v + lane.m_v * e2.hysteresis - lane.r0_ohm * i_max;
+  double lb = e2.v_rest - lane.r0_ohm * i_max;  // = OCV(z₂) − M0 + M h₂ − R0 i_max
   for (int j = 0; j < lane.rc_count; ++j) lb -= lane.rc_ohm[j] * std::max(rc_current1_a[j], i_max);
   return lb;
 }
@@ -243,8 +258,8 @@ struct Search {
 
   Eval At(double t) {
     ++evaluations;
-    std::array<RcAt, kMaxRcPairs> rc;
-    for (int j = 0; j < lane.rc_count; ++j) rc[j] = MakeRcAt(lane.rc_rate_per_s[j], law, t);
+    std::array<RcAt, kMaxRates> rc;  // by rate slot
+    for (int j = 0; j < lane.rc_count; ++j) rc[lane.rc_slot[j]] = MakeRcAt(lane.rc_rate_per_s[j], law, t);
     Eval e;
     Evaluate(lane, law, EvaluateBranch(law, t), rc.data(), &e);
     return e;
@@ -296,45 +311,6 @@ struct Search {
   }
 };
 
-// The root of the second-order expansion i₀ t − ½ q Δ t² = charge (stable quadratic form), or the
-// constant-current time when the expansion has none.
-double EstimateTimeToCharge(const CurrentLaw& law, double charge_as) {
-  const double i0 = law.mean_a + law.delta_a;
-  const double half_curvature = 0.5 * law.rate_per_s * law.delta_a;
-  const double discriminant = i0 * i0 - 4.0 * half_curvature * charge_as;
-  return discriminant >= 0.0 ? 2.0 * charge_as / (i0 + std::sqrt(discriminant)) : charge_as / law.mean_a;
-}
-
-// Time at which a branch has delivered `charge_as` (the charge drawn increases with t): Halley steps from
-// the second-order estimate, kept inside a bracket.
-double TimeToCharge(const CurrentLaw& law, double charge_as, double estimate_s, double tolerance_s) {
-  if (law.delta_a == 0.0) return charge_as / law.mean_a;
-  // |delta (1 − e^{−qt})/q| ≤ |delta|/q bounds the transient's share, hence a bracket.
-  double lo = 0.0;
-  double hi = (charge_as + std::abs(law.delta_a) * law.inverse_rate_s) / law.mean_a;
-  double t = estimate_s;
-  if (!(t > lo && t < hi)) t = 0.5 * hi;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    const BranchAt at = EvaluateBranch(law, t);
-    const double f = at.charge_as - charge_as;
-    if (f > 0.0) {
-      hi = t;
-    } else {
-      lo = t;
-    }
-    if (at.current_a > 0.0) {
-      const double df = at.current_a;                                // f' = i(t)
-      const double d2f = -law.rate_per_s * law.delta_a * at.e_rate;  // f'' = di/dt
-      const double step = 2.0 * f * df / (2.0 * df * df - f * d2f);  // Halley
-      if (std::abs(step) <= 1e-3 * tolerance_s) return t - step;
-      t -= step;
-    }
-    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);  // a step that leaves the bracket: bisect
-    if (hi - lo <= 1e-3 * tolerance_s) return t;
-  }
-  return t;
-}
-
 // The propagation shared by the cell and the pack EOD.
 struct Problem {
   std::array<Lane, kMaxLanes> lanes;
@@ -367,15 +343,27 @@ EodResult Reached(EodStatus status, double eod_s, const Lane* lane, int segments
   return result;
 }
 
+// Eq. 3.3 as SelfCorrectingCell::CalcTerminalVoltage computes it (the same operations in the same order; the
+// lane's rc_ohm is 0 beyond its pairs, as the cell's), from the lane's R0, which may be scaled.
+double LaneTerminalVoltage(const Lane& lane, double current_a, double ocv_v) {
+  const double s = current_a > 0.0 ? -1.0 : (current_a < 0.0 ? 1.0 : lane.state.hysteresis_sign);
+  double v = ocv_v + lane.m0_v * s + lane.m_v * lane.state.hysteresis - lane.r0_ohm * current_a;
+  for (int j = 0; j < kMaxRcPairs; ++j) v -= lane.rc_ohm[j] * lane.state.rc_current_a[j];
+  return v;
+}
+
 // The present: the voltages with the present split (eqs. 3.4–3.5), the stored state, s = −sgn(i). A result
 // when the EOD is decided before any propagation (no branch, already below the cut-off, no discharge).
 std::optional<EodResult> CheckPresent(const Problem& problem, double total_current_a, const EodOptions& options) {
   if (!problem.on[0] && !problem.on[1]) return Reached(EodStatus::kNoBranchConnected, 0.0, nullptr, 0, 0);
+  // OCV(z) on the lane's segment (UpdateSegment has found it): OcvTable::CalcVoltage's own expression.
+  std::array<double, kMaxLanes> lane_ocv{};
   PerBranch<double> ocv_now{};
   for (int b = 0; b < kBranchCount; ++b) {
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
       const Lane& lane = problem.lanes[l];
-      ocv_now[b] += lane.cell->ocv().CalcVoltage(lane.state.soc_fraction);
+      lane_ocv[l] = lane.ocv->CalcVoltageOnSegment(lane.segment, lane.state.soc_fraction);
+      ocv_now[b] += lane_ocv[l];
     }
   }
   const models::BranchSplit split_now =
@@ -387,7 +375,7 @@ std::optional<EodResult> CheckPresent(const Problem& problem, double total_curre
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
       const Lane& lane = problem.lanes[l];
       const double current = total_current_a > 0.0 ? split_now.current_a[b] : total_current_a;
-      const double v = lane.cell->CalcTerminalVoltage(lane.state, current);
+      const double v = LaneTerminalVoltage(lane, current, lane_ocv[l]);
       if (v < lowest_v) {
         lowest_v = v;
         lowest = &lane;
@@ -406,22 +394,38 @@ struct Segment {
   PerBranch<CurrentLaw> law{};
   PerBranch<bool> conducting{};
   double duration = 0.0;
-  PerBranch<BranchAt> branch_end{};
+  PerBranch<BranchAt> branch_end;  // read only where branch_end_known
   PerBranch<bool> branch_end_known = {false, false};
 };
 
-// The branch current laws on the present OCV segments, and the time a blocked diode opens.
-Segment MakeSegment(const Problem& problem, double current, double negligible_a, double remaining) {
-  // Branch OCV (eq. 3.6) and K_j = Σ η slope / Q on the present OCV segments.
-  PerBranch<double> branch_ocv{}, branch_k{};
-  for (int b = 0; b < kBranchCount; ++b) {
-    if (!problem.on[b]) continue;
+// What a segment starts from, summed over each switched-on branch's lanes in lane order: the branch OCV (eq. 3.6)
+// and K_j = Σ η slope / Q on the present OCV segments, and the charge the branch delivers until its first cell
+// reaches its lower breakpoint.
+struct BranchSums {
+  PerBranch<double> ocv_v{}, k{};
+  PerBranch<double> charge_to_breakpoint = {kNone, kNone};
+
+  // The lane's OCV and charge to its breakpoint (K changes only with a lane's segment: SumK).
+  void Add(int b, const Lane& lane) {
+    ocv_v[b] += lane.ocv_v;
+    if (lane.segment == 0) return;  // the lowest line extends below the table
+    charge_to_breakpoint[b] =
+        std::min(charge_to_breakpoint[b], (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
+  }
+
+  void SumK(const Problem& problem, int b) {
+    k[b] = 0.0;
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-      const Lane& lane = problem.lanes[l];
-      branch_ocv[b] += LaneOcv(lane, lane.state.soc_fraction);
-      branch_k[b] += lane.slope_v * lane.eta_per_as;
+      k[b] += problem.lanes[l].slope_v * problem.lanes[l].eta_per_as;
     }
   }
+};
+
+Segment MakeSegment(const Problem& problem, const BranchSums& sums, double current, double negligible_a,
+                    double remaining) {
+  const PerBranch<double>& branch_ocv = sums.ocv_v;
+  const PerBranch<double>& branch_k = sums.k;
+  // The branch current laws on the present OCV segments, and the time a blocked diode opens.
   Segment segment;
   PerBranch<CurrentLaw>& law = segment.law;
   segment.duration = remaining;
@@ -463,28 +467,40 @@ Segment MakeSegment(const Problem& problem, double current, double negligible_a,
   return segment;
 }
 
+// Every conducting branch at the segment's end whose end is not known yet. When both conduct, their laws share
+// q (MakeSegment): one expm1(−q t) serves both (the same argument, hence the same value).
+inline void EndBranches(Segment& segment) {
+  const double t = segment.duration;
+  double em1 = 0.0;
+  bool have_em1 = false;
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!segment.conducting[b] || segment.branch_end_known[b]) continue;
+    const CurrentLaw& law = segment.law[b];
+    if (!IsFlatAt(law, t) && !have_em1) {
+      em1 = std::expm1(-law.rate_per_s * t);
+      have_em1 = true;
+    }
+    segment.branch_end[b] = EvaluateBranchWith(law, t, em1);
+    segment.branch_end_known[b] = true;
+  }
+}
+
 // The segment ends when the first cell of a conducting branch reaches its lower OCV breakpoint. Solve the
 // branch whose second-order estimate comes first; the other needs solving only if it has drawn its charge by
 // then.
-void EndAtTheFirstBreakpoint(const Problem& problem, double remaining, const EodOptions& options, Segment& segment) {
+void EndAtTheFirstBreakpoint(const BranchSums& sums, double remaining, const EodOptions& options, Segment& segment) {
   PerBranch<double> charge_to_breakpoint = {kNone, kNone};
   PerBranch<double> estimate_s = {kNone, kNone};
   for (int b = 0; b < kBranchCount; ++b) {
     if (!segment.conducting[b]) continue;
-    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-      const Lane& lane = problem.lanes[l];
-      if (lane.segment == 0) continue;  // the lowest line extends below the table
-      charge_to_breakpoint[b] = std::min(charge_to_breakpoint[b],
-                                         (lane.state.soc_fraction - lane.segment_start_soc) * lane.charge_per_soc_as);
-    }
+    charge_to_breakpoint[b] = sums.charge_to_breakpoint[b];
     if (charge_to_breakpoint[b] != kNone) estimate_s[b] = EstimateTimeToCharge(segment.law[b], charge_to_breakpoint[b]);
   }
   const int urgent = estimate_s[0] <= estimate_s[1] ? 0 : 1;
   for (int b : {urgent, 1 - urgent}) {
     if (charge_to_breakpoint[b] == kNone) continue;
     if (segment.duration < remaining) {
-      segment.branch_end[b] = EvaluateBranch(segment.law[b], segment.duration);
-      segment.branch_end_known[b] = true;
+      EndBranches(segment);
       if (segment.branch_end[b].charge_as < charge_to_breakpoint[b]) continue;  // its breakpoint comes later
     }
     segment.duration = std::min(segment.duration, TimeToCharge(segment.law[b], charge_to_breakpoint[b], estimate_s[b],
@@ -498,70 +514,96 @@ struct Crossing {
   const Lane* limiting = nullptr;
 };
 
-// Every conducting lane at the segment's end (into `end`), and the first cut-off crossing of any conducting lane
-// inside [0, duration]. The RC terms are computed once per distinct rate.
-Crossing FindFirstCrossing(const Problem& problem, Segment& segment, const EodOptions& options,
-                           std::array<Eval, kMaxLanes>& end, int& evaluations) {
+// The lane to the state `e` at its segment's end; on (or past) its lower breakpoint, onto the segment below
+// (then true).
+bool AdvanceLane(Lane& lane, const Eval& e) {
+  lane.state.soc_fraction = e.soc;
+  lane.state.hysteresis = e.hysteresis;
+  lane.state.hysteresis_sign = -1.0;
+  // The pairs one by one (1 ≤ rc_count ≤ 3): a loop here becomes a call to memcpy.
+  static_assert(kMaxRcPairs == 3);
+  lane.state.rc_current_a[0] = e.rc_current_a[0];
+  if (lane.rc_count > 1) lane.state.rc_current_a[1] = e.rc_current_a[1];
+  if (lane.rc_count > 2) lane.state.rc_current_a[2] = e.rc_current_a[2];
+  lane.ocv_v = e.ocv_v;
+  if (lane.segment > 0 && lane.state.soc_fraction - lane.segment_start_soc <= kSocSnap) {
+    lane.state.soc_fraction = std::min(lane.state.soc_fraction, lane.segment_start_soc);
+    UpdateSegment(lane, lane.segment);
+    lane.ocv_v = LaneOcv(lane, lane.state.soc_fraction);
+    return true;
+  }
+  return false;
+}
+
+// In one pass over the switched-on lanes: the first cut-off crossing of any conducting lane inside [0, duration]
+// (each searched from its state at the segment's start), every lane to the segment's end (a lane blocked by its
+// diode rests: its RC currents relax) and the sums the next segment starts from (`next` holds the present K). The RC
+// terms are computed once per distinct rate. When a crossing is found the lanes' new states are not used.
+Crossing CrossOrAdvance(Problem& problem, Segment& segment, const EodOptions& options, BranchSums& next,
+                        int& evaluations) {
   std::array<RcAt, kMaxRates> rc_at;
   const CurrentLaw& shared_law = segment.conducting[0] ? segment.law[0] : segment.law[1];  // the laws share q
   for (int r = 0; r < problem.rate_count; ++r) rc_at[r] = MakeRcAt(problem.rates[r], shared_law, segment.duration);
+  EndBranches(segment);
+  // Each rate's RcQuotient, once for the branches with a transient (delta ≠ 0): when both have one they share q, t
+  // and e^{−qt} (EndBranches' one expm1, or 1 at t = 0), hence the quotient.
+  std::array<double, kMaxRates> quotients;
+  for (int b = 0; b < kBranchCount; ++b) {
+    if (!segment.conducting[b] || segment.law[b].delta_a == 0.0) continue;
+    for (int r = 0; r < problem.rate_count; ++r) {
+      quotients[r] = RcQuotient(problem.rates[r], segment.law[b], segment.branch_end[b], rc_at[r]);
+    }
+    break;
+  }
   Crossing crossing;
   for (int b = 0; b < kBranchCount; ++b) {
-    if (!segment.conducting[b]) continue;
+    if (!problem.on[b]) continue;
     const CurrentLaw& law = segment.law[b];
-    if (!segment.branch_end_known[b]) segment.branch_end[b] = EvaluateBranch(law, segment.duration);
+    bool moved = false;  // some lane onto another OCV segment: K_b changes
     for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-      const Lane& lane = problem.lanes[l];
-      std::array<RcAt, kMaxRcPairs> rc;
-      for (int j = 0; j < lane.rc_count; ++j) rc[j] = rc_at[lane.rc_slot[j]];
-      Evaluate(lane, law, segment.branch_end[b], rc.data(), &end[l]);
+      Lane& lane = problem.lanes[l];
+      if (!segment.conducting[b]) {  // e^{−a t} of MakeRcAt is the relaxation factor
+        for (int j = 0; j < lane.rc_count; ++j) lane.state.rc_current_a[j] *= rc_at[lane.rc_slot[j]].decay;
+        next.Add(b, lane);
+        continue;
+      }
+      Eval end;
+      Evaluate(lane, law, segment.branch_end[b], rc_at.data(), &end, quotients.data());
       // Most segments end far above the cut-off: the lower bound over the whole segment settles it.
       const double start_current = law.mean_a + law.delta_a;
-      if (LowerBound(lane, start_current, lane.state.rc_current_a.data(), end[l]) > options.cutoff_v) continue;
-      Search search{lane, law, options.cutoff_v, options.time_tolerance_s};
-      Eval start;
-      EvaluateStart(lane, law, &start);
-      const double first = search.First(start, end[l]);
-      evaluations += search.evaluations;
-      if (first < crossing.first_s) {
-        crossing.first_s = first;
-        crossing.limiting = &lane;
+      if (LowerBound(lane, start_current, lane.state.rc_current_a.data(), end) <= options.cutoff_v) {
+        Search search{lane, law, options.cutoff_v, options.time_tolerance_s};
+        Eval start;
+        EvaluateStart(lane, law, &start);
+        const double first = search.First(start, end);
+        evaluations += search.evaluations;
+        if (first < crossing.first_s) {
+          crossing.first_s = first;
+          crossing.limiting = &lane;
+        }
       }
+      moved = AdvanceLane(lane, end) || moved;
+      next.Add(b, lane);
     }
+    if (moved) next.SumK(problem, b);
   }
   return crossing;
 }
 
-// Every switched-on lane to the segment's end.
-void AdvanceLanes(Problem& problem, const Segment& segment, const std::array<Eval, kMaxLanes>& end) {
-  for (int b = 0; b < kBranchCount; ++b) {
-    if (!problem.on[b]) continue;
-    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
-      Lane& lane = problem.lanes[l];
-      if (segment.conducting[b]) {
-        const Eval& e = end[l];
-        lane.state.soc_fraction = e.soc;
-        lane.state.hysteresis = e.hysteresis;
-        lane.state.hysteresis_sign = -1.0;
-        for (int j = 0; j < lane.rc_count; ++j) lane.state.rc_current_a[j] = e.rc_current_a[j];
-        if (lane.segment > 0 && lane.state.soc_fraction - lane.segment_start_soc <= kSocSnap) {
-          lane.state.soc_fraction = std::min(lane.state.soc_fraction, lane.segment_start_soc);
-          UpdateSegment(lane);  // on (or past) the breakpoint: the segment below
-        }
-      } else {  // blocked by its diode: at rest, the RC currents relax
-        for (int j = 0; j < lane.rc_count; ++j) {
-          lane.state.rc_current_a[j] *= std::exp(-lane.rc_rate_per_s[j] * segment.duration);
-        }
-      }
-    }
-  }
-}
-
 EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& options) {
+  for (int l = 0; l < problem.lane_count; ++l) UpdateSegment(problem.lanes[l]);  // CheckPresent reads the segment
   if (const std::optional<EodResult> decided = CheckPresent(problem, total_current_a, options)) return *decided;
   const double current = total_current_a;
   const double negligible_a = 1e-9 * std::max(current, 1.0);
-  for (int l = 0; l < problem.lane_count; ++l) UpdateSegment(problem.lanes[l]);
+  BranchSums sums;
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int l = problem.lane_begin[b]; l < problem.lane_end[b]; ++l) {
+      Lane& lane = problem.lanes[l];
+      lane.ocv_v = LaneOcv(lane, lane.state.soc_fraction);
+      if (problem.on[b]) sums.Add(b, lane);
+    }
+    if (problem.on[b]) sums.SumK(problem, b);
+  }
   double t = 0.0;
   int evaluations = 0;
   for (int segment_count = 0;; ++segment_count) {
@@ -570,14 +612,13 @@ EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& 
     if (remaining <= 0.0) {
       return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, segment_count, evaluations);
     }
-    Segment segment = MakeSegment(problem, current, negligible_a, remaining);
-    EndAtTheFirstBreakpoint(problem, remaining, options, segment);
-    std::array<Eval, kMaxLanes> end;  // filled for the conducting lanes only
-    const Crossing crossing = FindFirstCrossing(problem, segment, options, end, evaluations);
+    Segment segment = MakeSegment(problem, sums, current, negligible_a, remaining);
+    EndAtTheFirstBreakpoint(sums, remaining, options, segment);
+    sums = BranchSums{.ocv_v = {}, .k = sums.k};
+    const Crossing crossing = CrossOrAdvance(problem, segment, options, sums, evaluations);
     if (crossing.limiting != nullptr) {
       return Reached(EodStatus::kReached, t + crossing.first_s, crossing.limiting, segment_count + 1, evaluations);
     }
-    AdvanceLanes(problem, segment, end);
     t += segment.duration;
   }
 }
@@ -621,5 +662,34 @@ EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double to
   }
   return Propagate(problem, total_current_a, options);
 }
+
+namespace eod_internal {
+
+std::optional<EodResult> CalcScaledPackEod(const BatteryPack& pack, const PackState& state, double total_current_a,
+                                           const CellScaling& scaling, const EodOptions& options) {
+  RequireValid(options);
+  if (!(total_current_a >= 0.0 && std::isfinite(total_current_a))) {
+    throw InputError("EOD", "total current", fmt::format("a finite discharge current >= 0 A, got {}", total_current_a));
+  }
+  auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };  // CellParams::IsValid's test
+  Problem problem;
+  for (int b = 0; b < kBranchCount; ++b) {
+    problem.lane_begin[b] = problem.lane_count;
+    problem.r0_ohm[b] = 0.0;  // eq. 3.7, summed as BatteryPack's constructor sums it
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const Lane lane = MakeLane(pack.cell(b, c), state.cells[b][c], b, c, scaling);
+      if (!positive(lane.r0_ohm) || !positive(pack.cell(b, c).params().capacity_ah * scaling.capacity_factor)) {
+        return std::nullopt;
+      }
+      problem.AddLane(lane);
+      problem.r0_ohm[b] += lane.r0_ohm;
+    }
+    problem.lane_end[b] = problem.lane_count;
+    problem.on[b] = state.branch_on[b];
+  }
+  return Propagate(problem, total_current_a, options);
+}
+
+}  // namespace eod_internal
 
 }  // namespace uascma::prognostics

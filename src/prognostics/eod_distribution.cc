@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "eod_internal.h"
 #include "uascma/common/error.h"
 
 namespace uascma::prognostics {
@@ -47,6 +48,25 @@ PackState ShiftedSoc(const PackState& state, double shift) {
   return shifted;
 }
 
+// The pack with every cell's R0 scaled by the class factor (1, or kColdResistanceFactor for the cold class) and,
+// for a secant, by a source's factor and its Q by another: CalcPackEod of ScaledPack(ScaledPack(pack, class, 1),
+// r0, capacity) bit for bit, without building the packs (eod_internal::CalcScaledPackEod).
+struct ScaledView {
+  const BatteryPack& pack;
+  double class_r0_factor = 1.0;
+
+  double Eod(const PackState& state, double current_a, const EodOptions& options, double r0_factor = 1.0,
+             double capacity_factor = 1.0) const {
+    const eod_internal::CellScaling scaling{{class_r0_factor, r0_factor}, capacity_factor};
+    if (const auto result = eod_internal::CalcScaledPackEod(pack, state, current_a, scaling, options)) {
+      return result->eod_s;
+    }
+    // A scaled R0 or Q out of a cell's bounds: building the pack reports it as it always has (InputError).
+    const BatteryPack scaled = ScaledPack(ScaledPack(pack, class_r0_factor, 1.0), r0_factor, capacity_factor);
+    return CalcPackEod(scaled, state, current_a, options).eod_s;
+  }
+};
+
 double LogEod(double eod_s) { return std::log(std::max(eod_s, kEodDistributionFloor_s)); }
 
 struct Component {
@@ -58,34 +78,32 @@ struct Component {
 
 // The centre and, when asked, the secants of one class (its pack `base`). `centre_known` (≥ 0) is the
 // centre EOD already computed (the point when the bias is 0 and the class is known).
-Component CalcComponent(const BatteryPack& base, const PackState& state, double centre_current_a,
+Component CalcComponent(const ScaledView& base, const PackState& state, double centre_current_a,
                         const EodUncertainty& uncertainty, const EodOptions& options, bool with_secants,
                         double centre_known_s) {
   Component component;
-  auto eod = [&](const BatteryPack& pack, const PackState& at, double current_a) {
+  auto eod = [&](const PackState& at, double current_a, double r0_factor = 1.0, double capacity_factor = 1.0) {
     ++component.evaluations;
-    return CalcPackEod(pack, at, current_a, options).eod_s;
+    return base.Eod(at, current_a, options, r0_factor, capacity_factor);
   };
-  component.centre_s = centre_known_s >= 0.0 ? centre_known_s : eod(base, state, centre_current_a);
+  component.centre_s = centre_known_s >= 0.0 ? centre_known_s : eod(state, centre_current_a);
   if (!with_secants || component.centre_s <= 0.0) return component;
   const double log_centre = std::log(component.centre_s);
   auto secant = [&](EodSource source, double eod_s) {
     component.secants[static_cast<int>(source)] = LogEod(eod_s) - log_centre;
   };
   if (uncertainty.load_log_sigma > 0.0) {
-    secant(EodSource::kLoad, eod(base, state, centre_current_a * std::exp(uncertainty.load_log_sigma)));
+    secant(EodSource::kLoad, eod(state, centre_current_a * std::exp(uncertainty.load_log_sigma)));
   }
   if (uncertainty.soc_sigma > 0.0) {
-    secant(EodSource::kSoc, eod(base, ShiftedSoc(state, -uncertainty.soc_sigma), centre_current_a));
-    component.soc_long_secant =
-        LogEod(eod(base, ShiftedSoc(state, uncertainty.soc_sigma), centre_current_a)) - log_centre;
+    secant(EodSource::kSoc, eod(ShiftedSoc(state, -uncertainty.soc_sigma), centre_current_a));
+    component.soc_long_secant = LogEod(eod(ShiftedSoc(state, uncertainty.soc_sigma), centre_current_a)) - log_centre;
   }
   if (uncertainty.r0_log_sigma > 0.0) {
-    secant(EodSource::kR0, eod(ScaledPack(base, std::exp(uncertainty.r0_log_sigma), 1.0), state, centre_current_a));
+    secant(EodSource::kR0, eod(state, centre_current_a, std::exp(uncertainty.r0_log_sigma)));
   }
   if (uncertainty.capacity_log_sigma > 0.0) {
-    const BatteryPack smaller = ScaledPack(base, 1.0, std::exp(-uncertainty.capacity_log_sigma));
-    secant(EodSource::kCapacity, eod(smaller, state, centre_current_a));
+    secant(EodSource::kCapacity, eod(state, centre_current_a, 1.0, std::exp(-uncertainty.capacity_log_sigma)));
   }
   return component;
 }
@@ -204,9 +222,10 @@ EodDistribution CalcPackEodDistribution(const BatteryPack& pack, const PackState
   const bool class_known = uncertainty.cold_probability < 0.0;
   const double cold_weight = class_known ? 0.0 : uncertainty.cold_probability;
   const bool only_cold = cold_weight >= 1.0;
-  std::optional<BatteryPack> cold_pack;  // built only when the cold class has some probability
-  if (cold_weight > 0.0) cold_pack.emplace(ScaledPack(pack, models::kColdResistanceFactor, 1.0));
-  const BatteryPack& base = only_cold ? *cold_pack : pack;
+  const ScaledView warm{pack, 1.0};
+  const ScaledView cold_pack{pack,
+                             models::kColdResistanceFactor};  // used only when the cold class has some probability
+  const ScaledView& base = only_cold ? cold_pack : warm;
   const double known_s = !only_cold && uncertainty.load_log_mean == 0.0 ? distribution.point.eod_s : -1.0;
   const Component main = CalcComponent(base, state, centre_current_a, uncertainty, options, true, known_s);
   distribution.evaluations = 1 + main.evaluations;
@@ -223,7 +242,7 @@ EodDistribution CalcPackEodDistribution(const BatteryPack& pack, const PackState
   };
   set(0, 1.0 - (only_cold ? 0.0 : cold_weight), main.centre_s);
   if (cold_weight > 0.0 && !only_cold) {
-    const Component cold = CalcComponent(*cold_pack, state, centre_current_a, uncertainty, options, false, -1.0);
+    const Component cold = CalcComponent(cold_pack, state, centre_current_a, uncertainty, options, false, -1.0);
     distribution.evaluations += cold.evaluations;
     distribution.components = 2;
     set(1, cold_weight, cold.centre_s);

@@ -1,5 +1,8 @@
 #pragma once
 // What the exact EOD propagation (eod.cc) and the fixed-step references (eod_reference.cc) share.
+#include <array>
+#include <optional>
+
 #include "uascma/prognostics/eod.h"
 
 namespace uascma::prognostics::eod_internal {
@@ -8,5 +11,19 @@ namespace uascma::prognostics::eod_internal {
 void RequireValid(const EodOptions& options);
 // A result of `status` at `eod_s`, with no limiting cell and no cost figures.
 EodResult Ended(EodStatus status, double eod_s);
+
+// Every cell's R0 and capacity scaled alike, as eod_distribution.cc's ScaledPack scales CellParams (the RC pairs,
+// the OCV table, the rest unchanged); two R0 factors for a scaled pack scaled again (the cold class, then R0).
+struct CellScaling {
+  std::array<double, 2> r0_factors = {1.0, 1.0};  // R0 → R0 · r0_factors[0] · r0_factors[1], left to right
+  double capacity_factor = 1.0;                   // capacity_ah → capacity_ah · capacity_factor
+};
+
+// CalcPackEod of the pack a BatteryPack built from the scaled CellParams would be, bit for bit, without
+// building it (no OCV-table copies, no labels, no validation of the unchanged parameters). std::nullopt when a
+// scaled R0 or capacity is not a positive finite number: building that pack reports the error.
+std::optional<EodResult> CalcScaledPackEod(const models::BatteryPack& pack, const models::PackState& state,
+                                           double total_current_a, const CellScaling& scaling,
+                                           const EodOptions& options);
 
 }  // namespace uascma::prognostics::eod_internal

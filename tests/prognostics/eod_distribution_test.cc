@@ -131,6 +131,31 @@ TEST(EodDistributionTest, TheLoadSecantIsTheQuantileAtMinusOneSigma) {
   for (double p : kLevels) EXPECT_NEAR(distribution.ProbabilityBefore(distribution.Quantile(p)), p, 1e-9);
 }
 
+// The distribution evaluates the R0, capacity and cold-class packs without building them (eod_internal::
+// CalcScaledPackEod); each secant and the cold centre must be exactly what CalcPackEod gives on the pack built with
+// the scaled parameters (PerturbEodInputs at u = ±1 on one source: the same factors, the same products).
+TEST(EodDistributionTest, TheScaledPacksAreThoseBuiltWithScaledParameters) {
+  const BatteryPack pack(MakePackParams(Mismatched()));
+  const PackState state = MidFlight(pack, 120.0);
+  EodUncertainty uncertainty = EverySource();
+  uncertainty.cold_probability = 0.3;
+  const EodDistribution distribution = CalcPackEodDistribution(pack, state, 25.0, uncertainty);
+  auto built_eod_s = [&](int source, double u, bool cold) {
+    std::array<double, kEodSourceCount> units{};
+    if (source >= 0) units[source] = u;
+    const EodSample sample = PerturbEodInputs(pack, state, 25.0, uncertainty, units, cold);
+    return CalcPackEod(sample.pack, sample.state, sample.current_a).eod_s;
+  };
+  const double log_centre = std::log(distribution.centre_eod_s[0]);
+  const auto r0 = static_cast<int>(EodSource::kR0);
+  const auto capacity = static_cast<int>(EodSource::kCapacity);
+  EXPECT_EQ(distribution.centre_eod_s[0], built_eod_s(-1, 0.0, false));
+  EXPECT_EQ(distribution.log_secants[r0], std::log(built_eod_s(r0, 1.0, false)) - log_centre);
+  EXPECT_EQ(distribution.log_secants[capacity], std::log(built_eod_s(capacity, -1.0, false)) - log_centre);
+  EXPECT_EQ(distribution.centre_eod_s[1], built_eod_s(-1, 0.0, true));
+  EXPECT_NE(distribution.centre_eod_s[1], distribution.centre_eod_s[0]);
+}
+
 TEST(EodDistributionTest, NoUncertaintyIsThePointEod) {
   const BatteryPack pack;
   const PackState state = MidFlight(pack, 120.0);
