@@ -118,20 +118,6 @@ DragTable DragTable::FromCsv(const std::filesystem::path& path) {
   return DragTable(std::move(airspeeds), std::move(pitches), std::move(drag), source);
 }
 
-double DragTable::Drag(double airspeed, double pitch) const {
-  airspeed = std::max(airspeed, 0.0);
-  const double top = airspeed_axis_.back;
-  const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;
-  const Axis::Bracket v = airspeed_axis_.Locate(std::min(airspeed, top));
-  const Axis::Bracket p = pitch_axis_.Locate(pitch);
-  const double fj = p.fraction;
-  const double* row = &drag_[static_cast<std::size_t>(v.index) * pitches_.size() + p.index];
-  const double* next_row = row + pitches_.size();
-  const double low = (1 - fj) * row[0] + fj * row[1];
-  const double high = (1 - fj) * next_row[0] + fj * next_row[1];
-  return growth * ((1 - v.fraction) * low + v.fraction * high);
-}
-
 double DragTable::DragSlope(double airspeed, double pitch) const {
   constexpr double kStep = 1e-3;  // m/s, central difference across at most one table breakpoint
   const double low = std::max(airspeed - kStep, 0.0);

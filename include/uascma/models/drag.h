@@ -24,8 +24,21 @@ class DragTable {
   DragTable(std::vector<double> airspeeds, std::vector<double> pitches_rad, std::vector<double> drag_n,
             const std::string& source);
 
-  // Drag force magnitude (N) at an airspeed (m/s) and pitch (rad), by bilinear interpolation.
-  double Drag(double airspeed, double pitch) const;
+  // Drag force magnitude (N) at an airspeed (m/s) and pitch (rad), by bilinear interpolation. Inline: the 6-DOF
+  // evaluates it twice per 200 Hz step and the drag feed-forward once.
+  double Drag(double airspeed, double pitch) const {
+    airspeed = std::max(airspeed, 0.0);
+    const double top = airspeed_axis_.back;
+    const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;
+    const Axis::Bracket v = airspeed_axis_.Locate(std::min(airspeed, top));
+    const Axis::Bracket p = pitch_axis_.Locate(pitch);
+    const double fj = p.fraction;
+    const double* row = &drag_[static_cast<std::size_t>(v.index) * pitches_.size() + p.index];
+    const double* next_row = row + pitches_.size();
+    const double low = (1 - fj) * row[0] + fj * row[1];
+    const double high = (1 - fj) * next_row[0] + fj * next_row[1];
+    return growth * ((1 - v.fraction) * low + v.fraction * high);
+  }
   // ∂D/∂v at (airspeed, pitch): the linear coefficient d_x of the footprint (eq. 5.1, defaults.md).
   double DragSlope(double airspeed, double pitch) const;
 
@@ -33,9 +46,9 @@ class DragTable {
   const std::vector<double>& pitches() const { return pitches_; }
 
  private:
-  // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search). Locate is
-  // inline: the 6-DOF evaluates the table twice per 200 Hz step and the drag feed-forward once. A non-uniform axis (a
-  // CSV table) keeps its binary search: the table is shared by every thread of a campaign, so it remembers nothing.
+  // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search). A non-uniform
+  // axis (a CSV table) keeps its binary search: the table is shared by every thread of a campaign, so it remembers
+  // nothing.
   struct Axis {
     Axis() = default;
     Axis(std::vector<double> axis_values, double uniform_step);
