@@ -159,12 +159,9 @@ WindState WindModel::InitialState(double altitude_m, RandomStream& random) const
   return state;
 }
 
-const DrydenIntensity& WindModel::IntensityAt(WindState& state, double altitude_m) const {
-  if (std::abs(altitude_m - state.intensity_altitude) > kIntensityAltitudeStep) {
-    state.intensity = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
-    state.intensity_altitude = altitude_m;
-  }
-  return state.intensity;
+void WindModel::UpdateIntensity(WindState& state, double altitude_m) const {
+  state.intensity = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  state.intensity_altitude = altitude_m;
 }
 
 Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
@@ -236,7 +233,8 @@ Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airs
                   dt);
   SecondOrderStep(state.w_lag1, state.w_lag2, std::sqrt(2.0 * time_constant_w / dt) * random.Normal(), time_constant_w,
                   dt);
-  return Evaluate(state, altitude_m);
+  // Evaluate(state, altitude_m) without its second intensity look-up: `in` is the intensity at this altitude.
+  return CalcWind(in, state.u, state.v_lag1, state.v_lag2, state.w_lag1, state.w_lag2);
 }
 
 }  // namespace uascma::models
