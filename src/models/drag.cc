@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <utility>
 
@@ -59,6 +60,9 @@ DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_
   }
   airspeed_axis_ = Axis(airspeeds_, UniformStep(airspeeds_));
   pitch_axis_ = Axis(pitches_, UniformStep(pitches_));
+  constexpr double kQuarterTurn = std::numbers::pi / 2;
+  if (pitches_.front() > -kQuarterTurn) below_pitch_axis_sine_ = std::sin(pitches_.front()) - kEdgeSineMargin;
+  if (pitches_.back() < kQuarterTurn) above_pitch_axis_sine_ = std::sin(pitches_.back()) + kEdgeSineMargin;
 }
 
 DragTable DragTable::Default(PropellerConfiguration configuration) {

@@ -66,8 +66,9 @@ struct RotationRates {
   const double airspeed = v_air_W.norm();
   Eigen::Vector3d v_dot = z_B_W * held.thrust_acceleration + Eigen::Vector3d(0, 0, kGravity);
   if (airspeed > 1e-9) {
-    const double incidence = std::asin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
-    drag_W = -drag.Drag(airspeed, incidence) / airspeed * v_air_W;
+    // The table's pitch is the incidence asin(v_air·z_B / |v_air|) (DragAtSine: Drag at the asin, the same bits).
+    const double incidence_sine = std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0);
+    drag_W = -drag.DragAtSine(airspeed, incidence_sine) / airspeed * v_air_W;
     v_dot += drag_W / held.mass;
   } else {
     // No drag: adding the zero vector's quotient would change no bit (a sum with +0 is the other term, and the
