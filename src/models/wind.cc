@@ -164,24 +164,19 @@ void WindModel::UpdateIntensity(WindState& state, double altitude_m) const {
   state.intensity_altitude = altitude_m;
 }
 
-Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
-  if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
-  // σ(h) of the present altitude times the unit-scaled states: the variance is σ(h)² whatever the
-  // altitude and airspeed were before (wind.h).
-  // (CalcWind's arithmetic, written out: the GNC-rate step inlines it.)
-  const DrydenIntensity& in = IntensityAt(state, altitude_m);
-  const double gust_u = in.sigma_u * state.u;
-  const double gust_v = SecondOrderOutput(state.v_lag1, state.v_lag2, in.sigma_v);
-  const double gust_w = SecondOrderOutput(state.w_lag1, state.w_lag2, in.sigma_w);
-  return mean_W_ + gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
-}
-
 Eigen::Vector3d WindModel::CalcWind(const DrydenIntensity& in, double u, double v_lag1, double v_lag2, double w_lag1,
                                     double w_lag2) const {
   const double gust_u = in.sigma_u * u;
   const double gust_v = SecondOrderOutput(v_lag1, v_lag2, in.sigma_v);
   const double gust_w = SecondOrderOutput(w_lag1, w_lag2, in.sigma_w);
   return mean_W_ + gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
+}
+
+Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
+  if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
+  // σ(h) of the present altitude times the unit-scaled states: the variance is σ(h)² whatever the
+  // altitude and airspeed were before (wind.h).
+  return CalcWind(IntensityAt(state, altitude_m), state.u, state.v_lag1, state.v_lag2, state.w_lag1, state.w_lag2);
 }
 
 // substeps > 1 (wind.h): at a slow sample, the next one drawn over Δ = substeps · dt with this call's T = L/V;

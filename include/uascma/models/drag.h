@@ -73,7 +73,7 @@ class DragTable {
     int SearchCell(double x) const;  // binary search, for a non-uniform axis
   };
   // The bilinear interpolation at an airspeed and a located pitch.
-  double DragAt(double airspeed, Axis::Bracket p) const {
+  [[gnu::always_inline]] double DragAt(double airspeed, Axis::Bracket p) const {
     airspeed = std::max(airspeed, 0.0);
     const double top = airspeed_axis_.back;
     const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;

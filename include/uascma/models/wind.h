@@ -126,8 +126,9 @@ class WindModel {
     return state.intensity;
   }
   void UpdateIntensity(WindState& state, double altitude_m) const;
-  Eigen::Vector3d CalcWind(const DrydenIntensity& in, double u, double v_lag1, double v_lag2, double w_lag1,
-                           double w_lag2) const;
+  // Defined in wind.cc, its only user, and inlined into the 200 Hz Step.
+  [[gnu::always_inline]] inline Eigen::Vector3d CalcWind(const DrydenIntensity& in, double u, double v_lag1,
+                                                         double v_lag2, double w_lag1, double w_lag2) const;
   Eigen::Vector3d StepSlow(WindState& state, double altitude_m, double airspeed, double dt, RandomStream& random) const;
   WindParams params_;
   int substeps_ = 1;
