@@ -197,8 +197,9 @@ Eigen::Vector3d CalcDragFeedForward(const models::RigidBodyParams& params, const
   const Eigen::Vector3d v_air_W = v_ref_W - wind_estimate_W;
   const double airspeed = v_air_W.norm();
   if (!(airspeed > 1e-9)) return Eigen::Vector3d::Zero();
-  const double incidence = std::asin(std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0));
-  return drag.Drag(airspeed, incidence) / (params.mass * airspeed) * v_air_W;
+  // The incidence asin(v_air·z_B / |v_air|) as the table's pitch (DragAtSine: Drag at the asin, the same bits).
+  const double incidence_sine = std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0);
+  return drag.DragAtSine(airspeed, incidence_sine) / (params.mass * airspeed) * v_air_W;
 }
 
 }  // namespace uascma::gnc

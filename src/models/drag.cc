@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <utility>
 
@@ -59,6 +60,9 @@ DragTable::DragTable(std::vector<double> airspeeds, std::vector<double> pitches_
   }
   airspeed_axis_ = Axis(airspeeds_, UniformStep(airspeeds_));
   pitch_axis_ = Axis(pitches_, UniformStep(pitches_));
+  constexpr double kQuarterTurn = std::numbers::pi / 2;
+  if (pitches_.front() > -kQuarterTurn) below_pitch_axis_sine_ = std::sin(pitches_.front()) - kEdgeSineMargin;
+  if (pitches_.back() < kQuarterTurn) above_pitch_axis_sine_ = std::sin(pitches_.back()) + kEdgeSineMargin;
 }
 
 DragTable DragTable::Default(PropellerConfiguration configuration) {
@@ -116,20 +120,6 @@ DragTable DragTable::FromCsv(const std::filesystem::path& path) {
     drag.insert(drag.end(), values.begin() + 1, values.end());
   }
   return DragTable(std::move(airspeeds), std::move(pitches), std::move(drag), source);
-}
-
-double DragTable::Drag(double airspeed, double pitch) const {
-  airspeed = std::max(airspeed, 0.0);
-  const double top = airspeed_axis_.back;
-  const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;
-  const Axis::Bracket v = airspeed_axis_.Locate(std::min(airspeed, top));
-  const Axis::Bracket p = pitch_axis_.Locate(pitch);
-  const double fj = p.fraction;
-  const double* row = &drag_[static_cast<std::size_t>(v.index) * pitches_.size() + p.index];
-  const double* next_row = row + pitches_.size();
-  const double low = (1 - fj) * row[0] + fj * row[1];
-  const double high = (1 - fj) * next_row[0] + fj * next_row[1];
-  return growth * ((1 - v.fraction) * low + v.fraction * high);
 }
 
 double DragTable::DragSlope(double airspeed, double pitch) const {

@@ -29,9 +29,7 @@ void CheckRotor(int rotor, const char* field) {
 }
 
 void CheckFailedMotor(int failed_motor) {
-  if (failed_motor < 0 || failed_motor > kRotorCount) {
-    throw InputError("mixer", "failed_motor", fmt::format("0 (no failure) or a motor 1-6, got {}", failed_motor));
-  }
+  if (failed_motor < 0 || failed_motor > kRotorCount) ThrowFailedMotorError(failed_motor);
 }
 
 // Moore–Penrose pseudo-inverse by SVD, dropping singular values below kRankTolerance·σ_max (so the
@@ -190,9 +188,8 @@ Mixer::Mixer(const MixerParams& params) : params_(params) {
   cases_[3] = BuildCase(params, 3);
 }
 
-const Mixer::Case& Mixer::CaseFor(int failed_motor) const {
-  CheckFailedMotor(failed_motor);
-  return cases_[failed_motor == kNoFailedMotor ? 0 : (failed_motor - 1) % 3 + 1];
+void ThrowFailedMotorError(int failed_motor) {
+  throw InputError("mixer", "failed_motor", fmt::format("0 (no failure) or a motor 1-6, got {}", failed_motor));
 }
 
 RotorThrusts Mixer::AllocatePseudoInverse(const BodyWrench& commanded, int failed_motor) const {
@@ -206,8 +203,7 @@ double Mixer::max_hover_thrust(int failed_motor) const {
   return params_.max_rotor_thrust / c.primary.col(0).maxCoeff();
 }
 
-AllocationResult Mixer::Allocate(const BodyWrench& commanded, int failed_motor) const {
-  const Case& c = CaseFor(failed_motor);
+AllocationResult Mixer::AllocateThrusts(const Case& c, const BodyWrench& commanded) const {
   const double max_thrust = params_.max_rotor_thrust;
   AllocationResult result;
 
@@ -215,10 +211,17 @@ AllocationResult Mixer::Allocate(const BodyWrench& commanded, int failed_motor) 
   RotorThrusts thrusts = c.primary.col(1) * commanded(1) + c.primary.col(2) * commanded(2);
   double lowest = std::numeric_limits<double>::infinity();
   double highest = -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kRotorCount; ++i) {
-    if (c.active(i) == 0.0) continue;
-    lowest = std::min(lowest, thrusts(i));
-    highest = std::max(highest, thrusts(i));
+  if (c.active_count == kRotorCount) {  // the same comparisons, without testing rotors known to be active
+    for (int i = 0; i < kRotorCount; ++i) {
+      lowest = std::min(lowest, thrusts(i));
+      highest = std::max(highest, thrusts(i));
+    }
+  } else {
+    for (int i = 0; i < kRotorCount; ++i) {
+      if (c.active(i) == 0.0) continue;
+      lowest = std::min(lowest, thrusts(i));
+      highest = std::max(highest, thrusts(i));
+    }
   }
   // A collective offset moves every active rotor together, so u_rp fits in [0, T_max] for some
   // collective only if its spread does; otherwise shrink the torque (same direction).
@@ -257,8 +260,7 @@ AllocationResult Mixer::Allocate(const BodyWrench& commanded, int failed_motor) 
 
   // Round-off can leave a rotor 1e-16 outside its limits; the failed pair is exactly zero already.
   result.rotor_thrust = thrusts.cwiseMax(0.0).cwiseMin(max_thrust);
-  result.achieved = c.mixing * result.rotor_thrust;
-  return result;
+  return result;  // Allocate adds M · rotor_thrust
 }
 
 // --- control authority ---------------------------------------------------------------------------

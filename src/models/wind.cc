@@ -159,24 +159,9 @@ WindState WindModel::InitialState(double altitude_m, RandomStream& random) const
   return state;
 }
 
-const DrydenIntensity& WindModel::IntensityAt(WindState& state, double altitude_m) const {
-  if (std::abs(altitude_m - state.intensity_altitude) > kIntensityAltitudeStep) {
-    state.intensity = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
-    state.intensity_altitude = altitude_m;
-  }
-  return state.intensity;
-}
-
-Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
-  if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
-  // σ(h) of the present altitude times the unit-scaled states: the variance is σ(h)² whatever the
-  // altitude and airspeed were before (wind.h).
-  // (CalcWind's arithmetic, written out: the GNC-rate step inlines it.)
-  const DrydenIntensity& in = IntensityAt(state, altitude_m);
-  const double gust_u = in.sigma_u * state.u;
-  const double gust_v = SecondOrderOutput(state.v_lag1, state.v_lag2, in.sigma_v);
-  const double gust_w = SecondOrderOutput(state.w_lag1, state.w_lag2, in.sigma_w);
-  return mean_W_ + gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
+void WindModel::UpdateIntensity(WindState& state, double altitude_m) const {
+  state.intensity = CalcDrydenIntensity(params_.turbulence, altitude_m, params_.medium_band_altitude);
+  state.intensity_altitude = altitude_m;
 }
 
 Eigen::Vector3d WindModel::CalcWind(const DrydenIntensity& in, double u, double v_lag1, double v_lag2, double w_lag1,
@@ -185,6 +170,13 @@ Eigen::Vector3d WindModel::CalcWind(const DrydenIntensity& in, double u, double 
   const double gust_v = SecondOrderOutput(v_lag1, v_lag2, in.sigma_v);
   const double gust_w = SecondOrderOutput(w_lag1, w_lag2, in.sigma_w);
   return mean_W_ + gust_u * axis_u_W_ + gust_v * axis_v_W_ + Eigen::Vector3d(0.0, 0.0, gust_w);
+}
+
+Eigen::Vector3d WindModel::Evaluate(WindState& state, double altitude_m) const {
+  if (params_.turbulence == TurbulenceCategory::kNone) return mean_W_;
+  // σ(h) of the present altitude times the unit-scaled states: the variance is σ(h)² whatever the
+  // altitude and airspeed were before (wind.h).
+  return CalcWind(IntensityAt(state, altitude_m), state.u, state.v_lag1, state.v_lag2, state.w_lag1, state.w_lag2);
 }
 
 // substeps > 1 (wind.h): at a slow sample, the next one drawn over Δ = substeps · dt with this call's T = L/V;
@@ -236,7 +228,8 @@ Eigen::Vector3d WindModel::Step(WindState& state, double altitude_m, double airs
                   dt);
   SecondOrderStep(state.w_lag1, state.w_lag2, std::sqrt(2.0 * time_constant_w / dt) * random.Normal(), time_constant_w,
                   dt);
-  return Evaluate(state, altitude_m);
+  // Evaluate(state, altitude_m) without its second intensity look-up: `in` is the intensity at this altitude.
+  return CalcWind(in, state.u, state.v_lag1, state.v_lag2, state.w_lag1, state.w_lag2);
 }
 
 }  // namespace uascma::models

@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -132,6 +134,38 @@ TEST(DragTableTest, ClampsThePitchAndGrowsAsTheSquareBeyondTheLastAirspeed) {
   EXPECT_NEAR(table.Drag(3.0, -2.0), Bilinear(3.0, -0.5), 1e-12);
   EXPECT_NEAR(table.Drag(-1.0, 0.1), Bilinear(0.0, 0.1), 1e-12);       // a negative airspeed counts as 0
   EXPECT_NEAR(table.Drag(8.0, 0.1), Bilinear(4.0, 0.1) * 4.0, 1e-12);  // (8 / 4)² from the table's edge
+}
+
+// DragAtSine skips the asin only where the table clamps the pitch: it must return Drag's bits at every sine,
+// the edges' own sines and their neighbours within the margin included, on tables inside and reaching ±90°.
+TEST(DragTableTest, DragAtSineIsDragAtTheAsinBitForBit) {
+  // Positive drag on axes reaching ±90° and beyond, varying along both axes.
+  const auto Tabulate = [](const std::vector<double>& airspeeds, const std::vector<double>& pitches) {
+    std::vector<double> drag;
+    for (double v : airspeeds) {
+      for (double p : pitches) drag.push_back(10.0 + v + 3.0 * p);
+    }
+    return DragTable(airspeeds, pitches, drag, "ramp");
+  };
+  const double quarter = std::numbers::pi / 2;
+  const std::vector<DragTable> tables = {DragTable::Default(PropellerConfiguration::kTractor),
+                                         TabulateBilinear({0, 0.5, 2, 2.25, 4}, {-0.5, -0.4, 0.1, 0.2, 0.5}),
+                                         Tabulate({0, 1, 2}, {-quarter, 0.0, quarter}),
+                                         Tabulate({0, 1, 2}, {-2.0, -1.0, 0.0, 1.0, 2.0})};
+  for (const DragTable& table : tables) {
+    std::vector<double> sines;
+    for (int i = 0; i <= 400; ++i) sines.push_back(-1.0 + i / 200.0);
+    for (double edge : {table.pitches().front(), table.pitches().back()}) {
+      for (double offset : {-2e-9, -1e-9, -1e-12, 0.0, 1e-12, 1e-9, 2e-9}) {
+        sines.push_back(std::clamp(std::sin(edge) + offset, -1.0, 1.0));
+      }
+    }
+    for (double sine : sines) {
+      for (double airspeed : {0.0, 0.7, 3.0, 12.0}) {
+        EXPECT_EQ(table.DragAtSine(airspeed, sine), table.Drag(airspeed, std::asin(sine))) << airspeed << ", " << sine;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 // A CSV with the same axes replaces it. Beyond the last airspeed the drag grows as v² from the table's
 // edge; pitch is clamped to the table.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -24,8 +25,20 @@ class DragTable {
   DragTable(std::vector<double> airspeeds, std::vector<double> pitches_rad, std::vector<double> drag_n,
             const std::string& source);
 
-  // Drag force magnitude (N) at an airspeed (m/s) and pitch (rad), by bilinear interpolation.
-  double Drag(double airspeed, double pitch) const;
+  // Drag force magnitude (N) at an airspeed (m/s) and pitch (rad), by bilinear interpolation. Inline: the 6-DOF
+  // evaluates it twice per 200 Hz step and the drag feed-forward once.
+  double Drag(double airspeed, double pitch) const { return DragAt(airspeed, pitch_axis_.Locate(pitch)); }
+  // Drag(airspeed, std::asin(sine)) for a sine in [−1, 1] (the flow incidence's, models/rigid_body.h), the same
+  // bits, without the asin where its angle is beyond an edge of the pitch axis for certain: the table clamps it
+  // there and never reads its value. "For certain": the sine is more than kEdgeSineMargin beyond the sine of the
+  // edge; asin's slope being >= 1, its angle is then more than 1e-9 rad beyond, where the rounding of sin and
+  // asin (< 1e-15 rad) cannot bring it back.
+  double DragAtSine(double airspeed, double sine) const {
+    if (sine < below_pitch_axis_sine_) return DragAt(airspeed, {0, 0.0});
+    if (sine > above_pitch_axis_sine_) return DragAt(airspeed, {pitch_axis_.last_cell, 1.0});
+    return Drag(airspeed, std::asin(sine));
+  }
+  static constexpr double kEdgeSineMargin = 1e-9;
   // ∂D/∂v at (airspeed, pitch): the linear coefficient d_x of the footprint (eq. 5.1, defaults.md).
   double DragSlope(double airspeed, double pitch) const;
 
@@ -33,9 +46,9 @@ class DragTable {
   const std::vector<double>& pitches() const { return pitches_; }
 
  private:
-  // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search). Locate is
-  // inline: the 6-DOF evaluates the table twice per 200 Hz step and the drag feed-forward once. A non-uniform axis (a
-  // CSV table) keeps its binary search: the table is shared by every thread of a campaign, so it remembers nothing.
+  // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search). A non-uniform
+  // axis (a CSV table) keeps its binary search: the table is shared by every thread of a campaign, so it remembers
+  // nothing.
   struct Axis {
     Axis() = default;
     Axis(std::vector<double> axis_values, double uniform_step);
@@ -59,7 +72,23 @@ class DragTable {
     }
     int SearchCell(double x) const;  // binary search, for a non-uniform axis
   };
+  // The bilinear interpolation at an airspeed and a located pitch.
+  [[gnu::always_inline]] double DragAt(double airspeed, Axis::Bracket p) const {
+    airspeed = std::max(airspeed, 0.0);
+    const double top = airspeed_axis_.back;
+    const double growth = airspeed > top ? (airspeed * airspeed) / (top * top) : 1.0;
+    const Axis::Bracket v = airspeed_axis_.Locate(std::min(airspeed, top));
+    const double fj = p.fraction;
+    const double* row = &drag_[static_cast<std::size_t>(v.index) * pitches_.size() + p.index];
+    const double* next_row = row + pitches_.size();
+    const double low = (1 - fj) * row[0] + fj * row[1];
+    const double high = (1 - fj) * next_row[0] + fj * next_row[1];
+    return growth * ((1 - v.fraction) * low + v.fraction * high);
+  }
   Axis airspeed_axis_, pitch_axis_;
+  // Sines below / above which asin lies beyond the pitch axis's first / last value for certain (DragAtSine);
+  // −2 / 2 (never) when the axis reaches −90° / 90°.
+  double below_pitch_axis_sine_ = -2.0, above_pitch_axis_sine_ = 2.0;
   std::vector<double> airspeeds_;  // m/s, ascending
   std::vector<double> pitches_;    // rad, ascending
   std::vector<double> drag_;       // N, [airspeed][pitch]

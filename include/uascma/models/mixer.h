@@ -127,6 +127,9 @@ struct AllocationResult {
   bool saturated() const { return thrust_limited || roll_pitch_scale < 1.0 || yaw_scale < 1.0; }
 };
 
+// Throws InputError naming a failed motor outside 0…6 (the check of every function above that takes one).
+[[noreturn]] void ThrowFailedMotorError(int failed_motor);
+
 // The mixer of one vehicle: immutable after construction, safe to share across threads.
 class Mixer {
  public:
@@ -135,7 +138,13 @@ class Mixer {
 
   // Rotor thrusts for the commanded wrench under the failure rule and the priority rules of the header.
   // `failed_motor` 0 = none, else 1…6 (InputError otherwise). No heap allocation.
-  AllocationResult Allocate(const BodyWrench& commanded, int failed_motor) const;
+  AllocationResult Allocate(const BodyWrench& commanded, int failed_motor) const {
+    const Case& c = CaseFor(failed_motor);
+    AllocationResult result = AllocateThrusts(c, commanded);
+    // M · rotor_thrust inline: a caller that reads only the thrusts (the simulator's step) does not compute it.
+    result.achieved = c.mixing * result.rotor_thrust;
+    return result;
+  }
 
   // M† w with no limits: the control allocation of decisions item 13 (may be negative or > T_max).
   RotorThrusts AllocatePseudoInverse(const BodyWrench& commanded, int failed_motor) const;
@@ -163,7 +172,12 @@ class Mixer {
   };
   static Case BuildCase(const MixerParams& params, int failed_motor);
   // Case index: 0 none, 1 pair 1–4, 2 pair 2–5, 3 pair 3–6. Throws InputError on a bad motor.
-  const Case& CaseFor(int failed_motor) const;
+  const Case& CaseFor(int failed_motor) const {
+    if (failed_motor < 0 || failed_motor > kRotorCount) ThrowFailedMotorError(failed_motor);
+    return cases_[failed_motor == kNoFailedMotor ? 0 : (failed_motor - 1) % 3 + 1];
+  }
+  // Allocate's rules for one case, all of the result but `achieved`.
+  AllocationResult AllocateThrusts(const Case& c, const BodyWrench& commanded) const;
 
   MixerParams params_;
   std::array<Case, 4> cases_;

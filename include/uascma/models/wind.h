@@ -44,6 +44,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cmath>
 
 #include <string>
 
@@ -118,9 +119,16 @@ class WindModel {
   Eigen::Vector3d MeanWind_W() const { return mean_W_; }
 
  private:
-  const DrydenIntensity& IntensityAt(WindState& state, double altitude_m) const;
-  Eigen::Vector3d CalcWind(const DrydenIntensity& in, double u, double v_lag1, double v_lag2, double w_lag1,
-                           double w_lag2) const;
+  // The intensity at an altitude, computed anew only when the altitude moved by more than kIntensityAltitudeStep
+  // (inline: every step asks, and the answer is nearly always the one kept).
+  const DrydenIntensity& IntensityAt(WindState& state, double altitude_m) const {
+    if (std::abs(altitude_m - state.intensity_altitude) > kIntensityAltitudeStep) UpdateIntensity(state, altitude_m);
+    return state.intensity;
+  }
+  void UpdateIntensity(WindState& state, double altitude_m) const;
+  // Defined in wind.cc, its only user, and inlined into the 200 Hz Step.
+  [[gnu::always_inline]] inline Eigen::Vector3d CalcWind(const DrydenIntensity& in, double u, double v_lag1,
+                                                         double v_lag2, double w_lag1, double w_lag2) const;
   Eigen::Vector3d StepSlow(WindState& state, double altitude_m, double airspeed, double dt, RandomStream& random) const;
   WindParams params_;
   int substeps_ = 1;
