@@ -26,8 +26,8 @@
 //  This is the exact solution of the model the fixed-step simulator integrates (ZOH at its Δt), so the
 //  two agree to O(Δt): tests require 0.5 % against Δt = 0.01 s and measure ≤ 1.1e-5. Because the split
 //  is solved exactly on each segment, no "re-split every large step" approximation (and no step-size
-//  tuning) is needed. Cost (bench/eod_bench.cc, one core): about 2.5 µs for the default pack (both
-//  branches alike, ~18 segments), about 8 µs when the packs differ and a pack's cells discharge out of
+//  tuning) is needed. Cost (bench/eod_bench.cc, one core, session 10): about 2.1 µs for the default pack
+//  (both branches alike, ~18 segments), about 6 µs when the packs differ and a pack's cells discharge out of
 //  step (~47 segments); the 10 ms fixed-step reference takes about 9 ms.
 //
 // Scope and conventions:
