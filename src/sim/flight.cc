@@ -15,6 +15,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/rotor_lanes.h"
 
 namespace uascma::sim {
 namespace {
@@ -98,7 +99,6 @@ double InverseBusVoltage(double bus_voltage_v) { return 1.0 / std::max(bus_volta
 // ---- guidance and control: LQR → allocation → rotor lag, capped by the bus voltage -------------------------------
 // The rotors' electrical power is the vehicle's; the current it draws is the power system's (StepPowerSystem).
 void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrusts& believed, StepSignals& s) {
-  const models::PropulsionParams& propulsion = model.propulsion();
   s.reference = state.plan(model).At(state.time_s - state.guidance.plan_start_s);
   // Drag feed-forward while all six rotors fly (issue 11 item 3). After a reconfiguration to the quadcopter the
   // bare DLQR flies on: with four rotors near their thrust cap, asking the ~0.4 rad tilt that cancels the drag
@@ -116,20 +116,19 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
   s.allocated = allocation.rotor_thrust;
   const double thrust_cap = ThrustCap(model, state.power.bus_voltage_v);
   s.thrust_cap = thrust_cap;
-  const bool detection = model.options().fault_detection;  // the believed rotors feed only the IMM
-  for (int i = 0; i < 6; ++i) {
-    const double commanded = std::clamp(allocation.rotor_thrust[i], 0.0, thrust_cap);
-    const double speed_command = models::CalcRotorSpeedForThrust(propulsion, commanded);
-    if (detection) {
-      state.vehicle.believed_speed[i] = model.rotor_lag().Step(state.vehicle.believed_speed[i], speed_command);
-      believed[i] = models::CalcRotorThrust(propulsion, state.vehicle.believed_speed[i]);
-    }
-    double& rotor_speed = state.vehicle.rotor_speed[i];
-    rotor_speed = (i + 1 == state.faults.jammed_rotor) ? 0.0 : model.rotor_lag().Step(rotor_speed, speed_command);
-    s.thrust[i] = models::CalcRotorThrust(propulsion, state.vehicle.rotor_speed[i]);
-    s.rotor_power[i] = model.electrical_power().Power(s.thrust[i]);
-  }
-  s.achieved = model.mixer().mixing_matrix(models::kNoFailedMotor) * s.thrust;
+  StepRotorLanes({.propulsion = &model.propulsion(),
+                  .lag = &model.rotor_lag(),
+                  .power_table = &model.electrical_power(),
+                  .allocated = s.allocated.data(),
+                  .thrust_cap = thrust_cap,
+                  .jammed_rotor = state.faults.jammed_rotor,
+                  .believed = model.options().fault_detection},  // the believed rotors feed only the IMM
+                 {.rotor_speed = state.vehicle.rotor_speed.data(),
+                  .believed_speed = state.vehicle.believed_speed.data(),
+                  .believed_thrust = believed.data(),
+                  .thrust = s.thrust.data(),
+                  .power = s.rotor_power.data()});
+  s.achieved = model.healthy_mixing() * s.thrust;
 }
 
 // ---- 6-DOF with drag and Dryden wind ----------------------------------------------------------------------------
@@ -354,6 +353,7 @@ FlightModel::FlightModel(const Scenario& scenario)
       propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
       electrical_power_(propulsion_),
       mixer_(models::MixerParams::ForPropulsion(propulsion_)),
+      healthy_mixing_(mixer_.mixing_matrix(models::kNoFailedMotor)),
       drag_(models::DragTable::Default(scenario.configuration)),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
