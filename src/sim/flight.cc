@@ -72,7 +72,7 @@ struct StepSignals {
   Eigen::Vector3d wind_W = Eigen::Vector3d::Zero();
   models::BodyInputs body_inputs;
   models::PackOutputs pack_outputs;
-  Eigen::Matrix3d R_WB;
+  Eigen::Vector3d z_B_W;  // R_WB's third column, the body's z axis in W, after the step (the full R_WB: telemetry)
 };
 
 // ---- faults: spall onset and growth → jam (the truth) -------------------------------------------------------
@@ -212,7 +212,9 @@ void StepImm(const FlightModel& model, FlightState& state, const models::RigidBo
   const Eigen::Vector3d specific_force_W =
       (state.vehicle.body.v_WB_W - previous.v_WB_W) / dt - Eigen::Vector3d(0, 0, kGravity);
   measurement.gyro_B = state.vehicle.body.w_WB_B;
-  measurement.specific_force_z_B = (s.R_WB.transpose() * specific_force_W).z();
+  // (R_WBᵀ f)_z, in the order Eigen's product summed it: (z_x f_x + z_y f_y) + z_z f_z.
+  measurement.specific_force_z_B =
+      s.z_B_W.x() * specific_force_W.x() + s.z_B_W.y() * specific_force_W.y() + s.z_B_W.z() * specific_force_W.z();
   if (model.options().sensor_noise) {
     RandomStream& random = state.vehicle.sensor_random;
     measurement.gyro_B += imm.gyro_noise * Eigen::Vector3d(random.Normal(), random.Normal(), random.Normal());
@@ -242,7 +244,7 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   row.p_W = state.vehicle.body.p_WB_W;
   row.v_W = state.vehicle.body.v_WB_W;
   row.p_ref_W = s.reference.p_W;
-  row.euler = EulerFromRotation(s.R_WB);
+  row.euler = EulerFromRotation(state.vehicle.body.q_WB.toRotationMatrix());
   row.drag_W =
       models::CalcRigidBodyRates(model.scenario().body, model.drag(), state.vehicle.body, s.body_inputs).drag_W;
   row.wind_W = s.wind_W;
@@ -291,7 +293,7 @@ double CrossTrackError(const Eigen::Vector3d& error_W, const Eigen::Vector3d& v_
 // R_WB(2, 2) (acos is decreasing): the largest tilt is the acos of the smallest cosine, taken once at the end.
 void UpdateExtremes(const FlightModel& model, VehicleState& vehicle, const StepSignals& s) {
   const double tracking_error = (vehicle.body.p_WB_W - s.reference.p_W).norm();
-  vehicle.min_cos_tilt = std::min(vehicle.min_cos_tilt, s.R_WB(2, 2));
+  vehicle.min_cos_tilt = std::min(vehicle.min_cos_tilt, s.z_B_W.z());
   vehicle.max_tracking_error = std::max(vehicle.max_tracking_error, tracking_error);
   if (-vehicle.body.p_WB_W.z() > model.options().outcome.airborne_height) vehicle.airborne = true;
 }
@@ -309,7 +311,7 @@ void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignal
   inputs.time_s = now;
   inputs.p_WB_W = state.vehicle.body.p_WB_W;
   inputs.v_WB_W = state.vehicle.body.v_WB_W;
-  inputs.cos_tilt = s.R_WB(2, 2);
+  inputs.cos_tilt = s.z_B_W.z();
   inputs.body_rate = state.vehicle.body.w_WB_B.norm();
   inputs.cross_track_error = CrossTrackError(state.vehicle.body.p_WB_W - s.reference.p_W, s.reference.v_W);
   inputs.min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v;
@@ -469,7 +471,7 @@ StepSignals StepVehicle(const FlightModel& model, FlightState& state, FlightLog*
   StepRotors(model, state, believed, s);
   const models::RigidBodyState previous = state.vehicle.body;
   StepBody(model, state.vehicle, s);
-  s.R_WB = state.vehicle.body.q_WB.toRotationMatrix();
+  s.z_B_W = state.vehicle.body.q_WB.toRotationMatrix().col(2);
   StepImm(model, state, previous, believed, s, log);
   UpdateExtremes(model, state.vehicle, s);
   return s;
