@@ -99,7 +99,7 @@ double InverseBusVoltage(double bus_voltage_v) { return 1.0 / std::max(bus_volta
 // ---- guidance and control: LQR → allocation → rotor lag, capped by the bus voltage -------------------------------
 // The rotors' electrical power is the vehicle's; the current it draws is the power system's (StepPowerSystem).
 void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrusts& believed, StepSignals& s) {
-  s.reference = state.plan(model).At(state.time_s - state.guidance.plan_start_s);
+  s.reference = state.plan(model).At(state.time_s - state.guidance.plan_start_s, state.guidance.plan_cursor);
   // Drag feed-forward while all six rotors fly (issue 11 item 3). After a reconfiguration to the quadcopter the
   // bare DLQR flies on: with four rotors near their thrust cap, asking the ~0.4 rad tilt that cancels the drag
   // at 8-9 m/s drives the loop into slow saturated swings. Measured on the default campaign, 150 runs, seed 1:

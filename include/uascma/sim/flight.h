@@ -285,6 +285,7 @@ struct GuidanceState {
   double emergency_site_radius = 0.0;         // m
   std::vector<Eigen::Vector2d> footprint_NE;  // the last LandASAP footprint's boundary
   double plan_start_s = 0.0;                  // s, flight time at which the executing plan started
+  planning::PlanCursor plan_cursor;           // where the GNC step last was on the executing plan (a cache)
   bool operator==(const GuidanceState&) const = default;
 };
 
