@@ -307,23 +307,24 @@ void AdvanceClock(const FlightModel& model, FlightState& state) {
 void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignals& s) {
   const double now = state.time_s + model.dt();
   const planning::FlightPlan& plan = state.plan(model);
-  OutcomeInputs inputs;
-  inputs.time_s = now;
-  inputs.p_WB_W = state.vehicle.body.p_WB_W;
-  inputs.v_WB_W = state.vehicle.body.v_WB_W;
-  inputs.cos_tilt = s.z_B_W.z();
-  inputs.body_rate = state.vehicle.body.w_WB_B.norm();
-  inputs.cross_track_error = CrossTrackError(state.vehicle.body.p_WB_W - s.reference.p_W, s.reference.v_W);
-  inputs.min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v;
-  inputs.min_cell_branch = s.pack_outputs.min_cell_branch;
-  inputs.min_cell_index = s.pack_outputs.min_cell_index;
-  inputs.airborne = state.vehicle.airborne;
-  inputs.plan_time_remaining_s = plan.TimeRemaining(now - state.guidance.plan_start_s);
-  inputs.plan_end_W = plan.end_W();
-  inputs.landing_radius = state.guidance.on_emergency_plan ? state.guidance.emergency_site_radius : 0.0;
-  inputs.on_original_plan = !state.guidance.on_emergency_plan;
-  inputs.emergency_site = state.guidance.emergency_site;
-  inputs.time_limit_s = model.time_limit_s();
+  const OutcomeInputs inputs{
+      // every field set once, in place
+      .time_s = now,
+      .p_WB_W = state.vehicle.body.p_WB_W,
+      .v_WB_W = state.vehicle.body.v_WB_W,
+      .cos_tilt = s.z_B_W.z(),
+      .body_rate = state.vehicle.body.w_WB_B.norm(),
+      .cross_track_error = CrossTrackError(state.vehicle.body.p_WB_W - s.reference.p_W, s.reference.v_W),
+      .min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v,
+      .min_cell_branch = s.pack_outputs.min_cell_branch,
+      .min_cell_index = s.pack_outputs.min_cell_index,
+      .airborne = state.vehicle.airborne,
+      .plan_time_remaining_s = plan.TimeRemaining(now - state.guidance.plan_start_s),
+      .plan_end_W = plan.end_W(),
+      .landing_radius = state.guidance.on_emergency_plan ? state.guidance.emergency_site_radius : 0.0,
+      .on_original_plan = !state.guidance.on_emergency_plan,
+      .emergency_site = state.guidance.emergency_site,
+      .time_limit_s = model.time_limit_s()};
   OutcomeDecision decision = model.outcome_classifier().Classify(inputs, model.map());
   if (decision.outcome != Outcome::kInProgress) {
     state.outcome = decision.outcome;
