@@ -88,7 +88,7 @@ struct Ziggurat {
   static constexpr double kArea = 4.92867323399e-3;  // v, the area of every layer
   std::array<double, 257> x{};
   std::array<double, 257> f{};
-  Ziggurat() {
+  [[gnu::noinline]] Ziggurat() {  // once per program: kept out of Normal()'s inlined path
     x[0] = kArea / std::exp(-0.5 * kR * kR);
     x[1] = kR;
     for (int i = 1; i < 255; ++i) x[i + 1] = std::sqrt(-2.0 * std::log(kArea / x[i] + std::exp(-0.5 * x[i] * x[i])));
