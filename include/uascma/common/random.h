@@ -66,7 +66,7 @@ class RandomStream {
   }
   bool Bernoulli(double probability) { return Uniform() < probability; }
   // Standard normal N(0, 1) by the ziggurat method (see the file comment).
-  double Normal();
+  [[gnu::always_inline]] double Normal();  // inlined: a handful of instructions for ~99 % of draws
   double Normal(double mean, double standard_deviation) { return mean + standard_deviation * Normal(); }
   // Equal streams draw the same numbers from here on (a flight state is compared whole, sim/flight.h).
   bool operator==(const RandomStream&) const = default;
