@@ -189,8 +189,8 @@ void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s
   } else {
     // The outputs at this step's current from the pack's last slow step and the charge drawn since; then this
     // step's charge, and the slow step when its GNC steps are done (models/battery_pack.h PackLinearisation).
-    s.pack_outputs = model.pack().CalcLinearisedOutputs(power.pack, power.pack_linear, power.pack_charge_as,
-                                                        power.pack_substeps * model.dt(), power.pack_current_a);
+    model.pack().CalcLinearisedOutputs(power.pack, power.pack_linear, power.pack_charge_as,
+                                       power.pack_substeps * model.dt(), power.pack_current_a, s.pack_outputs);
     for (int b = 0; b < models::kBranchCount; ++b) {
       power.pack_charge_as[b] += s.pack_outputs.split.current_a[b] * model.dt();
     }
