@@ -248,9 +248,18 @@ PackLinearisation BatteryPack::Linearise(const PackState& state) const {
 PackOutputs BatteryPack::CalcLinearisedOutputs(const PackState& state, const PackLinearisation& at,
                                                const PerBranch<double>& charge_as, double elapsed_s,
                                                double total_current_a) const {
+  PackOutputs out;
+  CalcLinearisedOutputs(state, at, charge_as, elapsed_s, total_current_a, out);
+  return out;
+}
+
+void BatteryPack::CalcLinearisedOutputs(const PackState& state, const PackLinearisation& at,
+                                        const PerBranch<double>& charge_as, double elapsed_s, double total_current_a,
+                                        PackOutputs& out) const {
   const PerBranch<double> branch_ocv_v = {at.ocv_v[0] + at.docv_dcharge[0] * charge_as[0],
                                           at.ocv_v[1] + at.docv_dcharge[1] * charge_as[1]};
-  PackOutputs out;
+  out.min_cell_branch = -1;  // PackOutputs' defaults where SummarisePackCells finds no switched-on cell
+  out.min_cell_index = -1;
   out.split = CalcBranchSplit(branch_ocv_v, branch_r0_ohm_, state.branch_on, total_current_a);
   for (int b = 0; b < kBranchCount; ++b) {
     const double current_a = out.split.current_a[b];  // ≥ 0: s = −1 while it flows, else the stored sign
@@ -262,7 +271,6 @@ PackOutputs BatteryPack::CalcLinearisedOutputs(const PackState& state, const Pac
     }
   }
   SummarisePackCells(state.branch_on, out);
-  return out;
 }
 
 PackState BatteryPack::Advance(const PackState& state, const PerBranch<double>& charge_as, double duration_s,

@@ -155,24 +155,38 @@ void FlightPlan::Append(const PlanSegment& segment) {
 }
 
 PlanReference FlightPlan::At(double time) const {
+  PlanCursor none{.segment = -1};  // the search from scratch
+  return At(time, none);
+}
+
+PlanReference FlightPlan::At(double time, PlanCursor& cursor) const {
   PlanReference reference;
   if (segments_.empty()) return reference;
+  const int count = static_cast<int>(segments_.size());
   if (time >= duration()) {
     reference.p_W = segments_.back().end_W;
-    reference.segment = static_cast<int>(segments_.size()) - 1;
+    reference.segment = count - 1;
+    cursor.segment = count - 1;
     return reference;
   }
   time = std::max(time, 0.0);
-  // Segments are few (a delivery plan has 6); a binary search keeps long plans cheap too.
-  const auto it = std::upper_bound(segments_.begin(), segments_.end(), time,
-                                   [](double t, const PlanSegment& s) { return t < s.start_time; });
-  const PlanSegment& segment = *(it - 1);
-  reference.segment = static_cast<int>(it - segments_.begin()) - 1;
+  // The last segment that starts at or before `time`: from the cursor forward when the cursor is at or before it,
+  // else by a binary search (segments are few, a delivery plan has 6, but long plans stay cheap too).
+  int index = cursor.segment;
+  if (index >= 0 && index < count && segments_[index].start_time <= time) {
+    while (index + 1 < count && segments_[index + 1].start_time <= time) ++index;
+  } else {
+    const auto it = std::upper_bound(segments_.begin(), segments_.end(), time,
+                                     [](double t, const PlanSegment& s) { return t < s.start_time; });
+    index = static_cast<int>(it - segments_.begin()) - 1;
+  }
+  cursor.segment = index;
+  const PlanSegment& segment = segments_[index];
+  reference.segment = index;
   if (segment.kind == PlanSegment::Kind::kHover) {
     reference.p_W = segment.end_W;
     return reference;
   }
-  const int index = reference.segment;
   const Eigen::Vector3d& direction = direction_W_[index];
   double distance, speed, accel;
   if (segment.kind == PlanSegment::Kind::kBrake) {
@@ -219,8 +233,6 @@ FlightPlan FlightPlan::AfterBraking(const Eigen::Vector3d& start_W, const Eigen:
   }
   return plan;
 }
-
-double FlightPlan::TimeRemaining(double time) const { return std::max(duration() - time, 0.0); }
 
 double FlightPlan::Length() const {
   double length = 0.0;

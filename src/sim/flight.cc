@@ -15,6 +15,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/rotor_lanes.h"
 
 namespace uascma::sim {
 namespace {
@@ -71,7 +72,7 @@ struct StepSignals {
   Eigen::Vector3d wind_W = Eigen::Vector3d::Zero();
   models::BodyInputs body_inputs;
   models::PackOutputs pack_outputs;
-  Eigen::Matrix3d R_WB;
+  Eigen::Vector3d z_B_W;  // R_WB's third column, the body's z axis in W, after the step (the full R_WB: telemetry)
 };
 
 // ---- faults: spall onset and growth → jam (the truth) -------------------------------------------------------
@@ -98,8 +99,7 @@ double InverseBusVoltage(double bus_voltage_v) { return 1.0 / std::max(bus_volta
 // ---- guidance and control: LQR → allocation → rotor lag, capped by the bus voltage -------------------------------
 // The rotors' electrical power is the vehicle's; the current it draws is the power system's (StepPowerSystem).
 void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrusts& believed, StepSignals& s) {
-  const models::PropulsionParams& propulsion = model.propulsion();
-  s.reference = state.plan(model).At(state.time_s - state.guidance.plan_start_s);
+  s.reference = state.plan(model).At(state.time_s - state.guidance.plan_start_s, state.guidance.plan_cursor);
   // Drag feed-forward while all six rotors fly (issue 11 item 3). After a reconfiguration to the quadcopter the
   // bare DLQR flies on: with four rotors near their thrust cap, asking the ~0.4 rad tilt that cancels the drag
   // at 8-9 m/s drives the loop into slow saturated swings. Measured on the default campaign, 150 runs, seed 1:
@@ -116,20 +116,19 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
   s.allocated = allocation.rotor_thrust;
   const double thrust_cap = ThrustCap(model, state.power.bus_voltage_v);
   s.thrust_cap = thrust_cap;
-  const bool detection = model.options().fault_detection;  // the believed rotors feed only the IMM
-  for (int i = 0; i < 6; ++i) {
-    const double commanded = std::clamp(allocation.rotor_thrust[i], 0.0, thrust_cap);
-    const double speed_command = models::CalcRotorSpeedForThrust(propulsion, commanded);
-    if (detection) {
-      state.vehicle.believed_speed[i] = model.rotor_lag().Step(state.vehicle.believed_speed[i], speed_command);
-      believed[i] = models::CalcRotorThrust(propulsion, state.vehicle.believed_speed[i]);
-    }
-    double& rotor_speed = state.vehicle.rotor_speed[i];
-    rotor_speed = (i + 1 == state.faults.jammed_rotor) ? 0.0 : model.rotor_lag().Step(rotor_speed, speed_command);
-    s.thrust[i] = models::CalcRotorThrust(propulsion, state.vehicle.rotor_speed[i]);
-    s.rotor_power[i] = model.electrical_power().Power(s.thrust[i]);
-  }
-  s.achieved = model.mixer().mixing_matrix(models::kNoFailedMotor) * s.thrust;
+  StepRotorLanes({.propulsion = &model.propulsion(),
+                  .lag = &model.rotor_lag(),
+                  .power_table = &model.electrical_power(),
+                  .allocated = s.allocated.data(),
+                  .thrust_cap = thrust_cap,
+                  .jammed_rotor = state.faults.jammed_rotor,
+                  .believed = model.options().fault_detection},  // the believed rotors feed only the IMM
+                 {.rotor_speed = state.vehicle.rotor_speed.data(),
+                  .believed_speed = state.vehicle.believed_speed.data(),
+                  .believed_thrust = believed.data(),
+                  .thrust = s.thrust.data(),
+                  .power = s.rotor_power.data()});
+  s.achieved = model.healthy_mixing() * s.thrust;
 }
 
 // ---- 6-DOF with drag and Dryden wind ----------------------------------------------------------------------------
@@ -190,8 +189,8 @@ void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s
   } else {
     // The outputs at this step's current from the pack's last slow step and the charge drawn since; then this
     // step's charge, and the slow step when its GNC steps are done (models/battery_pack.h PackLinearisation).
-    s.pack_outputs = model.pack().CalcLinearisedOutputs(power.pack, power.pack_linear, power.pack_charge_as,
-                                                        power.pack_substeps * model.dt(), power.pack_current_a);
+    model.pack().CalcLinearisedOutputs(power.pack, power.pack_linear, power.pack_charge_as,
+                                       power.pack_substeps * model.dt(), power.pack_current_a, s.pack_outputs);
     for (int b = 0; b < models::kBranchCount; ++b) {
       power.pack_charge_as[b] += s.pack_outputs.split.current_a[b] * model.dt();
     }
@@ -213,7 +212,9 @@ void StepImm(const FlightModel& model, FlightState& state, const models::RigidBo
   const Eigen::Vector3d specific_force_W =
       (state.vehicle.body.v_WB_W - previous.v_WB_W) / dt - Eigen::Vector3d(0, 0, kGravity);
   measurement.gyro_B = state.vehicle.body.w_WB_B;
-  measurement.specific_force_z_B = (s.R_WB.transpose() * specific_force_W).z();
+  // (R_WBᵀ f)_z, in the order Eigen's product summed it: (z_x f_x + z_y f_y) + z_z f_z.
+  measurement.specific_force_z_B =
+      s.z_B_W.x() * specific_force_W.x() + s.z_B_W.y() * specific_force_W.y() + s.z_B_W.z() * specific_force_W.z();
   if (model.options().sensor_noise) {
     RandomStream& random = state.vehicle.sensor_random;
     measurement.gyro_B += imm.gyro_noise * Eigen::Vector3d(random.Normal(), random.Normal(), random.Normal());
@@ -243,7 +244,7 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   row.p_W = state.vehicle.body.p_WB_W;
   row.v_W = state.vehicle.body.v_WB_W;
   row.p_ref_W = s.reference.p_W;
-  row.euler = EulerFromRotation(s.R_WB);
+  row.euler = EulerFromRotation(state.vehicle.body.q_WB.toRotationMatrix());
   row.drag_W =
       models::CalcRigidBodyRates(model.scenario().body, model.drag(), state.vehicle.body, s.body_inputs).drag_W;
   row.wind_W = s.wind_W;
@@ -292,7 +293,7 @@ double CrossTrackError(const Eigen::Vector3d& error_W, const Eigen::Vector3d& v_
 // R_WB(2, 2) (acos is decreasing): the largest tilt is the acos of the smallest cosine, taken once at the end.
 void UpdateExtremes(const FlightModel& model, VehicleState& vehicle, const StepSignals& s) {
   const double tracking_error = (vehicle.body.p_WB_W - s.reference.p_W).norm();
-  vehicle.min_cos_tilt = std::min(vehicle.min_cos_tilt, s.R_WB(2, 2));
+  vehicle.min_cos_tilt = std::min(vehicle.min_cos_tilt, s.z_B_W.z());
   vehicle.max_tracking_error = std::max(vehicle.max_tracking_error, tracking_error);
   if (-vehicle.body.p_WB_W.z() > model.options().outcome.airborne_height) vehicle.airborne = true;
 }
@@ -306,23 +307,24 @@ void AdvanceClock(const FlightModel& model, FlightState& state) {
 void ClassifyStep(const FlightModel& model, FlightState& state, const StepSignals& s) {
   const double now = state.time_s + model.dt();
   const planning::FlightPlan& plan = state.plan(model);
-  OutcomeInputs inputs;
-  inputs.time_s = now;
-  inputs.p_WB_W = state.vehicle.body.p_WB_W;
-  inputs.v_WB_W = state.vehicle.body.v_WB_W;
-  inputs.cos_tilt = s.R_WB(2, 2);
-  inputs.body_rate = state.vehicle.body.w_WB_B.norm();
-  inputs.cross_track_error = CrossTrackError(state.vehicle.body.p_WB_W - s.reference.p_W, s.reference.v_W);
-  inputs.min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v;
-  inputs.min_cell_branch = s.pack_outputs.min_cell_branch;
-  inputs.min_cell_index = s.pack_outputs.min_cell_index;
-  inputs.airborne = state.vehicle.airborne;
-  inputs.plan_time_remaining_s = plan.TimeRemaining(now - state.guidance.plan_start_s);
-  inputs.plan_end_W = plan.end_W();
-  inputs.landing_radius = state.guidance.on_emergency_plan ? state.guidance.emergency_site_radius : 0.0;
-  inputs.on_original_plan = !state.guidance.on_emergency_plan;
-  inputs.emergency_site = state.guidance.emergency_site;
-  inputs.time_limit_s = model.time_limit_s();
+  const OutcomeInputs inputs{
+      // every field set once, in place
+      .time_s = now,
+      .p_WB_W = state.vehicle.body.p_WB_W,
+      .v_WB_W = state.vehicle.body.v_WB_W,
+      .cos_tilt = s.z_B_W.z(),
+      .body_rate = state.vehicle.body.w_WB_B.norm(),
+      .cross_track_error = CrossTrackError(state.vehicle.body.p_WB_W - s.reference.p_W, s.reference.v_W),
+      .min_cell_voltage_v = s.pack_outputs.min_cell_voltage_v,
+      .min_cell_branch = s.pack_outputs.min_cell_branch,
+      .min_cell_index = s.pack_outputs.min_cell_index,
+      .airborne = state.vehicle.airborne,
+      .plan_time_remaining_s = plan.TimeRemaining(now - state.guidance.plan_start_s),
+      .plan_end_W = plan.end_W(),
+      .landing_radius = state.guidance.on_emergency_plan ? state.guidance.emergency_site_radius : 0.0,
+      .on_original_plan = !state.guidance.on_emergency_plan,
+      .emergency_site = state.guidance.emergency_site,
+      .time_limit_s = model.time_limit_s()};
   OutcomeDecision decision = model.outcome_classifier().Classify(inputs, model.map());
   if (decision.outcome != Outcome::kInProgress) {
     state.outcome = decision.outcome;
@@ -354,6 +356,7 @@ FlightModel::FlightModel(const Scenario& scenario)
       propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
       electrical_power_(propulsion_),
       mixer_(models::MixerParams::ForPropulsion(propulsion_)),
+      healthy_mixing_(mixer_.mixing_matrix(models::kNoFailedMotor)),
       drag_(models::DragTable::Default(scenario.configuration)),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
@@ -469,7 +472,7 @@ StepSignals StepVehicle(const FlightModel& model, FlightState& state, FlightLog*
   StepRotors(model, state, believed, s);
   const models::RigidBodyState previous = state.vehicle.body;
   StepBody(model, state.vehicle, s);
-  s.R_WB = state.vehicle.body.q_WB.toRotationMatrix();
+  s.z_B_W = state.vehicle.body.q_WB.toRotationMatrix().col(2);
   StepImm(model, state, previous, believed, s, log);
   UpdateExtremes(model, state.vehicle, s);
   return s;

@@ -118,10 +118,12 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
   }
   const double altitude = -in.p_WB_W.z();
   const double above_end = altitude - (-in.plan_end_W.z());
-  const double to_end = (in.p_WB_W.head<2>() - in.plan_end_W.head<2>()).norm();
+  // The horizontal distance to the end point, computed only where it is read: the landing zone is checked in the
+  // plan's last seconds, near the end's height (pure comparisons: the order of the conjuncts does not matter).
+  auto distance_to_end = [&] { return (in.p_WB_W.head<2>() - in.plan_end_W.head<2>()).norm(); };
   const double radius = in.landing_radius > 0.0 ? in.landing_radius : limits.landing_radius;
-  const bool landing =
-      to_end < radius && in.plan_time_remaining_s < limits.landing_window_s && above_end < limits.landing_height;
+  const bool landing = in.plan_time_remaining_s < limits.landing_window_s && above_end < limits.landing_height &&
+                       distance_to_end() < radius;
   auto landed = [&](const char* how) {
     out.outcome = in.on_original_plan ? Outcome::kCompleted : Outcome::kEmergencyLanding;
     out.reason = in.on_original_plan ? fmt::format("{} at the destination of the original plan", how)
@@ -160,11 +162,12 @@ OutcomeDecision OutcomeClassifier::Classify(const OutcomeInputs& in, const plann
       out.reason = fmt::format(
           "touched down on open ground at {:.1f} m/s down, {:.1f} m/s across, {:.1f} m from the "
           "landing point (radius {:.2f} m)",
-          in.v_WB_W.z(), across, to_end, radius);
+          in.v_WB_W.z(), across, distance_to_end(), radius);
       return out;
     }
     out.outcome = Outcome::kFailedCollision;
-    out.reason = fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", in.v_WB_W.z(), to_end);
+    out.reason =
+        fmt::format("ground contact at {:.1f} m/s, {:.1f} m from the landing point", in.v_WB_W.z(), distance_to_end());
     return out;
   }
   if (in.time_s >= in.time_limit_s) {

@@ -1,4 +1,6 @@
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -51,6 +53,43 @@ TEST(RandomStreamTest, SeedsReplayAndDerivedStreamsDiffer) {
     ASSERT_LT(x, 1.0);
     ASSERT_LT(u.UniformIndex(7), 7u);
   }
+}
+
+// Normal()'s common path inline and the rest out of line (issue 27) draw what the single loop drew, bit for bit and
+// word for word: the loop as it was, on a copy of the stream, over a million draws that take every path.
+TEST(RandomStreamTest, ZigguratSplitDrawsAsTheSingleLoop) {
+  const internal::Ziggurat& z = internal::TheZiggurat();
+  int wedges = 0, tails = 0;
+  auto single_loop = [&](RandomStream& r) {
+    while (true) {
+      const std::uint64_t bits = r.Next();
+      const int layer = static_cast<int>(bits & 0xff);
+      const double u = 2.0 * (static_cast<double>(static_cast<std::int64_t>(bits >> 11)) * 0x1.0p-53) - 1.0;
+      const double x = u * z.x[layer];
+      if (std::abs(x) < z.x[layer + 1]) return x;
+      if (layer == 0) {
+        ++tails;
+        double tail, e2;
+        do {
+          tail = -std::log(1.0 - r.Uniform()) / internal::Ziggurat::kR;
+          e2 = -std::log(1.0 - r.Uniform());
+        } while (2.0 * e2 < tail * tail);
+        return u < 0.0 ? -(internal::Ziggurat::kR + tail) : internal::Ziggurat::kR + tail;
+      }
+      ++wedges;
+      const double y = z.f[layer] + r.Uniform() * (z.f[layer + 1] - z.f[layer]);
+      if (y < std::exp(-0.5 * x * x)) return x;
+    }
+  };
+  RandomStream split(2027), reference(2027);
+  for (int i = 0; i < 1000000; ++i) {
+    const double a = split.Normal();
+    const double b = single_loop(reference);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(a), std::bit_cast<std::uint64_t>(b)) << "draw " << i;
+  }
+  EXPECT_EQ(split, reference);  // the same words consumed
+  EXPECT_GT(wedges, 1000);
+  EXPECT_GT(tails, 10);
 }
 
 }  // namespace

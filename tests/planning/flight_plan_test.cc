@@ -157,5 +157,33 @@ TEST(FlightPlanTest, MultiWaypointPlansFlyEveryLegRestToRestAndCountAllThatRemai
                InputError);
 }
 
+// The 200 Hz loop's cursor (issue 27) gives At(time)'s reference bit for bit: forward at the GNC step, after a jump
+// back (a new plan), from a cursor of another plan, and from an out-of-range one.
+TEST(FlightPlanTest, CursorGivesAtsReferenceExactly) {
+  const FlightPlan plan =
+      FlightPlan::AfterBraking({1, 2, -30}, {4, -3, 0}, 2.0, MakeDeliveryPlan({{0, 0}, {400, 300}, 30.0, 20.0}, {}));
+  auto expect_same = [&](double t, PlanCursor& cursor) {
+    const PlanReference a = plan.At(t);
+    const PlanReference b = plan.At(t, cursor);
+    EXPECT_EQ(a.segment, b.segment) << t;
+    EXPECT_EQ(cursor.segment, a.segment) << t;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a.p_W[k], b.p_W[k]) << t;
+      EXPECT_EQ(a.v_W[k], b.v_W[k]) << t;
+      EXPECT_EQ(a.a_W[k], b.a_W[k]) << t;
+    }
+  };
+  PlanCursor cursor;
+  for (int step = -10; step * 0.005 < plan.duration() + 1.0; ++step) expect_same(step * 0.005, cursor);
+  for (double t : {3.0, 0.0, plan.duration() - 1e-9, 1.0, -1.0, plan.duration(), 50.0}) expect_same(t, cursor);
+  for (int stale : {-7, 0, 3, 99}) {
+    for (double t : {0.0, 2.5, 60.0, plan.duration() * 0.5, plan.duration() + 3.0}) {
+      cursor.segment = stale;
+      expect_same(t, cursor);
+    }
+  }
+  EXPECT_EQ(PlanCursor{.segment = 1}, PlanCursor{.segment = 4});  // a cache: not part of a state's value
+}
+
 }  // namespace
 }  // namespace uascma::planning

@@ -172,6 +172,9 @@ class BatteryPack {
   PackLinearisation Linearise(const PackState& state) const;
   PackOutputs CalcLinearisedOutputs(const PackState& state, const PackLinearisation& at,
                                     const PerBranch<double>& charge_as, double elapsed_s, double total_current_a) const;
+  // The same outputs written over `out` (every field), for a caller that keeps them (the simulator's 200 Hz step).
+  void CalcLinearisedOutputs(const PackState& state, const PackLinearisation& at, const PerBranch<double>& charge_as,
+                             double elapsed_s, double total_current_a, PackOutputs& out) const;
   PackState Advance(const PackState& state, const PerBranch<double>& charge_as, double duration_s,
                     const FixedStep* step = nullptr) const;
 

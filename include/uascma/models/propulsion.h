@@ -156,6 +156,11 @@ class ElectricalPowerTable {
     const double f = x - i;
     return power_[i] + f * (power_[i + 1] - power_[i]);
   }
+  // The grid, for a caller that reads it for several rotors at once with Power's arithmetic (sim/rotor_lanes.h):
+  // grid()[i] is the power at thrust i / inverse_step(), i in [0, intervals()].
+  const double* grid() const { return power_.data(); }
+  double inverse_step() const { return inverse_step_; }
+  int intervals() const { return intervals_; }
 
  private:
   PropulsionParams params_;

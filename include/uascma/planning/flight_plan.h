@@ -9,6 +9,7 @@
 // vertically at home.
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,13 @@ struct Waypoint {
   double max_speed = 0.0;
 };
 
+// Where a flight last was on its plan (FlightPlan::At with a cursor): a cache, not part of the flight's behaviour,
+// so any two cursors compare equal.
+struct PlanCursor {
+  int segment = 0;
+  bool operator==(const PlanCursor&) const { return true; }
+};
+
 class FlightPlan {
  public:
   FlightPlan() = default;
@@ -82,9 +90,14 @@ class FlightPlan {
   static FlightPlan AfterBraking(const Eigen::Vector3d& start_W, const Eigen::Vector3d& velocity_W, double accel,
                                  const FlightPlan& then);
   PlanReference At(double time) const;  // clamps to the start and end of the plan
+  // The same reference, its segment found from `cursor` (the last segment found) forward, when the query times of
+  // a flight only move forward (the simulator's 200 Hz loop): the plan is shared read-only by a campaign's
+  // threads, the cursor is the flight's. Any cursor gives At(time)'s result (an out-of-date one only costs the
+  // search At makes). Sets the cursor to the segment found.
+  PlanReference At(double time, PlanCursor& cursor) const;
   double duration() const { return segments_.empty() ? 0.0 : segments_.back().start_time + segments_.back().duration; }
   // s from `time` to the end of the whole plan (every remaining move and hover); 0 after the end.
-  double TimeRemaining(double time) const;
+  double TimeRemaining(double time) const { return std::max(duration() - time, 0.0); }
   double Length() const;  // m, path length
   bool empty() const { return segments_.empty(); }
   const std::vector<PlanSegment>& segments() const { return segments_; }

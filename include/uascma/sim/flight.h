@@ -117,6 +117,8 @@ class FlightModel {
   const models::PropulsionParams& propulsion() const { return propulsion_; }
   const models::ElectricalPowerTable& electrical_power() const { return electrical_power_; }
   const models::Mixer& mixer() const { return mixer_; }
+  // The mixer's matrix with every rotor (the achieved wrench of the true rotors), read once.
+  const models::MixingMatrix& healthy_mixing() const { return healthy_mixing_; }
   const models::DragTable& drag() const { return drag_; }
   const models::WindModel& wind() const { return wind_; }
   const models::BatteryPack& pack() const { return pack_; }
@@ -145,6 +147,7 @@ class FlightModel {
   models::PropulsionParams propulsion_;
   models::ElectricalPowerTable electrical_power_;
   models::Mixer mixer_;
+  models::MixingMatrix healthy_mixing_;
   models::DragTable drag_;
   models::WindModel wind_;
   models::BatteryPack pack_;
@@ -282,6 +285,7 @@ struct GuidanceState {
   double emergency_site_radius = 0.0;         // m
   std::vector<Eigen::Vector2d> footprint_NE;  // the last LandASAP footprint's boundary
   double plan_start_s = 0.0;                  // s, flight time at which the executing plan started
+  planning::PlanCursor plan_cursor;           // where the GNC step last was on the executing plan (a cache)
   bool operator==(const GuidanceState&) const = default;
 };
 
