@@ -201,13 +201,16 @@ void AddCampaignCommand(CLI::App& app) {
       MpiSession mpi(LaunchedUnderMpi());
       try {
         exit_code = Run(*options, mpi);
-      } catch (const InputError&) {
+      } catch (const RankZeroInputError&) {
         if (mpi.rank() == 0) throw;
-        // Rank 0 reports the error and exits 2; the other ranks leave quietly with 0. Were they to exit 2, the
-        // first non-zero exit makes mpirun abort the job, which could kill rank 0 before its line was out:
+        // Rank 0 reports the error it sent and exits 2; the other ranks leave quietly with 0. Were they to exit
+        // 2, the first non-zero exit makes mpirun abort the job, which could kill rank 0 before its line was out:
         // measured, `mpirun -n 2` into a finished campaign's file without --resume printed no line in 1 of 10
-        // to 1 of 40 runs when every rank exited 2. mpirun's own exit code is rank 0's, 2.
+        // to 1 of 40 runs when every rank exited 2 (0 of 75 since). mpirun's own exit code is rank 0's, 2.
         quiet_rank = true;
+      } catch (const InputError& e) {
+        if (mpi.rank() == 0) throw;
+        mpi.Abort(e.what(), 2);  // this rank's own error (an input only it reads): named, and every rank ends
       }
     }  // MpiSession's MPI_Finalize
     if (quiet_rank) std::exit(0);

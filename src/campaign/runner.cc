@@ -448,7 +448,9 @@ CampaignPlan ReceivePlan(const CampaignHeader& header, MpiSession& mpi) {
   std::string bytes;
   mpi::Broadcast(bytes, 0);
   const nlohmann::json json = FromBytes(bytes);
-  if (!json.at("failure").get<std::string>().empty()) throw InputError(json.at("failure").get<std::string>());
+  if (!json.at("failure").get<std::string>().empty()) {
+    throw RankZeroInputError(json.at("failure").get<std::string>());
+  }
   if (json.at("campaign_hash").get<std::string>() != header.campaign_hash) {
     mpi.Abort(fmt::format("rank {} resolved campaign hash {}, rank 0 {}: the ranks see different inputs", mpi.rank(),
                           header.campaign_hash, json.at("campaign_hash").get<std::string>()),

@@ -11,6 +11,8 @@
 // process. Only the thread that created the session calls MPI (MPI_THREAD_FUNNELED).
 #include <string>
 
+#include "uascma/common/error.h"
+
 namespace uascma::campaign {
 
 // True when this program has MPI (UseMpi() was called).
@@ -19,6 +21,13 @@ bool BuiltWithMpi();
 void UseMpi();
 // True when the environment says an MPI launcher started this process.
 bool LaunchedUnderMpi();
+
+// The input error rank 0 found and sent to every rank with the campaign's plan (runner.cc): rank 0 reports it, so
+// the other ranks leave without a word and with exit code 0 (campaign_command.cc says why).
+class RankZeroInputError : public InputError {
+ public:
+  using InputError::InputError;
+};
 
 class MpiSession {
  public:
