@@ -356,7 +356,6 @@ FlightModel::FlightModel(const Scenario& scenario)
       propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
       electrical_power_(propulsion_),
       mixer_(models::MixerParams::ForPropulsion(propulsion_)),
-      healthy_mixing_(mixer_.mixing_matrix(models::kNoFailedMotor)),
       drag_(models::DragTable::Default(scenario.configuration)),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),

@@ -117,8 +117,8 @@ class FlightModel {
   const models::PropulsionParams& propulsion() const { return propulsion_; }
   const models::ElectricalPowerTable& electrical_power() const { return electrical_power_; }
   const models::Mixer& mixer() const { return mixer_; }
-  // The mixer's matrix with every rotor (the achieved wrench of the true rotors), read once.
-  const models::MixingMatrix& healthy_mixing() const { return healthy_mixing_; }
+  // The mixer's matrix with every rotor (the achieved wrench of the true rotors).
+  const models::MixingMatrix& healthy_mixing() const { return mixer_.mixing_matrix(models::kNoFailedMotor); }
   const models::DragTable& drag() const { return drag_; }
   const models::WindModel& wind() const { return wind_; }
   const models::BatteryPack& pack() const { return pack_; }
@@ -147,7 +147,6 @@ class FlightModel {
   models::PropulsionParams propulsion_;
   models::ElectricalPowerTable electrical_power_;
   models::Mixer mixer_;
-  models::MixingMatrix healthy_mixing_;
   models::DragTable drag_;
   models::WindModel wind_;
   models::BatteryPack pack_;
