@@ -136,7 +136,7 @@ ResolvedPolicy ResolvePythonPolicy(const py::object& policy, const ScenarioFile&
     return {std::make_unique<PythonPolicy>(policy, name), true};
   }
   throw InputError("run", "policy",
-                   "'noop', 'cma', 'cma-risk', 'cma-qmdp', a policy file, a uascma.Policy or a callable");
+                   "'noop', 'cma', 'cma-risk', 'cma-risk@P', 'cma-qmdp', a policy file, a uascma.Policy or a callable");
 }
 
 // A finished flight and the model it was flown on.
@@ -569,7 +569,8 @@ void InitSim(py::module_& m) {
   m.def("run", &Run, py::arg("scenario"), py::arg("policy") = py::none(), py::arg("seed") = py::none(),
         py::arg("telemetry") = true, py::arg("mission") = py::none(),
         "Flies one scenario (a path, YAML text, a dict or a Scenario) with a policy: None (the scenario's), "
-        "'noop', 'cma', 'cma-risk', 'cma-qmdp', a policy file, a uascma.Policy / CmaSolution, or a callable "
+        "'noop', 'cma', 'cma-risk', 'cma-risk@P' (a stated level P), 'cma-qmdp', a policy file, a uascma.Policy / "
+        "CmaSolution, or a callable "
         "f(DecisionInputs) -> action. "
         "seed None keeps the scenario's; mission: a .plan or .waypoints file flown instead of the scenario's "
         "mission. The same flight as `uascma simulate` for the same seed. Ctrl-C raises KeyboardInterrupt when "

@@ -108,13 +108,14 @@ MotorHealth MapMotorHealth(const std::array<double, 3>& belief) {
   return static_cast<MotorHealth>(best - belief.begin());
 }
 
-CmaState RiskCmaPolicy::ChosenState(const DecisionInputs& inputs) {
+CmaState RiskCmaPolicy::ChosenState(const DecisionInputs& inputs) const {
   const MotorHealth mh = MapMotorHealth(inputs.motor_health_belief);
   const CmaState s0 = StateWith(inputs, mh, ReachMargin::kRM0);
   const CmaState s1 = StateWith(inputs, mh, ReachMargin::kRM1);
   const double p_short = inputs.eod_short_probability;
   if (p_short >= 1.0) return s0;
-  const double level = CmaRiskLevel(DefaultCmaQValues(), DefaultCmaActions(), s0, s1);
+  const double level =
+      std::isnan(stated_level_) ? CmaRiskLevel(DefaultCmaQValues(), DefaultCmaActions(), s0, s1) : stated_level_;
   return !std::isnan(level) && p_short > level ? s0 : s1;
 }
 

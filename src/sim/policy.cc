@@ -1,6 +1,9 @@
 #include "uascma/sim/policy.h"
 
+#include <charconv>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -16,9 +19,10 @@ namespace {
 
 using RankingTable = std::vector<std::vector<decision::ActionIndex>>;
 
-// The ranking enters the hash only when there is one, so a policy without one keeps the hash it always had.
+// The ranking (and a stated risk level) enter the hash only when there is one, so a policy without one keeps the
+// hash it always had.
 std::string HashOf(const std::string& kind, const std::vector<decision::ActionIndex>& actions,
-                   const RankingTable& ranking) {
+                   const RankingTable& ranking, double risk_level = std::numeric_limits<double>::quiet_NaN()) {
   Fingerprint f;
   f.Add(std::string_view(kind));
   f.Add(static_cast<std::uint64_t>(actions.size()));
@@ -29,6 +33,10 @@ std::string HashOf(const std::string& kind, const std::vector<decision::ActionIn
       f.Add(static_cast<std::uint64_t>(order.size()));
       for (decision::ActionIndex a : order) f.Add(static_cast<int>(a));
     }
+  }
+  if (!std::isnan(risk_level)) {
+    f.Add(std::string_view("risk_level"));
+    f.Add(risk_level);
   }
   return f.Hex();
 }
@@ -115,20 +123,40 @@ PolicyDefinition PolicyDefinitionFromFile(const std::string& path) {
                          std::move(ranking));
 }
 
-PolicyDefinition BeliefCmaPolicyDefinition(const std::string& kind) {
+constexpr std::string_view kStatedRiskPrefix = "cma-risk@";
+
+// "cma-risk", "cma-risk@P" (name: the spec) or "cma-qmdp" over the default CMA policy's table.
+PolicyDefinition BeliefCmaPolicyDefinition(const std::string& name, const std::string& kind, double risk_level) {
   PolicyDefinition policy = SolvedCmaPolicyDefinition();
-  policy.name = kind;
+  policy.name = name;
   policy.kind = kind;
-  policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
+  policy.risk_level = risk_level;
+  policy.hash = HashOf(policy.kind, policy.actions, policy.ranking, policy.risk_level);
   return policy;
+}
+
+std::optional<double> StatedRiskLevel(const std::string& spec, const std::string& source, const std::string& field) {
+  if (!spec.starts_with(kStatedRiskPrefix)) return std::nullopt;
+  const std::string text = spec.substr(kStatedRiskPrefix.size());
+  double level = std::numeric_limits<double>::quiet_NaN();
+  const auto [end, status] = std::from_chars(text.data(), text.data() + text.size(), level);
+  if (text.empty() || status != std::errc() || end != text.data() + text.size() || !(level >= 0.0 && level <= 1.0)) {
+    throw InputError(source, field,
+                     "cma-risk@P with P a probability from 0 to 1 (e.g. cma-risk@0.1), got '" + spec + "'");
+  }
+  return level;
 }
 
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field) {
   if (spec == "noop") return NoOpPolicyDefinition();
   if (spec == "cma") return SolvedCmaPolicyDefinition();
-  if (IsBeliefPolicyKind(spec)) return BeliefCmaPolicyDefinition(spec);
+  if (IsBeliefPolicyKind(spec)) return BeliefCmaPolicyDefinition(spec, spec, std::numeric_limits<double>::quiet_NaN());
+  if (const std::optional<double> level = StatedRiskLevel(spec, source, field)) {
+    return BeliefCmaPolicyDefinition(spec, "cma-risk", *level);
+  }
   if (std::filesystem::path(spec).extension() != ".json") {
-    throw InputError(source, field, "noop, cma, cma-risk, cma-qmdp or a policy JSON file (*.json), got '" + spec + "'");
+    throw InputError(source, field,
+                     "noop, cma, cma-risk, cma-risk@P, cma-qmdp or a policy JSON file (*.json), got '" + spec + "'");
   }
   return PolicyDefinitionFromFile(spec);  // names the file when it is missing or does not bind
 }
@@ -176,7 +204,8 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
   PolicyDefinition policy = TableDefinition(name, source, std::move(actions), std::move(ranking));
   if (IsBeliefPolicyKind(kind)) {  // the default CMA policy's table, decided on beliefs
     policy.kind = kind;
-    policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
+    if (kind == "cma-risk") policy.risk_level = StatedRiskLevel(name, where, "name").value_or(policy.risk_level);
+    policy.hash = HashOf(policy.kind, policy.actions, policy.ranking, policy.risk_level);
   }
   return policy;
 }
@@ -191,7 +220,7 @@ std::vector<std::string> PolicyActionNames(const PolicyDefinition& policy) {
 
 std::unique_ptr<DecisionPolicy> MakeDecisionPolicy(const PolicyDefinition& policy) {
   if (policy.kind == "noop") return std::make_unique<NoOpPolicy>();
-  if (policy.kind == "cma-risk") return std::make_unique<RiskCmaPolicy>(policy.name);
+  if (policy.kind == "cma-risk") return std::make_unique<RiskCmaPolicy>(policy.name, policy.risk_level);
   if (policy.kind == "cma-qmdp") return std::make_unique<QmdpCmaPolicy>(policy.name);
   return std::make_unique<TablePolicy>(policy.actions, policy.name, policy.ranking);
 }

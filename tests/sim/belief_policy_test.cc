@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/sim/belief_policy.h"
 #include "uascma/sim/policy.h"
@@ -153,6 +154,64 @@ TEST(BeliefPolicyTest, ResolvedByNameAndStoredWithTheirKind) {
         MakeStoredPolicy(policy.name, policy.kind, policy.source, PolicyActionsJson(policy), "store");
     EXPECT_EQ(stored.hash, policy.hash);
     EXPECT_EQ(MakeDecisionPolicy(stored)->name(), name);
+  }
+}
+
+// "cma-risk@P": the level the user states replaces the derived one; in N,NF,MM1,G (RM1 NoOp, RM0 LandPract) the
+// action switches where b(RM0) passes P, strictly above it.
+TEST(BeliefPolicyTest, AStatedLevelDecidesWhereTheChancePassesIt) {
+  const CmaState s1{decision::FlightStatus::kN, MotorHealth::kNF, decision::MotorMargin::kMM1,
+                    decision::BatteryHealth::kG, ReachMargin::kRM1};
+  DecisionInputs inputs = OneHotInputs(s1);
+  const std::vector<ActionIndex> cma = SolvedCmaPolicyDefinition().actions;
+  ASSERT_EQ(cma[decision::CmaStateIndex(s1)], kNoOp);
+  CmaState s0 = s1;
+  s0.rm = ReachMargin::kRM0;
+  ASSERT_EQ(cma[decision::CmaStateIndex(s0)], kLandPract);
+  const double derived = CmaRiskLevel(DefaultCmaQValues(), cma, s0, s1);
+  ASSERT_GT(derived, 0.0);
+  ASSERT_LT(derived, 0.5);
+  for (const double level : {0.0, 0.1, 0.5, 0.9}) {
+    RiskCmaPolicy stated("stated", level);
+    for (const double p : {0.0, level, std::nextafter(level, 1.0), 0.3, 0.7, 1.0}) {
+      inputs.eod_short_probability = p;
+      const CmaAction expected = p > level || p >= 1.0 ? CmaAction::kLandPract : CmaAction::kNoOp;
+      EXPECT_EQ(stated.Decide(inputs), expected) << "level " << level << " b(RM0) " << p;
+    }
+  }
+  // Without a stated level: the derived one.
+  RiskCmaPolicy derived_policy;
+  inputs.eod_short_probability = std::nextafter(derived, 1.0);
+  EXPECT_EQ(derived_policy.Decide(inputs), CmaAction::kLandPract);
+  inputs.eod_short_probability = derived;
+  EXPECT_EQ(derived_policy.Decide(inputs), CmaAction::kNoOp);
+}
+
+TEST(BeliefPolicyTest, AStatedLevelIsResolvedStoredAndCheckedByName) {
+  const PolicyDefinition derived = ResolvePolicy("cma-risk", "test");
+  EXPECT_TRUE(std::isnan(derived.risk_level));
+  const PolicyDefinition stated = ResolvePolicy("cma-risk@0.1", "test");
+  EXPECT_EQ(stated.name, "cma-risk@0.1");
+  EXPECT_EQ(stated.kind, "cma-risk");
+  EXPECT_EQ(stated.risk_level, 0.1);
+  EXPECT_EQ(stated.actions, derived.actions);
+  EXPECT_NE(stated.hash, derived.hash);
+  EXPECT_NE(stated.hash, ResolvePolicy("cma-risk@0.2", "test").hash);
+  const PolicyDefinition stored =
+      MakeStoredPolicy(stated.name, stated.kind, stated.source, PolicyActionsJson(stated), "store");
+  EXPECT_EQ(stored.risk_level, 0.1);
+  EXPECT_EQ(stored.hash, stated.hash);
+  EXPECT_EQ(MakeDecisionPolicy(stored)->name(), "cma-risk@0.1");
+  EXPECT_EQ(ResolvePolicy("cma-risk@1", "test").risk_level, 1.0);
+  for (const char* bad : {"cma-risk@", "cma-risk@1.5", "cma-risk@-0.1", "cma-risk@abc", "cma-risk@0.1x", "cma-risk@nan",
+                          "cma-risk@ 0.1"}) {
+    try {
+      ResolvePolicy(bad, "scenario.yaml");
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("scenario.yaml"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("cma-risk@P"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -4,6 +4,7 @@
 //
 //   "cma-risk"  the CMA table in the state whose RM is RM0 when b(RM0) = P(EOD < t_remaining + t_sf) exceeds the
 //               level CmaRiskLevel derives from the solved policy's values, and whose MH is the belief's MAP;
+//               "cma-risk@P" the same at the level P the user states (sim/policy.h);
 //   "cma-qmdp"  QMDP (Littman, Cassandra & Kaelbling, "Learning policies for partially observable environments:
 //               scaling up", ICML 1995): argmax_a Σ_s b(s) Q(s, a), b over the CMA states that differ in MH and RM.
 //
@@ -16,6 +17,7 @@
 // (sim/eod_error_model.h) and, under noisy sensing, the SOC estimate's 1σ (sim/sensing.h): so even with exact sensing
 // it is a chance, not the point RM's 0 or 1.
 #include <array>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -59,16 +61,19 @@ decision::CmaState StateWith(const DecisionInputs& inputs, decision::MotorHealth
 // "cma-risk" (file comment).
 class RiskCmaPolicy final : public DecisionPolicy {
  public:
-  explicit RiskCmaPolicy(std::string name = "cma-risk") : name_(std::move(name)) {}
+  // `stated_level` NaN: the level CmaRiskLevel derives; else RM0 when b(RM0) > stated_level (0 … 1).
+  explicit RiskCmaPolicy(std::string name = "cma-risk", double stated_level = std::numeric_limits<double>::quiet_NaN())
+      : name_(std::move(name)), stated_level_(stated_level) {}
   decision::CmaAction Decide(const DecisionInputs& inputs) override;
   std::string name() const override { return name_; }
   ActionRanking Ranking(const DecisionInputs& inputs) const override;
   bool ReadsEodDistribution() const override { return true; }  // b(RM0) = eod_short_probability
   // The state whose action it takes.
-  static decision::CmaState ChosenState(const DecisionInputs& inputs);
+  decision::CmaState ChosenState(const DecisionInputs& inputs) const;
 
  private:
   std::string name_;
+  double stated_level_;
 };
 
 // "cma-qmdp" (file comment). Its ranking is the expected-Q order of the last Decide.

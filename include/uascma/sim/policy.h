@@ -6,6 +6,8 @@
 //                solved by value iteration (decision/policy_file.h SolveDefaultCmaPolicy);
 //   "cma-risk"   the default CMA policy deciding on beliefs: RM0 when P(EOD < t_remaining + t_sf) exceeds a level
 //                derived from its values, MH the belief's MAP (sim/belief_policy.h);
+//   "cma-risk@P" the same at a level the user states, P from 0 to 1 (e.g. "cma-risk@0.1": RM0 when the chance of
+//                running short exceeds 10 %), an operator's risk appetite instead of the reward-derived level;
 //   "cma-qmdp"   QMDP over the default CMA policy's Q-values and the beliefs (sim/belief_policy.h);
 //   FILE.json    a policy file written by `uascma policy solve`; its model hash is checked against the CMA model
 //                rebuilt from the weights it records. Named by the file stem ("tuned.json" → "tuned").
@@ -14,6 +16,7 @@
 #include <array>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -103,7 +106,9 @@ struct PolicyDefinition {
   // Kind "table": per state, its available actions by decreasing Q(s, a), actions[s] first (decisions item 28);
   // empty: the executor falls back on the default CMA policy's ranking.
   std::vector<std::vector<decision::ActionIndex>> ranking;
-  std::string hash;  // 16 hex digits: fingerprint of the kind, the actions and the ranking
+  // Kind "cma-risk": the stated level of "cma-risk@P"; NaN: the level derived from the Q-values (CmaRiskLevel).
+  double risk_level = std::numeric_limits<double>::quiet_NaN();
+  std::string hash;  // 16 hex digits: fingerprint of the kind, the actions, the ranking and a stated level
 };
 
 PolicyDefinition NoOpPolicyDefinition();
@@ -112,7 +117,11 @@ inline bool IsBeliefPolicyKind(const std::string& kind) { return kind == "cma-ri
 PolicyDefinition SolvedCmaPolicyDefinition();
 // A policy file; InputError names the file and field when it does not bind to the CMA model.
 PolicyDefinition PolicyDefinitionFromFile(const std::string& path);
-// "noop", "cma" or a policy JSON path; InputError names `source` (e.g. "--policy") and `field` otherwise.
+// The stated level of a "cma-risk@P" name (P a number from 0 to 1); nullopt for any other name. InputError names
+// `source` and `field` when the name starts with "cma-risk@" but P is not such a number.
+std::optional<double> StatedRiskLevel(const std::string& spec, const std::string& source, const std::string& field);
+// "noop", "cma", "cma-risk", "cma-risk@P", "cma-qmdp" or a policy JSON path; InputError names `source` (e.g.
+// "--policy") and `field` otherwise.
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field = "policy");
 // A policy from its stored form (results store): `actions_json` is PolicyActionsJson's text, a list with one entry
 // per state, an action name or the state's ranking as a list of names (its action first). InputError names
