@@ -150,8 +150,8 @@ LqrController::LqrController(const models::RigidBodyParams& params, const LqrOpt
 }
 
 Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const {
-  const Eigen::Matrix3d R_WB = state.q_WB.toRotationMatrix();
-  const Eigen::Vector3d euler = EulerFromRotation(R_WB);
+  const EulerEntries R_WB = EulerEntriesOf(state.q_WB);  // the entries of R_WB read below, not the other four
+  const Eigen::Vector3d euler = EulerFromEntries(R_WB);
   // The reference acceleration becomes a reference tilt and a thrust feed-forward: with z_B = (cφ sθ, −sφ, cφ cθ)
   // (Z-Y-X angles, ψ = 0) and the thrust's vertical share held at m G, G = g − a_z, the tilt that produces
   // (a_x, a_y) is θ = atan(−a_x / G), φ = atan(a_y cθ / G) (exact; the small-angle θ = −a_x/g over-asks by
@@ -169,9 +169,9 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   error(5) = std::clamp(velocity_error.z(), -options_.max_velocity_error, options_.max_velocity_error);
   // The linear model is written in the heading frame (yaw ≈ 0): rotate horizontal errors by −ψ so a
   // yawed vehicle still tilts the right way. (cos ψ, sin ψ) = (R00, R10) / cos θ for Z-Y-X angles.
-  const double heading_norm = std::sqrt(R_WB(0, 0) * R_WB(0, 0) + R_WB(1, 0) * R_WB(1, 0));
-  const double cos_yaw = heading_norm > 0.0 ? R_WB(0, 0) / heading_norm : 1.0;
-  const double sin_yaw = heading_norm > 0.0 ? R_WB(1, 0) / heading_norm : 0.0;
+  const double heading_norm = std::sqrt(R_WB.r00 * R_WB.r00 + R_WB.r10 * R_WB.r10);
+  const double cos_yaw = heading_norm > 0.0 ? R_WB.r00 / heading_norm : 1.0;
+  const double sin_yaw = heading_norm > 0.0 ? R_WB.r10 / heading_norm : 0.0;
   error.head<2>() = RotateToHeading(cos_yaw, sin_yaw, error.head<2>());
   error.segment<2>(3) = RotateToHeading(cos_yaw, sin_yaw, error.segment<2>(3));
   error(6) = euler.x() - roll_ref;
@@ -185,7 +185,7 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
                           g(3, 8) * error(8) + g(3, 11) * error(11));
   Wrench wrench;
   // Hover thrust plus feed-forward, corrected for tilt so the vertical component holds altitude.
-  const double cos_tilt = std::max(R_WB(2, 2), 0.5);
+  const double cos_tilt = std::max(R_WB.r22, 0.5);
   wrench(0) = std::max((params_.mass * (kGravity - reference.a_W.z()) + u(0)) / cos_tilt, 0.0);
   wrench.tail<3>() = u.tail<3>();
   return wrench;

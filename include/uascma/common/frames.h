@@ -23,12 +23,37 @@ inline constexpr double kGravity = 9.80665;   // m/s², standard gravity
 inline constexpr double kAirDensity = 1.225;  // kg/m³, ISA sea level (shared/spec/defaults.md, drag)
 inline constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
 
+// The five entries of R_WB that the Z-Y-X angles read (and the tilt, r22 = cos of it).
+struct EulerEntries {
+  double r00, r10, r20, r21, r22;
+};
+// Those entries of q's rotation matrix with the arithmetic of Eigen's QuaternionBase::toRotationMatrix (the same
+// bits as q.toRotationMatrix()(i, j), tests/common/frames_test.cc), without the other four.
+inline EulerEntries EulerEntriesOf(const Eigen::Quaterniond& q) {
+  const double tx = 2.0 * q.x();
+  const double ty = 2.0 * q.y();
+  const double tz = 2.0 * q.z();
+  const double twy = ty * q.w();
+  const double twx = tx * q.w();
+  const double twz = tz * q.w();
+  const double txx = tx * q.x();
+  const double txy = ty * q.x();
+  const double txz = tz * q.x();
+  const double tyy = ty * q.y();
+  const double tyz = tz * q.y();
+  const double tzz = tz * q.z();
+  return {1.0 - (tyy + tzz), txy + twz, txz - twy, tyz + twx, 1.0 - (txx + tyy)};
+}
+// Roll, pitch, yaw (rad, Z-Y-X) from R_WB's entries.
+inline Eigen::Vector3d EulerFromEntries(const EulerEntries& r) {
+  const double pitch = std::asin(std::clamp(-r.r20, -1.0, 1.0));
+  const double roll = std::atan2(r.r21, r.r22);
+  const double yaw = std::atan2(r.r10, r.r00);
+  return {roll, pitch, yaw};
+}
 // Roll, pitch, yaw (rad, Z-Y-X) of R_WB.
 inline Eigen::Vector3d EulerFromRotation(const Eigen::Matrix3d& R_WB) {
-  const double pitch = std::asin(std::clamp(-R_WB(2, 0), -1.0, 1.0));
-  const double roll = std::atan2(R_WB(2, 1), R_WB(2, 2));
-  const double yaw = std::atan2(R_WB(1, 0), R_WB(0, 0));
-  return {roll, pitch, yaw};
+  return EulerFromEntries({R_WB(0, 0), R_WB(1, 0), R_WB(2, 0), R_WB(2, 1), R_WB(2, 2)});
 }
 
 // R_WB from roll, pitch, yaw (rad, Z-Y-X).
