@@ -2,7 +2,8 @@
 // The kernels of common/lane_math.h, written once as templates over the value type T: double (the scalar
 // functions), or a GCC/Clang generic vector of 2 or 4 doubles (the lanes). Every kernel uses only IEEE add,
 // subtract, multiply, divide and square root, compares, and bit operations (abs, copysign, building 2^n), and a
-// branch per lane is a select between two values each computed the same way in every instantiation. So lane i of
+// branch per lane is a select between two values each computed by the same function in every instantiation (the
+// scalar form may branch instead, computing only the value it selects: asin, cos). So lane i of
 // the vector form is, bit for bit, the scalar form of lane i's argument, provided no operation is contracted into a
 // fused multiply-add: the x86-64 baseline and `target("avx2")` have none, and the files that instantiate the lanes
 // are compiled with -ffp-contract=off as well (src/common/CMakeLists.txt, bench/, tests/).
@@ -15,6 +16,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 namespace uascma::lane_math_internal {
 
@@ -164,23 +166,35 @@ inline constexpr double kHalfPiLow = 0x1.1a62633145c07p-54;  // π/2 − (π/2 r
 
 // |s| ≤ 1/2: asin(|s|) = |s| + |s| z P(z), z = s². Above: asin(|s|) = π/2 − 2 asin(r), r = √z, z = (1 − |s|)/2
 // (exact), with r's rounding corrected as in fdlibm's e_asin.c: r_high = r with its 32 low bits cleared,
-// c = (z − r_high²)/(r + r_high), asin = π/4 − ((2 r z P − (π/2_low − 2c)) − (π/4 − 2 r_high)). Both forms are
-// computed in every lane (one square root and one division each), the lane's own one selected.
+// c = (z − r_high²)/(r + r_high), asin = π/4 − ((2 r z P − (π/2_low − 2c)) − (π/4 − 2 r_high)). In lanes both forms
+// are computed (one square root and one division each) and each lane's own one selected; the scalar form branches
+// and computes only its own, through the same two functions, hence the same bits.
 template <typename T>
-UASCMA_LANE_MATH_INLINE T AsinKernel(T s) {
-  const T as = Abs(s);
-  const auto small = as <= 0.5;
-  const T z = Select(small, as * as, (1.0 - as) * 0.5);
+UASCMA_LANE_MATH_INLINE T AsinOfSmall(T as) {  // |s| ≤ 1/2
+  const T z = as * as;
+  return as + as * (z * Estrin(kAsinP, z));
+}
+template <typename T>
+UASCMA_LANE_MATH_INLINE T AsinOfLarge(T as) {  // |s| > 1/2
+  const T z = (1.0 - as) * 0.5;
   const T zp = z * Estrin(kAsinP, z);
-  const T inner = as + as * zp;
   const T r = Sqrt(z);
   const T r_high = FromBits(Bits(r) & 0xffffffff00000000ULL);
   const T r_sum = r + r_high;
   const T c = (z - r_high * r_high) / Select(r_sum == 0.0, Splat<T>(1.0), r_sum);  // |s| = 1: r = 0, c = 0
   const T p = 2.0 * r * zp - (kHalfPiLow - 2.0 * c);
   const T q = kQuarterPiHigh - 2.0 * r_high;
-  const T outer = kQuarterPiHigh - (p - q);
-  return CopySign(Select(small, inner, outer), s);
+  return kQuarterPiHigh - (p - q);
+}
+
+template <typename T>
+UASCMA_LANE_MATH_INLINE T AsinKernel(T s) {
+  const T as = Abs(s);
+  if constexpr (std::is_same_v<T, double>) {
+    return CopySign(as <= 0.5 ? AsinOfSmall(as) : AsinOfLarge(as), s);  // NaN: the large form, NaN as well
+  } else {
+    return CopySign(Select(as <= 0.5, AsinOfSmall(as), AsinOfLarge(as)), s);
+  }
 }
 
 // ---- exp, expm1 --------------------------------------------------------------------------------------------------
@@ -271,18 +285,35 @@ inline constexpr std::array<double, 8> kSinS = InverseFactorials<8>(3, 2, -1.0, 
 inline constexpr std::array<double, 7> kCosC = InverseFactorials<7>(4, 2, 1.0, true);   // 1/4!, −1/6!, … 1/16!
 
 template <typename T>
+UASCMA_LANE_MATH_INLINE T SinOfReduced(T r, T z) {
+  return r + (r * z) * Estrin(kSinS, z);
+}
+template <typename T>
+UASCMA_LANE_MATH_INLINE T CosOfReduced(T z) {
+  const T half_z = 0.5 * z;
+  const T w = 1.0 - half_z;
+  return w + (((1.0 - w) - half_z) + (z * z) * Estrin(kCosC, z));
+}
+
+// In lanes sin r and cos r are both computed and each lane's selected; the scalar form branches (the same bits).
+template <typename T>
 UASCMA_LANE_MATH_INLINE T CosKernel(T x) {
   const T ax = Abs(x);
   const T shifted = ax * kTwoOverPi + kRoundingShift;
   const T n = shifted - kRoundingShift;
-  const T r = ((ax - n * kHalfPi1) - n * kHalfPi2) - n * kHalfPi3;
-  const T z = r * r;
-  const T sin_r = r + (r * z) * Estrin(kSinS, z);
-  const T half_z = 0.5 * z;
-  const T w = 1.0 - half_z;
-  const T cos_r = w + (((1.0 - w) - half_z) + (z * z) * Estrin(kCosC, z));
   const auto quadrant = Bits(shifted);
-  const T value = Select((quadrant & 1) != 0, sin_r, cos_r);
+  T value;
+  if constexpr (std::is_same_v<T, double>) {
+    // n = 0 (|x| ≲ π/4, the step's tilts): the reduction gives r = |x| exactly ((|x| − 0) − 0 − 0), taken directly.
+    if (n == 0.0) return CosOfReduced(ax * ax);
+    const T r = ((ax - n * kHalfPi1) - n * kHalfPi2) - n * kHalfPi3;
+    const T z = r * r;
+    value = (quadrant & 1) != 0 ? SinOfReduced(r, z) : CosOfReduced(z);
+  } else {
+    const T r = ((ax - n * kHalfPi1) - n * kHalfPi2) - n * kHalfPi3;
+    const T z = r * r;
+    value = Select((quadrant & 1) != 0, SinOfReduced(r, z), CosOfReduced(z));
+  }
   const T result = Select(((quadrant + 1) & 2) != 0, -value, value);
   return Select(ax > kCosLargest, Splat<T>(__builtin_nan("")), result);
 }

@@ -1,0 +1,320 @@
+// Our asin, atan, atan2, cos, exp and expm1 (common/lane_math.h) against glibc's, per evaluation (issue 27 item 4:
+// does evaluating four flights' functions in lanes pay?). For each function, 256 groups of 4 arguments drawn in the
+// ranges the 200 Hz step uses, evaluated as
+//   libm:      glibc's scalar function, 4 calls per group (the ifunc variant the CPU selects: _fma on this machine);
+//   ours:      our scalar function (inlined), 4 per group;
+//   sse2:      our kernel on two 2-wide vectors per group, inlined (the x86-64 baseline);
+//   avx2:      our kernel on one 4-wide vector per group, inlined in a target("avx2") function;
+//   dispatch:  the out-of-line Asin4(path, …) of lane_math.h on the default path (a call per group);
+// in two patterns:
+//   Throughput: the groups are independent (the out-of-order core overlaps consecutive evaluations);
+//   Chain:      group k's arguments are table_k + 2^−20 · (group k − 1's results), so each lane is a dependent chain
+//               (four independent chains for 4 lanes: four flights in lockstep, each waiting on its own last value);
+//   Chain1:     (libm and ours only) one chain through all 1,024 arguments: a flight flown alone.
+// Counters: ns per evaluation ("ns_per_eval"), and per group of 4 ("ns_per_4"); for Chain1, per evaluation.
+// The file is compiled with -fno-tree-loop-vectorize (bench/CMakeLists.txt), so that the scalar loops stay scalar
+// (one flight's step calls each function once, never in a loop the compiler could vectorise).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+#include "uascma/common/lane_math.h"
+#include "uascma/common/random.h"
+
+namespace {
+
+using namespace uascma;
+using lane_math::Lanes4;
+using lane_math_internal::LaneMathV2;
+using lane_math_internal::LaneMathV4;
+
+constexpr int kGroups = 256;
+constexpr int kValues = 4 * kGroups;
+constexpr double kChainWeight = 0x1p-20;  // exact scaling: the chain's argument stays within 2^-19 of the table's
+
+// The arguments of one function (x unused by the functions of one argument).
+struct Table {
+  std::vector<double> y = std::vector<double>(kValues);
+  std::vector<double> x = std::vector<double>(kValues);
+};
+
+// The step's ranges (src/gnc/lqr.cc, src/models/rigid_body.cc, src/gnc/imm.cc, src/prognostics/eod.cc): asin of
+// sin(pitch) (tilt ≤ 0.6 rad) and of the flow incidence, |.| ≤ 0.6; atan of the tilt references −a_x / (g − a_z), |.| ≲
+// 1; atan2 of R_WB's entries (any angle on the unit circle); cos of a reference tilt within the 0.6 rad limit; exp of a
+// likelihood exponent −q/2 (−10…0); expm1 of an EOD segment's −q t (−2…0).
+struct AsinFunction {
+  static double Libm(double y, double) { return std::asin(y); }
+  static double Ours(double y, double) { return lane_math::Asin(y); }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
+    return lane_math_internal::AsinKernel(y);
+  }
+  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
+    return lane_math::Asin4(path, y);
+  }
+  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-0.6, 0.6); }
+};
+struct AtanFunction {
+  static double Libm(double y, double) { return std::atan(y); }
+  static double Ours(double y, double) { return lane_math::Atan(y); }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
+    return lane_math_internal::AtanKernel(y);
+  }
+  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
+    return lane_math::Atan4(path, y);
+  }
+  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-1.0, 1.0); }
+};
+struct Atan2Function {
+  static double Libm(double y, double x) { return std::atan2(y, x); }
+  static double Ours(double y, double x) { return lane_math::Atan2(y, x); }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T x) {
+    return lane_math_internal::Atan2Kernel(y, x);
+  }
+  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4& x) {
+    return lane_math::Atan2_4(path, y, x);
+  }
+  static void Fill(RandomStream& random, double* y, double* x) {
+    const double angle = random.Uniform(-std::numbers::pi, std::numbers::pi);
+    *y = std::sin(angle);
+    *x = std::cos(angle);
+  }
+};
+struct CosFunction {
+  static double Libm(double y, double) { return std::cos(y); }
+  static double Ours(double y, double) { return lane_math::Cos(y); }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
+    return lane_math_internal::CosKernel(y);
+  }
+  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
+    return lane_math::Cos4(path, y);
+  }
+  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-0.6, 0.6); }
+};
+struct ExpFunction {
+  static double Libm(double y, double) { return std::exp(y); }
+  static double Ours(double y, double) { return lane_math::Exp(y); }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
+    return lane_math_internal::ExpKernel(y);
+  }
+  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
+    return lane_math::Exp4(path, y);
+  }
+  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-10.0, 0.0); }
+};
+struct Expm1Function {
+  static double Libm(double y, double) { return std::expm1(y); }
+  static double Ours(double y, double) { return lane_math::Expm1(y); }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
+    return lane_math_internal::Expm1Kernel(y);
+  }
+  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
+    return lane_math::Expm1_4(path, y);
+  }
+  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-2.0, 0.0); }
+};
+
+template <typename F>
+const Table& TableOf() {
+  static const Table table = [] {
+    Table t;
+    RandomStream random(27);
+    for (int i = 0; i < kValues; ++i) F::Fill(random, &t.y[i], &t.x[i]);
+    return t;
+  }();
+  return table;
+}
+
+UASCMA_LANE_MATH_INLINE LaneMathV2 Load2(const double* p) {
+  LaneMathV2 v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+UASCMA_LANE_MATH_INLINE void Store2(LaneMathV2 v, double* p) { std::memcpy(p, &v, sizeof(v)); }
+UASCMA_LANE_MATH_INLINE LaneMathV4 Load4(const double* p) {
+  LaneMathV4 v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+UASCMA_LANE_MATH_INLINE void Store4(LaneMathV4 v, double* p) { std::memcpy(p, &v, sizeof(v)); }
+
+enum Variant { kLibm, kOurs, kSse2, kAvx2, kDispatch };
+constexpr const char* kVariantNames[] = {"libm", "ours", "sse2", "avx2", "dispatch"};
+
+// ---- independent groups ----
+template <typename F>
+void ThroughputScalar(bool libm, const Table& t, double* out) {
+  for (int i = 0; i < kValues; ++i) out[i] = libm ? F::Libm(t.y[i], t.x[i]) : F::Ours(t.y[i], t.x[i]);
+}
+template <typename F>
+void ThroughputSse2(const Table& t, double* out) {
+  for (int i = 0; i < kValues; i += 2) Store2(F::Kernel(Load2(&t.y[i]), Load2(&t.x[i])), out + i);
+}
+template <typename F>
+__attribute__((target("avx2"))) void ThroughputAvx2(const Table& t, double* out) {
+  for (int i = 0; i < kValues; i += 4) Store4(F::Kernel(Load4(&t.y[i]), Load4(&t.x[i])), out + i);
+}
+template <typename F>
+void ThroughputDispatch(const Table& t, double* out) {
+  const lane_math::LaneMathPath path = lane_math::DefaultLaneMathPath();
+  for (int i = 0; i < kValues; i += 4) {
+    Lanes4 y, x;
+    std::memcpy(y.data(), &t.y[i], sizeof(y));
+    std::memcpy(x.data(), &t.x[i], sizeof(x));
+    const Lanes4 r = F::Dispatch(path, y, x);
+    std::memcpy(out + i, r.data(), sizeof(r));
+  }
+}
+
+// ---- four dependent chains (group k's arguments depend on group k − 1's results) ----
+template <typename F>
+double ChainScalar(bool libm, const Table& t) {
+  double v[4] = {0.0, 0.0, 0.0, 0.0};
+  for (int i = 0; i < kValues; i += 4) {
+    for (int lane = 0; lane < 4; ++lane) {
+      const double y = t.y[i + lane] + v[lane] * kChainWeight;
+      v[lane] = libm ? F::Libm(y, t.x[i + lane]) : F::Ours(y, t.x[i + lane]);
+    }
+  }
+  return v[0] + v[1] + v[2] + v[3];
+}
+template <typename F>
+double ChainSse2(const Table& t) {
+  LaneMathV2 low{}, high{};
+  for (int i = 0; i < kValues; i += 4) {
+    low = F::Kernel(Load2(&t.y[i]) + low * kChainWeight, Load2(&t.x[i]));
+    high = F::Kernel(Load2(&t.y[i + 2]) + high * kChainWeight, Load2(&t.x[i + 2]));
+  }
+  return low[0] + low[1] + high[0] + high[1];
+}
+template <typename F>
+__attribute__((target("avx2"))) double ChainAvx2(const Table& t) {
+  LaneMathV4 v{};
+  for (int i = 0; i < kValues; i += 4) v = F::Kernel(Load4(&t.y[i]) + v * kChainWeight, Load4(&t.x[i]));
+  return v[0] + v[1] + v[2] + v[3];
+}
+template <typename F>
+double ChainDispatch(const Table& t) {
+  const lane_math::LaneMathPath path = lane_math::DefaultLaneMathPath();
+  Lanes4 v{};
+  for (int i = 0; i < kValues; i += 4) {
+    Lanes4 y, x;
+    for (int lane = 0; lane < 4; ++lane) {
+      y[lane] = t.y[i + lane] + v[lane] * kChainWeight;
+      x[lane] = t.x[i + lane];
+    }
+    v = F::Dispatch(path, y, x);
+  }
+  return v[0] + v[1] + v[2] + v[3];
+}
+// One chain through every argument: a flight flown alone.
+template <typename F>
+double ChainOne(bool libm, const Table& t) {
+  double v = 0.0;
+  for (int i = 0; i < kValues; ++i) {
+    const double y = t.y[i] + v * kChainWeight;
+    v = libm ? F::Libm(y, t.x[i]) : F::Ours(y, t.x[i]);
+  }
+  return v;
+}
+
+// Counters in ns: a value v with kIsIterationInvariantRate | kInvert prints time / (v · iterations).
+void Report(benchmark::State& state, int evaluations_per_iteration) {
+  const auto kNsPer = benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert;
+  state.counters["ns_per_eval"] = benchmark::Counter(evaluations_per_iteration * 1e-9, kNsPer);
+  state.counters["ns_per_4"] = benchmark::Counter(evaluations_per_iteration / 4.0 * 1e-9, kNsPer);
+  state.SetLabel(kVariantNames[state.range(0)]);
+}
+
+bool SkipWithoutAvx2(benchmark::State& state) {
+  if (state.range(0) == kAvx2 && !lane_math::LaneMathPathSupported(lane_math::LaneMathPath::kAvx2)) {
+    state.SkipWithError("this CPU lacks AVX2");
+    return true;
+  }
+  return false;
+}
+
+template <typename F>
+void BM_Throughput(benchmark::State& state) {
+  if (SkipWithoutAvx2(state)) return;
+  const Table& t = TableOf<F>();
+  std::vector<double> out(kValues);
+  for (auto _ : state) {
+    switch (state.range(0)) {
+      case kLibm:
+      case kOurs:
+        ThroughputScalar<F>(state.range(0) == kLibm, t, out.data());
+        break;
+      case kSse2:
+        ThroughputSse2<F>(t, out.data());
+        break;
+      case kAvx2:
+        ThroughputAvx2<F>(t, out.data());
+        break;
+      default:
+        ThroughputDispatch<F>(t, out.data());
+    }
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  Report(state, kValues);
+}
+
+template <typename F>
+void BM_Chain(benchmark::State& state) {
+  if (SkipWithoutAvx2(state)) return;
+  const Table& t = TableOf<F>();
+  for (auto _ : state) {
+    double result;
+    switch (state.range(0)) {
+      case kLibm:
+      case kOurs:
+        result = ChainScalar<F>(state.range(0) == kLibm, t);
+        break;
+      case kSse2:
+        result = ChainSse2<F>(t);
+        break;
+      case kAvx2:
+        result = ChainAvx2<F>(t);
+        break;
+      default:
+        result = ChainDispatch<F>(t);
+    }
+    benchmark::DoNotOptimize(result);
+  }
+  Report(state, kValues);
+}
+
+template <typename F>
+void BM_Chain1(benchmark::State& state) {
+  const Table& t = TableOf<F>();
+  for (auto _ : state) {
+    const double result = ChainOne<F>(state.range(0) == kLibm, t);
+    benchmark::DoNotOptimize(result);
+  }
+  Report(state, kValues);
+}
+
+#define UASCMA_LANE_MATH_BENCH(FUNCTION)                                                         \
+  BENCHMARK_TEMPLATE(BM_Throughput, FUNCTION)->ArgName("variant")->DenseRange(kLibm, kDispatch); \
+  BENCHMARK_TEMPLATE(BM_Chain, FUNCTION)->ArgName("variant")->DenseRange(kLibm, kDispatch);      \
+  BENCHMARK_TEMPLATE(BM_Chain1, FUNCTION)->ArgName("variant")->DenseRange(kLibm, kOurs);
+UASCMA_LANE_MATH_BENCH(AsinFunction)
+UASCMA_LANE_MATH_BENCH(AtanFunction)
+UASCMA_LANE_MATH_BENCH(Atan2Function)
+UASCMA_LANE_MATH_BENCH(CosFunction)
+UASCMA_LANE_MATH_BENCH(ExpFunction)
+UASCMA_LANE_MATH_BENCH(Expm1Function)
+#undef UASCMA_LANE_MATH_BENCH
+
+}  // namespace
+
+BENCHMARK_MAIN();
