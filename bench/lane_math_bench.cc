@@ -307,6 +307,136 @@ void BM_Chain1(benchmark::State& state) {
   Report(state, kValues);
 }
 
+// ---- the step's mix: the transcendental calls of one 200 Hz step of one flight, four flights at a time ----
+// Per flight and step (src/gnc/lqr.cc, src/models/rigid_body.cc; callgrind counts ~2.5 asin per step): roll =
+// atan2(R21, R22), yaw = atan2(R10, R00), pitch = asin(−R20), one flow incidence asin, pitch_ref = atan(−a_x/G),
+// roll_ref = atan(a_y cos(pitch_ref)/G): 7 calls, 6 independent chains but the reference tilt's atan → cos → atan. Each
+// flight's next step depends on its last (its arguments are the table's plus 2^−20 times the sum of its last
+// results), as a flight's state does; the four flights are independent. Counter: ns per flight-step (7 calls).
+constexpr int kMixArguments = 8;  // R21, R22, R10, R00, −R20, incidence sine, −a_x/G, a_y/G
+constexpr int kMixSteps = 256;
+
+struct MixTable {
+  std::vector<double> a = std::vector<double>(kMixSteps * kMixArguments * 4);  // [step][argument][flight]
+};
+const MixTable& MixTableOf() {
+  static const MixTable table = [] {
+    MixTable t;
+    RandomStream random(31);
+    for (int step = 0; step < kMixSteps; ++step) {
+      for (int flight = 0; flight < 4; ++flight) {
+        double* a = &t.a[step * kMixArguments * 4 + flight];
+        const double roll = random.Uniform(-0.6, 0.6), pitch = random.Uniform(-0.6, 0.6);
+        const double yaw = random.Uniform(-std::numbers::pi, std::numbers::pi);
+        a[0] = std::sin(roll) * std::cos(pitch);  // R21, R22, R10, R00 and −R20 of a Z-Y-X attitude
+        a[4] = std::cos(roll) * std::cos(pitch);
+        a[8] = std::sin(yaw) * std::cos(pitch);
+        a[12] = std::cos(yaw) * std::cos(pitch);
+        a[16] = std::sin(pitch);
+        a[20] = random.Uniform(-0.6, 0.6);
+        a[24] = random.Uniform(-0.7, 0.7);
+        a[28] = random.Uniform(-0.7, 0.7);
+      }
+    }
+    return t;
+  }();
+  return table;
+}
+
+struct LibmMath {
+  static double Atan2(double y, double x) { return std::atan2(y, x); }
+  static double Asin(double x) { return std::asin(x); }
+  static double Atan(double x) { return std::atan(x); }
+  static double Cos(double x) { return std::cos(x); }
+};
+struct OurMath {
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Atan2(T y, T x) {
+    return lane_math_internal::Atan2Kernel(y, x);
+  }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Asin(T x) {
+    return lane_math_internal::AsinKernel(x);
+  }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Atan(T x) {
+    return lane_math_internal::AtanKernel(x);
+  }
+  template <typename T>
+  UASCMA_LANE_MATH_INLINE static T Cos(T x) {
+    return lane_math_internal::CosKernel(x);
+  }
+};
+
+// One step of the flights whose arguments are a[0], a[lanes], …, given their last results' sum `last`.
+template <typename M, typename T, typename LoadFn>
+UASCMA_LANE_MATH_INLINE T MixStep(LoadFn load, T last) {
+  const T e = last * kChainWeight;
+  const T roll = M::Atan2(load(0) + e, load(1));
+  const T yaw = M::Atan2(load(2) + e, load(3));
+  const T pitch = M::Asin(load(4) + e);
+  const T incidence = M::Asin(load(5) + e);
+  const T pitch_ref = M::Atan(load(6) + e);
+  const T roll_ref = M::Atan(load(7) * M::Cos(pitch_ref));
+  return ((roll + yaw) + (pitch + incidence)) + (pitch_ref + roll_ref);
+}
+
+template <typename M>
+__attribute__((noinline)) double MixScalar(const MixTable& t) {
+  double last[4] = {0.0, 0.0, 0.0, 0.0};
+  for (int step = 0; step < kMixSteps; ++step) {
+    for (int flight = 0; flight < 4; ++flight) {
+      const double* a = &t.a[step * kMixArguments * 4 + flight];
+      last[flight] = MixStep<M>([a](int k) { return a[4 * k]; }, last[flight]);
+    }
+  }
+  return last[0] + last[1] + last[2] + last[3];
+}
+__attribute__((noinline)) double MixSse2(const MixTable& t) {
+  LaneMathV2 low{}, high{};
+  for (int step = 0; step < kMixSteps; ++step) {
+    const double* a = &t.a[step * kMixArguments * 4];
+    low = MixStep<OurMath>([a](int k) { return Load2(a + 4 * k); }, low);
+    high = MixStep<OurMath>([a](int k) { return Load2(a + 4 * k + 2); }, high);
+  }
+  return low[0] + low[1] + high[0] + high[1];
+}
+__attribute__((target("avx2"), noinline)) double MixAvx2(const MixTable& t) {
+  LaneMathV4 v{};
+  for (int step = 0; step < kMixSteps; ++step) {
+    const double* a = &t.a[step * kMixArguments * 4];
+    v = MixStep<OurMath>(
+        [a](int k) __attribute__((always_inline)) { return Load4(a + 4 * k); }, v);
+  }
+  return v[0] + v[1] + v[2] + v[3];
+}
+
+void BM_StepMix(benchmark::State& state) {
+  if (SkipWithoutAvx2(state)) return;
+  const MixTable& t = MixTableOf();
+  for (auto _ : state) {
+    double result;
+    switch (state.range(0)) {
+      case kLibm:
+        result = MixScalar<LibmMath>(t);
+        break;
+      case kOurs:
+        result = MixScalar<OurMath>(t);
+        break;
+      case kSse2:
+        result = MixSse2(t);
+        break;
+      default:
+        result = MixAvx2(t);
+    }
+    benchmark::DoNotOptimize(result);
+  }
+  state.counters["ns_per_flight_step"] = benchmark::Counter(
+      4 * kMixSteps * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.SetLabel(kVariantNames[state.range(0)]);
+}
+BENCHMARK(BM_StepMix)->ArgName("variant")->DenseRange(kLibm, kAvx2);
+
 #define UASCMA_LANE_MATH_BENCH(FUNCTION)                                                         \
   BENCHMARK_TEMPLATE(BM_Throughput, FUNCTION)->ArgName("variant")->DenseRange(kLibm, kDispatch); \
   BENCHMARK_TEMPLATE(BM_Chain, FUNCTION)->ArgName("variant")->DenseRange(kLibm, kDispatch);      \
