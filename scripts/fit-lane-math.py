@@ -2,13 +2,13 @@
 """Derives the polynomial coefficients of include/uascma/common/lane_math.h (needs python3-mpmath).
 
 Two kernels need a fit (exp, expm1 and cos use Taylor coefficients 1/k!, computed in the header):
-- atan(u) = u + u^3 P(u^2) on |u| <= tan(pi/8) (the reduction of atan and atan2),
+- atan(u) = u + u^3 P(u^2) on |u| <= 1/2 (the reduction of atan and atan2),
 - asin(r) = r + r^3 P(r^2) on 0 <= r <= 1/2 (asin's own range, and its reduction of 1/2 < |s| <= 1 to
   r = sqrt((1 - |s|) / 2)).
 P is fitted by least squares on 4 (degree + 1) Chebyshev nodes of w = u^2 in [0, w_max], in 50-digit arithmetic, for
 degrees 6, 7, ... until the relative error of the kernel (coefficients rounded to double, evaluated exactly) over
 2,001 points is below 2e-17 (a tenth of an ulp); prints each degree's error, then the coefficients, constant term
-first. The same method as session 8's scripts/fit-fast-atan.py (commit d4d6918), which gave the atan coefficients.
+first. The same method as session 8's scripts/fit-fast-atan.py (commit d4d6918), there on |u| <= tan(pi/8).
 """
 import mpmath as mp
 
@@ -44,7 +44,7 @@ def fit(name, function, edge):
             return
 
 
-fit("atan", mp.atan, mp.tan(mp.pi / 8))
+fit("atan", mp.atan, mp.mpf(1) / 2)
 fit("asin", mp.asin, mp.mpf(1) / 2)
 
 

@@ -22,6 +22,11 @@ namespace uascma::lane_math_internal {
 
 #define UASCMA_LANE_MATH_INLINE inline __attribute__((always_inline))
 
+// The 4-wide helpers below pass 32-byte vectors by value; they are always inlined into AVX2 functions, so no such
+// value crosses a call, and GCC's note that the ABI of such a call would differ without AVX is silenced here.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 typedef double LaneMathV2 __attribute__((vector_size(16)));  // 2 lanes: SSE2
 typedef double LaneMathV4 __attribute__((vector_size(32)));  // 4 lanes: AVX2
 typedef std::uint64_t LaneMathU2 __attribute__((vector_size(16)));
@@ -109,26 +114,25 @@ constexpr std::array<double, N> InverseFactorials(int first, int step, double fi
 }
 
 // ---- atan, atan2 -------------------------------------------------------------------------------------------------
-// atan(u) = u + u³ P(u²) on |u| ≤ tan(π/8); P of degree 10 (scripts/fit-lane-math.py; the fit's relative error
-// 7e-18; the coefficients of session 8's commit d4d6918).
-inline constexpr std::array<double, 11> kAtanP = {-0.3333333333333333,  0.19999999999995652, -0.1428571428469138,
-                                                  0.11111111017100327,  -0.0909090464769568, 0.07692184699371778,
-                                                  -0.06664531369805009, 0.05858311810501153, -0.05086254885823143,
-                                                  0.039253696320618564, -0.01920252926841228};
-inline constexpr double kTanEighthPi = 0.41421356237309503;     // tan(π/8) = √2 − 1
+// atan(u) = u + u³ P(u²) on |u| ≤ 1/2; P of degree 11 (scripts/fit-lane-math.py; the fit's relative error 1.9e-17).
+inline constexpr std::array<double, 12> kAtanP = {-0.33333333333333326, 0.19999999999991946,  -0.14285714284161036,
+                                                  0.11111110993533425,  -0.09090904478307565, 0.07692200457455081,
+                                                  -0.06665076103480587, 0.058666698188609624, -0.051583442406897405,
+                                                  0.04286039309906242,  -0.02899485437704136, 0.011182897447526905};
 inline constexpr double kQuarterPiHigh = 0x1.921fb54442d18p-1;  // π/4 rounded (50 significant bits: 3·it is exact)
 inline constexpr double kQuarterPiLow = 0x1.1a62633145c07p-55;  // π/4 − kQuarterPiHigh
 
 // atan2(ay, ax) for ay, ax ≥ 0 (or NaN), then reflected: π − it where x_negative, and the sign of y. With
-// a = min(ay, ax), b = max(ay, ax): atan(a/b) is atan(u), u = a/b, if a ≤ tan(π/8) b, else π/4 + atan(u) with
-// u = (a − b)/(a + b) (one division either way); above the diagonal the angle is π/2 − that, left of the axis
-// π − that. So the angle is m π/4 + s atan(u), m ∈ {0…4}, s = ±1, summed as m π/4_high + (s u + (s u w P + m π/4_low)).
+// a = min(ay, ax), b = max(ay, ax): atan(a/b) is atan(u), u = a/b ≤ 1/2, if a ≤ b/2, else π/4 + atan(u) with
+// u = (a − b)/(a + b) ∈ (−1/3, 0], whose numerator is exact there (b/2 < a ≤ b; one division either way); above the
+// diagonal the angle is π/2 − that, left of the axis π − that. So the angle is m π/4 + s atan(u), m ∈ {0…4}, s = ±1,
+// summed as m π/4_high + (s u + (s u w P + m π/4_low)).
 template <typename T, typename M>
 UASCMA_LANE_MATH_INLINE T Atan2Reflected(T ay, T ax, M x_negative, T y) {
   const auto swap = ay > ax;
   const T a = Select(swap, ax, ay);
   const T b = Select(swap, ay, ax);
-  const auto reduce = a > kTanEighthPi * b;
+  const auto reduce = a > 0.5 * b;
   const T numerator = Select(reduce, a - b, a);
   const T sum = a + b;
   const T denominator = Select(reduce, sum, b);
@@ -317,5 +321,7 @@ UASCMA_LANE_MATH_INLINE T CosKernel(T x) {
   const T result = Select(((quadrant + 1) & 2) != 0, -value, value);
   return Select(ax > kCosLargest, Splat<T>(__builtin_nan("")), result);
 }
+
+#pragma GCC diagnostic pop
 
 }  // namespace uascma::lane_math_internal
