@@ -48,30 +48,26 @@ struct Table {
 // sin(pitch) (tilt ≤ 0.6 rad) and of the flow incidence, |.| ≤ 0.6; atan of the tilt references −a_x / (g − a_z), |.| ≲
 // 1; atan2 of R_WB's entries (any angle on the unit circle); cos of a reference tilt within the 0.6 rad limit; exp of a
 // likelihood exponent −q/2 (−10…0); expm1 of an EOD segment's −q t (−2…0).
-struct AsinFunction {
-  static double Libm(double y, double) { return std::asin(y); }
-  static double Ours(double y, double) { return lane_math::Asin(y); }
-  template <typename T>
-  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
-    return lane_math_internal::AsinKernel(y);
-  }
-  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
-    return lane_math::Asin4(path, y);
-  }
-  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-0.6, 0.6); }
-};
-struct AtanFunction {
-  static double Libm(double y, double) { return std::atan(y); }
-  static double Ours(double y, double) { return lane_math::Atan(y); }
-  template <typename T>
-  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
-    return lane_math_internal::AtanKernel(y);
-  }
-  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
-    return lane_math::Atan4(path, y);
-  }
-  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-1.0, 1.0); }
-};
+// A function of one argument (x unused), its arguments uniform in [low, high].
+#define UASCMA_UNARY_FUNCTION(NAME, LIBM, OURS, KERNEL, LANES, LOW, HIGH)                          \
+  struct NAME {                                                                                    \
+    static double Libm(double y, double) { return LIBM(y); }                                       \
+    static double Ours(double y, double) { return lane_math::OURS(y); }                            \
+    template <typename T>                                                                          \
+    UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {                                              \
+      return lane_math_internal::KERNEL(y);                                                        \
+    }                                                                                              \
+    static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {         \
+      return lane_math::LANES(path, y);                                                            \
+    }                                                                                              \
+    static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(LOW, HIGH); } \
+  };
+UASCMA_UNARY_FUNCTION(AsinFunction, std::asin, Asin, AsinKernel, Asin4, -0.6, 0.6)
+UASCMA_UNARY_FUNCTION(AtanFunction, std::atan, Atan, AtanKernel, Atan4, -1.0, 1.0)
+UASCMA_UNARY_FUNCTION(CosFunction, std::cos, Cos, CosKernel, Cos4, -0.6, 0.6)
+UASCMA_UNARY_FUNCTION(ExpFunction, std::exp, Exp, ExpKernel, Exp4, -10.0, 0.0)
+UASCMA_UNARY_FUNCTION(Expm1Function, std::expm1, Expm1, Expm1Kernel, Expm1_4, -2.0, 0.0)
+#undef UASCMA_UNARY_FUNCTION
 struct Atan2Function {
   static double Libm(double y, double x) { return std::atan2(y, x); }
   static double Ours(double y, double x) { return lane_math::Atan2(y, x); }
@@ -87,42 +83,6 @@ struct Atan2Function {
     *y = std::sin(angle);
     *x = std::cos(angle);
   }
-};
-struct CosFunction {
-  static double Libm(double y, double) { return std::cos(y); }
-  static double Ours(double y, double) { return lane_math::Cos(y); }
-  template <typename T>
-  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
-    return lane_math_internal::CosKernel(y);
-  }
-  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
-    return lane_math::Cos4(path, y);
-  }
-  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-0.6, 0.6); }
-};
-struct ExpFunction {
-  static double Libm(double y, double) { return std::exp(y); }
-  static double Ours(double y, double) { return lane_math::Exp(y); }
-  template <typename T>
-  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
-    return lane_math_internal::ExpKernel(y);
-  }
-  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
-    return lane_math::Exp4(path, y);
-  }
-  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-10.0, 0.0); }
-};
-struct Expm1Function {
-  static double Libm(double y, double) { return std::expm1(y); }
-  static double Ours(double y, double) { return lane_math::Expm1(y); }
-  template <typename T>
-  UASCMA_LANE_MATH_INLINE static T Kernel(T y, T) {
-    return lane_math_internal::Expm1Kernel(y);
-  }
-  static Lanes4 Dispatch(lane_math::LaneMathPath path, const Lanes4& y, const Lanes4&) {
-    return lane_math::Expm1_4(path, y);
-  }
-  static void Fill(RandomStream& random, double* y, double*) { *y = random.Uniform(-2.0, 0.0); }
 };
 
 template <typename F>

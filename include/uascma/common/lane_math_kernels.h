@@ -170,18 +170,20 @@ inline constexpr double kHalfPiLow = 0x1.1a62633145c07p-54;  // π/2 − (π/2 r
 
 // |s| ≤ 1/2: asin(|s|) = |s| + |s| z P(z), z = s². Above: asin(|s|) = π/2 − 2 asin(r), r = √z, z = (1 − |s|)/2
 // (exact), with r's rounding corrected as in fdlibm's e_asin.c: r_high = r with its 32 low bits cleared,
-// c = (z − r_high²)/(r + r_high), asin = π/4 − ((2 r z P − (π/2_low − 2c)) − (π/4 − 2 r_high)). In lanes both forms
-// are computed (one square root and one division each) and each lane's own one selected; the scalar form branches
-// and computes only its own, through the same two functions, hence the same bits.
+// c = (z − r_high²)/(r + r_high), asin = π/4 − ((2 r z P − (π/2_low − 2c)) − (π/4 − 2 r_high)). In lanes z is
+// selected first and z P(z) evaluated once; both forms are then completed (the large one with a square root and a
+// division) and each lane's own one selected. The scalar form branches and computes only its own z and form, with the
+// same operations, hence the same bits.
 template <typename T>
-UASCMA_LANE_MATH_INLINE T AsinOfSmall(T as) {  // |s| ≤ 1/2
-  const T z = as * as;
-  return as + as * (z * Estrin(kAsinP, z));
+UASCMA_LANE_MATH_INLINE T AsinZp(T z) {
+  return z * Estrin(kAsinP, z);
 }
 template <typename T>
-UASCMA_LANE_MATH_INLINE T AsinOfLarge(T as) {  // |s| > 1/2
-  const T z = (1.0 - as) * 0.5;
-  const T zp = z * Estrin(kAsinP, z);
+UASCMA_LANE_MATH_INLINE T AsinOfSmall(T as, T zp) {  // |s| ≤ 1/2, zp = z P(z) with z = s²
+  return as + as * zp;
+}
+template <typename T>
+UASCMA_LANE_MATH_INLINE T AsinOfLarge(T z, T zp) {  // |s| > 1/2, zp = z P(z) with z = (1 − |s|)/2
   const T r = Sqrt(z);
   const T r_high = FromBits(Bits(r) & 0xffffffff00000000ULL);
   const T r_sum = r + r_high;
@@ -195,9 +197,17 @@ template <typename T>
 UASCMA_LANE_MATH_INLINE T AsinKernel(T s) {
   const T as = Abs(s);
   if constexpr (std::is_same_v<T, double>) {
-    return CopySign(as <= 0.5 ? AsinOfSmall(as) : AsinOfLarge(as), s);  // NaN: the large form, NaN as well
+    if (as <= 0.5) {
+      const T z = as * as;
+      return CopySign(AsinOfSmall(as, AsinZp(z)), s);
+    }
+    const T z = (1.0 - as) * 0.5;  // NaN comes here, and stays NaN
+    return CopySign(AsinOfLarge(z, AsinZp(z)), s);
   } else {
-    return CopySign(Select(as <= 0.5, AsinOfSmall(as), AsinOfLarge(as)), s);
+    const auto small = as <= 0.5;
+    const T z = Select(small, as * as, (1.0 - as) * 0.5);
+    const T zp = AsinZp(z);
+    return CopySign(Select(small, AsinOfSmall(as, zp), AsinOfLarge(z, zp)), s);
   }
 }
 
