@@ -275,6 +275,21 @@ TEST(EodDistributionTest, AStateAtTheCutoffIsAPointMassAtZero) {
   EXPECT_EQ(distribution.ProbabilityBefore(1.0), 1.0);
 }
 
+// The secants are made only when the centre is above 0 s (as one by one): a load secant whose current overflows to
+// infinity (1e308 A · e^(0.02 + 1)) is never made when the pack is already at the cut-off, so nothing is refused.
+TEST(EodDistributionTest, ASecantThatCannotBeMadeIsNotMadeAtTheCutoff) {
+  const BatteryPack pack;
+  const PackState state = pack.MakeRestingState(kRestVoltage);
+  EodUncertainty uncertainty;
+  uncertainty.load_log_mean = 0.02;
+  uncertainty.load_log_sigma = 1.0;
+  uncertainty.cold_probability = 0.3;
+  const EodDistribution distribution = CalcPackEodDistribution(pack, state, 1e308, uncertainty);
+  EXPECT_EQ(distribution.point.status, EodStatus::kAlreadyBelowCutoff);
+  EXPECT_EQ(distribution.evaluations, 3);  // the point, the centre, the cold class's centre
+  EXPECT_EQ(distribution.Quantile(0.95), 0.0);
+}
+
 TEST(EodDistributionTest, InvalidInputIsRefused) {
   const BatteryPack pack;
   const PackState state = pack.MakeRestingState(kRestVoltage);
