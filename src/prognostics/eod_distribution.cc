@@ -121,7 +121,9 @@ void MakeCalls(const BatteryPack& pack, const EodOptions& options, Calls& calls)
   std::array<int, kCalls> index{};
   std::size_t count = 0;
   for (int call = 0; call < kCalls; ++call) {
-    if (calls.wanted[call]) requests[count] = calls.request[call], index[count++] = call;
+    if (!calls.wanted[call]) continue;
+    requests[count] = calls.request[call];
+    index[count++] = call;
   }
   std::array<EodResult, kCalls> results;
   if (eod_internal::CalcScaledPackEods(pack, std::span(requests.data(), count), std::span(results.data(), count),
