@@ -42,7 +42,6 @@ using eod_internal::RcAt;
 using eod_internal::RcQuotient;
 using eod_internal::RequireValid;
 using eod_internal::Search;
-using eod_internal::TimeToCharge;
 using eod_internal::UpdateSegment;
 using models::BatteryPack;
 using models::CellState;
@@ -609,3 +608,5 @@ bool CalcScaledPackEods(const BatteryPack& pack, std::span<const ScaledEodReques
 }  // namespace eod_internal
 
 }  // namespace uascma::prognostics
+
+#undef UASCMA_EOD_INLINE

@@ -54,8 +54,8 @@ inline double EstimateTimeToCharge(const CurrentLaw& law, double charge_as) {
 }
 
 // Time at which a branch has delivered `charge_as` (the charge drawn increases with t): Halley steps from
-// the second-order estimate, kept inside a bracket. One step at a time (Step), so that several solves can be
-// interleaved, each doing the same operations in the same order as alone; TimeToCharge below runs one.
+// the second-order estimate, kept inside a bracket. One step at a time (Step, until done), so that several solves
+// can be interleaved, each doing the same operations in the same order as alone.
 struct ChargeTimeSolve {
   const CurrentLaw* law = nullptr;
   double charge_as = 0.0;
@@ -110,12 +110,5 @@ struct ChargeTimeSolve {
     done = true;
   }
 };
-
-inline double TimeToCharge(const CurrentLaw& law, double charge_as, double estimate_s, double tolerance_s) {
-  ChargeTimeSolve solve;
-  solve.Start(law, charge_as, estimate_s, tolerance_s);
-  while (!solve.done) solve.Step();
-  return solve.result_s;
-}
 
 }  // namespace uascma::prognostics::eod_internal
