@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
 #include <sstream>
+#include <utility>
 
 #include "eod_internal.h"
 #include "uascma/common/error.h"
@@ -48,24 +50,94 @@ PackState ShiftedSoc(const PackState& state, double shift) {
   return shifted;
 }
 
-// The pack with every cell's R0 scaled by the class factor (1, or kColdResistanceFactor for the cold class) and,
-// for a secant, by a source's factor and its Q by another: CalcPackEod of ScaledPack(ScaledPack(pack, class, 1),
-// r0, capacity) bit for bit, without building the packs (eod_internal::CalcScaledPackEod).
-struct ScaledView {
-  const BatteryPack& pack;
-  double class_r0_factor = 1.0;
-
-  double Eod(const PackState& state, double current_a, const EodOptions& options, double r0_factor = 1.0,
-             double capacity_factor = 1.0) const {
-    const eod_internal::CellScaling scaling{{class_r0_factor, r0_factor}, capacity_factor};
-    if (const auto result = eod_internal::CalcScaledPackEod(pack, state, current_a, scaling, options)) {
-      return result->eod_s;
-    }
-    // A scaled R0 or Q out of a cell's bounds: building the pack reports it as it always has (InputError).
-    const BatteryPack scaled = ScaledPack(ScaledPack(pack, class_r0_factor, 1.0), r0_factor, capacity_factor);
-    return CalcPackEod(scaled, state, current_a, options).eod_s;
-  }
+// The CalcPackEod calls of one epoch, in the order the distribution reads them: the point, the centre of the known
+// (or warm, or certainly cold) class and its secants towards the shorter EOD (SOC also towards the longer), the cold
+// class's centre. Every call but the point is CalcPackEod of ScaledPack(ScaledPack(pack, class, 1), r0, capacity),
+// computed bit for bit without building the packs (eod_internal::CalcScaledPackEod).
+enum Call {
+  kPointCall,
+  kCentreCall,
+  kLoadCall,
+  kSocShortCall,
+  kSocLongCall,
+  kR0Call,
+  kCapacityCall,
+  kColdCall,
+  kCalls
 };
+
+struct Calls {
+  std::array<eod_internal::ScaledEodRequest, kCalls> request{};
+  std::array<bool, kCalls> wanted{};
+  std::array<PackState, 2> shifted;  // SOC −1σ and +1σ
+  std::array<EodResult, kCalls> result{};
+  bool secants_read = false;  // false when the centre is 0 s: the secant calls are not made (or not read)
+
+  // The centre: the point's when it is the centre (no load bias, the class known or uncertain).
+  double CentreEod() const { return wanted[kCentreCall] ? result[kCentreCall].eod_s : result[kPointCall].eod_s; }
+};
+
+void SetUpCalls(const PackState& state, double current_a, double centre_current_a, const EodUncertainty& uncertainty,
+                double class_r0_factor, bool centre_known, bool with_cold, Calls& calls) {
+  auto set = [&](Call call, bool wanted, const PackState& at, double current, double r0_factor = 1.0,
+                 double capacity_factor = 1.0) {
+    calls.wanted[call] = wanted;
+    calls.request[call] = {&at, current, {{class_r0_factor, r0_factor}, capacity_factor}, false};
+  };
+  calls.request[kPointCall] = {&state, current_a, {}, true};
+  calls.wanted[kPointCall] = true;
+  set(kCentreCall, !centre_known, state, centre_current_a);
+  set(kLoadCall, uncertainty.load_log_sigma > 0.0, state, centre_current_a * std::exp(uncertainty.load_log_sigma));
+  const bool soc = uncertainty.soc_sigma > 0.0;
+  if (soc) calls.shifted = {ShiftedSoc(state, -uncertainty.soc_sigma), ShiftedSoc(state, uncertainty.soc_sigma)};
+  set(kSocShortCall, soc, calls.shifted[0], centre_current_a);
+  set(kSocLongCall, soc, calls.shifted[1], centre_current_a);
+  set(kR0Call, uncertainty.r0_log_sigma > 0.0, state, centre_current_a, std::exp(uncertainty.r0_log_sigma));
+  set(kCapacityCall, uncertainty.capacity_log_sigma > 0.0, state, centre_current_a, 1.0,
+      std::exp(-uncertainty.capacity_log_sigma));
+  calls.request[kColdCall] = {&state, centre_current_a, {{models::kColdResistanceFactor, 1.0}, 1.0}, false};
+  calls.wanted[kColdCall] = with_cold;
+}
+
+// One call on its own; a scaled R0 or Q out of a cell's bounds: building the pack reports it as it always has
+// (InputError).
+EodResult CallOne(const BatteryPack& pack, const eod_internal::ScaledEodRequest& request, const EodOptions& options) {
+  if (request.as_built) return CalcPackEod(pack, *request.state, request.current_a, options);
+  const eod_internal::CellScaling& scaling = request.scaling;
+  if (auto result = eod_internal::CalcScaledPackEod(pack, *request.state, request.current_a, scaling, options)) {
+    return *result;
+  }
+  const BatteryPack scaled =
+      ScaledPack(ScaledPack(pack, scaling.r0_factors[0], 1.0), scaling.r0_factors[1], scaling.capacity_factor);
+  return CalcPackEod(scaled, *request.state, request.current_a, options);
+}
+
+bool IsSecant(int call) { return call >= kLoadCall && call <= kCapacityCall; }
+
+// Every wanted call, together (eod_internal::CalcScaledPackEods); when that cannot give them, one by one in order,
+// the secants only when the centre is above 0 s.
+void MakeCalls(const BatteryPack& pack, const EodOptions& options, Calls& calls) {
+  std::array<eod_internal::ScaledEodRequest, kCalls> requests;
+  std::array<int, kCalls> index{};
+  std::size_t count = 0;
+  for (int call = 0; call < kCalls; ++call) {
+    if (!calls.wanted[call]) continue;
+    requests[count] = calls.request[call];
+    index[count++] = call;
+  }
+  std::array<EodResult, kCalls> results;
+  if (eod_internal::CalcScaledPackEods(pack, std::span(requests.data(), count), std::span(results.data(), count),
+                                       options)) {
+    for (std::size_t k = 0; k < count; ++k) calls.result[index[k]] = results[k];
+    calls.secants_read = !(calls.CentreEod() <= 0.0);
+    return;
+  }
+  for (int call = 0; call < kCalls; ++call) {
+    if (IsSecant(call) && calls.CentreEod() <= 0.0) continue;
+    if (calls.wanted[call]) calls.result[call] = CallOne(pack, calls.request[call], options);
+  }
+  calls.secants_read = !(calls.CentreEod() <= 0.0);
+}
 
 double LogEod(double eod_s) { return std::log(std::max(eod_s, kEodDistributionFloor_s)); }
 
@@ -76,34 +148,25 @@ struct Component {
   int evaluations = 0;
 };
 
-// The centre and, when asked, the secants of one class (its pack `base`). `centre_known` (≥ 0) is the
-// centre EOD already computed (the point when the bias is 0 and the class is known).
-Component CalcComponent(const ScaledView& base, const PackState& state, double centre_current_a,
-                        const EodUncertainty& uncertainty, const EodOptions& options, bool with_secants,
-                        double centre_known_s) {
+// The main component from the calls: its centre and, when it is above 0 s, its secants.
+Component MainComponent(const Calls& calls) {
   Component component;
-  auto eod = [&](const PackState& at, double current_a, double r0_factor = 1.0, double capacity_factor = 1.0) {
-    ++component.evaluations;
-    return base.Eod(at, current_a, options, r0_factor, capacity_factor);
-  };
-  component.centre_s = centre_known_s >= 0.0 ? centre_known_s : eod(state, centre_current_a);
-  if (!with_secants || component.centre_s <= 0.0) return component;
+  component.centre_s = calls.CentreEod();
+  component.evaluations = calls.wanted[kCentreCall] ? 1 : 0;
+  if (!calls.secants_read) return component;
   const double log_centre = std::log(component.centre_s);
-  auto secant = [&](EodSource source, double eod_s) {
-    component.secants[static_cast<int>(source)] = LogEod(eod_s) - log_centre;
-  };
-  if (uncertainty.load_log_sigma > 0.0) {
-    secant(EodSource::kLoad, eod(state, centre_current_a * std::exp(uncertainty.load_log_sigma)));
+  const std::array<std::pair<Call, EodSource>, 4> secants = {{{kLoadCall, EodSource::kLoad},
+                                                              {kSocShortCall, EodSource::kSoc},
+                                                              {kR0Call, EodSource::kR0},
+                                                              {kCapacityCall, EodSource::kCapacity}}};
+  for (const auto& [call, source] : secants) {
+    if (!calls.wanted[call]) continue;
+    component.secants[static_cast<int>(source)] = LogEod(calls.result[call].eod_s) - log_centre;
+    ++component.evaluations;
   }
-  if (uncertainty.soc_sigma > 0.0) {
-    secant(EodSource::kSoc, eod(ShiftedSoc(state, -uncertainty.soc_sigma), centre_current_a));
-    component.soc_long_secant = LogEod(eod(ShiftedSoc(state, uncertainty.soc_sigma), centre_current_a)) - log_centre;
-  }
-  if (uncertainty.r0_log_sigma > 0.0) {
-    secant(EodSource::kR0, eod(state, centre_current_a, std::exp(uncertainty.r0_log_sigma)));
-  }
-  if (uncertainty.capacity_log_sigma > 0.0) {
-    secant(EodSource::kCapacity, eod(state, centre_current_a, 1.0, std::exp(-uncertainty.capacity_log_sigma)));
+  if (calls.wanted[kSocLongCall]) {
+    component.soc_long_secant = LogEod(calls.result[kSocLongCall].eod_s) - log_centre;
+    ++component.evaluations;
   }
   return component;
 }
@@ -217,17 +280,18 @@ EodDistribution CalcPackEodDistribution(const BatteryPack& pack, const PackState
     throw InputError(kDistributionSource, "current_a", "a finite discharge current >= 0 A");
   }
   EodDistribution distribution;
-  distribution.point = CalcPackEod(pack, state, current_a, options);
   const double centre_current_a = current_a * std::exp(uncertainty.load_log_mean);
   const bool class_known = uncertainty.cold_probability < 0.0;
   const double cold_weight = class_known ? 0.0 : uncertainty.cold_probability;
   const bool only_cold = cold_weight >= 1.0;
-  const ScaledView warm{pack, 1.0};
-  const ScaledView cold_pack{pack,
-                             models::kColdResistanceFactor};  // used only when the cold class has some probability
-  const ScaledView& base = only_cold ? cold_pack : warm;
-  const double known_s = !only_cold && uncertainty.load_log_mean == 0.0 ? distribution.point.eod_s : -1.0;
-  const Component main = CalcComponent(base, state, centre_current_a, uncertainty, options, true, known_s);
+  const bool centre_is_point = !only_cold && uncertainty.load_log_mean == 0.0;
+  // The known (or warm) class's R0 factor is 1; the cold class's is used only when it has some probability.
+  Calls calls;
+  SetUpCalls(state, current_a, centre_current_a, uncertainty, only_cold ? models::kColdResistanceFactor : 1.0,
+             centre_is_point, cold_weight > 0.0 && !only_cold, calls);
+  MakeCalls(pack, options, calls);
+  distribution.point = calls.result[kPointCall];
+  const Component main = MainComponent(calls);
   distribution.evaluations = 1 + main.evaluations;
   distribution.log_secants = main.secants;
   distribution.soc_log_secant_longer = main.soc_long_secant;
@@ -241,11 +305,10 @@ EodDistribution CalcPackEodDistribution(const BatteryPack& pack, const PackState
     distribution.log_sigma_above[k] = centre_s > 0.0 ? sigma_above : 0.0;
   };
   set(0, 1.0 - (only_cold ? 0.0 : cold_weight), main.centre_s);
-  if (cold_weight > 0.0 && !only_cold) {
-    const Component cold = CalcComponent(cold_pack, state, centre_current_a, uncertainty, options, false, -1.0);
-    distribution.evaluations += cold.evaluations;
+  if (calls.wanted[kColdCall]) {
+    distribution.evaluations += 1;
     distribution.components = 2;
-    set(1, cold_weight, cold.centre_s);
+    set(1, cold_weight, calls.result[kColdCall].eod_s);
   }
   if (only_cold) distribution.weight[0] = 1.0;
   return distribution;

@@ -2,6 +2,7 @@
 // What the exact EOD propagation (eod.cc) and the fixed-step references (eod_reference.cc) share.
 #include <array>
 #include <optional>
+#include <span>
 
 #include "uascma/prognostics/eod.h"
 
@@ -25,5 +26,22 @@ struct CellScaling {
 std::optional<EodResult> CalcScaledPackEod(const models::BatteryPack& pack, const models::PackState& state,
                                            double total_current_a, const CellScaling& scaling,
                                            const EodOptions& options);
+
+// One pack EOD of a batch: CalcScaledPackEod(pack, *state, current_a, scaling), or with as_built CalcPackEod(pack,
+// *state, current_a) (the pack's own branch R0).
+struct ScaledEodRequest {
+  const models::PackState* state = nullptr;  // not owned
+  double current_a = 0.0;
+  CellScaling scaling;
+  bool as_built = false;
+};
+inline constexpr std::size_t kMaxBatchedEods = 8;
+
+// The EODs of up to kMaxBatchedEods requests, each bit for bit what its own call gives, computed together (their
+// propagations advance in lockstep, so that the core overlaps their serial chains). False, with no result, when a
+// request's call would not give one: a current not finite and >= 0, or a scaled R0 or capacity not a positive finite
+// number (the caller then makes the calls one by one). InputError for invalid options.
+bool CalcScaledPackEods(const models::BatteryPack& pack, std::span<const ScaledEodRequest> requests,
+                        std::span<EodResult> results, const EodOptions& options);
 
 }  // namespace uascma::prognostics::eod_internal

@@ -54,16 +54,38 @@ inline double EstimateTimeToCharge(const CurrentLaw& law, double charge_as) {
 }
 
 // Time at which a branch has delivered `charge_as` (the charge drawn increases with t): Halley steps from
-// the second-order estimate, kept inside a bracket.
-inline double TimeToCharge(const CurrentLaw& law, double charge_as, double estimate_s, double tolerance_s) {
-  if (law.delta_a == 0.0) return charge_as / law.mean_a;
-  // |delta (1 − e^{−qt})/q| ≤ |delta|/q bounds the transient's share, hence a bracket.
-  double lo = 0.0;
-  double hi = (charge_as + std::abs(law.delta_a) * law.inverse_rate_s) / law.mean_a;
-  double t = estimate_s;
-  if (!(t > lo && t < hi)) t = 0.5 * hi;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    const BranchAt at = EvaluateBranch(law, t);
+// the second-order estimate, kept inside a bracket. One step at a time (Step, until done), so that several solves
+// can be interleaved, each doing the same operations in the same order as alone.
+struct ChargeTimeSolve {
+  const CurrentLaw* law = nullptr;
+  double charge_as = 0.0;
+  double tolerance_s = 0.0;
+  double lo = 0.0, hi = 0.0, t = 0.0;
+  int iteration = 0;
+  bool done = false;
+  double result_s = 0.0;
+
+  void Start(const CurrentLaw& solved_law, double charge, double estimate_s, double tolerance) {
+    law = &solved_law;
+    charge_as = charge;
+    tolerance_s = tolerance;
+    iteration = 0;
+    done = false;
+    if (solved_law.delta_a == 0.0) {
+      Finish(charge / solved_law.mean_a);
+      return;
+    }
+    // |delta (1 − e^{−qt})/q| ≤ |delta|/q bounds the transient's share, hence a bracket.
+    lo = 0.0;
+    hi = (charge + std::abs(solved_law.delta_a) * solved_law.inverse_rate_s) / solved_law.mean_a;
+    t = estimate_s;
+    if (!(t > lo && t < hi)) t = 0.5 * hi;
+  }
+
+  void Step() {
+    if (iteration == kMaxIterations) return Finish(t);
+    ++iteration;
+    const BranchAt at = EvaluateBranch(*law, t);
     const double f = at.charge_as - charge_as;
     if (f > 0.0) {
       hi = t;
@@ -71,16 +93,22 @@ inline double TimeToCharge(const CurrentLaw& law, double charge_as, double estim
       lo = t;
     }
     if (at.current_a > 0.0) {
-      const double df = at.current_a;                                // f' = i(t)
-      const double d2f = -law.rate_per_s * law.delta_a * at.e_rate;  // f'' = di/dt
-      const double step = 2.0 * f * df / (2.0 * df * df - f * d2f);  // Halley
-      if (std::abs(step) <= 1e-3 * tolerance_s) return t - step;
+      const double df = at.current_a;                                  // f' = i(t)
+      const double d2f = -law->rate_per_s * law->delta_a * at.e_rate;  // f'' = di/dt
+      const double step = 2.0 * f * df / (2.0 * df * df - f * d2f);    // Halley
+      if (std::abs(step) <= 1e-3 * tolerance_s) return Finish(t - step);
       t -= step;
     }
     if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);  // a step that leaves the bracket: bisect
-    if (hi - lo <= 1e-3 * tolerance_s) return t;
+    if (hi - lo <= 1e-3 * tolerance_s) Finish(t);
   }
-  return t;
-}
+
+ private:
+  static constexpr int kMaxIterations = 100;
+  void Finish(double time_s) {
+    result_s = time_s;
+    done = true;
+  }
+};
 
 }  // namespace uascma::prognostics::eod_internal

@@ -156,6 +156,94 @@ TEST(EodDistributionTest, TheScaledPacksAreThoseBuiltWithScaledParameters) {
   EXPECT_NE(distribution.centre_eod_s[1], distribution.centre_eod_s[0]);
 }
 
+// The pack ScaledPack(ScaledPack(pack, class, 1), r0, capacity) of eod_distribution.cc, built here from the
+// parameters: R0 times the class's factor, then the source's; Q times the source's.
+BatteryPack RebuiltPack(const BatteryPack& pack, double class_factor, double r0_factor, double capacity_factor) {
+  PackParams params;
+  params.ocv = pack.ocv();
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      CellParams cell = pack.cell(b, c).params();
+      cell.r0_ohm *= class_factor;
+      cell.capacity_ah *= 1.0;
+      cell.r0_ohm *= r0_factor;
+      cell.capacity_ah *= capacity_factor;
+      params.cells[b][c] = cell;
+    }
+  }
+  return BatteryPack(params);
+}
+
+PackState SocShifted(PackState state, double shift) {
+  for (auto& branch : state.cells) {
+    for (auto& cell : branch) cell.soc_fraction = std::clamp(cell.soc_fraction + shift, 0.0, 1.0);
+  }
+  return state;
+}
+
+// The distribution's CalcPackEod calls are made together (eod_internal::CalcScaledPackEods, in lockstep); each
+// must be exactly what CalcPackEod gives alone on the pack built with the scaled parameters, over packs, states
+// (mid-flight, near empty, a blocked diode, a switched-off pack, at the cut-off), currents and uncertainties.
+TEST(EodDistributionTest, TheCallsMadeTogetherAreThoseMadeOneByOne) {
+  std::vector<EodUncertainty> uncertainties = {EverySource(), EverySource(), EverySource(), EodUncertainty{}};
+  uncertainties[1].cold_probability = 0.3;
+  uncertainties[2].cold_probability = 1.0;
+  uncertainties[2].load_log_mean = 0.0;
+  uncertainties[3].load_log_sigma = 0.05;
+  uncertainties[3].soc_sigma = 0.3;
+  uncertainties[3].cold_probability = 0.5;
+  PerCell<CellHealth> faded{};
+  for (auto& branch : faded) branch = {CellHealth{.capacity_fade = true, .power_fade = true}, {}, {}};
+  int compared = 0;
+  for (const auto& health : {PerCell<CellHealth>{}, Mismatched(), faded}) {
+    const BatteryPack pack(MakePackParams(health));
+    std::vector<PackState> states = {MidFlight(pack, 120.0), MidFlight(pack, 480.0), pack.MakeRestingState(3.29)};
+    states.push_back(pack.MakeRestingState(4.0));
+    for (auto& cell : states.back().cells[1]) cell.soc_fraction *= 0.7;  // pack 2 blocked by its diode at first
+    states.push_back(states[0]);
+    states.back().branch_on = {false, true};
+    for (const PackState& state : states) {
+      for (double current_a : {8.0, 25.0, 60.0}) {
+        for (const EodUncertainty& u : uncertainties) {
+          const EodDistribution d = CalcPackEodDistribution(pack, state, current_a, u);
+          const std::string what = "case " + std::to_string(compared);
+          EXPECT_EQ(d.point, CalcPackEod(pack, state, current_a)) << what;
+          const bool only_cold = u.cold_probability >= 1.0;
+          const double centre_a = current_a * std::exp(u.load_log_mean);
+          const BatteryPack base = RebuiltPack(pack, only_cold ? kColdResistanceFactor : 1.0, 1.0, 1.0);
+          const double centre_s = CalcPackEod(base, state, centre_a).eod_s;
+          EXPECT_EQ(d.centre_eod_s[0], centre_s) << what;
+          auto secant = [&](const BatteryPack& at_pack, const PackState& at_state, double at_current_a) {
+            if (centre_s <= 0.0) return 0.0;
+            const double eod_s = CalcPackEod(at_pack, at_state, at_current_a).eod_s;
+            return std::log(std::max(eod_s, kEodDistributionFloor_s)) - std::log(centre_s);
+          };
+          const double class_factor = only_cold ? kColdResistanceFactor : 1.0;
+          const std::array<double, kEodSourceCount> secants = {
+              secant(base, state, centre_a * std::exp(u.load_log_sigma)),
+              secant(base, SocShifted(state, -u.soc_sigma), centre_a),
+              secant(RebuiltPack(pack, class_factor, std::exp(u.r0_log_sigma), 1.0), state, centre_a),
+              secant(RebuiltPack(pack, class_factor, 1.0, std::exp(-u.capacity_log_sigma)), state, centre_a)};
+          for (int k = 0; k < kEodSourceCount; ++k) {
+            if (k == static_cast<int>(EodSource::kLoad) && u.load_log_sigma == 0.0) continue;
+            if (k == static_cast<int>(EodSource::kR0) && u.r0_log_sigma == 0.0) continue;
+            if (k == static_cast<int>(EodSource::kCapacity) && u.capacity_log_sigma == 0.0) continue;
+            EXPECT_EQ(d.log_secants[k], secants[k]) << what << " source " << k;
+          }
+          EXPECT_EQ(d.soc_log_secant_longer, secant(base, SocShifted(state, u.soc_sigma), centre_a)) << what;
+          if (u.cold_probability > 0.0 && !only_cold) {
+            EXPECT_EQ(d.centre_eod_s[1],
+                      CalcPackEod(RebuiltPack(pack, kColdResistanceFactor, 1.0, 1.0), state, centre_a).eod_s)
+                << what;
+          }
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(compared, 3 * 5 * 3 * 4);
+}
+
 TEST(EodDistributionTest, NoUncertaintyIsThePointEod) {
   const BatteryPack pack;
   const PackState state = MidFlight(pack, 120.0);
@@ -185,6 +273,21 @@ TEST(EodDistributionTest, AStateAtTheCutoffIsAPointMassAtZero) {
   const EodDistribution distribution = CalcPackEodDistribution(pack, state, 30.0, EverySource());
   EXPECT_EQ(distribution.Quantile(0.95), 0.0);
   EXPECT_EQ(distribution.ProbabilityBefore(1.0), 1.0);
+}
+
+// The secants are made only when the centre is above 0 s (as one by one): a load secant whose current overflows to
+// infinity (1e308 A · e^(0.02 + 1)) is never made when the pack is already at the cut-off, so nothing is refused.
+TEST(EodDistributionTest, ASecantThatCannotBeMadeIsNotMadeAtTheCutoff) {
+  const BatteryPack pack;
+  const PackState state = pack.MakeRestingState(kRestVoltage);
+  EodUncertainty uncertainty;
+  uncertainty.load_log_mean = 0.02;
+  uncertainty.load_log_sigma = 1.0;
+  uncertainty.cold_probability = 0.3;
+  const EodDistribution distribution = CalcPackEodDistribution(pack, state, 1e308, uncertainty);
+  EXPECT_EQ(distribution.point.status, EodStatus::kAlreadyBelowCutoff);
+  EXPECT_EQ(distribution.evaluations, 3);  // the point, the centre, the cold class's centre
+  EXPECT_EQ(distribution.Quantile(0.95), 0.0);
 }
 
 TEST(EodDistributionTest, InvalidInputIsRefused) {
