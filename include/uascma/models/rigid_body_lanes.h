@@ -1,0 +1,67 @@
+#pragma once
+// Issue 27 item 4 (lockstep flights), a measurement spike: the rigid body's midpoint step (models/rigid_body.h,
+// StepRigidBody with Integrator::kMidpoint, the simulator's step) for four independent bodies at once, their
+// states, wrenches and winds held as a structure of arrays (one lane per body), sharing the parameters and the
+// drag table. Lane i of the result is, bit for bit, StepRigidBody of body i: every lane performs the scalar code's
+// IEEE operations in its order (Eigen's, for the norms and the cross product), with no fused multiply-add
+// (src/models/CMakeLists.txt compiles the lanes with -ffp-contract=off); tests/models/rigid_body_lanes_test.cc
+// compares them. The drag table's lookup (DragTable::DragAtSine, with its libm asin) is called per lane, in scalar
+// code, on the lanes' airspeed and incidence sine: the same function the scalar step calls, so the same bits.
+// Nothing in the simulator calls this yet (bench/rigid_body_lanes_bench.cc measures it).
+//
+// Paths as common/lane_math.h's, chosen at run time: SSE2 (two 2-wide vectors, lanes 0-1 and 2-3) or AVX2 (one
+// 4-wide vector); UASCMA_SIMD=sse2 (or scalar) forces SSE2; an AVX2 request on a CPU without it falls back to SSE2.
+#include <array>
+
+#include "uascma/common/lane_math.h"
+#include "uascma/models/rigid_body.h"
+
+namespace uascma::models {
+
+inline constexpr int kBodyLanes = 4;
+using BodyLaneValues = std::array<double, kBodyLanes>;  // one value per body
+
+// Four bodies' states: [component][lane], the quaternion in Eigen's coefficient order (x, y, z, w).
+struct alignas(32) RigidBodyLanes {
+  std::array<BodyLaneValues, 3> p_WB_W{}, v_WB_W{}, w_WB_B{};
+  std::array<BodyLaneValues, 4> q_WB{};
+
+  void Set(int lane, const RigidBodyState& s) {
+    for (int c = 0; c < 3; ++c) {
+      p_WB_W[c][lane] = s.p_WB_W[c];
+      v_WB_W[c][lane] = s.v_WB_W[c];
+      w_WB_B[c][lane] = s.w_WB_B[c];
+    }
+    for (int c = 0; c < 4; ++c) q_WB[c][lane] = s.q_WB.coeffs()[c];
+  }
+  RigidBodyState Get(int lane) const {
+    RigidBodyState s;
+    for (int c = 0; c < 3; ++c) {
+      s.p_WB_W[c] = p_WB_W[c][lane];
+      s.v_WB_W[c] = v_WB_W[c][lane];
+      s.w_WB_B[c] = w_WB_B[c][lane];
+    }
+    for (int c = 0; c < 4; ++c) s.q_WB.coeffs()[c] = q_WB[c][lane];
+    return s;
+  }
+};
+
+// Four bodies' inputs (BodyInputs), held over the step.
+struct alignas(32) BodyInputLanes {
+  BodyLaneValues total_thrust{};
+  std::array<BodyLaneValues, 3> torque_B{}, wind_W{};
+
+  void Set(int lane, const BodyInputs& in) {
+    total_thrust[lane] = in.total_thrust;
+    for (int c = 0; c < 3; ++c) {
+      torque_B[c][lane] = in.torque_B[c];
+      wind_W[c][lane] = in.wind_W[c];
+    }
+  }
+};
+
+// StepRigidBody(params, drag, body i, inputs of body i, dt, kMidpoint) for each lane i, in place.
+void StepRigidBodyLanes(lane_math::LaneMathPath path, const RigidBodyParams& params, const DragTable& drag,
+                        RigidBodyLanes& state, const BodyInputLanes& inputs, double dt);
+
+}  // namespace uascma::models
