@@ -3,11 +3,14 @@
 // on SSE2 (two 2-wide halves) and AVX2, bit-identical per body. Each iteration flies the four bodies 200 steps
 // (1 s at 200 Hz) from the same starting states, every step depending on the last, with each body's own held thrust,
 // torque and wind; the counter is per body-step. The bodies fly as in a campaign: tilt up to ~0.3 rad, 0-10 m/s
-// against the air (the incidence inside the table's ±30°, so DragAtSine calls libm's asin).
+// against the air (the incidence inside the table's ±30°, so DragAtSine calls libm's asin). The lanes run with each
+// drag lookup of models/rigid_body_lanes.h (path 0 = SSE2, 1 = AVX2; lookup 0 = libm's asin and the table per lane,
+// bit-identical to the scalar step; 1 = our asin and the table per lane; 2 = our asin and the table in the lanes).
 // Instructions: valgrind --tool=callgrind --toggle-collect='*FlyScalar*' (or '*FlyLanes*') on this binary
 // (the README of the spike, /work/notes/lanes2-readme.md, gives the command).
 #include <array>
 #include <cmath>
+#include <string>
 
 #include <benchmark/benchmark.h>
 
@@ -42,19 +45,32 @@ Fleet StartingFleet() {
   return fleet;
 }
 
-[[gnu::noinline]] void FlyScalar(const DragTable& drag, const Fleet& start, std::array<RigidBodyState, 4>& states) {
+// Pattern "chain": each step from the last (a flight). Pattern "throughput": each step from the starting states, so
+// that the steps are independent and only the instructions' throughput bounds them (the latency of a flight's
+// chain hidden, as far as the rest of a simulator's step could hide it).
+enum Pattern { kChain = 0, kThroughput = 1 };
+
+[[gnu::noinline]] void FlyScalar(Pattern pattern, const DragTable& drag, const Fleet& start,
+                                 std::array<RigidBodyState, 4>& states) {
   const RigidBodyParams params;
   states = start.states;
   for (int k = 0; k < kSteps; ++k) {
+    if (pattern == kThroughput) states = start.states;
     for (int i = 0; i < kBodyLanes; ++i) states[i] = StepRigidBody(params, drag, states[i], start.inputs[i], kDt);
+    benchmark::DoNotOptimize(states);
   }
 }
 
-[[gnu::noinline]] void FlyLanes(lane_math::LaneMathPath path, const DragTable& drag, const RigidBodyLanes& start,
+[[gnu::noinline]] void FlyLanes(Pattern pattern, lane_math::LaneMathPath path, LaneDragLookup lookup,
+                                const DragTable& drag, const DragLaneTable& lane_table, const RigidBodyLanes& start,
                                 const BodyInputLanes& inputs, RigidBodyLanes& lanes) {
   const RigidBodyParams params;
   lanes = start;
-  for (int k = 0; k < kSteps; ++k) StepRigidBodyLanes(path, params, drag, lanes, inputs, kDt);
+  for (int k = 0; k < kSteps; ++k) {
+    if (pattern == kThroughput) lanes = start;
+    StepRigidBodyLanes(path, params, drag, lanes, inputs, kDt, lookup, &lane_table);
+    benchmark::DoNotOptimize(lanes);
+  }
 }
 
 void SetCounters(benchmark::State& state) {
@@ -67,21 +83,24 @@ void BM_RigidBodyScalarX4(benchmark::State& state) {
   const Fleet fleet = StartingFleet();
   std::array<RigidBodyState, 4> states;
   for (auto _ : state) {
-    FlyScalar(drag, fleet, states);
+    FlyScalar(static_cast<Pattern>(state.range(0)), drag, fleet, states);
     benchmark::DoNotOptimize(states);
   }
   SetCounters(state);
 }
-BENCHMARK(BM_RigidBodyScalarX4);
+BENCHMARK(BM_RigidBodyScalarX4)->ArgName("pattern")->Arg(kChain)->Arg(kThroughput);
 
 void BM_RigidBodyLanes(benchmark::State& state) {
   const auto path = static_cast<lane_math::LaneMathPath>(state.range(0));
+  const auto lookup = static_cast<LaneDragLookup>(state.range(1));
   if (!lane_math::LaneMathPathSupported(path)) {
     state.SkipWithError("this CPU lacks AVX2");
     return;
   }
-  state.SetLabel(lane_math::LaneMathPathName(path));
+  const char* lookups[] = {"libm asin + lookup per lane", "our asin + lookup per lane", "our asin + lookup in lanes"};
+  state.SetLabel(std::string(lane_math::LaneMathPathName(path)) + ", " + lookups[state.range(1)]);
   const DragTable drag = DragTable::Default(PropellerConfiguration::kTractor);
+  const DragLaneTable lane_table = DefaultDragLaneTable(PropellerConfiguration::kTractor);
   const Fleet fleet = StartingFleet();
   RigidBodyLanes start, lanes;
   BodyInputLanes inputs;
@@ -90,15 +109,17 @@ void BM_RigidBodyLanes(benchmark::State& state) {
     inputs.Set(i, fleet.inputs[i]);
   }
   for (auto _ : state) {
-    FlyLanes(path, drag, start, inputs, lanes);
+    FlyLanes(static_cast<Pattern>(state.range(2)), path, lookup, drag, lane_table, start, inputs, lanes);
     benchmark::DoNotOptimize(lanes);
   }
   SetCounters(state);
 }
 BENCHMARK(BM_RigidBodyLanes)
-    ->ArgName("path")
-    ->Arg(static_cast<int>(lane_math::LaneMathPath::kSse2))
-    ->Arg(static_cast<int>(lane_math::LaneMathPath::kAvx2));
+    ->ArgNames({"path", "lookup", "pattern"})
+    ->ArgsProduct({{static_cast<int>(lane_math::LaneMathPath::kSse2), static_cast<int>(lane_math::LaneMathPath::kAvx2)},
+                   {static_cast<int>(LaneDragLookup::kLibmPerLane), static_cast<int>(LaneDragLookup::kOursPerLane),
+                    static_cast<int>(LaneDragLookup::kOursInLanes)},
+                   {kChain, kThroughput}});
 
 }  // namespace
 }  // namespace uascma::models

@@ -7,8 +7,11 @@
 // CMakeLists.txt; as common/lane_math.cc), so that no multiply and add are fused on either path.
 #include "uascma/models/rigid_body_lanes.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <utility>
 
 #include "uascma/common/frames.h"
 
@@ -79,26 +82,93 @@ struct StageLanes {
   Lanes3<V> w_dot;
 };
 
-// CalcAcceleration's drag term for each lane: the table's lookup per lane, in scalar code (DragAtSine, with libm's asin
-// where it needs one), then −D / |v_air| · v_air / m added to v̇ where |v_air| > 1e-9.
+// DragTable::Axis::Locate on the lanes: the cell (gathered per lane) and the fraction within it; a lane beyond an end
+// gets the end's cell and 0 or 1. A NaN x (a lane without drag, whose sine was 0/0) reads cell 0 and is discarded.
 template <class V>
-UASCMA_BODY_LANES_INLINE void AddDrag(const DragTable& drag, double mass, const Lanes3<V>& air, V airspeed,
-                                      const Lanes3<V>& z_B, Lanes3<V>& v_dot) {
+struct LaneBracket {
+  int index[kWidth<V>];
+  V fraction;
+};
+template <class V>
+UASCMA_BODY_LANES_INLINE LaneBracket<V> LocateLanes(const DragLaneTable::Axis& axis, V x) {
+  const V t = (x - axis.front) * axis.inverse_uniform_step;
+  const V clamped = !(t >= Splat<V>(0.0)) ? Splat<V>(0.0) : t;  // the conversion below is then defined
+  const auto below = x <= Splat<V>(axis.front);
+  const auto above = x >= Splat<V>(axis.back);
+  LaneBracket<V> b;
+  V base, inverse_width;
+  for (int i = 0; i < kWidth<V>; ++i) {
+    const int cell = clamped[i] < axis.last_cell ? static_cast<int>(clamped[i]) : axis.last_cell;
+    b.index[i] = below[i] ? 0 : (above[i] ? axis.last_cell : cell);
+    base[i] = axis.values[b.index[i]];
+    inverse_width[i] = axis.inverse_width[b.index[i]];
+  }
+  b.fraction = below ? Splat<V>(0.0) : (above ? Splat<V>(1.0) : (x - base) * inverse_width);
+  return b;
+}
+
+// DragTable::DragAt on the lanes: the bilinear interpolation at the airspeed and the located pitch, grown as v² beyond
+// the last airspeed; the four corners gathered per lane.
+template <class V>
+UASCMA_BODY_LANES_INLINE V DragAtLanes(const DragLaneTable& table, V airspeed, const LaneBracket<V>& p) {
+  airspeed = airspeed < Splat<V>(0.0) ? Splat<V>(0.0) : airspeed;  // std::max(airspeed, 0.0)
+  const double top = table.airspeed.back;
+  const V growth = airspeed > Splat<V>(top) ? (airspeed * airspeed) / (top * top) : Splat<V>(1.0);
+  const LaneBracket<V> v = LocateLanes(table.airspeed, Splat<V>(top) < airspeed ? Splat<V>(top) : airspeed);
+  const std::size_t columns = table.pitch.values.size();
+  V r0, r1, n0, n1;
+  for (int i = 0; i < kWidth<V>; ++i) {
+    const double* row = &table.drag_n[static_cast<std::size_t>(v.index[i]) * columns + p.index[i]];
+    r0[i] = row[0];
+    r1[i] = row[1];
+    n0[i] = row[columns];
+    n1[i] = row[columns + 1];
+  }
+  const V fj = p.fraction;
+  const V low = (1 - fj) * r0 + fj * r1;
+  const V high = (1 - fj) * n0 + fj * n1;
+  return growth * ((1 - v.fraction) * low + v.fraction * high);
+}
+
+// The drag magnitude at each lane's (airspeed, incidence sine), by the lookup chosen (LaneDragLookup); 0 in a lane
+// without drag (|v_air| <= 1e-9), which the caller discards.
+template <class V, LaneDragLookup kLookup>
+UASCMA_BODY_LANES_INLINE V DragMagnitude(const DragTable& drag, const DragLaneTable* lanes, V airspeed, V sine) {
+  V magnitude;
+  if constexpr (kLookup == LaneDragLookup::kOursInLanes) {
+    magnitude = DragAtLanes(*lanes, airspeed, LocateLanes(lanes->pitch, lane_math_internal::AsinKernel(sine)));
+  } else {
+    for (int i = 0; i < kWidth<V>; ++i) {
+      if (!(airspeed[i] > 1e-9)) {
+        magnitude[i] = 0.0;
+      } else if constexpr (kLookup == LaneDragLookup::kLibmPerLane) {
+        magnitude[i] = drag.DragAtSine(airspeed[i], sine[i]);
+      } else {
+        magnitude[i] = drag.Drag(airspeed[i], lane_math::Asin(sine[i]));
+      }
+    }
+  }
+  return magnitude;
+}
+
+// CalcAcceleration's drag term for each lane: −D / |v_air| · v_air / m added to v̇ where |v_air| > 1e-9.
+template <class V, LaneDragLookup kLookup>
+UASCMA_BODY_LANES_INLINE void AddDrag(const DragTable& drag, const DragLaneTable* lanes, double mass,
+                                      const Lanes3<V>& air, V airspeed, const Lanes3<V>& z_B, Lanes3<V>& v_dot) {
   const auto has_drag = airspeed > Splat<V>(1e-9);
   V sine = (air.x * z_B.x + air.y * z_B.y + air.z * z_B.z) / airspeed;  // v_air.dot(z_B) / airspeed
   sine = sine < Splat<V>(-1.0) ? Splat<V>(-1.0) : (Splat<V>(1.0) < sine ? Splat<V>(1.0) : sine);  // std::clamp
-  V magnitude;
-  for (int i = 0; i < kWidth<V>; ++i) magnitude[i] = airspeed[i] > 1e-9 ? drag.DragAtSine(airspeed[i], sine[i]) : 0.0;
-  const V k = -magnitude / airspeed;
+  const V k = -DragMagnitude<V, kLookup>(drag, lanes, airspeed, sine) / airspeed;
   v_dot.x = has_drag ? v_dot.x + k * air.x / mass : v_dot.x;  // v_dot += drag_W / mass, drag_W = k · v_air
   v_dot.y = has_drag ? v_dot.y + k * air.y / mass : v_dot.y;
   v_dot.z = has_drag ? v_dot.z + k * air.z / mass : v_dot.z;
 }
 
-template <class V>
-UASCMA_BODY_LANES_INLINE StageLanes<V> EvaluateStageLanes(const DragTable& drag, const SharedBody& body,
-                                                          const HeldLanes<V>& held, const Lanes3<V>& v,
-                                                          const LanesQuaternion<V>& q, const Lanes3<V>& w) {
+template <class V, LaneDragLookup kLookup>
+UASCMA_BODY_LANES_INLINE StageLanes<V> EvaluateStageLanes(const DragTable& drag, const DragLaneTable* lanes,
+                                                          const SharedBody& body, const HeldLanes<V>& held,
+                                                          const Lanes3<V>& v, const LanesQuaternion<V>& q,
+                                                          const Lanes3<V>& w) {
   StageLanes<V> r;
   // CalcBodyZ: z_B = (1 / |q|²) · (2(xz + wy), 2(yz − wx), w² − x² − y² + z²).
   const V inverse_norm2 = 1.0 / SquaredNorm(q);
@@ -110,7 +180,7 @@ UASCMA_BODY_LANES_INLINE StageLanes<V> EvaluateStageLanes(const DragTable& drag,
   const V airspeed = lane_math_internal::Sqrt(air.x * air.x + air.y * air.y + air.z * air.z);
   r.v_dot = {z_B.x * held.thrust_acceleration + 0.0, z_B.y * held.thrust_acceleration + 0.0,
              z_B.z * held.thrust_acceleration + kGravity};
-  AddDrag(drag, body.mass, air, airspeed, z_B, r.v_dot);
+  AddDrag<V, kLookup>(drag, lanes, body.mass, air, airspeed, z_B, r.v_dot);
   // CalcRotationRates: q̇ = ½ q ⊗ (0, w); ẇ = (τ − w × (I w)) / I.
   r.q_dot = {0.5 * (q.w * w.x + q.y * w.z - q.z * w.y), 0.5 * (q.w * w.y + q.z * w.x - q.x * w.z),
              0.5 * (q.w * w.z + q.x * w.y - q.y * w.x), 0.5 * (-q.x * w.x - q.y * w.y - q.z * w.z)};
@@ -122,9 +192,9 @@ UASCMA_BODY_LANES_INLINE StageLanes<V> EvaluateStageLanes(const DragTable& drag,
 }
 
 // StepRigidBody's midpoint rule on the lanes [first, first + width).
-template <class V>
-UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const SharedBody& body, RigidBodyLanes& s,
-                                        const BodyInputLanes& in, double dt, int first) {
+template <class V, LaneDragLookup kLookup>
+UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const DragLaneTable* lanes, const SharedBody& body,
+                                        RigidBodyLanes& s, const BodyInputLanes& in, double dt, int first) {
   const HeldLanes<V> held = {-Load<V>(in.total_thrust, first) / body.mass, Load3<V>(in.torque_B, first),
                              Load3<V>(in.wind_W, first)};
   const Lanes3<V> p = Load3<V>(s.p_WB_W, first);
@@ -133,12 +203,12 @@ UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const SharedBody&
   const LanesQuaternion<V> q = {Load<V>(s.q_WB[0], first), Load<V>(s.q_WB[1], first), Load<V>(s.q_WB[2], first),
                                 Load<V>(s.q_WB[3], first)};
   const double half_dt = 0.5 * dt;
-  const StageLanes<V> k1 = EvaluateStageLanes(drag, body, held, v, q, w);
+  const StageLanes<V> k1 = EvaluateStageLanes<V, kLookup>(drag, lanes, body, held, v, q, w);
   const Lanes3<V> v_mid = {v.x + half_dt * k1.v_dot.x, v.y + half_dt * k1.v_dot.y, v.z + half_dt * k1.v_dot.z};
   const LanesQuaternion<V> q_mid = {q.x + half_dt * k1.q_dot.x, q.y + half_dt * k1.q_dot.y, q.z + half_dt * k1.q_dot.z,
                                     q.w + half_dt * k1.q_dot.w};
   const Lanes3<V> w_mid = {w.x + half_dt * k1.w_dot.x, w.y + half_dt * k1.w_dot.y, w.z + half_dt * k1.w_dot.z};
-  const StageLanes<V> k2 = EvaluateStageLanes(drag, body, held, v_mid, q_mid, w_mid);
+  const StageLanes<V> k2 = EvaluateStageLanes<V, kLookup>(drag, lanes, body, held, v_mid, q_mid, w_mid);
   Store(s.p_WB_W[0], first, p.x + dt * v_mid.x);
   Store(s.p_WB_W[1], first, p.y + dt * v_mid.y);
   Store(s.p_WB_W[2], first, p.z + dt * v_mid.z);
@@ -160,28 +230,108 @@ UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const SharedBody&
   Store(s.q_WB[3], first, positive ? q_next.w / norm : q_next.w);
 }
 
-void StepSse2(const DragTable& drag, const SharedBody& body, RigidBodyLanes& s, const BodyInputLanes& in, double dt) {
-  StepLanes<LaneMathV2>(drag, body, s, in, dt, 0);
-  StepLanes<LaneMathV2>(drag, body, s, in, dt, 2);
+template <LaneDragLookup kLookup>
+void StepSse2(const DragTable& drag, const DragLaneTable* lanes, const SharedBody& body, RigidBodyLanes& s,
+              const BodyInputLanes& in, double dt) {
+  StepLanes<LaneMathV2, kLookup>(drag, lanes, body, s, in, dt, 0);
+  StepLanes<LaneMathV2, kLookup>(drag, lanes, body, s, in, dt, 2);
 }
-__attribute__((target("avx2"))) void StepAvx2(const DragTable& drag, const SharedBody& body, RigidBodyLanes& s,
-                                              const BodyInputLanes& in, double dt) {
-  StepLanes<LaneMathV4>(drag, body, s, in, dt, 0);
+template <LaneDragLookup kLookup>
+__attribute__((target("avx2"))) void StepAvx2(const DragTable& drag, const DragLaneTable* lanes, const SharedBody& body,
+                                              RigidBodyLanes& s, const BodyInputLanes& in, double dt) {
+  StepLanes<LaneMathV4, kLookup>(drag, lanes, body, s, in, dt, 0);
+}
+
+template <LaneDragLookup kLookup>
+void StepOnPath(bool avx2, const DragTable& drag, const DragLaneTable* lanes, const SharedBody& body, RigidBodyLanes& s,
+                const BodyInputLanes& in, double dt) {
+  if (avx2) {
+    StepAvx2<kLookup>(drag, lanes, body, s, in, dt);
+  } else {
+    StepSse2<kLookup>(drag, lanes, body, s, in, dt);
+  }
+}
+
+BodyLaneValues DragAtSineSse2(const DragLaneTable& table, const BodyLaneValues& airspeed, const BodyLaneValues& sine) {
+  BodyLaneValues out;
+  for (int first = 0; first < kBodyLanes; first += 2) {
+    const LaneMathV2 pitch = lane_math_internal::AsinKernel(Load<LaneMathV2>(sine, first));
+    Store(out, first, DragAtLanes(table, Load<LaneMathV2>(airspeed, first), LocateLanes(table.pitch, pitch)));
+  }
+  return out;
+}
+__attribute__((target("avx2"))) BodyLaneValues DragAtSineAvx2(const DragLaneTable& table,
+                                                              const BodyLaneValues& airspeed,
+                                                              const BodyLaneValues& sine) {
+  BodyLaneValues out;
+  const LaneMathV4 pitch = lane_math_internal::AsinKernel(Load<LaneMathV4>(sine, 0));
+  Store(out, 0, DragAtLanes(table, Load<LaneMathV4>(airspeed, 0), LocateLanes(table.pitch, pitch)));
+  return out;
 }
 
 #pragma GCC diagnostic pop
 
+// An axis as DragTable::Axis holds it: drag.cc's UniformStep (the spacing, or 0 when the steps differ by more than
+// round-off), its inverse, and each cell's inverse width, computed by the same expressions.
+DragLaneTable::Axis MakeLaneAxis(const std::vector<double>& values) {
+  DragLaneTable::Axis axis;
+  axis.values = values;
+  double step = (values.back() - values.front()) / static_cast<double>(values.size() - 1);
+  for (std::size_t i = 1; i < values.size(); ++i) {
+    if (std::abs(values[i] - values[i - 1] - step) > 1e-9 * std::max(1.0, std::abs(step))) step = 0.0;
+  }
+  axis.inverse_uniform_step = step > 0.0 ? 1.0 / step : 0.0;
+  axis.front = values.front();
+  axis.back = values.back();
+  axis.last_cell = static_cast<int>(values.size()) - 2;
+  for (std::size_t i = 0; i + 1 < values.size(); ++i) axis.inverse_width.push_back(1.0 / (values[i + 1] - values[i]));
+  return axis;
+}
+
+bool UseAvx2(lane_math::LaneMathPath path) {
+  return path == lane_math::LaneMathPath::kAvx2 && lane_math::LaneMathPathSupported(path);
+}
+
 }  // namespace
 
+DragLaneTable::DragLaneTable(const std::vector<double>& airspeeds, const std::vector<double>& pitches_rad,
+                             std::vector<double> drag_values)
+    : airspeed(MakeLaneAxis(airspeeds)), pitch(MakeLaneAxis(pitches_rad)), drag_n(std::move(drag_values)) {
+  uniform = airspeed.inverse_uniform_step > 0.0 && pitch.inverse_uniform_step > 0.0;
+}
+
+DragLaneTable DefaultDragLaneTable(PropellerConfiguration configuration) {
+  const double scale = configuration == PropellerConfiguration::kPusher ? 1.25 : 1.0;
+  std::vector<double> airspeeds, pitches, drag;
+  for (int v = 0; v <= 10; ++v) airspeeds.push_back(v);
+  for (int p = -30; p <= 30; p += 5) pitches.push_back(p / kDegreesPerRadian);
+  for (double v : airspeeds) {
+    for (double theta : pitches) {
+      const double area = 0.05 * std::abs(std::cos(theta)) + 0.10 * std::abs(std::sin(theta));  // m²
+      drag.push_back(scale * 0.5 * kAirDensity * area * v * v);
+    }
+  }
+  return DragLaneTable(airspeeds, pitches, std::move(drag));
+}
+
 void StepRigidBodyLanes(lane_math::LaneMathPath path, const RigidBodyParams& params, const DragTable& drag,
-                        RigidBodyLanes& state, const BodyInputLanes& inputs, double dt) {
+                        RigidBodyLanes& state, const BodyInputLanes& inputs, double dt, LaneDragLookup lookup,
+                        const DragLaneTable* lane_table) {
   const SharedBody body = {params.mass,
                            {params.inertia_diagonal.x(), params.inertia_diagonal.y(), params.inertia_diagonal.z()}};
-  if (path == lane_math::LaneMathPath::kAvx2 && lane_math::LaneMathPathSupported(path)) {
-    StepAvx2(drag, body, state, inputs, dt);
+  const bool avx2 = UseAvx2(path);
+  if (lookup == LaneDragLookup::kOursInLanes && lane_table != nullptr && lane_table->uniform) {
+    StepOnPath<LaneDragLookup::kOursInLanes>(avx2, drag, lane_table, body, state, inputs, dt);
+  } else if (lookup == LaneDragLookup::kLibmPerLane) {
+    StepOnPath<LaneDragLookup::kLibmPerLane>(avx2, drag, lane_table, body, state, inputs, dt);
   } else {
-    StepSse2(drag, body, state, inputs, dt);
+    StepOnPath<LaneDragLookup::kOursPerLane>(avx2, drag, lane_table, body, state, inputs, dt);
   }
+}
+
+BodyLaneValues DragAtSineLanes(lane_math::LaneMathPath path, const DragLaneTable& table, const BodyLaneValues& airspeed,
+                               const BodyLaneValues& sine) {
+  return UseAvx2(path) ? DragAtSineAvx2(table, airspeed, sine) : DragAtSineSse2(table, airspeed, sine);
 }
 
 }  // namespace uascma::models

@@ -161,5 +161,72 @@ TEST(RigidBodyLanesTest, ALaneDoesNotDependOnItsNeighbours) {
   }
 }
 
+// kOursInLanes's lookup equals DragTable::Drag at our asin, bit for bit: on the default tables (the lane table
+// recomputed by DefaultDragLaneTable) and on a random table with uniform axes, over airspeeds below 0, inside and
+// beyond the airspeed axis and every sine (incidences inside and beyond the pitch axis).
+TEST(RigidBodyLanesTest, LookupInLanesEqualsTheTableAtOurAsin) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> airspeeds = {0.0, 1.5, 3.0, 4.5, 6.0}, pitches, values;
+  for (int j = 0; j < 9; ++j) pitches.push_back(-0.7 + 0.175 * j);
+  for (std::size_t k = 0; k < airspeeds.size() * pitches.size(); ++k) values.push_back(5.0 * unit(rng));
+  struct Pair {
+    DragTable table;
+    DragLaneTable lanes;
+  };
+  const std::vector<Pair> pairs = {
+      {DragTable::Default(PropellerConfiguration::kTractor), DefaultDragLaneTable(PropellerConfiguration::kTractor)},
+      {DragTable::Default(PropellerConfiguration::kPusher), DefaultDragLaneTable(PropellerConfiguration::kPusher)},
+      {DragTable(airspeeds, pitches, values, "random"), DragLaneTable(airspeeds, pitches, values)}};
+  for (const Pair& pair : pairs) {
+    ASSERT_TRUE(pair.lanes.uniform);
+    for (LaneMathPath path : Paths()) {
+      for (int group = 0; group < 20000; ++group) {
+        BodyLaneValues airspeed, sine;
+        for (int i = 0; i < kBodyLanes; ++i) {
+          airspeed[i] = -1.0 + 16.0 * unit(rng);
+          sine[i] = group % 2 == 0 ? -1.0 + 2.0 * unit(rng) : -0.7 + 1.4 * unit(rng);
+        }
+        const BodyLaneValues drag = DragAtSineLanes(path, pair.lanes, airspeed, sine);
+        for (int i = 0; i < kBodyLanes; ++i) {
+          const double expected = pair.table.Drag(airspeed[i], lane_math::Asin(sine[i]));
+          ASSERT_EQ(std::memcmp(&drag[i], &expected, sizeof(double)), 0)
+              << lane_math::LaneMathPathName(path) << " airspeed " << airspeed[i] << " sine " << sine[i];
+        }
+      }
+    }
+  }
+}
+
+// The step with kOursInLanes equals the step with kOursPerLane (DragTable::Drag at lane_math::Asin, per lane in scalar
+// code), bit for bit, on both paths; kOursPerLane differs from kLibmPerLane (= StepRigidBody, above) only in the asin
+// it calls.
+TEST(RigidBodyLanesTest, StepWithTheLookupInLanesEqualsItsPerLaneReference) {
+  std::mt19937_64 rng(8);
+  const RigidBodyParams params;
+  for (PropellerConfiguration configuration : {PropellerConfiguration::kTractor, PropellerConfiguration::kPusher}) {
+    const DragTable drag = DragTable::Default(configuration);
+    const DragLaneTable lane_table = DefaultDragLaneTable(configuration);
+    for (LaneMathPath path : Paths()) {
+      for (int group = 0; group < 5000; ++group) {
+        RigidBodyLanes in_lanes, per_lane;
+        BodyInputLanes inputs;
+        for (int i = 0; i < kBodyLanes; ++i) {
+          const Body body = RandomBody(rng, (group + i) % 4);
+          in_lanes.Set(i, body.state);
+          per_lane.Set(i, body.state);
+          inputs.Set(i, body.inputs);
+        }
+        StepRigidBodyLanes(path, params, drag, in_lanes, inputs, 0.005, LaneDragLookup::kOursInLanes, &lane_table);
+        StepRigidBodyLanes(LaneMathPath::kSse2, params, drag, per_lane, inputs, 0.005, LaneDragLookup::kOursPerLane);
+        for (int i = 0; i < kBodyLanes; ++i) {
+          ASSERT_TRUE(SameBits(in_lanes.Get(i), per_lane.Get(i)))
+              << lane_math::LaneMathPathName(path) << " group " << group << " lane " << i;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace uascma::models
