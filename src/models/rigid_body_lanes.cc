@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "uascma/common/frames.h"
@@ -82,48 +83,60 @@ struct StageLanes {
   Lanes3<V> w_dot;
 };
 
-// DragTable::Axis::Locate on the lanes: the cell (gathered per lane) and the fraction within it; a lane beyond an end
-// gets the end's cell and 0 or 1. A NaN x (a lane without drag, whose sine was 0/0) reads cell 0 and is discarded.
+// Cell indices, one 32-bit integer per lane, and the gather of a table's values at them (loads per lane: an AVX2
+// gather instruction cannot be reached from these templates, which the SSE2 path instantiates too).
+typedef int LaneIndex2 __attribute__((vector_size(8)));
+typedef int LaneIndex4 __attribute__((vector_size(16)));
+template <class V>
+using LaneIndex = std::conditional_t<kWidth<V> == 2, LaneIndex2, LaneIndex4>;
+
+UASCMA_BODY_LANES_INLINE LaneMathV2 Gather(const double* base, LaneIndex2 index) {
+  return LaneMathV2{base[index[0]], base[index[1]]};
+}
+UASCMA_BODY_LANES_INLINE LaneMathV4 Gather(const double* base, LaneIndex4 index) {
+  return LaneMathV4{base[index[0]], base[index[1]], base[index[2]], base[index[3]]};
+}
+
+// DragTable::Axis::Locate on the lanes: the cell and the fraction within it; a lane beyond an end gets the end's
+// cell and 0 or 1. The truncation of min(t, last cell) is min(truncation of t, last cell) for t >= 0, as the scalar
+// code's; a NaN x (a lane without drag, whose sine was 0/0) reads cell 0 and is discarded.
 template <class V>
 struct LaneBracket {
-  int index[kWidth<V>];
+  LaneIndex<V> index;
   V fraction;
 };
 template <class V>
 UASCMA_BODY_LANES_INLINE LaneBracket<V> LocateLanes(const DragLaneTable::Axis& axis, V x) {
+  using Index = LaneIndex<V>;
   const V t = (x - axis.front) * axis.inverse_uniform_step;
-  const V clamped = !(t >= Splat<V>(0.0)) ? Splat<V>(0.0) : t;  // the conversion below is then defined
+  const V last = Splat<V>(axis.last_cell);
+  const V clamped = !(t >= Splat<V>(0.0)) ? Splat<V>(0.0) : (last < t ? last : t);  // the conversion is then defined
   const auto below = x <= Splat<V>(axis.front);
   const auto above = x >= Splat<V>(axis.back);
+  const Index cell = __builtin_convertvector(clamped, Index);  // truncated, as static_cast<int>
   LaneBracket<V> b;
-  V base, inverse_width;
-  for (int i = 0; i < kWidth<V>; ++i) {
-    const int cell = clamped[i] < axis.last_cell ? static_cast<int>(clamped[i]) : axis.last_cell;
-    b.index[i] = below[i] ? 0 : (above[i] ? axis.last_cell : cell);
-    base[i] = axis.values[b.index[i]];
-    inverse_width[i] = axis.inverse_width[b.index[i]];
-  }
+  b.index = __builtin_convertvector(below, Index)
+                ? Index{}
+                : (__builtin_convertvector(above, Index) ? Index{} + axis.last_cell : cell);
+  const V base = Gather(axis.values.data(), b.index);
+  const V inverse_width = Gather(axis.inverse_width.data(), b.index);
   b.fraction = below ? Splat<V>(0.0) : (above ? Splat<V>(1.0) : (x - base) * inverse_width);
   return b;
 }
 
 // DragTable::DragAt on the lanes: the bilinear interpolation at the airspeed and the located pitch, grown as v² beyond
-// the last airspeed; the four corners gathered per lane.
+// the last airspeed; the four corners gathered.
 template <class V>
 UASCMA_BODY_LANES_INLINE V DragAtLanes(const DragLaneTable& table, V airspeed, const LaneBracket<V>& p) {
   airspeed = airspeed < Splat<V>(0.0) ? Splat<V>(0.0) : airspeed;  // std::max(airspeed, 0.0)
   const double top = table.airspeed.back;
   const V growth = airspeed > Splat<V>(top) ? (airspeed * airspeed) / (top * top) : Splat<V>(1.0);
   const LaneBracket<V> v = LocateLanes(table.airspeed, Splat<V>(top) < airspeed ? Splat<V>(top) : airspeed);
-  const std::size_t columns = table.pitch.values.size();
-  V r0, r1, n0, n1;
-  for (int i = 0; i < kWidth<V>; ++i) {
-    const double* row = &table.drag_n[static_cast<std::size_t>(v.index[i]) * columns + p.index[i]];
-    r0[i] = row[0];
-    r1[i] = row[1];
-    n0[i] = row[columns];
-    n1[i] = row[columns + 1];
-  }
+  const int columns = static_cast<int>(table.pitch.values.size());
+  const LaneIndex<V> corner = v.index * columns + p.index;
+  const double* drag = table.drag_n.data();
+  const V r0 = Gather(drag, corner), r1 = Gather(drag + 1, corner);
+  const V n0 = Gather(drag + columns, corner), n1 = Gather(drag + columns + 1, corner);
   const V fj = p.fraction;
   const V low = (1 - fj) * r0 + fj * r1;
   const V high = (1 - fj) * n0 + fj * n1;
