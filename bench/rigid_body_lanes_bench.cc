@@ -5,7 +5,8 @@
 // torque and wind; the counter is per body-step. The bodies fly as in a campaign: tilt up to ~0.3 rad, 0-10 m/s
 // against the air (the incidence inside the table's ±30°, so DragAtSine calls libm's asin). The lanes run with each
 // drag lookup of models/rigid_body_lanes.h (path 0 = SSE2, 1 = AVX2; lookup 0 = libm's asin and the table per lane,
-// bit-identical to the scalar step; 1 = our asin and the table per lane; 2 = our asin and the table in the lanes).
+// bit-identical to the scalar step; 1 = our asin and the table per lane; 2 = our asin and the table in the lanes;
+// 3 = libm's asin per lane and the table in the lanes, bit-identical to the scalar step).
 // Instructions: valgrind --tool=callgrind --toggle-collect='*FlyScalar*' (or '*FlyLanes*') on this binary
 // (the README of the spike, /work/notes/lanes2-readme.md, gives the command).
 #include <array>
@@ -97,7 +98,8 @@ void BM_RigidBodyLanes(benchmark::State& state) {
     state.SkipWithError("this CPU lacks AVX2");
     return;
   }
-  const char* lookups[] = {"libm asin + lookup per lane", "our asin + lookup per lane", "our asin + lookup in lanes"};
+  const char* lookups[] = {"libm asin + lookup per lane", "our asin + lookup per lane", "our asin + lookup in lanes",
+                           "libm asin per lane + lookup in lanes"};
   state.SetLabel(std::string(lane_math::LaneMathPathName(path)) + ", " + lookups[state.range(1)]);
   const DragTable drag = DragTable::Default(PropellerConfiguration::kTractor);
   const DragLaneTable lane_table = DefaultDragLaneTable(PropellerConfiguration::kTractor);
@@ -118,7 +120,8 @@ BENCHMARK(BM_RigidBodyLanes)
     ->ArgNames({"path", "lookup", "pattern"})
     ->ArgsProduct({{static_cast<int>(lane_math::LaneMathPath::kSse2), static_cast<int>(lane_math::LaneMathPath::kAvx2)},
                    {static_cast<int>(LaneDragLookup::kLibmPerLane), static_cast<int>(LaneDragLookup::kOursPerLane),
-                    static_cast<int>(LaneDragLookup::kOursInLanes)},
+                    static_cast<int>(LaneDragLookup::kOursInLanes),
+                    static_cast<int>(LaneDragLookup::kLibmAsinTableInLanes)},
                    {kChain, kThroughput}});
 
 }  // namespace

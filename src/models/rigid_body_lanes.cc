@@ -150,6 +150,10 @@ UASCMA_BODY_LANES_INLINE V DragMagnitude(const DragTable& drag, const DragLaneTa
   V magnitude;
   if constexpr (kLookup == LaneDragLookup::kOursInLanes) {
     magnitude = DragAtLanes(*lanes, airspeed, LocateLanes(lanes->pitch, lane_math_internal::AsinKernel(sine)));
+  } else if constexpr (kLookup == LaneDragLookup::kLibmAsinTableInLanes) {
+    V pitch;
+    for (int i = 0; i < kWidth<V>; ++i) pitch[i] = std::asin(sine[i]);  // libm's, per lane (NaN in a lane without drag)
+    magnitude = DragAtLanes(*lanes, airspeed, LocateLanes(lanes->pitch, pitch));
   } else {
     for (int i = 0; i < kWidth<V>; ++i) {
       if (!(airspeed[i] > 1e-9)) {
@@ -333,9 +337,12 @@ void StepRigidBodyLanes(lane_math::LaneMathPath path, const RigidBodyParams& par
   const SharedBody body = {params.mass,
                            {params.inertia_diagonal.x(), params.inertia_diagonal.y(), params.inertia_diagonal.z()}};
   const bool avx2 = UseAvx2(path);
-  if (lookup == LaneDragLookup::kOursInLanes && lane_table != nullptr && lane_table->uniform) {
+  const bool table_in_lanes = lane_table != nullptr && lane_table->uniform;
+  if (lookup == LaneDragLookup::kOursInLanes && table_in_lanes) {
     StepOnPath<LaneDragLookup::kOursInLanes>(avx2, drag, lane_table, body, state, inputs, dt);
-  } else if (lookup == LaneDragLookup::kLibmPerLane) {
+  } else if (lookup == LaneDragLookup::kLibmAsinTableInLanes && table_in_lanes) {
+    StepOnPath<LaneDragLookup::kLibmAsinTableInLanes>(avx2, drag, lane_table, body, state, inputs, dt);
+  } else if (lookup == LaneDragLookup::kLibmPerLane || lookup == LaneDragLookup::kLibmAsinTableInLanes) {
     StepOnPath<LaneDragLookup::kLibmPerLane>(avx2, drag, lane_table, body, state, inputs, dt);
   } else {
     StepOnPath<LaneDragLookup::kOursPerLane>(avx2, drag, lane_table, body, state, inputs, dt);

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -26,20 +27,28 @@ bool SameBits(const RigidBodyState& a, const RigidBodyState& b) {
          bits_equal(a.w_WB_B.data(), b.w_WB_B.data(), 3);
 }
 
-// The tables: the defaults (uniform axes over ±30°, 0-10 m/s), a non-uniform one (a CSV's binary search) and one whose
-// pitch axis spans ±90° (DragAtSine never skips the asin).
-std::vector<DragTable> Tables() {
-  std::vector<DragTable> tables = {DragTable::Default(PropellerConfiguration::kTractor),
-                                   DragTable::Default(PropellerConfiguration::kPusher)};
+// The tables, each with its lane table: the defaults (uniform axes over ±30°, 0-10 m/s), a non-uniform one (a CSV's
+// binary search; the lookups in lanes fall back to per lane) and one whose pitch axis spans ±90° (DragAtSine never
+// skips the asin).
+struct TablePair {
+  DragTable table;
+  DragLaneTable lanes;
+};
+TablePair MakePair(const std::vector<double>& airspeeds, const std::vector<double>& pitches,
+                   const std::vector<double>& values, const std::string& name) {
+  return {DragTable(airspeeds, pitches, values, name), DragLaneTable(airspeeds, pitches, values)};
+}
+std::vector<TablePair> Tables() {
+  std::vector<TablePair> tables = {
+      {DragTable::Default(PropellerConfiguration::kTractor), DefaultDragLaneTable(PropellerConfiguration::kTractor)},
+      {DragTable::Default(PropellerConfiguration::kPusher), DefaultDragLaneTable(PropellerConfiguration::kPusher)}};
   const std::vector<double> drag_n = {0.0, 0.1, 0.0, 0.2, 0.3,  //
                                       0.4, 0.2, 0.3, 0.6, 0.8,  //
                                       1.5, 1.0, 1.2, 2.0, 2.6,  //
                                       3.1, 2.9, 3.4, 4.0, 5.2};
-  tables.emplace_back(std::vector<double>{0.0, 2.0, 5.5, 12.0}, std::vector<double>{-0.6, -0.1, 0.0, 0.35, 0.7}, drag_n,
-                      "non-uniform");
+  tables.push_back(MakePair({0.0, 2.0, 5.5, 12.0}, {-0.6, -0.1, 0.0, 0.35, 0.7}, drag_n, "non-uniform"));
   const double h = std::numbers::pi / 2;
-  tables.emplace_back(std::vector<double>{0.0, 4.0, 8.0, 12.0}, std::vector<double>{-h, -0.5 * h, 0.0, 0.5 * h, h},
-                      drag_n, "full circle");
+  tables.push_back(MakePair({0.0, 4.0, 8.0, 12.0}, {-h, -0.5 * h, 0.0, 0.5 * h, h}, drag_n, "full circle"));
   return tables;
 }
 
@@ -78,7 +87,8 @@ TEST(RigidBodyLanesTest, OneStepEqualsTheScalarStepOnEveryLaneAndPath) {
   std::mt19937_64 rng(27);
   const RigidBodyParams params;
   const double dt = 0.005;
-  for (const DragTable& drag : Tables()) {
+  for (const TablePair& table : Tables()) {
+    const DragTable& drag = table.table;
     for (LaneMathPath path : Paths()) {
       int compared = 0;
       for (int group = 0; group < 5000; ++group) {
@@ -90,11 +100,16 @@ TEST(RigidBodyLanesTest, OneStepEqualsTheScalarStepOnEveryLaneAndPath) {
           lanes.Set(i, bodies[i].state);
           inputs.Set(i, bodies[i].inputs);
         }
+        RigidBodyLanes table_in_lanes = lanes;
         StepRigidBodyLanes(path, params, drag, lanes, inputs, dt);
+        StepRigidBodyLanes(path, params, drag, table_in_lanes, inputs, dt, LaneDragLookup::kLibmAsinTableInLanes,
+                           &table.lanes);
         for (int i = 0; i < kBodyLanes; ++i) {
           const RigidBodyState scalar = StepRigidBody(params, drag, bodies[i].state, bodies[i].inputs, dt);
           ASSERT_TRUE(SameBits(lanes.Get(i), scalar))
               << "path " << lane_math::LaneMathPathName(path) << ", group " << group << ", lane " << i;
+          ASSERT_TRUE(SameBits(table_in_lanes.Get(i), scalar))
+              << "table in lanes, path " << lane_math::LaneMathPathName(path) << ", group " << group << ", lane " << i;
           ++compared;
         }
       }
@@ -108,6 +123,7 @@ TEST(RigidBodyLanesTest, OneStepEqualsTheScalarStepOnEveryLaneAndPath) {
 TEST(RigidBodyLanesTest, FlightsInLanesEqualFlightsFlownAlone) {
   const RigidBodyParams params;
   const DragTable drag = DragTable::Default(PropellerConfiguration::kTractor);
+  const DragLaneTable lane_table = DefaultDragLaneTable(PropellerConfiguration::kTractor);
   for (LaneMathPath path : Paths()) {
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -117,6 +133,7 @@ TEST(RigidBodyLanesTest, FlightsInLanesEqualFlightsFlownAlone) {
       alone[i] = RandomBody(rng, 3).state;
       lanes.Set(i, alone[i]);
     }
+    RigidBodyLanes table_in_lanes = lanes;  // kLibmAsinTableInLanes
     for (int step = 0; step < 2000; ++step) {
       BodyInputLanes inputs;
       for (int i = 0; i < kBodyLanes; ++i) {
@@ -128,9 +145,13 @@ TEST(RigidBodyLanesTest, FlightsInLanesEqualFlightsFlownAlone) {
         alone[i] = StepRigidBody(params, drag, alone[i], in, 0.005);
       }
       StepRigidBodyLanes(path, params, drag, lanes, inputs, 0.005);
+      StepRigidBodyLanes(path, params, drag, table_in_lanes, inputs, 0.005, LaneDragLookup::kLibmAsinTableInLanes,
+                         &lane_table);
       for (int i = 0; i < kBodyLanes; ++i) {
         ASSERT_TRUE(SameBits(lanes.Get(i), alone[i]))
             << "path " << lane_math::LaneMathPathName(path) << ", step " << step << ", lane " << i;
+        ASSERT_TRUE(SameBits(table_in_lanes.Get(i), alone[i]))
+            << "table in lanes, path " << lane_math::LaneMathPathName(path) << ", step " << step << ", lane " << i;
       }
     }
     EXPECT_TRUE(alone[0].v_WB_W.allFinite());

@@ -63,13 +63,16 @@ struct alignas(32) BodyInputLanes {
 
 // How the lanes look up the drag at (|v_air|, incidence sine s):
 //   kLibmPerLane    drag.DragAtSine(|v_air|, s) per lane in scalar code, libm's asin: the lanes equal StepRigidBody.
+//   kLibmAsinTableInLanes  libm's asin per lane, the table's interpolation in the lanes (as kOursInLanes): DragAtSine's
+//                   value (it equals Drag at the asin, drag.h), so the lanes equal StepRigidBody too; needs the
+//                   DragLaneTable of the same table (falls back to kLibmPerLane for a non-uniform one).
 //   kOursPerLane    drag.Drag(|v_air|, lane_math::Asin(s)) per lane in scalar code (DragAtSine's definition with our
 //                   asin): the scalar reference of kOursInLanes.
 //   kOursInLanes    the same in the lanes: lane_math's asin kernel and the table's bilinear interpolation on the
 //                   vector (indices and cell values gathered per lane), bit-identical to kOursPerLane; needs the
 //                   DragLaneTable of the table, and falls back to kOursPerLane for a table with a non-uniform axis.
 // Switching the simulator to our asin would change results in the last bits (common/lane_math.h), hence the two.
-enum class LaneDragLookup { kLibmPerLane, kOursPerLane, kOursInLanes };
+enum class LaneDragLookup { kLibmPerLane, kOursPerLane, kOursInLanes, kLibmAsinTableInLanes };
 
 // A drag table's axes and values as DragTable's lookups use them (DragTable::Axis: the uniform step's inverse, each
 // cell's inverse width), built from the same three vectors as the DragTable it stands beside (DragTable's values are
@@ -90,7 +93,7 @@ struct DragLaneTable {
 };
 
 // StepRigidBody(params, drag, body i, inputs of body i, dt, kMidpoint) for each lane i, in place (with kLibmPerLane;
-// the other lookups change the incidence's asin, see above). `lane_table` is needed by kOursInLanes only.
+// the other lookups change the incidence's asin, see above). `lane_table` is needed by the lookups in lanes only.
 void StepRigidBodyLanes(lane_math::LaneMathPath path, const RigidBodyParams& params, const DragTable& drag,
                         RigidBodyLanes& state, const BodyInputLanes& inputs, double dt,
                         LaneDragLookup lookup = LaneDragLookup::kLibmPerLane,
