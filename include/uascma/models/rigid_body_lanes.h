@@ -5,12 +5,13 @@
 // drag table. Lane i of the result is, bit for bit, StepRigidBody of body i: every lane performs the scalar code's
 // IEEE operations in its order (Eigen's, for the norms and the cross product), with no fused multiply-add
 // (src/models/CMakeLists.txt compiles the lanes with -ffp-contract=off); tests/models/rigid_body_lanes_test.cc
-// compares them. The drag table's lookup (DragTable::DragAtSine, with its libm asin) is called per lane, in scalar
-// code, on the lanes' airspeed and incidence sine: the same function the scalar step calls, so the same bits.
-// Nothing in the simulator calls this yet (bench/rigid_body_lanes_bench.cc measures it).
+// compares them. The drag table's lookup is, by default, called per lane in scalar code (DragTable::DragAtSine with
+// libm's asin: the function the scalar step calls, so the same bits); LaneDragLookup below offers it in the lanes.
+// Nothing in the simulator calls this yet (bench/rigid_body_lanes_bench.cc measures it; /work/notes/lanes2-readme.md).
 //
-// Paths as common/lane_math.h's, chosen at run time: SSE2 (two 2-wide vectors, lanes 0-1 and 2-3) or AVX2 (one
-// 4-wide vector); UASCMA_SIMD=sse2 (or scalar) forces SSE2; an AVX2 request on a CPU without it falls back to SSE2.
+// Paths as common/lane_math.h's: SSE2 (two 2-wide vectors, lanes 0-1 and 2-3) or AVX2 (one 4-wide vector); a caller
+// passes lane_math::DefaultLaneMathPath(), which UASCMA_SIMD=sse2 (or scalar) caps at SSE2; an AVX2 request on a CPU
+// without it falls back to SSE2.
 #include <array>
 #include <vector>
 
