@@ -318,17 +318,7 @@ DragLaneTable::DragLaneTable(const std::vector<double>& airspeeds, const std::ve
 }
 
 DragLaneTable DefaultDragLaneTable(PropellerConfiguration configuration) {
-  const double scale = configuration == PropellerConfiguration::kPusher ? 1.25 : 1.0;
-  std::vector<double> airspeeds, pitches, drag;
-  for (int v = 0; v <= 10; ++v) airspeeds.push_back(v);
-  for (int p = -30; p <= 30; p += 5) pitches.push_back(p / kDegreesPerRadian);
-  for (double v : airspeeds) {
-    for (double theta : pitches) {
-      const double area = 0.05 * std::abs(std::cos(theta)) + 0.10 * std::abs(std::sin(theta));  // m²
-      drag.push_back(scale * 0.5 * kAirDensity * area * v * v);
-    }
-  }
-  return DragLaneTable(airspeeds, pitches, std::move(drag));
+  return DragLaneTable(DragTable::Default(configuration));
 }
 
 void StepRigidBodyLanes(lane_math::LaneMathPath path, const RigidBodyParams& params, const DragTable& drag,

@@ -44,6 +44,7 @@ class DragTable {
 
   const std::vector<double>& airspeeds() const { return airspeeds_; }
   const std::vector<double>& pitches() const { return pitches_; }
+  const std::vector<double>& values() const { return drag_; }  // N, [airspeed][pitch], as given
 
  private:
   // An axis with its uniform spacing when it has one (then a lookup is one multiplication, not a search). A non-uniform

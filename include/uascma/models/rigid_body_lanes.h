@@ -76,12 +76,13 @@ struct alignas(32) BodyInputLanes {
 enum class LaneDragLookup { kLibmPerLane, kOursPerLane, kOursInLanes, kLibmAsinTableInLanes };
 
 // A drag table's axes and values as DragTable's lookups use them (DragTable::Axis: the uniform step's inverse, each
-// cell's inverse width), built from the same three vectors as the DragTable it stands beside (DragTable's values are
-// private, and not every one can be read back exactly through Drag: a grid pitch may fall in the cell below with a
+// cell's inverse width), built from the same three vectors as the DragTable it stands beside (its axes and values as
+// given: not every value can be read back exactly through Drag, a grid pitch may fall in the cell below with a
 // fraction of 1 − 2⁻⁵³).
 struct DragLaneTable {
   DragLaneTable(const std::vector<double>& airspeeds, const std::vector<double>& pitches_rad,
                 std::vector<double> drag_values);
+  explicit DragLaneTable(const DragTable& table) : DragLaneTable(table.airspeeds(), table.pitches(), table.values()) {}
   struct Axis {
     std::vector<double> values, inverse_width;
     double inverse_uniform_step = 0.0;  // 0: not uniform
@@ -100,8 +101,8 @@ void StepRigidBodyLanes(lane_math::LaneMathPath path, const RigidBodyParams& par
                         LaneDragLookup lookup = LaneDragLookup::kLibmPerLane,
                         const DragLaneTable* lane_table = nullptr);
 
-// DragTable::Default(configuration)'s lane table: its three vectors recomputed by drag.cc's expressions
-// (tests/models/rigid_body_lanes_test.cc checks the lookups against DragTable::Default's, bit for bit).
+// DragTable::Default(configuration)'s lane table (tests/models/rigid_body_lanes_test.cc checks the lookups against
+// DragTable::Default's, bit for bit).
 DragLaneTable DefaultDragLaneTable(PropellerConfiguration configuration);
 
 // DragTable::Drag(airspeed, lane_math::Asin(sine)) for four pairs by kOursInLanes's lookup (a table with uniform axes),
