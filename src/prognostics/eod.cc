@@ -54,8 +54,8 @@ using models::SelfCorrectingCell;
 
 namespace {
 
-// The steps of Propagate's loop are inlined into it (as the compiler does when each has one caller): they are
-// called from the lockstep propagation too.
+// The steps of a propagation's loop are inlined into both loops, a run alone (Propagate) and runs in lockstep
+// (PropagateTogether).
 #define UASCMA_EOD_INLINE inline __attribute__((always_inline))
 
 constexpr int kMaxSegments = 100000;  // a full discharge takes about one per OCV breakpoint and cell
@@ -355,18 +355,6 @@ void EndBranchSolve(const ChargeTimeSolve& solve, Segment& segment) {
   segment.branch_end_known = {false, false};  // the end moved
 }
 
-// The segment ends when the first cell of a conducting branch reaches its lower OCV breakpoint.
-UASCMA_EOD_INLINE void EndAtTheFirstBreakpoint(const BranchSums& sums, double remaining, const EodOptions& options,
-                                               Segment& segment) {
-  const BreakpointPlan plan = PlanBreakpoints(sums, segment);
-  for (int b : {plan.urgent, 1 - plan.urgent}) {
-    ChargeTimeSolve solve;
-    if (!StartBranchSolve(plan, b, remaining, options, segment, solve)) continue;
-    while (!solve.done) solve.Step();
-    EndBranchSolve(solve, segment);
-  }
-}
-
 // The present and the sums the first segment starts from; a result when the EOD is decided already.
 std::optional<EodResult> StartPropagation(Problem& problem, double total_current_a, const EodOptions& options,
                                           BranchSums& sums) {
@@ -383,32 +371,7 @@ std::optional<EodResult> StartPropagation(Problem& problem, double total_current
   return std::nullopt;
 }
 
-EodResult Propagate(Problem& problem, double total_current_a, const EodOptions& options) {
-  BranchSums sums;
-  if (std::optional<EodResult> decided = StartPropagation(problem, total_current_a, options, sums)) return *decided;
-  const double current = total_current_a;
-  const double negligible_a = 1e-9 * std::max(current, 1.0);
-  double t = 0.0;
-  int evaluations = 0;
-  for (int segment_count = 0;; ++segment_count) {
-    UASCMA_CHECK(segment_count < kMaxSegments, "EOD propagation did not terminate");
-    const double remaining = options.horizon_s - t;
-    if (remaining <= 0.0) {
-      return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, segment_count, evaluations);
-    }
-    Segment segment;
-    MakeSegment(problem, sums, current, negligible_a, remaining, segment);
-    EndAtTheFirstBreakpoint(sums, remaining, options, segment);
-    sums = BranchSums{.ocv_v = {}, .k = sums.k};
-    const Crossing crossing = CrossOrAdvance(problem, segment, options, sums, evaluations);
-    if (crossing.limiting != nullptr) {
-      return Reached(EodStatus::kReached, t + crossing.first_s, crossing.limiting, segment_count + 1, evaluations);
-    }
-    t += segment.duration;
-  }
-}
-
-// Propagate's loop state between two segments, so that several propagations can advance in lockstep
+// A propagation's loop state between two segments: one run goes alone (Propagate), several advance in lockstep
 // (PropagateTogether).
 struct Run {
   Run(double total_current_a, const EodOptions& eod_options) : current(total_current_a), options(&eod_options) {}
@@ -429,8 +392,14 @@ struct Run {
   std::optional<EodResult> result;  // set when the propagation ends
 };
 
-// Propagate's loop up to the urgent branch's solve (started, left to the caller), or the end.
-void BeginSegment(Run& run) {
+// The present and the sums of the run (its problem set up); its result when the EOD is decided already.
+UASCMA_EOD_INLINE void StartRun(Run& run) {
+  run.result = StartPropagation(run.problem, run.current, *run.options, run.sums);
+  run.negligible_a = 1e-9 * std::max(run.current, 1.0);
+}
+
+// A segment up to the urgent branch's breakpoint solve (started, left to the caller), or the end.
+UASCMA_EOD_INLINE void BeginSegment(Run& run) {
   UASCMA_CHECK(run.segment_count < kMaxSegments, "EOD propagation did not terminate");
   run.remaining = run.options->horizon_s - run.t;
   if (run.remaining <= 0.0) {
@@ -443,9 +412,9 @@ void BeginSegment(Run& run) {
   run.solving = StartBranchSolve(run.plan, run.plan.urgent, run.remaining, *run.options, run.segment, run.solve);
 }
 
-// The rest of Propagate's loop: the urgent branch's solve done, the other branch's, the lanes to the segment's end
-// or the crossing.
-void FinishSegment(Run& run) {
+// The rest of the segment: the urgent branch's solve done, the other branch's, the lanes to the segment's end or the
+// crossing. The segment ends when the first cell of a conducting branch reaches its lower OCV breakpoint.
+UASCMA_EOD_INLINE void FinishSegment(Run& run) {
   if (run.solving) EndBranchSolve(run.solve, run.segment);
   if (StartBranchSolve(run.plan, 1 - run.plan.urgent, run.remaining, *run.options, run.segment, run.solve)) {
     while (!run.solve.done) run.solve.Step();
@@ -462,15 +431,25 @@ void FinishSegment(Run& run) {
   ++run.segment_count;
 }
 
-// Propagate for each run (its problem, current and options set up), in lockstep: one segment of each in turn, their
-// breakpoint solves (a serial chain of expm1 calls and divisions each) interleaved step by step so that the core
-// overlaps them. Each run makes the same operations in the same order as Propagate.
-void PropagateTogether(std::span<Run* const> run_pointers) {
-  for (Run* run_pointer : run_pointers) {
-    Run& run = *run_pointer;
-    run.result = StartPropagation(run.problem, run.current, *run.options, run.sums);
-    run.negligible_a = 1e-9 * std::max(run.current, 1.0);
+// One run (its problem, current and options set up) to its end, segment by segment.
+EodResult Propagate(Run& run) {
+  StartRun(run);
+  while (!run.result) {
+    BeginSegment(run);
+    if (run.result) break;
+    if (run.solving) {
+      while (!run.solve.done) run.solve.Step();
+    }
+    FinishSegment(run);
   }
+  return *run.result;
+}
+
+// Propagate for each run, in lockstep: one segment of each in turn, their breakpoint solves (a serial chain of expm1
+// calls and divisions each) interleaved step by step so that the core overlaps them. Each run makes the same
+// operations in the same order as alone.
+void PropagateTogether(std::span<Run* const> run_pointers) {
+  for (Run* run : run_pointers) StartRun(*run);
   for (;;) {
     bool active = false;
     for (Run* run : run_pointers) {
@@ -540,7 +519,8 @@ void RequireDischargeCurrent(double total_current_a) {
 EodResult CalcCellEod(const SelfCorrectingCell& cell, const CellState& state, double current_a,
                       const EodOptions& options) {
   RequireValid(options);
-  Problem problem;
+  Run run(current_a, options);
+  Problem& problem = run.problem;
   problem.AddLane(MakeLane(cell, state, 0, 0));
   problem.lane_begin = {0, 1};
   problem.lane_end = {1, 1};
@@ -553,16 +533,16 @@ EodResult CalcCellEod(const SelfCorrectingCell& cell, const CellState& state, do
     }
     return Reached(EodStatus::kNotReachedWithinHorizon, options.horizon_s, nullptr, 0, 0);
   }
-  return Propagate(problem, current_a, options);
+  return Propagate(run);
 }
 
 EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double total_current_a,
                       const EodOptions& options) {
   RequireValid(options);
   RequireDischargeCurrent(total_current_a);
-  Problem problem;
-  SetUpPack(problem, pack, state);
-  return Propagate(problem, total_current_a, options);
+  Run run(total_current_a, options);
+  SetUpPack(run.problem, pack, state);
+  return Propagate(run);
 }
 
 namespace eod_internal {
@@ -571,9 +551,9 @@ std::optional<EodResult> CalcScaledPackEod(const BatteryPack& pack, const PackSt
                                            const CellScaling& scaling, const EodOptions& options) {
   RequireValid(options);
   RequireDischargeCurrent(total_current_a);
-  Problem problem;
-  if (!SetUpScaledPack(problem, pack, state, scaling)) return std::nullopt;
-  return Propagate(problem, total_current_a, options);
+  Run run(total_current_a, options);
+  if (!SetUpScaledPack(run.problem, pack, state, scaling)) return std::nullopt;
+  return Propagate(run);
 }
 
 bool CalcScaledPackEods(const BatteryPack& pack, std::span<const ScaledEodRequest> requests,
