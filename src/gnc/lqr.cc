@@ -10,6 +10,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
+#include "uascma/common/lane_math.h"
 
 namespace uascma::gnc {
 namespace {
@@ -36,6 +37,19 @@ bool InGainPattern(int row, int column) {
 // The rotation by −ψ, [[cos ψ, sin ψ], [−sin ψ, cos ψ]] v, written out.
 Eigen::Vector2d RotateToHeading(double cos_yaw, double sin_yaw, Eigen::Vector2d v) {
   return {cos_yaw * v.x() + sin_yaw * v.y(), -sin_yaw * v.x() + cos_yaw * v.y()};
+}
+
+// The angle of a direction b, atan2(b.y, b.x), less that of a, as a direction: (a.x b.y − a.y b.x, a.x b.x + a.y b.y)
+// (the angle of b rotated by −a, in (−π, π]): one atan2 for a difference of two angles.
+TiltDirection AngleDifference(const TiltDirection& b, const TiltDirection& a) {
+  return {a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y};
+}
+
+// A reference tilt atan(d.y / d.x) (d.x > 0) clamped to ±max_tilt: compared as tangents, |d.y| > tan(max_tilt) d.x,
+// and held as (±sin, cos) of the limit when beyond it.
+TiltDirection ClampTilt(const TiltDirection& d, const TiltLimit& limit) {
+  if (std::abs(d.y) > limit.tan * d.x) return {std::copysign(limit.sin, d.y), limit.cos};
+  return d;
 }
 
 }  // namespace
@@ -124,7 +138,9 @@ RiccatiSolution SolveDiscreteRiccati(const StateMatrix& A, const InputMatrix& B,
 }
 
 LqrController::LqrController(const models::RigidBodyParams& params, const LqrOptions& options)
-    : params_(params), options_(options) {
+    : params_(params),
+      options_(options),
+      tilt_limit_{std::tan(options.max_tilt), std::sin(options.max_tilt), std::cos(options.max_tilt)} {
   std::string error;
   if (!params.IsValid(&error)) throw InputError("vehicle: " + error);
   if (!options.IsValid(&error)) throw InputError(error);
@@ -151,15 +167,15 @@ LqrController::LqrController(const models::RigidBodyParams& params, const LqrOpt
 
 Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const {
   const EulerEntries R_WB = EulerEntriesOf(state.q_WB);  // the entries of R_WB read below, not the other four
-  const Eigen::Vector3d euler = EulerFromEntries(R_WB);
   // The reference acceleration becomes a reference tilt and a thrust feed-forward: with z_B = (cφ sθ, −sφ, cφ cθ)
   // (Z-Y-X angles, ψ = 0) and the thrust's vertical share held at m G, G = g − a_z, the tilt that produces
   // (a_x, a_y) is θ = atan(−a_x / G), φ = atan(a_y cθ / G) (exact; the small-angle θ = −a_x/g over-asks by
-  // 10 % at the ~30° a 9 m/s cruise into a 3 m/s wind needs with the drag fed forward).
+  // 10 % at the ~30° a 9 m/s cruise into a 3 m/s wind needs with the drag fed forward). Both are held as directions
+  // (TiltDirection), cθ = G / |(−a_x, G)| without a cosine.
   const double vertical = std::max(kGravity - reference.a_W.z(), 1.0);  // m/s², a plan never asks for free fall
-  const double pitch_ref = std::clamp(std::atan(-reference.a_W.x() / vertical), -options_.max_tilt, options_.max_tilt);
-  const double roll_ref =
-      std::clamp(std::atan(reference.a_W.y() * std::cos(pitch_ref) / vertical), -options_.max_tilt, options_.max_tilt);
+  const TiltDirection pitch_ref = ClampTilt({-reference.a_W.x(), vertical}, tilt_limit_);
+  const double cos_pitch_ref = pitch_ref.x / std::sqrt(pitch_ref.x * pitch_ref.x + pitch_ref.y * pitch_ref.y);
+  const TiltDirection roll_ref = ClampTilt({reference.a_W.y() * cos_pitch_ref, vertical}, tilt_limit_);
   ControlState error;
   const Eigen::Vector3d position_error = state.p_WB_W - reference.p_W;
   error.head<2>() = ClampNorm(position_error.head<2>(), options_.max_horizontal_error);
@@ -174,9 +190,19 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   const double sin_yaw = heading_norm > 0.0 ? R_WB.r10 / heading_norm : 0.0;
   error.head<2>() = RotateToHeading(cos_yaw, sin_yaw, error.head<2>());
   error.segment<2>(3) = RotateToHeading(cos_yaw, sin_yaw, error.segment<2>(3));
-  error(6) = euler.x() - roll_ref;
-  error(7) = euler.y() - pitch_ref;
-  error(8) = euler.z();  // atan2: already in [−π, π], the reference heading being 0
+  // The attitude errors φ − φ_ref, θ − θ_ref and ψ (the reference heading being 0), one atan2 each, on lanes
+  // together: roll = atan2(R21, R22), pitch = atan2(−R20, |(R00, R10)|) (= asin(−R20) for a rotation), yaw =
+  // atan2(R10, R00). φ − φ_ref is one angle difference while |φ| < π/2 (R22 > 0, the difference then within ±π);
+  // upside down it is the two angles subtracted.
+  const TiltDirection roll{R_WB.r21, R_WB.r22};
+  const TiltDirection pitch_error = AngleDifference({-R_WB.r20, heading_norm}, pitch_ref);
+  const TiltDirection roll_error = R_WB.r22 > 0.0 ? AngleDifference(roll, roll_ref) : TiltDirection{0.0, 1.0};
+  const lane_math::Lanes4 angles =
+      lane_math::Atan2_4(lane_math::DefaultLaneMathPath(), {roll_error.y, pitch_error.y, R_WB.r10, 0.0},
+                         {roll_error.x, pitch_error.x, R_WB.r00, 1.0});
+  error(6) = R_WB.r22 > 0.0 ? angles[0] : lane_math::Atan2(roll.y, roll.x) - lane_math::Atan2(roll_ref.y, roll_ref.x);
+  error(7) = angles[1];
+  error(8) = angles[2];
   error.tail<3>() = state.w_WB_B;
   const GainMatrix& g = negative_gain_;  // u = −K x over the nonzero entries of kGainRowColumns, written out
   const Eigen::Vector4d u(g(0, 2) * error(2) + g(0, 5) * error(5),

@@ -2,6 +2,7 @@
 // nonlinear rigid body.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -94,6 +95,45 @@ TEST(LqrTest, GainKeepsTheHoverDecouplingAndComputeIsItsDenseProduct) {
       EXPECT_EQ(wrench(0), std::max(params.mass * kGravity + u(0), 0.0));
     }
   }
+}
+
+TEST(LqrTest, AttitudeErrorsAreTheEulerAnglesLessTheReferenceTilts) {
+  // Compute takes φ − φ_ref and θ − θ_ref as one atan2 of a difference of directions, without asin, atan or cos.
+  // Independent computation: the angles from libm (asin, atan2, atan, cos; frames.h EulerFromRotation) subtracted.
+  // At the reference position and velocity with no body rate the torques are K's tilt and yaw gains times the
+  // errors, which are recovered from them. Attitudes over every roll (upside down included: the fallback), pitch
+  // within ±1.5 rad, references within and beyond the tilt limit (clamped).
+  const LqrController controller({}, {});
+  const LqrOptions options;
+  const GainMatrix negative_gain = -controller.gain();
+  double worst = 0.0;  // the largest |error − expected| / tolerance
+  int clamped = 0, upside_down = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const double roll = 3.14 * std::sin(0.37 * trial), pitch = 1.5 * std::sin(0.61 * trial + 1.0);
+    const double yaw = 3.1 * std::cos(0.23 * trial);
+    RigidBodyState state;
+    state.q_WB = Eigen::Quaterniond(RotationFromEuler(roll, pitch, yaw));
+    planning::PlanReference reference;
+    reference.a_W = Eigen::Vector3d(9.0 * std::sin(0.71 * trial), 9.0 * std::cos(0.53 * trial), 3.0 * std::sin(trial));
+    const Wrench wrench = controller.Compute(state, reference);
+    const Eigen::Vector3d euler = EulerFromRotation(state.q_WB.toRotationMatrix());
+    const double vertical = std::max(kGravity - reference.a_W.z(), 1.0);
+    const double pitch_ref = std::clamp(std::atan(-reference.a_W.x() / vertical), -options.max_tilt, options.max_tilt);
+    const double roll_ref =
+        std::clamp(std::atan(reference.a_W.y() * std::cos(pitch_ref) / vertical), -options.max_tilt, options.max_tilt);
+    clamped += std::abs(pitch_ref) == options.max_tilt || std::abs(roll_ref) == options.max_tilt;
+    upside_down += std::abs(euler.x()) > 0.5 * std::numbers::pi;
+    const double errors[3] = {wrench(1) / negative_gain(1, 6), wrench(2) / negative_gain(2, 7),
+                              wrench(3) / negative_gain(3, 8)};
+    const double expected[3] = {euler.x() - roll_ref, euler.y() - pitch_ref, euler.z()};
+    // rad: 10 ulp of π, times asin's condition 1 + 1/cos θ (the reference's own error near θ = ±π/2: R20's
+    // rounding, amplified by asin's slope; the atan2 of the direction is not).
+    const double tolerance = 4.4e-15 * (1.0 + 1.0 / std::cos(euler.y()));
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(errors[k] - expected[k]) / tolerance);
+  }
+  EXPECT_GT(clamped, 500);
+  EXPECT_GT(upside_down, 500);
+  EXPECT_LT(worst, 1.0);  // the largest difference as a fraction of its tolerance
 }
 
 TEST(LqrTest, ClosedLoopNonlinearHoverSettlesAfterAStep) {

@@ -72,6 +72,16 @@ struct LqrOptions {
   bool IsValid(std::string* error) const;
 };
 
+// A tilt held as the direction (x, y) = (cos, sin)·r of its angle atan2(y, x), any r > 0 (LqrController::Compute
+// subtracts angles as directions and takes one atan2 of each difference).
+struct TiltDirection {
+  double y = 0.0, x = 1.0;
+};
+// The reference tilt's limit, LqrOptions::max_tilt, as its tangent, sine and cosine.
+struct TiltLimit {
+  double tan = 0.0, sin = 0.0, cos = 1.0;
+};
+
 class LqrController {
  public:
   // Throws InputError on invalid options or a Riccati solve that does not converge.
@@ -92,6 +102,7 @@ class LqrController {
   LinearModel discrete_;
   RiccatiSolution solution_;
   GainMatrix negative_gain_;  // −K, so that u = −K x is one product per step
+  TiltLimit tilt_limit_;
 };
 
 // Drag feed-forward (issue 11, item 3): the acceleration the rotors must add to the reference's so that the
