@@ -467,8 +467,10 @@ void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& 
       BeginEpoch(model, state, controllers.battery, log, NeedsEodDistribution(controllers.policy, log));
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
   RecordEodAtAction(model, state, action);
-  Act(model, state, action, controllers.planner, log,
-      controllers.policy ? controllers.policy->Ranking(inputs) : ActionRanking{});
+  // A NoOp never reads the ranking (Act returns before any substitution), so it is asked for only when acting: the
+  // default ranking's one-time solve (DefaultCmaActionRanking) then waits for a flight that needs it.
+  const bool ranked = controllers.policy != nullptr && action != CmaAction::kNoOp;
+  Act(model, state, action, controllers.planner, log, ranked ? controllers.policy->Ranking(inputs) : ActionRanking{});
   StepToNextEpoch(model, state, log);
 }
 
