@@ -257,6 +257,9 @@ TEST(ElectricalPowerTableTest, MatchesThePowerLawWithinItsStatedError) {
     }
     EXPECT_LT(worst, 1e-4);  // relative, the bound the header states
     EXPECT_DOUBLE_EQ(table.Power(0.0), 0.0);
+    // Off the grid by far (past 2^31 cells, where an int index would wrap) and NaN: the exact law, no read outside.
+    EXPECT_EQ(table.Power(1e12), CalcElectricalPower(params, 1e12));
+    EXPECT_TRUE(std::isnan(table.Power(std::numeric_limits<double>::quiet_NaN())));
   }
 }
 

@@ -151,8 +151,10 @@ class ElectricalPowerTable {
   double Power(double thrust) const {
     if (thrust <= 0.0) return 0.0;
     const double x = thrust * inverse_step_;
+    // Beyond the grid (or NaN) before the index is formed: a thrust past 2^31 cells or NaN has no int (the cast would
+    // give INT_MIN, a read far before the table). The same cells as comparing the index: floor(x) < n ⟺ x < n.
+    if (!(x < static_cast<double>(intervals_))) return CalcElectricalPower(params_, thrust);
     const int i = static_cast<int>(x);
-    if (i >= intervals_) return CalcElectricalPower(params_, thrust);
     const double f = x - i;
     return power_[i] + f * (power_[i + 1] - power_[i]);
   }
