@@ -39,6 +39,12 @@ Eigen::Vector2d RotateToHeading(double cos_yaw, double sin_yaw, Eigen::Vector2d 
   return {cos_yaw * v.x() + sin_yaw * v.y(), -sin_yaw * v.x() + cos_yaw * v.y()};
 }
 
+// A tilt held as the direction (x, y) = (cos, sin)·r of its angle atan2(y, x), any r > 0 (Compute subtracts angles as
+// directions and takes one atan2 of each difference).
+struct TiltDirection {
+  double y = 0.0, x = 1.0;
+};
+
 // The angle of a direction b, atan2(b.y, b.x), less that of a, as a direction: (a.x b.y − a.y b.x, a.x b.x + a.y b.y)
 // (the angle of b rotated by −a, in (−π, π]): one atan2 for a difference of two angles.
 TiltDirection AngleDifference(const TiltDirection& b, const TiltDirection& a) {

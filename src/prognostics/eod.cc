@@ -472,20 +472,9 @@ void PropagateTogether(std::span<Run* const> run_pointers) {
   }
 }
 
-// CalcPackEod's problem: the pack's cells, and its branch R0 (eq. 3.7) as built.
-void SetUpPack(Problem& problem, const BatteryPack& pack, const PackState& state) {
-  for (int b = 0; b < kBranchCount; ++b) {
-    problem.lane_begin[b] = problem.lane_count;
-    for (int c = 0; c < kCellsPerBranch; ++c) {
-      problem.AddLane(MakeLane(pack.cell(b, c), state.cells[b][c], b, c));
-    }
-    problem.lane_end[b] = problem.lane_count;
-    problem.on[b] = state.branch_on[b];
-    problem.r0_ohm[b] = pack.branch_r0_ohm(b);
-  }
-}
-
-// CalcScaledPackEod's; false when a scaled R0 or capacity is not a positive finite number.
+// The pack's cells with their R0 and capacity scaled (CalcScaledPackEod's problem) and the branch R0 of eq. 3.7, summed
+// as BatteryPack's constructor sums it; false when a scaled R0 or capacity is not a positive finite number. With the
+// default scaling (every factor 1, exact) it is CalcPackEod's problem: the pack as built, its own branch R0.
 bool SetUpScaledPack(Problem& problem, const BatteryPack& pack, const PackState& state,
                      const eod_internal::CellScaling& scaling) {
   auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };  // CellParams::IsValid's test
@@ -541,7 +530,7 @@ EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double to
   RequireValid(options);
   RequireDischargeCurrent(total_current_a);
   Run run(total_current_a, options);
-  SetUpPack(run.problem, pack, state);
+  UASCMA_CHECK(SetUpScaledPack(run.problem, pack, state, {}), "a built pack's cells have positive R0 and capacity");
   return Propagate(run);
 }
 
@@ -574,11 +563,7 @@ bool CalcScaledPackEods(const BatteryPack& pack, std::span<const ScaledEodReques
     if (!IsDischargeCurrent(request.current_a)) return false;
     Run& run = *std::construct_at(&slots[k].run, request.current_a, options);
     run_pointers[k] = &run;
-    if (request.as_built) {
-      SetUpPack(run.problem, pack, *request.state);
-    } else if (!SetUpScaledPack(run.problem, pack, *request.state, request.scaling)) {
-      return false;
-    }
+    if (!SetUpScaledPack(run.problem, pack, *request.state, request.scaling)) return false;
   }
   PropagateTogether(std::span<Run* const>(run_pointers.data(), requests.size()));
   for (std::size_t k = 0; k < requests.size(); ++k) results[k] = *run_pointers[k]->result;

@@ -82,9 +82,9 @@ void SetUpCalls(const PackState& state, double current_a, double centre_current_
   auto set = [&](Call call, bool wanted, const PackState& at, double current, double r0_factor = 1.0,
                  double capacity_factor = 1.0) {
     calls.wanted[call] = wanted;
-    calls.request[call] = {&at, current, {{class_r0_factor, r0_factor}, capacity_factor}, false};
+    calls.request[call] = {&at, current, {{class_r0_factor, r0_factor}, capacity_factor}};
   };
-  calls.request[kPointCall] = {&state, current_a, {}, true};
+  calls.request[kPointCall] = {&state, current_a, {}};  // the pack as built (every factor 1)
   calls.wanted[kPointCall] = true;
   set(kCentreCall, !centre_known, state, centre_current_a);
   set(kLoadCall, uncertainty.load_log_sigma > 0.0, state, centre_current_a * std::exp(uncertainty.load_log_sigma));
@@ -95,14 +95,13 @@ void SetUpCalls(const PackState& state, double current_a, double centre_current_
   set(kR0Call, uncertainty.r0_log_sigma > 0.0, state, centre_current_a, std::exp(uncertainty.r0_log_sigma));
   set(kCapacityCall, uncertainty.capacity_log_sigma > 0.0, state, centre_current_a, 1.0,
       std::exp(-uncertainty.capacity_log_sigma));
-  calls.request[kColdCall] = {&state, centre_current_a, {{models::kColdResistanceFactor, 1.0}, 1.0}, false};
+  calls.request[kColdCall] = {&state, centre_current_a, {{models::kColdResistanceFactor, 1.0}, 1.0}};
   calls.wanted[kColdCall] = with_cold;
 }
 
 // One call on its own; a scaled R0 or Q out of a cell's bounds: building the pack reports it as it always has
 // (InputError).
 EodResult CallOne(const BatteryPack& pack, const eod_internal::ScaledEodRequest& request, const EodOptions& options) {
-  if (request.as_built) return CalcPackEod(pack, *request.state, request.current_a, options);
   const eod_internal::CellScaling& scaling = request.scaling;
   if (auto result = eod_internal::CalcScaledPackEod(pack, *request.state, request.current_a, scaling, options)) {
     return *result;

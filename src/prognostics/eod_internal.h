@@ -27,13 +27,11 @@ std::optional<EodResult> CalcScaledPackEod(const models::BatteryPack& pack, cons
                                            double total_current_a, const CellScaling& scaling,
                                            const EodOptions& options);
 
-// One pack EOD of a batch: CalcScaledPackEod(pack, *state, current_a, scaling), or with as_built CalcPackEod(pack,
-// *state, current_a) (the pack's own branch R0).
+// One pack EOD of a batch: CalcScaledPackEod(pack, *state, current_a, scaling) (the default scaling: CalcPackEod's).
 struct ScaledEodRequest {
   const models::PackState* state = nullptr;  // not owned
   double current_a = 0.0;
   CellScaling scaling;
-  bool as_built = false;
 };
 inline constexpr std::size_t kMaxBatchedEods = 8;
 

@@ -72,11 +72,6 @@ struct LqrOptions {
   bool IsValid(std::string* error) const;
 };
 
-// A tilt held as the direction (x, y) = (cos, sin)·r of its angle atan2(y, x), any r > 0 (LqrController::Compute
-// subtracts angles as directions and takes one atan2 of each difference).
-struct TiltDirection {
-  double y = 0.0, x = 1.0;
-};
 // The reference tilt's limit, LqrOptions::max_tilt, as its tangent, sine and cosine.
 struct TiltLimit {
   double tan = 0.0, sin = 0.0, cos = 1.0;
