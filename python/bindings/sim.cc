@@ -393,6 +393,8 @@ void InitSim(py::module_& m) {
       .def_readonly("eod_s", &DecisionInputs::eod_s)
       .def_readonly("rul_s", &DecisionInputs::rul_s, "+inf without a motor fault")
       .def_readonly("reach_margin", &DecisionInputs::reach_margin)
+      .def_readonly("eod_is_lower_bound", &DecisionInputs::eod_is_lower_bound,
+                    "eod_s and reach_margin are lower bounds (never for a Python policy: it sees the values)")
       .def_readonly("motor_margin", &DecisionInputs::motor_margin)
       .def_readonly("eod_p05_s", &DecisionInputs::eod_p05_s, "5 % quantile of the EOD's distribution (issue 29)")
       .def_readonly("eod_p50_s", &DecisionInputs::eod_p50_s, "its median")

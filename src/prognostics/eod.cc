@@ -431,10 +431,13 @@ UASCMA_EOD_INLINE void FinishSegment(Run& run) {
   ++run.segment_count;
 }
 
-// One run (its problem, current and options set up) to its end, segment by segment.
-EodResult Propagate(Run& run) {
+// One run (its problem, current and options set up) to its end, segment by segment; or, given `stop_s`, until a
+// segment would start at or after stop_s (then nothing): every end the run could still reach (a crossing in a later
+// segment, run.t + first ≥ run.t, or the horizon beyond run.t) is then at least stop_s.
+std::optional<EodResult> PropagateUntil(Run& run, double stop_s) {
   StartRun(run);
   while (!run.result) {
+    if (run.t >= stop_s && run.t < run.options->horizon_s) return std::nullopt;
     BeginSegment(run);
     if (run.result) break;
     if (run.solving) {
@@ -442,8 +445,11 @@ EodResult Propagate(Run& run) {
     }
     FinishSegment(run);
   }
-  return *run.result;
+  return run.result;
 }
+
+// One run (its problem, current and options set up) to its end, segment by segment.
+EodResult Propagate(Run& run) { return *PropagateUntil(run, std::numeric_limits<double>::infinity()); }
 
 // Propagate for each run, in lockstep: one segment of each in turn, their breakpoint solves (a serial chain of expm1
 // calls and divisions each) interleaved step by step so that the core overlaps them. Each run makes the same
@@ -532,6 +538,15 @@ EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double to
   Run run(total_current_a, options);
   UASCMA_CHECK(SetUpScaledPack(run.problem, pack, state, {}), "a built pack's cells have positive R0 and capacity");
   return Propagate(run);
+}
+
+std::optional<EodResult> CalcPackEodBefore(const BatteryPack& pack, const PackState& state, double total_current_a,
+                                           double bound_s, const EodOptions& options) {
+  RequireValid(options);
+  RequireDischargeCurrent(total_current_a);
+  Run run(total_current_a, options);
+  UASCMA_CHECK(SetUpScaledPack(run.problem, pack, state, {}), "a built pack's cells have positive R0 and capacity");
+  return PropagateUntil(run, bound_s);
 }
 
 namespace eod_internal {

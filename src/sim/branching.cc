@@ -47,13 +47,18 @@ std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionP
   std::vector<std::size_t> together(n);
   for (std::size_t k = 0; k < n; ++k) together[k] = k;
   std::vector<decision::CmaAction> decided;
+  std::vector<DecisionPolicy*> sharing_policies;
   while (!state.done() && together.size() > 1) {
     // One epoch of the shared flight: StepEpoch with each policy deciding on the same observation.
     const auto start = std::chrono::steady_clock::now();
     const std::size_t sharing = together.size();
     bool eod_distribution = log.record_telemetry;
     for (std::size_t k : together) eod_distribution = eod_distribution || NeedsEodDistribution(policies[k], nullptr);
-    const DecisionInputs& inputs = BeginEpoch(model, state, options.battery_policy, &log, eod_distribution);
+    sharing_policies.clear();
+    for (std::size_t k : together) sharing_policies.push_back(policies[k]);
+    const DecisionInputs& inputs =
+        BeginEpoch(model, state, options.battery_policy, &log, eod_distribution,
+                   EpochEodPrecision(model, sharing_policies, options.battery_policy, &log, eod_distribution));
     decided.clear();
     for (std::size_t k : together) decided.push_back(policies[k]->Decide(inputs));
     std::vector<std::size_t> still;

@@ -254,24 +254,36 @@ void ObserveEodDistribution(const FlightModel& model, FlightState& state, Decisi
 
 }  // namespace
 
-const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log, bool eod_distribution) {
+const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log, bool eod_distribution,
+                              EodPrecision precision) {
   // Guidance first: a vehicle flying on four rotors keeps to what they can hold (§4.4.2).
   CapSpeedAfterIsolation(model, state, log);
   // EOD at the expected load of the rest of the executing plan (decision 25) or at the present current, the pack
   // current low-passed with SimOptions::load_current_time_constant_s (decision 14).
   const double t = state.time_s;
   const bool noisy = model.options().noisy_sensing;
+  const bool class_only = precision == EodPrecision::kReachMarginClass;
+  UASCMA_CHECK(!class_only || (!noisy && !eod_distribution), "the EOD's class alone needs exact sensing");
   state.decision.eod_current_a = EodCurrent(model, state);
-  const std::optional<models::PackState> sensed =
-      noisy ? std::optional<models::PackState>(SensedPack(model, state)) : std::nullopt;
-  state.decision.eod =
-      prognostics::CalcPackEod(model.pack(), sensed ? *sensed : state.power.pack, state.decision.eod_current_a);
   DecisionInputs& inputs = state.decision.inputs;
   inputs.time_s = t;
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.guidance.plan_start_s);
+  const double needed_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
+  const std::optional<models::PackState> sensed =
+      noisy ? std::optional<models::PackState>(SensedPack(model, state)) : std::nullopt;
+  std::optional<prognostics::EodResult> eod;
+  if (class_only) {
+    eod = prognostics::CalcPackEodBefore(model.pack(), state.power.pack, state.decision.eod_current_a, needed_s);
+  } else {
+    eod = prognostics::CalcPackEod(model.pack(), sensed ? *sensed : state.power.pack, state.decision.eod_current_a);
+  }
+  // Without a value: no crossing before needed_s (CalcPackEodBefore), the EOD held as that lower bound (RM 0: RM1).
+  inputs.eod_is_lower_bound = !eod;
+  state.decision.eod =
+      eod ? *eod
+          : prognostics::EodResult{.status = prognostics::EodStatus::kNotReachedWithinHorizon, .eod_s = needed_s};
   inputs.eod_s = state.decision.eod.eod_s;
-  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod,
-                                                     inputs.flight_time_remaining_s + model.options().safety_margin_s);
+  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod, needed_s);
   const decision::MotorHealth motor_health = ObserveMotorHealth(model, state, inputs, log);
   if (!noisy) {  // the beliefs of exact sensing: the point MH
     inputs.motor_health_belief = {0.0, 0.0, 0.0};
@@ -375,6 +387,7 @@ void RecordSubstitution(FlightState& state, FlightLog* log, CmaAction chosen, Cm
 
 CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
               FlightLog* log, ActionRanking ranking) {
+  if (action != CmaAction::kNoOp) CompleteEod(model, state);  // the planners read the EOD's value
   // §5.5.3: "an emergency landing at t = 0 translates into not taking off" — any emergency action chosen before
   // take-off keeps the vehicle on the ground (decision 21).
   if (action != CmaAction::kNoOp && !state.vehicle.airborne) {
@@ -442,14 +455,40 @@ void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPo
 }
 
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
-                                 FlightLog* log, bool eod_distribution) {
-  const DecisionInputs& inputs = Observe(model, state, log, eod_distribution);
+                                 FlightLog* log, bool eod_distribution, EodPrecision precision) {
+  const DecisionInputs& inputs = Observe(model, state, log, eod_distribution, precision);
   if (battery) DecideBattery(model, state, *battery, log);
   return inputs;
 }
 
+void CompleteEod(const FlightModel& model, FlightState& state) {
+  DecisionInputs& inputs = state.decision.inputs;
+  if (!inputs.eod_is_lower_bound) return;
+  UASCMA_CHECK(inputs.time_s == state.time_s, "CompleteEod at the epoch Observe bounded the EOD");
+  const decision::ReachMargin bound_class = inputs.state.rm;
+  // Observe's pack and current: exact sensing, and no battery executor has switched the packs since
+  // (EpochEodPrecision).
+  state.decision.eod = prognostics::CalcPackEod(model.pack(), state.power.pack, state.decision.eod_current_a);
+  inputs.eod_s = state.decision.eod.eod_s;
+  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod,
+                                                     inputs.flight_time_remaining_s + model.options().safety_margin_s);
+  inputs.eod_is_lower_bound = false;
+  UASCMA_CHECK(decision::ClassifyReachMargin(inputs.reach_margin) == bound_class,
+               "the EOD's value in the class its bound settled");
+}
+
+EodPrecision EpochEodPrecision(const FlightModel& model, std::span<DecisionPolicy* const> policies,
+                               const BatterySwitchPolicy* battery, const FlightLog* log, bool eod_distribution) {
+  bool class_only =
+      battery == nullptr && !(log && log->record_telemetry) && !eod_distribution && !model.options().noisy_sensing;
+  for (const DecisionPolicy* policy : policies) class_only = class_only && (!policy || policy->ReadsOnlyCmaState());
+  return class_only ? EodPrecision::kReachMarginClass : EodPrecision::kValue;
+}
+
 void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction action) {
-  if (action == CmaAction::kNoOp || state.decision.eod_at_first_action) return;
+  if (action == CmaAction::kNoOp) return;
+  CompleteEod(model, state);  // the planners and this record read the EOD's value
+  if (state.decision.eod_at_first_action) return;
   DecisionInputs& inputs = state.decision.inputs;
   if (!inputs.has_eod_distribution) {  // the pack the epoch's EOD was computed from (Observe)
     ObserveEodDistribution(model, state, inputs,
@@ -463,8 +502,11 @@ void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction a
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
   if (state.done()) return;
   UASCMA_CHECK(IsDecisionEpoch(model, state), "StepEpoch starts at a decision epoch");
+  const bool eod_distribution = NeedsEodDistribution(controllers.policy, log);
+  DecisionPolicy* const policy[] = {controllers.policy};
   const DecisionInputs& inputs =
-      BeginEpoch(model, state, controllers.battery, log, NeedsEodDistribution(controllers.policy, log));
+      BeginEpoch(model, state, controllers.battery, log, eod_distribution,
+                 EpochEodPrecision(model, policy, controllers.battery, log, eod_distribution));
   const CmaAction action = controllers.policy ? controllers.policy->Decide(inputs) : CmaAction::kNoOp;
   RecordEodAtAction(model, state, action);
   // A NoOp never reads the ranking (Act returns before any substitution), so it is asked for only when acting: the

@@ -1,8 +1,12 @@
 // Battery end of discharge (§3.3.2.1, decisions item 14): the exact segment propagation against a
 // fine fixed-step integration of the same model, closed-form checks, orderings and statuses.
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -287,6 +291,50 @@ TEST(PackEodTest, BadInputIsInputError) {
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("time_tolerance_s"), std::string::npos) << error;
   EXPECT_THROW(SimulatePackEod(pack, state, 10.0, 0.0), InputError);
+}
+
+// CalcPackEodBefore (the reach margin's class, sim/epoch.cc): a result is CalcPackEod's bit for bit; none only when
+// CalcPackEod's EOD is at least the bound. Over healths, temperatures, diode-blocked and mid-flight states, currents
+// and bounds from 0 to past the EOD, including the EOD itself and its neighbours.
+TEST(PackEodTest, TheEodBeforeABoundIsTheEodOrSaysItIsAtLeastTheBound) {
+  int stopped = 0, returned = 0;
+  for (const HealthClass health : {HealthClass::kG, HealthClass::kM, HealthClass::kP}) {
+    for (const double temp_degf : {40.0, 77.0}) {
+      const BatteryPack pack(MakePackParams(UniformHealth(health), temp_degf));
+      std::vector<PackState> states = {pack.MakeRestingState(4.12),
+                                       pack.MakeRestingState(PerCell<double>{{{4.1, 4.1, 4.1}, {3.95, 3.95, 3.95}}})};
+      PackState flown = states[0];
+      for (int k = 0; k < 300; ++k) flown = pack.Step(flown, k < 150 ? 60.0 : 15.0, 1.0);
+      states.push_back(flown);
+      for (const PackState& state : states) {
+        for (const double current_a : {0.0, 8.0, 25.0, 70.0}) {
+          const EodResult full = CalcPackEod(pack, state, current_a);
+          const double eod = full.eod_s;
+          for (const double bound_s : {0.0, 1.0, 0.3 * eod, 0.9 * eod, std::nextafter(eod, 0.0), eod,
+                                       std::nextafter(eod, 1e9), 1.5 * eod + 1.0, 1e6}) {
+            const std::optional<EodResult> before = CalcPackEodBefore(pack, state, current_a, bound_s);
+            if (before) {
+              ++returned;
+              EXPECT_EQ(*before, full) << "bound " << bound_s << " s: " << before->BriefReport();
+              EXPECT_EQ(std::bit_cast<std::uint64_t>(before->eod_s), std::bit_cast<std::uint64_t>(eod));
+            } else {
+              ++stopped;
+              EXPECT_GE(eod, bound_s) << full.BriefReport();
+            }
+          }
+        }
+      }
+    }
+  }
+  // Both answers occur (the bounds straddle the EOD).
+  EXPECT_GT(stopped, 50);
+  EXPECT_GT(returned, 50);
+  // A healthy pack at 25 A bounded at half its EOD stops there.
+  const BatteryPack pack;
+  const PackState state = pack.MakeRestingState(4.12);
+  const EodResult full = CalcPackEod(pack, state, 25.0);
+  EXPECT_FALSE(CalcPackEodBefore(pack, state, 25.0, 0.5 * full.eod_s).has_value());
+  EXPECT_THROW(CalcPackEodBefore(pack, state, -1.0, 10.0), InputError);
 }
 
 TEST(ReachMarginTest, Decision7) {

@@ -82,6 +82,74 @@ TEST(FlightTest, SteppingByEpochsIsRun) {
   EXPECT_EQ(stepped.events.size(), run.events.size());
 }
 
+// EodPrecision: at every epoch of two flights (Scenario I's spall, a poor pack on a plan longer than its EOD, where RM0
+// epochs occur), the reach margin's class alone gives the same CMA state as the value, a lower bound that the value is
+// at least, and after CompleteEod the very state the value gives (bit for bit). The flights go on with
+// the value's state.
+TEST(FlightTest, TheReachMarginsClassAloneIsTheValuesClassAndCompletesToTheValue) {
+  int bounded = 0, valued = 0, rm0 = 0;
+  for (const char* file : {"/examples/scenario-1.yaml", "/examples/poor-battery-long.yaml"}) {
+    SCOPED_TRACE(file);
+    const FlightModel model(LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + file).scenario);
+    FlightState state = MakeInitialState(model, model.scenario().seed);
+    NoOpPolicy noop;
+    DecisionPolicy* const policies[] = {&noop};
+    ASSERT_EQ(EpochEodPrecision(model, policies, nullptr, nullptr, false), EodPrecision::kReachMarginClass);
+    while (!state.done()) {
+      FlightState by_class = state;
+      const DecisionInputs value = Observe(model, state, nullptr, false, EodPrecision::kValue);
+      const DecisionInputs bound = Observe(model, by_class, nullptr, false, EodPrecision::kReachMarginClass);
+      ASSERT_EQ(decision::CmaStateIndex(bound.state), decision::CmaStateIndex(value.state)) << "t " << value.time_s;
+      if (bound.eod_is_lower_bound) {
+        ++bounded;
+        EXPECT_GE(value.eod_s, bound.eod_s);
+        EXPECT_EQ(bound.reach_margin, 0.0);
+      } else {
+        ++valued;
+        EXPECT_EQ(bound, value);
+      }
+      rm0 += value.state.rm == decision::ReachMargin::kRM0;
+      CompleteEod(model, by_class);
+      // Every part but the faults, which Observe leaves alone (a spall before its jam holds a NaN jam time, so two
+      // equal fault parts never compare equal).
+      EXPECT_TRUE(by_class.decision == state.decision) << "t " << value.time_s;
+      EXPECT_TRUE(by_class.vehicle == state.vehicle && by_class.power == state.power &&
+                  by_class.guidance == state.guidance);
+      Act(model, state, decision::CmaAction::kNoOp, {});
+      StepToNextEpoch(model, state);
+    }
+  }
+  EXPECT_GT(bounded, 100);
+  EXPECT_GT(valued, 10);  // the RM0 epochs and the end of the discharge
+  EXPECT_GT(rm0, 10);
+}
+
+// The value wherever something reads it: a battery executor, telemetry, the distribution, noisy sensing, or a policy
+// that reads more than the CMA state.
+TEST(FlightTest, TheEpochsEodIsAValueWheneverSomethingReadsIt) {
+  const FlightModel model(ScenarioOne());
+  NoOpPolicy noop;
+  auto cma = MakePolicy("cma", "test");
+  auto risk = MakePolicy("cma-risk", "test");
+  DecisionPolicy* const abstract[] = {&noop, cma.get()};
+  DecisionPolicy* const with_risk[] = {&noop, risk.get()};
+  EXPECT_EQ(EpochEodPrecision(model, abstract, nullptr, nullptr, false), EodPrecision::kReachMarginClass);
+  EXPECT_EQ(EpochEodPrecision(model, with_risk, nullptr, nullptr, false), EodPrecision::kValue);
+  EXPECT_EQ(EpochEodPrecision(model, abstract, nullptr, nullptr, true), EodPrecision::kValue);
+  FlightLog telemetry;
+  telemetry.record_telemetry = true;
+  EXPECT_EQ(EpochEodPrecision(model, abstract, nullptr, &telemetry, false), EodPrecision::kValue);
+  FlightLog events;
+  EXPECT_EQ(EpochEodPrecision(model, abstract, nullptr, &events, false), EodPrecision::kReachMarginClass);
+  struct BothPacks final : BatterySwitchPolicy {
+    models::PackAction Decide(const FlightModel&, const FlightState&) override { return models::PackAction::kUseBoth; }
+  } executor;
+  EXPECT_EQ(EpochEodPrecision(model, abstract, &executor, nullptr, false), EodPrecision::kValue);
+  Scenario noisy = ScenarioOne();
+  noisy.options.noisy_sensing = true;
+  EXPECT_EQ(EpochEodPrecision(FlightModel(noisy), abstract, nullptr, nullptr, false), EodPrecision::kValue);
+}
+
 // The end reserve (SimResult::end_reserve_s, the report's unnecessary landings): the pack's EOD at the hover current,
 // bracketed by two currents that need no fixed point: the hover power over the bus voltage at rest (the bus only
 // sags under load, so the current is at least this: an upper bound of the reserve) and over the cut-off bus voltage

@@ -46,6 +46,7 @@ class RecordingPolicy final : public sim::DecisionPolicy {
   std::string name() const override { return inner_.name(); }
   sim::ActionRanking Ranking(const sim::DecisionInputs& inputs) const override { return inner_.Ranking(inputs); }
   bool ReadsEodDistribution() const override { return inner_.ReadsEodDistribution(); }
+  bool ReadsOnlyCmaState() const override { return inner_.ReadsOnlyCmaState(); }  // Decide records time_s, state
   const std::vector<EpochDecision>& decisions() const { return decisions_; }
 
  private:

@@ -37,6 +37,7 @@
 //  * Times are seconds from the given state. A crossing later than `horizon_s` is reported as
 //    kNotReachedWithinHorizon with eod_s = horizon_s, a lower bound (e.g. a near-zero current).
 //  * No allocation; the result is a plain struct (Python-bindable).
+#include <optional>
 #include <string>
 
 #include "uascma/models/battery_cell.h"
@@ -86,6 +87,13 @@ EodResult CalcCellEod(const models::SelfCorrectingCell& cell, const models::Cell
 // discharge current ≥ 0 (A). Throws InputError for invalid options.
 EodResult CalcPackEod(const models::BatteryPack& pack, const models::PackState& state, double total_current_a,
                       const EodOptions& options = {});
+
+// CalcPackEod's result, or std::nullopt once its propagation has passed `bound_s` (s) without a cell reaching the
+// cut-off: CalcPackEod's EOD is then at least bound_s. The same segments in the same order as CalcPackEod, so a result
+// is CalcPackEod's bit for bit; only the segments that start at or after bound_s are left out. For a decision that asks
+// only whether the EOD falls short of bound_s: the reach margin's class, RM0 ⇔ EOD < t_flight (sim/epoch.cc).
+std::optional<EodResult> CalcPackEodBefore(const models::BatteryPack& pack, const models::PackState& state,
+                                           double total_current_a, double bound_s, const EodOptions& options = {});
 
 // The fixed-step reference: steps the pack (or cell) model at dt_s with the split re-computed every step,
 // as the simulator does, and interpolates the crossing linearly between steps. Slow (µs per step); for

@@ -395,10 +395,28 @@ void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* lo
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
                    std::span<bool> stepped);
 
+// How far an epoch's EOD is propagated: to its value, or only as far as the reach margin's class needs. RM0 ⇔
+// EOD < t_remaining + t_sf (decisions item 7), so the propagation may stop once it has passed t_remaining + t_sf
+// without a crossing (prognostics::CalcPackEodBefore): the EOD is at least that, RM1, and DecisionInputs holds lower
+// bounds (eod_is_lower_bound) until CompleteEod. A propagation that ends before is CalcPackEod's, bit for bit.
+enum class EodPrecision { kValue, kReachMarginClass };
+
 // At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states), and with
 // `eod_distribution` the EOD's distribution from the model's error table (DecisionInputs::has_eod_distribution).
+// kReachMarginClass requires exact sensing and no distribution (both read the EOD's value).
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr,
-                              bool eod_distribution = true);
+                              bool eod_distribution = true, EodPrecision precision = EodPrecision::kValue);
+
+// The EOD's value at this epoch where Observe propagated it only for the reach margin's class: the same CalcPackEod on
+// the same pack and current, hence the value kValue gives, into DecisionState::eod and the inputs' eod_s and
+// reach_margin (the class cannot change: checked). Nothing when the value is there. Must be called at the epoch it
+// completes (before any step). Act and RecordEodAtAction call it for every action but NoOp.
+void CompleteEod(const FlightModel& model, FlightState& state);
+
+// Whether an epoch needs the EOD's value or only its class: the class when no one reads the value unless a policy
+// acts (policies that read only the CMA state, no battery executor, no telemetry, no distribution, exact sensing).
+EodPrecision EpochEodPrecision(const FlightModel& model, std::span<DecisionPolicy* const> policies,
+                               const BatterySwitchPolicy* battery, const FlightLog* log, bool eod_distribution);
 
 // Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
 // LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is
@@ -419,7 +437,8 @@ void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPo
 // The start of a decision epoch: Observe, then the battery executor decides (DecideBattery; none when `battery` is
 // null). Returns the observed inputs the CMA policy decides on.
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
-                                 FlightLog* log = nullptr, bool eod_distribution = true);
+                                 FlightLog* log = nullptr, bool eod_distribution = true,
+                                 EodPrecision precision = EodPrecision::kValue);
 
 // Whether an epoch computes the EOD's distribution: when the policy reads it or the log records telemetry.
 inline bool NeedsEodDistribution(const DecisionPolicy* policy, const FlightLog* log) {

@@ -41,6 +41,10 @@ struct DecisionInputs {
   // Computed only when asked for (has_eod_distribution; Observe's `eod_distribution`: a policy that reads them, the
   // telemetry, the EOD calibration); otherwise all four are 0.
   bool has_eod_distribution = false;
+  // True when the epoch's EOD was propagated only as far as the reach margin's class needs (EodPrecision): eod_s and
+  // reach_margin are then lower bounds (t_remaining + t_sf and 0: the EOD is at least that, RM1) until an action
+  // completes them (CompleteEod). Only for policies that read the CMA state alone (DecisionPolicy::ReadsOnlyCmaState).
+  bool eod_is_lower_bound = false;
   double eod_p05_s = 0.0;
   double eod_p50_s = 0.0;
   double eod_p95_s = 0.0;
@@ -72,6 +76,9 @@ class DecisionPolicy {
   // True when Decide reads the EOD's distribution (DecisionInputs::eod_p05_s … eod_short_probability): the kernel
   // computes it at every epoch for such a policy only (three more EOD propagations per epoch).
   virtual bool ReadsEodDistribution() const { return false; }
+  // True when Decide and Ranking read nothing of DecisionInputs but `state` and `time_s`: the kernel may then stop the
+  // epoch's EOD propagation once the reach margin's class is settled (EodPrecision::kReachMarginClass).
+  virtual bool ReadsOnlyCmaState() const { return false; }
 };
 
 // Always NoOp: the baseline.
@@ -79,6 +86,7 @@ class NoOpPolicy final : public DecisionPolicy {
  public:
   decision::CmaAction Decide(const DecisionInputs&) override { return decision::CmaAction::kNoOp; }
   std::string name() const override { return "noop"; }
+  bool ReadsOnlyCmaState() const override { return true; }
 };
 
 // A solved CMA policy: the action of the abstract state's row.
@@ -91,6 +99,7 @@ class TablePolicy final : public DecisionPolicy {
   decision::CmaAction Decide(const DecisionInputs& inputs) override;
   std::string name() const override { return name_; }
   ActionRanking Ranking(const DecisionInputs& inputs) const override;
+  bool ReadsOnlyCmaState() const override { return true; }
 
  private:
   std::vector<decision::ActionIndex> action_;
