@@ -275,8 +275,18 @@ UASCMA_LANES_INLINE V ExpVector(V x) {
   const V shifted = x * kLog2e + kRoundingShift;  // 1.5·2^52 + n
   const V n = shifted - kRoundingShift;
   const V r = (x - n * kLn2High) - n * kLn2Low;
-  V series = r * kInverseFactorial[kExpTerms - 1] + kInverseFactorial[kExpTerms - 2];  // Horner
-  for (int k = kExpTerms - 3; k >= 0; --k) series = series * r + kInverseFactorial[k];
+  // e^r = 1 + (r + r² T(r)), T = Σ_{k=2}^{13} r^{k−2}/k! in Estrin's scheme (pairs, then r², r⁴, r⁸): a chain of
+  // five levels where Horner's has thirteen; the one rounding near 1 comes last.
+  static_assert(kExpTerms == 14);
+  const auto& c = kInverseFactorial;
+  const V r2 = r * r;
+  const V r4 = r2 * r2;
+  const V r8 = r4 * r4;
+  const V p0 = c[2] + c[3] * r, p1 = c[4] + c[5] * r, p2 = c[6] + c[7] * r;
+  const V p3 = c[8] + c[9] * r, p4 = c[10] + c[11] * r, p5 = c[12] + c[13] * r;
+  const V q0 = p0 + p1 * r2, q1 = p2 + p3 * r2, q2 = p4 + p5 * r2;
+  const V tail = (q0 + q1 * r4) + q2 * r8;
+  const V series = 1.0 + (r + r2 * tail);
   // n is in the low bits of `shifted`; shifted left by 52 it is n·2^52 (the leading bits fall off), which added to
   // the bits of e^r (in [0.7, 1.5)) multiplies it by 2^n while the result stays normal (x ≥ −708).
   const U scaled = reinterpret_cast<U>(series) + (reinterpret_cast<U>(shifted) << 52);
