@@ -96,6 +96,7 @@ def test_a_python_callable_flies_like_the_same_policy_in_cpp():
 
     def always_noop(inputs):
         seen.append(inputs.time_s)
+        assert not inputs.eod_is_lower_bound  # a Python policy sees the EOD's value, never its class's bound
         return "NoOp"
 
     mine = uascma.run(example("nominal.yaml"), always_noop, seed=3, telemetry=False)
@@ -103,7 +104,8 @@ def test_a_python_callable_flies_like_the_same_policy_in_cpp():
     assert without_wall_clock({**mine.summary(), "policy": "noop"}) == without_wall_clock(noop.summary())
     assert seen[:3] == [0.0, 1.0, 2.0]  # called at 1 Hz
 
-    # The CMA table looked up in Python flies exactly as the C++ table policy.
+    # The CMA table looked up in Python (the EOD's value at every epoch) flies exactly as the C++ table policy (the
+    # EOD only as far as the reach margin's class needs, issue 27).
     solution = uascma.solve_cma()
     table = uascma.run(example("jam-motor-3.yaml"), "cma", telemetry=False)
     python = uascma.run(example("jam-motor-3.yaml"), lambda i: int(solution.policy.action[i.state.index]),
