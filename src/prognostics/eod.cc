@@ -533,11 +533,8 @@ EodResult CalcCellEod(const SelfCorrectingCell& cell, const CellState& state, do
 
 EodResult CalcPackEod(const BatteryPack& pack, const PackState& state, double total_current_a,
                       const EodOptions& options) {
-  RequireValid(options);
-  RequireDischargeCurrent(total_current_a);
-  Run run(total_current_a, options);
-  UASCMA_CHECK(SetUpScaledPack(run.problem, pack, state, {}), "a built pack's cells have positive R0 and capacity");
-  return Propagate(run);
+  // Propagate is PropagateUntil with no bound: the same segments to the end.
+  return *CalcPackEodBefore(pack, state, total_current_a, std::numeric_limits<double>::infinity(), options);
 }
 
 std::optional<EodResult> CalcPackEodBefore(const BatteryPack& pack, const PackState& state, double total_current_a,
