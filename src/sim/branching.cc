@@ -53,9 +53,11 @@ std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionP
     const auto start = std::chrono::steady_clock::now();
     const std::size_t sharing = together.size();
     bool eod_distribution = log.record_telemetry;
-    for (std::size_t k : together) eod_distribution = eod_distribution || NeedsEodDistribution(policies[k], nullptr);
     sharing_policies.clear();
-    for (std::size_t k : together) sharing_policies.push_back(policies[k]);
+    for (std::size_t k : together) {
+      eod_distribution = eod_distribution || NeedsEodDistribution(policies[k], nullptr);
+      sharing_policies.push_back(policies[k]);
+    }
     const DecisionInputs& inputs =
         BeginEpoch(model, state, options.battery_policy, &log, eod_distribution,
                    EpochEodPrecision(model, sharing_policies, options.battery_policy, &log, eod_distribution));

@@ -219,6 +219,24 @@ decision::MotorHealth ObserveMotorHealth(const FlightModel& model, FlightState& 
   return decision::MotorHealth::kSF;
 }
 
+// t_remaining + t_sf: what the EOD must cover for RM ≥ 0 (decisions item 7).
+double NeededS(const FlightModel& model, const DecisionInputs& inputs) {
+  return inputs.flight_time_remaining_s + model.options().safety_margin_s;
+}
+
+// The epoch's EOD into the decision state and the inputs' eod_s and reach_margin. Empty: no crossing before
+// t_remaining + t_sf (CalcPackEodBefore), the EOD held as that lower bound (RM 0: RM1, eod_is_lower_bound).
+void StoreEod(const FlightModel& model, FlightState& state, const std::optional<prognostics::EodResult>& eod) {
+  DecisionInputs& inputs = state.decision.inputs;
+  const double needed_s = NeededS(model, inputs);
+  inputs.eod_is_lower_bound = !eod;
+  state.decision.eod =
+      eod ? *eod
+          : prognostics::EodResult{.status = prognostics::EodStatus::kNotReachedWithinHorizon, .eod_s = needed_s};
+  inputs.eod_s = state.decision.eod.eod_s;
+  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod, needed_s);
+}
+
 // The EOD's distribution (issue 29): prognostics::CalcPackEodDistribution at the forecast current with the load
 // forecast's measured error of this epoch's cell (sim/eod_error_model.h): its 5/50/95 % quantiles and
 // P(EOD < t_remaining + t_sf). Without uncertainty, a point at the EOD. Under noisy sensing (sim/sensing.h) the
@@ -234,7 +252,7 @@ void ObserveEodDistribution(const FlightModel& model, FlightState& state, Decisi
                                      prognostics::EodUncertainty::kSocSigmaBounds.high);
   }
   state.decision.eod_uncertainty = uncertainty;
-  const double needed_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
+  const double needed_s = NeededS(model, inputs);
   const bool point =
       uncertainty.load_log_sigma <= 0.0 && uncertainty.load_log_mean == 0.0 && (!noisy || uncertainty.soc_sigma <= 0.0);
   if (point || !(state.decision.eod_current_a > 0.0)) {
@@ -268,22 +286,13 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   DecisionInputs& inputs = state.decision.inputs;
   inputs.time_s = t;
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.guidance.plan_start_s);
-  const double needed_s = inputs.flight_time_remaining_s + model.options().safety_margin_s;
   const std::optional<models::PackState> sensed =
       noisy ? std::optional<models::PackState>(SensedPack(model, state)) : std::nullopt;
-  std::optional<prognostics::EodResult> eod;
-  if (class_only) {
-    eod = prognostics::CalcPackEodBefore(model.pack(), state.power.pack, state.decision.eod_current_a, needed_s);
-  } else {
-    eod = prognostics::CalcPackEod(model.pack(), sensed ? *sensed : state.power.pack, state.decision.eod_current_a);
-  }
-  // Without a value: no crossing before needed_s (CalcPackEodBefore), the EOD held as that lower bound (RM 0: RM1).
-  inputs.eod_is_lower_bound = !eod;
-  state.decision.eod =
-      eod ? *eod
-          : prognostics::EodResult{.status = prognostics::EodStatus::kNotReachedWithinHorizon, .eod_s = needed_s};
-  inputs.eod_s = state.decision.eod.eod_s;
-  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod, needed_s);
+  const models::PackState& observed = sensed ? *sensed : state.power.pack;
+  const double current_a = state.decision.eod_current_a;
+  StoreEod(model, state,
+           class_only ? prognostics::CalcPackEodBefore(model.pack(), observed, current_a, NeededS(model, inputs))
+                      : prognostics::CalcPackEod(model.pack(), observed, current_a));
   const decision::MotorHealth motor_health = ObserveMotorHealth(model, state, inputs, log);
   if (!noisy) {  // the beliefs of exact sensing: the point MH
     inputs.motor_health_belief = {0.0, 0.0, 0.0};
@@ -295,7 +304,7 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
                                             inputs.reach_margin, inputs.motor_margin);
   inputs.has_eod_distribution = eod_distribution;
   if (eod_distribution) {
-    ObserveEodDistribution(model, state, inputs, sensed ? *sensed : state.power.pack);
+    ObserveEodDistribution(model, state, inputs, observed);
   } else {
     state.decision.eod_uncertainty = {};
     state.decision.eod_distribution = {};
@@ -468,11 +477,7 @@ void CompleteEod(const FlightModel& model, FlightState& state) {
   const decision::ReachMargin bound_class = inputs.state.rm;
   // Observe's pack and current: exact sensing, and no battery executor has switched the packs since
   // (EpochEodPrecision).
-  state.decision.eod = prognostics::CalcPackEod(model.pack(), state.power.pack, state.decision.eod_current_a);
-  inputs.eod_s = state.decision.eod.eod_s;
-  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod,
-                                                     inputs.flight_time_remaining_s + model.options().safety_margin_s);
-  inputs.eod_is_lower_bound = false;
+  StoreEod(model, state, prognostics::CalcPackEod(model.pack(), state.power.pack, state.decision.eod_current_a));
   UASCMA_CHECK(decision::ClassifyReachMargin(inputs.reach_margin) == bound_class,
                "the EOD's value in the class its bound settled");
 }
