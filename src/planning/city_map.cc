@@ -153,6 +153,12 @@ CityMap::CityMap(std::vector<Building> buildings, std::vector<LandingSite> sites
           ? options.building_cell_size
           : UniformGrid::SuggestCellSize(bounds_, buildings_.size(), kBuildingsPerCell, kMinCellSize, kMaxCellSize);
   building_grid_ = UniformGrid(boxes_, building_cell);
+  cell_top_height_.assign(static_cast<std::size_t>(building_grid_.cell_count()), 0.0);
+  for (int cell = 0; cell < building_grid_.cell_count(); ++cell) {
+    for (const int k : building_grid_.CellItems(cell)) {
+      cell_top_height_[cell] = std::max(cell_top_height_[cell], heights_[k]);
+    }
+  }
 
   // Sites: validate, then give each to the roof that carries it.
   std::vector<Eigen::AlignedBox2d> site_points;
@@ -198,14 +204,14 @@ std::span<const Edge2> CityMap::edges(int building) const {
 int CityMap::BuildingContaining(const Eigen::Vector3d& p_W) const {
   if (-p_W.z() > max_height_) return kNoBuilding;  // above every roof
   const Eigen::Vector2d p_NE = p_W.head<2>();
-  int found = kNoBuilding;
-  // One cell holds the point; its items come in increasing order, so the first match is the lowest index.
-  building_grid_.VisitBox(Eigen::AlignedBox2d(p_NE, p_NE), [&](int k) {
-    if (p_W.z() < -heights_[k] || !boxes_[k].contains(p_NE) || !OutlineContains(edges(k), p_NE)) return true;
-    found = k;
-    return false;
-  });
-  return found;
+  const int cell = building_grid_.CellAt(p_NE);
+  if (cell < 0 || -p_W.z() > cell_top_height_[cell]) return kNoBuilding;  // above every roof of its cell
+  // The cell's items come in increasing order, so the first match is the lowest index.
+  for (const int k : building_grid_.CellItems(cell)) {
+    if (p_W.z() < -heights_[k] || !boxes_[k].contains(p_NE) || !OutlineContains(edges(k), p_NE)) continue;
+    return k;
+  }
+  return kNoBuilding;
 }
 
 double CityMap::SurfaceAltitudeAt(const Eigen::Vector2d& p_NE) const {

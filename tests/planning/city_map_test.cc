@@ -368,7 +368,7 @@ void ExpectIndexAgreesWithLinearScan(const CityMap& map, std::uint64_t seed) {
                            random.Uniform(bounds.min().y() - 20, bounds.max().y() + 20),
                            -random.Uniform(0.0, max_altitude));
   };
-  int hits = 0, misses = 0;
+  int hits = 0, misses = 0, roof_hits = 0;
   for (int k = 0; k < 400; ++k) {
     const Eigen::Vector3d a = random_point(60.0);
     // Mostly short hops (the simulator's steps), some long legs (a planner's candidate paths).
@@ -386,13 +386,25 @@ void ExpectIndexAgreesWithLinearScan(const CityMap& map, std::uint64_t seed) {
     } else {
       ++misses;
     }
-    // Points: the prism that contains the segment's start, if any.
-    int containing = kNoBuilding;
-    for (int b_index = 0; b_index < static_cast<int>(map.buildings().size()) && containing == kNoBuilding; ++b_index) {
-      const Building& building = map.building(b_index);
-      if (a.z() >= -building.height && OutlineContains(edges[b_index], a.head<2>())) containing = b_index;
+    // Points: the prism that contains the segment's start, if any; also at exactly some building's roof height
+    // (a prism is closed: its roof is in it; BuildingContaining skips a cell whose roofs are all below the point).
+    auto brute_containing = [&](const Eigen::Vector3d& p) {
+      for (int b_index = 0; b_index < static_cast<int>(map.buildings().size()); ++b_index) {
+        const Building& building = map.building(b_index);
+        if (p.z() >= -building.height && OutlineContains(edges[b_index], p.head<2>())) return b_index;
+      }
+      return kNoBuilding;
+    };
+    EXPECT_EQ(map.BuildingContaining(a), brute_containing(a)) << "point " << k;
+    const Eigen::Vector3d at_a_roof(a.x(), a.y(), -map.building(random.UniformIndex(map.buildings().size())).height);
+    EXPECT_EQ(map.BuildingContaining(at_a_roof), brute_containing(at_a_roof)) << "point at a roof's height " << k;
+    if (k < static_cast<int>(map.buildings().size())) {  // on building k's own roof, at its box's centre
+      const Eigen::Vector2d centre = map.building_box(k).center();
+      const Eigen::Vector3d on_roof(centre.x(), centre.y(), -map.building(k).height);
+      const int expected = brute_containing(on_roof);
+      EXPECT_EQ(map.BuildingContaining(on_roof), expected) << "on the roof of building " << k;
+      roof_hits += expected != kNoBuilding;
     }
-    EXPECT_EQ(map.BuildingContaining(a), containing) << "point " << k;
     // Routes: the tallest building within 0 m and 15 m of the horizontal leg.
     const std::vector<Eigen::Vector2d> route = {a.head<2>(), b.head<2>()};
     for (double half_width : {0.0, 15.0}) {
@@ -407,6 +419,7 @@ void ExpectIndexAgreesWithLinearScan(const CityMap& map, std::uint64_t seed) {
   }
   EXPECT_GT(hits, 40);
   EXPECT_GT(misses, 40);
+  EXPECT_GT(roof_hits, 0);
 }
 
 TEST(CityMapTest, IndexedQueriesAgreeWithALinearScan) { ExpectIndexAgreesWithLinearScan(MakeProceduralCity(), 21); }

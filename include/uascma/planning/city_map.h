@@ -154,6 +154,9 @@ class CityMap {
   double max_height_ = 0.0;
   int tallest_ = kNoBuilding;
   UniformGrid building_grid_;
+  // [cell of building_grid_] the tallest roof (m) listed in the cell, 0 for none: a point above it is in no
+  // building of the cell (BuildingContaining, checked at every GNC step by the outcome classifier).
+  std::vector<double> cell_top_height_;
   UniformGrid site_grid_;
 };
 

@@ -37,6 +37,19 @@ class UniformGrid {
   int cols() const { return cols_; }  // cells along y (east)
   bool empty() const { return rows_ == 0 || cols_ == 0; }
 
+  // The cell holding the point p (VisitBox's cell for a box of one point), −1 outside the grid; a cell's items.
+  int CellAt(const Eigen::Vector2d& p) const {
+    if (empty()) return -1;
+    const int i = Row(p.x()), j = Col(p.y());
+    if (i < 0 || i >= rows_ || j < 0 || j >= cols_) return -1;
+    return i * cols_ + j;
+  }
+  std::span<const int> CellItems(int cell) const {
+    return std::span<const int>(items_.data() + cell_begin_[cell],
+                                static_cast<std::size_t>(cell_begin_[cell + 1] - cell_begin_[cell]));
+  }
+  int cell_count() const { return rows_ * cols_; }
+
   // Calls visit(item) for the items listed in the cells that `box` overlaps. `visit` returns true to go on,
   // false to stop; the function returns false when it was stopped.
   template <typename Visit>
