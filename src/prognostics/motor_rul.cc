@@ -311,8 +311,7 @@ SpallJamEvent::SpallJamEvent(const MotorRulModel& model, double onset_time_s, st
       step_start_(model.MakeParticle(model.params().initial_area_mm2)),
       onset_time_s_(onset_time_s),
       time_s_(onset_time_s),
-      area_mm2_(model.params().initial_area_mm2),
-      jam_time_s_(std::nan("")) {
+      area_mm2_(model.params().initial_area_mm2) {
   if (!std::isfinite(onset_time_s)) {
     throw InputError("spall jam event", "onset_time_s", fmt::format("a finite time, got {}", onset_time_s));
   }
@@ -345,7 +344,7 @@ SpallJamStep SpallJamEvent::Advance(double dt_s) {
     ++growth_steps_done_;
   }
   time_s_ = target_s;
-  return {time_s_, area_mm2_, jammed_, jam_time_s_};
+  return {time_s_, area_mm2_, jammed_, jam_time_s()};
 }
 
 RulDistribution SpallJamEvent::PredictRulNow(RandomStream& random) const {

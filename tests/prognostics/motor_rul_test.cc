@@ -288,6 +288,21 @@ TEST(SpallJamEventTest, JamTimeDoesNotDependOnTheStepAndReplaysTheHistory) {
   }
 }
 
+TEST(SpallJamEventTest, AnEventEqualsItsCopyBeforeAndAfterTheJam) {
+  // A flight state is compared whole (sim/flight.h): an event before its jam (no jam time yet) must equal its copy.
+  const MotorRulModel model;
+  SpallJamEvent event(model, 175.0, 31);
+  event.Advance(1.0);
+  ASSERT_FALSE(event.jammed());
+  EXPECT_TRUE(std::isnan(event.jam_time_s()));
+  EXPECT_TRUE(event == SpallJamEvent(event));
+  SpallJamEvent other = event;
+  other.Advance(0.5);
+  EXPECT_FALSE(other == event);
+  while (!event.jammed()) event.Advance(10.0);
+  EXPECT_TRUE(event == SpallJamEvent(event));
+}
+
 TEST(SpallJamEventTest, NoiseFreeAreaFollowsTheExponentialAndJamsOnTime) {
   const MotorRulModel model(NoiseFree());
   const double tau_s = model.params().time_per_growth_step_s;

@@ -42,6 +42,8 @@
 // bit for bit, so a seed replays identically everywhere); the per-motor event owns a stream seeded by
 // its caller.
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -233,7 +235,7 @@ class SpallJamEvent {
   double time_s() const { return time_s_; }
   double area_mm2() const { return area_mm2_; }
   bool jammed() const { return jammed_; }
-  double jam_time_s() const { return jam_time_s_; }
+  double jam_time_s() const { return jam_time_s_.value_or(std::numeric_limits<double>::quiet_NaN()); }  // NaN before
 
   // RUL now (item 5): PredictRulFromArea at the current area; t_RUL for MM is its mean_s. A jammed
   // motor has RUL 0.
@@ -249,7 +251,7 @@ class SpallJamEvent {
   double time_s_;
   double area_mm2_;
   bool jammed_ = false;
-  double jam_time_s_;
+  std::optional<double> jam_time_s_;  // none before the jam (not NaN: an event then equals its copy)
 };
 
 // Motor margin, eq. 5.14 with one fault type (n_f = 1) and decisions item 7:
