@@ -33,7 +33,9 @@ void ExpectRefused(const Case& c) {
   SCOPED_TRACE(c.arguments);
   const auto result = RunCli(c.arguments);
   ExpectBadInput(result, c.named);
-  if (!c.bound.empty()) EXPECT_NE(result.err.find(c.bound), std::string::npos) << result.err;
+  if (!c.bound.empty()) {
+    EXPECT_NE(result.err.find(c.bound), std::string::npos) << result.err;
+  }
 }
 
 // ---- CLI options -------------------------------------------------------------------------------------
@@ -362,7 +364,9 @@ TEST(BoundsCliTest, EveryScenarioYamlNumberOutsideItsBoundExitsTwo) {
     const auto result = RunCli("simulate " + file.string() + " --out " + out);
     ExpectBadInput(result, c.field);
     EXPECT_NE(result.err.find(file.string()), std::string::npos) << result.err;
-    if (!c.bound.empty()) EXPECT_NE(result.err.find(c.bound), std::string::npos) << result.err;
+    if (!c.bound.empty()) {
+      EXPECT_NE(result.err.find(c.bound), std::string::npos) << result.err;
+    }
   }
   EXPECT_FALSE(std::filesystem::exists(out));
 }

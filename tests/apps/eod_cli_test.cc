@@ -131,7 +131,9 @@ TEST(EodCliTest, QuantilesAreTheLibrarysDistribution) {
   ASSERT_EQ(levels.size(), quantiles.size());
   for (std::size_t i = 0; i < levels.size(); ++i) {
     EXPECT_NEAR(quantiles[i].get<double>(), expected.Quantile(levels[i].get<double>()), kPrintedTolerance);
-    if (i > 0) EXPECT_GT(quantiles[i].get<double>(), quantiles[i - 1].get<double>());
+    if (i > 0) {
+      EXPECT_GT(quantiles[i].get<double>(), quantiles[i - 1].get<double>());
+    }
   }
   EXPECT_NEAR(distribution.at("probability_before").at("probability").get<double>(), expected.ProbabilityBefore(550.0),
               kPrintedTolerance);

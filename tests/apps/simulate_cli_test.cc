@@ -266,7 +266,9 @@ TEST(SimulateCliTest, BatteryPolicyRunsAlongsideAndItsSwitchesAreListed) {
       EXPECT_NE(switches[k].at("action"), switches[k - 1].at("action"));  // changes only
       EXPECT_GT(switches[k].at("time_s").get<double>(), switches[k - 1].at("time_s").get<double>());
     }
-    if (std::string(example) == "nominal.yaml") EXPECT_EQ(summary.at("outcome"), "completed");
+    if (std::string(example) == "nominal.yaml") {
+      EXPECT_EQ(summary.at("outcome"), "completed");
+    }
   }
   const auto text = RunCli("simulate " + Example("nominal.yaml") + " --battery-policy " + policy);
   ASSERT_EQ(text.exit_code, 0) << text.err;

@@ -72,7 +72,9 @@ TEST(HeadlineTest, DefaultCampaignFailsOnlyFromModelledFaultsAndHealthDrivesTheB
     }
     if (r.policy != "cma") continue;
     EXPECT_FALSE(r.failure) << "run " << r.run_index << ": " << r.reason;  // measured: 0 in every health group
-    if (r.first_emergency_action_s) EXPECT_TRUE(r.num_actions > 0 || r.substitution_epochs > 0) << r.run_index;
+    if (r.first_emergency_action_s) {
+      EXPECT_TRUE(r.num_actions > 0 || r.substitution_epochs > 0) << r.run_index;
+    }
     if (r.battery_health != "G") continue;
     ++good_health;
     const bool before_fault =

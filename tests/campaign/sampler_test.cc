@@ -404,14 +404,16 @@ TEST(SamplerTest, WholeLoadEodIsTheHealthyPacksEodAtThePlansMeanCurrent) {
                           (s.mission.destination_NE - s.mission.home_NE).normalized().y(), 0.0);
   const sim::SteadyLoadModel still{&s.body, &drag, &power, Eigen::Vector3d::Zero()};
   double gust = 0.0;
-  for (const Eigen::Vector3d air : {Eigen::Vector3d(run.cruise_speed_mps * e - wind_W),
-                                    Eigen::Vector3d(-run.cruise_speed_mps * e - wind_W), Eigen::Vector3d(-wind_W)}) {
+  for (const Eigen::Vector3d& air : {Eigen::Vector3d(run.cruise_speed_mps * e - wind_W),
+                                     Eigen::Vector3d(-run.cruise_speed_mps * e - wind_W), Eigen::Vector3d(-wind_W)}) {
     const Eigen::Vector3d unit = air.norm() > 0.0 ? Eigen::Vector3d(air.normalized()) : Eigen::Vector3d::UnitX();
     gust = std::max(gust, sim::CalcSteadyRotorPower(still, air + sigma_u * unit, Eigen::Vector3d::Zero(), 6) -
                               sim::CalcSteadyRotorPower(still, air, Eigen::Vector3d::Zero(), 6));
   }
   EXPECT_NEAR(load.gust_power_w, gust, 1e-6 * gust + 1e-9);  // W: the same model along another axis
-  if (s.wind.turbulence != models::TurbulenceCategory::kNone) EXPECT_GT(gust, 0.0);
+  if (s.wind.turbulence != models::TurbulenceCategory::kNone) {
+    EXPECT_GT(gust, 0.0);
+  }
   // I = I_hotel + (E + P_gust T) / (T · 3 · 3.7 V), and the healthy pack's EOD at it.
   const double current =
       s.options.hotel_current_a + (energy + gust * plan.duration()) / (plan.duration() * kPlanningCellVoltage * 3.0);
@@ -462,7 +464,9 @@ TEST(SamplerTest, ExampleProfilesPassTheWholeLoadCheckWithoutARedraw) {
     double smallest = 1e9, largest = -1e9, sum = 0.0;
     for (std::int64_t i = 0; i < config.runs; ++i) {
       const SampledRun run = SampleRun(config, world, config.seed, i);
-      if (default_profile) EXPECT_EQ(run.whole_load_refits, 0) << file << " run " << i;
+      if (default_profile) {
+        EXPECT_EQ(run.whole_load_refits, 0) << file << " run " << i;
+      }
       refitted += run.whole_load_refits > 0 ? 1 : 0;
       const double margin = run.whole_load_eod_s - (run.plan_duration_s + run.safety_margin_s);
       EXPECT_GE(margin, 0.0) << file << " run " << i;
