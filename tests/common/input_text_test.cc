@@ -58,10 +58,9 @@ TEST(Utf8Test, APrefixEndsBetweenCharacters) {
   EXPECT_EQ(Utf8Prefix(text, 6), "ab\xC3\xA9");  // € would need bytes 4-6
   EXPECT_EQ(Utf8Prefix(text, 7), text);
   EXPECT_EQ(Utf8Prefix(text, 100), text);
-  EXPECT_EQ(Utf8Prefix("a\xFF\xFF"
-                       "b",
-                       2),
-            "a\xFF");  // a byte that starts nothing counts as one
+  const std::string stray_bytes{'a', '\xFF', '\xFF', 'b'};  // four bytes (in a literal, "\xFFb" is one escape)
+  ASSERT_EQ(stray_bytes.size(), 4u);
+  EXPECT_EQ(Utf8Prefix(stray_bytes, 2), "a\xFF");  // a byte that starts nothing counts as one
   for (std::size_t n = 0; n <= text.size(); ++n) EXPECT_TRUE(IsValidUtf8(Utf8Prefix(text, n))) << n;
 }
 
