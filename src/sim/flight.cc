@@ -15,6 +15,8 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/models/rigid_body_lanes.h"
+#include "uascma/sim/controller_lanes.h"
 #include "uascma/sim/rotor_lanes.h"
 
 namespace uascma::sim {
@@ -98,15 +100,26 @@ double InverseBusVoltage(double bus_voltage_v) { return 1.0 / std::max(bus_volta
 
 // ---- guidance and control: LQR → allocation → rotor lag, capped by the bus voltage -------------------------------
 // The rotors' electrical power is the vehicle's; the current it draws is the power system's (StepPowerSystem).
-void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrusts& believed, StepSignals& s) {
+// The plan's reference of this step.
+void ReadReference(const FlightModel& model, FlightState& state, StepSignals& s) {
   s.reference = state.plan(model).At(state.time_s - state.guidance.plan_start_s, state.guidance.plan_cursor);
+}
+
+// True when the step's control is the one StepTogether computes in lanes (sim/controller_lanes.h): six rotors
+// allocated and the drag fed forward.
+bool ControlInLanes(const FlightModel& model, const FlightState& state) {
+  return model.options().drag_feedforward && state.faults.allocation_failure == models::kNoFailedMotor;
+}
+
+// The reference → the LQR's wrench → the allocation's rotor thrusts.
+void ComputeControl(const FlightModel& model, const FlightState& state, StepSignals& s) {
   // Drag feed-forward while all six rotors fly (issue 11 item 3). After a reconfiguration to the quadcopter the
   // bare DLQR flies on: with four rotors near their thrust cap, asking the ~0.4 rad tilt that cancels the drag
   // at 8-9 m/s drives the loop into slow saturated swings. Measured on the default campaign, 150 runs, seed 1:
   // largest tracking error 13.2 m without feed-forward, 23.8 m with it throughout (rotor-out flights), 9.8 m with
   // it while hexacopter; mean per health 2.2-3.0 m, 2.2-3.0 m and 1.5-2.0 m; outcomes identical in all three.
   planning::PlanReference target = s.reference;
-  if (model.options().drag_feedforward && state.faults.allocation_failure == models::kNoFailedMotor) {
+  if (ControlInLanes(model, state)) {
     const Eigen::Vector3d z_B_W = state.vehicle.body.q_WB.toRotationMatrix().col(2);
     target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, s.reference.v_W,
                                            model.wind().MeanWind_W());
@@ -114,6 +127,10 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
   s.command = model.controller().Compute(state.vehicle.body, target);
   const models::AllocationResult allocation = model.mixer().Allocate(s.command, state.faults.allocation_failure);
   s.allocated = allocation.rotor_thrust;
+}
+
+// The allocated thrusts, capped at the bus voltage → rotor lag → thrust and electrical power → the achieved wrench.
+void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrusts& believed, StepSignals& s) {
   const double thrust_cap = ThrustCap(model, state.power.bus_voltage_v);
   s.thrust_cap = thrust_cap;
   StepRotorLanes({.propulsion = &model.propulsion(),
@@ -132,17 +149,26 @@ void StepRotors(const FlightModel& model, FlightState& state, models::RotorThrus
 }
 
 // ---- 6-DOF with drag and Dryden wind ----------------------------------------------------------------------------
-void StepBody(const FlightModel& model, VehicleState& vehicle, StepSignals& s) {
+// The wind of this step and the body's inputs, held over it.
+void StepWind(const FlightModel& model, VehicleState& vehicle, StepSignals& s) {
   const double dt = model.dt();
   const double altitude = -vehicle.body.p_WB_W.z();
   const double airspeed_estimate = (vehicle.body.v_WB_W - model.wind().MeanWind_W()).norm();
   s.wind_W = model.wind().Step(vehicle.wind, std::max(altitude, 0.0), airspeed_estimate, dt, vehicle.wind_random);
   s.body_inputs = models::BodyInputs{s.achieved(0), s.achieved.tail<3>(), s.wind_W};
-  vehicle.body = models::StepRigidBody(model.scenario().body, model.drag(), vehicle.body, s.body_inputs, dt);
+}
+
+void HoldOnGround(VehicleState& vehicle) {
   if (!vehicle.airborne && vehicle.body.p_WB_W.z() > 0.0) {  // resting on the ground before take-off
     vehicle.body.p_WB_W.z() = 0.0;
     vehicle.body.v_WB_W.z() = std::min(vehicle.body.v_WB_W.z(), 0.0);
   }
+}
+
+void StepBody(const FlightModel& model, VehicleState& vehicle, StepSignals& s) {
+  StepWind(model, vehicle, s);
+  vehicle.body = models::StepRigidBody(model.scenario().body, model.drag(), vehicle.body, s.body_inputs, model.dt());
+  HoldOnGround(vehicle);
 }
 
 // ---- power: rotor currents → pack → bus voltage ------------------------------------------------------------------
@@ -461,6 +487,14 @@ FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
 // ---- the steps ----------------------------------------------------------------------------------------------------
 namespace {
 
+// After the body's step: z_B, the IMM, the extremes.
+void FinishVehicleStep(const FlightModel& model, FlightState& state, const models::RigidBodyState& previous,
+                       const models::RotorThrusts& believed, StepSignals& s, FlightLog* log) {
+  s.z_B_W = state.vehicle.body.q_WB.toRotationMatrix().col(2);
+  StepImm(model, state, previous, believed, s, log);
+  UpdateExtremes(model, state.vehicle, s);
+}
+
 // The vehicle's part of a GNC step: faults → LQR → allocation → rotor lag (capped at the power system's bus voltage)
 // → 6-DOF → IMM → extremes. Changes the vehicle and the faults only; returns what the power step and the
 // classification read.
@@ -468,12 +502,12 @@ StepSignals StepVehicle(const FlightModel& model, FlightState& state, FlightLog*
   AdvanceFaults(model, state, log);
   StepSignals s;
   models::RotorThrusts believed;
+  ReadReference(model, state, s);
+  ComputeControl(model, state, s);
   StepRotors(model, state, believed, s);
   const models::RigidBodyState previous = state.vehicle.body;
   StepBody(model, state.vehicle, s);
-  s.z_B_W = state.vehicle.body.q_WB.toRotationMatrix().col(2);
-  StepImm(model, state, previous, believed, s, log);
-  UpdateExtremes(model, state.vehicle, s);
+  FinishVehicleStep(model, state, previous, believed, s, log);
   return s;
 }
 
@@ -490,9 +524,10 @@ bool CapsAlike(const FlightModel& model, const StepSignals& s, double bus_voltag
 
 }  // namespace
 
-void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
-  if (state.done()) return;
-  StepSignals s = StepVehicle(model, state, log);
+namespace {
+
+// The power system's part of a GNC step, the telemetry, the classification and the clock.
+void FinishStep(const FlightModel& model, FlightState& state, StepSignals& s, FlightLog* log) {
   StepPowerSystem(model, state.power, s);
   if (log && log->record_telemetry) {
     const double rate = model.options().telemetry_rate_hz;
@@ -501,6 +536,90 @@ void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
   }
   ClassifyStep(model, state, s);
   AdvanceClock(model, state);
+}
+
+}  // namespace
+
+void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
+  if (state.done()) return;
+  StepSignals s = StepVehicle(model, state, log);
+  FinishStep(model, state, s, log);
+}
+
+void StepTogether(const FlightModel& model, std::span<FlightState* const> states, std::span<FlightLog* const> logs) {
+  UASCMA_CHECK(states.size() <= static_cast<std::size_t>(kControllerLanes) && logs.size() == states.size(),
+               "at most four flights, one log (or nullptr) each");
+  const lane_math::LaneMathPath path = lane_math::DefaultLaneMathPath();
+  const int n = static_cast<int>(states.size());
+  std::array<StepSignals, kControllerLanes> s;
+  std::array<models::RotorThrusts, kControllerLanes> believed;
+  std::array<models::RigidBodyState, kControllerLanes> previous;
+  std::array<bool, kControllerLanes> flying{}, control_in_lanes{};
+  // Faults, the reference, and the control: in lanes for the flights it applies to (ControlInLanes), alone for the
+  // others; a lane without a flight of its own repeats another's inputs and its result is not read.
+  ControllerLaneInputs control;
+  int first_in_lanes = -1, first_flying = -1;
+  for (int k = 0; k < n; ++k) {
+    FlightState& state = *states[k];
+    flying[k] = !state.done();
+    if (!flying[k]) continue;
+    if (first_flying < 0) first_flying = k;
+    AdvanceFaults(model, state, logs[k]);
+    ReadReference(model, state, s[k]);
+    control_in_lanes[k] = ControlInLanes(model, state);
+    if (!control_in_lanes[k]) {
+      ComputeControl(model, state, s[k]);
+      continue;
+    }
+    if (first_in_lanes < 0) first_in_lanes = k;
+    const models::RigidBodyState& body = state.vehicle.body;
+    const Eigen::Vector3d& mean_wind = model.wind().MeanWind_W();
+    for (int lane = first_in_lanes == k ? 0 : k; lane < (first_in_lanes == k ? kControllerLanes : k + 1); ++lane) {
+      for (int i = 0; i < 3; ++i) {
+        control.p_WB_W[i][lane] = body.p_WB_W[i];
+        control.v_WB_W[i][lane] = body.v_WB_W[i];
+        control.w_WB_B[i][lane] = body.w_WB_B[i];
+        control.p_ref_W[i][lane] = s[k].reference.p_W[i];
+        control.v_ref_W[i][lane] = s[k].reference.v_W[i];
+        control.a_ref_W[i][lane] = s[k].reference.a_W[i];
+        control.mean_wind_W[i][lane] = mean_wind[i];
+      }
+      for (int i = 0; i < 4; ++i) control.q_WB[i][lane] = body.q_WB.coeffs()[i];
+    }
+  }
+  if (first_flying < 0) return;
+  if (first_in_lanes >= 0) {
+    ControllerLaneOutputs out;
+    ComputeControllerLanes(path, {&model.controller(), &model.mixer(), &model.drag()}, control, out);
+    for (int k = 0; k < n; ++k) {
+      if (!flying[k] || !control_in_lanes[k]) continue;
+      for (int i = 0; i < 4; ++i) s[k].command[i] = out.command[i][k];
+      for (int i = 0; i < models::kRotorCount; ++i) s[k].allocated[i] = out.allocated[i][k];
+    }
+  }
+  // The rotors and the wind alone, the rigid bodies in lanes (a lane without a flight repeats the first's).
+  models::RigidBodyLanes bodies;
+  models::BodyInputLanes inputs;
+  for (int k = 0; k < n; ++k) {
+    if (!flying[k]) continue;
+    FlightState& state = *states[k];
+    StepRotors(model, state, believed[k], s[k]);
+    previous[k] = state.vehicle.body;
+    StepWind(model, state.vehicle, s[k]);
+    for (int lane = k == first_flying ? 0 : k; lane < (k == first_flying ? kControllerLanes : k + 1); ++lane) {
+      bodies.Set(lane, state.vehicle.body);
+      inputs.Set(lane, s[k].body_inputs);
+    }
+  }
+  models::StepRigidBodyLanes(path, model.scenario().body, model.drag(), bodies, inputs, model.dt());
+  for (int k = 0; k < n; ++k) {
+    if (!flying[k]) continue;
+    FlightState& state = *states[k];
+    state.vehicle.body = bodies.Get(k);
+    HoldOnGround(state.vehicle);
+    FinishVehicleStep(model, state, previous[k], believed[k], s[k], logs[k]);
+    FinishStep(model, state, s[k], logs[k]);
+  }
 }
 
 void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* log) {

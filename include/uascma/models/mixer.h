@@ -159,7 +159,6 @@ class Mixer {
   double max_hover_thrust(int failed_motor) const;
   const MixerParams& params() const { return params_; }
 
- private:
   // Everything Allocate needs for one failure case, computed at construction.
   struct Case {
     MixingMatrix mixing;                            // M (failed pair's columns zero)
@@ -170,6 +169,10 @@ class Mixer {
     int active_count = kRotorCount;
     bool yaw_controllable = true;
   };
+  // The case Allocate uses for `failed_motor` (sim/controller_lanes.h allocates the hexacopter's in lanes).
+  const Case& allocation_case(int failed_motor) const { return CaseFor(failed_motor); }
+
+ private:
   static Case BuildCase(const MixerParams& params, int failed_motor);
   // Case index: 0 none, 1 pair 1–4, 2 pair 2–5, 3 pair 3–6. Throws InputError on a bad motor.
   const Case& CaseFor(int failed_motor) const {

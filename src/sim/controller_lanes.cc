@@ -1,0 +1,244 @@
+// ComputeControllerLanes (sim/controller_lanes.h): gnc/lqr.cc's CalcDragFeedForward and LqrController::Compute and
+// models/mixer.cc's AllocateThrusts (six rotors) written once as a template over a GCC/Clang generic vector of 2
+// doubles (SSE2, lanes 0-1 then 2-3) or 4 (AVX2, through a target attribute). Each line names the scalar expression
+// it performs per lane, in its order; a branch of the scalar code is a select between values every lane computes
+// (both are computed by the same operations in every lane, so the selected one has the scalar code's bits). std::min
+// and std::max are their definitions, (b < a ? b : a) and (a < b ? b : a); std::clamp(v, lo, hi) is
+// (v < lo ? lo : (hi < v ? hi : v)). Compiled with -ffp-contract=off, out of the unity files and without the
+// precompiled header (src/sim/CMakeLists.txt), so that no multiply and add are fused on either path.
+#include "uascma/sim/controller_lanes.h"
+
+#include <cstring>
+#include <limits>
+
+#include "uascma/common/frames.h"
+
+namespace uascma::sim {
+namespace {
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+#define UASCMA_CONTROLLER_LANES_INLINE inline __attribute__((always_inline))
+
+using lane_math_internal::LaneMathV2;
+using lane_math_internal::LaneMathV4;
+
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE V Splat(double s) {
+  return lane_math_internal::Splat<V>(s);
+}
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE V Load(const ControllerLaneValues& a, int first) {
+  V v;
+  std::memcpy(&v, a.data() + first, sizeof(V));
+  return v;
+}
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE void Store(ControllerLaneValues& a, int first, V v) {
+  std::memcpy(a.data() + first, &v, sizeof(V));
+}
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE V Min(V a, V b) {  // std::min(a, b)
+  return b < a ? b : a;
+}
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE V Max(V a, V b) {  // std::max(a, b)
+  return a < b ? b : a;
+}
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE V Clamp(V v, V lo, V hi) {  // std::clamp(v, lo, hi)
+  return v < lo ? lo : (hi < v ? hi : v);
+}
+
+template <class V>
+struct Lanes3 {
+  V x, y, z;
+};
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> Load3(const std::array<ControllerLaneValues, 3>& a, int first) {
+  return {Load<V>(a[0], first), Load<V>(a[1], first), Load<V>(a[2], first)};
+}
+
+// gnc/lqr.cc's TiltDirection (y, x), AngleDifference and ClampTilt.
+template <class V>
+struct Direction {
+  V y, x;
+};
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE Direction<V> AngleDifference(const Direction<V>& b, const Direction<V>& a) {
+  return {a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y};
+}
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE Direction<V> ClampTilt(const Direction<V>& d, const gnc::TiltLimit& limit) {
+  // |d.y| > tan · d.x → (copysign(sin, d.y), cos)
+  const auto beyond = lane_math_internal::Abs(d.y) > limit.tan * d.x;
+  return {beyond ? lane_math_internal::CopySign(Splat<V>(limit.sin), d.y) : d.y, beyond ? Splat<V>(limit.cos) : d.x};
+}
+// ClampNorm(v, limit) of a 2-vector, in place: n = |v| (x² + y²), v · (limit / n) when n > limit.
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE void ClampNorm(V& x, V& y, double limit) {
+  const V n = lane_math_internal::Sqrt(x * x + y * y);
+  const auto beyond = n > Splat<V>(limit);
+  const V factor = Splat<V>(limit) / n;
+  x = beyond ? x * factor : x;
+  y = beyond ? y * factor : y;
+}
+// RotateToHeading(cos ψ, sin ψ, v), in place.
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE void RotateToHeading(V cos_yaw, V sin_yaw, V& x, V& y) {
+  const V rotated_x = cos_yaw * x + sin_yaw * y;
+  y = -sin_yaw * x + cos_yaw * y;
+  x = rotated_x;
+}
+
+// The lanes [first, first + width) of ComputeControllerLanes.
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in,
+                                                 ControllerLaneOutputs& out, int first) {
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  const gnc::LqrController& controller = *vehicle.controller;
+  const gnc::LqrOptions& options = controller.options();
+  const double mass = controller.params().mass;
+  const V zero = Splat<V>(0.0);
+  const V one = Splat<V>(1.0);
+
+  // EulerEntriesOf(q) (common/frames.h) and z_B = q.toRotationMatrix().col(2) (Eigen's arithmetic).
+  const V qx = Load<V>(in.q_WB[0], first), qy = Load<V>(in.q_WB[1], first), qz = Load<V>(in.q_WB[2], first),
+          qw = Load<V>(in.q_WB[3], first);
+  const V tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
+  const V twy = ty * qw, twx = tx * qw, twz = tz * qw;
+  const V txx = tx * qx, txy = ty * qx, txz = tz * qx;
+  const V tyy = ty * qy, tyz = tz * qy, tzz = tz * qz;
+  const V r00 = 1.0 - (tyy + tzz), r10 = txy + twz, r20 = txz - twy, r21 = tyz + twx, r22 = 1.0 - (txx + tyy);
+  const Lanes3<V> z_B = {txz + twy, tyz - twx, r22};
+
+  // CalcDragFeedForward(body, drag, z_B, v_ref, wind): drag / (m |v_air|) · v_air, zero for |v_air| <= 1e-9; the
+  // target's acceleration is the reference's plus it (a sum the scalar code always forms, zero or not).
+  const Lanes3<V> v_ref = Load3<V>(in.v_ref_W, first);
+  const Lanes3<V> wind = Load3<V>(in.mean_wind_W, first);
+  const Lanes3<V> v_air = {v_ref.x - wind.x, v_ref.y - wind.y, v_ref.z - wind.z};
+  const V airspeed = lane_math_internal::Sqrt(v_air.x * v_air.x + v_air.y * v_air.y + v_air.z * v_air.z);
+  const auto moving = airspeed > Splat<V>(1e-9);
+  const V sine = Clamp((v_air.x * z_B.x + v_air.y * z_B.y + v_air.z * z_B.z) / airspeed, Splat<V>(-1.0), one);
+  V drag = zero;
+  for (int i = 0; i < kWidth; ++i) {
+    if (moving[i]) drag[i] = vehicle.drag->DragAtSine(airspeed[i], sine[i]);  // libm's asin, per lane
+  }
+  const V scale = drag / (mass * airspeed);
+  const Lanes3<V> a_ref = Load3<V>(in.a_ref_W, first);
+  const Lanes3<V> a = {a_ref.x + (moving ? scale * v_air.x : zero), a_ref.y + (moving ? scale * v_air.y : zero),
+                       a_ref.z + (moving ? scale * v_air.z : zero)};
+
+  // LqrController::Compute(state, target).
+  const gnc::TiltLimit& limit = controller.tilt_limit();
+  const V vertical = Max(kGravity - a.z, one);
+  const Direction<V> pitch_ref = ClampTilt<V>({-a.x, vertical}, limit);
+  const V cos_pitch_ref = pitch_ref.x / lane_math_internal::Sqrt(pitch_ref.x * pitch_ref.x + pitch_ref.y * pitch_ref.y);
+  const Direction<V> roll_ref = ClampTilt<V>({a.y * cos_pitch_ref, vertical}, limit);
+  const Lanes3<V> p = Load3<V>(in.p_WB_W, first), p_ref = Load3<V>(in.p_ref_W, first);
+  const Lanes3<V> v = Load3<V>(in.v_WB_W, first);
+  V e0 = p.x - p_ref.x, e1 = p.y - p_ref.y;
+  ClampNorm(e0, e1, options.max_horizontal_error);
+  const V e2 = Clamp(p.z - p_ref.z, Splat<V>(-options.max_vertical_error), Splat<V>(options.max_vertical_error));
+  V e3 = v.x - v_ref.x, e4 = v.y - v_ref.y;
+  ClampNorm(e3, e4, options.max_velocity_error);
+  const V e5 = Clamp(v.z - v_ref.z, Splat<V>(-options.max_velocity_error), Splat<V>(options.max_velocity_error));
+  const V heading_norm = lane_math_internal::Sqrt(r00 * r00 + r10 * r10);
+  const auto heading = heading_norm > zero;
+  const V cos_yaw = heading ? r00 / heading_norm : one;
+  const V sin_yaw = heading ? r10 / heading_norm : zero;
+  RotateToHeading(cos_yaw, sin_yaw, e0, e1);
+  RotateToHeading(cos_yaw, sin_yaw, e3, e4);
+  const Direction<V> roll = {r21, r22};
+  const Direction<V> pitch_error = AngleDifference<V>({-r20, heading_norm}, pitch_ref);
+  const auto upright = r22 > zero;
+  const Direction<V> roll_difference = AngleDifference(roll, roll_ref);
+  const Direction<V> roll_error = {upright ? roll_difference.y : zero, upright ? roll_difference.x : one};
+  using lane_math_internal::Atan2Kernel;
+  const V roll_angle_error = Atan2Kernel(roll_error.y, roll_error.x);
+  // Upside down: the two angles subtracted (computed in every lane, selected where R22 <= 0).
+  const V roll_angles_subtracted = Atan2Kernel(roll.y, roll.x) - Atan2Kernel(roll_ref.y, roll_ref.x);
+  const V e6 = upright ? roll_angle_error : roll_angles_subtracted;
+  const V e7 = Atan2Kernel(pitch_error.y, pitch_error.x);
+  const V e8 = Atan2Kernel(r10, r00);
+  const Lanes3<V> w = Load3<V>(in.w_WB_B, first);
+  const gnc::GainMatrix& g = controller.negative_gain();
+  const V u0 = g(0, 2) * e2 + g(0, 5) * e5;
+  const V u1 = g(1, 1) * e1 + g(1, 4) * e4 + g(1, 6) * e6 + g(1, 9) * w.x;
+  const V u2 = g(2, 0) * e0 + g(2, 3) * e3 + g(2, 7) * e7 + g(2, 10) * w.y;
+  const V u3 = g(3, 8) * e8 + g(3, 11) * w.z;
+  const V cos_tilt = Max(r22, Splat<V>(0.5));
+  const V thrust = Max((mass * (kGravity - a.z) + u0) / cos_tilt, zero);
+  Store(out.command[0], first, thrust);
+  Store(out.command[1], first, u1);
+  Store(out.command[2], first, u2);
+  Store(out.command[3], first, u3);
+
+  // Mixer::AllocateThrusts with every rotor (models/mixer.cc), the command (thrust, u1, u2, u3).
+  const auto& c = vehicle.mixer->allocation_case(models::kNoFailedMotor);
+  const double max_thrust = vehicle.mixer->params().max_rotor_thrust;
+  V t[models::kRotorCount];
+  V lowest = Splat<V>(std::numeric_limits<double>::infinity());
+  V highest = Splat<V>(-std::numeric_limits<double>::infinity());
+  for (int i = 0; i < models::kRotorCount; ++i) {
+    t[i] = c.primary(i, 1) * u1 + c.primary(i, 2) * u2;
+    lowest = Min(lowest, t[i]);
+    highest = Max(highest, t[i]);
+  }
+  const V spread = highest - lowest;
+  const auto too_wide = spread > max_thrust;
+  const V roll_pitch_scale = max_thrust / spread;
+  for (V& ti : t) ti = too_wide ? ti * roll_pitch_scale : ti;
+  lowest = too_wide ? lowest * roll_pitch_scale : lowest;
+  highest = too_wide ? highest * roll_pitch_scale : highest;
+  const V wanted_share = thrust / static_cast<double>(c.active_count);
+  const V share = Max(-lowest, Min(wanted_share, max_thrust - highest));
+  for (int i = 0; i < models::kRotorCount; ++i) t[i] = t[i] + c.active(i) * share;
+  // The yaw row's dot product in Eigen's unrolled order, then the yaw step scaled to the rotor limits.
+  V m[models::kRotorCount];
+  for (int i = 0; i < models::kRotorCount; ++i) m[i] = c.mixing(3, i) * t[i];
+  const V missing_yaw = u3 - ((m[0] + (m[1] + m[2])) + (m[3] + (m[4] + m[5])));
+  V yaw_scale = one;
+  V yaw_step[models::kRotorCount];
+  for (int i = 0; i < models::kRotorCount; ++i) {
+    yaw_step[i] = c.yaw_direction(i) * missing_yaw;
+    // step > 0: room = T_max − t; step < 0: room = −t; the scale falls to room / step where room is the tighter bound.
+    const auto up = yaw_step[i] > zero;
+    const auto down = yaw_step[i] < zero;
+    const V room = up ? max_thrust - t[i] : -t[i];
+    const V bound = yaw_scale * yaw_step[i];
+    const auto tighter = (up & (room < bound)) | (down & (room > bound));
+    yaw_scale = tighter ? Min(yaw_scale, room / yaw_step[i]) : yaw_scale;
+  }
+  yaw_scale = Max(yaw_scale, zero);
+  for (int i = 0; i < models::kRotorCount; ++i) {
+    const V ti = t[i] + yaw_scale * yaw_step[i];
+    Store(out.allocated[i], first, Min(Max(ti, zero), Splat<V>(max_thrust)));
+  }
+}
+
+void ComputeSse2(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in, ControllerLaneOutputs& out) {
+  ComputeLanes<LaneMathV2>(vehicle, in, out, 0);
+  ComputeLanes<LaneMathV2>(vehicle, in, out, 2);
+}
+
+__attribute__((target("avx2"))) void ComputeAvx2(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in,
+                                                 ControllerLaneOutputs& out) {
+  ComputeLanes<LaneMathV4>(vehicle, in, out, 0);
+}
+
+#pragma GCC diagnostic pop
+
+}  // namespace
+
+void ComputeControllerLanes(lane_math::LaneMathPath path, const ControllerLaneVehicle& vehicle,
+                            const ControllerLaneInputs& in, ControllerLaneOutputs& out) {
+  if (path == lane_math::LaneMathPath::kAvx2 && lane_math::LaneMathPathSupported(path)) {
+    ComputeAvx2(vehicle, in, out);
+  } else {
+    ComputeSse2(vehicle, in, out);
+  }
+}
+
+}  // namespace uascma::sim

@@ -1,0 +1,128 @@
+// StepTogether (sim/flight.h, issue 27 item 4): flights stepped in lanes are, bit for bit, the flights stepped alone
+// with Step: the whole state at every decision epoch and at the end, the events and the telemetry's thrusts and
+// positions. Groups of four and of three flights of one model (different seeds: different winds, sensor noise and
+// ends), with turbulence, with a spall that jams a motor (the IMM's isolation moves a flight's control out of the
+// lanes while the others stay), and without the feed-forward (no flight's control in lanes).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "same_flight.h"
+#include "uascma/sim/flight.h"
+#include "uascma/sim/policy.h"
+#include "uascma/sim/scenario.h"
+
+namespace uascma::sim {
+namespace {
+
+Scenario ScenarioOne() {
+  return LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario;
+}
+
+Scenario ShortJam() {
+  Scenario scenario;
+  scenario.name = "short jam";
+  scenario.mission.destination_NE = Eigen::Vector2d(300, 200);
+  scenario.wind.mean_speed = 2.0;
+  scenario.wind.turbulence = models::TurbulenceCategory::kLowModerate;
+  scenario.fault.enabled = true;
+  scenario.fault.motor = 2;
+  scenario.fault.spall_onset_s = 30.0;
+  scenario.fault.time_per_growth_step_s = 0.7128;
+  return scenario;
+}
+
+// The NoOp policy's epoch, then the step, for each flight: `together` steps them with StepTogether, otherwise
+// each with Step. Returns the flights at their ends; `epochs_compared` collects the states at every epoch.
+struct Flown {
+  std::vector<FlightState> states;
+  std::vector<FlightLog> logs;
+  std::vector<std::vector<FlightState>> at_epochs;
+};
+
+Flown Fly(const FlightModel& model, const std::vector<std::uint64_t>& seeds, bool together) {
+  Flown flown;
+  const std::size_t n = seeds.size();
+  for (std::uint64_t seed : seeds) flown.states.push_back(MakeInitialState(model, seed));
+  flown.logs.resize(n);
+  flown.at_epochs.resize(n);
+  for (FlightLog& log : flown.logs) log.record_telemetry = true;
+  NoOpPolicy noop;
+  std::vector<FlightState*> states;
+  std::vector<FlightLog*> logs;
+  for (std::size_t k = 0; k < n; ++k) {
+    states.push_back(&flown.states[k]);
+    logs.push_back(&flown.logs[k]);
+  }
+  auto all_done = [&] {
+    for (const FlightState& state : flown.states) {
+      if (!state.done()) return false;
+    }
+    return true;
+  };
+  while (!all_done()) {
+    for (std::size_t k = 0; k < n; ++k) {
+      FlightState& state = flown.states[k];
+      if (state.done() || !IsDecisionEpoch(model, state)) continue;
+      flown.at_epochs[k].push_back(state);
+      Act(model, state, noop.Decide(Observe(model, state, &flown.logs[k])), {}, &flown.logs[k]);
+    }
+    if (together) {
+      StepTogether(model, states, logs);
+    } else {
+      for (std::size_t k = 0; k < n; ++k) Step(model, flown.states[k], &flown.logs[k]);
+    }
+  }
+  return flown;
+}
+
+void ExpectTogetherAsAlone(const Scenario& scenario, const std::vector<std::uint64_t>& seeds) {
+  const FlightModel model(scenario);
+  const Flown alone = Fly(model, seeds, false);
+  const Flown together = Fly(model, seeds, true);
+  for (std::size_t k = 0; k < seeds.size(); ++k) {
+    SCOPED_TRACE("seed " + std::to_string(seeds[k]));
+    ASSERT_EQ(alone.at_epochs[k].size(), together.at_epochs[k].size());
+    for (std::size_t e = 0; e < alone.at_epochs[k].size(); ++e) {
+      ASSERT_TRUE(alone.at_epochs[k][e] == together.at_epochs[k][e]) << "first difference at epoch " << e;
+    }
+    ExpectSameFlight(alone.states[k], together.states[k]);
+    const FlightLog& a = alone.logs[k];
+    const FlightLog& b = together.logs[k];
+    ASSERT_EQ(a.events.size(), b.events.size());
+    for (std::size_t i = 0; i < a.events.size(); ++i) {
+      EXPECT_EQ(a.events[i].time_s, b.events[i].time_s);
+      EXPECT_EQ(a.events[i].what, b.events[i].what);
+    }
+    ASSERT_EQ(a.telemetry.size(), b.telemetry.size());
+    for (std::size_t i = 0; i < a.telemetry.size(); ++i) {
+      ASSERT_TRUE(a.telemetry[i].p_W == b.telemetry[i].p_W) << "telemetry row " << i;
+      ASSERT_TRUE(a.telemetry[i].rotor_thrust == b.telemetry[i].rotor_thrust) << "telemetry row " << i;
+      ASSERT_EQ(a.telemetry[i].bus_voltage, b.telemetry[i].bus_voltage) << "telemetry row " << i;
+    }
+  }
+}
+
+TEST(StepTogetherTest, FourTurbulentFlightsAsEachAlone) { ExpectTogetherAsAlone(ScenarioOne(), {1, 2, 3, 4}); }
+
+TEST(StepTogetherTest, ThreeFlightsWithAJammedMotorAsEachAlone) {
+  // The spall jams motor 2 and the IMM isolates it in every flight, at times that differ with the seed.
+  const Scenario scenario = ShortJam();
+  ExpectTogetherAsAlone(scenario, {5, 6, 7});
+  // The jam and its isolation happened (the control left the lanes for the quadcopter allocation).
+  const FlightModel model(scenario);
+  const Flown flown = Fly(model, {5}, true);
+  EXPECT_NE(flown.states[0].faults.jammed_rotor, 0);
+  EXPECT_NE(flown.states[0].faults.allocation_failure, 0);
+}
+
+TEST(StepTogetherTest, FlightsWithoutTheFeedForwardAsEachAlone) {
+  Scenario scenario = ShortJam();
+  scenario.fault.enabled = false;
+  scenario.options.drag_feedforward = false;
+  ExpectTogetherAsAlone(scenario, {8, 9, 10, 11});
+}
+
+}  // namespace
+}  // namespace uascma::sim
