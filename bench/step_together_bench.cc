@@ -28,8 +28,7 @@ struct Fleet {
 
 const Fleet& CruisingFleet() {
   static const Fleet fleet = [] {
-    Fleet f{FlightModel(LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario),
-            {}};
+    Fleet f{FlightModel(LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario), {}};
     NoOpPolicy noop;
     const Controllers controllers{&noop, nullptr, {}};
     for (std::uint64_t seed = 1; seed <= kFlights; ++seed) {
@@ -48,6 +47,8 @@ void BM_FourFlights(benchmark::State& bench) {
   const FlightModel& model = fleet.model;
   const int steps = model.steps_per_epoch();
   std::array<FlightState*, kFlights> pointers{};
+  std::array<const FlightModel*, kFlights> flight_models{};
+  flight_models.fill(&model);
   const std::array<FlightLog*, kFlights> logs{};
   for (auto _ : bench) {
     std::vector<FlightState> states = fleet.at_cruise;
@@ -61,14 +62,13 @@ void BM_FourFlights(benchmark::State& bench) {
         for (FlightState& state : states) Step(model, state);
       }
     } else {
-      for (int i = 0; i < steps; ++i) StepTogether(model, pointers, logs);
+      for (int i = 0; i < steps; ++i) StepTogether(flight_models, pointers, logs);
     }
     benchmark::DoNotOptimize(states.data());
     benchmark::ClobberMemory();
   }
-  bench.counters["ns_per_flight_step"] = benchmark::Counter(
-      static_cast<double>(bench.iterations()) * kFlights * steps,
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  bench.counters["ns_per_flight_step"] = benchmark::Counter(static_cast<double>(bench.iterations()) * kFlights * steps,
+                                                            benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   bench.SetLabel(mode == 0 ? "alone, sequential" : mode == 1 ? "alone, interleaved" : "together (lanes)");
 }
 BENCHMARK(BM_FourFlights)->ArgName("mode")->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);

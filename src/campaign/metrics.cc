@@ -120,24 +120,35 @@ RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const C
 std::vector<RunRecord> FlyRunTogether(const sim::Simulator& simulator, const SampledRun& run,
                                       std::span<const CampaignPolicy* const> policies, std::span<const int> slots,
                                       int num_policies, const PlannerFactory& planner_factory) {
+  sim::EpochSteps steps(false);
+  RunInFlight flying(simulator, run, policies, slots, num_policies, planner_factory, steps);
+  flying.coroutine().RunToEnd();
+  return flying.Records();
+}
+
+RunInFlight::RunInFlight(const sim::Simulator& simulator, const SampledRun& run,
+                         std::span<const CampaignPolicy* const> policies, std::span<const int> slots, int num_policies,
+                         const PlannerFactory& planner_factory, sim::EpochSteps& steps)
+    : run_(run), slots_(slots.begin(), slots.end()), num_policies_(num_policies) {
   UASCMA_CHECK(policies.size() == slots.size(), "one slot per policy");
-  std::vector<std::unique_ptr<sim::DecisionPolicy>> decide;
-  std::vector<std::unique_ptr<RecordingPolicy>> recording;
-  std::vector<sim::DecisionPolicy*> flying;
-  std::vector<sim::EmergencyPlanner> planners;
   for (const CampaignPolicy* policy : policies) {
-    decide.push_back(MakeDecisionPolicy(*policy));
-    recording.push_back(std::make_unique<RecordingPolicy>(*decide.back()));
-    flying.push_back(recording.back().get());
-    planners.push_back(planner_factory ? planner_factory(simulator) : sim::EmergencyPlanner{});
+    names_.push_back(policy->name);
+    decide_.push_back(MakeDecisionPolicy(*policy));
+    recording_.push_back(std::make_unique<RecordingPolicy>(*decide_.back()));
+    flying_.push_back(recording_.back().get());
+    planners_.push_back(planner_factory ? planner_factory(simulator) : sim::EmergencyPlanner{});
   }
   sim::RunOptions options;
   options.record_telemetry = false;
-  const std::vector<sim::SimResult> results = simulator.RunTogether(flying, planners, options);
+  coroutine_ = sim::FlyTogether(simulator.model(), flying_, planners_, options, steps, results_);
+}
+
+std::vector<RunRecord> RunInFlight::Records() const {
+  UASCMA_CHECK(coroutine_.done(), "a run's records once it has been flown");
   std::vector<RunRecord> records;
-  for (std::size_t k = 0; k < policies.size(); ++k) {
+  for (std::size_t k = 0; k < names_.size(); ++k) {
     records.push_back(
-        MakeRunRecord(run, policies[k]->name, slots[k], num_policies, results[k], recording[k]->decisions()));
+        MakeRunRecord(run_, names_[k], slots_[k], num_policies_, results_[k], recording_[k]->decisions()));
   }
   return records;
 }

@@ -1,6 +1,7 @@
 #include "uascma/campaign/runner.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
@@ -18,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mpi_transport.h"
+#include "runs_in_flight.h"
 #include "uascma/campaign/mpi_session.h"
 #include "uascma/common/error.h"
 #include "uascma/common/parallel_for.h"
@@ -38,20 +40,14 @@ struct LoopHooks {
   double tick_period_s = kHeartbeatPeriodSeconds;
 };
 
-// Hands job `job` (0, 1, 2, … of ParallelFor) its task; nothing once the work is done. `stop` is raised when
-// the work must end early (an error, Ctrl-C); a source that waits for other processes checks it, and calls
-// `request_flush` first: the records this process has finished are handed to the sink at once rather
-// than at the next interval, since another process may be waiting for exactly those.
-using TaskSource = std::function<std::optional<FlightTask>(std::int64_t job, const CancellationToken& stop,
-                                                           const std::function<void()>& request_flush)>;
-
-// A TaskSource over a fixed list (which must outlive it): job i flies tasks[i].
+// A TaskSource over a fixed list (which must outlive it), in its order.
 TaskSource ListedTasks(const std::vector<FlightTask>& tasks) {
-  return
-      [&tasks](std::int64_t job, const CancellationToken&, const std::function<void()>&) -> std::optional<FlightTask> {
-        if (job < 0 || static_cast<std::size_t>(job) >= tasks.size()) return std::nullopt;
-        return tasks[static_cast<std::size_t>(job)];
-      };
+  auto next = std::make_shared<std::atomic<std::size_t>>(0);
+  return [&tasks, next](const CancellationToken&, const std::function<void()>&, bool) -> std::optional<FlightTask> {
+    const std::size_t k = next->fetch_add(1);
+    if (k >= tasks.size()) return std::nullopt;
+    return tasks[k];
+  };
 }
 
 // How often a process that has nothing left to claim looks again at the runs other workers hold (our
@@ -75,7 +71,11 @@ class ClaimedTasks {
         held_(std::move(held)),
         notice_(std::move(notice)) {}
 
-  std::optional<FlightTask> Next(const CancellationToken& stop, const std::function<void()>& request_flush) {
+  // TaskSource's `may_wait` false: nothing once every candidate has been examined (the runs other workers hold are
+  // looked at again only by a call that may wait: a thread with runs of its own in flight does not wait for others,
+  // who may be waiting for those).
+  std::optional<FlightTask> Next(const CancellationToken& stop, const std::function<void()>& request_flush,
+                                 bool may_wait) {
     while (!stop.IsCancelled()) {
       {
         const std::lock_guard lock(store_mutex_);
@@ -89,6 +89,7 @@ class ClaimedTasks {
           if (!result.claimed.empty()) return std::move(result.claimed.front());
           continue;
         }
+        if (!may_wait) return std::nullopt;
         if (held_.empty()) return std::nullopt;
         ClaimResult result = store_.ClaimRuns(held_, 1);
         std::vector<std::int64_t> still_held = std::move(result.held);
@@ -171,10 +172,11 @@ struct FlightsInFlight {
 
 // Flies the tasks `next_task` hands out on `jobs` threads (common/parallel_for.h; this thread is one of them) and
 // passes each task's records to `flights` as it ends. Unordered: the store orders its rows by flight_id, and
-// another process may be waiting for exactly the run just flown (ClaimedTasks). `cancel`: no new run is started
-// (StopRequested, i.e. Ctrl-C in the CLI or Python, through its parent; or the collecting loop failed); the
-// finished ones are handed over as usual and the caller reports the stop. Never throws: a task's failure is
-// left in flights.error.
+// another process may be waiting for exactly the run just flown (ClaimedTasks). Each thread keeps up to
+// options.runs_in_flight runs in flight (issue 27 item 4), their flights stepped in lockstep (sim/lockstep.h): every
+// run's records are those it has flown alone. `cancel`: no new run is started (StopRequested, i.e. Ctrl-C in the
+// CLI or Python, through its parent; or the collecting loop failed); the runs in flight are finished and handed over
+// as usual and the caller reports the stop. Never throws: a task's failure is left in flights.error.
 void FlyTasks(const CampaignConfig& config, const std::vector<CampaignPolicy>& policies, const TaskSource& next_task,
               std::size_t max_tasks, const ExecuteOptions& options, const CancellationToken& cancel,
               ProgressBar* progress, FlightsInFlight& flights) {
@@ -184,33 +186,29 @@ void FlyTasks(const CampaignConfig& config, const std::vector<CampaignPolicy>& p
   parallel.ordered = false;
   parallel.cancel = &cancel;
   const std::function<void()> request_flush = [&flights] { flights.RequestFlush(); };
+  auto hand_over = [&](std::vector<RunRecord>&& records) {
+    if (records.empty()) return;
+    const auto count = static_cast<std::int64_t>(records.size());
+    {
+      const std::lock_guard lock(flights.mutex);
+      flights.finished.insert(flights.finished.end(), std::make_move_iterator(records.begin()),
+                              std::make_move_iterator(records.end()));
+    }
+    if (progress != nullptr) progress->Advance(count);
+    flights.ready.notify_one();
+  };
   try {
     // The campaign's world (campaign/world.h): RunCampaign's, or built once here for every task.
     const std::shared_ptr<const CampaignWorld> world =
         options.world ? options.world : std::make_shared<const CampaignWorld>(BuildCampaignWorld(config.map));
+    const auto threads = static_cast<std::int64_t>(std::min<std::size_t>(max_tasks, parallel.jobs));
     ParallelFor(
-        static_cast<std::int64_t>(max_tasks), parallel,
-        [&](std::int64_t job, const CancellationToken& stop) -> std::vector<RunRecord> {
-          const std::optional<FlightTask> task = next_task(job, stop, request_flush);
-          if (!task) return {};
-          const SampledRun run = SampleRun(config, *world, config.seed, task->run_index);
-          const sim::Simulator simulator(run.scenario);  // built once, flown by every policy (paired)
-          // The run's policies fly one vehicle until their decisions differ (FlyRunTogether).
-          std::vector<const CampaignPolicy*> flown;
-          for (int slot : task->slots) flown.push_back(&policies[slot]);
-          return FlyRunTogether(simulator, run, flown, task->slots, num_policies, options.planner_factory);
+        threads, parallel,
+        [&](std::int64_t, const CancellationToken& stop) -> int {
+          FlyRunsInFlight(config, policies, *world, next_task, options, stop, request_flush, hand_over);
+          return 0;
         },
-        [&](std::int64_t, std::vector<RunRecord>&& records) {
-          if (records.empty()) return;
-          const auto count = static_cast<std::int64_t>(records.size());
-          {
-            const std::lock_guard lock(flights.mutex);
-            flights.finished.insert(flights.finished.end(), std::make_move_iterator(records.begin()),
-                                    std::make_move_iterator(records.end()));
-          }
-          if (progress != nullptr) progress->Advance(count);
-          flights.ready.notify_one();
-        });
+        [](std::int64_t, int) {});
   } catch (...) {
     const std::lock_guard lock(flights.mutex);
     flights.error = std::current_exception();
@@ -490,8 +488,8 @@ class RootStore {
     hooks.tick = [this] { Heartbeat(); };
     ExecuteFlightsImpl(
         request_.config, request_.policies,
-        [&claims](std::int64_t, const CancellationToken& stop, const std::function<void()>& request_flush) {
-          return claims.Next(stop, request_flush);
+        [&claims](const CancellationToken& stop, const std::function<void()>& request_flush, bool may_wait) {
+          return claims.Next(stop, request_flush, may_wait);
         },
         most, execute_, [this](std::vector<RunRecord>&& batch) { Insert(batch); }, progress, hooks);
   }

@@ -20,26 +20,41 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// One epoch of the shared flight: StepEpoch's decision with each policy of `together` deciding on the same
+// observation, into `decided`.
+void DecideShared(const FlightModel& model, std::span<DecisionPolicy* const> policies,
+                  const std::vector<std::size_t>& together, const RunOptions& options, FlightState& state,
+                  FlightLog& log, std::vector<DecisionPolicy*>& sharing_policies,
+                  std::vector<decision::CmaAction>& decided) {
+  bool eod_distribution = log.record_telemetry;
+  sharing_policies.clear();
+  for (std::size_t k : together) {
+    eod_distribution = eod_distribution || NeedsEodDistribution(policies[k], nullptr);
+    sharing_policies.push_back(policies[k]);
+  }
+  const DecisionInputs& inputs =
+      BeginEpoch(model, state, options.battery_policy, &log, eod_distribution,
+                 EpochEodPrecision(model, sharing_policies, options.battery_policy, &log, eod_distribution));
+  decided.clear();
+  for (std::size_t k : together) decided.push_back(policies[k]->Decide(inputs));
+}
+
 }  // namespace
 
-std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionPolicy* const> policies,
-                                   std::span<const EmergencyPlanner> planners, const RunOptions& options) {
+FlightCoroutine FlyTogether(const FlightModel& model, std::span<DecisionPolicy* const> policies,
+                            std::span<const EmergencyPlanner> planners, RunOptions options, EpochSteps& steps,
+                            std::vector<SimResult>& results) {
   UASCMA_CHECK(planners.size() == policies.size(), "one planner (possibly empty) per policy");
   const std::size_t n = policies.size();
-  std::vector<SimResult> results(n);
+  results.assign(n, SimResult{});
   std::vector<double> wall_s(n, 0.0);
-  auto finish = [&](std::size_t k, const FlightState& state, FlightLog log) {
-    results[k] = MakeSimResult(model, state, std::move(log), policies[k]->name());
-    results[k].wall_time_s = wall_s[k];
+  // Flights of one policy each, from a decision epoch before its Observe, flown on alone after the shared flight.
+  struct Alone {
+    std::size_t k;
+    FlightState state;
+    FlightLog log;
   };
-  // A flight of one policy from a decision epoch, before its Observe, to its end: as Run flies it.
-  auto fly_on = [&](std::size_t k, FlightState state, FlightLog log) {
-    const auto start = std::chrono::steady_clock::now();
-    const Controllers controllers{policies[k], options.battery_policy, planners[k]};
-    while (!state.done()) StepEpoch(model, state, controllers, &log);
-    wall_s[k] += SecondsSince(start);
-    finish(k, state, std::move(log));
-  };
+  std::vector<Alone> alone;
 
   FlightState state = MakeInitialState(model, model.scenario().seed);
   FlightLog log;
@@ -49,20 +64,9 @@ std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionP
   std::vector<decision::CmaAction> decided;
   std::vector<DecisionPolicy*> sharing_policies;
   while (!state.done() && together.size() > 1) {
-    // One epoch of the shared flight: StepEpoch with each policy deciding on the same observation.
     const auto start = std::chrono::steady_clock::now();
     const std::size_t sharing = together.size();
-    bool eod_distribution = log.record_telemetry;
-    sharing_policies.clear();
-    for (std::size_t k : together) {
-      eod_distribution = eod_distribution || NeedsEodDistribution(policies[k], nullptr);
-      sharing_policies.push_back(policies[k]);
-    }
-    const DecisionInputs& inputs =
-        BeginEpoch(model, state, options.battery_policy, &log, eod_distribution,
-                   EpochEodPrecision(model, sharing_policies, options.battery_policy, &log, eod_distribution));
-    decided.clear();
-    for (std::size_t k : together) decided.push_back(policies[k]->Decide(inputs));
+    DecideShared(model, policies, together, options, state, log, sharing_policies, decided);
     std::vector<std::size_t> still;
     for (std::size_t i = 0; i < together.size(); ++i) {
       if (decided[i] == decision::CmaAction::kNoOp) still.push_back(together[i]);
@@ -71,32 +75,54 @@ std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionP
     for (std::size_t i = 0; i < together.size(); ++i) {
       wall_s[together[i]] += shared_s / static_cast<double>(sharing);
       if (decided[i] == decision::CmaAction::kNoOp) continue;
+      // The branch: a copy of the state and the log, which has the same future bit for bit.
       const std::size_t k = together[i];
-      FlightState own = state;  // the branch: both copies have the same future bit for bit
-      FlightLog own_log = log;
+      Alone branch{k, state, log};
       const auto act_start = std::chrono::steady_clock::now();
-      RecordEodAtAction(model, own, decided[i]);
-      Act(model, own, decided[i], planners[k], &own_log, policies[k]->Ranking(own.decision.inputs));
-      StepToNextEpoch(model, own, &own_log);
+      RecordEodAtAction(model, branch.state, decided[i]);
+      Act(model, branch.state, decided[i], planners[k], &branch.log,
+          policies[k]->Ranking(branch.state.decision.inputs));
       wall_s[k] += SecondsSince(act_start);
-      fly_on(k, std::move(own), std::move(own_log));
+      co_await steps.ToNextEpoch(model, branch.state, &branch.log, &wall_s[k]);
+      alone.push_back(std::move(branch));
     }
     together = std::move(still);
-    if (together.empty()) return results;
-    const auto step_start = std::chrono::steady_clock::now();
+    if (together.empty()) break;
     Act(model, state, decision::CmaAction::kNoOp, planners[together.front()], &log);  // NoOp asks no planner
-    StepToNextEpoch(model, state, &log);
-    const double step_s = SecondsSince(step_start);
+    double step_s = 0.0;
+    co_await steps.ToNextEpoch(model, state, &log, &step_s);
     for (std::size_t k : together) wall_s[k] += step_s / static_cast<double>(together.size());
   }
   if (together.size() == 1) {
-    fly_on(together.front(), std::move(state), std::move(log));
-    return results;
+    alone.push_back({together.front(), std::move(state), std::move(log)});
+  } else {
+    // The flight ended while shared (or every policy branched): every policy still in it has the same result.
+    for (std::size_t i = 0; i < together.size(); ++i) {
+      const std::size_t k = together[i];
+      results[k] = MakeSimResult(model, state, i + 1 == together.size() ? std::move(log) : log, policies[k]->name());
+      results[k].wall_time_s = wall_s[k];
+    }
   }
-  // The flight ended while shared: every policy still in it has the same result.
-  for (std::size_t i = 0; i < together.size(); ++i) {
-    finish(together[i], state, i + 1 == together.size() ? std::move(log) : log);
+  // Each branch (and the last policy of the shared flight) on alone, as Run flies it.
+  for (Alone& flight : alone) {
+    const std::size_t k = flight.k;
+    const Controllers controllers{policies[k], options.battery_policy, planners[k]};
+    while (!flight.state.done()) {
+      const auto start = std::chrono::steady_clock::now();
+      DecideEpoch(model, flight.state, controllers, &flight.log);
+      wall_s[k] += SecondsSince(start);
+      co_await steps.ToNextEpoch(model, flight.state, &flight.log, &wall_s[k]);
+    }
+    results[k] = MakeSimResult(model, flight.state, std::move(flight.log), policies[k]->name());
+    results[k].wall_time_s = wall_s[k];
   }
+}
+
+std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionPolicy* const> policies,
+                                   std::span<const EmergencyPlanner> planners, const RunOptions& options) {
+  EpochSteps steps(false);
+  std::vector<SimResult> results;
+  FlyTogether(model, policies, planners, options, steps, results).RunToEnd();
   return results;
 }
 

@@ -92,45 +92,64 @@ UASCMA_CONTROLLER_LANES_INLINE void RotateToHeading(V cos_yaw, V sin_yaw, V& x, 
   x = rotated_x;
 }
 
-// The lanes [first, first + width) of ComputeControllerLanes.
+// The entries of R_WB the controller reads: EulerEntriesOf(q) (common/frames.h), and z_B = q.toRotationMatrix().col(2)
+// (Eigen's arithmetic), whose third entry is r22.
 template <class V>
-UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in,
-                                                 ControllerLaneOutputs& out, int first) {
-  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
-  const gnc::LqrController& controller = *vehicle.controller;
-  const gnc::LqrOptions& options = controller.options();
-  const double mass = controller.params().mass;
-  const V zero = Splat<V>(0.0);
-  const V one = Splat<V>(1.0);
-
-  // EulerEntriesOf(q) (common/frames.h) and z_B = q.toRotationMatrix().col(2) (Eigen's arithmetic).
+struct Rotation {
+  V r00, r10, r20, r21, r22, z_x, z_y;
+};
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE Rotation<V> RotationOf(const ControllerLaneInputs& in, int first) {
   const V qx = Load<V>(in.q_WB[0], first), qy = Load<V>(in.q_WB[1], first), qz = Load<V>(in.q_WB[2], first),
           qw = Load<V>(in.q_WB[3], first);
   const V tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
   const V twy = ty * qw, twx = tx * qw, twz = tz * qw;
   const V txx = tx * qx, txy = ty * qx, txz = tz * qx;
   const V tyy = ty * qy, tyz = tz * qy, tzz = tz * qz;
-  const V r00 = 1.0 - (tyy + tzz), r10 = txy + twz, r20 = txz - twy, r21 = tyz + twx, r22 = 1.0 - (txx + tyy);
-  const Lanes3<V> z_B = {txz + twy, tyz - twx, r22};
+  return {1.0 - (tyy + tzz), txy + twz, txz - twy, tyz + twx, 1.0 - (txx + tyy), txz + twy, tyz - twx};
+}
 
-  // CalcDragFeedForward(body, drag, z_B, v_ref, wind): drag / (m |v_air|) · v_air, zero for |v_air| <= 1e-9; the
-  // target's acceleration is the reference's plus it (a sum the scalar code always forms, zero or not).
+// The target's acceleration: the reference's plus CalcDragFeedForward(body, drag, z_B, v_ref, wind), drag / (m
+// |v_air|) · v_air, zero for |v_air| <= 1e-9 (a sum the scalar code always forms, zero or not).
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> TargetAcceleration(const ControllerLaneVehicle& vehicle,
+                                                            const ControllerLaneInputs& in, const Rotation<V>& r,
+                                                            int first) {
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  const double mass = vehicle.controller->params().mass;
+  const V zero = Splat<V>(0.0);
+  const Lanes3<V> z_B = {r.z_x, r.z_y, r.r22};
   const Lanes3<V> v_ref = Load3<V>(in.v_ref_W, first);
   const Lanes3<V> wind = Load3<V>(in.mean_wind_W, first);
   const Lanes3<V> v_air = {v_ref.x - wind.x, v_ref.y - wind.y, v_ref.z - wind.z};
   const V airspeed = lane_math_internal::Sqrt(v_air.x * v_air.x + v_air.y * v_air.y + v_air.z * v_air.z);
   const auto moving = airspeed > Splat<V>(1e-9);
-  const V sine = Clamp((v_air.x * z_B.x + v_air.y * z_B.y + v_air.z * z_B.z) / airspeed, Splat<V>(-1.0), one);
+  const V sine = Clamp((v_air.x * z_B.x + v_air.y * z_B.y + v_air.z * z_B.z) / airspeed, Splat<V>(-1.0), Splat<V>(1.0));
   V drag = zero;
   for (int i = 0; i < kWidth; ++i) {
     if (moving[i]) drag[i] = vehicle.drag->DragAtSine(airspeed[i], sine[i]);  // libm's asin, per lane
   }
   const V scale = drag / (mass * airspeed);
   const Lanes3<V> a_ref = Load3<V>(in.a_ref_W, first);
-  const Lanes3<V> a = {a_ref.x + (moving ? scale * v_air.x : zero), a_ref.y + (moving ? scale * v_air.y : zero),
-                       a_ref.z + (moving ? scale * v_air.z : zero)};
+  return {a_ref.x + (moving ? scale * v_air.x : zero), a_ref.y + (moving ? scale * v_air.y : zero),
+          a_ref.z + (moving ? scale * v_air.z : zero)};
+}
 
-  // LqrController::Compute(state, target).
+// LqrController::Compute(state, target) with the target's acceleration `a`: the wrench (T, τx, τy, τz).
+template <class V>
+struct Wrench {
+  V thrust, u1, u2, u3;
+};
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE Wrench<V> ComputeWrench(const gnc::LqrController& controller,
+                                                       const ControllerLaneInputs& in, const Rotation<V>& r,
+                                                       const Lanes3<V>& a, int first) {
+  const gnc::LqrOptions& options = controller.options();
+  const double mass = controller.params().mass;
+  const V zero = Splat<V>(0.0);
+  const V one = Splat<V>(1.0);
+  const V r00 = r.r00, r10 = r.r10, r20 = r.r20, r21 = r.r21, r22 = r.r22;
+  const Lanes3<V> v_ref = Load3<V>(in.v_ref_W, first);
   const gnc::TiltLimit& limit = controller.tilt_limit();
   const V vertical = Max(kGravity - a.z, one);
   const Direction<V> pitch_ref = ClampTilt<V>({-a.x, vertical}, limit);
@@ -169,15 +188,18 @@ UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& ve
   const V u2 = g(2, 0) * e0 + g(2, 3) * e3 + g(2, 7) * e7 + g(2, 10) * w.y;
   const V u3 = g(3, 8) * e8 + g(3, 11) * w.z;
   const V cos_tilt = Max(r22, Splat<V>(0.5));
-  const V thrust = Max((mass * (kGravity - a.z) + u0) / cos_tilt, zero);
-  Store(out.command[0], first, thrust);
-  Store(out.command[1], first, u1);
-  Store(out.command[2], first, u2);
-  Store(out.command[3], first, u3);
+  return {Max((mass * (kGravity - a.z) + u0) / cos_tilt, zero), u1, u2, u3};
+}
 
-  // Mixer::AllocateThrusts with every rotor (models/mixer.cc), the command (thrust, u1, u2, u3).
-  const auto& c = vehicle.mixer->allocation_case(models::kNoFailedMotor);
-  const double max_thrust = vehicle.mixer->params().max_rotor_thrust;
+// Mixer::AllocateThrusts with every rotor (models/mixer.cc) of the wrench, into out.allocated.
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const Wrench<V>& wrench,
+                                             ControllerLaneOutputs& out, int first) {
+  const V zero = Splat<V>(0.0);
+  const V one = Splat<V>(1.0);
+  const V thrust = wrench.thrust, u1 = wrench.u1, u2 = wrench.u2, u3 = wrench.u3;
+  const auto& c = mixer.allocation_case(models::kNoFailedMotor);
+  const double max_thrust = mixer.params().max_rotor_thrust;
   V t[models::kRotorCount];
   V lowest = Splat<V>(std::numeric_limits<double>::infinity());
   V highest = Splat<V>(-std::numeric_limits<double>::infinity());
@@ -216,6 +238,19 @@ UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& ve
     const V ti = t[i] + yaw_scale * yaw_step[i];
     Store(out.allocated[i], first, Min(Max(ti, zero), Splat<V>(max_thrust)));
   }
+}
+
+// The lanes [first, first + width) of ComputeControllerLanes.
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in,
+                                                 ControllerLaneOutputs& out, int first) {
+  const Rotation<V> r = RotationOf<V>(in, first);
+  const Wrench<V> wrench = ComputeWrench(*vehicle.controller, in, r, TargetAcceleration(vehicle, in, r, first), first);
+  Store(out.command[0], first, wrench.thrust);
+  Store(out.command[1], first, wrench.u1);
+  Store(out.command[2], first, wrench.u2);
+  Store(out.command[3], first, wrench.u3);
+  Allocate(*vehicle.mixer, wrench, out, first);
 }
 
 void ComputeSse2(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in, ControllerLaneOutputs& out) {

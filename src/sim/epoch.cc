@@ -506,7 +506,12 @@ void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction a
 
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
   if (state.done()) return;
-  UASCMA_CHECK(IsDecisionEpoch(model, state), "StepEpoch starts at a decision epoch");
+  DecideEpoch(model, state, controllers, log);
+  StepToNextEpoch(model, state, log);
+}
+
+void DecideEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
+  UASCMA_CHECK(IsDecisionEpoch(model, state), "a decision epoch's decision starts at a decision epoch");
   const bool eod_distribution = NeedsEodDistribution(controllers.policy, log);
   DecisionPolicy* const policy[] = {controllers.policy};
   const DecisionInputs& inputs =
@@ -518,7 +523,6 @@ void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& 
   // default ranking's one-time solve (DefaultCmaActionRanking) then waits for a flight that needs it.
   const bool ranked = controllers.policy != nullptr && action != CmaAction::kNoOp;
   Act(model, state, action, controllers.planner, log, ranked ? controllers.policy->Ranking(inputs) : ActionRanking{});
-  StepToNextEpoch(model, state, log);
 }
 
 }  // namespace uascma::sim

@@ -538,6 +538,21 @@ void FinishStep(const FlightModel& model, FlightState& state, StepSignals& s, Fl
   AdvanceClock(model, state);
 }
 
+// A flight's inputs to the control in lanes, in lane `lane`.
+void SetControlLane(ControllerLaneInputs& control, int lane, const models::RigidBodyState& body,
+                    const planning::PlanReference& reference, const Eigen::Vector3d& mean_wind_W) {
+  for (int i = 0; i < 3; ++i) {
+    control.p_WB_W[i][lane] = body.p_WB_W[i];
+    control.v_WB_W[i][lane] = body.v_WB_W[i];
+    control.w_WB_B[i][lane] = body.w_WB_B[i];
+    control.p_ref_W[i][lane] = reference.p_W[i];
+    control.v_ref_W[i][lane] = reference.v_W[i];
+    control.a_ref_W[i][lane] = reference.a_W[i];
+    control.mean_wind_W[i][lane] = mean_wind_W[i];
+  }
+  for (int i = 0; i < 4; ++i) control.q_WB[i][lane] = body.q_WB.coeffs()[i];
+}
+
 }  // namespace
 
 void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
@@ -546,9 +561,11 @@ void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
   FinishStep(model, state, s, log);
 }
 
-void StepTogether(const FlightModel& model, std::span<FlightState* const> states, std::span<FlightLog* const> logs) {
-  UASCMA_CHECK(states.size() <= static_cast<std::size_t>(kControllerLanes) && logs.size() == states.size(),
-               "at most four flights, one log (or nullptr) each");
+void StepTogether(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
+                  std::span<FlightLog* const> logs) {
+  UASCMA_CHECK(states.size() <= static_cast<std::size_t>(kControllerLanes) && logs.size() == states.size() &&
+                   models.size() == states.size(),
+               "at most four flights, one model and one log (or nullptr) each");
   const lane_math::LaneMathPath path = lane_math::DefaultLaneMathPath();
   const int n = static_cast<int>(states.size());
   std::array<StepSignals, kControllerLanes> s;
@@ -560,6 +577,7 @@ void StepTogether(const FlightModel& model, std::span<FlightState* const> states
   ControllerLaneInputs control;
   int first_in_lanes = -1, first_flying = -1;
   for (int k = 0; k < n; ++k) {
+    const FlightModel& model = *models[k];
     FlightState& state = *states[k];
     flying[k] = !state.done();
     if (!flying[k]) continue;
@@ -572,25 +590,15 @@ void StepTogether(const FlightModel& model, std::span<FlightState* const> states
       continue;
     }
     if (first_in_lanes < 0) first_in_lanes = k;
-    const models::RigidBodyState& body = state.vehicle.body;
-    const Eigen::Vector3d& mean_wind = model.wind().MeanWind_W();
     for (int lane = first_in_lanes == k ? 0 : k; lane < (first_in_lanes == k ? kControllerLanes : k + 1); ++lane) {
-      for (int i = 0; i < 3; ++i) {
-        control.p_WB_W[i][lane] = body.p_WB_W[i];
-        control.v_WB_W[i][lane] = body.v_WB_W[i];
-        control.w_WB_B[i][lane] = body.w_WB_B[i];
-        control.p_ref_W[i][lane] = s[k].reference.p_W[i];
-        control.v_ref_W[i][lane] = s[k].reference.v_W[i];
-        control.a_ref_W[i][lane] = s[k].reference.a_W[i];
-        control.mean_wind_W[i][lane] = mean_wind[i];
-      }
-      for (int i = 0; i < 4; ++i) control.q_WB[i][lane] = body.q_WB.coeffs()[i];
+      SetControlLane(control, lane, state.vehicle.body, s[k].reference, model.wind().MeanWind_W());
     }
   }
   if (first_flying < 0) return;
   if (first_in_lanes >= 0) {
     ControllerLaneOutputs out;
-    ComputeControllerLanes(path, {&model.controller(), &model.mixer(), &model.drag()}, control, out);
+    const FlightModel& vehicle = *models[first_in_lanes];  // every flight's (SharesVehicle)
+    ComputeControllerLanes(path, {&vehicle.controller(), &vehicle.mixer(), &vehicle.drag()}, control, out);
     for (int k = 0; k < n; ++k) {
       if (!flying[k] || !control_in_lanes[k]) continue;
       for (int i = 0; i < 4; ++i) s[k].command[i] = out.command[i][k];
@@ -602,6 +610,7 @@ void StepTogether(const FlightModel& model, std::span<FlightState* const> states
   models::BodyInputLanes inputs;
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
+    const FlightModel& model = *models[k];
     FlightState& state = *states[k];
     StepRotors(model, state, believed[k], s[k]);
     previous[k] = state.vehicle.body;
@@ -611,9 +620,11 @@ void StepTogether(const FlightModel& model, std::span<FlightState* const> states
       inputs.Set(lane, s[k].body_inputs);
     }
   }
-  models::StepRigidBodyLanes(path, model.scenario().body, model.drag(), bodies, inputs, model.dt());
+  const FlightModel& vehicle = *models[first_flying];  // every flight's (SharesVehicle)
+  models::StepRigidBodyLanes(path, vehicle.scenario().body, vehicle.drag(), bodies, inputs, vehicle.dt());
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
+    const FlightModel& model = *models[k];
     FlightState& state = *states[k];
     state.vehicle.body = bodies.Get(k);
     HoldOnGround(state.vehicle);

@@ -30,9 +30,10 @@ const std::vector<CampaignPolicy>& Policies() {
   return policies;
 }
 
-std::vector<RunRecord> Fly(const CampaignConfig& config, int jobs) {
+std::vector<RunRecord> Fly(const CampaignConfig& config, int jobs, int runs_in_flight = 4) {
   ExecuteOptions options;
   options.jobs = jobs;
+  options.runs_in_flight = runs_in_flight;
   options.flush_rows = 3;  // many small batches
   std::vector<RunRecord> records;
   ExecuteFlights(
@@ -69,13 +70,17 @@ TEST(MissingFlightsTest, SkipsStoredFlights) {
   EXPECT_EQ(tasks[1].slots, (std::vector<int>{0}));
 }
 
-TEST(RunnerTest, ThreadCountDoesNotChangeTheResults) {
+TEST(RunnerTest, ThreadCountAndRunsInFlightDoNotChangeTheResults) {
   CampaignConfig config = testing_support::ShortConfig();
   config.runs = 8;
   const auto one = Fly(config, 1);
   ASSERT_EQ(one.size(), 16u);
   ExpectSameRows(one, Fly(config, 2));
   ExpectSameRows(one, Fly(config, 4));
+  // Runs flown one at a time, their steps alone, and several in flight per thread in lockstep (issue 27 item 4).
+  ExpectSameRows(one, Fly(config, 1, 1));
+  ExpectSameRows(one, Fly(config, 2, 3));
+  ExpectSameRows(one, Fly(config, 1, 8));
   // Paired: both policies fly the very same scenario of each run.
   for (std::size_t i = 0; i + 1 < one.size(); i += 2) {
     EXPECT_EQ(one[i].run_index, one[i + 1].run_index);

@@ -95,7 +95,8 @@ std::vector<Case> RandomCases(int count, std::uint64_t seed) {
     const double tilt_scale = kind == 0 ? 0.2 : 2.0;
     const Eigen::Vector3d axis_angle = RandomVector(random, tilt_scale);
     c.state.q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(axis_angle.norm(), axis_angle.normalized()));
-    if (kind == 2) c.state.q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI - 1e-9 * k, Eigen::Vector3d::UnitZ())) * c.state.q_WB;
+    if (kind == 2)
+      c.state.q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI - 1e-9 * k, Eigen::Vector3d::UnitZ())) * c.state.q_WB;
     // Errors from well inside to far beyond the clamps (4 m, 3 m, 4 m/s), references that ask beyond the tilt limit.
     const double error_scale = (k % 5 == 0) ? 20.0 : 1.5;
     c.reference.p_W = RandomVector(random, 100.0);

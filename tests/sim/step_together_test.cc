@@ -5,11 +5,13 @@
 // lanes while the others stay), and without the feed-forward (no flight's control in lanes).
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "same_flight.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/lockstep.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 
@@ -41,10 +43,10 @@ struct Flown {
   std::vector<std::vector<FlightState>> at_epochs;
 };
 
-Flown Fly(const FlightModel& model, const std::vector<std::uint64_t>& seeds, bool together) {
+Flown Fly(const std::vector<const FlightModel*>& models, const std::vector<std::uint64_t>& seeds, bool together) {
   Flown flown;
   const std::size_t n = seeds.size();
-  for (std::uint64_t seed : seeds) flown.states.push_back(MakeInitialState(model, seed));
+  for (std::size_t k = 0; k < n; ++k) flown.states.push_back(MakeInitialState(*models[k], seeds[k]));
   flown.logs.resize(n);
   flown.at_epochs.resize(n);
   for (FlightLog& log : flown.logs) log.record_telemetry = true;
@@ -63,24 +65,31 @@ Flown Fly(const FlightModel& model, const std::vector<std::uint64_t>& seeds, boo
   };
   while (!all_done()) {
     for (std::size_t k = 0; k < n; ++k) {
+      const FlightModel& model = *models[k];
       FlightState& state = flown.states[k];
       if (state.done() || !IsDecisionEpoch(model, state)) continue;
       flown.at_epochs[k].push_back(state);
       Act(model, state, noop.Decide(Observe(model, state, &flown.logs[k])), {}, &flown.logs[k]);
     }
     if (together) {
-      StepTogether(model, states, logs);
+      StepTogether(models, states, logs);
     } else {
-      for (std::size_t k = 0; k < n; ++k) Step(model, flown.states[k], &flown.logs[k]);
+      for (std::size_t k = 0; k < n; ++k) Step(*models[k], flown.states[k], &flown.logs[k]);
     }
   }
   return flown;
 }
 
-void ExpectTogetherAsAlone(const Scenario& scenario, const std::vector<std::uint64_t>& seeds) {
-  const FlightModel model(scenario);
-  const Flown alone = Fly(model, seeds, false);
-  const Flown together = Fly(model, seeds, true);
+// Flights of `scenarios` (one model each; they must share a vehicle) with `seeds`, together and alone.
+void ExpectTogetherAsAlone(const std::vector<Scenario>& scenarios, const std::vector<std::uint64_t>& seeds) {
+  std::vector<std::unique_ptr<FlightModel>> owned;
+  std::vector<const FlightModel*> models;
+  for (const Scenario& scenario : scenarios) {
+    owned.push_back(std::make_unique<FlightModel>(scenario));
+    models.push_back(owned.back().get());
+  }
+  const Flown alone = Fly(models, seeds, false);
+  const Flown together = Fly(models, seeds, true);
   for (std::size_t k = 0; k < seeds.size(); ++k) {
     SCOPED_TRACE("seed " + std::to_string(seeds[k]));
     ASSERT_EQ(alone.at_epochs[k].size(), together.at_epochs[k].size());
@@ -104,15 +113,37 @@ void ExpectTogetherAsAlone(const Scenario& scenario, const std::vector<std::uint
   }
 }
 
-TEST(StepTogetherTest, FourTurbulentFlightsAsEachAlone) { ExpectTogetherAsAlone(ScenarioOne(), {1, 2, 3, 4}); }
+TEST(StepTogetherTest, FourTurbulentFlightsOfOneModelAsEachAlone) {
+  const Scenario one = ScenarioOne();
+  ExpectTogetherAsAlone({one, one, one, one}, {1, 2, 3, 4});
+}
+
+TEST(StepTogetherTest, FourFlightsOfDifferentModelsSharingAVehicleAsEachAlone) {
+  // Different missions, winds and packs (each flight's own model), one vehicle: the lockstep of a campaign.
+  std::vector<Scenario> scenarios;
+  for (int k = 0; k < 4; ++k) {
+    Scenario scenario = ShortJam();
+    scenario.fault.enabled = false;
+    scenario.mission.destination_NE = Eigen::Vector2d(150.0 + 60.0 * k, -40.0 * k);
+    scenario.wind.mean_speed = 0.5 + k;
+    scenario.wind.direction_rad = 0.8 * k;
+    for (auto& branch : scenario.battery.initial_cell_voltage_v) {
+      for (double& v : branch) v = 4.05 + 0.02 * k;
+    }
+    scenarios.push_back(scenario);
+  }
+  const FlightModel first(scenarios[0]);
+  for (const Scenario& scenario : scenarios) EXPECT_TRUE(SharesVehicle(first, FlightModel(scenario)));
+  ExpectTogetherAsAlone(scenarios, {21, 22, 23, 24});
+}
 
 TEST(StepTogetherTest, ThreeFlightsWithAJammedMotorAsEachAlone) {
   // The spall jams motor 2 and the IMM isolates it in every flight, at times that differ with the seed.
   const Scenario scenario = ShortJam();
-  ExpectTogetherAsAlone(scenario, {5, 6, 7});
+  ExpectTogetherAsAlone({scenario, scenario, scenario}, {5, 6, 7});
   // The jam and its isolation happened (the control left the lanes for the quadcopter allocation).
   const FlightModel model(scenario);
-  const Flown flown = Fly(model, {5}, true);
+  const Flown flown = Fly({&model}, {5}, true);
   EXPECT_NE(flown.states[0].faults.jammed_rotor, 0);
   EXPECT_NE(flown.states[0].faults.allocation_failure, 0);
 }
@@ -121,7 +152,17 @@ TEST(StepTogetherTest, FlightsWithoutTheFeedForwardAsEachAlone) {
   Scenario scenario = ShortJam();
   scenario.fault.enabled = false;
   scenario.options.drag_feedforward = false;
-  ExpectTogetherAsAlone(scenario, {8, 9, 10, 11});
+  ExpectTogetherAsAlone({scenario, scenario, scenario, scenario}, {8, 9, 10, 11});
+}
+
+TEST(StepTogetherTest, AnotherVehicleIsNotShared) {
+  Scenario pusher = ShortJam();
+  pusher.configuration = models::PropellerConfiguration::kPusher;
+  Scenario heavier = ShortJam();
+  heavier.body.mass += 0.1;
+  const FlightModel tractor_model(ShortJam());
+  EXPECT_FALSE(SharesVehicle(tractor_model, FlightModel(pusher)));
+  EXPECT_FALSE(SharesVehicle(tractor_model, FlightModel(heavier)));
 }
 
 }  // namespace

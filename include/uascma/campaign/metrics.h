@@ -14,13 +14,16 @@
 //   average reward per time step  = mean_k r_k,   minimum instantaneous reward = min_k r_k,
 // and the campaign statistics average them over flights (campaign/statistics.h).
 #include <functional>
+#include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "uascma/campaign/policies.h"
 #include "uascma/campaign/record.h"
 #include "uascma/campaign/sampler.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/sim/branching.h"
 #include "uascma/sim/simulator.h"
 
 namespace uascma::campaign {
@@ -77,5 +80,32 @@ RunRecord FlyRun(const sim::Simulator& simulator, const SampledRun& run, const C
 std::vector<RunRecord> FlyRunTogether(const sim::Simulator& simulator, const SampledRun& run,
                                       std::span<const CampaignPolicy* const> policies, std::span<const int> slots,
                                       int num_policies, const PlannerFactory& planner_factory = {});
+
+// FlyRunTogether as a coroutine (sim::FlyTogether) that asks `steps` for its GNC steps: a campaign thread keeps
+// several in flight, their flights in lockstep (sim/lockstep.h). `simulator`, `run` and `steps` must outlive it;
+// Records() once coroutine() is done gives FlyRunTogether's records (wall_time_s apart). Neither copied nor moved.
+class RunInFlight {
+ public:
+  RunInFlight(const sim::Simulator& simulator, const SampledRun& run, std::span<const CampaignPolicy* const> policies,
+              std::span<const int> slots, int num_policies, const PlannerFactory& planner_factory,
+              sim::EpochSteps& steps);
+  RunInFlight(const RunInFlight&) = delete;
+  RunInFlight& operator=(const RunInFlight&) = delete;
+
+  sim::FlightCoroutine& coroutine() { return coroutine_; }
+  std::vector<RunRecord> Records() const;
+
+ private:
+  const SampledRun& run_;
+  std::vector<std::string> names_;
+  std::vector<int> slots_;
+  int num_policies_;
+  std::vector<std::unique_ptr<sim::DecisionPolicy>> decide_;
+  std::vector<std::unique_ptr<RecordingPolicy>> recording_;
+  std::vector<sim::DecisionPolicy*> flying_;
+  std::vector<sim::EmergencyPlanner> planners_;
+  std::vector<sim::SimResult> results_;
+  sim::FlightCoroutine coroutine_;  // last: it refers to the members above
+};
 
 }  // namespace uascma::campaign

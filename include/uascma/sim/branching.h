@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "uascma/sim/flight.h"
+#include "uascma/sim/lockstep.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/simulator.h"
 
@@ -47,6 +48,13 @@ SharingCounts FlyFollowing(const FlightModel& model, std::span<FlightState> stat
 // wall time is split equally between its flights.
 std::vector<SimResult> RunTogether(const FlightModel& model, std::span<DecisionPolicy* const> policies,
                                    std::span<const EmergencyPlanner> planners, const RunOptions& options = {});
+// RunTogether as a coroutine (sim/lockstep.h) that asks `steps` for every GNC step and leaves the flights' results in
+// `results` when it ends: RunTogether runs it with steps taken at once; a campaign thread keeps several in flight with
+// their flights stepped in lockstep. `model`, the policies and planners the spans view, and `steps` and `results`
+// must outlive the coroutine.
+FlightCoroutine FlyTogether(const FlightModel& model, std::span<DecisionPolicy* const> policies,
+                            std::span<const EmergencyPlanner> planners, RunOptions options, EpochSteps& steps,
+                            std::vector<SimResult>& results);
 
 // True when a flight of `model` may be continued from a copy of `state`: at a decision epoch (before its BeginEpoch)
 // or finished.

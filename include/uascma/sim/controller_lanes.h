@@ -27,7 +27,7 @@ struct alignas(32) ControllerLaneInputs {
   std::array<ControllerLaneValues, 3> p_WB_W{}, v_WB_W{}, w_WB_B{};
   std::array<ControllerLaneValues, 4> q_WB{};
   std::array<ControllerLaneValues, 3> p_ref_W{}, v_ref_W{}, a_ref_W{};  // the plan's reference
-  std::array<ControllerLaneValues, 3> mean_wind_W{};                     // the feed-forward's wind estimate
+  std::array<ControllerLaneValues, 3> mean_wind_W{};                    // the feed-forward's wind estimate
 };
 
 // Their outputs: the commanded wrench (T, τx, τy, τz) and the six rotor thrusts allocated (N, before any cap).

@@ -378,12 +378,14 @@ inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) 
 // One GNC step (1 / gnc_rate_hz). Sets state.outcome when the flight ends. No-op on a finished flight.
 void Step(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
 
-// Issue 27 item 4 (flights in lockstep): up to four flights of one model one GNC step each, as Step steps each
-// alone, bit for bit (tests/sim/step_together_test.cc): their control (feed-forward, LQR, allocation: sim/
-// controller_lanes.h, for the flights with six rotors allocated and the feed-forward on; the others alone) and their
-// rigid bodies (models/rigid_body_lanes.h) on lanes, the rest (faults, reference, rotors, wind, IMM, power,
-// classification) flight by flight. `logs`: one per flight, nullptr for none. Finished flights are left as they are.
-void StepTogether(const FlightModel& model, std::span<FlightState* const> states, std::span<FlightLog* const> logs);
+// Issue 27 item 4 (flights in lockstep): up to four flights one GNC step each, as Step steps each alone, bit for bit
+// (tests/sim/step_together_test.cc): their control (feed-forward, LQR, allocation: sim/controller_lanes.h, for the
+// flights with six rotors allocated and the feed-forward on; the others alone) and their rigid bodies (models/
+// rigid_body_lanes.h) on lanes, the rest (faults, reference, rotors, wind, IMM, power, classification) flight by
+// flight, each with its own model. The models must share a vehicle (sim/lockstep.h SharesVehicle): the lanes read
+// the first's. `logs`: one per flight, nullptr for none. Finished flights are left as they are.
+void StepTogether(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
+                  std::span<FlightLog* const> logs);
 
 // GNC steps until the next decision epoch or the end of the flight (StepEpoch after its Act). No-op on a finished
 // flight.
@@ -460,5 +462,8 @@ void RecordEodAtAction(const FlightModel& model, FlightState& state, decision::C
 // policy: NoOp), RecordEodAtAction, Act, then GNC steps to the next epoch or the end of the flight. Must be called at
 // an epoch.
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log = nullptr);
+// StepEpoch before its steps: BeginEpoch, the decision, RecordEodAtAction, Act (a flight at an epoch, not done).
+void DecideEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers,
+                 FlightLog* log = nullptr);
 
 }  // namespace uascma::sim

@@ -1,0 +1,103 @@
+#include "uascma/sim/lockstep.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+
+#include "uascma/common/error.h"
+#include "uascma/sim/controller_lanes.h"
+
+namespace uascma::sim {
+
+bool SharesVehicle(const FlightModel& a, const FlightModel& b) {
+  // What StepTogether's lanes read of the first flight's model for every flight: the controller (body and LQR
+  // options), the mixer and the drag table (the configuration), the body's parameters and the GNC step.
+  const Scenario& x = a.scenario();
+  const Scenario& y = b.scenario();
+  return &a == &b || (x.configuration == y.configuration && x.body.mass == y.body.mass &&
+                      x.body.inertia_diagonal == y.body.inertia_diagonal && a.dt() == b.dt() &&
+                      a.controller().negative_gain() == b.controller().negative_gain() &&
+                      a.controller().options().max_horizontal_error == b.controller().options().max_horizontal_error &&
+                      a.controller().options().max_vertical_error == b.controller().options().max_vertical_error &&
+                      a.controller().options().max_velocity_error == b.controller().options().max_velocity_error &&
+                      a.controller().options().max_tilt == b.controller().options().max_tilt &&
+                      a.options().drag_feedforward == b.options().drag_feedforward);
+}
+
+void FlightCoroutine::Resume() {
+  if (!done()) handle_.resume();
+  ThrowIfFailed();
+}
+
+void FlightCoroutine::ThrowIfFailed() const {
+  if (handle_ && handle_.promise().error) std::rethrow_exception(handle_.promise().error);
+}
+
+void FlightCoroutine::RunToEnd() {
+  while (!done()) Resume();
+}
+
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+bool EpochSteps::Awaiter::await_ready() {
+  if (steps_.lockstep_) return request_.state->done();
+  const auto start = std::chrono::steady_clock::now();
+  StepToNextEpoch(*request_.model, *request_.state, request_.log);
+  if (request_.seconds) *request_.seconds += SecondsSince(start);
+  return true;
+}
+
+void EpochSteps::StepWaiting() {
+  std::vector<Request> requests = std::move(waiting_);
+  waiting_.clear();
+  std::vector<bool> grouped(requests.size(), false);
+  std::array<const FlightModel*, kControllerLanes> models{};
+  std::array<FlightState*, kControllerLanes> states{};
+  std::array<FlightLog*, kControllerLanes> logs{};
+  std::array<std::size_t, kControllerLanes> members{};
+  for (std::size_t first = 0; first < requests.size(); ++first) {
+    if (grouped[first]) continue;
+    // A group: the first request not yet stepped and up to three later ones that share its vehicle.
+    int n = 0;
+    for (std::size_t k = first; k < requests.size() && n < kControllerLanes; ++k) {
+      if (grouped[k] || !SharesVehicle(*requests[first].model, *requests[k].model)) continue;
+      grouped[k] = true;
+      members[n++] = k;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    // StepToNextEpoch for each: at least one step, then until the flight ends or reaches an epoch.
+    bool first_step = true;
+    while (true) {
+      int stepping = 0;
+      for (int i = 0; i < n; ++i) {
+        const Request& r = requests[members[i]];
+        if (r.state->done() || (!first_step && IsDecisionEpoch(*r.model, *r.state))) continue;
+        models[stepping] = r.model;
+        states[stepping] = r.state;
+        logs[stepping] = r.log;
+        ++stepping;
+      }
+      if (stepping == 0) break;
+      if (stepping == 1) {
+        Step(*models[0], *states[0], logs[0]);
+      } else {
+        StepTogether(std::span(models.data(), stepping), std::span(states.data(), stepping),
+                     std::span(logs.data(), stepping));
+      }
+      first_step = false;
+    }
+    const double share = SecondsSince(start) / n;
+    for (int i = 0; i < n; ++i) {
+      if (requests[members[i]].seconds) *requests[members[i]].seconds += share;
+    }
+  }
+  for (const Request& r : requests) r.waiter.resume();
+}
+
+}  // namespace uascma::sim
