@@ -51,6 +51,15 @@ UASCMA_CONTROLLER_LANES_INLINE V Clamp(V v, V lo, V hi) {  // std::clamp(v, lo, 
   return v < lo ? lo : (hi < v ? hi : v);
 }
 
+// True when every lane of a compare's mask is set.
+template <class M>
+UASCMA_CONTROLLER_LANES_INLINE bool AllLanes(M mask) {
+  for (int i = 0; i < static_cast<int>(sizeof(M) / sizeof(mask[0])); ++i) {
+    if (!mask[i]) return false;
+  }
+  return true;
+}
+
 template <class V>
 struct Lanes3 {
   V x, y, z;
@@ -176,9 +185,11 @@ UASCMA_CONTROLLER_LANES_INLINE Wrench<V> ComputeWrench(const gnc::LqrController&
   const Direction<V> roll_error = {upright ? roll_difference.y : zero, upright ? roll_difference.x : one};
   using lane_math_internal::Atan2Kernel;
   const V roll_angle_error = Atan2Kernel(roll_error.y, roll_error.x);
-  // Upside down: the two angles subtracted (computed in every lane, selected where R22 <= 0).
-  const V roll_angles_subtracted = Atan2Kernel(roll.y, roll.x) - Atan2Kernel(roll_ref.y, roll_ref.x);
-  const V e6 = upright ? roll_angle_error : roll_angles_subtracted;
+  // Upside down: the two angles subtracted (computed in every lane when a lane is upside down, selected there).
+  V e6 = roll_angle_error;
+  if (!AllLanes(upright)) {
+    e6 = upright ? roll_angle_error : Atan2Kernel(roll.y, roll.x) - Atan2Kernel(roll_ref.y, roll_ref.x);
+  }
   const V e7 = Atan2Kernel(pitch_error.y, pitch_error.x);
   const V e8 = Atan2Kernel(r10, r00);
   const Lanes3<V> w = Load3<V>(in.w_WB_B, first);

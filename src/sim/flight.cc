@@ -383,6 +383,7 @@ FlightModel::FlightModel(const Scenario& scenario)
       electrical_power_(propulsion_),
       mixer_(models::MixerParams::ForPropulsion(propulsion_)),
       drag_(models::DragTable::Default(scenario.configuration)),
+      drag_lanes_(drag_),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
       rul_model_(PrognosisGrowth(scenario.fault)),
@@ -621,7 +622,9 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
     }
   }
   const FlightModel& vehicle = *models[first_flying];  // every flight's (SharesVehicle)
-  models::StepRigidBodyLanes(path, vehicle.scenario().body, vehicle.drag(), bodies, inputs, vehicle.dt());
+  // libm's asin per lane, the table's interpolation in the lanes: DragAtSine's bits (models/rigid_body_lanes.h).
+  models::StepRigidBodyLanes(path, vehicle.scenario().body, vehicle.drag(), bodies, inputs, vehicle.dt(),
+                             models::LaneDragLookup::kLibmAsinTableInLanes, &vehicle.drag_lanes());
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
     const FlightModel& model = *models[k];
