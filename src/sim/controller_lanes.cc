@@ -134,14 +134,20 @@ UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> TargetAcceleration(const ControllerLane
   const V airspeed = lane_math_internal::Sqrt(v_air.x * v_air.x + v_air.y * v_air.y + v_air.z * v_air.z);
   const auto moving = airspeed > Splat<V>(1e-9);
   const V sine = Clamp((v_air.x * z_B.x + v_air.y * z_B.y + v_air.z * z_B.z) / airspeed, Splat<V>(-1.0), Splat<V>(1.0));
+  // The feed-forward's lanes: those with every rotor allocated, when the vehicle feeds the drag forward.
+  V fed = zero;
+  for (int i = 0; i < kWidth; ++i) fed[i] = vehicle.feedforward && in.failed_motor[first + i] == 0 ? 1.0 : 0.0;
+  const auto feeds = fed != zero;
   V drag = zero;
   for (int i = 0; i < kWidth; ++i) {
-    if (moving[i]) drag[i] = vehicle.drag->DragAtSine(airspeed[i], sine[i]);  // libm's asin, per lane
+    if (moving[i] && feeds[i]) drag[i] = vehicle.drag->DragAtSine(airspeed[i], sine[i]);  // libm's asin, per lane
   }
   const V scale = drag / (mass * airspeed);
   const Lanes3<V> a_ref = Load3<V>(in.a_ref_W, first);
-  return {a_ref.x + (moving ? scale * v_air.x : zero), a_ref.y + (moving ? scale * v_air.y : zero),
-          a_ref.z + (moving ? scale * v_air.z : zero)};
+  // Without the feed-forward the target is the reference itself (no sum: a −0 stays −0).
+  return {feeds ? a_ref.x + (moving ? scale * v_air.x : zero) : a_ref.x,
+          feeds ? a_ref.y + (moving ? scale * v_air.y : zero) : a_ref.y,
+          feeds ? a_ref.z + (moving ? scale * v_air.z : zero) : a_ref.z};
 }
 
 // LqrController::Compute(state, target) with the target's acceleration `a`: the wrench (T, τx, τy, τz).
@@ -202,22 +208,67 @@ UASCMA_CONTROLLER_LANES_INLINE Wrench<V> ComputeWrench(const gnc::LqrController&
   return {Max((mass * (kGravity - a.z) + u0) / cos_tilt, zero), u1, u2, u3};
 }
 
-// Mixer::AllocateThrusts with every rotor (models/mixer.cc) of the wrench, into out.allocated.
+// Each lane's allocation case (Mixer::allocation_case of its failed motor) as vectors, one entry per lane.
 template <class V>
-UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const Wrench<V>& wrench,
-                                             ControllerLaneOutputs& out, int first) {
+struct CaseLanes {
+  V primary1[models::kRotorCount], primary2[models::kRotorCount], yaw_row[models::kRotorCount];
+  V yaw_direction[models::kRotorCount], active[models::kRotorCount];
+  V active_count, yaw_controllable;  // yaw_controllable: 1 or 0
+};
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE CaseLanes<V> CaseLanesOf(const models::Mixer& mixer, const ControllerLaneInputs& in,
+                                                        int first) {
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  CaseLanes<V> lanes;
+  bool one_case = true;
+  for (int lane = 1; lane < kWidth; ++lane)
+    one_case = one_case && in.failed_motor[first + lane] == in.failed_motor[first];
+  if (one_case) {  // the usual group (every rotor in every flight): each value in every lane
+    const models::Mixer::Case& c = mixer.allocation_case(in.failed_motor[first]);
+    for (int i = 0; i < models::kRotorCount; ++i) {
+      lanes.primary1[i] = Splat<V>(c.primary(i, 1));
+      lanes.primary2[i] = Splat<V>(c.primary(i, 2));
+      lanes.yaw_row[i] = Splat<V>(c.mixing(3, i));
+      lanes.yaw_direction[i] = Splat<V>(c.yaw_direction(i));
+      lanes.active[i] = Splat<V>(c.active(i));
+    }
+    lanes.active_count = Splat<V>(static_cast<double>(c.active_count));
+    lanes.yaw_controllable = Splat<V>(c.yaw_controllable ? 1.0 : 0.0);
+    return lanes;
+  }
+  for (int lane = 0; lane < kWidth; ++lane) {
+    const models::Mixer::Case& c = mixer.allocation_case(in.failed_motor[first + lane]);
+    for (int i = 0; i < models::kRotorCount; ++i) {
+      lanes.primary1[i][lane] = c.primary(i, 1);
+      lanes.primary2[i][lane] = c.primary(i, 2);
+      lanes.yaw_row[i][lane] = c.mixing(3, i);
+      lanes.yaw_direction[i][lane] = c.yaw_direction(i);
+      lanes.active[i][lane] = c.active(i);
+    }
+    lanes.active_count[lane] = static_cast<double>(c.active_count);
+    lanes.yaw_controllable[lane] = c.yaw_controllable ? 1.0 : 0.0;
+  }
+  return lanes;
+}
+
+// Mixer::AllocateThrusts (models/mixer.cc) of the wrench with each lane's case, into out.allocated. The scalar code's
+// branches on the case (rotors not active are left out of the spread; no yaw step without yaw control) are selects.
+template <class V>
+UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const ControllerLaneInputs& in,
+                                             const Wrench<V>& wrench, ControllerLaneOutputs& out, int first) {
   const V zero = Splat<V>(0.0);
   const V one = Splat<V>(1.0);
   const V thrust = wrench.thrust, u1 = wrench.u1, u2 = wrench.u2, u3 = wrench.u3;
-  const auto& c = mixer.allocation_case(models::kNoFailedMotor);
+  const CaseLanes<V> c = CaseLanesOf<V>(mixer, in, first);
   const double max_thrust = mixer.params().max_rotor_thrust;
   V t[models::kRotorCount];
   V lowest = Splat<V>(std::numeric_limits<double>::infinity());
   V highest = Splat<V>(-std::numeric_limits<double>::infinity());
   for (int i = 0; i < models::kRotorCount; ++i) {
-    t[i] = c.primary(i, 1) * u1 + c.primary(i, 2) * u2;
-    lowest = Min(lowest, t[i]);
-    highest = Max(highest, t[i]);
+    t[i] = c.primary1[i] * u1 + c.primary2[i] * u2;
+    const auto active = c.active[i] != zero;
+    lowest = active ? Min(lowest, t[i]) : lowest;
+    highest = active ? Max(highest, t[i]) : highest;
   }
   const V spread = highest - lowest;
   const auto too_wide = spread > max_thrust;
@@ -225,17 +276,17 @@ UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const W
   for (V& ti : t) ti = too_wide ? ti * roll_pitch_scale : ti;
   lowest = too_wide ? lowest * roll_pitch_scale : lowest;
   highest = too_wide ? highest * roll_pitch_scale : highest;
-  const V wanted_share = thrust / static_cast<double>(c.active_count);
+  const V wanted_share = thrust / c.active_count;
   const V share = Max(-lowest, Min(wanted_share, max_thrust - highest));
-  for (int i = 0; i < models::kRotorCount; ++i) t[i] = t[i] + c.active(i) * share;
+  for (int i = 0; i < models::kRotorCount; ++i) t[i] = t[i] + c.active[i] * share;
   // The yaw row's dot product in Eigen's unrolled order, then the yaw step scaled to the rotor limits.
   V m[models::kRotorCount];
-  for (int i = 0; i < models::kRotorCount; ++i) m[i] = c.mixing(3, i) * t[i];
+  for (int i = 0; i < models::kRotorCount; ++i) m[i] = c.yaw_row[i] * t[i];
   const V missing_yaw = u3 - ((m[0] + (m[1] + m[2])) + (m[3] + (m[4] + m[5])));
   V yaw_scale = one;
   V yaw_step[models::kRotorCount];
   for (int i = 0; i < models::kRotorCount; ++i) {
-    yaw_step[i] = c.yaw_direction(i) * missing_yaw;
+    yaw_step[i] = c.yaw_direction[i] * missing_yaw;
     // step > 0: room = T_max − t; step < 0: room = −t; the scale falls to room / step where room is the tighter bound.
     const auto up = yaw_step[i] > zero;
     const auto down = yaw_step[i] < zero;
@@ -245,8 +296,9 @@ UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const W
     yaw_scale = tighter ? Min(yaw_scale, room / yaw_step[i]) : yaw_scale;
   }
   yaw_scale = Max(yaw_scale, zero);
+  const auto yaw_controllable = c.yaw_controllable != zero;
   for (int i = 0; i < models::kRotorCount; ++i) {
-    const V ti = t[i] + yaw_scale * yaw_step[i];
+    const V ti = yaw_controllable ? t[i] + yaw_scale * yaw_step[i] : t[i];
     Store(out.allocated[i], first, Min(Max(ti, zero), Splat<V>(max_thrust)));
   }
 }
@@ -261,7 +313,7 @@ UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& ve
   Store(out.command[1], first, wrench.u1);
   Store(out.command[2], first, wrench.u2);
   Store(out.command[3], first, wrench.u3);
-  Allocate(*vehicle.mixer, wrench, out, first);
+  Allocate(*vehicle.mixer, in, wrench, out, first);
 }
 
 void ComputeSse2(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in, ControllerLaneOutputs& out) {

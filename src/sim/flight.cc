@@ -105,12 +105,6 @@ void ReadReference(const FlightModel& model, FlightState& state, StepSignals& s)
   s.reference = state.plan(model).At(state.time_s - state.guidance.plan_start_s, state.guidance.plan_cursor);
 }
 
-// True when the step's control is the one StepTogether computes in lanes (sim/controller_lanes.h): six rotors
-// allocated and the drag fed forward.
-bool ControlInLanes(const FlightModel& model, const FlightState& state) {
-  return model.options().drag_feedforward && state.faults.allocation_failure == models::kNoFailedMotor;
-}
-
 // The reference → the LQR's wrench → the allocation's rotor thrusts.
 void ComputeControl(const FlightModel& model, const FlightState& state, StepSignals& s) {
   // Drag feed-forward while all six rotors fly (issue 11 item 3). After a reconfiguration to the quadcopter the
@@ -119,7 +113,7 @@ void ComputeControl(const FlightModel& model, const FlightState& state, StepSign
   // largest tracking error 13.2 m without feed-forward, 23.8 m with it throughout (rotor-out flights), 9.8 m with
   // it while hexacopter; mean per health 2.2-3.0 m, 2.2-3.0 m and 1.5-2.0 m; outcomes identical in all three.
   planning::PlanReference target = s.reference;
-  if (ControlInLanes(model, state)) {
+  if (model.options().drag_feedforward && state.faults.allocation_failure == models::kNoFailedMotor) {
     const Eigen::Vector3d z_B_W = state.vehicle.body.q_WB.toRotationMatrix().col(2);
     target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, s.reference.v_W,
                                            model.wind().MeanWind_W());
@@ -572,11 +566,11 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
   std::array<StepSignals, kControllerLanes> s;
   std::array<models::RotorThrusts, kControllerLanes> believed;
   std::array<models::RigidBodyState, kControllerLanes> previous;
-  std::array<bool, kControllerLanes> flying{}, control_in_lanes{};
-  // Faults, the reference, and the control: in lanes for the flights it applies to (ControlInLanes), alone for the
-  // others; a lane without a flight of its own repeats another's inputs and its result is not read.
+  std::array<bool, kControllerLanes> flying{};
+  // Faults and the reference flight by flight, then the control in lanes (sim/controller_lanes.h); a lane without a
+  // flight of its own repeats the first flight's inputs and its result is not read.
   ControllerLaneInputs control;
-  int first_in_lanes = -1, first_flying = -1;
+  int first_flying = -1;
   for (int k = 0; k < n; ++k) {
     const FlightModel& model = *models[k];
     FlightState& state = *states[k];
@@ -585,26 +579,21 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
     if (first_flying < 0) first_flying = k;
     AdvanceFaults(model, state, logs[k]);
     ReadReference(model, state, s[k]);
-    control_in_lanes[k] = ControlInLanes(model, state);
-    if (!control_in_lanes[k]) {
-      ComputeControl(model, state, s[k]);
-      continue;
-    }
-    if (first_in_lanes < 0) first_in_lanes = k;
-    for (int lane = first_in_lanes == k ? 0 : k; lane < (first_in_lanes == k ? kControllerLanes : k + 1); ++lane) {
+    for (int lane = first_flying == k ? 0 : k; lane < (first_flying == k ? kControllerLanes : k + 1); ++lane) {
       SetControlLane(control, lane, state.vehicle.body, s[k].reference, model.wind().MeanWind_W());
+      control.failed_motor[lane] = state.faults.allocation_failure;
     }
   }
   if (first_flying < 0) return;
-  if (first_in_lanes >= 0) {
-    ControllerLaneOutputs out;
-    const FlightModel& vehicle = *models[first_in_lanes];  // every flight's (SharesVehicle)
-    ComputeControllerLanes(path, {&vehicle.controller(), &vehicle.mixer(), &vehicle.drag()}, control, out);
-    for (int k = 0; k < n; ++k) {
-      if (!flying[k] || !control_in_lanes[k]) continue;
-      for (int i = 0; i < 4; ++i) s[k].command[i] = out.command[i][k];
-      for (int i = 0; i < models::kRotorCount; ++i) s[k].allocated[i] = out.allocated[i][k];
-    }
+  const FlightModel& vehicle = *models[first_flying];  // every flight's (SharesVehicle)
+  ControllerLaneOutputs out;
+  ComputeControllerLanes(path,
+                         {&vehicle.controller(), &vehicle.mixer(), &vehicle.drag(), vehicle.options().drag_feedforward},
+                         control, out);
+  for (int k = 0; k < n; ++k) {
+    if (!flying[k]) continue;
+    for (int i = 0; i < 4; ++i) s[k].command[i] = out.command[i][k];
+    for (int i = 0; i < models::kRotorCount; ++i) s[k].allocated[i] = out.allocated[i][k];
   }
   // The rotors and the wind alone, the rigid bodies in lanes (a lane without a flight repeats the first's).
   models::RigidBodyLanes bodies;
@@ -621,7 +610,6 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
       inputs.Set(lane, s[k].body_inputs);
     }
   }
-  const FlightModel& vehicle = *models[first_flying];  // every flight's (SharesVehicle)
   // libm's asin per lane, the table's interpolation in the lanes: DragAtSine's bits (models/rigid_body_lanes.h).
   models::StepRigidBodyLanes(path, vehicle.scenario().body, vehicle.drag(), bodies, inputs, vehicle.dt(),
                              models::LaneDragLookup::kLibmAsinTableInLanes, &vehicle.drag_lanes());

@@ -1,8 +1,8 @@
 // Four flights' control in lanes (sim/controller_lanes.h) give, lane by lane, the bits of the scalar code flight.cc's
-// StepRotors runs for a flight with six rotors and the drag feed-forward: CalcDragFeedForward, LqrController::Compute
-// and Mixer::Allocate. Random states over the whole envelope (upside down, yawed past ±π, errors beyond every clamp,
-// the reference tilt beyond its limit, commands that saturate the rotors) and edge cases (no airspeed, a level hover),
-// on both paths.
+// StepRotors runs: CalcDragFeedForward (with every rotor allocated and the option on), LqrController::Compute and
+// Mixer::Allocate (six rotors, or a quadcopter's after an isolation). Random states over the whole envelope (upside
+// down, yawed past ±π, errors beyond every clamp, the reference tilt beyond its limit, commands that saturate the
+// rotors) and edge cases (no airspeed, a level hover), on both paths.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -22,6 +22,7 @@ struct Case {
   models::RigidBodyState state;
   planning::PlanReference reference;
   Eigen::Vector3d mean_wind_W;
+  int failed_motor = models::kNoFailedMotor;  // the allocation's (a quadcopter after an isolation)
 };
 
 struct Control {
@@ -29,14 +30,16 @@ struct Control {
   models::RotorThrusts allocated;
 };
 
-// flight.cc's StepRotors up to the allocation, for a flight with six rotors and the feed-forward on.
+// flight.cc's StepRotors up to the allocation (ComputeControl): the feed-forward while every rotor is allocated.
 Control ScalarControl(const FlightModel& model, const Case& c) {
   planning::PlanReference target = c.reference;
-  const Eigen::Vector3d z_B_W = c.state.q_WB.toRotationMatrix().col(2);
-  target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, c.reference.v_W, c.mean_wind_W);
+  if (model.options().drag_feedforward && c.failed_motor == models::kNoFailedMotor) {
+    const Eigen::Vector3d z_B_W = c.state.q_WB.toRotationMatrix().col(2);
+    target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, c.reference.v_W, c.mean_wind_W);
+  }
   Control control;
   control.command = model.controller().Compute(c.state, target);
-  control.allocated = model.mixer().Allocate(control.command, models::kNoFailedMotor).rotor_thrust;
+  control.allocated = model.mixer().Allocate(control.command, c.failed_motor).rotor_thrust;
   return control;
 }
 
@@ -44,7 +47,8 @@ std::uint64_t Bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 
 // Every case four at a time (the last group padded with the first case), on `path`, against ScalarControl.
 void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& cases, lane_math::LaneMathPath path) {
-  const ControllerLaneVehicle vehicle{&model.controller(), &model.mixer(), &model.drag()};
+  const ControllerLaneVehicle vehicle{&model.controller(), &model.mixer(), &model.drag(),
+                                      model.options().drag_feedforward};
   for (std::size_t first = 0; first < cases.size(); first += kControllerLanes) {
     ControllerLaneInputs in;
     std::size_t lane_case[kControllerLanes];
@@ -62,6 +66,7 @@ void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& case
         in.mean_wind_W[i][lane] = c.mean_wind_W[i];
       }
       for (int i = 0; i < 4; ++i) in.q_WB[i][lane] = c.state.q_WB.coeffs()[i];
+      in.failed_motor[lane] = c.failed_motor;
     }
     ControllerLaneOutputs out;
     ComputeControllerLanes(path, vehicle, in, out);
@@ -106,6 +111,8 @@ std::vector<Case> RandomCases(int count, std::uint64_t seed) {
     c.reference.a_W = RandomVector(random, (k % 7 == 0) ? 15.0 : 2.0);
     c.state.w_WB_B = RandomVector(random, (k % 4 == 0) ? 3.0 : 0.3);
     c.mean_wind_W = RandomVector(random, 3.0);
+    // Lanes of one group with different allocation cases: every rotor, or one of the three failed pairs.
+    c.failed_motor = (k % 11 < 5) ? models::kNoFailedMotor : 1 + static_cast<int>(random.Uniform() * 6.0) % 6;
     cases.push_back(c);
   }
   return cases;
@@ -133,6 +140,12 @@ std::vector<Case> EdgeCases() {
   saturating.state.w_WB_B = Eigen::Vector3d(8, -6, 4);
   saturating.reference.a_W = Eigen::Vector3d(0, 0, -30);
   cases.push_back(saturating);
+  for (int motor = 1; motor <= 6; ++motor) {  // a quadcopter: no feed-forward, −0 kept in the target
+    Case quadcopter = negative_zero;
+    quadcopter.failed_motor = motor;
+    quadcopter.state.w_WB_B = Eigen::Vector3d(0.5 * motor, -3, 2);
+    cases.push_back(quadcopter);
+  }
   return cases;
 }
 
@@ -151,6 +164,17 @@ TEST(ControllerLanesTest, RandomStatesAsTheScalarControllerOnEveryPath) {
   const std::vector<Case> cases = RandomCases(4000, 27);
   for (lane_math::LaneMathPath path : {lane_math::LaneMathPath::kSse2, lane_math::LaneMathPath::kAvx2}) {
     ExpectLanesAsScalar(DefaultModel(), cases, path);
+  }
+}
+
+TEST(ControllerLanesTest, WithoutTheFeedForwardAsTheScalarController) {
+  Scenario scenario;
+  scenario.options.drag_feedforward = false;
+  const FlightModel model(scenario);
+  std::vector<Case> cases = RandomCases(400, 28);
+  for (const Case& c : EdgeCases()) cases.push_back(c);
+  for (lane_math::LaneMathPath path : {lane_math::LaneMathPath::kSse2, lane_math::LaneMathPath::kAvx2}) {
+    ExpectLanesAsScalar(model, cases, path);
   }
 }
 

@@ -383,11 +383,11 @@ inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) 
 void Step(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
 
 // Issue 27 item 4 (flights in lockstep): up to four flights one GNC step each, as Step steps each alone, bit for bit
-// (tests/sim/step_together_test.cc): their control (feed-forward, LQR, allocation: sim/controller_lanes.h, for the
-// flights with six rotors allocated and the feed-forward on; the others alone) and their rigid bodies (models/
-// rigid_body_lanes.h) on lanes, the rest (faults, reference, rotors, wind, IMM, power, classification) flight by
-// flight, each with its own model. The models must share a vehicle (sim/lockstep.h SharesVehicle): the lanes read
-// the first's. `logs`: one per flight, nullptr for none. Finished flights are left as they are.
+// (tests/sim/step_together_test.cc): their control (feed-forward, LQR, allocation with six rotors or after an
+// isolation: sim/controller_lanes.h) and their rigid bodies (models/rigid_body_lanes.h) on lanes, the rest (faults,
+// reference, rotors, wind, IMM, power, classification) flight by flight, each with its own model. The models must share
+// a vehicle (sim/lockstep.h SharesVehicle): the lanes read the first's. `logs`: one per flight, nullptr for none.
+// Finished flights are left as they are.
 void StepTogether(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
                   std::span<FlightLog* const> logs);
 
