@@ -7,8 +7,7 @@
 // drag lookup of models/rigid_body_lanes.h (path 0 = SSE2, 1 = AVX2; lookup 0 = libm's asin and the table per lane,
 // bit-identical to the scalar step; 1 = our asin and the table per lane; 2 = our asin and the table in the lanes;
 // 3 = libm's asin per lane and the table in the lanes, bit-identical to the scalar step).
-// Instructions: valgrind --tool=callgrind --toggle-collect='*FlyScalar*' (or '*FlyLanes*') on this binary
-// (the README of the spike, /work/notes/lanes2-readme.md, gives the command).
+// Instructions: valgrind --tool=callgrind --toggle-collect='*FlyScalar*' (or '*FlyLanes*') on this binary.
 #include <array>
 #include <cmath>
 #include <string>

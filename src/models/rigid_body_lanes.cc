@@ -26,6 +26,8 @@ namespace {
 
 using lane_math_internal::LaneMathV2;
 using lane_math_internal::LaneMathV4;
+using lane_math_internal::LoadLanes;
+using lane_math_internal::StoreLanes;
 
 template <class V>
 struct Lanes3 {
@@ -46,18 +48,8 @@ UASCMA_BODY_LANES_INLINE V Splat(double s) {
   return v;
 }
 template <class V>
-UASCMA_BODY_LANES_INLINE V Load(const BodyLaneValues& a, int first) {
-  V v;
-  std::memcpy(&v, a.data() + first, sizeof(V));
-  return v;
-}
-template <class V>
-UASCMA_BODY_LANES_INLINE void Store(BodyLaneValues& a, int first, V v) {
-  std::memcpy(a.data() + first, &v, sizeof(V));
-}
-template <class V>
 UASCMA_BODY_LANES_INLINE Lanes3<V> Load3(const std::array<BodyLaneValues, 3>& a, int first) {
-  return {Load<V>(a[0], first), Load<V>(a[1], first), Load<V>(a[2], first)};
+  return {LoadLanes<V>(a[0], first), LoadLanes<V>(a[1], first), LoadLanes<V>(a[2], first)};
 }
 template <class V>
 UASCMA_BODY_LANES_INLINE V SquaredNorm(const LanesQuaternion<V>& q) {  // Eigen's Vector4d: two packets, then the pair
@@ -212,13 +204,13 @@ UASCMA_BODY_LANES_INLINE StageLanes<V> EvaluateStageLanes(const DragTable& drag,
 template <class V, LaneDragLookup kLookup>
 UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const DragLaneTable* lanes, const SharedBody& body,
                                         RigidBodyLanes& s, const BodyInputLanes& in, double dt, int first) {
-  const HeldLanes<V> held = {-Load<V>(in.total_thrust, first) / body.mass, Load3<V>(in.torque_B, first),
+  const HeldLanes<V> held = {-LoadLanes<V>(in.total_thrust, first) / body.mass, Load3<V>(in.torque_B, first),
                              Load3<V>(in.wind_W, first)};
   const Lanes3<V> p = Load3<V>(s.p_WB_W, first);
   const Lanes3<V> v = Load3<V>(s.v_WB_W, first);
   const Lanes3<V> w = Load3<V>(s.w_WB_B, first);
-  const LanesQuaternion<V> q = {Load<V>(s.q_WB[0], first), Load<V>(s.q_WB[1], first), Load<V>(s.q_WB[2], first),
-                                Load<V>(s.q_WB[3], first)};
+  const LanesQuaternion<V> q = {LoadLanes<V>(s.q_WB[0], first), LoadLanes<V>(s.q_WB[1], first),
+                                LoadLanes<V>(s.q_WB[2], first), LoadLanes<V>(s.q_WB[3], first)};
   const double half_dt = 0.5 * dt;
   const StageLanes<V> k1 = EvaluateStageLanes<V, kLookup>(drag, lanes, body, held, v, q, w);
   const Lanes3<V> v_mid = {v.x + half_dt * k1.v_dot.x, v.y + half_dt * k1.v_dot.y, v.z + half_dt * k1.v_dot.z};
@@ -226,25 +218,25 @@ UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const DragLaneTab
                                     q.w + half_dt * k1.q_dot.w};
   const Lanes3<V> w_mid = {w.x + half_dt * k1.w_dot.x, w.y + half_dt * k1.w_dot.y, w.z + half_dt * k1.w_dot.z};
   const StageLanes<V> k2 = EvaluateStageLanes<V, kLookup>(drag, lanes, body, held, v_mid, q_mid, w_mid);
-  Store(s.p_WB_W[0], first, p.x + dt * v_mid.x);
-  Store(s.p_WB_W[1], first, p.y + dt * v_mid.y);
-  Store(s.p_WB_W[2], first, p.z + dt * v_mid.z);
-  Store(s.v_WB_W[0], first, v.x + dt * k2.v_dot.x);
-  Store(s.v_WB_W[1], first, v.y + dt * k2.v_dot.y);
-  Store(s.v_WB_W[2], first, v.z + dt * k2.v_dot.z);
-  Store(s.w_WB_B[0], first, w.x + dt * k2.w_dot.x);
-  Store(s.w_WB_B[1], first, w.y + dt * k2.w_dot.y);
-  Store(s.w_WB_B[2], first, w.z + dt * k2.w_dot.z);
+  StoreLanes(s.p_WB_W[0], first, p.x + dt * v_mid.x);
+  StoreLanes(s.p_WB_W[1], first, p.y + dt * v_mid.y);
+  StoreLanes(s.p_WB_W[2], first, p.z + dt * v_mid.z);
+  StoreLanes(s.v_WB_W[0], first, v.x + dt * k2.v_dot.x);
+  StoreLanes(s.v_WB_W[1], first, v.y + dt * k2.v_dot.y);
+  StoreLanes(s.v_WB_W[2], first, v.z + dt * k2.v_dot.z);
+  StoreLanes(s.w_WB_B[0], first, w.x + dt * k2.w_dot.x);
+  StoreLanes(s.w_WB_B[1], first, w.y + dt * k2.w_dot.y);
+  StoreLanes(s.w_WB_B[2], first, w.z + dt * k2.w_dot.z);
   const LanesQuaternion<V> q_next = {q.x + dt * k2.q_dot.x, q.y + dt * k2.q_dot.y, q.z + dt * k2.q_dot.z,
                                      q.w + dt * k2.q_dot.w};
   // normalize(): divided by the square root of the squared norm where that is > 0.
   const V norm2 = SquaredNorm(q_next);
   const auto positive = norm2 > Splat<V>(0.0);
   const V norm = lane_math_internal::Sqrt(norm2);
-  Store(s.q_WB[0], first, positive ? q_next.x / norm : q_next.x);
-  Store(s.q_WB[1], first, positive ? q_next.y / norm : q_next.y);
-  Store(s.q_WB[2], first, positive ? q_next.z / norm : q_next.z);
-  Store(s.q_WB[3], first, positive ? q_next.w / norm : q_next.w);
+  StoreLanes(s.q_WB[0], first, positive ? q_next.x / norm : q_next.x);
+  StoreLanes(s.q_WB[1], first, positive ? q_next.y / norm : q_next.y);
+  StoreLanes(s.q_WB[2], first, positive ? q_next.z / norm : q_next.z);
+  StoreLanes(s.q_WB[3], first, positive ? q_next.w / norm : q_next.w);
 }
 
 template <LaneDragLookup kLookup>
@@ -272,8 +264,8 @@ void StepOnPath(bool avx2, const DragTable& drag, const DragLaneTable* lanes, co
 BodyLaneValues DragAtSineSse2(const DragLaneTable& table, const BodyLaneValues& airspeed, const BodyLaneValues& sine) {
   BodyLaneValues out;
   for (int first = 0; first < kBodyLanes; first += 2) {
-    const LaneMathV2 pitch = lane_math_internal::AsinKernel(Load<LaneMathV2>(sine, first));
-    Store(out, first, DragAtLanes(table, Load<LaneMathV2>(airspeed, first), LocateLanes(table.pitch, pitch)));
+    const LaneMathV2 pitch = lane_math_internal::AsinKernel(LoadLanes<LaneMathV2>(sine, first));
+    StoreLanes(out, first, DragAtLanes(table, LoadLanes<LaneMathV2>(airspeed, first), LocateLanes(table.pitch, pitch)));
   }
   return out;
 }
@@ -281,8 +273,8 @@ __attribute__((target("avx2"))) BodyLaneValues DragAtSineAvx2(const DragLaneTabl
                                                               const BodyLaneValues& airspeed,
                                                               const BodyLaneValues& sine) {
   BodyLaneValues out;
-  const LaneMathV4 pitch = lane_math_internal::AsinKernel(Load<LaneMathV4>(sine, 0));
-  Store(out, 0, DragAtLanes(table, Load<LaneMathV4>(airspeed, 0), LocateLanes(table.pitch, pitch)));
+  const LaneMathV4 pitch = lane_math_internal::AsinKernel(LoadLanes<LaneMathV4>(sine, 0));
+  StoreLanes(out, 0, DragAtLanes(table, LoadLanes<LaneMathV4>(airspeed, 0), LocateLanes(table.pitch, pitch)));
   return out;
 }
 

@@ -23,20 +23,12 @@ namespace {
 
 using lane_math_internal::LaneMathV2;
 using lane_math_internal::LaneMathV4;
+using lane_math_internal::LoadLanes;
+using lane_math_internal::StoreLanes;
 
 template <class V>
 UASCMA_CONTROLLER_LANES_INLINE V Splat(double s) {
   return lane_math_internal::Splat<V>(s);
-}
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE V Load(const ControllerLaneValues& a, int first) {
-  V v;
-  std::memcpy(&v, a.data() + first, sizeof(V));
-  return v;
-}
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE void Store(ControllerLaneValues& a, int first, V v) {
-  std::memcpy(a.data() + first, &v, sizeof(V));
 }
 template <class V>
 UASCMA_CONTROLLER_LANES_INLINE V Min(V a, V b) {  // std::min(a, b)
@@ -66,7 +58,7 @@ struct Lanes3 {
 };
 template <class V>
 UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> Load3(const std::array<ControllerLaneValues, 3>& a, int first) {
-  return {Load<V>(a[0], first), Load<V>(a[1], first), Load<V>(a[2], first)};
+  return {LoadLanes<V>(a[0], first), LoadLanes<V>(a[1], first), LoadLanes<V>(a[2], first)};
 }
 
 // gnc/lqr.cc's TiltDirection (y, x), AngleDifference and ClampTilt.
@@ -109,8 +101,8 @@ struct Rotation {
 };
 template <class V>
 UASCMA_CONTROLLER_LANES_INLINE Rotation<V> RotationOf(const ControllerLaneInputs& in, int first) {
-  const V qx = Load<V>(in.q_WB[0], first), qy = Load<V>(in.q_WB[1], first), qz = Load<V>(in.q_WB[2], first),
-          qw = Load<V>(in.q_WB[3], first);
+  const V qx = LoadLanes<V>(in.q_WB[0], first), qy = LoadLanes<V>(in.q_WB[1], first),
+          qz = LoadLanes<V>(in.q_WB[2], first), qw = LoadLanes<V>(in.q_WB[3], first);
   const V tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
   const V twy = ty * qw, twx = tx * qw, twz = tz * qw;
   const V txx = tx * qx, txy = ty * qx, txz = tz * qx;
@@ -299,7 +291,7 @@ UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const C
   const auto yaw_controllable = c.yaw_controllable != zero;
   for (int i = 0; i < models::kRotorCount; ++i) {
     const V ti = yaw_controllable ? t[i] + yaw_scale * yaw_step[i] : t[i];
-    Store(out.allocated[i], first, Min(Max(ti, zero), Splat<V>(max_thrust)));
+    StoreLanes(out.allocated[i], first, Min(Max(ti, zero), Splat<V>(max_thrust)));
   }
 }
 
@@ -309,10 +301,10 @@ UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& ve
                                                  ControllerLaneOutputs& out, int first) {
   const Rotation<V> r = RotationOf<V>(in, first);
   const Wrench<V> wrench = ComputeWrench(*vehicle.controller, in, r, TargetAcceleration(vehicle, in, r, first), first);
-  Store(out.command[0], first, wrench.thrust);
-  Store(out.command[1], first, wrench.u1);
-  Store(out.command[2], first, wrench.u2);
-  Store(out.command[3], first, wrench.u3);
+  StoreLanes(out.command[0], first, wrench.thrust);
+  StoreLanes(out.command[1], first, wrench.u1);
+  StoreLanes(out.command[2], first, wrench.u2);
+  StoreLanes(out.command[3], first, wrench.u3);
   Allocate(*vehicle.mixer, in, wrench, out, first);
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "same_flight.h"
+#include "test_scenarios.h"
 #include "uascma/campaign/metrics.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/decision/cma_mdp.h"
@@ -21,23 +22,8 @@
 namespace uascma::sim {
 namespace {
 
-Scenario ScenarioOne() {
-  return LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario;
-}
-
-Scenario ShortJam() {
-  Scenario scenario;
-  scenario.name = "short jam";
-  scenario.mission.destination_NE = Eigen::Vector2d(300, 200);
-  scenario.wind.mean_speed = 2.0;
-  scenario.wind.turbulence = models::TurbulenceCategory::kLowModerate;
-  scenario.fault.enabled = true;
-  scenario.fault.motor = 2;
-  scenario.fault.spall_onset_s = 30.0;
-  scenario.fault.time_per_growth_step_s = 0.7128;
-  scenario.seed = 5;
-  return scenario;
-}
+using testing_scenarios::ScenarioOne;
+using testing_scenarios::ShortJam;
 
 TEST(FlightTest, ACopiedStateHasTheSameFutureBitForBit) {
   const FlightModel model(ShortJam());

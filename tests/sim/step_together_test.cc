@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "same_flight.h"
+#include "test_scenarios.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/lockstep.h"
 #include "uascma/sim/policy.h"
@@ -18,25 +19,11 @@
 namespace uascma::sim {
 namespace {
 
-Scenario ScenarioOne() {
-  return LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml").scenario;
-}
-
-Scenario ShortJam() {
-  Scenario scenario;
-  scenario.name = "short jam";
-  scenario.mission.destination_NE = Eigen::Vector2d(300, 200);
-  scenario.wind.mean_speed = 2.0;
-  scenario.wind.turbulence = models::TurbulenceCategory::kLowModerate;
-  scenario.fault.enabled = true;
-  scenario.fault.motor = 2;
-  scenario.fault.spall_onset_s = 30.0;
-  scenario.fault.time_per_growth_step_s = 0.7128;
-  return scenario;
-}
+using testing_scenarios::ScenarioOne;
+using testing_scenarios::ShortJam;
 
 // The NoOp policy's epoch, then the step, for each flight: `together` steps them with StepTogether, otherwise
-// each with Step. Returns the flights at their ends; `epochs_compared` collects the states at every epoch.
+// each with Step. Returns the flights at their ends; `at_epochs` holds each flight's state at every epoch.
 struct Flown {
   std::vector<FlightState> states;
   std::vector<FlightLog> logs;

@@ -16,6 +16,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 namespace uascma::lane_math_internal {
@@ -45,6 +46,19 @@ UASCMA_LANE_MATH_INLINE double Sqrt(double x) { return __builtin_sqrt(x); }
 UASCMA_LANE_MATH_INLINE LaneMathV2 Sqrt(LaneMathV2 x) { return LaneMathV2{__builtin_sqrt(x[0]), __builtin_sqrt(x[1])}; }
 UASCMA_LANE_MATH_INLINE LaneMathV4 Sqrt(LaneMathV4 x) {
   return LaneMathV4{__builtin_sqrt(x[0]), __builtin_sqrt(x[1]), __builtin_sqrt(x[2]), __builtin_sqrt(x[3])};
+}
+
+// The lanes [first, first + the width of T) of an array of per-lane values (one value per flight or body of a
+// lockstep group, models/rigid_body_lanes.h, sim/controller_lanes.h), and back.
+template <typename T, std::size_t N>
+UASCMA_LANE_MATH_INLINE T LoadLanes(const std::array<double, N>& a, int first) {
+  T v;
+  std::memcpy(&v, a.data() + first, sizeof(T));
+  return v;
+}
+template <typename T, std::size_t N>
+UASCMA_LANE_MATH_INLINE void StoreLanes(std::array<double, N>& a, int first, T v) {
+  std::memcpy(a.data() + first, &v, sizeof(T));
 }
 
 // A constant in every lane (0 + c is c exactly).
