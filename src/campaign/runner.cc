@@ -180,7 +180,6 @@ struct FlightsInFlight {
 void FlyTasks(const CampaignConfig& config, const std::vector<CampaignPolicy>& policies, const TaskSource& next_task,
               std::size_t max_tasks, const ExecuteOptions& options, const CancellationToken& cancel,
               ProgressBar* progress, FlightsInFlight& flights) {
-  const int num_policies = static_cast<int>(policies.size());
   ParallelOptions parallel;
   parallel.jobs = options.jobs > 0 ? options.jobs : DefaultJobs(1);
   parallel.ordered = false;

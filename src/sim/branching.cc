@@ -41,6 +41,16 @@ void DecideShared(const FlightModel& model, std::span<DecisionPolicy* const> pol
 
 }  // namespace
 
+// A flight of one policy (policies[k]), from a decision epoch before its Observe, flown on alone after the shared
+// flight (FlyTogether). At namespace scope, with linkage: a coroutine's frame holds it.
+namespace internal {
+struct AloneFlight {
+  std::size_t k;
+  FlightState state;
+  FlightLog log;
+};
+}  // namespace internal
+
 FlightCoroutine FlyTogether(const FlightModel& model, std::span<DecisionPolicy* const> policies,
                             std::span<const EmergencyPlanner> planners, RunOptions options, EpochSteps& steps,
                             std::vector<SimResult>& results) {
@@ -48,13 +58,7 @@ FlightCoroutine FlyTogether(const FlightModel& model, std::span<DecisionPolicy* 
   const std::size_t n = policies.size();
   results.assign(n, SimResult{});
   std::vector<double> wall_s(n, 0.0);
-  // Flights of one policy each, from a decision epoch before its Observe, flown on alone after the shared flight.
-  struct Alone {
-    std::size_t k;
-    FlightState state;
-    FlightLog log;
-  };
-  std::vector<Alone> alone;
+  std::vector<internal::AloneFlight> alone;
 
   FlightState state = MakeInitialState(model, model.scenario().seed);
   FlightLog log;
@@ -77,7 +81,7 @@ FlightCoroutine FlyTogether(const FlightModel& model, std::span<DecisionPolicy* 
       if (decided[i] == decision::CmaAction::kNoOp) continue;
       // The branch: a copy of the state and the log, which has the same future bit for bit.
       const std::size_t k = together[i];
-      Alone branch{k, state, log};
+      internal::AloneFlight branch{k, state, log};
       const auto act_start = std::chrono::steady_clock::now();
       RecordEodAtAction(model, branch.state, decided[i]);
       Act(model, branch.state, decided[i], planners[k], &branch.log,
@@ -104,7 +108,7 @@ FlightCoroutine FlyTogether(const FlightModel& model, std::span<DecisionPolicy* 
     }
   }
   // Each branch (and the last policy of the shared flight) on alone, as Run flies it.
-  for (Alone& flight : alone) {
+  for (internal::AloneFlight& flight : alone) {
     const std::size_t k = flight.k;
     const Controllers controllers{policies[k], options.battery_policy, planners[k]};
     while (!flight.state.done()) {
