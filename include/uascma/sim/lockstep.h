@@ -4,10 +4,12 @@
 // (FlightCoroutine: RunTogether's, sim/branching.h) that asks EpochSteps for the GNC steps to a flight's next decision
 // epoch (`co_await steps.ToNextEpoch(...)`) and does everything else (observing, deciding, acting, branching) itself:
 //   - EpochSteps alone (lockstep off): the steps are taken at once, Step after Step: the run flies as it always did;
-//   - EpochSteps in lockstep: the coroutine waits; its owner resumes the runs it keeps in flight (campaign/runner.cc
-//     keeps four per thread) until each waits or ends, then StepWaiting() steps every waiting flight to its next epoch,
-//     four at a time where their models share a vehicle (SharesVehicle), and resumes their coroutines.
-// Every flight is the flight flown alone, bit for bit (StepTogether's guarantee, tests/sim/lockstep_test.cc).
+//   - EpochSteps in lockstep: the coroutine waits; its owner resumes the runs it keeps in flight (campaign/
+//     runs_in_flight.cc keeps four per thread) until each waits or ends, then StepWaiting() steps every waiting
+//     flight to its next epoch, four at a time where their models share a vehicle (SharesVehicle), and resumes
+//     their coroutines.
+// Every flight is the flight flown alone, bit for bit (StepTogether's guarantee, tests/sim/step_together_test.cc;
+// a campaign's rows for any number of runs in flight, tests/campaign/runner_test.cc).
 #include <coroutine>
 #include <exception>
 #include <utility>
@@ -18,7 +20,7 @@
 namespace uascma::sim {
 
 // True when StepTogether may step flights of `a` and `b` in one group: the same vehicle (configuration, body, LQR,
-// GNC step), the rest of each flight (plan, wind, pack, faults, options) being its own model's.
+// GNC step, drag feed-forward), the rest of each flight (plan, wind, pack, faults, other options) its own model's.
 bool SharesVehicle(const FlightModel& a, const FlightModel& b);
 
 // A coroutine that flies (a run's flights) and waits for EpochSteps. Started suspended; Resume() runs it to its next
