@@ -24,15 +24,16 @@ namespace {
 
 #define UASCMA_BODY_LANES_INLINE inline __attribute__((always_inline))
 
+using lane_math_internal::Clamp;
 using lane_math_internal::LaneMathV2;
 using lane_math_internal::LaneMathV4;
+using lane_math_internal::Lanes3;
 using lane_math_internal::LoadLanes;
+using lane_math_internal::LoadLanes3;
+using lane_math_internal::Max;
+using lane_math_internal::Min;
 using lane_math_internal::StoreLanes;
 
-template <class V>
-struct Lanes3 {
-  V x, y, z;
-};
 template <class V>
 struct LanesQuaternion {
   V x, y, z, w;  // Eigen's coefficient order
@@ -46,10 +47,6 @@ UASCMA_BODY_LANES_INLINE V Splat(double s) {
   V v;
   for (int i = 0; i < kWidth<V>; ++i) v[i] = s;
   return v;
-}
-template <class V>
-UASCMA_BODY_LANES_INLINE Lanes3<V> Load3(const std::array<BodyLaneValues, 3>& a, int first) {
-  return {LoadLanes<V>(a[0], first), LoadLanes<V>(a[1], first), LoadLanes<V>(a[2], first)};
 }
 template <class V>
 UASCMA_BODY_LANES_INLINE V SquaredNorm(const LanesQuaternion<V>& q) {  // Eigen's Vector4d: two packets, then the pair
@@ -120,10 +117,10 @@ UASCMA_BODY_LANES_INLINE LaneBracket<V> LocateLanes(const DragLaneTable::Axis& a
 // the last airspeed; the four corners gathered.
 template <class V>
 UASCMA_BODY_LANES_INLINE V DragAtLanes(const DragLaneTable& table, V airspeed, const LaneBracket<V>& p) {
-  airspeed = airspeed < Splat<V>(0.0) ? Splat<V>(0.0) : airspeed;  // std::max(airspeed, 0.0)
+  airspeed = Max(airspeed, Splat<V>(0.0));
   const double top = table.airspeed.back;
   const V growth = airspeed > Splat<V>(top) ? (airspeed * airspeed) / (top * top) : Splat<V>(1.0);
-  const LaneBracket<V> v = LocateLanes(table.airspeed, Splat<V>(top) < airspeed ? Splat<V>(top) : airspeed);
+  const LaneBracket<V> v = LocateLanes(table.airspeed, Min(airspeed, Splat<V>(top)));
   const int columns = static_cast<int>(table.pitch.values.size());
   const LaneIndex<V> corner = v.index * columns + p.index;
   const double* drag = table.drag_n.data();
@@ -166,7 +163,7 @@ UASCMA_BODY_LANES_INLINE void AddDrag(const DragTable& drag, const DragLaneTable
                                       const Lanes3<V>& air, V airspeed, const Lanes3<V>& z_B, Lanes3<V>& v_dot) {
   const auto has_drag = airspeed > Splat<V>(1e-9);
   V sine = (air.x * z_B.x + air.y * z_B.y + air.z * z_B.z) / airspeed;  // v_air.dot(z_B) / airspeed
-  sine = sine < Splat<V>(-1.0) ? Splat<V>(-1.0) : (Splat<V>(1.0) < sine ? Splat<V>(1.0) : sine);  // std::clamp
+  sine = Clamp(sine, -1.0, 1.0);                                        // std::clamp
   const V k = -DragMagnitude<V, kLookup>(drag, lanes, airspeed, sine) / airspeed;
   v_dot.x = has_drag ? v_dot.x + k * air.x / mass : v_dot.x;  // v_dot += drag_W / mass, drag_W = k · v_air
   v_dot.y = has_drag ? v_dot.y + k * air.y / mass : v_dot.y;
@@ -204,11 +201,11 @@ UASCMA_BODY_LANES_INLINE StageLanes<V> EvaluateStageLanes(const DragTable& drag,
 template <class V, LaneDragLookup kLookup>
 UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const DragLaneTable* lanes, const SharedBody& body,
                                         RigidBodyLanes& s, const BodyInputLanes& in, double dt, int first) {
-  const HeldLanes<V> held = {-LoadLanes<V>(in.total_thrust, first) / body.mass, Load3<V>(in.torque_B, first),
-                             Load3<V>(in.wind_W, first)};
-  const Lanes3<V> p = Load3<V>(s.p_WB_W, first);
-  const Lanes3<V> v = Load3<V>(s.v_WB_W, first);
-  const Lanes3<V> w = Load3<V>(s.w_WB_B, first);
+  const HeldLanes<V> held = {-LoadLanes<V>(in.total_thrust, first) / body.mass, LoadLanes3<V>(in.torque_B, first),
+                             LoadLanes3<V>(in.wind_W, first)};
+  const Lanes3<V> p = LoadLanes3<V>(s.p_WB_W, first);
+  const Lanes3<V> v = LoadLanes3<V>(s.v_WB_W, first);
+  const Lanes3<V> w = LoadLanes3<V>(s.w_WB_B, first);
   const LanesQuaternion<V> q = {LoadLanes<V>(s.q_WB[0], first), LoadLanes<V>(s.q_WB[1], first),
                                 LoadLanes<V>(s.q_WB[2], first), LoadLanes<V>(s.q_WB[3], first)};
   const double half_dt = 0.5 * dt;

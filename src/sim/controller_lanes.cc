@@ -1,11 +1,11 @@
 // ComputeControllerLanes (sim/controller_lanes.h): gnc/lqr.cc's CalcDragFeedForward and LqrController::Compute and
-// models/mixer.cc's AllocateThrusts (six rotors) written once as a template over a GCC/Clang generic vector of 2
-// doubles (SSE2, lanes 0-1 then 2-3) or 4 (AVX2, through a target attribute). Each line names the scalar expression
-// it performs per lane, in its order; a branch of the scalar code is a select between values every lane computes
-// (both are computed by the same operations in every lane, so the selected one has the scalar code's bits). std::min
-// and std::max are their definitions, (b < a ? b : a) and (a < b ? b : a); std::clamp(v, lo, hi) is
-// (v < lo ? lo : (hi < v ? hi : v)). Compiled with -ffp-contract=off, out of the unity files and without the
-// precompiled header (src/sim/CMakeLists.txt), so that no multiply and add are fused on either path.
+// models/mixer.cc's AllocateThrusts (each lane's failure case) written once as a template over a GCC/Clang generic
+// vector of 2 doubles (SSE2, lanes 0-1 then 2-3) or 4 (AVX2, through a target attribute). Each line names the scalar
+// expression it performs per lane, in its order; a branch of the scalar code is a select between values every lane
+// computes (both are computed by the same operations in every lane, so the selected one has the scalar code's bits).
+// std::min, std::max and std::clamp are lane_math_kernels.h's Min, Max and Clamp, their definitions. Compiled with
+// -ffp-contract=off, out of the unity files and without the precompiled header (src/sim/CMakeLists.txt), so that no
+// multiply and add are fused on either path.
 #include "uascma/sim/controller_lanes.h"
 
 #include <cstring>
@@ -21,27 +21,16 @@ namespace {
 
 #define UASCMA_CONTROLLER_LANES_INLINE inline __attribute__((always_inline))
 
+using lane_math_internal::Clamp;
 using lane_math_internal::LaneMathV2;
 using lane_math_internal::LaneMathV4;
+using lane_math_internal::Lanes3;
 using lane_math_internal::LoadLanes;
+using lane_math_internal::LoadLanes3;
+using lane_math_internal::Max;
+using lane_math_internal::Min;
+using lane_math_internal::Splat;
 using lane_math_internal::StoreLanes;
-
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE V Splat(double s) {
-  return lane_math_internal::Splat<V>(s);
-}
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE V Min(V a, V b) {  // std::min(a, b)
-  return b < a ? b : a;
-}
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE V Max(V a, V b) {  // std::max(a, b)
-  return a < b ? b : a;
-}
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE V Clamp(V v, V lo, V hi) {  // std::clamp(v, lo, hi)
-  return v < lo ? lo : (hi < v ? hi : v);
-}
 
 // True when every lane of a compare's mask is set.
 template <class M>
@@ -50,15 +39,6 @@ UASCMA_CONTROLLER_LANES_INLINE bool AllLanes(M mask) {
     if (!mask[i]) return false;
   }
   return true;
-}
-
-template <class V>
-struct Lanes3 {
-  V x, y, z;
-};
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> Load3(const std::array<ControllerLaneValues, 3>& a, int first) {
-  return {LoadLanes<V>(a[0], first), LoadLanes<V>(a[1], first), LoadLanes<V>(a[2], first)};
 }
 
 // gnc/lqr.cc's TiltDirection (y, x), AngleDifference and ClampTilt.
@@ -120,12 +100,12 @@ UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> TargetAcceleration(const ControllerLane
   const double mass = vehicle.controller->params().mass;
   const V zero = Splat<V>(0.0);
   const Lanes3<V> z_B = {r.z_x, r.z_y, r.r22};
-  const Lanes3<V> v_ref = Load3<V>(in.v_ref_W, first);
-  const Lanes3<V> wind = Load3<V>(in.mean_wind_W, first);
+  const Lanes3<V> v_ref = LoadLanes3<V>(in.v_ref_W, first);
+  const Lanes3<V> wind = LoadLanes3<V>(in.mean_wind_W, first);
   const Lanes3<V> v_air = {v_ref.x - wind.x, v_ref.y - wind.y, v_ref.z - wind.z};
   const V airspeed = lane_math_internal::Sqrt(v_air.x * v_air.x + v_air.y * v_air.y + v_air.z * v_air.z);
   const auto moving = airspeed > Splat<V>(1e-9);
-  const V sine = Clamp((v_air.x * z_B.x + v_air.y * z_B.y + v_air.z * z_B.z) / airspeed, Splat<V>(-1.0), Splat<V>(1.0));
+  const V sine = Clamp((v_air.x * z_B.x + v_air.y * z_B.y + v_air.z * z_B.z) / airspeed, -1.0, 1.0);
   // The feed-forward's lanes: those with every rotor allocated, when the vehicle feeds the drag forward.
   V fed = zero;
   for (int i = 0; i < kWidth; ++i) fed[i] = vehicle.feedforward && in.failed_motor[first + i] == 0 ? 1.0 : 0.0;
@@ -135,7 +115,7 @@ UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> TargetAcceleration(const ControllerLane
     if (moving[i] && feeds[i]) drag[i] = vehicle.drag->DragAtSine(airspeed[i], sine[i]);  // libm's asin, per lane
   }
   const V scale = drag / (mass * airspeed);
-  const Lanes3<V> a_ref = Load3<V>(in.a_ref_W, first);
+  const Lanes3<V> a_ref = LoadLanes3<V>(in.a_ref_W, first);
   // Without the feed-forward the target is the reference itself (no sum: a −0 stays −0).
   return {feeds ? a_ref.x + (moving ? scale * v_air.x : zero) : a_ref.x,
           feeds ? a_ref.y + (moving ? scale * v_air.y : zero) : a_ref.y,
@@ -156,20 +136,20 @@ UASCMA_CONTROLLER_LANES_INLINE Wrench<V> ComputeWrench(const gnc::LqrController&
   const V zero = Splat<V>(0.0);
   const V one = Splat<V>(1.0);
   const V r00 = r.r00, r10 = r.r10, r20 = r.r20, r21 = r.r21, r22 = r.r22;
-  const Lanes3<V> v_ref = Load3<V>(in.v_ref_W, first);
+  const Lanes3<V> v_ref = LoadLanes3<V>(in.v_ref_W, first);
   const gnc::TiltLimit& limit = controller.tilt_limit();
   const V vertical = Max(kGravity - a.z, one);
   const Direction<V> pitch_ref = ClampTilt<V>({-a.x, vertical}, limit);
   const V cos_pitch_ref = pitch_ref.x / lane_math_internal::Sqrt(pitch_ref.x * pitch_ref.x + pitch_ref.y * pitch_ref.y);
   const Direction<V> roll_ref = ClampTilt<V>({a.y * cos_pitch_ref, vertical}, limit);
-  const Lanes3<V> p = Load3<V>(in.p_WB_W, first), p_ref = Load3<V>(in.p_ref_W, first);
-  const Lanes3<V> v = Load3<V>(in.v_WB_W, first);
+  const Lanes3<V> p = LoadLanes3<V>(in.p_WB_W, first), p_ref = LoadLanes3<V>(in.p_ref_W, first);
+  const Lanes3<V> v = LoadLanes3<V>(in.v_WB_W, first);
   V e0 = p.x - p_ref.x, e1 = p.y - p_ref.y;
   ClampNorm(e0, e1, options.max_horizontal_error);
-  const V e2 = Clamp(p.z - p_ref.z, Splat<V>(-options.max_vertical_error), Splat<V>(options.max_vertical_error));
+  const V e2 = Clamp(p.z - p_ref.z, -options.max_vertical_error, options.max_vertical_error);
   V e3 = v.x - v_ref.x, e4 = v.y - v_ref.y;
   ClampNorm(e3, e4, options.max_velocity_error);
-  const V e5 = Clamp(v.z - v_ref.z, Splat<V>(-options.max_velocity_error), Splat<V>(options.max_velocity_error));
+  const V e5 = Clamp(v.z - v_ref.z, -options.max_velocity_error, options.max_velocity_error);
   const V heading_norm = lane_math_internal::Sqrt(r00 * r00 + r10 * r10);
   const auto heading = heading_norm > zero;
   const V cos_yaw = heading ? r00 / heading_norm : one;
@@ -190,7 +170,7 @@ UASCMA_CONTROLLER_LANES_INLINE Wrench<V> ComputeWrench(const gnc::LqrController&
   }
   const V e7 = Atan2Kernel(pitch_error.y, pitch_error.x);
   const V e8 = Atan2Kernel(r10, r00);
-  const Lanes3<V> w = Load3<V>(in.w_WB_B, first);
+  const Lanes3<V> w = LoadLanes3<V>(in.w_WB_B, first);
   const gnc::GainMatrix& g = controller.negative_gain();
   const V u0 = g(0, 2) * e2 + g(0, 5) * e5;
   const V u1 = g(1, 1) * e1 + g(1, 4) * e4 + g(1, 6) * e6 + g(1, 9) * w.x;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -517,10 +518,6 @@ bool CapsAlike(const FlightModel& model, const StepSignals& s, double bus_voltag
   return alike;
 }
 
-}  // namespace
-
-namespace {
-
 // The power system's part of a GNC step, the telemetry, the classification and the clock.
 void FinishStep(const FlightModel& model, FlightState& state, StepSignals& s, FlightLog* log) {
   StepPowerSystem(model, state.power, s);
@@ -531,6 +528,12 @@ void FinishStep(const FlightModel& model, FlightState& state, StepSignals& s, Fl
   }
   ClassifyStep(model, state, s);
   AdvanceClock(model, state);
+}
+
+// The lanes flight k of a lockstep group fills: its own, and every lane of the group's first flying flight's when it
+// is that flight (a lane without a flight of its own then repeats valid inputs; its results are not read).
+std::pair<int, int> LanesFilledBy(int k, int first_flying) {
+  return k == first_flying ? std::pair{0, kControllerLanes} : std::pair{k, k + 1};
 }
 
 // A flight's inputs to the control in lanes, in lane `lane`.
@@ -567,8 +570,7 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
   std::array<models::RotorThrusts, kControllerLanes> believed;
   std::array<models::RigidBodyState, kControllerLanes> previous;
   std::array<bool, kControllerLanes> flying{};
-  // Faults and the reference flight by flight, then the control in lanes (sim/controller_lanes.h); a lane without a
-  // flight of its own repeats the first flight's inputs and its result is not read.
+  // Faults and the reference flight by flight, then the control in lanes (sim/controller_lanes.h).
   ControllerLaneInputs control;
   int first_flying = -1;
   for (int k = 0; k < n; ++k) {
@@ -579,7 +581,7 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
     if (first_flying < 0) first_flying = k;
     AdvanceFaults(model, state, logs[k]);
     ReadReference(model, state, s[k]);
-    for (int lane = first_flying == k ? 0 : k; lane < (first_flying == k ? kControllerLanes : k + 1); ++lane) {
+    for (auto [lane, end] = LanesFilledBy(k, first_flying); lane < end; ++lane) {
       SetControlLane(control, lane, state.vehicle.body, s[k].reference, model.wind().MeanWind_W());
       control.failed_motor[lane] = state.faults.allocation_failure;
     }
@@ -595,7 +597,7 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
     for (int i = 0; i < 4; ++i) s[k].command[i] = out.command[i][k];
     for (int i = 0; i < models::kRotorCount; ++i) s[k].allocated[i] = out.allocated[i][k];
   }
-  // The rotors and the wind alone, the rigid bodies in lanes (a lane without a flight repeats the first's).
+  // The rotors and the wind alone, the rigid bodies in lanes.
   models::RigidBodyLanes bodies;
   models::BodyInputLanes inputs;
   for (int k = 0; k < n; ++k) {
@@ -605,7 +607,7 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
     StepRotors(model, state, believed[k], s[k]);
     previous[k] = state.vehicle.body;
     StepWind(model, state.vehicle, s[k]);
-    for (int lane = k == first_flying ? 0 : k; lane < (k == first_flying ? kControllerLanes : k + 1); ++lane) {
+    for (auto [lane, end] = LanesFilledBy(k, first_flying); lane < end; ++lane) {
       bodies.Set(lane, state.vehicle.body);
       inputs.Set(lane, s[k].body_inputs);
     }

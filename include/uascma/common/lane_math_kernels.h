@@ -61,6 +61,27 @@ UASCMA_LANE_MATH_INLINE void StoreLanes(std::array<double, N>& a, int first, T v
   std::memcpy(a.data() + first, &v, sizeof(T));
 }
 
+// A 3-vector's components, one vector of lanes each, and those of an array of per-lane values [component][lane].
+template <typename T>
+struct Lanes3 {
+  T x, y, z;
+};
+template <typename T, std::size_t N>
+UASCMA_LANE_MATH_INLINE Lanes3<T> LoadLanes3(const std::array<std::array<double, N>, 3>& a, int first) {
+  return {LoadLanes<T>(a[0], first), LoadLanes<T>(a[1], first), LoadLanes<T>(a[2], first)};
+}
+
+// std::min and std::max by their definitions, lane by lane (the same operand chosen on ties, NaN and ±0):
+// min(a, b) = b < a ? b : a; max(a, b) = a < b ? b : a. std::clamp is Clamp below.
+template <typename T>
+UASCMA_LANE_MATH_INLINE T Min(T a, T b) {
+  return b < a ? b : a;
+}
+template <typename T>
+UASCMA_LANE_MATH_INLINE T Max(T a, T b) {
+  return a < b ? b : a;
+}
+
 // A constant in every lane (0 + c is c exactly).
 template <typename T>
 UASCMA_LANE_MATH_INLINE T Splat(double c) {
@@ -278,6 +299,7 @@ inline constexpr double kExpHighest = 710.0;   // e^710 > the largest double: +�
 inline constexpr double kExpLowest = -746.0;   // e^−746 < half the least subnormal: 0 from here on
 inline constexpr double kExpm1Lowest = -40.0;  // e^−40 < 2^−54: expm1 = −1 from here on
 
+// std::clamp(x, lowest, highest), lane by lane: x < lowest ? lowest : (highest < x ? highest : x).
 template <typename T>
 UASCMA_LANE_MATH_INLINE T Clamp(T x, double lowest, double highest) {
   return Select(x < lowest, Splat<T>(lowest), Select(x > highest, Splat<T>(highest), x));
