@@ -14,7 +14,14 @@ fi
 # Instructions per 200 Hz GNC step on examples/nominal.yaml (issue 27; bench/step_instructions.sh, callgrind).
 echo "== step_instructions"
 bash "$(dirname "$0")/../bench/step_instructions.sh" "$build"
-# The 10,000-flight campaign, battery learning and Q-learning as timed CLI runs (issue 27; ~10 CPU minutes).
+# The same count under every pack and Dryden rate, and with parts of the step removed: the floor of one flight's step
+# (bench/step_floor.sh, ~2 CPU minutes; STEP_FLOOR_SKIP=1 skips it).
+if [[ "${STEP_FLOOR_SKIP:-0}" != 1 ]]; then
+  echo "== step_floor (STEP_FLOOR_SKIP=1 skips it)"
+  bash "$(dirname "$0")/../bench/step_floor.sh" "$build"
+fi
+# The 10,000-flight campaign (with and without lockstep), battery learning and Q-learning as timed CLI runs (issue 27;
+# ~13 CPU minutes).
 if [[ "${HEADLINE_SKIP:-0}" != 1 ]]; then
   echo "== headline (HEADLINE_SKIP=1 skips it)"
   bash "$(dirname "$0")/../bench/headline.sh" "$build"

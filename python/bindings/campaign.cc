@@ -57,7 +57,7 @@ CampaignConfig LoadConfigObject(const py::object& source, std::string* policies_
 
 py::dict RunCampaignFromPython(const py::object& config_source, const std::string& db, std::optional<std::int64_t> runs,
                                std::optional<std::vector<std::string>> policies, std::optional<std::uint64_t> seed,
-                               int jobs, bool resume, const py::object& progress) {
+                               int jobs, bool resume, const py::object& progress, int runs_in_flight) {
   std::string policies_source;
   CampaignConfig config = LoadConfigObject(config_source, &policies_source);
   if (runs) {
@@ -70,6 +70,10 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
     policies_source = "policies";
   }
   if (jobs < 0) throw InputError("run_campaign", "jobs", "a non-negative number of threads (0: every core)");
+  if (runs_in_flight < 1 || runs_in_flight > kMaxRunsInFlight) {
+    throw InputError("run_campaign", "runs_in_flight",
+                     "a number of runs each thread flies at once, 1 to " + std::to_string(kMaxRunsInFlight));
+  }
   std::string error;
   if (!config.IsValid(&error)) throw InputError("campaign: " + error);
   CampaignRequest request;
@@ -78,6 +82,7 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
   request.db = db;
   request.resume = resume;
   request.execute.jobs = jobs;
+  request.execute.runs_in_flight = runs_in_flight;
   request.execute.progress = true;  // counted for `progress`; nothing on stderr from Python (BeginLongCall)
   request.execute.progress_label = "campaign " + config.name + ", flights";
   const CampaignOutcome outcome = RunInterruptibly(
@@ -209,8 +214,10 @@ void InitCampaign(py::module_& m) {
   m.def("run_campaign", &RunCampaignFromPython, py::arg("config").none(true), py::arg("db"),
         py::arg("runs") = py::none(), py::arg("policies") = py::none(), py::arg("seed") = py::none(),
         py::arg("jobs") = 0, py::arg("resume") = false, py::arg("progress") = py::none(),
+        py::arg("runs_in_flight") = ExecuteOptions{}.runs_in_flight,
         "Runs (or resumes) a campaign into the SQLite file db, as `uascma campaign CONFIG --db DB [--runs N] "
-        "[--policies a,b] [--seed S] [--jobs J] [--resume]`; returns a dict of counts and the wall time (s). "
+        "[--policies a,b] [--seed S] [--jobs J] [--resume] [--runs-in-flight R]`; returns a dict of counts and the "
+        "wall time (s). "
         "progress: None or a callable progress(label, done, total, elapsed_s) (uascma.run_campaign wraps it: a "
         "callback, tqdm or lines). Ctrl-C stops it within a second, keeping every finished flight "
         "(KeyboardInterrupt says how many; resume=True continues)");

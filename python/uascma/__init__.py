@@ -50,13 +50,16 @@ if TYPE_CHECKING:  # what the lazy attributes below are, for type checkers and e
     from .spaces import Discrete  # noqa: F401
 
 
-def run_campaign(config, db, runs=None, policies=None, seed=None, jobs=0, resume=False, progress=True):
+def run_campaign(config, db, runs=None, policies=None, seed=None, jobs=0, resume=False, progress=True, runs_in_flight=4):
     """Runs (or resumes) a campaign into the SQLite file ``db``, as ``uascma campaign CONFIG --db DB [--runs N]
-    [--policies a,b] [--seed S] [--jobs J] [--resume]``; returns a dict of counts and the wall time (s).
+    [--policies a,b] [--seed S] [--jobs J] [--resume] [--runs-in-flight R]``; returns a dict of counts and the wall
+    time (s).
 
     config: a campaign YAML path, YAML text, a dict, a CampaignConfig or None (the defaults).
     progress: True (tqdm when installed, else a line on sys.stderr every 10 s or 5 %), False/None (nothing),
     or a callable ``progress(done, total)`` counting flights.
+    runs_in_flight: runs each thread flies at once, their flights stepped in lockstep four at a time in SIMD lanes
+    (1 to 64; 1: one run at a time). The stored rows are the same whatever it is (``wall_time_s`` apart).
     Ctrl-C stops it within a second: the flights in progress finish, every finished flight is stored, and the
     KeyboardInterrupt says how many; the same call with ``resume=True`` continues the campaign.
     """
@@ -65,7 +68,7 @@ def run_campaign(config, db, runs=None, policies=None, seed=None, jobs=0, resume
     reporter = make_reporter(progress)
     try:
         return _uascma.run_campaign(config, _os.fspath(db), runs=runs, policies=policies, seed=seed, jobs=jobs, resume=resume,
-                                    progress=reporter)
+                                    progress=reporter, runs_in_flight=runs_in_flight)
     finally:
         if reporter is not None:
             reporter.close()

@@ -31,6 +31,15 @@ def test_python_campaign_equals_the_cli(databases):
     assert len(mine) == RUNS * 2
 
 
+def test_runs_in_flight_change_no_row(databases, tmp_path):
+    """Lockstep (four runs in flight per thread, the default) and one run at a time store the same rows."""
+    alone = tmp_path / "alone.db"
+    uascma.run_campaign(example("campaign.yaml"), alone, runs=RUNS, seed=SEED, jobs=1, runs_in_flight=1)
+    mine = uascma.read_campaign(str(alone)).drop(columns=["wall_time_s"])
+    theirs = uascma.read_campaign(str(databases[0])).drop(columns=["wall_time_s"])
+    pd.testing.assert_frame_equal(mine, theirs)
+
+
 def test_read_campaign_parses_every_column(databases):
     frame = uascma.read_campaign(str(databases[0]))
     assert list(frame["policy"].unique()) == ["cma", "noop"]
@@ -74,6 +83,10 @@ def test_errors_name_the_file_or_field(tmp_path):
         uascma.run_campaign({"runs": -3}, str(tmp_path / "x.db"))
     with pytest.raises(uascma.InputError, match="policies"):
         uascma.run_campaign(None, str(tmp_path / "y.db"), runs=1, policies=["cma", "cma"])
+    for bad in (0, 65):
+        with pytest.raises(uascma.InputError, match="runs_in_flight"):
+            uascma.run_campaign(None, str(tmp_path / "z.db"), runs=1, runs_in_flight=bad)
+        assert not (tmp_path / "z.db").exists()
 
 
 def test_the_cli_and_python_share_the_summaries(databases):

@@ -48,6 +48,8 @@ class MpiSession;
 std::vector<FlightTask> MissingFlights(std::int64_t runs, const std::vector<CampaignPolicy>& policies,
                                        const std::vector<std::pair<std::int64_t, std::string>>& stored);
 
+inline constexpr int kMaxRunsInFlight = 64;  // ExecuteOptions::runs_in_flight's upper bound (CLI and Python)
+
 struct ExecuteOptions {
   int jobs = 0;  // worker threads; 0 → every hardware thread
   // Runs each worker thread keeps in flight, their flights' GNC steps taken in lockstep, four at a time with their
