@@ -13,7 +13,8 @@ namespace uascma::prognostics {
 namespace {
 
 constexpr char kRulCalibrationSource[] = "RUL calibration";
-// Sub-streams of a history's seed: the numbers sim/flight.cc gives the spall truth and the prognosis.
+// Sub-streams of a history's seed: the numbers the simulator gives the spall truth and the prognosis
+// (sim/flight_internal.h's streams).
 constexpr std::uint64_t kTruthSpallStream = 3;
 constexpr std::uint64_t kPrognosisSpallStream = 4;
 

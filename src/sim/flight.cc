@@ -1,10 +1,10 @@
 #include "uascma/sim/flight.h"
 
-// The model, the initial state and the GNC step of the kernel (flight.h): the vehicle's step, then the power
-// system's; StepFollowing flies one vehicle for several power systems. The decision epoch is epoch.cc.
+// The model and the GNC step of the kernel (flight.h): the vehicle's step, then the power system's; StepTogether
+// steps flights in lanes; StepFollowing flies one vehicle for several power systems. The initial state is
+// initial_state.cc, the decision epoch epoch.cc.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -24,24 +24,11 @@ namespace uascma::sim {
 namespace {
 
 using internal::AddEvent;
+using internal::kSpallStream;
 using internal::ThrustCap;
 
-constexpr double kRulBeforePrognosis = std::numeric_limits<double>::infinity();
 // m/s: below this reference speed the plan is at rest and the whole position error counts as cross-track (ours).
 constexpr double kMovingReferenceSpeed = 0.1;
-
-// Independent random streams of one flight (common/random.h DeriveSeed), so that e.g. the wind does not
-// change when the sensor noise is switched off.
-// Streams 5-7 are drawn only with SimOptions::noisy_sensing (sim/sensing.h).
-enum Stream : std::uint64_t {
-  kWindStream = 1,
-  kSensorStream = 2,
-  kSpallStream = 3,
-  kPrognosisStream = 4,
-  kVibrationStream = 5,
-  kPowerSensingStream = 6,
-  kSpallIndicatorStream = 7
-};
 
 prognostics::SpallGrowthParams TruthGrowth(const FaultSpec& fault) {
   prognostics::SpallGrowthParams params;
@@ -406,80 +393,6 @@ FlightModel::FlightModel(const Scenario& scenario)
           models::CalcRotorSpeedForThrust(propulsion_, scenario.body.mass * kGravity / models::kRotorCount),
           scenario.body.mass, scenario.body.inertia_diagonal.x(), mixer_.params().arm_length)) {}
 
-// ---- the state ----------------------------------------------------------------------------------------------------
-namespace {
-
-// dOCV/dz (V per unit SOC) at `soc`, by a central difference of ±0.005 (ours; the table is piecewise linear).
-double OcvSlope(const models::OcvTable& ocv, double soc) {
-  constexpr double kHalfStep = 0.005;
-  const double lo = std::max(soc - kHalfStep, 0.0);
-  const double hi = std::min(soc + kHalfStep, 1.0);
-  return (ocv.CalcVoltage(hi) - ocv.CalcVoltage(lo)) / (hi - lo);
-}
-
-// Noisy sensing's streams and per-flight errors, and the SOC the CMA reads from the rest voltage before take-off
-// (one bus reading over three cells, through the OCV slope at the first cell's SOC). Nothing is drawn without it.
-void InitialiseSensing(const FlightModel& model, FlightState& state) {
-  const std::uint64_t seed = state.vehicle.seed;
-  state.vehicle.vibration_random = RandomStream(DeriveSeed(seed, kVibrationStream));
-  state.power.sensing.random = RandomStream(DeriveSeed(seed, kPowerSensingStream));
-  state.decision.indicator_random = RandomStream(DeriveSeed(seed, kSpallIndicatorStream));
-  if (!model.options().noisy_sensing) return;
-  PowerSensing& sensing = state.power.sensing;
-  const SensingParams& params = model.options().sensing;
-  sensing.errors = DrawPowerSensorErrors(params, sensing.random);
-  const double rest_v = state.power.bus_voltage_v;
-  const double read_v = ReadBusVoltage(params, sensing.errors, rest_v, sensing.random);
-  const models::SelfCorrectingCell& cell = model.pack().cell(0, 0);
-  const double soc = state.power.pack.cells[0][0].soc_fraction;
-  sensing.ocv_slope_v_per_soc = OcvSlope(cell.ocv(), soc);
-  sensing.initial_soc_error = (read_v - rest_v) / models::kCellsPerBranch / sensing.ocv_slope_v_per_soc;
-  sensing.bus_voltage_v = read_v;
-  sensing.rest_voltage_v = read_v;
-  sensing.load_current_a = state.power.load_current_a;
-}
-
-}  // namespace
-
-double CalcSocEstimateSigma(const FlightModel& model, const FlightState& state) {
-  if (!model.options().noisy_sensing) return 0.0;
-  const PowerSensing& sensing = state.power.sensing;
-  const double mean_current_a = state.time_s > 0.0 ? sensing.charge_read_as / state.time_s : 0.0;
-  return CalcSocEstimateSigma(model.options().sensing, state.time_s, mean_current_a,
-                              model.pack().cell(0, 0).capacity_as(), sensing.ocv_slope_v_per_soc, model.dt(),
-                              sensing.rest_voltage_v);
-}
-
-FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed) {
-  const Scenario& sc = model.scenario();
-  FlightState state;
-  state.vehicle.seed = seed;
-  state.vehicle.wind_random = RandomStream(DeriveSeed(seed, kWindStream));
-  state.vehicle.sensor_random = RandomStream(DeriveSeed(seed, kSensorStream));
-  state.vehicle.prognosis_random = RandomStream(DeriveSeed(seed, kPrognosisStream));
-  state.vehicle.body.p_WB_W = model.nominal_plan().start_W();
-  state.vehicle.wind = model.wind().InitialState(0.0, state.vehicle.wind_random);
-  state.power.pack = model.pack().MakeRestingState(sc.battery.initial_cell_voltage_v);
-  state.power.pack_linear = model.pack().Linearise(state.power.pack);
-  const double hover_thrust = sc.body.mass * kGravity / 6.0;
-  const double hover_speed = models::CalcRotorSpeedForThrust(model.propulsion(), hover_thrust);
-  state.vehicle.rotor_speed.fill(hover_speed);
-  state.vehicle.believed_speed.fill(hover_speed);
-  state.faults.imm = gnc::ImmFilter(sc.imm, sc.body, model.mixer().mixing_matrix(models::kNoFailedMotor));
-  state.power.bus_voltage_v = model.pack().CalcOutputs(state.power.pack, 0.0).split.bus_voltage_v;
-  // Until the first step has drawn real current, the 1 Hz prognosis sees the hover draw.
-  state.power.pack_current_a =
-      sc.options.hotel_current_a +
-      6.0 * models::CalcElectricalPower(model.propulsion(), hover_thrust) / state.power.bus_voltage_v;
-  state.power.load_current_a = state.power.pack_current_a;
-  state.decision.inputs.rul_s = kRulBeforePrognosis;
-  InitialiseSensing(model, state);
-  // The lowest cell voltage starts at the pack at rest (a flight that never takes off reports it; any step under
-  // load reads lower).
-  state.power.min_cell_voltage_v = model.pack().CalcOutputs(state.power.pack, 0.0).min_cell_voltage_v;
-  return state;
-}
-
 // ---- the steps ----------------------------------------------------------------------------------------------------
 namespace {
 
@@ -494,9 +407,9 @@ void FinishVehicleStep(const FlightModel& model, FlightState& state, const model
 // The vehicle's part of a GNC step: faults → LQR → allocation → rotor lag (capped at the power system's bus voltage)
 // → 6-DOF → IMM → extremes. Changes the vehicle and the faults only; returns what the power step and the
 // classification read.
-StepSignals StepVehicle(const FlightModel& model, FlightState& state, FlightLog* log) {
+// `s` is working memory: every member this step reads, it writes first (a step's signals never carry over).
+void StepVehicle(const FlightModel& model, FlightState& state, FlightLog* log, StepSignals& s) {
   AdvanceFaults(model, state, log);
-  StepSignals s;
   models::RotorThrusts believed;
   ReadReference(model, state, s);
   ComputeControl(model, state, s);
@@ -504,7 +417,6 @@ StepSignals StepVehicle(const FlightModel& model, FlightState& state, FlightLog*
   const models::RigidBodyState previous = state.vehicle.body;
   StepBody(model, state.vehicle, s);
   FinishVehicleStep(model, state, previous, believed, s, log);
-  return s;
 }
 
 // True when the bus voltage `bus_voltage_v` caps every rotor's command of this step as the step's own cap did: the
@@ -551,27 +463,40 @@ void SetControlLane(ControllerLaneInputs& control, int lane, const models::Rigid
   for (int i = 0; i < 4; ++i) control.q_WB[i][lane] = body.q_WB.coeffs()[i];
 }
 
-}  // namespace
-
-void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
+// Step with working memory the caller keeps from step to step (constructing the signals zeroes ~0.8 kB).
+void StepWith(const FlightModel& model, FlightState& state, FlightLog* log, StepSignals& s) {
   if (state.done()) return;
-  StepSignals s = StepVehicle(model, state, log);
+  StepVehicle(model, state, log, s);
   FinishStep(model, state, s, log);
 }
 
-void StepTogether(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
-                  std::span<FlightLog* const> logs) {
+void CheckGroup(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
+                std::span<FlightLog* const> logs) {
   UASCMA_CHECK(states.size() <= static_cast<std::size_t>(kControllerLanes) && logs.size() == states.size() &&
                    models.size() == states.size(),
                "at most four flights, one model and one log (or nullptr) each");
-  const lane_math::LaneMathPath path = lane_math::DefaultLaneMathPath();
-  const int n = static_cast<int>(states.size());
+}
+
+// StepTogether's working memory, kept by a caller that steps a group many times. Every lane and signal a step reads
+// it writes first (LanesFilledBy fills every lane of the inputs), so nothing carries over from step to step.
+struct LockstepScratch {
   std::array<StepSignals, kControllerLanes> s;
   std::array<models::RotorThrusts, kControllerLanes> believed;
   std::array<models::RigidBodyState, kControllerLanes> previous;
+  ControllerLaneInputs control;
+  ControllerLaneOutputs out;
+  models::RigidBodyLanes bodies;
+  models::BodyInputLanes inputs;
+};
+
+void StepTogetherWith(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
+                      std::span<FlightLog* const> logs, LockstepScratch& scratch) {
+  CheckGroup(models, states, logs);
+  const lane_math::LaneMathPath path = lane_math::DefaultLaneMathPath();
+  const int n = static_cast<int>(states.size());
+  auto& [s, believed, previous, control, out, bodies, inputs] = scratch;
   std::array<bool, kControllerLanes> flying{};
   // Faults and the reference flight by flight, then the control in lanes (sim/controller_lanes.h).
-  ControllerLaneInputs control;
   int first_flying = -1;
   for (int k = 0; k < n; ++k) {
     const FlightModel& model = *models[k];
@@ -588,7 +513,6 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
   }
   if (first_flying < 0) return;
   const FlightModel& vehicle = *models[first_flying];  // every flight's (SharesVehicle)
-  ControllerLaneOutputs out;
   ComputeControllerLanes(path,
                          {&vehicle.controller(), &vehicle.mixer(), &vehicle.drag(), vehicle.options().drag_feedforward},
                          control, out);
@@ -598,8 +522,6 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
     for (int i = 0; i < models::kRotorCount; ++i) s[k].allocated[i] = out.allocated[i][k];
   }
   // The rotors and the wind alone, the rigid bodies in lanes.
-  models::RigidBodyLanes bodies;
-  models::BodyInputLanes inputs;
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
     const FlightModel& model = *models[k];
@@ -626,11 +548,51 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
   }
 }
 
+}  // namespace
+
+void Step(const FlightModel& model, FlightState& state, FlightLog* log) {
+  StepSignals s;
+  StepWith(model, state, log, s);
+}
+
+void StepTogether(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
+                  std::span<FlightLog* const> logs) {
+  LockstepScratch scratch;
+  StepTogetherWith(models, states, logs, scratch);
+}
+
 void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* log) {
   if (state.done()) return;
+  StepSignals s;
   do {
-    Step(model, state, log);
+    StepWith(model, state, log, s);
   } while (!state.done() && !IsDecisionEpoch(model, state));
+}
+
+void StepTogetherToNextEpoch(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
+                             std::span<FlightLog* const> logs) {
+  CheckGroup(models, states, logs);
+  LockstepScratch scratch;
+  std::array<const FlightModel*, kControllerLanes> stepping_models{};
+  std::array<FlightState*, kControllerLanes> stepping_states{};
+  std::array<FlightLog*, kControllerLanes> stepping_logs{};
+  for (bool first_step = true;; first_step = false) {
+    int stepping = 0;  // the flights that have not ended and, after the first step, not reached an epoch
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      if (states[k]->done() || (!first_step && IsDecisionEpoch(*models[k], *states[k]))) continue;
+      stepping_models[stepping] = models[k];
+      stepping_states[stepping] = states[k];
+      stepping_logs[stepping] = logs[k];
+      ++stepping;
+    }
+    if (stepping == 0) return;
+    if (stepping == 1) {
+      StepWith(*stepping_models[0], *stepping_states[0], stepping_logs[0], scratch.s[0]);
+    } else {
+      StepTogetherWith(std::span(stepping_models.data(), stepping), std::span(stepping_states.data(), stepping),
+                       std::span(stepping_logs.data(), stepping), scratch);
+    }
+  }
 }
 
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
@@ -641,7 +603,8 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
   std::fill(stepped.begin(), stepped.end(), false);
   if (lead.done()) return;
   // The vehicle steps once; the followers whose pack caps every rotor's command alike fly it this step.
-  const StepSignals s = StepVehicle(model, lead, nullptr);
+  StepSignals s;
+  StepVehicle(model, lead, nullptr, s);
   for (std::size_t k = 0; k < followers.size(); ++k) {
     const FlightState& f = *followers[k];
     stepped[k] = !f.done() && f.step == lead.step && CapsAlike(model, s, f.power.bus_voltage_v);

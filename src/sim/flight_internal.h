@@ -1,13 +1,27 @@
 #pragma once
-// What the GNC step (flight.cc), the decision epoch (epoch.cc) and the result (simulator.cc) of the kernel share; not
-// part of the API.
+// What the GNC step (flight.cc), the initial state (initial_state.cc), the decision epoch (epoch.cc) and the result
+// (simulator.cc) of the kernel share; not part of the API.
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <utility>
 
 #include "uascma/sim/flight.h"
 
 namespace uascma::sim::internal {
+
+// Independent random streams of one flight (common/random.h DeriveSeed), so that e.g. the wind does not
+// change when the sensor noise is switched off.
+// Streams 5-7 are drawn only with SimOptions::noisy_sensing (sim/sensing.h).
+enum Stream : std::uint64_t {
+  kWindStream = 1,
+  kSensorStream = 2,
+  kSpallStream = 3,
+  kPrognosisStream = 4,
+  kVibrationStream = 5,
+  kPowerSensingStream = 6,
+  kSpallIndicatorStream = 7
+};
 
 inline void AddEvent(FlightLog* log, double time_s, std::string what) {
   if (log) log->events.push_back({time_s, std::move(what)});

@@ -67,30 +67,14 @@ void EpochSteps::StepWaiting() {
     for (std::size_t k = first; k < requests.size() && n < kControllerLanes; ++k) {
       if (grouped[k] || !SharesVehicle(*requests[first].model, *requests[k].model)) continue;
       grouped[k] = true;
-      members[n++] = k;
+      members[n] = k;
+      models[n] = requests[k].model;
+      states[n] = requests[k].state;
+      logs[n] = requests[k].log;
+      ++n;
     }
     const auto start = std::chrono::steady_clock::now();
-    // StepToNextEpoch for each: at least one step, then until the flight ends or reaches an epoch.
-    bool first_step = true;
-    while (true) {
-      int stepping = 0;
-      for (int i = 0; i < n; ++i) {
-        const Request& r = requests[members[i]];
-        if (r.state->done() || (!first_step && IsDecisionEpoch(*r.model, *r.state))) continue;
-        models[stepping] = r.model;
-        states[stepping] = r.state;
-        logs[stepping] = r.log;
-        ++stepping;
-      }
-      if (stepping == 0) break;
-      if (stepping == 1) {
-        Step(*models[0], *states[0], logs[0]);
-      } else {
-        StepTogether(std::span(models.data(), stepping), std::span(states.data(), stepping),
-                     std::span(logs.data(), stepping));
-      }
-      first_step = false;
-    }
+    StepTogetherToNextEpoch(std::span(models.data(), n), std::span(states.data(), n), std::span(logs.data(), n));
     const double share = SecondsSince(start) / n;
     for (int i = 0; i < n; ++i) {
       if (requests[members[i]].seconds) *requests[members[i]].seconds += share;

@@ -1,8 +1,8 @@
-// StepTogether (sim/flight.h, issue 27 item 4): flights stepped in lanes are, bit for bit, the flights stepped alone
-// with Step: the whole state at every decision epoch and at the end, the events and the telemetry's thrusts and
-// positions. Groups of four and of three flights of one model (different seeds: different winds, sensor noise and
-// ends), with turbulence, with a spall that jams a motor (the IMM's isolation moves a flight's control out of the
-// lanes while the others stay), and without the feed-forward (no flight's control in lanes).
+// StepTogether and StepTogetherToNextEpoch (sim/flight.h, issue 27 item 4): flights stepped in lanes are, bit for
+// bit, the flights stepped alone with Step: the whole state at every decision epoch and at the end, the events and the
+// telemetry's thrusts and positions. Groups of four and of three flights of one model (different seeds: different
+// winds, sensor noise and ends), with turbulence, with a spall that jams a motor (the IMM's isolation moves a flight's
+// control out of the lanes while the others stay), and without the feed-forward (no flight's control in lanes).
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -22,15 +22,19 @@ namespace {
 using testing_scenarios::ScenarioOne;
 using testing_scenarios::ShortJam;
 
-// The NoOp policy's epoch, then the step, for each flight: `together` steps them with StepTogether, otherwise
-// each with Step. Returns the flights at their ends; `at_epochs` holds each flight's state at every epoch.
+// How Fly steps its flights: each alone with Step, together with StepTogether one step at a time, or together to
+// their next epochs with StepTogetherToNextEpoch (which keeps its lanes' working memory from step to step).
+enum class Stepping { kAlone, kTogether, kTogetherToEpochs };
+
+// The NoOp policy's epoch, then the steps, for each flight, stepped as `stepping` says. Returns the flights at their
+// ends; `at_epochs` holds each flight's state at every epoch.
 struct Flown {
   std::vector<FlightState> states;
   std::vector<FlightLog> logs;
   std::vector<std::vector<FlightState>> at_epochs;
 };
 
-Flown Fly(const std::vector<const FlightModel*>& models, const std::vector<std::uint64_t>& seeds, bool together) {
+Flown Fly(const std::vector<const FlightModel*>& models, const std::vector<std::uint64_t>& seeds, Stepping stepping) {
   Flown flown;
   const std::size_t n = seeds.size();
   for (std::size_t k = 0; k < n; ++k) flown.states.push_back(MakeInitialState(*models[k], seeds[k]));
@@ -58,10 +62,16 @@ Flown Fly(const std::vector<const FlightModel*>& models, const std::vector<std::
       flown.at_epochs[k].push_back(state);
       Act(model, state, noop.Decide(Observe(model, state, &flown.logs[k])), {}, &flown.logs[k]);
     }
-    if (together) {
-      StepTogether(models, states, logs);
-    } else {
-      for (std::size_t k = 0; k < n; ++k) Step(*models[k], flown.states[k], &flown.logs[k]);
+    switch (stepping) {
+      case Stepping::kAlone:
+        for (std::size_t k = 0; k < n; ++k) Step(*models[k], flown.states[k], &flown.logs[k]);
+        break;
+      case Stepping::kTogether:
+        StepTogether(models, states, logs);
+        break;
+      case Stepping::kTogetherToEpochs:
+        StepTogetherToNextEpoch(models, states, logs);
+        break;
     }
   }
   return flown;
@@ -75,27 +85,30 @@ void ExpectTogetherAsAlone(const std::vector<Scenario>& scenarios, const std::ve
     owned.push_back(std::make_unique<FlightModel>(scenario));
     models.push_back(owned.back().get());
   }
-  const Flown alone = Fly(models, seeds, false);
-  const Flown together = Fly(models, seeds, true);
-  for (std::size_t k = 0; k < seeds.size(); ++k) {
-    SCOPED_TRACE("seed " + std::to_string(seeds[k]));
-    ASSERT_EQ(alone.at_epochs[k].size(), together.at_epochs[k].size());
-    for (std::size_t e = 0; e < alone.at_epochs[k].size(); ++e) {
-      ASSERT_TRUE(alone.at_epochs[k][e] == together.at_epochs[k][e]) << "first difference at epoch " << e;
-    }
-    ExpectSameFlight(alone.states[k], together.states[k]);
-    const FlightLog& a = alone.logs[k];
-    const FlightLog& b = together.logs[k];
-    ASSERT_EQ(a.events.size(), b.events.size());
-    for (std::size_t i = 0; i < a.events.size(); ++i) {
-      EXPECT_EQ(a.events[i].time_s, b.events[i].time_s);
-      EXPECT_EQ(a.events[i].what, b.events[i].what);
-    }
-    ASSERT_EQ(a.telemetry.size(), b.telemetry.size());
-    for (std::size_t i = 0; i < a.telemetry.size(); ++i) {
-      ASSERT_TRUE(a.telemetry[i].p_W == b.telemetry[i].p_W) << "telemetry row " << i;
-      ASSERT_TRUE(a.telemetry[i].rotor_thrust == b.telemetry[i].rotor_thrust) << "telemetry row " << i;
-      ASSERT_EQ(a.telemetry[i].bus_voltage, b.telemetry[i].bus_voltage) << "telemetry row " << i;
+  const Flown alone = Fly(models, seeds, Stepping::kAlone);
+  for (const Stepping stepping : {Stepping::kTogether, Stepping::kTogetherToEpochs}) {
+    SCOPED_TRACE(stepping == Stepping::kTogether ? "StepTogether" : "StepTogetherToNextEpoch");
+    const Flown together = Fly(models, seeds, stepping);
+    for (std::size_t k = 0; k < seeds.size(); ++k) {
+      SCOPED_TRACE("seed " + std::to_string(seeds[k]));
+      ASSERT_EQ(alone.at_epochs[k].size(), together.at_epochs[k].size());
+      for (std::size_t e = 0; e < alone.at_epochs[k].size(); ++e) {
+        ASSERT_TRUE(alone.at_epochs[k][e] == together.at_epochs[k][e]) << "first difference at epoch " << e;
+      }
+      ExpectSameFlight(alone.states[k], together.states[k]);
+      const FlightLog& a = alone.logs[k];
+      const FlightLog& b = together.logs[k];
+      ASSERT_EQ(a.events.size(), b.events.size());
+      for (std::size_t i = 0; i < a.events.size(); ++i) {
+        EXPECT_EQ(a.events[i].time_s, b.events[i].time_s);
+        EXPECT_EQ(a.events[i].what, b.events[i].what);
+      }
+      ASSERT_EQ(a.telemetry.size(), b.telemetry.size());
+      for (std::size_t i = 0; i < a.telemetry.size(); ++i) {
+        ASSERT_TRUE(a.telemetry[i].p_W == b.telemetry[i].p_W) << "telemetry row " << i;
+        ASSERT_TRUE(a.telemetry[i].rotor_thrust == b.telemetry[i].rotor_thrust) << "telemetry row " << i;
+        ASSERT_EQ(a.telemetry[i].bus_voltage, b.telemetry[i].bus_voltage) << "telemetry row " << i;
+      }
     }
   }
 }
@@ -130,7 +143,7 @@ TEST(StepTogetherTest, ThreeFlightsWithAJammedMotorAsEachAlone) {
   ExpectTogetherAsAlone({scenario, scenario, scenario}, {5, 6, 7});
   // The jam and its isolation happened (the control left the lanes for the quadcopter allocation).
   const FlightModel model(scenario);
-  const Flown flown = Fly({&model}, {5}, true);
+  const Flown flown = Fly({&model}, {5}, Stepping::kTogether);
   EXPECT_NE(flown.states[0].faults.jammed_rotor, 0);
   EXPECT_NE(flown.states[0].faults.allocation_failure, 0);
 }

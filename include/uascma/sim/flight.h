@@ -395,6 +395,12 @@ void StepTogether(std::span<const FlightModel* const> models, std::span<FlightSt
 // flight.
 void StepToNextEpoch(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
 
+// StepToNextEpoch for up to four flights that share a vehicle (sim/lockstep.h SharesVehicle), each as if alone: every
+// flight not yet ended takes one step, then steps on until it ends or reaches a decision epoch; the flights stepping
+// at a step are stepped by StepTogether (or, one left, by Step). Finished flights are left as they are.
+void StepTogetherToNextEpoch(std::span<const FlightModel* const> models, std::span<FlightState* const> states,
+                             std::span<FlightLog* const> logs);
+
 // One GNC step of `lead` and, with it, of flights that follow its vehicle (the battery MDP's flights, Ch. IV: one
 // parameter draw flown with each pack action, sim/branching.h FlyFollowing): the vehicle steps once, then each
 // power system. A follower is a flight of the same model at the same step with the lead's vehicle part (its power
