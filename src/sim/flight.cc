@@ -405,9 +405,8 @@ void FinishVehicleStep(const FlightModel& model, FlightState& state, const model
 }
 
 // The vehicle's part of a GNC step: faults → LQR → allocation → rotor lag (capped at the power system's bus voltage)
-// → 6-DOF → IMM → extremes. Changes the vehicle and the faults only; returns what the power step and the
-// classification read.
-// `s` is working memory: every member this step reads, it writes first (a step's signals never carry over).
+// → 6-DOF → IMM → extremes. Changes the vehicle and the faults only; fills `s` with what the power step and the
+// classification read. `s` is working memory kept from step to step: every member a step reads, it writes first.
 void StepVehicle(const FlightModel& model, FlightState& state, FlightLog* log, StepSignals& s) {
   AdvanceFaults(model, state, log);
   models::RotorThrusts believed;
