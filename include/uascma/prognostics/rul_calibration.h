@@ -5,7 +5,7 @@
 // SpallJamEvent per history (the spall's own growth time scale τ_truth), from its onset to the exact jam.
 //
 // A history h (its seed DeriveSeed(seed, h); the truth spall draws from sub-stream 3, the prognoser from
-// sub-stream 4, the numbers sim/flight.cc gives its kSpallStream and kPrognosisStream) is scored at every
+// sub-stream 4, the numbers sim/flight_internal.h gives kSpallStream and kPrognosisStream) is scored at every
 // epoch t_k = k · epoch_s from the onset while the motor has not jammed (t_k < T_jam); the truth is
 // T_jam − t_k. Two ways to predict (RulPredictionMode):
 //   kOnsetCountdown  what the CMA does (sim/epoch.cc): the particles' RUL from the initial spall at the

@@ -14,8 +14,8 @@
 //                  probability per epoch, independently at every epoch.
 //
 // Magnitudes (SensingParams's defaults) are cited beside each; "ours" marks a documented choice. The random draws use
-// their own streams (sim/flight.cc: DeriveSeed with stream ids 5, 6 and 7), so switching the noise on changes no other
-// draw of a flight.
+// their own streams (sim/flight_internal.h: DeriveSeed with stream ids 5, 6 and 7), so switching the noise on changes
+// no other draw of a flight.
 #include <array>
 #include <string>
 
