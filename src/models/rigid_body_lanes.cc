@@ -32,6 +32,7 @@ using lane_math_internal::LoadLanes;
 using lane_math_internal::LoadLanes3;
 using lane_math_internal::Max;
 using lane_math_internal::Min;
+using lane_math_internal::Splat;
 using lane_math_internal::StoreLanes;
 
 template <class V>
@@ -42,12 +43,6 @@ struct LanesQuaternion {
 template <class V>
 inline constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
 
-template <class V>
-UASCMA_BODY_LANES_INLINE V Splat(double s) {
-  V v;
-  for (int i = 0; i < kWidth<V>; ++i) v[i] = s;
-  return v;
-}
 template <class V>
 UASCMA_BODY_LANES_INLINE V SquaredNorm(const LanesQuaternion<V>& q) {  // Eigen's Vector4d: two packets, then the pair
   return (q.x * q.x + q.z * q.z) + (q.y * q.y + q.w * q.w);

@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include "uascma/common/lane_math_kernels.h"
 #include "uascma/common/random.h"
 
 namespace uascma::lane_math {
@@ -304,6 +305,22 @@ TEST(LaneMathTest, Expm1IsWithinItsBound) {
   EXPECT_EQ(Expm1(-kInfinity), -1.0);
   EXPECT_EQ(Expm1(709.79), kInfinity);
   EXPECT_TRUE(std::isnan(Expm1(kNan)));
+}
+
+// Splat puts the constant's own bits in every lane: a −0 stays −0 (the lanes' constants from a table, such as a
+// failed rotor's row of an allocation case, sim/controller_lanes.cc, must be the scalar code's operands).
+TEST(LaneMathTest, SplatKeepsTheBitsOfItsConstantIncludingNegativeZero) {
+  using lane_math_internal::Bits;
+  using lane_math_internal::LaneMathV2;
+  using lane_math_internal::LaneMathV4;
+  using lane_math_internal::Splat;
+  for (const double c : {-0.0, 0.0, -1.5, std::numeric_limits<double>::infinity(), 4.9e-324}) {
+    const LaneMathV2 two = Splat<LaneMathV2>(c);
+    const LaneMathV4 four = Splat<LaneMathV4>(c);
+    for (int i = 0; i < 2; ++i) EXPECT_EQ(Bits(two[i]), Bits(c)) << c;
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(Bits(four[i]), Bits(c)) << c;
+    EXPECT_EQ(Bits(Splat<double>(c)), Bits(c)) << c;
+  }
 }
 
 }  // namespace

@@ -82,10 +82,16 @@ UASCMA_LANE_MATH_INLINE T Max(T a, T b) {
   return a < b ? b : a;
 }
 
-// A constant in every lane (0 + c is c exactly).
+// A constant in every lane, bit for bit (−0 included).
 template <typename T>
 UASCMA_LANE_MATH_INLINE T Splat(double c) {
-  return T{} + c;
+  if constexpr (std::is_same_v<T, double>) {
+    return c;
+  } else {
+    T v;
+    for (int i = 0; i < static_cast<int>(sizeof(T) / sizeof(double)); ++i) v[i] = c;
+    return v;
+  }
 }
 
 // m ? a : b, lane by lane (m: a bool for double, a compare's all-ones/all-zeros mask for a vector).
