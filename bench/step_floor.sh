@@ -32,10 +32,11 @@ variant() {
     for option in "$@"; do echo "  $option" >> "$work/$name.yaml"; done
   fi
 }
-count() {  # count NAME LABEL: the instructions per step of variant NAME
-  local figure
-  figure=$(bash "$here/bench/step_instructions.sh" "$build" "$work/$1.yaml" | sed -E 's/^instructions per 200 Hz step: ([0-9]+).*/\1/')
-  printf '%-64s %6s\n' "$2" "$figure"
+instructions() {  # instructions NAME: the instructions per step of variant NAME
+  bash "$here/bench/step_instructions.sh" "$build" "$work/$1.yaml" | sed -E 's/^instructions per 200 Hz step: ([0-9]+).*/\1/'
+}
+count() {  # count NAME LABEL: a line of LABEL and variant NAME's instructions per step
+  printf '%-64s %6s\n' "$2" "$(instructions "$1")"
 }
 
 echo "1. pack rate x Dryden rate (Hz): instructions per 200 Hz step of examples/nominal.yaml"
@@ -47,9 +48,7 @@ for pack in 200 100 50 20 10 5 2 1; do
   printf '%-10s' "$pack"
   for wind in "${winds[@]}"; do
     variant "p${pack}w${wind}" low-light "pack_rate_hz: $pack" "wind_rate_hz: $wind"
-    figure=$(bash "$here/bench/step_instructions.sh" "$build" "$work/p${pack}w${wind}.yaml" |
-      sed -E 's/^instructions per 200 Hz step: ([0-9]+).*/\1/')
-    printf '%8s' "$figure"
+    printf '%8s' "$(instructions "p${pack}w${wind}")"
   done
   echo
 done

@@ -14,8 +14,6 @@ namespace {
 struct Flying {
   SampledRun run;
   std::optional<sim::Simulator> simulator;
-  std::vector<const CampaignPolicy*> flown;
-  std::vector<int> slots;
   std::optional<RunInFlight> flying;
 };
 
@@ -55,11 +53,12 @@ void FlyRunsInFlight(const CampaignConfig& config, const std::vector<CampaignPol
       auto flying = std::make_unique<Flying>();
       flying->run = SampleRun(config, world, config.seed, task->run_index);
       flying->simulator.emplace(flying->run.scenario);  // built once, flown by every policy (paired)
-      for (int slot : task->slots) flying->flown.push_back(&policies[slot]);
-      flying->slots = task->slots;
-      // The run's policies fly one vehicle until their decisions differ (FlyRunTogether).
-      flying->flying.emplace(*flying->simulator, flying->run, flying->flown, flying->slots, num_policies,
-                             options.planner_factory, steps);
+      std::vector<const CampaignPolicy*> flown;
+      for (int slot : task->slots) flown.push_back(&policies[slot]);
+      // The run's policies fly one vehicle until their decisions differ (FlyRunTogether); RunInFlight keeps what it
+      // needs of `flown` and the slots.
+      flying->flying.emplace(*flying->simulator, flying->run, flown, task->slots, num_policies, options.planner_factory,
+                             steps);
       flying->flying->coroutine().Resume();  // to its first steps
       in_flight.push_back(std::move(flying));
       hand_over_ended();

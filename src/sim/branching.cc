@@ -9,16 +9,15 @@
 
 #include <fmt/format.h>
 
+#include "flight_internal.h"
 #include "uascma/common/error.h"
 
 namespace uascma::sim {
 
+using internal::SecondsSince;
+
 // ---- policies flown together until they differ (§5.5) ------------------------------------------------------------
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // One epoch of the shared flight: StepEpoch's decision with each policy of `together` deciding on the same
 // observation, into `decided`.

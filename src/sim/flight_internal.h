@@ -2,6 +2,7 @@
 // What the GNC step (flight.cc), the initial state (initial_state.cc), the decision epoch (epoch.cc) and the result
 // (simulator.cc) of the kernel share; not part of the API.
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -22,6 +23,11 @@ enum Stream : std::uint64_t {
   kPowerSensingStream = 6,
   kSpallIndicatorStream = 7
 };
+
+// Wall-clock seconds since `start` (steady clock): the results' wall_time_s and their shares between flights.
+inline double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 inline void AddEvent(FlightLog* log, double time_s, std::string what) {
   if (log) log->events.push_back({time_s, std::move(what)});

@@ -4,10 +4,13 @@
 #include <array>
 #include <chrono>
 
+#include "flight_internal.h"
 #include "uascma/common/error.h"
 #include "uascma/sim/controller_lanes.h"
 
 namespace uascma::sim {
+
+using internal::SecondsSince;
 
 bool SharesVehicle(const FlightModel& a, const FlightModel& b) {
   // What StepTogether's lanes read of the first flight's model for every flight: the controller (body and LQR
@@ -35,14 +38,6 @@ void FlightCoroutine::ThrowIfFailed() const {
 void FlightCoroutine::RunToEnd() {
   while (!done()) Resume();
 }
-
-namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
 
 bool EpochSteps::Awaiter::await_ready() {
   if (steps_.lockstep_) return request_.state->done();

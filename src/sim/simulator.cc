@@ -75,7 +75,7 @@ SimResult Simulator::Run(DecisionPolicy& policy, const EmergencyPlanner& planner
   const Controllers controllers{&policy, options.battery_policy, planner};
   while (!state.done()) StepEpoch(model_, state, controllers, &log);
   SimResult result = MakeSimResult(model_, state, std::move(log), policy.name());
-  result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  result.wall_time_s = internal::SecondsSince(wall_start);
   return result;
 }
 
