@@ -3,7 +3,7 @@
 //
 // The map is a procedural city of 30 × 10 blocks (seed 7: 3,639 buildings, 2,103 landing sites over
 // 2.4 km × 2.1 km, heights log-normal around 20 m up to 173 m; include/uascma/planning/procedural_city.h). The real
-// data of shared/data/osm cannot stand in: the 1,828 Midtown landing sites (lat 40.741–40.768) and the Upper East
+// data of data/osm cannot stand in: the 1,828 Midtown landing sites (lat 40.741–40.768) and the Upper East
 // Side buildings (lat 40.774–40.782) do not overlap. The Midtown sites alone (no buildings) are benchmarked for the
 // candidate gathering on real site positions.
 //
@@ -184,9 +184,9 @@ BENCHMARK(BM_LandPractBuildDatabase)->Unit(benchmark::kMillisecond);
 // The 1,828 real Midtown sites without buildings: candidate gathering over real positions (straight paths).
 void BM_LandAsapMidtownSites(benchmark::State& state) {
   const auto file =
-      std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" / "midtown-landing-sites.csv";
+      std::filesystem::path(UASCMA_SOURCE_DIR) / "data" / "osm" / "midtown-landing-sites.csv";
   if (!std::filesystem::exists(file)) {
-    state.SkipWithError("shared/data/osm absent");
+    state.SkipWithError("data/osm absent");
     return;
   }
   static const CityMap map = ImportCityMap({}, file, {}).map;

@@ -1,6 +1,6 @@
 // City-map query costs on real geometry: segment collision, first hit, point-in-building, tallest building under
 // a route, sites within a radius, and the import itself. The maps are the Upper East Side buildings (1,228 with
-// a height) and the 1,828 Midtown landing sites of shared/data/osm; without that folder the procedural city
+// a height) and the 1,828 Midtown landing sites of data/osm; without that folder the procedural city
 // stands in (the benchmark's label says which). A linear scan over every building is the baseline the grid index
 // is measured against.
 #include <benchmark/benchmark.h>
@@ -19,7 +19,7 @@ namespace {
 using namespace uascma::planning;
 
 std::filesystem::path OsmDataDir() {
-  return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
+  return std::filesystem::path(UASCMA_SOURCE_DIR) / "data" / "osm";
 }
 
 struct BenchMap {
@@ -159,7 +159,7 @@ BENCHMARK(BM_SitesWithinRadius)->Arg(100)->Arg(500)->Arg(1000);
 void BM_ImportUpperEastSide(benchmark::State& state) {
   const auto file = OsmDataDir() / "upper-east-side-buildings.geojson";
   if (!std::filesystem::exists(file)) {
-    state.SkipWithError("shared/data/osm is absent");
+    state.SkipWithError("data/osm is absent");
     return;
   }
   MapImportOptions options;

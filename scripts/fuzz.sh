@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every parser's libFuzzer harness (fuzz/, issue 16) for SECONDS each, PARALLEL of them at a time (default
 # 1, one after the other), from seed corpora assembled here at run time (examples/, tests/data/missions, the OSM
-# data of ../shared/data/osm when present, generated OSM, policy, battery-model and results-store seeds); nothing of
+# data of data/osm, generated OSM, policy, battery-model and results-store seeds); nothing of
 # it is committed. Prints executions, coverage (cov) and features (ft) per parser, and fails on any crash, hang,
 # leak or out-of-memory, whose input is then in BUILD_DIR/fuzz/artifacts/PARSER/.
 # Usage: fuzz.sh [BUILD_DIR [SECONDS [JOBS [PARALLEL]]]]   (JOBS: build threads)
@@ -15,7 +15,7 @@ build=${1:-build-fuzz}
 seconds=${2:-60}
 jobs=${3:-$(nproc)}
 parallel=${4:-1}
-shared=${UASCMA_SHARED_DATA:-$root/../shared/data}
+osm_data=$root/data/osm
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 
@@ -45,8 +45,8 @@ seed scenario_yaml examples/nominal.yaml examples/poor-battery-long.yaml example
   examples/scenario-1.yaml examples/scenario-2.yaml examples/mission-upper-east-side.yaml
 seed campaign_yaml examples/campaign.yaml examples/campaign-manhattan.yaml
 seed weights_yaml examples/cma-weights.yaml
-seed geojson "$shared"/osm/*.geojson
-seed sites_csv "$shared"/osm/*.csv
+seed geojson "$osm_data"/*.geojson
+seed sites_csv "$osm_data"/*.csv
 seed mission_plan examples/missions/*.plan tests/data/missions/*.plan
 seed mission_wpl tests/data/missions/*.waypoints
 mkdir -p "$corpus/osm_xml" "$corpus/osm_pbf" "$corpus/policy_json" "$corpus/results_store" \

@@ -1,7 +1,8 @@
 // End-to-end checks of `uascma map info`: the procedural default and its seed, the real OSM files of
-// shared/data/osm (skipped when absent), the plot, and one-line exit-2 errors naming the file, the feature
+// data/osm, the plot, and one-line exit-2 errors naming the file, the feature
 // and what was expected.
 #include "cli_runner.h"
+#include "../support/data_paths.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -17,15 +18,7 @@ namespace {
 using testing_support::RunCli;
 using testing_support::ScratchDir;
 
-std::filesystem::path OsmDataDir() {
-  return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
-}
-
-#define SKIP_WITHOUT_SHARED_DATA()                                                        \
-  if (!std::filesystem::is_directory(OsmDataDir())) {                                     \
-    GTEST_SKIP() << "shared OSM data not found at " << OsmDataDir().string()              \
-                 << " (shared/ sits beside the repository; the real-data tests need it)"; \
-  }
+using ::uascma::testing_support::OsmDataDir;
 
 nlohmann::json RunJson(const std::string& arguments) {
   const auto result = RunCli(arguments);
@@ -66,7 +59,6 @@ TEST(MapCliTest, ProceduralCityByDefaultReplaysFromItsSeed) {
 }
 
 TEST(MapCliTest, RealFilesReportTheirCounts) {
-  SKIP_WITHOUT_SHARED_DATA();
   const std::string dir = OsmDataDir().string();
   const nlohmann::json broadway = RunJson("map info --json " + dir + "/broadway-14th-buildings.geojson");
   EXPECT_EQ(broadway.at("buildings").get<int>(), 67);

@@ -322,10 +322,6 @@ TEST(SimulateCliTest, MissionOriginPlacesALocalScenarioAndTheEmergencyPlanIsExpo
 }
 
 TEST(SimulateCliTest, MissionExampleFliesOverTheImportedCityAndExportsInItsFrame) {
-  if (!std::filesystem::exists(std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" /
-                               "upper-east-side-buildings.geojson")) {
-    GTEST_SKIP() << "shared/data/osm not present";
-  }
   ScratchDir dir("simulate_mission_example");
   const auto out = dir.path / "flight";
   const auto result = RunCli("simulate " + Example("mission-upper-east-side.yaml") + " --out " + out.string());

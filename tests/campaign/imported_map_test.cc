@@ -1,5 +1,5 @@
 // Campaigns over an imported city (campaign/config.h, MapSampling): the YAML keys, their canonical form and
-// fingerprint, and missions sampled over the real OpenStreetMap data of shared/data/osm (skipped without it).
+// fingerprint, and missions sampled over the real OpenStreetMap data of data/osm.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -15,13 +15,12 @@
 #include "uascma/planning/flight_plan.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/sim/scenario.h"
+#include "../support/data_paths.h"
 
 namespace uascma::campaign {
 namespace {
 
-std::filesystem::path OsmDataDir() {
-  return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
-}
+using ::uascma::testing_support::OsmDataDir;
 
 const char* kImportedYaml =
     "map:\n"
@@ -93,9 +92,6 @@ TEST(ImportedMapConfigTest, LoadResolvesMapFilesNextToTheCampaignFile) {
 }
 
 TEST(ImportedMapSamplerTest, MissionsAreSampledOverTheRealCityOnOpenGround) {
-  if (!std::filesystem::exists(OsmDataDir() / "upper-east-side-buildings.geojson")) {
-    GTEST_SKIP() << "shared/data/osm not present";
-  }
   CampaignConfig config = ParseCampaignConfig(kImportedYaml, "c.yaml");
   config.map.buildings = {(OsmDataDir() / "upper-east-side-buildings.geojson").string()};
   config.map.sites = (OsmDataDir() / "midtown-landing-sites.csv").string();
@@ -136,9 +132,6 @@ TEST(ImportedMapSamplerTest, MissionsAreSampledOverTheRealCityOnOpenGround) {
 }
 
 TEST(ImportedMapSamplerTest, SitesThatMissTheRoutesAreReportedAndTheMapSuppliesItsOwn) {
-  if (!std::filesystem::exists(OsmDataDir() / "upper-east-side-buildings.geojson")) {
-    GTEST_SKIP() << "shared/data/osm not present";
-  }
   CampaignConfig config = ParseCampaignConfig(kImportedYaml, "c.yaml");
   config.map.buildings = {(OsmDataDir() / "upper-east-side-buildings.geojson").string()};
   // The Midtown sites lie ~2 km south of the Upper East Side: LandPract's 500 m reach misses every checkpoint.

@@ -22,6 +22,7 @@
 #include "uascma/planning/map_geometry.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
+#include "../support/data_paths.h"
 
 namespace uascma::planning {
 namespace {
@@ -759,8 +760,7 @@ TEST(LandPractTest, EmptyDatabaseAndNoSitesGiveClearStatuses) {
 // --- real geometry ------------------------------------------------------------------------------------------------
 TEST(LandAsapTest, CollisionFreeOverRealUpperEastSideBuildings) {
   const auto file =
-      std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm" / "upper-east-side-buildings.geojson";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
+      ::uascma::testing_support::OsmDataDir() / "upper-east-side-buildings.geojson";
   MapImportOptions options;
   options.skip_missing_height = true;
   const std::vector<std::filesystem::path> files = {file};

@@ -1,6 +1,5 @@
 // The map importers: the local projection in closed form, GeoJSON / OSM / CSV readers on small hand-made inputs
-// (well-formed and malformed), and the real OpenStreetMap files of shared/data/osm (skipped when that folder is
-// absent, e.g. in CI without shared/). The real files are read in place, never copied.
+// (well-formed and malformed), and the real OpenStreetMap files of data/osm.
 #include <gtest/gtest.h>
 
 // GCC 12 reports a false -Wstringop-overread inside libosmium's builders; see src/planning/map_osm.cc.
@@ -22,6 +21,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/random.h"
 #include "uascma/planning/map_import.h"
+#include "../support/data_paths.h"
 
 namespace uascma::planning {
 namespace {
@@ -35,15 +35,7 @@ constexpr double kHeightTolerance = 1e-9;        // m
 constexpr double kWgs84A = 6378137.0;
 constexpr double kWgs84E2 = 6.69437999014e-3;
 
-std::filesystem::path OsmDataDir() {
-  return std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
-}
-
-#define SKIP_WITHOUT_SHARED_DATA()                                                        \
-  if (!std::filesystem::is_directory(OsmDataDir())) {                                     \
-    GTEST_SKIP() << "shared OSM data not found at " << OsmDataDir().string()              \
-                 << " (shared/ sits beside the repository; the real-data tests need it)"; \
-  }
+using ::uascma::testing_support::OsmDataDir;
 
 // A scratch folder for the files a test writes, removed at the end.
 struct Scratch {
@@ -498,7 +490,6 @@ TEST(MapImportTest, UnknownExtensionAndEmptyMapsAreInputErrors) {
 // --- the real files ----------------------------------------------------------------------------------------
 
 TEST(RealOsmDataTest, BroadwayFourteenthImportsAllSixtySevenBuildings) {
-  SKIP_WITHOUT_SHARED_DATA();
   const std::vector<std::filesystem::path> files = {OsmDataDir() / "broadway-14th-buildings.geojson"};
   const ImportedMap imported = ImportCityMap(files, {}, {});
   EXPECT_EQ(imported.summary.features, 67);
@@ -512,7 +503,6 @@ TEST(RealOsmDataTest, BroadwayFourteenthImportsAllSixtySevenBuildings) {
 }
 
 TEST(RealOsmDataTest, UpperEastSideNeedsAPolicyForItsElevenBuildingsWithoutHeight) {
-  SKIP_WITHOUT_SHARED_DATA();
   const std::vector<std::filesystem::path> files = {OsmDataDir() / "upper-east-side-buildings.geojson"};
   // By default a missing height is an error naming the first such feature.
   ExpectInputError([&] { ImportCityMap(files, {}, {}); },
@@ -555,7 +545,6 @@ TEST(RealOsmDataTest, UpperEastSideNeedsAPolicyForItsElevenBuildingsWithoutHeigh
 }
 
 TEST(RealOsmDataTest, MidtownLandingSitesReadWithTheirColumnAliases) {
-  SKIP_WITHOUT_SHARED_DATA();
   const ImportedMap imported = ImportCityMap({}, OsmDataDir() / "midtown-landing-sites.csv", {});
   EXPECT_EQ(imported.summary.sites, 1828);
   EXPECT_EQ(imported.summary.rooftop_sites, 0);  // no buildings imported with them
@@ -678,7 +667,6 @@ TEST(OsmImportTest, MapSuppliesSitesOnFlatRoofsAndOpenAreas) {
 }
 
 TEST(RealOsmDataTest, UpperEastSideBuildingsImportWithTypeHeightsAndSupplyRooftopSites) {
-  SKIP_WITHOUT_SHARED_DATA();
   MapImportOptions options;
   options.height_from_levels = true;
   options.height_from_type = true;

@@ -20,6 +20,7 @@
 #include "uascma/common/files.h"
 #include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/procedural_city.h"
+#include "../support/data_paths.h"
 
 namespace uascma::planning {
 namespace {
@@ -429,11 +430,10 @@ TEST(MissionFileTest, LandPractCheckpointsSpanTheWholeMultiWaypointRoute) {
   for (int leg = 0; leg < 4; ++leg) EXPECT_GT(on_leg[leg], 0) << "leg " << leg;
 }
 
-// The example mission over the real Upper East Side buildings (shared/data/osm; skipped without them): read in the
+// The example mission over the real Upper East Side buildings (data/osm): read in the
 // map's frame, clear of every building, landed at home; LandPract places its checkpoints along the whole route.
 TEST(MissionFileTest, ExampleMissionFliesClearOfTheRealUpperEastSide) {
-  const std::filesystem::path data = std::filesystem::path(UASCMA_SOURCE_DIR) / ".." / "shared" / "data" / "osm";
-  if (!std::filesystem::exists(data / "upper-east-side-buildings.geojson")) GTEST_SKIP() << "shared/data/osm absent";
+  const std::filesystem::path data = ::uascma::testing_support::OsmDataDir();
   MapImportOptions map_options;
   map_options.height_from_levels = true;
   map_options.skip_missing_height = true;

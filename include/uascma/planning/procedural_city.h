@@ -14,14 +14,14 @@
 //  block_north 61 m, street_width 18.3 m, avenue_width 30.5 m: the Commissioners' Plan of 1811 — blocks 200 ft
 //    deep between streets, streets 60 ft and avenues 100 ft wide; block_east 180 m is the ~600 ft of the shorter
 //    avenue blocks (they range 600–920 ft).
-//  12 × 4 blocks: about 0.95 km × 0.84 km, the size of the Upper East Side extract in shared/data/osm.
+//  12 × 4 blocks: about 0.95 km × 0.84 km, the size of the Upper East Side extract in data/osm.
 //  lot frontage 12–40 m (uniform): Manhattan lots are 25 ft (7.6 m) wide and buildings usually cover several.
 //  open_lot_probability 0.08: an estimate (a few parking lots and plazas per block face).
 //  heights log-normal, median e^2.99 ≈ 20 m, σ_ln 0.50, clamped to [4 m, 200 m]: the maximum-likelihood fit
-//    to the 1,228 heights of shared/data/osm/upper-east-side-buildings.geojson (mean ln h 2.99, sd 0.50).
+//    to the 1,228 heights of data/osm/upper-east-side-buildings.geojson (mean ln h 2.99, sd 0.50).
 //  park_block_fraction 0.06: Manhattan's parks cover ~ 6 % of the grid blocks in a district (an estimate).
 //  rooftop_site_probability 0.55: gives ~ 400 sites per km², the density of the 1,828 sites over the ~4.5 km²
-//    of shared/data/osm/midtown-landing-sites.csv.
+//    of data/osm/midtown-landing-sites.csv.
 //  site radius 2 m + log-normal(μ −0.47, σ 1.12), capped to fit the roof with 1 m to spare: fit to the
 //    radii of the same CSV (all ≥ 2 m; median 2.7 m).
 //  risk = 0.698 − 0.192 ln(radius) + N(0, 0.041), clamped to [0, 1]: the least-squares fit to the same CSV
