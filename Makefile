@@ -39,6 +39,7 @@ test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) --timeout 900
 
 bench: build
+	cmake --build $(BUILD_DIR) --target benchmarks -j $(JOBS)
 	bash scripts/bench.sh $(BUILD_DIR)
 
 check-sanitizers:

@@ -45,3 +45,19 @@ function(uascma_use_pch target)
     target_precompile_headers(${target} REUSE_FROM uascma_pch)
   endif()
 endfunction()
+
+# uascma_use_test_pch(TARGET): the test executables share one precompiled header, the libraries' heavy headers plus
+# GoogleTest, built with the first test (an executable: -fPIE, so it cannot reuse the libraries' -fPIC header).
+# Without it every test file parses Eigen, nlohmann/json, yaml-cpp, fmt and gtest again.
+function(uascma_use_test_pch target)
+  if(NOT UASCMA_PCH)
+    return()
+  endif()
+  get_property(owner GLOBAL PROPERTY UASCMA_TEST_PCH_OWNER)
+  if(owner)
+    target_precompile_headers(${target} REUSE_FROM ${owner})
+  else()
+    target_precompile_headers(${target} PRIVATE ${UASCMA_PCH_HEADERS} <gtest/gtest.h>)
+    set_property(GLOBAL PROPERTY UASCMA_TEST_PCH_OWNER ${target})
+  endif()
+endfunction()
