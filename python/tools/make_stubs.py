@@ -8,7 +8,7 @@ Every function, method and property of uascma._uascma is written from pybind11's
 docstring ("name(arg: type = default, ...) -> type"), overloads as typing.overload, enums as classes of
 their values, the docstring kept. Types pybind11 prints that are not Python (NumPy arrays with shapes,
 "float[3]") are written as their plain type; a default value is written as "...". A signature that still does
-not parse as Python becomes (*args, **kwargs) -> Any, so the stub is always valid (tests/python/test_stubs.py).
+not parse as Python becomes (*args, **kwargs) -> Any, so the stub is always valid (tests/python/test_python_api.py).
 """
 import ast
 import inspect

@@ -5,7 +5,7 @@
 // by every thread; a run's scenario (campaign/sampler.h) holds the same map and hulls, so no flight re-imports,
 // re-builds or re-inflates them.
 //
-// The LandPract database (planning/land_pract.h, §5.3.2.2) is not part of it: it is built for a nominal plan, and
+// The LandPract database (planning/emergency_landing.h, §5.3.2.2) is not part of it: it is built for a nominal plan, and
 // each run draws its own (sim/emergency_planner.cc builds it when the flight model is made).
 #include <memory>
 #include <optional>

@@ -11,7 +11,7 @@
 // Integration: an explicit Runge–Kutta step over one GNC step with the rotor thrusts and torques held
 // (zero-order hold, as the 200 Hz controller commands them) and the wind held. Two schemes:
 //   kMidpoint  second-order midpoint rule, 2 evaluations: the default. At the 5 ms step its position error
-//              over a 2 s manoeuvre is ~7e-5 m against a 0.05 ms reference (tests/sim/rigid_body_test.cc),
+//              over a 2 s manoeuvre is ~7e-5 m against a 0.05 ms reference (tests/models/rigid_body_test.cc),
 //              far below the model's own uncertainty, at half the cost of RK4 — and the simulator's
 //              speed target (10,000× real time at 200 Hz) leaves ~500 ns per step for everything.
 //   kRk4       classical fourth order, 4 evaluations, for studies of the
