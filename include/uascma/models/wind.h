@@ -1,5 +1,5 @@
 #pragma once
-// Wind: a mean wind plus Dryden turbulence (MIL-F-8785C), as specified in shared/spec/dryden.md, with the
+// Wind: a mean wind plus Dryden turbulence (MIL-F-8785C), as specified in docs/defaults.md#dryden-turbulence, with the
 // four gust categories of Table 4.4 (Low-Light, Low-Moderate, Medium-Light, Medium-Moderate).
 //
 // Gust axes: u along the horizontal mean wind, v across it (90° clockwise seen from above, i.e. to the
