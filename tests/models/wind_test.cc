@@ -83,7 +83,7 @@ INSTANTIATE_TEST_SUITE_P(Categories, DrydenVarianceTest,
 // A flight whose altitude and airspeed change (hover on the ground, climb, cruise, slow-down, slow flight),
 // flown by many seeds: at instants in every phase the spread of each gust channel across the seeds is σ of
 // that instant's altitude. The spread is taken over seeds at one instant (an ensemble), so it sees the
-// variance the filter has then, not a time average. Before the fix of issue 11 the states carried the old
+// variance the filter has then, not a time average. Before a fix the states carried the old
 // σ and L/V (measured with this test: after the slow-down v and w came out 2.2–2.8 σ, at the top of the
 // climb u 11 % above σ, and v, w started at rest).
 struct ProfilePoint {
