@@ -11,7 +11,7 @@ DEMO_OPTIONS = -DUASCMA_BUILD_TESTS=OFF -DUASCMA_BUILD_BENCHMARKS=OFF -DUASCMA_B
 FULL_OPTIONS = -DUASCMA_BUILD_TESTS=ON -DUASCMA_BUILD_BENCHMARKS=ON -DUASCMA_BUILD_PYTHON=ON -DUASCMA_WITH_MPI=ON
 
 .PHONY: deps deps-demo configure build demo test bench clean check-sanitizers fuzz
-# `make check-sanitizers`: the whole suite under ASan + UBSan in its own build folder (issue 16).
+# `make check-sanitizers`: the whole suite under ASan + UBSan in its own build folder.
 SANITIZE_BUILD_DIR ?= build-asan
 # `make fuzz FUZZ_SECONDS=N [FUZZ_PARALLEL=P]`: every parser's libFuzzer harness for N seconds, P at a time.
 FUZZ_BUILD_DIR ?= build-fuzz

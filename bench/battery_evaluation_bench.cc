@@ -1,4 +1,4 @@
-// Judging battery policies (issue 24): `battery evaluate` of 400 paired flights × 4 policies (useboth, pistar,
+// Judging battery policies: `battery evaluate` of 400 paired flights × 4 policies (useboth, pistar,
 // rule:voltage, ours) must take ≤ 60 s on 2 cores. The policies come from a 600-flight model (seed 1, with the drop
 // flights) solved both ways once, outside the timing; the flights are Table 4.4 draws of seed 2024 as the README's
 // evaluation. Prints wall time (the benchmark's real time) and the process CPU seconds it took.

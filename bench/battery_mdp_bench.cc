@@ -1,5 +1,5 @@
 // Battery-reconfiguration MDP (dissertation §4.3): solving every policy (target < 10 ms for the 18
-// contexts, issue 12) and learning from Monte Carlo flights (target ≤ 60 s for 5,000 flights on two cores).
+// contexts) and learning from Monte Carlo flights (target ≤ 60 s for 5,000 flights on two cores).
 #include <benchmark/benchmark.h>
 
 #include "uascma/campaign/battery_flights.h"

@@ -1,4 +1,4 @@
-// The decisions on beliefs (issue 29, sim/belief_policy.h) per 1 Hz epoch, beside the point CMA's table look-up:
+// The decisions on beliefs (sim/belief_policy.h) per 1 Hz epoch, beside the point CMA's table look-up:
 //  - "cma" (TablePolicy::Decide), "cma-risk" (RiskCmaPolicy::Decide: two states, the level from the Q-values) and
 //    "cma-qmdp" (QmdpCmaPolicy::Decide: six states, four actions) on a belief spread over every MH and RM;
 //  - one step of the spall indicator's Bayes filter (predict, update, b(NF, SF, JF)).

@@ -1,10 +1,10 @@
-// Battery figures (issue 3, dissertation §3.3, §4.3):
+// Battery figures (dissertation §3.3, §4.3):
 //  - one pack EOD, six cells in two parallel branches, from a resting state (target ≤ 10 µs per call;
 //    for scale, NASA ProgPy's battery EOD prediction takes 0.3–2.3 s, so this is 4–5 orders lower);
 //  - the same from a state in mid-flight (polarised RC pairs, settled hysteresis);
 //  - one simulation step of the pack (the simulator steps it at 200 Hz) and of a single cell;
 //  - the fixed-step (10 ms) reference EOD the fast method replaces, for comparison;
-//  - the EOD distribution of one epoch and a decision from it (issue 29: <= 50 us per epoch), mid-flight.
+//  - the EOD distribution of one epoch and a decision from it (<= 50 us per epoch), mid-flight.
 #include <benchmark/benchmark.h>
 
 #include "uascma/models/battery.h"
@@ -103,7 +103,7 @@ void BM_PackEodFixedStepReference(benchmark::State& state) {
 }
 BENCHMARK(BM_PackEodFixedStepReference)->Unit(benchmark::kMillisecond)->Iterations(3);
 
-// Issue 29: the EOD distribution at one 1 Hz epoch plus what a risk-aware decision reads from it, P(EOD <
+// The EOD distribution at one 1 Hz epoch plus what a risk-aware decision reads from it, P(EOD <
 // t_flight) and three quantiles, mid-flight (120 s at 45 A, then 25 A). Sources: 0 = load and SOC (what the
 // flight's error model measures); 1 = every source and an uncertain temperature class (the most calls). The
 // 1σ values are those of eod_distribution_test (the cost does not depend on them, only on which are > 0).

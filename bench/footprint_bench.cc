@@ -1,4 +1,4 @@
-// Approximate footprint figures (issue 5, dissertation §5.3.1, Algorithm 1; target ≤ 50 µs per footprint):
+// Approximate footprint figures (dissertation §5.3.1, Algorithm 1; target ≤ 50 µs per footprint):
 //  - one footprint (three PMP solutions, bounds, exact step-7 integration) with exact exponentials, for EODs
 //    from 1 s to 600 s: the cost must not grow with the EOD (no time stepping);
 //  - the same with the dissertation's 5th-order Maclaurin series (4×4 LU per case, polynomial pieces);

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# The throughput figures of issue 27, as timed runs of the command-line tool (not unit tests): the 10,000-flight
+# The throughput figures, as timed runs of the command-line tool (not unit tests): the 10,000-flight
 # default campaign (examples/campaign.yaml, 5,000 runs x 2 policies; then again one run at a time per thread, the
 # lockstep's ratio on this machine), battery learning from 5,000 flights and
 # 10,000 Q-learning episodes, each on 2 threads. Prints wall and CPU seconds (user + sys, all threads), the load
 # average before and after (a loaded machine stretches the wall time, not the CPU time) and, for the campaign,
-# flights per CPU-second. The targets (issue 27): <= 120 s, <= 60 s and <= 120 s of wall time on 2 idle cores.
+# flights per CPU-second. The targets: <= 120 s, <= 60 s and <= 120 s of wall time on 2 idle cores.
 #   bash bench/headline.sh [BUILD_DIR]      (~13 CPU minutes; HEADLINE_SKIP=1 skips it in `make bench`)
 set -euo pipefail
 build=${1:-build}
@@ -38,7 +38,7 @@ EOF
 cd "$root"
 timed "10,000-flight default campaign (5,000 runs x 2 policies, --jobs 2)" 10000 \
   "$cli" campaign examples/campaign.yaml --runs 5000 --seed 1 --jobs 2 --db "$work/campaign.db"
-# The same campaign one run at a time per thread (no lockstep, issue 27 item 4): the lanes' gain on this machine.
+# The same campaign one run at a time per thread (no lockstep): the lanes' gain on this machine.
 timed "the same, one run at a time (--runs-in-flight 1)" 10000 \
   "$cli" campaign examples/campaign.yaml --runs 5000 --seed 1 --jobs 2 --runs-in-flight 1 --db "$work/campaign-alone.db"
 timed "battery learning, 5,000 flights (--jobs 2)" 5000 \

@@ -1,4 +1,4 @@
-// Our asin, atan, atan2, cos, exp and expm1 (common/lane_math.h) against glibc's, per evaluation (issue 27 item 4:
+// Our asin, atan, atan2, cos, exp and expm1 (common/lane_math.h) against glibc's, per evaluation (for lockstep:
 // does evaluating four flights' functions in lanes pay?). For each function, 256 groups of 4 arguments drawn in the
 // ranges the 200 Hz step uses, evaluated as
 //   libm:      glibc's scalar function, 4 calls per group (the ifunc variant the CPU selects: _fma on this machine);

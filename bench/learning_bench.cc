@@ -1,4 +1,4 @@
-// Learning from the simulator (issue 13): the cost of one Q-learning episode (§5.3.3, the one-mission setting of
+// Learning from the simulator: the cost of one Q-learning episode (§5.3.3, the one-mission setting of
 // learning/cma_q_learning.h with the default campaign) and of its parts, and of one run of the transition
 // estimation. Target: 10,000 episodes in at most 2 minutes on the 2-core machine, i.e. ≈ 24 ms of CPU per episode
 // at --jobs 2. Counters: sim_s = simulated seconds per episode (epochs at 1 Hz).

@@ -1,9 +1,10 @@
-// How well each EOD load rule predicts the load (decision 25, issue 22 item 1): over the default campaign's sampled
-// flights (examples/campaign.yaml's defaults, seed 1), each flown by NoOp to its end, the current the 1 Hz EOD would be
-// propagated at — the load forecast of the rest of the executing plan, and decision 14's present current low-passed
-// over 10 s — against the mean current the flight actually drew from that epoch to its end (the truth). Printed: the
-// relative error (predicted / truth − 1) as bias (mean), spread (standard deviation) and 5th/95th percentiles, over
-// every epoch with at least 60 s of flight left, of flights that completed their plan.
+// How well each EOD load rule predicts the load (docs/modelling-choices.md#eod-load-forecast): over the default
+// campaign's sampled flights (examples/campaign.yaml's defaults, seed 1), each flown by NoOp to its end, the current
+// the 1 Hz EOD would be propagated at — the load forecast of the rest of the executing plan, and the present current
+// low-passed (docs/modelling-choices.md#pack-eod) over 10 s — against the mean current the flight actually drew from
+// that epoch to its end (the truth). Printed: the relative error (predicted / truth − 1) as bias (mean), spread
+// (standard deviation) and 5th/95th percentiles, over every epoch with at least 60 s of flight left, of flights that
+// completed their plan.
 //
 // Usage: load_forecast_bench [RUNS]   (default 120 runs; scripts/bench.sh passes --benchmark_* flags, ignored)
 #include <algorithm>

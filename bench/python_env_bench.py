@@ -6,8 +6,8 @@ Times the same 1 Hz-decision flight (examples/nominal.yaml, fixed seed, no telem
   callable uascma.run(scenario, python_noop): the same flight, the decision module a Python callable
   env      the decision environment stepped from Python (reset, then step(NoOp) until done), when the module
            has one (uascma.Environment)
-and prints the fastest and the median of interleaved repetitions, with the overhead of each against cpp. The target of issue 14 is at most
-20 % for the environment.
+and prints the fastest and the median of interleaved repetitions, with the overhead of each against cpp. Our target is
+at most 20 % for the environment.
 """
 import os
 import statistics

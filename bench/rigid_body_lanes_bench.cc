@@ -1,4 +1,4 @@
-// Issue 27 item 4: the rigid body's midpoint step with drag (models::StepRigidBody, the simulator's) for four bodies,
+// The rigid body's midpoint step with drag (models::StepRigidBody, the simulator's) for four bodies,
 // scalar (four calls, as four flights flown alone would make) against the four-lane form of models/rigid_body_lanes.h
 // on SSE2 (two 2-wide halves) and AVX2, bit-identical per body. Each iteration flies the four bodies 200 steps
 // (1 s at 200 Hz) from the same starting states, every step depending on the last, with each body's own held thrust,

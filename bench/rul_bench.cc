@@ -1,7 +1,7 @@
-// Motor RUL figures (issue 3, item 5): the cost of what the simulator and the CMA call.
+// Motor RUL figures: the cost of what the simulator and the CMA call.
 //  - "RUL now": 100 particles from the observed spall area (§3.4.1), once per 1 Hz CMA epoch;
 //  - the Table 5.4 measurement: 1000 spall histories (§5.3.2.3);
-//  - the calibration of the time per growth step (decisions item 15);
+//  - the calibration of the time per growth step (docs/modelling-choices.md#spall-growth-time-scale);
 //  - one motor's spall → jam event advanced at the 200 Hz GNC rate from onset to jam.
 #include <benchmark/benchmark.h>
 

@@ -47,7 +47,7 @@ void BM_FifteenMinuteMission(benchmark::State& state) {
 }
 BENCHMARK(BM_FifteenMinuteMission)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
-// The same flight through the decision environment (issue 10: stepping by epochs costs no more than Run): Reset,
+// The same flight through the decision environment (stepping by epochs costs no more than Run): Reset,
 // then Step(NoOp) at every 1 Hz epoch, with the observation and the reward computed each time.
 void BM_FifteenMinuteMissionByEpochs(benchmark::State& state) {
   const sim::Scenario scenario = FifteenMinuteMission();
@@ -68,9 +68,10 @@ void BM_FifteenMinuteMissionByEpochs(benchmark::State& state) {
 }
 BENCHMARK(BM_FifteenMinuteMissionByEpochs)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
-// The onboard decision path at one 1 Hz epoch (issue 22: within 2x of the present-current EOD's cost): Observe (the
+// The onboard decision path at one 1 Hz epoch (within 2x of the present-current EOD's cost): Observe (the
 // EOD at the chosen load, the RUL, the margins, the abstract state) and the CMA table's decision, mid-cruise of the
-// 15-minute mission. Arg 0: the present current (decision 14); 1: the load forecast (decision 25).
+// 15-minute mission. Arg 0: the present current (docs/modelling-choices.md#pack-eod); 1: the load forecast
+// (docs/modelling-choices.md#eod-load-forecast).
 void BM_DecisionEpoch(benchmark::State& state) {
   sim::Scenario scenario = FifteenMinuteMission();
   scenario.options.eod_load = state.range(0) == 0 ? sim::EodLoad::kPresent : sim::EodLoad::kForecast;
@@ -87,7 +88,8 @@ void BM_DecisionEpoch(benchmark::State& state) {
 }
 BENCHMARK(BM_DecisionEpoch)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
-// The load profile of a plan (decision 25), computed once when a plan starts: the 893 s mission, six rotors.
+// The load profile of a plan (docs/modelling-choices.md#eod-load-forecast), computed once when a plan starts: the 893 s
+// mission, six rotors.
 void BM_LoadProfile(benchmark::State& state) {
   const sim::FlightModel model(FifteenMinuteMission());
   for (auto _ : state) {

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Start-up cost of the command-line tool and of the Python module (issue 27 item 5; run by `make bench` through
+"""Start-up cost of the command-line tool and of the Python module (run by `make bench` through
 scripts/bench.sh, or `bench/startup_bench.py BUILD_DIR`). Targets of the issue: `uascma --version` <= 3 ms CPU,
 `import uascma` <= 50 ms.
 

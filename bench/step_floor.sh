@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# How low can one flight's 200 Hz step go? (issue 27's <= 2,500 instructions per step.) Counts the instructions per
+# How low can one flight's 200 Hz step go? (Our target: <= 2,500 instructions per step.) Counts the instructions per
 # step (bench/step_instructions.sh: callgrind, Simulator::Run only) of examples/nominal.yaml under
-#  1. the subsystem rates issue 27 item 2 allows to lower, every pair of the pack's rate (options.pack_rate_hz;
+#  1. the subsystem rates that may run slower than the GNC loop, every pair of the pack's rate (options.pack_rate_hz;
 #     10 Hz is the default, README "Subsystem rates") and the Dryden filter's (options.wind_rate_hz; 200 Hz is the
 #     default): the best choice in hindsight, whatever it does to the results;
 #  2. parts of the step removed altogether (not a configuration anyone should fly: a bound on what the rest costs):

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Instructions per 200 Hz GNC step (issue 27): callgrind counts the instructions of `Simulator::Run` only (set-up,
+# Instructions per 200 Hz GNC step: callgrind counts the instructions of `Simulator::Run` only (set-up,
 # parsing and output excluded) while flying examples/nominal.yaml, and divides by the steps flown, the --json
 # summary's sim_time_s times the GNC rate (200 Hz in that scenario). Instruction counts do not depend on the machine's
 # load, so this figure is comparable between runs where a wall time is not. Another scenario (SCENARIO, a path from

@@ -1,4 +1,4 @@
-// Issue 27 item 4: four flights of one model (examples/scenario-1.yaml, seeds 1-4, from 30 s into the flight, the
+// Four flights of one model (examples/scenario-1.yaml, seeds 1-4, from 30 s into the flight, the
 // cruise) stepped one GNC step at a time, per flight-step:
 //   alone/sequential  each flight its 200 steps (one decision epoch) with Step, one after the other: how a campaign
 //                     thread flies its runs today, each flight's state hot in the cache;

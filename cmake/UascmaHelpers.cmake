@@ -1,4 +1,4 @@
-# One-line targets for uascma (shared/style.md, habit 13).
+# One-line targets for uascma (CONTRIBUTING.md).
 #
 #   uascma_library(NAME SOURCES a.cc b.cc DEPS other_targets...)
 #     builds uascma_NAME with alias uascma::NAME, public headers from include/, and

@@ -1,5 +1,5 @@
 // libFuzzer harness: the battery MDP's model JSON (decision::ReadBatteryModelFile, as `uascma battery solve
-// MODEL` reads it), issue 16. A model that loads is not solved here (18 value iterations per input would
+// MODEL` reads it). A model that loads is not solved here (18 value iterations per input would
 // slow the fuzzer to a few executions per second); its counts are what the parser checks.
 #include <cstddef>
 #include <cstdint>

@@ -1,6 +1,6 @@
 // libFuzzer harness: the battery MDP's policy JSON (decision::ReadBatteryPolicyFile, then the executor of
 // `uascma simulate --battery-policy FILE` for every context and every abstract state: a file that loads must
-// give an action everywhere), issue 16.
+// give an action everywhere).
 #include <cstddef>
 #include <cstdint>
 

@@ -1,4 +1,4 @@
-// libFuzzer harness: campaign YAML (campaign::ParseCampaignConfig), issue 16. A file that parses must
+// libFuzzer harness: campaign YAML (campaign::ParseCampaignConfig). A file that parses must
 // also round-trip through CampaignConfigYaml, which the results store relies on.
 #include <cstddef>
 #include <cstdint>

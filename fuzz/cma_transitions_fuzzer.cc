@@ -1,5 +1,5 @@
 // libFuzzer harness: the CMA transitions JSON (decision::ReadCmaTransitionsFile, as `uascma policy solve
-// --transitions T.json` reads it), issue 13. Counts that load are also built into the estimated MDP, whose
+// --transitions T.json` reads it). Counts that load are also built into the estimated MDP, whose
 // validation (rows sum to one, every state has an action) must hold for any counts the parser accepts.
 #include <cstddef>
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the two mission-file harnesses (issue 16): one input parsed as a mission, once on open ground and
+// Shared by the two mission-file harnesses: one input parsed as a mission, once on open ground and
 // once over the procedural city, and each mission that parses turned into its flight plan with the default
 // limits (planning::MakeMissionPlan, as Scenario::IsValid does). InputError is the only accepted failure.
 #include <cstddef>

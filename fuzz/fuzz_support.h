@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the libFuzzer harnesses of fuzz/ (issue 16). A harness feeds one input to one parser; the
+// Shared by the libFuzzer harnesses of fuzz/. A harness feeds one input to one parser; the
 // only outcome a parser may have on bad input is uascma::InputError (exit code 2 in the CLI). Any other
 // exception escapes the harness, so libFuzzer reports it as a crash, like a sanitizer finding.
 #include <unistd.h>

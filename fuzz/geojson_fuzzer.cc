@@ -1,4 +1,4 @@
-// libFuzzer harness: GeoJSON buildings (planning::ParseGeoJsonBuildings, then ProjectToCityMap), issue 16.
+// libFuzzer harness: GeoJSON buildings (planning::ParseGeoJsonBuildings, then ProjectToCityMap).
 #include <cstddef>
 #include <cstdint>
 

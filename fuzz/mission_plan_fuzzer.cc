@@ -1,4 +1,4 @@
-// libFuzzer harness: QGroundControl .plan mission files (planning::ParseMission, kQgcPlan), issue 16. A mission
+// libFuzzer harness: QGroundControl .plan mission files (planning::ParseMission, kQgcPlan). A mission
 // that parses is also checked over the built-in procedural city (home, waypoints and legs against its buildings)
 // and turned into its flight plan, as a scenario's mission.file and `simulate --mission` do.
 #include <cstddef>

@@ -1,4 +1,4 @@
-// libFuzzer harness: QGC WPL 110 .waypoints mission files (planning::ParseMission, kQgcWpl), issue 16. A mission
+// libFuzzer harness: QGC WPL 110 .waypoints mission files (planning::ParseMission, kQgcWpl). A mission
 // that parses is also checked over the built-in procedural city and turned into its flight plan (fuzz_mission.h).
 #include <cstddef>
 #include <cstdint>

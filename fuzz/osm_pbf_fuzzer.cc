@@ -1,3 +1,3 @@
-// libFuzzer harness: OSM PBF buildings (planning::ReadOsmBuildings on a .osm.pbf file), issue 16.
+// libFuzzer harness: OSM PBF buildings (planning::ReadOsmBuildings on a .osm.pbf file).
 #define UASCMA_FUZZ_OSM_SUFFIX ".osm.pbf"
 #include "osm_fuzzer.inc"

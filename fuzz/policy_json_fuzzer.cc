@@ -1,5 +1,5 @@
 // libFuzzer harness: policy JSON (decision::ReadPolicyFile, then CmaModelForPolicy and BindPolicy as
-// `uascma policy show` and `simulate --policy FILE` do), issue 16.
+// `uascma policy show` and `simulate --policy FILE` do).
 #include <cstddef>
 #include <cstdint>
 

@@ -1,5 +1,5 @@
 // libFuzzer harness: the SQLite results store as `uascma report FILE` reads it (ResultsStore::Open,
-// MakeCampaignReport, both renderings), issue 16.
+// MakeCampaignReport, both renderings).
 #include <cstddef>
 #include <cstdint>
 

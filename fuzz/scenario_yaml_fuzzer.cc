@@ -1,4 +1,4 @@
-// libFuzzer harness: scenario YAML (sim::ParseScenario), issue 16.
+// libFuzzer harness: scenario YAML (sim::ParseScenario).
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -1,4 +1,4 @@
-// libFuzzer harness: landing-site CSV (planning::ParseLandingSitesCsv, then ProjectToCityMap), issue 16.
+// libFuzzer harness: landing-site CSV (planning::ParseLandingSitesCsv, then ProjectToCityMap).
 #include <cstddef>
 #include <cstdint>
 

@@ -1,4 +1,4 @@
-// libFuzzer harness: CMA weights YAML (decision::LoadCmaConfig), issue 16. Weights that load are also
+// libFuzzer harness: CMA weights YAML (decision::LoadCmaConfig). Weights that load are also
 // turned into the CMA MDP, as `uascma policy solve --weights` does.
 #include <cstddef>
 #include <cstdint>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer (issue 16), in its own build
+# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer, in its own build
 # folder (-DUASCMA_SANITIZE=ON, top CMakeLists.txt). Any memory error, leak or undefined behaviour fails
 # the test that hit it. Usage: check-sanitizers.sh [BUILD_DIR [JOBS]]
 # The Python module is left out (-DUASCMA_BUILD_PYTHON=OFF): /usr/bin/python3 is not built with ASan, so an

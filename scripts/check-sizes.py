@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Size rules of issue 23 for the C++ sources under src/ (ours: the limits are the issue's).
+"""Size rules for the C++ sources under src/ (ours: no function above 80 lines, no file above 700).
 
     python3 scripts/check-sizes.py [--root DIR] [--max-function N] [--max-file N] [--list]
 

@@ -8,7 +8,7 @@ Two kernels need a fit (exp, expm1 and cos use Taylor coefficients 1/k!, compute
 P is fitted by least squares on 4 (degree + 1) Chebyshev nodes of w = u^2 in [0, w_max], in 50-digit arithmetic, for
 degrees 6, 7, ... until the relative error of the kernel (coefficients rounded to double, evaluated exactly) over
 2,001 points is below 2e-17 (a tenth of an ulp); prints each degree's error, then the coefficients, constant term
-first. The same method as session 8's scripts/fit-fast-atan.py (commit d4d6918), there on |u| <= tan(pi/8).
+first. The same method as scripts/fit-fast-atan.py of commit d4d6918 (since removed), there on |u| <= tan(pi/8).
 """
 import mpmath as mp
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every parser's libFuzzer harness (fuzz/, issue 16) for SECONDS each, PARALLEL of them at a time (default
+# Runs every parser's libFuzzer harness (fuzz/) for SECONDS each, PARALLEL of them at a time (default
 # 1, one after the other), from seed corpora assembled here at run time (examples/, tests/data/missions, the OSM
 # data of data/osm, generated OSM, policy, battery-model and results-store seeds); nothing of
 # it is committed. Prints executions, coverage (cov) and features (ft) per parser, and fails on any crash, hang,
@@ -57,7 +57,7 @@ scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 export ASAN_OPTIONS=detect_leaks=0  # the seed-making runs of the tool are not what is being fuzzed
 "$cli" policy solve --model cma --out "$corpus/policy_json/cma-policy.json" >/dev/null
-mkdir -p "$corpus/cma_transitions"  # transitions counted from one flight (issue 13)
+mkdir -p "$corpus/cma_transitions"  # transitions counted from one flight
 "$cli" learn transitions --runs 1 --jobs 1 --out "$corpus/cma_transitions/transitions.json" >/dev/null
 rm -f "$corpus/battery_model/model.json" "$corpus/battery_policy/policy.json"  # the tool refuses nothing here,
 "$cli" battery learn --runs 3 --jobs 1 --out "$corpus/battery_model/model.json" >/dev/null  # but keep them fresh

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs the Debian packages uascma builds on (see shared/spec/dependencies.md), by group:
+# Installs the Debian packages uascma builds on, by group:
 #   build  the library, the command-line tool and the demo's plots  (make demo)
 #   test   MPI, the tests, benchmarks and the Python module         (make test: build + test)
 #   fuzz   clang and its sanitizer runtimes                         (make fuzz, make check-sanitizers)

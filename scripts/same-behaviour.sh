@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fingerprints of the behaviour a refactor must preserve (issue 23): run against two builds and diff the outputs.
+# Fingerprints of the behaviour a refactor must preserve: run against two builds and diff the outputs.
 #   bash scripts/same-behaviour.sh BUILD_DIR OUT_FILE [--quick]
 # - the 930-flight default campaign (examples/campaign.yaml, seed 1): md5 of every runs column but wall_time_s,
 #   rows ordered by flight_id;

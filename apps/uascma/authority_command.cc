@@ -1,6 +1,6 @@
 // uascma authority — the control authority of dissertation §4.4.2 (Figs. 4.14–4.16): the largest
 // square of roll and pitch angles within which the hexacopter still holds altitude, healthy or
-// reconfigured as a quadcopter after one motor failure (§4.4.1, shared/spec/decisions.md item 13).
+// reconfigured as a quadcopter after one motor failure (§4.4.1, docs/modelling-choices.md#mixing-after-motor-failure).
 #include <algorithm>
 #include <cmath>
 #include <memory>

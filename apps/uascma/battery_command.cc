@@ -34,13 +34,13 @@ namespace {
 using namespace uascma::decision;
 using models::PackAction;
 
-// Plausibility bounds of the numeric options (issue 16). Flights: §4.3.2 learns from 5,000; 10^7 is the
+// Plausibility bounds of the numeric options. Flights: §4.3.2 learns from 5,000; 10^7 is the
 // campaign's bound on runs. Threads: our bound, far above any machine this runs on. Case studies: Table 4.5.
 constexpr Bounds kFlightsBounds{1.0, 1e7, "flights"};
 constexpr Bounds kThreadsBounds{1.0, 256.0, "threads"};
 constexpr Bounds kCaseStudyBounds{1.0, 4.0, ""};
 
-// An output file is checked before any work (issue 24): its folder exists and is writable, and the path is not a
+// An output file is checked before any work: its folder exists and is writable, and the path is not a
 // folder. Exit 2 naming the option otherwise, with nothing written.
 void CheckOutputFile(const std::string& path, const char* option) {
   if (path.empty()) return;
@@ -92,7 +92,8 @@ struct ObservedRows {
   std::set<std::pair<StateIndex, int>> rows;
 };
 
-// Decision 26's flight time: the state the case-study flight of each context starts in.
+// The case studies' flight time (docs/modelling-choices.md#battery-case-study-flight-time): the state the case-study
+// flight of each context starts in.
 double CaseFlightTimeS() { return campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(PackAction::kUseBoth); }
 
 BatteryContext ParseContextOption(const std::string& text, const std::string& option) {
@@ -167,7 +168,8 @@ void PrintLearnSummary(const std::string& out, const BatteryModel& model,
   }
   std::printf(
       "learned the battery MDP from %lld flights (%lld parameter draws, %lld reached FAILURE) in %.1f s\n"
-      "%lld transitions counted at 1 Hz; %d of %d learned rows unobserved (self-loops, decisions item 23)\n"
+      "%lld transitions counted at 1 Hz; %d of %d learned rows unobserved (self-loops, "
+      "docs/modelling-choices.md#battery-mdp-transitions)\n"
       "energy transitions observed in flight: S1->S2 %lld, S2->S3 %lld, S1->S3 %lld, recoveries %lld\n"
       "GNC steps that followed another action's vehicle: %lld; flown alone after the packs diverged: %lld\n"
       "wrote %s (hash %s)\n",
@@ -208,7 +210,7 @@ void AddLearn(CLI::App* battery) {
   command->callback([options] {
     RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
-    CheckOutputFile(options->out, "--out");  // before the flights (issue 24)
+    CheckOutputFile(options->out, "--out");  // before the flights
     ProgressBar bar(options->runs, "battery learn");
     learning::BatteryLearningOptions learn_options;
     learn_options.runs = options->runs;
@@ -300,7 +302,8 @@ void AddSolve(CLI::App* battery) {
 // Fig. 4.4: the transition graph of one action in one context, as Graphviz DOT. Learned rows with their
 // probabilities, and the deterministic switch edges (dashed, p = 1) into their source states from the states that
 // can occur. A state the graph reaches whose own row under this action was never observed is drawn grey and
-// dotted, labelled "unobserved" (decisions item 23: the dissertation's MDP lets it loop on itself).
+// dotted, labelled "unobserved" (docs/modelling-choices.md#battery-mdp-transitions: the dissertation's MDP lets it loop
+// on itself).
 std::string TransitionDot(const BatteryContextPolicy& policy, PackAction action) {
   std::string out = fmt::format(
       "digraph battery_mdp {{\n  label=\"battery MDP transitions, action {}, context {} (Fig. 4.4); grey dotted: "
@@ -401,7 +404,7 @@ void AddShow(CLI::App* battery) {
       "Show the battery policies: the decision tree of Fig. 4.5 (temperature, B1 health, B2 health) with\n"
       "each leaf's policy over the 216 states that can occur (the 72 with both switches OFF cannot), the\n"
       "choices whose row was never observed marked, and the action at the state the context's case-study\n"
-      "flight (decision 26's flight time) starts in; --plot draws every policy; --dot writes the transition\n"
+      "flight (the case studies' flight time) starts in; --plot draws every policy; --dot writes the transition\n"
       "graph of one action and context as Graphviz DOT (Fig. 4.4), unobserved rows marked");
   command->add_option("policy", options->policy, "Policy JSON written by 'uascma battery solve'")->required();
   command->add_option("--plot", options->plot, "Draw the policies to this PNG file");
@@ -431,7 +434,8 @@ void AddShow(CLI::App* battery) {
         "battery policies {} ({} formulation, model {}, gamma {:.6g})\nFig. 4.5 decision tree over (T, B1F, B2F), one "
         "leaf per context; counts "
         "over the 216 states that can occur (72 with both switches OFF cannot)\n"
-        "take-off: the first state of the context's case-study flight ({:.0f} s plan, decision 26); * = the chosen "
+        "take-off: the first state of the context's case-study flight ({:.0f} s plan, "
+        "docs/modelling-choices.md#battery-case-study-flight-time); * = the chosen "
         "action's row was never observed\n",
         options->policy, BatteryFormulationName(set.formulation), set.model_hash, set.gamma, CaseFlightTimeS());
     text += "                 states per action               unobserved   at take-off\n";
@@ -525,7 +529,7 @@ void AddCaseStudy(CLI::App* battery) {
   CLI::App* command = battery->add_subcommand(
       "case-study",
       "Run a case study of Table 4.5: (1) flight time = one pack's EOD, UseBoth; (2) the same flights with\n"
-      "UseBoth beside pi* (and ours with --ours); (3) decision 26's flight time (0.82 of the healthy pair's\n"
+      "UseBoth beside pi* (and ours with --ours); (3) the case studies' flight time (0.82 of the healthy pair's\n"
       "endurance), UseBoth, for (F1,F2), (F1,F3), (F3,F3); (4) the same flight time, (F2,F1) with pack 1's one\n"
       "capacity-faded cell (Fig. 4.11's caption): UseBoth, pi*, the voltage rule, ours (--ours) and the\n"
       "hindsight-best schedule of a stated family (UseBoth; UseBoth then one pack alone for good from t, 5 s\n"
@@ -544,7 +548,7 @@ void AddCaseStudy(CLI::App* battery) {
     RequireWithin(options->number, kCaseStudyBounds, "N", "value");
     RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
-    // Every input and the output folder checked before any flight (issue 24): a policy file named is read
+    // Every input and the output folder checked before any flight: a policy file named is read
     // whatever the case, and the folder is claimed now (written whole at the end, or not at all).
     std::optional<BatteryPolicySet> policies, ours;
     if (!options->policy.empty()) policies = ReadBatteryPolicyFile(options->policy);

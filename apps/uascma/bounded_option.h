@@ -1,5 +1,5 @@
 #pragma once
-// Numeric CLI options with plausibility bounds (issue 16; include/uascma/common/bounds.h). The bound is
+// Numeric CLI options with plausibility bounds (include/uascma/common/bounds.h). The bound is
 // appended to the option's help ("… [0 to 105 A]") and checked on the text the user typed, before CLI11
 // converts it, so an out-of-range or non-numeric value stops the command with exit code 2 and
 // "--current-a: from 0 to 105 A, got 1e+09".

@@ -1,4 +1,4 @@
-// uascma calibrate — the EOD's distribution from measured errors (issue 29):
+// uascma calibrate — the EOD's distribution from measured errors:
 //   calibrate eod-error   fly a TRAINING campaign's NoOp twins to the cut-off (sim/eod_truth.h), measure the load
 //                         forecast's error and fit the error table (campaign/eod_calibration.h); --out F.json, --cxx
 //                         F.inc (the committed default table is that source);

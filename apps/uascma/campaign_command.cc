@@ -55,7 +55,7 @@ std::vector<std::string> SplitList(const std::string& text) {
 
 // Our bounds: --jobs 0 (all cores) to 1024 threads; --commit-every 10 ms to one hour.
 constexpr Bounds kJobsBounds{0.0, 1024.0, "threads"};
-// Runs a thread keeps in flight (issue 27 item 4): 1 (one at a time) to 64 (ours: far beyond the four lanes).
+// Runs a thread keeps in flight: 1 (one at a time) to 64 (ours: far beyond the four lanes).
 constexpr Bounds kRunsInFlightBounds{1.0, campaign::kMaxRunsInFlight, "runs"};
 constexpr Bounds kCommitEveryBounds{0.01, 3600.0, "s"};
 

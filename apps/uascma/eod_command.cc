@@ -1,14 +1,14 @@
 // uascma eod — battery end of discharge of the default battery under a constant total current
-// (dissertation §3.3.2.1, decisions item 14; models: §3.3, §4.3, Tables 3.1–3.2).
+// (dissertation §3.3.2.1, docs/modelling-choices.md#pack-eod; models: §3.3, §4.3, Tables 3.1–3.2).
 //
 // The battery: two 3S packs of Table 3.1 cells 1–3 in parallel (Fig. 4.1), switched per --use, every
-// cell at rest at --initial-cell-voltage (z = OCV⁻¹(v), shared/spec/defaults.md "Battery").
-// --health applies Table 3.2 to EVERY cell of both packs (decisions item 8 defines the classes; which
-// fade makes "M" is our choice): G none; M power fade (R0 → 2 R0); P power and capacity fade
+// cell at rest at --initial-cell-voltage (z = OCV⁻¹(v), docs/defaults.md#battery).
+// --health applies Table 3.2 to EVERY cell of both packs (docs/modelling-choices.md#battery-health-label defines the
+// classes; which fade makes "M" is our choice): G none; M power fade (R0 → 2 R0); P power and capacity fade
 // (R0 → 2 R0, Q → 0.8 Q). --temp-degf below 50 °F multiplies R0 by 1.5 as well.
 // JSON: eod_s is always a number (0 when already below the cut-off or no pack is on; the horizon, a lower
 // bound, when not reached); limiting_cell is {"pack": 1|2, "cell": 1..3} (1-based) or null.
-// --quantiles (issue 29): the EOD as a distribution (prognostics/eod_distribution.h) from the 1σ of each
+// --quantiles: the EOD as a distribution (prognostics/eod_distribution.h) from the 1σ of each
 // source given (--load-log-mean/--load-log-sigma, --soc-sigma, --r0-log-sigma, --capacity-log-sigma,
 // --cold-probability); JSON adds "distribution" {levels, quantiles_s, ...}.
 #include <cmath>
@@ -140,7 +140,7 @@ void Run(const EodCommandOptions& options) {
   const EodResult result = CalcPackEod(pack, state, options.current_a, eod_options);
   const PackOutputs now = pack.CalcOutputs(state, options.current_a);
   // The packs' internal resistance limits what they deliver: a current that would pull the bus to 0 V or
-  // below is one these cells cannot supply (issue 16: 10^9 A printed a negative bus voltage).
+  // below is one these cells cannot supply (10^9 A once printed a negative bus voltage).
   if (!(now.split.bus_voltage_v > 0.0)) {
     throw InputError("--current-a", "value",
                      fmt::format("a current these packs can deliver at {} V per cell ({} A would pull the bus "
@@ -227,7 +227,7 @@ void AddEodCommand(CLI::App& app) {
                    "Ambient temperature, °F (default 77, room temperature: an estimate)", kAmbientTemperatureBounds);
   command->add_option("--use", options->use, "UseBoth | UseBatt1 | UseBatt2 (Table 4.3; default UseBoth)");
   command->add_option("--ocv-csv", options->ocv_csv,
-                      "OCV(SOC) table as CSV with header 'soc_percent,ocv_v' (default: shared/spec/defaults.md)");
+                      "OCV(SOC) table as CSV with header 'soc_percent,ocv_v' (default: docs/defaults.md#battery)");
   AddBoundedOption(command, "--cutoff-v", options->cutoff_v, "Cell cut-off voltage, V (default 3.3, §3.3.2.1)",
                    kCutoffVoltageBounds);
   AddBoundedOption(command, "--horizon-s", options->horizon_s, "Longest EOD searched, s (default 86400)",
@@ -242,7 +242,7 @@ void AddEodCommand(CLI::App& app) {
           },
           "STEP"));
   command->add_flag("--quantiles", options->quantiles,
-                    "Also the EOD as a distribution (issue 29) from the 1σ given below: quantiles p05-p95");
+                    "Also the EOD as a distribution from the 1σ given below: quantiles p05-p95");
   AddBoundedOption(command, "--load-log-mean", options->uncertainty.load_log_mean,
                    "With --quantiles: bias of ln(I_actual / I), the load's error (default 0)",
                    EodUncertainty::kLoadLogMeanBounds);

@@ -32,7 +32,7 @@ using planning::FootprintStatus;
 constexpr int kPlotSweepCount = 10;       // footprints drawn by --plot: [1 s,] EOD/10, 2 EOD/10, …, EOD
 constexpr double kPlotShortestEod = 1.0;  // s: Fig. 5.4 starts at 1 s, where the footprint is a cone ahead
 
-// Plausibility bounds of the options (issue 16). Ours unless cited: speeds up to 30 m/s (Table 4.4 samples
+// Plausibility bounds of the options. Ours unless cited: speeds up to 30 m/s (Table 4.4 samples
 // 1-9 m/s, the drag table spans 0-10 m/s); EOD up to two hours (the packs hover ~15 min); a small UAS
 // under 25 kg (FAA Part 107) with a thrust-to-weight ratio up to 4 (~1000 N); tilt 1-89 degrees (90 cannot
 // hold altitude); a drag slope up to 100 N*s/m (the default table's is ~1 N*s/m at 10 m/s); the series
@@ -145,14 +145,15 @@ void AddFootprintCommand(CLI::App& app) {
   AddBoundedOption(command, "--speed-mps", options->speed_mps, "Initial horizontal speed v_init, m/s", kSpeedBounds)
       ->required();
   AddBoundedOption(command, "--eod-s", options->eod_s, "Battery End of Discharge time, s", kEodBounds)->required();
-  AddBoundedOption(command, "--mass-kg", options->mass_kg, "Vehicle mass, kg (default 1.3, defaults.md)", kMassBounds);
+  AddBoundedOption(command, "--mass-kg", options->mass_kg, "Vehicle mass, kg (default 1.3, docs/defaults.md#vehicle)",
+                   kMassBounds);
   AddBoundedOption(command, "--thrust-n", options->thrust_n,
                    "Available total thrust T_avail, N (default 26.85, Table 2.2 tractor at 1900 us)", kThrustBounds);
   AddBoundedOption(command, "--max-tilt-deg", options->max_tilt_deg,
                    "Pitch/roll limit, degrees (default 30, the wind-tunnel data's range)", kTiltBounds);
   AddBoundedOption(command, "--drag-slope", options->drag_slope,
                    "Linear drag coefficient d_x of eq. 5.1, N*s/m (default: slope of the default tractor\n"
-                   "drag table at --speed-mps and the trim pitch, defaults.md)",
+                   "drag table at --speed-mps and the trim pitch, docs/defaults.md#drag)",
                    kDragSlopeBounds);
   AddBoundedOption(command, "--maclaurin", options->maclaurin,
                    "Replace exp by its order-N Maclaurin series as the dissertation did (N = 5); default 0, exact",

@@ -59,7 +59,8 @@ nlohmann::json RowJson(const RowDivergence& d, const CmaTransitionCounts& counts
           {"ddn", Distribution(DenseRow(ddn, d.state, d.action), ddn)}};
 }
 
-// The states whose optimal action differs between the DDN model and the estimated one (γ = 0.95, decisions 5).
+// The states whose optimal action differs between the DDN model and the estimated one (γ = 0.95,
+// docs/modelling-choices.md#discount).
 nlohmann::json PolicyChanges(const FiniteMdp& ddn, const FiniteMdp& estimated) {
   ValueIterationOptions vi;
   const Policy a = SolveValueIteration(ddn, vi);

@@ -57,7 +57,7 @@ std::unique_ptr<CLI::App> MakeApp(std::string_view only) {
   return app;
 }
 
-// Building every command's options is ~40 % of the instructions of a start (issue 27 item 5: 2.9 M of 7.2 M for
+// Building every command's options is ~40 % of the instructions of a start (2.9 M of 7.2 M for
 // `--version`). So the tool first parses with the command that argv[1] names alone (none for `--version`). That
 // parse either succeeds, and the command runs exactly as with all of them, or ends in a CLI11 parse error or a
 // call for help, which no command's callback has seen (CLI11 runs them after the whole line is parsed): the

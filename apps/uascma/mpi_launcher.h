@@ -1,5 +1,5 @@
 #pragma once
-// The MPI launcher (issue 27 item 5): `uascma` links no MPI, so that every command starts without loading
+// The MPI launcher: `uascma` links no MPI, so that every command starts without loading
 // libmpi; uascma-mpi is the same tool with MPI (uascma::campaign_mpi), built when UASCMA_WITH_MPI is ON.
 
 namespace uascma::cli {

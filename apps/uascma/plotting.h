@@ -1,6 +1,6 @@
 #pragma once
 // Drawing results: the CLI writes the data, then runs one of the matplotlib scripts in python/plots/ with
-// Debian's interpreter (/usr/bin/python3, shared/spec/dependencies.md). Scripts are found in
+// Debian's interpreter (/usr/bin/python3, scripts/install-deps.sh). Scripts are found in
 // $UASCMA_PLOTS_DIR, else the source tree this binary was built from, else <prefix>/share/uascma/plots.
 #include <string>
 

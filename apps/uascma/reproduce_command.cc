@@ -1,5 +1,5 @@
 // uascma reproduce — the dissertation's checkable results rebuilt in one command, beside its printed values
-// (issue 28; src/reproduce). Writes DIR/index.html, DIR/results.json, DIR/table.md and the figures as PNG; prints
+// (src/reproduce). Writes DIR/index.html, DIR/results.json, DIR/table.md and the figures as PNG; prints
 // one line per item. Exit 0 whatever the verdicts (differences are results), 2 on bad input.
 #include <cstdio>
 #include <memory>

@@ -1,7 +1,7 @@
 // uascma rul — motor remaining useful life from a bearing spall (dissertation §3.4.1, eq. 3.8) and the
-// per-second jam probability of a spalled motor measured as Table 5.4 was (decisions item 15).
-// --quantiles adds the particle RUL's quantiles; --calibrate (issue 29) scores the RUL distribution against
-// the jam times of simulated spalls instead (prognostics/rul_calibration.h).
+// per-second jam probability of a spalled motor measured as Table 5.4 was
+// (docs/modelling-choices.md#spall-growth-time-scale). --quantiles adds the particle RUL's quantiles; --calibrate
+// scores the RUL distribution against the jam times of simulated spalls instead (prognostics/rul_calibration.h).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -106,16 +106,17 @@ void AddRulCommand(CLI::App& app) {
   AddBoundedOption(command, "--runs", options->runs,
                    "Spall histories for the jam probability (default 1000, as in §5.3.2.3)", kSampleBounds);
   AddBoundedOption(command, "--time-per-step", options->time_per_step_s,
-                   fmt::format("Seconds per growth step (default {}: calibrated to Table 5.4, decisions item 15)",
+                   fmt::format("Seconds per growth step (default {}: calibrated to Table 5.4, "
+                               "docs/modelling-choices.md#spall-growth-time-scale)",
                                SpallGrowthParams{}.time_per_growth_step_s),
                    SpallGrowthParams::kTimePerGrowthStepBounds);
   command->add_flag("--json", options->json, "Print the result as JSON");
   command->add_flag("--quantiles", options->quantiles,
-                    "Also the particle RUL's quantiles at p = 0.025, 0.05, 0.10, ..., 0.95, 0.975 (issue 29)");
+                    "Also the particle RUL's quantiles at p = 0.025, 0.05, 0.10, ..., 0.95, 0.975");
   command->add_flag("--calibrate", options->calibrate,
                     "Instead: score the RUL distribution (prognoser at --time-per-step) against the jam times of\n"
                     "--histories simulated spalls growing at --truth-time-per-step: interval coverage, reliability,\n"
-                    "PIT, Saxena et al. PH / alpha-lambda / RA (issue 29)");
+                    "PIT, Saxena et al. PH / alpha-lambda / RA");
   AddBoundedOption(command, "--histories", options->histories, "With --calibrate: spall histories (default 930)",
                    RulCalibrationOptions::kHistoryBounds);
   AddBoundedOption(command, "--truth-time-per-step", options->truth_time_per_step_s,

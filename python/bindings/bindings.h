@@ -72,7 +72,7 @@ py::array_t<double> MapArray(const py::array_t<double, py::array::c_style | py::
   return out;
 }
 
-// Long work from Python (issue 25): Ctrl-C and progress.
+// Long work from Python: Ctrl-C and progress.
 //
 // RunInterruptibly runs `work` (C++ only: it must not touch a Python object) on a thread of its own while the
 // calling thread, holding the GIL every kSignalCheckSeconds, runs Python's signal handlers (PyErr_CheckSignals:

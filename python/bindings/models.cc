@@ -183,7 +183,9 @@ void InitModels(py::module_& m) {
       .def_readonly("thrust_limited", &AllocationResult::thrust_limited)
       .def_property_readonly("saturated", &AllocationResult::saturated);
 
-  py::class_<Mixer>(m, "Mixer", "The hexacopter's mixer and allocation (§4.4, decisions item 13), immutable")
+  py::class_<Mixer>(
+      m, "Mixer",
+      "The hexacopter's mixer and allocation (§4.4, docs/modelling-choices.md#mixing-after-motor-failure), immutable")
       .def(py::init<const MixerParams&>(), py::arg("params") = MixerParams{})
       .def("allocate", &Mixer::Allocate, py::arg("wrench"), py::arg("failed_motor") = 0,
            "Rotor thrusts for the wrench (4,) = (T N, τx, τy, τz N·m) in B (FRD); failed_motor 0 or 1–6")

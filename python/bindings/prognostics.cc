@@ -1,5 +1,5 @@
-// Prognostics (src/prognostics): battery End Of Discharge (§3.3.2.1, decisions item 14) and motor RUL from
-// a bearing spall (§3.4.1, eq. 3.8; Table 5.4).
+// Prognostics (src/prognostics): battery End Of Discharge (§3.3.2.1, docs/modelling-choices.md#pack-eod) and motor RUL
+// from a bearing spall (§3.4.1, eq. 3.8; Table 5.4).
 #include <pybind11/stl.h>
 
 #include <cstdint>
@@ -145,7 +145,7 @@ void InitPrognostics(py::module_& m) {
       },
       py::arg("pack"), py::arg("state"), py::arg("total_current_a"), py::arg("options") = EodOptions{},
       "EOD (s) for each constant current in total_current_a (A, any shape; same shape out)");
-  py::class_<EodUncertainty>(m, "EodUncertainty", "1σ of each EOD input (0 = exactly known), issue 29")
+  py::class_<EodUncertainty>(m, "EodUncertainty", "1σ of each EOD input (0 = exactly known)")
       .def(py::init<>())
       .def_readwrite("load_log_mean", &EodUncertainty::load_log_mean, "bias of ln(I_actual / I_forecast)")
       .def_readwrite("load_log_sigma", &EodUncertainty::load_log_sigma, "1σ of ln(I_actual / I_forecast)")
@@ -154,7 +154,7 @@ void InitPrognostics(py::module_& m) {
       .def_readwrite("capacity_log_sigma", &EodUncertainty::capacity_log_sigma, "1σ of ln Q of the cells")
       .def_readwrite("cold_probability", &EodUncertainty::cold_probability,
                      "P(cold class, R0 x1.5) when uncertain; < 0: the class is known");
-  py::class_<EodDistribution>(m, "EodDistribution", "The EOD as a distribution (log-normal mixture), issue 29")
+  py::class_<EodDistribution>(m, "EodDistribution", "The EOD as a distribution (log-normal mixture)")
       .def_readonly("point", &EodDistribution::point, "CalcPackEod at the given current (the point EOD)")
       .def_readonly("components", &EodDistribution::components)
       .def_readonly("weight", &EodDistribution::weight)
@@ -174,11 +174,11 @@ void InitPrognostics(py::module_& m) {
           py::arg("p"), "EOD (s) at each probability in p (any shape; same shape out)");
   m.def("pack_eod_distribution", &CalcPackEodDistribution, py::arg("pack"), py::arg("state"), py::arg("current_a"),
         py::arg("uncertainty"), py::arg("options") = EodOptions{},
-        "The EOD as a distribution at a constant current (A) under the given uncertainty (issue 29)");
+        "The EOD as a distribution at a constant current (A) under the given uncertainty");
   m.def("cell_eod", &CalcCellEod, py::arg("cell"), py::arg("state"), py::arg("current_a"),
         py::arg("options") = EodOptions{});
   m.def("reach_margin", &CalcReachMargin, py::arg("eod"), py::arg("flight_time_remaining_s"),
-        "Decisions item 7: RM = 1 − t_flight / t_EOD");
+        "RM = 1 − t_flight / t_EOD (docs/modelling-choices.md#margins)");
   m.def("motor_margin", &CalcMotorMargin, py::arg("flight_time_remaining_s"), py::arg("rul_s"),
         "Eq. 5.14: MM = 1 − t_flight / t_RUL (−inf when jammed, 1 without a fault)");
 

@@ -197,7 +197,7 @@ py::dict TelemetryArrays(const SimResult& result) {
   d["eod_p50_s"] = column([](const TelemetryRow& r) { return r.eod_p50_s; });
   d["eod_p95_s"] = column([](const TelemetryRow& r) { return r.eod_p95_s; });
   d["eod_short_probability"] = column([](const TelemetryRow& r) { return r.eod_short_probability; });
-  // b(NF, SF, JF) per row (issue 29): one-hot under exact sensing.
+  // b(NF, SF, JF) per row: one-hot under exact sensing.
   d["motor_health_belief"] = columns(
       3, [](const TelemetryRow& r, py::ssize_t j) { return r.motor_health_belief[static_cast<std::size_t>(j)]; });
   d["cma_state"] = codes([](const TelemetryRow& r) { return r.cma_state; });
@@ -374,7 +374,8 @@ void InitSim(py::module_& m) {
       .value("G", decision::BatteryHealth::kG)
       .value("M", decision::BatteryHealth::kM)
       .value("P", decision::BatteryHealth::kP);
-  py::class_<decision::CmaState>(m, "CmaState", "The abstract CMA state (FS, MH, MM, BH, RM), decisions items 7–11")
+  py::class_<decision::CmaState>(
+      m, "CmaState", "The abstract CMA state (FS, MH, MM, BH, RM), docs/modelling-choices.md#margins to #outcomes")
       .def_readonly("fs", &decision::CmaState::fs)
       .def_readonly("mh", &decision::CmaState::mh)
       .def_readonly("bh", &decision::CmaState::bh)
@@ -396,7 +397,7 @@ void InitSim(py::module_& m) {
       .def_readonly("eod_is_lower_bound", &DecisionInputs::eod_is_lower_bound,
                     "eod_s and reach_margin are lower bounds (never for a Python policy: it sees the values)")
       .def_readonly("motor_margin", &DecisionInputs::motor_margin)
-      .def_readonly("eod_p05_s", &DecisionInputs::eod_p05_s, "5 % quantile of the EOD's distribution (issue 29)")
+      .def_readonly("eod_p05_s", &DecisionInputs::eod_p05_s, "5 % quantile of the EOD's distribution")
       .def_readonly("eod_p50_s", &DecisionInputs::eod_p50_s, "its median")
       .def_readonly("eod_p95_s", &DecisionInputs::eod_p95_s, "its 95 % quantile")
       .def_readonly("eod_short_probability", &DecisionInputs::eod_short_probability,
@@ -453,7 +454,7 @@ void InitSim(py::module_& m) {
           "branch_current (N, 2) A; cell_voltage (N, 2, 3) V; eod_s, flight_time_remaining_s, rul_s (NaN without "
           "a fault) (N,) s; reach_margin, motor_margin (N,); cma_state, action, imm_mode (N,) int codes; "
           "spall_area_mm2 (N,); eod_p05_s, eod_p50_s, eod_p95_s (N,) s and eod_short_probability (N,): the EOD's "
-          "distribution (issue 29). Empty unless flown with telemetry=True")
+          "distribution. Empty unless flown with telemetry=True")
       .def(
           "plan",
           [](const Flight& f) {
@@ -513,7 +514,8 @@ void InitSim(py::module_& m) {
             }
             return mask;
           },
-          "[4] 0/1 by action index: the actions the flight status offers (decisions item 3: N all four, "
+          "[4] 0/1 by action index: the actions the flight status offers "
+          "(docs/modelling-choices.md#action-availability: N all four, "
           "ELPRACT NoOp, Terminate, LandASAP; ELASAP NoOp, Terminate); all 0 once the flight has ended")
       .def("__repr__", [](const Observation& o) {
         return "<Observation t=" + std::to_string(o.time_s) + " s " +
@@ -529,7 +531,8 @@ void InitSim(py::module_& m) {
            py::arg("mission") = py::none(),
            "scenario: a path, YAML text, a dict or a Scenario; weights: CmaWeights of the reward R(S, A) (eqs. "
            "5.28–5.29 by default); record: keep the flight's log for flight(); require_available_actions: an "
-           "action the flight status does not offer raises InputError (decisions item 3); mission: a .plan or "
+           "action the flight status does not offer raises InputError (docs/modelling-choices.md#action-availability); "
+           "mission: a .plan or "
            ".waypoints file flown instead of the scenario's mission")
       .def(
           "reset",

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Draws a battery-policy evaluation (issue 24): paired flights, every policy on the same flight.
+"""Draws a battery-policy evaluation: paired flights, every policy on the same flight.
 
 Usage: battery_evaluation.py EVALUATION.json OUT.png
 EVALUATION.json is `uascma battery evaluate ... --out F.json` (or --json --runs-detail). Panel (a): completion

@@ -3,14 +3,16 @@
 
 Usage: battery_policy.py VIEW.json OUT.png
 VIEW.json is `uascma battery show POLICY --json`: per context (B1F, B2F, T) the action of each of the 289
-states, whether that choice's row was ever observed, and the state the context's case-study flight takes off in.
+states, whether that choice's row was ever observed, and the state the context's case-study flight takes off in
+(that flight's length: docs/modelling-choices.md#battery-case-study-flight-time).
 
 Left panel, the tree: B1 health (F1/F2/F3) -> B2 health -> temperature class (TL/TH) down to one policy pi* per
 context (18 leaves, §4.3.2.1: "the policies are selected traversing the appropriate tree branch"). Each leaf shows
 the action its policy takes at the take-off state; a dashed leaf with "*" means that choice's row was never observed
-in the learning flights (decisions item 23). Right panel, aligned with the leaves: how many of the 216 states that can
-occur (72 with both switches OFF cannot) each action is chosen in, the never-observed choices hatched. A key below
-explains every code (Tables 4.1-4.3).
+in the learning flights (the model then lets that state loop on itself,
+docs/modelling-choices.md#battery-mdp-transitions). Right panel, aligned with the leaves: how
+many of the 216 states that can occur (72 with both switches OFF cannot) each action is chosen in, the never-observed
+choices hatched. A key below explains every code (Tables 4.1-4.3).
 """
 import json
 import sys
@@ -32,10 +34,10 @@ KEY = [
     "Tree (Fig. 4.5): B1 / B2 = health of pack 1 / pack 2 (Table 4.2): F1 healthy, F2 medium (power or capacity fade "
     "in a cell), F3 unhealthy (power and capacity fade); temperature (Table 4.2): TL below 50 F, TH above 50 F.",
     "Leaf: the action \u03c0* takes at the take-off state, the first state of the context's {flight:.0f} s case-study "
-    "flight (decision 26). Actions (Table 4.3): UseBatt1 = Sw1 ON, Sw2 OFF; UseBatt2 = Sw1 OFF, Sw2 ON; "
+    "flight. Actions (Table 4.3): UseBatt1 = Sw1 ON, Sw2 OFF; UseBatt2 = Sw1 OFF, Sw2 ON; "
     "UseBoth = both ON.",
     "* and dashed leaf, hatched bar: the chosen action's row was never observed in the learning flights; the model "
-    "lets that state loop on itself (p = 1, decision 23), so the choice rests on no data.",
+    "lets that state loop on itself (p = 1), so the choice rests on no data.",
     "State code (Table 4.1): current IL / IH (below / above 0.2 Imax), then pack 1 and pack 2 each as switch ON / OFF, "
     "energy S1 / S2 / S3 and voltage C0 / C1, e.g. ILONS3C0ONS3C0.",
     "S1: EOD > RFD + tsf;  S2: RFD <= EOD <= RFD + tsf;  S3: EOD < RFD  (EOD end of discharge, RFD remaining flight "

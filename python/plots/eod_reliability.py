@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Draws the EOD distribution's reliability diagram (issue 29): per health group, the fraction of 1 Hz predictions
+"""Draws the EOD distribution's reliability diagram: per health group, the fraction of 1 Hz predictions
 whose probability integral transform P(EOD_pred < EOD_true) is at most p, against p (the diagonal: calibrated), and
 the coverage of the central 50/80/90/95 % intervals against their nominal probability.
 

@@ -29,7 +29,7 @@ def main(source, target):
     ax.set_xlabel("episode")
     ax.set_ylabel("sum of rewards")
     ax.set_title("(a) average sum of rewards")
-    # Beside the axes, not over the returns (issue 25).
+    # Beside the axes, not over the returns.
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8)
     ax = axes[1]
     start = len(episode) // 10

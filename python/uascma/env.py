@@ -17,7 +17,8 @@ attributes without it)::
   ``info["observation"]`` is the uascma.Observation behind it (time, EOD, RUL, margins, flight status).
 * action: ``action_space = Discrete(4)``, 0 NoOp, 1 Terminate, 2 LandASAP, 3 LandPract; a Python or NumPy
   integer, a 0-d integer array, a uascma.CmaAction or a name. ``info["action_mask"]`` (int8, shape (4,)) marks
-  the actions the flight status offers (decisions item 3), for ``action_space.sample(info["action_mask"])``.
+  the actions the flight status offers (docs/modelling-choices.md#action-availability), for
+  ``action_space.sample(info["action_mask"])``.
   An action it does not offer is executed as NoOp (the emergency plan under way goes on; ``info["executed"]``
   and ``info["requested"]`` say so) with ``unavailable="noop"`` (the default, so that any sampled action is
   valid), or raises uascma.InputError with ``unavailable="raise"``.

@@ -30,8 +30,9 @@ def read_campaign(db):
       * ``initial_cell_voltage_v`` (a JSON list in the database) split into ``initial_cell_voltage_p1c1_v`` …
         ``initial_cell_voltage_p2c3_v`` (V, pack 1 cells 1-3, pack 2 cells 1-3);
       * ``actions`` (JSON in the database) as a list of ``(time_s, action name)`` tuples per row;
-      * ``substitutions`` (JSON in the database) as a list of ``"Chosen->Taken"`` strings per row (decision 28:
-        an action unavailable at run time and the one executed instead);
+      * ``substitutions`` (JSON in the database) as a list of ``"Chosen->Taken"`` strings per row
+        (docs/modelling-choices.md#unavailable-actions: an action unavailable at run time and the one executed
+        instead);
       * ``first_emergency_action`` None when there was none (the database's ""),
       * ``fault`` and ``failure`` as booleans, ``run_seed`` as the unsigned 64-bit seed, optional times
         (``fault_onset_s``, ``jam_time_s``, ``isolation_time_s``, ``first_emergency_action_s``) NaN when absent;
@@ -75,7 +76,8 @@ def read_campaign(db):
     for k, cell in enumerate(_CELLS):
         frame.insert(position + k, f"initial_cell_voltage_{cell}_v", voltages[:, k])
     frame["actions"] = [[(float(t), str(a)) for t, a in json.loads(text)] for text in frame["actions"]]
-    if "substitutions" in frame.columns:  # decision 28: the distinct "Chosen->Taken" pairs of a flight
+    # docs/modelling-choices.md#unavailable-actions: the distinct "Chosen->Taken" pairs of a flight
+    if "substitutions" in frame.columns:
         frame["substitutions"] = [[str(pair) for pair in json.loads(text)] for text in frame["substitutions"]]
     for column in _BOOLEAN_COLUMNS:
         frame[column] = frame[column].astype(bool)

@@ -118,7 +118,8 @@ CaseDefinition DefineCase(int number) {
       for (int b2 = 0; b2 < 3; ++b2) out.pairs.emplace_back(static_cast<HealthClass>(b1), static_cast<HealthClass>(b2));
     }
   } else {
-    out.plan_duration_s = kCaseFlightFraction * ReferenceBatteryEod(PackAction::kUseBoth);  // decision 26
+    // docs/modelling-choices.md#battery-case-study-flight-time
+    out.plan_duration_s = kCaseFlightFraction * ReferenceBatteryEod(PackAction::kUseBoth);
     if (number == 3) {
       out.pairs = {
           {HealthClass::kG, HealthClass::kM}, {HealthClass::kG, HealthClass::kP}, {HealthClass::kP, HealthClass::kP}};

@@ -103,7 +103,7 @@ double ReferenceBatteryEod(PackAction switches) {
 
 double OursBatteryDiscount(const BatteryFlightRanges& ranges) {
   const double longest_plan_s = ranges.plan_fraction[1] * ReferenceBatteryEod();
-  return std::pow(0.5, 1.0 / longest_plan_s);  // one epoch = 1 s (decisions item 24)
+  return std::pow(0.5, 1.0 / longest_plan_s);  // one epoch = 1 s (docs/modelling-choices.md#battery-mdp-policies)
 }
 
 sim::Scenario MakeBatteryScenario(const BatteryFlightParams& params) {

@@ -1,7 +1,7 @@
 #pragma once
 // Byte messages between the ranks of an active MpiSession (private to src/campaign). Only the thread that
 // created the session calls these. They go through the MPI backend of the process (uascma::campaign::UseMpi,
-// linked only into the MPI launcher uascma-mpi, issue 27 item 5); without one they are never reached (an
+// linked only into the MPI launcher uascma-mpi); without one they are never reached (an
 // MpiSession cannot be active there) and abort if they are.
 #include <optional>
 #include <string>

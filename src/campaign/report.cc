@@ -28,8 +28,9 @@ CampaignReport MakeCampaignReport(const ResultsStore& store) {
 
 namespace {
 
-// The load the campaign's EOD was propagated at (decision 25): its configuration's options.eod_load; a configuration
-// stored before the key existed was flown at the present current (decision 14).
+// The load the campaign's EOD was propagated at (docs/modelling-choices.md#eod-load-forecast): its configuration's
+// options.eod_load; a configuration stored before the key existed was flown at the present current
+// (docs/modelling-choices.md#pack-eod).
 std::string EodLoadOf(const CampaignHeader& header) {
   if (header.config_yaml.find("\noptions:") == std::string::npos) return sim::EodLoadName(sim::EodLoad::kPresent);
   return sim::EodLoadName(ParseCampaignConfig(header.config_yaml, "the stored configuration").options.eod_load);
@@ -67,9 +68,11 @@ std::string CampaignReportText(const CampaignReport& report) {
   out += fmt::format("{} flights stored; {} of {} runs flown by every policy ({})\n", report.flights,
                      report.complete_runs, h.runs_requested, policies);
   const std::string load = EodLoadOf(h);
-  out += fmt::format("EOD load: {} ({})\n\n", load,
-                     load == "forecast" ? "the expected current of the rest of the executing plan, decision 25"
-                                        : "the present pack current, low-passed, decision 14");
+  out += fmt::format(
+      "EOD load: {} ({})\n\n", load,
+      load == "forecast"
+          ? "the expected current of the rest of the executing plan, docs/modelling-choices.md#eod-load-forecast"
+          : "the present pack current, low-passed, docs/modelling-choices.md#pack-eod");
   out += StatisticsTable(report.groups, report.comparisons);
   return out;
 }

@@ -106,7 +106,7 @@ class ClaimedTasks {
   }
 
  private:
-  // Issue 26 item 9: a process that waits for runs other processes hold says for whom it waits, once the wait
+  // A process that waits for runs other processes hold says for whom it waits, once the wait
   // has lasted kFirstNoticeSeconds and then every kNoticePeriodSeconds (our choices: longer than a claim's round
   // trip, short next to a user wondering why nothing moves). Runs this process's own threads fly are not waited
   // for in that sense and are not named. Called with the store's mutex held.
@@ -173,7 +173,7 @@ struct FlightsInFlight {
 // Flies the tasks `next_task` hands out on `jobs` threads (common/parallel_for.h; this thread is one of them) and
 // passes each task's records to `flights` as it ends. Unordered: the store orders its rows by flight_id, and
 // another process may be waiting for exactly the run just flown (ClaimedTasks). Each thread keeps up to
-// options.runs_in_flight runs in flight (issue 27 item 4), their flights stepped in lockstep (sim/lockstep.h): every
+// options.runs_in_flight runs in flight, their flights stepped in lockstep (sim/lockstep.h): every
 // run's records are those it has flown alone. `cancel`: no new run is started (StopRequested, i.e. Ctrl-C in the
 // CLI or Python, through its parent; or the collecting loop failed); the runs in flight are finished and handed over
 // as usual and the caller reports the stop. Never throws: a task's failure is left in flights.error.
@@ -404,7 +404,7 @@ CampaignPlan OpenStoreAndPlan(const CampaignRequest& request, const CampaignHead
   CampaignPlan plan;
   std::string failure;
   try {
-    // Errors of the inputs before the store exists (issue 26 item 7): the map and its sites load and the first
+    // Errors of the inputs before the store exists: the map and its sites load and the first
     // runs' routes fit (sampler.h step 7), so such a campaign exits 2 leaving no database to block the corrected
     // run. The first runs stand for all: a map too small or a sites file missing fails every run.
     constexpr std::int64_t kPreflightRuns = 4;  // our choice: a few milliseconds of sampling

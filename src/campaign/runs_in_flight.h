@@ -1,6 +1,6 @@
 #pragma once
 // One campaign thread's flying (runner.cc FlyTasks): the runs it keeps in flight, their flights stepped in lockstep
-// (issue 27 item 4, sim/lockstep.h). Internal to the campaign library.
+// (sim/lockstep.h). Internal to the campaign library.
 #include <functional>
 #include <optional>
 #include <vector>

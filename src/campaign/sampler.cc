@@ -106,7 +106,7 @@ void DrawCellFades(RandomStream& random, models::HealthClass health, int k, Medi
       cell.capacity_fade = capacity_kind;
       cell.power_fade = !capacity_kind;
     } else if (health == models::HealthClass::kM) {
-      // M per cell: one fade, not both; which one drawn per cell (decisions item 20).
+      // M per cell: one fade, not both; which one drawn per cell (docs/modelling-choices.md#battery-health-draw).
       if (random.Bernoulli(0.5)) {
         cell.capacity_fade = true;
       } else {
@@ -154,7 +154,7 @@ double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragT
     if (converged) break;
   }
   const double thrust = weight / std::cos(tilt);  // = √((m g)² + D²)
-  // Six rotors share it equally; each draws the power law of defaults.md; I = P / V_bus (eq. 2.10).
+  // Six rotors share it equally; each draws the power law of docs/defaults.md#vehicle; I = P / V_bus (eq. 2.10).
   const models::PropulsionParams propulsion = models::PropulsionParams::ForConfiguration(scenario.configuration);
   const double power = 6.0 * models::CalcElectricalPower(propulsion, thrust / 6.0);
   return scenario.options.hotel_current_a + power / (kPlanningCellVoltage * models::kCellsPerBranch);
@@ -287,7 +287,8 @@ void SetEnduranceTiedDistance(SampledRun& run, const models::DragTable& drag, co
                               double clearance, double lowest_cruise, double longest_plan_s) {
   sim::Scenario& scenario = run.scenario;
   const planning::CityMap& map = *scenario.map;
-  // Decisions item 19: plan = f (EOD_healthy − t_sf) at the plan's cruise current, the distance from it.
+  // docs/modelling-choices.md#campaign-missions: plan = f (EOD_healthy − t_sf) at the plan's cruise current, the
+  // distance from it.
   run.cruise_current_a = CalcPlanCruiseCurrent(scenario, drag, direction);
   run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
   // `longest_plan_s`: the whole-load check's shortening (DrawRoute); +inf on a route's first pass.
@@ -326,10 +327,10 @@ struct RouteContext {
 };
 
 // Step 7 for the home and bearing of one attempt (drawn already; only a fixed distance is drawn here): the distance,
-// the destination, the cruise altitude, the nominal plan's duration and its whole-load check (decisions item 27).
-// False when the attempt is to be redrawn: the destination outside the city's area or too near a wall, or the plan
-// failing the whole-load check after kMaxWholeLoadShortenings shortenings (an endurance-tied plan) or at once (a
-// fixed distance).
+// the destination, the cruise altitude, the nominal plan's duration and its whole-load check
+// (docs/modelling-choices.md#dissertation-profile). False when the attempt is to be redrawn: the destination outside
+// the city's area or too near a wall, or the plan failing the whole-load check after kMaxWholeLoadShortenings
+// shortenings (an endurance-tied plan) or at once (a fixed distance).
 bool FitRoute(RandomStream& random, const CampaignConfig& config, const RouteContext& route, SampledRun& run) {
   sim::Scenario& scenario = run.scenario;
   const bool city = !route.map.buildings().empty();
@@ -380,8 +381,8 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
   sim::Scenario& scenario = run.scenario;
   const planning::CityMap& map = *scenario.map;
   // An imported map covers only what its files hold: a route with no building under it crosses a hole in the data
-  // (Manhattan is built up), not open ground, so it never cruises below the open-ground altitude. Measured (issue
-  // 15): at 10 m over such holes the low-altitude Dryden gusts upset 2 of 300 fault-free flights at ~8 m/s.
+  // (Manhattan is built up), not open ground, so it never cruises below the open-ground altitude. Measured:
+  // at 10 m over such holes the low-altitude Dryden gusts upset 2 of 300 fault-free flights at ~8 m/s.
   const RouteContext route{map,
                            RouteArea(map, config.map),
                            config.mission.wall_clearance_m,

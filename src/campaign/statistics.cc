@@ -461,7 +461,7 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
           {"confidence_level", kConfidenceLevel},
           {"paired_comparisons", paired},
           {"dissertation",
-           {{"source", "dissertation §5.5.3 (Fig. 5.30), shared/spec/README.md"},
+           {{"source", "dissertation §5.5.3 (Fig. 5.30) and abstract"},
             {"poor_health_failure_rate",
              {{"cma", kDissertationPoorHealthFailureRateCma}, {"noop", kDissertationPoorHealthFailureRateNoOp}}}}}};
 }
@@ -510,8 +510,9 @@ std::string OutcomeNotes(const std::vector<GroupStatistics>& groups) {
                             "completed nor failed):\n" +
                                 off_site;
   out += substituted.empty()
-             ? "Actions that could not be carried out (decisions item 28): none.\n"
-             : "Actions that could not be carried out (decisions item 28: no plan found, the next-highest Q taken):\n" +
+             ? "Actions that could not be carried out (docs/modelling-choices.md#unavailable-actions): none.\n"
+             : "Actions that could not be carried out (docs/modelling-choices.md#unavailable-actions: no plan found, "
+               "the next-highest Q taken):\n" +
                    substituted;
   if (any_other) {
     out += "Some flights ended with an outcome this report does not know; they are counted as other outcomes:\n";

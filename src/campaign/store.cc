@@ -145,7 +145,7 @@ std::int64_t WriteNewDatabase(const std::filesystem::path& temporary, const std:
   db.Execute("COMMIT", "create");
   // Everything into the main file before it is published: the link below publishes that file alone,
   // without its -wal. Closing checkpoints too, but a checkpoint that fails there (a full disk) goes
-  // unreported and would leave the committed pages only in the -wal (issue 26: a truncated database at
+  // unreported and would leave the committed pages only in the -wal (a truncated database at
   // the user's path), so the checkpoint is made, and its result checked, here.
   {
     sqlite::Statement checkpoint = db.Prepare("PRAGMA wal_checkpoint(TRUNCATE)");

@@ -20,7 +20,7 @@ namespace uascma {
 namespace {
 
 // The staging folders of the OutputDirectory objects alive in this process, each with the user's path it
-// stands for: an error writing a file into one names the user's path (issue 26 item 9), never the hidden
+// stands for: an error writing a file into one names the user's path, never the hidden
 // staging folder the user did not ask for.
 std::mutex& StagingMutex() {
   static std::mutex mutex;
@@ -93,7 +93,7 @@ OutputDirectory::OutputDirectory(std::string option, std::filesystem::path user_
   namespace fs = std::filesystem;
   const std::string shown = user_path_.string();
   if (shown.empty()) throw InputError(option_, "path", "a folder name");
-  // The folder's name reaches the files written into it (summaries, plots): UTF-8 or refused here (issue 26).
+  // The folder's name reaches the files written into it (summaries, plots): UTF-8 or refused here.
   RequireUtf8(shown, option_, "folder name");
   std::error_code ec;
   // The folder itself, symbolic links resolved and a trailing "/" dropped, so that the staging folder is

@@ -46,7 +46,8 @@ std::vector<std::string> MakeStateLabels() {
   return labels;
 }
 
-// R_BiS of eq. 4.5 (decisions item 22): health "at least as good" = class index not larger (F1 < F2 < F3).
+// R_BiS of eq. 4.5 (docs/modelling-choices.md#battery-mdp-rewards): health "at least as good" = class index not larger
+// (F1 < F2 < F3).
 double EnergyReward(EnergyState energy, HealthClass own, HealthClass other) {
   const bool at_least_as_good = static_cast<int>(own) <= static_cast<int>(other);
   switch (energy) {
@@ -205,7 +206,7 @@ double BatteryReward(StateIndex state, PackAction action, const BatteryContext& 
   return 0.0;
 }
 
-// ================================ ours (issue 24) ================================================
+// ================================ ours ================================================
 const char* BatteryFormulationName(BatteryFormulation formulation) {
   return formulation == BatteryFormulation::kOurs ? "ours" : "dissertation";
 }

@@ -77,7 +77,7 @@ std::int64_t Count(const JsonValue& value) {
   return count;
 }
 
-// An optional count of the solver's report or the statistics, within int's range (issue 16: 1e300 was cast to int).
+// An optional count of the solver's report or the statistics, within int's range (1e300 was cast to int).
 std::int64_t OptionalSmallCount(const JsonValue& value) {
   if (value.IsMissing()) return 0;
   const std::string expected = fmt::format("a count from 0 to {}", std::numeric_limits<int>::max());
@@ -215,7 +215,7 @@ BatteryLearnedRow ReadObservedRow(const JsonValue& entry) {
 }
 
 // The solver's report and the statistics: optional, but typed (a string status, counts in int's range, a finite
-// residual); json::value() threw type_error on a mistyped one and cast 1e300 to int (issue 16).
+// residual); json::value() threw type_error on a mistyped one and cast 1e300 to int.
 void ReadSolverAndStats(const JsonValue& entry, BatteryContextPolicy& p) {
   if (entry.Has("solver")) {
     const JsonValue solver = entry.Member("solver");

@@ -35,7 +35,7 @@ FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const Batte
       const std::int64_t completed = counts.Completions(context, switched, action);
       std::int64_t total = completed;
       for (const auto& [next, count] : observed) total += count;
-      if (total == 0) {  // no evidence: the action is not offered here (item 5)
+      if (total == 0) {  // no evidence: the action is not offered here (ours, decision/battery_mdp.h item 5)
         if (learned) ++local.unobserved_rows;
         continue;
       }
@@ -204,8 +204,9 @@ FiniteMdp BuildBatteryMdp(const BatteryTransitionCounts& counts, const BatteryCo
       if (s == kBatteryFailureState) {
         row.push_back({s, 1.0});  // absorbing
       } else {
-        // The switch takes effect at once and with certainty (§4.3.2, decisions items 23-24): the epoch
-        // then runs from the switched state, whose row under this action is what the flights counted.
+        // The switch takes effect at once and with certainty (§4.3.2,
+        // docs/modelling-choices.md#battery-mdp-transitions, #battery-mdp-policies): the epoch then runs from the
+        // switched state, whose row under this action is what the flights counted.
         const StateIndex switched = ApplySwitches(s, action);
         const bool learned = switched == s;
         if (learned)
@@ -216,7 +217,8 @@ FiniteMdp BuildBatteryMdp(const BatteryTransitionCounts& counts, const BatteryCo
         std::int64_t total = 0;
         for (const auto& [next, count] : observed) total += count;
         if (total == 0) {
-          row.push_back({switched, 1.0});  // never observed: the switched state loops on itself (item 23)
+          row.push_back({switched, 1.0});  // never observed: the switched state loops on itself
+                                           // (docs/modelling-choices.md#battery-mdp-transitions)
           if (learned) ++local.unobserved_rows;
         } else {
           for (const auto& [next, count] : observed) {

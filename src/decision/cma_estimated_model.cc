@@ -90,7 +90,8 @@ CmaTransitionCounts CountsFromRows(const JsonValue& rows) {
     const JsonValue action = row.Member("action");
     const ActionIndex a = mdp.FindAction(action.String());
     if (a < 0) action.FailExactly("NoOp, Terminate, LandASAP or LandPract");
-    if (!IsTupleAvailable(s, a)) action.FailExactly("an action available in the state (decisions item 3)");
+    if (!IsTupleAvailable(s, a))
+      action.FailExactly("an action available in the state (docs/modelling-choices.md#action-availability)");
     if (!seen.insert({s, a}).second) row.FailExactly("each (state, action) row at most once");
     for (const auto& [label, value] : row.Member("next").Members()) {
       const StateIndex n = mdp.FindState(label);

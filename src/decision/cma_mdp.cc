@@ -62,7 +62,7 @@ ConditionalTable BatteryHealthTable() {
 }
 
 // Table 5.3: P(RM_{t+1} | RM_t, BH_t, MM_t, A_t), values as printed (some pairs sum to 1.001 or
-// more; the composed rows are normalised, decisions item 1).
+// more; the composed rows are normalised, docs/modelling-choices.md#transition-composition).
 ConditionalTable ReachMarginTable() {
   return {"Table 5.3",
           "RM",
@@ -96,8 +96,8 @@ ConditionalTable ReachMarginTable() {
 }
 
 // Table 5.4: P(MH_{t+1} | MH_t). The printed SF → JF value 0.002809 is the NoOp one; under the
-// landing actions the dissertation's complete tables use 0.008583 (decisions item 2). Terminate
-// never reaches these rows (it exits to T), so it carries the NoOp values.
+// landing actions the dissertation's complete tables use 0.008583 (docs/modelling-choices.md#landing-loads-motor).
+// Terminate never reaches these rows (it exits to T), so it carries the NoOp values.
 constexpr double kSpallToJamNoOp = 0.002809;
 constexpr double kSpallToJamLanding = 0.008583;
 ConditionalTable MotorHealthTable() {
@@ -359,7 +359,7 @@ FactoredMdpBuilder MakeCmaFactoredModel() {
   model.AddExitTable(CompleteTable());
   model.AddExitTable(FailureTable());
   model.SetForcedExit("Terminate", "T");  // eq. 5.18: P(T | S, Terminate) = 1
-  // §5.3.2.1 and decisions item 3.
+  // §5.3.2.1 and docs/modelling-choices.md#action-availability.
   model.RestrictActions("FS", "ELPRACT", {"NoOp", "Terminate", "LandASAP"});
   model.RestrictActions("FS", "ELASAP", {"NoOp", "Terminate"});
   return model;

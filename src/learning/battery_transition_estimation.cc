@@ -101,7 +101,7 @@ nlohmann::json LearningProvenance(const BatteryLearningOptions& options) {
   };
   if (options.drop_flights) {
     provenance["drop_flights"] =
-        "every draw also flies UseBoth then one pack alone for good from a uniform time (ours, issue 24)";
+        "every draw also flies UseBoth then one pack alone for good from a uniform time (ours)";
   }
   return provenance;
 }

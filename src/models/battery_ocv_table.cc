@@ -65,7 +65,7 @@ std::optional<double> OcvTable::CalcSoc(double voltage_v) const {
 }
 
 const OcvTable& DefaultOcvTable() {
-  // shared/spec/defaults.md, "OCV(SOC), per cell, linear interpolation".
+  // docs/defaults.md#battery, "OCV(SOC), per cell, linear interpolation".
   static const OcvTable table = [] {
     const std::vector<double> voltage_v = {3.27, 3.61, 3.69, 3.71, 3.73, 3.75, 3.77, 3.79, 3.80, 3.82, 3.84,
                                            3.85, 3.87, 3.91, 3.95, 3.98, 4.02, 4.08, 4.11, 4.15, 4.20};

@@ -103,7 +103,8 @@ MixingMatrix CalcMixingMatrix(const MixerParams& params, int failed_motor) {
         RotorSpinSign(rotor) * params.yaw_torque_per_thrust;
   }
   if (failed_motor != kNoFailedMotor) {
-    // Decisions item 13: the failed motor and its opposite are both commanded to zero.
+    // docs/modelling-choices.md#mixing-after-motor-failure: the failed motor and its opposite are both commanded to
+    // zero.
     mixing.col(failed_motor - 1).setZero();
     mixing.col(OppositeMotor(failed_motor) - 1).setZero();
   }

@@ -50,7 +50,7 @@ ElectricalPowerLaw FitPowerLaw(double thrust_1, double power_1, double thrust_2,
 }
 
 ElectricalPowerLaw FitElectricalPowerLaw(PropellerConfiguration configuration) {
-  // defaults.md: one rotor draws a sixth of the vehicle's power and makes a sixth of its thrust.
+  // docs/defaults.md#vehicle: one rotor draws a sixth of the vehicle's power and makes a sixth of its thrust.
   const auto table = StaticThrustTable(configuration);
   return FitPowerLaw(table[0].total_thrust / kRotorsPerVehicle, table[0].total_power / kRotorsPerVehicle,
                      table[1].total_thrust / kRotorsPerVehicle, table[1].total_power / kRotorsPerVehicle);
@@ -62,7 +62,7 @@ PropulsionParams PropulsionParams::ForConfiguration(PropellerConfiguration confi
     params.configuration = PropellerConfiguration::kPusher;
     params.thrust_coefficient_n_per_rpm2 = 1.9693e-08;   // Table 2.1, pusher
     params.torque_coefficient_nm_per_rpm2 = 2.1374e-10;  // Table 2.1, pusher
-    params.max_thrust = 31.0 / 6.0;                      // defaults.md: Table 2.2 at 1900 µs / 6
+    params.max_thrust = 31.0 / 6.0;                      // docs/defaults.md#vehicle: Table 2.2 at 1900 µs / 6
     params.electrical_power = FitElectricalPowerLaw(PropellerConfiguration::kPusher);
   }
   return params;
@@ -157,8 +157,8 @@ double EstimateRpm(const RpmEstimatorParams& params, double throttle_us, double 
 
 StaticThrustEstimate EstimateStaticThrust(const PropulsionParams& params, double throttle_us, double vehicle_power) {
   StaticThrustEstimate estimate;
-  // Decisions item 12: eq. 2.12 is a per-motor fit, so each motor gets a sixth of the vehicle's power
-  // (the six motors share one bus and receive the same throttle on the stand, §2.5.3.1).
+  // docs/modelling-choices.md#rpm-per-motor: eq. 2.12 is a per-motor fit, so each motor gets a sixth of the vehicle's
+  // power (the six motors share one bus and receive the same throttle on the stand, §2.5.3.1).
   estimate.motor_power = vehicle_power / kRotorsPerVehicle;
   estimate.rpm = EstimateRpm(params.rpm_estimator, throttle_us, estimate.motor_power);
   estimate.rotor_thrust = CalcRotorThrust(params, RpmToRadPerSecond(estimate.rpm));  // eq. 2.1

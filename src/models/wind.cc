@@ -111,7 +111,7 @@ bool WindParams::IsValid(std::string* error) const {
 DrydenIntensity CalcDrydenIntensity(TurbulenceCategory category, double altitude_m, double medium_band_altitude_m) {
   if (category == TurbulenceCategory::kNone) return {};
   const bool moderate = category == TurbulenceCategory::kLowModerate || category == TurbulenceCategory::kMediumModerate;
-  const double w20 = (moderate ? 30.0 : 15.0) * kKnotsToMetresPerSecond;  // dryden.md: W20
+  const double w20 = (moderate ? 30.0 : 15.0) * kKnotsToMetresPerSecond;  // docs/defaults.md#dryden-turbulence: W20
   const double sigma_w = 0.1 * w20;
   const bool medium = category == TurbulenceCategory::kMediumLight || category == TurbulenceCategory::kMediumModerate;
   DrydenIntensity intensity;

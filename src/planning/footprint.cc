@@ -427,7 +427,7 @@ namespace {
 // The series measured against the closed form it truncates: result->series_relative_error, and a warning when it
 // exceeds FootprintResult::kSeriesTolerance.
 void CheckSeries(const FootprintParams& params, FootprintResult* result) {
-  // The series measured against the closed form it truncates (issue 26: order 5 at 100 s gave a footprint
+  // The series measured against the closed form it truncates (order 5 at 100 s gave a footprint
   // of zero width where the exact one is 962.5 / -925.1 / 943.8 m, without a word).
   FootprintParams exact_params = params;
   exact_params.maclaurin_order = 0;

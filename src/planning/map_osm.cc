@@ -38,7 +38,7 @@ namespace {
 
 // libosmium walks a tag list as key\0value\0 pairs until it lands exactly on the list's end. A .osm.pbf string may
 // hold a NUL byte (its strings are length-delimited); copied into the list it splits a key or value in two, the
-// pairs no longer land on the end, and the walk reads past the buffer (found by fuzzing, issue 16: Tag::after_null,
+// pairs no longer land on the end, and the walk reads past the buffer (found by fuzzing: Tag::after_null,
 // heap-buffer-overflow). So the bytes are checked here, with bounds, before any tag is read.
 bool TagsWellFormed(const osmium::TagList& tags) {
   const char* p = reinterpret_cast<const char*>(tags.data()) + sizeof(osmium::TagList);
@@ -246,7 +246,7 @@ void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions&
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(source, "file", "a readable OSM file");
   try {
     // libosmium reads the file from memory: its Reader left the descriptor of a malformed .osm.pbf open, one per
-    // failed read (found by fuzz/osm_pbf_fuzzer, issue 16: the process ran out of descriptors), and a buffer has
+    // failed read (found by fuzz/osm_pbf_fuzzer: the process ran out of descriptors), and a buffer has
     // none. Format and compression still come from the name; a city extract is a few MB.
     const std::string contents = ReadFile(path);
     const osmium::io::File named(source);

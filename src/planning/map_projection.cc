@@ -3,7 +3,7 @@
 //
 // PROJ is loaded when the first projection is made (dlopen of UASCMA_PROJ_SONAME, the library the build found,
 // src/planning/CMakeLists.txt), not linked: libproj and its ~30 dependencies (curl, TLS, TIFF, ...) were most of
-// the command-line tool's start-up, paid by every command for the one that imports maps (issue 27 item 5).
+// the command-line tool's start-up, paid by every command for the one that imports maps.
 #include <dlfcn.h>
 #include <proj.h>
 

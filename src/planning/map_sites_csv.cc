@@ -97,7 +97,7 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
     site.altitude = number_at(kAlt);
     site.risk = number_at(kRisk);
     site.radius = number_at(kRadius);
-    // Issue 26: alt and radius had no upper bound (1e9 m was accepted). alt: 0 to 1000 m above ground, the
+    // Alt and radius had no upper bound (1e9 m was accepted). alt: 0 to 1000 m above ground, the
     // cruise-altitude bound (above the tallest building of any city; Midtown's sites reach 221 m). radius: 0.1 m
     // (smaller than any vehicle) to 1000 m (a site larger than a city park; Midtown's are 2-16 m). Our bounds.
     constexpr Bounds kSiteAltitude{0.0, 1000.0, "m"};

@@ -26,7 +26,7 @@ constexpr double kTakeoffPositionTolerance = 1.0;
 // count as on the ground.
 constexpr double kSamePlace = 1e-6;
 
-// Plausibility bounds of a mission's numbers (issue 16; common/bounds.h), the scenario's bounds for the same
+// Plausibility bounds of a mission's numbers (common/bounds.h), the scenario's bounds for the same
 // quantities (sim/scenario_bounds.h): a height above home up to 1000 m (mission.cruise_altitude_m), a hover,
 // delay or loiter of at most an hour (mission.drop_hover_s: four times the packs' ~15 min hover endurance), a
 // speed of 0.1 to 30 m/s (limits.cruise_speed_mps). A value outside is an InputError naming the item.

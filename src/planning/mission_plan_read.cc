@@ -29,7 +29,7 @@ RawItem ReadSimpleItem(const JsonValue& item, int number) {
   RawItem raw_item;
   raw_item.number = number;
   raw_item.name = fmt::format("{} (item {})", item.path(), raw_item.number);
-  // Integers in int's range: a larger number would wrap (2^32 + 16 read as command 16; issue 16).
+  // Integers in int's range: a larger number would wrap (2^32 + 16 read as command 16).
   raw_item.command = item.Member("command").Integer<int>();
   raw_item.frame = item.Member("frame").Integer<int>();
   if (item.Has("doJumpId")) raw_item.jump_id = item.Member("doJumpId").Integer<int>();

@@ -357,7 +357,7 @@ double CalcMotorMargin(double flight_remaining_s, double rul_s) {
                      fmt::format("a finite time >= 0 s, got {}", flight_remaining_s));
   }
   if (std::isnan(rul_s)) throw InputError("motor margin", "rul_s", "a time in seconds, got NaN");
-  if (rul_s <= 0.0) return -kInfinity;  // jammed: MM0 (decisions item 7)
+  if (rul_s <= 0.0) return -kInfinity;  // jammed: MM0 (docs/modelling-choices.md#margins)
   if (std::isinf(rul_s)) return 1.0;    // no fault: MM1
   return 1.0 - flight_remaining_s / rul_s;
 }

@@ -1,7 +1,7 @@
 // The Monte Carlo campaign of §5.5.3 (Figs. 5.30-5.32 and the abstract's 1.3 % and 71 %), in two profiles: the
-// default (ours, decision 19: plans of 0.5-0.9 of a healthy pack's endurance) and the dissertation's (decision 27:
-// the plan-length range calibrated, by the bisection below, to NoOp's 71 % in poor health; everything else of it a
-// prediction).
+// default (ours, docs/modelling-choices.md#campaign-missions: plans of 0.5-0.9 of a healthy pack's endurance) and the
+// dissertation's (docs/modelling-choices.md#dissertation-profile: the plan-length range calibrated, by the bisection
+// below, to NoOp's 71 % in poor health; everything else of it a prediction).
 #include <algorithm>
 #include <cmath>
 
@@ -152,12 +152,15 @@ Item ReproduceCampaignDefault(const Context& context) {
       "NoOp failure rate, poor health", noop_p.failures, noop_p.runs, 0.71,
       "the abstract's 71 %, our rate's 95 % Wilson interval",
       fmt::format("A setting the dissertation does not print: our plans last 0.5-0.9 of a healthy pack's endurance "
-                  "(decision 19, ours), and a capacity-faded cell ends a flight only above ~0.8 of it, so NoOp fails "
-                  "{:.1f} %; the dissertation profile (decision 27) calibrates the range to 71 %.",
+                  "(docs/modelling-choices.md#campaign-missions, ours), and a capacity-faded cell ends a flight only "
+                  "above ~0.8 of it, so NoOp fails "
+                  "{:.1f} %; the dissertation profile (docs/modelling-choices.md#dissertation-profile) calibrates the "
+                  "range to 71 %.",
                   100.0 * noop_p.failure_rate.value)));
   AddShapeQuantities(item, groups,
-                     "The CMA fails fewer poor-health flights than the dissertation's 1.3 % (decisions "
-                     "21, 25, 28: grounding, the load forecast, substitutions).");
+                     "The CMA fails fewer poor-health flights than the dissertation's 1.3 % "
+                     "(docs/modelling-choices.md#outcomes-refined, #eod-load-forecast, #unavailable-actions: "
+                     "grounding, the load forecast, substitutions).");
   item.data["groups"] = GroupsJson(groups);
   AddCampaignFigures(item, "campaign-default", groups);
   item.notes.push_back(
@@ -195,10 +198,11 @@ struct Calibration {
   nlohmann::json steps = nlohmann::json::array();
 };
 
-// Decision 27. The one parameter: the low end L of the plan-length range [L, high] (the high end stays the
-// default's 0.9, the longest plan a healthy pack flies with its margin in the vehicle's own judgement,
-// campaign/config.h). NoOp's P failure rate rises with L; bisection on [0.5, high] to 71 %, every step on the same
-// flights (seed S, common random numbers), so the rate is a step function of L alone.
+// The dissertation profile (docs/modelling-choices.md#dissertation-profile). The one parameter: the low end L of the
+// plan-length range [L, high] (the high end stays the default's 0.9, the longest plan a healthy pack flies with its
+// margin in the vehicle's own judgement, campaign/config.h). NoOp's P failure rate rises with L; bisection on [0.5,
+// high] to 71 %, every step on the same flights (seed S, common random numbers), so the rate is a step function of L
+// alone.
 Calibration CalibrateLowEnd(const Context& context, const CampaignConfig& profile, std::int64_t runs, int steps) {
   Calibration calibration;
   double lo = 0.5, hi = profile.mission.endurance_fraction.high;
@@ -245,9 +249,10 @@ void AddPlanLengthSensitivity(const Context& context, const CampaignConfig& prof
   item.data["sensitivity"] = {{"low_fraction", xs}, {"noop_rate_pct", noop}, {"cma_rate_pct", cma}};
   item.figures.push_back(
       {"campaign-plan-length.png",
-       fmt::format("Poor-health failure rates against the plan-length range [L, {:g}] (decision 27's parameter); "
-                   "dotted: the dissertation's 71 % and 1.3 %, and the profile's L",
-                   high),
+       fmt::format(
+           "Poor-health failure rates against the plan-length range [L, {:g}] (the dissertation profile's parameter); "
+           "dotted: the dissertation's 71 % and 1.3 %, and the profile's L",
+           high),
        {{"kind", "lines"},
         {"xlabel", fmt::format("L, plans on [L, {:g}] of a healthy pack's endurance", high)},
         {"ylabel", "poor-health failure rate (%)"},
@@ -266,18 +271,20 @@ void AddFlyability(const std::vector<RunRecord>& records, Item& item) {
   item.quantities.push_back(CompareAbsolute(
       "healthy fault-free flights failing their battery", healthy_battery_failures, 0.0,
       fmt::format("of {}", healthy_fault_free), 0.0,
-      "decisions 19 and 27: every plan is flyable by a healthy pack with its margin",
-      "Plans near the range's top are not flyable by a healthy pack over their whole load (decision 27 asks for the "
+      "docs/modelling-choices.md#campaign-missions, #dissertation-profile: every plan is flyable by a healthy pack "
+      "with its margin",
+      "Plans near the range's top are not flyable by a healthy pack over their whole load "
+      "(docs/modelling-choices.md#dissertation-profile asks for the "
       "climb, descent and gusts in the flyability, which the sampler's cruise-current EOD leaves out)."));
 }
 
 }  // namespace
 
-// Decision 27's profile: the calibration re-run (its steps printed), then the profile as the file states it flown
+// The dissertation profile: the calibration re-run (its steps printed), then the profile as the file states it flown
 // with both policies on fresh flights (seed S + 1: the calibration's flights are not the prediction's).
 Item ReproduceCampaignDissertation(const Context& context) {
   Item item;
-  item.source = "decision 27; abstract (1.3 %, 71 %), §5.5.3, Figs. 5.30-5.32";
+  item.source = "docs/modelling-choices.md#dissertation-profile; abstract (1.3 %, 71 %), §5.5.3, Figs. 5.30-5.32";
   const bool quick = context.options.quick;
   const std::int64_t calibration_runs = quick ? 100 : 300;
   const int steps = quick ? 5 : 7;
@@ -329,7 +336,8 @@ Item ReproduceCampaignDissertation(const Context& context) {
                               calibration_runs, 100.0 * noop_p.failure_rate.sem)));
   AddShapeQuantities(item, groups,
                      "A prediction: the CMA fails fewer poor-health flights than the dissertation's "
-                     "1.3 % (decisions 21, 25, 28: grounding, the load forecast, substitutions).");
+                     "1.3 % (docs/modelling-choices.md#outcomes-refined, #eod-load-forecast, #unavailable-actions: "
+                     "grounding, the load forecast, substitutions).");
   AddFlyability(records, item);
   // The headline is the prediction: the calibration's own check goes last.
   std::rotate(item.quantities.begin(), item.quantities.begin() + 1, item.quantities.end());
@@ -339,10 +347,11 @@ Item ReproduceCampaignDissertation(const Context& context) {
   item.data["cma_emergency_landing_rate"] = cma_all.emergency_landing_rate.value;
   AddCampaignFigures(item, "campaign-dissertation", groups);
   AddPlanLengthSensitivity(context, profile, item);
-  item.notes.push_back(fmt::format(
-      "The one calibrated setting of this report (decision 27): L, by {} bisection steps of {} NoOp poor-health "
-      "flights each (seed {}); result {:.4f}; the file's {:.4f} is the full run's.",
-      steps, calibration_runs, context.options.seed, calibration.result, file_low));
+  item.notes.push_back(
+      fmt::format("The one calibrated setting of this report (docs/modelling-choices.md#dissertation-profile): L, by "
+                  "{} bisection steps of {} NoOp poor-health "
+                  "flights each (seed {}); result {:.4f}; the file's {:.4f} is the full run's.",
+                  steps, calibration_runs, context.options.seed, calibration.result, file_low));
   return item;
 }
 

@@ -85,17 +85,19 @@ Item ReproduceCmaTables(const Context&) {
     for (double p : mdp.choice_probabilities(c)) sum += p;
     worst = std::max(worst, std::abs(sum - 1.0));
   }
-  item.quantities.push_back(CompareAbsolute("largest |row sum - 1| after normalising", worst, 0.0, "", 1e-12,
-                                            "decision 1: the printed factors (some RM rows sum to 1.001) are "
-                                            "composed, then each row normalised, as the dissertation says it did",
-                                            "A composed row does not sum to one.", 3));
+  item.quantities.push_back(CompareAbsolute(
+      "largest |row sum - 1| after normalising", worst, 0.0, "", 1e-12,
+      "docs/modelling-choices.md#transition-composition: the printed factors (some RM rows sum to 1.001) are "
+      "composed, then each row normalised, as the dissertation says it did",
+      "A composed row does not sum to one.", 3));
   item.quantities.push_back(
       CompareAbsolute("P(JF | SF) under NoOp", MotorHealthMarginal(mdp, "N,SF,MM1,P,RM1", "NoOp", "JF"), 0.002809, "",
                       2e-6, "Table 5.4 prints 0.002809; its row sums to 0.999999, so normalising moves it by 1e-6",
                       "The composed NoOp rows do not carry Table 5.4's factor."));
   item.quantities.push_back(CompareAbsolute(
       "P(JF | SF) under LandPract", MotorHealthMarginal(mdp, "N,SF,MM1,P,RM0", "LandPract", "JF"), 0.008583, "", 2e-6,
-      "decision 2: the dissertation's complete tables use 0.008583 under the landing actions",
+      "docs/modelling-choices.md#landing-loads-motor: the dissertation's complete tables use 0.008583 under the "
+      "landing actions",
       "The landing rows do not carry the complete tables' factor."));
   std::map<std::string, int> choices;
   for (decision::StateIndex s = 0; s < mdp.num_states(); ++s) {
@@ -106,7 +108,8 @@ Item ReproduceCmaTables(const Context&) {
   item.quantities.push_back(CompareText(
       "available actions per state (N / ELPRACT / ELASAP)",
       fmt::format("{} / {} / {}", choices["N"] / 36, choices["ELPRACT"] / 36, choices["ELASAP"] / 36), "4 / 3 / 2",
-      "decision 3 (§5.3.2.2's availability by flight status)", "The availability differs from decision 3."));
+      "docs/modelling-choices.md#action-availability (§5.3.2.2's availability by flight status)",
+      "The availability differs from docs/modelling-choices.md#action-availability."));
   item.data["choices"] = mdp.num_choices();
   item.data["transitions"] = mdp.num_transitions();
   return item;
@@ -148,7 +151,9 @@ Item ReproduceCmaPolicy(const Context&) {
                           "The solved CMA policy by quadrant (Fig. 5.9's view), γ 0.95, eqs. "
                           "5.28-5.29's weights",
                           grid});
-  item.notes.push_back("Value iteration, γ = 0.95 (decision 5), residual 1e-10, as `uascma policy solve --model cma`.");
+  item.notes.push_back(
+      "Value iteration, γ = 0.95 (docs/modelling-choices.md#discount), residual 1e-10, as `uascma policy solve --model "
+      "cma`.");
   return item;
 }
 

@@ -1,6 +1,6 @@
 // Items learned from flights: the Q-learning curve of Fig. 5.14 (§5.3.3), and the battery MDP's policies learned
 // from Monte Carlo flights (§4.3.2) read as Fig. 4.5's decision tree and flown in Table 4.5's case studies
-// (Figs. 4.8-4.11, decision 26's flight time).
+// (Figs. 4.8-4.11, at the flight time of docs/modelling-choices.md#battery-case-study-flight-time).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -135,7 +135,8 @@ void AddDecisionTree(Item& item, const decision::BatteryPolicySet& set, double f
 }  // namespace
 
 // §4.3.2: 5,000 flights (Table 4.4, one action each) → the 289-state MDP's rows per context → π* by value iteration
-// (γ 0.95). Fig. 4.5 and Table 4.5's cases 1, 3 and 4 (decision 26's 0.82 of the healthy pair's endurance).
+// (γ 0.95). Fig. 4.5 and Table 4.5's cases 1, 3 and 4 (0.82 of the healthy pair's endurance,
+// docs/modelling-choices.md#battery-case-study-flight-time).
 Item ReproduceBatteryCaseStudies(const Context& context) {
   Item item;
   item.source = "§4.3.2-4.3.3, Fig. 4.5, Table 4.5, Figs. 4.8-4.11";
@@ -161,10 +162,10 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   const auto case3 = campaign::RunCaseStudy(3, options);
   item.quantities.push_back(CompareText(
       "case 3 (UseBoth) outcomes", Outcomes(case3, "UseBoth"), "(F1,F2) completed, (F1,F3) failed, (F3,F3) failed",
-      fmt::format("Figs. 4.8-4.10 at decision 26's flight time ({:.0f} s, 0.82 of the healthy pair's EOD: the "
+      fmt::format("Figs. 4.8-4.10 at the case studies' flight time ({:.0f} s, 0.82 of the healthy pair's EOD: the "
                   "dissertation prints no fraction; chosen in the band where the four case-3/4 outcomes hold)",
                   flight_time_s),
-      "The case-3 outcomes differ at decision 26's flight time."));
+      "The case-3 outcomes differ at the case studies' flight time."));
   const auto case4 = campaign::RunCaseStudy(4, options);
   const campaign::CaseScenario* pi = Find(case4, "pi*");
   const bool pi_completed = pi != nullptr && pi->result.outcome == sim::Outcome::kCompleted;
@@ -172,7 +173,8 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
       "case 4 (F2,F1), π*: outcome",
       pi_completed ? "completed" : fmt::format("failed at {:.0f} s", pi->result.end_time_s), "completed",
       "Fig. 4.11: 'The UAS is still able to complete the mission'",
-      fmt::format("A result, not a setting (decision 26): our π* switches {} times and fails; at γ = 0.95 per 1 s "
+      fmt::format("A result, not a setting (docs/modelling-choices.md#battery-case-study-flight-time): our π* switches "
+                  "{} times and fails; at γ = 0.95 per 1 s "
                   "epoch a failure 300 s ahead weighs 0.95^300 ≈ 2e-7 against the rewards' preference for one pack "
                   "(README 'Diagnosis of π*').",
                   pi == nullptr ? 0 : static_cast<int>(pi->result.switches.size()))));
@@ -186,8 +188,8 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   const double first_s = pi != nullptr && !pi->result.switches.empty() ? pi->result.switches.front().first : NAN;
   item.quantities.push_back(CompareAbsolute(
       "case 4, π*: time of that switch", first_s, 20.0, "s", 10.0, "Fig. 4.11: 'at ~20sec', read off a plot: ±10 s",
-      "Our π* takes that pack at take-off: in the take-off state ILONS3C0ONS3C0 the rewards (eqs. 4.1-4.3, decision "
-      "22's weights) favour one pack by 0.5 per epoch (README 'Diagnosis of π*'); the dissertation's state at its "
+      "Our π* takes that pack at take-off: in the take-off state ILONS3C0ONS3C0 the rewards (eqs. 4.1-4.3, the weights "
+      "of docs/modelling-choices.md#battery-mdp-rewards) favour one pack by 0.5 per epoch (README 'Diagnosis of π*'); the dissertation's state at its "
       "~20 s is not printed.",
       3));
   nlohmann::json cases = nlohmann::json::array();

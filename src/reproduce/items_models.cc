@@ -16,7 +16,7 @@
 namespace uascma::reproduce {
 
 // Table 2.2 (§2.5.3.1): measured static thrust at 1500 and 1900 µs, both configurations, against eq. 2.12's RPM
-// (one motor's power, decision 12) into eq. 2.1, times six — what `uascma thrust` computes.
+// (one motor's power, docs/modelling-choices.md#rpm-per-motor) into eq. 2.1, times six — what `uascma thrust` computes.
 Item ReproduceTable22(const Context&) {
   Item item;
   item.source = "§2.5.3.1, Table 2.2; accuracy §2.5.2 and §2.6.1";
@@ -33,18 +33,20 @@ Item ReproduceTable22(const Context&) {
           fmt::format("{} {:g} µs, {:g} W", std::string(models::PropellerConfigurationName(configuration)),
                       row.throttle_us, row.total_power);
       const double error = (estimate.total_thrust - row.total_thrust) / row.total_thrust;
-      item.quantities.push_back(CompareRelative(
-          name, estimate.total_thrust, row.total_thrust, "N", tolerance,
-          low ? "the dissertation's own bound for low throttle (§2.6.1: up to 20 %)"
-              : "the dissertation's own bound away from low throttle (§2.5.2: < 10 %)",
-          fmt::format("The published model's own error (decision 18): eq. 2.12 with Table 2.1 gives {:.0f} RPM and "
-                      "{:.1f} % thrust here, beyond the 20 % §2.6.1 admits; kept as published.",
-                      estimate.rpm, 100.0 * error)));
+      item.quantities.push_back(
+          CompareRelative(name, estimate.total_thrust, row.total_thrust, "N", tolerance,
+                          low ? "the dissertation's own bound for low throttle (§2.6.1: up to 20 %)"
+                              : "the dissertation's own bound away from low throttle (§2.5.2: < 10 %)",
+                          fmt::format("The published model's own error (docs/modelling-choices.md#tractor-1500us): eq. "
+                                      "2.12 with Table 2.1 gives {:.0f} RPM and "
+                                      "{:.1f} % thrust here, beyond the 20 % §2.6.1 admits; kept as published.",
+                                      estimate.rpm, 100.0 * error)));
       bars.push_back({{"label", name}, {"ours", estimate.total_thrust}, {"theirs", row.total_thrust}});
     }
   }
   item.notes.push_back(
-      "Per motor P/6 into eq. 2.12 (decision 12), eq. 2.1 with Table 2.1's C_T, times six; the "
+      "Per motor P/6 into eq. 2.12 (docs/modelling-choices.md#rpm-per-motor), eq. 2.1 with Table 2.1's C_T, times six; "
+      "the "
       "dissertation's 'Est Thrust' column is withheld, so ours is compared with the measured column.");
   item.figures.push_back({"table-2.2.png",
                           "Table 2.2: measured static thrust (dissertation) against eqs. 2.12 + 2.1 (ours)",
@@ -69,9 +71,9 @@ double PackEod(const models::PerCell<models::CellHealth>& health, double temp_de
 }  // namespace
 
 // Tables 3.1-3.2 are the model's inputs: checked value by value against the printed tables; §3.3.2.1's EOD
-// (each cell propagated at constant current to 3.3 V, the pack the minimum; decision 14) is a computation the
-// dissertation prints no number for, so its check is Table 3.2's own consequence: at a small current, where R0
-// losses vanish, a capacity-faded pack lasts 0.8 of a healthy one.
+// (each cell propagated at constant current to 3.3 V, the pack the minimum; docs/modelling-choices.md#pack-eod) is a
+// computation the dissertation prints no number for, so its check is Table 3.2's own consequence: at a small current,
+// where R0 losses vanish, a capacity-faded pack lasts 0.8 of a healthy one.
 Item ReproduceBatteryEod(const Context&) {
   Item item;
   item.source = "§3.3.1, Tables 3.1-3.2; §3.3.2.1";
@@ -127,7 +129,7 @@ Item ReproduceBatteryEod(const Context&) {
   item.data["eod_capacity_fade_2a_s"] = capacity;
   item.notes.push_back(
       "Every cell of both packs at 4.1 V rest, UseBoth, each cell's ECS model propagated at the "
-      "constant current to 3.3 V (decision 14), the pack EOD the minimum over its cells.");
+      "constant current to 3.3 V (docs/modelling-choices.md#pack-eod), the pack EOD the minimum over its cells.");
   item.figures.push_back(
       {"battery-eod.png",
        "Pack EOD against a constant total current, by Table 3.2 condition",
@@ -136,8 +138,8 @@ Item ReproduceBatteryEod(const Context&) {
 }
 
 // §3.4.1 and Table 5.4: P(JF | SF) = 0.002809 per epoch "obtained by 1000 simulations of the motor prognosis
-// algorithm". Decision 15 makes the growth step's time scale the calibration that matches it; this item measures
-// it again, as `uascma rul` does, from the seed.
+// algorithm". docs/modelling-choices.md#spall-growth-time-scale makes the growth step's time scale the calibration that
+// matches it; this item measures it again, as `uascma rul` does, from the seed.
 Item ReproduceMotorRul(const Context& context) {
   Item item;
   item.source = "§3.4.1 (eq. 3.8, Fig. 3.7); Table 5.4";
@@ -154,8 +156,9 @@ Item ReproduceMotorRul(const Context& context) {
   item.quantities.push_back(CompareRelative(
       "P(JF | SF) per 1 s epoch", jam.jam_probability_per_epoch, prognostics::kTable54JamProbabilityPerEpoch, "", 0.10,
       "three binomial standard errors of 1000 histories (p/√1000 ≈ 3.2 % of p); the growth step's time scale is "
-      "calibrated to this number (decision 15), so this is a check of that calibration, not a prediction",
-      "The calibration of decision 15 no longer holds for this seed.", 4));
+      "calibrated to this number (docs/modelling-choices.md#spall-growth-time-scale), so this is a check of that "
+      "calibration, not a prediction",
+      "The calibration of docs/modelling-choices.md#spall-growth-time-scale no longer holds for this seed.", 4));
   item.data["rul_mean_s"] = rul.mean_s;
   item.data["rul_p05_s"] = rul.p05_s;
   item.data["rul_p50_s"] = rul.p50_s;

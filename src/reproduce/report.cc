@@ -160,7 +160,9 @@ const std::vector<ItemDefinition>& AllItems() {
       {"battery-eod", "Battery model (Tables 3.1-3.2) and pack EOD (§3.3.2.1)", ReproduceBatteryEod},
       {"motor-rul", "Motor RUL (§3.4.1) and Table 5.4's spall-to-jam probability", ReproduceMotorRul},
       {"battery-mdp", "Battery MDP state space (§4.3.2, 289 states)", ReproduceBatteryMdpSize},
-      {"battery-cases", "Battery policies: Fig. 4.5's tree and Table 4.5's case studies (decision 26)",
+      {"battery-cases",
+       "Battery policies: Fig. 4.5's tree and Table 4.5's case studies "
+       "(docs/modelling-choices.md#battery-case-study-flight-time)",
        ReproduceBatteryCaseStudies},
       {"cma-tables", "CMA transition model composed from Tables 5.1-5.7 (eqs. 5.16-5.19)", ReproduceCmaTables},
       {"cma-policy", "CMA policy by quadrant (Fig. 5.9, Fig. 5.13)", ReproduceCmaPolicy},
@@ -170,7 +172,9 @@ const std::vector<ItemDefinition>& AllItems() {
       {"scenario-2", "Scenario II timeline (§5.5.2, Figs. 5.25-5.29)", ReproduceScenarioTwo},
       {"campaign-default", "Monte Carlo campaign, default profile (ours; §5.5.3, Figs. 5.30-5.32)",
        ReproduceCampaignDefault},
-      {"campaign-dissertation", "Monte Carlo campaign, dissertation profile (decision 27; abstract, Figs. 5.30-5.32)",
+      {"campaign-dissertation",
+       "Monte Carlo campaign, dissertation profile (docs/modelling-choices.md#dissertation-profile; abstract, Figs. "
+       "5.30-5.32)",
        ReproduceCampaignDissertation},
   };
   return items;
@@ -293,7 +297,8 @@ std::string IndexHtml(const Report& report, const std::filesystem::path& dir) {
        << (report.quick ? ", <b>--quick</b> sample sizes (smaller than the dissertation's; see each item)"
                         : ", the dissertation's sample sizes")
        << ". Every number is in <code>results.json</code>. A verdict <span class=\"differs\">differs</span> carries "
-          "its reason. The only setting calibrated to a published figure is decision 27's plan-length range "
+          "its reason. The only setting calibrated to a published figure is the dissertation profile's plan-length "
+          "range "
           "(item <a href=\"#item-campaign-dissertation\">campaign-dissertation</a>).</p>\n";
   html << "<table id=\"summary\"><tr><th>item</th><th>source</th><th>ours</th><th>dissertation</th>"
           "<th>verdict</th></tr>\n";

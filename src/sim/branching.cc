@@ -175,7 +175,7 @@ SharingCounts FlyFollowing(const FlightModel& model, std::span<FlightState> stat
             alone[follower_index[j]] = true;  // its pack caps a rotor differently: on its own from this step
         }
       }
-      // Every flight not stepped yet (the lead of a group of one, those on their own) takes its step alone.
+      // Every flight not stepped yet (the leader of a group of one, those on their own) takes its step alone.
       for (std::size_t k = 0; k < n; ++k) {
         if (states[k].done() || states[k].step >= next_step) continue;
         Step(model, states[k]);

@@ -30,8 +30,9 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
   auto map = scenario.map;  // keeps the map alive as long as the planners
   MapEmergencyPlanner out;
   for (const auto& checkpoint : practical->checkpoints()) out.checkpoints_W.push_back(checkpoint.p_W);
-  // A mission's geofence (planning/mission_file.h): an emergency path that leaves it is no plan (decision 28 then
-  // substitutes); its forbidden sites were already dropped from the map (WithMissionSafety).
+  // A mission's geofence (planning/mission_file.h): an emergency path that leaves it is no plan
+  // (docs/modelling-choices.md#unavailable-actions then substitutes); its forbidden sites were already dropped from the
+  // map (WithMissionSafety).
   std::shared_ptr<const planning::Geofence> fence;
   if (scenario.route && !scenario.route->geofence.empty()) {
     fence = std::make_shared<const planning::Geofence>(scenario.route->geofence);

@@ -54,16 +54,17 @@ EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
   if (!reset_) throw InputError("environment", "step", "Reset before the first Step");
   if (state_.done()) throw InputError("environment", "step", "a flight in progress (it has ended: Reset)");
   if (options_.require_available_actions && !decision::IsCmaActionAvailable(state_.decision.flight_status, action)) {
-    throw InputError("environment", "action",
-                     fmt::format("an action available in flight status {} (decisions item 3), got {}",
-                                 static_cast<int>(state_.decision.flight_status), decision::CmaActionName(action)));
+    throw InputError(
+        "environment", "action",
+        fmt::format("an action available in flight status {} (docs/modelling-choices.md#action-availability), got {}",
+                    static_cast<int>(state_.decision.flight_status), decision::CmaActionName(action)));
   }
   FlightLog* log = options_.record ? &log_ : nullptr;
   EnvironmentStep out;
   const decision::FlightStatus status = state_.decision.flight_status;
   out.reward = decision::CmaEpochReward(options_.weights, state_.decision.inputs.state, action);
-  // An action that cannot be carried out is replaced by the next-highest of the default CMA policy's Q (decisions
-  // item 28); `executed` says what flew.
+  // An action that cannot be carried out is replaced by the next-highest of the default CMA policy's Q
+  // (docs/modelling-choices.md#unavailable-actions); `executed` says what flew.
   out.executed = decision::EffectiveCmaAction(Act(*model_, state_, action, options_.planner, log), status);
   StepToNextEpoch(*model_, state_, log);
   if (!state_.done()) {

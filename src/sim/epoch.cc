@@ -1,6 +1,7 @@
 // The decision epoch of the kernel (flight.h): Observe (guidance under a speed cap, EOD, RUL, margins, the abstract
-// CMA state), Act (the CMA's action: an emergency plan, Terminate, or a substitute, decisions item 28), the battery
-// executor, BeginEpoch and StepEpoch. The GNC step is flight.cc.
+// CMA state), Act (the CMA's action: an emergency plan, Terminate, or a substitute,
+// docs/modelling-choices.md#unavailable-actions), the battery executor, BeginEpoch and StepEpoch. The GNC step is
+// flight.cc.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -42,7 +43,7 @@ void StartPlan(FlightState& state) {
   state.decision.load_forecast.have_last = false;
 }
 
-// The profile of the executing plan for the rotors that fly it (decision 25).
+// The profile of the executing plan for the rotors that fly it (docs/modelling-choices.md#eod-load-forecast).
 void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
   LoadForecastState& forecast = state.decision.load_forecast;
   const int rotors = ActiveRotors(state);
@@ -55,8 +56,8 @@ void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
 }
 
 // m/s: the airspeed the reconfigured vehicle can hold less the gust allowance (sim/speed_cap.h), with the thrust the
-// rotors give at the lowest bus voltage the flight can see, the cut-off's (3 cells × 3.3 V, decisions item 11): the
-// cap then holds to the end of the flight.
+// rotors give at the lowest bus voltage the flight can see, the cut-off's (3 cells × 3.3 V,
+// docs/modelling-choices.md#outcomes): the cap then holds to the end of the flight.
 double AuthorityAirspeed(const FlightModel& model, const FlightState& state) {
   const double weight = model.scenario().body.mass * kGravity;
   const double cutoff_bus_voltage_v = models::kCellsPerBranch * models::kCutoffVoltage;
@@ -219,7 +220,7 @@ decision::MotorHealth ObserveMotorHealth(const FlightModel& model, FlightState& 
   return decision::MotorHealth::kSF;
 }
 
-// t_remaining + t_sf: what the EOD must cover for RM ≥ 0 (decisions item 7).
+// t_remaining + t_sf: what the EOD must cover for RM ≥ 0 (docs/modelling-choices.md#margins).
 double NeededS(const FlightModel& model, const DecisionInputs& inputs) {
   return inputs.flight_time_remaining_s + model.options().safety_margin_s;
 }
@@ -237,7 +238,7 @@ void StoreEod(const FlightModel& model, FlightState& state, const std::optional<
   inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod, needed_s);
 }
 
-// The EOD's distribution (issue 29): prognostics::CalcPackEodDistribution at the forecast current with the load
+// The EOD's distribution: prognostics::CalcPackEodDistribution at the forecast current with the load
 // forecast's measured error of this epoch's cell (sim/eod_error_model.h): its 5/50/95 % quantiles and
 // P(EOD < t_remaining + t_sf). Without uncertainty, a point at the EOD. Under noisy sensing (sim/sensing.h) the
 // distribution is the sensed pack's (`pack`) and the SOC estimate's 1σ joins the error model's.
@@ -276,8 +277,9 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
                               EodPrecision precision) {
   // Guidance first: a vehicle flying on four rotors keeps to what they can hold (§4.4.2).
   CapSpeedAfterIsolation(model, state, log);
-  // EOD at the expected load of the rest of the executing plan (decision 25) or at the present current, the pack
-  // current low-passed with SimOptions::load_current_time_constant_s (decision 14).
+  // EOD at the expected load of the rest of the executing plan (docs/modelling-choices.md#eod-load-forecast) or at the
+  // present current, the pack current low-passed with SimOptions::load_current_time_constant_s
+  // (docs/modelling-choices.md#pack-eod).
   const double t = state.time_s;
   const bool noisy = model.options().noisy_sensing;
   const bool class_only = precision == EodPrecision::kReachMarginClass;
@@ -379,7 +381,7 @@ bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction ac
   return true;
 }
 
-// Decisions item 28: `taken` replaces `chosen`, which could not be carried out (`why`).
+// docs/modelling-choices.md#unavailable-actions: `taken` replaces `chosen`, which could not be carried out (`why`).
 void RecordSubstitution(FlightState& state, FlightLog* log, CmaAction chosen, CmaAction taken, const std::string& why) {
   ++state.decision.substitution_epochs;
   const std::string pair = fmt::format("{}->{}", decision::CmaActionName(chosen), decision::CmaActionName(taken));
@@ -398,7 +400,7 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
               FlightLog* log, ActionRanking ranking) {
   if (action != CmaAction::kNoOp) CompleteEod(model, state);  // the planners read the EOD's value
   // §5.5.3: "an emergency landing at t = 0 translates into not taking off" — any emergency action chosen before
-  // take-off keeps the vehicle on the ground (decision 21).
+  // take-off keeps the vehicle on the ground (docs/modelling-choices.md#outcomes-refined).
   if (action != CmaAction::kNoOp && !state.vehicle.airborne) {
     AddAction(state, log, action);
     state.outcome = Outcome::kGrounded;
@@ -417,11 +419,12 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
     return CmaAction::kTerminate;
   };
   if (action == CmaAction::kTerminate) return terminate(action);
-  // Decisions item 9: an action equal to the executing one is a no-op.
+  // docs/modelling-choices.md#executing-action-repeat: an action equal to the executing one is a no-op.
   if (decision::EffectiveCmaAction(action, state.decision.flight_status) == CmaAction::kNoOp) return action;
   std::string why;
   if (TryEmergencyPlan(model, state, action, planner, log, &why)) return action;
-  // Decisions item 28: the available action with the next-highest value that can be carried out now.
+  // docs/modelling-choices.md#unavailable-actions: the available action with the next-highest value that can be carried
+  // out now.
   if (ranking.empty()) ranking = DefaultCmaActionRanking(state.decision.inputs.state);
   for (const decision::ActionIndex index : ranking) {
     const auto next = static_cast<CmaAction>(index);
@@ -442,7 +445,8 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
     }
     why += "; " + std::string(decision::CmaActionName(next)) + ": " + next_why;
   }
-  // NoOp and Terminate are available in every flight status (decisions item 3) and always carried out.
+  // NoOp and Terminate are available in every flight status (docs/modelling-choices.md#action-availability) and always
+  // carried out.
   UASCMA_CHECK(false, "a ranking that holds NoOp or Terminate");
   return CmaAction::kNoOp;
 }

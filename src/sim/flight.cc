@@ -95,7 +95,7 @@ void ReadReference(const FlightModel& model, FlightState& state, StepSignals& s)
 
 // The reference → the LQR's wrench → the allocation's rotor thrusts.
 void ComputeControl(const FlightModel& model, const FlightState& state, StepSignals& s) {
-  // Drag feed-forward while all six rotors fly (issue 11 item 3). After a reconfiguration to the quadcopter the
+  // Drag feed-forward while all six rotors fly. After a reconfiguration to the quadcopter the
   // bare DLQR flies on: with four rotors near their thrust cap, asking the ~0.4 rad tilt that cancels the drag
   // at 8-9 m/s drives the loop into slow saturated swings. Measured on the default campaign, 150 runs, seed 1:
   // largest tracking error 13.2 m without feed-forward, 23.8 m with it throughout (rotor-out flights), 9.8 m with
@@ -287,7 +287,7 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   log.telemetry.push_back(row);
 }
 
-// ---- outcomes (decisions items 10–11, outcome.h) ----------------------------------------------------------------
+// ---- outcomes (docs/modelling-choices.md#terminate, #outcomes, outcome.h) -------------------------------------------
 // The distance from the reference path: the position error less its component along the reference velocity (the
 // schedule's lead or lag is not a loss of control); at rest on the plan, the whole error.
 double CrossTrackError(const Eigen::Vector3d& error_W, const Eigen::Vector3d& v_ref_W) {
@@ -375,7 +375,8 @@ FlightModel::FlightModel(const Scenario& scenario)
       nominal_plan_(scenario.route ? planning::MakeMissionPlan(*scenario.route, scenario.limits)
                                    : planning::MakeDeliveryPlan(scenario.mission, scenario.limits)),
       battery_health_(static_cast<decision::BatteryHealth>(
-          static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)))),  // decisions item 8
+          // docs/modelling-choices.md#battery-health-label
+          static_cast<int>(models::ClassifyHealth(scenario.battery.cell_health)))),
       map_planner_(MakeMapEmergencyPlanner(scenario_, nominal_plan_, drag_, propulsion_)),
       dt_(1.0 / scenario.options.gnc_rate_hz),
       steps_per_epoch_(static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.decision_rate_hz))),
@@ -619,8 +620,8 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
     own = s;
     StepPowerSystem(model, f.power, own);
     f.vehicle = lead.vehicle;
-    // The classification sees the follower's own cells and the shared kinematics: while the lead flies on and the
-    // follower's cells are above the cut-off, its classification is the lead's (in progress).
+    // The classification sees the follower's own cells and the shared kinematics: while the leader flies on and the
+    // follower's cells are above the cut-off, its classification is the leader's (in progress).
     const bool as_lead = lead_flies_on && own.pack_outputs.min_cell_voltage_v > models::kCutoffVoltage;
     if (!as_lead) ClassifyStep(model, f, own);
     AdvanceClock(model, f);

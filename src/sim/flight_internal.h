@@ -39,7 +39,8 @@ inline double ThrustCap(const FlightModel& model, double bus_voltage_v) {
   return model.propulsion().max_thrust * voltage_ratio * voltage_ratio;
 }
 
-// Rotors the allocation flies: six, or four after the failure rule (decisions item 13).
+// Rotors the allocation flies: six, or four after the failure rule
+// (docs/modelling-choices.md#mixing-after-motor-failure).
 inline int ActiveRotors(const FlightState& state) {
   return state.faults.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
 }

@@ -28,14 +28,15 @@ std::string Printf(const char* format, ...) {
 
 std::string FlightSummary::Text() const {
   std::string out = Printf("%s: %s (%s)\n", scenario.name.c_str(), OutcomeName(result.outcome), result.reason.c_str());
-  out += Printf("EOD load: %s (decision %s)\n", result.eod_load.c_str(), result.eod_load == "forecast" ? "25" : "14");
+  out += Printf("EOD load: %s (docs/modelling-choices.md#%s)\n", result.eod_load.c_str(),
+                result.eod_load == "forecast" ? "eod-load-forecast" : "pack-eod");
   for (const auto& e : result.events) out += Printf("  %8.2f s  %s\n", e.time_s, e.what.c_str());
   if (std::isfinite(result.min_cell_voltage_v) && result.sim_time_s > 0.0) {
     out += Printf("flew %.1f s of simulated time in %.1f ms (%.0fx real time); min cell %.3f V, energy %.1f Wh\n",
                   result.sim_time_s, result.wall_time_s * 1e3, result.realtime_factor(), result.min_cell_voltage_v,
                   result.energy_wh);
   } else {
-    // Grounded before take-off (issue 25): no step was flown, so there is no cell minimum nor a speed to report.
+    // Grounded before take-off: no step was flown, so there is no cell minimum nor a speed to report.
     out += Printf("flew no simulated time (%.1f s): the vehicle stayed on the ground, no cell was loaded\n",
                   result.sim_time_s);
   }

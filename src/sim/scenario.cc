@@ -228,7 +228,7 @@ bool SimOptions::IsValid(std::string* error) const {
 
 namespace {
 
-// Whether the vehicle can hover at take-off with its packs (issue 26 item 4): a combination of numbers that are
+// Whether the vehicle can hover at take-off with its packs: a combination of numbers that are
 // each inside their bound can still be a vehicle that cannot fly, and flying it gives impossible numbers
 // (cells pulled below zero volts, negative energy). Knowable from the inputs, so refused before flying:
 //   1. thrust: hovering needs m g; the rotors give at most 6 T_max (Table 2.2 at 1900 µs, over six rotors;
@@ -318,7 +318,7 @@ bool CheckCanHover(const Scenario& sc, std::string* error) {
 }  // namespace
 
 bool Scenario::IsValid(std::string* error) const {
-  // The plausibility bounds first: they name the file's key and the bound (issue 16).
+  // The plausibility bounds first: they name the file's key and the bound.
   if (!CheckScenarioBounds(*this, error)) return false;
   std::string part_error;
   auto fail = [&](const char* part) {
@@ -516,8 +516,8 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   // One validation for files, samplers and code alike (Scenario::IsValid).
   std::string error;
   if (!sc.IsValid(&error)) throw InputError(source + ": " + error);
-  // Over a city the cruise altitude is 10 m above the tallest building under the route (defaults.md)
-  // unless the file sets it.
+  // Over a city the cruise altitude is 10 m above the tallest building under the route
+  // (docs/defaults.md#guidance-and-control) unless the file sets it.
   if (sc.map && !sc.route && !cruise_altitude_given && !sc.map->buildings().empty()) {
     const std::array<Eigen::Vector2d, 2> route = {sc.mission.home_NE, sc.mission.destination_NE};
     sc.mission.cruise_altitude = sc.map->CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, 5.0);

@@ -14,9 +14,9 @@ namespace uascma::sim {
 namespace {
 
 // s: how long the true pack, as the flight left it, could still hover the vehicle (its EOD at the steady hover current
-// of the rotors that fly: six, or four after an isolation, decisions item 13, in the mean wind, plus the hotel load:
-// I = P_hover / V_bus(I) + I_hotel). What the report's unnecessary landings compare with t_sf
-// (campaign/statistics.h). 0 when the bus cannot carry the hover (no pack on, or past its power).
+// of the rotors that fly: six, or four after an isolation, docs/modelling-choices.md#mixing-after-motor-failure, in the
+// mean wind, plus the hotel load: I = P_hover / V_bus(I) + I_hotel). What the report's unnecessary landings compare
+// with t_sf (campaign/statistics.h). 0 when the bus cannot carry the hover (no pack on, or past its power).
 double EndReserveS(const FlightModel& model, const FlightState& state) {
   const double power_w = CalcSteadyRotorPower(model.steady_load(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                               internal::ActiveRotors(state));

@@ -1,4 +1,4 @@
-// End-to-end tests of `uascma battery` (learn, solve, show, case-study, evaluate), dissertation §4.3, issue 24.
+// End-to-end tests of `uascma battery` (learn, solve, show, case-study, evaluate), dissertation §4.3.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -96,8 +96,9 @@ TEST_F(BatteryCli, ShowPrintsTheDecisionTreeDrawsTheGraphAndThePolicies) {
   for (const auto& flag : view["impossible"]) impossible += flag.get<bool>() ? 1 : 0;
   EXPECT_EQ(impossible, 72);
   EXPECT_NE(text.out.find("216"), std::string::npos);
-  // The take-off state is the one the case-study flight starts in (decision 26's 0.82 plan): neither pack alone
-  // can carry it, so both are S3 with both switches ON; the healthy pair too.
+  // The take-off state is the one the case-study flight starts in (the 0.82 plan of
+  // docs/modelling-choices.md#battery-case-study-flight-time): neither pack alone can carry it, so both are S3 with
+  // both switches ON; the healthy pair too.
   for (const auto& context : view["contexts"]) {
     const std::string start = context["takeoff_state"];
     EXPECT_NE(start.find("ONS3"), std::string::npos) << start;
@@ -161,10 +162,10 @@ TEST_F(BatteryCli, CaseStudy3ReproducesFigures48To410) {
   EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(dir) / "case-3.json"));
 }
 
-// Table 4.5 case 4 at decision 26's flight time (0.82 of the healthy pair's endurance), Fig. 4.11's pack pair: UseBoth
-// fails (pack 1's capacity-faded cell reaches 3.3 V before the end); the hindsight-best schedule of the stated family,
-// flown in the simulator, completes (a late drop of pack 1); π* and the voltage rule are flown on the same flight and
-// reported as they are.
+// Table 4.5 case 4 at the case studies' flight time (0.82 of the healthy pair's endurance), Fig. 4.11's pack pair:
+// UseBoth fails (pack 1's capacity-faded cell reaches 3.3 V before the end); the hindsight-best schedule of the stated
+// family, flown in the simulator, completes (a late drop of pack 1); π* and the voltage rule are flown on the same
+// flight and reported as they are.
 TEST_F(BatteryCli, CaseStudy4FliesUseBothEachPolicyAndTheHindsightBestOnOneFlight) {
   const std::string dir = (scratch_->path / "case4").string();
   const auto result = RunCli("battery case-study 4 --json --policy " + policy_ + " --out " + dir);
@@ -192,7 +193,7 @@ TEST_F(BatteryCli, CaseStudy4FliesUseBothEachPolicyAndTheHindsightBestOnOneFligh
   EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(dir) / "case-4-scenario-4.csv"));
 }
 
-// Input faults (issue 24): every output path is checked before any work starts, a policy file named is read for
+// Input faults: every output path is checked before any work starts, a policy file named is read for
 // every case, and case-study takes --seed. Exit 2, one line naming the option, nothing written.
 TEST_F(BatteryCli, OutputPathsAndPolicyFilesAreCheckedBeforeAnyWork) {
   const std::string missing = (scratch_->path / "no-such-folder" / "x").string();

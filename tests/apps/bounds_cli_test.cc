@@ -1,4 +1,4 @@
-// Plausibility bounds of every numeric input (issue 16): each CLI numeric option and each number of a
+// Plausibility bounds of every numeric input: each CLI numeric option and each number of a
 // campaign or weights YAML file has a case just outside its bound that must stop the command with exit
 // code 2, one line on stderr naming the option or field and the bound, nothing on stdout and nothing
 // written. A value on the bound itself is accepted (the bounds are closed intervals), and --help states
@@ -133,7 +133,7 @@ TEST(BoundsCliTest, ValuesOnTheBoundsAreAccepted) {
   }
 }
 
-// Issue 16: 10^9 A printed a negative bus voltage. The worst case inside the bounds — I_max through one
+// Once, 10^9 A printed a negative bus voltage. The worst case inside the bounds — I_max through one
 // pack of poor health, cold, nearly empty — still gives a positive bus voltage (eqs. 3.4-3.7).
 TEST(BoundsCliTest, TheWorstCaseInsideTheBoundsHasAPositiveBusVoltage) {
   const auto result =
@@ -383,7 +383,7 @@ TEST(BoundsCliTest, ScenarioValuesOnTheBoundsAreAccepted) {
       "fault: {motor: 1, spall_onset_s: 0, time_per_growth_step_s: 0.001, prognosis_time_per_growth_step_s: 0.001}\n"
       "options: {telemetry_rate_hz: 0.1, safety_margin_s: 0, max_tilt_deg: 1, max_cross_track_error_m: 0.1}\n"
       "map: {procedural: {blocks_north: 1, blocks_east: 1, rooftop_site_probability: 0}}\n";
-  // vehicle.mass_kg's own bound, 25 kg, is refused by the cross-check against the rotors' thrust (issue 26, below):
+  // vehicle.mass_kg's own bound, 25 kg, is refused by the cross-check against the rotors' thrust (below):
   // the high case takes the heaviest vehicle the six rotors hold, 26.85 N / g = 2.738 kg.
   const std::string high =
       "vehicle: {mass_kg: 2.73, inertia_kg_m2: [10, 10, 10]}\n"
@@ -400,7 +400,7 @@ TEST(BoundsCliTest, ScenarioValuesOnTheBoundsAreAccepted) {
   }
 }
 
-// Issue 26: numbers each inside their bound can make a vehicle that cannot fly (25 kg reported a cell at -2.55 V and
+// Numbers each inside their bound can make a vehicle that cannot fly (25 kg reported a cell at -2.55 V and
 // negative energy). Mass against the rotors' thrust (Table 2.2) is refused naming the combination; the rotors' limit
 // itself is the closed form m g <= 26.85 N.
 TEST(BoundsCliTest, AVehicleHeavierThanItsRotorsCanHoldIsRefused) {

@@ -1,4 +1,4 @@
-// Several `uascma campaign` processes on one SQLite database (issue 17), as a user starts them from a
+// Several `uascma campaign` processes on one SQLite database, as a user starts them from a
 // second terminal, a job array or a retry loop: started at the same moment on a new database (the same
 // campaign, and different ones), killed with SIGKILL and resumed, resumed twice at once. Every process
 // either succeeds with every flight stored exactly once or exits 2 on one line naming the file; no
@@ -238,7 +238,7 @@ TEST_F(CampaignConcurrencyTest, OfDifferentCampaignsStartedTogetherOneWinsAndThe
 }
 
 TEST_F(CampaignConcurrencyTest, AKilledProcessIsTakenOverAndResumeGivesTheUninterruptedRows) {
-  // Rounds 0-2 kill one of three processes (each position once); round 3 kills all three.
+  // Passes 0-2 kill one of three processes (each position once); pass 3 kills all three.
   for (int round = 0; round < 4; ++round) {
     const std::string db = "killed" + std::to_string(round) + ".db";
     const std::string context = "round " + std::to_string(round);

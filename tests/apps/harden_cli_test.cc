@@ -1,4 +1,4 @@
-// Issue 26 end to end: each finding reproduced from its description through the CLI. A damaged database is named
+// Hardening end to end: each finding reproduced from its description through the CLI. A damaged database is named
 // and never resumed into (`store check`, report, campaign --resume); names that are not UTF-8 stop every writer with
 // exit 2 before anything is written; duplicate keys are refused naming both lines; campaign errors leave no
 // database; a vehicle that cannot hover is refused before flying; the Maclaurin series warns where it is wrong.

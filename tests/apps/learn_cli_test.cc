@@ -1,5 +1,5 @@
 // End-to-end tests of `uascma learn q`, `uascma learn transitions` and `uascma policy solve --transitions`
-// (issue 13; dissertation §5.3.3, §5.6): small runs, the files they write usable as policies, the same files for
+// (dissertation §5.3.3, §5.6): small runs, the files they write usable as policies, the same files for
 // any --jobs, and bad input refused with exit code 2 and nothing written.
 #include <filesystem>
 #include <fstream>

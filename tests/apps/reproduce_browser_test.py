@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""A real browser reads `uascma reproduce`'s page (issue 28): headless Chromium (Debian's `chromium`) loads
+"""A real browser reads `uascma reproduce`'s page: headless Chromium (Debian's `chromium`) loads
 DIR/index.html, and the DOM it renders must hold, for every item of DIR/results.json, its section, its verdict
 (the same as results.json's) and every figure as a decoded PNG image.
 

@@ -81,7 +81,7 @@ TEST(RulCliTest, QuantilesAndCalibrationOfTheRulDistribution) {
   ASSERT_EQ(quantiles.size(), rul.at("rul_quantiles").at("levels").size());
   EXPECT_NEAR(quantiles[1].get<double>(), rul.at("rul_p05_s").get<double>(), 1e-9);  // level 0.05
   // The campaigns' default (truth 0.7128 s per step, prognoser Table 5.4's) covers no jam; with the truth's time
-  // scale the 90 % interval covers 85-95 % of the jam times (issue 29).
+  // scale the 90 % interval covers 85-95 % of the jam times.
   const nlohmann::json missed = RunJson("rul --calibrate --histories 200 --json");
   EXPECT_EQ(missed.at("intervals")[2].at("covered"), 0);
   EXPECT_GT(missed.at("time_scale_ratio").get<double>(), 20.0);

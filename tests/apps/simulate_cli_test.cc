@@ -97,7 +97,7 @@ TEST(SimulateCliTest, ReplayFliesOneCampaignRunAgainBitForBit) {
   EXPECT_EQ(RunCli("simulate --replay " + (dir.path / "none.db").string() + " 1").exit_code, 2);
 }
 
-// ---- mission files, QGroundControl export, the battery executor (issues 15 and 12) ----------------------------
+// ---- mission files, QGroundControl export, the battery executor ----------------------------
 std::string MissionData(const std::string& name) {
   return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name;
 }
@@ -126,7 +126,7 @@ std::set<std::string> FilesIn(const std::filesystem::path& folder) {
   return names;
 }
 
-constexpr double kWaypointToleranceM = 0.01;  // issue 15: export and re-import agree within 1 cm
+constexpr double kWaypointToleranceM = 0.01;  // export and re-import agree within 1 cm
 
 TEST(SimulateCliTest, MissionFileWithLoiterAndLandFliesAndCompletes) {
   ScratchDir dir("simulate_mission");

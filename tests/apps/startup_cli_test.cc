@@ -1,4 +1,4 @@
-// Start-up of the command-line tool (issue 27 item 5): `uascma` loads neither MPI nor PROJ unless a command
+// Start-up of the command-line tool: `uascma` loads neither MPI nor PROJ unless a command
 // needs them. The dynamic loader reports every library it maps (LD_DEBUG=libs), so these checks fail as soon
 // as libmpi or libproj is linked into `uascma` again, and the controls show that the same check sees them
 // when they are loaded: PROJ by the map import that projects, MPI by uascma-mpi, the tool mpirun runs.

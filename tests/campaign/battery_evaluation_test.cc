@@ -1,4 +1,4 @@
-// Judging battery policies (issue 24): every policy of an evaluation run flies the same flight — the run's
+// Judging battery policies: every policy of an evaluation run flies the same flight — the run's
 // Table 4.4 draw — and each result equals that flight flown alone, bit for bit; the paired counts add up; the
 // hindsight family and the schedule controller are what they say.
 #include "uascma/campaign/battery_evaluation.h"
@@ -190,7 +190,7 @@ TEST(BatteryEvaluationTest, PolicyListsAreCheckedBeforeAnyFlight) {
   EXPECT_DOUBLE_EQ(ParseBatteryPolicies("rule:voltage", "--policies")[0].drop_voltage_v, kVoltageRuleDropVoltage);
 }
 
-// Issue 23: the evaluation's runs are flown by common/parallel_for.h: kept in run order (the same evaluation on one
+// The evaluation's runs are flown by common/parallel_for.h: kept in run order (the same evaluation on one
 // thread or three), and a failure during the work reaches the caller instead of ending the process.
 TEST(BatteryEvaluationTest, RunsAreKeptInOrderAndAFailureReachesTheCaller) {
   BatteryEvaluationOptions options;

@@ -83,7 +83,7 @@ TEST(ConfigFieldsTest, StoredCampaignsKeepTheirFingerprints) {
   }
 }
 
-// Issue 29: noisy sensing is a campaign setting that changes the fingerprint only when switched on.
+// Noisy sensing is a campaign setting that changes the fingerprint only when switched on.
 TEST(ConfigFieldsTest, NoisySensingChangesTheFingerprintOnlyWhenOn) {
   const CampaignConfig plain = ParseCampaignConfig("runs: 3\n", "plain");
   const CampaignConfig off = ParseCampaignConfig("runs: 3\noptions: {noisy_sensing: false}\n", "off");
@@ -200,12 +200,12 @@ TEST(ConfigFieldsTest, EveryKeyIsDeclaredOnceWithItsSource) {
           << entry.field.key;
     }
   }
-  // 39 + options.pack_rate_hz and options.wind_rate_hz (issue 27 item 2) + fault.prognosis_time_per_growth_step_s
-  // and options.noisy_sensing (issue 29).
+  // 39 + options.pack_rate_hz and options.wind_rate_hz + fault.prognosis_time_per_growth_step_s
+  // and options.noisy_sensing.
   EXPECT_EQ(keys.size(), 43u);
 }
 
-// Issue 29: the prognoser's time scale is left out of the YAML and the fingerprint unless set.
+// The prognoser's time scale is left out of the YAML and the fingerprint unless set.
 TEST(ConfigFieldsTest, ThePrognosisTimeScaleEntersTheFingerprintOnlyWhenSet) {
   const CampaignConfig defaults;
   CampaignConfig shared = defaults;
@@ -287,7 +287,7 @@ TEST(ScenarioFieldsTest, EveryBoundedKeyRefusesAValueAboveItsBound) {
     }
     ++checked;
   }
-  EXPECT_EQ(checked, 23);  // 21 + options.pack_rate_hz and options.wind_rate_hz (issue 27 item 2)
+  EXPECT_EQ(checked, 23);  // 21 + options.pack_rate_hz and options.wind_rate_hz
 }
 
 // A scenario's keys read through the table land in the members the simulator uses (degrees held in radians).

@@ -1,4 +1,4 @@
-// The headline experiment (dissertation §5.5.3, Figs. 5.30–5.31; issue 11): every failure in a campaign comes
+// The headline experiment (dissertation §5.5.3, Figs. 5.30–5.31): every failure in a campaign comes
 // from a modelled fault, and battery health drives the baseline's failures. Campaigns are seeded, so these are
 // also regression tests of our published figures (README "Where we differ").
 #include <gtest/gtest.h>
@@ -33,10 +33,10 @@ const GroupStatistics& Group(const std::vector<GroupStatistics>& groups, const s
   return *it;
 }
 
-// Decisions items 19–20: a plan a healthy pack flies with its safety margin, no motor fault — nothing fails, and with
-// the 1 Hz EOD propagated at the expected load of the rest of the plan (decision 25) the CMA never lands or grounds
-// such a flight (issue 22; measured 0 of 600 at seeds 1 and 2; with the present current of decisions item 14, 8 of
-// 600 landed at seed 1).
+// docs/modelling-choices.md#campaign-missions, #battery-health-draw: a plan a healthy pack flies with its safety
+// margin, no motor fault — nothing fails, and with the 1 Hz EOD propagated at the expected load of the rest of the plan
+// (docs/modelling-choices.md#eod-load-forecast) the CMA never lands or grounds such a flight (measured 0 of 600 at
+// seeds 1 and 2; with the present current of docs/modelling-choices.md#pack-eod, 8 of 600 landed at seed 1).
 TEST(HeadlineTest, HealthyPacksWithoutMotorFaultsNeverFailAndAreNeverLanded) {
   CampaignConfig config;
   config.runs = 150;
@@ -58,7 +58,8 @@ TEST(HeadlineTest, DefaultCampaignFailsOnlyFromModelledFaultsAndHealthDrivesTheB
   ASSERT_EQ(records.size(), 930u);
   // A flight without a motor fault fails only on its battery (a degraded pack): no collision, no loss of control.
   // With a jam, guidance keeps the quadcopter within its authority (§4.4.2): no loss of control either. Every
-  // emergency decision of the CMA executes a plan or records a substitution (decision 28).
+  // emergency decision of the CMA executes a plan or records a substitution
+  // (docs/modelling-choices.md#unavailable-actions).
   std::map<std::int64_t, const RunRecord*> noop;
   for (const RunRecord& r : records) {
     if (r.policy == "noop") noop[r.run_index] = &r;
@@ -83,7 +84,7 @@ TEST(HeadlineTest, DefaultCampaignFailsOnlyFromModelledFaultsAndHealthDrivesTheB
       ++early_landings_in_good_health;
     }
   }
-  // Issue 22: the CMA's landings in good health before any fault, in flights NoOp completed: at most 1 % (measured 0).
+  // The CMA's landings in good health before any fault, in flights NoOp completed: at most 1 % (measured 0).
   EXPECT_LE(100 * early_landings_in_good_health, good_health);
   const std::vector<GroupStatistics> groups = Summarise(records, {"cma", "noop"});
   // NoOp's failure rate rises G → M → P, each gap larger than the standard error of the difference.

@@ -111,7 +111,8 @@ TEST(ImportedMapSamplerTest, MissionsAreSampledOverTheRealCityOnOpenGround) {
     EXPECT_EQ(run.scenario.map.get(), map.get());
     EXPECT_EQ(run.scenario.map_obstacles.get(), world.obstacles.get());
     // Homes, destinations (hover points) over the city, not beside it: inside the buildings' extent (the Midtown
-    // sites lie 2 km away and do not widen it), on open ground with the wall clearance of decision 20.
+    // sites lie 2 km away and do not widen it), on open ground with the wall clearance of
+    // docs/modelling-choices.md#battery-health-draw.
     for (const Eigen::Vector2d& p : {mission.home_NE, mission.destination_NE}) {
       EXPECT_TRUE(extent.contains(p)) << "index " << index << " (" << p.transpose() << ")";
       EXPECT_FALSE(map->IsInsideBuilding(Eigen::Vector3d(p.x(), p.y(), -0.1))) << "index " << index;

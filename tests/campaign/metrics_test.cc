@@ -33,7 +33,7 @@ std::vector<EpochDecision> Decisions() {
       {1.0, CmaState{FlightStatus::kN, MotorHealth::kSF, MotorMargin::kMM0, BatteryHealth::kP, ReachMargin::kRM0},
        CmaAction::kLandPract},
       {2.0, CmaState{FlightStatus::kElPract, MotorHealth::kSF, MotorMargin::kMM0, BatteryHealth::kP, ReachMargin::kRM0},
-       CmaAction::kLandPract},  // decisions item 9: already executing → NoOp
+       CmaAction::kLandPract},  // docs/modelling-choices.md#executing-action-repeat: already executing → NoOp
   };
 }
 
@@ -94,7 +94,7 @@ TEST(MetricsTest, OneShortFlightIsRecordedWhole) {
   EXPECT_EQ(FirstDifference(record, FlyRun(simulator, run, NoOpCampaignPolicy(), 1, 2)), std::nullopt);
 }
 
-// Issue 27 item 3: the sampler's load profile of the nominal plan (its whole-load check) is the flight model's, built
+// The sampler's load profile of the nominal plan (its whole-load check) is the flight model's, built
 // once per run. The model shares it; it equals the profile the model builds without it; a scenario changed after
 // sampling (another mean wind) builds its own; and a run flown with it and without it gives the same record.
 TEST(MetricsTest, TheSamplersLoadProfileIsTheModelsAndGivesTheSameRecord) {

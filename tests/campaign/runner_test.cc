@@ -77,7 +77,7 @@ TEST(RunnerTest, ThreadCountAndRunsInFlightDoNotChangeTheResults) {
   ASSERT_EQ(one.size(), 16u);
   ExpectSameRows(one, Fly(config, 2));
   ExpectSameRows(one, Fly(config, 4));
-  // Runs flown one at a time, their steps alone, and several in flight per thread in lockstep (issue 27 item 4).
+  // Runs flown one at a time, their steps alone, and several in flight per thread in lockstep.
   ExpectSameRows(one, Fly(config, 1, 1));
   ExpectSameRows(one, Fly(config, 2, 3));
   ExpectSameRows(one, Fly(config, 1, 8));

@@ -109,7 +109,8 @@ TEST(SamplerTest, EveryDrawRespectsItsRange) {
       EXPECT_LE(s.fault.motor, 6);
       ASSERT_TRUE(s.fault.time_per_growth_step_s.has_value());
     }
-    // Battery health and the cells that realise it (Table 4.2, decisions items 8 and 20).
+    // Battery health and the cells that realise it (Table 4.2, docs/modelling-choices.md#battery-health-label,
+    // #battery-health-draw).
     int degraded = 0, both = 0;
     for (int b = 0; b < models::kBranchCount; ++b) {
       EXPECT_EQ(models::ClassifyHealth(s.battery.cell_health[b]), run.pack_health[b]);
@@ -170,7 +171,7 @@ TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
   }
   ExpectFrequency(faults, kSamples, 0.5, "spall fault, §5.4");
   ExpectFrequency(cold, kSamples, 0.5, "cold ambient");
-  // BH drawn per flight, G, M, P equally likely (decisions item 20).
+  // BH drawn per flight, G, M, P equally likely (docs/modelling-choices.md#battery-health-draw).
   ExpectFrequency(health_m, kSamples, 1.0 / 3.0, "BH = M");
   ExpectFrequency(health_p, kSamples, 1.0 / 3.0, "BH = P");
   ExpectFrequency(kSamples - health_m - health_p, kSamples, 1.0 / 3.0, "BH = G");
@@ -260,8 +261,8 @@ TEST(SamplerTest, OneDegradedCellSitsAnywhereInTheBattery) {
   for (int count : position) ExpectFrequency(count, kSamples, 1.0 / 6.0, "cell position");
 }
 
-// Decisions item 19 over a few hundred missions: a fully charged healthy (F1/F1) pack flies every sampled
-// plan with its margin, recomputed here from the scenario alone; the plan lasts f (EOD − t_sf) exactly.
+// docs/modelling-choices.md#campaign-missions over a few hundred missions: a fully charged healthy (F1/F1) pack flies
+// every sampled plan with its margin, recomputed here from the scenario alone; the plan lasts f (EOD − t_sf) exactly.
 TEST(SamplerTest, HealthyPackFliesEveryPlanWithItsSafetyMargin) {
   constexpr int kMissions = 300;
   constexpr double kTimeTolerance = 1e-6;  // s: the distance inverts the plan's duration in closed form
@@ -289,7 +290,7 @@ TEST(SamplerTest, HealthyPackFliesEveryPlanWithItsSafetyMargin) {
 }
 
 // The level-flight current at zero airspeed by hand: the weight shared by six rotors, P = k T^b each
-// (defaults.md, propulsion.h), over 3 × 3.7 V, plus the hotel load; and it grows with airspeed (drag).
+// (docs/defaults.md#vehicle, propulsion.h), over 3 × 3.7 V, plus the hotel load; and it grows with airspeed (drag).
 TEST(SamplerTest, LevelFlightCurrentByHand) {
   sim::Scenario scenario;
   const models::DragTable drag = models::DragTable::Default(models::PropellerConfiguration::kTractor);
@@ -374,9 +375,9 @@ TEST(CampaignConfigTest, CanonicalYamlRoundTripsExactly) {
   EXPECT_NE(CampaignConfigHash(other), CampaignConfigHash(config));
 }
 
-// Decisions item 27: the whole-load EOD of one plan against a hand computation. The rotor energy is integrated
-// again at 10 ms midpoints (the profile samples quarter seconds); the gust allowance is the steady power at the
-// level airspeeds raised by σ_u, computed along the route's own direction (CalcWholeLoad's along North).
+// docs/modelling-choices.md#dissertation-profile: the whole-load EOD of one plan against a hand computation. The rotor
+// energy is integrated again at 10 ms midpoints (the profile samples quarter seconds); the gust allowance is the steady
+// power at the level airspeeds raised by σ_u, computed along the route's own direction (CalcWholeLoad's along North).
 TEST(SamplerTest, WholeLoadEodIsTheHealthyPacksEodAtThePlansMeanCurrent) {
   // Relative: the two quadratures differ only where the trapezoids switch acceleration inside a sample.
   constexpr double kEnergyTolerance = 1e-3;
@@ -452,9 +453,10 @@ TEST(SamplerTest, PlansTooLongForTheWholeLoadAreShortenedUntilTheyPass) {
   EXPECT_GT(fired, 10) << "most plans at the cruise endurance with no margin fail the whole load";
 }
 
-// Decisions item 27 on the two example profiles (seed 1, 465 runs each): every run returned passes the whole-load
-// check; in the default profile no nominal plan fails it first, so the check draws nothing and the default campaign
-// keeps its runs (the dissertation profile's longer plans: 2 runs shortened, sampler.h). The margins are printed.
+// docs/modelling-choices.md#dissertation-profile on the two example profiles (seed 1, 465 runs each): every run
+// returned passes the whole-load check; in the default profile no nominal plan fails it first, so the check draws
+// nothing and the default campaign keeps its runs (the dissertation profile's longer plans: 2 runs shortened,
+// sampler.h). The margins are printed.
 TEST(SamplerTest, ExampleProfilesPassTheWholeLoadCheckWithoutARedraw) {
   for (const char* file : {"campaign.yaml", "campaign-dissertation.yaml"}) {
     const bool default_profile = std::string(file) == "campaign.yaml";

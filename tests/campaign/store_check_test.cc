@@ -1,4 +1,4 @@
-// Issue 26 items 1-2: a store is created whole or not at all even when the disk fills while its pages are
+// A store is created whole or not at all even when the disk fills while its pages are
 // moved from the write-ahead log into the file, and a damaged store (SQLite's integrity check, or the
 // schema's own invariants) is named by CheckStore and refused by Open, so it is never reported on,
 // resumed into or replayed from.
@@ -27,7 +27,7 @@ struct TempDir : testing_support::TempDir {
 
 // ---- a disk that fills: an SQLite VFS that forwards to the default one, except that writes to a main
 // database file at or beyond `main_file_room_bytes` fail with SQLITE_FULL (the -wal and -shm files are
-// written normally). This is the full disk of issue 26 as SQLite meets it when the creation's checkpoint
+// written normally). This is a full disk as SQLite meets it when the creation's checkpoint
 // copies the committed pages from the -wal into the file: the -wal was written, the file cannot grow.
 struct FaultyFile {
   sqlite3_file base;

@@ -324,7 +324,7 @@ TEST(StoreTest, ClaimsOfDeadAndForeignWorkers) {
   EXPECT_EQ(result.claimed[2].run_index, 3);  // lease lapsed
 }
 
-// Issue 26 item 9: what a waiting process says of the worker it waits for. A suspended process (SIGSTOP,
+// What a waiting process says of the worker it waits for. A suspended process (SIGSTOP,
 // as Ctrl-Z does) is named as stopped with the command that resumes it; a running one, an ended one and
 // another machine's are told apart.
 TEST(StoreTest, AWorkerIsDescribedByWhatItsProcessIsDoing) {

@@ -1,4 +1,4 @@
-// Issue 26 items 3, 6 and 9 at the library level: text that is not UTF-8 and keys given twice are refused where
+// At the library level: text that is not UTF-8 and keys given twice are refused where
 // YAML and JSON enter (naming the line, both lines for a duplicate), and a write that fails inside an output
 // folder's staging copy names the user's path, not the hidden staging folder.
 #include <signal.h>

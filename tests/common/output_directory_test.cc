@@ -1,4 +1,4 @@
-// OutputDirectory (common/files.h, issue 16): an --out folder holds exactly one run's files, a folder
+// OutputDirectory (common/files.h): an --out folder holds exactly one run's files, a folder
 // uascma did not make is refused untouched, and errors name the user's path, never the staging folder.
 #include <unistd.h>
 

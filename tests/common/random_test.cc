@@ -55,7 +55,7 @@ TEST(RandomStreamTest, SeedsReplayAndDerivedStreamsDiffer) {
   }
 }
 
-// Normal()'s common path inline and the rest out of line (issue 27) draw what the single loop drew, bit for bit and
+// Normal()'s common path inline and the rest out of line draw what the single loop drew, bit for bit and
 // word for word: the loop as it was, on a copy of the stream, over a million draws that take every path.
 TEST(RandomStreamTest, ZigguratSplitDrawsAsTheSingleLoop) {
   const internal::Ziggurat& z = internal::TheZiggurat();

@@ -226,7 +226,7 @@ TEST(BatteryOursTest, OffersOnePackAloneOnlyWhenItCanFinishAndIsNotCritical) {
   EXPECT_TRUE(OursOffers(Features(CurrentLevel::kLow, s2c0, s1c1), PackAction::kUseBoth));
 }
 
-// --- rewards (eqs. 4.1–4.9, decisions item 22) --------------------------------------------------------
+// --- rewards (eqs. 4.1–4.9, docs/modelling-choices.md#battery-mdp-rewards) -------------------------------------------
 TEST(BatteryRewards, MatchHandComputedValues) {
   const BatteryRewardWeights w{0.5, 0.3, 0.2};
   const BatteryContext f2f1{HealthClass::kM, HealthClass::kG, TemperatureClass::kHigh};
@@ -247,7 +247,7 @@ TEST(BatteryRewards, MatchHandComputedValues) {
   EXPECT_NE(error.find("4.9"), std::string::npos);
 }
 
-// --- transitions from counts (decisions item 23) --------------------------------------------------------
+// --- transitions from counts (docs/modelling-choices.md#battery-mdp-transitions) -------------------------------------
 TEST(BatteryTransitions, FlightsAreCountedAt1HzAndStopAtFailure) {
   BatteryTransitionCounts counts;
   const BatteryContext context{HealthClass::kG, HealthClass::kM, TemperatureClass::kHigh};
@@ -384,7 +384,7 @@ TEST(BatteryFiles, BadModelsNameTheField) {
             std::string::npos);
 }
 
-// Issue 23: the files are read with the typed JSON reader (common/json_reader.h): every message is
+// The files are read with the typed JSON reader (common/json_reader.h): every message is
 // "<file>: <path in the document>: <what was expected>, got <what was there>".
 TEST(BatteryFiles, ReadErrorsNameTheFileThePathAndWhatWasExpected) {
   const nlohmann::json good = BatteryModelToJson(SyntheticModel());
@@ -455,7 +455,7 @@ TEST(BatteryContexts, HealthAndTemperatureClasses) {
   EXPECT_EQ(BatteryContextOf(health, 40.0), (BatteryContext{HealthClass::kM, HealthClass::kG, TemperatureClass::kLow}));
 }
 
-// Ours (issue 24) against a small case solved by hand. Context (F1,F1,TH), weights (0.2, 0.3, 0.5), γ = 0.999:
+// Ours against a small case solved by hand. Context (F1,F1,TH), weights (0.2, 0.3, 0.5), γ = 0.999:
 //   A  = ILONS1C0ONS1C0: UseBoth counted 1 × FAILURE and 9 completions;
 //   A1 = ILONS1C0OFFS1C0 (pack 1 alone): UseBatt1 counted 10 completions;
 //   B  = ILONS1C0OFFS3C0 (pack 1 alone, the idle pack 2 in S3): UseBatt1 counted 5 × B and 5 completions;

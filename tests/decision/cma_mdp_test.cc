@@ -65,8 +65,8 @@ TEST(CmaMdpTest, NominalNoOpRowIsTheNormalisedProductOfTables) {
 TEST(CmaMdpTest, LandingActionsUseTheLoadedSpallToJamProbability) {
   const FiniteMdp mdp = BuildCmaMdp({});
   // N,SF,MM1,P,RM0 under LandPract: FS → ELPRACT; MH SF → {SF 0.991417, JF 0.008583}
-  // (decisions item 2); MM (MM1, SF) → {MM0 0.0025, MM1 0.9975}; RM (RM0, P, MM1) → {RM0 0.006,
-  // RM1 0.994}; no C, FL 0.0003.
+  // (docs/modelling-choices.md#landing-loads-motor); MM (MM1, SF) → {MM0 0.0025, MM1 0.9975}; RM (RM0, P, MM1) → {RM0
+  // 0.006, RM1 0.994}; no C, FL 0.0003.
   const auto row = Row(mdp, "N,SF,MM1,P,RM0", CmaAction::kLandPract);
   const double total = (0.991417 + 0.008583) * (0.0025 + 0.9975) * (0.006 + 0.994) + 0.0003;
   EXPECT_NEAR(row.at("ELPRACT,JF,MM0,P,RM1"), 0.008583 * 0.0025 * 0.994 / total, kProbabilityTolerance);

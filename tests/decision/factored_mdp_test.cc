@@ -108,7 +108,7 @@ TEST(FactoredMdpTest, ZeroRowIsAnErrorNamingStateAndAction) {
   model.AddTerminalState("end", "end");
   model.SetTransitionTable({"t", "A", {"A"}, {{"a0", {"a0"}, {1.0}}}});  // nothing from a1
   try {
-    // One feature here: RewardIndex reads two (AddressSanitizer: heap-buffer-overflow, issue 16).
+    // One feature here: RewardIndex reads two (AddressSanitizer: heap-buffer-overflow).
     model.Build([](const FactoredState&, ActionIndex) { return 0.0; });
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {

@@ -1,4 +1,4 @@
-// Regression tests for the inputs that broke a parser (issue 16): each is a crash, an escaped exception
+// Regression tests for the inputs that broke a parser: each is a crash, an escaped exception
 // or undefined behaviour found by a libFuzzer harness of fuzz/ or while writing them. The rule they pin
 // down: on malformed input every parser throws uascma::InputError (exit code 2 in the CLI) naming the
 // source and the field, and nothing else.

@@ -73,7 +73,7 @@ TEST(BatteryLearningTest, TheModelDoesNotDependOnTheNumberOfThreads) {
   EXPECT_TRUE(serial.provenance.contains("drop_flights"));
 }
 
-// Issue 23: the flights' old thread pool let an exception escape a worker thread, which ends the process. Now it
+// The flights' old thread pool let an exception escape a worker thread, which ends the process. Now it
 // reaches the caller (common/parallel_for.h), whichever thread raised it.
 TEST(BatteryLearningTest, AFailureDuringTheWorkReachesTheCaller) {
   BatteryLearningOptions options = ShortFlights(9, 5);

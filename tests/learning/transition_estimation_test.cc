@@ -101,7 +101,8 @@ TEST(CmaQStateTest, BinsFollowSection533) {
   EXPECT_EQ(ReachMarginBin(0.3), 1);
   EXPECT_EQ(ReachMarginBin(0.99), 3);
   EXPECT_EQ(NumQStates(QStateKind::kBinned), 1728);
-  // Projection: the tuple of every binned state; availability by flight status (decisions item 3).
+  // Projection: the tuple of every binned state; availability by flight status
+  // (docs/modelling-choices.md#action-availability).
   const auto available = QStateAvailability(QStateKind::kBinned);
   for (StateIndex q = 0; q < 1728; q += 37) {
     const StateIndex c = CmaTupleOfQState(QStateKind::kBinned, q);
@@ -189,8 +190,8 @@ TEST(TransitionEstimationTest, CountsDoNotDependOnThreadsAndTryEveryAction) {
     }
   }
   // Terminate ends the flight at once: T, except before take-off, where any emergency action keeps the vehicle
-  // on the ground (decisions item 21: grounded, counted as C) — the first epochs of each flight, until it is above
-  // OutcomeThresholds::airborne_height (a few seconds of the climb at 1 Hz).
+  // on the ground (docs/modelling-choices.md#outcomes-refined: grounded, counted as C) — the first epochs of each
+  // flight, until it is above OutcomeThresholds::airborne_height (a few seconds of the climb at 1 Hz).
   std::int64_t terminate = 0, terminated = 0, grounded = 0;
   for (StateIndex s = 0; s < kCmaNumTupleStates; ++s) {
     terminate += one.RowTotal(s, 1);

@@ -1,5 +1,5 @@
 // The battery models: OCV table, Enhanced Self-Correcting cell (eqs. 3.1–3.3), packs (eqs. 3.4–3.7),
-// degradation (Table 3.2) and health classes (decisions item 8).
+// degradation (Table 3.2) and health classes (docs/modelling-choices.md#battery-health-label).
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -32,7 +32,7 @@ constexpr double kCurrentSumTolerance = 1e-12;
 TEST(OcvTableTest, DefaultTableIsTheSpecTableWithLinearInterpolation) {
   const OcvTable& ocv = DefaultOcvTable();
   ASSERT_EQ(ocv.point_count(), 21);
-  EXPECT_NEAR(ocv.CalcVoltage(0.0), 3.27, kVoltageTolerance);   // defaults.md, 0 %
+  EXPECT_NEAR(ocv.CalcVoltage(0.0), 3.27, kVoltageTolerance);   // docs/defaults.md#battery, 0 %
   EXPECT_NEAR(ocv.CalcVoltage(0.5), 3.84, kVoltageTolerance);   // 50 %
   EXPECT_NEAR(ocv.CalcVoltage(0.85), 4.08, kVoltageTolerance);  // 85 %
   EXPECT_NEAR(ocv.CalcVoltage(1.0), 4.20, kVoltageTolerance);   // 100 %

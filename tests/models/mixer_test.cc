@@ -1,5 +1,5 @@
 // Mixing, allocation, reconfiguration and control authority: eq. 2.4, eqs. 4.11–4.13, §4.4.2,
-// shared/spec/decisions.md item 13.
+// docs/modelling-choices.md#mixing-after-motor-failure.
 #include "uascma/models/mixer.h"
 
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@
 // Counts every heap allocation of this test program — operator new and Eigen's dynamic matrices both
 // end in malloc — by interposing malloc (glibc exports the real one as __libc_malloc). Not under
 // AddressSanitizer, which interposes malloc itself and calls it before this program's globals exist (the
-// test binary crashed before main, issue 16).
+// test binary crashed before main).
 #if defined(__SANITIZE_ADDRESS__)
 #define UASCMA_UNDER_ASAN 1
 #elif defined(__has_feature)
@@ -87,7 +87,7 @@ int Rank(const MixingMatrix& m) {
   return static_cast<int>(svd.rank());
 }
 
-// Hover of the 1.3 kg default vehicle (shared/spec/defaults.md) plus modest torques.
+// Hover of the 1.3 kg default vehicle (docs/defaults.md#vehicle) plus modest torques.
 BodyWrench ModerateWrench() { return {1.3 * kGravity, 0.05, -0.04, 0.005}; }
 
 // --- geometry and the printed matrices -----------------------------------------------------------

@@ -1,5 +1,5 @@
 // The rotor model of dissertation §2.3 and §2.5: eqs. 2.1–2.3, 2.10, 2.12, Tables 2.1–2.2, and the
-// defaults of shared/spec/defaults.md (power law, speed lag, saturation).
+// defaults of docs/defaults.md#vehicle (power law, speed lag, saturation).
 #include "uascma/models/propulsion.h"
 
 #include <gtest/gtest.h>
@@ -186,7 +186,7 @@ TEST(ElectricalPowerTest, PowerGrowsWithThrustAndCurrentIsPowerOverVoltage) {
 
 // --- rotor-speed lag ----------------------------------------------------------------------------
 TEST(RotorSpeedLagTest, DecayIsExpOfMinusStepOverTimeConstant) {
-  const RotorSpeedLag lag(0.03, 0.005);                    // τ_m of defaults.md, the 200 Hz GNC step
+  const RotorSpeedLag lag(0.03, 0.005);                    // τ_m of docs/defaults.md#vehicle, the 200 Hz GNC step
   EXPECT_NEAR(lag.decay(), 0.846481724890614, kRoundOff);  // e^{−1/6}
 }
 

@@ -45,7 +45,7 @@ TEST(RigidBodyTest, HoverThrustHoldsPosition) {
 
 TEST(RigidBodyTest, DragOpposesAirRelativeVelocityWithTheTableMagnitude) {
   // Level hover at rest in a 5 m/s wind towards north: drag = ½ ρ f(0) v² = ½·1.225·0.05·25 N pushes
-  // the vehicle north (defaults.md drag table at a grid point, so no interpolation error).
+  // the vehicle north (docs/defaults.md#drag table at a grid point, so no interpolation error).
   BodyInputs inputs;
   inputs.total_thrust = 1.3 * kGravity;
   inputs.wind_W = Eigen::Vector3d(5.0, 0.0, 0.0);

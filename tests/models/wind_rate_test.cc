@@ -87,9 +87,9 @@ TEST(DrydenRateTest, SlowSamplesHaveTheFormingFiltersVarianceAndAutocorrelation)
   }
 }
 
-// At the GNC rate with the slow step of a 20 Hz filter: the interpolated output keeps σ within dryden.md's 5 %
-// (mid-interval it lowers the variance by ½ (1 − ρ(Δ)) ≤ Δ/(2T) = 1.7 % for T_w = 1.5 s). 40,000 s: ~5,000 T_u, so
-// the relative standard error of σ_u's estimate (two horizontal channels) is ~1 %.
+// At the GNC rate with the slow step of a 20 Hz filter: the interpolated output keeps σ within the 5 % of
+// docs/defaults.md#dryden-turbulence (mid-interval it lowers the variance by ½ (1 − ρ(Δ)) ≤ Δ/(2T) = 1.7 % for T_w =
+// 1.5 s). 40,000 s: ~5,000 T_u, so the relative standard error of σ_u's estimate (two horizontal channels) is ~1 %.
 TEST(DrydenRateTest, InterpolatedOutputAtTheGncRateHasSigma) {
   constexpr int kSubsteps = 10;
   constexpr double kDt = 0.005;

@@ -12,7 +12,8 @@ namespace {
 
 constexpr double kFeet = 0.3048;
 
-// dryden.md check values at h = 100 ft: L_u = 505.169 ft, σ_u/σ_w = 1.715849 (6 significant digits).
+// The check values of docs/defaults.md#dryden-turbulence at h = 100 ft: L_u = 505.169 ft, σ_u/σ_w = 1.715849 (6
+// significant digits).
 TEST(DrydenTest, LowAltitudeMatchesTheSpecCheckValues) {
   const DrydenIntensity in = CalcDrydenIntensity(TurbulenceCategory::kLowLight, 100.0 * kFeet, 1500.0 * kFeet);
   EXPECT_NEAR(in.length_u / kFeet, 505.169, 1e-3);
@@ -35,7 +36,7 @@ TEST(DrydenTest, MediumBandInterpolatesTowardsIsotropic) {
   EXPECT_NEAR(at_bottom.length_w / kFeet, 1750.0, 1e-9);
 }
 
-// Long runs: the sample standard deviation of each gust axis matches σ within 5 % (dryden.md).
+// Long runs: the sample standard deviation of each gust axis matches σ within 5 % (docs/defaults.md#dryden-turbulence).
 // V = 20 m/s keeps the correlation times short (L_u/V ≈ 8 s) so 20,000 s hold ~2,500 independent
 // samples (expected relative error of the σ estimate ≈ 1.5 %).
 class DrydenVarianceTest : public ::testing::TestWithParam<TurbulenceCategory> {};
@@ -83,7 +84,7 @@ INSTANTIATE_TEST_SUITE_P(Categories, DrydenVarianceTest,
 // A flight whose altitude and airspeed change (hover on the ground, climb, cruise, slow-down, slow flight),
 // flown by many seeds: at instants in every phase the spread of each gust channel across the seeds is σ of
 // that instant's altitude. The spread is taken over seeds at one instant (an ensemble), so it sees the
-// variance the filter has then, not a time average. Before the fix of issue 11 the states carried the old
+// variance the filter has then, not a time average. Before a fix the states carried the old
 // σ and L/V (measured with this test: after the slow-down v and w came out 2.2–2.8 σ, at the top of the
 // climb u 11 % above σ, and v, w started at rest).
 struct ProfilePoint {

@@ -618,7 +618,7 @@ struct PractFixture {
   LandPractDatabase database;
   PractFixture() {
     // Home and destination at street/avenue intersections (x = i · 79.3 m, y = j · 210.5 m), cruise 10 m above the
-    // tallest building under the route (defaults.md).
+    // tallest building under the route (docs/defaults.md#guidance-and-control).
     DeliveryMission mission;
     mission.home_NE = Eigen::Vector2d(0.0, 0.0);
     mission.destination_NE = Eigen::Vector2d(5 * 79.3, 2 * 210.5);

@@ -157,7 +157,7 @@ TEST(FlightPlanTest, MultiWaypointPlansFlyEveryLegRestToRestAndCountAllThatRemai
                InputError);
 }
 
-// The 200 Hz loop's cursor (issue 27) gives At(time)'s reference bit for bit: forward at the GNC step, after a jump
+// The 200 Hz loop's cursor gives At(time)'s reference bit for bit: forward at the GNC step, after a jump
 // back (a new plan), from a cursor of another plan, and from an out-of-range one.
 TEST(FlightPlanTest, CursorGivesAtsReferenceExactly) {
   const FlightPlan plan =

@@ -23,7 +23,7 @@ namespace uascma::planning {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMass = 1.3;        // kg, defaults.md
+constexpr double kMass = 1.3;        // kg, docs/defaults.md#vehicle
 constexpr double kDragSlope = 0.55;  // N·s/m, ≈ ρ f v of the default table at 9 m/s
 constexpr double kSpeed = 9.0;       // m/s, Fig. 5.4
 

@@ -295,7 +295,7 @@ TEST(LandingSiteCsvTest, AcceptsBothHeaderSpellingsAndRejectsBadRows) {
                    {"sites.csv", "line 2 (site 1)", "risk in [0, 1]"});
   ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,0,0.5,0\n"); },
                    {"sites.csv", "radius", "0.1 to 1000 m, got 0"});
-  // Issue 26: the upper bounds of alt and radius (1e9 m was accepted).
+  // The upper bounds of alt and radius (1e9 m was accepted).
   ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,1e9,0.5,2\n"); },
                    {"sites.csv", "line 2 (site 1) alt", "0 to 1000 m, got 1e+09"});
   ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73,0,0.5,1e9\n"); },
@@ -559,7 +559,7 @@ TEST(RealOsmDataTest, MidtownLandingSitesReadWithTheirColumnAliases) {
   EXPECT_NEAR(imported.map.bounds().sizes().x(), 2995.0, 50.0);
 }
 
-// --- buildings without heights, sites from the map (issues 25 and 22) ---------------------------------------------
+// --- buildings without heights, sites from the map ---------------------------------------------
 
 std::filesystem::path NoHeightsOsm() {
   return std::filesystem::path(UASCMA_SOURCE_DIR) / "tests" / "data" / "maps" / "no-heights.osm";

@@ -456,7 +456,7 @@ TEST(MissionFileTest, ExampleMissionFliesClearOfTheRealUpperEastSide) {
   EXPECT_GT(database.checkpoints().back().plan_time, 0.5 * plan.duration());
 }
 
-// --- the mission files of ground stations, as they mean them (issue 25) -------------------------------------------
+// --- the mission files of ground stations, as they mean them -------------------------------------------
 // Written from QGroundControl's "Plan File Format" page and the MAVLink / ArduPilot command lists: a survey
 // ComplexItem with its stored transect items, a spline waypoint, a terrain-calculated item whose AMSL altitude is
 // null, DO_AUX_FUNCTION and DO_PARACHUTE, a finite DO_JUMP, rally points and a geofence.

@@ -1,4 +1,4 @@
-// The EOD distribution (issue 29 item 1) against Monte Carlo sampling of the same uncertainty (CalcPackEod
+// The EOD distribution against Monte Carlo sampling of the same uncertainty (CalcPackEod
 // per sample), closed-form checks of the secant construction, and the mixture of the temperature classes.
 #include "uascma/prognostics/eod_distribution.h"
 

@@ -1,4 +1,4 @@
-// Battery end of discharge (§3.3.2.1, decisions item 14): the exact segment propagation against a
+// Battery end of discharge (§3.3.2.1, docs/modelling-choices.md#pack-eod): the exact segment propagation against a
 // fine fixed-step integration of the same model, closed-form checks, orderings and statuses.
 #include <bit>
 #include <cmath>
@@ -19,7 +19,7 @@ namespace {
 
 using namespace uascma::models;
 
-// Issue 3: the EOD must agree with a fine-step (Δt = 0.01 s) reference within 0.5 %.
+// The EOD must agree with a fine-step (Δt = 0.01 s) reference within 0.5 %.
 constexpr double kRequiredRelativeTolerance = 0.005;
 constexpr double kReferenceStepS = 0.01;
 // The method solves the same model exactly; what is left against the 10 ms reference is the reference's

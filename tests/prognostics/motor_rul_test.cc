@@ -1,6 +1,6 @@
-// Motor RUL (dissertation §3.4.1, eq. 3.8; Table 5.4; decisions items 7 and 15): closed forms with the
-// noise off, an independent Euler integration of eq. 3.8, the Table 5.4 calibration on an independent
-// sample, invariants, and replay from a seed.
+// Motor RUL (dissertation §3.4.1, eq. 3.8; Table 5.4; docs/modelling-choices.md#margins, #spall-growth-time-scale):
+// closed forms with the noise off, an independent Euler integration of eq. 3.8, the Table 5.4 calibration on an
+// independent sample, invariants, and replay from a seed.
 #include "uascma/prognostics/motor_rul.h"
 
 #include <algorithm>
@@ -123,7 +123,7 @@ TEST(MotorRulClosedFormTest, StepsToReachInvertsAreaAfterAcrossExponents) {
               1e-11);
 }
 
-// ---- Calibration of τ to Table 5.4 (decisions item 15) -----------------------------------------
+// ---- Calibration of τ to Table 5.4 (docs/modelling-choices.md#spall-growth-time-scale) ------------------------------
 
 TEST(MotorRulCalibrationTest, DefaultModelReproducesTable54OnAnIndependentSample) {
   const MotorRulModel model;

@@ -1,4 +1,4 @@
-// The motor RUL distribution against the jam times of simulated spalls (issue 29 item 2): the particle
+// The motor RUL distribution against the jam times of simulated spalls: the particle
 // quantiles, calibration when the prognoser and the spall share the growth time scale, and the miss when
 // they do not (the campaigns' default: the truth grows at 0.7128 s per step, the prognoser at Table 5.4's).
 #include "uascma/prognostics/rul_calibration.h"

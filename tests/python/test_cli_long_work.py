@@ -1,4 +1,4 @@
-"""Long work from the command line (issue 25): with stderr not a terminal a campaign prints plain progress lines
+"""Long work from the command line: with stderr not a terminal a campaign prints plain progress lines
 (flights, rate, ETA); Ctrl-C (SIGINT) stops it, stores every finished flight, prints the exact command that
 continues it, and exits 130."""
 import re

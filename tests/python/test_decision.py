@@ -8,7 +8,8 @@ import pytest
 import uascma
 from conftest import example, run_cli
 
-# Value iteration stops at a Bellman residual of 1e-10 (decisions item 5): values agree to ~γ/(1−γ) · 1e-10.
+# Value iteration stops at a Bellman residual of 1e-10 (docs/modelling-choices.md#discount): values agree to ~γ/(1−γ) ·
+# 1e-10.
 VALUE_TOLERANCE = 1e-8
 
 

@@ -141,7 +141,8 @@ def test_seeds_replay_and_advance():
 
 
 def test_unavailable_action_is_noop_by_default_and_raises_on_request():
-    # Decisions item 3: once LandASAP executes (ELASAP) only NoOp and Terminate are offered.
+    # docs/modelling-choices.md#action-availability: once LandASAP executes (ELASAP) only NoOp and Terminate are
+    # offered.
     for unavailable in ("noop", "raise"):
         env = uascma.Environment(example("scenario-1.yaml"), unavailable=unavailable)  # over a city: sites
         env.reset(seed=1)

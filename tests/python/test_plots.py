@@ -1,4 +1,4 @@
-"""Every picture the command-line tool draws is rendered and checked with matplotlib's own extents (issue 25):
+"""Every picture the command-line tool draws is rendered and checked with matplotlib's own extents:
 no two texts overlap (the "jam" and "isolated" labels of a jam and its isolation seconds apart included), no
 legend covers data, no label sits on data (the report's n= labels on error bars), no text is too small to read.
 

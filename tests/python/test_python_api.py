@@ -1,4 +1,4 @@
-"""The module as Python users expect it (issue 25): Ctrl-C stops long calls, progress reaches a callback, tqdm or
+"""The module as Python users expect it: Ctrl-C stops long calls, progress reaches a callback, tqdm or
 plain lines, the mission importer's notes are Python warnings, `import uascma` loads neither pandas nor NumPy,
 and the package carries its types (py.typed, a stub that is Python and names everything the module has)."""
 import ast

@@ -1,4 +1,4 @@
-"""Start-up of the Python module (issue 27 item 5): ``import uascma`` maps neither libmpi nor libproj (the
+"""Start-up of the Python module: ``import uascma`` maps neither libmpi nor libproj (the
 compiled core links no MPI, and loads PROJ only when a map is projected), read from the process's own
 /proc/self/maps. Timing is a benchmark (bench/startup_bench.py), not a test."""
 import subprocess

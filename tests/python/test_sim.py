@@ -105,7 +105,7 @@ def test_a_python_callable_flies_like_the_same_policy_in_cpp():
     assert seen[:3] == [0.0, 1.0, 2.0]  # called at 1 Hz
 
     # The CMA table looked up in Python (the EOD's value at every epoch) flies exactly as the C++ table policy (the
-    # EOD only as far as the reach margin's class needs, issue 27).
+    # EOD only as far as the reach margin's class needs).
     solution = uascma.solve_cma()
     table = uascma.run(example("jam-motor-3.yaml"), "cma", telemetry=False)
     python = uascma.run(example("jam-motor-3.yaml"), lambda i: int(solution.policy.action[i.state.index]),
@@ -115,7 +115,7 @@ def test_a_python_callable_flies_like_the_same_policy_in_cpp():
 
 
 def test_the_eod_distribution_reaches_telemetry_decision_inputs_and_the_summary(nominal):
-    # Issue 29: the 5/50/95 % quantiles are ordered at every row, the chance of falling short is a probability.
+    # The 5/50/95 % quantiles are ordered at every row, the chance of falling short is a probability.
     t = nominal.telemetry()
     flying = t["eod_s"] > 0
     assert flying.any()
@@ -197,7 +197,7 @@ def test_scenario_properties_come_from_the_field_table():
 
 
 def test_policies_on_beliefs_under_noisy_sensing(tmp_path):
-    """Issue 29: options.noisy_sensing gives the decision module beliefs; cma-risk and cma-qmdp are policies by name,
+    """options.noisy_sensing gives the decision module beliefs; cma-risk and cma-qmdp are policies by name,
     and without noise they fly the cma flight."""
     exact = uascma.run(example("jam-motor-3.yaml"), "cma", telemetry=False)
     for name in ("cma-risk", "cma-qmdp"):

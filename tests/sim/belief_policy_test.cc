@@ -66,7 +66,8 @@ TEST(QmdpTest, TwoStateBeliefSolvedByHand) {
 
 TEST(QmdpTest, OnlyTheFlightStatusActionsAreRanked) {
   HandCase c;
-  c.s0.fs = c.s1.fs = decision::FlightStatus::kElAsap;  // NoOp and Terminate only (decisions item 3)
+  c.s0.fs = c.s1.fs = decision::FlightStatus::kElAsap;  // NoOp and Terminate only
+                                                        // (docs/modelling-choices.md#action-availability)
   c.q[decision::CmaStateIndex(c.s0)] = {-1.0, -0.5, 0.0, 0.0};
   c.q[decision::CmaStateIndex(c.s1)] = {1.0, -0.5, 0.0, 0.0};
   // b(s0) = 0.8: NoOp −0.6, Terminate −0.5.

@@ -1,5 +1,5 @@
 // sim/branching.h: flights that share a vehicle equal the same flights flown alone, every part of the state bit for
-// bit; a follower is the lead's vehicle part with its own power system; the parts' == sees a change in any part; a
+// bit; a follower is the leader's vehicle part with its own power system; the parts' == sees a change in any part; a
 // branch point is an epoch.
 #include "uascma/sim/branching.h"
 
@@ -71,8 +71,8 @@ TEST(BranchingTest, FlightsFlownFollowingEqualEachFlownAloneInEveryPart) {
   EXPECT_GE(diverged, 1) << "no draw exercised a flight leaving its group";
 }
 
-// One step of a shared vehicle: the follower ends with the lead's vehicle part and the power system it has when it
-// takes the same step alone; its own power system differs from the lead's (another pack flies).
+// One step of a shared vehicle: the follower ends with the leader's vehicle part and the power system it has when it
+// takes the same step alone; its own power system differs from the leader's (another pack flies).
 TEST(BranchingTest, AFollowerHasTheLeadsVehicleAndItsOwnPowerSystem) {
   const campaign::BatteryFlightParams params = campaign::SampleBatteryFlight({}, 1, 0);
   const FlightModel model(campaign::MakeBatteryScenario(params));

@@ -231,13 +231,14 @@ TEST(DecisionEnvironmentTest, RefusesActionsTheFlightStatusDoesNotOffer) {
   for (int k = 0; k < 30; ++k) environment.Step(decision::CmaAction::kNoOp);  // airborne, cruising
   EnvironmentStep step = environment.Step(decision::CmaAction::kLandAsap);
   ASSERT_EQ(step.observation.flight_status, decision::FlightStatus::kElAsap);
-  // ELASAP offers NoOp and Terminate only (decisions item 3).
+  // ELASAP offers NoOp and Terminate only (docs/modelling-choices.md#action-availability).
   EXPECT_THROW(environment.Step(decision::CmaAction::kLandPract), InputError);
   EXPECT_THROW(environment.Step(decision::CmaAction::kLandAsap), InputError);
   step = environment.Step(decision::CmaAction::kNoOp);
   EXPECT_EQ(step.executed, decision::CmaAction::kNoOp);
 
-  // Without the check, repeating the executing action is executed as NoOp (decisions item 9).
+  // Without the check, repeating the executing action is executed as NoOp
+  // (docs/modelling-choices.md#executing-action-repeat).
   EnvironmentOptions lenient;
   lenient.require_available_actions = false;
   DecisionEnvironment free_environment(ScenarioOne(), lenient);
@@ -266,8 +267,8 @@ TEST(DecisionEnvironmentTest, SetStateBranchesFromAnEpoch) {
   EXPECT_THROW(environment.SetState(between), InputError);  // not at an epoch
 }
 
-// Decisions item 28: what the executor falls back on is the solved policy's order of Q(s, a), its own action first,
-// computed here again from the model and the value function.
+// docs/modelling-choices.md#unavailable-actions: what the executor falls back on is the solved policy's order of Q(s,
+// a), its own action first, computed here again from the model and the value function.
 TEST(SubstitutionTest, TheRankingIsTheSolvedPolicysOrderOfQ) {
   const decision::CmaConfig config;
   const decision::FiniteMdp mdp = decision::BuildCmaMdp(config.weights);
@@ -292,8 +293,9 @@ TEST(SubstitutionTest, TheRankingIsTheSolvedPolicysOrderOfQ) {
     }
   }
   // The dissertation's policy: where the battery is short (RM0) and it lands practically, landing as soon as possible
-  // is the next best (decision 28's example: LandASAP when LandPract has no stored path). (With a spall and RM1 it
-  // is NoOp, by 1e-3 or less: N,SF,MM0,G,RM1 has Q 2.6840 / 2.6830 / 2.5954 for LandPract / NoOp / LandASAP.)
+  // is the next best (the example of docs/modelling-choices.md#unavailable-actions: LandASAP when LandPract has no
+  // stored path). (With a spall and RM1 it is NoOp, by 1e-3 or less: N,SF,MM0,G,RM1 has Q 2.6840 / 2.6830 / 2.5954 for
+  // LandPract / NoOp / LandASAP.)
   EXPECT_EQ(land_pract_states, 18);
   EXPECT_EQ(land_asap_next, land_pract_states);
 }

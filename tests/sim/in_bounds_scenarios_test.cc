@@ -1,4 +1,4 @@
-// Issue 26, what must hold: 300 random scenarios with every number inside its documented bound
+// What must hold: 300 random scenarios with every number inside its documented bound
 // (scenario_bounds.h, docs/input-bounds.md) either are refused by Scenario::IsValid with an error naming the
 // combination (exit 2 from `uascma simulate`), or fly to a named outcome with physical numbers: the lowest cell
 // voltage inside the cell model's range, the energy drawn finite and >= 0, the simulated time finite.
@@ -35,7 +35,7 @@ namespace uascma::sim {
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-constexpr int kScenarios = 300;        // issue 26: "300 random scenarios"
+constexpr int kScenarios = 300;        // ours: enough draws to reach every bound's edge
 constexpr std::uint64_t kSeed = 26;    // ours: the issue's number; any fixed seed
 constexpr double kFlightCapS = 120.0;  // s of simulated time per flight at most (ours, see above)
 
@@ -221,7 +221,7 @@ Tally DrawAndFly(std::uint64_t seed, bool mass_within_thrust) {
   return tally;
 }
 
-// Measured (issue 26): with scenario.cc's CheckCanHover switched off, the overweight scenarios of this draw fly and
+// Measured: with scenario.cc's CheckCanHover switched off, the overweight scenarios of this draw fly and
 // report cells down to -2.55 V (the issue's figure), so this test fails on them.
 TEST(InBoundsScenariosTest, EveryScenarioIsRefusedByNameOrFliesPhysically) {
   const Tally tally = DrawAndFly(kSeed, false);

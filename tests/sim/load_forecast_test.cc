@@ -1,5 +1,5 @@
-// The load forecast of decision 25 (sim/load_forecast.h) and the speed cap of §4.4.2 (sim/speed_cap.h) against
-// closed forms and independent computations.
+// The load forecast of docs/modelling-choices.md#eod-load-forecast (sim/load_forecast.h) and the speed cap of §4.4.2
+// (sim/speed_cap.h) against closed forms and independent computations.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -95,7 +95,8 @@ TEST(OutcomeTest, GroundContactOutsideTheLandingZoneOrTooFastIsACollision) {
   EXPECT_EQ(ClassifyOutcome(limits, in, open).outcome, Outcome::kCompleted);
 }
 
-// Decision 21: a touchdown on a rooftop site is a landing like one on the ground; off the site or too fast, a crash.
+// docs/modelling-choices.md#outcomes-refined: a touchdown on a rooftop site is a landing like one on the ground; off
+// the site or too fast, a crash.
 TEST(OutcomeTest, ARooftopTouchdownIsALandingOnTheSiteAndACollisionOffIt) {
   const OutcomeThresholds limits;
   const planning::CityMap map = OneBuilding();
@@ -115,7 +116,7 @@ TEST(OutcomeTest, ARooftopTouchdownIsALandingOnTheSiteAndACollisionOffIt) {
   EXPECT_EQ(ClassifyOutcome(limits, in, map).outcome, Outcome::kFailedCollision);
 }
 
-// Issue 22 item 5: a gust on the final descent puts the vehicle down gently on open ground 4.5 m from the pad, outside
+// A gust on the final descent puts the vehicle down gently on open ground 4.5 m from the pad, outside
 // the 3.46 m landing radius: landed off-site, safe, neither completed nor failed. A building that is not the site,
 // or a touchdown too fast down or across, stays a failure.
 TEST(OutcomeTest, AGentleTouchdownOnOpenGroundOffTheSiteIsLandedOffSite) {
@@ -185,7 +186,7 @@ TEST(ScenarioValidationTest, NamesThePartAndTheField) {
   s.fault.motor = 7;
   expect_invalid(s, "fault", "motor");
   s = Scenario{};
-  s.battery.initial_cell_voltage_v[1][2] = 4.5;  // above the OCV table's 4.20 V (defaults.md)
+  s.battery.initial_cell_voltage_v[1][2] = 4.5;  // above the OCV table's 4.20 V (docs/defaults.md#battery)
   expect_invalid(s, "battery", "initial_cell_voltage_v");
   s = Scenario{};
   s.options.outcome.max_cross_track_error = -1.0;

@@ -1,5 +1,5 @@
 // The six rotors two at a time (sim/rotor_lanes.h) give the bits of the per-rotor code they replaced (flight.cc
-// StepRotors before issue 27): on edge cases (negative, zero, negative zero, above the cap, a jammed rotor, thrusts
+// StepRotors before the lanes): on edge cases (negative, zero, negative zero, above the cap, a jammed rotor, thrusts
 // beyond the power table's grid) and on random allocations.
 #include <gtest/gtest.h>
 

@@ -235,7 +235,7 @@ TEST(SimulatorTest, PoliciesFlownTogetherEqualEachFlownAlone) {
   EXPECT_TRUE(IsFailure(together[0].outcome));
 }
 
-// Mission files and the map import keys in scenario files (issue 15).
+// Mission files and the map import keys in scenario files.
 std::string MissionData(const std::string& name) {
   return std::string(UASCMA_SOURCE_DIR) + "/tests/data/missions/" + name;
 }

@@ -1,4 +1,4 @@
-// StepTogether and StepTogetherToNextEpoch (sim/flight.h, issue 27 item 4): flights stepped in lanes are, bit for
+// StepTogether and StepTogetherToNextEpoch (sim/flight.h): flights stepped in lanes are, bit for
 // bit, the flights stepped alone with Step: the whole state at every decision epoch and at the end, the events and the
 // telemetry's thrusts and positions. Groups of four and of three flights of one model (different seeds: different
 // winds, sensor noise and ends), with turbulence, with a spall that jams a motor (the IMM's isolation moves a flight's

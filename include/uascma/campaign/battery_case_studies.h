@@ -1,8 +1,9 @@
 #pragma once
 // The case studies of dissertation §4.3.3 (Table 4.5, Figs. 4.8–4.11), each flown in the simulator
 // (campaign/battery_flights.h) with the controllers of campaign/battery_controllers.h.
-// Case studies (Table 4.5) at decision 26's flight time, every learned policy beside UseBoth, and the hindsight
-// best of a stated family of switch schedules, each flown in the simulator (HindsightSchedules).
+// Case studies (Table 4.5) at the case studies' flight time (docs/modelling-choices.md#battery-case-study-flight-time),
+// every learned policy beside UseBoth, and the hindsight best of a stated family of switch schedules, each flown in the
+// simulator (HindsightSchedules).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,8 +17,9 @@
 
 namespace uascma::campaign {
 
-// Decision 26: cases 3 and 4 fly kCaseFlightFraction of the healthy pair's reference EOD (ours: 0.82, the middle of
-// the 0.815-0.825 band in which the four case-3/4 outcomes of the dissertation hold together, chosen so).
+// Cases 3 and 4 fly kCaseFlightFraction of the healthy pair's reference EOD
+// (docs/modelling-choices.md#battery-case-study-flight-time; ours: 0.82, the middle of the 0.815-0.825 band in which
+// the four case-3/4 outcomes of the dissertation hold together, chosen so).
 inline constexpr double kCaseFlightFraction = 0.82;
 
 // The hindsight family (ours), every member flown in the simulator: (a) UseBoth throughout; (b) UseBoth, then pack
@@ -45,9 +47,9 @@ struct CaseStudyOptions {
   bool hindsight = true;                               // case 4: the hindsight-best schedule
 };
 // Case 1: flight time = one healthy pack's EOD, UseBoth, nine health pairs. Case 2: the same flights with UseBoth,
-// π*, the voltage rule and ours (when given). Case 3: decision 26's flight time, UseBoth, (F1,F2), (F1,F3), (F3,F3).
-// Case 4: the same flight time, (F2,F1) with Fig. 4.11's pack 1 (one capacity-faded cell): UseBoth, π*, the voltage
-// rule, ours (when given) and the hindsight best. InputError when a case needs π* and none is given.
+// π*, the voltage rule and ours (when given). Case 3: the case studies' flight time, UseBoth, (F1,F2), (F1,F3),
+// (F3,F3). Case 4: the same flight time, (F2,F1) with Fig. 4.11's pack 1 (one capacity-faded cell): UseBoth, π*, the
+// voltage rule, ours (when given) and the hindsight best. InputError when a case needs π* and none is given.
 std::vector<CaseScenario> RunCaseStudy(int number, const CaseStudyOptions& options);
 nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenarios);
 

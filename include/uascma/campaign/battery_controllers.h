@@ -1,5 +1,5 @@
 #pragma once
-// The battery switch controllers a battery flight (campaign/battery_flights.h) is flown with (issue 24): the policies
+// The battery switch controllers a battery flight (campaign/battery_flights.h) is flown with: the policies
 // judged by the evaluation (campaign/battery_evaluation.h) and the case studies (campaign/battery_case_studies.h),
 // and fixed switch schedules.
 //
@@ -44,14 +44,14 @@ std::vector<BatteryPolicySpec> ParseBatteryPolicies(const std::string& text, con
 // A fresh controller for one flight of `context` (the rule remembers the pack it dropped), starting on UseBoth.
 BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, const decision::BatteryContext& context);
 
-// Ours' imminent-failure guard (issue 24, item 8 of decision/battery_mdp.h's ours): with both packs switched in,
+// Ours' imminent-failure guard (item 8 of decision/battery_mdp.h's ours): with both packs switched in,
 // when the packs as switched would bring a cell to the 3.3 V cut-off (the pair's EOD at the present load,
 // BatteryObservation::pair_eod_s) before the plan ends and within the safety margin t_sf, the pack holding that cell
 // is dropped (for good: ours' MDP keeps a dropped pack dropped). Why: the abstraction cannot time that drop (case 4:
 // dropping at 725-737 s completes, at 710-720 s fails, all one abstract state). Empty: the MDP decides.
 std::optional<models::PackAction> OursImminentFailureGuard(const decision::BatteryObservation& observation);
 
-// Ours' drop check (issue 24, item 9): with both packs in, the table's UseBatt_k stands only when pack k alone,
+// Ours' drop check: with both packs in, the table's UseBatt_k stands only when pack k alone,
 // drawing the present bus power (BatteryObservation::alone_power_*), is still S1 and C0 (Table 4.1: its EOD covers
 // the rest of the plan and t_sf; its worst cell is at or above the 3.4 V critical voltage); otherwise UseBoth. Why:
 // the table's features read each pack alone at the present current, but the load is a power: alone, a pack holds a

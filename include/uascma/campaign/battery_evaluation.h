@@ -1,5 +1,5 @@
 #pragma once
-// Judging battery-reconfiguration policies (issue 24) on paired flights.
+// Judging battery-reconfiguration policies on paired flights.
 //
 // Evaluation: run r draws its flight from Table 4.4 (SampleBatteryFlight(ranges, seed, r): pack health pair,
 // temperature, t_sf, cell voltages, speed, wind, gusts, plan length) and flies it once per policy; every policy

@@ -7,10 +7,10 @@
 // (sim::BatterySwitchPolicy): at every epoch the executor abstracts the pack (decision/battery_abstraction.h:
 // per-pack EOD, RFD of the executing plan, t_sf, 3.4 V, 0.2·I_max), records the state and sets the switches —
 // the action held throughout for learning flights, the policy executor for π*. FAILURE is the simulator's
-// battery failure (a switched-in cell at 3.3 V, decisions item 11).
-// Learning the MDP's counts from these flights (decisions item 23): learning/battery_transition_estimation.h;
-// judging policies on them: campaign/battery_evaluation.h; the case studies of §4.3.3 (Table 4.5, Figs.
-// 4.8–4.11): campaign/battery_case_studies.h.
+// battery failure (a switched-in cell at 3.3 V, docs/modelling-choices.md#outcomes).
+// Learning the MDP's counts from these flights (docs/modelling-choices.md#battery-mdp-transitions):
+// learning/battery_transition_estimation.h; judging policies on them: campaign/battery_evaluation.h; the case studies
+// of §4.3.3 (Table 4.5, Figs. 4.8–4.11): campaign/battery_case_studies.h.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -42,8 +42,8 @@ struct BatteryFlightRanges {
   std::vector<models::TurbulenceCategory> turbulence{
       models::TurbulenceCategory::kLowLight, models::TurbulenceCategory::kLowModerate,
       models::TurbulenceCategory::kMediumLight, models::TurbulenceCategory::kMediumModerate};
-  // The plan's duration as a fraction of the reference EOD (decisions item 19): both healthy packs at
-  // 4.1 V per cell at the hover current. Ours: wide enough that single packs deplete (S3, FAILURE) and
+  // The plan's duration as a fraction of the reference EOD (docs/modelling-choices.md#campaign-missions): both healthy
+  // packs at 4.1 V per cell at the hover current. Ours: wide enough that single packs deplete (S3, FAILURE) and
   // both packs mostly do not, so every energy state and the failure are visited.
   double plan_fraction[2] = {0.25, 1.0};
   double cold_probability = 0.5;  // Table 4.2: T_L vs T_H, ours: equally likely (as campaign/config.h)
@@ -81,11 +81,11 @@ enum BatteryDrawStream : std::uint64_t {
   kBatteryDropStream = 3
 };
 
-// Draw d of a learning campaign (pure function of (seed, draw), style habit 7).
+// Draw d of a learning campaign (pure function of (seed, draw): randomness is explicit).
 BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t draw);
 
-// The reference EOD (s) of decisions item 19: healthy packs at 4.1 V per cell at the hover current, both
-// switched in (UseBoth) or one alone (UseBatt1).
+// The reference EOD (s) of docs/modelling-choices.md#campaign-missions: healthy packs at 4.1 V per cell at the hover
+// current, both switched in (UseBoth) or one alone (UseBatt1).
 double ReferenceBatteryEod(models::PackAction switches = models::PackAction::kUseBoth);
 // The scenario of a flight: the delivery plan stretched to `plan_duration_s` (destination distance found by
 // bisection on the plan's duration), wind, the packs of `params` and t_sf as the simulator's safety margin.

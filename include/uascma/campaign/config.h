@@ -1,6 +1,6 @@
 #pragma once
 // The configuration of a Monte Carlo campaign (dissertation §4.3.2 Table 4.4, §5.4, §5.5;
-// shared/spec/defaults.md "Environment and Monte Carlo"): which parameters are sampled for every run,
+// docs/defaults.md#environment-and-monte-carlo): which parameters are sampled for every run,
 // over which ranges, and which policies fly them.
 //
 // A campaign file is YAML; every key is optional and the defaults below are the dissertation's:
@@ -10,16 +10,20 @@
 //   runs: 465                       # sampled scenarios (--runs overrides); each is flown by every policy
 //   policies: [cma, noop]           # cma | noop | cma-risk[@P] | cma-qmdp | a policy JSON file (--policies overrides)
 //   mission:
-//     endurance_fraction: [0.5, 0.9]  # plan = f × (healthy pack's EOD at the cruise current − t_sf) (decisions 19;
-//     ours) # distance_m: [300, 900]      # optional: draw the distance instead (the plan is then not tied to the pack)
+//     endurance_fraction: [0.5, 0.9]  # plan = f × (healthy pack's EOD at the cruise current − t_sf); ours
+//                                     # (docs/modelling-choices.md#campaign-missions)
+//     # distance_m: [300, 900]        # optional: draw the distance instead (the plan is then not tied to the pack)
 //     cruise_speed_mps: [1, 9]      # Table 4.4, "hexacopter velocity"
-//     cruise_altitude_m: 30         # open ground only; over a city 10 m above the tallest building (defaults.md)
-//     wall_clearance_m: 5           # home, destination, route corridor: from every building wall (decisions 20)
-//     drop_hover_s: 30              # fixed; defaults.md
+//     cruise_altitude_m: 30         # open ground only; over a city 10 m above the tallest building
+//                                   # (docs/defaults.md#guidance-and-control)
+//     wall_clearance_m: 5           # home, destination, route corridor: from every building wall
+//                                   # (docs/modelling-choices.md#battery-health-draw)
+//     drop_hover_s: 30              # fixed; docs/defaults.md#guidance-and-control
 //   safety_margin_s: [5, 10]        # Table 4.4, t_sf (see SampledRun::safety_margin_s for its use)
 //   battery:
 //     initial_cell_voltage_v: [4.05, 4.12]      # Table 4.4, drawn per cell
-//     health_weights: {G: 1, M: 1, P: 1}        # BH per flight, decisions item 20: equally likely
+//     health_weights: {G: 1, M: 1, P: 1}        # BH per flight, equally likely
+//                                               # (docs/modelling-choices.md#battery-health-draw)
 //     degraded_cells: [1, 6]                     # how many of the six cells carry a fade in M and P (ours)
 //     medium_fades: one_kind                     # M: one fade kind per flight (Table 4.2) | per_cell
 //     cold_probability: 0.5                      # Table 4.2, T_L (< 50 °F) vs T_H (ours: equally likely)
@@ -36,9 +40,10 @@
 //     time_per_growth_step_s: 0.7128             # spall → jam in ~17 s, as in §5.5.1–5.5.2
 //     prognosis_time_per_growth_step_s: 0.7128   # optional: the prognoser shares it (unset: Table 5.4)
 //   options:
-//     eod_load: forecast                         # the 1 Hz EOD's load: forecast (decision 25) | present (item 14)
+//     eod_load: forecast                         # the 1 Hz EOD's load: forecast | present
+//                                                # (docs/modelling-choices.md#eod-load-forecast, #pack-eod)
 //     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
-//     noisy_sensing: false                       # issue 29: sensor noise, vibration, a spall indicator (sim/sensing.h)
+//     noisy_sensing: false                       # sensor noise, vibration, a spall indicator (sim/sensing.h)
 //
 // Ranges are [low, high] lists with low ≤ high; a draw is uniform on [low, high). Unknown keys are
 // errors (a typo would otherwise be silently ignored). Each key is declared once, in the field table of
@@ -63,7 +68,7 @@ namespace uascma::campaign {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-// Plausibility bounds of every number of a campaign file (issue 16, common/bounds.h), checked by
+// Plausibility bounds of every number of a campaign file (common/bounds.h), checked by
 // CampaignConfig::IsValid; ranges [low, high] must lie inside them. Where the dissertation gives a value
 // the bound contains it with room; the bounds themselves are ours unless cited.
 namespace bounds {
@@ -75,11 +80,12 @@ inline constexpr Bounds kCruiseSpeed{0.1, 30.0, "m/s"};     // Table 4.4 samples
 inline constexpr Bounds kCruiseAltitude{1.0, 1000.0, "m"};  // above the tallest building of any city
 inline constexpr Bounds kDropHover{0.0, 3600.0, "s"};       // 4x the packs' ~15 min hover endurance
 inline constexpr Bounds kSafetyMargin{0.0, 600.0, "s"};     // Table 4.4 samples 5-10 s
-// The default OCV table spans 3.27-4.20 V (defaults.md); the cut-off is 3.3 V (§3.3.2.1).
+// The default OCV table spans 3.27-4.20 V (docs/defaults.md#battery); the cut-off is 3.3 V (§3.3.2.1).
 inline constexpr Bounds kInitialCellVoltage{3.3, 4.2, "V"};
 inline constexpr Bounds kHealthWeight{0.0, 1e6, ""};        // relative weights
 inline constexpr Bounds kDegradedCells{1.0, 6.0, "cells"};  // two 3S packs
-inline constexpr Bounds kEnduranceFraction{0.01, 1.0, ""};  // of EOD − t_sf: at most all of it (decisions 19)
+inline constexpr Bounds kEnduranceFraction{0.01, 1.0, ""};  // of EOD − t_sf: at most all of it
+                                                            // (docs/modelling-choices.md#campaign-missions)
 inline constexpr Bounds kWallClearance{0.0, 100.0, "m"};    // our bound: a city block is ~60 m deep
 inline constexpr Bounds kProbability{0.0, 1.0, ""};
 inline constexpr Bounds kColdTemperature{-40.0, 49.999,
@@ -88,7 +94,8 @@ inline constexpr Bounds kWarmTemperature{50.0, 140.0, "°F"};  // 50 °F or abov
 inline constexpr Bounds kWindSpeed{0.0, 50.0, "m/s"};         // Table 4.4 samples 1-3 m/s
 inline constexpr Bounds kWindDirection{-4.0 * kPi, 4.0 * kPi, "rad"};
 inline constexpr Bounds kMotor{1.0, 6.0, ""};                    // the hexacopter's motors
-inline constexpr Bounds kTimePerGrowthStep{0.001, 3600.0, "s"};  // decisions item 15: 0.7128 s, Table 5.4: 15.3 s
+inline constexpr Bounds kTimePerGrowthStep{0.001, 3600.0, "s"};  // docs/modelling-choices.md#spall-growth-time-scale:
+                                                                 // 0.7128 s, Table 5.4: 15.3 s
 inline constexpr Bounds kBlocks{1.0, 200.0, "blocks"};           // procedural city size per side
 }  // namespace bounds
 
@@ -102,34 +109,36 @@ struct Range {
 
 struct MissionSampling {
   // The nominal plan is one a fully charged healthy (F1/F1) pack flies with its safety margin (§4.3.2: a
-  // "representative flight plan for a package drop", the pack "fully charged"; decisions item 19): its
-  // duration is f × (EOD_healthy − t_sf), EOD_healthy the end of discharge of this run's initial cell
-  // voltages and temperature with every cell healthy at the plan's cruise current (campaign/sampler.h), and
-  // f uniform on this range. Ours: from 0.5, the dissertation's own healthy study ("battery pack EOD time is
-  // twice the flight time", §4.3.3), to 0.9: the steady-current estimate leaves out the climbs (to 10 m above
-  // the tallest building, up to a minute at 2 m/s) and the gust corrections, and in flight the vehicle's own
+  // "representative flight plan for a package drop", the pack "fully charged";
+  // docs/modelling-choices.md#campaign-missions): its duration is f × (EOD_healthy − t_sf), EOD_healthy the end of
+  // discharge of this run's initial cell voltages and temperature with every cell healthy at the plan's cruise current
+  // (campaign/sampler.h), and f uniform on this range. Ours: from 0.5, the dissertation's own healthy study ("battery
+  // pack EOD time is twice the flight time", §4.3.3), to 0.9: the steady-current estimate leaves out the climbs (to 10
+  // m above the tallest building, up to a minute at 2 m/s) and the gust corrections, and in flight the vehicle's own
   // 1 Hz EOD prognosis came out up to ~10 % below it — measured over 150 default runs with f up to 1, CMA judged
   // RM < 0 and landed 4 of 23 healthy fault-free flights, all with f ≥ 0.90, which NoOp completed with the
   // lowest cell at 3.39–3.52 V. Above 0.9 a plan is no longer flyable "with its safety margin" in the vehicle's
-  // own judgement. Degraded packs then fail or not because of their health (decisions item 19).
+  // own judgement. Degraded packs then fail or not because of their health
+  // (docs/modelling-choices.md#campaign-missions).
   Range endurance_fraction{0.5, 0.9};
   // Set: the destination distance (m) is drawn uniformly on this range instead, and the plan is not tied to
   // the pack's endurance (short test campaigns, small imported maps). Absent by default.
   std::optional<Range> distance_m;
   Range cruise_speed_mps{1.0, 9.0};  // Table 4.4 ("Hexacopter Velocity, [1, 9] m/s")
-  double cruise_altitude_m = 30.0;   // open ground only; over a city 10 m above the tallest building (defaults.md)
+  // open ground only; over a city 10 m above the tallest building (docs/defaults.md#guidance-and-control)
+  double cruise_altitude_m = 30.0;
   // Horizontal clearance (m) of home and the destination (the hover points: take-off, drop, landing) from every
-  // building wall, and the half-width of the route corridor whose buildings set the cruise altitude (decisions
-  // item 20). It covers the vehicle's radius, 0.30 m (arm 0.225 m, defaults.md, plus a 6-inch propeller's
-  // 0.076 m), and its horizontal tracking error near a hover point, bounded by our measurement: the largest
-  // tracking error of whole flights cruising at 1–3 m/s (near-hover speeds; wind 1–3 m/s, every gust category)
-  // was 3.46 m over 67 fault-free completed flights of two 150-run default campaigns (median 0.88 m;
-  // sim::kHoverTrackingErrorBound, also the landing radius of sim/outcome.h). 0.30 + 3.46 = 3.8 m; 5 m (ours)
-  // leaves 1.2 m for what that sample missed, and equals the corridor half-width the cruise altitude was already
+  // building wall, and the half-width of the route corridor whose buildings set the cruise altitude
+  // (docs/modelling-choices.md#battery-health-draw). It covers the vehicle's radius, 0.30 m (arm 0.225 m,
+  // docs/defaults.md#vehicle, plus a 6-inch propeller's 0.076 m), and its horizontal tracking error near a hover point,
+  // bounded by our measurement: the largest tracking error of whole flights cruising at 1–3 m/s (near-hover speeds;
+  // wind 1–3 m/s, every gust category) was 3.46 m over 67 fault-free completed flights of two 150-run default campaigns
+  // (median 0.88 m; sim::kHoverTrackingErrorBound, also the landing radius of sim/outcome.h). 0.30 + 3.46 = 3.8 m; 5 m
+  // (ours) leaves 1.2 m for what that sample missed, and equals the corridor half-width the cruise altitude was already
   // computed over. (Faster cruise lags further behind the reference — up to 9.5 m
   // at 6–9 m/s, the controller's business — but away from the hover points, above the buildings.)
   double wall_clearance_m = 5.0;
-  double drop_hover_s = 30.0;  // defaults.md
+  double drop_hover_s = 30.0;  // docs/defaults.md#guidance-and-control
 };
 
 // An inclusive range of counts.
@@ -143,12 +152,12 @@ const char* MediumFadesName(MediumFades fades);  // "one_kind", "per_cell"
 
 struct BatterySampling {
   Range initial_cell_voltage_v{4.05, 4.12};  // Table 4.4, drawn independently per cell
-  // Relative weights of the flight's battery health BH = G, M, P (decisions item 20: drawn per flight, equally
-  // likely by default).
+  // Relative weights of the flight's battery health BH = G, M, P (docs/modelling-choices.md#battery-health-draw: drawn
+  // per flight, equally likely by default).
   std::vector<double> health_weights{1.0, 1.0, 1.0};
-  // M and P are realised as Table 4.2 defines them (decisions item 20; campaign/sampler.h): k degraded cells,
-  // k uniform on this range, chosen uniformly among the six; in M they carry one fade, capacity (Q → 0.8 Q)
-  // or power (R0 → 2 R0), as medium_fades says; in P the first carries both and each other one fade or both,
+  // M and P are realised as Table 4.2 defines them (docs/modelling-choices.md#battery-health-draw; campaign/sampler.h):
+  // k degraded cells, k uniform on this range, chosen uniformly among the six; in M they carry one fade, capacity (Q →
+  // 0.8 Q) or power (R0 → 2 R0), as medium_fades says; in P the first carries both and each other one fade or both,
   // drawn ⅓ each (Table 3.2's factors). Table 4.2 says "at least one cell"; ours: every count from one cell to
   // the whole battery equally likely. The per-pack F1/F2/F3 labels follow from the cells (models::ClassifyHealth).
   CountRange degraded_cells{1, 6};
@@ -156,9 +165,9 @@ struct BatterySampling {
   // at least one cell", "Unhealthy battery = has power and capacity fade". kOneKind (default, our reading of
   // "either … or" as said of the battery): one kind drawn per flight, ½ each, carried by all k degraded cells, so
   // an M battery never holds both kinds. kPerCell: each degraded cell draws its own kind, ½ each (the sampler
-  // until issue 11's session 5), so most M batteries with k > 1 hold both kinds in different cells and, with the
+  // until this setting existed), so most M batteries with k > 1 hold both kinds in different cells and, with the
   // capacity-faded cell deciding the end of discharge, fly much like P (measured: 465 runs, seed 1, NoOp M 19.5 %
-  // vs P 21.0 % failures; README "Where we differ").
+  // vs P 21.0 % failures).
   MediumFades medium_fades = MediumFades::kOneKind;
   double cold_probability = 0.5;  // Table 4.2 T_L vs T_H. Ours: equally likely.
   double cold_temp_degf = 40.0;   // below 50 °F: R0 → 1.5 R0 (Table 3.2); only the split matters
@@ -177,13 +186,13 @@ struct FaultSampling {
   double probability = 0.5;                   // §5.4: P(SF|NF) = 0.5 per simulated flight
   Range onset_fraction{0.0, 1.0};             // of the nominal plan's duration: "uniform over the flight", §5.4
   std::vector<int> motors{1, 2, 3, 4, 5, 6};  // §5.4, uniform
-  // Growth speed of the simulated spall (sim::FaultSpec, decisions item 15). 0.7128 s per Paris-law
-  // step jams the motor ~17 s after the onset, as in §5.5.1 (175 → 192 s) and §5.5.2 (525 → 542 s).
+  // Growth speed of the simulated spall (sim::FaultSpec, docs/modelling-choices.md#spall-growth-time-scale). 0.7128 s
+  // per Paris-law step jams the motor ~17 s after the onset, as in §5.5.1 (175 → 192 s) and §5.5.2 (525 → 542 s).
   // Absent (YAML: null) → the prognosis default calibrated to Table 5.4 (minutes to jam).
   std::optional<double> time_per_growth_step_s = 0.7128;
   // The prognoser's own time scale (sim::FaultSpec::prognosis_time_per_growth_step_s). Absent (the default):
   // Table 5.4's calibration, 21.5 times slower than the 0.7128 s above, so the CMA's RUL (~356 s) misses every
-  // jam (~17 s; issue 29, `uascma rul --calibrate`). Set to time_per_growth_step_s, the prognoser's particles
+  // jam (~17 s; `uascma rul --calibrate`). Set to time_per_growth_step_s, the prognoser's particles
   // follow the law the spall follows (§3.4.1: one Paris law for both) and its RUL intervals cover the jam times.
   std::optional<double> prognosis_time_per_growth_step_s;
 };
@@ -191,7 +200,7 @@ struct FaultSampling {
 // The city the flights fly over: the built-in procedural city of this seed (0: open ground, no buildings
 // and no landing sites — the emergency actions then have nowhere to go). Home and destination are drawn on
 // open ground with mission.wall_clearance_m from every wall, the cruise altitude is 10 m above the tallest
-// building under the route (defaults.md).
+// building under the route (docs/defaults.md#guidance-and-control).
 //
 // Or an imported city (planning/map_import.h), when `buildings` names files:
 //   map:
@@ -234,7 +243,8 @@ struct MapSampling {
 
 // The simulator options a campaign sets for every flight (sim::SimOptions); the rest keep their defaults.
 struct FlightOptions {
-  sim::EodLoad eod_load = sim::EodLoad::kForecast;  // decision 25; present: decision 14
+  sim::EodLoad eod_load = sim::EodLoad::kForecast;  // docs/modelling-choices.md#eod-load-forecast; present:
+                                                    // docs/modelling-choices.md#pack-eod
   bool cap_speed_after_isolation = true;            // §4.4.2, sim/speed_cap.h
   // The pack's and the Dryden filters' rates (sim::SimOptions); unset: the simulator's defaults. Set to the GNC rate
   // (200) to fly the campaign with both at the GNC rate (README "Subsystem rates").

@@ -1,5 +1,5 @@
 #pragma once
-// The campaign configuration declared once (issue 23): one row per key of a campaign file (config.h) — its key
+// The campaign configuration declared once: one row per key of a campaign file (config.h) — its key
 // path, the member it sets, its plausibility bound, what is expected of it and where its default comes from. The
 // one table (CampaignFields, src/campaign/config.cc) drives the parser (ParseCampaignConfig), the validation
 // (CampaignConfig::IsValid), the canonical YAML (CampaignConfigYaml), the fingerprint (CampaignConfigHash), the
@@ -41,7 +41,8 @@ struct ConfigField {
   std::string_view citation = {};  // where the default and bound come from: a dissertation section, a decision, ours
   FieldScope scope = FieldScope::kAlways;
   bool hashed = true;  // in CampaignConfigHash (name, runs and policies are not: config.h)
-  // A format version the fingerprint takes before this field ("mission/2": the endurance-tied plan of decision 19).
+  // A format version the fingerprint takes before this field ("mission/2": the endurance-tied plan of
+  // docs/modelling-choices.md#campaign-missions).
   std::string_view hash_tag = {};
   // An unset optional (or empty path) is written as `null` (true) or left out (false) in the canonical YAML.
   bool written_when_unset = true;

@@ -1,6 +1,6 @@
 #pragma once
 // The load forecast's error model fitted on a training campaign, and the EOD distribution scored on a test campaign
-// (issue 29; the truth: campaign/eod_truth_campaign.h, the model: sim/eod_error_model.h).
+// (the truth: campaign/eod_truth_campaign.h, the model: sim/eod_error_model.h).
 //
 // Fit (FitEodErrorModel, ours): per cell (battery health, motor health, turbulence, bin of the conditioning variable,
 // sim/eod_error_model.h) the mean and sample standard deviation of e = ln(I_actual / I_forecast) over the training

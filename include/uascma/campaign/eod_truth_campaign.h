@@ -1,5 +1,5 @@
 #pragma once
-// The EOD truth over a campaign (issue 29): each run's NoOp twin flown to the cut-off (sim/eod_truth.h), and for every
+// The EOD truth over a campaign: each run's NoOp twin flown to the cut-off (sim/eod_truth.h), and for every
 // scored 1 Hz prediction the load forecast's error, measured as a current:
 //   I_actual = the constant current at which the EOD from the prediction's TRUE pack state equals the true EOD
 //              (prognostics::CalcPackEod inverted by a scalar root find, CalcEquivalentCurrent),

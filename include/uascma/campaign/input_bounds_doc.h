@@ -1,5 +1,5 @@
 #pragma once
-// The generated parts of docs/input-bounds.md (issue 23): the tables of every scenario-file key and every
+// The generated parts of docs/input-bounds.md: the tables of every scenario-file key and every
 // campaign-file key, written from the field tables (sim/scenario_fields.h, campaign/config_fields.h), so the
 // document cannot drift from the code. `uascma docs input-bounds --write` rewrites them; config_fields_test fails
 // while the committed file is not current.

@@ -3,10 +3,10 @@
 //
 // Rewards per time step (Fig. 5.32). Each 1 Hz decision epoch k earns the CMA reward of eqs. 5.20–5.29,
 //   r_k = R(S_k, A_k) = R(S_k) + R(A_k)        (decision::CmaReward, default weights of eqs. 5.28–5.29)
-// with S_k the abstract state the simulator computed (decisions item 7) and A_k the action the policy
+// with S_k the abstract state the simulator computed (docs/modelling-choices.md#margins) and A_k the action the policy
 // decided, except that an emergency action equal to the one already executing counts as NoOp
-// (decisions item 9, Fig. 5.16: "NoOp action is executed ... to prevent repeated execution"). When the
-// flight ends, one more term is the reward of the terminal state it reached:
+// (docs/modelling-choices.md#executing-action-repeat, Fig. 5.16: "NoOp action is executed ... to prevent repeated
+// execution"). When the flight ends, one more term is the reward of the terminal state it reached:
 //   completed or emergency landing → C,  terminated → T,  any failure (battery, control, collision,
 //   timeout) → FL,
 // and that term is R(S_end) alone (no decision is taken after the end): R(S_end, a) − R(E, a), since

@@ -1,11 +1,11 @@
 #pragma once
-// MPI for distributed campaigns (Open MPI, shared/spec/dependencies.md), optional at build time
+// MPI for distributed campaigns (Open MPI, scripts/install-deps.sh), optional at build time
 // (CMake option UASCMA_WITH_MPI) and at run time: `uascma campaign` never needs MPI unless it was
 // launched by mpirun/mpiexec, which LaunchedUnderMpi() detects from the launcher's environment
 // (OMPI_COMM_WORLD_SIZE for Open MPI; PMI_SIZE / PMIX_RANK for other launchers).
 // MPI itself lives in the library uascma::campaign_mpi (src/campaign/mpi/), which a program links and
 // enables with UseMpi() before its first session; the MPI launcher uascma-mpi does, and `uascma` hands
-// over to it when started by mpirun, so that the plain tool never loads libmpi (issue 27 item 5).
+// over to it when started by mpirun, so that the plain tool never loads libmpi.
 //
 // The session is owned by the program (the CLI command): MPI can be initialised and finalised once per
 // process. Only the thread that created the session calls MPI (MPI_THREAD_FUNNELED).

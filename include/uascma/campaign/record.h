@@ -33,7 +33,7 @@ struct RunRecord {
   std::string pack1_health;  // F1 | F2 | F3
   std::string pack2_health;
   std::string cell_health;     // campaign::CellHealthCode
-  std::string battery_health;  // composite BH: G | M | P (decisions item 8)
+  std::string battery_health;  // composite BH: G | M | P (docs/modelling-choices.md#battery-health-label)
   double ambient_temp_degf = 0.0;
   double wind_speed_mps = 0.0;
   double wind_direction_rad = 0.0;
@@ -41,7 +41,7 @@ struct RunRecord {
   bool fault = false;
   std::int64_t fault_motor = 0;  // 1..6, 0 without a fault
   std::optional<double> fault_onset_s;
-  // ---- the outcome (decisions items 10–11) ---------------------------------------------------------
+  // ---- the outcome (docs/modelling-choices.md#terminate, #outcomes) -------------------------------------------------
   std::string outcome;   // sim::OutcomeName
   bool failure = false;  // sim::IsFailure (battery, control, collision, timeout)
   std::string reason;
@@ -51,8 +51,8 @@ struct RunRecord {
   std::string actions;                             // JSON list of [time_s, "Action"]
   std::optional<double> first_emergency_action_s;  // first epoch whose decided action is not NoOp
   std::string first_emergency_action;              // its name, "" when none
-  // Decisions item 28: epochs at which the chosen action could not be carried out and another was taken, and the
-  // distinct substitutions as a JSON list of "Chosen->Taken".
+  // Unavailable actions (docs/modelling-choices.md#unavailable-actions): epochs at which the chosen action could not be
+  // carried out and another was taken, and the distinct substitutions as a JSON list of "Chosen->Taken".
   std::int64_t substitution_epochs = 0;
   std::string substitutions = "[]";
   std::optional<double> jam_time_s;
@@ -61,7 +61,7 @@ struct RunRecord {
   double min_cell_voltage_v = 0.0;
   double energy_wh = 0.0;
   double end_reserve_s = 0.0;  // sim::SimResult::end_reserve_s: how long the pack could still have hovered at the end
-  // The EOD's distribution when the CMA first acted (sim::SimResult::eod_at_first_action; issue 29): its 5/50/95 %
+  // The EOD's distribution when the CMA first acted (sim::SimResult::eod_at_first_action): its 5/50/95 %
   // quantiles and P(EOD < t_remaining + t_sf). None: it never acted.
   std::optional<double> first_action_eod_p05_s, first_action_eod_p50_s, first_action_eod_p95_s;
   std::optional<double> first_action_eod_short_probability;

@@ -1,5 +1,5 @@
 #pragma once
-// What one `uascma campaign` (or uascma.run_campaign) invocation did, with its two forms (issue 23): the line the
+// What one `uascma campaign` (or uascma.run_campaign) invocation did, with its two forms: the line the
 // CLI prints before the report, and the JSON object the CLI's --json puts under "run" and Python's run_campaign
 // returns (with the campaign hash beside it). Formatted once here; the CLI and Python only print it.
 #include <string>

@@ -53,7 +53,7 @@ inline constexpr int kMaxRunsInFlight = 64;  // ExecuteOptions::runs_in_flight's
 struct ExecuteOptions {
   int jobs = 0;  // worker threads; 0 → every hardware thread
   // Runs each worker thread keeps in flight, their flights' GNC steps taken in lockstep, four at a time with their
-  // control and rigid bodies in SIMD lanes (issue 27 item 4, sim/lockstep.h); 1: one run at a time, each step alone.
+  // control and rigid bodies in SIMD lanes (sim/lockstep.h); 1: one run at a time, each step alone.
   // The records are the same either way (wall_time_s apart).
   int runs_in_flight = 4;
   PlannerFactory planner_factory;  // empty: no emergency-landing planner
@@ -63,7 +63,7 @@ struct ExecuteOptions {
   int flush_rows = 256;           // … or when this many are waiting
   // The campaign's world (campaign/world.h), built once and shared by every flight; null: ExecuteFlights builds it.
   std::shared_ptr<const CampaignWorld> world;
-  // A line for the user when a process sharing the store waits for runs other processes hold (issue 26: a
+  // A line for the user when a process sharing the store waits for runs other processes hold (a
   // waiting --resume says what it waits for); empty: silent.
   std::function<void(const std::string&)> notice;
 };

@@ -1,7 +1,7 @@
 #pragma once
 // The scenario sampler of a Monte Carlo campaign (Table 4.4, §5.4, §5.5).
 //
-// A run's scenario is a pure function of (configuration, campaign seed, run index) (style habit 7):
+// A run's scenario is a pure function of (configuration, campaign seed, run index) (randomness is explicit):
 //   run_seed          = DeriveSeed(campaign seed, run index)              (common/random.h)
 //   sampler stream    = RandomStream(DeriveSeed(run_seed, kSamplerStream))
 //   scenario.seed     = DeriveSeed(run_seed, kSimulatorStream)            (wind, sensor noise, spall growth)
@@ -13,17 +13,17 @@
 //   1. cruise speed uniform on mission.cruise_speed_mps
 //   2. safety margin t_sf uniform on safety_margin_s
 //   3. six initial cell voltages, pack 1 cells 1–3 then pack 2, each uniform on the range
-//   4. battery health BH (decisions item 20): G, M or P by battery.health_weights; for M and P, k cells (k
-//      uniform on battery.degraded_cells) chosen uniformly among the six; M: one fade kind, capacity or power
-//      (½ each), drawn once for all k cells (battery.medium_fades: one_kind) or per cell (per_cell); P: the
+//   4. battery health BH (docs/modelling-choices.md#battery-health-draw): G, M or P by battery.health_weights; for M
+//      and P, k cells (k uniform on battery.degraded_cells) chosen uniformly among the six; M: one fade kind, capacity
+//      or power (½ each), drawn once for all k cells (battery.medium_fades: one_kind) or per cell (per_cell); P: the
 //      first both, the others capacity, power or both (⅓ each). Pack labels F1/F2/F3
 //      follow from the cells (models::ClassifyHealth), and the composite BH is the drawn one.
 //   5. cold (probability cold_probability) → ambient cold_temp_degf, else warm_temp_degf
 //   6. wind speed, direction, then the Dryden category uniform over the list
-//   7. the route (decisions items 19–20). The endurance fraction f uniform on mission.endurance_fraction;
-//      then, until the route fits: home uniform over the city's area (RouteArea: over an imported map the
-//      buildings' extent, so that routes fly over the city and not beside it, whatever the sites file covers)
-//      on open ground with mission.wall_clearance_m from every wall (the origin on an empty map), the bearing
+//   7. the route (docs/modelling-choices.md#campaign-missions, #battery-health-draw). The endurance fraction f uniform
+//      on mission.endurance_fraction; then, until the route fits: home uniform over the city's area (RouteArea: over an
+//      imported map the buildings' extent, so that routes fly over the city and not beside it, whatever the sites file
+//      covers) on open ground with mission.wall_clearance_m from every wall (the origin on an empty map), the bearing
 //      uniform on [0, 2π) from North, and
 //        I_cruise   = the largest steady current of the plan: level flight out, level flight back (airspeed
 //                     |±V ê − w|, V the cruise speed, ê the bearing, w the mean wind) and the drop hover
@@ -37,13 +37,13 @@
 //                     the shorter final route too);
 //      the destination must lie inside the city's area with wall_clearance_m from every wall. With mission.distance_m
 //      set, the distance is drawn on it instead (the plan is then not tied to the pack).
-//      Then the whole-load check (decisions item 27, CalcWholeLoad below): a route whose nominal plan fails it is not
-//      kept. An endurance-tied plan is first shortened, with the same home and bearing and no draw, to 1 s (the
-//      load profile's bin; ours) below EOD_whole − t_sf, up to kMaxWholeLoadShortenings times; a fixed-distance
-//      route, or one still failing, is redrawn (the next route attempt). Measured (seed 1, 465 runs each): no run of
-//      examples/campaign.yaml fails it (smallest margin EOD_whole − (T + t_sf) 0.4 s), so the default campaign is
-//      unchanged; 2 of examples/campaign-dissertation.yaml do (runs 257 and 336, short by 7.0 s and 16.1 s of their
-//      whole load), each shortened once.
+//      Then the whole-load check (docs/modelling-choices.md#dissertation-profile, CalcWholeLoad below): a route whose
+//      nominal plan fails it is not kept. An endurance-tied plan is first shortened, with the same home and bearing and
+//      no draw, to 1 s (the load profile's bin; ours) below EOD_whole − t_sf, up to kMaxWholeLoadShortenings times; a
+//      fixed-distance route, or one still failing, is redrawn (the next route attempt). Measured (seed 1, 465 runs
+//      each): no run of examples/campaign.yaml fails it (smallest margin EOD_whole − (T + t_sf) 0.4 s), so the default
+//      campaign is unchanged; 2 of examples/campaign-dissertation.yaml do (runs 257 and 336, short by 7.0 s and 16.1 s
+//      of their whole load), each shortened once.
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the
 //      fraction uniform on onset_fraction, then the motor uniform over the list.
 //
@@ -53,7 +53,7 @@
 //
 // The planning current is conservative where the flight draws more than its steady value: the bus voltage
 // is the nominal 3.7 V per cell (kPlanningCellVoltage), below the ~3.8–4.1 V a pack holds over most of its
-// discharge (the OCV table of defaults.md), so the current is overestimated while the climbs, gust
+// discharge (the OCV table of docs/defaults.md#battery), so the current is overestimated while the climbs, gust
 // corrections and the final sag are not modelled.
 #include <array>
 #include <cstdint>
@@ -73,10 +73,10 @@
 namespace uascma::campaign {
 
 // The fades of k cells chosen uniformly among `cells` (the first k of a partial Fisher–Yates shuffle), realising
-// health class M or P as Table 4.2 defines it (decisions item 20): M one fade per cell, capacity (Q → 0.8 Q) or
-// power (R0 → 2 R0), its kind drawn once for all k cells (MediumFades::kOneKind) or per cell; P the first cell
-// both fades, each other one capacity fade, power fade or both, ⅓ each. G draws nothing. The cells start healthy.
-// Campaigns draw over a battery's six cells (step 4 below), the battery MDP's flights over one pack's three.
+// health class M or P as Table 4.2 defines it (docs/modelling-choices.md#battery-health-draw): M one fade per cell,
+// capacity (Q → 0.8 Q) or power (R0 → 2 R0), its kind drawn once for all k cells (MediumFades::kOneKind) or per cell; P
+// the first cell both fades, each other one capacity fade, power fade or both, ⅓ each. G draws nothing. The cells start
+// healthy. Campaigns draw over a battery's six cells (step 4 below), the battery MDP's flights over one pack's three.
 void DrawCellFades(RandomStream& random, models::HealthClass health, int k, MediumFades medium_fades,
                    std::span<models::CellHealth* const> cells);
 
@@ -91,7 +91,8 @@ inline constexpr double kPlanningCellVoltage = 3.7;
 
 // The pack current (A) of steady level flight at `airspeed` (m/s): the thrust tilted until its horizontal part
 // balances the drag table's drag (models::DragTable::Default of the scenario's configuration), shared by six
-// rotors, each drawing the defaults.md power law, over a bus at kPlanningCellVoltage × 3, plus the hotel load.
+// rotors, each drawing the power law of docs/defaults.md#vehicle, over a bus at kPlanningCellVoltage × 3, plus the
+// hotel load.
 double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragTable& drag, double airspeed);
 // The largest of the out-leg, back-leg and drop-hover currents of a plan along `direction_NE` (step 7).
 double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTable& drag,
@@ -100,8 +101,9 @@ double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTa
 // a constant current (A).
 double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a);
 
-// Decisions item 27: flyability by a healthy pack judged over the nominal plan's whole load (take-off climb, cruise,
-// drop hover, descent, a gust allowance and t_sf), not at the cruise current alone (item 19).
+// Flyability by a healthy pack (docs/modelling-choices.md#dissertation-profile) judged over the nominal plan's whole
+// load (take-off climb, cruise, drop hover, descent, a gust allowance and t_sf), not at the cruise current alone
+// (#campaign-missions).
 //   E_rotor  = the plan's steady rotor energy, sim::LoadProfile(plan, {body, drag, power table, mean wind}, 6)
 //              .RemainingEnergyJ(0): each one-second bin's thrust against gravity, the reference acceleration and
 //              the drag at the reference air velocity (sim/load_forecast.h, what the flight's forecast uses);
@@ -133,13 +135,15 @@ struct SampledRun {
   double cruise_speed_mps = 0.0;
   double safety_margin_s = 0.0;                          // t_sf, also in scenario.options.safety_margin_s
   models::PerBranch<models::HealthClass> pack_health{};  // F1/F2/F3 per pack = G/M/P, from the cells
-  decision::BatteryHealth battery_health = decision::BatteryHealth::kG;  // BH drawn (decisions 8, 20)
+  // BH drawn (docs/modelling-choices.md#battery-health-label, #battery-health-draw)
+  decision::BatteryHealth battery_health = decision::BatteryHealth::kG;
   bool cold = false;
   double plan_duration_s = 0.0;       // the nominal delivery plan
   double endurance_fraction = 0.0;    // f of step 7 (0 when the distance was drawn instead)
   double cruise_current_a = 0.0;      // I_cruise of step 7
   double healthy_eod_s = 0.0;         // EOD_healthy of step 7
-  double whole_load_current_a = 0.0;  // I_whole of the nominal plan (CalcWholeLoad, decisions item 27)
+  // I_whole of the nominal plan (CalcWholeLoad, docs/modelling-choices.md#dissertation-profile)
+  double whole_load_current_a = 0.0;
   double whole_load_eod_s = 0.0;      // EOD_whole: >= plan_duration_s + safety_margin_s for every sampled run
   int whole_load_refits = 0;          // how often the check failed while step 7 drew this run (shortened or redrawn)
   sim::Scenario scenario;             // ready to fly

@@ -11,12 +11,12 @@
 //   mean m of a per-flight metric, SEM = s / √n, s the sample standard deviation (n − 1)
 // Outcomes (sim::OutcomeName): failure (the record's `failure` flag: battery, loss of control, collision,
 // timeout), original-plan completion, emergency landing, termination, grounded (an emergency action chosen
-// before take-off: the vehicle stays on the ground, safe and not completed, decisions item 21), and any
-// other name this code does not know (counted as "other", never dropped); the rates sum to one. Failures
-// are broken down by cause: battery, loss of control, collision, timeout, other (a failure whose name is
-// not one of those). Reward metrics: the per-flight average reward per time step and minimum instantaneous
-// reward (campaign/metrics.h), averaged over flights. An empty group has n = 0 and NaN estimates (null in
-// JSON).
+// before take-off: the vehicle stays on the ground, safe and not completed,
+// docs/modelling-choices.md#outcomes-refined), and any other name this code does not know (counted as "other", never
+// dropped); the rates sum to one. Failures are broken down by cause: battery, loss of control, collision, timeout,
+// other (a failure whose name is not one of those). Reward metrics: the per-flight average reward per time step and
+// minimum instantaneous reward (campaign/metrics.h), averaged over flights. An empty group has n = 0 and NaN estimates
+// (null in JSON).
 //
 // Paired comparison of two policies A and B on the same runs (McNemar's test): over the runs flown by both,
 // b = runs A failed and B did not, c = runs B failed and A did not (the concordant pairs carry no
@@ -93,8 +93,8 @@ struct GroupStatistics {
                off_site_landings = 0, others = 0;
   Estimate failure_rate, completion_rate, emergency_landing_rate, termination_rate, grounded_rate, off_site_rate,
       other_rate;
-  // Decisions item 28: flights in which a chosen action could not be carried out and another was taken, the epochs
-  // of it, and each "Chosen->Taken" pair with the flights it happened in.
+  // Unavailable actions (docs/modelling-choices.md#unavailable-actions): flights in which a chosen action could not be
+  // carried out and another was taken, the epochs of it, and each "Chosen->Taken" pair with the flights it happened in.
   std::int64_t flights_with_substitution = 0, substitution_epochs = 0;
   std::map<std::string, std::int64_t> substitutions;
   Interval failure_wilson, failure_clopper_pearson;                  // of failure_rate
@@ -144,7 +144,7 @@ struct PairedComparison {
 std::vector<PairedComparison> ComparePaired(const std::vector<RunRecord>& records,
                                             const std::vector<std::string>& policy_order = {});
 
-// Unnecessary landings (issue 29): an emergency landing, on a site or off it, in a run whose NoOp flight (policy
+// Unnecessary landings: an emergency landing, on a site or off it, in a run whose NoOp flight (policy
 // kNoOpPolicy) completed with at least t_sf of hover left (RunRecord::end_reserve_s >= safety_margin_s, the run's
 // own t_sf): the landing kept the vehicle safe from nothing. Summarise counts them per group (has_noop_twin,
 // unnecessary_landings), ComparePaired tests them per pair (unnecessary_test), StatisticsTable prints them.
@@ -153,7 +153,7 @@ inline constexpr const char* kNoOpPolicy = "noop";
 std::map<std::int64_t, const RunRecord*> NoOpFlightsByRun(const std::vector<RunRecord>& records);
 bool IsUnnecessaryLanding(const RunRecord& record, const std::map<std::int64_t, const RunRecord*>& noop_by_run);
 
-// The dissertation's headline for comparison (§5.5.3, shared/spec/README.md): poor battery health,
+// The dissertation's headline for comparison (§5.5.3 and the abstract): poor battery health,
 // failure rate of CMA 1.3 % vs NoOp 71 %.
 inline constexpr double kDissertationPoorHealthFailureRateCma = 0.013;
 inline constexpr double kDissertationPoorHealthFailureRateNoOp = 0.71;

@@ -1,5 +1,5 @@
 #pragma once
-// The results store of a campaign: one SQLite file per campaign (shared/spec/dependencies.md), written
+// The results store of a campaign: one SQLite file per campaign (scripts/install-deps.sh), written
 // by one or several processes at once.
 //
 // Schema (PRAGMA user_version = 2, journal_mode = WAL):
@@ -126,7 +126,7 @@ struct ClaimResult {
   // Candidates examined and in none of the lists had every flight stored.
 };
 
-// What CheckStore found in a database file (issue 26 item 2).
+// What CheckStore found in a database file.
 struct StoreCheckResult {
   std::int64_t schema_version = 0;
   std::string campaign_name;
@@ -218,7 +218,7 @@ class ResultsStore {
   ClaimResult ClaimRuns(const std::vector<std::int64_t>& candidates, std::size_t max_claims);
   // The worker holding the claim on run `run_index`, if any (0 when none).
   std::int64_t ClaimHolder(std::int64_t run_index) const;
-  // Who worker `worker` is, for a message to the user (issue 26 item 9: a waiting --resume says what it waits
+  // Who worker `worker` is, for a message to the user (a waiting --resume says what it waits
   // for): "pid P on this machine (stopped: ...)" with what the process is doing as far as this machine can tell
   // (running, stopped by Ctrl-Z or SIGSTOP, ended), or "a process on host H" for another machine's worker.
   std::string DescribeWorker(std::int64_t worker) const;

@@ -1,5 +1,5 @@
 #pragma once
-// The world a campaign's flights fly in, built once per campaign and passed to every run (issue 23; style habit 5:
+// The world a campaign's flights fly in, built once per campaign and passed to every run (a model apart from its state:
 // model apart from state): the city (the built-in procedural city of the configuration's seed, or the imported
 // one), its geodetic origin, and the buildings' hulls inflated for the emergency planners. Immutable and shared
 // by every thread; a run's scenario (campaign/sampler.h) holds the same map and hulls, so no flight re-imports,

@@ -1,5 +1,5 @@
 #pragma once
-// Plausibility bounds on numeric inputs (issue 16). Every number a user types — a CLI option or a YAML
+// Plausibility bounds on numeric inputs. Every number a user types — a CLI option or a YAML
 // field — has a closed interval of plausible values, stated in `--help` and checked where the value is
 // validated; a value outside gets InputError (exit code 2) naming the option or field and the bound, so a
 // typo such as 1e9 A never reaches a model and comes back as nonsense with exit code 0.

@@ -1,5 +1,5 @@
 #pragma once
-// A request to stop long work (issue 23): one flag that a caller raises and the work looks at between items.
+// A request to stop long work: one flag that a caller raises and the work looks at between items.
 //
 // CancellationToken::Process() is the process-wide token: RequestStop() / StopRequested() / ClearStopRequest()
 // (common/progress.h) raise, read and lower it, so the CLI's SIGINT handler (apps/uascma/campaign_command.cc) and

@@ -1,5 +1,5 @@
 #pragma once
-// The three tiers of errors (shared/style.md, habit 8):
+// The three tiers of errors (CONTRIBUTING.md):
 //  1. Bad input from a caller or a file: throw InputError. Its message is one line that names the
 //     source (a file, or "--option" on the command line), the field, and what was expected. The CLI
 //     turns it into exit code 2.

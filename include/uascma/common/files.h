@@ -13,7 +13,7 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view con
 // Reads a whole file; throws InputError naming the path when it cannot be read.
 std::string ReadFile(const std::filesystem::path& path);
 
-// An output folder written whole or not at all (issue 16): after a command with `--out DIR`, DIR holds
+// An output folder written whole or not at all: after a command with `--out DIR`, DIR holds
 // exactly this run's files, never a mix with an earlier run's.
 //
 //   OutputDirectory out("--out", user_path);   // checks the rule below, makes a fresh staging folder

@@ -1,5 +1,5 @@
 #pragma once
-// Frames and their notation, defined once for the whole project (shared/style.md, habit 2).
+// Frames and their notation, defined once for the whole project (CONTRIBUTING.md).
 //
 //   W  world frame: NED local tangent plane, metres. x north, y east, z down; the ground is z = 0, so
 //      an altitude h is p_WB_W.z() = −h. Gravity is +g along z_W.
@@ -20,7 +20,7 @@
 namespace uascma {
 
 inline constexpr double kGravity = 9.80665;   // m/s², standard gravity
-inline constexpr double kAirDensity = 1.225;  // kg/m³, ISA sea level (shared/spec/defaults.md, drag)
+inline constexpr double kAirDensity = 1.225;  // kg/m³, ISA sea level (docs/defaults.md#drag)
 inline constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
 
 // The five entries of R_WB that the Z-Y-X angles read (and the tilt, r22 = cos of it).

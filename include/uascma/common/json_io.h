@@ -15,7 +15,7 @@ namespace uascma {
 nlohmann::json ParseJsonText(std::string_view text, const std::string& source);
 
 // For text that nlohmann::json::parse accepted: InputError(source, "line N", …) naming both lines when an
-// object holds one key twice (issue 26 item 6; RFC 8259 §4 leaves the meaning to each tool: nlohmann keeps
+// object holds one key twice (RFC 8259 §4 leaves the meaning to each tool: nlohmann keeps
 // the last value, others the first or refuse). Keys are compared after their escapes are decoded
 // ("a" and "\u0061" are the same key).
 void CheckJsonKeysUnique(std::string_view text, const std::string& source);

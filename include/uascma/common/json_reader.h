@@ -1,5 +1,5 @@
 #pragma once
-// Typed reading of a JSON document (issue 23): every value knows the file it came from and its path in the
+// Typed reading of a JSON document: every value knows the file it came from and its path in the
 // document ("mission.items[3].params[2]"), and every typed access that fails throws
 // InputError(source, path, what was expected), so a reader never checks a member by hand and never lets a
 // nlohmann type_error escape as an internal error.

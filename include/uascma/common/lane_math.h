@@ -1,9 +1,9 @@
 #pragma once
-// Our own asin, atan, atan2, cos, exp and expm1 (issue 27, item 4's precondition): each as a scalar function and
-// on four lanes, the lanes bit-identical to the scalar function of each lane's argument. A flight stepped in a lane
+// Our own asin, atan, atan2, cos, exp and expm1 (what stepping flights in lockstep needs): each as a scalar function
+// and on four lanes, the lanes bit-identical to the scalar function of each lane's argument. A flight stepped in a lane
 // beside three others (lockstep, structure of arrays) then computes exactly what it computes flown alone, provided
 // the flight flown alone calls these scalar functions instead of libm's. The simulator's LQR takes its three attitude
-// errors with one Atan2_4 (gnc/lqr.cc, session 12, which re-based the fingerprints: these differ from libm in the last
+// errors with one Atan2_4 (gnc/lqr.cc; adopting it re-based the fingerprints: these differ from libm in the last
 // bit for some arguments); the rigid body's incidence still calls libm's asin.
 //
 // Lanes, on an instruction set chosen at run time (never a binary that fails on an older CPU): SSE2 (two 2-wide

@@ -11,7 +11,7 @@
 // Method and coefficients: scripts/fit-lane-math.py derives the two fitted polynomials (atan, asin) and the split
 // constants; exp, expm1 and cos use Taylor coefficients 1/k!, computed below. Polynomials are evaluated in Estrin's
 // scheme (pairs, then powers w², w⁴, w⁸), whose chains are half as long as Horner's: the latency of a dependent
-// chain of calls is what session 8's Horner-form atan/asin lost to glibc's.
+// chain of calls is what an earlier Horner-form atan/asin lost to glibc's.
 #include <array>
 #include <bit>
 #include <cstddef>

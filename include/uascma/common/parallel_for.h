@@ -1,5 +1,5 @@
 #pragma once
-// Independent jobs on threads, one way for every feature (issue 23: campaigns, learning, transitions, battery
+// Independent jobs on threads, one way for every feature (campaigns, learning, transitions, battery
 // flights).
 //
 //   ParallelFor(count, options, job, merge)

@@ -1,5 +1,5 @@
 #pragma once
-// Progress and cooperative stopping of long work (campaigns, learning, sweeps; issue 25).
+// Progress and cooperative stopping of long work (campaigns, learning, sweeps).
 //
 // Progress. A ProgressBar counts finished items (Advance, safe from many threads) and reports on stderr:
 //   * stderr a terminal: a bar redrawn in place, at most ten times a second;
@@ -25,8 +25,8 @@
 
 namespace uascma {
 
-inline constexpr double kProgressLinePeriodSeconds = 10.0;  // ours (issue 25: "every ~10 s")
-inline constexpr double kProgressLineStepFraction = 0.05;   // ours (issue 25: "or 5 %")
+inline constexpr double kProgressLinePeriodSeconds = 10.0;  // ours ("every ~10 s")
+inline constexpr double kProgressLineStepFraction = 0.05;   // ours ("or 5 %")
 inline constexpr double kProgressLineMinGapSeconds = 1.0;   // ours: no flood when items are quick
 
 // Asks every long loop that checks StopRequested() to end early. Async-signal-safe.

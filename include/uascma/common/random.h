@@ -1,5 +1,5 @@
 #pragma once
-// Explicit random streams (style habit 7): every stochastic call takes a RandomStream&, and every Monte
+// Explicit random streams (randomness is explicit): every stochastic call takes a RandomStream&, and every Monte
 // Carlo run records the seed that replays it. The generator is xoshiro256** (Blackman & Vigna, "Scrambled
 // linear pseudorandom number generators", 2021) seeded through SplitMix64; normals come from the
 // ziggurat method with 256 layers (Marsaglia & Tsang, "The ziggurat method for generating random

@@ -1,6 +1,6 @@
 #pragma once
 // Text that enters uascma from a user (names in YAML files, file and folder names used as names) is UTF-8
-// or refused where it enters (issue 26 item 3): every writer (JSON summaries, SQLite, plots) can then carry
+// or refused where it enters: every writer (JSON summaries, SQLite, plots) can then carry
 // it losslessly, and none fails half-way with a JSON type error.
 #include <cstddef>
 #include <optional>

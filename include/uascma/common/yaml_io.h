@@ -1,5 +1,5 @@
 #pragma once
-// Typed reads from YAML with errors that name the file and the key path (style habit 8).
+// Typed reads from YAML with errors that name the file and the key path (bad input names file, field and expectation).
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -15,10 +15,10 @@ YAML::Node LoadYamlFile(const std::filesystem::path& path);
 
 // Parses YAML text (`source` names it in errors) and refuses, with an InputError naming the line(s):
 //   - a syntax error;
-//   - a key given twice in one mapping (issue 26 item 6): YAML 1.2 requires keys to be unique, and tools
+//   - a key given twice in one mapping: YAML 1.2 requires keys to be unique, and tools
 //     disagree on which value counts (yaml-cpp's node[key] returns the first, PyYAML keeps the last), so
 //     the file is refused naming both lines rather than read one way;
-//   - a scalar that is not UTF-8 (issue 26 item 3), naming its line.
+//   - a scalar that is not UTF-8, naming its line.
 // An empty document gives a null node.
 YAML::Node ParseYamlText(const std::string& text, const std::string& source);
 

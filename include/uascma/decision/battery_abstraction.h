@@ -5,8 +5,8 @@
 // executor and the evaluation; every threshold a BatteryThresholds field:
 //   S1: EOD > RFD + t_sf;  S2: RFD ≤ EOD ≤ RFD + t_sf (the table's "RFD > EOD > RFD + t_sf" is read as
 //   RFD + t_sf ≥ EOD ≥ RFD);  S3: EOD < RFD.  C0: min cell voltage ≥ 3.4 V, C1: below.  I_H: I > 0.2·I_max,
-//   I_max = 105 A, else I_L.  FAILURE: a cell of a switched-on pack at or below 3.3 V (decisions item 11).
-//   Per-pack quantities are the worst cell of the pack (§4.3.1.1).
+//   I_max = 105 A, else I_L.  FAILURE: a cell of a switched-on pack at or below 3.3 V
+//   (docs/modelling-choices.md#outcomes). Per-pack quantities are the worst cell of the pack (§4.3.1.1).
 #include <limits>
 
 #include "uascma/decision/battery_mdp.h"
@@ -17,7 +17,7 @@ namespace uascma::decision {
 
 struct BatteryThresholds {
   double critical_voltage_v = 3.4;                    // C0/C1 boundary, Table 4.1
-  double failure_voltage_v = models::kCutoffVoltage;  // 3.3 V, Table 4.1, decisions item 11
+  double failure_voltage_v = models::kCutoffVoltage;  // 3.3 V, Table 4.1, docs/modelling-choices.md#outcomes
   double max_current_a = models::kMaxPackCurrent;     // I_max = 105 A, Table 4.1
   double high_current_fraction = 0.2;                 // I_H: I > 0.2 I_max, Table 4.1
 };
@@ -58,7 +58,8 @@ StateIndex AbstractBatteryState(const BatteryObservation& observation, const Bat
 // The observation of the pack model at one epoch. Each pack's features describe what it can do ALONE at the
 // present load, whatever the switches (our reading of "each battery's EOD", Fig. 4.2, and of §4.3.1.1: "when
 // the battery reaches B_iS_3 the battery will deplete before the mission ends"):
-//   eod_s[i]               the EOD of pack i's cells (prognostics/eod.h, decisions item 14) if pack i alone
+//   eod_s[i]               the EOD of pack i's cells (prognostics/eod.h, docs/modelling-choices.md#pack-eod) if
+//                          pack i alone
 //                          carried the present total current;
 //   min_cell_voltage_v[i]  pack i's worst cell terminal voltage (eq. 3.3) if it carried that current alone.
 // So B_iS_1 reads "pack i alone can finish the mission with the margin" (the dissertation's "preference ... to
@@ -75,8 +76,8 @@ BatteryObservation ObserveBattery(const models::BatteryPack& pack, const models:
 // Fills observation.alone_power_*: for each pack j alone, the current I_j that carries the present bus power
 // P = I·V_bus (I = total_current_a, V_bus the bus under the present switches), I_j·V_alone(I_j) = P solved by
 // fixed-point iteration (|ΔI| < 1e-9 A; the map contracts by R·I/V, a few per cent for these packs), then the
-// EOD at I_j (decision 14's constant-current propagation) and the worst cell under I_j. A pack whose bus cannot
-// carry P at any current gets I_j = +inf, EOD 0 and a worst cell of 0 V.
+// EOD at I_j (the constant-current propagation of docs/modelling-choices.md#pack-eod) and the worst cell under I_j. A
+// pack whose bus cannot carry P at any current gets I_j = +inf, EOD 0 and a worst cell of 0 V.
 void ObserveAloneAtPower(const models::BatteryPack& pack, const models::PackState& state, double total_current_a,
                          BatteryObservation& observation, const prognostics::EodOptions& eod_options = {});
 

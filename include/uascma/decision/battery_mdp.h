@@ -10,8 +10,8 @@
 // Actions (Table 4.3): UseBatt1, UseBatt2, UseBoth = models::PackAction (same indices 0, 1, 2).
 // Context (Table 4.2): the health of each pack F1 (healthy) / F2 (medium) / F3 (unhealthy), the
 // models::HealthClass G / M / P, and the ambient temperature T_H (> 50 °F) / T_L (< 50 °F), constant in a
-// flight; one MDP and one policy per (B1F, B2F, T): 18 contexts (decisions item 24, Fig. 4.5).
-// Rewards (eqs. 4.1–4.9, decisions item 22):
+// flight; one MDP and one policy per (B1F, B2F, T): 18 contexts (docs/modelling-choices.md#battery-mdp-policies, Fig.
+// 4.5). Rewards (eqs. 4.1–4.9, docs/modelling-choices.md#battery-mdp-rewards):
 //   R(s, UseBatt1) = w1 R_B1S + w2 R_B1C − w3 R_B2Sw        (4.1; 4.2 mirrors it for UseBatt2)
 //   R(s, UseBoth)  = w1 ΣR_BiS/2 + w2 ΣR_BiC/2 − w3 [ΣR_BiSw/2 − 1]   (4.3)
 //   R_BiS: 0 in S1; in S2 −5 when pack i's health is at least as good as the other pack's, else −10; in S3
@@ -98,12 +98,12 @@ models::HealthClass ParseBatteryHealth(const std::string& name, const std::strin
 // ambient temperature.
 BatteryContext BatteryContextOf(const models::PerCell<models::CellHealth>& cell_health, double ambient_temp_degf);
 
-// --- Rewards (eqs. 4.1–4.9, decisions item 22) ---------------------------------------------------
+// --- Rewards (eqs. 4.1–4.9, docs/modelling-choices.md#battery-mdp-rewards) -------------------------------------------
 struct BatteryRewardWeights {
-  // Ours (decisions item 22), measured on case study 4 (F2,F1) with a policy learned from 1,500 flights
-  // (seed 1): with every weight set tried — (0.5, 0.3, 0.2), (0.34, 0.33, 0.33), (0.1, 0.6, 0.3), (0.1, 0.1, 0.8),
-  // … — π* leaves UseBoth for UseBatt2 (not the poorer pack 1) at the first epoch, Fig. 4.11's switching; with
-  // the switching term largest the flight lasts longest (688 s against 512 s for (0.5, 0.3, 0.2)) because
+  // Ours (docs/modelling-choices.md#battery-mdp-rewards), measured on case study 4 (F2,F1) with a policy learned from
+  // 1,500 flights (seed 1): with every weight set tried — (0.5, 0.3, 0.2), (0.34, 0.33, 0.33), (0.1, 0.6, 0.3), (0.1,
+  // 0.1, 0.8), … — π* leaves UseBoth for UseBatt2 (not the poorer pack 1) at the first epoch, Fig. 4.11's switching;
+  // with the switching term largest the flight lasts longest (688 s against 512 s for (0.5, 0.3, 0.2)) because
   // cycling between the packs near the 3.4 V limit is penalised most. None of them completes that flight
   // (README, "Where we differ").
   double w1 = 0.2;  // R_BiS, energy against the remaining flight
@@ -117,12 +117,13 @@ inline constexpr double kBatteryFailureReward = -30.0;  // eq. 4.8
 double BatteryReward(StateIndex state, models::PackAction action, const BatteryContext& context,
                      const BatteryRewardWeights& weights);
 
-// --- Our formulation (issue 24; "ours", not the dissertation's) -----------------------------------
+// --- Our formulation ("ours", not the dissertation's) -----------------------------------
 // Why (the diagnosis, README "Battery reconfiguration, judged"): under eqs. 4.1-4.3 a single-pack action is charged
 // only the pack it uses, so leaving a weak pack idle hides its S3 from the reward; γ = 0.95 per 1 s epoch sees a
 // failure minutes ahead at 0.95^60 ≈ 0.05; an unobserved row is a reward-holding self-loop (an optimistic
 // attractor); and eq. 4.7 charges switch positions, not switching. Ours keeps the 289 states, the counted
-// rows, eqs. 4.5-4.8 and decision 22's weights (w1 energy, w2 voltage, w3 switches), and changes:
+// rows, eqs. 4.5-4.8 and the weights of docs/modelling-choices.md#battery-mdp-rewards (w1 energy, w2 voltage, w3
+// switches), and changes:
 //   1. both packs are charged whatever the action: R_state(s) = w1 ΣR_BiS/2 + w2 ΣR_BiC/2 (eq. 4.3's state
 //      part for every action: the idle pack still has to carry its share of the flight);
 //   2. eq. 4.7 read as a switching cost: −w3 per pack switch the action toggles (0 to stay, 1 from UseBoth to a

@@ -1,10 +1,12 @@
 #pragma once
-// The battery MDP of one context built from transition counts (dissertation §4.3.2, decisions items 23-24), and
-// the model a policy is solved from: the counts with γ, the reward weights and their provenance. The states,
-// actions, contexts and rewards are decision/battery_mdp.h; the counts are gathered from Monte Carlo flights by
-// learning/battery_transition_estimation.h; the model's file is decision/battery_mdp_file.h.
+// The battery MDP of one context built from transition counts (dissertation §4.3.2,
+// docs/modelling-choices.md#battery-mdp-transitions, #battery-mdp-policies), and the model a policy is solved from: the
+// counts with γ, the reward weights and their provenance. The states, actions, contexts and rewards are
+// decision/battery_mdp.h; the counts are gathered from Monte Carlo flights by learning/battery_transition_estimation.h;
+// the model's file is decision/battery_mdp_file.h.
 //
-// Transitions (§4.3.2, decisions items 23-24): switching is deterministic and instantaneous. In a state
+// Transitions (§4.3.2, docs/modelling-choices.md#battery-mdp-transitions, #battery-mdp-policies): switching is
+// deterministic and instantaneous. In a state
 //   whose switches already are the action's, the row is the 1 Hz transition frequencies counted in Monte
 //   Carlo flights flown with that action throughout (a "learned" row); a learned row never observed is a
 //   self-loop with p = 1 (reported as "unobserved"). In a state whose switches differ, the switch takes
@@ -30,7 +32,7 @@
 
 namespace uascma::decision {
 
-// --- Transition counts (§4.3.2, decisions item 23) ----------------------------------------------
+// --- Transition counts (§4.3.2, docs/modelling-choices.md#battery-mdp-transitions) -----------------------------------
 class BatteryTransitionCounts {
  public:
   BatteryTransitionCounts();
@@ -76,7 +78,7 @@ class BatteryTransitionCounts {
 
 struct BatteryModelStats {
   int learned_rows = 0;          // (state, action) rows whose switches match the action: 3 × 72 = 216
-  int unobserved_rows = 0;       // of those, never observed: self-loops (decisions item 23)
+  int unobserved_rows = 0;  // of those, never observed: self-loops (docs/modelling-choices.md#battery-mdp-transitions)
   int switch_rows = 0;           // rows of states whose switches differ from the action's (switch, then the
                                  // switched state's learned row)
   std::int64_t transitions = 0;  // counted 1 Hz transitions behind the learned rows

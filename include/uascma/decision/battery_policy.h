@@ -1,6 +1,6 @@
 #pragma once
-// The battery MDP's policies (dissertation §4.3.2.1, decisions item 24) and their 1 Hz executor.
-// Policies: value iteration, γ = 0.95 (§4.3.2.1), one per context (Table 4.2, 18 contexts); the decision tree
+// The battery MDP's policies (dissertation §4.3.2.1, docs/modelling-choices.md#battery-mdp-policies) and their 1 Hz
+// executor. Policies: value iteration, γ = 0.95 (§4.3.2.1), one per context (Table 4.2, 18 contexts); the decision tree
 // of Fig. 4.5 (temperature, then B1 health, then B2 health) picks one at take-off. Ours (decision/battery_mdp.h):
 // policy iteration at our discount. The policy file is decision/battery_mdp_file.h.
 #include <array>
@@ -50,8 +50,8 @@ BatteryPolicySet SolveBatteryPolicies(const BatteryModel& model);
 // Ours (above): policy iteration per context at `gamma` (campaign::OursBatteryDiscount).
 BatteryPolicySet SolveOursBatteryPolicies(const BatteryModel& model, double gamma);
 
-// The 1 Hz battery executor (decisions item 24): the context's policy looked up per abstract state; the
-// action takes effect at once.
+// The 1 Hz battery executor (docs/modelling-choices.md#battery-mdp-policies): the context's policy looked up per
+// abstract state; the action takes effect at once.
 class BatteryPolicyExecutor {
  public:
   BatteryPolicyExecutor(const BatteryPolicySet& policies, const BatteryContext& context);

@@ -8,8 +8,9 @@
 // the flight ended during that epoch (E is never an immediate successor). The counts are kept, so a model can be
 // re-estimated or merged; learning/transition_estimation.h gathers them from simulated flights.
 //
-// The estimated MDP (BuildEstimatedCmaMdp) has the state and action sets, the availability (decisions item 3)
-// and the rewards R(S, A) of the DDN model (decision/cma_mdp.h BuildCmaMdp with the same weights). Its rows:
+// The estimated MDP (BuildEstimatedCmaMdp) has the state and action sets, the availability
+// (docs/modelling-choices.md#action-availability) and the rewards R(S, A) of the DDN model (decision/cma_mdp.h
+// BuildCmaMdp with the same weights). Its rows:
 //   observed (s, a), n(s, a) = Σ_s' count(s, a, s') > 0:  p(s'|s, a) = count(s, a, s') / n(s, a)  (the
 //                                                          maximum-likelihood estimate, no smoothing);
 //   unobserved available (s, a):                           the DDN row of Tables 5.1–5.7 (eqs. 5.16–5.19):

@@ -4,10 +4,11 @@
 // States (§5.3.2.1): 108 tuples FS,MH,MM,BH,RM with FS ∈ {N, ELASAP, ELPRACT}, MH ∈ {NF, SF, JF},
 // MM ∈ {MM0, MM1}, BH ∈ {G, M, P}, RM ∈ {RM0, RM1}, then the terminal states C, T, FL, E (112).
 // Actions (§5.3.2.2): NoOp, Terminate, LandASAP, LandPract, available by flight status
-// (shared/spec/decisions.md item 3): N → all; ELPRACT → {NoOp, Terminate, LandASAP};
+// (docs/modelling-choices.md#action-availability): N → all; ELPRACT → {NoOp, Terminate, LandASAP};
 // ELASAP → {NoOp, Terminate}; C, T, FL, E → all four, each moving to E with probability 1.
-// Transitions: Tables 5.1–5.7 as printed, composed per eqs. 5.16–5.19 and decisions items 1–2.
-// Rewards: eqs. 5.20–5.29, R(S, A) = R(S) + R(A) for every state (decisions item 4).
+// Transitions: Tables 5.1–5.7 as printed, composed per eqs. 5.16–5.19 and
+// docs/modelling-choices.md#transition-composition, #landing-loads-motor. Rewards: eqs. 5.20–5.29, R(S, A) = R(S) +
+// R(A) for every state (docs/modelling-choices.md#rewards).
 #include <array>
 #include <filesystem>
 #include <string>
@@ -19,7 +20,7 @@
 
 namespace uascma::decision {
 
-// Feature value indices (the order of the labels in shared/spec/README.md).
+// Feature value indices (the order of the state labels FS, MH, MM, BH, RM, §5.3.2).
 enum class FlightStatus { kN = 0, kElAsap = 1, kElPract = 2 };
 enum class MotorHealth { kNF = 0, kSF = 1, kJF = 2 };
 enum class MotorMargin { kMM0 = 0, kMM1 = 1 };
@@ -32,7 +33,7 @@ inline constexpr int kCmaNumTupleStates = 108;
 inline constexpr int kCmaNumStates = 112;
 inline constexpr int kCmaNumActions = 4;
 
-// The abstract state the executor computes at 1 Hz (decisions items 7–11).
+// The abstract state the executor computes at 1 Hz (docs/modelling-choices.md#margins to #outcomes).
 struct CmaState {
   FlightStatus fs = FlightStatus::kN;
   MotorHealth mh = MotorHealth::kNF;
@@ -63,7 +64,7 @@ struct CmaWeights {
   double Terminate = 0.0;
   double LandASAP = 0.02;
   double LandPract = 0.041;
-  // w_S, ordered [FS, MH, MM, BH, RM] (eq. 5.29, decisions item 4).
+  // w_S, ordered [FS, MH, MM, BH, RM] (eq. 5.29, docs/modelling-choices.md#rewards).
   double FS = 0.0;
   double MH = 0.0;
   double MM = 0.082;
@@ -82,12 +83,12 @@ struct CmaWeights {
 
 struct CmaConfig {
   CmaWeights weights;
-  double gamma = 0.95;  // decisions item 5
+  double gamma = 0.95;  // docs/modelling-choices.md#discount
 };
 
-// Plausibility bounds (issue 16, common/bounds.h). Each weight is a share of the total reward, which
+// Plausibility bounds (common/bounds.h). Each weight is a share of the total reward, which
 // the dissertation's weights split to a sum of one (eqs. 5.22, 5.28-5.29): 0 to 1. The discount factor:
-// 0 to 0.999 (our bound; decisions item 5 uses 0.95, and gamma -> 1 makes the values of eq. 5.15
+// 0 to 0.999 (our bound; docs/modelling-choices.md#discount uses 0.95, and gamma -> 1 makes the values of eq. 5.15
 // diverge as 1 / (1 - gamma)).
 inline constexpr Bounds kCmaWeightBounds{0.0, 1.0, ""};
 inline constexpr Bounds kGammaBounds{0.0, 0.999, ""};

@@ -8,7 +8,7 @@
 // a terminal state with probability 1, e.g. Terminate → T), and chain into absorbing states
 // (C, T, FL → E; E → E).
 //
-// Composition of the row of (x, a), eqs. 5.16–5.19 and shared/spec/decisions.md item 1:
+// Composition of the row of (x, a), eqs. 5.16–5.19 and docs/modelling-choices.md#transition-composition:
 //   forced exit:          {terminal: 1}
 //   otherwise:            p(x') = Π_f P(x'_f | parents_f(x), a) for every non-terminal x' with p > 0,
 //                         plus P(exit | parents(x), a) for each exit table,

@@ -11,7 +11,7 @@
 //   choice_row_begin    [num_choices + 1]  successors of choice c: [begin[c], begin[c+1])
 //   next_state          [num_transitions]  s'
 //   probability         [num_transitions]  p(s'|s,a)
-// The model is immutable once built (style habit 5); solvers take it by const reference.
+// The model is immutable once built (a model apart from its state); solvers take it by const reference.
 #include <cstdint>
 #include <span>
 #include <string>

@@ -55,11 +55,11 @@ Policy BindPolicy(const PolicyDocument& document, const FiniteMdp& mdp, const st
 FiniteMdp CmaModelForPolicy(const PolicyDocument& document, const std::string& weights_file, const std::string& source);
 // Reads a CMA policy file and binds it to its model (hash checked): the action and value per state.
 // `ranking`, when given, receives per state the available actions by decreasing Q(s, a) of the bound model and
-// the file's values, the file's own action first (RankActionsByQ; decisions item 28).
+// the file's values, the file's own action first (RankActionsByQ; docs/modelling-choices.md#unavailable-actions).
 Policy LoadCmaPolicy(const std::filesystem::path& path, const std::string& weights_file = "",
                      std::vector<std::vector<ActionIndex>>* ranking = nullptr);
 // The policy every command calls "cma": the CMA MDP with the dissertation's weights (eqs. 5.28–5.29) and
-// γ = 0.95 (decisions items 4–5), solved by value iteration.
+// γ = 0.95 (docs/modelling-choices.md#rewards, #discount), solved by value iteration.
 // `ranking` as LoadCmaPolicy's.
 Policy SolveDefaultCmaPolicy(std::vector<std::vector<ActionIndex>>* ranking = nullptr);
 

@@ -25,8 +25,9 @@ enum class SweepOrder {
 };
 
 struct ValueIterationOptions {
-  double gamma = 0.95;                // shared/spec/decisions.md item 5
-  double residual_tolerance = 1e-10;  // stop when max_s |V_{k+1}(s) − V_k(s)| < this (item 5)
+  double gamma = 0.95;                // docs/modelling-choices.md#discount
+  double residual_tolerance = 1e-10;  // stop when max_s |V_{k+1}(s) − V_k(s)| < this
+                                      // (docs/modelling-choices.md#discount)
   int max_iterations = 100000;
   SweepOrder order = SweepOrder::kGaussSeidel;
   bool IsValid(std::string* error) const;
@@ -88,7 +89,8 @@ std::vector<ActionIndex> GreedyPolicy(const FiniteMdp& mdp, double gamma, const 
 double ChoiceQValue(const FiniteMdp& mdp, std::int64_t choice, double gamma, const std::vector<double>& value);
 // Per state, its available actions by decreasing Q(s, a) under `value` (ties: the lower action index first), with
 // `policy_action[s]` moved to the front when given (a policy's own choice leads even where another action has the
-// same value). What an executor falls back on when the chosen action cannot be carried out (decisions item 28).
+// same value). What an executor falls back on when the chosen action cannot be carried out
+// (docs/modelling-choices.md#unavailable-actions).
 std::vector<std::vector<ActionIndex>> RankActionsByQ(const FiniteMdp& mdp, double gamma,
                                                      const std::vector<double>& value,
                                                      const std::vector<ActionIndex>* policy_action = nullptr);

@@ -47,7 +47,8 @@ RiccatiSolution SolveDiscreteRiccati(const StateMatrix& A, const InputMatrix& B,
                                      const Eigen::Matrix4d& R, double tolerance = 1e-11, int max_iterations = 60);
 
 // Bryson's-rule weights: each entry is the largest acceptable excursion (Q = diag(1/x²), R = diag(1/u²)).
-// Our estimates, tuned in simulation for a damped response at the defaults.md acceleration limits.
+// Our estimates, tuned in simulation for a damped response at the acceleration limits of
+// docs/defaults.md#guidance-and-control.
 struct LqrWeights {
   double position = 1.0;           // m
   double altitude = 0.5;           // m
@@ -104,7 +105,7 @@ class LqrController {
   TiltLimit tilt_limit_;
 };
 
-// Drag feed-forward (issue 11, item 3): the acceleration the rotors must add to the reference's so that the
+// Drag feed-forward: the acceleration the rotors must add to the reference's so that the
 // drag at the reference air velocity does not hold the vehicle behind its reference. The LQR has no integrator
 // (§4.3.3: "no integrator term was added to the controller"), so without it a cruise at speed V settles with the
 // position lag that balances D(V); with it, the lag is what the drag model's error and the gusts leave.

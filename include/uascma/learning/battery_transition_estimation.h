@@ -1,7 +1,7 @@
 #pragma once
-// The battery MDP's transition counts learned from Monte Carlo flights (dissertation §4.3.2, Table 4.4, decisions
-// item 23), beside the CMA's (learning/transition_estimation.h). The counts and the MDP built from them are
-// decision/battery_model.h; the flights campaign/battery_flights.h.
+// The battery MDP's transition counts learned from Monte Carlo flights (dissertation §4.3.2, Table 4.4,
+// docs/modelling-choices.md#battery-mdp-transitions), beside the CMA's (learning/transition_estimation.h). The counts
+// and the MDP built from them are decision/battery_model.h; the flights campaign/battery_flights.h.
 //
 // Flights. Flights k = 3·d + a share the parameter draw d (campaign::SampleBatteryFlight: Table 4.4) and the
 // simulator seed, and fly action a ∈ {UseBatt1, UseBatt2, UseBoth} throughout (paired, common random numbers, as
@@ -27,7 +27,7 @@ struct BatteryLearningOptions {
   std::uint64_t seed = 1;
   int jobs = 1;
   campaign::BatteryFlightRanges ranges;
-  // Ours (issue 24; `battery learn --drop-flights`): every draw flies a fourth flight, UseBoth then pack k alone for
+  // Ours (`battery learn --drop-flights`): every draw flies a fourth flight, UseBoth then pack k alone for
   // good from τ (k uniform on {1, 2}, τ uniform on [0, plan duration], drawn from the draw's own sub-stream, so the
   // three constant-action flights are unchanged), counted with AddSwitchingFlight. Why: flights flown with one
   // action throughout never visit the states a switching policy flies into (a pack dropped late, drained, beside a

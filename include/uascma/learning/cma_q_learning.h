@@ -7,14 +7,15 @@
 // The learning state (QStateKind):
 //   kBinned (§5.3.3): FS as "the flight completion status of the UAS in the flight plan" in four bins and RM in four
 //     bins, [0, 25), [25, 50), [50, 75), [75, 100] %, plus the other CMA features as our environment observes
-//     them: the flight status N/ELASAP/ELPRACT, MH, MM, BH and RM0/RM1 (decisions items 7–8).
+//     them: the flight status N/ELASAP/ELPRACT, MH, MM, BH and RM0/RM1 (docs/modelling-choices.md#margins,
+//     #battery-health-label).
 //       completion = (t − t_plan_start) / duration of the executing plan (the nominal one, or the emergency plan
 //                    since the action that started it), clamped to [0, 1]; 100 % falls in the last bin;
 //       RM bin     = RM in % in those bins; the dissertation's bins start at 0, so RM < 0 (RM0) joins the first bin
 //                    and the RM0/RM1 feature tells it apart.
 //     Index = (completion bin · 4 + RM bin) · 108 + CmaStateIndex(FS, MH, MM, BH, RM): 1,728 states.
 //   kCma: the 108 tuple states of the CMA MDP themselves (§5.3.2.1).
-// Actions: the four CMA actions, available by flight status (decisions item 3).
+// Actions: the four CMA actions, available by flight status (docs/modelling-choices.md#action-availability).
 //
 // The episodes (EpisodeSetting):
 //   kOneMission (§5.3.3: "All the episodes started from a single initial location. The training was conducted for
@@ -66,7 +67,7 @@ StateIndex EncodeQState(QStateKind kind, const sim::Observation& observation, co
 StateIndex CmaTupleOfQState(QStateKind kind, StateIndex q_state);
 int CompletionBin(double completion_fraction);
 int ReachMarginBin(double reach_margin);
-// Availability of the four actions in every learning state (decisions item 3).
+// Availability of the four actions in every learning state (docs/modelling-choices.md#action-availability).
 std::vector<std::uint8_t> QStateAvailability(QStateKind kind);
 std::string QStateLabel(QStateKind kind, StateIndex q_state);
 

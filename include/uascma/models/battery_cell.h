@@ -2,7 +2,7 @@
 // The Enhanced Self-Correcting (ESC) cell model of one LiPo cell, dissertation §3.3.1, eqs. 3.1–3.3
 // (its ref. [51]), in G. L. Plett's form (Battery Management Systems, Vol. I: Battery Modeling,
 // Artech House, 2015).
-// Named SelfCorrectingCell, never "Esc" (shared/spec/decisions.md item 16: "ESC" is also the speed
+// Named SelfCorrectingCell, never "Esc" (docs/modelling-choices.md#naming-esc: "ESC" is also the speed
 // controller).
 //
 // Sign convention (Plett): the cell current i is positive on DISCHARGE.
@@ -20,13 +20,13 @@
 //     v = OCV(z) + M0 s + M h − Σ_j R_j i_Rj − R0 i,    s = −sgn(i) if i ≠ 0 else the stored s.
 //   The dissertation prints "+ Σ R_j i_Rj" in eq. 3.3; with discharge current positive that would make
 //   the polarisation RAISE the voltage under load (i_Rj follows i, eq. 3.1), which is unphysical, so
-//   the project decided for Plett's sign (issue 3).
+//   the project decided for Plett's sign.
 //   η is η_discharge for i > 0 and η_charge for i < 0 (Table 3.1: 1 and 0.973).
 //
 // Units: SI inside (A, V, Ω, F, s); the capacity parameter is in A·h as Table 3.1 prints it and is
 // converted once (capacity_as()).
 //
-// Model apart from state (shared/style.md habit 5): SelfCorrectingCell is immutable; Step() and
+// Model apart from state (CONTRIBUTING.md): SelfCorrectingCell is immutable; Step() and
 // CalcTerminalVoltage() are pure and allocate nothing.
 #include <array>
 #include <cmath>
@@ -63,7 +63,7 @@ struct CellParams {
   bool IsValid(std::string* error) const;
 };
 
-// Table 3.1, cell 1, 2 or 3 (both packs use cells 1–3, shared/spec/defaults.md "Battery").
+// Table 3.1, cell 1, 2 or 3 (both packs use cells 1–3, docs/defaults.md#battery).
 CellParams Table31Cell(int cell_number);
 
 struct CellState {
@@ -74,7 +74,7 @@ struct CellState {
   bool operator==(const CellState&) const = default;
 };
 
-// Degradation and temperature, Table 3.2 (shared/spec/decisions.md item 17).
+// Degradation and temperature, Table 3.2 (docs/modelling-choices.md#battery-degradation).
 struct CellHealth {
   bool capacity_fade = false;  // Q → 0.8 Q
   bool power_fade = false;     // R0 → 2 R0

@@ -1,22 +1,22 @@
 #pragma once
 // The vehicle's battery: two 3S LiPo packs in parallel, each behind its own switch and diode
-// (dissertation §4.3, Fig. 4.1, Tables 4.1–4.3; shared/spec/defaults.md "Battery").
+// (dissertation §4.3, Fig. 4.1, Tables 4.1–4.3; docs/defaults.md#battery).
 //
 //   branch j (j = 1, 2 in the dissertation; index 0, 1 here) = pack j = three SelfCorrectingCell in series.
 //   Branch split, eqs. 3.4–3.7, for the branches that are switched on:
 //     V_OCV^j = Σ_cells OCV(z)              (eq. 3.6)      R0^j = Σ_cells R0     (eq. 3.7)
 //     V_bus   = (Σ_j V_OCV^j / R0^j − I) / Σ_j 1 / R0^j                        (eq. 3.4)
 //     i^j     = (V_OCV^j − V_bus) / R0^j,   Σ_j i^j = I                        (eq. 3.5)
-//   The split uses only the open-circuit voltages and R0, as the dissertation prints it (decisions item
-//   14); the per-cell terminal voltages then come from the full cell model (eq. 3.3) at the branch current.
-//   Diodes (§4.3.1.2: "no reverse current flow between the batteries"): a branch whose eq.-3.5 current
-//   would be negative carries none and the other branch carries the total. With one branch switched off
+//   The split uses only the open-circuit voltages and R0, as the dissertation prints it
+//   (docs/modelling-choices.md#pack-eod); the per-cell terminal voltages then come from the full cell model (eq. 3.3)
+//   at the branch current. Diodes (§4.3.1.2: "no reverse current flow between the batteries"): a branch whose eq.-3.5
+//   current would be negative carries none and the other branch carries the total. With one branch switched off
 //   the other carries everything; with none on, no current flows and the bus is dead (0 V).
 //   Switches: Table 4.3, UseBatt1 / UseBatt2 / UseBoth.
 //
 // Sign convention: the total bus current I ≥ 0 is a discharge current (the diodes block charging).
-// Health (Table 3.2, decisions items 8 and 17): per-cell capacity/power fade, ambient temperature;
-// classified G / M / P by ClassifyHealth.
+// Health (Table 3.2, docs/modelling-choices.md#battery-health-label, #battery-degradation): per-cell capacity/power
+// fade, ambient temperature; classified G / M / P by ClassifyHealth.
 //
 // Model apart from state: BatteryPack is immutable, PackState is plain data; Step()/CalcOutputs() are
 // pure and allocate nothing, so the simulator can step the pack at 200 Hz from many threads.
@@ -31,16 +31,17 @@ namespace uascma::models {
 
 inline constexpr int kBranchCount = 2;            // two packs in parallel, Fig. 4.1
 inline constexpr int kCellsPerBranch = 3;         // each pack is 3S, §3.3.1.1
-inline constexpr double kCutoffVoltage = 3.3;     // per cell, ESCs cut out: §3.3.2.1, Table 4.1, decisions item 11
+inline constexpr double kCutoffVoltage = 3.3;     // per cell, ESCs cut out: §3.3.2.1, Table 4.1,
+                                                  // docs/modelling-choices.md#outcomes
 inline constexpr double kMaxPackCurrent = 105.0;  // I_max, A, Table 4.1
-// Plausibility bounds (issue 16, common/bounds.h) on the numbers a user gives the battery model.
+// Plausibility bounds (common/bounds.h) on the numbers a user gives the battery model.
 // Total current drawn from the packs: 0 to I_max (Table 4.1).
 inline constexpr Bounds kPackCurrentBounds{0.0, kMaxPackCurrent, "A"};
 // Ambient temperature: -40 to 140 °F (−40 to 60 °C), our bound: the usual discharge range of Li-ion
 // cell datasheets; Table 3.2 only distinguishes below/above 50 °F.
 inline constexpr Bounds kAmbientTemperatureBounds{-40.0, 140.0, "°F"};
 // Per-cell cut-off voltage: 2.5 V (the usual Li-ion absolute minimum, our bound) to 4.2 V (full charge,
-// the top of the OCV table, shared/spec/defaults.md).
+// the top of the OCV table, docs/defaults.md#battery).
 inline constexpr Bounds kCutoffVoltageBounds{2.5, 4.2, "V"};
 
 template <typename T>
@@ -56,7 +57,7 @@ const char* PackActionName(PackAction action);  // "UseBatt1", "UseBatt2", "UseB
 // InputError naming `source` and listing the valid names.
 PackAction ParsePackAction(const std::string& name, const std::string& source);
 
-// --- Health (decisions item 8, Table 4.2) -------------------------------------------------------
+// --- Health (docs/modelling-choices.md#battery-health-label, Table 4.2) ----------------------------------------------
 // G: no degraded cell; M: some cell has power fade or capacity fade but not both; P: some cell has both.
 enum class HealthClass { kG = 0, kM = 1, kP = 2 };
 HealthClass ClassifyHealth(const std::array<CellHealth, kCellsPerBranch>& branch);  // one pack (B_iF_*)
@@ -65,14 +66,14 @@ const char* HealthClassName(HealthClass health);                                
 // "G" | "M" | "P"; InputError naming `source` otherwise.
 HealthClass ParseHealthClass(const std::string& name, const std::string& source);
 // The degradation that makes a cell of class G, M or P, used to build packs of a given health (the
-// `eod` command, scenario files, campaigns): G none; M power fade (R0 × 2, one kind of fade, decisions
-// item 8); P power and capacity fade (Table 3.2).
+// `eod` command, scenario files, campaigns): G none; M power fade (R0 × 2, one kind of fade,
+// docs/modelling-choices.md#battery-health-label); P power and capacity fade (Table 3.2).
 CellHealth CellHealthForClass(HealthClass health);
 
 // --- Parameters -----------------------------------------------------------------------------------
 struct PackParams {
   PerCell<CellParams> cells = {{{Table31Cell(1), Table31Cell(2), Table31Cell(3)},
-                                {Table31Cell(1), Table31Cell(2), Table31Cell(3)}}};  // defaults.md
+                                {Table31Cell(1), Table31Cell(2), Table31Cell(3)}}};  // docs/defaults.md#battery
   OcvTable ocv = DefaultOcvTable();                                                  // one table for every cell
 };
 

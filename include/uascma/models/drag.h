@@ -1,7 +1,7 @@
 #pragma once
 // Airframe drag from a look-up table over airspeed and pitch, as the dissertation's simulator uses the
 // wind-tunnel data (§2.5.3.2, §5.4). The measured table is not printed, so the default is the table of
-// shared/spec/defaults.md ("Drag"): D = ½ ρ f(θ) v² with f(θ) = 0.05 |cos θ| + 0.10 |sin θ| m² for the
+// docs/defaults.md#drag: D = ½ ρ f(θ) v² with f(θ) = 0.05 |cos θ| + 0.10 |sin θ| m² for the
 // tractor, 1.25× for the pusher (its 25 % higher drag, Abstract / §2.6.2), over 0–10 m/s and −30°…+30°.
 // A CSV with the same axes replaces it. Beyond the last airspeed the drag grows as v² from the table's
 // edge; pitch is clamped to the table.
@@ -17,7 +17,7 @@ namespace uascma::models {
 
 class DragTable {
  public:
-  // The default table of defaults.md for a configuration (11 airspeeds × 13 pitches).
+  // The default table of docs/defaults.md#drag for a configuration (11 airspeeds × 13 pitches).
   static DragTable Default(PropellerConfiguration configuration);
   // CSV: a header row "airspeed_mps,<pitch_deg_1>,<pitch_deg_2>,…", then one row per airspeed with drag
   // in newtons. Axes strictly increasing, drag finite and ≥ 0 (InputError naming file, row and column).
@@ -39,7 +39,7 @@ class DragTable {
     return Drag(airspeed, std::asin(sine));
   }
   static constexpr double kEdgeSineMargin = 1e-9;
-  // ∂D/∂v at (airspeed, pitch): the linear coefficient d_x of the footprint (eq. 5.1, defaults.md).
+  // ∂D/∂v at (airspeed, pitch): the linear coefficient d_x of the footprint (eq. 5.1, docs/defaults.md#drag).
   double DragSlope(double airspeed, double pitch) const;
 
   const std::vector<double>& airspeeds() const { return airspeeds_; }

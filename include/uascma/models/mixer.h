@@ -1,6 +1,6 @@
 #pragma once
 // Mixing, control allocation, reconfiguration after a motor failure, and control authority of the
-// hexacopter (dissertation eq. 2.4, §4.4, Figs. 4.12–4.16; shared/spec/decisions.md item 13).
+// hexacopter (dissertation eq. 2.4, §4.4, Figs. 4.12–4.16; docs/modelling-choices.md#mixing-after-motor-failure).
 //
 // Frame. B is the body frame FRD (X_B forward, Y_B right, Z_B down) with its origin at the centre of
 // gravity. Each rotor pushes along −Z_B (eq. 2.5). The commanded "wrench" is the vector of eqs. 2.4
@@ -21,8 +21,8 @@
 // ω² with C_T, C_Q (T_k = C_T ω_k², τ_k = C_Q ω_k²). We number as §4.4 and Fig. 4.12 do, because the
 // reconfiguration rule below is stated in that numbering; Eq24RotorToRotor() converts.
 //
-// Failure rule (§4.4.1, decisions item 13). When motor k fails, its diametrically opposite motor
-// OppositeMotor(k) = ((k + 2) mod 6) + 1 is also commanded to zero thrust: the vehicle flies as a
+// Failure rule (§4.4.1, docs/modelling-choices.md#mixing-after-motor-failure). When motor k fails, its diametrically
+// opposite motor OppositeMotor(k) = ((k + 2) mod 6) + 1 is also commanded to zero thrust: the vehicle flies as a
 // quadcopter on the remaining four rotors, and the mixing matrix is M with the pair's two columns set to
 // zero. The dissertation writes that matrix in a body frame B' rotated about Z_B so that the failed
 // pair lies on the Y' axis (eq. 4.11 for motors 2/5, eq. 4.12 — printed "M_{2,5}" but used for motors
@@ -41,9 +41,9 @@
 // the azimuth of the failed pair's even-numbered motor. Only wrenches of that form are exactly
 // achievable; with γ/L ≈ 0.06 the yaw that comes with a roll/pitch torque is small.
 //
-// Allocation (Mixer::Allocate). The unconstrained allocation of decisions item 13 is the pseudo-inverse,
-// u = M† w (Mixer::AllocatePseudoInverse). Allocate computes the same thing in two priority levels and
-// then respects 0 ≤ T_k ≤ T_max (failed rotors exactly 0):
+// Allocation (Mixer::Allocate). The unconstrained allocation of docs/modelling-choices.md#mixing-after-motor-failure is
+// the pseudo-inverse, u = M† w (Mixer::AllocatePseudoInverse). Allocate computes the same thing in two priority levels
+// and then respects 0 ≤ T_k ≤ T_max (failed rotors exactly 0):
 //   1. Roll and pitch: u_rp = A† (0, τx, τy), A the (T, τx, τy) rows of M. If no collective thrust can
 //      place u_rp inside [0, T_max] (its spread max − min over the active rotors exceeds T_max), u_rp is
 //      scaled down by κ = T_max / spread: the torque keeps its direction, loses magnitude (last resort).
@@ -84,10 +84,10 @@ using MixingMatrix = Eigen::Matrix<double, 4, kRotorCount>;      // wrench = M �
 using AllocationMatrix = Eigen::Matrix<double, kRotorCount, 4>;  // thrusts = M† · wrench
 
 struct MixerParams {
-  double arm_length = 0.225;  // m, L: 450 mm frame diameter (§2.4.2, shared/spec/defaults.md)
+  double arm_length = 0.225;  // m, L: 450 mm frame diameter (§2.4.2, docs/defaults.md#vehicle)
   // m, γ = C_Q / C_T of Table 2.1, tractor (CalcYawTorquePerThrust).
   double yaw_torque_per_thrust = 2.0862e-10 / 1.5652e-08;
-  double max_rotor_thrust = 26.85 / 6.0;  // N, T_max per rotor (shared/spec/defaults.md), tractor
+  double max_rotor_thrust = 26.85 / 6.0;  // N, T_max per rotor (docs/defaults.md#vehicle), tractor
 
   // L = 0.225 m with the propulsion model's γ and T_max.
   static MixerParams ForPropulsion(const PropulsionParams& propulsion);
@@ -106,7 +106,8 @@ int OppositeMotor(int motor);
 int Eq24RotorToRotor(int eq24_rotor);
 
 // M in B for `failed_motor` (0 = none, else 1…6): eq. 4.11's M_nom built from the geometry, with the
-// failed motor's and its opposite's columns zero (decisions item 13). Throws InputError on a bad motor.
+// failed motor's and its opposite's columns zero (docs/modelling-choices.md#mixing-after-motor-failure). Throws
+// InputError on a bad motor.
 MixingMatrix CalcMixingMatrix(const MixerParams& params, int failed_motor);
 
 // The dissertation's printed matrices, all six columns, in its frame B' (the failed pair on Y'):
@@ -146,7 +147,8 @@ class Mixer {
     return result;
   }
 
-  // M† w with no limits: the control allocation of decisions item 13 (may be negative or > T_max).
+  // M† w with no limits: the control allocation of docs/modelling-choices.md#mixing-after-motor-failure (may be
+  // negative or > T_max).
   RotorThrusts AllocatePseudoInverse(const BodyWrench& commanded, int failed_motor) const;
 
   const MixingMatrix& mixing_matrix(int failed_motor) const { return CaseFor(failed_motor).mixing; }

@@ -2,7 +2,7 @@
 // Open-circuit voltage of one LiPo cell as a function of its state of charge, OCV(z) of eq. 3.3
 // (dissertation §3.3.1). Piecewise linear between the table's points.
 //
-// Default table: shared/spec/defaults.md "Battery" (a commonly published LiPo resting-voltage chart,
+// Default table: docs/defaults.md#battery (a commonly published LiPo resting-voltage chart,
 // 0–100 % in 5 % steps, 3.27–4.20 V); any other table can be loaded from CSV.
 //
 // Contract:
@@ -75,7 +75,7 @@ class OcvTable {
   double inverse_spacing_ = 0.0;      // 1 / spacing when uniform_
 };
 
-// The default table of shared/spec/defaults.md "Battery" (21 points, 0–100 % SOC).
+// The default table of docs/defaults.md#battery (21 points, 0–100 % SOC).
 const OcvTable& DefaultOcvTable();
 
 // CSV with a header row and two columns: SOC then voltage.

@@ -8,13 +8,13 @@
 //                                                  body about the rotor axis)
 //   mech. power  P_mech = Q ω                       eqs. 2.3 and 2.9 (C_P ω³ with C_P ≡ C_Q when
 //                                                  n and ω are the same speed in consistent units)
-//   elec. power  P_elec = k (T / 1 N)^b             shared/spec/defaults.md: a power law fitted to
+//   elec. power  P_elec = k (T / 1 N)^b             docs/defaults.md#vehicle: a power law fitted to
 //                                                  Table 2.2 (see FitElectricalPowerLaw)
 //   current      I = P_elec / V_bus                eq. 2.10
-//   speed lag    dω/dt = (ω_cmd − ω) / τ_m          shared/spec/defaults.md (τ_m = 0.03 s)
-//   saturation   0 ≤ T ≤ T_max                     shared/spec/defaults.md (Table 2.2 at 1900 µs / 6)
+//   speed lag    dω/dt = (ω_cmd − ω) / τ_m          docs/defaults.md#vehicle (τ_m = 0.03 s)
+//   saturation   0 ≤ T ≤ T_max                     docs/defaults.md#vehicle (Table 2.2 at 1900 µs / 6)
 // and the RPM estimator of eq. 2.12 (§2.5.2), the cubic-in-throttle, quadratic-in-power surface fitted
-// on the dynamometer; its power input is ONE motor's electrical power (shared/spec/decisions.md 12).
+// on the dynamometer; its power input is ONE motor's electrical power (docs/modelling-choices.md#rpm-per-motor).
 //
 // Units. SI inside: a double without a suffix is SI (N, N·m, W, A, V, s, rad/s). The rotor speed ω is
 // in rad/s everywhere in uascma. RPM appears only at the edges, in names that say so: Table 2.1's
@@ -59,7 +59,7 @@ std::array<StaticThrustMeasurement, 2> StaticThrustTable(PropellerConfiguration 
 
 // --- parameters ---------------------------------------------------------------------------------
 // The RPM estimator of eq. 2.12 (§2.5.2): with x = (δ_t − 1550 µs) / 201.9 µs and
-// y = (P_elec − 71.11 W) / 55.75 W (P_elec of ONE motor, decisions item 12),
+// y = (P_elec − 71.11 W) / 55.75 W (P_elec of ONE motor, docs/modelling-choices.md#rpm-per-motor),
 //   RPM = p00 + p10 x + p01 y + p20 x² + p11 x y + p02 y² + p30 x³ + p21 x² y + p12 x y².
 // The coefficient names are the dissertation's (p_ij multiplies x^i y^j). Fitted on throttle
 // commands of 1100–1900 µs (§2.4.1, §2.5.2); outside that range it is not defined here.
@@ -92,7 +92,7 @@ struct ElectricalPowerLaw {
 // Throws InputError unless both points are positive and T1 ≠ T2.
 ElectricalPowerLaw FitPowerLaw(double thrust_1, double power_1, double thrust_2, double power_2);
 
-// defaults.md's motor power law for one configuration: FitPowerLaw through Table 2.2's two rows, each
+// The motor power law of docs/defaults.md#vehicle for one configuration: FitPowerLaw through Table 2.2's two rows, each
 // divided by six (one rotor of six). Evaluated, the fit gives
 //   tractor: (2.5 N, 47.67 W), (4.475 N, 96.33 W)   → b = 1.2085, k = 15.751 W
 //   pusher:  (2.593 N, 48.50 W), (5.167 N, 96.83 W) → b = 1.0031, k = 18.646 W
@@ -104,11 +104,11 @@ struct PropulsionParams {
   // Table 2.1, 6040 propeller, tractor row (pusher: ForConfiguration(kPusher)).
   double thrust_coefficient_n_per_rpm2 = 1.5652e-08;   // C_T
   double torque_coefficient_nm_per_rpm2 = 2.0862e-10;  // C_Q
-  // N per rotor: Table 2.2 total thrust at 1900 µs divided by six (shared/spec/defaults.md).
+  // N per rotor: Table 2.2 total thrust at 1900 µs divided by six (docs/defaults.md#vehicle).
   double max_thrust = 26.85 / 6.0;
-  // s: the rotor-speed lag, typical for 2204-class motors (shared/spec/defaults.md).
+  // s: the rotor-speed lag, typical for 2204-class motors (docs/defaults.md#vehicle).
   double motor_time_constant = 0.03;
-  // Fitted in code to Table 2.2 divided by six (shared/spec/defaults.md); see FitElectricalPowerLaw.
+  // Fitted in code to Table 2.2 divided by six (docs/defaults.md#vehicle); see FitElectricalPowerLaw.
   ElectricalPowerLaw electrical_power = FitElectricalPowerLaw(PropellerConfiguration::kTractor);
   RpmEstimatorParams rpm_estimator;
 
@@ -138,7 +138,7 @@ inline double CalcRotorSpeedForThrust(const PropulsionParams& params, double thr
 }
 // The yaw-torque-to-thrust ratio γ = C_Q / C_T (m) of eqs. 2.7 and 4.11.
 double CalcYawTorquePerThrust(const PropulsionParams& params);
-// Electrical power (W) one rotor draws at `thrust` N (defaults.md power law; thrust ≤ 0 gives 0).
+// Electrical power (W) one rotor draws at `thrust` N (the power law of docs/defaults.md#vehicle; thrust ≤ 0 gives 0).
 double CalcElectricalPower(const PropulsionParams& params, double thrust);
 // The power law P = k T^b tabulated on a uniform thrust grid, for the simulator's 200 Hz loop (a table
 // read instead of a pow per rotor and step). Linear interpolation; beyond the grid the exact law. With the
@@ -178,14 +178,14 @@ double CalcMotorCurrent(double electrical_power, double bus_voltage);
 double SaturateThrust(const PropulsionParams& params, double thrust);
 
 // Eq. 2.12: the RPM of one motor at throttle `throttle_us` drawing `motor_power` W (one motor's
-// electrical power, decisions item 12). A (never observed in the fitted range) negative polynomial
-// value is returned as 0. Throws InputError if the throttle is outside [min_throttle_us,
+// electrical power, docs/modelling-choices.md#rpm-per-motor). A (never observed in the fitted range) negative
+// polynomial value is returned as 0. Throws InputError if the throttle is outside [min_throttle_us,
 // max_throttle_us] or the power is negative or not finite.
 double EstimateRpm(const RpmEstimatorParams& params, double throttle_us, double motor_power);
 
 // The static test of §2.5.3.1 as the dissertation estimated it: the hexacopter at throttle δ_t
-// drawing `vehicle_power` W in total. Each motor draws vehicle_power / 6 (decisions item 12); eq. 2.12
-// gives its RPM, eq. 2.1 its thrust, and the total is six times the rotor's.
+// drawing `vehicle_power` W in total. Each motor draws vehicle_power / 6 (docs/modelling-choices.md#rpm-per-motor); eq.
+// 2.12 gives its RPM, eq. 2.1 its thrust, and the total is six times the rotor's.
 struct StaticThrustEstimate {
   double total_thrust;  // N, six rotors
   double rotor_thrust;  // N, one rotor

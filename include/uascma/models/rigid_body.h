@@ -30,8 +30,8 @@
 namespace uascma::models {
 
 struct RigidBodyParams {
-  double mass = 1.3;  // kg: ~1 kg with one pack (§2.4.2) plus a second 3S ~3 Ah pack (defaults.md)
-  // kg·m², principal moments: estimate for a 450 mm hexacopter of this mass (defaults.md).
+  double mass = 1.3;  // kg: ~1 kg with one pack (§2.4.2) plus a second 3S ~3 Ah pack (docs/defaults.md#vehicle)
+  // kg·m², principal moments: estimate for a 450 mm hexacopter of this mass (docs/defaults.md#vehicle).
   Eigen::Vector3d inertia_diagonal = Eigen::Vector3d(0.011, 0.011, 0.021);
   bool IsValid(std::string* error) const;
   bool operator==(const RigidBodyParams&) const = default;

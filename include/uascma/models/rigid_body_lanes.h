@@ -1,5 +1,5 @@
 #pragma once
-// Issue 27 item 4 (lockstep flights): the rigid body's midpoint step (models/rigid_body.h,
+// Lockstep flights: the rigid body's midpoint step (models/rigid_body.h,
 // StepRigidBody with Integrator::kMidpoint, the simulator's step) for four independent bodies at once, their
 // states, wrenches and winds held as a structure of arrays (one lane per body), sharing the parameters and the
 // drag table. Lane i of the result is, bit for bit, StepRigidBody of body i: every lane performs the scalar code's

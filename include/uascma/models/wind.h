@@ -1,5 +1,5 @@
 #pragma once
-// Wind: a mean wind plus Dryden turbulence (MIL-F-8785C), as specified in shared/spec/dryden.md, with the
+// Wind: a mean wind plus Dryden turbulence (MIL-F-8785C), as specified in docs/defaults.md#dryden-turbulence, with the
 // four gust categories of Table 4.4 (Low-Light, Low-Moderate, Medium-Light, Medium-Moderate).
 //
 // Gust axes: u along the horizontal mean wind, v across it (90° clockwise seen from above, i.e. to the
@@ -9,8 +9,8 @@
 // Forming filters (V = airspeed, floored at min_airspeed for a hovering vehicle):
 //   H_u(s) = σ_u √(2 L_u / (π V)) / (1 + (L_u/V) s)
 //   H_v(s) = σ_v √(L_v / (π V)) (1 + √3 (L_v/V) s) / (1 + (L_v/V) s)²     (H_w alike)
-// Discretisation keeping the variance right (dryden.md), also while the altitude and the airspeed change
-// during a flight (climb, cruise, slow-down, hover):
+// Discretisation keeping the variance right (docs/defaults.md#dryden-turbulence), also while the altitude and the
+// airspeed change during a flight (climb, cruise, slow-down, hover):
 //   * every filter state is carried in units of its own σ, with a stationary distribution that depends on
 //     neither σ nor L/V; σ(h) multiplies the state only at the output, and the time constant T = L/V is
 //     taken afresh at every step. A change of altitude or airspeed then changes the spectrum at once (as
@@ -62,7 +62,8 @@ struct WindParams {
   double mean_speed = 0.0;     // m/s; Table 4.4 samples 1–3 m/s
   double direction_rad = 0.0;  // towards, from North clockwise; Table 4.4 samples 0–π
   TurbulenceCategory turbulence = TurbulenceCategory::kNone;
-  double min_airspeed = 1.0;  // m/s, V floor for the forming filters (dryden.md, "V_min = 1 m/s")
+  // m/s, V floor for the forming filters (docs/defaults.md#dryden-turbulence, "V_min = 1 m/s")
+  double min_airspeed = 1.0;
   // Altitude (m above ground) at which the "Medium" categories are evaluated: the middle of the
   // 1000–2000 ft band of MIL-F-8785C. Our estimate: the dissertation names the category, not a height.
   double medium_band_altitude = 1500.0 * 0.3048;

@@ -7,7 +7,7 @@
 // The queries are the ones the planners and the simulator run in their inner loops (LandASAP and LandPract
 // over 1,000+ sites, §5.3.2.2; collision checks at the simulator's rate): point and segment collision with
 // exact 2.5-D geometry (include/uascma/planning/map_geometry.h), the tallest building under a route (the
-// cruise altitude is "10 m above the tallest building under the route", shared/spec/defaults.md), and the
+// cruise altitude is "10 m above the tallest building under the route", docs/defaults.md#guidance-and-control), and the
 // landing sites within a radius. Two uniform grids (include/uascma/planning/map_grid.h), one over the building
 // outlines and one over the sites, keep each query local instead of scanning the whole map.
 //
@@ -28,8 +28,8 @@ namespace uascma::planning {
 
 inline constexpr int kNoBuilding = -1;
 
-// The cruise altitude clears the tallest building under the route by this much (m); shared/spec/defaults.md,
-// "cruise altitude: 10 m above the tallest building under the route".
+// The cruise altitude clears the tallest building under the route by this much (m);
+// docs/defaults.md#guidance-and-control, "cruise altitude: 10 m above the tallest building under the route".
 inline constexpr double kCruiseClearanceAboveBuildings = 10.0;
 
 struct Building {
@@ -121,7 +121,7 @@ class CityMap {
   // `route_NE` (half_width 0: the outlines the route passes over or touches).
   RouteClearance TallestBuildingUnder(std::span<const Eigen::Vector2d> route_NE, double half_width = 0.0) const;
   // The cruise altitude over a route (m above ground): the tallest building under it plus `clearance`
-  // (defaults.md: 10 m).
+  // (docs/defaults.md#guidance-and-control: 10 m).
   double CruiseAltitude(std::span<const Eigen::Vector2d> route_NE, double clearance = kCruiseClearanceAboveBuildings,
                         double half_width = 0.0) const {
     return TallestBuildingUnder(route_NE, half_width).height + clearance;

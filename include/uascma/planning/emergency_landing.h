@@ -13,10 +13,10 @@
 //       H = max(a_start, a_site, h_max + clearance),
 //     where h_max is the tallest building whose outline comes within `lateral_margin` of the horizontal transit
 //     line (CityMap::TallestBuildingUnder; 0, the ground, when there is none) and `clearance` the vertical
-//     clearance (shared/spec/defaults.md: 10 m above the tallest building, as for the cruise). H ≥ a_start: the
-//     path never descends into a street canyon before it reaches the site. The site's own building is under the
-//     line's end, so a rooftop is approached from at least `clearance` above it. Its time is, with F_v, F_h the
-//     vertical and horizontal move times,
+//     clearance (docs/defaults.md#guidance-and-control: 10 m above the tallest building, as for the cruise). H ≥
+//     a_start: the path never descends into a street canyon before it reaches the site. The site's own building is
+//     under the line's end, so a rooftop is approached from at least `clearance` above it. Its time is, with F_v, F_h
+//     the vertical and horizontal move times,
 //       t = F_v(H − a_start) + F_h(d) + F_v(H − a_site),   d = the horizontal distance.
 //  2. DETOUR: stay at the current altitude a_start, fly around the buildings that reach within `clearance` of
 //     it (height + clearance > a_start, each grown by the lateral margin: include/uascma/planning/
@@ -57,7 +57,7 @@
 // over ground, or yaw when hovering) and EOD (a hovering vehicle's footprint is a point: see
 // LandAsapParams::min_footprint_speed); candidates are the sites of CityMap::SitesWithinRadius over the
 // footprint's circumscribed circle that FootprintRegion::Contains. RM = 1 − t_flight / t_EOD
-// (shared/spec/decisions.md, item 7; t_flight = the plan's duration), so the largest RM is the shortest flight;
+// (docs/modelling-choices.md#margins; t_flight = the plan's duration), so the largest RM is the shortest flight;
 // RMs within kReachMarginTie of the largest count as equal and the lowest risk among them wins (then the
 // shorter flight, then the lower site index).
 //
@@ -65,9 +65,9 @@
 // checkpoints located along the nominal flight plan … checkpoints are selected to equally divide flight plan
 // length … Based on current UAS location and its proximity to a checkpoint in the nominal flight plan, an
 // emergency landing site from the list of pre-planned emergency landing trajectories with the maximum RM is
-// selected"). Before the flight, LandPractDatabase::Build places N checkpoints (defaults.md: 5) at the arc
-// lengths k L / (N + 1), k = 1 … N, of the whole nominal plan (take-off, cruise out, return and landing: on an
-// out-and-back route the return leg has its own checkpoints, the green trajectories of Fig. 5.6), and stores for
+// selected"). Before the flight, LandPractDatabase::Build places N checkpoints (docs/defaults.md#guidance-and-control:
+// 5) at the arc lengths k L / (N + 1), k = 1 … N, of the whole nominal plan (take-off, cruise out, return and landing:
+// on an out-and-back route the return leg has its own checkpoints, the green trajectories of Fig. 5.6), and stores for
 // each the best paths (LandingPath) to the sites within a radius, sorted by flight time. At run time:
 //  * the checkpoint is the NEAREST one to the vehicle's position ("its proximity to a checkpoint"); not the
 //    nearest one ahead: the time to reach the checkpoint is part of t_flight, and flying back a few metres beats
@@ -105,7 +105,7 @@ struct LandingPathParams {
   // m: the corridor half-width around the transit line and the growth of the detour's obstacles. Our estimate:
   // a few metres of position error in an urban canyon (GPS multipath) plus the 0.45 m frame of the vehicle.
   double lateral_margin = 5.0;
-  // m: the transit clears the tallest building under it by this much; shared/spec/defaults.md ("cruise
+  // m: the transit clears the tallest building under it by this much; docs/defaults.md#guidance-and-control ("cruise
   // altitude: 10 m above the tallest building under the route"). Must be > 0 (a path touching a roof collides).
   double vertical_clearance = kCruiseClearanceAboveBuildings;
   // m above ground: no climb-over above this (an airspace ceiling). Default: none (the dissertation sets none).
@@ -290,7 +290,7 @@ LandingResult PlanLandAsap(const LandingPathPlanner& planner, const LandAsapPara
 
 // --- LandPract ----------------------------------------------------------------------------------------------------
 struct LandPractParams {
-  int checkpoint_count = 5;  // shared/spec/defaults.md, "checkpoints for LandPract"
+  int checkpoint_count = 5;  // docs/defaults.md#guidance-and-control, "checkpoints for LandPract"
   // m: the sites whose centre is within this horizontal distance of a checkpoint are its candidates. Our
   // estimate: 500 m is 100 s at the default 5 m/s cruise, longer than the EOD left when the CMA calls for an
   // emergency landing in the dissertation's scenarios (Figs. 5.22, 5.27), and a few Manhattan blocks (Fig. 5.6).

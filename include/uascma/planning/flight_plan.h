@@ -4,7 +4,7 @@
 // velocity profile with limits on velocity and accelerations"). Positions are in the world frame W (NED,
 // metres, z down, ground at z = 0); times in seconds from the plan's start.
 //
-// The package-delivery plan (§4.3.3, Fig. 4.6; shared/spec/defaults.md "Guidance and control"): take off
+// The package-delivery plan (§4.3.3, Fig. 4.6; docs/defaults.md#guidance-and-control): take off
 // vertically to the cruise altitude, cruise to the destination, hover for the drop, cruise back, land
 // vertically at home.
 #include <Eigen/Core>
@@ -18,8 +18,8 @@ namespace uascma::planning {
 struct PlanLimits {
   double cruise_speed = 5.0;      // m/s horizontal; Table 4.4 samples 1–9 m/s
   double vertical_speed = 2.0;    // m/s climb and descent; our estimate for a small hexacopter
-  double horizontal_accel = 2.0;  // m/s², defaults.md (estimate within the tested envelope)
-  double vertical_accel = 1.0;    // m/s², defaults.md
+  double horizontal_accel = 2.0;  // m/s², docs/defaults.md#guidance-and-control (estimate within the tested envelope)
+  double vertical_accel = 1.0;    // m/s², docs/defaults.md#guidance-and-control
   bool IsValid(std::string* error) const;
 };
 
@@ -122,8 +122,9 @@ Eigen::Vector3d BrakingStop(const Eigen::Vector3d& start_W, const Eigen::Vector3
 struct DeliveryMission {
   Eigen::Vector2d home_NE = Eigen::Vector2d::Zero();         // m
   Eigen::Vector2d destination_NE = Eigen::Vector2d(600, 0);  // m
-  double cruise_altitude = 30.0;  // m above ground; defaults.md: 10 m above the tallest building
-  double drop_hover_s = 30.0;     // defaults.md
+  double cruise_altitude = 30.0;  // m above ground; docs/defaults.md#guidance-and-control: 10 m above the tallest
+                                  // building
+  double drop_hover_s = 30.0;     // docs/defaults.md#guidance-and-control
   bool IsValid(std::string* error) const;
 };
 

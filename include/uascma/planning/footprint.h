@@ -6,7 +6,7 @@
 //   m ẍ = u − d_x ẋ,   T cos θ = m g,   u = −T sin θ                                           (5.1)
 //   state form x1 = x, x2 = ẋ:   ẋ1 = x2,   ẋ2 = u/m − a x2,   a = d_x / m  (1/s)                (5.2)
 //   u is the horizontal force (N) of the tilted thrust, d_x (N·s/m) a linear drag slope: per
-//   shared/spec/defaults.md "the drag slope at the plan's cruise speed" (CruiseDragSlope below).
+//   docs/defaults.md#drag "the drag slope at the plan's cruise speed" (CruiseDragSlope below).
 //   Sign of θ: the body frame is FRD (uascma/common/frames.h), so pitching nose-down (θ < 0) tilts the thrust
 //   forward and u = −T sin θ > 0. Then eq. 5.12 reads θ_opt = −atan(u*/(m g)) (see DISCREPANCIES, 2).
 //
@@ -111,7 +111,7 @@ struct AxisProblem {
   double initial_velocity = 0.0;  // m/s, x2(0)
   double final_velocity = 0.0;    // m/s, x2(t_f): +v_init (5.10), −v_init (5.11), v_init (lateral)
   double final_time = 0.0;        // s, t_f = EOD, ≥ 0
-  double mass = 1.3;              // kg, shared/spec/defaults.md (vehicle)
+  double mass = 1.3;              // kg, docs/defaults.md#vehicle
   double drag_slope = 0.0;        // N·s/m, d_x ≥ 0
 };
 
@@ -208,14 +208,15 @@ BoundedAxisResult SimulateBoundedAxis(const AxisOptimalSolution& solution, doubl
 struct FootprintParams {
   double initial_speed = 0.0;       // m/s, v_init ≥ 0: horizontal speed along the heading
   double eod = 0.0;                 // s, battery End of Discharge time t_f ≥ 0
-  double mass = 1.3;                // kg, shared/spec/defaults.md (vehicle)
-  double available_thrust = 26.85;  // N, T_avail: Table 2.2 at 1900 µs, tractor (defaults.md: 26.85/6 per rotor)
+  double mass = 1.3;                // kg, docs/defaults.md#vehicle
+  double available_thrust = 26.85;  // N, T_avail: Table 2.2 at 1900 µs, tractor (docs/defaults.md#vehicle: 26.85/6 per
+                                    // rotor)
   // rad, θ_max (= −θ_min), pitch and roll. Our estimate: ±30°, the range of the wind-tunnel drag data
-  // (§2.5.3.1; defaults.md drag table), beyond which the drag model is extrapolated. After a motor failure use
+  // (§2.5.3.1; docs/defaults.md#drag), beyond which the drag model is extrapolated. After a motor failure use
   // models::CalcControlAuthority (max_tilt, max_hover_thrust) for θ_max and T_avail.
   double max_tilt = 30.0 / 180.0 * 3.14159265358979323846;
   // N·s/m, d_x ≥ 0: CruiseDragSlope(DragTable::Default(tractor), 5 m/s, 1.3 kg) — the drag slope at the default
-  // cruise speed (planning::PlanLimits, 5 m/s) and trim pitch (defaults.md; a test keeps the two equal).
+  // cruise speed (planning::PlanLimits, 5 m/s) and trim pitch (docs/defaults.md#drag; a test keeps the two equal).
   double drag_slope = 0.3469;
   // 0: exact exponentials. n in [1, 30]: the dissertation's n-th order Maclaurin series (n = 5 in §5.3.1);
   // needs drag_slope > 0.
@@ -275,7 +276,7 @@ struct FootprintResult {
   double effective_max_tilt = 0.0;               // rad, θ_eff
   BoundedAxisResult forward, backward, lateral;  // step-7 details of each case
   FootprintRegion region;
-  // With a Maclaurin order n > 0 (issue 26 item 5): the largest difference of the three limits from the closed
+  // With a Maclaurin order n > 0: the largest difference of the three limits from the closed
   // form's (exact exponentials, the same params with order 0), over the size of the closed form's footprint
   // (the largest of |x_f|, |x_b|, y_l); nothing with exact exponentials. Above kSeriesTolerance, `warning` names
   // the error (the result is still the series'): the series is not accurate at this a t_f.
@@ -294,7 +295,7 @@ struct FootprintResult {
 FootprintResult CalcFootprint(const FootprintParams& params);
 
 // The linear drag coefficient d_x of eq. 5.1 (N·s/m): ∂D/∂v of the drag table at the cruise speed (m/s),
-// at the trim pitch of level cruise θ = −atan(D/(m g)) (found by fixed-point iteration), per defaults.md.
+// at the trim pitch of level cruise θ = −atan(D/(m g)) (found by fixed-point iteration), per docs/defaults.md#drag.
 double CruiseDragSlope(const models::DragTable& table, double cruise_speed, double mass);
 
 // FOOTPRINT NOTES. Exact against the dissertation's n = 5 series, v_init = 9 m/s, m = 1.3 kg, d_x = 0.55 N·s/m,
@@ -304,7 +305,7 @@ double CruiseDragSlope(const models::DragTable& table, double cruise_speed, doub
 //   EOD 10 s (a t_f 4.2):   exact 118.8  / −77.3  /  98.0    series  83.3  /  62.0  /  10.7
 //   EOD 20 s (a t_f 8.5):   exact 252.3  / −209.7 / 231.0    series 158.0  / 156.8  /   0.6
 // Beyond a t_f ≈ 4 the series optimum is nearly u* ≡ 0 and its footprint collapses onto the coasting point.
-// Note also that with d_x the drag SLOPE (defaults.md), the model's drag force d_x v is twice a quadratic
+// Note also that with d_x the drag SLOPE (docs/defaults.md#drag), the model's drag force d_x v is twice a quadratic
 // drag D(v) at the cruise speed: the footprint is conservative in that respect.
 
 }  // namespace uascma::planning

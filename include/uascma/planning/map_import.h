@@ -1,7 +1,7 @@
 #pragma once
 // Importers that turn real map data into a CityMap (include/uascma/planning/city_map.h): building outlines
 // and heights from OpenStreetMap (GeoJSON as exported by Overpass, or .osm / .osm.pbf files read with
-// libosmium) and landing sites from CSV (shared/spec/dependencies.md, "map import"). Data © OpenStreetMap
+// libosmium) and landing sites from CSV (scripts/install-deps.sh, "map import"). Data © OpenStreetMap
 // contributors (ODbL).
 //
 // Two steps, so that files of different kinds share one local frame:

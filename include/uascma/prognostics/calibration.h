@@ -57,7 +57,7 @@ struct PredictionSet {
 // 0.025, 0.05, 0.10, 0.15, …, 0.90, 0.95, 0.975: the ends of the 50/80/90/95 % central intervals and every
 // reliability level 0.05 … 0.95.
 std::vector<double> StandardQuantileLevels();
-// The central interval levels reported: 0.50, 0.80, 0.90, 0.95 (issue 29).
+// The central interval levels reported: 0.50, 0.80, 0.90, 0.95.
 std::vector<double> StandardIntervalLevels();
 // 0.05, 0.10, …, 0.95.
 std::vector<double> StandardReliabilityLevels();

@@ -1,5 +1,5 @@
 #pragma once
-// Battery End Of Discharge (EOD) prognosis, dissertation §3.3.2.1 and shared/spec/decisions.md item 14:
+// Battery End Of Discharge (EOD) prognosis, dissertation §3.3.2.1 and docs/modelling-choices.md#pack-eod:
 // propagate each cell's Enhanced Self-Correcting model (eqs. 3.1–3.3) at the present constant total
 // current until its terminal voltage reaches the cut-off (3.3 V); the pack EOD is the minimum over its
 // cells; with both packs in parallel the branch currents follow eqs. 3.4–3.7 DURING the propagation.
@@ -22,11 +22,11 @@
 //    i is monotone, i_R never exceeds max(i_R(t₁), max i)) prunes intervals with no crossing, and an
 //    upper bound of dv/dt certifies monotone intervals, where a bracketed Newton iteration finds the
 //    root to `time_tolerance_s`. Otherwise the interval is bisected, left half first, so the FIRST
-//    crossing is returned (the ESCs cut out at the first one, decisions item 11).
+//    crossing is returned (the ESCs cut out at the first one, docs/modelling-choices.md#outcomes).
 //  This is the exact solution of the model the fixed-step simulator integrates (ZOH at its Δt), so the
 //  two agree to O(Δt): tests require 0.5 % against Δt = 0.01 s and measure ≤ 1.1e-5. Because the split
 //  is solved exactly on each segment, no "re-split every large step" approximation (and no step-size
-//  tuning) is needed. Cost (bench/eod_bench.cc, one core, session 10): about 2.1 µs for the default pack
+//  tuning) is needed. Cost (bench/eod_bench.cc, one core, as measured when written): about 2.1 µs for the default pack
 //  (both branches alike, ~18 segments), about 6 µs when the packs differ and a pack's cells discharge out of
 //  step (~47 segments); the 10 ms fixed-step reference takes about 9 ms.
 //
@@ -55,7 +55,7 @@ enum class EodStatus {
 const char* EodStatusName(EodStatus status);
 
 struct EodOptions {
-  double cutoff_v = models::kCutoffVoltage;  // per cell, 3.3 V (§3.3.2.1, decisions item 11)
+  double cutoff_v = models::kCutoffVoltage;  // per cell, 3.3 V (§3.3.2.1, docs/modelling-choices.md#outcomes)
   double horizon_s = 86400.0;                // one day: far beyond any flight of the vehicle
   // Plausible horizons: 1 s to one week (our bound; a week is ~700x the pack's hover endurance).
   static constexpr Bounds kHorizonBounds{1.0, 604800.0, "s"};
@@ -103,7 +103,7 @@ EodResult SimulatePackEod(const models::BatteryPack& pack, const models::PackSta
 EodResult SimulateCellEod(const models::SelfCorrectingCell& cell, const models::CellState& state, double current_a,
                           double dt_s, const EodOptions& options = {});
 
-// Decisions item 7: RM = 1 − t_flight / t_EOD. RM ≥ 0 ⇔ the remaining flight time fits in the EOD.
+// RM = 1 − t_flight / t_EOD (docs/modelling-choices.md#margins). RM ≥ 0 ⇔ the remaining flight time fits in the EOD.
 // With t_flight ≤ 0, RM = 1; with t_EOD = 0 and t_flight > 0, RM = −∞. A kNotReachedWithinHorizon result
 // uses eod_s = horizon_s, so the answer is conservative.
 double CalcReachMargin(const EodResult& eod, double flight_time_remaining_s);

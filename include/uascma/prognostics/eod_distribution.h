@@ -1,5 +1,5 @@
 #pragma once
-// The battery EOD as a distribution at one epoch (issue 29 item 1): the exact constant-current EOD of
+// The battery EOD as a distribution at one epoch: the exact constant-current EOD of
 // eod.h (CalcPackEod) propagated through the uncertainty of its inputs, at the cost of a handful of
 // CalcPackEod calls (bench/eod_bench.cc: BM_EodDistribution*).
 //
@@ -9,7 +9,8 @@
 //   R0        R0_cell → R0_cell · exp(r0_log_sigma · u), every cell alike (the RC pairs unchanged)
 //   capacity  Q_cell → Q_cell · exp(capacity_log_sigma · u), every cell alike
 //   class     with probability `cold_probability` the cells' R0 is kColdResistanceFactor (1.5, Table 3.2,
-//             decisions item 17) times the given pack's: the given pack is then the warm-class pack.
+//             docs/modelling-choices.md#battery-degradation) times the given pack's: the given pack is then the
+//             warm-class pack.
 //
 // Method (ours): ln EOD is taken as a split normal within each temperature class (median ln T_c, one σ below
 // it and one above), ln T ≈ ln T_c + Σ_k a_k u_k, where T_c = CalcPackEod at the centre (u = 0, the load bias
@@ -47,8 +48,9 @@ struct EodUncertainty {             // 1σ of each source; 0 = exactly known
   double soc_sigma = 0.0;           // every cell's SOC estimate error (fraction of capacity, common to all cells)
   double r0_log_sigma = 0.0;        // ln R0 of the cells (a degraded cell's power fade not exactly known)
   double capacity_log_sigma = 0.0;  // ln Q of the cells
-  double cold_probability = -1.0;   // P(the cold class, R0 x 1.5, decision 17) when the temperature class is
-                                    // uncertain; < 0: the class is known (the pack's own R0 is used)
+  // P(the cold class, R0 x 1.5, docs/modelling-choices.md#battery-degradation) when the temperature class is uncertain;
+  // < 0: the class is known (the pack's own R0 is used)
+  double cold_probability = -1.0;
 
   // Plausibility bounds (ours): a load bias of e^±1 (a factor 2.7); a log spread up to 1 (a factor 2.7 at
   // 1σ); an SOC error up to half the capacity.

@@ -1,6 +1,7 @@
 #pragma once
 // Motor prognosis: remaining useful life (RUL) of a BLDC motor whose bearing has a spall
-// (dissertation §3.4, §3.4.1; Table 5.4 and §5.3.2.3; shared/spec/decisions.md items 2, 7, 15).
+// (dissertation §3.4, §3.4.1; Table 5.4 and §5.3.2.3; docs/modelling-choices.md#landing-loads-motor, #margins,
+// #spall-growth-time-scale).
 //
 // The model, eq. 3.8 (Paris law, after the dissertation's ref. [80]):
 //     D(t + Δt) = D(t) + Δ C_D D(t)^n          spall area D grows
@@ -10,11 +11,11 @@
 // (§3.4.1). How we read what eq. 3.8 leaves open (each choice is ours, marked where it is an estimate):
 //
 //  1. Growth steps and time. Eq. 3.8 advances in growth steps N (Paris-law load blocks). One step
-//     lasts τ = `time_per_growth_step_s`, the calibration parameter of decisions item 15. Within a step
-//     the parameters are held and the Paris law dD/dN = C_D D^n is integrated exactly (eq. 3.8 in the
-//     limit of small Δ):  D(N₀+f)^(1−n) = D(N₀)^(1−n) + (1−n) C_D f,  or D(N₀) e^(C_D f) when n = 1.
-//     So the area is a continuous, non-decreasing function of time, the jam instant is the exact
-//     threshold crossing, and neither depends on the step a caller advances by. With the noise off
+//     lasts τ = `time_per_growth_step_s`, the calibration parameter of
+//     docs/modelling-choices.md#spall-growth-time-scale. Within a step the parameters are held and the Paris law dD/dN
+//     = C_D D^n is integrated exactly (eq. 3.8 in the limit of small Δ):  D(N₀+f)^(1−n) = D(N₀)^(1−n) + (1−n) C_D f,
+//     or D(N₀) e^(C_D f) when n = 1. So the area is a continuous, non-decreasing function of time, the jam instant is
+//     the exact threshold crossing, and neither depends on the step a caller advances by. With the noise off
 //     and n = 1 the time to failure is the closed form ln(D_f/D₀)/C_D · τ = 23.03 τ.
 //  2. Noise. ω_CD and ω_n are Gaussian, drawn once per growth step, and accumulate (a random walk:
 //     eq. 3.8 *assigns* C_D + ω_CD to C_D, as in ref. [80]'s particle filter). Their standard deviations
@@ -25,7 +26,7 @@
 //     areas stay in mm² and carry the suffix `_mm2`; times are in seconds (SI).
 //  4. "Measured as the dissertation did" (Table 5.4: P(JF|SF) = 0.002809 "obtained by 1000
 //     simulations of the motor prognosis algorithm", §5.3.2.3). Table 5.4 is a per-epoch (1 s, CMA
-//     rate, shared/spec/defaults.md) constant-hazard Markov transition, whose maximum-likelihood
+//     rate, docs/defaults.md#guidance-and-control) constant-hazard Markov transition, whose maximum-likelihood
 //     estimate from observed sojourns in SF is   p̂ = jams / spalled epochs.
 //     We simulate `runs` = 1000 spall histories from D₀; a history that jams at time T counts
 //     max(1, ⌈T/epoch⌉) spalled epochs (the motor is seen jammed at the first epoch at or after T)
@@ -33,8 +34,8 @@
 //     every history jammed this is p̂ = 1 / (mean time-to-jam in epochs), the sojourn mean 1/p of
 //     the Markov chain. CalibrateTimePerGrowthStep picks τ so that p̂ equals the target on a fixed
 //     seed; the default τ below is its output, and motor_rul_test checks they agree.
-//  5. "RUL now" for the CMA motor margin MM = 1 − t_flight_remaining / t_RUL (eq. 5.14, decisions
-//     item 7): t_RUL is the MEAN of the particle RULs (§3.4.1: "Mean RUL value is then computed").
+//  5. "RUL now" for the CMA motor margin MM = 1 − t_flight_remaining / t_RUL (eq. 5.14,
+//     docs/modelling-choices.md#margins): t_RUL is the MEAN of the particle RULs (§3.4.1: "Mean RUL value is then computed").
 //     The particles start at the current (fully observable, §5.3.2.1) spall area with the nominal
 //     C_D and n, since the prognoser does not observe the true parameter walk.
 //
@@ -58,9 +59,9 @@ namespace uascma::prognostics {
 // P(JF | SF) per CMA epoch under NoOp, Table 5.4.
 inline constexpr double kTable54JamProbabilityPerEpoch = 0.002809;
 // P(JF | SF) per CMA epoch under LandASAP / LandPract (the landing manoeuvre loads the motors),
-// shared/spec/decisions.md item 2. Calibrate τ to it for a landing-load growth model.
+// docs/modelling-choices.md#landing-loads-motor. Calibrate τ to it for a landing-load growth model.
 inline constexpr double kLandingJamProbabilityPerEpoch = 0.008583;
-// The CMA decision epoch: 1 Hz (shared/spec/defaults.md, "EOD, CMA, battery-MDP rates").
+// The CMA decision epoch: 1 Hz (docs/defaults.md#guidance-and-control, "EOD, CMA, battery-MDP rates").
 inline constexpr double kCmaEpoch_s = 1.0;
 
 // ---- Parameters -------------------------------------------------------------------------------
@@ -76,13 +77,13 @@ struct SpallGrowthParams {
   double paris_coefficient_noise_std = 0.005;
   // σ of ω_n per growth step. Our estimate, chosen like the one above (the dissertation gives none).
   double paris_exponent_noise_std = 0.005;
-  // τ, seconds per growth step (decisions item 15). Default: CalibrateTimePerGrowthStep with the
-  // defaults above and CalibrationOptions{} (Table 5.4's 0.002809 per 1 s epoch over 1000 runs);
+  // τ, seconds per growth step (docs/modelling-choices.md#spall-growth-time-scale). Default: CalibrateTimePerGrowthStep
+  // with the defaults above and CalibrationOptions{} (Table 5.4's 0.002809 per 1 s epoch over 1000 runs);
   // motor_rul_test "StoredDefaultTimeScaleIsTheCalibrationOutput" recomputes it. A scenario with
   // faster growth sets a smaller τ, e.g. from CalibrateTimePerGrowthStep with a larger target.
   double time_per_growth_step_s = 15.3308;
-  // Plausible τ (issue 16, common/bounds.h): 1 ms to one hour per step, our bound around decisions
-  // item 15's 0.7128 s and the Table 5.4 calibration's 15.3 s.
+  // Plausible τ (common/bounds.h): 1 ms to one hour per step, our bound around the
+  // 0.7128 s of docs/modelling-choices.md#spall-growth-time-scale and the Table 5.4 calibration's 15.3 s.
   static constexpr Bounds kTimePerGrowthStepBounds{0.001, 3600.0, "s"};
   // A history not at D_f after this many growth steps stops and is reported as censored. Our bound:
   // 100 × the deterministic 23 steps; no default history comes near it.
@@ -187,11 +188,11 @@ class MotorRulModel {
 double EstimateJamProbabilityPerEpoch(std::span<const SpallHistory> histories, double time_per_growth_step_s,
                                       double epoch_s);
 
-// ---- Calibration of τ (decisions item 15) -----------------------------------------------------
+// ---- Calibration of τ (docs/modelling-choices.md#spall-growth-time-scale) -------------------------------------------
 
 struct CalibrationOptions {
   double target_jam_probability_per_epoch = kTable54JamProbabilityPerEpoch;  // Table 5.4
-  double epoch_s = kCmaEpoch_s;                                              // 1 s CMA epoch, shared/spec/defaults.md
+  double epoch_s = kCmaEpoch_s;  // 1 s CMA epoch, docs/defaults.md#guidance-and-control
   int runs = 1000;          // §5.3.2.3: "1000 simulations of the motor prognosis algorithm"
   std::uint64_t seed = 15;  // arbitrary fixed seed (15: the decision's number)
   bool IsValid(std::string* error) const;
@@ -254,7 +255,7 @@ class SpallJamEvent {
   std::optional<double> jam_time_s_;  // none before the jam (not NaN: an event then equals its copy)
 };
 
-// Motor margin, eq. 5.14 with one fault type (n_f = 1) and decisions item 7:
+// Motor margin, eq. 5.14 with one fault type (n_f = 1) and docs/modelling-choices.md#margins:
 // MM = 1 − t_flight_remaining / t_RUL; +∞ RUL (no fault) gives 1, t_RUL ≤ 0 (jammed) gives −∞.
 double CalcMotorMargin(double flight_remaining_s, double rul_s);
 

@@ -1,6 +1,6 @@
 #pragma once
-// The motor RUL as a distribution and its calibration against the jam times of simulated spalls (issue 29
-// item 2). The RUL distribution is the prognoser's 100 particles (motor_rul.h, §3.4.1): its quantiles are
+// The motor RUL as a distribution and its calibration against the jam times of simulated spalls.
+// The RUL distribution is the prognoser's 100 particles (motor_rul.h, §3.4.1): its quantiles are
 // the particles' (type 7, as RulDistribution's p05/p50/p95). The truth is what the simulator draws: one
 // SpallJamEvent per history (the spall's own growth time scale τ_truth), from its onset to the exact jam.
 //
@@ -24,8 +24,8 @@
 
 namespace uascma::prognostics {
 
-// τ of the simulated spall in the campaigns (campaign/config.h fault.time_per_growth_step_s, decisions item
-// 15: a spall jams in ~17 s as in §5.5.1-5.5.2).
+// τ of the simulated spall in the campaigns (campaign/config.h fault.time_per_growth_step_s,
+// docs/modelling-choices.md#spall-growth-time-scale: a spall jams in ~17 s as in §5.5.1-5.5.2).
 inline constexpr double kCampaignTruthTimePerGrowthStep_s = 0.7128;
 
 // Quantiles of the particles' RUL at `levels` (each in [0, 1]), linear between order statistics.
@@ -37,7 +37,7 @@ const char* RulPredictionModeName(RulPredictionMode mode);  // "onset_countdown"
 RulPredictionMode ParseRulPredictionMode(const std::string& name, const std::string& source);
 
 struct RulCalibrationOptions {
-  int histories = 930;  // issue 29: >= 930 spall histories (the size of the dissertation's campaign, §5.5)
+  int histories = 930;  // >= 930 spall histories (the size of the dissertation's campaign, §5.5)
   std::uint64_t seed = 29;
   double truth_time_per_growth_step_s = kCampaignTruthTimePerGrowthStep_s;
   // What the CMA's prognoser uses unless a scenario sets fault.prognosis_time_per_growth_step_s: the

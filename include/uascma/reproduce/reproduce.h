@@ -1,7 +1,7 @@
 #pragma once
-// `uascma reproduce` (issue 28): the dissertation's checkable results rebuilt with the library, each beside
+// `uascma reproduce`: the dissertation's checkable results rebuilt with the library, each beside
 // the value the dissertation prints, with a stated tolerance, a verdict (matches / differs) and, for every
-// "differs", one sentence with its number saying why (a decision of shared/spec/decisions.md, a model's own
+// "differs", one sentence with its number saying why (a choice of docs/modelling-choices.md, a model's own
 // error, a setting the dissertation does not print).
 //
 // An item is one table, figure or printed number of the dissertation. It holds quantities (ours, theirs,

@@ -1,5 +1,5 @@
 #pragma once
-// Decisions on beliefs (issue 29 item 3): two policies over the solved default CMA policy (decision/policy_file.h
+// Decisions on beliefs: two policies over the solved default CMA policy (decision/policy_file.h
 // SolveDefaultCmaPolicy) that read the beliefs of DecisionInputs instead of the point state alone.
 //
 //   "cma-risk"  the CMA table in the state whose RM is RM0 when b(RM0) = P(EOD < t_remaining + t_sf) exceeds the

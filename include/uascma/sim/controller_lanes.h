@@ -1,5 +1,5 @@
 #pragma once
-// Issue 27 item 4 (flights in lockstep): the control half of four flights' GNC steps at once, one flight per lane,
+// Flights in lockstep: the control half of four flights' GNC steps at once, one flight per lane,
 // for flights that share a vehicle (its body, drag table, LQR and mixer): the drag feed-forward, the LQR's wrench and
 // the allocation (six rotors, or a quadcopter's after an isolation), as flight.cc's StepRotors computes them. Lane i of
 // the result is, bit for bit, what that scalar code gives flight i: every lane performs its IEEE operations in its

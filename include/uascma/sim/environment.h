@@ -2,10 +2,10 @@
 // A decision environment over the simulator, for learning and scripting (Gym's reset/step at the CMA's 1 Hz
 // decision epoch): Reset(seed) flies nothing and returns the first observation; Step(action) executes a CMA action
 // at the present epoch, flies to the next epoch (or the end of the flight) and returns the next observation, the
-// reward R(S, A) of eqs. 5.20–5.29 for the state and the executed action (decisions items 4, 9), whether the
-// flight ended and how. When it ends, the reward also holds the terminal state's own reward R(C), R(T) or R(FL)
-// (decision/cma_abstraction.h CmaTerminalReward), so an episode's undiscounted return equals the campaign's reward
-// trace of the same flight (campaign/metrics.h CalcRewardTrace).
+// reward R(S, A) of eqs. 5.20–5.29 for the state and the executed action (docs/modelling-choices.md#rewards,
+// #executing-action-repeat), whether the flight ended and how. When it ends, the reward also holds the terminal state's
+// own reward R(C), R(T) or R(FL) (decision/cma_abstraction.h CmaTerminalReward), so an episode's undiscounted return
+// equals the campaign's reward trace of the same flight (campaign/metrics.h CalcRewardTrace).
 //
 // The environment is a thin shell over flight.h: state() is the whole FlightState, which can be copied and set
 // back (SetState) to branch a flight from any epoch.
@@ -26,9 +26,9 @@ struct EnvironmentOptions {
   BatterySwitchPolicy* battery_policy = nullptr;  // the 1 Hz battery executor; null: both packs on
   bool record = false;                            // keep the flight's events, actions and states (Result())
   bool record_telemetry = false;                  // … and its telemetry rows
-  // Decisions item 3: an action not available in the flight status (ELPRACT offers NoOp, Terminate, LandASAP;
-  // ELASAP NoOp, Terminate) is refused with an InputError. Off, any action is taken, and one equal to the
-  // executing emergency action is executed as NoOp (item 9).
+  // Availability (docs/modelling-choices.md#action-availability): an action not available in the flight status (ELPRACT
+  // offers NoOp, Terminate, LandASAP; ELASAP NoOp, Terminate) is refused with an InputError. Off, any action is taken,
+  // and one equal to the executing emergency action is executed as NoOp (#executing-action-repeat).
   bool require_available_actions = true;
 };
 
@@ -51,7 +51,7 @@ struct EnvironmentStep {
   double reward = 0.0;
   bool done = false;
   Outcome outcome = Outcome::kInProgress;
-  decision::CmaAction executed = decision::CmaAction::kNoOp;  // after decisions item 9
+  decision::CmaAction executed = decision::CmaAction::kNoOp;  // after docs/modelling-choices.md#executing-action-repeat
 };
 
 class DecisionEnvironment {

@@ -1,9 +1,9 @@
 #pragma once
-// The measured error of the 1 Hz EOD's load forecast (decision 25), as the uncertainty of the EOD's distribution
-// (issue 29). The error of one prediction is e = ln(I_actual / I_forecast), I_actual the constant current that gives
-// the true EOD from the true pack state (campaign/eod_truth_campaign.h); the model holds its bias (mean) and spread
-// (standard deviation) per cell of what the CMA knows at the epoch (EodErrorContext):
-//   the battery health group BH (G, M, P; decisions item 20);
+// The measured error of the 1 Hz EOD's load forecast (docs/modelling-choices.md#eod-load-forecast), as the uncertainty
+// of the EOD's distribution The error of one prediction is e = ln(I_actual / I_forecast), I_actual the constant current
+// that gives the true EOD from the true pack state (campaign/eod_truth_campaign.h); the model holds its bias (mean) and
+// spread (standard deviation) per cell of what the CMA knows at the epoch (EodErrorContext):
+//   the battery health group BH (G, M, P; docs/modelling-choices.md#battery-health-draw);
 //   the motor health MH (NF, SF, JF): a spalled motor will jam within seconds and load the others (its error is the
 //     largest), an isolated one flies the quadcopter's profile, which the forecast knows; at NF the future fault is
 //     the measured mixture of the flights that will and will not have one;

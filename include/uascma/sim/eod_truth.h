@@ -1,11 +1,11 @@
 #pragma once
-// The truth of a 1 Hz EOD prediction (issue 29; the definition is ours): the NoOp twin of a run flies its plan, and
+// The truth of a 1 Hz EOD prediction (the definition is ours): the NoOp twin of a run flies its plan, and
 // instead of the plan's final descent it holds (hovers) at the top of that descent until the first cell of a
-// switched-on pack reaches the cut-off (3.3 V, decisions item 11). Every prediction the ordinary Observe makes along
-// the twin before the hold (on the nominal plan's time, with the flight's own load forecast, decision 25) then has a
-// true end of discharge, t_cutoff − t. Predictions made after the hold began (where the flight would have descended)
-// are not scored. A twin that ends another way (a loss of control, a collision, the time limit) has no cut-off time:
-// its predictions are censored, not scored.
+// switched-on pack reaches the cut-off (3.3 V, docs/modelling-choices.md#outcomes). Every prediction the ordinary
+// Observe makes along the twin before the hold (on the nominal plan's time, with the flight's own load forecast,
+// docs/modelling-choices.md#eod-load-forecast) then has a true end of discharge, t_cutoff − t. Predictions made after
+// the hold began (where the flight would have descended) are not scored. A twin that ends another way (a loss of
+// control, a collision, the time limit) has no cut-off time: its predictions are censored, not scored.
 //
 // Why a hold and not the flight as planned: a completed flight lands before any cell reaches the cut-off, so it has no
 // end of discharge; the hold extends the flight's own load (the hover at the plan's last waypoint, the load the vehicle

@@ -92,7 +92,8 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
 // ---- the battery-pack switches (Ch. IV) -------------------------------------------------------------------------
 class FlightModel;
 struct FlightState;
-// A 1 Hz battery executor (§4.3.2: the battery MDP's policy); its action takes effect at once (decisions item 24).
+// A 1 Hz battery executor (§4.3.2: the battery MDP's policy); its action takes effect at once
+// (docs/modelling-choices.md#battery-mdp-policies).
 class BatterySwitchPolicy {
  public:
   virtual ~BatterySwitchPolicy() = default;
@@ -154,7 +155,8 @@ class FlightModel {
   models::DragLaneTable drag_lanes_;  // drag_ as the rigid bodies in lanes read it (StepTogether)
   models::WindModel wind_;
   models::BatteryPack pack_;
-  prognostics::MotorRulModel rul_model_;    // the prognosis (calibrated to Table 5.4, decisions item 15)
+  // the prognosis (calibrated to Table 5.4, docs/modelling-choices.md#spall-growth-time-scale)
+  prognostics::MotorRulModel rul_model_;
   prognostics::MotorRulModel spall_truth_;  // the simulated spall (the scenario's growth speed)
   std::shared_ptr<const planning::CityMap> map_;
   gnc::LqrController controller_;
@@ -217,7 +219,8 @@ struct PowerState {
   int pack_substeps = 0;
   double bus_voltage_v = 0.0;
   double pack_current_a = 0.0;
-  double load_current_a = 0.0;      // low-passed pack current (decision 14's EOD load, SimOptions::eod_load)
+  // low-passed pack current (the EOD load of docs/modelling-choices.md#pack-eod, SimOptions::eod_load)
+  double load_current_a = 0.0;
   double energy_wh = 0.0;           // drawn from the packs since take-off
   double min_cell_voltage_v = 0.0;  // the lowest any cell has read
   PowerSensing sensing;             // SimOptions::noisy_sensing: what the CMA reads of it (sim/sensing.h)
@@ -234,7 +237,7 @@ struct FaultState {
   bool operator==(const FaultState&) const = default;
 };
 
-// The EOD's distribution at the first epoch whose decided action was not NoOp (issue 29): what the CMA's EOD said
+// The EOD's distribution at the first epoch whose decided action was not NoOp: what the CMA's EOD said
 // when it acted. Computed at that epoch for the record when the policy does not read the distribution itself.
 struct EodAtAction {
   double time_s = 0.0;
@@ -254,13 +257,15 @@ struct DecisionState {
   prognostics::EodUncertainty eod_uncertainty;
   prognostics::EodDistribution eod_distribution;
   std::optional<EodAtAction> eod_at_first_action;
-  LoadForecastState load_forecast;  // the expected load of the rest of the plan (decision 25)
+  // the expected load of the rest of the plan (docs/modelling-choices.md#eod-load-forecast)
+  LoadForecastState load_forecast;
   DecisionInputs inputs;
   decision::FlightStatus flight_status = decision::FlightStatus::kN;
   std::optional<decision::CmaAction> last_action;    // the last action that changed something
   std::optional<models::PackAction> battery_action;  // the battery executor's last action (none without one)
-  // Actions that could not be carried out (decisions item 28): epochs at which the chosen action's planner found
-  // nothing and another action was taken, and each distinct "Chosen->Taken" pair in the order first seen.
+  // Actions that could not be carried out (docs/modelling-choices.md#unavailable-actions): epochs at which the chosen
+  // action's planner found nothing and another action was taken, and each distinct "Chosen->Taken" pair in the order
+  // first seen.
   int substitution_epochs = 0;
   std::vector<std::string> substitutions;
   // SimOptions::noisy_sensing: the spall indicator's stream, the first epoch it read "spall" (the point CMA's
@@ -382,7 +387,7 @@ inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) 
 // One GNC step (1 / gnc_rate_hz). Sets state.outcome when the flight ends. No-op on a finished flight.
 void Step(const FlightModel& model, FlightState& state, FlightLog* log = nullptr);
 
-// Issue 27 item 4 (flights in lockstep): up to four flights one GNC step each, as Step steps each alone, bit for bit
+// Flights in lockstep: up to four flights one GNC step each, as Step steps each alone, bit for bit
 // (tests/sim/step_together_test.cc): their control (feed-forward, LQR, allocation with six rotors or after an
 // isolation: sim/controller_lanes.h) and their rigid bodies (models/rigid_body_lanes.h) on lanes, the rest (faults,
 // reference, rotors, wind, IMM, power, classification) flight by flight, each with its own model. The models must share
@@ -403,21 +408,22 @@ void StepTogetherToNextEpoch(std::span<const FlightModel* const> models, std::sp
 
 // One GNC step of `lead` and, with it, of flights that follow its vehicle (the battery MDP's flights, Ch. IV: one
 // parameter draw flown with each pack action, sim/branching.h FlyFollowing): the vehicle steps once, then each
-// power system. A follower is a flight of the same model at the same step with the lead's vehicle part (its power
+// power system. A follower is a flight of the same model at the same step with the leader's vehicle part (its power
 // system, decisions and outcome its own). The pack acts on the vehicle only through the rotors' thrust cap
-// (∝ V_bus²): while the cap treats every rotor's command alike under both packs, the follower flies the lead's vehicle
-// bit for bit, so only its power system is stepped (and its outcome classified) and the vehicle part is the lead's.
-// stepped[k] tells whether follower k was stepped; one whose cap binds differently this step is left as it was, a
-// complete flight state, to be flown on alone with Step. Requires no modelled fault and no fault detector
+// (∝ V_bus²): while the cap treats every rotor's command alike under both packs, the follower flies the leader's
+// vehicle bit for bit, so only its power system is stepped (and its outcome classified) and the vehicle part is the
+// leader's. stepped[k] tells whether follower k was stepped; one whose cap binds differently this step is left as it
+// was, a complete flight state, to be flown on alone with Step. Requires no modelled fault and no fault detector
 // (SimOptions::fault_detection off, the Ch. IV loop). A flight flown this way equals the same flight flown alone
 // with Step, every part (tests/sim/branching_test.cc).
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
                    std::span<bool> stepped);
 
 // How far an epoch's EOD is propagated: to its value, or only as far as the reach margin's class needs. RM0 ⇔
-// EOD < t_remaining + t_sf (decisions item 7), so the propagation may stop once it has passed t_remaining + t_sf
-// without a crossing (prognostics::CalcPackEodBefore): the EOD is at least that, RM1, and DecisionInputs holds lower
-// bounds (eod_is_lower_bound) until CompleteEod. A propagation that ends before is CalcPackEod's, bit for bit.
+// EOD < t_remaining + t_sf (docs/modelling-choices.md#margins), so the propagation may stop once it has passed
+// t_remaining + t_sf without a crossing (prognostics::CalcPackEodBefore): the EOD is at least that, RM1, and
+// DecisionInputs holds lower bounds (eod_is_lower_bound) until CompleteEod. A propagation that ends before is
+// CalcPackEod's, bit for bit.
 enum class EodPrecision { kValue, kReachMarginClass };
 
 // At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states), and with
@@ -439,10 +445,11 @@ EodPrecision EpochEodPrecision(const FlightModel& model, std::span<DecisionPolic
 
 // Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
 // LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is
-// one; an action equal to the executing one is a no-op (decisions item 9). When the planner finds nothing, the
-// action cannot be carried out at this epoch (decisions item 28): the next action of `ranking` (the state's
-// actions by decreasing Q; empty: the default CMA policy's) that can be is taken instead, and the substitution is
-// an event and counted in the state. Returns the action taken (NoOp and Terminate always can be).
+// one; an action equal to the executing one is a no-op (docs/modelling-choices.md#executing-action-repeat). When the
+// planner finds nothing, the action cannot be carried out at this epoch
+// (docs/modelling-choices.md#unavailable-actions): the next action of `ranking` (the state's actions by decreasing Q;
+// empty: the default CMA policy's) that can be is taken instead, and the substitution is an event and counted in the
+// state. Returns the action taken (NoOp and Terminate always can be).
 decision::CmaAction Act(const FlightModel& model, FlightState& state, decision::CmaAction action,
                         const EmergencyPlanner& planner, FlightLog* log = nullptr, ActionRanking ranking = {});
 

@@ -1,5 +1,5 @@
 #pragma once
-// A flown flight's summary with its two forms (issue 23): the text `uascma simulate` prints and Python's
+// A flown flight's summary with its two forms: the text `uascma simulate` prints and Python's
 // uascma.Flight.summary_text() returns, and the JSON of `simulate --json`, summary.json and Flight.summary()
 // (SummaryJson, sim/telemetry.h). The library formats it once; the CLI and Python only print it.
 #include <string>

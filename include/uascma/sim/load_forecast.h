@@ -1,23 +1,25 @@
 #pragma once
-// The expected load of the rest of a plan (decisions item 25, refining item 14): Fig. 4.2 names "expected motor
-// current draw" as an input of the decision, so the 1 Hz EOD is propagated at the current the rest of the
-// executing plan will draw, not at the present current alone (a gust or a climb read as the rest of the flight).
+// The expected load of the rest of a plan (docs/modelling-choices.md#eod-load-forecast, refining #pack-eod): Fig. 4.2
+// names "expected motor current draw" as an input of the decision, so the 1 Hz EOD is propagated at the current the
+// rest of the executing plan will draw, not at the present current alone (a gust or a climb read as the rest of the
+// flight).
 //
 // A plan's load profile is computed once when the plan starts: per one-second bin of the plan, the mean electrical
 // power its reference asks of the rotors in steady flight — the thrust that gives the reference acceleration
 // against gravity and the drag at the reference air velocity (the reference velocity less the mean wind; the rigid
 // body's drag table, models/drag.h, at the incidence of that thrust), shared equally by the active rotors (six for
-// the hexacopter, four once a rotor is isolated and its opposite is switched off, decisions item 13), each drawing
-// the propulsion model's electrical power (models::ElectricalPowerTable). The energy still to come from any plan
-// time is then a lookup: LoadProfile::RemainingEnergyJ.
+// the hexacopter, four once a rotor is isolated and its opposite is switched off,
+// docs/modelling-choices.md#mixing-after-motor-failure), each drawing the propulsion model's electrical power
+// (models::ElectricalPowerTable). The energy still to come from any plan time is then a lookup:
+// LoadProfile::RemainingEnergyJ.
 //
 // At each epoch the forecast current is
 //   I_forecast = r · E_remaining / (t_remaining · V_bus) + I_hotel,
 // with V_bus the present bus voltage and r a slow correction of the model's bias: the ratio of the rotor energy
 // measured over each epoch to the profile's energy over the same plan time, low-passed with a 60 s time constant
-// (decision 25: "≥ 60 s"). The ratio absorbs what the steady model leaves out on average (the turbulence's extra
-// power, the controller's corrections); 60 s averages dozens of gust periods (Dryden length scales of 200-500 m at
-// 3-9 m/s, models/wind.h) so one gust cannot move it far.
+// (docs/modelling-choices.md#eod-load-forecast: "≥ 60 s"). The ratio absorbs what the steady model leaves out on
+// average (the turbulence's extra power, the controller's corrections); 60 s averages dozens of gust periods (Dryden
+// length scales of 200-500 m at 3-9 m/s, models/wind.h) so one gust cannot move it far.
 #include <array>
 #include <concepts>
 #include <memory>
@@ -36,8 +38,9 @@ namespace uascma::sim {
 
 // How the 1 Hz EOD chooses its constant current (SimOptions::eod_load).
 enum class EodLoad {
-  kForecast,  // the expected current of the rest of the executing plan (decision 25; the default)
-  kPresent,   // the present pack current, low-passed (decision 14)
+  kForecast,  // the expected current of the rest of the executing plan (docs/modelling-choices.md#eod-load-forecast;
+              // the default)
+  kPresent,   // the present pack current, low-passed (docs/modelling-choices.md#pack-eod)
 };
 const char* EodLoadName(EodLoad load);
 // "forecast" | "present"; InputError naming `source` and `field` otherwise.
@@ -111,7 +114,8 @@ struct LoadForecastState {
   bool operator==(const LoadForecastState&) const = default;
 };
 
-// s: the time constant of the bias ratio (decision 25: a slow correction, at least 60 s).
+// s: the time constant of the bias ratio (docs/modelling-choices.md#eod-load-forecast: a slow correction, at least
+// 60 s).
 inline constexpr double kLoadBiasTimeConstantS = 60.0;
 
 // One epoch of the forecast: updates the bias ratio from the epoch just flown (plan time `t_plan`, measured energy

@@ -1,5 +1,5 @@
 #pragma once
-// Issue 27 item 4: flights of different runs stepped in lockstep, their control and rigid bodies in SIMD lanes
+// Flights of different runs stepped in lockstep, their control and rigid bodies in SIMD lanes
 // (StepTogether, flight.h), without changing how a run is flown. A run's flying is written once as a coroutine
 // (FlightCoroutine: RunTogether's, sim/branching.h) that asks EpochSteps for the GNC steps to a flight's next decision
 // epoch (`co_await steps.ToNextEpoch(...)`) and does everything else (observing, deciding, acting, branching) itself:

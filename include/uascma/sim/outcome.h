@@ -1,10 +1,11 @@
 #pragma once
-// How a flight ends (decisions items 10-11): the outcome enum and its classification as a pure function of
-// one GNC step's observable quantities, with every threshold a named option.
+// How a flight ends (docs/modelling-choices.md#terminate, #outcomes): the outcome enum and its classification as a pure
+// function of one GNC step's observable quantities, with every threshold a named option.
 //
 // The classification runs after every 5 ms step, in this order (the first that holds ends the flight):
 //   1. battery:   a cell of a switched-on branch at or below the 3.3 V cut-off (§3.3.2.1)  -> kFailedBattery
-//   2. control:   loss of control judged by attitude, body rates and cross-track error (decision 21), not by
+//   2. control:   loss of control judged by attitude, body rates and cross-track error
+//      (docs/modelling-choices.md#outcomes-refined), not by
 //                 lagging the schedule: tilt above max_tilt, |ω_B| above max_body_rate, or the distance from the
 //                 reference path (the position error less its component along the reference velocity) above
 //                 max_cross_track_error -> kFailedControl
@@ -14,15 +15,17 @@
 //                 -> kCompleted (original plan) or kEmergencyLanding (an emergency plan)
 //   4. contact:   a surface touched after take-off: the ground (altitude ≤ 0) or a roof (inside a building prism,
 //                 checked below the tallest roof + building_margin). A touchdown in the landing zone no faster than
-//                 touchdown_speed is a landing like 3, on a roof as on the ground (decision 21). A touchdown on open
-//                 ground outside the landing zone, no faster than touchdown_speed down and across (a gust on the
-//                 final descent) -> kLandedOffSite: safe, neither completed nor failed. Any other contact (a roof that
-//                 is not the site, a hard or fast touchdown) -> kFailedCollision
+//                 touchdown_speed is a landing like 3, on a roof as on the ground
+//                 (docs/modelling-choices.md#outcomes-refined). A touchdown on open ground outside the landing zone, no
+//                 faster than touchdown_speed down and across (a gust on the final descent) -> kLandedOffSite: safe,
+//                 neither completed nor failed. Any other contact (a roof that is not the site, a hard or fast
+//                 touchdown) -> kFailedCollision
 //   5. time:      the time limit (time_limit_factor x the original plan's duration + time_limit_margin_s)
 //                 -> kTimeout
 // kGrounded and kTerminated are set by the executor, not here: an emergency action chosen before take-off keeps
-// the vehicle on the ground (§5.5.3, decision 21); Terminate ends the flight (decision 10).
-// Every bound is ours (the dissertation gives none); decisions items 11 and 21 name the kinds.
+// the vehicle on the ground (§5.5.3, docs/modelling-choices.md#outcomes-refined); Terminate ends the flight
+// (docs/modelling-choices.md#terminate). Every bound is ours (the dissertation gives none);
+// docs/modelling-choices.md#outcomes, #outcomes-refined name the kinds.
 #include <Eigen/Core>
 
 #include <string>
@@ -43,14 +46,14 @@ enum class Outcome {
   kFailedCollision,   // struck the ground (or a building) outside a landing
   kTimeout,           // still flying at the time limit (counted as a failure)
   kGrounded,          // an emergency action chosen before take-off: the vehicle stays on the ground (§5.5.3);
-                      // safe, neither failed nor completed (decision 21)
+                      // safe, neither failed nor completed (docs/modelling-choices.md#outcomes-refined)
   kLandedOffSite,     // touched down gently on open ground outside the landing radius: safe, neither completed
-                      // nor failed (issue 22 item 5)
+                      // nor failed
 };
 const char* OutcomeName(Outcome outcome);
 bool IsFailure(Outcome outcome);
-// The terminal CMA state a flight ended in (decisions items 10–11): C for a landing, T for Terminate, FL for a
-// failure. The outcome must not be kInProgress.
+// The terminal CMA state a flight ended in (docs/modelling-choices.md#terminate, #outcomes): C for a landing, T for
+// Terminate, FL for a failure. The outcome must not be kInProgress.
 decision::CmaTerminal TerminalStateOf(Outcome outcome);
 
 // m: the largest horizontal tracking error measured near hover points (our measurement: whole flights cruising at
@@ -71,8 +74,8 @@ struct OutcomeThresholds {
   double touchdown_speed = 1.5;  // m/s: faster ground contact is a crash (our bound)
   double airborne_height = 0.5;  // m above the ground: the vehicle has taken off (our bound)
   // m, horizontal distance to the plan's end point within which a touchdown is a landing, where the plan gives
-  // none (the destination; an emergency site's own radius is used for it). Tied to the tracking error (issue 11
-  // item 4): the measured hover tracking-error bound below, the same one the campaigns' wall clearance covers
+  // none (the destination; an emergency site's own radius is used for it). Tied to the tracking error:
+  // the measured hover tracking-error bound below, the same one the campaigns' wall clearance covers
   // (campaign/config.h wall_clearance_m = 0.30 m vehicle radius + this + margin), so every touchdown the
   // controller can make at a hover point counts and none of them can reach a wall.
   double landing_radius = kHoverTrackingErrorBound;

@@ -2,7 +2,8 @@
 // The decision module of the simulator (§5.4, Fig. 5.15: queried at 1 Hz with the abstract CMA state) and the
 // one resolver of policy names used by scenario files, the CLI and campaigns:
 //   "noop"       always NoOp: the baseline;
-//   "cma"        the CMA MDP with the dissertation's weights (eqs. 5.28–5.29) and γ = 0.95 (decisions item 5),
+//   "cma"        the CMA MDP with the dissertation's weights (eqs. 5.28–5.29) and γ = 0.95
+//   (docs/modelling-choices.md#discount),
 //                solved by value iteration (decision/policy_file.h SolveDefaultCmaPolicy);
 //   "cma-risk"   the default CMA policy deciding on beliefs: RM0 when P(EOD < t_remaining + t_sf) exceeds a level
 //                derived from its values, MH the belief's MAP (sim/belief_policy.h);
@@ -26,7 +27,7 @@
 
 namespace uascma::sim {
 
-// The 1 Hz view of the flight that a decision module sees (decisions items 7–11).
+// The 1 Hz view of the flight that a decision module sees (docs/modelling-choices.md#margins to #outcomes).
 struct DecisionInputs {
   double time_s = 0.0;
   decision::CmaState state;
@@ -35,7 +36,7 @@ struct DecisionInputs {
   double rul_s = std::numeric_limits<double>::infinity();  // +∞ without a motor fault
   double reach_margin = 0.0;                               // RM = 1 − (t_remaining + t_sf) / t_EOD
   double motor_margin = 0.0;                               // MM = 1 − t_remaining / t_RUL
-  // The EOD as a distribution (issue 29): its 5, 50 and 95 % quantiles (s) and the chance that the EOD falls short
+  // The EOD as a distribution: its 5, 50 and 95 % quantiles (s) and the chance that the EOD falls short
   // of the rest of the plan with its margin, P(EOD < t_remaining + t_sf), from the load forecast's measured error
   // (sim/eod_error_model.h). With no uncertainty (an empty error model) the quantiles are eod_s and the chance 0 or 1.
   // Computed only when asked for (has_eod_distribution; Observe's `eod_distribution`: a policy that reads them, the
@@ -49,7 +50,7 @@ struct DecisionInputs {
   double eod_p50_s = 0.0;
   double eod_p95_s = 0.0;
   double eod_short_probability = 0.0;
-  // The motor-health belief b(NF, SF, JF) (issue 29; sim/sensing.h MotorHealthBelief under noisy sensing, the point
+  // The motor-health belief b(NF, SF, JF) (sim/sensing.h MotorHealthBelief under noisy sensing, the point
   // MH's one-hot without it) and the RUL the prognosis gives a spall detected now (the motor margin of a belief's SF
   // states; +∞ until the prognosis has run).
   std::array<double, 3> motor_health_belief{1.0, 0.0, 0.0};
@@ -60,7 +61,8 @@ struct DecisionInputs {
 // A state's available actions by decreasing value Q(s, a) of a solved policy, its own action first.
 using ActionRanking = std::span<const decision::ActionIndex>;
 
-// The default CMA policy's ranking in `state` (SolvedCmaPolicyDefinition, decisions item 28).
+// The default CMA policy's ranking in `state` (SolvedCmaPolicyDefinition,
+// docs/modelling-choices.md#unavailable-actions).
 ActionRanking DefaultCmaActionRanking(const decision::CmaState& state);
 
 // The pluggable decision module: called at 1 Hz, returns a CMA action.
@@ -70,8 +72,8 @@ class DecisionPolicy {
   virtual decision::CmaAction Decide(const DecisionInputs& inputs) = 0;
   virtual std::string name() const = 0;
   // What the executor falls back on when the chosen action cannot be carried out at this epoch (a planner that
-  // finds nothing, decisions item 28): the state's actions by decreasing Q(s, a). A policy without values of its
-  // own (NoOp, a Python callable) falls back on the default CMA policy's values.
+  // finds nothing, docs/modelling-choices.md#unavailable-actions): the state's actions by decreasing Q(s, a). A policy
+  // without values of its own (NoOp, a Python callable) falls back on the default CMA policy's values.
   virtual ActionRanking Ranking(const DecisionInputs& inputs) const { return DefaultCmaActionRanking(inputs.state); }
   // True when Decide reads the EOD's distribution (DecisionInputs::eod_p05_s … eod_short_probability): the kernel
   // computes it at every epoch for such a policy only (three more EOD propagations per epoch).
@@ -112,8 +114,9 @@ struct PolicyDefinition {
   std::string kind;                            // "noop" | "table" | "cma-risk" | "cma-qmdp" (the default table's)
   std::string source;                          // "cma default weights", "noop", or the file it came from
   std::vector<decision::ActionIndex> actions;  // kind "table": the action of each CMA state (112)
-  // Kind "table": per state, its available actions by decreasing Q(s, a), actions[s] first (decisions item 28);
-  // empty: the executor falls back on the default CMA policy's ranking.
+  // Kind "table": per state, its available actions by decreasing Q(s, a), actions[s] first
+  // (docs/modelling-choices.md#unavailable-actions); empty: the executor falls back on the default CMA policy's
+  // ranking.
   std::vector<std::vector<decision::ActionIndex>> ranking;
   // Kind "cma-risk": the stated level of "cma-risk@P"; NaN: the level derived from the Q-values (CmaRiskLevel).
   double risk_level = std::numeric_limits<double>::quiet_NaN();

@@ -52,7 +52,8 @@
 //     reconfiguration: true
 //     sensor_noise: true
 //     drag_feedforward: true          # the LQR compensates the drag at the reference airspeed (gnc/lqr.h)
-//     eod_load: forecast              # the 1 Hz EOD's load: the plan's expected current (decision 25) | present
+//     eod_load: forecast              # the 1 Hz EOD's load: the plan's expected current
+//                                     # (docs/modelling-choices.md#eod-load-forecast) | present
 //     cap_speed_after_isolation: true # after an isolation, fly within the quadcopter's authority (sim/speed_cap.h)
 //     safety_margin_s: 0              # t_sf in the reach margin (Table 4.4: 5-10 s in campaigns)
 //     noisy_sensing: false            # sensor noise, vibration and a spall indicator for the CMA (sim/sensing.h)
@@ -93,10 +94,11 @@ struct FaultSpec {
   int motor = 3;                 // 1…6 (Fig. 2.2 numbering)
   double spall_onset_s = 175.0;  // s after take-off
   // Growth speed of the simulated spall: seconds per Paris-law step. The prognosis default (calibrated to
-  // Table 5.4) is used when absent; scenarios use faster growth (decisions item 15).
+  // Table 5.4) is used when absent; scenarios use faster growth (docs/modelling-choices.md#spall-growth-time-scale).
   std::optional<double> time_per_growth_step_s;
-  // The prognosis's own time scale (§3.4.1): absent, the Table 5.4 calibration (decisions item 15), so a
-  // fast-growing spall surprises it; set, the prognosis knows this motor's growth speed.
+  // The prognosis's own time scale (§3.4.1): absent, the Table 5.4 calibration
+  // (docs/modelling-choices.md#spall-growth-time-scale), so a fast-growing spall surprises it; set, the prognosis knows
+  // this motor's growth speed.
   std::optional<double> prognosis_time_per_growth_step_s;
   bool IsValid(std::string* error) const;
 };
@@ -105,7 +107,7 @@ struct BatterySpec {
   models::PerCell<double> initial_cell_voltage_v = {{{4.1, 4.1, 4.1}, {4.1, 4.1, 4.1}}};  // Table 4.4: 4.05–4.12
   models::PerCell<models::CellHealth> cell_health{};
   double ambient_temp_degf = models::kRoomTemperatureDegf;
-  // The initial voltages lie on the OCV table (they set the initial state of charge, defaults.md).
+  // The initial voltages lie on the OCV table (they set the initial state of charge, docs/defaults.md#battery).
   bool IsValid(std::string* error) const;
 };
 
@@ -129,7 +131,7 @@ struct SimOptions {
   bool reconfiguration = true;  // switch to the quadcopter allocation when the IMM isolates a rotor
   bool sensor_noise = true;     // gyro and accelerometer noise for the IMM
   // The LQR adds the drag at the reference air velocity (less the steady wind) to its reference acceleration
-  // (gnc/lqr.h CalcDragFeedForward; issue 11 item 3). Off: the dissertation's bare DLQR (§4.3.3).
+  // (gnc/lqr.h CalcDragFeedForward). Off: the dissertation's bare DLQR (§4.3.3).
   bool drag_feedforward = true;
   double hotel_current_a = 0.5;  // A: onboard computer, radio, sensors (our estimate; §4.3.2 calls it small)
   // Bus voltage at which the rotors reach their Table 2.2 maximum thrust; rotor thrust capacity scales
@@ -139,9 +141,9 @@ struct SimOptions {
   // long enough to ignore gusts and the take-off climb, short enough to see a rotor failure's extra load
   // within half a minute; the dissertation's EOD curves, Figs. 5.22 and 5.25, are smooth).
   double load_current_time_constant_s = 10.0;
-  // The constant current the 1 Hz EOD is propagated at (decision 25, sim/load_forecast.h): the expected load of the
-  // rest of the executing plan (forecast, the default), or the present current low-passed as above (present,
-  // decision 14).
+  // The constant current the 1 Hz EOD is propagated at (docs/modelling-choices.md#eod-load-forecast,
+  // sim/load_forecast.h): the expected load of the rest of the executing plan (forecast, the default), or the present
+  // current low-passed as above (present, docs/modelling-choices.md#pack-eod).
   EodLoad eod_load = EodLoad::kForecast;
   // After a rotor is isolated, guidance caps the executing plan's horizontal speed to what the quadcopter can hold
   // against the mean wind with a gust allowance (§4.4.2, sim/speed_cap.h). Off: the plan's own speeds.
@@ -150,7 +152,7 @@ struct SimOptions {
   // RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf, Table 4.1, carried to the
   // CMA). 0 by default; campaigns sample it in [5, 10] s.
   double safety_margin_s = 0.0;
-  // Noisy sensing (issue 29, sim/sensing.h): the CMA reads the pack current and bus voltage through a power module
+  // Noisy sensing (sim/sensing.h): the CMA reads the pack current and bus voltage through a power module
   // with errors and noise (its SOC by coulomb counting from the rest voltage read at take-off), the IMM's samples
   // carry vibration noise, and the spall is seen through an indicator with false positives and misses. Off (the
   // default): the truth, as always.

@@ -1,5 +1,5 @@
 #pragma once
-// Plausibility bounds on the numbers of a scenario file (issue 16; common/bounds.h), in the units of the YAML
+// Plausibility bounds on the numbers of a scenario file (common/bounds.h), in the units of the YAML
 // keys (scenario.h). Scenario::IsValid checks them first, for files, campaign samplers and code alike, so a
 // value outside stops `uascma simulate FILE` with exit code 2 and "FILE: vehicle.mass_kg: expected from 0.05 to
 // 25 kg, got 100". They are closed intervals meant to catch typos and unit mistakes (grams for kilograms, km/h
@@ -9,11 +9,12 @@
 
 namespace uascma::sim::scenario_bounds {
 
-// vehicle.mass_kg: the hexacopter is 1.3 kg with two packs (defaults.md; ~1 kg with one pack, §2.4.2). 0.05 kg is a
-// palm-sized micro drone; 25 kg is the upper limit of a small unmanned aircraft (FAA Part 107: 55 lb). Our bound.
+// vehicle.mass_kg: the hexacopter is 1.3 kg with two packs (docs/defaults.md#vehicle; ~1 kg with one pack, §2.4.2).
+// 0.05 kg is a palm-sized micro drone; 25 kg is the upper limit of a small unmanned aircraft (FAA Part 107: 55 lb). Our
+// bound.
 inline constexpr Bounds kMass{0.05, 25.0, "kg"};
-// vehicle.inertia_kg_m2, each principal moment: 0.011, 0.011, 0.021 kg m² (defaults.md's estimate). 1e-5 kg m²
-// is a 50 g micro drone's; 10 kg m² is beyond a 25 kg octocopter's (about 25 kg × (0.6 m)²). Our bound.
+// vehicle.inertia_kg_m2, each principal moment: 0.011, 0.011, 0.021 kg m² (the estimate of docs/defaults.md#vehicle).
+// 1e-5 kg m² is a 50 g micro drone's; 10 kg m² is beyond a 25 kg octocopter's (about 25 kg × (0.6 m)²). Our bound.
 inline constexpr Bounds kInertia{1e-5, 10.0, "kg m^2"};
 // wind.speed_mps: Table 4.4 samples 1–3 m/s; 50 m/s is hurricane force, far beyond any multirotor. Our bound.
 inline constexpr Bounds kWindSpeed{0.0, 50.0, "m/s"};
@@ -22,13 +23,14 @@ inline constexpr Bounds kWindSpeed{0.0, 50.0, "m/s"};
 inline constexpr Bounds kWindDirection{-720.0, 720.0, "deg"};
 // mission.home_ne_m, mission.destination_ne_m, each coordinate: the local frame's flat projection is trusted
 // to 50 km from its origin (planning::MapImportOptions, MissionImportOptions), the campaign's
-// mission.distance_m bound; the default delivery is 600 m (defaults.md).
+// mission.distance_m bound; the default delivery is 600 m (docs/defaults.md#guidance-and-control).
 inline constexpr Bounds kPosition{-50000.0, 50000.0, "m"};
-// mission.cruise_altitude_m: 30 m by default, 10 m above the tallest building over a city (defaults.md);
-// 1000 m is above the tallest building of any city (the campaign's mission.cruise_altitude_m bound).
+// mission.cruise_altitude_m: 30 m by default, 10 m above the tallest building over a city
+// (docs/defaults.md#guidance-and-control); 1000 m is above the tallest building of any city (the campaign's
+// mission.cruise_altitude_m bound).
 inline constexpr Bounds kCruiseAltitude{1.0, 1000.0, "m"};
-// mission.drop_hover_s: 30 s by default (defaults.md); an hour is four times the packs' ~15 min hover
-// endurance (the campaign's mission.drop_hover_s bound).
+// mission.drop_hover_s: 30 s by default (docs/defaults.md#guidance-and-control); an hour is four times the packs' ~15
+// min hover endurance (the campaign's mission.drop_hover_s bound).
 inline constexpr Bounds kDropHover{0.0, 3600.0, "s"};
 // limits.cruise_speed_mps: Table 4.4 samples 1–9 m/s; 30 m/s (108 km/h) is beyond small multirotors, as the
 // campaign's mission.cruise_speed_mps bound.
@@ -36,18 +38,19 @@ inline constexpr Bounds kCruiseSpeed{0.1, 30.0, "m/s"};
 // limits.vertical_speed_mps: 2 m/s by default (our estimate for a small hexacopter); 10 m/s is a racing
 // quadcopter's climb. Our bound.
 inline constexpr Bounds kVerticalSpeed{0.1, 10.0, "m/s"};
-// limits.horizontal_accel_mps2: 2 m/s² by default (defaults.md); 10 m/s² needs a 45° tilt (tan θ = a/g).
-// Our bound.
+// limits.horizontal_accel_mps2: 2 m/s² by default (docs/defaults.md#guidance-and-control); 10 m/s² needs a 45° tilt
+// (tan θ = a/g). Our bound.
 inline constexpr Bounds kHorizontalAccel{0.1, 10.0, "m/s^2"};
-// limits.vertical_accel_mps2: 1 m/s² by default (defaults.md); 5 m/s² is half a g of climb. Our bound.
+// limits.vertical_accel_mps2: 1 m/s² by default (docs/defaults.md#guidance-and-control); 5 m/s² is half a g of climb.
+// Our bound.
 inline constexpr Bounds kVerticalAccel{0.1, 5.0, "m/s^2"};
 // fault.spall_onset_s: §5.4's scenarios start the spall at 175 s; two hours is beyond any flight of the packs
 // (the footprint command's EOD bound). Our bound.
 inline constexpr Bounds kSpallOnset{0.0, 7200.0, "s"};
 // fault.time_per_growth_step_s, fault.prognosis_time_per_growth_step_s: prognostics::SpallGrowthParams::
-// kTimePerGrowthStepBounds (0.001–3600 s; decisions item 15 uses 0.7128 s, Table 5.4's calibration 15.3 s).
-// options.telemetry_rate_hz: 10 Hz by default; at most the GNC rate of 200 Hz (§4.3.2), the rate the state is
-// computed at; 0.1 Hz still gives a row every 10 s. Our bound.
+// kTimePerGrowthStepBounds (0.001–3600 s; docs/modelling-choices.md#spall-growth-time-scale uses 0.7128 s, Table 5.4's
+// calibration 15.3 s). options.telemetry_rate_hz: 10 Hz by default; at most the GNC rate of 200 Hz (§4.3.2), the rate
+// the state is computed at; 0.1 Hz still gives a row every 10 s. Our bound.
 inline constexpr Bounds kTelemetryRate{0.1, 200.0, "Hz"};
 // options.pack_rate_hz: the pack's state rate, 10 Hz by default (ours, measured); from the 1 Hz decision rate
 // to the GNC rate of 200 Hz.

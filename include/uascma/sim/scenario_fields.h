@@ -1,5 +1,5 @@
 #pragma once
-// The scenario file declared once (issue 23): one row per key of a scenario file (scenario.h) — its key path, the
+// The scenario file declared once: one row per key of a scenario file (scenario.h) — its key path, the
 // member it sets, its plausibility bound (scenario_bounds.h), what is expected and where the default comes from.
 // The table drives the reading of every plain key (ParseScenario), the bounds Scenario::IsValid checks first, the
 // Python properties of uascma.Scenario and the scenario table of docs/input-bounds.md (campaign/input_bounds_doc.h).

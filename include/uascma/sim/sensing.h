@@ -1,5 +1,5 @@
 #pragma once
-// Noisy sensing (issue 29 item 4): what the CMA reads instead of the simulator's truth when SimOptions::noisy_sensing
+// Noisy sensing: what the CMA reads instead of the simulator's truth when SimOptions::noisy_sensing
 // is on. Off (the default), every reading is the truth and no random number is drawn, so every result is the same
 // bit for bit as without this file.
 //
@@ -97,7 +97,7 @@ struct PowerSensing {
   double initial_soc_error = 0.0;    // the SOC from the rest voltage read before take-off, less the truth
   double charge_error_as = 0.0;      // ∫ (I_read − I) dt since take-off, A·s
   double energy_wh = 0.0;            // ∫ V_read I_read dt
-  double load_current_a = 0.0;       // I_read low-passed (decision 14's filter)
+  double load_current_a = 0.0;       // I_read low-passed (the filter of docs/modelling-choices.md#pack-eod)
   double bus_voltage_v = 0.0;        // the last reading
   double charge_read_as = 0.0;       // ∫ I_read dt since take-off
   double rest_voltage_v = 0.0;       // the bus voltage read at rest before take-off

@@ -4,8 +4,8 @@
 // isolation; battery pack coupling; at 1 Hz the EOD, the motor RUL, the abstract CMA state and the decision
 // module, whose action swaps the executing plan), and the flight's result.
 //
-// Model apart from state (style habit 5): a Simulator is immutable after construction and Run() takes the seed
-// from the scenario, so one Simulator serves many threads and every flight replays from (scenario, seed). To
+// Model apart from state (a model apart from its state): a Simulator is immutable after construction and Run() takes
+// the seed from the scenario, so one Simulator serves many threads and every flight replays from (scenario, seed). To
 // step, snapshot or branch a flight, use flight.h directly (or environment.h for a decision-epoch interface).
 #include <Eigen/Core>
 
@@ -43,8 +43,8 @@ struct SimResult {
   // The EOD's distribution when the CMA first acted (DecisionState::eod_at_first_action); none: it never did.
   std::optional<EodAtAction> eod_at_first_action;
   std::string eod_load;  // SimOptions::eod_load's name: what the 1 Hz EOD was propagated at
-  // Decisions item 28: epochs at which the chosen action could not be carried out and another was taken, and each
-  // distinct "Chosen->Taken" pair in the order first seen.
+  // Unavailable actions (docs/modelling-choices.md#unavailable-actions): epochs at which the chosen action could not be
+  // carried out and another was taken, and each distinct "Chosen->Taken" pair in the order first seen.
   int substitution_epochs = 0;
   std::vector<std::string> substitutions;
   double speed_cap_mps = 0.0;  // the airspeed cap after a rotor isolation (+inf: none, §4.4.2)

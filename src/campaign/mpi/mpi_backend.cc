@@ -1,6 +1,6 @@
 // The MPI backend of distributed campaigns (Open MPI): the only file that includes <mpi.h>. It is its own library,
 // uascma::campaign_mpi, linked by the MPI launcher uascma-mpi alone, so that `uascma` and every other program
-// start without loading MPI (issue 27 item 5: libmpi and its ~20 dependencies cost most of the tool's start-up).
+// start without loading MPI (libmpi and its ~20 dependencies cost most of the tool's start-up).
 #include <mpi.h>
 
 #include <optional>
