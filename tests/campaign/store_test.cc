@@ -111,7 +111,9 @@ TEST(StoreTest, RecordsAndHeaderRoundTrip) {
   ASSERT_EQ(back.size(), records.size());
   for (std::size_t i = 0; i < back.size(); ++i) {
     EXPECT_EQ(FirstDifference(back[i], records[i]), std::nullopt) << i;
-    if (back[i].run_index == high) EXPECT_EQ(back[i].run_seed, RunSeed(header.seed, high));  // the bit pattern survives
+    if (back[i].run_index == high) {
+      EXPECT_EQ(back[i].run_seed, RunSeed(header.seed, high));  // the unsigned bit pattern survives
+    }
   }
   EXPECT_FALSE(back[1].fault_onset_s.has_value() != records[1].fault_onset_s.has_value());
   const auto one = store.ReadRecord(1, "cma");
