@@ -24,7 +24,7 @@ YAML::Node LoadYamlFile(const std::filesystem::path& path);
 //   - a key given twice in one mapping (issue 26 item 6): YAML 1.2 requires keys to be unique, and tools
 //     disagree on which value counts (yaml-cpp's node[key] returns the first, PyYAML keeps the last), so
 //     the file is refused naming both lines rather than read one way;
-//   - a scalar that is not UTF-8 (issue 26 item 3), naming its line;
+//   - a scalar that is not UTF-8, naming its line;
 //   - a second document (after `---`), naming the line it starts on: the file would mean its first document
 //     only, silently;
 //   - before parsing, a text above kMaxYamlBytes or a line above kMaxYamlLineBytes (yaml-cpp's scanner costs
