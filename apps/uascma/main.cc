@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include <CLI/CLI.hpp>
@@ -102,11 +103,28 @@ int ExitCodeOfError(const std::exception_ptr& error) {
   }
 }
 
+// An option given an empty value (`--out ""`, `--out=`): every command reads an empty path as "not given", so
+// the tool would run and write nothing; refused before any command sees it.
+void RefuseEmptyOptionValues(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view argument = argv[i];
+    if (argument.size() < 3 || argument.substr(0, 2) != "--") continue;
+    const std::size_t equals = argument.find('=');
+    const bool empty_joined = equals != std::string_view::npos && equals + 1 == argument.size();
+    const bool empty_next = equals == std::string_view::npos && i + 1 < argc && argv[i + 1][0] == '\0';
+    if (empty_joined || empty_next) {
+      throw uascma::InputError(std::string(argument.substr(0, equals)), "value",
+                               "a value that is not empty, got an empty string");
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   uascma::cli::ContinueInMpiLauncher(argv);  // under mpirun: uascma-mpi, the tool with MPI
   try {
+    RefuseEmptyOptionValues(argc, argv);
     int exit_code = 0;
     if (ParseWithNamedCommand(argc, argv, exit_code) != nullptr) return exit_code;
   } catch (...) {

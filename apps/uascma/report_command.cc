@@ -29,7 +29,13 @@ void AddReportCommand(CLI::App& app) {
                       "Draw bar charts with error bars (Figs. 5.30-5.32) into this folder; it then holds only\n"
                       "this run's charts (a new, empty, or earlier uascma output folder; any other is refused)");
   command->callback([file, json, plots] {
-    const campaign::ResultsStore store = campaign::ResultsStore::Open(*file);
+    campaign::StoreOptions read;
+    read.read_only = true;
+    const campaign::ResultsStore store = campaign::ResultsStore::Open(*file, read);
+    if (store.read_immutable()) {
+      std::fprintf(stderr, "uascma: note: %s: read as an unchanging file (its folder cannot be written)\n",
+                   file->c_str());
+    }
     const campaign::CampaignReport report = campaign::MakeCampaignReport(store);
     const nlohmann::json document = campaign::CampaignReportJson(report);
     if (!plots->empty()) {

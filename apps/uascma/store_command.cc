@@ -27,6 +27,7 @@ nlohmann::json CheckJson(const std::string& db, const campaign::StoreCheckResult
           {"flights", result.flights},
           {"workers", result.workers},
           {"claims", result.claims},
+          {"read_immutable", result.read_immutable},
           {"problems_total", result.problems_total},
           {"problems", result.problems}};
 }
@@ -40,6 +41,12 @@ void PrintCheck(const std::string& db, const campaign::StoreCheckResult& result)
         static_cast<long long>(result.schema_version), static_cast<long long>(result.policies),
         static_cast<long long>(result.flights), static_cast<long long>(result.runs_requested),
         static_cast<long long>(result.workers), static_cast<long long>(result.claims));
+  }
+  if (result.read_immutable) {
+    std::printf(
+        "%s: read as an unchanging file: its folder cannot be written, so SQLite's shared-memory file "
+        "(-shm) could not be made there; that is a permission, not damage\n",
+        db.c_str());
   }
   if (result.ok()) {
     std::printf("%s: sound (SQLite's integrity check and the campaign's invariants hold)\n", db.c_str());

@@ -196,6 +196,13 @@ void AddConfigFieldProperties(py::class_<CampaignConfig>& cls) {
       },
       "Every key of a campaign file: key, property name, bound, expected, citation, default (canonical YAML text)");
 }
+// The readers' store options: a sound file in a folder this user cannot write is read as an unchanging file.
+StoreOptions ReadOnlyStore() {
+  StoreOptions options;
+  options.read_only = true;
+  return options;
+}
+
 }  // namespace
 
 void InitCampaign(py::module_& m) {
@@ -240,7 +247,7 @@ void InitCampaign(py::module_& m) {
   m.def(
       "campaign_report",
       [](const std::string& db, bool text) -> py::object {
-        const CampaignReport report = MakeCampaignReport(ResultsStore::Open(db));
+        const CampaignReport report = MakeCampaignReport(ResultsStore::Open(db, ReadOnlyStore()));
         if (text) return py::str(CampaignReportText(report));
         return JsonToPython(CampaignReportJson(report));
       },
@@ -250,7 +257,7 @@ void InitCampaign(py::module_& m) {
   m.def(
       "read_records",
       [](const std::string& db) {
-        const ResultsStore store = ResultsStore::Open(db);
+        const ResultsStore store = ResultsStore::Open(db, ReadOnlyStore());
         py::list records;
         for (const RunRecord& r : store.ReadRecords()) records.append(JsonToPython(RecordToJson(r)));
         return records;

@@ -12,7 +12,9 @@
 namespace uascma::campaign {
 
 ReplayFlight LoadReplay(const std::filesystem::path& db, const std::string& run_id) {
-  const ResultsStore store = ResultsStore::Open(db);
+  StoreOptions read;
+  read.read_only = true;  // a sound file in a folder this user cannot write is read too
+  const ResultsStore store = ResultsStore::Open(db, read);
   std::optional<RunRecord> record;
   const auto colon = run_id.find(':');
   auto parse_index = [&run_id](const std::string& text) {

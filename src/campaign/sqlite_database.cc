@@ -1,8 +1,14 @@
 #include "sqlite_database.h"
 
+#include <unistd.h>
+
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include "uascma/common/error.h"
 
@@ -19,6 +25,11 @@ std::string Describe(sqlite3* db, int code) {
   std::string message = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(code);
   if (IsDiskFull(code)) return "free disk space: the disk or database is full (" + message + ")";
   if (primary == SQLITE_NOTADB) return "an SQLite database written by 'uascma campaign' (" + message + ")";
+  if (primary == SQLITE_CANTOPEN || primary == SQLITE_READONLY || primary == SQLITE_PERM) {
+    return "a file and folder this user may read and write (SQLite's WAL mode makes the -wal and -shm files "
+           "beside the database; a permission, not damage: " +
+           message + ")";
+  }
   if (primary == SQLITE_BUSY || primary == SQLITE_LOCKED) {
     return "no other process writing this database (" + message + ")";
   }
@@ -100,6 +111,65 @@ Database::Database(const std::string& file, int flags, const std::string& name_i
     throw InputError(path_, "open", message);
   }
   sqlite3_extended_result_codes(db_, 1);
+}
+
+namespace {
+
+// Whether a first read of `db` succeeds; its result code otherwise.
+int FirstReadCode(sqlite3* db) {
+  sqlite3_stmt* statement = nullptr;
+  int code = sqlite3_prepare_v2(db, "SELECT count(*) FROM sqlite_master", -1, &statement, nullptr);
+  if (code == SQLITE_OK) {
+    code = sqlite3_step(statement);
+    if (code == SQLITE_ROW || code == SQLITE_DONE) code = SQLITE_OK;
+  }
+  sqlite3_finalize(statement);
+  return code;
+}
+
+// The folder of `file` ("." for a bare name).
+std::filesystem::path FolderOf(const std::string& file) {
+  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
+  return folder.empty() ? std::filesystem::path(".") : folder;
+}
+
+// `file` as an SQLite URI: every character outside the unreserved set written as %HH (RFC 3986).
+std::string FileUri(const std::string& file) {
+  const std::string absolute = std::filesystem::absolute(file).string();
+  std::string uri = "file:";
+  for (const char c : absolute) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (std::isalnum(byte) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+      uri += c;
+    } else {
+      uri += fmt::format("%{:02X}", byte);
+    }
+  }
+  return uri + "?immutable=1";
+}
+
+}  // namespace
+
+Database Database::OpenForReading(const std::string& file, const std::string& name_in_errors, ReadAccess* access) {
+  *access = ReadAccess::kShared;
+  Database shared(file, SQLITE_OPEN_READONLY, name_in_errors);
+  if (FirstReadCode(shared.handle()) == SQLITE_OK || ::access(FolderOf(file).c_str(), W_OK) == 0) return shared;
+  // The folder cannot be written, so no -shm can be made there: a permission, not damage. The file alone is read
+  // as immutable, which a -wal holding data would contradict.
+  std::error_code ec;
+  const std::string wal = file + "-wal";
+  const auto wal_bytes = std::filesystem::exists(wal, ec) ? std::filesystem::file_size(wal, ec) : 0;
+  if (!ec && wal_bytes > 0) {
+    throw InputError(shared.path(), "folder",
+                     fmt::format("a folder this user can write, or a -wal file that is empty: {} cannot be written, "
+                                 "and {}-wal holds {} bytes of the database not yet in the main file (copy both "
+                                 "files to a folder you can write and read the copy)",
+                                 FolderOf(file).string(), shared.path(), wal_bytes));
+  }
+  Database immutable(FileUri(file), SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, shared.path());
+  if (FirstReadCode(immutable.handle()) != SQLITE_OK) return shared;  // not the folder: reported as before
+  *access = ReadAccess::kImmutable;
+  return immutable;
 }
 
 Database::~Database() { Close(); }

@@ -50,9 +50,22 @@ class Statement {
   int last_code_ = SQLITE_OK;
 };
 
+class Database;
+
+// How OpenForReading opened a database.
+enum class ReadAccess {
+  kShared,     // as any reader: SQLite keeps its WAL index in <file>-shm beside the file
+  kImmutable,  // the folder cannot be written, so no -shm can be made: read as an unchanging file
+};
+
 class Database {
  public:
   Database() = default;
+  // Opens `file` only to read it. A sound database in a folder this process cannot write (SQLite cannot create
+  // the -shm its WAL mode needs there, and says "unable to open database file") is opened with the URI parameter
+  // immutable=1 instead, and *access says so. Its -wal, if it holds anything, would then not be read: that is
+  // refused, naming the -wal and how to read it. Other failures are InputErrors as the constructor's.
+  static Database OpenForReading(const std::string& file, const std::string& name_in_errors, ReadAccess* access);
   // Opens `file` with the given flags (SQLITE_OPEN_*). Errors name `name_in_errors` (default: `file`), so
   // a file built under a temporary name reports the user's path; path() returns that name too.
   Database(const std::string& file, int flags, const std::string& name_in_errors = "");

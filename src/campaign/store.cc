@@ -1,5 +1,7 @@
 #include "uascma/campaign/store.h"
 
+#include <sys/stat.h>
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -29,6 +31,30 @@
 // the check of a file in store_check.cc, the work shared between processes in store_workers.cc.
 namespace uascma::campaign {
 namespace {
+
+// The (device, inode) of the file at `path`, nothing when there is none.
+std::optional<std::pair<std::uint64_t, std::uint64_t>> FileIdentity(const std::filesystem::path& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0) return std::nullopt;
+  return std::pair<std::uint64_t, std::uint64_t>{status.st_dev, status.st_ino};
+}
+
+// The database was renamed, replaced or deleted while a campaign wrote it. SQLite keeps writing the file it
+// opened, but its -wal stays at the old name and, once the file has moved, SQLite refuses to write or checkpoint
+// (SQLITE_READONLY_DBMOVED): the flights committed so far are in that -wal, which reads only beside its file.
+InputError MovedDatabaseError(const std::filesystem::path& path) {
+  std::error_code ec;
+  const bool something_there = std::filesystem::exists(path, ec);
+  return InputError(
+      path.string(), "file",
+      fmt::format("the database this campaign opened, but it was {} while the campaign ran; the campaign stopped "
+                  "and wrote nothing more. The flights committed before are in '{}-wal' (kept at this path) and "
+                  "the moved file: to recover them, put the moved file back at {} beside that -wal (a deleted "
+                  "file cannot be: run the campaign again), then 'uascma store check {}' and continue with "
+                  "--resume",
+                  something_there ? "replaced by another file" : "renamed or deleted", path.string(), path.string(),
+                  path.string()));
+}
 
 using store_internal::ApplyConnectionOptions;
 using store_internal::BindRecord;
@@ -272,7 +298,11 @@ ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOp
     throw InputError(path.string(), "file", "an existing campaign database");
   }
   auto connection = std::make_unique<Connection>();
-  connection->db = sqlite::Database(path.string(), SQLITE_OPEN_READWRITE);
+  sqlite::ReadAccess access = sqlite::ReadAccess::kShared;
+  connection->db = options.read_only ? sqlite::Database::OpenForReading(path.string(), path.string(), &access)
+                                     : sqlite::Database(path.string(), SQLITE_OPEN_READWRITE);
+  connection->read_immutable = access == sqlite::ReadAccess::kImmutable;
+  connection->identity = FileIdentity(path);
   ApplyConnectionOptions(connection->db, options);
   RequireUndamaged(connection->db);  // a damaged file is named, never read or resumed into (store.h)
   CampaignHeader header = ReadHeader(connection->db, &connection->schema_version);
@@ -287,6 +317,8 @@ ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOp
   if (ec) connection->open_key = std::filesystem::absolute(path, ec).string();
   return ResultsStore(path, std::move(connection), std::move(header), options);
 }
+
+bool ResultsStore::read_immutable() const { return connection_->read_immutable; }
 
 CampaignConfig ResultsStore::config() const {
   CampaignConfig config = ParseCampaignConfig(header_.config_yaml, path_.string() + ": campaign.config_yaml");
@@ -316,11 +348,15 @@ void ResultsStore::Insert(const std::vector<RunRecord>& records) {
       BindRecord(insert, header_.campaign_hash, record);
       insert.Step("write");
     }
+    if (FileIdentity(path_) != connection_->identity) throw MovedDatabaseError(path_);
     db.Execute("COMMIT", "write");
   } catch (const InputError& e) {
     const int code = sqlite3_extended_errcode(db.handle());
     insert.Reset();
     db.RollbackQuietly();
+    if (code == SQLITE_READONLY_DBMOVED || FileIdentity(path_) != connection_->identity) {
+      throw MovedDatabaseError(path_);
+    }
     if (sqlite::IsDiskFull(code)) {
       throw InputError(std::string(e.what()) + "; every batch committed before is kept, continue with --resume");
     }

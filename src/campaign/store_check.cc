@@ -5,8 +5,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -16,8 +18,10 @@
 #include "store_internal.h"
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/policies.h"
+#include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
 #include "uascma/common/text.h"
+#include "uascma/sim/outcome.h"
 
 namespace uascma::campaign {
 namespace {
@@ -119,6 +123,53 @@ bool IsJsonColumn(const std::string& column) {
   return column == "initial_cell_voltage_v" || column == "actions" || column == "substitutions";
 }
 
+// The select's column of the record field `name` (campaign_hash is column 0, the record's fields follow).
+int RecordColumn(std::string_view name) {
+  int column = 1;
+  int found = -1;
+  const RunRecord shape;
+  VisitRecordFields(shape, [&](const char* field, const auto&) {
+    if (field == name) found = column;
+    ++column;
+  });
+  UASCMA_CHECK(found > 0, "a field of RunRecord");
+  return found;
+}
+
+// A row whose values, each well typed, contradict each other or the header: an outcome that is no outcome or
+// disagrees with `failure` (sim::IsFailure), a run_seed that is not RunSeed(the campaign's seed, run_index) (the
+// flight would not replay), a negative energy or cell voltage.
+void CheckRowAgreement(const sqlite::Statement& select, const CampaignHeader& header, std::int64_t run_index,
+                       const std::string& where, ProblemList& problems) {
+  static const int kOutcome = RecordColumn("outcome"), kFailure = RecordColumn("failure");
+  static const int kRunSeed = RecordColumn("run_seed");
+  const std::string outcome = select.Text(kOutcome);
+  std::optional<sim::Outcome> known;
+  std::string names;
+  for (int o = static_cast<int>(sim::Outcome::kCompleted); o <= static_cast<int>(sim::Outcome::kLandedOffSite); ++o) {
+    const auto candidate = static_cast<sim::Outcome>(o);
+    names += (names.empty() ? "" : ", ") + std::string(sim::OutcomeName(candidate));
+    if (outcome == sim::OutcomeName(candidate)) known = candidate;
+  }
+  const bool failure = select.Integer(kFailure) != 0;
+  if (!known) {
+    problems.Add("outcome", fmt::format("{}: outcome: one of {}, got '{}'", where, names, BriefForMessage(outcome)));
+  } else if (sim::IsFailure(*known) != failure) {
+    problems.Add("outcome", fmt::format("{}: failure: {} for the outcome '{}', got {} (the row contradicts itself)",
+                                        where, sim::IsFailure(*known) ? 1 : 0, outcome, failure ? 1 : 0));
+  }
+  const auto run_seed = static_cast<std::uint64_t>(select.Integer(kRunSeed));
+  if (run_index >= 0 && run_seed != RunSeed(header.seed, run_index)) {
+    problems.Add("run_seed", fmt::format("{}: run_seed: {} (from the campaign's seed {} and run_index {}), got {} "
+                                         "(the flight would not replay)",
+                                         where, RunSeed(header.seed, run_index), header.seed, run_index, run_seed));
+  }
+  for (const char* name : {"energy_wh", "min_cell_voltage_v", "initial_cell_voltage_min_v"}) {
+    const double value = select.Real(RecordColumn(name));
+    if (value < 0.0) problems.Add("values", fmt::format("{}: {}: 0 or more, got {}", where, name, value));
+  }
+}
+
 void CheckFlightRows(sqlite::Database& db, const CampaignHeader& header, const std::map<std::string, int>& slots,
                      ProblemList& problems, StoreCheckResult* result) {
   const std::int64_t policy_count = static_cast<std::int64_t>(slots.size());
@@ -191,6 +242,7 @@ void CheckFlightRows(sqlite::Database& db, const CampaignHeader& header, const s
                    fmt::format("{}: flight_id: run_index x {} policies + slot {} = {}, got {}", where, policy_count,
                                slot->second, run_index * policy_count + slot->second, flight_id));
     }
+    CheckRowAgreement(select, header, run_index, where, problems);
   }
 }
 
@@ -342,6 +394,11 @@ void CheckHeader(const CampaignHeader& header, ProblemList& problems) {
                    "campaign: config_hash: the hash of config_yaml (edited, or written by another uascma "
                    "version?)");
     }
+    if (config.seed != header.seed) {  // the seed column is what the report prints and --resume flies with
+      problems.Add("campaign", fmt::format("campaign: seed: the seed of config_yaml (hashed into config_hash), {}, "
+                                           "got {} (edited?)",
+                                           config.seed, header.seed));
+    }
   } catch (const InputError& e) {
     problems.Add("campaign", std::string("campaign: config_yaml: a campaign configuration (") + e.what() + ")");
   }
@@ -409,9 +466,11 @@ StoreCheckResult CheckStore(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path.string(), "file", "an existing campaign database");
   }
-  sqlite::Database db(path.string(), SQLITE_OPEN_READONLY);
+  sqlite::ReadAccess access = sqlite::ReadAccess::kShared;
+  sqlite::Database db = sqlite::Database::OpenForReading(path.string(), path.string(), &access);
   sqlite3_busy_timeout(db.handle(), StoreOptions{}.busy_timeout_ms);
   StoreCheckResult result;
+  result.read_immutable = access == sqlite::ReadAccess::kImmutable;
   try {
     db.Execute("BEGIN", "check the database");
     CheckDatabase(db, &result);

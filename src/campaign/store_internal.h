@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -15,6 +16,10 @@
 namespace uascma::campaign {
 
 struct ResultsStore::Connection {
+  bool read_immutable = false;  // opened to read, as an unchanging file (StoreOptions::read_only)
+  // The file opened (device, inode), compared with what the path names at each commit: a database renamed,
+  // replaced or deleted under a running campaign is found at the next batch, not at the end.
+  std::optional<std::pair<std::uint64_t, std::uint64_t>> identity;
   sqlite::Database db;
   sqlite::Statement insert;
   std::int64_t schema_version = kStoreSchemaVersion;

@@ -22,12 +22,46 @@ const nlohmann::json& JsonValue::json() const {
   return *json_;
 }
 
+namespace {
+
+// A JSON string of at most `limit` bytes of `text` (cut between characters).
+std::string QuotedPrefix(std::string_view text, std::size_t limit) {
+  const nlohmann::json prefix = std::string(Utf8Prefix(text, limit));
+  return prefix.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+// Appends the JSON text of `value` to `out` until `out` holds more than `limit` bytes: the work is bounded by
+// the limit, not by the value's size, and the recursion by the limit too (each level writes its bracket first).
+void AppendBrief(const nlohmann::json& value, std::size_t limit, std::string& out) {
+  if (out.size() > limit) return;
+  if (value.is_object() || value.is_array()) {
+    out += value.is_object() ? '{' : '[';
+    bool first = true;
+    for (auto it = value.begin(); it != value.end() && out.size() <= limit; ++it) {
+      if (!first) out += ',';
+      first = false;
+      if (value.is_object()) out += QuotedPrefix(it.key(), limit) + ':';
+      AppendBrief(it.value(), limit, out);
+    }
+    out += value.is_object() ? '}' : ']';
+    return;
+  }
+  if (value.is_string()) {
+    out += QuotedPrefix(value.get_ref<const std::string&>(), limit);
+    return;
+  }
+  out += value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+}  // namespace
+
 std::string JsonValue::Brief() const {
   if (json_ == nullptr) return "nothing";
-  std::string text = json_->dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::string text;
+  AppendBrief(*json_, kBriefCharacters, text);
   // Cut between characters: a UTF-8 sequence split at the cut would make the message itself invalid text.
   if (text.size() > kBriefCharacters) text = std::string(Utf8Prefix(text, kBriefCharacters - 3)) + "...";
-  return text;
+  return EscapeForMessage(text);
 }
 
 void JsonValue::Fail(std::string_view expected) const {

@@ -83,4 +83,26 @@ std::string EscapeInvalidUtf8(std::string_view text) {
   return escaped;
 }
 
+std::string EscapeForMessage(std::string_view text) {
+  std::string escaped;
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t length = SequenceLength(text, i);
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (length == 0 || byte < 0x20 || byte == 0x7F) {
+      escaped += fmt::format("\\x{:02X}", byte);
+      i += 1;
+    } else {
+      escaped.append(text.substr(i, length));
+      i += length;
+    }
+  }
+  return escaped;
+}
+
+std::string BriefForMessage(std::string_view text) {
+  constexpr std::size_t kQuotedBytes = 60;
+  if (text.size() <= kQuotedBytes) return EscapeForMessage(text);
+  return EscapeForMessage(Utf8Prefix(text, kQuotedBytes - 3)) + "...";
+}
+
 }  // namespace uascma

@@ -1,9 +1,11 @@
 #include "uascma/common/yaml_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -22,9 +24,10 @@ double ParseNumber(const YAML::Node& value, const std::string& source, const std
   try {
     number = value.as<double>();
   } catch (const YAML::Exception&) {
-    throw InputError(source, field, "a number, got '" + value.Scalar() + "'");
+    throw InputError(source, field, "a number, got '" + EscapeForMessage(value.Scalar()) + "'");
   }
-  if (!std::isfinite(number)) throw InputError(source, field, "a finite number, got '" + value.Scalar() + "'");
+  if (!std::isfinite(number))
+    throw InputError(source, field, "a finite number, got '" + EscapeForMessage(value.Scalar()) + "'");
   return number;
 }
 
@@ -60,7 +63,7 @@ class DocumentCheck {
         throw InputError(source_, fmt::format("line {}", line + 1),
                          fmt::format("each key once per mapping, but '{}' is also given on line {} (YAML tools "
                                      "disagree on which value counts: remove one)",
-                                     EscapeInvalidUtf8(entry.first.Scalar()), it->second + 1));
+                                     EscapeForMessage(entry.first.Scalar()), it->second + 1));
       }
     }
   }
@@ -78,13 +81,54 @@ class DocumentCheck {
 
 }  // namespace
 
+namespace {
+
+// Before yaml-cpp sees the text: its size and its longest line within their bounds.
+void CheckYamlSize(const std::string& text, const std::string& source) {
+  if (text.size() > kMaxYamlBytes) {
+    throw InputError(source, "file",
+                     fmt::format("a YAML file of at most {} bytes, but it holds {}", kMaxYamlBytes, text.size()));
+  }
+  std::size_t line_start = 0;
+  for (int line = 1; line_start < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', line_start), text.size());
+    if (end - line_start > kMaxYamlLineBytes) {
+      throw InputError(source, fmt::format("line {}", line),
+                       fmt::format("lines of at most {} bytes (no uascma key or value is longer), but it holds {}",
+                                   kMaxYamlLineBytes, end - line_start));
+    }
+    line_start = end + 1;
+  }
+}
+
+// The 1-based line of the `---` that starts the document yaml-cpp marks on 0-based line `mark_line` (its first
+// node; the line after the text for an empty one).
+int DocumentStartLine(const std::string& text, int mark_line) {
+  std::vector<std::size_t> starts{0};
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') starts.push_back(i + 1);
+  for (int line = std::min<int>(mark_line, static_cast<int>(starts.size()) - 1); line >= 0; --line) {
+    if (text.compare(starts[line], 3, "---") == 0) return line + 1;
+  }
+  return mark_line + 1;
+}
+
+}  // namespace
+
 YAML::Node ParseYamlText(const std::string& text, const std::string& source) {
-  YAML::Node root;
+  CheckYamlSize(text, source);
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::Load(text);
+    documents = YAML::LoadAll(text);
   } catch (const YAML::Exception& e) {
     throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
   }
+  if (documents.size() > 1) {
+    throw InputError(source, fmt::format("line {}", DocumentStartLine(text, documents[1].Mark().line)),
+                     "one YAML document, but a second one starts here (uascma would read the first only: remove "
+                     "the second or make it a file of its own)");
+  }
+  YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   try {
     DocumentCheck(source).Walk(root);
   } catch (const YAML::Exception& e) {
@@ -141,7 +185,9 @@ void RequireOnlyKeys(const YAML::Node& node, const std::vector<std::string>& all
       known = known || key == name;
       list += (list.empty() ? "" : ", ") + name;
     }
-    if (!known) throw InputError(source, Join(where, key), "no such key here; expected one of: " + list);
+    if (!known) {
+      throw InputError(source, Join(where, EscapeForMessage(key)), "no such key here; expected one of: " + list);
+    }
   }
 }
 
@@ -161,7 +207,7 @@ bool OptionalBool(const YAML::Node& node, const std::string& key, bool fallback,
     return value.as<bool>();
   } catch (const YAML::Exception&) {
     throw InputError(source, Join(where, key),
-                     "true or false, got '" + (value.IsScalar() ? value.Scalar() : "?") + "'");
+                     "true or false, got '" + (value.IsScalar() ? EscapeForMessage(value.Scalar()) : "?") + "'");
   }
 }
 

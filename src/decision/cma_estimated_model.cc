@@ -1,7 +1,9 @@
 #include "uascma/decision/cma_estimated_model.h"
 
 #include <cmath>
+#include <optional>
 #include <set>
+#include <string>
 #include <utility>
 
 #include <fmt/format.h>
@@ -76,11 +78,40 @@ nlohmann::json CmaTransitionCountsToJson(const CmaTransitionCounts& counts) {
 
 namespace {
 
+// Why the model's structure forbids `state` --action--> `next`, or nothing when it allows it. Rules that hold for
+// every flight the simulator can fly, whatever the probabilities: eq. 5.19 (E follows only C, T and FL),
+// Terminate ends the flight (docs/modelling-choices.md#terminate, #outcomes-refined), only Terminate or an
+// action the executor put in its place gives T (#unavailable-actions), battery health is constant during a flight
+// (Table 5.2, #battery-health-label), NoOp keeps the flight status and no action returns to N (Table 5.1).
+std::optional<std::string> ForbiddenTransition(StateIndex state, ActionIndex action, StateIndex next) {
+  const auto a = static_cast<CmaAction>(action);
+  if (next == CmaTerminalIndex(CmaTerminal::kE)) return "E follows only C, T and FL (eq. 5.19)";
+  if (a == CmaAction::kTerminate) {  // T; C for a vehicle still on the ground (#outcomes-refined)
+    if (next < kCmaNumTupleStates) return "Terminate ends the flight (T, or C before take-off)";
+    return std::nullopt;
+  }
+  if (next == CmaTerminalIndex(CmaTerminal::kT)) {
+    if (a == CmaAction::kNoOp) return "NoOp never terminates the flight (only Terminate goes to T)";
+    return std::nullopt;
+  }
+  if (next >= kCmaNumTupleStates) return std::nullopt;  // C or FL: any flight may end so
+  const FiniteMdp& mdp = LabelModel();
+  const CmaState from = ParseCmaState(mdp.state_label(state), "the CMA model");
+  const CmaState to = ParseCmaState(mdp.state_label(next), "the CMA model");
+  if (to.bh != from.bh) return "the battery health is constant during a flight (Table 5.2)";
+  if (a == CmaAction::kNoOp && to.fs != from.fs) return "NoOp keeps the flight status (Table 5.1)";
+  if (to.fs == FlightStatus::kN && from.fs != FlightStatus::kN) return "no action returns the flight status to N";
+  return std::nullopt;
+}
+
+constexpr std::string_view kTotalFits = "counts whose totals fit a signed 64-bit integer (at most 2^63-1)";
+
 // The counts of `rows` ([{state, action, next: {label: count}}], CmaTransitionCountsToJson).
 CmaTransitionCounts CountsFromRows(const JsonValue& rows) {
   const FiniteMdp& mdp = LabelModel();
   CmaTransitionCounts counts;
   std::set<std::pair<StateIndex, ActionIndex>> seen;
+  std::int64_t file_total = 0;
   for (const JsonValue& row : rows.Elements("an array of rows {state, action, next}")) {
     constexpr std::string_view kRow = "an object with a string 'state', a string 'action' and an object 'next'";
     row.RequireObject(kRow);
@@ -93,13 +124,25 @@ CmaTransitionCounts CountsFromRows(const JsonValue& rows) {
     if (!IsTupleAvailable(s, a))
       action.FailExactly("an action available in the state (docs/modelling-choices.md#action-availability)");
     if (!seen.insert({s, a}).second) row.FailExactly("each (state, action) row at most once");
+    std::int64_t row_total = 0;
     for (const auto& [label, value] : row.Member("next").Members()) {
       const StateIndex n = mdp.FindState(label);
       if (n < 0) value.FailExactly("a CMA state label");
       constexpr std::string_view kCount = "a count, an integer >= 0";
       const std::int64_t count = value.Integer<std::int64_t>(kCount);
       if (count < 0) value.Fail(kCount);
+      if (count == 0) continue;
+      if (const auto why = ForbiddenTransition(s, a, n)) {
+        value.FailExactly(fmt::format("a next state the model allows after {} in {}, but {}", mdp.action_name(a),
+                                      mdp.state_label(s), *why));
+      }
+      if (__builtin_add_overflow(row_total, count, &row_total)) {
+        value.FailExactly(fmt::format("{}, but this row's sum passes it here", kTotalFits));
+      }
       counts.Add(s, a, n, count);
+    }
+    if (__builtin_add_overflow(file_total, row_total, &file_total)) {
+      row.FailExactly(fmt::format("{}, but the file's total passes it at this row", kTotalFits));
     }
   }
   return counts;

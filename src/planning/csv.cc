@@ -97,6 +97,11 @@ std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source
       ++i;
       continue;  // the LF ends the record
     }
+    if (c == '\r' && i + 1 < text.size()) {  // a lone CR would make the whole file one line
+      throw InputError(source, fmt::format("line {}", line),
+                       "lines ending in LF or CRLF (RFC 4180), but this line holds a carriage return alone (classic "
+                       "Mac line endings? convert them to LF)");
+    }
     if (c == '\n') {
       end_record();
       ++line;

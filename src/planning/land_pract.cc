@@ -64,6 +64,16 @@ bool LandPractParams::IsValid(std::string* error) const {
 }
 
 // --- LandPract -----------------------------------------------------------------------------------------------------
+std::optional<CheckpointInBuilding> FirstCheckpointInBuilding(const CityMap& map, const FlightPlan& nominal_plan,
+                                                              const LandPractParams& params) {
+  const double length = nominal_plan.Length();
+  for (int k = 1; k <= params.checkpoint_count; ++k) {
+    const Eigen::Vector3d p_W = nominal_plan.PointAtDistance(length * k / (params.checkpoint_count + 1));
+    if (map.IsInsideBuilding(p_W)) return CheckpointInBuilding{k - 1, p_W};
+  }
+  return std::nullopt;
+}
+
 LandPractDatabase LandPractDatabase::Build(const LandingPathPlanner& planner, const FlightPlan& nominal_plan,
                                            const LandPractParams& params) {
   std::string error;
@@ -74,6 +84,12 @@ LandPractDatabase LandPractDatabase::Build(const LandingPathPlanner& planner, co
   const double length = nominal_plan.Length();
   if (!(length > 0.0)) throw InputError("LandPract", "nominal_plan", "a plan with a positive length");
   const CityMap& map = planner.map();
+  if (const auto inside = FirstCheckpointInBuilding(map, nominal_plan, params)) {
+    throw InputError("LandPract", "nominal_plan",
+                     fmt::format("a plan clear of the buildings; checkpoint {} at ({:.1f}, {:.1f}, {:.1f}) m is inside "
+                                 "one",
+                                 inside->checkpoint, inside->p_W.x(), inside->p_W.y(), inside->p_W.z()));
+  }
   LandPractDatabase database;
   database.params_ = params;
   database.planner_.push_back(planner);
@@ -87,13 +103,6 @@ LandPractDatabase LandPractDatabase::Build(const LandingPathPlanner& planner, co
     checkpoint.route_distance = length * k / (params.checkpoint_count + 1);
     checkpoint.p_W = nominal_plan.PointAtDistance(checkpoint.route_distance);
     checkpoint.plan_time = PlanTimeAtDistance(nominal_plan, checkpoint.route_distance);
-    if (map.IsInsideBuilding(checkpoint.p_W)) {
-      throw InputError(
-          "LandPract", "nominal_plan",
-          fmt::format("a plan clear of the buildings; checkpoint {} at ({:.1f}, {:.1f}, {:.1f}) m is inside "
-                      "one",
-                      k - 1, checkpoint.p_W.x(), checkpoint.p_W.y(), checkpoint.p_W.z()));
-    }
     map.SitesWithinRadius(checkpoint.p_W.head<2>(), params.site_search_radius, &candidates);
     SiteSearchResult search = planner.PlanToSites(checkpoint.p_W, candidates, options);
     std::vector<StoredTrajectory> stored;

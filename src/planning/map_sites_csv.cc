@@ -10,6 +10,7 @@
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
+#include "uascma/common/text.h"
 #include "uascma/planning/csv.h"
 #include "uascma/planning/map_import.h"
 
@@ -55,10 +56,18 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
   std::array<int, kNumColumns> where;
   where.fill(-1);
   for (int c = 0; c < kNumColumns; ++c) {
-    for (std::size_t f = 0; f < header.size() && where[c] < 0; ++f) {
+    for (std::size_t f = 0; f < header.size(); ++f) {
       const std::string name = LowerCsvHeader(header[f]);
       for (std::string_view alias : Columns()[c].aliases) {
-        if (name == alias) where[c] = static_cast<int>(f);
+        if (name != alias) continue;
+        if (where[c] >= 0) {  // a column given twice: which one holds the value would be a guess
+          throw InputError(source, fmt::format("line {} column {}", records.front().line, f + 1),
+                           fmt::format("each column once, but '{}' is column {} and '{}' column {} (both name {}): "
+                                       "remove one",
+                                       BriefForMessage(header[where[c]]), where[c] + 1, BriefForMessage(header[f]),
+                                       f + 1, Columns()[c].name));
+        }
+        where[c] = static_cast<int>(f);
       }
     }
     if (where[c] < 0) {
@@ -67,7 +76,7 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
         aliases += (aliases.empty() ? "" : " | ") + std::string(alias);
       throw InputError(source, "header",
                        fmt::format("a column '{}' (accepted names: {}); the header is '{}'", Columns()[c].name, aliases,
-                                   fmt::join(header, ",")));
+                                   BriefForMessage(fmt::format("{}", fmt::join(header, ",")))));
     }
   }
   const int needed = *std::max_element(where.begin(), where.end()) + 1;
@@ -84,14 +93,14 @@ void ParseLandingSitesCsv(std::string_view text, const std::string& source, cons
       const auto value = detail::ParseNumber(fields[where[c]]);
       if (!value) {
         throw InputError(source, fmt::format("{} column {}", row, Columns()[c].name),
-                         fmt::format("a number, got '{}'", fields[where[c]]));
+                         fmt::format("a number, got '{}'", BriefForMessage(fields[where[c]])));
       }
       return *value;
     };
     GeoLandingSite site;
     site.id = std::string(fields[where[kId]]);
     if (site.id.empty()) throw InputError(source, row + " column osm_id", "a site id");
-    const std::string feature = fmt::format("{} (site {})", row, site.id);
+    const std::string feature = fmt::format("{} (site {})", row, BriefForMessage(site.id));
     site.position = {number_at(kLat), number_at(kLon)};
     detail::CheckGeoPoint(site.position, source, feature);
     site.altitude = number_at(kAlt);

@@ -11,6 +11,7 @@
 #include "map_import_detail.h"
 #include "mission_items.h"
 #include "uascma/common/error.h"
+#include "uascma/common/text.h"
 
 namespace uascma::planning::mission_detail {
 namespace {
@@ -39,7 +40,8 @@ void CheckHeader(const std::vector<std::pair<int, std::string>>& lines, const st
   std::string qgc, wpl, version;
   header >> qgc >> wpl >> version;
   if (version != "110") {
-    throw InputError(source, "line 1", fmt::format("format version 110 (\"QGC WPL 110\"), got \"{}\"", version));
+    throw InputError(source, "line 1",
+                     fmt::format("format version 110 (\"QGC WPL 110\"), got \"{}\"", BriefForMessage(version)));
   }
 }
 
@@ -59,13 +61,15 @@ int ReadItemLine(const std::string& line, const std::string& where, const std::s
   for (int f = 0; f < 12; ++f) {
     const auto value = detail::ParseNumber(fields[f]);
     if (!value)
-      throw InputError(source, fmt::format("{} field {}", where, f + 1), fmt::format("a number, got '{}'", fields[f]));
+      throw InputError(source, fmt::format("{} field {}", where, f + 1),
+                       fmt::format("a number, got '{}'", BriefForMessage(fields[f])));
     values[f] = *value;
   }
   auto integer = [&](int f, const char* what) {
     // Whole and in int's range (the cast of 1e15 to int is undefined behaviour; found by fuzz/mission_wpl_fuzzer).
     if (values[f] != std::floor(values[f]) || !(std::abs(values[f]) <= std::numeric_limits<int>::max())) {
-      throw InputError(source, fmt::format("{} {}", where, what), fmt::format("an integer, got {}", fields[f]));
+      throw InputError(source, fmt::format("{} {}", where, what),
+                       fmt::format("an integer, got {}", BriefForMessage(fields[f])));
     }
     return static_cast<int>(values[f]);
   };

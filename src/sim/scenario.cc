@@ -473,6 +473,20 @@ void ReadFault(const YAML::Node& f, const std::string& source, Scenario& sc) {
   ReadScenarioSection(f, "fault", source, sc);
 }
 
+// Over a map with landing sites the flight builds LandPract's database, whose checkpoints lie on the nominal plan
+// (§5.3.2.2): one inside a building is a plan through it, said here with the file and the key that sets the height.
+void CheckLandPractCheckpoints(const Scenario& sc, const std::string& source) {
+  if (!sc.map || sc.map->sites().empty()) return;
+  const planning::FlightPlan plan =
+      sc.route ? planning::MakeMissionPlan(*sc.route, sc.limits) : planning::MakeDeliveryPlan(sc.mission, sc.limits);
+  if (const auto inside = planning::FirstCheckpointInBuilding(*sc.map, plan)) {
+    throw InputError(source, sc.route ? "mission.file" : "mission.cruise_altitude_m",
+                     fmt::format("a nominal plan clear of the buildings, but LandPract's checkpoint {} at ({:.1f}, "
+                                 "{:.1f}, {:.1f}) m (NED) is inside one: raise the cruise altitude",
+                                 inside->checkpoint, inside->p_W.x(), inside->p_W.y(), inside->p_W.z()));
+  }
+}
+
 }  // namespace
 
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source, const ScenarioLoadOptions& load) {
@@ -522,6 +536,7 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     const std::array<Eigen::Vector2d, 2> route = {sc.mission.home_NE, sc.mission.destination_NE};
     sc.mission.cruise_altitude = sc.map->CruiseAltitude(route, planning::kCruiseClearanceAboveBuildings, 5.0);
   }
+  CheckLandPractCheckpoints(sc, source);
   return file;
 }
 

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../campaign/campaign_test_support.h"
+#include "uascma/campaign/sampler.h"
 #include "uascma/campaign/store.h"
 
 extern char** environ;
@@ -253,9 +254,10 @@ TEST_F(CampaignCliTest, ReportOfAHandMadeDatabase) {
   {
     ResultsStore store = ResultsStore::Create(
         db, campaign::MakeCampaignHeader(config, {campaign::SolvedCmaPolicy(), campaign::NoOpCampaignPolicy()}));
-    auto flight = [](std::int64_t run, const std::string& policy, const std::string& outcome, double reward) {
+    auto flight = [&config](std::int64_t run, const std::string& policy, const std::string& outcome, double reward) {
       RunRecord r;
-      r.battery_health = std::string("P");  // (a literal here trips GCC 12's -Wrestrict false positive)
+      r.run_seed = campaign::RunSeed(config.seed, run);  // as the sampler draws it (the store check holds rows to it)
+      r.battery_health = std::string("P");               // (a literal here trips GCC 12's -Wrestrict false positive)
       r.run_index = run;
       r.policy = policy;
       r.flight_id = 2 * run + (policy == "cma" ? 0 : 1);

@@ -4,15 +4,19 @@
 // resumed into or replayed from.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "campaign_test_support.h"
 #include "store_test_support.h"
+#include "uascma/campaign/sampler.h"
 #include "uascma/campaign/store.h"
 #include "uascma/common/error.h"
 
@@ -130,6 +134,7 @@ RunRecord Flight(std::int64_t run_index, const std::string& policy) {
   r.initial_cell_voltage_v = std::string("[4.1,4.1,4.1,4.0,4.0,4.0]");
   r.actions = std::string("[[0.0,\"NoOp\"]]");
   r.outcome = std::string("completed");
+  r.run_seed = RunSeed(Header().seed, run_index);  // as the sampler draws it
   return r;
 }
 
@@ -264,6 +269,18 @@ TEST(StoreCheckTest, DamagedStoresAreNamedAndRefused) {
       {"a flight of another campaign", "UPDATE runs SET campaign_hash = 'x' WHERE run_index = 1 AND policy = 'noop'",
        "campaign_hash: this campaign's hash"},
       {"a dropped column", "ALTER TABLE runs DROP COLUMN max_tilt_rad", "runs.max_tilt_rad"},
+      // Rows that contradict themselves or the header.
+      {"completed on a failed flight", "UPDATE runs SET failure = 1 WHERE run_index = 0 AND policy = 'cma'",
+       "failure: 0 for the outcome 'completed', got 1 (the row contradicts itself)"},
+      {"no outcome", "UPDATE runs SET outcome = 'won' WHERE run_index = 0 AND policy = 'cma'",
+       "outcome: one of completed, "},
+      {"negative energy", "UPDATE runs SET energy_wh = -3 WHERE run_index = 1 AND policy = 'cma'",
+       "energy_wh: 0 or more, got -3"},
+      {"negative cell voltage", "UPDATE runs SET min_cell_voltage_v = -0.5 WHERE run_index = 1 AND policy = 'noop'",
+       "min_cell_voltage_v: 0 or more, got -0.5"},
+      {"a run_seed that is not the sampler's", "UPDATE runs SET run_seed = 5 WHERE run_index = 1 AND policy = 'noop'",
+       "run_seed: "},
+      {"an edited header seed", "UPDATE campaign SET seed = 3", "campaign: seed: the seed of config_yaml"},
   };
   TempDir dir;
   for (const Case& c : cases) {
@@ -283,6 +300,81 @@ TEST(StoreCheckTest, DamagedStoresAreNamedAndRefused) {
     }
     std::filesystem::remove(path);
   }
+}
+
+// Runs `check` in a child process that cannot write `folder` and returns its exit code: as user nobody when this
+// test runs as root (root may write any folder), else with the folder made read-only for the time of the call.
+int InAFolderThatCannotBeWritten(const std::filesystem::path& folder, const std::function<int()>& check) {
+  namespace fs = std::filesystem;
+  const bool root = ::geteuid() == 0;
+  if (!root) fs::permissions(folder, fs::perms::owner_read | fs::perms::owner_exec, fs::perm_options::replace);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    constexpr uid_t kNobody = 65534;
+    if (root && (::setgid(kNobody) != 0 || ::setuid(kNobody) != 0)) ::_exit(90);
+    ::_exit(check());
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  if (!root) fs::permissions(folder, fs::perms::owner_all, fs::perm_options::replace);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 99;
+}
+
+// A sound database in a folder its reader cannot write was "damaged" for store check, and report and --replay
+// refused it: SQLite could not make its -shm there. It is read as an unchanging file, and said so.
+TEST(StoreCheckTest, ASoundStoreInAFolderThatCannotBeWrittenIsReadNotCalledDamaged) {
+  TempDir dir;
+  const auto folder = dir.path / "read-only";
+  std::filesystem::create_directories(folder);
+  const auto path = SoundStore(folder, "c.db");
+  ASSERT_FALSE(std::filesystem::exists(path.string() + "-wal"));  // closed: every flight in the main file
+  // 0: read as immutable, sound, all four flights; 1-3: which expectation failed.
+  const int check = InAFolderThatCannotBeWritten(folder, [&] {
+    const StoreCheckResult result = CheckStore(path);
+    if (!result.ok() || result.flights != 4) return 1;
+    if (!result.read_immutable) return 2;
+    StoreOptions read;
+    read.read_only = true;
+    const ResultsStore store = ResultsStore::Open(path, read);
+    return store.read_immutable() && store.ReadRecords().size() == 4 ? 0 : 3;
+  });
+  EXPECT_EQ(check, 0);
+  // Where the folder can be written nothing changes: the shared open, as before.
+  const StoreCheckResult result = CheckStore(path);
+  EXPECT_TRUE(result.ok()) << AllProblems(result);
+  EXPECT_FALSE(result.read_immutable);
+}
+
+// A database renamed during a campaign ended with 0 rows in the renamed file (every flight in the -wal left at the
+// old name) and a message that said only "an existing campaign database". The next batch finds it, stops, and the
+// message says where the flights are; following it recovers every committed flight.
+TEST(StoreCheckTest, ADatabaseRenamedDuringACampaignStopsItAndSaysHowToRecoverTheFlights) {
+  TempDir dir;
+  const auto path = dir.path / "c.db";
+  const auto moved = dir.path / "moved.db";
+  {
+    ResultsStore store = ResultsStore::Create(path, Header());
+    store.Insert({Flight(0, "cma"), Flight(0, "noop")});
+    std::filesystem::rename(path, moved);
+    try {
+      store.Insert({Flight(1, "cma")});
+      ADD_FAILURE() << "a batch was written into a moved database";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind(path.string() + ": file: the database this campaign opened, but it was renamed or "
+                                              "deleted while the campaign ran",
+                              0),
+                0u)
+          << message;
+      EXPECT_NE(message.find(path.string() + "-wal"), std::string::npos) << message;
+      EXPECT_NE(message.find("--resume"), std::string::npos) << message;
+    }
+  }
+  // The recovery the message gives: the moved file back beside its -wal.
+  std::filesystem::rename(moved, path);
+  const StoreCheckResult result = CheckStore(path);
+  EXPECT_TRUE(result.ok()) << AllProblems(result);
+  EXPECT_EQ(result.flights, 2);
 }
 
 TEST(StoreCheckTest, AFileThatFailsSqlitesIntegrityCheckIsRefused) {

@@ -3,6 +3,7 @@
 // exclusive creation, errors that name the user's path, and the claims that share a campaign between
 // processes (live, dead, retired and foreign workers; version-1 files).
 #include "uascma/campaign/store.h"
+#include "uascma/campaign/sampler.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "campaign_test_support.h"
@@ -43,7 +45,7 @@ RunRecord Synthetic(std::int64_t run_index, const std::string& policy, std::size
   r.flight_id = run_index * 2 + (policy == "cma" ? 0 : 1);
   r.initial_cell_voltage_v = std::string("[4.1,4.1,4.1,4.0,4.0,4.0]");  // JSON columns hold JSON (CheckStore)
   r.actions = std::string("[]");
-  r.run_seed = 0xffffffffffffff00ULL + static_cast<std::uint64_t>(run_index);  // above INT64_MAX
+  r.run_seed = RunSeed(Header().seed, run_index);  // as the sampler draws it (CheckStore holds rows to it)
   r.distance_m = 0.1 + static_cast<double>(run_index) / 3.0;
   r.outcome = "completed";
   r.reason.resize(reason_bytes, 'x');
@@ -98,14 +100,21 @@ TEST(StoreTest, RecordsAndHeaderRoundTrip) {
   EXPECT_EQ(store.header().policies[0].hash, header.policies[0].hash);
   EXPECT_EQ(CampaignConfigHash(store.config()), header.config_hash);
 
-  const std::vector<RunRecord> records = {Synthetic(0, "cma"), Synthetic(0, "noop"), Synthetic(1, "cma")};
+  // The first run of this campaign whose seed lies above INT64_MAX: its unsigned bit pattern must survive.
+  std::int64_t high = 0;
+  while (RunSeed(header.seed, high) <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) ++high;
+  ASSERT_LT(high, header.runs_requested);
+  std::vector<RunRecord> records = {Synthetic(0, "cma"), Synthetic(0, "noop"), Synthetic(1, "cma")};
+  if (high > 1) records.push_back(Synthetic(high, "cma"));
   store.Insert(records);
   const std::vector<RunRecord> back = store.ReadRecords();
-  ASSERT_EQ(back.size(), 3u);
+  ASSERT_EQ(back.size(), records.size());
   for (std::size_t i = 0; i < back.size(); ++i) {
     EXPECT_EQ(FirstDifference(back[i], records[i]), std::nullopt) << i;
+    if (back[i].run_index == high) {
+      EXPECT_EQ(back[i].run_seed, RunSeed(header.seed, high));  // the unsigned bit pattern survives
+    }
   }
-  EXPECT_EQ(back[0].run_seed, records[0].run_seed);  // the unsigned bit pattern survives
   EXPECT_FALSE(back[1].fault_onset_s.has_value() != records[1].fault_onset_s.has_value());
   const auto one = store.ReadRecord(1, "cma");
   ASSERT_TRUE(one.has_value());

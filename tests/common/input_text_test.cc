@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/json_io.h"
+#include "uascma/common/json_reader.h"
 #include "uascma/common/text.h"
 #include "uascma/common/yaml_io.h"
 
@@ -109,6 +111,72 @@ TEST(JsonTextTest, AKeyGivenTwiceIsRefusedNamingBothLines) {
       "");
   // The syntax errors are reported as before.
   EXPECT_EQ(ErrorOf([] { ParseJsonText("{\"a\": ", "p.json"); }).rfind("p.json: byte", 0), 0u);
+}
+
+// A document nested 100,000 deep crashed the message writer (a recursive dump of the value, on the stack): every
+// JSON reader now refuses nesting beyond kMaxJsonDepth, naming the source and the path where it passed it.
+TEST(JsonTextTest, NestingBeyondTheBoundIsRefusedNamingThePath) {
+  const auto nested = [](std::size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); };
+  EXPECT_EQ(ErrorOf([&] { ParseJsonText(nested(kMaxJsonDepth), "p.json"); }), "");
+  EXPECT_EQ(ErrorOf([&] { ParseJsonText(nested(kMaxJsonDepth + 1), "p.json"); }),
+            fmt::format("p.json: [0][0][0][0][0][0][0][0]… ({0} levels): JSON nested at most {1} levels deep, but "
+                        "line 1 opens level {0}",
+                        kMaxJsonDepth + 1, kMaxJsonDepth));
+  EXPECT_NE(ErrorOf([&] {
+              ParseJsonText("{\"states\": [1, {\"q\": " + nested(100000) + "}]}", "p.json");
+            }).rfind("p.json: states[1].q[0][0][0][0][0]… (", 0),
+            std::string::npos);
+}
+
+// nlohmann's "number overflow parsing '1e999'" named neither the field nor the file's path to it.
+TEST(JsonTextTest, ANumberBeyondDoublesRangeIsRefusedNamingItsPath) {
+  EXPECT_EQ(ErrorOf([] { ParseJsonText("{\"gamma\": 0.9, \"rows\": [1, 2, {\"v\": -1e999}]}", "p.json"); }),
+            "p.json: rows[2].v: a number within double's range (magnitude below 1.8e308), got -1e999");
+  EXPECT_EQ(ErrorOf([] { ParseJsonText("[1e-999, 1.7e308]", "p.json"); }), "");  // underflow to 0 is a number
+}
+
+// The value quoted by a message costs its 60 characters, not its size, and carries no control character.
+TEST(JsonTextTest, AMessageQuotesAShortEscapedPartOfTheValue) {
+  std::string text = "{\"a\": [";
+  for (int i = 0; i < 20000; ++i) text += "[\"x\\u001b[31m\", 1],";
+  text += "0]}";
+  const JsonDocument document = JsonDocument::Parse(text, "p.json");
+  const std::string error = ErrorOf([&] { document.root().Member("a").String(); });
+  EXPECT_EQ(error,
+            "p.json: a: a string, got [[\"x\\u001b[31m\",1],[\"x\\u001b[31m\",1],[\"x\\u001b[31m\",1],[\"...");
+  EXPECT_EQ(error.find('\x1b'), std::string::npos);
+  EXPECT_EQ(JsonDocument::Parse("{\"k\": {\"b\": [1, 2.5, \"s\"]}}", "p.json").root().Member("k").Brief(),
+            "{\"b\":[1,2.5,\"s\"]}");  // a short value whole, as nlohmann writes it
+}
+
+TEST(TextTest, MessagesEscapeControlCharactersAndBytesThatAreNotUtf8) {
+  EXPECT_EQ(EscapeForMessage("a\x1b[2Jb\r\n\x7F\xFF \xC3\xA9"), "a\\x1B[2Jb\\x0D\\x0A\\x7F\\xFF \xC3\xA9");
+  EXPECT_EQ(BriefForMessage(std::string(100, 'z')), std::string(57, 'z') + "...");
+  EXPECT_EQ(BriefForMessage("\t"), "\\x09");
+}
+
+// A second document after `---` was silently ignored (the vehicle flew the first): refused naming its line.
+TEST(YamlTextTest, ASecondDocumentIsRefusedNamingItsLine) {
+  const std::string expected =
+      "s.yaml: line 3: one YAML document, but a second one starts here (uascma would read the first only: remove the "
+      "second or make it a file of its own)";
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("seed: 1\nname: a\n---\nseed: 2\n", "s.yaml"); }), expected);
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("seed: 1\nname: a\n---\n", "s.yaml"); }), expected);
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("---\nseed: 1\n...\n", "s.yaml"); }), "");  // one document, marked
+  EXPECT_TRUE(ParseYamlText("", "s.yaml").IsNull());
+}
+
+// A 10 MB scalar cost 7.5 CPU s in yaml-cpp's scanner before any check: the size is checked first.
+TEST(YamlTextTest, AnOversizedTextOrLineIsRefusedBeforeParsing) {
+  const std::string long_line = "name: \"" + std::string(kMaxYamlLineBytes, 'a') + "\"\n";
+  EXPECT_EQ(ErrorOf([&] { ParseYamlText("seed: 1\n" + long_line, "s.yaml"); }),
+            fmt::format("s.yaml: line 2: lines of at most {} bytes (no uascma key or value is longer), but it holds {}",
+                        kMaxYamlLineBytes, long_line.size() - 1));
+  std::string big;
+  while (big.size() <= kMaxYamlBytes) big += "# a comment line of a big file\n";
+  EXPECT_EQ(ErrorOf([&] { ParseYamlText(big, "s.yaml"); }),
+            fmt::format("s.yaml: file: a YAML file of at most {} bytes, but it holds {}", kMaxYamlBytes, big.size()));
+  EXPECT_EQ(ErrorOf([] { ParseYamlText("name: \"" + std::string(1000, 'a') + "\"\n", "s.yaml"); }), "");
 }
 
 TEST(OutputDirectoryMessagesTest, AFailedWriteInsideTheStagingFolderNamesTheUsersPath) {

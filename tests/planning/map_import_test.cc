@@ -305,6 +305,31 @@ TEST(LandingSiteCsvTest, AcceptsBothHeaderSpellingsAndRejectsBadRows) {
   ExpectInputError([&] { parse("osm_id,lat,lon,alt,risk,radius\n1,40,-73\n"); }, {"sites.csv", "line 2", "fields"});
 }
 
+// A column given twice was read from its first copy, silently; a file with CR-only line endings was one line whose
+// whole text the header message quoted; control characters and bytes that are not UTF-8 were echoed raw.
+TEST(LandingSiteCsvTest, ColumnsGivenTwiceLoneCarriageReturnsAndRawBytesAreRefusedOrEscaped) {
+  auto error_of = [](const std::string& text) {
+    GeoMapData data;
+    try {
+      ParseLandingSitesCsv(text, "sites.csv", MapImportOptions{}, &data);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_of("osm_id,lat,lon,alt,risk,radius,lat\n1,40,-73,0,0.5,2,41\n"),
+            "sites.csv: line 1 column 7: each column once, but 'lat' is column 2 and 'lat' column 7 (both name lat): "
+            "remove one");
+  EXPECT_NE(error_of("osm_id,lat,lon,alt,risk,radius,latitude\n1,40,-73,0,0.5,2,41\n").find("both name lat"),
+            std::string::npos);
+  EXPECT_EQ(error_of("osm_id,lat,lon,alt,risk,radius\r1,40,-73,0,0.5,2\r"),
+            "sites.csv: line 1: lines ending in LF or CRLF (RFC 4180), but this line holds a carriage return alone "
+            "(classic Mac line endings? convert them to LF)");
+  EXPECT_EQ(error_of("osm_id,lat,lon,alt,risk,radius\n1,40,-73,\x1b[2J\xFF,0.5,2\n"),
+            "sites.csv: line 2 column alt: a number, got '\\x1B[2J\\xFF'");
+  EXPECT_EQ(error_of("osm_id,lat,lon,alt,risk,radius\n\"a\rb\",40,-73,0,0.5,2\r\n"), "");  // inside quotes: text
+}
+
 // --- OSM (.osm and .osm.pbf) -------------------------------------------------------------------------------
 
 // Nodes of the little map: a rectangle (1–4) for a building way, an outer (5–8) and inner (9–12) ring for a

@@ -97,6 +97,9 @@ struct StoreOptions {
   std::int64_t max_page_count = 0;
   int busy_timeout_ms = 10000;
   double claim_lease_s = kClaimLeaseSeconds;  // see the header comment
+  // Open only to read (report, simulate --replay, Python's readers): a sound file in a folder this user cannot
+  // write is read as immutable (StoreCheckResult::read_immutable) instead of failing; writes then fail.
+  bool read_only = false;
 };
 
 // One run index and the policy slots still to fly on it.
@@ -136,6 +139,9 @@ struct StoreCheckResult {
   std::int64_t flights = 0;
   std::int64_t workers = 0;
   std::int64_t claims = 0;
+  // The file's folder cannot be written, so SQLite could not make the -shm its WAL mode reads through: the
+  // file was read as immutable (no other process may be writing it then; a -wal holding data is refused).
+  bool read_immutable = false;
   // Each "table or row: what is wrong", at most kMaxListed per kind of check; problems_total counts all.
   std::vector<std::string> problems;
   std::int64_t problems_total = 0;
@@ -181,6 +187,8 @@ class ResultsStore {
 
   const std::filesystem::path& path() const { return path_; }
   const CampaignHeader& header() const { return header_; }
+  // Opened to read from a folder this user cannot write, as an unchanging file (StoreOptions::read_only).
+  bool read_immutable() const;
   // The configuration the runs were sampled with (parsed back from config_yaml and checked against
   // config_hash).
   CampaignConfig config() const;

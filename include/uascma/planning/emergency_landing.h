@@ -86,6 +86,7 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -327,6 +328,15 @@ struct LandPractChoice {
   double reach_margin = -std::numeric_limits<double>::infinity();
   int scanned = 0;  // stored paths looked at (1 + the RM ties)
 };
+
+// The first LandPract checkpoint (k L / (N + 1) along `nominal_plan`, §5.3.2.2) inside a building of `map`,
+// 0-based, with its position; nothing when all are clear (LandPractDatabase::Build refuses such a plan).
+struct CheckpointInBuilding {
+  int checkpoint = 0;
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // m
+};
+std::optional<CheckpointInBuilding> FirstCheckpointInBuilding(const CityMap& map, const FlightPlan& nominal_plan,
+                                                              const LandPractParams& params = {});
 
 class LandPractDatabase {
  public:
