@@ -25,6 +25,10 @@ class VehicleCmaPolicy final : public DecisionPolicy {
   std::string name() const override { return table_.name(); }
   ActionRanking Ranking(const DecisionInputs& inputs) const override;
   decision::CmaState StateRead(const DecisionInputs& inputs) const override { return VehicleCmaState(inputs); }
+  // Decide reads `state` and `vehicle_motor_margin` only through its class, which the class-only EOD leaves exact: a
+  // bounded EOD means RM1, reach_margin 0 (MM1 once isolated), and the quadcopter's own EOD is bounded at
+  // t_quad + t_sf (sim/vehicle_margin.h). So the kernel may stop the epoch's EOD once RM's class is settled.
+  bool ReadsOnlyCmaState() const override { return true; }
 
  private:
   TablePolicy table_;  // indexed by VehicleCmaState
