@@ -183,7 +183,8 @@ void AddCampaignCommand(CLI::App& app) {
                    "Sampled scenarios, each flown by every policy (default: the file's runs, else 465)", bounds::kRuns);
   command->add_option(
       "--policies", options->policies,
-      "Comma-separated: cma (solved at start, default weights), noop, cma-risk, cma-risk@P (RM0 when P(EOD short)\n"
+      "Comma-separated: cma (solved at start, default weights), noop, cma-vehicle (the vehicle-level motor\n"
+      "margin: lands for a jam only when the quadcopter could not finish), cma-risk, cma-risk@P (RM0 when P(EOD short)\n"
       "> P, a level you state), cma-qmdp (on beliefs), or policy JSON files (default: the file's policies, else "
       "cma,noop)");
   AddSeedOption(command, "--seed", options->seed, "Campaign seed (default: the file's seed, else 1)");

@@ -17,6 +17,7 @@
 #include "uascma/common/files.h"
 #include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/cma_vehicle_mdp.h"
 #include "uascma/decision/cma_weights_json.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/decision/solvers.h"
@@ -191,15 +192,26 @@ void AddShow(CLI::App* policy) {
       "show",
       "Show a CMA policy file in the quadrant view of Fig. 5.9: rows by FS, MH, BH; columns by the\n"
       "RM x MM quadrants (I safe, II hazardous, III hyper-critical, IV critical). The file's model\n"
-      "hash is checked against the model rebuilt from its weights (or --weights)");
-  command->add_option("policy", *file, "Policy JSON written by 'uascma policy solve'")->required();
+      "hash is checked against the model rebuilt from its weights (or --weights). 'cma-vehicle' shows the\n"
+      "vehicle-level motor margin's model solved with the default weights (docs/cma-vehicle.md)");
+  command->add_option("policy", *file, "Policy JSON written by 'uascma policy solve', or cma-vehicle")->required();
   command->add_option("--weights", *weights_file, "Check the policy against the model of these weights");
   command->add_flag("--json", *json, "Print the quadrant view as JSON");
   command->add_option("--plot", *plot, "Also draw the quadrant view to this PNG file");
   command->callback([file, weights_file, json, plot] {
-    const PolicyDocument document = ReadPolicyFile(*file);
-    const FiniteMdp mdp = CmaModelForPolicy(document, *weights_file, *file);
-    const Policy policy = BindPolicy(document, mdp, *file);
+    const bool vehicle = *file == "cma-vehicle";
+    if (vehicle && !weights_file->empty())
+      throw InputError("--weights", "--weights", "a policy file (not cma-vehicle)");
+    PolicyDocument document;
+    if (vehicle) {
+      document.model_hash = ModelHash(BuildCmaVehicleMdp(CmaWeights{}));
+      document.gamma = CmaConfig{}.gamma;
+    } else {
+      document = ReadPolicyFile(*file);
+    }
+    const FiniteMdp mdp =
+        vehicle ? BuildCmaVehicleMdp(CmaWeights{}) : CmaModelForPolicy(document, *weights_file, *file);
+    const Policy policy = vehicle ? SolveCmaVehiclePolicy() : BindPolicy(document, mdp, *file);
     const auto rows = CmaQuadrantView(policy.action, policy.value);
     nlohmann::json view = {
         {"model_hash", document.model_hash}, {"gamma", document.gamma}, {"rows", nlohmann::json::array()}};

@@ -33,7 +33,8 @@ def read_campaign(db):
       * ``substitutions`` (JSON in the database) as a list of ``"Chosen->Taken"`` strings per row
         (docs/modelling-choices.md#unavailable-actions: an action unavailable at run time and the one executed
         instead);
-      * ``first_emergency_action`` None when there was none (the database's ""),
+      * ``first_emergency_action`` and ``first_action_state`` (the CMA state the policy read then) None when there
+        was none (the database's ""),
       * ``fault`` and ``failure`` as booleans, ``run_seed`` as the unsigned 64-bit seed, optional times
         (``fault_onset_s``, ``jam_time_s``, ``isolation_time_s``, ``first_emergency_action_s``) NaN when absent;
       * ``policy_slot``, ``policy_kind`` and ``policy_source`` from the policies table.
@@ -86,6 +87,8 @@ def read_campaign(db):
         frame[column] = frame[column].astype(float)
     # "" in the database when no emergency action was decided: missing here, as its time is.
     frame["first_emergency_action"] = frame["first_emergency_action"].where(frame["first_emergency_action"] != "", None)
+    if "first_action_state" in frame.columns:
+        frame["first_action_state"] = frame["first_action_state"].where(frame["first_action_state"] != "", None)
     frame.attrs["campaign"] = {
         "name": campaign[0],
         "seed": int(np.int64(campaign[1]).astype(np.uint64)),

@@ -17,7 +17,7 @@ using decision::CmaAction;
 
 decision::CmaAction RecordingPolicy::Decide(const sim::DecisionInputs& inputs) {
   const CmaAction action = inner_.Decide(inputs);
-  decisions_.push_back({inputs.time_s, inputs.state, action});
+  decisions_.push_back({inputs.time_s, inner_.StateRead(inputs), action});
   return action;
 }
 
@@ -83,6 +83,7 @@ RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int sl
     if (d.action != CmaAction::kNoOp) {
       r.first_emergency_action_s = d.time_s;
       r.first_emergency_action = decision::CmaActionName(d.action);
+      r.first_action_state = decision::CmaStateLabel(d.state);
       break;
     }
   }

@@ -23,6 +23,7 @@ CampaignReport MakeCampaignReport(const ResultsStore& store) {
   for (const CampaignPolicy& p : report.header.policies) order.push_back(p.name);
   report.groups = Summarise(paired, order);
   report.comparisons = ComparePaired(paired, order);
+  report.landing_causes = CountUnnecessaryLandingCauses(paired, order);
   return report;
 }
 
@@ -45,6 +46,7 @@ nlohmann::json CampaignReportJson(const CampaignReport& report) {
   for (const CampaignPolicy& p : h.policies) {
     policies.push_back({{"name", p.name}, {"kind", p.kind}, {"source", p.source}, {"hash", p.hash}});
   }
+  if (!report.landing_causes.empty()) json["unnecessary_landing_causes"] = LandingCausesJson(report.landing_causes);
   json["campaign"] = {{"name", h.name},
                       {"seed", h.seed},
                       {"config_hash", h.config_hash},
@@ -74,6 +76,8 @@ std::string CampaignReportText(const CampaignReport& report) {
           ? "the expected current of the rest of the executing plan, docs/modelling-choices.md#eod-load-forecast"
           : "the present pack current, low-passed, docs/modelling-choices.md#pack-eod");
   out += StatisticsTable(report.groups, report.comparisons);
+  const std::string causes = LandingCausesTable(report.landing_causes);
+  if (!causes.empty()) out += "\n" + causes;
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "uascma/prognostics/eod_distribution.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/speed_cap.h"
+#include "uascma/sim/vehicle_margin.h"
 
 namespace uascma::sim {
 namespace {
@@ -302,6 +303,8 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
     if (motor_health == decision::MotorHealth::kSF) inputs.rul_if_spall_s = inputs.rul_s;
   }
   inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
+  inputs.vehicle_motor_margin =
+      ObserveVehicleMotorMargin(model, state, inputs, motor_health == decision::MotorHealth::kJF, observed);
   inputs.state = decision::AbstractCmaState(state.decision.flight_status, motor_health, model.battery_health(),
                                             inputs.reach_margin, inputs.motor_margin);
   inputs.has_eod_distribution = eod_distribution;

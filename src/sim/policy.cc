@@ -13,6 +13,8 @@
 #include "uascma/common/text.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/sim/belief_policy.h"
+#include "uascma/sim/vehicle_policy.h"
+#include "uascma/decision/cma_vehicle_mdp.h"
 
 namespace uascma::sim {
 namespace {
@@ -123,6 +125,16 @@ PolicyDefinition PolicyDefinitionFromFile(const std::string& path) {
                          std::move(ranking));
 }
 
+PolicyDefinition VehicleCmaPolicyDefinition() {
+  RankingTable ranking;
+  decision::Policy solved = decision::SolveCmaVehiclePolicy(&ranking);
+  PolicyDefinition policy = TableDefinition(kVehiclePolicyKind, "cma vehicle-level motor margin, default weights",
+                                            std::move(solved.action), std::move(ranking));
+  policy.kind = kVehiclePolicyKind;
+  policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
+  return policy;
+}
+
 constexpr std::string_view kStatedRiskPrefix = "cma-risk@";
 
 // "cma-risk", "cma-risk@P" (name: the spec) or "cma-qmdp" over the default CMA policy's table.
@@ -150,13 +162,14 @@ std::optional<double> StatedRiskLevel(const std::string& spec, const std::string
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field) {
   if (spec == "noop") return NoOpPolicyDefinition();
   if (spec == "cma") return SolvedCmaPolicyDefinition();
+  if (spec == kVehiclePolicyKind) return VehicleCmaPolicyDefinition();
   if (IsBeliefPolicyKind(spec)) return BeliefCmaPolicyDefinition(spec, spec, std::numeric_limits<double>::quiet_NaN());
   if (const std::optional<double> level = StatedRiskLevel(spec, source, field)) {
     return BeliefCmaPolicyDefinition(spec, "cma-risk", *level);
   }
   if (std::filesystem::path(spec).extension() != ".json") {
     throw InputError(source, field,
-                     "noop, cma, cma-risk, cma-risk@P, cma-qmdp or a policy JSON file (*.json), got '" + spec + "'");
+                     "noop, cma, cma-vehicle, cma-risk, cma-risk@P, cma-qmdp or a policy JSON file (*.json), got '" + spec + "'");
   }
   return PolicyDefinitionFromFile(spec);  // names the file when it is missing or does not bind
 }
@@ -176,8 +189,8 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
     policy.source = source;
     return policy;
   }
-  if (kind != "table" && !IsBeliefPolicyKind(kind)) {
-    throw InputError(where, "kind", "'noop', 'table', 'cma-risk' or 'cma-qmdp', got '" + kind + "'");
+  if (kind != "table" && kind != kVehiclePolicyKind && !IsBeliefPolicyKind(kind)) {
+    throw InputError(where, "kind", "'noop', 'table', 'cma-vehicle', 'cma-risk' or 'cma-qmdp', got '" + kind + "'");
   }
   if (static_cast<int>(stored.size()) != decision::kCmaNumStates) {
     throw InputError(where, "actions", fmt::format("{} actions, one per CMA state", decision::kCmaNumStates));
@@ -202,6 +215,10 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
   }
   CheckRanking(actions, ranking, where);
   PolicyDefinition policy = TableDefinition(name, source, std::move(actions), std::move(ranking));
+  if (kind == kVehiclePolicyKind) {  // the vehicle-level model's table, read on the vehicle-level state
+    policy.kind = kind;
+    policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
+  }
   if (IsBeliefPolicyKind(kind)) {  // the default CMA policy's table, decided on beliefs
     policy.kind = kind;
     if (kind == "cma-risk") policy.risk_level = StatedRiskLevel(name, where, "name").value_or(policy.risk_level);
@@ -222,6 +239,9 @@ std::unique_ptr<DecisionPolicy> MakeDecisionPolicy(const PolicyDefinition& polic
   if (policy.kind == "noop") return std::make_unique<NoOpPolicy>();
   if (policy.kind == "cma-risk") return std::make_unique<RiskCmaPolicy>(policy.name, policy.risk_level);
   if (policy.kind == "cma-qmdp") return std::make_unique<QmdpCmaPolicy>(policy.name);
+  if (policy.kind == kVehiclePolicyKind) {
+    return std::make_unique<VehicleCmaPolicy>(policy.actions, policy.name, policy.ranking);
+  }
   return std::make_unique<TablePolicy>(policy.actions, policy.name, policy.ranking);
 }
 

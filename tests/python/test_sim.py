@@ -1,5 +1,6 @@
 """Flights from Python: the same flight as `uascma simulate` for the same seed, telemetry arrays with the
 right shapes and units, names in the telemetry CSV, Python callables as decision modules, and errors."""
+import math
 import os
 
 import numpy as np
@@ -224,3 +225,18 @@ def test_policies_on_beliefs_under_noisy_sensing(tmp_path):
     assert uascma.run(str(noisy_path), "cma-qmdp", telemetry=False).outcome
     scenario = uascma.load_scenario(str(noisy_path))
     assert scenario.options_noisy_sensing is True
+
+
+def test_cma_vehicle_is_a_policy_by_name_and_its_margin_is_an_input():
+    """cma-vehicle resolves by name; a Python policy sees the vehicle-level motor margin, which is eq. 5.14's value
+    (1 without a fault) until the spall's RUL falls short of the plan (sim/vehicle_margin.h)."""
+    seen = []
+
+    def record(inputs):
+        seen.append((inputs.rul_s, inputs.motor_margin, inputs.vehicle_motor_margin))
+        return "NoOp"
+
+    uascma.run(example("jam-motor-3.yaml"), record, telemetry=False)
+    assert seen and all(v == m == 1.0 for r, m, v in seen if math.isinf(r))
+    assert any(not math.isinf(r) for r, _, _ in seen)
+    assert uascma.run(example("jam-motor-3.yaml"), "cma-vehicle", telemetry=False).outcome

@@ -50,6 +50,7 @@ class RecordingPolicy final : public sim::DecisionPolicy {
   sim::ActionRanking Ranking(const sim::DecisionInputs& inputs) const override { return inner_.Ranking(inputs); }
   bool ReadsEodDistribution() const override { return inner_.ReadsEodDistribution(); }
   bool ReadsOnlyCmaState() const override { return inner_.ReadsOnlyCmaState(); }  // Decide records time_s, state
+  decision::CmaState StateRead(const sim::DecisionInputs& inputs) const override { return inner_.StateRead(inputs); }
   const std::vector<EpochDecision>& decisions() const { return decisions_; }
 
  private:

@@ -51,6 +51,9 @@ struct RunRecord {
   std::string actions;                             // JSON list of [time_s, "Action"]
   std::optional<double> first_emergency_action_s;  // first epoch whose decided action is not NoOp
   std::string first_emergency_action;              // its name, "" when none
+  // The abstract CMA state "FS,MH,MM,BH,RM" the policy read at that epoch (sim::DecisionPolicy::StateRead: for
+  // cma-vehicle the vehicle-level motor margin's), "" when none: what campaign/landing_causes.h classifies.
+  std::string first_action_state;
   // Unavailable actions (docs/modelling-choices.md#unavailable-actions): epochs at which the chosen action could not be
   // carried out and another was taken, and the distinct substitutions as a JSON list of "Chosen->Taken".
   std::int64_t substitution_epochs = 0;
@@ -111,6 +114,7 @@ void VisitRecordFields(Record& r, Visitor&& visit) {
   visit("actions", r.actions);
   visit("first_emergency_action_s", r.first_emergency_action_s);
   visit("first_emergency_action", r.first_emergency_action);
+  visit("first_action_state", r.first_action_state);
   visit("substitution_epochs", r.substitution_epochs);
   visit("substitutions", r.substitutions);
   visit("jam_time_s", r.jam_time_s);

@@ -5,6 +5,8 @@
 //   "cma"        the CMA MDP with the dissertation's weights (eqs. 5.28–5.29) and γ = 0.95
 //   (docs/modelling-choices.md#discount),
 //                solved by value iteration (decision/policy_file.h SolveDefaultCmaPolicy);
+//   "cma-vehicle" the CMA MDP under the vehicle-level motor margin (sim/vehicle_policy.h, sim/vehicle_margin.h): MM0
+//                only when the vehicle after the predicted jam (a quadcopter, §4.4) could not finish the plan;
 //   "cma-risk"   the default CMA policy deciding on beliefs: RM0 when P(EOD < t_remaining + t_sf) exceeds a level
 //                derived from its values, MH the belief's MAP (sim/belief_policy.h);
 //   "cma-risk@P" the same at a level the user states, P from 0 to 1 (e.g. "cma-risk@0.1": RM0 when the chance of
@@ -55,6 +57,10 @@ struct DecisionInputs {
   // states; +∞ until the prognosis has run).
   std::array<double, 3> motor_health_belief{1.0, 0.0, 0.0};
   double rul_if_spall_s = std::numeric_limits<double>::infinity();
+  // The vehicle-level motor margin (sim/vehicle_margin.h), the `cma-vehicle` policy's MM: eq. 5.14's value while the
+  // motor outlives the plan, the quadcopter's reach margin when the predicted jam comes within it (a lower bound
+  // above 0), RM once a rotor is isolated, −∞ for a seized motor not isolated.
+  double vehicle_motor_margin = 1.0;
   bool operator==(const DecisionInputs&) const = default;
 };
 
@@ -81,6 +87,10 @@ class DecisionPolicy {
   // True when Decide and Ranking read nothing of DecisionInputs but `state` and `time_s`: the kernel may then stop the
   // epoch's EOD propagation once the reach margin's class is settled (EodPrecision::kReachMarginClass).
   virtual bool ReadsOnlyCmaState() const { return false; }
+  // The abstract CMA state Decide reads its row in: `inputs.state` (eq. 5.14's motor margin), or another abstraction
+  // of the same MDP's states (the vehicle-level margin, sim/vehicle_policy.h). What the campaign's reward accounting
+  // and records use.
+  virtual decision::CmaState StateRead(const DecisionInputs& inputs) const { return inputs.state; }
 };
 
 // Always NoOp: the baseline.
@@ -111,7 +121,7 @@ class TablePolicy final : public DecisionPolicy {
 
 struct PolicyDefinition {
   std::string name;                            // "cma", "noop", a file stem: unique within a campaign
-  std::string kind;                            // "noop" | "table" | "cma-risk" | "cma-qmdp" (the default table's)
+  std::string kind;  // "noop" | "table" | "cma-vehicle" | "cma-risk" | "cma-qmdp" (the default table's)
   std::string source;                          // "cma default weights", "noop", or the file it came from
   std::vector<decision::ActionIndex> actions;  // kind "table": the action of each CMA state (112)
   // Kind "table": per state, its available actions by decreasing Q(s, a), actions[s] first
@@ -132,7 +142,7 @@ PolicyDefinition PolicyDefinitionFromFile(const std::string& path);
 // The stated level of a "cma-risk@P" name (P a number from 0 to 1); nullopt for any other name. InputError names
 // `source` and `field` when the name starts with "cma-risk@" but P is not such a number.
 std::optional<double> StatedRiskLevel(const std::string& spec, const std::string& source, const std::string& field);
-// "noop", "cma", "cma-risk", "cma-risk@P", "cma-qmdp" or a policy JSON path; InputError names `source` (e.g.
+// "noop", "cma", "cma-vehicle", "cma-risk", "cma-risk@P", "cma-qmdp" or a policy JSON path; InputError names `source` (e.g.
 // "--policy") and `field` otherwise.
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field = "policy");
 // A policy from its stored form (results store): `actions_json` is PolicyActionsJson's text, a list with one entry
