@@ -104,6 +104,8 @@ void AddSimulateCommand(CLI::App& app) {
     }
     // The importer's notes on the mission (items read but not modelled, our choices): one line each.
     if (file.scenario.route) {
+      // Which autopilot's reading of the altitudes was applied (planning/mission_file.h, MissionFirmware).
+      std::fprintf(stderr, "note: %s\n", file.scenario.route->FirmwareNote().c_str());
       for (const std::string& warning : file.scenario.route->warnings)
         std::fprintf(stderr, "warning: %s\n", warning.c_str());
     }

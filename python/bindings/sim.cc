@@ -386,6 +386,9 @@ void InitSim(py::module_& m) {
           "rm", [](const decision::CmaState& s) { return static_cast<int>(s.rm); }, "0 (RM0) or 1 (RM1)")
       .def_property_readonly("index", [](const decision::CmaState& s) { return decision::CmaStateIndex(s); })
       .def_property_readonly("label", [](const decision::CmaState& s) { return decision::CmaStateLabel(s); })
+      .def(
+          "__eq__", [](const decision::CmaState& a, const decision::CmaState& b) { return a == b; }, py::is_operator())
+      .def("__hash__", [](const decision::CmaState& s) { return decision::CmaStateIndex(s); })
       .def("__repr__", [](const decision::CmaState& s) { return "<CmaState " + decision::CmaStateLabel(s) + ">"; });
 
   py::class_<DecisionInputs>(m, "DecisionInputs", "What the 1 Hz decision module sees (times in s)")
@@ -520,9 +523,25 @@ void InitSim(py::module_& m) {
           "[4] 0/1 by action index: the actions the flight status offers "
           "(docs/modelling-choices.md#action-availability: N all four, "
           "ELPRACT NoOp, Terminate, LandASAP; ELASAP NoOp, Terminate); all 0 once the flight has ended")
+      // Every member equal, exactly (Gymnasium's check_env compares two seeded steps' info with ==).
+      .def(
+          "__eq__", [](const Observation& a, const Observation& b) { return a == b; }, py::is_operator())
       .def("__repr__", [](const Observation& o) {
         return "<Observation t=" + std::to_string(o.time_s) + " s " +
                (o.terminal ? MakeCmaFactoredModel().Label(o.state_index) : decision::CmaStateLabel(o.state)) + ">";
+      });
+
+  py::class_<EnvironmentSnapshot>(
+      m, "FlightSnapshot",
+      "A flight at a decision epoch, whole (its state with the random streams, and its log so far): "
+      "DecisionEnvironment.restore continues it, as often as wanted, each branch the flight it copied would fly")
+      .def_property_readonly("time_s", [](const EnvironmentSnapshot& s) { return s.state.time_s; })
+      .def_property_readonly("done", [](const EnvironmentSnapshot& s) { return s.state.done(); })
+      .def(
+          "__eq__", [](const EnvironmentSnapshot& a, const EnvironmentSnapshot& b) { return a.state == b.state; },
+          py::is_operator(), "the same flight state, every member exactly (the logs are not compared)")
+      .def("__repr__", [](const EnvironmentSnapshot& s) {
+        return "<FlightSnapshot t=" + std::to_string(s.state.time_s) + " s>";
       });
 
   py::class_<Environment>(m, "DecisionEnvironment",
@@ -561,6 +580,18 @@ void InitSim(py::module_& m) {
           py::arg("action"),
           "Executes a CMA action (a CmaAction, an index 0–3 or a name) and flies to the next epoch: (observation, "
           "reward R(S, A) [+ the terminal's reward when the flight ends], done, info {outcome, executed})")
+      .def(
+          "snapshot", [](const Environment& e) { return e.env.Snapshot(); },
+          "The flight now, whole (a FlightSnapshot); restore(snapshot) continues from it")
+      .def(
+          "restore",
+          [](Environment& e, const EnvironmentSnapshot& snapshot) {
+            e.env.Restore(snapshot);
+            return e.env.observation();
+          },
+          py::arg("snapshot"),
+          "Continues the flight from a snapshot taken of this environment's flights (one taken between two "
+          "epochs is an InputError); returns its observation")
       .def_property_readonly("done", [](const Environment& e) { return e.env.done(); })
       .def_property_readonly("observation", [](const Environment& e) { return e.env.observation(); })
       .def_property_readonly("time_s", [](const Environment& e) { return e.env.state().time_s; })

@@ -18,6 +18,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 
 import matplotlib
 
@@ -184,6 +185,20 @@ def legend_outside(ax, **kwargs):
     return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, **kwargs)
 
 
+def set_title(ax, head, name):
+    """The figure's title: `head`, then the campaign's name on lines of its own, wrapped to the axes' width (a
+    long name on one line ran off the figure's edge)."""
+    fig = ax.get_figure()
+    size_pt = matplotlib.rcParams["axes.titlesize"]
+    size_pt = size_pt if isinstance(size_pt, (int, float)) else matplotlib.font_manager.FontProperties(
+        size=size_pt).get_size_in_points()
+    # Characters per line: the axes' width over a character's mean advance, ~0.6 em (ours, for DejaVu Sans).
+    width_pt = fig.get_figwidth() * ax.get_position().width * 72.0
+    chars = max(20, int(width_pt / (0.6 * size_pt)))
+    lines = textwrap.wrap(head, chars) + textwrap.wrap(name, chars, break_long_words=True)
+    ax.set_title("\n".join(lines))
+
+
 def save(fig, out_dir, name):
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, name), dpi=120)
@@ -201,12 +216,12 @@ def main(source, out_dir):
     bars(ax, report, "failure_rate", 100.0, "failure rate (%)")
     ax.set_ylim(0, max(ax.get_ylim()[1], 10) * 1.45)
     annotate_mcnemar(ax, report)
-    ax.set_title(f"Failure rate, {level} % Wilson interval (cf. Fig. 5.30) — {title}")
+    set_title(ax, f"Failure rate, {level} % Wilson interval (cf. Fig. 5.30)", title)
     save(fig, out_dir, "failure_rate.png")
 
     fig, ax = plt.subplots(figsize=(7, 5))
     bars(ax, report, "completion_rate", 100.0, "original plan completed (%)")
-    ax.set_title(f"Original flight plan completion, {level} % Wilson (cf. Fig. 5.31) — {title}")
+    set_title(ax, f"Original flight plan completion, {level} % Wilson (cf. Fig. 5.31)", title)
     save(fig, out_dir, "completion_rate.png")
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
@@ -220,23 +235,28 @@ def main(source, out_dir):
             ("emergency_landing_rate", "emergency landing"), ("termination_rate", "terminated"),
             ("grounded_rate", "grounded")]
     keys = [k for k in keys if k[0] in report["policies"][report["policy_order"][0]]["all"]]
-    fig, axes = plt.subplots(1, len(keys), figsize=(4.5 * len(keys), 4.5), sharey=True)
-    for ax, (key, label) in zip(axes, keys):
+    # At most three panels a row: five in one row made a 22.5-inch figure whose text, shown page-wide, was ~7 px.
+    columns = min(3, len(keys))
+    rows = math.ceil(len(keys) / columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(4.5 * columns, 4.5 * rows), sharey=True, squeeze=False)
+    for ax, (key, label) in zip(axes.flat, keys):
         bars(ax, report, key, 100.0, "rate (%)")
         ax.set_title(label)
+    for ax in list(axes.flat)[len(keys):]:
+        ax.set_visible(False)
     save(fig, out_dir, "outcomes.png")
 
     fig, ax = plt.subplots(figsize=(7, 5))
     cause_bars(ax, report)
     ax.set_ylim(0, max(ax.get_ylim()[1], 5) * 1.2)
-    ax.set_title(f"Failures by cause — {title}")
+    set_title(ax, "Failures by cause", title)
     save(fig, out_dir, "failure_causes.png")
 
     if "by_battery_fades" in report["policies"][report["policy_order"][0]]["all"]:
         fig, ax = plt.subplots(figsize=(7, 5))
         fade_bars(ax, report)
         ax.set_ylim(0, max(ax.get_ylim()[1], 5) * 1.2)
-        ax.set_title(f"Failure rate by the battery's fades, {level} % Wilson — {title}")
+        set_title(ax, f"Failure rate by the battery's fades, {level} % Wilson", title)
         save(fig, out_dir, "failure_fades.png")
 
 

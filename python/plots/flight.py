@@ -304,9 +304,33 @@ def buildings_3d(ax, city, north_m, east_m):
         ax.plot([], [], "s", color=(0.6, 0.6, 0.6), label=f"buildings within {NEAR_ROUTE_M:.0f} m of the route")
 
 
+# The map's view: the flown path, the plans and the checkpoints with this margin around them (ours: a quarter of
+# their extent, at least VIEW_MIN_HALF_M each side of their centre so that the buildings around a short route
+# show). A LandASAP footprint or a city larger than that is cut by the axes, not allowed to shrink the route to a
+# short stroke.
+VIEW_MARGIN = 0.25
+VIEW_MIN_HALF_M = 150.0
+
+
+def route_view(ax, east_m, north_m):
+    """Sets a square view (equal aspect) on the given points; returns (east_lo, east_hi, north_lo, north_hi)."""
+    east_m, north_m = np.asarray(east_m, dtype=float), np.asarray(north_m, dtype=float)
+    keep = np.isfinite(east_m) & np.isfinite(north_m)
+    east_m, north_m = east_m[keep], north_m[keep]
+    centre = np.array([(east_m.min() + east_m.max()) / 2, (north_m.min() + north_m.max()) / 2])
+    half = max(east_m.max() - east_m.min(), north_m.max() - north_m.min()) / 2 * (1 + 2 * VIEW_MARGIN)
+    half = max(half, VIEW_MIN_HALF_M)
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    return centre[0] - half, centre[0] + half, centre[1] - half, centre[1] + half
+
+
 def draw_map(folder, t, plan, city, title):
     from matplotlib.patches import Polygon  # noqa: E402
-    fig, ax = plt.subplots(figsize=(11, 9), layout="constrained")
+    # The key has an axes of its own beside the map: the layout then holds it whole whatever the map's aspect
+    # (a legend hung outside an equal-aspect axes was cut at the figure's edge).
+    fig, (ax, key) = plt.subplots(1, 2, figsize=(11, 9), layout="constrained", width_ratios=[3, 1])
+    key.axis("off")
     top = max([b["height_m"] for b in city["buildings"]] + [1.0])
     for building in city["buildings"]:
         shade = 0.9 - 0.6 * building["height_m"] / top
@@ -314,9 +338,10 @@ def draw_map(folder, t, plan, city, title):
             ax.add_patch(Polygon([(p[1], p[0]) for p in ring], closed=True, facecolor=(shade, shade, shade),
                                  edgecolor="grey", linewidth=0.3))
     if city["sites"]:
+        # Markers of one size (not to scale), drawn under the route and small enough to leave the buildings seen.
         ax.scatter([s["y_m"] for s in city["sites"]], [s["x_m"] for s in city["sites"]],
-                   c=[s["risk"] for s in city["sites"]], cmap="RdYlGn_r", vmin=0, vmax=1, s=10, zorder=3,
-                   label="landing sites (colour: risk)")
+                   c=[s["risk"] for s in city["sites"]], cmap="RdYlGn_r", vmin=0, vmax=1, s=6, linewidths=0,
+                   zorder=3, label="landing sites (dots not to scale; colour: risk)")
     nominal = plan[plan["kind"] == "nominal"]
     ax.plot(nominal["y_m"], nominal["x_m"], "k--", linewidth=1, label="original plan", zorder=4)
     ax.plot(t["p_W_y_m"], t["p_W_x_m"], "b", linewidth=1.2, label="flown", zorder=5)
@@ -328,14 +353,19 @@ def draw_map(folder, t, plan, city, title):
     if city["checkpoints"]:
         ax.plot([c[1] for c in city["checkpoints"]], [c[0] for c in city["checkpoints"]], "*", color="gold",
                 markeredgecolor="k", markersize=14, label="LandPract checkpoints", zorder=6)
+    east = [t["p_W_y_m"], nominal["y_m"], emergency["y_m"]] + [[c[1] for c in city["checkpoints"]]]
+    north = [t["p_W_x_m"], nominal["x_m"], emergency["x_m"]] + [[c[0] for c in city["checkpoints"]]]
+    east_lo, east_hi, north_lo, north_hi = route_view(ax, np.concatenate(east), np.concatenate(north))
     if city["footprint"]:
         ys = [p[1] for p in city["footprint"]] + [city["footprint"][0][1]]
         xs = [p[0] for p in city["footprint"]] + [city["footprint"][0][0]]
-        ax.plot(ys, xs, color="darkorange", linewidth=2, label="LandASAP footprint", zorder=5)
-    ax.set_aspect("equal")
+        inside = min(ys) >= east_lo and max(ys) <= east_hi and min(xs) >= north_lo and max(xs) <= north_hi
+        ax.plot(ys, xs, color="darkorange", linewidth=2, zorder=5,
+                label="LandASAP footprint" + ("" if inside else " (reaches beyond the view)"))
+    ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("east (m)")
     ax.set_ylabel("north (m)")
-    legend_outside(ax)
+    key.legend(*ax.get_legend_handles_labels(), loc="upper left", fontsize=8, borderaxespad=0.0)
     ax.set_title(title)
     save(fig, folder, "map.png")
 

@@ -9,6 +9,7 @@ FIGURES.json: a list of specs, each {"file": "x.png", "caption": str, "kind": ..
   lines:    {"series": [{"label", "x", "y", "dashed"?}], "xlabel", "ylabel", "hlines"?: [...], "vline"?: x}
   grid:     {"rows": [...], "cols": [...], "cells": [[action, ...], ...]}  (the CMA policy by quadrant)
   timeline: {"rows": [{"label", "events": [{"t", "label"}]}]}
+  quantiles: {"quantiles": {"p05", "p50", "p95", "mean"?}, "xlabel"}  (a distribution's spread, not bars from 0)
 """
 import json
 import os
@@ -22,7 +23,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 OURS = "#1565c0"
 THEIRS = "#c62828"
-ACTION_COLOURS = {"NoOp": "#a5d6a7", "LandPract": "#fff59d", "LandASAP": "#ffcc80", "Terminate": "#ef9a9a"}
+# The actions in the colours `uascma policy show` draws them in (policy_quadrants.py), one palette for both.
+from policy_quadrants import ACTION_COLOURS  # noqa: E402
+
+
+def text_colour(fill):
+    """Black on a light fill, white on a dark one (the fill's relative luminance, sRGB weights, below 0.4)."""
+    r, g, b = matplotlib.colors.to_rgb(fill)
+    return "white" if 0.2126 * r + 0.7152 * g + 0.0722 * b < 0.4 else "black"
 
 
 def bars(spec, ax):
@@ -79,8 +87,10 @@ def grid(spec, fig):
     ax = fig.add_subplot(111)
     for i, row in enumerate(cells):
         for j, action in enumerate(row):
-            ax.add_patch(plt.Rectangle((j, len(rows) - 1 - i), 1, 1, color=ACTION_COLOURS.get(action, "#dddddd")))
-            ax.text(j + 0.5, len(rows) - 0.5 - i, action, ha="center", va="center", fontsize=8)
+            fill = ACTION_COLOURS.get(action, "#dddddd")
+            ax.add_patch(plt.Rectangle((j, len(rows) - 1 - i), 1, 1, color=fill))
+            ax.text(j + 0.5, len(rows) - 0.5 - i, action, ha="center", va="center", fontsize=8,
+                    color=text_colour(fill))
     ax.set_xlim(0, len(cols))
     ax.set_ylim(0, len(rows))
     ax.set_xticks([j + 0.5 for j in range(len(cols))])
@@ -106,6 +116,23 @@ def timeline(spec, ax):
     ax.set_xlabel("time (s)")
 
 
+def quantiles(spec, ax):
+    """The 5-95 % range as a line with end caps, the median a bar across it, the mean a diamond: a distribution
+    drawn where it lies (bars from 0 made a quantile look like an amount)."""
+    q = spec["quantiles"]
+    ax.plot([q["p05"], q["p95"]], [0, 0], "-", color=OURS, linewidth=2, label="5-95 % range")
+    ax.plot([q["p05"], q["p95"]], [0, 0], "|", color=OURS, markersize=18, markeredgewidth=2)
+    ax.plot([q["p50"]], [0], "|", color="black", markersize=28, markeredgewidth=3, label="median")
+    if "mean" in q:
+        ax.plot([q["mean"]], [0], "D", color=THEIRS, markersize=8, linestyle="none", label="mean")
+    span = q["p95"] - q["p05"]
+    ax.set_xlim(q["p05"] - 0.15 * span, q["p95"] + 0.15 * span)
+    ax.set_ylim(-1, 1)
+    ax.set_yticks([])
+    ax.set_xlabel(spec.get("xlabel", ""))
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+
+
 def draw(spec, out_dir):
     fig = plt.figure(figsize=(9, 4.2), layout="constrained")
     kind = spec["kind"]
@@ -113,7 +140,7 @@ def draw(spec, out_dir):
         grid(spec, fig)
     else:
         ax = fig.add_subplot(111)
-        {"bars": bars, "groups": groups, "lines": lines, "timeline": timeline}[kind](spec, ax)
+        {"bars": bars, "groups": groups, "lines": lines, "timeline": timeline, "quantiles": quantiles}[kind](spec, ax)
         ax.grid(True, alpha=0.3)
     fig.suptitle(textwrap.fill(spec.get("caption", ""), 110), fontsize=9)
     fig.savefig(os.path.join(out_dir, spec["file"]), dpi=90)

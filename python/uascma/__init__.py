@@ -31,7 +31,8 @@ Areas
 * simulation: ``load_scenario``, ``run`` (a flight with a named policy, a solved table or a Python
   callable), ``Flight`` (``summary``, ``telemetry``, ``write``), ``Environment`` (Gymnasium's API:
   ``reset(seed=None, options=None)`` → ``(observation, info)``; ``step(action)`` → ``(observation, reward,
-  terminated, truncated, info)``; ``observation_space``, ``action_space``), ``example_file``.
+  terminated, truncated, info)``; ``observation_space``, ``action_space``; ``snapshot()`` and
+  ``restore(snapshot)`` branch a flight), ``example_file``.
 * campaigns: ``run_campaign``, ``read_records``; pandas: ``read_campaign``, ``read_telemetry``,
   ``telemetry_frame``.
 """

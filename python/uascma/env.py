@@ -27,6 +27,8 @@ attributes without it)::
 * terminated: the flight has ended (every end is a terminal state of the CMA MDP: C, T, or FL, a timeout being
   a failure); truncated: always False (the environment imposes no limit of its own; wrap it in Gymnasium's
   TimeLimit for one).
+* snapshot() / restore(snapshot): the flight copied whole at an epoch, and continued from the copy as often as
+  wanted (each branch bit for bit the flight the copy came from would fly; sim/branching.h on the C++ side).
 * reset(seed=None, options=None): seed None replays the scenario's seed on the first reset, then the next
   seed after the last one flown (reproducible episodes); ``options`` takes no keys.
 """
@@ -145,6 +147,18 @@ class Environment(_Base):
         self._observation = observation
         info.update(self._info(observation))
         return np.int64(observation.state_index), float(reward), bool(done), False, info
+
+    # Branching: a flight copied whole at an epoch and continued from the copy (MuJoCo's mj_copyData).
+    def snapshot(self):
+        """The flight now, whole (a uascma.FlightSnapshot: its state with the random streams, and its log)."""
+        return self._env.snapshot()
+
+    def restore(self, snapshot):
+        """Continues from `snapshot` (taken of this environment's flights): (observation, info) as reset gives;
+        each branch from one snapshot flies as the copied flight would have, bit for bit."""
+        observation = self._env.restore(snapshot)
+        self._observation = observation
+        return np.int64(observation.state_index), self._info(observation)
 
     # The flight behind the environment.
     @property

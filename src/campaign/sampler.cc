@@ -469,6 +469,9 @@ SiteCoverage CalcSiteCoverage(const CampaignConfig& config, std::uint64_t campai
   const CampaignWorld world = BuildCampaignWorld(config.map);
   const std::shared_ptr<const planning::CityMap> map = world.map;
   coverage.sites = static_cast<int>(map->sites().size());
+  coverage.sites_from_map = world.sites_from_map;
+  coverage.rooftop_sites_from_map = world.rooftop_sites_from_map;
+  coverage.open_area_sites_from_map = world.open_area_sites_from_map;
   for (std::int64_t r = 0; r < runs; ++r) {
     const SampledRun run = SampleRun(config, world, campaign_seed, r);
     const planning::FlightPlan plan = planning::MakeDeliveryPlan(run.scenario.mission, run.scenario.limits);
@@ -500,12 +503,25 @@ std::string SiteCoverage::BriefReport() const {
       "{} sites\n",
       checkpoints_without_site, checkpoints, runs, runs > 0 ? checkpoints / runs : 0, reach,
       runs_with_uncovered_checkpoint, largest_gap, sites);
-  if (!covered()) {
-    text +=
-        "  the sites do not cover the routes: give a sites file of the same district, or none (the map then "
-        "supplies its flat roofs and open areas)\n";
+  if (sites_from_map) {
+    text += fmt::format("  of the sites, {} are the map's flat roofs and {} lie in its open areas; {} come from the "
+                        "sites file\n",
+                        rooftop_sites_from_map, open_area_sites_from_map,
+                        sites - rooftop_sites_from_map - open_area_sites_from_map);
   }
-  return text;
+  if (covered()) return text;
+  if (!sites_from_map) {
+    return text +
+           "  the sites do not cover the routes: give a sites file of the same district, or none (the map then "
+           "supplies its flat roofs and open areas)\n";
+  }
+  // The kinds of land planning/map_import.h takes sites from (its header comment), and how to widen them.
+  return text +
+         "  the map's own sites do not cover the routes: they come from buildings with flat roofs (roof:shape flat "
+         "or absent) and from open areas tagged leisure=park|pitch|playground|garden|common|recreation_ground|"
+         "dog_park, amenity=parking (surface) or landuse=grass|recreation_ground|meadow|village_green; widen them "
+         "with a map extract that holds more of those areas, or add a sites file of the same district (its sites "
+         "join the map's)\n";
 }
 
 const char* PackConditionName(models::HealthClass health) {

@@ -25,6 +25,9 @@ void ImportCity(const MapSampling& sampling, CampaignWorld& world) {
   const std::vector<std::filesystem::path> files(sampling.buildings.begin(), sampling.buildings.end());
   planning::ImportedMap imported = planning::ImportCityMap(files, sampling.sites, options);
   world.origin = imported.summary.origin;
+  world.sites_from_map = options.sites_from_map;
+  world.rooftop_sites_from_map = imported.summary.derived_rooftop_sites;
+  world.open_area_sites_from_map = imported.summary.derived_open_sites;
   world.map = std::make_shared<const planning::CityMap>(std::move(imported.map));
 }
 

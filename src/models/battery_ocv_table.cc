@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "uascma/common/csv.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/models/ocv_table.h"
@@ -78,25 +79,6 @@ const OcvTable& DefaultOcvTable() {
 
 namespace {
 
-std::string Trim(std::string_view text) {
-  const auto begin = text.find_first_not_of(" \t\r");
-  if (begin == std::string_view::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r");
-  return std::string(text.substr(begin, end - begin + 1));
-}
-
-std::vector<std::string> SplitFields(std::string_view line) {
-  std::vector<std::string> fields;
-  std::size_t start = 0;
-  while (true) {
-    const auto comma = line.find(',', start);
-    fields.push_back(Trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
-  return fields;
-}
-
 bool ParseNumber(const std::string& text, double* value) {
   if (text.empty()) return false;
   errno = 0;
@@ -105,34 +87,37 @@ bool ParseNumber(const std::string& text, double* value) {
   return errno == 0 && end == text.c_str() + text.size() && std::isfinite(*value);
 }
 
+// The record as one line, for messages: its fields joined by commas.
+std::string Joined(const std::vector<std::string>& fields) {
+  std::string line;
+  for (std::size_t i = 0; i < fields.size(); ++i) line += (i == 0 ? "" : ",") + fields[i];
+  return line;
+}
+
 }  // namespace
 
 OcvTable ParseOcvTableCsv(std::string_view text, const std::string& source) {
   std::vector<double> soc_fraction, voltage_v;
   double soc_scale = 0.0;  // 0.01 for soc_percent, 1 for soc_fraction; 0 until the header is read
-  int line_number = 0;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const auto newline = text.find('\n', start);
-    const std::string_view raw = text.substr(start, newline == std::string_view::npos ? text.npos : newline - start);
-    start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
-    ++line_number;
-    const std::string line = Trim(raw);
-    if (line.empty() || line.front() == '#') continue;
-    const auto fields = SplitFields(line);
-    const std::string where = fmt::format("line {}", line_number);
+  // RFC 4180 (common/csv.h): quoted fields, CRLF or LF, blank lines and '#' comment lines skipped.
+  CsvOptions options;
+  options.comment_lines = true;
+  for (const CsvRecord& record : SplitCsv(text, source, options)) {
+    const std::vector<std::string>& fields = record.fields;
+    const std::string where = fmt::format("line {}", record.line);
     if (soc_scale == 0.0) {
       if (fields.size() != 2 || (fields[0] != "soc_percent" && fields[0] != "soc_fraction") ||
           (fields[1] != "ocv_v" && fields[1] != "voltage_v")) {
         throw InputError(source, where,
-                         fmt::format("the header 'soc_percent,ocv_v' or 'soc_fraction,ocv_v', got '{}'", line));
+                         fmt::format("the header 'soc_percent,ocv_v' or 'soc_fraction,ocv_v', got '{}'",
+                                     Joined(fields)));
       }
       soc_scale = fields[0] == "soc_percent" ? 0.01 : 1.0;
       continue;
     }
     double soc = 0.0, voltage = 0.0;
     if (fields.size() != 2 || !ParseNumber(fields[0], &soc) || !ParseNumber(fields[1], &voltage)) {
-      throw InputError(source, where, fmt::format("two numbers 'soc,voltage', got '{}'", line));
+      throw InputError(source, where, fmt::format("two numbers 'soc,voltage', got '{}'", Joined(fields)));
     }
     soc_fraction.push_back(soc * soc_scale);
     voltage_v.push_back(voltage);

@@ -4,12 +4,13 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
-#include <sstream>
 #include <utility>
 
 #include <fmt/format.h>
 
+#include "uascma/common/csv.h"
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 #include "uascma/common/frames.h"
 
 namespace uascma::models {
@@ -81,40 +82,33 @@ DragTable DragTable::Default(PropellerConfiguration configuration) {
 
 DragTable DragTable::FromCsv(const std::filesystem::path& path) {
   const std::string source = path.string();
-  std::ifstream in(path);
-  if (!in) throw InputError(source, "file", "a readable CSV drag table");
-  std::string line;
+  std::ifstream probe(path);
+  if (!probe) throw InputError(source, "file", "a readable CSV drag table");
   auto parse = [&](const std::string& cell, int row, int column) {
     try {
       std::size_t used = 0;
       const double value = std::stod(cell, &used);
-      if (used != cell.size() && cell.find_first_not_of(" \t\r", used) != std::string::npos)
-        throw std::invalid_argument("");
+      if (used != cell.size()) throw std::invalid_argument("");
       return value;
     } catch (const std::exception&) {
       throw InputError(source, fmt::format("row {}, column {}", row, column), "a number, got '" + cell + "'");
     }
   };
+  // RFC 4180 (common/csv.h): quoted cells, CRLF or LF, blank lines skipped; a row's number is its line.
   std::vector<double> pitches, airspeeds, drag;
-  int row = 0;
-  while (std::getline(in, line)) {
-    ++row;
-    if (line.empty() || line == "\r") continue;
-    std::stringstream cells(line);
-    std::string cell;
-    int column = 0;
+  bool header = true;
+  for (const CsvRecord& record : SplitCsv(ReadFile(path), source)) {
     std::vector<double> values;
-    while (std::getline(cells, cell, ',')) {
-      ++column;
-      if (row == 1 && column == 1) continue;  // the "airspeed_mps" corner
-      values.push_back(parse(cell, row, column));
+    for (std::size_t column = header ? 1 : 0; column < record.fields.size(); ++column) {  // header: skip the corner
+      values.push_back(parse(record.fields[column], record.line, static_cast<int>(column) + 1));
     }
-    if (row == 1) {
+    if (header) {
       for (double degrees : values) pitches.push_back(degrees / kDegreesPerRadian);
+      header = false;
       continue;
     }
     if (values.size() != pitches.size() + 1) {
-      throw InputError(source, fmt::format("row {}", row), fmt::format("{} values", pitches.size() + 1));
+      throw InputError(source, fmt::format("row {}", record.line), fmt::format("{} values", pitches.size() + 1));
     }
     airspeeds.push_back(values.front());
     drag.insert(drag.end(), values.begin() + 1, values.end());

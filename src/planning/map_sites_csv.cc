@@ -10,8 +10,8 @@
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
+#include "uascma/common/csv.h"
 #include "uascma/common/text.h"
-#include "uascma/planning/csv.h"
 #include "uascma/planning/map_import.h"
 
 namespace uascma::planning {

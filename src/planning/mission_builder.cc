@@ -70,6 +70,8 @@ class MissionBuilder {
     position_ = mission_.home_W;
     mission_.firmware_type = raw.firmware_type;
     mission_.vehicle_type = raw.vehicle_type;
+    mission_.firmware = raw.firmware;
+    mission_.firmware_basis = raw.firmware_basis;
     for (std::size_t i = 0; i < raw.rally.size(); ++i) {
       RallyPoint rally;
       rally.position = {raw.rally[i][0], raw.rally[i][1]};
@@ -208,6 +210,51 @@ class MissionBuilder {
     }
   }
 
+  // The height above home (m) a waypoint or a loiter flies to: its altitude as the mission's firmware reads it
+  // (mission_file.h, MissionFirmware; docs/maps-and-missions-firmware.md).
+  double TargetHeight(const RawItem& item) {
+    if (raw_.firmware == MissionFirmware::kPx4) return Px4Height(item);
+    // AP_Mission stores the altitude in whole centimetres (metres × 100, truncated toward 0; libraries/AP_Mission/
+    // AP_Mission.cpp): an altitude under 1 cm is ArduPilot's altitude 0.
+    const double altitude = item.params[6];
+    const bool zero = !item.altitude_above_terrain && std::isfinite(altitude) && std::abs(altitude) < 0.01;
+    if (!zero) return Height(item);
+    if (raw_.firmware == MissionFirmware::kUnknown) {
+      throw InputError(
+          source_, item.name + " altitude",
+          fmt::format("an altitude other than 0, or a file that names its firmware: ArduPilot reads altitude 0 as "
+                      "\"hold the current altitude\", PX4 as altitude 0 of frame {}, and the file names neither ({}; "
+                      "set mission.firmwareType to 3 for ArduPilot or 12 for PX4)",
+                      item.frame, raw_.firmware_basis));
+    }
+    // ArduCopter's ModeAuto::loc_from_cmd (ArduCopter/mode_auto.cpp): altitude 0 takes the altitude of the previous
+    // destination (where the vehicle is), in the item's frame, whatever that frame.
+    if (!Airborne()) {
+      throw InputError(source_, item.name + " altitude",
+                       "a height above the ground: ArduPilot reads altitude 0 as \"hold the current altitude\", and "
+                       "the vehicle is on the ground here (no NAV_TAKEOFF before it)");
+    }
+    Warn(fmt::format("{}: altitude 0: ArduPilot holds the current altitude, {:.1f} m above home", item.name,
+                     -position_.z()));
+    return -position_.z();
+  }
+
+  // PX4 (MavlinkMissionManager::parse_mavlink_mission_item, src/modules/mavlink/mavlink_mission.cpp): the altitude as
+  // written, in frames 0/3/5/6; other frames are refused at upload.
+  double Px4Height(const RawItem& item) {
+    if (item.frame == kMavFrameGlobalTerrainAlt || item.frame == kMavFrameGlobalTerrainAltInt) {
+      throw InputError(source_, item.name + " frame",
+                       fmt::format("a frame PX4 accepts (0, 3, 5 or 6); PX4 refuses frame {} (above terrain) when the "
+                                   "mission is uploaded (MAV_MISSION_UNSUPPORTED_FRAME)",
+                                   item.frame));
+    }
+    const double height = Height(item);
+    if (std::abs(height) <= kSamePlace && Airborne()) {
+      Warn(fmt::format("{}: altitude 0 m above home: PX4 flies it down to home's ground level", item.name));
+    }
+    return height;
+  }
+
   double TouchdownHeight(const Eigen::Vector2d& p_NE) const {
     return options_.map ? options_.map->SurfaceAltitudeAt(p_NE) : 0.0;
   }
@@ -276,11 +323,12 @@ class MissionBuilder {
     mission_.waypoints.back().hover_after_s += seconds;
   }
 
-  // A loiter's altitude: 0 (with no position) keeps the current one.
+  // A loiter's altitude: 0 with no position keeps the current one (except PX4's: as written, TargetHeight).
   Eigen::Vector3d LoiterPoint(const RawItem& item) {
     const Eigen::Vector2d p_NE = Horizontal(item, true);
-    const bool here = item.params[6] == 0.0 && (p_NE - position_.head<2>()).norm() <= kSamePlace;
-    const double z = here ? position_.z() : -Height(item);
+    const bool here = raw_.firmware != MissionFirmware::kPx4 && item.params[6] == 0.0 &&
+                      (p_NE - position_.head<2>()).norm() <= kSamePlace;
+    const double z = here ? position_.z() : -TargetHeight(item);
     return Eigen::Vector3d(p_NE.x(), p_NE.y(), z);
   }
 
@@ -338,7 +386,7 @@ class MissionBuilder {
 
   // NAV_TAKEOFF: a vertical climb where the vehicle stands.
   void FlyTakeoff(const RawItem& item) {
-    const double height = Height(item);
+    const double height = raw_.firmware == MissionFirmware::kPx4 ? Px4Height(item) : Height(item);
     if (!(height > 0.0))
       throw InputError(source_, item.name + " altitude", fmt::format("a height > 0 m, got {}", height));
     const double lat = item.params[4], lon = item.params[5];
@@ -380,7 +428,7 @@ class MissionBuilder {
         [[fallthrough]];
       case kMavCmdNavWaypoint: {
         const Eigen::Vector2d p_NE = Horizontal(item, true);
-        MoveTo(Eigen::Vector3d(p_NE.x(), p_NE.y(), -Height(item)), item, "waypoint " + number);
+        MoveTo(Eigen::Vector3d(p_NE.x(), p_NE.y(), -TargetHeight(item)), item, "waypoint " + number);
         const double hold = std::isnan(item.params[0]) ? 0.0 : item.params[0];
         Hover(hold, item, "waypoint " + number);
         return;
@@ -396,7 +444,7 @@ class MissionBuilder {
         return;
       case kMavCmdNavLoiterToAlt: {
         const Eigen::Vector2d p_NE = Horizontal(item, true);
-        MoveTo(Eigen::Vector3d(p_NE.x(), p_NE.y(), -Height(item)), item, "loiter " + number);
+        MoveTo(Eigen::Vector3d(p_NE.x(), p_NE.y(), -TargetHeight(item)), item, "loiter " + number);
         return;
       }
       case kMavCmdNavDelay: {

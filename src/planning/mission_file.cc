@@ -129,6 +129,34 @@ std::vector<Eigen::Vector2d> Mission::RouteNE() const {
   return route;
 }
 
+std::string_view MissionFirmwareName(MissionFirmware firmware) {
+  switch (firmware) {
+    case MissionFirmware::kArduPilot:
+      return "ArduPilot";
+    case MissionFirmware::kPx4:
+      return "PX4";
+    case MissionFirmware::kUnknown:
+      break;
+  }
+  return "no known firmware";
+}
+
+std::string Mission::FirmwareNote() const {
+  switch (firmware) {
+    case MissionFirmware::kArduPilot:
+      return fmt::format("{}: altitudes as ArduPilot reads them ({}): altitude 0 holds the current altitude", source,
+                         firmware_basis);
+    case MissionFirmware::kPx4:
+      return fmt::format("{}: altitudes as PX4 reads them ({}): as written, altitude 0 above home is its ground",
+                         source, firmware_basis);
+    case MissionFirmware::kUnknown:
+      break;
+  }
+  return fmt::format("{}: altitudes as ArduPilot and PX4 both read them ({}: neither firmware named); an altitude 0 "
+                     "in the air, which they read differently, is refused",
+                     source, firmware_basis);
+}
+
 Mission ParseMission(std::string_view text, const std::string& source, MissionFormat format,
                      const MissionImportOptions& options) {
   std::string error;

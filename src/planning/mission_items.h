@@ -56,6 +56,8 @@ struct RawMission {
   std::vector<std::string> warnings;
   std::optional<double> planned_speed;
   std::optional<int> firmware_type, vehicle_type;
+  MissionFirmware firmware = MissionFirmware::kUnknown;  // set by the format reader (mission_file.h)
+  std::string firmware_basis;
   std::vector<std::array<double, 3>> rally;  // latitude, longitude (degrees), altitude (m, relative)
   struct Zone {
     bool inclusion = true;

@@ -24,6 +24,22 @@ std::string TextOf(const JsonValue& value, const std::string& fallback) {
   return value.IsString() ? value.String() : value.Brief();
 }
 
+// QGroundControl's earlier item layouts, which it still converts when it loads a plan (MissionItem::load and
+// _convertJsonV1ToV2, src/MissionManager/MissionItem.cc): param1–4 in "params" (4 numbers) or, older still, in
+// "param1" … "param4", and the position in "coordinate": [latitude, longitude, altitude].
+void ReadOlderLayout(const JsonValue& item, RawItem* raw_item) {
+  if (item.Has("params")) {
+    const std::vector<JsonValue> params =
+        item.Member("params").Elements(4, "a list of 4 numbers (param1–4) beside \"coordinate\"");
+    for (int p = 0; p < 4; ++p) raw_item->params[p] = NumberOrNull(params[static_cast<std::size_t>(p)]);
+  } else {
+    for (int p = 0; p < 4; ++p) raw_item->params[p] = NumberOrNull(item.Member(fmt::format("param{}", p + 1)));
+  }
+  const std::vector<JsonValue> coordinate =
+      item.Member("coordinate").Elements(3, "[latitude, longitude, altitude] (QGroundControl's earlier layout)");
+  for (int p = 0; p < 3; ++p) raw_item->params[4 + p] = NumberOrNull(coordinate[static_cast<std::size_t>(p)]);
+}
+
 // One SimpleItem (a MAVLink mission item) of a .plan; `item`'s path names it ("mission.items[3]").
 RawItem ReadSimpleItem(const JsonValue& item, int number) {
   RawItem raw_item;
@@ -33,6 +49,10 @@ RawItem ReadSimpleItem(const JsonValue& item, int number) {
   raw_item.command = item.Member("command").Integer<int>();
   raw_item.frame = item.Member("frame").Integer<int>();
   if (item.Has("doJumpId")) raw_item.jump_id = item.Member("doJumpId").Integer<int>();
+  if (item.Has("coordinate")) {
+    ReadOlderLayout(item, &raw_item);
+    return raw_item;
+  }
   const std::vector<JsonValue> params =
       item.Member("params").Elements(7, "a list of 7 numbers (param1–4, latitude, longitude, altitude)");
   for (int p = 0; p < 7; ++p) raw_item.params[p] = NumberOrNull(params[static_cast<std::size_t>(p)]);
@@ -119,7 +139,9 @@ void ReadRallyPoints(const JsonValue& document, RawMission* raw) {
 
 // mission: the planned home, the hover speed, the firmware and vehicle types.
 void ReadMissionHeader(const JsonValue& mission, RawMission* raw) {
-  const JsonValue home = mission.Member("plannedHomePosition");
+  JsonValue home = mission.Member("plannedHomePosition");
+  // QGroundControl's first layout stores the home as a mission item: {"coordinate": [lat, lon, alt], …}.
+  if (home.IsObject() && home.Has("coordinate")) home = home.Member("coordinate");
   if (!home.IsArray() || home.size() < 2 || home.size() > 3) {
     home.FailExactly("[latitude, longitude, altitude AMSL] in degrees and m");
   }
@@ -136,6 +158,14 @@ void ReadMissionHeader(const JsonValue& mission, RawMission* raw) {
     if (speed.Number() > 0.0) raw->planned_speed = speed.Number(kMissionSpeedBounds);  // 0 or less: none
   }
   if (mission.Has("firmwareType")) raw->firmware_type = mission.Member("firmwareType").Integer<int>();
+  // MAV_AUTOPILOT: 3 ArduPilot, 12 PX4; any other (0 generic, absent) names neither (mission_file.h).
+  if (raw->firmware_type == kMavAutopilotArduPilotMega) {
+    raw->firmware = MissionFirmware::kArduPilot;
+  } else if (raw->firmware_type == kMavAutopilotPx4) {
+    raw->firmware = MissionFirmware::kPx4;
+  }
+  raw->firmware_basis = raw->firmware_type ? fmt::format("mission.firmwareType {}", *raw->firmware_type)
+                                           : std::string("no mission.firmwareType");
   if (mission.Has("vehicleType")) raw->vehicle_type = mission.Member("vehicleType").Integer<int>();
 }
 
@@ -182,7 +212,7 @@ RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
     const std::string type_text = TextOf(type, "");
     if (type_text == "ComplexItem") {
       ReadComplexItem(item, &number, &raw);
-    } else if (type.IsString() && type_text == "SimpleItem") {
+    } else if (type.IsString() && (type_text == "SimpleItem" || type_text == "missionItem")) {  // V1's name
       raw.items.push_back(ReadSimpleItem(item, ++number));
     } else {
       type.Fail("\"SimpleItem\"");

@@ -106,6 +106,9 @@ void ReadHomeLine(const RawItem& item, const std::string& where, const std::stri
 
 RawMission ReadQgcWpl(std::string_view text, const std::string& source) {
   RawMission raw;
+  // The plain-text format names no autopilot; it is Mission Planner's, whose missions ArduPilot flies.
+  raw.firmware = MissionFirmware::kArduPilot;
+  raw.firmware_basis = "a .waypoints file, Mission Planner's format for ArduPilot";
   const std::vector<std::pair<int, std::string>> lines = NonBlankLines(text);
   CheckHeader(lines, source);
   bool have_home = false;

@@ -171,12 +171,10 @@ Item ReproduceMotorRul(const Context& context) {
       params.particles, rul.mean_s, rul.p05_s, rul.p95_s));
   item.figures.push_back({"motor-rul.png",
                           "Motor RUL quantiles from the particles (Fig. 3.7's propagation)",
-                          {{"kind", "bars"},
-                           {"ylabel", "RUL (s)"},
-                           {"bars", nlohmann::json::array({{{"label", "p05"}, {"ours", rul.p05_s}},
-                                                           {{"label", "p50"}, {"ours", rul.p50_s}},
-                                                           {{"label", "mean"}, {"ours", rul.mean_s}},
-                                                           {{"label", "p95"}, {"ours", rul.p95_s}}})}}});
+                          {{"kind", "quantiles"},
+                           {"xlabel", "RUL (s)"},
+                           {"quantiles",
+                            {{"p05", rul.p05_s}, {"p50", rul.p50_s}, {"mean", rul.mean_s}, {"p95", rul.p95_s}}}}});
   return item;
 }
 

@@ -63,6 +63,9 @@ EnvironmentStep DecisionEnvironment::Step(decision::CmaAction action) {
   EnvironmentStep out;
   const decision::FlightStatus status = state_.decision.flight_status;
   out.reward = decision::CmaEpochReward(options_.weights, state_.decision.inputs.state, action);
+  // The EOD when the first action other than NoOp is asked for, as a policy's flight records it (DecideEpoch): the
+  // flight's summary then equals Simulator::Run's for the same actions.
+  RecordEodAtAction(*model_, state_, action);
   // An action that cannot be carried out is replaced by the next-highest of the default CMA policy's Q
   // (docs/modelling-choices.md#unavailable-actions); `executed` says what flew.
   out.executed = decision::EffectiveCmaAction(Act(*model_, state_, action, options_.planner, log), status);
@@ -83,6 +86,16 @@ void DecisionEnvironment::SetState(const FlightState& state) {
   state_ = RequireBranchPoint(*model_, state, "environment");  // sim/branching.h
   reset_ = true;
   observation_ = MakeObservation();
+}
+
+EnvironmentSnapshot DecisionEnvironment::Snapshot() const {
+  if (!reset_) throw InputError("environment", "snapshot", "Reset before the first Snapshot");
+  return EnvironmentSnapshot{state_, log_};
+}
+
+void DecisionEnvironment::Restore(const EnvironmentSnapshot& snapshot) {
+  SetState(snapshot.state);
+  log_ = snapshot.log;
 }
 
 SimResult DecisionEnvironment::Result(const std::string& policy) const {

@@ -140,11 +140,15 @@ TEST(SimulateCliTest, MissionFileWithLoiterAndLandFliesAndCompletes) {
   const planning::FlightPlan plan = planning::MakeMissionPlan(mission, planning::PlanLimits{});
   EXPECT_NEAR(summary.at("plan_duration_s").get<double>(), plan.duration(), 1e-6);
   EXPECT_GE(summary.at("sim_time_s").get<double>(), plan.duration());
-  // The importer's warnings (the camera item 203 at least) reach stderr, one line each.
+  // The firmware whose altitudes were applied, then the importer's warnings (the camera item 203 at least) reach
+  // stderr, one line each.
   ASSERT_FALSE(mission.warnings.empty());
   const std::vector<std::string> err_lines = Lines(result.err);
-  EXPECT_EQ(err_lines.size(), mission.warnings.size()) << result.err;
-  for (const auto& line : err_lines) EXPECT_EQ(line.rfind("warning: ", 0), 0u) << line;
+  ASSERT_EQ(err_lines.size(), mission.warnings.size() + 1) << result.err;
+  EXPECT_EQ(err_lines.front().rfind("note: ", 0), 0u) << err_lines.front();
+  const std::string note_after_source = mission.FirmwareNote().substr(mission.source.size());  // the path differs
+  EXPECT_NE(err_lines.front().find(note_after_source), std::string::npos) << err_lines.front();
+  for (std::size_t i = 1; i < err_lines.size(); ++i) EXPECT_EQ(err_lines[i].rfind("warning: ", 0), 0u) << err_lines[i];
 }
 
 TEST(SimulateCliTest, MissionOptionOverridesTheScenarioRelativeToTheCurrentFolder) {
@@ -326,7 +330,11 @@ TEST(SimulateCliTest, MissionExampleFliesOverTheImportedCityAndExportsInItsFrame
   const auto out = dir.path / "flight";
   const auto result = RunCli("simulate " + Example("mission-upper-east-side.yaml") + " --out " + out.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_TRUE(result.err.empty()) << result.err;  // the example mission has nothing unmodelled
+  // The example mission has nothing unmodelled: stderr holds only the note of the firmware whose altitudes apply.
+  const std::vector<std::string> err_lines = Lines(result.err);
+  ASSERT_EQ(err_lines.size(), 1u) << result.err;
+  EXPECT_NE(err_lines.front().find("altitudes as ArduPilot reads them (mission.firmwareType 3)"), std::string::npos)
+      << result.err;
   const nlohmann::json summary = nlohmann::json::parse(testing_support::Slurp(out / "summary.json"));
   EXPECT_EQ(summary.at("outcome"), "completed") << summary.at("reason");
   // Exported in the map's frame (origin: the data's centre), read back in the home's frame, as the original.

@@ -153,9 +153,40 @@ TEST(ImportedMapSamplerTest, SitesThatMissTheRoutesAreReportedAndTheMapSuppliesI
   EXPECT_GT(map->sites().size(), 1000u);
   for (const planning::LandingSite& site : map->sites()) EXPECT_TRUE(site.on_rooftop()) << site.id;
   const SiteCoverage own = CalcSiteCoverage(config, 7, kRuns);
+  EXPECT_TRUE(own.sites_from_map);
+  EXPECT_EQ(own.rooftop_sites_from_map + own.open_area_sites_from_map, own.sites);  // no sites file
   EXPECT_EQ(own.checkpoints_without_site, 0);
   EXPECT_TRUE(own.covered());
   EXPECT_LT(own.largest_gap, own.reach);
+}
+
+// The report says where the sites come from, and its hint fits them: the map's own sites name the kinds of land
+// they come from and how to widen them (not "give a sites file, or none": none is what the map already has).
+TEST(ImportedMapSamplerTest, CoverageReportNamesTheMapsOwnSitesAndHowToWidenThem) {
+  SiteCoverage coverage;
+  coverage.runs = 25;
+  coverage.checkpoints = 250;
+  coverage.checkpoints_without_site = 169;
+  coverage.runs_with_uncovered_checkpoint = 25;
+  coverage.reach = 500.0;
+  coverage.largest_gap = 2100.0;
+  coverage.sites = 40;
+  coverage.sites_from_map = true;
+  coverage.rooftop_sites_from_map = 30;
+  coverage.open_area_sites_from_map = 10;
+  const std::string own = coverage.BriefReport();
+  EXPECT_NE(own.find("169 of 250 checkpoints"), std::string::npos) << own;
+  EXPECT_NE(own.find("30 are the map's flat roofs and 10 lie in its open areas; 0 come from the sites file"),
+            std::string::npos)
+      << own;
+  EXPECT_NE(own.find("leisure=park"), std::string::npos) << own;
+  EXPECT_EQ(own.find("or none"), std::string::npos) << own;
+  coverage.sites_from_map = false;
+  const std::string file = coverage.BriefReport();
+  EXPECT_NE(file.find("give a sites file of the same district, or none"), std::string::npos) << file;
+  EXPECT_EQ(file.find("flat roofs and 10"), std::string::npos) << file;
+  coverage.checkpoints_without_site = 0;
+  EXPECT_EQ(coverage.BriefReport().find("do not cover"), std::string::npos);
 }
 
 // ---- Buildings without heights: the import keys of `map info` in campaign and scenario files --------------

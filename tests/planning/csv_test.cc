@@ -1,5 +1,5 @@
-// RFC 4180 splitting (include/uascma/planning/csv.h) and the landing-site reader built on it.
-#include "uascma/planning/csv.h"
+// RFC 4180 splitting (include/uascma/common/csv.h) and the landing-site reader built on it.
+#include "uascma/common/csv.h"
 
 #include <gtest/gtest.h>
 

@@ -62,6 +62,35 @@ def test_the_checker_finds_overlaps_covered_data_and_small_text():
     assert any("'time (s)'" in p and "px high" in p for p in problems)
 
 
+def test_the_checker_finds_what_the_figure_edge_cuts():
+    import sys
+
+    sys.path.insert(0, CHECK_DIR)
+    try:
+        from layout import check
+    finally:
+        sys.path.remove(CHECK_DIR)
+    # A legend placed right of the axes (map.png's) and a centred title longer than the figure is wide
+    # (completion_rate.png's with a long campaign name).
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.plot([0, 1], [0, 1], label="a route with a long name")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    ax.set_title("completion rate of campaign " + "a-long-campaign-name-" * 4)
+    problems = check(fig)
+    assert any("legend is cut" in p for p in problems), problems
+    assert any("completion rate of campaign" in p and "cut at the figure's edge" in p for p in problems), problems
+    # The same figure saved with bbox_inches="tight" grows to hold both.
+    assert not any("cut at the figure's edge" in p or "legend is cut" in p for p in check(fig, tight=True))
+    plt.close(fig)
+    # Laid out inside the figure: nothing is cut.
+    fig, ax = plt.subplots(figsize=(4, 3), layout="constrained")
+    ax.plot([0, 1], [0, 1], label="a route")
+    ax.legend(loc="lower right")
+    ax.set_title("completion rate")
+    assert check(fig) == []
+    plt.close(fig)
+
+
 def test_flight_plots_over_a_city_with_a_jam(checked, tmp_path):
     run, figures = checked
     # Scenario I (§5.5.1): motor 3 spalls, jams and is isolated seconds later; LandPract over the city.
@@ -81,7 +110,12 @@ def test_flight_plots_on_open_ground(checked, tmp_path):
 
 def test_report_plots(checked, tmp_path):
     run, figures = checked
-    run("campaign", example("campaign.yaml"), "--runs", 30, "--seed", 5, "--db", tmp_path / "c.db")
+    # A long campaign name: the titles that carry it stay inside their figures.
+    with open(example("campaign.yaml")) as f:
+        text = f.read().replace("name: dissertation-5.5", "name: " + "a-campaign-with-a-long-descriptive-name-" * 3)
+    config = tmp_path / "campaign.yaml"
+    config.write_text(text)
+    run("campaign", config, "--runs", 30, "--seed", 5, "--db", tmp_path / "c.db")
     run("report", tmp_path / "c.db", "--plots", tmp_path / "plots")
     written = [f["file"] for f in figures()]
     assert "failure_rate.png" in written and "failure_causes.png" in written

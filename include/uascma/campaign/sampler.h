@@ -166,7 +166,10 @@ struct SiteCoverage {
   double reach = 0.0;        // m
   double largest_gap = 0.0;  // m: the largest distance from a checkpoint to its nearest site (≤ the
                              // map's diagonal; +inf without sites)
-  int sites = 0;             // the map's
+  int sites = 0;             // the map's, of every origin:
+  bool sites_from_map = false;   // the map supplies sites of its own (map.sites_from_map, or no sites file)
+  int rooftop_sites_from_map = 0;
+  int open_area_sites_from_map = 0;
   bool covered() const { return checkpoints_without_site == 0; }
   // One paragraph: the numbers, and what to do when checkpoints are uncovered.
   std::string BriefReport() const;

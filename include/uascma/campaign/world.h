@@ -22,6 +22,11 @@ struct CampaignWorld {
   // without a sites file supplies its own sites: planning::MapImportOptions::sites_from_map, §5.1).
   std::shared_ptr<const planning::CityMap> map;
   std::optional<planning::GeoPoint> origin;  // an imported map's geodetic origin (its plans export for QGroundControl)
+  // Where an imported map's landing sites come from: the sites file, and the map itself (sites_from_map: flat roofs,
+  // open areas; planning/map_import.h).
+  bool sites_from_map = false;
+  int rooftop_sites_from_map = 0;
+  int open_area_sites_from_map = 0;
   // Every building's hull grown by the emergency planners' lateral margin (planning::LandingPathParams,
   // LandingPathPlanner::InflateBuildings); null when the map has no landing sites (no emergency planner is made).
   std::shared_ptr<const planning::ObstacleSet> obstacles;

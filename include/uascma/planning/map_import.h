@@ -65,7 +65,7 @@
 // coordinates out of range, a landing-site row that does not parse — throws InputError naming the file, the
 // feature (its OSM id and its index) and what was expected.
 //
-// Landing-site CSV (RFC 4180, planning/csv.h: quoted fields may hold commas, doubled quotes and line breaks):
+// Landing-site CSV (RFC 4180, common/csv.h: quoted fields may hold commas, doubled quotes and line breaks):
 // a header row, then one site per row. Columns are found by name (any order, extra columns
 // ignored; names are trimmed and compared case-insensitively), each with accepted aliases:
 //   id      osm_id | id | site_id

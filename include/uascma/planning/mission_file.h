@@ -56,8 +56,9 @@
 // Altitude frames (MAV_FRAME): 3/6 GLOBAL_RELATIVE_ALT(_INT), altitude above home; 0/5 GLOBAL(_INT), altitude
 // above mean sea level, allowed when the file gives the home's altitude (plannedHomePosition's third value; the
 // home line of a .waypoints file), then height above home = altitude − home altitude; 10/11 GLOBAL_TERRAIN_ALT
-// (_INT), read as above home (warned: the map's ground is flat, z = 0 everywhere); 2 MISSION for items without a
-// position. Local frames are an InputError. QGroundControl's terrain-calculated items (AltitudeMode 3) whose
+// (_INT), read as above home (warned: the map's ground is flat, z = 0 everywhere; refused for PX4, which refuses
+// them); 2 MISSION for items without a position. An altitude of 0 means what the file's firmware makes of it
+// (MissionFirmware below: ArduPilot holds the current altitude, PX4 flies to 0). Local frames are an InputError. QGroundControl's terrain-calculated items (AltitudeMode 3) whose
 // computed altitude is missing (params[6] = null) fly at their "Altitude" over the map's ground (warned); any
 // other null altitude is an InputError that says so.
 //
@@ -115,6 +116,23 @@ enum MavFrame : int {
 // "NAV_WAYPOINT", "DO_JUMP", …; "command N" for a number we do not know.
 std::string MavCommandName(int command);
 
+// MAV_AUTOPILOT numbers of the two autopilots whose mission semantics the importer follows.
+inline constexpr int kMavAutopilotArduPilotMega = 3;
+inline constexpr int kMavAutopilotPx4 = 12;
+// The autopilot a mission file is flown as (docs/maps-and-missions-firmware.md). The two read an item's altitude
+// differently:
+//  - ArduPilot (ArduCopter's ModeAuto::loc_from_cmd, ArduCopter/mode_auto.cpp; AP_Mission stores the altitude in
+//    whole centimetres): an altitude of 0 (|altitude| < 1 cm) on a waypoint, spline waypoint or loiter means "hold
+//    the current altitude", in every frame (relative, absolute, above terrain); frames 0/3/10 and their _INT twins.
+//  - PX4 (MavlinkMissionManager::parse_mavlink_mission_item, src/modules/mavlink/mavlink_mission.cpp): the altitude
+//    is taken as written, above home (frames 3/6) or above mean sea level (0/5); altitude 0 above home is home's
+//    ground level. The terrain frames 10/11 are refused at upload (MAV_MISSION_UNSUPPORTED_FRAME).
+//  - kUnknown (a .plan of another or no firmwareType): the altitudes both read alike are flown; an altitude 0 in
+//    the air, which they read differently, is an InputError naming the item.
+// A .waypoints file is Mission Planner's format for ArduPilot; a .plan names its firmware in mission.firmwareType.
+enum class MissionFirmware { kArduPilot, kPx4, kUnknown };
+std::string_view MissionFirmwareName(MissionFirmware firmware);  // "ArduPilot", "PX4", "no known firmware"
+
 struct MissionImportOptions {
   std::optional<GeoPoint> origin;  // the local frame's origin; default: the planned home
   // The map the mission flies over (not owned; null: flat open ground). With it, LAND touches down on the roof under
@@ -165,11 +183,16 @@ struct Mission {
   int items = 0;                        // mission items read (not counting the home; DO_JUMPs unrolled)
   std::optional<int> firmware_type;     // the .plan's mission.firmwareType (MAV_AUTOPILOT), kept for export
   std::optional<int> vehicle_type;      // the .plan's mission.vehicleType (MAV_TYPE)
+  // The autopilot whose altitude meaning was applied, and why ("mission.firmwareType 3", "a .waypoints file").
+  MissionFirmware firmware = MissionFirmware::kUnknown;
+  std::string firmware_basis;
   std::vector<RallyPoint> rally_points;
   Geofence geofence;
 
   // The horizontal route home → waypoints (for CityMap::CruiseAltitude and the like), m.
   std::vector<Eigen::Vector2d> RouteNE() const;
+  // One line naming the firmware applied and its basis: "flown as ArduPilot flies it (a .waypoints file): …".
+  std::string FirmwareNote() const;
 };
 
 // Parses a mission file's text; `source` names it in messages. InputError on malformed or unsupported input.

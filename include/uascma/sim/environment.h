@@ -44,6 +44,15 @@ struct Observation {
   double eod_s = 0.0;
   double rul_s = 0.0;  // +∞ without a motor fault
   double flight_time_remaining_s = 0.0;
+  bool operator==(const Observation&) const = default;  // every member, exactly
+};
+
+// A flight at a decision epoch, whole: its state (the random streams included, flight.h) and its log so far. Restore
+// continues the flight from it as many times as wanted, each branch the flight it copied would have flown (as
+// MuJoCo's mj_copyData gives a rollout's start; sim/branching.h RequireBranchPoint).
+struct EnvironmentSnapshot {
+  FlightState state;
+  FlightLog log;
 };
 
 struct EnvironmentStep {
@@ -70,6 +79,9 @@ class DecisionEnvironment {
   const FlightState& state() const { return state_; }
   // Continue from a copy of a state taken at an epoch of this model's flights (InputError otherwise).
   void SetState(const FlightState& state);
+  // The flight now (InputError before Reset), and the flight continued from one taken before (its log too).
+  EnvironmentSnapshot Snapshot() const;
+  void Restore(const EnvironmentSnapshot& snapshot);
   // The flight so far as a SimResult (its log when `record` is set).
   SimResult Result(const std::string& policy = "environment") const;
 

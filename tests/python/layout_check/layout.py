@@ -5,7 +5,10 @@
   more than MIN_OVERLAP_PX in both directions;
 * a legend covers data: a point of a line or a scatter of its axes lies inside the legend's box;
 * a label placed in an axes (ax.text, ax.annotate) sits on its data: a marker, an error bar or a bar;
-* a text is too small to read: under MIN_TEXT_PX pixels high at the figure's dpi.
+* a text is too small to read: under MIN_TEXT_PX pixels high at the figure's dpi (the size drawn: a table
+  cell's text shrunk to fit is measured as drawn);
+* a text or a legend is cut at the figure's edge: its box reaches more than MIN_OVERLAP_PX outside the figure
+  (not checked for a figure saved with bbox_inches="tight", whose saved frame grows to hold it).
 """
 MIN_OVERLAP_PX = 1.0   # ours: touching boxes (shared edges, rounding) are not an overlap
 MIN_TEXT_PX = 8.0      # ours: 6 pt at 96 dpi; smaller glyphs are not legible on a screen
@@ -39,7 +42,22 @@ def _visible_tick_labels(fig):
     return labels  # ids of tick labels outside the view: not drawn
 
 
-def check(fig):
+def _cut_at_edge(fig, box):
+    """How far (px) `box` reaches outside the figure, the largest of its four sides."""
+    return max(-box.x0, box.x1 - fig.bbox.width, -box.y0, box.y1 - fig.bbox.height)
+
+
+def _legends(fig):
+    out = [legend for legend in getattr(fig, "legends", []) if legend.get_visible()]
+    for axes in fig.axes:
+        legend = axes.get_legend()
+        if legend is not None and legend.get_visible():
+            out.append(legend)
+    return out
+
+
+def check(fig, tight=False):
+    """The figure's problems; tight: it is saved with bbox_inches="tight" (its edge cuts nothing)."""
     import numpy as np
 
     problems = []
@@ -56,6 +74,13 @@ def check(fig):
         size_px = text.get_fontsize() * fig.dpi / 72.0
         if size_px < MIN_TEXT_PX:
             problems.append(f"text {text.get_text()!r} is {size_px:.1f} px high (< {MIN_TEXT_PX})")
+        cut = _cut_at_edge(fig, box)
+        if not tight and cut > MIN_OVERLAP_PX:
+            problems.append(f"text {text.get_text()!r} is cut at the figure's edge ({cut:.0f} px outside)")
+    for legend in _legends(fig):
+        cut = _cut_at_edge(fig, legend.get_window_extent(renderer))
+        if not tight and cut > MIN_OVERLAP_PX:
+            problems.append(f"a legend is cut at the figure's edge ({cut:.0f} px outside)")
     for i in range(len(boxes)):
         for j in range(i + 1, len(boxes)):
             (a, ba), (b, bb) = boxes[i], boxes[j]

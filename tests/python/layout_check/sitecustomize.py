@@ -23,7 +23,7 @@ def _install():
             self.set_dpi(kwargs["dpi"])
         from layout import check
 
-        problems = check(self)
+        problems = check(self, tight=kwargs.get("bbox_inches") == "tight")
         with open(report, "a") as f:
             f.write(json.dumps({"file": os.path.basename(os.fspath(fname)), "problems": problems}) + "\n")
         return original(self, fname, *args, **kwargs)

@@ -1,11 +1,11 @@
-// RFC 4180 splitting (include/uascma/planning/csv.h): one pass over the text, a small state machine per field.
-#include "uascma/planning/csv.h"
+// RFC 4180 splitting (include/uascma/common/csv.h): one pass over the text, a small state machine per field.
+#include "uascma/common/csv.h"
 
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
 
-namespace uascma::planning {
+namespace uascma {
 namespace {
 
 // Spaces and tabs around fields, and a lone carriage return at the end of a line.
@@ -50,9 +50,20 @@ std::string ReadQuotedField(std::string_view text, const std::string& source, st
   return field;
 }
 
+// With comment lines: *i at the start of a record, past blanks, on a '#': moves *i to the line break ending it.
+bool SkipComment(std::string_view text, const CsvOptions& options, std::size_t* i) {
+  if (!options.comment_lines) return false;
+  std::size_t j = *i;
+  while (j < text.size() && (text[j] == ' ' || text[j] == '\t')) ++j;
+  if (j >= text.size() || text[j] != '#') return false;
+  const std::size_t end = text.find('\n', j);
+  *i = end == std::string_view::npos ? text.size() : end;
+  return true;
+}
+
 }  // namespace
 
-std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source) {
+std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source, const CsvOptions& options) {
   std::vector<CsvRecord> records;
   CsvRecord record;
   std::string field;
@@ -75,6 +86,8 @@ std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source
 
   std::size_t i = 0;
   while (i < text.size()) {
+    const bool record_start = record.fields.empty() && field.empty() && !quoted && !any_content;
+    if (record_start && SkipComment(text, options, &i)) continue;  // on the line break: the record stays blank
     const char c = text[i];
     if (c == '"') {
       // A quoted field: only blanks may precede the opening quote.
@@ -120,4 +133,4 @@ std::vector<CsvRecord> SplitCsv(std::string_view text, const std::string& source
   return records;
 }
 
-}  // namespace uascma::planning
+}  // namespace uascma
