@@ -66,8 +66,9 @@ class Sender {
 };
 
 struct LoopState {
-  bool armed = true;  // flies the scenario as `simulate` does from the start
-  bool stop = false;  // a DISARM on the ground
+  bool armed = true;    // flies the scenario as `simulate` does from the start
+  bool started = true;  // SitlOptions::wait_for_start: false until MISSION_START
+  bool stop = false;    // a DISARM on the ground
 };
 
 // Serves the link until `deadline` (wall, from the run's start): frames handled in arrival order, mission timeouts.
@@ -82,6 +83,7 @@ void Serve(SitlVehicle& vehicle, UdpLink& link, Sender& sender, CommandedPolicy&
         case VehicleRequest::kLand: policy.Command(decision::CmaAction::kLandAsap); break;
         case VehicleRequest::kTerminate: policy.Command(decision::CmaAction::kTerminate); break;
         case VehicleRequest::kArm: loop.armed = true; break;
+        case VehicleRequest::kMissionStart: loop.started = true; break;
         case VehicleRequest::kDisarm: loop.armed = false; loop.stop = !flying; break;
         default: break;
       }
@@ -135,9 +137,19 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
   log.record_telemetry = true;  // the pack's outputs for BATTERY_STATUS, as `simulate --out` records them
   LoopState loop;
   SitlSummary summary;
+  std::vector<Outgoing> out;
+  if (options.wait_for_start) {  // on the ground, once a wall second, until ARM and MISSION_START
+    loop.armed = false;
+    loop.started = false;
+    const Clock::time_point waiting = Clock::now();
+    for (int second = 1; !loop.started && !loop.stop; ++second) {
+      vehicle.Telemetry(state, log, loop.armed, out);
+      sender.Flush(out);
+      Serve(vehicle, link, sender, commanded, loop, false, waiting, second);
+    }
+  }
   const double cpu_start = ProcessCpuSeconds();
   const Clock::time_point start = Clock::now();
-  std::vector<Outgoing> out;
   vehicle.Telemetry(state, log, loop.armed, out);
   sender.Flush(out);
   while (!state.done() && !loop.stop) {

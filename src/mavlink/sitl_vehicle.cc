@@ -40,7 +40,10 @@ std::uint8_t Severity(const std::string& event) {
 Statustext MakeStatustext(std::uint8_t severity, const std::string& text) {
   Statustext message;
   message.severity = severity;
-  std::memcpy(message.text.data(), text.data(), std::min(text.size(), message.text.size()));
+  std::size_t length = std::min(text.size(), message.text.size());
+  // Cut at a character boundary: never inside a UTF-8 sequence (its continuation bytes are 10xxxxxx).
+  while (length < text.size() && length > 0 && (static_cast<unsigned char>(text[length]) & 0xC0) == 0x80) --length;
+  std::memcpy(message.text.data(), text.data(), length);
   return message;
 }
 

@@ -4,7 +4,8 @@
 // StepToNextEpoch, the scenario's CMA policy deciding at each epoch): a ground station can watch. Commands that map
 // onto the CMA's actions are carried out at the next decision epoch in place of the policy's choice:
 // NAV_LAND → LandASAP (§5.3.2.2: land at once within the footprint), DO_FLIGHTTERMINATION → Terminate;
-// DISARM on the ground ends the run. Everything the vehicle streams is in sitl_vehicle.h.
+// DISARM on the ground ends the run. Everything the vehicle streams is in sitl_vehicle.h. With
+// SitlOptions::wait_for_start the simulated clock starts at MISSION_START, so a client sees the whole flight.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -29,6 +30,9 @@ struct SitlOptions {
   double speed = 1.0;          // simulated seconds per wall second
   std::uint8_t system_id = 1;  // MAVLink system id (component MAV_COMP_ID_AUTOPILOT1)
   double linger_s = 2.0;       // wall seconds the link is still served after the flight ended (final telemetry)
+  // Stay on the ground, disarmed, streaming once a wall second, until ARM and then MISSION_START (or NAV_TAKEOFF)
+  // arrive; then fly the scenario's plan (an uploaded mission is stored and can be downloaded, not flown).
+  bool wait_for_start = false;
   // Called once the sockets are bound (before the first epoch): e.g. to print the ports of port-0 endpoints.
   std::function<void(const UdpLink&)> on_ready;
   bool IsValid(std::string* error) const;

@@ -69,7 +69,7 @@ class SitlVehicle {
   bool initial_soc_known_ = false;
 };
 
-// STATUSTEXT of at most 50 characters (longer texts are cut: the chunked form is not used).
+// STATUSTEXT of at most 50 bytes (longer texts are cut at a UTF-8 character boundary: the chunked form is not used).
 Statustext MakeStatustext(std::uint8_t severity, const std::string& text);
 
 }  // namespace uascma::mavlink
