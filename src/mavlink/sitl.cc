@@ -87,8 +87,8 @@ void Serve(SitlVehicle& vehicle, UdpLink& link, Sender& sender, CommandedPolicy&
         case VehicleRequest::kDisarm: loop.armed = false; loop.stop = !flying; break;
         default: break;
       }
-      sender.Flush(out);
     }
+    sender.Flush(out);  // the replies to one batch of datagrams, in order, packed
     vehicle.Tick(SecondsSince(start), out);
     sender.Flush(out);
     if (wait <= 0.0) return;

@@ -87,7 +87,7 @@ TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
   SitlOptions options;
   options.links = {ParseLinkAddress("udp:127.0.0.1:0", "test")};
   options.speed = 1000.0;  // as fast as the machine steps
-  options.linger_s = 4.0;
+  options.linger_s = 6.0;
   options.on_ready = [&](const UdpLink& link) { port.set_value(link.bound_port(0)); };
   auto run = std::async(std::launch::async, [&] { return RunSitl(file.scenario, *policy, options); });
   Client client(port.get_future().get());
@@ -140,6 +140,34 @@ TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
     EXPECT_EQ(item->z, Waypoint(seq).z);
     EXPECT_EQ(item->command, Waypoint(seq).command);
   }
+  // A flood: 10,000 commands in one second (30 frames a datagram), each with its own command number (40000 + i: none
+  // that the vehicle carries out). Every one is answered UNSUPPORTED, and the answers come back in the order sent.
+  constexpr int kFlood = 10000;
+  std::vector<std::uint8_t> burst;
+  for (int i = 0; i < kFlood; ++i) {
+    CommandLong command;
+    command.target_system = 1;
+    command.command = static_cast<std::uint16_t>(40000 + i);
+    const auto frame = EncodeFrame(command, kGround, static_cast<std::uint8_t>(i));
+    burst.insert(burst.end(), frame.begin(), frame.end());
+    if ((i + 1) % 30 == 0 || i + 1 == kFlood) {
+      client.SendRaw(burst);
+      burst.clear();
+    }
+    if ((i + 1) % 1000 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));  // 10,000 frames a second
+  }
+  int last_acked = -1;
+  bool in_order = true;
+  while (client.Await<CommandAck>([&](const CommandAck& a) {
+    const int i = a.command - 40000;
+    if (i >= 0 && i < kFlood) {
+      in_order = in_order && i > last_acked;
+      last_acked = i;
+    }
+    return i == kFlood - 1;
+  }, 3.0)) {
+  }
+  EXPECT_TRUE(in_order);
   client.Drain(0.5);
   while (run.wait_for(std::chrono::milliseconds(0)) != std::future_status::ready) client.Drain(0.2);
   const SitlSummary summary = run.get();
@@ -173,7 +201,7 @@ TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
   EXPECT_EQ(client.counts().bad_checksum, 0u);
   // The hostile frames were counted and ignored.
   EXPECT_EQ(summary.commands.foreign_commands, 1);
-  EXPECT_EQ(summary.commands.unsupported_commands, 1);
+  EXPECT_EQ(summary.commands.unsupported_commands, 1 + kFlood);  // every command of the flood was handled
   EXPECT_GE(summary.link.bad_checksum, 1u);
   EXPECT_GE(summary.link.truncated, 1u);
   EXPECT_EQ(summary.missions.uploads, 1);
