@@ -22,7 +22,7 @@ if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=cc
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DUASCMA_FUZZ=ON -DUASCMA_UNITY=OFF \
   -DUASCMA_BUILD_TESTS=OFF -DUASCMA_BUILD_BENCHMARKS=OFF -DUASCMA_BUILD_PYTHON=OFF "${launcher[@]}" >/dev/null
 parsers=(${FUZZ_PARSERS:-scenario_yaml campaign_yaml weights_yaml policy_json geojson osm_xml osm_pbf sites_csv
-  results_store mission_plan mission_wpl battery_model battery_policy cma_transitions})
+  results_store mission_plan mission_wpl battery_model battery_policy cma_transitions mavlink_frame})
 targets=(fuzz_osm_seeds)
 for parser in "${parsers[@]}"; do targets+=("${parser}_fuzzer"); done
 cmake --build "$build" --target "${targets[@]}" -j "$jobs"
@@ -49,6 +49,7 @@ seed geojson "$osm_data"/*.geojson
 seed sites_csv "$osm_data"/*.csv
 seed mission_plan examples/missions/*.plan tests/data/missions/*.plan
 seed mission_wpl tests/data/missions/*.waypoints
+seed mavlink_frame tests/data/mavlink/*.bin
 mkdir -p "$corpus/osm_xml" "$corpus/osm_pbf" "$corpus/policy_json" "$corpus/results_store" \
   "$corpus/battery_model" "$corpus/battery_policy"
 "$bin/fuzz_osm_seeds" "$corpus/osm_xml" "$corpus/osm_pbf"

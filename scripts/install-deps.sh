@@ -21,6 +21,7 @@ test=(
   valgrind  # callgrind: the instructions per GNC step of `make bench` (bench/step_instructions.sh)
   pybind11-dev python3-dev python3-pandas python3-pytest
   chromium  # the browser test of `uascma reproduce`'s page (tests/apps/reproduce_browser_test.py)
+  nodejs npm  # the MAVLink interoperability test against node-mavlink (tests/mavlink/node/)
 )
 fuzz=(
   clang libclang-rt-14-dev

@@ -22,5 +22,6 @@ void AddStoreCommand(CLI::App& app);      // store_command.cc
 void AddReproduceCommand(CLI::App& app);  // reproduce_command.cc
 void AddDocsCommand(CLI::App& app);       // docs_command.cc
 void AddCalibrateCommand(CLI::App& app);  // calibrate_command.cc
+void AddSitlCommand(CLI::App& app);       // sitl_command.cc
 
 }  // namespace uascma::cli

@@ -40,6 +40,7 @@ constexpr std::array kCommands{
     Command{"reproduce", uascma::cli::AddReproduceCommand},
     Command{"docs", uascma::cli::AddDocsCommand},
     Command{"calibrate", uascma::cli::AddCalibrateCommand},
+    Command{"sitl", uascma::cli::AddSitlCommand},
 };
 
 // The tool with the commands named `only` (every command when empty).

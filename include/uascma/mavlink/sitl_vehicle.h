@@ -1,0 +1,75 @@
+#pragma once
+// The simulated hexarotor as a MAVLink v2 vehicle (`uascma sitl`): what it streams of a flight state, and what it
+// does with the commands and mission messages it receives. The flight itself is the simulator's (sim/flight.h),
+// stepped epoch by epoch by the caller; this class only reads the state and turns commands into requests.
+//
+// Telemetry, one of each message per call (the caller calls at every decision epoch, 1 Hz of simulated time):
+//   HEARTBEAT (MAV_TYPE_HEXAROTOR, MAV_AUTOPILOT_GENERIC, armed flag, MAV_STATE), SYSTEM_TIME, SYS_STATUS,
+//   BATTERY_STATUS per pack (id 0, 1: the three cells' voltages, the pack's current, consumed charge,
+//   time_remaining = the epoch's EOD, §3.4), GLOBAL_POSITION_INT, LOCAL_POSITION_NED, ATTITUDE, HOME_POSITION,
+//   EXTENDED_SYS_STATE, ESC_STATUS and ESC_INFO for rotors 1-4 and 5-6 (rpm; a jammed rotor's flag
+//   ESC_FAILURE_MOTOR_STUCK once the fault detector has isolated it), MISSION_CURRENT, and NAMED_VALUE_FLOAT
+//   "spall_mm2" (the spall indicator, §2.3) and "rul_s" (the motor RUL).
+// Every timestamp is the simulated clock (time_boot_ms = simulated ms since take-off).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uascma/mavlink/mission_server.h"
+#include "uascma/planning/map_import.h"
+#include "uascma/sim/flight.h"
+
+namespace uascma::mavlink {
+
+// What a received command asks of the flight loop.
+enum class VehicleRequest { kNone, kArm, kDisarm, kMissionStart, kLand, kTerminate };
+
+struct SitlCounts {
+  int commands = 0;              // commands for this system, acknowledged
+  int unsupported_commands = 0;  // acknowledged MAV_RESULT_UNSUPPORTED
+  int foreign_commands = 0;      // commands addressed to another system: ignored, not acknowledged
+};
+
+class SitlVehicle {
+ public:
+  // `origin`: where W's origin is on the globe (the scenario's geo_origin; see docs/mavlink.md for the default).
+  SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin, std::uint64_t unix_start_us);
+
+  // One of each telemetry message for `state` (the log's last telemetry row gives the pack's outputs).
+  void Telemetry(const sim::FlightState& state, const sim::FlightLog& log, bool armed, std::vector<Outgoing>& out);
+  // STATUSTEXT for each event of the log not yet sent (severity: failures critical, the CMA's actions warning,
+  // the rest info).
+  void Events(const sim::FlightLog& log, std::vector<Outgoing>& out);
+  // A received frame: mission protocol, COMMAND_LONG/COMMAND_INT (acknowledged). `armed` and `flying` decide
+  // whether a command can be carried out now.
+  VehicleRequest Handle(const Frame& frame, double wall_s, bool armed, bool flying, std::vector<Outgoing>& out);
+  void Tick(double wall_s, std::vector<Outgoing>& out) { missions_.Tick(wall_s, out); }
+
+  const MissionServer& missions() const { return missions_; }
+  const SitlCounts& counts() const { return counts_; }
+  Address self() const { return self_; }
+
+ private:
+  VehicleRequest OnCommand(std::uint16_t command, std::uint8_t target, const std::array<float, 7>& params,
+                           Address sender, bool armed, bool flying, std::vector<Outgoing>& out);
+  void Position(const sim::FlightState& state, std::uint32_t time_ms, std::vector<Outgoing>& out) const;
+  void Batteries(const sim::FlightState& state, const sim::FlightLog& log, std::vector<Outgoing>& out) const;
+  void Escs(const sim::FlightState& state, std::vector<Outgoing>& out) const;
+
+  const sim::FlightModel& model_;
+  Address self_;
+  planning::LocalProjection projection_;
+  std::uint64_t unix_start_us_;
+  MissionServer missions_;
+  std::size_t events_sent_ = 0;
+  std::uint16_t statustext_id_ = 0;
+  SitlCounts counts_;
+  models::PerBranch<double> initial_soc_{};  // each pack's first cell at the first Telemetry call
+  bool initial_soc_known_ = false;
+};
+
+// STATUSTEXT of at most 50 bytes (longer texts are cut at a UTF-8 character boundary: the chunked form is not used).
+Statustext MakeStatustext(std::uint8_t severity, const std::string& text);
+
+}  // namespace uascma::mavlink

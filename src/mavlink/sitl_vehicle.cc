@@ -1,0 +1,271 @@
+#include "uascma/mavlink/sitl_vehicle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+
+namespace uascma::mavlink {
+namespace {
+
+constexpr double kRadPerSecondToRpm = 60.0 / (2.0 * std::numbers::pi);
+
+std::uint32_t TimeMs(double time_s) { return static_cast<std::uint32_t>(std::llround(time_s * 1000.0)); }
+
+template <class T>
+T Saturate(double value) {
+  const double low = static_cast<double>(std::numeric_limits<T>::lowest());
+  const double high = static_cast<double>(std::numeric_limits<T>::max());
+  if (!std::isfinite(value)) return value > 0 ? std::numeric_limits<T>::max() : std::numeric_limits<T>::lowest();
+  return static_cast<T>(std::llround(std::clamp(value, low, high)));
+}
+
+// Roll, pitch, yaw (ZYX, intrinsic: MAVLink's ATTITUDE convention) of R_WB, W = NED, B = FRD.
+Eigen::Vector3d Euler(const Eigen::Quaterniond& q_WB) {
+  const Eigen::Matrix3d R = q_WB.toRotationMatrix();
+  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  return {std::atan2(R(2, 1), R(2, 2)), pitch, std::atan2(R(1, 0), R(0, 0))};
+}
+
+std::uint8_t Severity(const std::string& event) {
+  const auto has = [&](const char* word) { return event.find(word) != std::string::npos; };
+  if (has("crash") || has("failed") || has("jam") || has("terminat")) return kMavSeverityCritical;
+  if (has("LandPract") || has("LandASAP") || has("spall") || has("isolat")) return kMavSeverityWarning;
+  return kMavSeverityInfo;
+}
+
+}  // namespace
+
+Statustext MakeStatustext(std::uint8_t severity, const std::string& text) {
+  Statustext message;
+  message.severity = severity;
+  std::size_t length = std::min(text.size(), message.text.size());
+  // Cut at a character boundary: never inside a UTF-8 sequence (its continuation bytes are 10xxxxxx).
+  while (length < text.size() && length > 0 && (static_cast<unsigned char>(text[length]) & 0xC0) == 0x80) --length;
+  std::memcpy(message.text.data(), text.data(), length);
+  return message;
+}
+
+SitlVehicle::SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin,
+                         std::uint64_t unix_start_us)
+    : model_(model), self_(self), projection_(origin), unix_start_us_(unix_start_us), missions_(self) {}
+
+void SitlVehicle::Position(const sim::FlightState& state, std::uint32_t time_ms, std::vector<Outgoing>& out) const {
+  const models::RigidBodyState& body = state.vehicle.body;
+  const Eigen::Vector3d euler = Euler(body.q_WB);
+  const planning::GeoPoint geo = projection_.ToGeodetic(body.p_WB_W.head<2>());
+  GlobalPositionInt global;
+  global.time_boot_ms = time_ms;
+  global.lat = Saturate<std::int32_t>(geo.lat_deg * 1e7);
+  global.lon = Saturate<std::int32_t>(geo.lon_deg * 1e7);
+  global.alt = Saturate<std::int32_t>(-body.p_WB_W.z() * 1000.0);  // above the origin's ground (W is NED)
+  global.relative_alt = global.alt;
+  global.vx = Saturate<std::int16_t>(body.v_WB_W.x() * 100.0);
+  global.vy = Saturate<std::int16_t>(body.v_WB_W.y() * 100.0);
+  global.vz = Saturate<std::int16_t>(body.v_WB_W.z() * 100.0);
+  const double heading_deg = std::fmod(euler.z() * 180.0 / std::numbers::pi + 360.0, 360.0);
+  global.hdg = Saturate<std::uint16_t>(std::min(heading_deg * 100.0, 35999.0));
+  out.push_back(MakeOutgoing(global));
+  LocalPositionNed local;
+  local.time_boot_ms = time_ms;
+  local.x = static_cast<float>(body.p_WB_W.x());
+  local.y = static_cast<float>(body.p_WB_W.y());
+  local.z = static_cast<float>(body.p_WB_W.z());
+  local.vx = static_cast<float>(body.v_WB_W.x());
+  local.vy = static_cast<float>(body.v_WB_W.y());
+  local.vz = static_cast<float>(body.v_WB_W.z());
+  out.push_back(MakeOutgoing(local));
+  Attitude attitude;
+  attitude.time_boot_ms = time_ms;
+  attitude.roll = static_cast<float>(euler.x());
+  attitude.pitch = static_cast<float>(euler.y());
+  attitude.yaw = static_cast<float>(euler.z());
+  attitude.rollspeed = static_cast<float>(body.w_WB_B.x());
+  attitude.pitchspeed = static_cast<float>(body.w_WB_B.y());
+  attitude.yawspeed = static_cast<float>(body.w_WB_B.z());
+  out.push_back(MakeOutgoing(attitude));
+}
+
+void SitlVehicle::Batteries(const sim::FlightState& state, const sim::FlightLog& log,
+                            std::vector<Outgoing>& out) const {
+  const sim::TelemetryRow* row = log.telemetry.empty() ? nullptr : &log.telemetry.back();
+  for (int pack = 0; pack < models::kBranchCount; ++pack) {
+    BatteryStatus battery;
+    battery.id = static_cast<std::uint8_t>(pack);
+    battery.battery_function = static_cast<std::uint8_t>(kMavBatteryFunctionAll);
+    battery.type = static_cast<std::uint8_t>(kMavBatteryTypeLipo);
+    battery.temperature = std::numeric_limits<std::int16_t>::max();  // not modelled as a state: unknown
+    battery.voltages.fill(std::numeric_limits<std::uint16_t>::max());
+    battery.voltages_ext.fill(0);
+    for (int cell = 0; cell < models::kCellsPerBranch; ++cell) {
+      const double v = row ? row->cell_voltage[pack * models::kCellsPerBranch + cell] : 0.0;
+      battery.voltages[cell] = Saturate<std::uint16_t>(v * 1000.0);
+    }
+    battery.current_battery = row ? Saturate<std::int16_t>(row->branch_current[pack] * 100.0) : -1;
+    // Charge drawn: (z0 − z) Q of the pack's first cell (the cells of a pack are in series, η_discharge = 1,
+    // Table 3.1), from a full charge at the state's initial SOC.
+    const models::SelfCorrectingCell& cell = model_.pack().cell(pack, 0);
+    const double soc = state.power.pack.cells[pack][0].soc_fraction;
+    const double initial = initial_soc_[pack];
+    battery.current_consumed = Saturate<std::int32_t>((initial - soc) * cell.capacity_as() / 3.6);
+    battery.energy_consumed = -1;
+    battery.battery_remaining = Saturate<std::int8_t>(std::clamp(soc, 0.0, 1.0) * 100.0);
+    battery.time_remaining = Saturate<std::int32_t>(state.decision.inputs.eod_s);
+    const bool cut_off = row && row->cell_voltage[pack * models::kCellsPerBranch] <= models::kCutoffVoltage;
+    battery.charge_state = static_cast<std::uint8_t>(cut_off ? kMavBatteryChargeStateFailed
+                                                             : kMavBatteryChargeStateOk);
+    out.push_back(MakeOutgoing(battery));
+  }
+}
+
+void SitlVehicle::Escs(const sim::FlightState& state, std::vector<Outgoing>& out) const {
+  const std::uint64_t time_us = static_cast<std::uint64_t>(std::llround(state.time_s * 1e6));
+  for (int first = 0; first < 6; first += 4) {
+    EscStatus status;
+    status.index = static_cast<std::uint8_t>(first);
+    status.time_usec = time_us;
+    EscInfo info;
+    info.index = static_cast<std::uint8_t>(first);
+    info.time_usec = time_us;
+    info.count = 6;
+    info.connection_type = static_cast<std::uint8_t>(kEscConnectionTypePpm);
+    info.temperature.fill(std::numeric_limits<std::int16_t>::max());
+    for (int k = 0; k < 4 && first + k < 6; ++k) {
+      status.rpm[k] = Saturate<std::int32_t>(state.vehicle.rotor_speed[first + k] * kRadPerSecondToRpm);
+      info.info = static_cast<std::uint8_t>(info.info | (1u << k));
+      if (state.faults.allocation_failure == first + k + 1) info.failure_flags[k] = kEscFailureMotorStuck;
+    }
+    out.push_back(MakeOutgoing(status));
+    out.push_back(MakeOutgoing(info));
+  }
+}
+
+void SitlVehicle::Telemetry(const sim::FlightState& state, const sim::FlightLog& log, bool armed,
+                            std::vector<Outgoing>& out) {
+  const std::uint32_t time_ms = TimeMs(state.time_s);
+  if (!initial_soc_known_) {
+    for (int pack = 0; pack < models::kBranchCount; ++pack) initial_soc_[pack] = state.power.pack.cells[pack][0].soc_fraction;
+    initial_soc_known_ = true;
+  }
+  Heartbeat heartbeat;
+  heartbeat.type = kMavTypeHexarotor;
+  heartbeat.autopilot = kMavAutopilotGeneric;
+  heartbeat.base_mode = static_cast<std::uint8_t>((armed ? kMavModeFlagSafetyArmed : 0) | kMavModeFlagAutoEnabled);
+  heartbeat.system_status = static_cast<std::uint8_t>(
+      state.done() ? kMavStateStandby : (state.faults.spall_onset_s ? kMavStateCritical : kMavStateActive));
+  if (state.outcome == sim::Outcome::kTerminated) heartbeat.system_status = kMavStateFlightTermination;
+  out.push_back(MakeOutgoing(heartbeat));
+  SystemTime time;
+  time.time_unix_usec = unix_start_us_ + static_cast<std::uint64_t>(std::llround(state.time_s * 1e6));
+  time.time_boot_ms = time_ms;
+  out.push_back(MakeOutgoing(time));
+  SysStatus status;
+  const sim::TelemetryRow* row = log.telemetry.empty() ? nullptr : &log.telemetry.back();
+  status.voltage_battery = row ? Saturate<std::uint16_t>(row->bus_voltage * 1000.0) : 0;
+  status.current_battery = row ? Saturate<std::int16_t>(row->pack_current * 100.0) : -1;
+  status.battery_remaining = -1;
+  out.push_back(MakeOutgoing(status));
+  Batteries(state, log, out);
+  Position(state, time_ms, out);
+  HomePosition home;
+  const Eigen::Vector3d home_W = model_.nominal_plan().start_W();
+  const planning::GeoPoint home_geo = projection_.ToGeodetic(home_W.head<2>());
+  home.latitude = Saturate<std::int32_t>(home_geo.lat_deg * 1e7);
+  home.longitude = Saturate<std::int32_t>(home_geo.lon_deg * 1e7);
+  home.x = static_cast<float>(home_W.x());
+  home.y = static_cast<float>(home_W.y());
+  home.q = {1.0f, 0.0f, 0.0f, 0.0f};
+  home.time_usec = static_cast<std::uint64_t>(std::llround(state.time_s * 1e6));
+  out.push_back(MakeOutgoing(home));
+  ExtendedSysState extended;
+  extended.landed_state = static_cast<std::uint8_t>(
+      state.vehicle.airborne && !state.done() ? kMavLandedStateInAir : kMavLandedStateOnGround);
+  out.push_back(MakeOutgoing(extended));
+  Escs(state, out);
+  MissionCurrent current;
+  current.seq = missions_.current();
+  current.total = static_cast<std::uint16_t>(missions_.items().size());
+  current.mission_state = static_cast<std::uint8_t>(missions_.items().empty() ? kMissionStateNoMission
+                                                    : state.done()           ? kMissionStateComplete
+                                                                             : kMissionStateActive);
+  out.push_back(MakeOutgoing(current));
+  NamedValueFloat spall;
+  spall.time_boot_ms = time_ms;
+  std::memcpy(spall.name.data(), "spall_mm2", 9);
+  spall.value = row ? static_cast<float>(row->spall_area_mm2) : 0.0f;
+  out.push_back(MakeOutgoing(spall));
+}
+
+void SitlVehicle::Events(const sim::FlightLog& log, std::vector<Outgoing>& out) {
+  for (; events_sent_ < log.events.size(); ++events_sent_) {
+    const sim::FlightEvent& event = log.events[events_sent_];
+    Statustext text = MakeStatustext(Severity(event.what), event.what);
+    text.id = ++statustext_id_;
+    out.push_back(MakeOutgoing(text));
+  }
+}
+
+VehicleRequest SitlVehicle::OnCommand(std::uint16_t command, std::uint8_t target, const std::array<float, 7>& params,
+                                      Address sender, bool armed, bool flying, std::vector<Outgoing>& out) {
+  if (target != self_.system_id && target != 0) {
+    ++counts_.foreign_commands;
+    return VehicleRequest::kNone;
+  }
+  ++counts_.commands;
+  VehicleRequest request = VehicleRequest::kNone;
+  std::uint8_t result = kMavResultAccepted;
+  switch (command) {
+    case kMavCmdComponentArmDisarm:
+      if (params[0] > 0.5f) {
+        request = VehicleRequest::kArm;
+      } else if (flying && params[1] != 21196.0f) {  // 21196: the force-disarm magic of the command's param 2
+        result = kMavResultDenied;
+      } else {
+        request = VehicleRequest::kDisarm;
+      }
+      break;
+    case kMavCmdMissionStart:
+    case kMavCmdNavTakeoff:
+      if (!armed) result = kMavResultDenied;
+      else request = VehicleRequest::kMissionStart;
+      break;
+    case kMavCmdNavLand:
+      if (!flying) result = kMavResultDenied;
+      else request = VehicleRequest::kLand;
+      break;
+    case kMavCmdDoFlighttermination:
+      if (params[0] <= 0.5f || !flying) result = kMavResultDenied;
+      else request = VehicleRequest::kTerminate;
+      break;
+    default:
+      result = kMavResultUnsupported;
+      ++counts_.unsupported_commands;
+  }
+  CommandAck ack;
+  ack.command = command;
+  ack.result = result;
+  ack.target_system = sender.system_id;
+  ack.target_component = sender.component_id;
+  out.push_back(MakeOutgoing(ack));
+  return request;
+}
+
+VehicleRequest SitlVehicle::Handle(const Frame& frame, double wall_s, bool armed, bool flying,
+                                   std::vector<Outgoing>& out) {
+  if (frame.Is<CommandLong>()) {
+    const CommandLong c = frame.As<CommandLong>();
+    return OnCommand(c.command, c.target_system, {c.param1, c.param2, c.param3, c.param4, c.param5, c.param6, c.param7},
+                     frame.sender, armed, flying, out);
+  }
+  if (frame.Is<CommandInt>()) {
+    const CommandInt c = frame.As<CommandInt>();
+    return OnCommand(c.command, c.target_system,
+                     {c.param1, c.param2, c.param3, c.param4, static_cast<float>(c.x), static_cast<float>(c.y), c.z},
+                     frame.sender, armed, flying, out);
+  }
+  missions_.Handle(frame, wall_s, out);
+  return VehicleRequest::kNone;
+}
+
+}  // namespace uascma::mavlink
