@@ -22,5 +22,7 @@ void AddStoreCommand(CLI::App& app);      // store_command.cc
 void AddReproduceCommand(CLI::App& app);  // reproduce_command.cc
 void AddDocsCommand(CLI::App& app);       // docs_command.cc
 void AddCalibrateCommand(CLI::App& app);  // calibrate_command.cc
+void AddIdentifyCommand(CLI::App& app);   // identify_command.cc
+void AddValidateCommand(CLI::App& app);   // validate_command.cc
 
 }  // namespace uascma::cli

@@ -39,6 +39,8 @@ constexpr std::array kCommands{
     Command{"reproduce", uascma::cli::AddReproduceCommand},
     Command{"docs", uascma::cli::AddDocsCommand},
     Command{"calibrate", uascma::cli::AddCalibrateCommand},
+    Command{"identify", uascma::cli::AddIdentifyCommand},
+    Command{"validate", uascma::cli::AddValidateCommand},
 };
 
 // The tool with the commands named `only` (every command when empty).

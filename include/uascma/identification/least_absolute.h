@@ -16,9 +16,9 @@
 namespace uascma::identification {
 
 struct LarOptions {
-  int max_iterations = 200;
+  int max_iterations = 500;
   // Stop when Σ|r| falls by less than this fraction of itself in one pass.
-  double relative_tolerance = 1e-10;
+  double relative_tolerance = 1e-8;
   // ε of the weights, as a fraction of the mean |residual| of the least-squares start (ours: small enough that
   // points within ε of the fit barely pull it, large enough to keep the weighted problem well conditioned).
   double epsilon_fraction = 1e-6;
