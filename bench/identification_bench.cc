@@ -41,3 +41,5 @@ void IdentifyThrustStandPair(benchmark::State& state) {
 BENCHMARK(IdentifyThrustStandPair)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 
 }  // namespace
+
+BENCHMARK_MAIN();
