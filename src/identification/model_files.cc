@@ -93,6 +93,18 @@ models::SelfCorrectingCell ReadCellModelFile(const std::filesystem::path& path) 
   return models::SelfCorrectingCell(params, std::move(table), path.string());
 }
 
+models::PackParams MakeIdentifiedPackParams(const models::SelfCorrectingCell& cell,
+                                            const models::PerCell<models::CellHealth>& health, double ambient_temp_degf) {
+  models::PackParams params;
+  params.ocv = cell.ocv();
+  for (std::size_t branch = 0; branch < params.cells.size(); ++branch) {
+    for (std::size_t index = 0; index < params.cells[branch].size(); ++index) {
+      params.cells[branch][index] = models::ApplyCellConditions(cell.params(), health[branch][index], ambient_temp_degf);
+    }
+  }
+  return params;
+}
+
 nlohmann::json PropulsionIdentificationJson(const PropulsionIdentification& identification,
                                             const PropulsionIdentificationOptions& options) {
   const RpmSurface& s = identification.surface;

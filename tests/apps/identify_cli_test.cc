@@ -36,6 +36,25 @@ TEST(IdentifyCliTest, BatteryIdentifiedOnOneCycleValidatesOnTheNext) {
   EXPECT_LE(std::abs(predicted - actual), 0.05 * actual);
 }
 
+// CELL.json flows into the pack model and the EOD prognosis (uascma eod --cell-model): a capacity 20 % smaller in
+// the file shortens the EOD from the same rest voltage by about 20 % (eq. 3.1: the SOC falls 1/0.8 times faster).
+TEST(IdentifyCliTest, TheCapacityInTheCellFileChangesTheEod) {
+  ScratchDir scratch("identify_eod");
+  const std::string cell = (scratch.path / "cell.json").string(), faded = (scratch.path / "faded.json").string();
+  ASSERT_EQ(RunCli("identify battery " + kData + "battery-nasa/B0005.csv --out " + cell).exit_code, 0);
+  nlohmann::json model = nlohmann::json::parse(Slurp(cell));
+  model["parameters"]["capacity_ah"] = 0.8 * model["parameters"]["capacity_ah"].get<double>();
+  std::ofstream(faded) << model.dump();
+  auto eod = [](const std::string& file) {
+    const RunResult run = RunCli("eod --current-a 4 --initial-cell-voltage 4.0 --cell-model " + file + " --json");
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return nlohmann::json::parse(run.out).at("eod_s").get<double>();
+  };
+  const double nominal_s = eod(cell), faded_s = eod(faded);
+  EXPECT_GT(nominal_s, 600.0);  // 2 A per 1.86 Ah cell from 4.0 V: tens of minutes
+  EXPECT_NEAR(faded_s / nominal_s, 0.8, 0.02);
+}
+
 TEST(IdentifyCliTest, PropulsionKeysAndValidation) {
   ScratchDir scratch("identify_propulsion");
   const std::string prop = (scratch.path / "prop.json").string();

@@ -12,6 +12,7 @@
 #include "uascma/identification/battery_identification.h"
 #include "uascma/identification/propulsion_identification.h"
 #include "uascma/models/battery_cell.h"
+#include "uascma/models/battery_pack.h"
 
 namespace uascma::identification {
 
@@ -22,6 +23,11 @@ nlohmann::json CellIdentificationJson(const CellIdentification& identification, 
 // Reads CELL.json through JsonDocument: InputError naming the file and the field for anything missing or invalid
 // (parameters checked by CellParams::IsValid, the OCV table by its contract).
 models::SelfCorrectingCell ReadCellModelFile(const std::filesystem::path& path);
+
+// The pack of Fig. 4.1 (two 3S packs in parallel) built from one identified cell: every cell gets its parameters
+// with Table 3.2's health and temperature applied (models::ApplyCellConditions), and its OCV table.
+models::PackParams MakeIdentifiedPackParams(const models::SelfCorrectingCell& cell,
+                                            const models::PerCell<models::CellHealth>& health, double ambient_temp_degf);
 
 nlohmann::json PropulsionIdentificationJson(const PropulsionIdentification& identification,
                                             const PropulsionIdentificationOptions& options);
