@@ -22,6 +22,7 @@
 #include "commands.h"
 #include "output.h"
 #include "uascma/common/error.h"
+#include "uascma/identification/model_files.h"
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/eod_distribution.h"
@@ -39,6 +40,7 @@ struct EodCommandOptions {
   double temp_degf = kRoomTemperatureDegf;
   std::string use = "UseBoth";
   std::string ocv_csv;
+  std::string cell_model;  // --cell-model CELL.json: every cell of both packs is this identified cell
   double cutoff_v = kCutoffVoltage;
   double horizon_s = EodOptions{}.horizon_s;
   double reference_dt_s = 0.0;
@@ -130,8 +132,15 @@ void Run(const EodCommandOptions& options) {
   }
   const HealthClass health = ParseHealthClass(options.health, "--health");
   const PackAction use = ParsePackAction(options.use, "--use");
+  if (!options.cell_model.empty() && !options.ocv_csv.empty()) {
+    throw InputError("--ocv-csv", "value", "not with --cell-model (the identified cell carries its OCV table)");
+  }
   const OcvTable ocv = options.ocv_csv.empty() ? DefaultOcvTable() : LoadOcvTableCsv(options.ocv_csv);
-  const BatteryPack pack(MakePackParams(HealthOfEveryCell(health), options.temp_degf, ocv));
+  const BatteryPack pack(options.cell_model.empty()
+                             ? MakePackParams(HealthOfEveryCell(health), options.temp_degf, ocv)
+                             : identification::MakeIdentifiedPackParams(
+                                   identification::ReadCellModelFile(options.cell_model), HealthOfEveryCell(health),
+                                   options.temp_degf));
   const PackState state = pack.MakeRestingState(options.initial_cell_voltage_v, use, "--initial-cell-voltage");
 
   EodOptions eod_options;
@@ -228,6 +237,9 @@ void AddEodCommand(CLI::App& app) {
   command->add_option("--use", options->use, "UseBoth | UseBatt1 | UseBatt2 (Table 4.3; default UseBoth)");
   command->add_option("--ocv-csv", options->ocv_csv,
                       "OCV(SOC) table as CSV with header 'soc_percent,ocv_v' (default: docs/defaults.md#battery)");
+  command->add_option("--cell-model", options->cell_model,
+                      "CELL.json from 'uascma identify battery': every cell of both packs is this cell (Table 3.2's "
+                      "health and temperature applied), instead of Table 3.1");
   AddBoundedOption(command, "--cutoff-v", options->cutoff_v, "Cell cut-off voltage, V (default 3.3, §3.3.2.1)",
                    kCutoffVoltageBounds);
   AddBoundedOption(command, "--horizon-s", options->horizon_s, "Longest EOD searched, s (default 86400)",

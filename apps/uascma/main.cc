@@ -41,6 +41,8 @@ constexpr std::array kCommands{
     Command{"docs", uascma::cli::AddDocsCommand},
     Command{"calibrate", uascma::cli::AddCalibrateCommand},
     Command{"sitl", uascma::cli::AddSitlCommand},
+    Command{"identify", uascma::cli::AddIdentifyCommand},
+    Command{"validate", uascma::cli::AddValidateCommand},
 };
 
 // The tool with the commands named `only` (every command when empty).

@@ -1,0 +1,121 @@
+// uascma identify battery | propulsion — the component models identified from bench data (dissertation §2.5.2,
+// §3.3.1.1; docs/identification.md). Parses, calls the identification library, writes the model file.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "battery_record_options.h"
+#include "bounded_option.h"
+#include "commands.h"
+#include "output.h"
+#include "uascma/common/bounds.h"
+#include "uascma/common/error.h"
+#include "uascma/identification/battery_data.h"
+#include "uascma/identification/battery_identification.h"
+#include "uascma/identification/model_files.h"
+#include "uascma/identification/propulsion_identification.h"
+
+namespace uascma::cli {
+namespace {
+
+namespace identify_ns = uascma::identification;
+
+void PrintCellSummary(const identify_ns::CellIdentification& result, const identify_ns::BatteryRecord& record, const std::string& out) {
+  const models::CellParams& p = result.params;
+  auto error = [](const std::optional<double>& se, double scale) {
+    return se ? fmt::format(" ± {:.3g}", *se * scale) : std::string(" (no standard error)");
+  };
+  std::string text = fmt::format(
+      "{} ({} layout{}), {} samples, {} fitted:\n"
+      "  Q  {:.4f} ± {:.4f} Ah\n  R0 {:.2f}{} mΩ\n  R1 {:.2f}{} mΩ, C1 {:.4g}{} F (τ1 {:.3g} s)\n"
+      "  fit: RMS {:.2f} mV, max {:.2f} mV (every sample, the rest after the cut-off included: RMS {:.2f} mV)\n",
+      record.source, record.layout, record.cycle ? fmt::format(", cycle {}", *record.cycle) : std::string(),
+      result.samples, result.fitted_samples, p.capacity_ah, result.capacity_standard_error_ah, 1e3 * p.r0_ohm,
+      error(result.r0_standard_error_ohm, 1e3), 1e3 * p.rc[0].resistance_ohm, error(result.r1_standard_error_ohm, 1e3),
+      p.rc[0].capacitance_f, error(result.c1_standard_error_f, 1.0), p.rc[0].resistance_ohm * p.rc[0].capacitance_f,
+      result.fit_rms_mv, result.fit_max_mv, result.rms_every_sample_mv);
+  for (const identify_ns::NotIdentified& item : result.not_identified) {
+    text += fmt::format("  not identified: {}: {} (kept {:g})\n", item.parameter, item.reason, item.kept_value);
+  }
+  if (!out.empty()) text += fmt::format("written to {}\n", out);
+  WriteOutput("", text);
+}
+
+void AddIdentifyBattery(CLI::App* parent) {
+  auto options = std::make_shared<BatteryOptions>();
+  CLI::App* command = parent->add_subcommand(
+      "battery", "The cell model of eqs. 3.1-3.3 (Q, R0, R1/C1, OCV(z)) from one recorded discharge, with\n"
+                 "uncertainties and what the data could not identify (§3.3.1.1)");
+  AddBatteryReadOptions(command, options.get());
+  command->add_option("--out", options->out, "Write the model to this CELL.json");
+  command->add_flag("--json", options->json, "Print the model file's document (capacity_ah, r0_ohm, fit_rms_mv, ...)");
+  command->callback([options] {
+    const identify_ns::BatteryRecord record = ReadRecord(*options);
+    const identify_ns::CellIdentification result = identify_ns::IdentifyCell(record);
+    const nlohmann::json document = identify_ns::CellIdentificationJson(result, record);
+    if (!options->out.empty()) WriteOutput(options->out, document.dump(2) + "\n");
+    if (options->json) {
+      PrintJson(document);
+    } else {
+      PrintCellSummary(result, record, options->out);
+    }
+  });
+}
+
+void AddIdentifyPropulsion(CLI::App* parent) {
+  struct Options {
+    std::vector<std::string> data;
+    std::string out;
+    int pole_pairs = 7;
+    double diameter_in = 5.0;
+    bool json = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command = parent->add_subcommand(
+      "propulsion", "Eq. 2.12's RPM surface by Least Absolute Residuals and eq. 2.1's C_T from static\n"
+                    "thrust-stand steps of ONE motor-propeller pair (all files together), with\n"
+                    "leave-one-step-out cross-validation (§2.5.2)");
+  command->add_option("THRUSTSTAND", options->data, "CSV files of one pair (RCbenchmark or our layout)")->required();
+  AddBoundedOption(command, "--pole-pairs", options->pole_pairs,
+                   "Motor pole pairs: RCbenchmark's electrical RPM is divided by it",
+                   identify_ns::PropulsionIdentificationOptions::kPolePairsBounds)->required();
+  AddBoundedOption(command, "--diameter-in", options->diameter_in, "Propeller diameter (inches)",
+                   identify_ns::PropulsionIdentificationOptions::kDiameterBounds)->required();
+  command->add_option("--out", options->out, "Write the model to this PROP.json");
+  command->add_flag("--json", options->json, "Print the model file's document (c_t, loo_rpm_median_relative_error, ...)");
+  command->callback([options] {
+    identify_ns::PropulsionIdentificationOptions identify;
+    identify.pole_pairs = options->pole_pairs;
+    identify.diameter_in = options->diameter_in;
+    std::vector<identify_ns::ThrustStandRecord> records;
+    for (const std::string& path : options->data) records.push_back(identify_ns::ReadThrustStandRecord(path, options->pole_pairs));
+    const identify_ns::PropulsionIdentification result = identify_ns::IdentifyPropulsion(records, identify);
+    const nlohmann::json document = identify_ns::PropulsionIdentificationJson(result, identify);
+    if (!options->out.empty()) WriteOutput(options->out, document.dump(2) + "\n");
+    if (options->json) return PrintJson(document);
+    std::string text = fmt::format(
+        "{} points from {} file(s); eq. 2.12 with {} terms; leave-one-step-out RPM error median {:.2f} %, max "
+        "{:.2f} %, {:.0f} % within the 95 % bounds\n  C_T {:.5g} N/RPM² (dimensionless {:.3f}); thrust from C_T above "
+        "{:g} µs: median error {:.2f} %, max {:.2f} % ({} points)\n",
+        result.points, records.size(), result.surface.terms.size(), 100.0 * result.loo_rpm_median_relative_error,
+        100.0 * result.loo_rpm_max_relative_error, 100.0 * result.loo_share_within_95_bounds,
+        result.thrust_coefficient_n_per_rpm2, result.thrust_coefficient_dimensionless, identify.thrust_check_above_us,
+        100.0 * result.thrust_median_relative_error, 100.0 * result.thrust_max_relative_error, result.thrust_check_points);
+    for (const std::string& warning : result.warnings) text += "  warning: " + warning + "\n";
+    WriteOutput("", text);
+  });
+}
+
+}  // namespace
+
+void AddIdentifyCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("identify", "Identify a component model from bench data (docs/identification.md)");
+  command->require_subcommand(1);
+  AddIdentifyBattery(command);
+  AddIdentifyPropulsion(command);
+}
+
+}  // namespace uascma::cli

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# From bench data to identified and validated models (docs/identification.md):
+#   a cell from NASA's B0005 (fit on discharge cycle 1, validated on cycle 2),
+#   a motor-propeller pair from its 2S and 3S thrust-stand step tests (motor g, propeller 8; validated on its 3S
+#   file after a fit on the 2S file alone, and cross-validated leaving one step out when fitted on both).
+# Usage: examples/identify/run.sh [UASCMA] [OUT]   (defaults: build/uascma, a temporary folder)
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+uascma="${1:-$root/build/uascma}"
+out="${2:-$(mktemp -d)}"
+data="$root/data/bench"
+mkdir -p "$out"
+
+"$uascma" identify battery "$data/battery-nasa/B0005.csv" --cycle 1 --out "$out/cell.json"
+"$uascma" validate battery --model "$out/cell.json" "$data/battery-nasa/B0005.csv" --cycle 2 \
+  --window-low-v 3.0 --window-high-v 4.1
+
+# The files' speed column is already the shaft speed (docs/modelling-choices.md#rcbenchmark-speed-column).
+"$uascma" identify propulsion "$data/dyno-strawson/g8_7.csv" "$data/dyno-strawson/g8_11.csv" \
+  --pole-pairs 1 --diameter-in 5 --out "$out/prop.json"
+"$uascma" identify propulsion "$data/dyno-strawson/g8_7.csv" --pole-pairs 1 --diameter-in 5 --out "$out/prop-2s.json"
+"$uascma" validate propulsion --model "$out/prop-2s.json" "$data/dyno-strawson/g8_11.csv" --pole-pairs 1
+echo "models in $out"

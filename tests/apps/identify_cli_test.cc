@@ -1,0 +1,96 @@
+// uascma identify / validate end to end: the JSON keys scripts read, the files written, and bad input (exit 2, one
+// line naming file, line and column, nothing written).
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+
+namespace uascma::testing_support {
+namespace {
+
+const std::string kData = std::string(UASCMA_SOURCE_DIR) + "/data/bench/";
+
+TEST(IdentifyCliTest, BatteryIdentifiedOnOneCycleValidatesOnTheNext) {
+  ScratchDir scratch("identify_battery");
+  const std::string cell = (scratch.path / "cell.json").string();
+  const RunResult identify =
+      RunCli("identify battery " + kData + "battery-nasa/B0005.csv --cycle 1 --out " + cell + " --json");
+  ASSERT_EQ(identify.exit_code, 0) << identify.err;
+  const nlohmann::json model = nlohmann::json::parse(identify.out);
+  for (const char* key : {"capacity_ah", "r0_ohm", "fit_rms_mv"}) EXPECT_TRUE(model.at(key).is_number()) << key;
+  EXPECT_EQ(model, nlohmann::json::parse(Slurp(cell)));
+  const RunResult validate = RunCli("validate battery --model " + cell + " " + kData +
+                                    "battery-nasa/B0005.csv --cycle 2 --window-low-v 3.0 --window-high-v 4.1 --json");
+  ASSERT_EQ(validate.exit_code, 0) << validate.err;
+  const nlohmann::json result = nlohmann::json::parse(validate.out);
+  EXPECT_LE(result.at("voltage_rms_mv").get<double>(), 30.0);
+  EXPECT_TRUE(result.at("voltage_max_mv").is_number());
+  ASSERT_EQ(result.at("eod").size(), 3u);
+  const nlohmann::json& half = result.at("eod").at(1);
+  EXPECT_DOUBLE_EQ(half.at("at_fraction").get<double>(), 0.5);
+  const double predicted = half.at("predicted_s").get<double>(), actual = half.at("actual_s").get<double>();
+  EXPECT_LE(std::abs(predicted - actual), 0.05 * actual);
+}
+
+// CELL.json flows into the pack model and the EOD prognosis (uascma eod --cell-model): a capacity 20 % smaller in
+// the file shortens the EOD from the same rest voltage by about 20 % (eq. 3.1: the SOC falls 1/0.8 times faster).
+TEST(IdentifyCliTest, TheCapacityInTheCellFileChangesTheEod) {
+  ScratchDir scratch("identify_eod");
+  const std::string cell = (scratch.path / "cell.json").string(), faded = (scratch.path / "faded.json").string();
+  ASSERT_EQ(RunCli("identify battery " + kData + "battery-nasa/B0005.csv --out " + cell).exit_code, 0);
+  nlohmann::json model = nlohmann::json::parse(Slurp(cell));
+  model["parameters"]["capacity_ah"] = 0.8 * model["parameters"]["capacity_ah"].get<double>();
+  std::ofstream(faded) << model.dump();
+  auto eod = [](const std::string& file) {
+    const RunResult run = RunCli("eod --current-a 4 --initial-cell-voltage 4.0 --cell-model " + file + " --json");
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return nlohmann::json::parse(run.out).at("eod_s").get<double>();
+  };
+  const double nominal_s = eod(cell), faded_s = eod(faded);
+  EXPECT_GT(nominal_s, 600.0);  // 2 A per 1.86 Ah cell from 4.0 V: tens of minutes
+  EXPECT_NEAR(faded_s / nominal_s, 0.8, 0.02);
+}
+
+TEST(IdentifyCliTest, PropulsionKeysAndValidation) {
+  ScratchDir scratch("identify_propulsion");
+  const std::string prop = (scratch.path / "prop.json").string();
+  const RunResult identify = RunCli("identify propulsion " + kData + "dyno-strawson/a4_7.csv " + kData +
+                                    "dyno-strawson/a4_11.csv --pole-pairs 1 --diameter-in 5 --out " + prop + " --json");
+  ASSERT_EQ(identify.exit_code, 0) << identify.err;
+  const nlohmann::json model = nlohmann::json::parse(identify.out);
+  EXPECT_GT(model.at("c_t").get<double>(), 0.0);
+  EXPECT_LE(model.at("loo_rpm_median_relative_error").get<double>(), 0.05);
+  const RunResult validate =
+      RunCli("validate propulsion --model " + prop + " " + kData + "dyno-strawson/a4_7.csv --pole-pairs 1 --json");
+  ASSERT_EQ(validate.exit_code, 0) << validate.err;
+  const nlohmann::json result = nlohmann::json::parse(validate.out);
+  for (const char* key : {"share_within_95_bounds", "rpm_median_relative_error", "thrust_median_relative_error"}) {
+    EXPECT_TRUE(result.at(key).is_number()) << key;
+  }
+}
+
+TEST(IdentifyCliTest, BadInputIsOneLineNamingFileLineAndColumnAndWritesNothing) {
+  ScratchDir scratch("identify_bad");
+  const std::filesystem::path data = scratch.path / "bad.csv";
+  const std::string out = (scratch.path / "cell.json").string();
+  auto run = [&](const std::string& text) {
+    std::ofstream(data) << text;
+    return RunCli("identify battery " + data.string() + " --out " + out);
+  };
+  std::string rows = "time_s,current_a,voltage_v\n";
+  for (int k = 0; k < 30; ++k) rows += std::to_string(k) + ",-2," + std::to_string(4.0 - 0.01 * k) + "\n";
+  const RunResult wrong_sign = run(rows);
+  EXPECT_EQ(wrong_sign.exit_code, 2);
+  EXPECT_NE(wrong_sign.err.find("bad.csv:2: current_a"), std::string::npos) << wrong_sign.err;
+  const RunResult missing = run("time_s,current,voltage_v\n0,1,4\n");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("bad.csv:1: current_a"), std::string::npos) << missing.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace uascma::testing_support
