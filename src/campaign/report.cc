@@ -35,6 +35,13 @@ std::string EodLoadOf(const CampaignHeader& header) {
   return sim::EodLoadName(ParseCampaignConfig(header.config_yaml, "the stored configuration").options.eod_load);
 }
 
+// When the campaign's CMA carried out Terminate (sim/termination.h): its configuration's options.termination, unset
+// the simulator's default (last-resort).
+std::string TerminationOf(const CampaignHeader& header) {
+  return sim::TerminationRuleName(ParseCampaignConfig(header.config_yaml, "the stored configuration")
+                                      .options.termination.value_or(sim::TerminationRule::kLastResort));
+}
+
 }  // namespace
 
 nlohmann::json CampaignReportJson(const CampaignReport& report) {
@@ -54,6 +61,7 @@ nlohmann::json CampaignReportJson(const CampaignReport& report) {
                       {"flights", report.flights},
                       {"complete_runs", report.complete_runs},
                       {"eod_load", EodLoadOf(h)},
+                      {"termination", TerminationOf(h)},
                       {"policies", policies}};
   return json;
 }
@@ -67,9 +75,14 @@ std::string CampaignReportText(const CampaignReport& report) {
   out += fmt::format("{} flights stored; {} of {} runs flown by every policy ({})\n", report.flights,
                      report.complete_runs, h.runs_requested, policies);
   const std::string load = EodLoadOf(h);
-  out += fmt::format("EOD load: {} ({})\n\n", load,
+  out += fmt::format("EOD load: {} ({})\n", load,
                      load == "forecast" ? "the expected current of the rest of the executing plan, decision 25"
                                         : "the present pack current, low-passed, decision 14");
+  const std::string termination = TerminationOf(h);
+  out += fmt::format("Terminate: {} ({})\n\n", termination,
+                     termination == "last-resort" ? "only when no other action reaches the ground before the EOD"
+                     : termination == "policy"    ? "as the policy ranks it"
+                                                  : "never carried out");
   out += StatisticsTable(report.groups, report.comparisons);
   return out;
 }
