@@ -113,6 +113,9 @@ py::object ToPython(const CampaignFieldRef& value) {
                         [](const CountRange* r) -> py::object { return py::make_tuple(r->low, r->high); },
                         [](const MediumFades* v) -> py::object { return py::str(MediumFadesName(*v)); },
                         [](const sim::EodLoad* v) -> py::object { return py::str(sim::EodLoadName(*v)); },
+                        [](const std::optional<sim::TerminationRule>* v) -> py::object {
+                          return *v ? py::object(py::str(sim::TerminationRuleName(**v))) : py::object(py::none());
+                        },
                         [](const std::vector<models::TurbulenceCategory>* v) -> py::object {
                           py::list names;
                           for (auto category : *v) names.append(models::TurbulenceCategoryName(category));
@@ -149,6 +152,10 @@ void FromPython(const CampaignFieldRef& value, const py::object& object, std::st
           },
           [&](sim::EodLoad* v) {
             *v = sim::ParseEodLoad(object.cast<std::string>(), "CampaignConfig", std::string(key));
+          },
+          [&](std::optional<sim::TerminationRule>* v) {
+            if (object.is_none()) return v->reset();
+            *v = sim::ParseTerminationRule(object.cast<std::string>(), "CampaignConfig", std::string(key));
           },
           [&](std::vector<models::TurbulenceCategory>* v) {
             v->clear();

@@ -275,6 +275,7 @@ py::object ScenarioValueToPython(const ScenarioField& f, const ScenarioFieldRef&
           [](const Eigen::Vector2d* v) -> py::object { return py::make_tuple(v->x(), v->y()); },
           [](const Eigen::Vector3d* v) -> py::object { return py::make_tuple(v->x(), v->y(), v->z()); },
           [](const EodLoad* v) -> py::object { return py::str(EodLoadName(*v)); },
+          [](const TerminationRule* v) -> py::object { return py::str(TerminationRuleName(*v)); },
           [](const models::PropellerConfiguration* v) -> py::object {
             return py::str(std::string(models::PropellerConfigurationName(*v)));
           },
@@ -300,6 +301,7 @@ void ScenarioValueFromPython(const ScenarioField& f, const ScenarioFieldRef& val
                    *v = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
                  },
                  [&](EodLoad* v) { *v = ParseEodLoad(object.cast<std::string>(), "Scenario", key); },
+                 [&](TerminationRule* v) { *v = ParseTerminationRule(object.cast<std::string>(), "Scenario", key); },
                  [&](models::PropellerConfiguration* v) {
                    *v = models::ParsePropellerConfiguration(object.cast<std::string>(), "Scenario: " + key);
                  },

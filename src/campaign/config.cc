@@ -191,6 +191,9 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
         .hash_tag = "options/1"}, &c.options.eod_load},
       {{.key = "options.cap_speed_after_isolation", .expected = "true | false", .citation = "§4.4.2"},
        &c.options.cap_speed_after_isolation},
+      {{.key = "options.termination", .expected = "last-resort | policy | never (unset: last-resort)",
+        .citation = "ours (sim/termination.h)", .written_when_unset = false, .only_when_set = true},
+       &c.options.termination},
       {{.key = "options.pack_rate_hz", .bounds = &sim::scenario_bounds::kPackRate,
         .expected = "a rate dividing 200 Hz that 1 Hz divides (unset: the simulator's)", .citation = "ours (README)",
         .written_when_unset = false, .only_when_set = true}, &c.options.pack_rate_hz},
@@ -229,6 +232,7 @@ std::string Text(const CountRange& r) { return fmt::format("[{}, {}]", r.low, r.
 std::string Text(const std::array<double, 2>& a) { return fmt::format("[{}, {}]", a[0], a[1]); }
 std::string Text(MediumFades v) { return MediumFadesName(v); }
 std::string Text(sim::EodLoad v) { return sim::EodLoadName(v); }
+std::string Text(sim::TerminationRule v) { return sim::TerminationRuleName(v); }
 std::string Text(const std::vector<double>& w) {  // the health weights
   return fmt::format("{{G: {}, M: {}, P: {}}}", w.at(0), w.at(1), w.at(2));
 }
@@ -282,6 +286,7 @@ void HashValue(Fingerprint& f, const CountRange& r) {
 }
 void HashValue(Fingerprint& f, MediumFades v) { f.Add(std::string_view(MediumFadesName(v))); }
 void HashValue(Fingerprint& f, sim::EodLoad v) { f.Add(std::string_view(sim::EodLoadName(v))); }
+void HashValue(Fingerprint& f, sim::TerminationRule v) { f.Add(std::string_view(sim::TerminationRuleName(v))); }
 void HashValue(Fingerprint& f, const std::vector<std::string>& files) {  // map.buildings: each path, no count
   for (const std::string& file : files) f.Add(std::string_view(file));
 }
@@ -306,6 +311,7 @@ void HashValue(Fingerprint& f, const std::optional<Range>& r) {
 }
 void HashValue(Fingerprint& f, const std::optional<double>& v) { f.Add(v ? *v : -1.0); }  // -1: unset
 void HashValue(Fingerprint&, const std::optional<bool>&) {}  // only ever fingerprinted when set (below)
+void HashValue(Fingerprint&, const std::optional<sim::TerminationRule>&) {}  // likewise
 
 // A ConfigField::only_when_set key: its leaf name and value when it changes the import. sites_from_map changes
 // it when it differs from its default (sites derived when there is no sites file).
@@ -476,6 +482,9 @@ struct ValueReader {
   }
   void operator()(sim::EodLoad& v) const {
     v = sim::ParseEodLoad(RequireString(node, leaf, source, where), source, field);
+  }
+  void operator()(std::optional<sim::TerminationRule>& v) const {
+    v = sim::ParseTerminationRule(RequireString(node, leaf, source, where), source, field);
   }
 };
 

@@ -37,6 +37,13 @@ std::string EodLoadOf(const CampaignHeader& header) {
   return sim::EodLoadName(ParseCampaignConfig(header.config_yaml, "the stored configuration").options.eod_load);
 }
 
+// When the campaign's CMA carried out Terminate (sim/termination.h): its configuration's options.termination, unset
+// the simulator's default (last-resort).
+std::string TerminationOf(const CampaignHeader& header) {
+  return sim::TerminationRuleName(ParseCampaignConfig(header.config_yaml, "the stored configuration")
+                                      .options.termination.value_or(sim::TerminationRule::kLastResort));
+}
+
 }  // namespace
 
 nlohmann::json CampaignReportJson(const CampaignReport& report) {
@@ -57,6 +64,7 @@ nlohmann::json CampaignReportJson(const CampaignReport& report) {
                       {"flights", report.flights},
                       {"complete_runs", report.complete_runs},
                       {"eod_load", EodLoadOf(h)},
+                      {"termination", TerminationOf(h)},
                       {"policies", policies}};
   return json;
 }
@@ -71,10 +79,15 @@ std::string CampaignReportText(const CampaignReport& report) {
                      report.complete_runs, h.runs_requested, policies);
   const std::string load = EodLoadOf(h);
   out += fmt::format(
-      "EOD load: {} ({})\n\n", load,
+      "EOD load: {} ({})\n", load,
       load == "forecast"
           ? "the expected current of the rest of the executing plan, docs/modelling-choices.md#eod-load-forecast"
           : "the present pack current, low-passed, docs/modelling-choices.md#pack-eod");
+  const std::string termination = TerminationOf(h);
+  out += fmt::format("Terminate: {} ({})\n\n", termination,
+                     termination == "last-resort" ? "only when no other action reaches the ground before the EOD"
+                     : termination == "policy"    ? "as the policy ranks it"
+                                                  : "never carried out");
   out += StatisticsTable(report.groups, report.comparisons);
   const std::string causes = LandingCausesTable(report.landing_causes);
   if (!causes.empty()) out += "\n" + causes;

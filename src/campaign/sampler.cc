@@ -449,6 +449,7 @@ SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, s
   scenario.mission.drop_hover_s = config.mission.drop_hover_s;
   scenario.options.eod_load = config.options.eod_load;
   scenario.options.cap_speed_after_isolation = config.options.cap_speed_after_isolation;
+  if (config.options.termination) scenario.options.termination = *config.options.termination;
   if (config.options.pack_rate_hz) scenario.options.pack_rate_hz = *config.options.pack_rate_hz;
   if (config.options.wind_rate_hz) scenario.options.wind_rate_hz = *config.options.wind_rate_hz;
   if (config.options.noisy_sensing) scenario.options.noisy_sensing = *config.options.noisy_sensing;

@@ -13,6 +13,7 @@
 #include <boost/math/special_functions/beta.hpp>
 
 #include "uascma/common/error.h"
+#include "uascma/sim/outcome.h"
 
 namespace uascma::campaign {
 namespace {
@@ -92,9 +93,15 @@ void CountUnnecessaryLandings(const std::vector<RunRecord>& records, std::vector
   for (GroupStatistics& g : groups) {
     g.has_noop_twin = true;
     for (const RunRecord& r : records) {
-      if (r.policy == g.policy && InHealthGroup(r, g.battery_health) && IsUnnecessaryLanding(r, noop)) {
+      if (r.policy != g.policy || !InHealthGroup(r, g.battery_health)) continue;
+      if (IsUnnecessaryLanding(r, noop)) {
         ++g.unnecessary_landings;
         g.unnecessary_landings_fault_free += r.fault ? 0 : 1;
+      }
+      const auto twin = noop.find(r.run_index);
+      if (r.outcome == sim::OutcomeName(sim::Outcome::kTerminated) && twin != noop.end()) {
+        g.terminations_noop_completed += twin->second->outcome == sim::OutcomeName(sim::Outcome::kCompleted);
+        g.terminations_noop_failed += twin->second->failure;
       }
     }
     g.unnecessary_landing_rate = EstimateRate(g.unnecessary_landings, g.runs);
@@ -386,6 +393,9 @@ nlohmann::json GroupJson(const GroupStatistics& g) {
        g.has_noop_twin ? nlohmann::json(g.unnecessary_landings_fault_free) : nlohmann::json()},
       {"unnecessary_landing_rate",
        g.has_noop_twin ? StatisticsJsonNumber(g.unnecessary_landing_rate.value) : nlohmann::json()},
+      {"terminations_noop_completed",
+       g.has_noop_twin ? nlohmann::json(g.terminations_noop_completed) : nlohmann::json()},
+      {"terminations_noop_failed", g.has_noop_twin ? nlohmann::json(g.terminations_noop_failed) : nlohmann::json()},
       {"failure_rate", StatisticsJsonNumber(g.failure_rate.value)},
       {"failure_rate_sem", StatisticsJsonNumber(g.failure_rate.sem)},
       {"failure_rate_wilson_low", StatisticsJsonNumber(g.failure_wilson.low)},
@@ -565,7 +575,8 @@ std::string PairedTable(const std::vector<PairedComparison>& comparisons) {
   return out;
 }
 
-// 3b. Unnecessary landings per group and their paired comparison ("" without a NoOp twin).
+// 3b. Unnecessary landings and terminations per group by the NoOp twin, and the paired comparison ("" without a NoOp
+// twin).
 std::string UnnecessaryLandingsTable(const std::vector<GroupStatistics>& groups,
                                      const std::vector<PairedComparison>& comparisons) {
   if (groups.empty() || !groups.front().has_noop_twin) return "";
@@ -576,6 +587,11 @@ std::string UnnecessaryLandingsTable(const std::vector<GroupStatistics>& groups,
     out += fmt::format("  {:<10} {:<3} {:>5} of {:>5} ({} %), {:>5} without a fault\n", g.policy, g.battery_health,
                        g.unnecessary_landings, g.runs, Percent(g.unnecessary_landing_rate),
                        g.unnecessary_landings_fault_free);
+  }
+  out += "Terminations, by the NoOp flight's outcome: it completed its plan, it failed\n";
+  for (const GroupStatistics& g : groups) {
+    out += fmt::format("  {:<10} {:<3} {:>5} terminated: NoOp completed {:>5}, NoOp failed {:>5}\n", g.policy,
+                       g.battery_health, g.terminations, g.terminations_noop_completed, g.terminations_noop_failed);
   }
   out += "Paired (McNemar): b = only the first landed unnecessarily, c = only the second\n";
   for (const PairedComparison& c : comparisons) {

@@ -67,7 +67,10 @@ decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOpti
 decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options,
                                                   const campaign::CampaignWorld& world, std::int64_t run,
                                                   TransitionEstimationSummary* summary) {
-  const campaign::SampledRun sampled = campaign::SampleRun(options.config, world, options.config.seed, run);
+  campaign::SampledRun sampled = campaign::SampleRun(options.config, world, options.config.seed, run);
+  // The transitions of the MDP's own actions (§5.6): Terminate goes to T as the MDP has it, without the executor's
+  // last-resort check (sim/termination.h), which replaces it in a flight that still reaches the ground.
+  sampled.scenario.options.termination = sim::TerminationRule::kPolicy;
   auto model = std::make_shared<const sim::FlightModel>(sampled.scenario);
   sim::DecisionEnvironment flight(model);
   sim::DecisionEnvironment branch(model);

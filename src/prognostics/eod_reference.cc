@@ -11,6 +11,7 @@
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/reach_margin.h"
 
 namespace uascma::prognostics {
 
@@ -55,9 +56,7 @@ std::string EodResult::BriefReport() const {
 }
 
 double CalcReachMargin(const EodResult& eod, double flight_time_remaining_s) {
-  if (flight_time_remaining_s <= 0.0) return 1.0;
-  if (eod.eod_s <= 0.0) return -std::numeric_limits<double>::infinity();
-  return 1.0 - flight_time_remaining_s / eod.eod_s;
+  return CalcReachMargin(eod.eod_s, flight_time_remaining_s, 0.0);
 }
 
 bool IsFlightTimeReachable(const EodResult& eod, double flight_time_remaining_s) {

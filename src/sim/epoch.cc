@@ -1,6 +1,5 @@
 // The decision epoch of the kernel (flight.h): Observe (guidance under a speed cap, EOD, RUL, margins, the abstract
-// CMA state), Act (the CMA's action: an emergency plan, Terminate, or a substitute,
-// docs/modelling-choices.md#unavailable-actions), the battery executor, BeginEpoch and StepEpoch. The GNC step is
+// CMA state), the battery executor, BeginEpoch and StepEpoch; Act (the CMA's action) is act.cc, the GNC step
 // flight.cc.
 #include <algorithm>
 #include <cmath>
@@ -16,35 +15,72 @@
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/prognostics/eod_distribution.h"
+#include "uascma/prognostics/reach_margin.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/speed_cap.h"
 #include "uascma/sim/vehicle_margin.h"
 
 namespace uascma::sim {
-namespace {
-
-using decision::CmaAction;
-using internal::ActiveRotors;
-using internal::AddEvent;
-using internal::ThrustCap;
+namespace internal {  // flight_internal.h
 
 // m/s: above this horizontal speed an emergency plan starts with a braking move (ours: below it the LQR absorbs
 // the step to rest within a fraction of a metre).
 constexpr double kBrakingSpeed = 0.5;
 
-void AddAction(FlightState& state, FlightLog* log, CmaAction action) {
+void AddAction(FlightState& state, FlightLog* log, decision::CmaAction action) {
   state.decision.last_action = action;
   if (log) log->actions.emplace_back(state.time_s, action);
 }
 
-// A new executing plan: the forecast's profile is rebuilt at the next epoch (its bias ratio carries on).
 void StartPlan(FlightState& state) {
   state.guidance.plan_start_s = state.time_s;
   state.decision.load_forecast.profile.reset();
   state.decision.load_forecast.have_last = false;
 }
 
-// The profile of the executing plan for the rotors that fly it (docs/modelling-choices.md#eod-load-forecast).
+PlanStart StartFromHere(const FlightModel& model, const FlightState& state) {
+  PlanStart start;
+  start.p_W = state.vehicle.body.p_WB_W;
+  start.v_horizontal_W = Eigen::Vector3d(state.vehicle.body.v_WB_W.x(), state.vehicle.body.v_WB_W.y(), 0.0);
+  start.accel = model.scenario().limits.horizontal_accel;
+  start.stop_W = planning::BrakingStop(start.p_W, start.v_horizontal_W, start.accel);
+  start.brake = start.v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(start.p_W, start.stop_W);
+  return start;
+}
+
+bool ReplanCapped(const FlightModel& model, FlightState& state, planning::FlightPlan& out) {
+  const PlanStart start = StartFromHere(model, state);
+  const Eigen::Vector2d wind_NE = model.wind().MeanWind_W().head<2>();
+  planning::FlightPlan rest =
+      ReplanAtCappedSpeed(state.plan(model), state.time_s - state.guidance.plan_start_s, start.from_W(),
+                          model.scenario().limits, wind_NE, state.guidance.speed_cap_mps);
+  if (rest.empty()) return false;
+  out = start.Then(std::move(rest));
+  return true;
+}
+
+models::PackState SensedPack(const FlightModel& model, const FlightState& state) {
+  models::PackState pack = state.power.pack;
+  const double error = SocEstimateError(state.power.sensing, model.pack().cell(0, 0).capacity_as());
+  for (auto& branch : pack.cells) {
+    for (auto& cell : branch) cell.soc_fraction = std::clamp(cell.soc_fraction + error, 0.0, 1.0);
+  }
+  return pack;
+}
+
+}  // namespace internal
+
+namespace {
+
+using decision::CmaAction;
+using internal::ActiveRotors;
+using internal::AddEvent;
+using internal::ReplanCapped;
+using internal::SensedPack;
+using internal::StartPlan;
+using internal::ThrustCap;
+
+// The profile of the executing plan for the rotors that fly it (decision 25).
 void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
   LoadForecastState& forecast = state.decision.load_forecast;
   const int rotors = ActiveRotors(state);
@@ -70,42 +106,6 @@ double AuthorityAirspeed(const FlightModel& model, const FlightState& state) {
   const models::DrydenIntensity gust =
       models::CalcDrydenIntensity(wind.turbulence, altitude, wind.medium_band_altitude);
   return std::max(0.0, CalcMaxLevelAirspeed(model.scenario().body, model.drag(), max_tilt) - gust.sigma_u);
-}
-
-// Where a plan made now starts (as an emergency plan does): a moving vehicle first brakes to rest at the plan's
-// horizontal acceleration limit (FlightPlan::AfterBraking), and the plan starts where it stops, when the braking line
-// is clear of buildings; otherwise from where it is.
-struct PlanStart {
-  Eigen::Vector3d p_W, v_horizontal_W, stop_W;
-  double accel = 0.0;
-  bool brake = false;
-  Eigen::Vector3d from_W() const { return brake ? stop_W : p_W; }
-  planning::FlightPlan Then(planning::FlightPlan plan) const {
-    return brake ? planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, accel, plan) : plan;
-  }
-};
-
-PlanStart StartFromHere(const FlightModel& model, const FlightState& state) {
-  PlanStart start;
-  start.p_W = state.vehicle.body.p_WB_W;
-  start.v_horizontal_W = Eigen::Vector3d(state.vehicle.body.v_WB_W.x(), state.vehicle.body.v_WB_W.y(), 0.0);
-  start.accel = model.scenario().limits.horizontal_accel;
-  start.stop_W = planning::BrakingStop(start.p_W, start.v_horizontal_W, start.accel);
-  start.brake = start.v_horizontal_W.norm() > kBrakingSpeed && !model.map().SegmentCollides(start.p_W, start.stop_W);
-  return start;
-}
-
-// Re-plans the executing plan's rest at the capped speed, starting as an emergency plan does (StartFromHere). True
-// when a plan was made.
-bool ReplanCapped(const FlightModel& model, FlightState& state, planning::FlightPlan& out) {
-  const PlanStart start = StartFromHere(model, state);
-  const Eigen::Vector2d wind_NE = model.wind().MeanWind_W().head<2>();
-  planning::FlightPlan rest =
-      ReplanAtCappedSpeed(state.plan(model), state.time_s - state.guidance.plan_start_s, start.from_W(),
-                          model.scenario().limits, wind_NE, state.guidance.speed_cap_mps);
-  if (rest.empty()) return false;
-  out = start.Then(std::move(rest));
-  return true;
 }
 
 // §4.4.2: at the first epoch after the allocation flies four rotors, the executing plan's rest is re-planned within
@@ -149,18 +149,6 @@ double EodCurrent(const FlightModel& model, FlightState& state) {
       noisy ? state.power.sensing.energy_wh : state.power.energy_wh, 1.0 / model.options().decision_rate_hz,
       noisy ? state.power.sensing.bus_voltage_v : state.power.bus_voltage_v, model.options().hotel_current_a);
   return forecast > 0.0 ? forecast : load_a;  // under a second of plan left: the present load
-}
-
-// The pack state the CMA's EOD starts from: the truth, or under noisy sensing the truth with every cell's SOC moved by
-// the estimate's error (sim/sensing.h SocEstimateError, the counter assuming the nominal cell's capacity; the RC and
-// hysteresis states are the model's own: ours).
-models::PackState SensedPack(const FlightModel& model, const FlightState& state) {
-  models::PackState pack = state.power.pack;
-  const double error = SocEstimateError(state.power.sensing, model.pack().cell(0, 0).capacity_as());
-  for (auto& branch : pack.cells) {
-    for (auto& cell : branch) cell.soc_fraction = std::clamp(cell.soc_fraction + error, 0.0, 1.0);
-  }
-  return pack;
 }
 
 // The prognosis (§3.4.1, §5.3.2.1: "When a spalling fault in the motor is detected, t_RUL is calculated using Paris'
@@ -236,7 +224,8 @@ void StoreEod(const FlightModel& model, FlightState& state, const std::optional<
       eod ? *eod
           : prognostics::EodResult{.status = prognostics::EodStatus::kNotReachedWithinHorizon, .eod_s = needed_s};
   inputs.eod_s = state.decision.eod.eod_s;
-  inputs.reach_margin = prognostics::CalcReachMargin(state.decision.eod, needed_s);
+  inputs.reach_margin =
+      prognostics::CalcReachMargin(inputs.eod_s, inputs.flight_time_remaining_s, model.options().safety_margin_s);
 }
 
 // The EOD's distribution: prognostics::CalcPackEodDistribution at the forecast current with the load
@@ -317,141 +306,6 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   }
   if (log) log->states.emplace_back(t, decision::CmaStateIndex(inputs.state));
   return inputs;
-}
-
-namespace {
-
-// True on the executing plan's last move when it is a vertical descent: the vehicle is landing at the plan's end.
-bool OnFinalDescent(const planning::FlightPlan& plan, double t_plan) {
-  if (plan.empty() || t_plan >= plan.duration()) return false;
-  const auto& segments = plan.segments();
-  const planning::PlanSegment& last = segments.back();
-  const int segment = plan.At(t_plan).segment;
-  const Eigen::Vector3d delta_W = last.end_W - last.start_W;
-  return segment + 1 == static_cast<int>(segments.size()) && last.kind == planning::PlanSegment::Kind::kMove &&
-         delta_W.z() > 0.0 && delta_W.head<2>().norm() < 1e-6;
-}
-
-// Asks the planner for an emergency plan for `action` and switches to it when there is one; otherwise says why not.
-// On the executing plan's final descent no emergency plan is sought: the vehicle is already landing at the end of
-// its plan, sooner than any emergency plan could (measured: a LandPract taken 1.4 s before a touchdown climbed away
-// and failed the battery 5 ms later, in a flight whose NoOp twin completed).
-bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
-                      FlightLog* log, std::string* why) {
-  const double t = state.time_s;
-  const EmergencyPlanner& emergency_planner = planner ? planner : model.map_planner();
-  if (!emergency_planner) {
-    *why = "the map has no landing sites";
-    return false;
-  }
-  const double t_plan = t - state.guidance.plan_start_s;
-  if (OnFinalDescent(state.plan(model), t_plan)) {
-    *why = fmt::format("on the final descent of the executing plan, {:.1f} s from its touchdown",
-                       state.plan(model).TimeRemaining(t_plan));
-    return false;
-  }
-  // The planners plan from where a moving vehicle comes to rest (StartFromHere).
-  const PlanStart start = StartFromHere(model, state);
-  const Eigen::Vector3d plan_velocity_W =
-      start.brake ? Eigen::Vector3d(0.0, 0.0, state.vehicle.body.v_WB_W.z()) : state.vehicle.body.v_WB_W;
-  const double original_elapsed =
-      state.guidance.on_emergency_plan ? model.nominal_plan().duration() : state.original_plan_elapsed_s();
-  EmergencyPlan emergency = emergency_planner(
-      {action, t, start.from_W(), plan_velocity_W, EulerFromRotation(state.vehicle.body.q_WB.toRotationMatrix()).z(),
-       state.faults.allocation_failure, state.decision.eod.eod_s, original_elapsed});
-  if (!emergency.ok()) {
-    *why = emergency.message.empty() ? planning::LandingStatusName(emergency.status) : emergency.message;
-    return false;
-  }
-  state.guidance.emergency_plan = start.Then(std::move(emergency.plan));
-  state.guidance.emergency_site = emergency.site;
-  state.guidance.emergency_reach_margin = emergency.reach_margin;
-  state.guidance.emergency_site_radius = emergency.site_radius;
-  if (!emergency.footprint_NE.empty()) state.guidance.footprint_NE = std::move(emergency.footprint_NE);
-  state.guidance.on_emergency_plan = true;
-  StartPlan(state);
-  state.decision.flight_status = decision::FlightStatusAfter(action, state.decision.flight_status);
-  AddAction(state, log, action);
-  AddEvent(log, t,
-           fmt::format("{}: emergency plan to {} ({:.0f} s, RM {:.2f})", decision::CmaActionName(action),
-                       emergency.site, state.guidance.emergency_plan.duration(), emergency.reach_margin));
-  // On four rotors the emergency plan too keeps to what they can hold (§4.4.2).
-  planning::FlightPlan capped;
-  if (std::isfinite(state.guidance.speed_cap_mps) && ReplanCapped(model, state, capped)) {
-    state.guidance.emergency_plan = std::move(capped);
-    StartPlan(state);
-  }
-  return true;
-}
-
-// docs/modelling-choices.md#unavailable-actions: `taken` replaces `chosen`, which could not be carried out (`why`).
-void RecordSubstitution(FlightState& state, FlightLog* log, CmaAction chosen, CmaAction taken, const std::string& why) {
-  ++state.decision.substitution_epochs;
-  const std::string pair = fmt::format("{}->{}", decision::CmaActionName(chosen), decision::CmaActionName(taken));
-  if (std::find(state.decision.substitutions.begin(), state.decision.substitutions.end(), pair) ==
-      state.decision.substitutions.end()) {
-    state.decision.substitutions.push_back(pair);
-  }
-  AddEvent(log, state.time_s,
-           fmt::format("{} cannot be carried out ({}): {} instead (the next-highest Q)",
-                       decision::CmaActionName(chosen), why, decision::CmaActionName(taken)));
-}
-
-}  // namespace
-
-CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, const EmergencyPlanner& planner,
-              FlightLog* log, ActionRanking ranking) {
-  if (action != CmaAction::kNoOp) CompleteEod(model, state);  // the planners read the EOD's value
-  // §5.5.3: "an emergency landing at t = 0 translates into not taking off" — any emergency action chosen before
-  // take-off keeps the vehicle on the ground (docs/modelling-choices.md#outcomes-refined).
-  if (action != CmaAction::kNoOp && !state.vehicle.airborne) {
-    AddAction(state, log, action);
-    state.outcome = Outcome::kGrounded;
-    state.reason = fmt::format("{} chosen before take-off in state {}: the vehicle stays on the ground",
-                               decision::CmaActionName(action), decision::CmaStateLabel(state.decision.inputs.state));
-    return action;
-  }
-  auto terminate = [&](CmaAction chosen) {
-    AddAction(state, log, CmaAction::kTerminate);
-    state.outcome = Outcome::kTerminated;
-    state.reason =
-        chosen == CmaAction::kTerminate
-            ? fmt::format("Terminate in state {}", decision::CmaStateLabel(state.decision.inputs.state))
-            : fmt::format("Terminate in state {} ({} could not be carried out)",
-                          decision::CmaStateLabel(state.decision.inputs.state), decision::CmaActionName(chosen));
-    return CmaAction::kTerminate;
-  };
-  if (action == CmaAction::kTerminate) return terminate(action);
-  // docs/modelling-choices.md#executing-action-repeat: an action equal to the executing one is a no-op.
-  if (decision::EffectiveCmaAction(action, state.decision.flight_status) == CmaAction::kNoOp) return action;
-  std::string why;
-  if (TryEmergencyPlan(model, state, action, planner, log, &why)) return action;
-  // docs/modelling-choices.md#unavailable-actions: the available action with the next-highest value that can be carried
-  // out now.
-  if (ranking.empty()) ranking = DefaultCmaActionRanking(state.decision.inputs.state);
-  for (const decision::ActionIndex index : ranking) {
-    const auto next = static_cast<CmaAction>(index);
-    if (next == action || !decision::IsCmaActionAvailable(state.decision.flight_status, next)) continue;
-    if (next == CmaAction::kTerminate) {
-      RecordSubstitution(state, log, action, next, why);
-      return terminate(action);
-    }
-    if (decision::EffectiveCmaAction(next, state.decision.flight_status) ==
-        CmaAction::kNoOp) {  // NoOp, or what executes
-      RecordSubstitution(state, log, action, next, why);
-      return next;
-    }
-    std::string next_why;
-    if (TryEmergencyPlan(model, state, next, planner, log, &next_why)) {
-      RecordSubstitution(state, log, action, next, why);
-      return next;
-    }
-    why += "; " + std::string(decision::CmaActionName(next)) + ": " + next_why;
-  }
-  // NoOp and Terminate are available in every flight status (docs/modelling-choices.md#action-availability) and always
-  // carried out.
-  UASCMA_CHECK(false, "a ranking that holds NoOp or Terminate");
-  return CmaAction::kNoOp;
 }
 
 void SwitchPacks(FlightState& state, models::PackAction action) {

@@ -1,6 +1,6 @@
 #pragma once
-// What the GNC step (flight.cc), the initial state (initial_state.cc), the decision epoch (epoch.cc) and the result
-// (simulator.cc) of the kernel share; not part of the API.
+// What the GNC step (flight.cc), the initial state (initial_state.cc), the decision epoch (epoch.cc), the executor
+// (act.cc) and the result (simulator.cc) of the kernel share; not part of the API.
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -44,5 +44,34 @@ inline double ThrustCap(const FlightModel& model, double bus_voltage_v) {
 inline int ActiveRotors(const FlightState& state) {
   return state.faults.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
 }
+
+// ---- what the decision epoch (epoch.cc) and the executor (act.cc) share; defined in epoch.cc ------------------------
+// The executed action into the state (and the log's actions).
+void AddAction(FlightState& state, FlightLog* log, decision::CmaAction action);
+// A new executing plan: the forecast's profile is rebuilt at the next epoch (its bias ratio carries on).
+void StartPlan(FlightState& state);
+
+// Where a plan made now starts (as an emergency plan does): a moving vehicle first brakes to rest at the plan's
+// horizontal acceleration limit (FlightPlan::AfterBraking), and the plan starts where it stops, when the braking line
+// is clear of buildings; otherwise from where it is.
+struct PlanStart {
+  Eigen::Vector3d p_W, v_horizontal_W, stop_W;
+  double accel = 0.0;
+  bool brake = false;
+  Eigen::Vector3d from_W() const { return brake ? stop_W : p_W; }
+  planning::FlightPlan Then(planning::FlightPlan plan) const {
+    return brake ? planning::FlightPlan::AfterBraking(p_W, v_horizontal_W, accel, plan) : plan;
+  }
+};
+
+PlanStart StartFromHere(const FlightModel& model, const FlightState& state);
+
+// Re-plans the executing plan's rest at the capped speed, starting as an emergency plan does (StartFromHere). True
+// when a plan was made.
+bool ReplanCapped(const FlightModel& model, FlightState& state, planning::FlightPlan& out);
+
+// The pack state the CMA's EOD starts from: the truth, or under noisy sensing the truth with every cell's SOC moved by
+// the estimate's error (sim/sensing.h).
+models::PackState SensedPack(const FlightModel& model, const FlightState& state);
 
 }  // namespace uascma::sim::internal

@@ -136,6 +136,8 @@ std::vector<ScenarioFieldEntry> FlightFields(Scenario& s) {
        &o.eod_load},
       {{.key = "options.cap_speed_after_isolation", .expected = "true | false", .citation = "§4.4.2"},
        &o.cap_speed_after_isolation},
+      {{.key = "options.termination", .expected = "last-resort | policy | never",
+        .citation = "ours (sim/termination.h)"}, &o.termination},
       {{.key = "options.safety_margin_s", .bounds = &b::kSafetyMargin, .citation = "Table 4.4: 5-10 s"},
        &o.safety_margin_s},
       {{.key = "options.noisy_sensing", .expected = "true | false", .citation = "ours; sim/sensing.h"},
@@ -180,6 +182,9 @@ void ReadValue(const YAML::Node& node, const ScenarioField& f, const std::string
             *v = Eigen::Vector3d(list[0], list[1], list[2]);
           },
           [&](EodLoad* v) { *v = ParseEodLoad(RequireString(node, leaf, source, where), source, key); },
+          [&](TerminationRule* v) {
+            *v = ParseTerminationRule(RequireString(node, leaf, source, where), source, key);
+          },
           [&](models::PropellerConfiguration* v) {
             *v = models::ParsePropellerConfiguration(RequireString(node, leaf, source, where), source + ": " + key);
           },
@@ -275,6 +280,7 @@ std::string ScenarioFieldText(const ScenarioField& field, const ScenarioFieldRef
           [](const Eigen::Vector2d* v) { return fmt::format("[{}, {}]", v->x(), v->y()); },
           [](const Eigen::Vector3d* v) { return fmt::format("[{}, {}, {}]", v->x(), v->y(), v->z()); },
           [](const EodLoad* v) { return std::string(EodLoadName(*v)); },
+          [](const TerminationRule* v) { return std::string(TerminationRuleName(*v)); },
           [](const models::PropellerConfiguration* v) { return std::string(models::PropellerConfigurationName(*v)); },
           [](const models::TurbulenceCategory* v) { return std::string(models::TurbulenceCategoryName(*v)); },
       },

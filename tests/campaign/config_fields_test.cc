@@ -200,9 +200,9 @@ TEST(ConfigFieldsTest, EveryKeyIsDeclaredOnceWithItsSource) {
           << entry.field.key;
     }
   }
-  // 39 + options.pack_rate_hz and options.wind_rate_hz + fault.prognosis_time_per_growth_step_s
-  // and options.noisy_sensing.
-  EXPECT_EQ(keys.size(), 43u);
+  // 39 + options.pack_rate_hz and options.wind_rate_hz + fault.prognosis_time_per_growth_step_s,
+  // options.noisy_sensing and options.termination (sim/termination.h).
+  EXPECT_EQ(keys.size(), 44u);
 }
 
 // The prognoser's time scale is left out of the YAML and the fingerprint unless set.

@@ -358,5 +358,29 @@ TEST(StatisticsTest, NoUnnecessaryLandingsWithoutANoOpTwin) {
   EXPECT_EQ(StatisticsTable(groups, {}).find("Unnecessary landings"), std::string::npos);
 }
 
+TEST(StatisticsTest, TerminationsAreCountedByTheirNoOpTwinsOutcome) {
+  // cma terminates runs 0, 1 and 2; NoOp completed run 0, failed run 1 and landed on an emergency site in run 2
+  // (neither completed nor failed: counted in neither column). Run 3: cma completed.
+  const char* noop[] = {"completed", "failed_battery", "emergency_landing", "completed"};
+  const char* cma[] = {"terminated", "terminated", "terminated", "completed"};
+  std::vector<RunRecord> records;
+  for (int run = 0; run < 4; ++run) {
+    records.push_back(Paired(run, "noop", "M", noop[run]));
+    records.push_back(Paired(run, "cma", "M", cma[run]));
+  }
+  const auto groups = Summarise(records, {"noop", "cma"});
+  const auto cma_m = *std::find_if(groups.begin(), groups.end(), [](const GroupStatistics& g) {
+    return g.policy == "cma" && g.battery_health == "M";
+  });
+  EXPECT_EQ(cma_m.terminations, 3);
+  EXPECT_EQ(cma_m.terminations_noop_completed, 1);
+  EXPECT_EQ(cma_m.terminations_noop_failed, 1);
+  const nlohmann::json json = StatisticsToJson(groups, {});
+  EXPECT_EQ(json["policies"]["cma"]["all"]["terminations_noop_completed"], 1);
+  EXPECT_EQ(json["policies"]["noop"]["M"]["terminations_noop_failed"], 0);
+  const std::string table = StatisticsTable(groups, {});
+  EXPECT_NE(table.find("3 terminated: NoOp completed     1, NoOp failed     1"), std::string::npos) << table;
+}
+
 }  // namespace
 }  // namespace uascma::campaign

@@ -351,11 +351,16 @@ TEST(SubstitutionTest, AnActionWithoutAPlanIsReplacedByTheNextInTheRankingAndRec
   EXPECT_FALSE(state.guidance.on_emergency_plan);
   EXPECT_EQ(state.decision.substitutions, std::vector<std::string>{"LandPract->NoOp"});
 
-  // Terminate next: the flight ends, terminated.
+  // Terminate next, carried out as the policy ranks it (SimOptions::termination policy): the flight ends, terminated.
+  // (Under the default rule the executing plan, which reaches the ground, would go on: termination_test.cc.)
   state = flying;
+  Scenario as_ranked = scenario;
+  as_ranked.options.termination = TerminationRule::kPolicy;
+  const FlightModel as_ranked_model(as_ranked);
   const std::vector<decision::ActionIndex> terminate_next = {index(CmaAction::kLandPract), index(CmaAction::kTerminate),
                                                              index(CmaAction::kNoOp), index(CmaAction::kLandAsap)};
-  EXPECT_EQ(Act(model, state, CmaAction::kLandPract, NoPractical, nullptr, terminate_next), CmaAction::kTerminate);
+  EXPECT_EQ(Act(as_ranked_model, state, CmaAction::kLandPract, NoPractical, nullptr, terminate_next),
+            CmaAction::kTerminate);
   EXPECT_EQ(state.outcome, Outcome::kTerminated);
   EXPECT_EQ(state.decision.substitutions, std::vector<std::string>{"LandPract->Terminate"});
 

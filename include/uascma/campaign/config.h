@@ -44,6 +44,7 @@
 //     eod_load: forecast                         # the 1 Hz EOD's load: forecast | present
 //                                                # (docs/modelling-choices.md#eod-load-forecast, #pack-eod)
 //     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
+//     termination: last-resort                   # Terminate only when nothing else reaches the ground (sim/termination.h)
 //     noisy_sensing: false                       # sensor noise, vibration, a spall indicator (sim/sensing.h)
 //
 // Ranges are [low, high] lists with low ≤ high; a draw is uniform on [low, high). Unknown keys are
@@ -64,6 +65,7 @@
 #include "uascma/common/bounds.h"
 #include "uascma/models/wind.h"
 #include "uascma/sim/load_forecast.h"
+#include "uascma/sim/termination.h"
 
 namespace uascma::campaign {
 
@@ -247,6 +249,9 @@ struct FlightOptions {
   sim::EodLoad eod_load = sim::EodLoad::kForecast;  // docs/modelling-choices.md#eod-load-forecast; present:
                                                     // docs/modelling-choices.md#pack-eod
   bool cap_speed_after_isolation = true;            // §4.4.2, sim/speed_cap.h
+  // sim/termination.h (ours); unset: the simulator's default, last-resort (so a configuration without the key keeps
+  // its hash).
+  std::optional<sim::TerminationRule> termination;
   // The pack's and the Dryden filters' rates (sim::SimOptions); unset: the simulator's defaults. Set to the GNC rate
   // (200) to fly the campaign with both at the GNC rate (README "Subsystem rates").
   std::optional<double> pack_rate_hz;

@@ -59,7 +59,8 @@ using CampaignFieldRef =
     std::variant<std::string*, std::uint64_t*, std::int64_t*, int*, bool*, double*, std::optional<double>*,
                  std::optional<bool>*, Range*, std::optional<Range>*, CountRange*, std::vector<std::string>*,
                  std::vector<double>*, std::vector<int>*, std::vector<models::TurbulenceCategory>*,
-                 std::optional<std::array<double, 2>>*, MediumFades*, sim::EodLoad*>;
+                 std::optional<std::array<double, 2>>*, MediumFades*, sim::EodLoad*,
+                 std::optional<sim::TerminationRule>*>;
 
 struct CampaignFieldEntry {
   ConfigField field;

@@ -110,6 +110,9 @@ struct GroupStatistics {
   // its motor-health state, which the NoOp flight survived).
   std::int64_t unnecessary_landings_fault_free = 0;
   Estimate unnecessary_landing_rate;
+  // Terminations by the NoOp twin's outcome (counted with the unnecessary landings): the twin completed its original
+  // plan (the termination ended a flight that would have come home), or it failed.
+  std::int64_t terminations_noop_completed = 0, terminations_noop_failed = 0;
 };
 
 inline constexpr const char* kHealthGroups[] = {"G", "M", "P", "all"};

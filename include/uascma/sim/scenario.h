@@ -55,6 +55,7 @@
 //     eod_load: forecast              # the 1 Hz EOD's load: the plan's expected current
 //                                     # (docs/modelling-choices.md#eod-load-forecast) | present
 //     cap_speed_after_isolation: true # after an isolation, fly within the quadcopter's authority (sim/speed_cap.h)
+//     termination: last-resort      # Terminate only when nothing else reaches the ground | policy | never
 //     safety_margin_s: 0              # t_sf in the reach margin (Table 4.4: 5-10 s in campaigns)
 //     noisy_sensing: false            # sensor noise, vibration and a spall indicator for the CMA (sim/sensing.h)
 //     max_tilt_deg: 69                # loss of control beyond it (sim/outcome.h)
@@ -84,6 +85,7 @@
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/sensing.h"
+#include "uascma/sim/termination.h"
 
 namespace uascma::sim {
 
@@ -148,6 +150,9 @@ struct SimOptions {
   // After a rotor is isolated, guidance caps the executing plan's horizontal speed to what the quadcopter can hold
   // against the mean wind with a gust allowance (§4.4.2, sim/speed_cap.h). Off: the plan's own speeds.
   bool cap_speed_after_isolation = true;
+  // When the CMA's Terminate is carried out (sim/termination.h): only when no other action reaches the ground before
+  // the pack's EOD (last-resort, the default), as the policy ranks it (policy), or never (termination disarmed).
+  TerminationRule termination = TerminationRule::kLastResort;
   // s, t_sf of Table 4.4: the reach margin judges the plan with this much extra time,
   // RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf, Table 4.1, carried to the
   // CMA). 0 by default; campaigns sample it in [5, 10] s.

@@ -35,7 +35,7 @@ struct ScenarioField {
 // The member a row sets; std::monostate: read by its own code (file comment).
 using ScenarioFieldRef =
     std::variant<std::monostate, double*, bool*, int*, std::optional<double>*, Eigen::Vector2d*, Eigen::Vector3d*,
-                 EodLoad*, models::PropellerConfiguration*, models::TurbulenceCategory*>;
+                 EodLoad*, TerminationRule*, models::PropellerConfiguration*, models::TurbulenceCategory*>;
 
 struct ScenarioFieldEntry {
   ScenarioField field;
