@@ -1,9 +1,11 @@
-// The CMA's executor (Act): an emergency plan, Terminate, or a substitute (decisions item 28,
-// docs/modelling-choices.md#unavailable-actions), with two run-time checks (docs/cma-safeguards.md):
+// The CMA's executor (Act): an emergency plan, Terminate, or a substitute
+// (docs/modelling-choices.md#unavailable-actions, docs/modelling-choices.md#unavailable-actions), with two run-time
+// checks (docs/cma-safeguards.md):
 // - an emergency plan is carried out only with a reach margin ≥ 0, the margin the CMA state will read once the plan
 //   executes: the EOD at that plan's own expected load, RM by prognostics/reach_margin.h with t_sf
 //   (docs/modelling-choices.md#one-reach-margin). A plan short of it is no plan: the next-best action is taken;
-// - Terminate is carried out only as a last resort (sim/termination.h, docs/modelling-choices.md#terminate-last-resort).
+// - Terminate is carried out only as a last resort (sim/termination.h,
+// docs/modelling-choices.md#terminate-last-resort).
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -61,9 +63,9 @@ bool OnFinalDescent(const planning::FlightPlan& plan, double t_plan) {
 }
 
 // s: the EOD of the executing plan as Observe computes it at the next epoch: the pack the CMA reads (the sensed one
-// under noisy sensing), propagated at the plan's expected load (decision 25: its profile from plan time 0 for the
-// rotors that fly it, the flight's bias ratio), or at the present load (SimOptions::eod_load present). Called once
-// an emergency plan has just started (StartPlan).
+// under noisy sensing), propagated at the plan's expected load (docs/modelling-choices.md#eod-load-forecast: its
+// profile from plan time 0 for the rotors that fly it, the flight's bias ratio), or at the present load
+// (SimOptions::eod_load present). Called once an emergency plan has just started (StartPlan).
 double StartedPlanEodS(const FlightModel& model, const FlightState& state) {
   const bool noisy = model.options().noisy_sensing;
   double current_a = noisy ? state.power.sensing.load_current_a : state.power.load_current_a;
@@ -72,11 +74,10 @@ double StartedPlanEodS(const FlightModel& model, const FlightState& state) {
     forecast.profile =
         std::make_shared<const LoadProfile>(state.plan(model), model.steady_load(), internal::ActiveRotors(state));
     forecast.have_last = false;
-    const double forecast_a =
-        ForecastCurrent(forecast, 0.0, noisy ? state.power.sensing.energy_wh : state.power.energy_wh,
-                        1.0 / model.options().decision_rate_hz,
-                        noisy ? state.power.sensing.bus_voltage_v : state.power.bus_voltage_v,
-                        model.options().hotel_current_a);
+    const double forecast_a = ForecastCurrent(
+        forecast, 0.0, noisy ? state.power.sensing.energy_wh : state.power.energy_wh,
+        1.0 / model.options().decision_rate_hz, noisy ? state.power.sensing.bus_voltage_v : state.power.bus_voltage_v,
+        model.options().hotel_current_a);
     if (forecast_a > 0.0) current_a = forecast_a;  // under a second of plan: the present load, as Observe
   }
   const models::PackState pack = noisy ? internal::SensedPack(model, state) : state.power.pack;
@@ -135,8 +136,8 @@ bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction ac
     state.guidance = guidance_before;
     state.decision.load_forecast = forecast_before;
     *why = fmt::format("its plan to {} takes {:.0f} s{}, the EOD at its load {:.0f} s (RM {:.2f})", emergency.site,
-                       flight_s, safety_margin_s > 0.0 ? fmt::format(" + t_sf {:.0f} s", safety_margin_s) : "",
-                       eod_s, reach_margin);
+                       flight_s, safety_margin_s > 0.0 ? fmt::format(" + t_sf {:.0f} s", safety_margin_s) : "", eod_s,
+                       reach_margin);
     return false;
   }
   state.guidance.emergency_site = emergency.site;
@@ -151,7 +152,7 @@ bool TryEmergencyPlan(const FlightModel& model, FlightState& state, CmaAction ac
   return true;
 }
 
-// Decisions item 28: `taken` replaces `chosen`, which could not be carried out (`why`).
+// docs/modelling-choices.md#unavailable-actions: `taken` replaces `chosen`, which could not be carried out (`why`).
 void RecordSubstitution(FlightState& state, FlightLog* log, CmaAction chosen, CmaAction taken, const std::string& why) {
   ++state.decision.substitution_epochs;
   const std::string pair = fmt::format("{}->{}", decision::CmaActionName(chosen), decision::CmaActionName(taken));
@@ -170,8 +171,8 @@ bool ExecutingPlanReaches(const FlightModel& model, const FlightState& state, st
   const DecisionInputs& inputs = state.decision.inputs;
   if (OnFinalDescent(state.plan(model), state.time_s - state.guidance.plan_start_s)) return true;
   if (inputs.flight_time_remaining_s <= inputs.eod_s) return true;
-  *why += fmt::format("; the executing plan: {:.0f} s left, EOD {:.0f} s", inputs.flight_time_remaining_s,
-                      inputs.eod_s);
+  *why +=
+      fmt::format("; the executing plan: {:.0f} s left, EOD {:.0f} s", inputs.flight_time_remaining_s, inputs.eod_s);
   return false;
 }
 
@@ -195,15 +196,15 @@ std::optional<CmaAction> ActionThatReaches(const FlightModel& model, FlightState
   return std::nullopt;
 }
 
-// Ends the flight with Terminate (decisions item 10), chosen by the policy or reached as `chosen`'s next-best.
+// Ends the flight with Terminate (docs/modelling-choices.md#terminate), chosen by the policy or reached as `chosen`'s
+// next-best.
 CmaAction TerminateFlight(FlightState& state, FlightLog* log, CmaAction chosen, const std::string& why) {
   AddAction(state, log, CmaAction::kTerminate);
   state.outcome = Outcome::kTerminated;
   const std::string label = decision::CmaStateLabel(state.decision.inputs.state);
-  state.reason = chosen == CmaAction::kTerminate
-                     ? fmt::format("Terminate in state {}", label)
-                     : fmt::format("Terminate in state {} ({} could not be carried out)", label,
-                                   decision::CmaActionName(chosen));
+  state.reason = chosen == CmaAction::kTerminate ? fmt::format("Terminate in state {}", label)
+                                                 : fmt::format("Terminate in state {} ({} could not be carried out)",
+                                                               label, decision::CmaActionName(chosen));
   if (!why.empty()) state.reason += fmt::format(": no other action reaches the ground ({})", why);
   return CmaAction::kTerminate;
 }
@@ -244,7 +245,7 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
               FlightLog* log, ActionRanking ranking) {
   if (action != CmaAction::kNoOp) CompleteEod(model, state);  // the planners and the checks read the EOD's value
   // §5.5.3: "an emergency landing at t = 0 translates into not taking off" — any emergency action chosen before
-  // take-off keeps the vehicle on the ground (decision 21).
+  // take-off keeps the vehicle on the ground (docs/modelling-choices.md#outcomes-refined).
   if (action != CmaAction::kNoOp && !state.vehicle.airborne) {
     AddAction(state, log, action);
     state.outcome = Outcome::kGrounded;
@@ -257,17 +258,19 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
   if (action == CmaAction::kTerminate) {
     return TerminateUnlessReachable(model, state, action, planner, log, ranked(), "");
   }
-  // Decisions item 9: an action equal to the executing one is a no-op.
+  // docs/modelling-choices.md#executing-action-repeat: an action equal to the executing one is a no-op.
   if (decision::EffectiveCmaAction(action, state.decision.flight_status) == CmaAction::kNoOp) return action;
   const double safety_margin_s = model.options().safety_margin_s;
   std::string why;
   if (TryEmergencyPlan(model, state, action, planner, log, safety_margin_s, &why)) return action;
-  // Decisions item 28: the available action with the next-highest value that can be carried out now.
+  // docs/modelling-choices.md#unavailable-actions: the available action with the next-highest value that can be carried
+  // out now.
   ranking = ranked();
   for (const decision::ActionIndex index : ranking) {
     const auto next = static_cast<CmaAction>(index);
     if (next == action || !decision::IsCmaActionAvailable(state.decision.flight_status, next)) continue;
-    if (next == CmaAction::kTerminate) return TerminateUnlessReachable(model, state, action, planner, log, ranking, why);
+    if (next == CmaAction::kTerminate)
+      return TerminateUnlessReachable(model, state, action, planner, log, ranking, why);
     if (decision::EffectiveCmaAction(next, state.decision.flight_status) == CmaAction::kNoOp) {  // NoOp, or executing
       RecordSubstitution(state, log, action, next, why);
       return next;
@@ -279,7 +282,8 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
     }
     why += "; " + std::string(decision::CmaActionName(next)) + ": " + next_why;
   }
-  // NoOp and Terminate are available in every flight status (decisions item 3) and always carried out.
+  // NoOp and Terminate are available in every flight status (docs/modelling-choices.md#action-availability) and always
+  // carried out.
   UASCMA_CHECK(false, "a ranking that holds NoOp or Terminate");
   return CmaAction::kNoOp;
 }

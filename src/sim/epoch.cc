@@ -80,7 +80,7 @@ using internal::SensedPack;
 using internal::StartPlan;
 using internal::ThrustCap;
 
-// The profile of the executing plan for the rotors that fly it (decision 25).
+// The profile of the executing plan for the rotors that fly it (docs/modelling-choices.md#eod-load-forecast).
 void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
   LoadForecastState& forecast = state.decision.load_forecast;
   const int rotors = ActiveRotors(state);

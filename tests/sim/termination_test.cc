@@ -1,6 +1,6 @@
 // The executor's two run-time checks (sim/act.cc, docs/cma-safeguards.md): one reach margin, the same formula and the
 // same EOD for an emergency plan when it is accepted and for the CMA state once it executes, a plan short of it being
-// no plan (decisions item 28); and Terminate as the last resort (sim/termination.h).
+// no plan (docs/modelling-choices.md#unavailable-actions); and Terminate as the last resort (sim/termination.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
