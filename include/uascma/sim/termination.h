@@ -7,9 +7,10 @@
 // is never taken. The executor's check (sim/act.cc, docs/cma-safeguards.md):
 //   kLastResort  Terminate (chosen, or reached as the next-best of docs/modelling-choices.md#unavailable-actions)
 //                is carried out only when no other available action can bring the vehicle to the ground before
-//                the pack's EOD: the executing plan (NoOp) when it is on its final descent or t_remaining ≤ t_EOD, LandASAP or LandPract when their
-//                planner finds a plan whose flight time is ≤ t_EOD at that plan's own load (RM ≥ 0 with t_sf = 0,
-//                prognostics/reach_margin.h). Otherwise the first such action of the policy's ranking replaces it.
+//                the pack's EOD: the executing plan (NoOp) when it is on its final descent or t_remaining ≤ t_EOD,
+//                LandASAP or LandPract when their planner finds a plan whose flight time is ≤ t_EOD at that
+//                plan's own load (RM ≥ 0 with t_sf = 0, prognostics/reach_margin.h). Otherwise the first such
+//                action of the policy's ranking replaces it.
 //   kPolicy      Terminate as the policy ranks it (the MDP's own choice, no check).
 //   kNever       Terminate is never carried out (termination disarmed): the first action of the ranking that
 //                reaches the ground as above, else the executing plan.
