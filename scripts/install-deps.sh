@@ -21,7 +21,7 @@ test=(
   valgrind  # callgrind: the instructions per GNC step of `make bench` (bench/step_instructions.sh)
   pybind11-dev python3-dev python3-pandas python3-pytest
   chromium  # the browser test of `uascma reproduce`'s page (tests/apps/reproduce_browser_test.py)
-  nodejs npm  # the MAVLink interoperability test against node-mavlink (tests/mavlink/node/)
+  nodejs npm  # the MAVLink interoperability test against node-mavlink (tests/mavlink/node/); see below
 )
 fuzz=(
   clang libclang-rt-14-dev
@@ -41,6 +41,11 @@ done
 
 missing=()
 for p in "${packages[@]}"; do
+  # Node.js from another source (e.g. NodeSource's nodejs package, which carries its own npm and conflicts with
+  # Debian's npm) serves the test as well: Debian's packages are installed only when the commands are missing.
+  if [[ $p == nodejs || $p == npm ]] && command -v node >/dev/null && command -v npm >/dev/null; then
+    continue
+  fi
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
     missing+=("$p")
   fi
