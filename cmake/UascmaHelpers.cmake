@@ -22,9 +22,6 @@ function(uascma_library name)
   uascma_use_pch(${target})  # UascmaPch.cmake
   if(UASCMA_LTO_ACTIVE AND name IN_LIST UASCMA_LTO_MODULES)  # CMakeLists.txt, UASCMA_LTO
     target_compile_options(${target} PRIVATE -flto=auto -ffat-lto-objects)
-    # A project that links the installed library takes the objects' machine code: GCC's linker plugin would
-    # otherwise re-optimise the intermediate code at every link (and refuse it from another GCC version).
-    target_link_options(${target} INTERFACE $<INSTALL_INTERFACE:-fno-lto>)
   endif()
   if(UASCMA_UNITY)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
@@ -40,20 +37,10 @@ function(uascma_link_optimised target)
   endif()
 endfunction()
 
-# Links `target` from the objects' machine code. GCC's linker plugin runs link-time optimisation whenever an object
-# carries intermediate code, even without -flto on the link line: every test, benchmark and the Python module would
-# re-optimise the whole library at its link (most of the CPU of building the test suite). -fno-lto turns that off.
-function(uascma_link_plain target)
-  if(UASCMA_LTO_ACTIVE)
-    target_link_options(${target} PRIVATE -fno-lto)
-  endif()
-endfunction()
-
 function(uascma_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
-  uascma_link_plain(${name})
   uascma_use_test_pch(${name})  # UascmaPch.cmake
   target_compile_definitions(${name} PRIVATE
     UASCMA_SOURCE_DIR="${PROJECT_SOURCE_DIR}"

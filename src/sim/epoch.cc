@@ -92,22 +92,6 @@ void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
                          : std::make_shared<const LoadProfile>(state.plan(model), model.steady_load(), rotors);
 }
 
-// m/s: the airspeed the reconfigured vehicle can hold less the gust allowance (sim/speed_cap.h), with the thrust the
-// rotors give at the lowest bus voltage the flight can see, the cut-off's (3 cells × 3.3 V,
-// docs/modelling-choices.md#outcomes): the cap then holds to the end of the flight.
-double AuthorityAirspeed(const FlightModel& model, const FlightState& state) {
-  const double weight = model.scenario().body.mass * kGravity;
-  const double cutoff_bus_voltage_v = models::kCellsPerBranch * models::kCutoffVoltage;
-  const double available = ActiveRotors(state) * ThrustCap(model, cutoff_bus_voltage_v);
-  if (weight >= available) return 0.0;
-  const double max_tilt = std::acos(std::sqrt(weight / available));  // models::CalcControlAuthority's square
-  const models::WindParams& wind = model.scenario().wind;
-  const double altitude = std::max(-state.vehicle.body.p_WB_W.z(), model.scenario().mission.cruise_altitude);
-  const models::DrydenIntensity gust =
-      models::CalcDrydenIntensity(wind.turbulence, altitude, wind.medium_band_altitude);
-  return std::max(0.0, CalcMaxLevelAirspeed(model.scenario().body, model.drag(), max_tilt) - gust.sigma_u);
-}
-
 // §4.4.2: at the first epoch after the allocation flies four rotors, the executing plan's rest is re-planned within
 // what they can hold (SimOptions::cap_speed_after_isolation).
 void CapSpeedAfterIsolation(const FlightModel& model, FlightState& state, FlightLog* log) {
@@ -115,7 +99,7 @@ void CapSpeedAfterIsolation(const FlightModel& model, FlightState& state, Flight
       std::isfinite(state.guidance.speed_cap_mps) || !state.vehicle.airborne) {
     return;
   }
-  state.guidance.speed_cap_mps = AuthorityAirspeed(model, state);
+  state.guidance.speed_cap_mps = CalcAuthorityAirspeed(model, state, ActiveRotors(state));
   const bool original = !state.guidance.on_emergency_plan;
   const double original_elapsed = state.original_plan_elapsed_s();
   const double original_left = state.plan(model).TimeRemaining(state.time_s - state.guidance.plan_start_s);

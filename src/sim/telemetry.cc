@@ -27,7 +27,7 @@ std::string TelemetryCsv(const SimResult& result) {
   // Names, not codes: the CMA state label (quoted, it holds commas), the action name and the IMM mode.
   const decision::FactoredMdpBuilder cma_model = decision::MakeCmaFactoredModel();
   std::vector<std::string> state_labels;
-  for (int s = 0; s < cma_model.num_states(); ++s) state_labels.push_back("\"" + cma_model.Label(s) + "\"");
+  for (int s = 0; s < cma_model.num_states(); ++s) state_labels.push_back(fmt::format("\"{}\"", cma_model.Label(s)));
   auto state_label = [&](int index) -> const std::string& {
     UASCMA_CHECK(index >= 0 && index < static_cast<int>(state_labels.size()),
                  "telemetry: CMA state index out of range");

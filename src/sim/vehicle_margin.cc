@@ -52,9 +52,8 @@ double CalcAuthorityAirspeed(const FlightModel& model, const FlightState& state,
 }
 
 QuadcopterReach CalcQuadcopterReach(const FlightModel& model, const FlightState& state, const models::PackState& pack) {
-  constexpr int kQuadcopterRotors =
-      models::kRotorCount -
-      2;  // the jammed rotor and its opposite (docs/modelling-choices.md#mixing-after-motor-failure)
+  // The jammed rotor and its opposite stop (docs/modelling-choices.md#mixing-after-motor-failure).
+  constexpr int kQuadcopterRotors = models::kRotorCount - 2;
   const planning::FlightPlan& plan = state.plan(model);
   const double t_plan = state.time_s - state.guidance.plan_start_s;
   QuadcopterReach reach;

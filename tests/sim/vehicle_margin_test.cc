@@ -95,7 +95,9 @@ TEST(VehicleMarginTest, AQuadcopterThatCanFinishAndOneThatCannotAtItsForecastLoa
   // propagation stopped at t_quad (it never crosses before then).
   const double can_margin = CalcVehicleMotorMargin(plan_s, 1.0, false, 1.0, reach, 0.0);
   EXPECT_GE(can_margin, 0.0);
-  if (!reach.eod_is_lower_bound) EXPECT_NEAR(can_margin, 1.0 - plan_s / eod_s, 1e-9);
+  if (!reach.eod_is_lower_bound) {
+    EXPECT_NEAR(can_margin, 1.0 - plan_s / eod_s, 1e-9);
+  }
   // Cannot finish: the same delivery taken far enough that its plan outlasts the quadcopter's EOD at t_sf = 5 s.
   const double t_sf = 5.0;
   const Delivery cannot(t_sf, false, 1.5 * eod_s / plan_s);
