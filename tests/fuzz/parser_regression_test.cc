@@ -103,9 +103,9 @@ TEST(ParserRegressionTest, JsonNumbersBeyondDoubleAreInputErrors) {
             "geometry": {"type": "Polygon", "coordinates": [[[-73.99, 40.73e0699]]]}}]})",
                                         "city.geojson", planning::MapImportOptions{}, &data);
       },
-      {"city.geojson", "JSON"});
+      {"city.geojson", "features[0].geometry.coordinates", "double's range"});
   const auto policy = WriteScratch("policy.json", R"({"format": "uascma-policy/1", "gamma": 0.09000E0010000099})");
-  ExpectInputError([&] { decision::ReadPolicyFile(policy); }, {policy.string(), "JSON"});
+  ExpectInputError([&] { decision::ReadPolicyFile(policy); }, {policy.string(), "gamma", "double's range"});
   std::filesystem::remove(policy);
 }
 

@@ -36,7 +36,8 @@ def _visible_tick_labels(fig):
             lo, hi = sorted(axis.get_view_interval())
             for tick in axis.get_major_ticks() + axis.get_minor_ticks():
                 loc = tick.get_loc()
-                if loc is None or not (lo - 1e-9 * abs(hi - lo) <= loc <= hi + 1e-9 * abs(hi - lo)):
+                # axis("off"): matplotlib keeps the tick labels but draws none of them.
+                if not axes.axison or loc is None or not (lo - 1e-9 * abs(hi - lo) <= loc <= hi + 1e-9 * abs(hi - lo)):
                     labels.add(id(tick.label1))
                     labels.add(id(tick.label2))
     return labels  # ids of tick labels outside the view: not drawn
