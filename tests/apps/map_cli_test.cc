@@ -115,10 +115,8 @@ TEST(MapCliTest, BadInputIsExitTwoOnOneLineNamingTheFileAndTheFeature) {
                            {"--origin", "LAT,LON"});
   ExpectOneLineErrorNaming("map info --origin 40.7,-73.9", {"--origin"});  // the procedural city has no origin
   ExpectOneLineErrorNaming("map info --seed -1", {"seed"});
-  if (std::filesystem::is_directory(OsmDataDir())) {
-    ExpectOneLineErrorNaming("map info " + (OsmDataDir() / "upper-east-side-buildings.geojson").string(),
-                             {"upper-east-side-buildings.geojson", "features[763] (way/266916493)", "'height'"});
-  }
+  ExpectOneLineErrorNaming("map info " + (OsmDataDir() / "upper-east-side-buildings.geojson").string(),
+                           {"upper-east-side-buildings.geojson", "features[763] (way/266916493)", "'height'"});
 }
 
 }  // namespace
