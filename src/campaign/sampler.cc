@@ -138,6 +138,13 @@ Eigen::AlignedBox2d RouteArea(const planning::CityMap& map, const MapSampling& s
   return sampling.imported() ? BuildingsExtent(map) : map.bounds();
 }
 
+bool IsBuiltUp(const planning::CityMap& map, const Eigen::Vector2d& p_NE) {
+  const double radius = planning::LandPractParams{}.site_search_radius;
+  const std::array<Eigen::Vector2d, 1> point = {p_NE};
+  if (map.TallestBuildingUnder(point, radius).building != planning::kNoBuilding) return true;
+  return !map.SitesWithinRadius(p_NE, radius).empty();
+}
+
 double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragTable& drag, double airspeed) {
   if (!(std::isfinite(airspeed) && airspeed >= 0.0)) {
     throw InputError("CalcLevelFlightCurrent", "airspeed", fmt::format("a finite speed >= 0 m/s, got {}", airspeed));
@@ -263,9 +270,10 @@ void DrawWind(RandomStream& random, const WindSampling& wind, SampledRun& run) {
 }
 
 // Step 7, the home of one route attempt: uniform over `bounds` (the city's area, RouteArea) until it is on open
-// ground with `clearance` (m) from every wall; the origin on an empty map.
+// ground with `clearance` (m) from every wall and, with `built_up` (an imported map), where the map is built up
+// (IsBuiltUp); the origin on an empty map.
 Eigen::Vector2d DrawHome(RandomStream& random, const planning::CityMap& map, const Eigen::AlignedBox2d& bounds,
-                         double clearance) {
+                         double clearance, bool built_up) {
   if (map.buildings().empty()) return Eigen::Vector2d::Zero();
   Eigen::Vector2d home_NE;
   int home_attempts = 0;
@@ -276,7 +284,7 @@ Eigen::Vector2d DrawHome(RandomStream& random, const planning::CityMap& map, con
     }
     home_NE = Eigen::Vector2d(random.Uniform(bounds.min().x(), bounds.max().x()),
                               random.Uniform(bounds.min().y(), bounds.max().y()));
-  } while (!ClearOfBuildings(map, home_NE, clearance));
+  } while (!ClearOfBuildings(map, home_NE, clearance) || (built_up && !IsBuiltUp(map, home_NE)));
   return home_NE;
 }
 
@@ -324,6 +332,7 @@ struct RouteContext {
   bool endurance_tied = false;
   double lowest_cruise = 0.0;
   models::DragTable drag;
+  bool built_up_ends = false;  // home and destination where the map is built up (IsBuiltUp): an imported map
 };
 
 // Step 7 for the home and bearing of one attempt (drawn already; only a fixed distance is drawn here): the distance,
@@ -345,7 +354,8 @@ bool FitRoute(RandomStream& random, const CampaignConfig& config, const RouteCon
     scenario.mission.destination_NE = scenario.mission.home_NE + run.distance_m * direction;
     if (city) {
       if (!route.bounds.contains(scenario.mission.destination_NE) ||
-          !ClearOfBuildings(route.map, scenario.mission.destination_NE, route.clearance)) {
+          !ClearOfBuildings(route.map, scenario.mission.destination_NE, route.clearance) ||
+          (route.built_up_ends && !IsBuiltUp(route.map, scenario.mission.destination_NE))) {
         return false;
       }
       if (!route.endurance_tied) {
@@ -388,7 +398,8 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
                            config.mission.wall_clearance_m,
                            !config.mission.distance_m.has_value(),
                            config.map.imported() ? config.mission.cruise_altitude_m : 0.0,
-                           models::DragTable::Default(scenario.configuration)};
+                           models::DragTable::Default(scenario.configuration),
+                           config.map.imported()};
   if (route.endurance_tied) run.endurance_fraction = Draw(random, config.mission.endurance_fraction);
   for (int attempt = 0;; ++attempt) {
     if (attempt > kMaxRouteAttempts) {
@@ -397,7 +408,7 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
                                    "healthy pack flies over their whole load (no route fit in {} attempts, run {})",
                                    route.clearance, kMaxRouteAttempts, run.run_index));
     }
-    scenario.mission.home_NE = DrawHome(random, map, route.bounds, route.clearance);
+    scenario.mission.home_NE = DrawHome(random, map, route.bounds, route.clearance, route.built_up_ends);
     run.bearing_rad = random.Uniform(0.0, 2.0 * kPi);
     if (FitRoute(random, config, route, run)) break;
   }

@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <string>
+
+#include <fmt/format.h>
 
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/sampler.h"
@@ -187,6 +191,81 @@ TEST(ImportedMapSamplerTest, CoverageReportNamesTheMapsOwnSitesAndHowToWidenThem
   EXPECT_EQ(file.find("flat roofs and 10"), std::string::npos) << file;
   coverage.checkpoints_without_site = 0;
   EXPECT_EQ(coverage.BriefReport().find("do not cover"), std::string::npos);
+}
+
+// ---- A region, not a district: two towns and the open land between them ----------------------------------
+
+// Two towns of 3 x 3 houses (20 m squares, 60 m apart, 10 m tall) whose centres lie 4 km apart on an east-west line
+// at 46° N, written as GeoJSON; the buildings' extent is then ~4.1 km by ~0.14 km, ~97 % of it open land.
+std::filesystem::path WriteTwoTownsGeojson(const std::filesystem::path& dir) {
+  constexpr double kLat0Deg = 46.0;
+  constexpr double kLon0Deg = 8.0;
+  constexpr double kMetresPerDegLat = 111'132.0;                   // near 46° N (WGS 84), to ~0.1 %
+  const double metres_per_deg_lon = 111'320.0 * std::cos(kLat0Deg * kPi / 180.0);
+  std::string features;
+  for (const double town_east_m : {0.0, 4000.0}) {
+    for (int row = 0; row < 3; ++row) {
+      for (int column = 0; column < 3; ++column) {
+        const double north = 60.0 * row;
+        const double east = town_east_m + 60.0 * column;
+        auto corner = [&](double dn, double de) {
+          return fmt::format("[{:.7f},{:.7f}]", kLon0Deg + (east + de) / metres_per_deg_lon,
+                             kLat0Deg + (north + dn) / kMetresPerDegLat);
+        };
+        if (!features.empty()) features += ",";
+        features += fmt::format(
+            R"({{"type":"Feature","properties":{{"building":"house","height":"10"}},)"
+            R"("geometry":{{"type":"Polygon","coordinates":[[{},{},{},{},{}]]}}}})",
+            corner(0, 0), corner(0, 20), corner(20, 20), corner(20, 0), corner(0, 0));
+      }
+    }
+  }
+  const std::filesystem::path file = dir / "two-towns.geojson";
+  std::ofstream(file) << R"({"type":"FeatureCollection","features":[)" << features << "]}";
+  return file;
+}
+
+TEST(ImportedMapSamplerTest, RoutesOverARegionStartAndEndWhereItIsBuiltUp) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "uascma_two_towns_test";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path geojson = WriteTwoTownsGeojson(dir);
+  const CampaignConfig config = ParseCampaignConfig(
+      "map:\n  buildings: [" + geojson.string() + "]\nmission: {distance_m: [300, 900]}\n", "c.yaml");
+  const CampaignWorld world = BuildCampaignWorld(config.map);
+  std::filesystem::remove_all(dir);
+  const auto map = world.map;
+  ASSERT_EQ(map->buildings().size(), 18u);
+  const Eigen::AlignedBox2d extent = BuildingsExtent(*map);
+  ASSERT_GT(extent.sizes().maxCoeff(), 4000.0);
+  // IsBuiltUp against its definition computed another way: the distance to the nearest building's box (a
+  // rectangle's box is its outline) or site, within LandPract's reach.
+  const double reach = planning::LandPractParams{}.site_search_radius;  // m
+  auto nearest_building_or_site = [&](const Eigen::Vector2d& p) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < static_cast<int>(map->buildings().size()); ++k)
+      nearest = std::min(nearest, map->building_box(k).exteriorDistance(p));
+    for (const planning::LandingSite& site : map->sites())
+      nearest = std::min(nearest, (site.p_W.head<2>() - p).norm());
+    return nearest;
+  };
+  constexpr double kEdgeToleranceM = 1.0;  // points this near LandPract's reach are not judged
+  int open_land_points = 0;
+  for (double east = extent.min().y(); east <= extent.max().y(); east += 50.0) {
+    const Eigen::Vector2d p(extent.center().x(), east);
+    const double nearest = nearest_building_or_site(p);
+    if (std::abs(nearest - reach) < kEdgeToleranceM) continue;
+    EXPECT_EQ(IsBuiltUp(*map, p), nearest < reach) << "east " << east << " m, nearest " << nearest << " m";
+    open_land_points += nearest < reach ? 0 : 1;
+  }
+  EXPECT_GT(open_land_points, 40);  // most of the line between the towns is open land
+  // Every home and destination where the map is built up: in or beside one of the two towns. Drawn uniformly
+  // over the extent, ~75 % of the homes would fall on the open land between them (3 km of its 4.1 km).
+  for (std::int64_t index = 0; index < 40; ++index) {
+    const SampledRun run = SampleRun(config, world, 11, index);
+    for (const Eigen::Vector2d& p : {run.scenario.mission.home_NE, run.scenario.mission.destination_NE}) {
+      EXPECT_LE(nearest_building_or_site(p), reach + kEdgeToleranceM) << "index " << index << " " << p.transpose();
+    }
+  }
 }
 
 // ---- Buildings without heights: the import keys of `map info` in campaign and scenario files --------------

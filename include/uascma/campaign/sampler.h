@@ -23,7 +23,8 @@
 //   7. the route (docs/modelling-choices.md#campaign-missions, #battery-health-draw). The endurance fraction f uniform
 //      on mission.endurance_fraction; then, until the route fits: home uniform over the city's area (RouteArea: over an
 //      imported map the buildings' extent, so that routes fly over the city and not beside it, whatever the sites file
-//      covers) on open ground with mission.wall_clearance_m from every wall (the origin on an empty map), the bearing
+//      covers) on open ground with mission.wall_clearance_m from every wall (the origin on an empty map) and, over an
+//      imported map, where it is built up (IsBuiltUp; a redraw of the home, no other draw), the bearing
 //      uniform on [0, 2π) from North, and
 //        I_cruise   = the largest steady current of the plan: level flight out, level flight back (airspeed
 //                     |±V ê − w|, V the cruise speed, ê the bearing, w the mean wind) and the drop hover
@@ -35,7 +36,8 @@
 //                     cruise altitude 10 m above the tallest building within wall_clearance_m of the route
 //                     that the lowest altitude would give (the longest route along the bearing; it clears
 //                     the shorter final route too);
-//      the destination must lie inside the city's area with wall_clearance_m from every wall. With mission.distance_m
+//      the destination must lie inside the city's area with wall_clearance_m from every wall, and over an imported map
+//      where it is built up (IsBuiltUp; otherwise the attempt is redrawn). With mission.distance_m
 //      set, the distance is drawn on it instead (the plan is then not tied to the pack).
 //      Then the whole-load check (docs/modelling-choices.md#dissertation-profile, CalcWholeLoad below): a route whose
 //      nominal plan fails it is not kept. An endurance-tied plan is first shortened, with the same home and bearing and
@@ -154,6 +156,11 @@ Eigen::AlignedBox2d BuildingsExtent(const planning::CityMap& map);
 // Where step 7 draws homes and destinations: an imported map's buildings' extent (its sites may lie elsewhere);
 // the procedural city's bounds (unchanged: its sites lie among its blocks).
 Eigen::AlignedBox2d RouteArea(const planning::CityMap& map, const MapSampling& sampling);
+// Is the map built up at `p_NE`: a building's outline or a landing site within LandPract's reach
+// (planning::LandPractParams::site_search_radius, 500 m)? Over an imported map step 7 keeps a home and a
+// destination only where it is (docs/modelling-choices.md#campaign-routes-built-up): an extract of a region holds
+// towns and the open land between them, and deliveries start and end where people are.
+bool IsBuiltUp(const planning::CityMap& map, const Eigen::Vector2d& p_NE);
 
 // Do the landing sites cover the sampled routes? For the first `runs` runs of the campaign (their nominal delivery
 // plans), the LandPract checkpoints (planning::LandPractParams: checkpoint_count at arc lengths k L / (N + 1)) and
