@@ -139,11 +139,12 @@ class MissionBuilder {
       if (!options_.land_at_end) {
         throw InputError(source_, "mission", "a mission that ends landed (NAV_LAND or NAV_RETURN_TO_LAUNCH)");
       }
-      Warn(fmt::format("the mission ends in the air at {:.1f} m, where {} would hold until the operator or a "
-                       "failsafe acts: landing vertically there (mission.land_at_end)",
-                       -position_.z(), raw_.firmware == MissionFirmware::kUnknown
-                                           ? std::string_view("the autopilot")
-                                           : MissionFirmwareName(raw_.firmware)));
+      Warn(
+          fmt::format("the mission ends in the air at {:.1f} m, where {} would hold until the operator or a "
+                      "failsafe acts: landing vertically there (mission.land_at_end)",
+                      -position_.z(),
+                      raw_.firmware == MissionFirmware::kUnknown ? std::string_view("the autopilot")
+                                                                 : MissionFirmwareName(raw_.firmware)));
       Push(TouchdownBelow(position_.head<2>()), "land");
     }
     return std::move(mission_);
@@ -406,9 +407,10 @@ class MissionBuilder {
     if (!Airborne()) return;
     const double height = ReturnHeight();
     if (height <= -position_.z() + kSamePlace) return;
-    Warn(fmt::format("{}: {} climbs to its return height, {:.1f} m above home, before flying home (its default "
-                     "return parameters)",
-                     item.name, MissionFirmwareName(raw_.firmware), height));
+    Warn(
+        fmt::format("{}: {} climbs to its return height, {:.1f} m above home, before flying home (its default "
+                    "return parameters)",
+                    item.name, MissionFirmwareName(raw_.firmware), height));
     MoveTo(Eigen::Vector3d(position_.x(), position_.y(), -height), item, "return climb");
   }
 

@@ -261,7 +261,8 @@ TEST(MissionFirmwareTest, ATakeoffInTheHomeSlotIsTheHomeAndIsNotFlown) {
 // A Mission Planner geofence saved as QGC WPL 110 (NAV_FENCE_* items): the autopilots refuse those items in a
 // mission upload; uascma refuses the file naming the first such item, on one line.
 TEST(MissionFirmwareTest, AGeofenceFileIsRefusedNamingItsFirstVertex) {
-  std::string text = fmt::format("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t{}\t{}\t{}\t1\n", kHomeLat, kHomeLon, kHomeAmsl);
+  std::string text =
+      fmt::format("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t{}\t{}\t{}\t1\n", kHomeLat, kHomeLon, kHomeAmsl);
   for (int i = 1; i <= 3; ++i) {
     text += fmt::format("{}\t0\t3\t5001\t3\t0\t0\t0\t{:.6f}\t{:.6f}\t0\t1\n", i, kHomeLat + 0.001 * (i % 2),
                         kHomeLon + 0.001 * (i / 2));
@@ -321,14 +322,14 @@ TEST(MissionFirmwareTest, ReturnToLaunchClimbsToTheFirmwaresReturnHeight) {
   };
   const auto held = [](double height) { return [height](double) { return height; }; };
   const std::vector<Case> cases = {
-      {kMavAutopilotArduPilotMega, 6.0, 1.0, held(15.0)},                     // RTL_ALT: 3 d ≫ 15 m
-      {kMavAutopilotArduPilotMega, 30.0, 1.0, held(30.0)},                    // above RTL_ALT: no climb
+      {kMavAutopilotArduPilotMega, 6.0, 1.0, held(15.0)},                         // RTL_ALT: 3 d ≫ 15 m
+      {kMavAutopilotArduPilotMega, 30.0, 1.0, held(30.0)},                        // above RTL_ALT: no climb
       {kMavAutopilotArduPilotMega, 6.0, 0.04, [](double d) { return 3.0 * d; }},  // the cone: 6 + 2.5 < 3 d < 15
-      {kMavAutopilotArduPilotMega, 6.0, 0.01, held(6.0 + 2.5)},               // 3 d < h + 2.5 m
-      {kMavAutopilotPx4, 6.0, 1.0, held(60.0)},                               // RTL_RETURN_ALT
-      {kMavAutopilotPx4, 6.0, 0.04, [](double d) { return 2.0 * d; }},        // within NAV_ACC_RAD: 2 d
-      {kMavAutopilotPx4, 80.0, 1.0, held(80.0)},                              // above it: no climb
-      {kMavAutopilotGeneric, 6.0, 1.0, held(6.0)},                            // neither: the current height
+      {kMavAutopilotArduPilotMega, 6.0, 0.01, held(6.0 + 2.5)},                   // 3 d < h + 2.5 m
+      {kMavAutopilotPx4, 6.0, 1.0, held(60.0)},                                   // RTL_RETURN_ALT
+      {kMavAutopilotPx4, 6.0, 0.04, [](double d) { return 2.0 * d; }},            // within NAV_ACC_RAD: 2 d
+      {kMavAutopilotPx4, 80.0, 1.0, held(80.0)},                                  // above it: no climb
+      {kMavAutopilotGeneric, 6.0, 1.0, held(6.0)},                                // neither: the current height
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(fmt::format("firmware {}, {} m, {} × 0.001°", c.firmware_type, c.height, c.north_steps));
