@@ -1,6 +1,8 @@
 // Flying a mission's raw items (mission_items.h): the waypoints in the local frame, as a multicopter's mission
 // executor would fly the items in order, item by item.
+#include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
@@ -43,6 +45,17 @@ std::optional<std::string> RefusalReason(int command) {
       return "it jumps to a tag (not modelled)";
     default:
       break;
+  }
+  // The geofence and rally items (MAV_CMD 5000–5004, 5100) belong to the FENCE and RALLY lists, not to the mission:
+  // ArduPilot and PX4 answer them MAV_MISSION_UNSUPPORTED in a mission upload (AP_Mission's conversion from
+  // MAVLink, libraries/AP_Mission/AP_Mission.cpp; MavlinkMissionManager::parse_mavlink_mission_item, PX4).
+  if (command >= 5000 && command <= 5004) {
+    return "it is a geofence item, not a mission item (the file holds a geofence: the autopilot refuses it in a "
+           "mission, MAV_MISSION_UNSUPPORTED)";
+  }
+  if (command == 5100) {
+    return "it is a rally point, not a mission item (the autopilot refuses it in a mission, "
+           "MAV_MISSION_UNSUPPORTED)";
   }
   if ((command >= 16 && command <= 99) || (command >= 31000 && command <= 31004)) {
     return "a navigation command that uascma does not fly";
@@ -126,7 +139,12 @@ class MissionBuilder {
       if (!options_.land_at_end) {
         throw InputError(source_, "mission", "a mission that ends landed (NAV_LAND or NAV_RETURN_TO_LAUNCH)");
       }
-      Warn(fmt::format("the mission ends in the air at {:.1f} m: landing vertically there", -position_.z()));
+      Warn(
+          fmt::format("the mission ends in the air at {:.1f} m, where {} would hold until the operator or a "
+                      "failsafe acts: landing vertically there (mission.land_at_end)",
+                      -position_.z(),
+                      raw_.firmware == MissionFirmware::kUnknown ? std::string_view("the autopilot")
+                                                                 : MissionFirmwareName(raw_.firmware)));
       Push(TouchdownBelow(position_.head<2>()), "land");
     }
     return std::move(mission_);
@@ -138,6 +156,23 @@ class MissionBuilder {
   }
 
   void Warn(const std::string& message) { mission_.warnings.push_back(fmt::format("{}: {}", source_, message)); }
+
+  // What the mission's firmware does with a mission whose first move is not a take-off, started on the ground.
+  // PX4 inserts a vertical take-off to the item's altitude (Mission::do_need_vertical_takeoff, "force takeoff if
+  // landed"; at least MIS_TAKEOFF_ALT). ArduCopter refuses to start AUTO on the ground ("Auto: Missing Takeoff
+  // Cmd", ModeAuto::init): the operator takes off in another mode and starts the mission in the air.
+  std::string_view NoTakeoffMeaning() const {
+    switch (raw_.firmware) {
+      case MissionFirmware::kPx4:
+        return "PX4 takes off vertically to the item's altitude first";
+      case MissionFirmware::kArduPilot:
+        return "ArduCopter does not start AUTO on the ground without a NAV_TAKEOFF: flown as taken off by hand "
+               "and the mission started there";
+      case MissionFirmware::kUnknown:
+        break;
+    }
+    return "as PX4 takes off, and as an ArduCopter taken off by hand";
+  }
 
   Eigen::Vector2d Local(const GeoPoint& point, const std::string& field) const {
     detail::CheckGeoPoint(point, source_, field);
@@ -303,12 +338,14 @@ class MissionBuilder {
       throw InputError(source_, item.name + " altitude", OutsideBoundsMessage(kMissionHeightBounds, -target.z()));
     }
     CheckClear(target, item);
-    if (!Airborne() && target.z() < position_.z() - kSamePlace &&
-        (target.head<2>() - position_.head<2>()).norm() > kSamePlace) {
-      Warn(fmt::format("{}: no NAV_TAKEOFF before it: climbing vertically to {:.1f} m first", item.name, -target.z()));
-      const Eigen::Vector3d climb(position_.x(), position_.y(), target.z());
-      CheckLeg(climb, item);
-      Push(climb, "takeoff");
+    if (!Airborne() && target.z() < position_.z() - kSamePlace && item.command != kMavCmdNavTakeoff) {
+      Warn(fmt::format("{}: no NAV_TAKEOFF before it: climbing vertically to {:.1f} m first ({})", item.name,
+                       -target.z(), NoTakeoffMeaning()));
+      if ((target.head<2>() - position_.head<2>()).norm() > kSamePlace) {
+        const Eigen::Vector3d climb(position_.x(), position_.y(), target.z());
+        CheckLeg(climb, item);
+        Push(climb, "takeoff");
+      }
     }
     CheckLeg(target, item);
     Push(target, label);
@@ -330,6 +367,51 @@ class MissionBuilder {
                       (p_NE - position_.head<2>()).norm() <= kSamePlace;
     const double z = here ? position_.z() : -TargetHeight(item);
     return Eigen::Vector3d(p_NE.x(), p_NE.y(), z);
+  }
+
+  // The height above home (m) at which the firmware flies a NAV_RETURN_TO_LAUNCH home from where the vehicle is,
+  // with its default parameters (docs/maps-and-missions-firmware.md). ArduCopter (ModeRTL's return target,
+  // ArduCopter/mode_rtl.cpp): at least RTL_ALT = 15 m, lowered near home to the cone of slope RTL_CONE_SLOPE = 3
+  // but at least 2.5 m (RTL_ABS_MIN_CLIMB) above the current height, never below it. PX4 (RTL::computeReturnAltitude,
+  // src/modules/navigator/rtl.cpp): RTL_RETURN_ALT = 60 m; within NAV_ACC_RAD = 10 m of home twice the distance;
+  // within RTL_MIN_DIST = 10 m the cone of half-angle RTL_CONE_ANG = 45°, at least 2 × NAV_ACC_RAD; never below the
+  // current height. A file naming neither firmware keeps the current height (the two differ).
+  double ReturnHeight() const {
+    const double current = -position_.z();
+    const double distance = (mission_.home_W.head<2>() - position_.head<2>()).norm();
+    switch (raw_.firmware) {
+      case MissionFirmware::kArduPilot: {
+        constexpr double kRtlAlt = 15.0, kRtlAltMin = 2.0, kConeSlope = 3.0, kAbsMinClimb = 2.5;
+        const double target = std::max({current, kRtlAlt, kRtlAltMin});
+        return std::max(current, std::min(target, std::max(distance * kConeSlope, current + kAbsMinClimb)));
+      }
+      case MissionFirmware::kPx4: {
+        constexpr double kReturnAlt = 60.0, kAcceptanceRadius = 10.0, kMinDist = 10.0, kConeHalfAngleDeg = 45.0;
+        double target = kReturnAlt;
+        if (distance <= kAcceptanceRadius) {
+          target = 2.0 * distance;
+        } else {
+          if (distance <= kMinDist) target = std::min(target, distance / std::tan(kConeHalfAngleDeg * kPi / 180.0));
+          target = std::max(target, 2.0 * kAcceptanceRadius);
+        }
+        return std::max(target, current);
+      }
+      case MissionFirmware::kUnknown:
+        break;
+    }
+    return current;
+  }
+
+  // NAV_RETURN_TO_LAUNCH climbs where the vehicle is to the firmware's return height first (warned).
+  void ClimbToReturnHeight(const RawItem& item) {
+    if (!Airborne()) return;
+    const double height = ReturnHeight();
+    if (height <= -position_.z() + kSamePlace) return;
+    Warn(
+        fmt::format("{}: {} climbs to its return height, {:.1f} m above home, before flying home (its default "
+                    "return parameters)",
+                    item.name, MissionFirmwareName(raw_.firmware), height));
+    MoveTo(Eigen::Vector3d(position_.x(), position_.y(), -height), item, "return climb");
   }
 
   // Move at the current altitude to above `p_NE`, then descend to the touchdown there.
@@ -462,6 +544,7 @@ class MissionBuilder {
         LandAt(Horizontal(item, true), item, "land");
         return;
       case kMavCmdNavReturnToLaunch:
+        ClimbToReturnHeight(item);
         LandAt(mission_.home_W.head<2>(), item, "return");
         return;
       case kMavCmdDoChangeSpeed:

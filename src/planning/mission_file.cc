@@ -95,6 +95,12 @@ std::string MavCommandName(int command) {
       {2001, "IMAGE_STOP_CAPTURE"},
       {2500, "VIDEO_START_CAPTURE"},
       {2501, "VIDEO_STOP_CAPTURE"},
+      {5000, "NAV_FENCE_RETURN_POINT"},
+      {5001, "NAV_FENCE_POLYGON_VERTEX_INCLUSION"},
+      {5002, "NAV_FENCE_POLYGON_VERTEX_EXCLUSION"},
+      {5003, "NAV_FENCE_CIRCLE_INCLUSION"},
+      {5004, "NAV_FENCE_CIRCLE_EXCLUSION"},
+      {5100, "NAV_RALLY_POINT"},
   };
   const auto it = names.find(command);
   return it != names.end() ? fmt::format("{} ({})", it->second, command) : fmt::format("command {}", command);

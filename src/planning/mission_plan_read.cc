@@ -2,6 +2,7 @@
 // (mission_items.h). Every member is read through common/json_reader.h, so a member of the wrong type is an
 // InputError naming its full path ("mission.items[3].params[6]").
 #include <cmath>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
@@ -137,6 +138,44 @@ void ReadRallyPoints(const JsonValue& document, RawMission* raw) {
   }
 }
 
+// MAV_TYPE of the rotorcraft a multicopter's mission is planned for (the MAVLink common message set). A plan for
+// another vehicle (fixed wing, VTOL, rover, boat, submarine, …) is refused: its firmware flies it in ways a
+// multicopter does not (ArduPlane's and PX4's fixed-wing turns and climbs, a rover's or a boat's drive on the
+// surface with the altitudes ignored), so flying it as a multicopter would not be flying it as its firmware would.
+bool IsRotorcraft(int vehicle_type) {
+  switch (vehicle_type) {
+    case 0:   // MAV_TYPE_GENERIC: QGroundControl's plan for no particular vehicle
+    case 2:   // QUADROTOR
+    case 3:   // COAXIAL
+    case 4:   // HELICOPTER
+    case 13:  // HEXAROTOR
+    case 14:  // OCTOROTOR
+    case 15:  // TRICOPTER
+    case 29:  // DODECAROTOR
+    case 35:  // DECAROTOR
+      return true;
+    default:
+      return false;
+  }
+}
+
+std::string_view MavTypeName(int vehicle_type) {
+  switch (vehicle_type) {
+    case 1:
+      return "fixed wing";
+    case 10:
+      return "ground rover";
+    case 11:
+      return "surface boat";
+    case 12:
+      return "submarine";
+    default:
+      break;
+  }
+  if (vehicle_type >= 19 && vehicle_type <= 25) return "VTOL";
+  return "not a rotorcraft";
+}
+
 // mission: the planned home, the hover speed, the firmware and vehicle types.
 void ReadMissionHeader(const JsonValue& mission, RawMission* raw) {
   JsonValue home = mission.Member("plannedHomePosition");
@@ -166,7 +205,17 @@ void ReadMissionHeader(const JsonValue& mission, RawMission* raw) {
   }
   raw->firmware_basis = raw->firmware_type ? fmt::format("mission.firmwareType {}", *raw->firmware_type)
                                            : std::string("no mission.firmwareType");
-  if (mission.Has("vehicleType")) raw->vehicle_type = mission.Member("vehicleType").Integer<int>();
+  if (mission.Has("vehicleType")) {
+    const JsonValue vehicle = mission.Member("vehicleType");
+    raw->vehicle_type = vehicle.Integer<int>();
+    if (!IsRotorcraft(*raw->vehicle_type)) {
+      vehicle.FailExactly(fmt::format(
+          "a rotorcraft's plan (MAV_TYPE 0 generic, 2 quadrotor, 3 coaxial, 4 helicopter, 13 hexarotor, 14 "
+          "octorotor, 15 tricopter, 29 dodecarotor, 35 decarotor), got {} ({}): uascma flies a multicopter, and "
+          "this plan is for a vehicle its firmware flies otherwise",
+          *raw->vehicle_type, MavTypeName(*raw->vehicle_type)));
+    }
+  }
 }
 
 // A ComplexItem: QGroundControl stores the waypoints it generated for a survey or corridor scan in the item
@@ -196,6 +245,12 @@ void ReadComplexItem(const JsonValue& item, int* number, RawMission* raw) {
 }  // namespace
 
 RawMission ReadQgcPlan(std::string_view text, const std::string& source) {
+  // The plain-text format under a .plan name: QGroundControl loads a .plan as JSON and refuses it; say what it is.
+  if (detail::Trim(text).starts_with("QGC")) {
+    throw InputError(source, "line 1",
+                     "a QGroundControl .plan (JSON); the file holds plain text starting \"QGC\" (the QGC WPL format "
+                     "of .waypoints files, which QGroundControl reads only under that extension)");
+  }
   const JsonDocument document = JsonDocument::Parse(text, source);  // syntax, duplicate keys (common/json_io.h)
   const JsonValue root = document.root();
   if (!root.IsObject() || TextOf(root.Member("fileType"), "") != "Plan") {

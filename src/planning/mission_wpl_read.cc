@@ -81,11 +81,15 @@ int ReadItemLine(const std::string& line, const std::string& where, const std::s
 }
 
 // The home line (index 0): Mission Planner and ArduPilot write the home as its item, the altitude above mean sea
-// level.
+// level. Index 0 is the home whatever its command: Mission Planner reads the line's position as the home
+// (WaypointFile.ReadWaypointFile), and ArduPilot answers item 0 with its own home and never flies it
+// (AP_Mission::read_cmd_from_storage, libraries/AP_Mission/AP_Mission.cpp); another command there is reported.
 void ReadHomeLine(const RawItem& item, const std::string& where, const std::string& source, RawMission* raw) {
   if (item.command != kMavCmdNavWaypoint) {
-    throw InputError(source, where,
-                     fmt::format("the home position (index 0, command 16), got command {}", item.command));
+    raw->warnings.push_back(fmt::format(
+        "{}: {} (home): {} in the home slot (index 0) is not flown: ArduPilot keeps item 0 as its home, and Mission "
+        "Planner reads the line's position as the home",
+        source, where, MavCommandName(item.command)));
   }
   raw->home = {item.params[4], item.params[5]};
   detail::CheckGeoPoint(raw->home, source, where + " (home)");

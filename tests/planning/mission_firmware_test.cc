@@ -4,6 +4,7 @@
 // layouts read as the current one.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -231,6 +232,125 @@ TEST(MissionFirmwareTest, QgcEarlierSimpleItemLayoutsReadAsTheCurrentOne) {
   broken.replace(broken.find(", 20]"), 5, "]");
   const std::string error = ErrorOf(plan_with(broken), MissionFormat::kQgcPlan);
   EXPECT_NE(error.find("mission.items[0].coordinate"), std::string::npos) << error;
+}
+
+// Index 0 of a .waypoints file is the home slot whatever its command: Mission Planner reads the line's position as
+// the home and ArduPilot answers item 0 with its own home, so a NAV_TAKEOFF written there is never flown.
+TEST(MissionFirmwareTest, ATakeoffInTheHomeSlotIsTheHomeAndIsNotFlown) {
+  const std::string text =
+      "QGC WPL 110\n"
+      "0\t0\t3\t22\t0\t0\t0\t0\t40.770000\t-73.960000\t10.000000\t1\n"
+      "1\t0\t3\t16\t0\t0\t0\t0\t40.770000\t-73.960000\t20.000000\t1\n"
+      "2\t0\t3\t16\t0\t0\t0\t0\t40.771000\t-73.960000\t20.000000\t1\n"
+      "3\t0\t3\t21\t0\t0\t0\t0\t40.771000\t-73.960000\t0.000000\t1\n";
+  const Mission mission = ParseMission(text, "m.waypoints", MissionFormat::kQgcWpl);
+  EXPECT_EQ(mission.home.lat_deg, 40.77);
+  EXPECT_EQ(mission.home.lon_deg, -73.96);
+  EXPECT_FALSE(mission.home_amsl.has_value());  // frame 3: the home's altitude above sea level is not given
+  EXPECT_TRUE(AnyWarningContains(mission, "line 2 (home): NAV_TAKEOFF (22) in the home slot (index 0) is not flown"));
+  // No take-off is flown to 10 m: the first move is the climb to item 1's 20 m above home, then north, then land.
+  ASSERT_EQ(mission.waypoints.size(), 3u);
+  EXPECT_NEAR(-mission.waypoints[0].p_W.z(), 20.0, kExactHeight);
+  EXPECT_NEAR(mission.waypoints[0].p_W.head<2>().norm(), 0.0, kExactHeight);
+  EXPECT_NEAR(-mission.waypoints[1].p_W.z(), 20.0, kExactHeight);
+  EXPECT_GT(mission.waypoints[1].p_W.x(), 100.0);  // 0.001° of latitude ≈ 111 m north
+  EXPECT_NEAR(mission.waypoints.back().p_W.z(), 0.0, kExactHeight);
+  EXPECT_TRUE(AnyWarningContains(mission, "ArduCopter does not start AUTO on the ground without a NAV_TAKEOFF"));
+}
+
+// A Mission Planner geofence saved as QGC WPL 110 (NAV_FENCE_* items): the autopilots refuse those items in a
+// mission upload; uascma refuses the file naming the first such item, on one line.
+TEST(MissionFirmwareTest, AGeofenceFileIsRefusedNamingItsFirstVertex) {
+  std::string text =
+      fmt::format("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t{}\t{}\t{}\t1\n", kHomeLat, kHomeLon, kHomeAmsl);
+  for (int i = 1; i <= 3; ++i) {
+    text += fmt::format("{}\t0\t3\t5001\t3\t0\t0\t0\t{:.6f}\t{:.6f}\t0\t1\n", i, kHomeLat + 0.001 * (i % 2),
+                        kHomeLon + 0.001 * (i / 2));
+  }
+  const std::string error = ErrorOf(text, MissionFormat::kQgcWpl);
+  EXPECT_NE(error.find("line 3 (item 1)"), std::string::npos) << error;
+  EXPECT_NE(error.find("NAV_FENCE_POLYGON_VERTEX_INCLUSION (5001)"), std::string::npos) << error;
+  EXPECT_NE(error.find("geofence item"), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  // A rally point in a mission likewise.
+  const std::string rally = ErrorOf(
+      PlanText({{kMavCmdNavTakeoff, kMavFrameGlobalRelativeAlt, 20.0}, {5100, kMavFrameGlobalRelativeAlt, 20.0, 1}},
+               "\"firmwareType\": 3, "),
+      MissionFormat::kQgcPlan);
+  EXPECT_NE(rally.find("mission.items[1] (item 2)"), std::string::npos) << rally;
+  EXPECT_NE(rally.find("NAV_RALLY_POINT (5100)"), std::string::npos) << rally;
+}
+
+// A plan for another vehicle than a rotorcraft (QGroundControl's vehicleType: a rover, a boat, a plane) is refused
+// naming mission.vehicleType: its firmware drives or flies it otherwise (a rover ignores the altitudes).
+TEST(MissionFirmwareTest, APlanForAnotherKindOfVehicleIsRefusedNamingItsType) {
+  const auto plan_for = [](int vehicle_type) {
+    return PlanText(kAltitudeZeroMission, fmt::format("\"firmwareType\": 3, \"vehicleType\": {}, ", vehicle_type));
+  };
+  for (const int vehicle_type : {1, 10, 11, 12, 20}) {
+    SCOPED_TRACE(vehicle_type);
+    const std::string error = ErrorOf(plan_for(vehicle_type), MissionFormat::kQgcPlan);
+    EXPECT_NE(error.find("mission.vehicleType"), std::string::npos) << error;
+    EXPECT_NE(error.find(fmt::format("got {} (", vehicle_type)), std::string::npos) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  }
+  EXPECT_NE(ErrorOf(plan_for(10), MissionFormat::kQgcPlan).find("ground rover"), std::string::npos);
+  for (const int vehicle_type : {0, 2, 3, 4, 13, 14, 15, 29, 35}) {
+    SCOPED_TRACE(vehicle_type);
+    EXPECT_EQ(ParseMission(plan_for(vehicle_type), "m.plan", MissionFormat::kQgcPlan).vehicle_type, vehicle_type);
+  }
+}
+
+// A .plan that holds the plain-text format (QGroundControl refuses it: it loads a .plan as JSON) is refused on one
+// line that says what it holds.
+TEST(MissionFirmwareTest, PlainTextUnderAPlanNameIsRefusedSayingWhatItHolds) {
+  const std::string error = ErrorOf(WaypointsText(kAltitudeZeroMission), MissionFormat::kQgcPlan);
+  EXPECT_NE(error.find("m.plan: line 1"), std::string::npos) << error;
+  EXPECT_NE(error.find("QGC WPL"), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+}
+
+// NAV_RETURN_TO_LAUNCH climbs first to the firmware's return height (default parameters), in closed form:
+// ArduCopter max(h, min(max(h, 15 m), max(3 d, h + 2.5 m))), PX4 60 m beyond 10 m of home and 2 d within it, both
+// never below the current height h (d: the horizontal distance to home); a file naming neither keeps h.
+TEST(MissionFirmwareTest, ReturnToLaunchClimbsToTheFirmwaresReturnHeight) {
+  struct Case {
+    int firmware_type;
+    double height;                           // m above home at the last waypoint
+    double north_steps;                      // its distance north of home, in 0.001° of latitude
+    std::function<double(double)> expected;  // the return height (m) from the distance d (m) to home
+  };
+  const auto held = [](double height) { return [height](double) { return height; }; };
+  const std::vector<Case> cases = {
+      {kMavAutopilotArduPilotMega, 6.0, 1.0, held(15.0)},                         // RTL_ALT: 3 d ≫ 15 m
+      {kMavAutopilotArduPilotMega, 30.0, 1.0, held(30.0)},                        // above RTL_ALT: no climb
+      {kMavAutopilotArduPilotMega, 6.0, 0.04, [](double d) { return 3.0 * d; }},  // the cone: 6 + 2.5 < 3 d < 15
+      {kMavAutopilotArduPilotMega, 6.0, 0.01, held(6.0 + 2.5)},                   // 3 d < h + 2.5 m
+      {kMavAutopilotPx4, 6.0, 1.0, held(60.0)},                                   // RTL_RETURN_ALT
+      {kMavAutopilotPx4, 6.0, 0.04, [](double d) { return 2.0 * d; }},            // within NAV_ACC_RAD: 2 d
+      {kMavAutopilotPx4, 80.0, 1.0, held(80.0)},                                  // above it: no climb
+      {kMavAutopilotGeneric, 6.0, 1.0, held(6.0)},                                // neither: the current height
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(fmt::format("firmware {}, {} m, {} × 0.001°", c.firmware_type, c.height, c.north_steps));
+    const std::string items = fmt::format(
+        "{{\"type\": \"SimpleItem\", \"command\": 22, \"frame\": 3, \"params\": [0, 0, 0, null, {0}, {1}, {2}]}}, "
+        "{{\"type\": \"SimpleItem\", \"command\": 16, \"frame\": 3, \"params\": [0, 0, 0, null, {3:.8f}, {1}, {2}]}}, "
+        "{{\"type\": \"SimpleItem\", \"command\": 20, \"frame\": 2, \"params\": [0, 0, 0, 0, 0, 0, 0]}}",
+        kHomeLat, kHomeLon, c.height, kHomeLat + 0.001 * c.north_steps);
+    const Mission mission = ParseMission(
+        fmt::format("{{\"fileType\": \"Plan\", \"mission\": {{\"firmwareType\": {}, \"plannedHomePosition\": "
+                    "[{}, {}, {}], \"items\": [{}]}}}}",
+                    c.firmware_type, kHomeLat, kHomeLon, kHomeAmsl, items),
+        "m.plan", MissionFormat::kQgcPlan);
+    // Take-off, the waypoint, [the climb,] above home, landed: the return flies home at its height.
+    ASSERT_GE(mission.waypoints.size(), 4u);
+    const double d = mission.waypoints[1].p_W.head<2>().norm();
+    const Waypoint& above_home = mission.waypoints[mission.waypoints.size() - 2];
+    EXPECT_NEAR(above_home.p_W.head<2>().norm(), 0.0, kExactHeight);
+    EXPECT_NEAR(-above_home.p_W.z(), c.expected(d), kExactHeight) << "d = " << d << " m";
+    EXPECT_EQ(AnyWarningContains(mission, "climbs to its return height"), c.expected(d) > c.height + 1e-6);
+  }
 }
 
 }  // namespace

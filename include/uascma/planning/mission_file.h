@@ -6,7 +6,9 @@
 //  - the plain-text "QGC WPL 110" format of Mission Planner and ArduPilot (`.waypoints`): a header line
 //    "QGC WPL 110", then one item per line, fields separated by tabs (or spaces):
 //      index  current  frame  command  param1  param2  param3  param4  latitude  longitude  altitude  autocontinue
-//    where the item of index 0 is the home position (absolute altitude, frame 0).
+//    where the item of index 0 is the home position (absolute altitude, frame 0), whatever its command: Mission
+//    Planner reads that line's position as the home and ArduPilot answers item 0 with its own home, so another
+//    command written there (a NAV_TAKEOFF) is not flown (warned).
 // Sources: QGroundControl developer guide "Plan File Format"; mavlink.io "File Formats" (plain-text mission
 // format); the MAVLink common message set (MAV_CMD and MAV_FRAME numbers). Facts only, no code from them.
 //
@@ -39,9 +41,15 @@
 // (MAV_CMD 16–99, 31000–31004) not listed above (NAV_LOITER_UNLIM never ends, local frames, VTOL, follow, payload
 // place, guided), and the commands that move the vehicle outside the mission's items (CONDITION_CHANGE_ALT,
 // DO_SET_MODE, DO_SET_HOME, DO_FLIGHTTERMINATION, DO_CHANGE_ALTITUDE, DO_RALLY_LAND, DO_GO_AROUND, DO_REPOSITION,
-// DO_PAUSE_CONTINUE, DO_SET_MISSION_CURRENT, DO_JUMP_TAG). Items after a LAND or RTL are never flown
-// and are named in a warning. A mission that ends in the air lands vertically where it ends (warned), unless
-// MissionImportOptions::land_at_end is false (then it is an InputError: the simulator's flight must end landed).
+// DO_PAUSE_CONTINUE, DO_SET_MISSION_CURRENT, DO_JUMP_TAG), and the geofence and rally items (MAV_CMD 5000–5004,
+// 5100), which the autopilots refuse in a mission (a geofence saved as a mission file). A .plan whose
+// mission.vehicleType is not a rotorcraft (a plane, a VTOL, a rover, a boat) is refused naming that member: its
+// firmware flies or drives it otherwise. Items after a LAND or RTL are never flown
+// and are named in a warning. A mission that ends in the air lands vertically where it ends (warned: the autopilot
+// would hold there until the operator or a failsafe acts), unless MissionImportOptions::land_at_end is false (then
+// it is an InputError: the simulator's flight must end landed). A vehicle that leaves the ground without a
+// NAV_TAKEOFF climbs vertically to its first item's altitude (warned: PX4 inserts that take-off; ArduCopter refuses
+// AUTO on the ground without one, so the operator takes off by hand and starts the mission in the air).
 //
 // Home. ArduPilot writes a home of (0, 0) when it was not yet known: the home is then the first item with a
 // position (warned), its altitude unknown.
