@@ -61,7 +61,7 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
                                std::optional<std::vector<std::string>> policies, const py::object& seed_arg,
                                const py::object& jobs_arg, bool resume, const py::object& progress,
                                const py::object& runs_in_flight_arg) {
-  const std::optional<std::int64_t> runs = OptionalIntegerArgument(runs_arg, "run_campaign", "runs", kRuns);
+  const std::optional<std::int64_t> runs = OptionalIntegerArgument(runs_arg, "run_campaign", "runs", bounds::kRuns);
   const std::optional<std::uint64_t> seed = OptionalSeedArgument(seed_arg, "run_campaign", "seed");
   const int jobs = static_cast<int>(IntegerArgument(jobs_arg, "run_campaign", "jobs", kJobsBounds));
   const int runs_in_flight =
