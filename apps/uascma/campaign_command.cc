@@ -53,10 +53,7 @@ std::vector<std::string> SplitList(const std::string& text) {
   return items;
 }
 
-// Our bounds: --jobs 0 (all cores) to 1024 threads; --commit-every 10 ms to one hour.
-constexpr Bounds kJobsBounds{0.0, 1024.0, "threads"};
-// Runs a thread keeps in flight: 1 (one at a time) to 64 (ours: far beyond the four lanes).
-constexpr Bounds kRunsInFlightBounds{1.0, campaign::kMaxRunsInFlight, "runs"};
+// Our bound of --commit-every: 10 ms to one hour (--jobs and --runs-in-flight: campaign/runner.h, shared with Python).
 constexpr Bounds kCommitEveryBounds{0.01, 3600.0, "s"};
 
 // Ctrl-C (SIGINT) during a campaign: the first asks the runner to stop (common/progress.h RequestStop: no
@@ -143,7 +140,13 @@ int Run(const CampaignOptions& options, MpiSession& mpi) {
   request.mpi = &mpi;
   ClearStopRequest();
   if (mpi.size() <= 1) CatchInterrupt();
-  const CampaignOutcome outcome = RunCampaign(request);
+  const CampaignOutcome outcome = [&request, &options] {
+    try {
+      return RunCampaign(request);
+    } catch (const InputError& error) {
+      throw NamingCampaignSource(error, options.file);
+    }
+  }();
   if (!outcome.is_root) return 0;
   if (StopRequested()) {
     const std::int64_t stored = outcome.flights_before + outcome.flights_flown + outcome.flights_by_others;

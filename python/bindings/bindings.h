@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <future>
 #include <optional>
 #include <string>
@@ -47,6 +48,20 @@ py::object JsonToPython(const nlohmann::json& json);
 std::string PropertyName(std::string_view key);
 // Its docstring: "key [bound]: expected (citation)".
 std::string FieldDoc(std::string_view key, const Bounds* bounds, std::string_view expected, std::string_view citation);
+
+// Integer arguments (seeds, counts, threads) taken as Python objects and converted here rather than by pybind11,
+// whose failed conversion is a TypeError ("incompatible function arguments") raised before any check of ours: a
+// Python int or anything with __index__ (a NumPy integer), not a bool, float or str. Anything else, or a value
+// outside the range, is InputError(source, field, "an integer from L to H <unit>, got <value>").
+std::int64_t IntegerArgument(const py::handle& value, const std::string& source, const std::string& field,
+                             const Bounds& bounds);
+// A seed: 0 to 2^64-1, as ParseSeed reads one from the command line.
+std::uint64_t SeedArgument(const py::handle& value, const std::string& source, const std::string& field);
+// The same for an optional argument: nothing for None.
+std::optional<std::int64_t> OptionalIntegerArgument(const py::handle& value, const std::string& source,
+                                                    const std::string& field, const Bounds& bounds);
+std::optional<std::uint64_t> OptionalSeedArgument(const py::handle& value, const std::string& source,
+                                                  const std::string& field);
 
 // A new float64 array of the given shape (C order), uninitialised.
 inline py::array_t<double> NewArray(std::vector<py::ssize_t> shape) { return py::array_t<double>(shape); }

@@ -55,24 +55,25 @@ CampaignConfig LoadConfigObject(const py::object& source, std::string* policies_
   return ParseCampaignConfig(text, "<yaml>");
 }
 
-py::dict RunCampaignFromPython(const py::object& config_source, const std::string& db, std::optional<std::int64_t> runs,
-                               std::optional<std::vector<std::string>> policies, std::optional<std::uint64_t> seed,
-                               int jobs, bool resume, const py::object& progress, int runs_in_flight) {
+// The integer arguments are Python objects, converted and bounded here (IntegerArgument, bindings.h): an InputError
+// naming the argument and its range, never pybind11's TypeError.
+py::dict RunCampaignFromPython(const py::object& config_source, const std::string& db, const py::object& runs_arg,
+                               std::optional<std::vector<std::string>> policies, const py::object& seed_arg,
+                               const py::object& jobs_arg, bool resume, const py::object& progress,
+                               const py::object& runs_in_flight_arg) {
+  const std::optional<std::int64_t> runs = OptionalIntegerArgument(runs_arg, "run_campaign", "runs", bounds::kRuns);
+  const std::optional<std::uint64_t> seed = OptionalSeedArgument(seed_arg, "run_campaign", "seed");
+  const int jobs = static_cast<int>(IntegerArgument(jobs_arg, "run_campaign", "jobs", kJobsBounds));
+  const int runs_in_flight =
+      static_cast<int>(IntegerArgument(runs_in_flight_arg, "run_campaign", "runs_in_flight", kRunsInFlightBounds));
   std::string policies_source;
   CampaignConfig config = LoadConfigObject(config_source, &policies_source);
-  if (runs) {
-    if (*runs < 0) throw InputError("run_campaign", "runs", "a non-negative number of runs");
-    config.runs = *runs;
-  }
+  const std::string config_name = policies_source == "policies" ? std::string() : policies_source;  // file, <yaml>
+  if (runs) config.runs = *runs;
   if (seed) config.seed = *seed;
   if (policies) {
     config.policies = *policies;
     policies_source = "policies";
-  }
-  if (jobs < 0) throw InputError("run_campaign", "jobs", "a non-negative number of threads (0: every core)");
-  if (runs_in_flight < 1 || runs_in_flight > kMaxRunsInFlight) {
-    throw InputError("run_campaign", "runs_in_flight",
-                     "a number of runs each thread flies at once, 1 to " + std::to_string(kMaxRunsInFlight));
   }
   std::string error;
   if (!config.IsValid(&error)) throw InputError("campaign: " + error);
@@ -86,7 +87,14 @@ py::dict RunCampaignFromPython(const py::object& config_source, const std::strin
   request.execute.progress = true;  // counted for `progress`; nothing on stderr from Python (BeginLongCall)
   request.execute.progress_label = "campaign " + config.name + ", flights";
   const CampaignOutcome outcome = RunInterruptibly(
-      [request] { return RunCampaign(request); }, progress,
+      [request, config_name] {
+        try {
+          return RunCampaign(request);
+        } catch (const InputError& error) {
+          throw NamingCampaignSource(error, config_name);
+        }
+      },
+      progress,
       [&db](const CampaignOutcome* stopped) -> std::string {
         if (stopped == nullptr) return {};
         const std::int64_t stored = stopped->flights_before + stopped->flights_flown + stopped->flights_by_others;

@@ -1,9 +1,13 @@
 // The compiled part of the Python package: `uascma._uascma` (re-exported by python/uascma/__init__.py).
 #include <pybind11/pybind11.h>
 
+#include <optional>
+#include <string>
+
 #include "bindings.h"
 #include "uascma/common/error.h"
 #include "uascma/common/progress.h"
+#include "uascma/common/text.h"
 #include "uascma/common/version.h"
 
 namespace uascma::python {
@@ -26,6 +30,76 @@ std::string FieldDoc(std::string_view key, const Bounds* bounds, std::string_vie
   if (bounds != nullptr) doc += " [" + bounds->Text() + "]";
   if (!expected.empty()) doc += ": " + std::string(expected);
   return doc + " (" + std::string(citation) + ")";
+}
+
+namespace {
+
+// A Python object quoted in a message: its repr, at most 60 bytes (BriefForMessage), and its type.
+std::string Quoted(const py::handle& value) {
+  std::string text;
+  try {
+    text = py::repr(value).cast<std::string>();
+  } catch (const py::error_already_set&) {
+    text = "?";
+  }
+  return BriefForMessage(text) + " (" + py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>() +
+         ")";
+}
+
+// The int of an integer argument (int or __index__, not bool), or nothing.
+std::optional<py::int_> AsInteger(const py::handle& value) {
+  if (PyBool_Check(value.ptr()) || !PyIndex_Check(value.ptr())) return std::nullopt;
+  PyObject* index = PyNumber_Index(value.ptr());
+  if (index == nullptr) {
+    PyErr_Clear();
+    return std::nullopt;
+  }
+  return py::reinterpret_steal<py::int_>(index);
+}
+
+}  // namespace
+
+std::int64_t IntegerArgument(const py::handle& value, const std::string& source, const std::string& field,
+                             const Bounds& bounds) {
+  const std::string expected = "an integer from " + bounds.Text();
+  const std::optional<py::int_> integer = AsInteger(value);
+  if (!integer) throw InputError(source, field, expected + ", got " + Quoted(value));
+  int overflow = 0;
+  const long long number = PyLong_AsLongLongAndOverflow(integer->ptr(), &overflow);
+  if (number == -1 && PyErr_Occurred()) PyErr_Clear();
+  if (overflow != 0 || !bounds.Contains(static_cast<double>(number))) {
+    throw InputError(source, field, expected + ", got " + Quoted(value));
+  }
+  return number;
+}
+
+std::uint64_t SeedArgument(const py::handle& value, const std::string& source, const std::string& field) {
+  const std::string expected = "an integer seed from 0 to 2^64-1";
+  const std::optional<py::int_> integer = AsInteger(value);
+  if (!integer) throw InputError(source, field, expected + ", got " + Quoted(value));
+  const int sign = PyObject_RichCompareBool(integer->ptr(), py::int_(0).ptr(), Py_LT);
+  if (sign != 0) {
+    if (sign < 0) PyErr_Clear();
+    throw InputError(source, field, expected + ", got " + Quoted(value));
+  }
+  const unsigned long long seed = PyLong_AsUnsignedLongLong(integer->ptr());
+  if (seed == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {
+    PyErr_Clear();  // OverflowError: above 2^64-1
+    throw InputError(source, field, expected + ", got " + Quoted(value));
+  }
+  return seed;
+}
+
+std::optional<std::int64_t> OptionalIntegerArgument(const py::handle& value, const std::string& source,
+                                                    const std::string& field, const Bounds& bounds) {
+  if (value.is_none()) return std::nullopt;
+  return IntegerArgument(value, source, field, bounds);
+}
+
+std::optional<std::uint64_t> OptionalSeedArgument(const py::handle& value, const std::string& source,
+                                                  const std::string& field) {
+  if (value.is_none()) return std::nullopt;
+  return SeedArgument(value, source, field);
 }
 
 namespace {

@@ -68,6 +68,10 @@ ScenarioFile LoadScenarioObject(const py::object& source, const py::object& miss
   ScenarioLoadOptions load;
   if (!mission.is_none()) {
     load.mission_file = py::str(py::module_::import("os").attr("fspath")(mission)).cast<std::string>();
+    // An empty path is a mistake, not "no mission" (that is None), as `--mission ""` is on the command line.
+    if (load.mission_file->empty()) {
+      throw InputError("run", "mission", "a .plan or .waypoints file (None: the scenario's own mission), got ''");
+    }
   }
   ScenarioFile file = ParseScenarioObject(source, load);
   if (file.scenario.route && !py::isinstance<ScenarioFile>(source)) {
@@ -208,8 +212,9 @@ py::dict TelemetryArrays(const SimResult& result) {
   return d;
 }
 
-Flight Run(const py::object& scenario, const py::object& policy, std::optional<std::uint64_t> seed, bool telemetry,
+Flight Run(const py::object& scenario, const py::object& policy, const py::object& seed_arg, bool telemetry,
            const py::object& mission) {
+  const std::optional<std::uint64_t> seed = OptionalSeedArgument(seed_arg, "run", "seed");
   Flight flight;
   flight.file = LoadScenarioObject(scenario, mission);
   if (seed) flight.file.scenario.seed = *seed;
@@ -353,7 +358,7 @@ void InitSim(py::module_& m) {
           [](ScenarioFile& f, const std::string& name) { f.scenario.name = name; })
       .def_property(
           "seed", [](const ScenarioFile& f) { return f.scenario.seed; },
-          [](ScenarioFile& f, std::uint64_t seed) { f.scenario.seed = seed; })
+          [](ScenarioFile& f, const py::object& seed) { f.scenario.seed = SeedArgument(seed, "Scenario", "seed"); })
       .def_readwrite("policy", &ScenarioFile::policy, "noop | cma | a policy file: the scenario's own policy")
       .def_property_readonly("has_map", [](const ScenarioFile& f) { return static_cast<bool>(f.scenario.map); })
       .def_property_readonly("fault_enabled", [](const ScenarioFile& f) { return f.scenario.fault.enabled; })
@@ -560,8 +565,8 @@ void InitSim(py::module_& m) {
            ".waypoints file flown instead of the scenario's mission")
       .def(
           "reset",
-          [](Environment& e, std::optional<std::uint64_t> seed) {
-            return e.env.Reset(seed.value_or(e.file.scenario.seed));
+          [](Environment& e, const py::object& seed) {
+            return e.env.Reset(OptionalSeedArgument(seed, "Environment.reset", "seed").value_or(e.file.scenario.seed));
           },
           py::arg("seed") = py::none(), "A new flight; seed None: the scenario's (the same flight as uascma.run)")
       .def(

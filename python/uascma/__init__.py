@@ -57,6 +57,9 @@ def run_campaign(config, db, runs=None, policies=None, seed=None, jobs=0, resume
     time (s).
 
     config: a campaign YAML path, YAML text, a dict, a CampaignConfig or None (the defaults).
+    runs: 0 to 10^7 (None: the file's); seed: 0 to 2^64-1 (None: the file's); jobs: 0 (every core) to 1024 threads,
+    as the CLI's bounds. Integers only (NumPy integers too): anything else, or a value outside its range, is an
+    InputError naming the argument and the range.
     progress: True (tqdm when installed, else a line on sys.stderr every 10 s or 5 %), False/None (nothing),
     or a callable ``progress(done, total)`` counting flights.
     runs_in_flight: runs each thread flies at once, their flights stepped in lockstep four at a time in SIMD lanes

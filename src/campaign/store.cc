@@ -77,6 +77,20 @@ std::filesystem::path FolderOf(const std::filesystem::path& path) {
   return path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
 }
 
+// A campaign resumed into or joined writes rows into the file and its -wal and -shm beside it: a file or a folder
+// this user cannot write is said to be one here, before SQLite meets it at its first statement with an error that
+// names no permission.
+void RequireWritable(const std::filesystem::path& path) {
+  const std::filesystem::path folder = FolderOf(path);
+  const bool file_writable = ::access(path.c_str(), W_OK) == 0;
+  if (file_writable && ::access(folder.c_str(), W_OK) == 0) return;
+  throw InputError(path.string(), file_writable ? "folder" : "file",
+                   fmt::format("a campaign database this user can write, in a folder where its -wal and -shm can be "
+                               "made (a campaign adds its flights there), but {} cannot be written ('uascma report' "
+                               "and 'uascma store check' read it as it is)",
+                               (file_writable ? folder : path).string()));
+}
+
 // "<file>.creating-<host>-<boot>-": the prefix of this machine's temporary files for `path`; then
 // "<pid>-<n>", n counting the creations of this process. Each creator builds its own, so concurrent
 // creators (processes or threads) never share one.
@@ -297,6 +311,7 @@ ResultsStore ResultsStore::Open(const std::filesystem::path& path, const StoreOp
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path.string(), "file", "an existing campaign database");
   }
+  if (!options.read_only) RequireWritable(path);
   auto connection = std::make_unique<Connection>();
   sqlite::ReadAccess access = sqlite::ReadAccess::kShared;
   connection->db = options.read_only ? sqlite::Database::OpenForReading(path.string(), path.string(), &access)

@@ -1,6 +1,6 @@
 // Unkind input through the CLI: each case exits 2 with one line naming the file (or option) and the key, and
 // writes nothing; none crashes. A JSON document nested 100,000 deep, a second YAML document, a nominal plan
-// through a building at a low cruise altitude, an option given an empty value.
+// through a building at a low cruise altitude, a campaign sampler's error, an option given an empty value.
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -51,6 +51,20 @@ TEST(UnkindInputCliTest, APlanThroughABuildingNamesTheScenarioAndTheCruiseAltitu
                              ": mission.cruise_altitude_m: a nominal plan clear of the buildings, "
                              "but LandPract's checkpoint");
   EXPECT_FALSE(std::filesystem::exists(scratch.path / "out"));
+}
+
+// A campaign's sampler knows no file: its errors named "campaign" (`campaign: mission.wall_clearance_m: …`), not
+// the file that set the key. A campaign's own nominal plans never reach a building (the sampler cruises 10 m above
+// the tallest one under the route, campaign/sampler.cc), so the sampler's error here is a clearance that leaves no
+// open ground for a home.
+TEST(UnkindInputCliTest, ACampaignsSamplerErrorNamesTheCampaignFile) {
+  ScratchDir scratch("unkind_campaign_sampler");
+  const auto campaign = scratch.path / "wide.yaml";
+  Write(campaign, "runs: 2\nmap: {procedural_seed: 3}\nmission: {wall_clearance_m: 100}\n");
+  const auto db = scratch.path / "c.db";
+  ExpectBadInput(RunCli("campaign " + campaign.string() + " --db " + db.string() + " --jobs 1"),
+                 campaign.string() + ": mission.wall_clearance_m: a clearance that leaves open ground in the city");
+  EXPECT_FALSE(std::filesystem::exists(db));
 }
 
 // `--out ""` exited 0 and wrote nothing (an empty path reads as "not given").

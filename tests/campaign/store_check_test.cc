@@ -345,6 +345,29 @@ TEST(StoreCheckTest, ASoundStoreInAFolderThatCannotBeWrittenIsReadNotCalledDamag
   EXPECT_FALSE(result.read_immutable);
 }
 
+// A campaign resumed into a database in a folder this user cannot write stopped at SQLite's first statement with a
+// message whose field was "configure" (the connection's settings) and SQLite's words only. It names the file and
+// what cannot be written; the readers above still read it.
+TEST(StoreCheckTest, AStoreThisUserCannotWriteIsRefusedForWritingNamingWhatCannotBeWritten) {
+  TempDir dir;
+  const auto folder = dir.path / "read-only";
+  std::filesystem::create_directories(folder);
+  const auto path = SoundStore(folder, "c.db");
+  // 0: refused as expected; 1: opened for writing; 2-4: which expectation of the message failed.
+  const int check = InAFolderThatCannotBeWritten(folder, [&] {
+    try {
+      const ResultsStore store = ResultsStore::Open(path);
+      return 1;
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      if (message.find("configure") != std::string::npos) return 2;
+      if (message.rfind(path.string() + ": ", 0) != 0) return 3;
+      return message.find("cannot be written") != std::string::npos ? 0 : 4;
+    }
+  });
+  EXPECT_EQ(check, 0);
+}
+
 // A database renamed during a campaign ended with 0 rows in the renamed file (every flight in the -wal left at the
 // old name) and a message that said only "an existing campaign database". The next batch finds it, stops, and the
 // message says where the flights are; following it recovers every committed flight.

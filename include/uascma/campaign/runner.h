@@ -31,6 +31,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "uascma/campaign/config.h"
@@ -39,6 +40,8 @@
 #include "uascma/campaign/record.h"
 #include "uascma/campaign/store.h"
 #include "uascma/campaign/world.h"
+#include "uascma/common/bounds.h"
+#include "uascma/common/error.h"
 
 namespace uascma::campaign {
 
@@ -49,6 +52,11 @@ std::vector<FlightTask> MissingFlights(std::int64_t runs, const std::vector<Camp
                                        const std::vector<std::pair<std::int64_t, std::string>>& stored);
 
 inline constexpr int kMaxRunsInFlight = 64;  // ExecuteOptions::runs_in_flight's upper bound (CLI and Python)
+// Our bounds of the execution options, one for the CLI (--jobs, --runs-in-flight) and Python (run_campaign): 0 (every
+// core) to 1024 worker threads; 1 (one at a time) to kMaxRunsInFlight runs a thread keeps in flight (far beyond the
+// four lanes).
+inline constexpr Bounds kJobsBounds{0.0, 1024.0, "threads"};
+inline constexpr Bounds kRunsInFlightBounds{1.0, kMaxRunsInFlight, "runs"};
 
 struct ExecuteOptions {
   int jobs = 0;  // worker threads; 0 → every hardware thread
@@ -101,5 +109,15 @@ struct CampaignOutcome {
 // (different campaign hash, named in the message), exists without `resume` while no process runs its
 // campaign, is written by a live process of another machine, or the disk fills up.
 CampaignOutcome RunCampaign(const CampaignRequest& request);
+
+// RunCampaign is given no file, so its errors about the configuration itself (the sampler's: no route fits, a
+// nominal plan through a building) name it "campaign": the same error naming `source` there (the campaign file,
+// or how the configuration was given); any other error, or an empty `source`, as it is.
+inline InputError NamingCampaignSource(const InputError& error, const std::string& source) {
+  constexpr std::string_view kPrefix = "campaign: ";
+  const std::string_view message = error.what();
+  if (source.empty() || !message.starts_with(kPrefix)) return error;
+  return InputError(source + ": " + std::string(message.substr(kPrefix.size())));
+}
 
 }  // namespace uascma::campaign
