@@ -65,7 +65,8 @@ bool OnFinalDescent(const planning::FlightPlan& plan, double t_plan) {
 // s: the EOD of the executing plan as Observe computes it at the next epoch: the pack the CMA reads (the sensed one
 // under noisy sensing), propagated at the plan's expected load (docs/modelling-choices.md#eod-load-forecast: its
 // profile from plan time 0 for the rotors that fly it, the flight's bias ratio), or at the present load
-// (SimOptions::eod_load present). Called once an emergency plan has just started (StartPlan).
+// (SimOptions::eod_load present), with the epoch's cut-off under current peaks (internal::EpochEodOptions). Called
+// once an emergency plan has just started (StartPlan).
 double StartedPlanEodS(const FlightModel& model, const FlightState& state) {
   const bool noisy = model.options().noisy_sensing;
   double current_a = noisy ? state.power.sensing.load_current_a : state.power.load_current_a;
@@ -81,7 +82,9 @@ double StartedPlanEodS(const FlightModel& model, const FlightState& state) {
     if (forecast_a > 0.0) current_a = forecast_a;  // under a second of plan: the present load, as Observe
   }
   const models::PackState pack = noisy ? internal::SensedPack(model, state) : state.power.pack;
-  return prognostics::CalcPackEod(model.pack(), pack, current_a).eod_s;
+  return prognostics::CalcPackEod(model.pack(), pack, current_a,
+                                  internal::EpochEodOptions(model, state, pack, current_a))
+      .eod_s;
 }
 
 // Asks the planner for an emergency plan for `action` and switches to it when there is one whose reach margin with

@@ -15,6 +15,7 @@
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/prognostics/eod_distribution.h"
+#include "uascma/prognostics/eod_peak.h"
 #include "uascma/prognostics/reach_margin.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/speed_cap.h"
@@ -68,6 +69,12 @@ models::PackState SensedPack(const FlightModel& model, const FlightState& state)
   return pack;
 }
 
+prognostics::EodOptions EpochEodOptions(const FlightModel& model, const FlightState& state,
+                                        const models::PackState& pack, double current_a) {
+  if (model.options().eod_load != EodLoad::kForecast) return {};
+  return prognostics::PeakSagEodOptions(model.pack(), pack, current_a, state.decision.load_forecast.peak_excursion_a);
+}
+
 }  // namespace internal
 
 namespace {
@@ -75,6 +82,7 @@ namespace {
 using decision::CmaAction;
 using internal::ActiveRotors;
 using internal::AddEvent;
+using internal::EpochEodOptions;
 using internal::ReplanCapped;
 using internal::SensedPack;
 using internal::StartPlan;
@@ -238,7 +246,8 @@ void ObserveEodDistribution(const FlightModel& model, FlightState& state, Decisi
     return;
   }
   const prognostics::EodDistribution& distribution = state.decision.eod_distribution =
-      prognostics::CalcPackEodDistribution(model.pack(), pack, state.decision.eod_current_a, uncertainty);
+      prognostics::CalcPackEodDistribution(model.pack(), pack, state.decision.eod_current_a, uncertainty,
+                                           EpochEodOptions(model, state, pack, state.decision.eod_current_a));
   inputs.eod_p05_s = distribution.Quantile(0.05);
   inputs.eod_p50_s = distribution.Quantile(0.50);
   inputs.eod_p95_s = distribution.Quantile(0.95);
@@ -266,9 +275,11 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
       noisy ? std::optional<models::PackState>(SensedPack(model, state)) : std::nullopt;
   const models::PackState& observed = sensed ? *sensed : state.power.pack;
   const double current_a = state.decision.eod_current_a;
+  const prognostics::EodOptions eod_options = EpochEodOptions(model, state, observed, current_a);
   StoreEod(model, state,
-           class_only ? prognostics::CalcPackEodBefore(model.pack(), observed, current_a, NeededS(model, inputs))
-                      : prognostics::CalcPackEod(model.pack(), observed, current_a));
+           class_only
+               ? prognostics::CalcPackEodBefore(model.pack(), observed, current_a, NeededS(model, inputs), eod_options)
+               : prognostics::CalcPackEod(model.pack(), observed, current_a, eod_options));
   const decision::MotorHealth motor_health = ObserveMotorHealth(model, state, inputs, log);
   if (!noisy) {  // the beliefs of exact sensing: the point MH
     inputs.motor_health_belief = {0.0, 0.0, 0.0};
@@ -322,7 +333,10 @@ void CompleteEod(const FlightModel& model, FlightState& state) {
   const decision::ReachMargin bound_class = inputs.state.rm;
   // Observe's pack and current: exact sensing, and no battery executor has switched the packs since
   // (EpochEodPrecision).
-  StoreEod(model, state, prognostics::CalcPackEod(model.pack(), state.power.pack, state.decision.eod_current_a));
+  const double current_a = state.decision.eod_current_a;
+  StoreEod(model, state,
+           prognostics::CalcPackEod(model.pack(), state.power.pack, current_a,
+                                    EpochEodOptions(model, state, state.power.pack, current_a)));
   UASCMA_CHECK(decision::ClassifyReachMargin(inputs.reach_margin) == bound_class,
                "the EOD's value in the class its bound settled");
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "uascma/prognostics/eod.h"
 #include "uascma/sim/flight.h"
 
 namespace uascma::sim::internal {
@@ -73,5 +74,12 @@ bool ReplanCapped(const FlightModel& model, FlightState& state, planning::Flight
 // The pack state the CMA's EOD starts from: the truth, or under noisy sensing the truth with every cell's SOC moved by
 // the estimate's error (sim/sensing.h).
 models::PackState SensedPack(const FlightModel& model, const FlightState& state);
+
+// The options of every EOD the CMA reads at this epoch (the state's, an emergency plan's, the quadcopter's): the
+// cut-off raised by the sag of the flight's current peaks, ΔI_peak of the load forecast
+// (prognostics/eod_peak.h, docs/modelling-choices.md#eod-peak-sag), at the EOD's constant current `current_a` from
+// `pack`. Under SimOptions::eod_load present (the dissertation's constant-current EOD), the plain cut-off.
+prognostics::EodOptions EpochEodOptions(const FlightModel& model, const FlightState& state,
+                                        const models::PackState& pack, double current_a);
 
 }  // namespace uascma::sim::internal

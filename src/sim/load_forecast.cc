@@ -97,8 +97,10 @@ double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy
     const double predicted_j = forecast.last_remaining_j - remaining_j;
     const double measured_j = (energy_wh - forecast.last_energy_wh) * 3600.0 - hotel_current_a * voltage * epoch_s;
     if (predicted_j > 0.0 && measured_j > 0.0) {
-      const double gain = 1.0 - std::exp(-epoch_s / kLoadBiasTimeConstantS);
-      forecast.bias_ratio += gain * (measured_j / predicted_j - forecast.bias_ratio);
+      const double decay = std::exp(-epoch_s / kLoadBiasTimeConstantS);
+      const double excursion_a = (measured_j - forecast.bias_ratio * predicted_j) / (voltage * epoch_s);
+      forecast.peak_excursion_a = std::max(excursion_a, forecast.peak_excursion_a * decay);
+      forecast.bias_ratio += (1.0 - decay) * (measured_j / predicted_j - forecast.bias_ratio);
     }
   }
   forecast.have_last = true;

@@ -78,8 +78,8 @@ QuadcopterReach CalcQuadcopterReach(const FlightModel& model, const FlightState&
   reach.current_a = state.decision.load_forecast.bias_ratio * energy_j / (reach.time_remaining_s * voltage) +
                     model.options().hotel_current_a;
   const double needed_s = reach.time_remaining_s + model.options().safety_margin_s;
-  const std::optional<prognostics::EodResult> eod =
-      prognostics::CalcPackEodBefore(model.pack(), pack, reach.current_a, needed_s);
+  const std::optional<prognostics::EodResult> eod = prognostics::CalcPackEodBefore(
+      model.pack(), pack, reach.current_a, needed_s, internal::EpochEodOptions(model, state, pack, reach.current_a));
   reach.eod_is_lower_bound = !eod;
   reach.eod_s = eod ? eod->eod_s : needed_s;
   return reach;

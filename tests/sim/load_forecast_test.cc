@@ -114,6 +114,37 @@ TEST(LoadForecastTest, TheForecastCurrentIsTheRemainingEnergyOverTimeAndTheBiasR
   EXPECT_LT(ForecastCurrent(forecast, plan.duration() - 0.5, energy_wh, 1.0, voltage, hotel), 0.0);
 }
 
+// The peak excursion (docs/modelling-choices.md#eod-peak-sag): an epoch that draws ΔI more than the bias-corrected
+// profile predicts is an excursion of exactly ΔI; epochs that draw what it predicts let it fade with the bias ratio's
+// 60 s time constant.
+TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheForecastsOwnAndFadesOver60s) {
+  const Vehicle v;
+  const planning::FlightPlan plan = HoverAndCruise();
+  LoadForecastState forecast;
+  forecast.profile = std::make_shared<const LoadProfile>(plan, v.Model(), 6);
+  const double voltage = 11.4, hotel = 0.5, peak_a = 5.0;
+  double energy_wh = 1.0;
+  const double t0 = 10.0;
+  ForecastCurrent(forecast, t0, energy_wh, 1.0, voltage, hotel);
+  EXPECT_EQ(forecast.peak_excursion_a, 0.0);  // no epoch flown yet
+  auto fly_epoch = [&](double t, double extra_a) {
+    const double predicted_j = forecast.profile->RemainingEnergyJ(t - 1.0) - forecast.profile->RemainingEnergyJ(t);
+    energy_wh += (forecast.bias_ratio * predicted_j + (hotel + extra_a) * voltage * 1.0) / 3600.0;
+    ForecastCurrent(forecast, t, energy_wh, 1.0, voltage, hotel);
+  };
+  fly_epoch(t0 + 1.0, peak_a);
+  // A: the energy's round trip through watt-hours.
+  constexpr double kExcursionToleranceA = 1e-9;
+  EXPECT_NEAR(forecast.peak_excursion_a, peak_a, kExcursionToleranceA);
+  for (int k = 1; k <= 30; ++k) fly_epoch(t0 + 1.0 + k, 0.0);
+  EXPECT_NEAR(forecast.peak_excursion_a, peak_a * std::exp(-30.0 / kLoadBiasTimeConstantS), kExcursionToleranceA);
+  // A smaller excursion does not replace a larger remembered one; a larger one does.
+  fly_epoch(t0 + 32.0, 1.0);
+  EXPECT_NEAR(forecast.peak_excursion_a, peak_a * std::exp(-31.0 / kLoadBiasTimeConstantS), kExcursionToleranceA);
+  fly_epoch(t0 + 33.0, 2.0 * peak_a);
+  EXPECT_NEAR(forecast.peak_excursion_a, 2.0 * peak_a, kExcursionToleranceA);
+}
+
 TEST(SpeedCapTest, TheCapIsTheAirspeedAtTheAuthoritysTilt) {
   const Vehicle v;
   const models::Mixer mixer(models::MixerParams::ForPropulsion(v.propulsion));

@@ -20,6 +20,19 @@
 // (docs/modelling-choices.md#eod-load-forecast: "≥ 60 s"). The ratio absorbs what the steady model leaves out on
 // average (the turbulence's extra power, the controller's corrections); 60 s averages dozens of gust periods (Dryden
 // length scales of 200-500 m at 3-9 m/s, models/wind.h) so one gust cannot move it far.
+//
+// The same epoch measures how far the current rose above the forecast's own expectation for it (the peaks that cut a
+// cold, power-faded pack off before its energy is spent, prognostics/eod_peak.h,
+// docs/modelling-choices.md#eod-peak-sag):
+//   ΔI_epoch = (E_measured − r · E_profile) / (V_bus · Δt)   over the epoch just flown (r before this epoch's update),
+// the epoch's mean current above the bias-corrected plan: the gusts' and the controller's share, not the plan's own
+// legs, climbs and hovers, which the profile has. The peak the EOD allows for is the largest such excursion lately,
+//   ΔI_peak ← max(ΔI_epoch, ΔI_peak · e^{−Δt/60 s}),
+// forgotten with the bias ratio's 60 s time constant (dozens of gust periods: the gusts of the flight's present
+// turbulence and leg, not a spike a minute gone). One-second means keep the gusts' peaks: the vertical gusts' time
+// scale at the cruise altitude is L_w / V ≈ 30 m / 9 m/s ≈ 3 s (models/wind.h); measured on the replayed flight of
+// docs/modelling-choices.md#eod-peak-sag, the largest one-second mean of each 10 s was within 0.6-1.7 A of the
+// largest 10 ms current.
 #include <array>
 #include <concepts>
 #include <memory>
@@ -111,6 +124,7 @@ struct LoadForecastState {
   bool have_last = false;
   double last_remaining_j = 0.0;
   double last_energy_wh = 0.0;
+  double peak_excursion_a = 0.0;  // ΔI_peak above (A, ≥ 0): of the flight, kept across plans
   bool operator==(const LoadForecastState&) const = default;
 };
 
@@ -118,9 +132,10 @@ struct LoadForecastState {
 // 60 s).
 inline constexpr double kLoadBiasTimeConstantS = 60.0;
 
-// One epoch of the forecast: updates the bias ratio from the epoch just flown (plan time `t_plan`, measured energy
-// `energy_wh` since take-off, `epoch_s` long) and returns the forecast current (A) for the rest of the plan, or a
-// negative value when less than `min_remaining_s` of the plan is left (the caller then uses the present current).
+// One epoch of the forecast: updates the bias ratio and the peak excursion from the epoch just flown (plan time
+// `t_plan`, measured energy `energy_wh` since take-off, `epoch_s` long) and returns the forecast current (A) for the
+// rest of the plan, or a negative value when less than `min_remaining_s` of the plan is left (the caller then uses the
+// present current).
 double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy_wh, double epoch_s,
                        double bus_voltage_v, double hotel_current_a, double min_remaining_s = 1.0);
 
