@@ -337,7 +337,7 @@ TEST(PackEodTest, TheEodBeforeABoundIsTheEodOrSaysItIsAtLeastTheBound) {
   EXPECT_THROW(CalcPackEodBefore(pack, state, -1.0, 10.0), InputError);
 }
 
-TEST(ReachMarginTest, Decision7) {
+TEST(ReachMarginTest, FollowsTheStatedMarginDefinition) {
   EodResult eod;
   eod.status = EodStatus::kReached;
   eod.eod_s = 600.0;

@@ -343,7 +343,7 @@ TEST(SpallJamEventTest, RejectsNegativeOrNonFiniteSteps) {
 
 // ---- Motor margin and validation ----------------------------------------------------------------
 
-TEST(MotorMarginTest, FollowsEq514AndDecision7) {
+TEST(MotorMarginTest, FollowsEq514AndTheStatedMarginDefinition) {
   EXPECT_NEAR(CalcMotorMargin(100.0, 400.0), 0.75, 1e-15);
   EXPECT_LT(CalcMotorMargin(500.0, 400.0), 0.0);  // RUL shorter than the flight: MM0
   EXPECT_NEAR(CalcMotorMargin(100.0, std::numeric_limits<double>::infinity()), 1.0, 1e-15);
