@@ -206,7 +206,7 @@ TEST(CellConditionsTest, Table32FactorsAndTheirCombination) {
   EXPECT_DOUBLE_EQ(both.hysteresis_gamma, nominal.hysteresis_gamma);
 }
 
-TEST(HealthClassTest, Decision8Classes) {
+TEST(HealthClassTest, StatedHealthLabelClasses) {
   std::array<CellHealth, 3> pack{};
   EXPECT_EQ(ClassifyHealth(pack), HealthClass::kG);
   pack[1].power_fade = true;
