@@ -86,10 +86,10 @@ QuadcopterReach CalcQuadcopterReach(const FlightModel& model, const FlightState&
 }
 
 double ObserveVehicleMotorMargin(const FlightModel& model, const FlightState& state, const DecisionInputs& inputs,
-                                 bool isolated, const models::PackState& pack) {
-  const bool jams = MotorJamsWithinPlan(inputs.flight_time_remaining_s, inputs.rul_s, isolated);
+                                 double rul_s, bool isolated, const models::PackState& pack) {
+  const bool jams = MotorJamsWithinPlan(inputs.flight_time_remaining_s, rul_s, isolated);
   const QuadcopterReach quad = jams ? CalcQuadcopterReach(model, state, pack) : QuadcopterReach{};
-  return CalcVehicleMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s, isolated, inputs.reach_margin, quad,
+  return CalcVehicleMotorMargin(inputs.flight_time_remaining_s, rul_s, isolated, inputs.reach_margin, quad,
                                 model.options().safety_margin_s);
 }
 

@@ -47,8 +47,9 @@ double CalcAuthorityAirspeed(const FlightModel& model, const FlightState& state,
 // as t_quad + t_sf (prognostics::CalcPackEodBefore): the margin's class is exact, its value a lower bound above 0.
 QuadcopterReach CalcQuadcopterReach(const FlightModel& model, const FlightState& state, const models::PackState& pack);
 
-// The epoch's vehicle-level margin from what Observe computed (`inputs`: t_remaining, t_RUL, RM; `isolated`: MH = JF).
+// The epoch's vehicle-level margin from what Observe computed (`inputs`: t_remaining, RM), the vehicle-level RUL
+// `rul_s` (prognostics/rul_calibration.h) and `isolated` (MH = JF).
 double ObserveVehicleMotorMargin(const FlightModel& model, const FlightState& state, const DecisionInputs& inputs,
-                                 bool isolated, const models::PackState& pack);
+                                 double rul_s, bool isolated, const models::PackState& pack);
 
 }  // namespace uascma::sim
