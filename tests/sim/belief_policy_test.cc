@@ -290,10 +290,11 @@ TEST(BeliefPolicyTest, VehicleLevelOneHotBeliefsChooseAsCmaVehicleWithItsRanking
 TEST(BeliefPolicyTest, VehicleLevelBeliefStatesReadTheVehicleMargins) {
   DecisionInputs inputs = OneHotInputs(CmaState{});
   inputs.motor_health_belief = {0.7, 0.2, 0.1};
+  inputs.eod_short_probability = 0.0;
   inputs.rul_if_spall_s = 50.0;                 // eq. 5.14 would read MM0 in SF
   inputs.vehicle_motor_margin_if_spall = 0.3;   // the quadcopter can finish
   const std::vector<StateBelief> belief = CmaStateBelief(inputs, BeliefAbstraction::kVehicle);
-  ASSERT_EQ(belief.size(), 4u);  // b(RM0) = 0: RM1 only
+  ASSERT_EQ(belief.size(), 3u);  // b(RM0) = 0: RM1 only, NF, SF, JF
   EXPECT_EQ(belief[0].state.mm, decision::MotorMargin::kMM1);  // NF
   EXPECT_EQ(belief[1].state.mh, MotorHealth::kSF);
   EXPECT_EQ(belief[1].state.mm, decision::MotorMargin::kMM1);
