@@ -169,24 +169,34 @@ ActionRanking RiskCmaPolicy::Ranking(const DecisionInputs& inputs) const {
   return RankingOf(BeliefModelOf(abstraction_), ChosenState(inputs));
 }
 
-// The vehicle-level policies record the state `cma-vehicle` reads (the point MH, the vehicle-level MM), so that a
-// landing's cause is classified on the same reading (campaign/landing_causes.h); the others the point state.
+// The vehicle-level policies record the state they decided in (campaign/landing_causes.h classifies a landing's cause
+// on it): cma-vehicle-risk the state whose action it takes; cma-vehicle-qmdp the belief's most probable state (the
+// first of equal probabilities). "cma-risk" and "cma-qmdp" keep the point state they always recorded.
 CmaState RiskCmaPolicy::StateRead(const DecisionInputs& inputs) const {
-  return abstraction_ == BeliefAbstraction::kVehicle ? VehicleCmaState(inputs) : inputs.state;
+  return abstraction_ == BeliefAbstraction::kVehicle ? ChosenState(inputs) : inputs.state;
 }
 
+namespace {
+
+const StateBelief& MostProbable(const std::vector<StateBelief>& belief) {
+  UASCMA_CHECK(!belief.empty(), "a belief with some state of positive probability");
+  return *std::max_element(belief.begin(), belief.end(), [](const StateBelief& x, const StateBelief& y) {
+    return x.probability < y.probability;
+  });
+}
+
+}  // namespace
+
 CmaState QmdpCmaPolicy::StateRead(const DecisionInputs& inputs) const {
-  return abstraction_ == BeliefAbstraction::kVehicle ? VehicleCmaState(inputs) : inputs.state;
+  if (abstraction_ != BeliefAbstraction::kVehicle) return inputs.state;
+  return MostProbable(CmaStateBelief(inputs, abstraction_)).state;
 }
 
 void QmdpCmaPolicy::Rank(const DecisionInputs& inputs) const {
   const BeliefModel& model = BeliefModelOf(abstraction_);
   const std::vector<StateBelief> belief = CmaStateBelief(inputs, abstraction_);
   // Ties keep the order of the most probable state's ranking (the first of equal probabilities).
-  const auto map = std::max_element(belief.begin(), belief.end(), [](const StateBelief& x, const StateBelief& y) {
-    return x.probability < y.probability;
-  });
-  ranking_ = QmdpRanking(*model.q, belief, RankingOf(model, map->state));
+  ranking_ = QmdpRanking(*model.q, belief, RankingOf(model, MostProbable(belief).state));
   ranked_for_ = inputs;
 }
 

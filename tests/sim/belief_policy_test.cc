@@ -273,6 +273,7 @@ TEST(BeliefPolicyTest, VehicleLevelOneHotBeliefsChooseAsCmaVehicleWithItsRanking
             EXPECT_EQ(risk->Decide(inputs), expected) << decision::CmaStateLabel(state);
             EXPECT_EQ(qmdp->Decide(inputs), expected) << decision::CmaStateLabel(state);
             EXPECT_EQ(risk->StateRead(inputs), state);
+            EXPECT_EQ(qmdp->StateRead(inputs), state);
             const ActionRanking r = qmdp->Ranking(inputs);
             EXPECT_EQ(std::vector<ActionIndex>(r.begin(), r.end()), vehicle.ranking[index])
                 << decision::CmaStateLabel(state);
