@@ -121,8 +121,9 @@ void RunRulCalibration(const RulCommandOptions& options) {
     PrintJson(document);
     return;
   }
-  std::printf("Motor RUL calibration, the prognoser at --time-per-step (default Table 5.4's scale: `cma`, `reproduce`)\n%s",
-              CalibrationText(options, given).c_str());
+  std::printf(
+      "Motor RUL calibration, the prognoser at --time-per-step (default Table 5.4's scale: `cma`, `reproduce`)\n%s",
+      CalibrationText(options, given).c_str());
   std::printf(
       "\nThe distribution `cma-vehicle` and the vehicle-level belief policies read "
       "(docs/modelling-choices.md#vehicle-rul):\n"

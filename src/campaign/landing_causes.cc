@@ -92,8 +92,8 @@ std::string LandingCausesTable(const std::vector<LandingCauseCounts>& counts) {
   out += fmt::format("  {:<{}} {:<4} {:>6} {:>9} {:>9} {:>12} {:>7} {:>6}\n", "policy", w, "BH", "total", "after_jam",
                      "battery", "false_fault", "motor", "other");
   for (const LandingCauseCounts& c : counts) {
-    out += fmt::format("  {:<{}} {:<4} {:>6} {:>9} {:>9} {:>12} {:>7} {:>6}\n", c.policy, w, c.battery_health, c.total(),
-                       c.count[0], c.count[1], c.count[2], c.count[3], c.count[4]);
+    out += fmt::format("  {:<{}} {:<4} {:>6} {:>9} {:>9} {:>12} {:>7} {:>6}\n", c.policy, w, c.battery_health,
+                       c.total(), c.count[0], c.count[1], c.count[2], c.count[3], c.count[4]);
   }
   return out;
 }

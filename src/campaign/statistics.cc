@@ -505,8 +505,8 @@ std::string OutcomeRatesTable(const std::vector<GroupStatistics>& groups) {
   for (const GroupStatistics& g : groups) {
     if (!previous.empty() && g.policy != previous) out += "\n";
     previous = g.policy;
-    out += fmt::format("{:<{}} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy,
-                       w, g.battery_health, g.runs, Percent(g.failure_rate), Percent(g.completion_rate),
+    out += fmt::format("{:<{}} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy, w,
+                       g.battery_health, g.runs, Percent(g.failure_rate), Percent(g.completion_rate),
                        Percent(g.emergency_landing_rate), Percent(g.termination_rate), Percent(g.grounded_rate),
                        PlainEstimateText(g.average_reward), PlainEstimateText(g.min_reward));
   }
@@ -555,17 +555,17 @@ std::string FailureRatesTable(const std::vector<GroupStatistics>& groups) {
   const std::size_t w = PolicyColumn(groups);
   std::string out = fmt::format("\nFailure rate with {:.0f} % intervals, and failures by cause (flights)\n",
                                 100.0 * kConfidenceLevel);
-  out += fmt::format("{:<{}} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", "policy", w, "BH",
-                     "runs", "failures", "failure %", "Wilson", "Clopper-Pearson", "battery", "control", "collision",
-                     "timeout", "other");
+  out += fmt::format("{:<{}} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", "policy", w,
+                     "BH", "runs", "failures", "failure %", "Wilson", "Clopper-Pearson", "battery", "control",
+                     "collision", "timeout", "other");
   out += std::string(118 + w - kMinPolicyColumn, '-') + "\n";
   std::string previous;
   for (const GroupStatistics& g : groups) {
     if (!previous.empty() && g.policy != previous) out += "\n";
     previous = g.policy;
     const auto& c = g.failures_by_cause;
-    out += fmt::format("{:<{}} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", g.policy,
-                       w, g.battery_health, g.runs, g.failures,
+    out += fmt::format("{:<{}} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", g.policy, w,
+                       g.battery_health, g.runs, g.failures,
                        std::isfinite(g.failure_rate.value) ? fmt::format("{:.1f}", 100.0 * g.failure_rate.value) : "-",
                        PercentInterval(g.failure_wilson), PercentInterval(g.failure_clopper_pearson), c[0], c[1], c[2],
                        c[3], c[4]);
@@ -586,9 +586,8 @@ std::string PairedTable(const std::vector<PairedComparison>& comparisons) {
     out += std::string(86 + w - kMinPairColumn, '-') + "\n";
     for (const PairedComparison& c : comparisons) {
       out += fmt::format("{:<{}} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8.3f} {:>10}\n", PairName(c), w,
-                         c.battery_health, c.pairs, c.test.only_first_failed,
-                         c.test.only_second_failed, c.both_failed, PValue(c.test.exact_p), c.test.chi_squared,
-                         PValue(c.test.chi_squared_p));
+                         c.battery_health, c.pairs, c.test.only_first_failed, c.test.only_second_failed, c.both_failed,
+                         PValue(c.test.exact_p), c.test.chi_squared, PValue(c.test.chi_squared_p));
     }
   }
   return out;
@@ -617,7 +616,8 @@ std::string UnnecessaryLandingsTable(const std::vector<GroupStatistics>& groups,
   out += "Paired (McNemar): b = only the first landed unnecessarily, c = only the second\n";
   for (const PairedComparison& c : comparisons) {
     if (!c.unnecessary_test) continue;
-    out += fmt::format("  {:<{}} {:<3} b {:>5}  c {:>5}  exact p {}\n", PairName(c), pair_w, c.battery_health, c.unnecessary_test->only_first_failed, c.unnecessary_test->only_second_failed,
+    out += fmt::format("  {:<{}} {:<3} b {:>5}  c {:>5}  exact p {}\n", PairName(c), pair_w, c.battery_health,
+                       c.unnecessary_test->only_first_failed, c.unnecessary_test->only_second_failed,
                        PValue(c.unnecessary_test->exact_p));
   }
   return out;

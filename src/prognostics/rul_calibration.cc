@@ -91,9 +91,12 @@ std::vector<double> SortedQuantiles(const std::vector<double>& sorted, const std
 
 const char* RulPredictionModeName(RulPredictionMode mode) {
   switch (mode) {
-    case RulPredictionMode::kOnsetCountdown: return "onset_countdown";
-    case RulPredictionMode::kObservedArea: return "observed_area";
-    case RulPredictionMode::kSurvivalConditioned: return "survival_conditioned";
+    case RulPredictionMode::kOnsetCountdown:
+      return "onset_countdown";
+    case RulPredictionMode::kObservedArea:
+      return "observed_area";
+    case RulPredictionMode::kSurvivalConditioned:
+      return "survival_conditioned";
   }
   return "unknown";
 }
@@ -157,8 +160,8 @@ RulTimeScaleFit FitRulTimeScale(double truth_time_per_growth_step_s, int histori
     }
     // One history of the prognoser's growth from D₀ (growth steps: τ-free).
     RandomStream random(DeriveSeed(history_seed, kPrognosisSpallStream));
-    particle_steps += prognosis.PropagateToFailure(prognosis.MakeParticle(prognosis.params().initial_area_mm2), random)
-                          .growth_steps;
+    particle_steps +=
+        prognosis.PropagateToFailure(prognosis.MakeParticle(prognosis.params().initial_area_mm2), random).growth_steps;
   }
   if (jammed == 0) throw InputError(kRulCalibrationSource, "histories", "at least one training history that jams");
   fit.mean_jam_time_s /= jammed;
@@ -172,7 +175,8 @@ const RulTimeScaleFit& VehicleRulTimeScale(double truth_time_per_growth_step_s) 
   static std::map<double, RulTimeScaleFit> fits;
   const std::lock_guard<std::mutex> lock(mutex);
   auto it = fits.find(truth_time_per_growth_step_s);
-  if (it == fits.end()) it = fits.emplace(truth_time_per_growth_step_s, FitRulTimeScale(truth_time_per_growth_step_s)).first;
+  if (it == fits.end())
+    it = fits.emplace(truth_time_per_growth_step_s, FitRulTimeScale(truth_time_per_growth_step_s)).first;
   return it->second;
 }
 

@@ -6,9 +6,9 @@
 
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/decision/cma_vehicle_mdp.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/decision/solvers.h"
-#include "uascma/decision/cma_vehicle_mdp.h"
 #include "uascma/prognostics/motor_rul.h"
 #include "uascma/sim/vehicle_policy.h"
 
@@ -80,9 +80,10 @@ const BeliefModel& BeliefModelOf(BeliefAbstraction abstraction) {
 // The vehicle-level margin of a belief state at motor health `mh` (belief_policy.h).
 double VehicleMarginWith(const DecisionInputs& inputs, MotorHealth mh) {
   switch (mh) {
-    case MotorHealth::kNF: return prognostics::CalcMotorMargin(inputs.flight_time_remaining_s,
-                                                               std::numeric_limits<double>::infinity());
-    case MotorHealth::kSF: return inputs.vehicle_motor_margin_if_spall;
+    case MotorHealth::kNF:
+      return prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, std::numeric_limits<double>::infinity());
+    case MotorHealth::kSF:
+      return inputs.vehicle_motor_margin_if_spall;
     case MotorHealth::kJF:
       return inputs.state.mh == MotorHealth::kJF ? inputs.vehicle_motor_margin
                                                  : -std::numeric_limits<double>::infinity();
@@ -162,7 +163,8 @@ CmaState RiskCmaPolicy::ChosenState(const DecisionInputs& inputs) const {
 
 decision::CmaAction RiskCmaPolicy::Decide(const DecisionInputs& inputs) {
   const BeliefModel& model = BeliefModelOf(abstraction_);
-  return static_cast<CmaAction>((*model.actions)[static_cast<std::size_t>(decision::CmaStateIndex(ChosenState(inputs)))]);
+  return static_cast<CmaAction>(
+      (*model.actions)[static_cast<std::size_t>(decision::CmaStateIndex(ChosenState(inputs)))]);
 }
 
 ActionRanking RiskCmaPolicy::Ranking(const DecisionInputs& inputs) const {
@@ -170,8 +172,10 @@ ActionRanking RiskCmaPolicy::Ranking(const DecisionInputs& inputs) const {
 }
 
 // The vehicle-level policies record the state they decided in (campaign/landing_causes.h classifies a landing's cause
-// on it): cma-vehicle-risk the state whose action it takes; cma-vehicle-qmdp the belief's most probable state (the
-// first of equal probabilities). "cma-risk" and "cma-qmdp" keep the point state they always recorded.
+// on it): cma-vehicle-risk the state whose action it takes; cma-vehicle-qmdp the most probable state of its belief
+// whose own table action is the action QMDP chose (the state that explains the choice), else the belief's most
+// probable state (the first of equal probabilities). "cma-risk" and "cma-qmdp" keep the point state they always
+// recorded.
 CmaState RiskCmaPolicy::StateRead(const DecisionInputs& inputs) const {
   return abstraction_ == BeliefAbstraction::kVehicle ? ChosenState(inputs) : inputs.state;
 }
@@ -180,16 +184,24 @@ namespace {
 
 const StateBelief& MostProbable(const std::vector<StateBelief>& belief) {
   UASCMA_CHECK(!belief.empty(), "a belief with some state of positive probability");
-  return *std::max_element(belief.begin(), belief.end(), [](const StateBelief& x, const StateBelief& y) {
-    return x.probability < y.probability;
-  });
+  return *std::max_element(belief.begin(), belief.end(),
+                           [](const StateBelief& x, const StateBelief& y) { return x.probability < y.probability; });
 }
 
 }  // namespace
 
 CmaState QmdpCmaPolicy::StateRead(const DecisionInputs& inputs) const {
   if (abstraction_ != BeliefAbstraction::kVehicle) return inputs.state;
-  return MostProbable(CmaStateBelief(inputs, abstraction_)).state;
+  const BeliefModel& model = BeliefModelOf(abstraction_);
+  const std::vector<StateBelief> belief = CmaStateBelief(inputs, abstraction_);
+  if (ranking_.empty() || !(inputs == ranked_for_)) Rank(inputs);
+  const ActionIndex chosen = ranking_.front();
+  const StateBelief* explaining = nullptr;
+  for (const StateBelief& b : belief) {
+    const ActionIndex own = (*model.actions)[static_cast<std::size_t>(decision::CmaStateIndex(b.state))];
+    if (own == chosen && (explaining == nullptr || b.probability > explaining->probability)) explaining = &b;
+  }
+  return explaining != nullptr ? explaining->state : MostProbable(belief).state;
 }
 
 void QmdpCmaPolicy::Rank(const DecisionInputs& inputs) const {

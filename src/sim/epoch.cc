@@ -164,8 +164,7 @@ const std::vector<double>& VehiclePrognosis(const FlightModel& model, FlightStat
 // The vehicle-level RUL `since_s` after the detection: the mean of the particles that have not jammed by then
 // (prognostics::SurvivingRulMean; one epoch when none is left, docs/modelling-choices.md#vehicle-rul).
 double VehicleRul(const FlightModel& model, FlightState& state, double since_s) {
-  return prognostics::SurvivingRulMean(VehiclePrognosis(model, state), since_s,
-                                       1.0 / model.options().decision_rate_hz);
+  return prognostics::SurvivingRulMean(VehiclePrognosis(model, state), since_s, 1.0 / model.options().decision_rate_hz);
 }
 
 // §5.4's fault model: a spall in a flight with probability 0.5 (P(SF|NF) per simulated flight), its onset uniform over

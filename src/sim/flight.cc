@@ -20,6 +20,7 @@
 #include "uascma/prognostics/rul_calibration.h"
 #include "uascma/sim/controller_lanes.h"
 #include "uascma/sim/rotor_lanes.h"
+#include "uascma/sim/vehicle_margin.h"
 
 namespace uascma::sim {
 namespace {
@@ -401,7 +402,9 @@ FlightModel::FlightModel(const Scenario& scenario)
       vibration_noise_(CalcVibrationNoise(
           scenario.options.sensing,
           models::CalcRotorSpeedForThrust(propulsion_, scenario.body.mass * kGravity / models::kRotorCount),
-          scenario.body.mass, scenario.body.inertia_diagonal.x(), mixer_.params().arm_length)) {}
+          scenario.body.mass, scenario.body.inertia_diagonal.x(), mixer_.params().arm_length)) {
+  quadcopter_max_level_airspeed_ = CalcMaxLevelAirspeedOnRotors(*this, models::kRotorCount - 2);
+}
 
 // ---- the steps ----------------------------------------------------------------------------------------------------
 namespace {

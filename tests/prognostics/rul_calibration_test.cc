@@ -123,7 +123,8 @@ TEST(RulCalibrationTest, TheFittedSurvivalConditionedRulCoversFreshJams) {
   for (const std::uint64_t seed : {101u, 202u}) {
     RulCalibrationOptions options;
     options.seed = seed;
-    options.prognosis_time_per_growth_step_s = VehicleRulTimeScale(options.truth_time_per_growth_step_s).time_per_growth_step_s;
+    options.prognosis_time_per_growth_step_s =
+        VehicleRulTimeScale(options.truth_time_per_growth_step_s).time_per_growth_step_s;
     options.mode = RulPredictionMode::kSurvivalConditioned;
     const RulCalibration calibration = CalibrateRul(options);
     const double coverage = CalcIntervalCoverage(calibration.predictions, 0.9).fraction;

@@ -96,35 +96,47 @@ bool Reachable(const CmaState& s) {
   return true;
 }
 
-TEST(BeliefPolicyTest, OneHotBeliefsChooseAsTheCmaTableWithItsRanking) {
-  const PolicyDefinition cma = SolvedCmaPolicyDefinition();
-  RiskCmaPolicy risk;
-  QmdpCmaPolicy qmdp;
-  int checked = 0;
+// Every CMA state (FS, MH, MM, BH, RM), in index order.
+std::vector<CmaState> AllCmaStates() {
+  std::vector<CmaState> states;
   for (int fs = 0; fs < 3; ++fs) {
     for (int mh = 0; mh < 3; ++mh) {
       for (int mm = 0; mm < 2; ++mm) {
         for (int bh = 0; bh < 3; ++bh) {
           for (int rm = 0; rm < 2; ++rm) {
-            const CmaState state{static_cast<decision::FlightStatus>(fs), static_cast<MotorHealth>(mh),
-                                 static_cast<decision::MotorMargin>(mm), static_cast<decision::BatteryHealth>(bh),
-                                 static_cast<ReachMargin>(rm)};
-            if (!Reachable(state)) continue;
-            const DecisionInputs inputs = OneHotInputs(state);
-            const auto index = static_cast<std::size_t>(decision::CmaStateIndex(state));
-            const auto expected = static_cast<CmaAction>(cma.actions[index]);
-            EXPECT_EQ(risk.Decide(inputs), expected) << decision::CmaStateLabel(state);
-            EXPECT_EQ(qmdp.Decide(inputs), expected) << decision::CmaStateLabel(state);
-            const ActionRanking r = qmdp.Ranking(inputs);
-            EXPECT_EQ(std::vector<ActionIndex>(r.begin(), r.end()), cma.ranking[index])
-                << decision::CmaStateLabel(state);
-            const ActionRanking rr = risk.Ranking(inputs);
-            EXPECT_EQ(std::vector<ActionIndex>(rr.begin(), rr.end()), cma.ranking[index]);
-            ++checked;
+            states.push_back({static_cast<decision::FlightStatus>(fs), static_cast<MotorHealth>(mh),
+                              static_cast<decision::MotorMargin>(mm), static_cast<decision::BatteryHealth>(bh),
+                              static_cast<ReachMargin>(rm)});
           }
         }
       }
     }
+  }
+  return states;
+}
+
+// The risk and QMDP policies on `inputs` choose `table`'s action in `state`, with its ranking.
+void ExpectTheTableChoice(DecisionPolicy& risk, DecisionPolicy& qmdp, const PolicyDefinition& table,
+                          const CmaState& state, const DecisionInputs& inputs) {
+  const auto index = static_cast<std::size_t>(decision::CmaStateIndex(state));
+  const auto expected = static_cast<CmaAction>(table.actions[index]);
+  EXPECT_EQ(risk.Decide(inputs), expected) << decision::CmaStateLabel(state);
+  EXPECT_EQ(qmdp.Decide(inputs), expected) << decision::CmaStateLabel(state);
+  const ActionRanking r = qmdp.Ranking(inputs);
+  EXPECT_EQ(std::vector<ActionIndex>(r.begin(), r.end()), table.ranking[index]) << decision::CmaStateLabel(state);
+  const ActionRanking rr = risk.Ranking(inputs);
+  EXPECT_EQ(std::vector<ActionIndex>(rr.begin(), rr.end()), table.ranking[index]);
+}
+
+TEST(BeliefPolicyTest, OneHotBeliefsChooseAsTheCmaTableWithItsRanking) {
+  const PolicyDefinition cma = SolvedCmaPolicyDefinition();
+  RiskCmaPolicy risk;
+  QmdpCmaPolicy qmdp;
+  int checked = 0;
+  for (const CmaState& state : AllCmaStates()) {
+    if (!Reachable(state)) continue;
+    ExpectTheTableChoice(risk, qmdp, cma, state, OneHotInputs(state));
+    ++checked;
   }
   EXPECT_EQ(checked, 3 * 3 * 2 * 4);  // (NF: 1 MM, SF: 2, JF: 1) × 3 FS × 3 BH × 2 RM
 }
@@ -256,32 +268,15 @@ TEST(BeliefPolicyTest, VehicleLevelOneHotBeliefsChooseAsCmaVehicleWithItsRanking
   const std::unique_ptr<DecisionPolicy> qmdp = MakePolicy("cma-vehicle-qmdp", "test");
   const std::unique_ptr<DecisionPolicy> point = MakePolicy("cma-vehicle", "test");
   int checked = 0;
-  for (int fs = 0; fs < 3; ++fs) {
-    for (int mh = 0; mh < 3; ++mh) {
-      for (int mm = 0; mm < 2; ++mm) {
-        for (int bh = 0; bh < 3; ++bh) {
-          for (int rm = 0; rm < 2; ++rm) {
-            const CmaState state{static_cast<decision::FlightStatus>(fs), static_cast<MotorHealth>(mh),
-                                 static_cast<decision::MotorMargin>(mm), static_cast<decision::BatteryHealth>(bh),
-                                 static_cast<ReachMargin>(rm)};
-            // The vehicle-level reading: NF with MM1; SF and JF (isolated) with either.
-            if (state.mh == MotorHealth::kNF && state.mm == decision::MotorMargin::kMM0) continue;
-            const DecisionInputs inputs = OneHotVehicleInputs(state);
-            const auto index = static_cast<std::size_t>(decision::CmaStateIndex(state));
-            const auto expected = static_cast<CmaAction>(vehicle.actions[index]);
-            ASSERT_EQ(point->StateRead(inputs), state);
-            EXPECT_EQ(risk->Decide(inputs), expected) << decision::CmaStateLabel(state);
-            EXPECT_EQ(qmdp->Decide(inputs), expected) << decision::CmaStateLabel(state);
-            EXPECT_EQ(risk->StateRead(inputs), state);
-            EXPECT_EQ(qmdp->StateRead(inputs), state);
-            const ActionRanking r = qmdp->Ranking(inputs);
-            EXPECT_EQ(std::vector<ActionIndex>(r.begin(), r.end()), vehicle.ranking[index])
-                << decision::CmaStateLabel(state);
-            ++checked;
-          }
-        }
-      }
-    }
+  for (const CmaState& state : AllCmaStates()) {
+    // The vehicle-level reading: NF with MM1; SF and JF (isolated) with either.
+    if (state.mh == MotorHealth::kNF && state.mm == decision::MotorMargin::kMM0) continue;
+    const DecisionInputs inputs = OneHotVehicleInputs(state);
+    ASSERT_EQ(point->StateRead(inputs), state);
+    ExpectTheTableChoice(*risk, *qmdp, vehicle, state, inputs);
+    EXPECT_EQ(risk->StateRead(inputs), state);
+    EXPECT_EQ(qmdp->StateRead(inputs), state);
+    ++checked;
   }
   EXPECT_EQ(checked, 3 * 3 * 2 * 5);  // (NF: 1 MM, SF: 2, JF: 2) × 3 FS × 3 BH × 2 RM
 }
@@ -292,16 +287,16 @@ TEST(BeliefPolicyTest, VehicleLevelBeliefStatesReadTheVehicleMargins) {
   DecisionInputs inputs = OneHotInputs(CmaState{});
   inputs.motor_health_belief = {0.7, 0.2, 0.1};
   inputs.eod_short_probability = 0.0;
-  inputs.rul_if_spall_s = 50.0;                 // eq. 5.14 would read MM0 in SF
-  inputs.vehicle_motor_margin_if_spall = 0.3;   // the quadcopter can finish
+  inputs.rul_if_spall_s = 50.0;                // eq. 5.14 would read MM0 in SF
+  inputs.vehicle_motor_margin_if_spall = 0.3;  // the quadcopter can finish
   const std::vector<StateBelief> belief = CmaStateBelief(inputs, BeliefAbstraction::kVehicle);
-  ASSERT_EQ(belief.size(), 3u);  // b(RM0) = 0: RM1 only, NF, SF, JF
+  ASSERT_EQ(belief.size(), 3u);                                // b(RM0) = 0: RM1 only, NF, SF, JF
   EXPECT_EQ(belief[0].state.mm, decision::MotorMargin::kMM1);  // NF
   EXPECT_EQ(belief[1].state.mh, MotorHealth::kSF);
   EXPECT_EQ(belief[1].state.mm, decision::MotorMargin::kMM1);
   EXPECT_EQ(belief[2].state.mh, MotorHealth::kJF);
   EXPECT_EQ(belief[2].state.mm, decision::MotorMargin::kMM0);  // not isolated: seized
-  inputs.vehicle_motor_margin_if_spall = -0.1;                  // it cannot
+  inputs.vehicle_motor_margin_if_spall = -0.1;                 // it cannot
   EXPECT_EQ(CmaStateBelief(inputs, BeliefAbstraction::kVehicle)[1].state.mm, decision::MotorMargin::kMM0);
   inputs.state.mh = MotorHealth::kJF;  // a rotor isolated: the quadcopter's reach margin
   inputs.vehicle_motor_margin = 0.2;

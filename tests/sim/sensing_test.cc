@@ -149,9 +149,9 @@ TEST(BeliefTest, OnsetHazardsGiveTheFaultProbabilityOverThePlan) {
 
 // The recursive filter the CMA runs (PredictSpallProbability with §5.4's onset hazard, then UpdateSpallProbability with
 // the indicator's false-alarm and miss rates) against Bayes' rule computed directly over the onset epoch: for every
-// hypothesis "the onset came at epoch k" (or not yet), its prior (§5.4: P = 0.5 per flight, uniform over the plan) times
-// the likelihood of the whole reading sequence under the sensor model (SensingParams's defaults: a false alarm per hour,
-// a present spall read at one epoch in two), normalised. Two independent computations of P(spall | readings).
+// hypothesis "the onset came at epoch k" (or not yet), its prior (§5.4: P = 0.5 per flight, uniform over the plan)
+// times the likelihood of the whole reading sequence under the sensor model (SensingParams's defaults: a false alarm
+// per hour, a present spall read at one epoch in two), normalised. Two independent computations of P(spall | readings).
 TEST(BeliefTest, TheSpallFilterIsBayesRuleOverTheOnsetEpochOnTheSensorModel) {
   const SensingParams sensor;
   const double fp = sensor.spall_false_positive;
@@ -166,7 +166,8 @@ TEST(BeliefTest, TheSpallFilterIsBayesRuleOverTheOnsetEpochOnTheSensorModel) {
   };
   double filtered = 0.0;
   for (std::size_t t = 0; t < readings.size(); ++t) {
-    filtered = PredictSpallProbability(filtered, SpallOnsetHazard(fault_probability, plan_s, static_cast<double>(t), 1.0));
+    filtered =
+        PredictSpallProbability(filtered, SpallOnsetHazard(fault_probability, plan_s, static_cast<double>(t), 1.0));
     filtered = UpdateSpallProbability(filtered, readings[t], fp, miss);
     // Bayes' rule over the onset epoch k <= t (the spall is then present from epoch k on) or no onset yet.
     double with_spall = 0.0;

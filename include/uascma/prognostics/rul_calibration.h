@@ -45,7 +45,8 @@ inline constexpr double kCampaignTruthTimePerGrowthStep_s = 0.7128;
 std::vector<double> CalcRulQuantiles(const RulDistribution& rul, const std::vector<double>& levels);
 
 enum class RulPredictionMode { kOnsetCountdown = 0, kObservedArea = 1, kSurvivalConditioned = 2 };
-const char* RulPredictionModeName(RulPredictionMode mode);  // "onset_countdown", "observed_area", "survival_conditioned"
+const char* RulPredictionModeName(
+    RulPredictionMode mode);  // "onset_countdown", "observed_area", "survival_conditioned"
 // InputError naming `source` and the valid names otherwise.
 RulPredictionMode ParseRulPredictionMode(const std::string& name, const std::string& source);
 
@@ -92,7 +93,7 @@ std::vector<double> SortedQuantiles(const std::vector<double>& sorted, const std
 // Our choice: as many training histories as the dissertation's campaign has flights (§5.5), drawn from a seed of
 // their own stream (kRulTrainingStream below) so that no --seed of `uascma rul --calibrate` scores them.
 inline constexpr int kRulTrainingHistories = 930;
-inline constexpr std::uint64_t kRulTrainingSeed = 7919;  // arbitrary
+inline constexpr std::uint64_t kRulTrainingSeed = 7919;             // arbitrary
 inline constexpr std::uint64_t kRulTrainingStream = 0x7261696EULL;  // "rain": a sub-stream no scoring seed draws
 
 struct RulTimeScaleFit {

@@ -19,9 +19,9 @@
 //
 // The vehicle-level belief policies "cma-vehicle-risk", "cma-vehicle-risk@P" and "cma-vehicle-qmdp" are the same two
 // rules over the solved vehicle-level policy (decision/cma_vehicle_mdp.h, `cma-vehicle`'s table, its Q-values), each
-// belief state's MM the vehicle-level margin at its MH (BeliefAbstraction::kVehicle, sim/vehicle_margin.h): NF the motor
-// outlives any plan (MM1); SF DecisionInputs::vehicle_motor_margin_if_spall (the quadcopter's reach after a jam at the
-// vehicle-level RUL of a spall detected at the indicator's first reading, prognostics/rul_calibration.h); JF the
+// belief state's MM the vehicle-level margin at its MH (BeliefAbstraction::kVehicle, sim/vehicle_margin.h): NF the
+// motor outlives any plan (MM1); SF DecisionInputs::vehicle_motor_margin_if_spall (the quadcopter's reach after a jam
+// at the vehicle-level RUL of a spall detected at the indicator's first reading, prognostics/rul_calibration.h); JF the
 // quadcopter's reach margin once a rotor is isolated, else a seized motor not isolated (MM0). The belief b(NF, SF, JF)
 // is the spall indicator's Bayes filter (sim/sensing.h: its false-alarm and detection rates) and the IMM's mode
 // probability; what they are and where they come from: docs/cma-vehicle.md#beliefs-that-follow-the-sensor.
@@ -60,7 +60,7 @@ struct StateBelief {
 };
 // The states with b(s) > 0 (file comment), MH-major, RM0 before RM1.
 std::vector<StateBelief> CmaStateBelief(const DecisionInputs& inputs,
-                                       BeliefAbstraction abstraction = BeliefAbstraction::kEq514);
+                                        BeliefAbstraction abstraction = BeliefAbstraction::kEq514);
 
 // The actions available in `flight_status` by decreasing Σ_s b(s) Q(s, a); ties keep the order of `tie_order` (the
 // MAP state's ranking: with a one-hot belief this is that state's ranking). Every state of `belief` shares the

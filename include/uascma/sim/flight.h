@@ -135,6 +135,9 @@ class FlightModel {
   // The prognosis the vehicle-level policies read: the time scale fitted to the simulated spall's jams
   // (prognostics/rul_calibration.h VehicleRulTimeScale at the scenario's growth speed).
   const prognostics::MotorRulModel& vehicle_rul_model() const { return vehicle_rul_model_; }
+  // m/s: the level airspeed the quadcopter left after an isolation can hold at its tilt limit, before the gust
+  // allowance (sim/vehicle_margin.h CalcMaxLevelAirspeedOnRotors, computed once).
+  double quadcopter_max_level_airspeed() const { return quadcopter_max_level_airspeed_; }
   const planning::CityMap& map() const { return *map_; }
   const gnc::LqrController& controller() const { return controller_; }
   double load_filter_gain() const { return load_filter_gain_; }
@@ -160,7 +163,7 @@ class FlightModel {
   models::BatteryPack pack_;
   // the prognosis (calibrated to Table 5.4, docs/modelling-choices.md#spall-growth-time-scale)
   prognostics::MotorRulModel rul_model_;
-  prognostics::MotorRulModel spall_truth_;  // the simulated spall (the scenario's growth speed)
+  prognostics::MotorRulModel spall_truth_;        // the simulated spall (the scenario's growth speed)
   prognostics::MotorRulModel vehicle_rul_model_;  // vehicle_rul_model()
   std::shared_ptr<const planning::CityMap> map_;
   gnc::LqrController controller_;
@@ -178,6 +181,7 @@ class FlightModel {
   SteadyLoadModel steady_load_;
   std::shared_ptr<const LoadProfile> nominal_load_profile_;
   VibrationNoise vibration_noise_;
+  double quadcopter_max_level_airspeed_ = 0.0;  // quadcopter_max_level_airspeed()
 };
 
 // ---- the state ------------------------------------------------------------------------------------------------

@@ -41,6 +41,9 @@ bool MotorJamsWithinPlan(double flight_time_remaining_s, double rul_s, bool isol
 // m/s: the airspeed `active_rotors` rotors can hold less the gust allowance, with the thrust they give at the cut-off
 // bus voltage (sim/speed_cap.h): the cap §4.4.2 puts on the vehicle after an isolation.
 double CalcAuthorityAirspeed(const FlightModel& model, const FlightState& state, int active_rotors);
+// m/s: that airspeed before the gust allowance (0 when the rotors cannot hold the weight at the cut-off voltage); the
+// model keeps it for four rotors (FlightModel::quadcopter_max_level_airspeed).
+double CalcMaxLevelAirspeedOnRotors(const FlightModel& model, int active_rotors);
 
 // The quadcopter's reach of the rest of the executing plan from the vehicle's present position and pack state
 // `pack` (the CMA's view of it: the truth, or the sensed pack under noisy sensing). Its EOD is propagated only as far
