@@ -188,8 +188,8 @@ void AddCampaignCommand(CLI::App& app) {
       "--policies", options->policies,
       "Comma-separated: cma (solved at start, default weights), noop, cma-vehicle (the vehicle-level motor\n"
       "margin: lands for a jam only when the quadcopter could not finish), cma-risk, cma-risk@P (RM0 when P(EOD short)\n"
-      "> P, a level you state), cma-qmdp (on beliefs), or policy JSON files (default: the file's policies, else "
-      "cma,noop)");
+      "> P, a level you state), cma-qmdp (on beliefs), cma-vehicle-risk[@P], cma-vehicle-qmdp (the same over\n"
+      "cma-vehicle's model), or policy JSON files (default: the file's policies, else cma,noop)");
   AddSeedOption(command, "--seed", options->seed, "Campaign seed (default: the file's seed, else 1)");
   command
       ->add_option("--db", options->db,

@@ -53,41 +53,84 @@ struct RulCommandOptions {
   std::string mode = RulPredictionModeName(RulPredictionMode::kOnsetCountdown);
 };
 
-// --calibrate: the prognoser (--time-per-step, --particles) against --histories spalls growing at
-// --truth-time-per-step.
-void RunRulCalibration(const RulCommandOptions& options) {
+// --calibrate: the prognoser (--time-per-step, --particles, --mode) against --histories spalls growing at
+// --truth-time-per-step; then the distribution `cma-vehicle` and the vehicle-level belief policies read (its τ fitted
+// on training histories, survival-conditioned) against the same histories.
+struct CalibrationRun {
+  RulCalibration calibration;
+  std::string mode;
+};
+
+CalibrationRun CalibrateWith(const RulCommandOptions& options, double prognosis_time_per_step_s,
+                             RulPredictionMode mode) {
   RulCalibrationOptions calibration_options;
   calibration_options.histories = options.histories;
   calibration_options.seed = options.seed;
   calibration_options.truth_time_per_growth_step_s = options.truth_time_per_step_s;
-  calibration_options.prognosis_time_per_growth_step_s = options.time_per_step_s;
+  calibration_options.prognosis_time_per_growth_step_s = prognosis_time_per_step_s;
   calibration_options.particles = options.particles;
-  calibration_options.mode = ParseRulPredictionMode(options.mode, "--mode");
-  const RulCalibration calibration = CalibrateRul(calibration_options);
-  const double ratio = options.time_per_step_s / options.truth_time_per_step_s;
+  calibration_options.mode = mode;
+  return {CalibrateRul(calibration_options), RulPredictionModeName(mode)};
+}
+
+nlohmann::json CalibrationJson(const RulCommandOptions& options, const CalibrationRun& run) {
+  const RulCalibrationOptions& used = run.calibration.options;
+  nlohmann::json document = CalibrationReportJson(run.calibration.report);
+  document["histories"] = options.histories;
+  document["seed"] = options.seed;
+  document["mode"] = run.mode;
+  document["truth_time_per_growth_step_s"] = used.truth_time_per_growth_step_s;
+  document["prognosis_time_per_growth_step_s"] = used.prognosis_time_per_growth_step_s;
+  document["time_scale_ratio"] = used.prognosis_time_per_growth_step_s / used.truth_time_per_growth_step_s;
+  document["predictions"] = run.calibration.predictions.predictions.size();
+  document["censored_histories"] = run.calibration.censored_histories;
+  document["mean_jam_time_s"] = run.calibration.mean_jam_time_s;
+  document["mean_predicted_rul_at_onset_s"] = run.calibration.mean_predicted_rul_at_onset_s;
+  return document;
+}
+
+std::string CalibrationText(const RulCommandOptions& options, const CalibrationRun& run) {
+  const RulCalibrationOptions& used = run.calibration.options;
+  return fmt::format(
+      "  {} spall histories (seed {}) growing at {:g} s per step, the prognoser at {:g} s per step (x{:.2f}), {}, a "
+      "prediction every 1 s epoch before the jam ({})\n"
+      "  mean jam time {:.2f} s after the onset; mean predicted RUL at the onset {:.2f} s; {} censored\n{}",
+      options.histories, options.seed, used.truth_time_per_growth_step_s, used.prognosis_time_per_growth_step_s,
+      used.prognosis_time_per_growth_step_s / used.truth_time_per_growth_step_s, run.mode,
+      run.calibration.predictions.predictions.size(), run.calibration.mean_jam_time_s,
+      run.calibration.mean_predicted_rul_at_onset_s, run.calibration.censored_histories,
+      CalibrationReportText(run.calibration.report));
+}
+
+void RunRulCalibration(const RulCommandOptions& options) {
+  const CalibrationRun given =
+      CalibrateWith(options, options.time_per_step_s, ParseRulPredictionMode(options.mode, "--mode"));
+  const RulTimeScaleFit fit = FitRulTimeScale(options.truth_time_per_step_s);
+  const CalibrationRun vehicle =
+      CalibrateWith(options, fit.time_per_growth_step_s, RulPredictionMode::kSurvivalConditioned);
   if (options.json) {
-    nlohmann::json document = CalibrationReportJson(calibration.report);
-    document["histories"] = options.histories;
-    document["seed"] = options.seed;
-    document["mode"] = options.mode;
-    document["truth_time_per_growth_step_s"] = options.truth_time_per_step_s;
-    document["prognosis_time_per_growth_step_s"] = options.time_per_step_s;
-    document["time_scale_ratio"] = ratio;
-    document["predictions"] = calibration.predictions.predictions.size();
-    document["censored_histories"] = calibration.censored_histories;
-    document["mean_jam_time_s"] = calibration.mean_jam_time_s;
-    document["mean_predicted_rul_at_onset_s"] = calibration.mean_predicted_rul_at_onset_s;
+    nlohmann::json document = CalibrationJson(options, given);
+    nlohmann::json fitted = CalibrationJson(options, vehicle);
+    fitted["training"] = {{"histories", fit.histories},
+                          {"seed", fit.seed},
+                          {"mean_jam_time_s", fit.mean_jam_time_s},
+                          {"censored_histories", fit.censored_histories},
+                          {"mean_particle_growth_steps", fit.mean_particle_growth_steps},
+                          {"time_per_growth_step_s", fit.time_per_growth_step_s}};
+    document["vehicle_level"] = std::move(fitted);
     PrintJson(document);
     return;
   }
   std::printf(
-      "Motor RUL calibration: %d spall histories (seed %llu) growing at %g s per step, the prognoser at %g s per "
-      "step (x%.2f), %s, a prediction every 1 s epoch before the jam (%zu)\n"
-      "  mean jam time %.2f s after the onset; mean predicted RUL at the onset %.2f s; %d censored\n%s",
-      options.histories, static_cast<unsigned long long>(options.seed), options.truth_time_per_step_s,
-      options.time_per_step_s, ratio, options.mode.c_str(), calibration.predictions.predictions.size(),
-      calibration.mean_jam_time_s, calibration.mean_predicted_rul_at_onset_s, calibration.censored_histories,
-      CalibrationReportText(calibration.report).c_str());
+      "Motor RUL calibration, the prognoser at --time-per-step (default Table 5.4's scale: `cma`, `reproduce`)\n%s",
+      CalibrationText(options, given).c_str());
+  std::printf(
+      "\nThe distribution `cma-vehicle` and the vehicle-level belief policies read "
+      "(docs/modelling-choices.md#vehicle-rul):\n"
+      "  its time scale fitted on %d training histories of the simulated spall (their own seed stream): mean jam time "
+      "%.2f s / mean %.2f growth steps = %.4f s per step; %d censored\n%s",
+      fit.histories, fit.mean_jam_time_s, fit.mean_particle_growth_steps, fit.time_per_growth_step_s,
+      fit.censored_histories, CalibrationText(options, vehicle).c_str());
 }
 
 }  // namespace
@@ -116,7 +159,8 @@ void AddRulCommand(CLI::App& app) {
   command->add_flag("--calibrate", options->calibrate,
                     "Instead: score the RUL distribution (prognoser at --time-per-step) against the jam times of\n"
                     "--histories simulated spalls growing at --truth-time-per-step: interval coverage, reliability,\n"
-                    "PIT, Saxena et al. PH / alpha-lambda / RA");
+                    "PIT, Saxena et al. PH / alpha-lambda / RA; then the same for the distribution cma-vehicle reads\n"
+                    "(its time scale fitted on training histories, survival-conditioned)");
   AddBoundedOption(command, "--histories", options->histories, "With --calibrate: spall histories (default 930)",
                    RulCalibrationOptions::kHistoryBounds);
   AddBoundedOption(command, "--truth-time-per-step", options->truth_time_per_step_s,
@@ -124,8 +168,9 @@ void AddRulCommand(CLI::App& app) {
                    "campaigns' fault.time_per_growth_step_s)",
                    SpallGrowthParams::kTimePerGrowthStepBounds);
   command->add_option("--mode", options->mode,
-                      "With --calibrate: onset_countdown (the CMA: predicted at the onset, counted down) or "
-                      "observed_area (re-predicted every epoch from the spall's area)");
+                      "With --calibrate: onset_countdown (the CMA: predicted at the onset, counted down), "
+                      "observed_area (re-predicted every epoch from the spall's area) or survival_conditioned (the "
+                      "onset's particles that have not jammed yet)");
   command->callback([options] {
     RequireCount(options->particles, "--particles", "particles");
     if (options->calibrate) {

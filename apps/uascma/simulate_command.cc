@@ -80,7 +80,8 @@ void AddSimulateCommand(CLI::App& app) {
   command->add_option("--battery-policy", options->battery_policy,
                       "Battery policy JSON ('uascma battery solve'): the 1 Hz pack-switch executor");
   command->add_option("--policy", options->policy,
-                      "noop | cma | cma-vehicle | cma-risk | cma-risk@P | cma-qmdp | policy.json (overrides the scenario's)");
+                      "noop | cma | cma-vehicle | cma-risk[@P] | cma-qmdp | cma-vehicle-risk[@P] | cma-vehicle-qmdp |\n"
+                      "policy.json (overrides the scenario's)");
   AddSeedOption(command, "--seed", options->seed, "Random seed (overrides the scenario's)");
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {

@@ -140,7 +140,8 @@ ResolvedPolicy ResolvePythonPolicy(const py::object& policy, const ScenarioFile&
     return {std::make_unique<PythonPolicy>(policy, name), true};
   }
   throw InputError("run", "policy",
-                   "'noop', 'cma', 'cma-vehicle', 'cma-risk', 'cma-risk@P', 'cma-qmdp', a policy file, a uascma.Policy or a "
+                   "'noop', 'cma', 'cma-vehicle', 'cma-risk', 'cma-risk@P', 'cma-qmdp', 'cma-vehicle-risk[@P]', "
+                   "'cma-vehicle-qmdp', a policy file, a uascma.Policy or a "
                    "callable");
 }
 
@@ -410,6 +411,12 @@ void InitSim(py::module_& m) {
       .def_readonly("motor_margin", &DecisionInputs::motor_margin)
       .def_readonly("vehicle_motor_margin", &DecisionInputs::vehicle_motor_margin,
                     "the vehicle-level motor margin (cma-vehicle's MM): the quadcopter's reach after the predicted jam")
+      .def_readonly("vehicle_rul_s", &DecisionInputs::vehicle_rul_s,
+                    "the RUL the vehicle-level margin reads (fitted to the simulated jams); +inf without a spall")
+      .def_readonly("vehicle_rul_if_spall_s", &DecisionInputs::vehicle_rul_if_spall_s,
+                    "that RUL for a spall detected at the indicator's first reading")
+      .def_readonly("vehicle_motor_margin_if_spall", &DecisionInputs::vehicle_motor_margin_if_spall,
+                    "the vehicle-level margin if the motor has a spall (the vehicle-level belief policies' SF states)")
       .def_readonly("eod_p05_s", &DecisionInputs::eod_p05_s, "5 % quantile of the EOD's distribution")
       .def_readonly("eod_p50_s", &DecisionInputs::eod_p50_s, "its median")
       .def_readonly("eod_p95_s", &DecisionInputs::eod_p95_s, "its 95 % quantile")
@@ -615,7 +622,8 @@ void InitSim(py::module_& m) {
   m.def("run", &Run, py::arg("scenario"), py::arg("policy") = py::none(), py::arg("seed") = py::none(),
         py::arg("telemetry") = true, py::arg("mission") = py::none(),
         "Flies one scenario (a path, YAML text, a dict or a Scenario) with a policy: None (the scenario's), "
-        "'noop', 'cma', 'cma-vehicle', 'cma-risk', 'cma-risk@P' (a stated level P), 'cma-qmdp', a policy file, a uascma.Policy / "
+        "'noop', 'cma', 'cma-vehicle', 'cma-risk', 'cma-risk@P' (a stated level P), 'cma-qmdp', "
+        "'cma-vehicle-risk[@P]', 'cma-vehicle-qmdp', a policy file, a uascma.Policy / "
         "CmaSolution, or a callable "
         "f(DecisionInputs) -> action. "
         "seed None keeps the scenario's; mission: a .plan or .waypoints file flown instead of the scenario's "

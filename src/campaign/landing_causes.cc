@@ -86,11 +86,14 @@ std::string LandingCausesTable(const std::vector<LandingCauseCounts>& counts) {
   std::string out =
       "Unnecessary landings by cause (the NoOp twin completed; the state the policy read at its first "
       "action):\n";
-  out += fmt::format("  {:<14} {:<4} {:>6} {:>9} {:>9} {:>12} {:>7} {:>6}\n", "policy", "BH", "total", "after_jam",
+  // The policy column: the widest name, at least 14 characters, so any policy name keeps the columns aligned.
+  std::size_t w = 14;
+  for (const LandingCauseCounts& c : counts) w = std::max(w, c.policy.size());
+  out += fmt::format("  {:<{}} {:<4} {:>6} {:>9} {:>9} {:>12} {:>7} {:>6}\n", "policy", w, "BH", "total", "after_jam",
                      "battery", "false_fault", "motor", "other");
   for (const LandingCauseCounts& c : counts) {
-    out += fmt::format("  {:<14} {:<4} {:>6} {:>9} {:>9} {:>12} {:>7} {:>6}\n", c.policy, c.battery_health, c.total(),
-                       c.count[0], c.count[1], c.count[2], c.count[3], c.count[4]);
+    out += fmt::format("  {:<{}} {:<4} {:>6} {:>9} {:>9} {:>12} {:>7} {:>6}\n", c.policy, w, c.battery_health,
+                       c.total(), c.count[0], c.count[1], c.count[2], c.count[3], c.count[4]);
   }
   return out;
 }

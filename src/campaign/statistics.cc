@@ -478,17 +478,34 @@ nlohmann::json StatisticsToJson(const std::vector<GroupStatistics>& groups,
 
 namespace {
 
+// The policy column's width: the widest name, at least 10 characters, so any policy name keeps the columns aligned.
+constexpr std::size_t kMinPolicyColumn = 10;
+std::size_t PolicyColumn(const std::vector<GroupStatistics>& groups) {
+  std::size_t width = kMinPolicyColumn;
+  for (const GroupStatistics& g : groups) width = std::max(width, g.policy.size());
+  return width;
+}
+// The paired comparisons' column ("first vs second"): at least 22 characters.
+constexpr std::size_t kMinPairColumn = 22;
+std::string PairName(const PairedComparison& c) { return c.first_policy + " vs " + c.second_policy; }
+std::size_t PairColumn(const std::vector<PairedComparison>& comparisons) {
+  std::size_t width = kMinPairColumn;
+  for (const PairedComparison& c : comparisons) width = std::max(width, PairName(c).size());
+  return width;
+}
+
 // 1. Outcome rates and rewards, one row per group.
 std::string OutcomeRatesTable(const std::vector<GroupStatistics>& groups) {
-  std::string out = fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n",
-                                "policy", "BH", "runs", "failure %", "completed %", "em. landing %", "terminated %",
+  const std::size_t w = PolicyColumn(groups);
+  std::string out = fmt::format("{:<{}} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n",
+                                "policy", w, "BH", "runs", "failure %", "completed %", "em. landing %", "terminated %",
                                 "grounded %", "avg reward", "min reward");
-  out += std::string(133, '-') + "\n";
+  out += std::string(133 + w - kMinPolicyColumn, '-') + "\n";
   std::string previous;
   for (const GroupStatistics& g : groups) {
     if (!previous.empty() && g.policy != previous) out += "\n";
     previous = g.policy;
-    out += fmt::format("{:<10} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy,
+    out += fmt::format("{:<{}} {:<3} {:>6}  {:>13}  {:>13}  {:>13}  {:>13}  {:>13}  {:>17}  {:>17}\n", g.policy, w,
                        g.battery_health, g.runs, Percent(g.failure_rate), Percent(g.completion_rate),
                        Percent(g.emergency_landing_rate), Percent(g.termination_rate), Percent(g.grounded_rate),
                        PlainEstimateText(g.average_reward), PlainEstimateText(g.min_reward));
@@ -535,18 +552,19 @@ std::string OutcomeNotes(const std::vector<GroupStatistics>& groups) {
 
 // 2. Failure rate with its intervals, and the failures by cause.
 std::string FailureRatesTable(const std::vector<GroupStatistics>& groups) {
+  const std::size_t w = PolicyColumn(groups);
   std::string out = fmt::format("\nFailure rate with {:.0f} % intervals, and failures by cause (flights)\n",
                                 100.0 * kConfidenceLevel);
-  out += fmt::format("{:<10} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", "policy", "BH",
-                     "runs", "failures", "failure %", "Wilson", "Clopper-Pearson", "battery", "control", "collision",
-                     "timeout", "other");
-  out += std::string(118, '-') + "\n";
+  out += fmt::format("{:<{}} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", "policy", w,
+                     "BH", "runs", "failures", "failure %", "Wilson", "Clopper-Pearson", "battery", "control",
+                     "collision", "timeout", "other");
+  out += std::string(118 + w - kMinPolicyColumn, '-') + "\n";
   std::string previous;
   for (const GroupStatistics& g : groups) {
     if (!previous.empty() && g.policy != previous) out += "\n";
     previous = g.policy;
     const auto& c = g.failures_by_cause;
-    out += fmt::format("{:<10} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", g.policy,
+    out += fmt::format("{:<{}} {:<3} {:>6} {:>8}  {:>9}  {:>16}  {:>16}  {:>7} {:>7} {:>9} {:>7} {:>5}\n", g.policy, w,
                        g.battery_health, g.runs, g.failures,
                        std::isfinite(g.failure_rate.value) ? fmt::format("{:.1f}", 100.0 * g.failure_rate.value) : "-",
                        PercentInterval(g.failure_wilson), PercentInterval(g.failure_clopper_pearson), c[0], c[1], c[2],
@@ -562,14 +580,14 @@ std::string PairedTable(const std::vector<PairedComparison>& comparisons) {
     out +=
         "\nPaired comparison of failures on the same flights (McNemar): b = only the first failed, c = only the "
         "second\n";
-    out += fmt::format("{:<22} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8} {:>10}\n", "policies", "BH", "pairs", "b",
+    const std::size_t w = PairColumn(comparisons);
+    out += fmt::format("{:<{}} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8} {:>10}\n", "policies", w, "BH", "pairs", "b",
                        "c", "both", "exact p", "chi2(cc)", "chi2 p");
-    out += std::string(86, '-') + "\n";
+    out += std::string(86 + w - kMinPairColumn, '-') + "\n";
     for (const PairedComparison& c : comparisons) {
-      out += fmt::format("{:<22} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8.3f} {:>10}\n",
-                         c.first_policy + " vs " + c.second_policy, c.battery_health, c.pairs, c.test.only_first_failed,
-                         c.test.only_second_failed, c.both_failed, PValue(c.test.exact_p), c.test.chi_squared,
-                         PValue(c.test.chi_squared_p));
+      out += fmt::format("{:<{}} {:<3} {:>6} {:>6} {:>6} {:>6} {:>10}  {:>8.3f} {:>10}\n", PairName(c), w,
+                         c.battery_health, c.pairs, c.test.only_first_failed, c.test.only_second_failed, c.both_failed,
+                         PValue(c.test.exact_p), c.test.chi_squared, PValue(c.test.chi_squared_p));
     }
   }
   return out;
@@ -580,24 +598,26 @@ std::string PairedTable(const std::vector<PairedComparison>& comparisons) {
 std::string UnnecessaryLandingsTable(const std::vector<GroupStatistics>& groups,
                                      const std::vector<PairedComparison>& comparisons) {
   if (groups.empty() || !groups.front().has_noop_twin) return "";
+  const std::size_t w = PolicyColumn(groups);
+  const std::size_t pair_w = PairColumn(comparisons);
   std::string out =
       "\nUnnecessary landings: an emergency landing in a run whose NoOp flight completed with t_sf of hover left\n"
       "(of them, in runs without a motor fault: for the battery, or a spall alarm with no spall)\n";
   for (const GroupStatistics& g : groups) {
-    out += fmt::format("  {:<10} {:<3} {:>5} of {:>5} ({} %), {:>5} without a fault\n", g.policy, g.battery_health,
+    out += fmt::format("  {:<{}} {:<3} {:>5} of {:>5} ({} %), {:>5} without a fault\n", g.policy, w, g.battery_health,
                        g.unnecessary_landings, g.runs, Percent(g.unnecessary_landing_rate),
                        g.unnecessary_landings_fault_free);
   }
   out += "Terminations, by the NoOp flight's outcome: it completed its plan, it failed\n";
   for (const GroupStatistics& g : groups) {
-    out += fmt::format("  {:<10} {:<3} {:>5} terminated: NoOp completed {:>5}, NoOp failed {:>5}\n", g.policy,
+    out += fmt::format("  {:<{}} {:<3} {:>5} terminated: NoOp completed {:>5}, NoOp failed {:>5}\n", g.policy, w,
                        g.battery_health, g.terminations, g.terminations_noop_completed, g.terminations_noop_failed);
   }
   out += "Paired (McNemar): b = only the first landed unnecessarily, c = only the second\n";
   for (const PairedComparison& c : comparisons) {
     if (!c.unnecessary_test) continue;
-    out += fmt::format("  {:<22} {:<3} b {:>5}  c {:>5}  exact p {}\n", c.first_policy + " vs " + c.second_policy,
-                       c.battery_health, c.unnecessary_test->only_first_failed, c.unnecessary_test->only_second_failed,
+    out += fmt::format("  {:<{}} {:<3} b {:>5}  c {:>5}  exact p {}\n", PairName(c), pair_w, c.battery_health,
+                       c.unnecessary_test->only_first_failed, c.unnecessary_test->only_second_failed,
                        PValue(c.unnecessary_test->exact_p));
   }
   return out;
@@ -628,9 +648,10 @@ std::string HeadlineTable(const std::vector<GroupStatistics>& groups) {
   out +=
       "\nFailures by the fades the battery carries (all health groups): a capacity-faded cell (0.8 Q, Table 3.2) is\n"
       "what runs a pack to the 3.3 V cut-off; power fade alone (2 R0) rarely does\n";
+  const std::size_t w = PolicyColumn(groups);
   for (const GroupStatistics& g : groups) {
     if (g.battery_health != "all") continue;
-    out += fmt::format("  {:<10}", g.policy);
+    out += fmt::format("  {:<{}}", g.policy, w);
     for (int f = kBatteryFadesCount; f-- > 0;) {
       const Estimate rate = EstimateRate(g.failures_by_fades[f], g.runs_by_fades[f]);
       out +=

@@ -21,11 +21,10 @@ const std::vector<DiscreteFeature> kFeatures = {
 };
 const std::vector<std::string> kTerminalNames = {"C", "T", "FL", "E"};
 
-// A row as the dissertation prints it: probabilities in its column order NoOp, LandASAP,
-// LandPract, Terminate, stored in ours (NoOp, Terminate, LandASAP, LandPract).
+// A row as the dissertation prints it (cma_mdp.h).
 ConditionalRow Printed(std::string next, std::vector<std::string> parents, double noop, double land_asap,
                        double land_pract, double terminate) {
-  return {std::move(next), std::move(parents), {noop, terminate, land_asap, land_pract}};
+  return PrintedCmaRow(std::move(next), std::move(parents), noop, land_asap, land_pract, terminate);
 }
 // A row of a table that does not depend on the action (Tables 5.2, 5.4).
 ConditionalRow Any(std::string next, std::vector<std::string> parents, double p) {
@@ -117,8 +116,15 @@ ConditionalTable MotorHealthTable() {
           }};
 }
 
+}  // namespace
+
+ConditionalRow PrintedCmaRow(std::string next, std::vector<std::string> parents, double noop, double land_asap,
+                             double land_pract, double terminate) {
+  return {std::move(next), std::move(parents), {noop, terminate, land_asap, land_pract}};
+}
+
 // Table 5.5: P(MM_{t+1} | MM_t, MH_t, A_t).
-ConditionalTable MotorMarginTable() {
+ConditionalTable CmaMotorMarginTable() {
   return {"Table 5.5",
           "MM",
           {"MM", "MH"},
@@ -137,6 +143,8 @@ ConditionalTable MotorMarginTable() {
               Printed("MM1", {"MM1", "JF"}, 0, 0, 0, 0),
           }};
 }
+
+namespace {
 
 // Table 5.6: P(C_{t+1} | FS_t, RM_t, MM_t, A_t).
 ExitTable CompleteTable() {
@@ -353,7 +361,7 @@ FactoredMdpBuilder MakeCmaFactoredModel() {
   model.AddTerminalState("E", "E");
   model.SetTransitionTable(FlightStatusTable());
   model.SetTransitionTable(MotorHealthTable());
-  model.SetTransitionTable(MotorMarginTable());
+  model.SetTransitionTable(CmaMotorMarginTable());
   model.SetTransitionTable(BatteryHealthTable());
   model.SetTransitionTable(ReachMarginTable());
   model.AddExitTable(CompleteTable());

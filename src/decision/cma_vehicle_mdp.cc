@@ -6,38 +6,22 @@
 #include "uascma/common/error.h"
 
 namespace uascma::decision {
-namespace {
-
-// A row in Table 5.5's printed column order NoOp, LandASAP, LandPract, Terminate, stored in the builder's order
-// (NoOp, Terminate, LandASAP, LandPract).
-ConditionalRow VehicleTableRow(std::string next, std::vector<std::string> parents, double noop, double land_asap,
-                               double land_pract, double terminate) {
-  return {std::move(next), std::move(parents), {noop, terminate, land_asap, land_pract}};
-}
-
-}  // namespace
 
 ConditionalTable CmaVehicleMotorMarginTable() {
-  return {"Table 5.5 (vehicle-level motor margin)",
-          "MM",
-          {"MM", "MH"},
-          {
-              // NF and SF rows: Table 5.5 as printed.
-              VehicleTableRow("MM0", {"MM0", "NF"}, 0, 0, 0, 0),
-              VehicleTableRow("MM1", {"MM0", "NF"}, 1, 1, 1, 0),
-              VehicleTableRow("MM0", {"MM0", "SF"}, 0.995, 0.9, 0.89, 0),
-              VehicleTableRow("MM1", {"MM0", "SF"}, 0.005, 0.1, 0.11, 0),
-              VehicleTableRow("MM0", {"MM1", "NF"}, 0, 0, 0, 0),
-              VehicleTableRow("MM1", {"MM1", "NF"}, 1, 1, 1, 0),
-              VehicleTableRow("MM0", {"MM1", "SF"}, 0.002809, 0.002, 0.0025, 0),
-              VehicleTableRow("MM1", {"MM1", "SF"}, 0.99719, 0.998, 0.9975, 0),
-              // JF rows, the vehicle-level reading (header): the quadcopter's margin, restored only by a landing
-              // (Table 5.5's SF MM0 values), kept once it holds (no second motor fault, §5.3.2.1).
-              VehicleTableRow("MM0", {"MM0", "JF"}, 0.995, 0.9, 0.89, 0),
-              VehicleTableRow("MM1", {"MM0", "JF"}, 0.005, 0.1, 0.11, 0),
-              VehicleTableRow("MM0", {"MM1", "JF"}, 0, 0, 0, 0),
-              VehicleTableRow("MM1", {"MM1", "JF"}, 1, 1, 1, 0),
-          }};
+  // Table 5.5 as printed (CmaMotorMarginTable), its NF and SF rows kept.
+  ConditionalTable table = CmaMotorMarginTable();
+  table.name = "Table 5.5 (vehicle-level motor margin)";
+  std::erase_if(table.rows, [](const ConditionalRow& row) { return row.parent_values.at(1) == "JF"; });
+  // The JF rows of the vehicle-level reading (header): the quadcopter's margin, restored only by a landing (Table 5.5's
+  // SF MM0 values), kept once it holds (no second motor fault, §5.3.2.1).
+  for (const ConditionalRow& row : CmaMotorMarginTable().rows) {
+    if (row.parent_values.at(0) == "MM0" && row.parent_values.at(1) == "SF") {
+      table.rows.push_back({row.next_value, {"MM0", "JF"}, row.probability_by_action});
+    }
+  }
+  table.rows.push_back(PrintedCmaRow("MM0", {"MM1", "JF"}, 0, 0, 0, 0));
+  table.rows.push_back(PrintedCmaRow("MM1", {"MM1", "JF"}, 1, 1, 1, 0));
+  return table;
 }
 
 FactoredMdpBuilder MakeCmaVehicleFactoredModel() {

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 
 #include <fmt/format.h>
 
@@ -45,11 +47,15 @@ double ScoreHistory(const RulCalibrationOptions& options, int history, const Mot
   if (!spall.jammed()) return std::nan("");
   const double jam_s = spall.jam_time_s();
   const std::vector<double> onset_quantiles_s = CalcRulQuantiles(at_onset, set->levels);
+  std::vector<double> onset_sorted_s = at_onset.rul_s;
+  std::sort(onset_sorted_s.begin(), onset_sorted_s.end());
   for (std::size_t k = 0; k < area_at_epoch_mm2.size(); ++k) {
     const double t_s = static_cast<double>(k) * options.epoch_s;
     if (t_s >= jam_s) break;
     QuantilePrediction prediction{history, t_s, jam_s - t_s, {}};
-    if (options.mode == RulPredictionMode::kOnsetCountdown || k == 0) {
+    if (options.mode == RulPredictionMode::kSurvivalConditioned) {
+      prediction.quantiles_s = SortedQuantiles(SurvivingRul(onset_sorted_s, t_s, options.epoch_s), set->levels);
+    } else if (options.mode == RulPredictionMode::kOnsetCountdown || k == 0) {
       prediction.quantiles_s = CountedDown(onset_quantiles_s, t_s);
     } else {
       prediction.quantiles_s =
@@ -66,6 +72,11 @@ std::vector<double> CalcRulQuantiles(const RulDistribution& rul, const std::vect
   if (rul.rul_s.empty()) throw InputError(kRulCalibrationSource, "rul_s", "at least one particle");
   std::vector<double> sorted = rul.rul_s;
   std::sort(sorted.begin(), sorted.end());
+  return SortedQuantiles(sorted, levels);
+}
+
+std::vector<double> SortedQuantiles(const std::vector<double>& sorted, const std::vector<double>& levels) {
+  if (sorted.empty()) throw InputError(kRulCalibrationSource, "rul_s", "at least one particle");
   std::vector<double> quantiles;
   quantiles.reserve(levels.size());
   for (double p : levels) {
@@ -79,13 +90,94 @@ std::vector<double> CalcRulQuantiles(const RulDistribution& rul, const std::vect
 }
 
 const char* RulPredictionModeName(RulPredictionMode mode) {
-  return mode == RulPredictionMode::kOnsetCountdown ? "onset_countdown" : "observed_area";
+  switch (mode) {
+    case RulPredictionMode::kOnsetCountdown:
+      return "onset_countdown";
+    case RulPredictionMode::kObservedArea:
+      return "observed_area";
+    case RulPredictionMode::kSurvivalConditioned:
+      return "survival_conditioned";
+  }
+  return "unknown";
 }
 
 RulPredictionMode ParseRulPredictionMode(const std::string& name, const std::string& source) {
   if (name == "onset_countdown") return RulPredictionMode::kOnsetCountdown;
   if (name == "observed_area") return RulPredictionMode::kObservedArea;
-  throw InputError(source, "value", fmt::format("onset_countdown or observed_area, got \"{}\"", name));
+  if (name == "survival_conditioned") return RulPredictionMode::kSurvivalConditioned;
+  throw InputError(source, "value",
+                   fmt::format("onset_countdown, observed_area or survival_conditioned, got \"{}\"", name));
+}
+
+std::vector<double> SurvivingRul(const std::vector<double>& sorted_rul_at_onset_s, double elapsed_s, double epoch_s) {
+  const auto first = std::upper_bound(sorted_rul_at_onset_s.begin(), sorted_rul_at_onset_s.end(), elapsed_s);
+  if (first == sorted_rul_at_onset_s.end()) return {epoch_s};
+  std::vector<double> left;
+  left.reserve(static_cast<std::size_t>(sorted_rul_at_onset_s.end() - first));
+  for (auto it = first; it != sorted_rul_at_onset_s.end(); ++it) left.push_back(*it - elapsed_s);
+  return left;
+}
+
+double SurvivingRulMean(const std::vector<double>& sorted_rul_at_onset_s, double elapsed_s, double epoch_s) {
+  const auto first = std::upper_bound(sorted_rul_at_onset_s.begin(), sorted_rul_at_onset_s.end(), elapsed_s);
+  if (first == sorted_rul_at_onset_s.end()) return epoch_s;
+  double sum_s = 0.0;
+  for (auto it = first; it != sorted_rul_at_onset_s.end(); ++it) sum_s += *it - elapsed_s;
+  return sum_s / static_cast<double>(sorted_rul_at_onset_s.end() - first);
+}
+
+RulTimeScaleFit FitRulTimeScale(double truth_time_per_growth_step_s, int histories, std::uint64_t seed) {
+  std::string error;
+  if (!CheckWithin(truth_time_per_growth_step_s, SpallGrowthParams::kTimePerGrowthStepBounds,
+                   "truth_time_per_growth_step_s", &error)) {
+    throw InputError(kRulCalibrationSource, "truth_time_per_growth_step_s", error);
+  }
+  if (!CheckWithin(histories, RulCalibrationOptions::kHistoryBounds, "histories", &error)) {
+    throw InputError(kRulCalibrationSource, "histories", error);
+  }
+  SpallGrowthParams truth_params;
+  truth_params.time_per_growth_step_s = truth_time_per_growth_step_s;
+  const MotorRulModel truth(truth_params);
+  const MotorRulModel prognosis{SpallGrowthParams{}};
+  RulTimeScaleFit fit;
+  fit.truth_time_per_growth_step_s = truth_time_per_growth_step_s;
+  fit.histories = histories;
+  fit.seed = seed;
+  const std::uint64_t training_seed = DeriveSeed(seed, kRulTrainingStream);
+  const double horizon_s = truth_params.max_growth_steps * truth_time_per_growth_step_s;
+  int jammed = 0;
+  double particle_steps = 0.0;
+  for (int h = 0; h < histories; ++h) {
+    const std::uint64_t history_seed = DeriveSeed(training_seed, static_cast<std::uint64_t>(h));
+    // The simulator's truth, advanced at the CMA's epochs as a flight advances it (the jam instant is exact).
+    SpallJamEvent spall(truth, 0.0, DeriveSeed(history_seed, kTruthSpallStream));
+    while (!spall.jammed() && spall.time_s() < horizon_s) spall.Advance(kCmaEpoch_s);
+    if (spall.jammed()) {
+      fit.mean_jam_time_s += spall.jam_time_s();
+      ++jammed;
+    } else {
+      ++fit.censored_histories;
+    }
+    // One history of the prognoser's growth from D₀ (growth steps: τ-free).
+    RandomStream random(DeriveSeed(history_seed, kPrognosisSpallStream));
+    particle_steps +=
+        prognosis.PropagateToFailure(prognosis.MakeParticle(prognosis.params().initial_area_mm2), random).growth_steps;
+  }
+  if (jammed == 0) throw InputError(kRulCalibrationSource, "histories", "at least one training history that jams");
+  fit.mean_jam_time_s /= jammed;
+  fit.mean_particle_growth_steps = particle_steps / histories;
+  fit.time_per_growth_step_s = fit.mean_jam_time_s / fit.mean_particle_growth_steps;
+  return fit;
+}
+
+const RulTimeScaleFit& VehicleRulTimeScale(double truth_time_per_growth_step_s) {
+  static std::mutex mutex;
+  static std::map<double, RulTimeScaleFit> fits;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto it = fits.find(truth_time_per_growth_step_s);
+  if (it == fits.end())
+    it = fits.emplace(truth_time_per_growth_step_s, FitRulTimeScale(truth_time_per_growth_step_s)).first;
+  return it->second;
 }
 
 bool RulCalibrationOptions::IsValid(std::string* error) const {

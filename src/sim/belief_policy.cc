@@ -6,9 +6,11 @@
 
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/decision/cma_vehicle_mdp.h"
 #include "uascma/decision/policy_file.h"
 #include "uascma/decision/solvers.h"
 #include "uascma/prognostics/motor_rul.h"
+#include "uascma/sim/vehicle_policy.h"
 
 namespace uascma::sim {
 namespace {
@@ -21,10 +23,8 @@ using decision::ReachMargin;
 
 constexpr double kNoValue = -std::numeric_limits<double>::infinity();
 
-CmaQTable SolveDefaultQValues() {
+CmaQTable QValuesOf(const decision::FiniteMdp& mdp, const decision::Policy& solved) {
   const decision::CmaConfig config;
-  const decision::FiniteMdp mdp = decision::BuildCmaMdp(config.weights);
-  const decision::Policy solved = decision::SolveDefaultCmaPolicy();
   CmaQTable q(static_cast<std::size_t>(mdp.num_states()));
   for (decision::StateIndex s = 0; s < mdp.num_states(); ++s) {
     q[static_cast<std::size_t>(s)].fill(kNoValue);
@@ -36,10 +36,32 @@ CmaQTable SolveDefaultQValues() {
   return q;
 }
 
-// The default CMA policy's action per state (SolvedCmaPolicyDefinition).
-const std::vector<ActionIndex>& DefaultCmaActions() {
-  static const std::vector<ActionIndex> actions = SolvedCmaPolicyDefinition().actions;
-  return actions;
+// The table and ranking a belief policy decides over, kept for the process (thread-safe statics).
+struct SolvedTable {
+  CmaQTable q;
+  PolicyDefinition definition;
+  BeliefModel model;
+  SolvedTable(CmaQTable q_values, PolicyDefinition solved) : q(std::move(q_values)), definition(std::move(solved)) {
+    model = {&q, &definition.actions, &definition.ranking};
+  }
+};
+
+const SolvedTable& DefaultTable() {
+  static const SolvedTable table(
+      QValuesOf(decision::BuildCmaMdp(decision::CmaConfig{}.weights), decision::SolveDefaultCmaPolicy()),
+      SolvedCmaPolicyDefinition());
+  return table;
+}
+
+const SolvedTable& VehicleTable() {
+  static const SolvedTable table(
+      QValuesOf(decision::BuildCmaVehicleMdp(decision::CmaConfig{}.weights), decision::SolveCmaVehiclePolicy()),
+      VehicleCmaPolicyDefinition());
+  return table;
+}
+
+ActionRanking RankingOf(const BeliefModel& model, const CmaState& state) {
+  return (*model.ranking)[static_cast<std::size_t>(decision::CmaStateIndex(state))];
 }
 
 double QOf(const CmaQTable& q, const CmaState& state, ActionIndex action) {
@@ -48,15 +70,35 @@ double QOf(const CmaQTable& q, const CmaState& state, ActionIndex action) {
 
 }  // namespace
 
-const CmaQTable& DefaultCmaQValues() {
-  static const CmaQTable q = SolveDefaultQValues();
-  return q;
+const CmaQTable& DefaultCmaQValues() { return DefaultTable().q; }
+const CmaQTable& VehicleCmaQValues() { return VehicleTable().q; }
+
+const BeliefModel& BeliefModelOf(BeliefAbstraction abstraction) {
+  return abstraction == BeliefAbstraction::kVehicle ? VehicleTable().model : DefaultTable().model;
 }
 
-CmaState StateWith(const DecisionInputs& inputs, MotorHealth mh, ReachMargin rm) {
+// The vehicle-level margin of a belief state at motor health `mh` (belief_policy.h).
+double VehicleMarginWith(const DecisionInputs& inputs, MotorHealth mh) {
+  switch (mh) {
+    case MotorHealth::kNF:
+      return prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, std::numeric_limits<double>::infinity());
+    case MotorHealth::kSF:
+      return inputs.vehicle_motor_margin_if_spall;
+    case MotorHealth::kJF:
+      return inputs.state.mh == MotorHealth::kJF ? inputs.vehicle_motor_margin
+                                                 : -std::numeric_limits<double>::infinity();
+  }
+  return -std::numeric_limits<double>::infinity();
+}
+
+CmaState StateWith(const DecisionInputs& inputs, MotorHealth mh, ReachMargin rm, BeliefAbstraction abstraction) {
   CmaState state = inputs.state;
   state.mh = mh;
   state.rm = rm;
+  if (abstraction == BeliefAbstraction::kVehicle) {
+    state.mm = decision::ClassifyMotorMargin(VehicleMarginWith(inputs, mh));
+    return state;
+  }
   double rul_s = std::numeric_limits<double>::infinity();
   if (mh == MotorHealth::kSF) rul_s = inputs.rul_if_spall_s;
   if (mh == MotorHealth::kJF) rul_s = 0.0;
@@ -64,7 +106,7 @@ CmaState StateWith(const DecisionInputs& inputs, MotorHealth mh, ReachMargin rm)
   return state;
 }
 
-std::vector<StateBelief> CmaStateBelief(const DecisionInputs& inputs) {
+std::vector<StateBelief> CmaStateBelief(const DecisionInputs& inputs, BeliefAbstraction abstraction) {
   std::vector<StateBelief> belief;
   const double p_short = std::clamp(inputs.eod_short_probability, 0.0, 1.0);
   for (int m = 0; m < 3; ++m) {
@@ -72,7 +114,7 @@ std::vector<StateBelief> CmaStateBelief(const DecisionInputs& inputs) {
     if (!(b_mh > 0.0)) continue;
     for (const ReachMargin rm : {ReachMargin::kRM0, ReachMargin::kRM1}) {
       const double b = b_mh * (rm == ReachMargin::kRM0 ? p_short : 1.0 - p_short);
-      if (b > 0.0) belief.push_back({StateWith(inputs, static_cast<MotorHealth>(m), rm), b});
+      if (b > 0.0) belief.push_back({StateWith(inputs, static_cast<MotorHealth>(m), rm, abstraction), b});
     }
   }
   return belief;
@@ -109,32 +151,64 @@ MotorHealth MapMotorHealth(const std::array<double, 3>& belief) {
 }
 
 CmaState RiskCmaPolicy::ChosenState(const DecisionInputs& inputs) const {
+  const BeliefModel& model = BeliefModelOf(abstraction_);
   const MotorHealth mh = MapMotorHealth(inputs.motor_health_belief);
-  const CmaState s0 = StateWith(inputs, mh, ReachMargin::kRM0);
-  const CmaState s1 = StateWith(inputs, mh, ReachMargin::kRM1);
+  const CmaState s0 = StateWith(inputs, mh, ReachMargin::kRM0, abstraction_);
+  const CmaState s1 = StateWith(inputs, mh, ReachMargin::kRM1, abstraction_);
   const double p_short = inputs.eod_short_probability;
   if (p_short >= 1.0) return s0;
-  const double level =
-      std::isnan(stated_level_) ? CmaRiskLevel(DefaultCmaQValues(), DefaultCmaActions(), s0, s1) : stated_level_;
+  const double level = std::isnan(stated_level_) ? CmaRiskLevel(*model.q, *model.actions, s0, s1) : stated_level_;
   return !std::isnan(level) && p_short > level ? s0 : s1;
 }
 
 decision::CmaAction RiskCmaPolicy::Decide(const DecisionInputs& inputs) {
+  const BeliefModel& model = BeliefModelOf(abstraction_);
   return static_cast<CmaAction>(
-      DefaultCmaActions()[static_cast<std::size_t>(decision::CmaStateIndex(ChosenState(inputs)))]);
+      (*model.actions)[static_cast<std::size_t>(decision::CmaStateIndex(ChosenState(inputs)))]);
 }
 
 ActionRanking RiskCmaPolicy::Ranking(const DecisionInputs& inputs) const {
-  return DefaultCmaActionRanking(ChosenState(inputs));
+  return RankingOf(BeliefModelOf(abstraction_), ChosenState(inputs));
+}
+
+// The vehicle-level policies record the state they decided in (campaign/landing_causes.h classifies a landing's cause
+// on it): cma-vehicle-risk the state whose action it takes; cma-vehicle-qmdp the most probable state of its belief
+// whose own table action is the action QMDP chose (the state that explains the choice), else the belief's most
+// probable state (the first of equal probabilities). "cma-risk" and "cma-qmdp" keep the point state they always
+// recorded.
+CmaState RiskCmaPolicy::StateRead(const DecisionInputs& inputs) const {
+  return abstraction_ == BeliefAbstraction::kVehicle ? ChosenState(inputs) : inputs.state;
+}
+
+namespace {
+
+const StateBelief& MostProbable(const std::vector<StateBelief>& belief) {
+  UASCMA_CHECK(!belief.empty(), "a belief with some state of positive probability");
+  return *std::max_element(belief.begin(), belief.end(),
+                           [](const StateBelief& x, const StateBelief& y) { return x.probability < y.probability; });
+}
+
+}  // namespace
+
+CmaState QmdpCmaPolicy::StateRead(const DecisionInputs& inputs) const {
+  if (abstraction_ != BeliefAbstraction::kVehicle) return inputs.state;
+  const BeliefModel& model = BeliefModelOf(abstraction_);
+  const std::vector<StateBelief> belief = CmaStateBelief(inputs, abstraction_);
+  if (ranking_.empty() || !(inputs == ranked_for_)) Rank(inputs);
+  const ActionIndex chosen = ranking_.front();
+  const StateBelief* explaining = nullptr;
+  for (const StateBelief& b : belief) {
+    const ActionIndex own = (*model.actions)[static_cast<std::size_t>(decision::CmaStateIndex(b.state))];
+    if (own == chosen && (explaining == nullptr || b.probability > explaining->probability)) explaining = &b;
+  }
+  return explaining != nullptr ? explaining->state : MostProbable(belief).state;
 }
 
 void QmdpCmaPolicy::Rank(const DecisionInputs& inputs) const {
-  const std::vector<StateBelief> belief = CmaStateBelief(inputs);
+  const BeliefModel& model = BeliefModelOf(abstraction_);
+  const std::vector<StateBelief> belief = CmaStateBelief(inputs, abstraction_);
   // Ties keep the order of the most probable state's ranking (the first of equal probabilities).
-  const auto map = std::max_element(belief.begin(), belief.end(), [](const StateBelief& x, const StateBelief& y) {
-    return x.probability < y.probability;
-  });
-  ranking_ = QmdpRanking(DefaultCmaQValues(), belief, DefaultCmaActionRanking(map->state));
+  ranking_ = QmdpRanking(*model.q, belief, RankingOf(model, MostProbable(belief).state));
   ranked_for_ = inputs;
 }
 

@@ -26,11 +26,14 @@ void DecideShared(const FlightModel& model, std::span<DecisionPolicy* const> pol
                   FlightLog& log, std::vector<DecisionPolicy*>& sharing_policies,
                   std::vector<decision::CmaAction>& decided) {
   bool eod_distribution = log.record_telemetry;
+  bool vehicle_beliefs = false;
   sharing_policies.clear();
   for (std::size_t k : together) {
     eod_distribution = eod_distribution || NeedsEodDistribution(policies[k], nullptr);
+    vehicle_beliefs = vehicle_beliefs || policies[k]->ReadsVehicleBeliefs();
     sharing_policies.push_back(policies[k]);
   }
+  state.decision.vehicle_beliefs = vehicle_beliefs;
   const DecisionInputs& inputs =
       BeginEpoch(model, state, options.battery_policy, &log, eod_distribution,
                  EpochEodPrecision(model, sharing_policies, options.battery_policy, &log, eod_distribution));

@@ -17,6 +17,7 @@
 #include "uascma/prognostics/eod_distribution.h"
 #include "uascma/prognostics/eod_peak.h"
 #include "uascma/prognostics/reach_margin.h"
+#include "uascma/prognostics/rul_calibration.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/speed_cap.h"
 #include "uascma/sim/vehicle_margin.h"
@@ -155,6 +156,25 @@ double PrognosisRul(const FlightModel& model, FlightState& state) {
   return *state.decision.rul_at_onset_s;
 }
 
+// The vehicle-level prognosis (prognostics/rul_calibration.h): the fitted model's particle RULs from the initial spall,
+// sorted, drawn once from their own stream (so `cma`'s prognosis and every other draw stay as they were).
+const std::vector<double>& VehiclePrognosis(const FlightModel& model, FlightState& state) {
+  std::vector<double>& particles = state.decision.vehicle_rul_at_onset_s;
+  if (particles.empty()) {
+    const prognostics::MotorRulModel& rul = model.vehicle_rul_model();
+    RandomStream random(DeriveSeed(state.vehicle.seed, internal::kVehiclePrognosisStream));
+    particles = rul.PredictRulFromArea(rul.params().initial_area_mm2, random).rul_s;
+    std::sort(particles.begin(), particles.end());
+  }
+  return particles;
+}
+
+// The vehicle-level RUL `since_s` after the detection: the mean of the particles that have not jammed by then
+// (prognostics::SurvivingRulMean; one epoch when none is left, docs/modelling-choices.md#vehicle-rul).
+double VehicleRul(const FlightModel& model, FlightState& state, double since_s) {
+  return prognostics::SurvivingRulMean(VehiclePrognosis(model, state), since_s, 1.0 / model.options().decision_rate_hz);
+}
+
 // §5.4's fault model: a spall in a flight with probability 0.5 (P(SF|NF) per simulated flight), its onset uniform over
 // the nominal flight: the spall filter's prior.
 constexpr double kSpallFaultProbability = 0.5;
@@ -181,6 +201,7 @@ void ObserveSpallIndicator(const FlightModel& model, FlightState& state, bool is
   inputs.motor_health_belief = MotorHealthBelief(decision.spall_probability, p_jammed);
   const double since_s = decision.spall_detected_s ? t - *decision.spall_detected_s : 0.0;
   inputs.rul_if_spall_s = std::max(PrognosisRul(model, state) - since_s, 0.0);
+  inputs.vehicle_rul_if_spall_s = VehicleRul(model, state, since_s);
 }
 
 // MH and the RUL: JF once a rotor is isolated; SF from the spall's onset (the truth), or under noisy sensing from the
@@ -191,13 +212,17 @@ decision::MotorHealth ObserveMotorHealth(const FlightModel& model, FlightState& 
   const bool isolated = state.faults.allocation_failure != 0 || state.faults.imm.isolated_rotor() != 0;
   if (noisy) ObserveSpallIndicator(model, state, isolated, inputs, log);
   if (isolated) {
-    inputs.rul_s = 0.0;
+    inputs.rul_s = inputs.vehicle_rul_s = 0.0;
     return decision::MotorHealth::kJF;
   }
   const std::optional<double> detected_s =
       noisy ? state.decision.spall_detected_s : (state.faults.spall ? state.faults.spall_onset_s : std::nullopt);
-  if (!detected_s) return decision::MotorHealth::kNF;
+  if (!detected_s) {
+    inputs.vehicle_rul_s = std::numeric_limits<double>::infinity();
+    return decision::MotorHealth::kNF;
+  }
   inputs.rul_s = std::max(PrognosisRul(model, state) - (state.time_s - *detected_s), 0.0);
+  inputs.vehicle_rul_s = VehicleRul(model, state, state.time_s - *detected_s);
   return decision::MotorHealth::kSF;
 }
 
@@ -284,11 +309,20 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   if (!noisy) {  // the beliefs of exact sensing: the point MH
     inputs.motor_health_belief = {0.0, 0.0, 0.0};
     inputs.motor_health_belief[static_cast<std::size_t>(motor_health)] = 1.0;
-    if (motor_health == decision::MotorHealth::kSF) inputs.rul_if_spall_s = inputs.rul_s;
+    if (motor_health == decision::MotorHealth::kSF) {
+      inputs.rul_if_spall_s = inputs.rul_s;
+      inputs.vehicle_rul_if_spall_s = inputs.vehicle_rul_s;
+    }
   }
   inputs.motor_margin = prognostics::CalcMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s);
+  const bool isolated = motor_health == decision::MotorHealth::kJF;
   inputs.vehicle_motor_margin =
-      ObserveVehicleMotorMargin(model, state, inputs, motor_health == decision::MotorHealth::kJF, observed);
+      ObserveVehicleMotorMargin(model, state, inputs, inputs.vehicle_rul_s, isolated, observed);
+  inputs.vehicle_motor_margin_if_spall =
+      motor_health == decision::MotorHealth::kSF ? inputs.vehicle_motor_margin
+      : noisy && state.decision.vehicle_beliefs && !isolated
+          ? ObserveVehicleMotorMargin(model, state, inputs, inputs.vehicle_rul_if_spall_s, false, observed)
+          : 1.0;
   inputs.state = decision::AbstractCmaState(state.decision.flight_status, motor_health, model.battery_health(),
                                             inputs.reach_margin, inputs.motor_margin);
   inputs.has_eod_distribution = eod_distribution;
@@ -372,6 +406,7 @@ void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& 
 void DecideEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {
   UASCMA_CHECK(IsDecisionEpoch(model, state), "a decision epoch's decision starts at a decision epoch");
   const bool eod_distribution = NeedsEodDistribution(controllers.policy, log);
+  state.decision.vehicle_beliefs = controllers.policy != nullptr && controllers.policy->ReadsVehicleBeliefs();
   DecisionPolicy* const policy[] = {controllers.policy};
   const DecisionInputs& inputs =
       BeginEpoch(model, state, controllers.battery, log, eod_distribution,

@@ -17,8 +17,10 @@
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/models/rigid_body_lanes.h"
+#include "uascma/prognostics/rul_calibration.h"
 #include "uascma/sim/controller_lanes.h"
 #include "uascma/sim/rotor_lanes.h"
+#include "uascma/sim/vehicle_margin.h"
 
 namespace uascma::sim {
 namespace {
@@ -39,6 +41,13 @@ prognostics::SpallGrowthParams TruthGrowth(const FaultSpec& fault) {
 prognostics::SpallGrowthParams PrognosisGrowth(const FaultSpec& fault) {
   prognostics::SpallGrowthParams params;
   if (fault.prognosis_time_per_growth_step_s) params.time_per_growth_step_s = *fault.prognosis_time_per_growth_step_s;
+  return params;
+}
+
+prognostics::SpallGrowthParams VehiclePrognosisGrowth(const FaultSpec& fault) {
+  prognostics::SpallGrowthParams params;
+  params.time_per_growth_step_s =
+      prognostics::VehicleRulTimeScale(TruthGrowth(fault).time_per_growth_step_s).time_per_growth_step_s;
   return params;
 }
 
@@ -370,6 +379,7 @@ FlightModel::FlightModel(const Scenario& scenario)
       pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
       rul_model_(PrognosisGrowth(scenario.fault)),
       spall_truth_(TruthGrowth(scenario.fault)),
+      vehicle_rul_model_(VehiclePrognosisGrowth(scenario.fault)),
       map_(scenario.map ? scenario.map : std::make_shared<const planning::CityMap>()),
       controller_(scenario.body, scenario.lqr),
       nominal_plan_(scenario.route ? planning::MakeMissionPlan(*scenario.route, scenario.limits)
@@ -392,7 +402,9 @@ FlightModel::FlightModel(const Scenario& scenario)
       vibration_noise_(CalcVibrationNoise(
           scenario.options.sensing,
           models::CalcRotorSpeedForThrust(propulsion_, scenario.body.mass * kGravity / models::kRotorCount),
-          scenario.body.mass, scenario.body.inertia_diagonal.x(), mixer_.params().arm_length)) {}
+          scenario.body.mass, scenario.body.inertia_diagonal.x(), mixer_.params().arm_length)) {
+  quadcopter_max_level_airspeed_ = CalcMaxLevelAirspeedOnRotors(*this, models::kRotorCount - 2);
+}
 
 // ---- the steps ----------------------------------------------------------------------------------------------------
 namespace {

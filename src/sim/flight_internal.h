@@ -14,7 +14,8 @@ namespace uascma::sim::internal {
 
 // Independent random streams of one flight (common/random.h DeriveSeed), so that e.g. the wind does not
 // change when the sensor noise is switched off.
-// Streams 5-7 are drawn only with SimOptions::noisy_sensing (sim/sensing.h).
+// Streams 5-7 are drawn only with SimOptions::noisy_sensing (sim/sensing.h), stream 8 only when the vehicle-level
+// prognosis is read (sim/epoch.cc).
 enum Stream : std::uint64_t {
   kWindStream = 1,
   kSensorStream = 2,
@@ -22,7 +23,8 @@ enum Stream : std::uint64_t {
   kPrognosisStream = 4,
   kVibrationStream = 5,
   kPowerSensingStream = 6,
-  kSpallIndicatorStream = 7
+  kSpallIndicatorStream = 7,
+  kVehiclePrognosisStream = 8
 };
 
 // Wall-clock seconds since `start` (steady clock): the results' wall_time_s and their shares between flights.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
@@ -14,6 +15,42 @@ constexpr int kSamplesPerBin = 4;  // quarter-second samples: the trapezoids' ac
 // The thrust direction and the drag's incidence depend on each other: a fixed-point iteration from level, until the
 // thrust vector moves by less than 1e-9 N (a contraction: the drag is < 0.3 m g over the table, models/drag.h).
 constexpr int kMaxIncidencePasses = 50;
+
+// True when FlightPlan::At(t) falls in the steady phase of segment `i` (a hover, or a move's coast): its branches
+// and comparisons as At makes them, so every such t gives the reference the same velocity and acceleration (zero
+// acceleration, the hover's rest or the coast's peak speed along the segment) as any other t of that phase.
+bool InSteadyPhase(const planning::FlightPlan& plan, int i, double t) {
+  const std::vector<planning::PlanSegment>& segments = plan.segments();
+  if (i < 0 || t >= plan.duration()) return false;
+  const planning::PlanSegment& s = segments[static_cast<std::size_t>(i)];
+  if (t < s.start_time) return false;
+  if (static_cast<std::size_t>(i) + 1 < segments.size() && segments[static_cast<std::size_t>(i) + 1].start_time <= t) {
+    return false;
+  }
+  if (s.kind == planning::PlanSegment::Kind::kHover) return true;
+  if (s.kind != planning::PlanSegment::Kind::kMove) return false;
+  const double tau = t - s.start_time;
+  const double ta = s.accel_time;
+  const double coast = s.duration - 2.0 * ta;
+  return !(tau < ta) && tau < ta + coast;
+}
+
+// A time before which every later sample of segment `i`'s steady phase is still in it for certain: the phase's end
+// (the coast's, or the segment's, or the plan's) less a guard far above the rounding of At's comparisons (s-scale
+// times: ulps of 1e-13 s). Samples at or past it take InSteadyPhase's exact test.
+double SteadyPhaseSureUntil(const planning::FlightPlan& plan, int i) {
+  constexpr double kGuard_s = 1e-9;
+  const std::vector<planning::PlanSegment>& segments = plan.segments();
+  const planning::PlanSegment& s = segments[static_cast<std::size_t>(i)];
+  double end = plan.duration();
+  if (static_cast<std::size_t>(i) + 1 < segments.size()) {
+    end = std::min(end, segments[static_cast<std::size_t>(i) + 1].start_time);
+  }
+  if (s.kind == planning::PlanSegment::Kind::kMove) {
+    end = std::min(end, s.start_time + s.accel_time + (s.duration - 2.0 * s.accel_time));
+  }
+  return end - kGuard_s;
+}
 
 }  // namespace
 
@@ -53,20 +90,35 @@ LoadProfile::LoadProfile(const planning::FlightPlan& plan, const SteadyLoadModel
   energy_after_j_.assign(static_cast<std::size_t>(bins) + 1, 0.0);
   std::vector<double> bin_energy(static_cast<std::size_t>(bins), 0.0);
   // Legs of constant velocity repeat one (v, a) sample after sample: its power is computed once (the same
-  // arithmetic on the same inputs, so the same bits).
+  // arithmetic on the same inputs, so the same bits), and within a hover or a coast (InSteadyPhase) the reference is
+  // not even looked up again.
   Eigen::Vector3d last_v_W = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector3d last_a_W = last_v_W;
   double last_power = 0.0;
+  planning::PlanCursor cursor;      // the samples move forward: At's search from the last segment (the same reference)
+  int steady_segment = -1;          // the segment whose steady phase the last looked-up sample was in, else -1
+  double steady_sure_until = -1.0;  // SteadyPhaseSureUntil of that segment
   for (int i = 0; i < bins; ++i) {
     const double bin_end = std::min(static_cast<double>(i + 1), duration_s_);
     const double bin_length = bin_end - i;
     double power = 0.0;
+    // A bin whose last sample is surely in the steady phase: its samples add the phase's power, as below.
+    if ((kSamplesPerBin - 0.5) * bin_length / kSamplesPerBin + i < steady_sure_until) {
+      for (int k = 0; k < kSamplesPerBin; ++k) power += last_power;
+      bin_energy[static_cast<std::size_t>(i)] = power / kSamplesPerBin * bin_length;
+      continue;
+    }
     for (int k = 0; k < kSamplesPerBin; ++k) {
-      const planning::PlanReference r = plan.At(i + (k + 0.5) * bin_length / kSamplesPerBin);
-      if (r.v_W != last_v_W || r.a_W != last_a_W) {
-        last_v_W = r.v_W;
-        last_a_W = r.a_W;
-        last_power = CalcSteadyRotorPower(model, r.v_W, r.a_W, active_rotors);
+      const double t = i + (k + 0.5) * bin_length / kSamplesPerBin;
+      if (!(t < steady_sure_until) && !InSteadyPhase(plan, steady_segment, t)) {
+        const planning::PlanReference r = plan.At(t, cursor);
+        if (r.v_W != last_v_W || r.a_W != last_a_W) {
+          last_v_W = r.v_W;
+          last_a_W = r.a_W;
+          last_power = CalcSteadyRotorPower(model, r.v_W, r.a_W, active_rotors);
+        }
+        steady_segment = InSteadyPhase(plan, r.segment, t) ? r.segment : -1;
+        steady_sure_until = steady_segment >= 0 ? SteadyPhaseSureUntil(plan, steady_segment) : -1.0;
       }
       power += last_power;
     }

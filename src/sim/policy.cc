@@ -135,11 +135,10 @@ PolicyDefinition VehicleCmaPolicyDefinition() {
   return policy;
 }
 
-constexpr std::string_view kStatedRiskPrefix = "cma-risk@";
-
-// "cma-risk", "cma-risk@P" (name: the spec) or "cma-qmdp" over the default CMA policy's table.
+// "cma-risk", "cma-risk@P" (name: the spec) or "cma-qmdp" over the default CMA policy's table; "cma-vehicle-risk",
+// "cma-vehicle-risk@P" or "cma-vehicle-qmdp" over the vehicle-level policy's.
 PolicyDefinition BeliefCmaPolicyDefinition(const std::string& name, const std::string& kind, double risk_level) {
-  PolicyDefinition policy = SolvedCmaPolicyDefinition();
+  PolicyDefinition policy = IsVehicleBeliefPolicyKind(kind) ? VehicleCmaPolicyDefinition() : SolvedCmaPolicyDefinition();
   policy.name = name;
   policy.kind = kind;
   policy.risk_level = risk_level;
@@ -147,14 +146,23 @@ PolicyDefinition BeliefCmaPolicyDefinition(const std::string& name, const std::s
   return policy;
 }
 
+// The risk kind a "KIND@P" spec names ("cma-risk" or "cma-vehicle-risk"), "" for any other spec.
+std::string StatedRiskKind(const std::string& spec) {
+  for (const char* kind : {"cma-risk", "cma-vehicle-risk"}) {
+    if (spec.starts_with(std::string(kind) + "@")) return kind;
+  }
+  return "";
+}
+
 std::optional<double> StatedRiskLevel(const std::string& spec, const std::string& source, const std::string& field) {
-  if (!spec.starts_with(kStatedRiskPrefix)) return std::nullopt;
-  const std::string text = spec.substr(kStatedRiskPrefix.size());
+  const std::string kind = StatedRiskKind(spec);
+  if (kind.empty()) return std::nullopt;
+  const std::string text = spec.substr(kind.size() + 1);
   double level = std::numeric_limits<double>::quiet_NaN();
   const auto [end, status] = std::from_chars(text.data(), text.data() + text.size(), level);
   if (text.empty() || status != std::errc() || end != text.data() + text.size() || !(level >= 0.0 && level <= 1.0)) {
     throw InputError(source, field,
-                     "cma-risk@P with P a probability from 0 to 1 (e.g. cma-risk@0.1), got '" + spec + "'");
+                     kind + "@P with P a probability from 0 to 1 (e.g. " + kind + "@0.1), got '" + spec + "'");
   }
   return level;
 }
@@ -165,11 +173,13 @@ PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& sourc
   if (spec == kVehiclePolicyKind) return VehicleCmaPolicyDefinition();
   if (IsBeliefPolicyKind(spec)) return BeliefCmaPolicyDefinition(spec, spec, std::numeric_limits<double>::quiet_NaN());
   if (const std::optional<double> level = StatedRiskLevel(spec, source, field)) {
-    return BeliefCmaPolicyDefinition(spec, "cma-risk", *level);
+    return BeliefCmaPolicyDefinition(spec, StatedRiskKind(spec), *level);
   }
   if (std::filesystem::path(spec).extension() != ".json") {
     throw InputError(source, field,
-                     "noop, cma, cma-vehicle, cma-risk, cma-risk@P, cma-qmdp or a policy JSON file (*.json), got '" + spec + "'");
+                     "noop, cma, cma-vehicle, cma-risk, cma-risk@P, cma-qmdp, cma-vehicle-risk, cma-vehicle-risk@P, "
+                     "cma-vehicle-qmdp or a policy JSON file (*.json), got '" +
+                         spec + "'");
   }
   return PolicyDefinitionFromFile(spec);  // names the file when it is missing or does not bind
 }
@@ -190,7 +200,9 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
     return policy;
   }
   if (kind != "table" && kind != kVehiclePolicyKind && !IsBeliefPolicyKind(kind)) {
-    throw InputError(where, "kind", "'noop', 'table', 'cma-vehicle', 'cma-risk' or 'cma-qmdp', got '" + kind + "'");
+    throw InputError(where, "kind",
+                     "'noop', 'table', 'cma-vehicle', 'cma-risk', 'cma-qmdp', 'cma-vehicle-risk' or "
+                     "'cma-vehicle-qmdp', got '" + kind + "'");
   }
   if (static_cast<int>(stored.size()) != decision::kCmaNumStates) {
     throw InputError(where, "actions", fmt::format("{} actions, one per CMA state", decision::kCmaNumStates));
@@ -219,9 +231,9 @@ PolicyDefinition MakeStoredPolicy(const std::string& name, const std::string& ki
     policy.kind = kind;
     policy.hash = HashOf(policy.kind, policy.actions, policy.ranking);
   }
-  if (IsBeliefPolicyKind(kind)) {  // the default CMA policy's table, decided on beliefs
+  if (IsBeliefPolicyKind(kind)) {  // the default (or vehicle-level) CMA policy's table, decided on beliefs
     policy.kind = kind;
-    if (kind == "cma-risk") policy.risk_level = StatedRiskLevel(name, where, "name").value_or(policy.risk_level);
+    if (IsRiskPolicyKind(kind)) policy.risk_level = StatedRiskLevel(name, where, "name").value_or(policy.risk_level);
     policy.hash = HashOf(policy.kind, policy.actions, policy.ranking, policy.risk_level);
   }
   return policy;
@@ -239,6 +251,12 @@ std::unique_ptr<DecisionPolicy> MakeDecisionPolicy(const PolicyDefinition& polic
   if (policy.kind == "noop") return std::make_unique<NoOpPolicy>();
   if (policy.kind == "cma-risk") return std::make_unique<RiskCmaPolicy>(policy.name, policy.risk_level);
   if (policy.kind == "cma-qmdp") return std::make_unique<QmdpCmaPolicy>(policy.name);
+  if (policy.kind == "cma-vehicle-risk") {
+    return std::make_unique<RiskCmaPolicy>(policy.name, policy.risk_level, BeliefAbstraction::kVehicle);
+  }
+  if (policy.kind == "cma-vehicle-qmdp") {
+    return std::make_unique<QmdpCmaPolicy>(policy.name, BeliefAbstraction::kVehicle);
+  }
   if (policy.kind == kVehiclePolicyKind) {
     return std::make_unique<VehicleCmaPolicy>(policy.actions, policy.name, policy.ranking);
   }

@@ -37,18 +37,26 @@ double CalcVehicleMotorMargin(double flight_time_remaining_s, double rul_s, bool
   return 1.0 - needed_s / quad.eod_s;
 }
 
-double CalcAuthorityAirspeed(const FlightModel& model, const FlightState& state, int active_rotors) {
+double CalcMaxLevelAirspeedOnRotors(const FlightModel& model, int active_rotors) {
   const double weight = model.scenario().body.mass * kGravity;
   const double cutoff_bus_voltage_v =
       models::kCellsPerBranch * models::kCutoffVoltage;  // docs/modelling-choices.md#outcomes
   const double available = active_rotors * internal::ThrustCap(model, cutoff_bus_voltage_v);
   if (weight >= available) return 0.0;
   const double max_tilt = std::acos(std::sqrt(weight / available));  // models::CalcControlAuthority's square
+  return CalcMaxLevelAirspeed(model.scenario().body, model.drag(), max_tilt);
+}
+
+double CalcAuthorityAirspeed(const FlightModel& model, const FlightState& state, int active_rotors) {
+  constexpr int kQuadcopterRotors = models::kRotorCount - 2;
+  const double level = active_rotors == kQuadcopterRotors ? model.quadcopter_max_level_airspeed()
+                                                          : CalcMaxLevelAirspeedOnRotors(model, active_rotors);
+  if (!(level > 0.0)) return 0.0;  // the rotors cannot hold the weight at the cut-off voltage
   const models::WindParams& wind = model.scenario().wind;
   const double altitude = std::max(-state.vehicle.body.p_WB_W.z(), model.scenario().mission.cruise_altitude);
   const models::DrydenIntensity gust =
       models::CalcDrydenIntensity(wind.turbulence, altitude, wind.medium_band_altitude);
-  return std::max(0.0, CalcMaxLevelAirspeed(model.scenario().body, model.drag(), max_tilt) - gust.sigma_u);
+  return std::max(0.0, level - gust.sigma_u);
 }
 
 QuadcopterReach CalcQuadcopterReach(const FlightModel& model, const FlightState& state, const models::PackState& pack) {
@@ -86,10 +94,10 @@ QuadcopterReach CalcQuadcopterReach(const FlightModel& model, const FlightState&
 }
 
 double ObserveVehicleMotorMargin(const FlightModel& model, const FlightState& state, const DecisionInputs& inputs,
-                                 bool isolated, const models::PackState& pack) {
-  const bool jams = MotorJamsWithinPlan(inputs.flight_time_remaining_s, inputs.rul_s, isolated);
+                                 double rul_s, bool isolated, const models::PackState& pack) {
+  const bool jams = MotorJamsWithinPlan(inputs.flight_time_remaining_s, rul_s, isolated);
   const QuadcopterReach quad = jams ? CalcQuadcopterReach(model, state, pack) : QuadcopterReach{};
-  return CalcVehicleMotorMargin(inputs.flight_time_remaining_s, inputs.rul_s, isolated, inputs.reach_margin, quad,
+  return CalcVehicleMotorMargin(inputs.flight_time_remaining_s, rul_s, isolated, inputs.reach_margin, quad,
                                 model.options().safety_margin_s);
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "uascma/common/error.h"
 
@@ -116,6 +117,36 @@ TEST(StatisticsTest, JsonAndTableCarryTheFigures) {
   const std::string table = StatisticsTable(groups);
   EXPECT_NE(table.find(" 75.0 ± 21.7"), std::string::npos) << table;  // noop P: 75 % ± 21.65 %
   EXPECT_NE(table.find("dissertation  71.0 %"), std::string::npos) << table;
+}
+
+// Every row of the outcome and failure tables puts its columns where the header does, whatever the policies' names:
+// here one longer than the old fixed 10-character column.
+TEST(StatisticsTest, ColumnsStayAlignedForALongPolicyName) {
+  std::vector<RunRecord> records = HandMadeCampaign();
+  const std::string long_name = "cma-vehicle-risk@0.25";
+  for (RunRecord& r : records) {
+    if (r.policy == "cma") r.policy = long_name;
+  }
+  const std::string table = StatisticsTable(Summarise(records, {long_name, "noop"}));
+  std::istringstream lines(table);
+  std::string line;
+  std::size_t header_bh = std::string::npos;
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    if (line.starts_with("policy ")) {
+      header_bh = line.find(" BH ");
+      ASSERT_NE(header_bh, std::string::npos) << line;
+      EXPECT_GE(header_bh, long_name.size()) << line;
+      continue;
+    }
+    const bool row = line.starts_with(long_name + " ") || line.starts_with("noop ");
+    if (!row || header_bh == std::string::npos) continue;
+    // The health group starts one column after the policy's, as "BH" does in the header.
+    EXPECT_NE(line.find_first_not_of(' ', line.find(' ')), std::string::npos);
+    EXPECT_EQ(line.find_first_not_of(' ', line.find(' ')), header_bh + 1) << line;
+    ++rows;
+  }
+  EXPECT_GE(rows, 2 * 2 * 4);  // two tables, two policies, four health groups
 }
 
 // Published values: Clopper–Pearson 95 % for 0 of 10 is [0, 1 − 0.025^(1/10)] = [0, 0.3085] and Wilson 95 % for

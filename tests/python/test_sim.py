@@ -223,6 +223,11 @@ def test_policies_on_beliefs_under_noisy_sensing(tmp_path):
     # The spall starts at 60 s: the belief in SF or JF rises above the prior afterwards.
     assert max(b[1] + b[2] for t, b, _ in beliefs if t > 60.0) > 0.5
     assert uascma.run(str(noisy_path), "cma-qmdp", telemetry=False).outcome
+    # The vehicle-level belief policies by name: without noise they fly the cma-vehicle flight.
+    exact_vehicle = uascma.run(example("jam-motor-3.yaml"), "cma-vehicle", telemetry=False)
+    for name in ("cma-vehicle-risk", "cma-vehicle-qmdp"):
+        other = uascma.run(example("jam-motor-3.yaml"), name, telemetry=False)
+        assert other.actions == exact_vehicle.actions and other.sim_time_s == exact_vehicle.sim_time_s, name
     scenario = uascma.load_scenario(str(noisy_path))
     assert scenario.options_noisy_sensing is True
 

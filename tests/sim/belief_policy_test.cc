@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
@@ -93,35 +96,47 @@ bool Reachable(const CmaState& s) {
   return true;
 }
 
-TEST(BeliefPolicyTest, OneHotBeliefsChooseAsTheCmaTableWithItsRanking) {
-  const PolicyDefinition cma = SolvedCmaPolicyDefinition();
-  RiskCmaPolicy risk;
-  QmdpCmaPolicy qmdp;
-  int checked = 0;
+// Every CMA state (FS, MH, MM, BH, RM), in index order.
+std::vector<CmaState> AllCmaStates() {
+  std::vector<CmaState> states;
   for (int fs = 0; fs < 3; ++fs) {
     for (int mh = 0; mh < 3; ++mh) {
       for (int mm = 0; mm < 2; ++mm) {
         for (int bh = 0; bh < 3; ++bh) {
           for (int rm = 0; rm < 2; ++rm) {
-            const CmaState state{static_cast<decision::FlightStatus>(fs), static_cast<MotorHealth>(mh),
-                                 static_cast<decision::MotorMargin>(mm), static_cast<decision::BatteryHealth>(bh),
-                                 static_cast<ReachMargin>(rm)};
-            if (!Reachable(state)) continue;
-            const DecisionInputs inputs = OneHotInputs(state);
-            const auto index = static_cast<std::size_t>(decision::CmaStateIndex(state));
-            const auto expected = static_cast<CmaAction>(cma.actions[index]);
-            EXPECT_EQ(risk.Decide(inputs), expected) << decision::CmaStateLabel(state);
-            EXPECT_EQ(qmdp.Decide(inputs), expected) << decision::CmaStateLabel(state);
-            const ActionRanking r = qmdp.Ranking(inputs);
-            EXPECT_EQ(std::vector<ActionIndex>(r.begin(), r.end()), cma.ranking[index])
-                << decision::CmaStateLabel(state);
-            const ActionRanking rr = risk.Ranking(inputs);
-            EXPECT_EQ(std::vector<ActionIndex>(rr.begin(), rr.end()), cma.ranking[index]);
-            ++checked;
+            states.push_back({static_cast<decision::FlightStatus>(fs), static_cast<MotorHealth>(mh),
+                              static_cast<decision::MotorMargin>(mm), static_cast<decision::BatteryHealth>(bh),
+                              static_cast<ReachMargin>(rm)});
           }
         }
       }
     }
+  }
+  return states;
+}
+
+// The risk and QMDP policies on `inputs` choose `table`'s action in `state`, with its ranking.
+void ExpectTheTableChoice(DecisionPolicy& risk, DecisionPolicy& qmdp, const PolicyDefinition& table,
+                          const CmaState& state, const DecisionInputs& inputs) {
+  const auto index = static_cast<std::size_t>(decision::CmaStateIndex(state));
+  const auto expected = static_cast<CmaAction>(table.actions[index]);
+  EXPECT_EQ(risk.Decide(inputs), expected) << decision::CmaStateLabel(state);
+  EXPECT_EQ(qmdp.Decide(inputs), expected) << decision::CmaStateLabel(state);
+  const ActionRanking r = qmdp.Ranking(inputs);
+  EXPECT_EQ(std::vector<ActionIndex>(r.begin(), r.end()), table.ranking[index]) << decision::CmaStateLabel(state);
+  const ActionRanking rr = risk.Ranking(inputs);
+  EXPECT_EQ(std::vector<ActionIndex>(rr.begin(), rr.end()), table.ranking[index]);
+}
+
+TEST(BeliefPolicyTest, OneHotBeliefsChooseAsTheCmaTableWithItsRanking) {
+  const PolicyDefinition cma = SolvedCmaPolicyDefinition();
+  RiskCmaPolicy risk;
+  QmdpCmaPolicy qmdp;
+  int checked = 0;
+  for (const CmaState& state : AllCmaStates()) {
+    if (!Reachable(state)) continue;
+    ExpectTheTableChoice(risk, qmdp, cma, state, OneHotInputs(state));
+    ++checked;
   }
   EXPECT_EQ(checked, 3 * 3 * 2 * 4);  // (NF: 1 MM, SF: 2, JF: 1) × 3 FS × 3 BH × 2 RM
 }
@@ -235,6 +250,78 @@ TEST(BeliefPolicyTest, WithoutNoiseTheFlightsAreTheCmaFlight) {
     EXPECT_EQ(other.energy_wh, cma.energy_wh) << name;
     EXPECT_EQ(other.actions, cma.actions) << name;
   }
+}
+
+// The vehicle-level belief policies on the beliefs of exact sensing choose as `cma-vehicle` with its ranking: each
+// state's MM is the vehicle-level margin at its MH (JF with a rotor isolated: the quadcopter's reach margin).
+DecisionInputs OneHotVehicleInputs(const CmaState& state) {
+  DecisionInputs inputs = OneHotInputs(state);
+  const double margin = state.mm == decision::MotorMargin::kMM1 ? 0.5 : -0.5;
+  inputs.vehicle_motor_margin = state.mh == MotorHealth::kNF ? 1.0 : margin;
+  inputs.vehicle_motor_margin_if_spall = state.mh == MotorHealth::kSF ? margin : 1.0;
+  return inputs;
+}
+
+TEST(BeliefPolicyTest, VehicleLevelOneHotBeliefsChooseAsCmaVehicleWithItsRanking) {
+  const PolicyDefinition vehicle = ResolvePolicy("cma-vehicle", "test");
+  const std::unique_ptr<DecisionPolicy> risk = MakePolicy("cma-vehicle-risk", "test");
+  const std::unique_ptr<DecisionPolicy> qmdp = MakePolicy("cma-vehicle-qmdp", "test");
+  const std::unique_ptr<DecisionPolicy> point = MakePolicy("cma-vehicle", "test");
+  int checked = 0;
+  for (const CmaState& state : AllCmaStates()) {
+    // The vehicle-level reading: NF with MM1; SF and JF (isolated) with either.
+    if (state.mh == MotorHealth::kNF && state.mm == decision::MotorMargin::kMM0) continue;
+    const DecisionInputs inputs = OneHotVehicleInputs(state);
+    ASSERT_EQ(point->StateRead(inputs), state);
+    ExpectTheTableChoice(*risk, *qmdp, vehicle, state, inputs);
+    EXPECT_EQ(risk->StateRead(inputs), state);
+    EXPECT_EQ(qmdp->StateRead(inputs), state);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3 * 3 * 2 * 5);  // (NF: 1 MM, SF: 2, JF: 2) × 3 FS × 3 BH × 2 RM
+}
+
+// A belief's SF states read the vehicle-level margin of a spall (vehicle_motor_margin_if_spall), its JF states the
+// quadcopter's margin once isolated and MM0 (a seized motor) before.
+TEST(BeliefPolicyTest, VehicleLevelBeliefStatesReadTheVehicleMargins) {
+  DecisionInputs inputs = OneHotInputs(CmaState{});
+  inputs.motor_health_belief = {0.7, 0.2, 0.1};
+  inputs.eod_short_probability = 0.0;
+  inputs.rul_if_spall_s = 50.0;                // eq. 5.14 would read MM0 in SF
+  inputs.vehicle_motor_margin_if_spall = 0.3;  // the quadcopter can finish
+  const std::vector<StateBelief> belief = CmaStateBelief(inputs, BeliefAbstraction::kVehicle);
+  ASSERT_EQ(belief.size(), 3u);                                // b(RM0) = 0: RM1 only, NF, SF, JF
+  EXPECT_EQ(belief[0].state.mm, decision::MotorMargin::kMM1);  // NF
+  EXPECT_EQ(belief[1].state.mh, MotorHealth::kSF);
+  EXPECT_EQ(belief[1].state.mm, decision::MotorMargin::kMM1);
+  EXPECT_EQ(belief[2].state.mh, MotorHealth::kJF);
+  EXPECT_EQ(belief[2].state.mm, decision::MotorMargin::kMM0);  // not isolated: seized
+  inputs.vehicle_motor_margin_if_spall = -0.1;                 // it cannot
+  EXPECT_EQ(CmaStateBelief(inputs, BeliefAbstraction::kVehicle)[1].state.mm, decision::MotorMargin::kMM0);
+  inputs.state.mh = MotorHealth::kJF;  // a rotor isolated: the quadcopter's reach margin
+  inputs.vehicle_motor_margin = 0.2;
+  EXPECT_EQ(CmaStateBelief(inputs, BeliefAbstraction::kVehicle)[2].state.mm, decision::MotorMargin::kMM1);
+}
+
+TEST(BeliefPolicyTest, VehicleLevelKindsAreResolvedStoredAndHashedApart) {
+  const PolicyDefinition vehicle = ResolvePolicy("cma-vehicle", "test");
+  std::vector<std::string> hashes = {vehicle.hash, ResolvePolicy("cma-risk", "test").hash,
+                                     ResolvePolicy("cma-qmdp", "test").hash};
+  for (const char* name : {"cma-vehicle-risk", "cma-vehicle-qmdp", "cma-vehicle-risk@0.25"}) {
+    const PolicyDefinition policy = ResolvePolicy(name, "test");
+    EXPECT_TRUE(IsVehicleBeliefPolicyKind(policy.kind)) << name;
+    EXPECT_EQ(policy.actions, vehicle.actions);  // the vehicle-level table
+    for (const std::string& h : hashes) EXPECT_NE(policy.hash, h) << name;
+    hashes.push_back(policy.hash);
+    const PolicyDefinition stored =
+        MakeStoredPolicy(policy.name, policy.kind, policy.source, PolicyActionsJson(policy), "store");
+    EXPECT_EQ(stored.hash, policy.hash);
+    EXPECT_EQ(MakeDecisionPolicy(stored)->name(), name);
+    EXPECT_TRUE(MakeDecisionPolicy(stored)->ReadsVehicleBeliefs());
+  }
+  EXPECT_EQ(ResolvePolicy("cma-vehicle-risk@0.25", "test").risk_level, 0.25);
+  EXPECT_THROW(ResolvePolicy("cma-vehicle-risk@2", "--policy"), InputError);
+  EXPECT_FALSE(MakePolicy("cma-risk", "test")->ReadsVehicleBeliefs());
 }
 
 }  // namespace

@@ -147,6 +147,52 @@ TEST(BeliefTest, OnsetHazardsGiveTheFaultProbabilityOverThePlan) {
   EXPECT_EQ(SpallOnsetHazard(0.5, plan_s, 700.0, 1.0), 0.0);
 }
 
+// The recursive filter the CMA runs (PredictSpallProbability with §5.4's onset hazard, then UpdateSpallProbability with
+// the indicator's false-alarm and miss rates) against Bayes' rule computed directly over the onset epoch: for every
+// hypothesis "the onset came at epoch k" (or not yet), its prior (§5.4: P = 0.5 per flight, uniform over the plan)
+// times the likelihood of the whole reading sequence under the sensor model (SensingParams's defaults: a false alarm
+// per hour, a present spall read at one epoch in two), normalised. Two independent computations of P(spall | readings).
+TEST(BeliefTest, TheSpallFilterIsBayesRuleOverTheOnsetEpochOnTheSensorModel) {
+  const SensingParams sensor;
+  const double fp = sensor.spall_false_positive;
+  const double miss = sensor.spall_miss;
+  const double plan_s = 600.0;
+  const double fault_probability = 0.5;
+  // Readings: nothing, one false-looking alarm at 200 s, nothing, then a spall read at 400, 401, 403 s.
+  std::vector<bool> readings(420, false);
+  readings[200] = readings[400] = readings[401] = readings[403] = true;
+  const auto likelihood = [&](bool reading, bool spall) {
+    return spall ? (reading ? 1.0 - miss : miss) : (reading ? fp : 1.0 - fp);
+  };
+  double filtered = 0.0;
+  for (std::size_t t = 0; t < readings.size(); ++t) {
+    filtered =
+        PredictSpallProbability(filtered, SpallOnsetHazard(fault_probability, plan_s, static_cast<double>(t), 1.0));
+    filtered = UpdateSpallProbability(filtered, readings[t], fp, miss);
+    // Bayes' rule over the onset epoch k <= t (the spall is then present from epoch k on) or no onset yet.
+    double with_spall = 0.0;
+    double prior_onset = 0.0;
+    for (std::size_t k = 0; k <= t; ++k) {
+      const double prior = fault_probability / plan_s;  // per 1 s epoch: uniform density over the plan
+      prior_onset += prior;
+      double l = prior;
+      for (std::size_t j = 0; j <= t; ++j) l *= likelihood(readings[j], j >= k);
+      with_spall += l;
+    }
+    double without = 1.0 - prior_onset;
+    for (std::size_t j = 0; j <= t; ++j) without *= likelihood(readings[j], false);
+    const double bayes = with_spall / (with_spall + without);
+    ASSERT_NEAR(filtered, bayes, 1e-9 * std::max(bayes, 1e-12) + 1e-15) << "epoch " << t;
+    // What these rates say of one alarm after 200 s of silence: the onset prior per epoch (1/1200) is three times the
+    // false-alarm rate and the silence before has kept b(SF) near 0.001, so one alarm lifts it to 0.78 (a spall is
+    // the likelier cause); the silence that follows (a present spall is read at one epoch in two) takes it below
+    // 0.01 within ten epochs, while a second reading takes it above 0.999.
+    if (t == 200) EXPECT_NEAR(filtered, 0.783, 0.001);
+    if (t == 210) EXPECT_LT(filtered, 0.01);
+    if (t == 401) EXPECT_GT(filtered, 0.999);
+  }
+}
+
 Scenario NoisyScenario(bool noisy) {
   Scenario scenario;
   scenario.name = "noisy";

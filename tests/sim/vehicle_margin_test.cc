@@ -114,11 +114,10 @@ TEST(VehicleMarginTest, AQuadcopterThatCanFinishAndOneThatCannotAtItsForecastLoa
   // Through the epoch's inputs: a RUL longer than the plan leaves eq. 5.14's MM1, a short one asks the quadcopter.
   DecisionInputs inputs;
   inputs.flight_time_remaining_s = long_plan_s;
-  inputs.rul_s = 2.0 * long_plan_s;
-  EXPECT_NEAR(ObserveVehicleMotorMargin(cannot.model, cannot.state, inputs, false, cannot.state.power.pack), 0.5,
-              kMarginTolerance);
-  inputs.rul_s = 20.0;
-  EXPECT_NEAR(ObserveVehicleMotorMargin(cannot.model, cannot.state, inputs, false, cannot.state.power.pack),
+  EXPECT_NEAR(
+      ObserveVehicleMotorMargin(cannot.model, cannot.state, inputs, 2.0 * long_plan_s, false, cannot.state.power.pack),
+      0.5, kMarginTolerance);
+  EXPECT_NEAR(ObserveVehicleMotorMargin(cannot.model, cannot.state, inputs, 20.0, false, cannot.state.power.pack),
               cannot_margin, kMarginTolerance);
 }
 

@@ -8,7 +8,7 @@
 //   name: dissertation-5.5          # a label
 //   seed: 1                         # campaign seed (the command's --seed overrides it)
 //   runs: 465                       # sampled scenarios (--runs overrides); each is flown by every policy
-//   policies: [cma, noop]           # cma | noop | cma-vehicle | cma-risk[@P] | cma-qmdp | a policy JSON
+//   policies: [cma, noop]           # cma | noop | cma-vehicle | cma-risk[@P] | cma-qmdp | cma-vehicle-risk[@P] | cma-vehicle-qmdp | a policy JSON
 //                                   # file (--policies overrides)
 //   mission:
 //     endurance_fraction: [0.5, 0.9]  # plan = f × (healthy pack's EOD at the cruise current − t_sf); ours

@@ -2,7 +2,9 @@
 // Why a landing was unnecessary. A flight's landing is unnecessary when its NoOp twin completed with its reserve
 // (campaign/statistics.h IsUnnecessaryLanding); its cause is read from the record of the landing flight: the time of
 // its first emergency action, the abstract CMA state its policy read then (RunRecord::first_action_state: for
-// `cma-vehicle` the vehicle-level motor margin's state), and the truth of the fault (onset, jam, isolation). In order:
+// `cma-vehicle` the vehicle-level motor margin's state; for `cma-vehicle-risk` the state whose action it took, for
+// `cma-vehicle-qmdp` its belief's most probable state, sim/belief_policy.cc), and the truth of the fault (onset, jam,
+// isolation). In order:
 //   after a jam          a rotor was already isolated (or the motor jammed) at the first action;
 //   battery margin       the state read RM0 (docs/modelling-choices.md#margins);
 //   false fault reading  the state read a spall (MH = SF) that the motor did not have then (no fault in the flight,

@@ -104,6 +104,13 @@ CmaConfig LoadCmaConfig(const std::filesystem::path& path);
 std::string CmaConfigYaml(const CmaConfig& config);
 // The weights as JSON (policy files): decision/cma_weights_json.h.
 
+// A row as the dissertation prints Tables 5.1-5.7: probabilities in its column order NoOp, LandASAP, LandPract,
+// Terminate, stored in the builder's (NoOp, Terminate, LandASAP, LandPract).
+ConditionalRow PrintedCmaRow(std::string next, std::vector<std::string> parents, double noop, double land_asap,
+                             double land_pract, double terminate);
+// Table 5.5 as printed: P(MM_{t+1} | MM_t, MH_t, A_t).
+ConditionalTable CmaMotorMarginTable();
+
 // The factored model (features, Tables 5.1–5.7, availability) and the composed MDP.
 FactoredMdpBuilder MakeCmaFactoredModel();
 FiniteMdp BuildCmaMdp(const CmaWeights& weights);

@@ -132,6 +132,12 @@ class FlightModel {
   const models::RotorSpeedLag& rotor_lag() const { return rotor_lag_; }
   const prognostics::MotorRulModel& rul_model() const { return rul_model_; }
   const prognostics::MotorRulModel& spall_truth() const { return spall_truth_; }
+  // The prognosis the vehicle-level policies read: the time scale fitted to the simulated spall's jams
+  // (prognostics/rul_calibration.h VehicleRulTimeScale at the scenario's growth speed).
+  const prognostics::MotorRulModel& vehicle_rul_model() const { return vehicle_rul_model_; }
+  // m/s: the level airspeed the quadcopter left after an isolation can hold at its tilt limit, before the gust
+  // allowance (sim/vehicle_margin.h CalcMaxLevelAirspeedOnRotors, computed once).
+  double quadcopter_max_level_airspeed() const { return quadcopter_max_level_airspeed_; }
   const planning::CityMap& map() const { return *map_; }
   const gnc::LqrController& controller() const { return controller_; }
   double load_filter_gain() const { return load_filter_gain_; }
@@ -157,7 +163,8 @@ class FlightModel {
   models::BatteryPack pack_;
   // the prognosis (calibrated to Table 5.4, docs/modelling-choices.md#spall-growth-time-scale)
   prognostics::MotorRulModel rul_model_;
-  prognostics::MotorRulModel spall_truth_;  // the simulated spall (the scenario's growth speed)
+  prognostics::MotorRulModel spall_truth_;        // the simulated spall (the scenario's growth speed)
+  prognostics::MotorRulModel vehicle_rul_model_;  // vehicle_rul_model()
   std::shared_ptr<const planning::CityMap> map_;
   gnc::LqrController controller_;
   planning::FlightPlan nominal_plan_;
@@ -174,6 +181,7 @@ class FlightModel {
   SteadyLoadModel steady_load_;
   std::shared_ptr<const LoadProfile> nominal_load_profile_;
   VibrationNoise vibration_noise_;
+  double quadcopter_max_level_airspeed_ = 0.0;  // quadcopter_max_level_airspeed()
 };
 
 // ---- the state ------------------------------------------------------------------------------------------------
@@ -273,6 +281,11 @@ struct DecisionState {
   RandomStream indicator_random;
   std::optional<double> spall_detected_s;
   double spall_probability = 0.0;
+  // The vehicle-level prognosis's particle RULs from the initial spall, sorted (empty until first read; drawn once
+  // from their own stream), and whether the epoch's policies read the vehicle-level beliefs
+  // (DecisionPolicy::ReadsVehicleBeliefs; set by the epoch's caller before Observe).
+  std::vector<double> vehicle_rul_at_onset_s;
+  bool vehicle_beliefs = false;
   bool operator==(const DecisionState&) const = default;
 };
 

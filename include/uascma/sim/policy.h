@@ -12,6 +12,8 @@
 //   "cma-risk@P" the same at a level the user states, P from 0 to 1 (e.g. "cma-risk@0.1": RM0 when the chance of
 //                running short exceeds 10 %), an operator's risk appetite instead of the reward-derived level;
 //   "cma-qmdp"   QMDP over the default CMA policy's Q-values and the beliefs (sim/belief_policy.h);
+//   "cma-vehicle-risk", "cma-vehicle-risk@P", "cma-vehicle-qmdp"  the same two rules over the vehicle-level policy's
+//                table and Q-values, each belief state's MM the vehicle-level margin (sim/belief_policy.h);
 //   FILE.json    a policy file written by `uascma policy solve`; its model hash is checked against the CMA model
 //                rebuilt from the weights it records. Named by the file stem ("tuned.json" → "tuned").
 // A PolicyDefinition is plain data (the action of every CMA state), so campaigns store it with their results
@@ -61,6 +63,15 @@ struct DecisionInputs {
   // motor outlives the plan, the quadcopter's reach margin when the predicted jam comes within it (a lower bound
   // above 0), RM once a rotor is isolated, −∞ for a seized motor not isolated.
   double vehicle_motor_margin = 1.0;
+  // The RUL the vehicle-level margin reads (prognostics/rul_calibration.h: the time scale fitted to the simulated
+  // spall's jams, the particles that have not jammed since the detection): +∞ without a detected spall, 0 once a rotor
+  // is isolated; and that of a spall detected now (the vehicle-level belief policies' SF states).
+  double vehicle_rul_s = std::numeric_limits<double>::infinity();
+  double vehicle_rul_if_spall_s = std::numeric_limits<double>::infinity();
+  // The vehicle-level margin under the hypothesis MH = SF at vehicle_rul_if_spall_s (the SF states of the
+  // vehicle-level belief policies): with exact sensing vehicle_motor_margin when MH = SF; under noisy sensing computed
+  // only for a policy that reads it (DecisionPolicy::ReadsVehicleBeliefs), else 1.
+  double vehicle_motor_margin_if_spall = 1.0;
   bool operator==(const DecisionInputs&) const = default;
 };
 
@@ -91,6 +102,9 @@ class DecisionPolicy {
   // of the same MDP's states (the vehicle-level margin, sim/vehicle_policy.h). What the campaign's reward accounting
   // and records use.
   virtual decision::CmaState StateRead(const DecisionInputs& inputs) const { return inputs.state; }
+  // True when Decide reads DecisionInputs::vehicle_motor_margin_if_spall under noisy sensing (the vehicle-level belief
+  // policies): the kernel then computes the quadcopter's reach for the SF hypothesis at every epoch it bears on.
+  virtual bool ReadsVehicleBeliefs() const { return false; }
 };
 
 // Always NoOp: the baseline.
@@ -134,15 +148,24 @@ struct PolicyDefinition {
 };
 
 PolicyDefinition NoOpPolicyDefinition();
-// "cma-risk" or "cma-qmdp": the policies that decide on beliefs over the default CMA policy.
-inline bool IsBeliefPolicyKind(const std::string& kind) { return kind == "cma-risk" || kind == "cma-qmdp"; }
+// "cma-risk" or "cma-qmdp": the policies that decide on beliefs over the default CMA policy; "cma-vehicle-risk" or
+// "cma-vehicle-qmdp": over the vehicle-level policy (sim/belief_policy.h).
+inline bool IsVehicleBeliefPolicyKind(const std::string& kind) {
+  return kind == "cma-vehicle-risk" || kind == "cma-vehicle-qmdp";
+}
+inline bool IsBeliefPolicyKind(const std::string& kind) {
+  return kind == "cma-risk" || kind == "cma-qmdp" || IsVehicleBeliefPolicyKind(kind);
+}
+// "cma-risk" or "cma-vehicle-risk": the kinds a stated level "@P" may follow.
+inline bool IsRiskPolicyKind(const std::string& kind) { return kind == "cma-risk" || kind == "cma-vehicle-risk"; }
 PolicyDefinition SolvedCmaPolicyDefinition();
 // A policy file; InputError names the file and field when it does not bind to the CMA model.
 PolicyDefinition PolicyDefinitionFromFile(const std::string& path);
-// The stated level of a "cma-risk@P" name (P a number from 0 to 1); nullopt for any other name. InputError names
-// `source` and `field` when the name starts with "cma-risk@" but P is not such a number.
+// The stated level of a "cma-risk@P" or "cma-vehicle-risk@P" name (P a number from 0 to 1); nullopt for any other
+// name. InputError names `source` and `field` when the name starts with such a prefix but P is not such a number.
 std::optional<double> StatedRiskLevel(const std::string& spec, const std::string& source, const std::string& field);
-// "noop", "cma", "cma-vehicle", "cma-risk", "cma-risk@P", "cma-qmdp" or a policy JSON path; InputError names `source` (e.g.
+// "noop", "cma", "cma-vehicle", "cma-risk[@P]", "cma-qmdp", "cma-vehicle-risk[@P]", "cma-vehicle-qmdp" or a policy
+// JSON path; InputError names `source` (e.g.
 // "--policy") and `field` otherwise.
 PolicyDefinition ResolvePolicy(const std::string& spec, const std::string& source, const std::string& field = "policy");
 // A policy from its stored form (results store): `actions_json` is PolicyActionsJson's text, a list with one entry

@@ -5,7 +5,7 @@
 //
 //   name: nominal
 //   seed: 1
-//   policy: noop                      # noop | cma | cma-vehicle | cma-risk[@P] | cma-qmdp | path/to/policy.json (--policy overrides)
+//   policy: noop                      # noop | cma | cma-vehicle | cma-risk[@P] | cma-qmdp | cma-vehicle-risk[@P] | cma-vehicle-qmdp | policy.json (--policy overrides)
 //   map:                              # absent: open ground, no landing sites
 //     procedural: {seed: 3}           # the built-in procedural city, or real data:
 //     # buildings: [city.geojson]     #   GeoJSON (Overpass) / .osm / .osm.pbf, relative to this file

@@ -41,14 +41,18 @@ bool MotorJamsWithinPlan(double flight_time_remaining_s, double rul_s, bool isol
 // m/s: the airspeed `active_rotors` rotors can hold less the gust allowance, with the thrust they give at the cut-off
 // bus voltage (sim/speed_cap.h): the cap §4.4.2 puts on the vehicle after an isolation.
 double CalcAuthorityAirspeed(const FlightModel& model, const FlightState& state, int active_rotors);
+// m/s: that airspeed before the gust allowance (0 when the rotors cannot hold the weight at the cut-off voltage); the
+// model keeps it for four rotors (FlightModel::quadcopter_max_level_airspeed).
+double CalcMaxLevelAirspeedOnRotors(const FlightModel& model, int active_rotors);
 
 // The quadcopter's reach of the rest of the executing plan from the vehicle's present position and pack state
 // `pack` (the CMA's view of it: the truth, or the sensed pack under noisy sensing). Its EOD is propagated only as far
 // as t_quad + t_sf (prognostics::CalcPackEodBefore): the margin's class is exact, its value a lower bound above 0.
 QuadcopterReach CalcQuadcopterReach(const FlightModel& model, const FlightState& state, const models::PackState& pack);
 
-// The epoch's vehicle-level margin from what Observe computed (`inputs`: t_remaining, t_RUL, RM; `isolated`: MH = JF).
+// The epoch's vehicle-level margin from what Observe computed (`inputs`: t_remaining, RM), the vehicle-level RUL
+// `rul_s` (prognostics/rul_calibration.h) and `isolated` (MH = JF).
 double ObserveVehicleMotorMargin(const FlightModel& model, const FlightState& state, const DecisionInputs& inputs,
-                                 bool isolated, const models::PackState& pack);
+                                 double rul_s, bool isolated, const models::PackState& pack);
 
 }  // namespace uascma::sim
