@@ -187,9 +187,15 @@ TEST(BeliefTest, TheSpallFilterIsBayesRuleOverTheOnsetEpochOnTheSensorModel) {
     // false-alarm rate and the silence before has kept b(SF) near 0.001, so one alarm lifts it to 0.78 (a spall is
     // the likelier cause); the silence that follows (a present spall is read at one epoch in two) takes it below
     // 0.01 within ten epochs, while a second reading takes it above 0.999.
-    if (t == 200) EXPECT_NEAR(filtered, 0.783, 0.001);
-    if (t == 210) EXPECT_LT(filtered, 0.01);
-    if (t == 401) EXPECT_GT(filtered, 0.999);
+    if (t == 200) {
+      EXPECT_NEAR(filtered, 0.783, 0.001);
+    }
+    if (t == 210) {
+      EXPECT_LT(filtered, 0.01);
+    }
+    if (t == 401) {
+      EXPECT_GT(filtered, 0.999);
+    }
   }
 }
 
