@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "uascma/common/error.h"
+#include "flight_internal.h"
 
 namespace uascma::sim {
 namespace {
@@ -52,6 +53,8 @@ EodTruthFlight FlyEodTruthTwin(const FlightModel& model) {
       prediction.flight_time_remaining_s = inputs.flight_time_remaining_s;
       prediction.motor_health = inputs.state.mh;
       prediction.pack = state.power.pack;
+      prediction.eod_cutoff_v =
+          internal::EpochEodOptions(model, state, prediction.pack, prediction.eod_current_a).cutoff_v;
       prediction.inputs = inputs;
       prediction.uncertainty = state.decision.eod_uncertainty;
       prediction.distribution = state.decision.eod_distribution;

@@ -206,8 +206,11 @@ TEST(EodCalibrationTest, TruthTwinHoldsAtTheTopOfItsFinalDescentUntilTheCutoff) 
       // The flight's quantiles are its distribution's, and close to the EOD at the current's quantile (load only:
       // exact up to CalcPackEodDistribution's one-secant log-normal, prognostics/eod_distribution.h).
       EXPECT_EQ(p.inputs.eod_p05_s, p.distribution.Quantile(0.05));
+      // To the cut-off the flight's EOD used (raised by the recent current peak's sag, prognostics/eod_peak.h).
+      prognostics::EodOptions to_cutoff;
+      to_cutoff.cutoff_v = p.eod_cutoff_v;
       const double at_p05 =
-          prognostics::CalcPackEod(model.pack(), p.pack, p.eod_current_a * std::exp(0.02 + 0.1 * z95)).eod_s;
+          prognostics::CalcPackEod(model.pack(), p.pack, p.eod_current_a * std::exp(0.02 + 0.1 * z95), to_cutoff).eod_s;
       EXPECT_NEAR(p.inputs.eod_p05_s, at_p05, 0.01 * at_p05);
       EXPECT_EQ(p.inputs.eod_short_probability,
                 p.distribution.ProbabilityBefore(p.flight_time_remaining_s + sampled.safety_margin_s));

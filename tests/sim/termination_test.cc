@@ -7,7 +7,6 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "test_scenarios.h"
@@ -78,9 +77,8 @@ Flying FlyingHealthy(TerminationRule rule, EodLoad load = EodLoad::kForecast) {
   scenario.options.safety_margin_s = 7.0;
   scenario.options.termination = rule;
   scenario.options.eod_load = load;
-  FlightModel model(scenario);
-  FlightState state = MakeInitialState(model, 3);
-  Flying flying{std::move(model), std::move(state)};
+  Flying flying{FlightModel(scenario), FlightState()};
+  flying.state = MakeInitialState(flying.model, 3);
   for (int k = 0; k < 20; ++k) StepEpoch(flying.model, flying.state, Controllers{});
   Observe(flying.model, flying.state);
   return flying;

@@ -28,6 +28,9 @@ struct EodTruthPrediction {
   double time_s = 0.0;                   // the epoch
   double eod_s = 0.0;                    // the point EOD (DecisionInputs::eod_s)
   double eod_current_a = 0.0;            // the constant current it was propagated at (the load forecast)
+  // V per cell: the cut-off it was propagated to (raised by the recent current peak's sag under the forecast load,
+  // prognostics/eod_peak.h; 3.3 V otherwise)
+  double eod_cutoff_v = 0.0;
   double flight_time_remaining_s = 0.0;  // on the executing plan
   decision::MotorHealth motor_health = decision::MotorHealth::kNF;
   models::PackState pack;  // the pack's state at the epoch (the state the EOD was propagated from)
