@@ -46,8 +46,12 @@ prognostics::SpallGrowthParams PrognosisGrowth(const FaultSpec& fault) {
 
 prognostics::SpallGrowthParams VehiclePrognosisGrowth(const FaultSpec& fault) {
   prognostics::SpallGrowthParams params;
+  // The fit scales the truth's time per growth step by the mean jam time over the mean growth steps; at the top of
+  // the scenario's bound (3600 s per step, an hour) that can pass the bound itself, where a spall takes days to
+  // jam and no flight sees it: held at the bound there (ours).
   params.time_per_growth_step_s =
-      prognostics::VehicleRulTimeScale(TruthGrowth(fault).time_per_growth_step_s).time_per_growth_step_s;
+      std::min(prognostics::VehicleRulTimeScale(TruthGrowth(fault).time_per_growth_step_s).time_per_growth_step_s,
+               prognostics::SpallGrowthParams::kTimePerGrowthStepBounds.high);
   return params;
 }
 
