@@ -374,8 +374,9 @@ class MissionBuilder {
   // ArduCopter/mode_rtl.cpp): at least RTL_ALT = 15 m, lowered near home to the cone of slope RTL_CONE_SLOPE = 3
   // but at least 2.5 m (RTL_ABS_MIN_CLIMB) above the current height, never below it. PX4 (RTL::computeReturnAltitude,
   // src/modules/navigator/rtl.cpp): RTL_RETURN_ALT = 60 m; within NAV_ACC_RAD = 10 m of home twice the distance;
-  // within RTL_MIN_DIST = 10 m the cone of half-angle RTL_CONE_ANG = 45°, at least 2 × NAV_ACC_RAD; never below the
-  // current height. A file naming neither firmware keeps the current height (the two differ).
+  // never below the current height. (Its cone of half-angle RTL_CONE_ANG applies within RTL_MIN_DIST, which by
+  // default equals NAV_ACC_RAD: beyond the acceptance radius the return altitude is RTL_RETURN_ALT.) A file naming
+  // neither firmware keeps the current height (the two differ).
   double ReturnHeight() const {
     const double current = -position_.z();
     const double distance = (mission_.home_W.head<2>() - position_.head<2>()).norm();
@@ -386,15 +387,8 @@ class MissionBuilder {
         return std::max(current, std::min(target, std::max(distance * kConeSlope, current + kAbsMinClimb)));
       }
       case MissionFirmware::kPx4: {
-        constexpr double kReturnAlt = 60.0, kAcceptanceRadius = 10.0, kMinDist = 10.0, kConeHalfAngleDeg = 45.0;
-        double target = kReturnAlt;
-        if (distance <= kAcceptanceRadius) {
-          target = 2.0 * distance;
-        } else {
-          if (distance <= kMinDist) target = std::min(target, distance / std::tan(kConeHalfAngleDeg * kPi / 180.0));
-          target = std::max(target, 2.0 * kAcceptanceRadius);
-        }
-        return std::max(target, current);
+        constexpr double kReturnAlt = 60.0, kAcceptanceRadius = 10.0;
+        return std::max(distance <= kAcceptanceRadius ? 2.0 * distance : kReturnAlt, current);
       }
       case MissionFirmware::kUnknown:
         break;
