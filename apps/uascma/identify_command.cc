@@ -104,6 +104,13 @@ void AddIdentifyPropulsion(CLI::App* parent) {
         100.0 * result.loo_rpm_max_relative_error, 100.0 * result.loo_share_within_95_bounds,
         result.thrust_coefficient_n_per_rpm2, result.thrust_coefficient_dimensionless, identify.thrust_check_above_us,
         100.0 * result.thrust_median_relative_error, 100.0 * result.thrust_max_relative_error, result.thrust_check_points);
+    // What a vehicle file's rotor takes (docs/modelling-choices.md#vehicle-file).
+    text += fmt::format("  largest measured thrust {:.3f} N; ", result.max_thrust_n);
+    text += result.power_law_exponent
+                ? fmt::format("power law P = {:.4g} W x (T / 1 N)^{:.4g} ({} points above {:g} µs)\n",
+                              *result.power_law_w_at_one_newton, *result.power_law_exponent, result.power_law_points,
+                              identify.thrust_check_above_us)
+                : fmt::format("no power law (fewer than 3 points above {:g} µs)\n", identify.thrust_check_above_us);
     for (const std::string& warning : result.warnings) text += "  warning: " + warning + "\n";
     WriteOutput("", text);
   });
