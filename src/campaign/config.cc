@@ -635,6 +635,12 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
 }
 
 std::string CampaignConfigHash(const CampaignConfig& c) {
+  if (!c.vehicle.empty() && c.vehicle_hash.empty()) {
+    // A vehicle set from code (Python) without its hash: the file's content, as ParseCampaignConfig records it.
+    CampaignConfig hashed = c;
+    hashed.vehicle_hash = sim::LoadVehicleFile(c.vehicle)->content_hash;
+    return CampaignConfigHash(hashed);
+  }
   Fingerprint f;
   f.Add(std::string_view("uascma-campaign/1"));
   for (const CampaignFieldEntry& entry : Fields(c)) {
