@@ -80,5 +80,38 @@ TEST(VehicleCliTest, ACampaignFliesTheVehicleAndHashesIt) {
   EXPECT_NE(nlohmann::json::parse(plain.out).at("campaign").at("config_hash"), campaign.at("config_hash"));
 }
 
+// identify drag: a tunnel table we make (drag ∝ v² at every pitch, the bare rows at throttle 0) to DRAG.csv, flown in a
+// vehicle file's drag:. Twice the drag costs energy on the same delivery; a bad tunnel file writes nothing.
+TEST(VehicleCliTest, IdentifyDragMakesTheTableAVehicleFlies) {
+  ScratchDir scratch("vehicle_drag");
+  const auto tunnel = [&](const std::string& name, double area_m2) {
+    std::ofstream file(scratch.path / name);
+    file << "airspeed_mps,pitch_deg,lift_n,drag_n,throttle_us\n";
+    for (double v : {2.0, 4.0, 6.0, 8.0, 10.0}) {
+      for (int pitch = -30; pitch <= 30; pitch += 15)
+        file << v << "," << pitch << ",0," << 0.6125 * area_m2 * v * v << ",0\n";
+    }
+    return (scratch.path / name).string();
+  };
+  const std::string low = (scratch.path / "low.csv").string(), high = (scratch.path / "high.csv").string();
+  const RunResult made = RunCli("identify drag " + tunnel("t1.csv", 0.05) + " --out " + low + " --json");
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  EXPECT_TRUE(nlohmann::json::parse(made.out).at("zero_speed_added").get<bool>());
+  ASSERT_EQ(RunCli("identify drag " + tunnel("t2.csv", 0.10) + " --out " + high).exit_code, 0);
+  std::ofstream(scratch.path / "low.yaml") << "drag: low.csv\n";
+  std::ofstream(scratch.path / "high.yaml") << "drag: high.csv\n";
+  auto energy = [&](const std::string& vehicle) {
+    const RunResult run =
+        RunCli("simulate " + kExamples + "nominal.yaml --vehicle " + (scratch.path / vehicle).string() + " --json");
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return nlohmann::json::parse(run.out).at("energy_wh").get<double>();
+  };
+  EXPECT_GT(energy("high.yaml"), energy("low.yaml"));
+  std::ofstream(scratch.path / "bad.csv") << "airspeed_mps,pitch_deg,lift_n,drag_n,throttle_us\n2,0,0,-1,0\n";
+  const std::string out = (scratch.path / "bad-drag.csv").string();
+  ExpectBadInput(RunCli("identify drag " + (scratch.path / "bad.csv").string() + " --out " + out), "drag_n");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 }  // namespace
 }  // namespace uascma::testing_support
