@@ -15,6 +15,7 @@
 #include "uascma/common/yaml_io.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/sim/scenario_bounds.h"
+#include "uascma/sim/vehicle_file.h"
 
 namespace uascma::campaign {
 namespace {
@@ -52,6 +53,18 @@ bool CheckBuildings(const CampaignConfig& c, std::string* error) {
 
 bool CheckSites(const CampaignConfig& c, std::string* error) {
   return IsPlainYamlScalar(c.map.sites) || Fail(error, "map.sites: expected a file path without quotes");
+}
+
+bool CheckVehicle(const CampaignConfig& c, std::string* error) {
+  return IsPlainYamlScalar(c.vehicle) || Fail(error, "vehicle: expected a file path without quotes");
+}
+
+bool CheckVehicleHash(const CampaignConfig& c, std::string* error) {
+  if (c.vehicle_hash.empty()) return true;
+  if (c.vehicle.empty()) return Fail(error, "vehicle_hash: expected only with a vehicle file");
+  const bool hex =
+      c.vehicle_hash.size() == 16 && c.vehicle_hash.find_first_not_of("0123456789abcdef") == std::string::npos;
+  return hex || Fail(error, "vehicle_hash: expected 16 hex digits (the vehicle file's content hash)");
 }
 
 bool CheckOrigin(const CampaignConfig& c, std::string* error) {
@@ -125,6 +138,22 @@ std::vector<CampaignFieldEntry> MapFields(MapSampling& m) {
 
 // A field table reads as one row per key: kept out of clang-format.
 // clang-format off
+namespace {
+
+// The vehicle's rows (config.h): the file is not fingerprinted by its path but by its content hash.
+std::vector<CampaignFieldEntry> VehicleFields(CampaignConfig& c) {
+  return {
+      {{.key = "vehicle", .expected = "a vehicle file, relative to the campaign file (unset: the dissertation's)",
+        .citation = "docs/identification.md#vehicle-file", .hashed = false, .written_when_unset = false,
+        .check = CheckVehicle}, &c.vehicle},
+      {{.key = "vehicle_hash", .expected = "the vehicle file's content hash (written by uascma)",
+        .citation = "docs/identification.md#vehicle-file", .written_when_unset = false, .only_when_set = true,
+        .check = CheckVehicleHash}, &c.vehicle_hash},
+  };
+}
+
+}  // namespace
+
 std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
   namespace b = bounds;
   std::vector<CampaignFieldEntry> fields = {
@@ -202,6 +231,7 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
        &c.options.noisy_sensing},
   };
   fields.insert(fields.end(), sampling.begin(), sampling.end());
+  for (const CampaignFieldEntry& entry : VehicleFields(c)) fields.push_back(entry);
   return fields;
 }
 // clang-format on
@@ -324,6 +354,10 @@ void HashWhenSet(Fingerprint& f, const ConfigField& field, const T& v, const Cam
     f.Add(c.map.DerivesSites() ? 1 : 0);
   } else if constexpr (std::is_same_v<T, bool>) {
     if (v) f.Add(field.leaf());
+  } else if constexpr (std::is_same_v<T, std::string>) {  // vehicle_hash: the vehicle file's content
+    if (!IsSet(v)) return;
+    f.Add(field.leaf());
+    HashValue(f, v);
   } else if constexpr (requires(Fingerprint & g) { HashValue(g, *v); }) {
     if (!IsSet(v)) return;
     f.Add(field.leaf());
@@ -536,6 +570,14 @@ CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::stri
     std::visit([&](auto* v) { ValueReader{node, entry.field, source}(*v); }, entry.value);
   }
   if (const YAML::Node map = root["map"]) CheckMapKeys(map, config.map, source);
+  if (!config.vehicle.empty()) {
+    // Relative to the campaign file, kept absolute so that the stored configuration replays anywhere; its content
+    // hash is what the fingerprint takes (a stored configuration carries it, and the world checks it).
+    config.vehicle = std::filesystem::absolute(std::filesystem::path(source).parent_path() / config.vehicle)
+                         .lexically_normal()
+                         .string();
+    if (config.vehicle_hash.empty()) config.vehicle_hash = sim::LoadVehicleFile(config.vehicle)->content_hash;
+  }
   std::string error;
   if (!config.IsValid(&error)) {
     const auto colon = error.find(": ");
@@ -593,6 +635,12 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
 }
 
 std::string CampaignConfigHash(const CampaignConfig& c) {
+  if (!c.vehicle.empty() && c.vehicle_hash.empty()) {
+    // A vehicle set from code (Python) without its hash: the file's content, as ParseCampaignConfig records it.
+    CampaignConfig hashed = c;
+    hashed.vehicle_hash = sim::LoadVehicleFile(c.vehicle)->content_hash;
+    return CampaignConfigHash(hashed);
+  }
   Fingerprint f;
   f.Add(std::string_view("uascma-campaign/1"));
   for (const CampaignFieldEntry& entry : Fields(c)) {

@@ -1,4 +1,5 @@
 #include "uascma/sim/flight.h"
+#include "uascma/sim/vehicle_file.h"
 
 // The model and the GNC step of the kernel (flight.h): the vehicle's step, then the power system's; StepTogether
 // steps flights in lanes; StepFollowing flies one vehicle for several power systems. The initial state is
@@ -364,6 +365,7 @@ std::shared_ptr<const LoadProfile> NominalLoadProfile(const Scenario& scenario, 
                                                       const SteadyLoadModel& load) {
   const std::shared_ptr<const KeyedLoadProfile>& keyed = scenario.nominal_load_profile;
   if (keyed && keyed->plan == plan && keyed->body == scenario.body && keyed->configuration == scenario.configuration &&
+      keyed->vehicle_hash == (scenario.vehicle ? scenario.vehicle->content_hash : std::string()) &&
       keyed->mean_wind_W == load.mean_wind_W) {
     return std::shared_ptr<const LoadProfile>(keyed, &keyed->profile);  // shares the scenario's ownership
   }
@@ -374,13 +376,13 @@ std::shared_ptr<const LoadProfile> NominalLoadProfile(const Scenario& scenario, 
 
 FlightModel::FlightModel(const Scenario& scenario)
     : scenario_(Validated(scenario)),
-      propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
+      propulsion_(ScenarioPropulsion(scenario)),
       electrical_power_(propulsion_),
-      mixer_(models::MixerParams::ForPropulsion(propulsion_)),
-      drag_(models::DragTable::Default(scenario.configuration)),
+      mixer_(ScenarioMixer(scenario)),
+      drag_(ScenarioDrag(scenario)),
       drag_lanes_(drag_),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
-      pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
+      pack_(ScenarioPackParams(scenario, scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
       rul_model_(PrognosisGrowth(scenario.fault)),
       spall_truth_(TruthGrowth(scenario.fault)),
       vehicle_rul_model_(VehiclePrognosisGrowth(scenario.fault)),

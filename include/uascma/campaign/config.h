@@ -46,6 +46,8 @@
 //     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
 //     termination: last-resort                   # Terminate only when nothing else reaches the ground (sim/termination.h)
 //     noisy_sensing: false                       # sensor noise, vibration, a spall indicator (sim/sensing.h)
+//   vehicle: my-hexacopter.yaml                  # optional: the user's vehicle file (sim/vehicle_file.h), relative
+//                                                # to this file; the fingerprint takes its content hash
 //
 // Ranges are [low, high] lists with low ≤ high; a draw is uniform on [low, high). Unknown keys are
 // errors (a typo would otherwise be silently ignored). Each key is declared once, in the field table of
@@ -272,6 +274,10 @@ struct CampaignConfig {
   WindSampling wind;
   FaultSampling fault;
   FlightOptions options;
+  // The vehicle every run flies (sim/vehicle_file.h, docs/identification.md#vehicle-file), its path made absolute on
+  // reading, and its content hash (16 hex digits), which the fingerprint takes. Empty: the dissertation's vehicle.
+  std::string vehicle;
+  std::string vehicle_hash;
 
   // Every range ordered and inside its physical domain, weights non-negative with a positive sum,
   // probabilities in [0, 1], motors in 1..6, policies non-empty. Writes "field: expected …" to *error.

@@ -90,6 +90,12 @@ std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index);
 // V per cell: the nominal voltage of a LiPo cell (the usual 3.7 V rating; below the default OCV table's
 // 3.8–4.1 V over most of a discharge, so the planning current errs high). Ours.
 inline constexpr double kPlanningCellVoltage = 3.7;
+// The planning voltage per cell of a scenario: kPlanningCellVoltage, and for a vehicle file's cells no more than the
+// terminal voltage its healthy cell holds at half charge at the vehicle's hover power (eq. 3.3 with the RC pairs at
+// their steady current, v = OCV(0.5) − (R0 + Σ R_j) i, the hover power shared by the six cells of the two
+// branches): cells whose sag under the hover load takes them below 3.7 V would otherwise be planned too long
+// (docs/modelling-choices.md#vehicle-file). The dissertation's vehicle keeps 3.7 V.
+double CalcPlanningCellVoltage(const sim::Scenario& scenario);
 
 // The pack current (A) of steady level flight at `airspeed` (m/s): the thrust tilted until its horizontal part
 // balances the drag table's drag (models::DragTable::Default of the scenario's configuration), shared by six
@@ -102,6 +108,8 @@ double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTa
 // End of discharge (s) of the battery with this spec's voltages and temperature but every cell healthy, at
 // a constant current (A).
 double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a);
+// The same for the scenario's vehicle: its cells when it has a vehicle file (sim/vehicle_file.h).
+double CalcHealthyPackEod(const sim::Scenario& scenario, double current_a);
 
 // Flyability by a healthy pack (docs/modelling-choices.md#dissertation-profile) judged over the nominal plan's whole
 // load (take-off climb, cruise, drop hover, descent, a gust allowance and t_sf), not at the cruise current alone
