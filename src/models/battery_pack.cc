@@ -52,6 +52,18 @@ HealthClass Classify(const CellHealth* cells, int count) {
   return worst;
 }
 
+// OCV(z) of every cell and their sums per branch (eq. 3.6), summed in cell order.
+void CalcCellOcvs(const PerCell<SelfCorrectingCell>& cells, const PackState& state, PerCell<double>& ocv_v,
+                  PerBranch<double>& branch_ocv_v) {
+  branch_ocv_v = {0.0, 0.0};
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      ocv_v[b][c] = cells[b][c].ocv().CalcVoltage(state.cells[b][c].soc_fraction);
+      branch_ocv_v[b] += ocv_v[b][c];
+    }
+  }
+}
+
 // The branch voltages (Σ cell terminal voltages) and the lowest cell of the switched-on branches.
 void SummarisePackCells(const PerBranch<bool>& branch_on, PackOutputs& out) {
   out.min_cell_voltage_v = std::numeric_limits<double>::infinity();
@@ -180,13 +192,8 @@ BranchSplit BatteryPack::CalcSplit(const PackState& state, double total_current_
                            total_current_a);
   }
   PerCell<double> ocv_v;
-  PerBranch<double> branch_ocv_v = {0.0, 0.0};
-  for (int b = 0; b < kBranchCount; ++b) {
-    for (int c = 0; c < kCellsPerBranch; ++c) {
-      ocv_v[b][c] = cells_[b][c].ocv().CalcVoltage(state.cells[b][c].soc_fraction);
-      branch_ocv_v[b] += ocv_v[b][c];
-    }
-  }
+  PerBranch<double> branch_ocv_v;
+  CalcCellOcvs(cells_, state, ocv_v, branch_ocv_v);
   PerBranch<double> branch_r_ohm = branch_r0_ohm_;
   ApplyFaultToBranches(state, ocv_v, branch_ocv_v, branch_r_ohm);
   return CalcBranchSplit(branch_ocv_v, branch_r_ohm, state.branch_on, total_current_a);
@@ -258,13 +265,8 @@ double BatteryPack::CalcCurrentAtPower(const PackState& state, double power_w, d
 PackOutputs BatteryPack::CalcOutputs(const PackState& state, double total_current_a) const {
   // OCV(z) of every cell, once: the split (eqs. 3.4–3.6) and the terminal voltages (eq. 3.3) share it.
   PerCell<double> ocv_v;
-  PerBranch<double> branch_ocv_v = {0.0, 0.0};
-  for (int b = 0; b < kBranchCount; ++b) {
-    for (int c = 0; c < kCellsPerBranch; ++c) {
-      ocv_v[b][c] = cells_[b][c].ocv().CalcVoltage(state.cells[b][c].soc_fraction);
-      branch_ocv_v[b] += ocv_v[b][c];
-    }
-  }
+  PerBranch<double> branch_ocv_v;
+  CalcCellOcvs(cells_, state, ocv_v, branch_ocv_v);
   PackOutputs out;
   if (FaultOn(state)) {
     PerBranch<double> branch_r_ohm = branch_r0_ohm_;

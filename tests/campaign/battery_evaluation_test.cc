@@ -188,7 +188,9 @@ TEST(BatteryEvaluationTest, ResultsAreSplitByPackFault) {
   for (const BatteryEvaluationRun& run : evaluation.runs) {
     const BatteryFlightParams expected = SampleBatteryFlight(options.ranges, options.seed, run.run);
     ASSERT_EQ(run.params.pack_fault.has_value(), expected.pack_fault.has_value());
-    if (expected.pack_fault) EXPECT_EQ(*run.params.pack_fault, *expected.pack_fault);
+    if (expected.pack_fault) {
+      EXPECT_EQ(*run.params.pack_fault, *expected.pack_fault);
+    }
     faulted += run.params.pack_fault ? 1 : 0;
     // The flight without its fault is the fault-free draw: the share changes nothing else.
     BatteryFlightRanges plain = options.ranges;
