@@ -134,6 +134,31 @@ std::vector<CampaignFieldEntry> MapFields(MapSampling& m) {
 }
 // clang-format on
 
+// The rows of the pack faults (config.h PackFaultConfig): written and fingerprinted only when set.
+// A field table reads as one row per key: kept out of clang-format.
+// clang-format off
+std::vector<CampaignFieldEntry> PackFaultFields(PackFaultConfig& p) {
+  namespace b = bounds;
+  return {
+      {{.key = "pack_faults.share", .bounds = &b::kProbability, .expected = "a share of the flights (unset: none)",
+        .citation = "ours: docs/modelling-choices.md#pack-faults", .written_when_unset = false, .only_when_set = true},
+       &p.share},
+      {{.key = "pack_faults.onset_fraction", .bounds = &b::kProbability, .expected = "(unset: [0, 1])",
+        .citation = "ours, as §5.4", .written_when_unset = false, .only_when_set = true},
+       &p.onset_fraction},
+      {{.key = "pack_faults.short_resistance_ohm", .bounds = &models::kPackFaultResistanceBounds,
+        .expected = "(unset: [1, 20])", .citation = "ours: docs/modelling-choices.md#pack-faults",
+        .written_when_unset = false, .only_when_set = true}, &p.short_resistance_ohm},
+      {{.key = "pack_faults.failed_cell_resistance_ohm", .bounds = &models::kPackFaultResistanceBounds,
+        .expected = "(unset: [0.1, 10])", .citation = "ours: docs/modelling-choices.md#pack-faults",
+        .written_when_unset = false, .only_when_set = true}, &p.failed_cell_resistance_ohm},
+      {{.key = "pack_faults.connector_resistance_ohm", .bounds = &models::kPackFaultResistanceBounds,
+        .expected = "(unset: [0.05, 0.5])", .citation = "ours: docs/modelling-choices.md#pack-faults",
+        .written_when_unset = false, .only_when_set = true}, &p.connector_resistance_ohm},
+  };
+}
+// clang-format on
+
 }  // namespace
 
 // A field table reads as one row per key: kept out of clang-format.
@@ -232,6 +257,7 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
   };
   fields.insert(fields.end(), sampling.begin(), sampling.end());
   for (const CampaignFieldEntry& entry : VehicleFields(c)) fields.push_back(entry);
+  for (CampaignFieldEntry& e : PackFaultFields(c.pack_faults)) fields.push_back(e);  // last: written only when set
   return fields;
 }
 // clang-format on
@@ -599,6 +625,19 @@ CampaignConfig LoadCampaignConfig(const std::filesystem::path& path) {
   for (std::string& file : config.map.buildings) resolve(file);
   resolve(config.map.sites);
   return config;
+}
+
+PackFaultSampling PackFaultConfig::Sampling() const {
+  PackFaultSampling sampling;
+  sampling.share = share.value_or(0.0);
+  auto copy = [](const std::optional<Range>& range, double(&out)[2]) {
+    if (range) out[0] = range->low, out[1] = range->high;
+  };
+  copy(onset_fraction, sampling.onset_fraction);
+  copy(short_resistance_ohm, sampling.short_resistance_ohm);
+  copy(failed_cell_resistance_ohm, sampling.failed_cell_resistance_ohm);
+  copy(connector_resistance_ohm, sampling.connector_resistance_ohm);
+  return sampling;
 }
 
 const char* MediumFadesName(MediumFades fades) { return fades == MediumFades::kPerCell ? "per_cell" : "one_kind"; }

@@ -498,6 +498,12 @@ SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, s
   DrawWind(random, config.wind, run);        // 6
   DrawRoute(random, config, run);            // 7
   DrawFault(random, config.fault, run);      // 8
+  // 9: a sudden pack fault (campaign/pack_fault_sampling.h), from its own stream so that every draw above keeps its
+  // value; nothing is drawn without one.
+  if (config.pack_faults.share) {
+    RandomStream pack_fault_random(DeriveSeed(run.run_seed, kPackFaultStream));
+    scenario.pack_fault = DrawPackFault(pack_fault_random, config.pack_faults.Sampling(), run.plan_duration_s);
+  }
   return run;
 }
 

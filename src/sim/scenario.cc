@@ -338,6 +338,7 @@ bool Scenario::IsValid(std::string* error) const {
   if (!mission.IsValid(&part_error)) return fail("mission");
   if (!limits.IsValid(&part_error)) return fail("limits");
   if (!fault.IsValid(&part_error)) return fail("fault");
+  if (pack_fault && !pack_fault->IsValid(&part_error)) return fail("pack_fault");
   if (!lqr.IsValid(&part_error)) return fail("lqr");
   if (!imm.IsValid(&part_error)) return fail("imm");
   if (!options.IsValid(&part_error)) return fail("options");
@@ -480,6 +481,28 @@ void ReadFault(const YAML::Node& f, const std::string& source, Scenario& sc) {
   ReadScenarioSection(f, "fault", source, sc);
 }
 
+// pack_fault: — its presence is the fault (models/pack_fault.h); kind, pack and onset required, the cell for the two
+// cell faults.
+void ReadPackFault(const YAML::Node& f, const std::string& source, Scenario& sc) {
+  RequireOnlyKeys(f, ScenarioSectionKeys("pack_fault"), source, "pack_fault");
+  models::PackFault fault;
+  fault.kind = models::ParsePackFaultKind(RequireString(f, "kind", source, "pack_fault"), source, "pack_fault.kind");
+  auto whole = [&](const char* key, int low, int high) {
+    const double value = RequireNumber(f, key, source, "pack_fault");
+    if (value != std::floor(value) || value < low || value > high) {
+      throw InputError(source, std::string("pack_fault.") + key, fmt::format("a whole number {}..{}", low, high));
+    }
+    return static_cast<int>(value) - 1;
+  };
+  fault.branch = whole("pack", 1, models::kBranchCount);
+  if (fault.kind != models::PackFaultKind::kConnector) fault.cell = whole("cell", 1, models::kCellsPerBranch);
+  fault.onset_s = RequireNumber(f, "onset_s", source, "pack_fault");
+  RequireWithin(fault.onset_s, models::kPackFaultOnsetBounds, source, "pack_fault.onset_s");
+  fault.resistance_ohm = RequireNumber(f, "resistance_ohm", source, "pack_fault");
+  RequireWithin(fault.resistance_ohm, models::kPackFaultResistanceBounds, source, "pack_fault.resistance_ohm");
+  sc.pack_fault = fault;
+}
+
 // Over a map with landing sites the flight builds LandPract's database, whose checkpoints lie on the nominal plan
 // (§5.3.2.2): one inside a building is a plan through it, said here with the file and the key that sets the height.
 void CheckLandPractCheckpoints(const Scenario& sc, const std::string& source) {
@@ -499,9 +522,10 @@ void CheckLandPractCheckpoints(const Scenario& sc, const std::string& source) {
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source, const ScenarioLoadOptions& load) {
   const YAML::Node root = ParseYamlText(yaml_text, source);  // duplicate keys and non-UTF-8 text refused
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
-  RequireOnlyKeys(
-      root, {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault", "options"},
-      source, "");
+  RequireOnlyKeys(root,
+                  {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault",
+                   "pack_fault", "options"},
+                  source, "");
   ScenarioFile file;
   Scenario& sc = file.scenario;
   sc.name = root["name"] ? RequireString(root, "name", source, "") : std::filesystem::path(source).stem().string();
@@ -536,6 +560,7 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   }
   if (const YAML::Node l = root["limits"]) ReadSection(l, "limits", source, sc);
   if (const YAML::Node f = root["fault"]) ReadFault(f, source, sc);
+  if (const YAML::Node f = root["pack_fault"]) ReadPackFault(f, source, sc);
   if (const YAML::Node o = root["options"]) ReadSection(o, "options", source, sc);
   // The map's inflated hulls, once for every flight of this scenario (Scenario::map_obstacles).
   if (sc.map && !sc.map->sites().empty()) {

@@ -48,6 +48,8 @@
 //      of their whole load), each shortened once.
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the
 //      fraction uniform on onset_fraction, then the motor uniform over the list.
+//   9. with pack_faults.share set, a sudden pack fault (campaign/pack_fault_sampling.h DrawPackFault) from its own
+//      stream RandomStream(DeriveSeed(run_seed, kPackFaultStream)): the draws above do not change with it.
 //
 // The safety margin t_sf (Table 4.4) goes to SimOptions::safety_margin_s: the reach margin judges the plan
 // with t_sf of extra time, RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf of
@@ -83,7 +85,7 @@ void DrawCellFades(RandomStream& random, models::HealthClass health, int k, Medi
                    std::span<models::CellHealth* const> cells);
 
 // Sub-streams of one run (DeriveSeed indices).
-enum RunStream : std::uint64_t { kSamplerStream = 1, kSimulatorStream = 2 };
+enum RunStream : std::uint64_t { kSamplerStream = 1, kSimulatorStream = 2, kPackFaultStream = 3 };
 
 std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index);
 

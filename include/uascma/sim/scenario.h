@@ -48,6 +48,12 @@
 //     spall_onset_s: 175
 //     time_per_growth_step_s: 0.7128  # optional: faster growth than the Table 5.4 calibration
 //     prognosis_time_per_growth_step_s: 0.7128  # optional: the prognosis knows it (default: Table 5.4)
+//   pack_fault:                       # absent: none (models/pack_fault.h, docs/modelling-choices.md#pack-faults)
+//     kind: internal_short            # internal_short | failed_cell | connector
+//     pack: 1                         # 1 | 2
+//     cell: 2                         # 1..3 (not read by a connector fault)
+//     onset_s: 120                    # s after take-off
+//     resistance_ohm: 5               # R_s of the short, R_f of the failed cell, R_c of the poor contact
 //   options:
 //     telemetry_rate_hz: 10
 //     reconfiguration: true
@@ -207,6 +213,9 @@ struct Scenario {
   std::optional<planning::GeoPoint> geo_origin;
   planning::PlanLimits limits;
   FaultSpec fault;
+  // A sudden fault of one pack (models/pack_fault.h); none by default. Its connector draws come from the flight's
+  // seed (FlightModel).
+  std::optional<models::PackFault> pack_fault;
   gnc::LqrOptions lqr;
   gnc::ImmParams imm;
   SimOptions options;
