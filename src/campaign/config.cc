@@ -157,13 +157,10 @@ std::vector<CampaignFieldEntry> PackFaultFields(PackFaultConfig& p) {
         .written_when_unset = false, .only_when_set = true}, &p.connector_resistance_ohm},
   };
 }
-// clang-format on
 
-}  // namespace
-
-// A field table reads as one row per key: kept out of clang-format.
-// clang-format off
-namespace {
+void Append(const std::vector<CampaignFieldEntry>& rows, std::vector<CampaignFieldEntry>& fields) {
+  fields.insert(fields.end(), rows.begin(), rows.end());
+}
 
 // The vehicle's rows (config.h): the file is not fingerprinted by its path but by its content hash.
 std::vector<CampaignFieldEntry> VehicleFields(CampaignConfig& c) {
@@ -255,9 +252,8 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
         .citation = "ours; sim/sensing.h", .written_when_unset = false, .only_when_set = true},
        &c.options.noisy_sensing},
   };
-  fields.insert(fields.end(), sampling.begin(), sampling.end());
-  for (const CampaignFieldEntry& entry : VehicleFields(c)) fields.push_back(entry);
-  for (CampaignFieldEntry& e : PackFaultFields(c.pack_faults)) fields.push_back(e);  // last: written only when set
+  // The pack faults' rows last: they are written only when set.
+  for (const auto& rows : {sampling, VehicleFields(c), PackFaultFields(c.pack_faults)}) Append(rows, fields);
   return fields;
 }
 // clang-format on
