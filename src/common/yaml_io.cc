@@ -86,9 +86,8 @@ class DocumentCheck {
 namespace {
 
 // YAML 1.2 §5.1: a stream holds printable characters only: tab, line feed, carriage return, 0x20-0x7E and Unicode
-// above, less the C1 controls but NEL (U+0080-U+009F, UTF-8 0xC2 0x80-0x9F). yaml-cpp does not check it: a NUL
-// ends its view of a flow sequence and the rest of the text becomes documents it cannot place, and a control
-// character in a comment passes unseen.
+// above, less the C1 controls but NEL (U+0080-U+009F, UTF-8 0xC2 0x80-0x9F). yaml-cpp does not check it: a NUL or
+// a terminal escape in a comment passed unseen, and one in a value reached the messages raw.
 void CheckPrintable(const std::string& text, std::size_t begin, std::size_t end, int line, const std::string& source) {
   // UTF-8 first (uascma's encoding, YAML 1.2 §5.2): bytes such as 0xFF 0xFE read as a UTF-16 mark send yaml-cpp's
   // reader astray, and a comment is text too.
