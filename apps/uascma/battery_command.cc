@@ -182,6 +182,14 @@ void PrintLearnSummary(const std::string& out, const BatteryModel& model,
       out.c_str(), BatteryModelHash(model).c_str());
 }
 
+// --pack-fault-share of learn and evaluate (campaign/pack_fault_sampling.h).
+void AddPackFaultShareOption(CLI::App* command, double& share) {
+  AddBoundedOption(command, "--pack-fault-share", share,
+                   "Share of the flights with a sudden pack fault (internal short, failed cell or connector;\n"
+                   "docs/modelling-choices.md#pack-faults; default 0: none)",
+                   campaign::kPackFaultShareBounds);
+}
+
 // --- battery learn ---------------------------------------------------------------------------------
 void AddLearn(CLI::App* battery) {
   struct Options {
@@ -190,6 +198,7 @@ void AddLearn(CLI::App* battery) {
     int jobs = 1;
     std::string out;
     bool drop_flights = false;
+    double pack_fault_share = 0.0;
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -206,10 +215,12 @@ void AddLearn(CLI::App* battery) {
   command->add_flag("--drop-flights", options->drop_flights,
                     "Ours: every draw also flies UseBoth then one pack alone for good from a random time, so the\n"
                     "states a switching policy flies into are observed (the flights are split four ways)");
+  AddPackFaultShareOption(command, options->pack_fault_share);
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->callback([options] {
     RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
+    RequireWithin(options->pack_fault_share, campaign::kPackFaultShareBounds, "--pack-fault-share", "value");
     CheckOutputFile(options->out, "--out");  // before the flights
     ProgressBar bar(options->runs, "battery learn");
     learning::BatteryLearningOptions learn_options;
@@ -217,6 +228,7 @@ void AddLearn(CLI::App* battery) {
     learn_options.seed = options->seed;
     learn_options.jobs = options->jobs;
     learn_options.drop_flights = options->drop_flights;
+    learn_options.ranges.pack_faults.share = options->pack_fault_share;
     learn_options.on_flight_done = [&bar](std::int64_t) { bar.Advance(); };
     learning::BatteryLearningSummary summary;
     const BatteryModel model = learning::LearnBatteryModel(learn_options, &summary);
@@ -595,6 +607,7 @@ void AddEvaluate(CLI::App* battery) {
     bool runs_detail = false;
     std::string plot;
     std::string out;
+    double pack_fault_share = 0.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* command = battery->add_subcommand(
@@ -604,7 +617,7 @@ void AddEvaluate(CLI::App* battery) {
       "and the median failure time, charge left, switches per flight, per health pair and temperature, and\n"
       "McNemar's exact test for every pair of policies. Policies: useboth, pistar:POLICY.json,\n"
       "ours:POLICY.json, rule:voltage[:V] (UseBoth; drop a pack for good when its worst cell falls below V,\n"
-      "default 3.31 V)");
+      "default 3.31 V), rule:fault (UseBoth; drop the first pack the pack-fault indicator flags, for good)");
   command->add_option("--policies", options->policies, "Comma-separated policies (default useboth,rule:voltage)");
   AddBoundedOption(command, "--runs", options->runs, "Flights (each flown by every policy)", kFlightsBounds);
   AddSeedOption(command, "--seed", options->seed, "Seed of the flights (default 2024; learning uses 1)");
@@ -613,9 +626,11 @@ void AddEvaluate(CLI::App* battery) {
   command->add_flag("--runs-detail", options->runs_detail, "With --json or --out: every run's flights too");
   command->add_option("--plot", options->plot, "Draw completions and switches per policy to this PNG file");
   command->add_option("--out", options->out, "Write the evaluation JSON (with every run) to this file");
+  AddPackFaultShareOption(command, options->pack_fault_share);
   command->callback([options] {
     RequireWithin(static_cast<double>(options->runs), kFlightsBounds, "--runs", "value");
     RequireWithin(options->jobs, kThreadsBounds, "--jobs", "value");
+    RequireWithin(options->pack_fault_share, campaign::kPackFaultShareBounds, "--pack-fault-share", "value");
     CheckOutputFile(options->plot, "--plot");
     CheckOutputFile(options->out, "--out");
     const std::vector<campaign::BatteryPolicySpec> policies =
@@ -625,6 +640,7 @@ void AddEvaluate(CLI::App* battery) {
     evaluation_options.runs = options->runs;
     evaluation_options.seed = options->seed;
     evaluation_options.jobs = options->jobs;
+    evaluation_options.ranges.pack_faults.share = options->pack_fault_share;
     evaluation_options.on_run_done = [&bar](std::int64_t) { bar.Advance(); };
     const campaign::BatteryEvaluation evaluation = campaign::EvaluateBatteryPolicies(policies, evaluation_options);
     bar.Finish();

@@ -24,6 +24,7 @@
 #include "uascma/campaign/runner.h"
 #include "uascma/common/error.h"
 #include "uascma/common/progress.h"
+#include "uascma/sim/vehicle_file.h"
 
 namespace uascma::cli {
 namespace {
@@ -125,6 +126,11 @@ int Run(const CampaignOptions& options, MpiSession& mpi) {
   std::string error;
   if (!config.IsValid(&error)) throw InputError("campaign: " + error);
   RequireWithin(options.commit_every_s, kCommitEveryBounds, "--commit-every", "value");
+  if (!config.vehicle.empty() && mpi.rank() == 0) {
+    // The vehicle file's parts left at the dissertation's values: one line (docs/identification.md#vehicle-file).
+    const std::string defaulted = sim::LoadVehicleFile(config.vehicle)->DefaultedLine();
+    if (!defaulted.empty()) std::fprintf(stderr, "note: %s\n", defaulted.c_str());
+  }
 
   CampaignRequest request;
   request.config = config;

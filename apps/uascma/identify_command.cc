@@ -1,4 +1,4 @@
-// uascma identify battery | propulsion — the component models identified from bench data (dissertation §2.5.2,
+// uascma identify battery | propulsion | drag — the component models identified from bench data (dissertation §2.5.2,
 // §3.3.1.1; docs/identification.md). Parses, calls the identification library, writes the model file.
 #include <memory>
 #include <optional>
@@ -15,6 +15,7 @@
 #include "uascma/common/error.h"
 #include "uascma/identification/battery_data.h"
 #include "uascma/identification/battery_identification.h"
+#include "uascma/identification/drag_identification.h"
 #include "uascma/identification/model_files.h"
 #include "uascma/identification/propulsion_identification.h"
 
@@ -104,8 +105,52 @@ void AddIdentifyPropulsion(CLI::App* parent) {
         100.0 * result.loo_rpm_max_relative_error, 100.0 * result.loo_share_within_95_bounds,
         result.thrust_coefficient_n_per_rpm2, result.thrust_coefficient_dimensionless, identify.thrust_check_above_us,
         100.0 * result.thrust_median_relative_error, 100.0 * result.thrust_max_relative_error, result.thrust_check_points);
+    // What a vehicle file's rotor takes (docs/modelling-choices.md#vehicle-file).
+    text += fmt::format("  largest measured thrust {:.3f} N; ", result.max_thrust_n);
+    text += result.power_law_exponent
+                ? fmt::format("power law P = {:.4g} W x (T / 1 N)^{:.4g} ({} points above {:g} µs)\n",
+                              *result.power_law_w_at_one_newton, *result.power_law_exponent, result.power_law_points,
+                              identify.thrust_check_above_us)
+                : fmt::format("no power law (fewer than 3 points above {:g} µs)\n", identify.thrust_check_above_us);
     for (const std::string& warning : result.warnings) text += "  warning: " + warning + "\n";
     WriteOutput("", text);
+  });
+}
+
+struct DragOptions {
+  std::string data;
+  std::string out;
+  bool json = false;
+};
+
+void AddIdentifyDrag(CLI::App* parent) {
+  auto options = std::make_shared<DragOptions>();
+  CLI::App* command = parent->add_subcommand(
+      "drag", "The simulator's drag table (airspeed x pitch, models/drag.h) from wind-tunnel rows of the bare\n"
+              "airframe (§2.5.3.2): columns airspeed_mps, pitch_deg, lift_n, drag_n, throttle_us (0: motors off;\n"
+              "other rows are left out). docs/identification.md#drag-table");
+  command->add_option("data", options->data, "Wind-tunnel CSV")->required();
+  command->add_option("--out", options->out, "Write the table to this DRAG.csv (a vehicle file's drag:)");
+  command->add_flag("--json", options->json, "Print the table and the counts as JSON");
+  command->callback([options] {
+    const identify_ns::DragIdentification result =
+        identify_ns::IdentifyDrag(identify_ns::ReadWindTunnelRecord(options->data));
+    const std::string csv = result.DragCsv();
+    if (!options->out.empty()) WriteOutput(options->out, csv);
+    if (options->json) {
+      return PrintJson({{"airspeeds_mps", result.airspeeds_mps}, {"pitches_deg", result.pitches_deg},
+                        {"drag_n", result.drag_n}, {"zero_speed_added", result.zero_speed_added},
+                        {"bare_rows", result.bare_rows}, {"powered_rows", result.powered_rows},
+                        {"largest_repeat_count", result.largest_repeat_count},
+                        {"largest_repeat_spread_n", result.largest_repeat_spread_n},
+                        {"largest_lift_n", result.largest_lift_n}});
+    }
+    WriteOutput("", fmt::format("{} bare-airframe rows ({} powered rows left out): {} speeds{} x {} pitches; repeats "
+                                "per cell up to {}, their spread up to {:.3g} N; |lift| up to {:.3g} N (not used)\n{}",
+                                result.bare_rows, result.powered_rows, result.airspeeds_mps.size(),
+                                result.zero_speed_added ? " (0 m/s added)" : "", result.pitches_deg.size(),
+                                result.largest_repeat_count, result.largest_repeat_spread_n, result.largest_lift_n,
+                                options->out.empty() ? csv : "written to " + options->out + "\n"));
   });
 }
 
@@ -116,6 +161,7 @@ void AddIdentifyCommand(CLI::App& app) {
   command->require_subcommand(1);
   AddIdentifyBattery(command);
   AddIdentifyPropulsion(command);
+  AddIdentifyDrag(command);
 }
 
 }  // namespace uascma::cli

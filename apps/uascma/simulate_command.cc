@@ -22,6 +22,7 @@
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"
 #include "uascma/sim/telemetry.h"
+#include "uascma/sim/vehicle_file.h"
 
 namespace uascma::cli {
 namespace {
@@ -33,6 +34,7 @@ struct SimulateOptions {
   std::string policy;
   std::string mission;
   std::string battery_policy;
+  std::string vehicle;
   std::optional<std::uint64_t> seed;
   bool json = false;
 };
@@ -77,6 +79,9 @@ void AddSimulateCommand(CLI::App& app) {
   command->add_option("--mission", options->mission,
                       "Mission file (.plan or .waypoints, relative to the current folder) flown instead of the "
                       "scenario's mission");
+  command->add_option("--vehicle", options->vehicle,
+                      "Vehicle file (YAML: mass, inertia, arm length, rotor directions, cells, CELL.json, PROP.json,\n"
+                      "DRAG.csv; docs/identification.md#vehicle-file) flown instead of the scenario's vehicle");
   command->add_option("--battery-policy", options->battery_policy,
                       "Battery policy JSON ('uascma battery solve'): the 1 Hz pack-switch executor");
   command->add_option("--policy", options->policy,
@@ -92,6 +97,8 @@ void AddSimulateCommand(CLI::App& app) {
         throw InputError("--replay", "scenario", "either a scenario file or --replay, not both");
       if (!options->mission.empty())
         throw InputError("--replay", "--mission", "either --mission or --replay, not both");
+      if (!options->vehicle.empty())
+        throw InputError("--replay", "--vehicle", "either --vehicle or --replay, not both (the campaign's vehicle)");
       // The run's scenario is resampled from the stored campaign and its seed (bit-identical flight).
       const campaign::ReplayFlight flight = campaign::LoadReplay(options->replay[0], options->replay[1]);
       file.scenario = flight.run.scenario;
@@ -101,7 +108,12 @@ void AddSimulateCommand(CLI::App& app) {
         throw InputError("simulate", "scenario", "a scenario YAML file (or --replay DB RUN_ID)");
       sim::ScenarioLoadOptions load;
       if (!options->mission.empty()) load.mission_file = options->mission;
+      if (!options->vehicle.empty()) load.vehicle_file = options->vehicle;
       file = sim::LoadScenarioFile(options->scenario, load);
+    }
+    // The vehicle file's parts left at the dissertation's values: one line.
+    if (file.scenario.vehicle && !file.scenario.vehicle->defaulted.empty()) {
+      std::fprintf(stderr, "note: %s\n", file.scenario.vehicle->DefaultedLine().c_str());
     }
     // The importer's notes on the mission (items read but not modelled, our choices): one line each.
     if (file.scenario.route) {
@@ -131,6 +143,11 @@ void AddSimulateCommand(CLI::App& app) {
     std::vector<std::string> written = {"telemetry.csv", "plan.csv", "summary.json"};
     const sim::FlightSummary flight{file.scenario, simulator.nominal_plan(), result, battery != nullptr};
     nlohmann::json summary = flight.Json();
+    if (file.scenario.vehicle) {
+      summary["vehicle"] = {{"file", file.scenario.vehicle->source},
+                            {"content_hash", file.scenario.vehicle->content_hash},
+                            {"defaulted", file.scenario.vehicle->defaulted}};
+    }
     if (out) {
       if (geodetic) {
         const planning::QgcPlanExportOptions qgc = ExportOptions(file.scenario, simulator.nominal_plan());

@@ -2,15 +2,20 @@
 # From bench data to identified and validated models (docs/identification.md):
 #   a cell from NASA's B0005 (fit on discharge cycle 1, validated on cycle 2),
 #   a motor-propeller pair from its 2S and 3S thrust-stand step tests (motor g, propeller 8; validated on its 3S
-#   file after a fit on the 2S file alone, and cross-validated leaving one step out when fitted on both).
+#   file after a fit on the 2S file alone, and cross-validated leaving one step out when fitted on both);
+#   then the vehicle file of this folder (vehicle.yaml) with these two models, flown in a scenario and a campaign
+#   (docs/identification.md#vehicle-file).
 # Usage: examples/identify/run.sh [UASCMA] [OUT]   (defaults: build/uascma, a temporary folder)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 uascma="${1:-$root/build/uascma}"
 out="${2:-$(mktemp -d)}"
-data="$root/data/bench"
 mkdir -p "$out"
+out="$(cd "$out" && pwd)"
+# From the repository's root, so that the models record their data as data/bench/… (as the committed copies do).
+cd "$root"
+data="data/bench"
 
 "$uascma" identify battery "$data/battery-nasa/B0005.csv" --cycle 1 --out "$out/cell.json"
 "$uascma" validate battery --model "$out/cell.json" "$data/battery-nasa/B0005.csv" --cycle 2 \
@@ -21,4 +26,10 @@ mkdir -p "$out"
   --pole-pairs 1 --diameter-in 5 --out "$out/prop.json"
 "$uascma" identify propulsion "$data/dyno-strawson/g8_7.csv" --pole-pairs 1 --diameter-in 5 --out "$out/prop-2s.json"
 "$uascma" validate propulsion --model "$out/prop-2s.json" "$data/dyno-strawson/g8_11.csv" --pole-pairs 1
-echo "models in $out"
+# The vehicle, its scenario and its campaign beside the models just identified (they name cell.json and prop.json
+# relative to themselves). The copies committed in this folder are these files; cmp says so.
+cp "$here/vehicle.yaml" "$here/scenario.yaml" "$here/campaign.yaml" "$out/"
+cmp "$out/cell.json" "$here/cell.json" && cmp "$out/prop.json" "$here/prop.json"
+"$uascma" simulate "$out/scenario.yaml"
+"$uascma" campaign "$out/campaign.yaml" --db "$out/identified.db"
+echo "models, vehicle and campaign in $out"

@@ -33,7 +33,7 @@ DPI = 100
 KEY = [
     "Tree (Fig. 4.5): B1 / B2 = health of pack 1 / pack 2 (Table 4.2): F1 healthy, F2 medium (power or capacity fade "
     "in a cell), F3 unhealthy (power and capacity fade); temperature (Table 4.2): TL below 50 F, TH above 50 F.",
-    "Leaf: the action \u03c0* takes at the take-off state, the first state of the context's {flight:.0f} s case-study "
+    "Leaf: the action {policy} takes at the take-off state, the first state of the context's {flight:.0f} s case-study "
     "flight. Actions (Table 4.3): UseBatt1 = Sw1 ON, Sw2 OFF; UseBatt2 = Sw1 OFF, Sw2 ON; "
     "UseBoth = both ON.",
     "* and dashed leaf, hatched bar: the chosen action's row was never observed in the learning flights; the model "
@@ -80,6 +80,12 @@ def edge(ax, parent, child):
     ax.plot([x0, mid, mid, x1], [y0, y0, y1, y1], color="grey", linewidth=1.0, zorder=1)
 
 
+def policy_name(view):
+    """The policy the view draws: the dissertation's pi*, or ours' table (its guard and drop check act outside it,
+    docs/battery.md)."""
+    return "\u03c0*" if view.get("formulation", "dissertation") == "dissertation" else "ours' table"
+
+
 def draw_tree(ax, contexts, view):
     # x positions of the levels (data units); leaves at y = 0..17 top to bottom.
     x_root, x_b1, x_b2, x_t, x_leaf = 0.0, 1.2, 2.4, 3.5, 4.6
@@ -92,7 +98,7 @@ def draw_tree(ax, contexts, view):
     ax.set_ylim(len(contexts) - 0.5, header_y - 0.6)
     ax.axis("off")
     links = []  # (parent, child) texts; the edges are drawn once the boxes have their size
-    root = node(ax, x_root, (ys[0] + ys[-1]) / 2.0, "\u03c0* lookup\n(18 leaves)")
+    root = node(ax, x_root, (ys[0] + ys[-1]) / 2.0, f"{policy_name(view)} lookup\n(18 leaves)")
     for i, b1 in enumerate(HEALTH):
         b1_ys = ys[i * 6:(i + 1) * 6]
         b1_node = node(ax, x_b1, sum(b1_ys) / 6.0, f"B1 {b1}")
@@ -166,7 +172,8 @@ def draw(view):
                frameon=False)
     flight = view.get("takeoff_flight_s", 0.0)
     for i, line in enumerate(KEY):
-        fig.text(0.02, 0.13 - i * 0.024, line.format(flight=flight), fontsize=FONT - 1, ha="left", va="top")
+        fig.text(0.02, 0.13 - i * 0.024, line.format(flight=flight, policy=policy_name(view)), fontsize=FONT - 1,
+                 ha="left", va="top")
     fig.suptitle(f"Battery policies (Fig. 4.5), {view.get('formulation', 'dissertation')} formulation, "
                  f"gamma {view['gamma']:.6g}, model {view['model_hash']}", fontsize=FONT + 2)
     return fig

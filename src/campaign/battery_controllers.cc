@@ -27,6 +27,8 @@ const char* KindName(BatteryPolicyKind kind) {
       return "pistar";
     case BatteryPolicyKind::kOurs:
       return "ours";
+    case BatteryPolicyKind::kFaultRule:
+      return "rule:fault";
   }
   return "?";
 }
@@ -64,6 +66,8 @@ std::vector<BatteryPolicySpec> ParseBatteryPolicies(const std::string& text, con
           throw InputError(option, item, fmt::format("a drop voltage in [3.3, 4.2] V, got {}", spec.drop_voltage_v));
         }
       }
+    } else if (name == "rule" && argument == "fault") {
+      spec.kind = BatteryPolicyKind::kFaultRule;
     } else if ((name == "pistar" || name == "ours") && !argument.empty()) {
       spec.kind = name == "pistar" ? BatteryPolicyKind::kPiStar : BatteryPolicyKind::kOurs;
       spec.file = argument;
@@ -79,8 +83,9 @@ std::vector<BatteryPolicySpec> ParseBatteryPolicies(const std::string& text, con
       }
       spec.policies = std::move(policies);
     } else {
-      throw InputError(option, item.empty() ? "(empty)" : item,
-                       "useboth | pistar:POLICY.json | ours:POLICY.json | rule:voltage[:V], separated by commas");
+      throw InputError(
+          option, item.empty() ? "(empty)" : item,
+          "useboth | pistar:POLICY.json | ours:POLICY.json | rule:voltage[:V] | rule:fault, separated by commas");
     }
     spec.label = KindName(spec.kind);
     if (!seen.insert(spec.label).second) throw InputError(option, item, "each policy once");
@@ -89,6 +94,21 @@ std::vector<BatteryPolicySpec> ParseBatteryPolicies(const std::string& text, con
   }
   return specs;
 }
+
+PackAction HeldSwitches(const decision::BatteryObservation& observation) {
+  if (observation.switch_on[0] && !observation.switch_on[1]) return PackAction::kUseBatt1;
+  if (observation.switch_on[1] && !observation.switch_on[0]) return PackAction::kUseBatt2;
+  return PackAction::kUseBoth;
+}
+
+namespace {
+
+// An action that takes a pack out while both are in.
+bool IsIsolation(const decision::BatteryObservation& observation, PackAction action) {
+  return observation.switch_on[0] && observation.switch_on[1] && action != PackAction::kUseBoth;
+}
+
+}  // namespace
 
 BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, const BatteryContext& context) {
   BatteryFlightController out;
@@ -100,18 +120,50 @@ BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, con
     case BatteryPolicyKind::kPiStar: {
       UASCMA_CHECK(spec.policies != nullptr, "a policy file read for pistar");
       auto executor = std::make_shared<decision::BatteryPolicyExecutor>(*spec.policies, context);
-      out.controller = [executor](double, const decision::BatteryObservation&, StateIndex s) {
-        return executor->Decide(s);
+      auto counts = std::make_shared<BatteryDecisionCounts>();
+      out.decisions = counts;
+      out.controller = [executor, counts](double, const decision::BatteryObservation& observation, StateIndex s) {
+        if (s == decision::kBatteryFailureState) {
+          ++counts->failure_rows_held;
+          return HeldSwitches(observation);
+        }
+        const PackAction action = executor->Decide(s);
+        if (IsIsolation(observation, action)) ++counts->table_isolations;
+        return action;
       };
       break;
     }
     case BatteryPolicyKind::kOurs: {
       UASCMA_CHECK(spec.policies != nullptr, "a policy file read for ours");
       auto executor = std::make_shared<decision::BatteryPolicyExecutor>(*spec.policies, context);
+      auto counts = std::make_shared<BatteryDecisionCounts>();
+      out.decisions = counts;
       out.observe_pair_eod = true;
-      out.controller = [executor](double, const decision::BatteryObservation& observation, StateIndex s) {
-        if (const auto guard = OursImminentFailureGuard(observation)) return *guard;
-        return OursDropCheck(executor->Decide(s), observation, executor->thresholds());
+      out.controller = [executor, counts](double, const decision::BatteryObservation& observation, StateIndex s) {
+        if (s == decision::kBatteryFailureState) {
+          ++counts->failure_rows_held;
+          return HeldSwitches(observation);
+        }
+        if (const auto guard = OursImminentFailureGuard(observation)) {
+          if (IsIsolation(observation, *guard)) ++counts->guard_isolations;
+          return *guard;
+        }
+        const PackAction action = OursDropCheck(executor->Decide(s), observation, executor->thresholds());
+        if (IsIsolation(observation, action)) ++counts->table_isolations;
+        return action;
+      };
+      break;
+    }
+    case BatteryPolicyKind::kFaultRule: {
+      // UseBoth; the first pack the pack-fault indicator flags is switched off for good (the other stays in).
+      auto dropped = std::make_shared<int>(-1);
+      out.controller = [dropped](double, const decision::BatteryObservation& observation, StateIndex) {
+        for (int j = 0; j < models::kBranchCount && *dropped < 0; ++j) {
+          if (observation.pack_fault[j] && observation.switch_on[j]) *dropped = j;
+        }
+        if (*dropped == 0) return PackAction::kUseBatt2;
+        if (*dropped == 1) return PackAction::kUseBatt1;
+        return PackAction::kUseBoth;
       };
       break;
     }

@@ -43,15 +43,34 @@ BatteryPolicyFlight SummarisePolicyFlight(const BatteryFlightResult& result) {
   flight.switches = CountSwitches(result);
   flight.charge_left_ah = result.charge_left_ah[0] + result.charge_left_ah[1];
   flight.energy_used_wh = result.energy_used_wh;
+  flight.decisions = result.decisions;
+  for (const auto& detected : result.fault_detected_s) {
+    if (detected && (!flight.fault_detected_s || *detected < *flight.fault_detected_s))
+      flight.fault_detected_s = detected;
+  }
   return flight;
 }
 
-BatteryPolicySummary SummariseFlights(const std::string& label,
-                                      const std::vector<const BatteryPolicyFlight*>& flights) {
+// "none" or the kind of the run's pack fault.
+std::string PackFaultLabel(const BatteryEvaluationRun& run) {
+  return run.params.pack_fault ? models::PackFaultKindName(run.params.pack_fault->kind) : "none";
+}
+
+BatteryPolicySummary SummariseFlights(const std::string& label, const std::vector<const BatteryPolicyFlight*>& flights,
+                                      const std::vector<double>& fault_onsets_s) {
   BatteryPolicySummary out;
   out.label = label;
-  std::vector<double> failure_times, charge_left, switches;
-  for (const BatteryPolicyFlight* f : flights) {
+  std::vector<double> failure_times, charge_left, switches, delays;
+  for (std::size_t i = 0; i < flights.size(); ++i) {
+    const BatteryPolicyFlight* f = flights[i];
+    out.table_isolations += f->decisions.table_isolations;
+    out.guard_isolations += f->decisions.guard_isolations;
+    out.failure_rows_held += f->decisions.failure_rows_held;
+    if (f->fault_detected_s) {
+      ++out.detections;
+      const double onset_s = fault_onsets_s[i];  // NaN without a fault
+      if (*f->fault_detected_s >= onset_s) delays.push_back(*f->fault_detected_s - onset_s);
+    }
     ++out.runs;
     if (f->completed()) {
       ++out.completions;
@@ -68,6 +87,7 @@ BatteryPolicySummary SummariseFlights(const std::string& label,
   out.mean_charge_left_ah = Mean(charge_left);
   out.median_switches = Median(switches);
   out.mean_switches = Mean(switches);
+  out.median_detection_delay_s = Median(delays);
   return out;
 }
 
@@ -85,7 +105,12 @@ nlohmann::json SummaryJson(const BatteryPolicySummary& s) {
       {"mean_charge_left_ah_completed", EvaluationJsonNumber(s.mean_charge_left_ah)},
       {"median_switches", EvaluationJsonNumber(s.median_switches)},
       {"mean_switches", EvaluationJsonNumber(s.mean_switches)},
-      {"max_switches", s.max_switches}};
+      {"max_switches", s.max_switches},
+      {"table_isolations", s.table_isolations},
+      {"guard_isolations", s.guard_isolations},
+      {"failure_rows_held", s.failure_rows_held},
+      {"pack_fault_detections", s.detections},
+      {"median_detection_delay_s", EvaluationJsonNumber(s.median_detection_delay_s)}};
 }
 
 }  // namespace
@@ -107,21 +132,29 @@ BatteryEvaluationRun FlyEvaluationRun(const std::vector<BatteryPolicySpec>& poli
   return run;
 }
 
-// Policy k's flights in the runs `keep` accepts.
-std::vector<const BatteryPolicyFlight*> Column(const BatteryEvaluation& evaluation, std::size_t k,
-                                               const std::function<bool(const BatteryEvaluationRun&)>& keep) {
+using RunFilter = std::function<bool(const BatteryEvaluationRun&)>;
+
+bool EveryRun(const BatteryEvaluationRun&) { return true; }
+
+// Policy k's summary over the runs `keep` accepts.
+BatteryPolicySummary SummariseColumn(const BatteryEvaluation& evaluation, std::size_t k, const RunFilter& keep) {
   std::vector<const BatteryPolicyFlight*> flights;
+  std::vector<double> onsets_s;
   for (const auto& run : evaluation.runs) {
-    if (keep(run)) flights.push_back(&run.flights[k]);
+    if (!keep(run)) continue;
+    flights.push_back(&run.flights[k]);
+    onsets_s.push_back(run.params.pack_fault ? run.params.pack_fault->onset_s : kEvaluationNaN);
   }
-  return flights;
+  return SummariseFlights(evaluation.labels[k], flights, onsets_s);
 }
 
-BatteryPairComparison ComparePolicies(const BatteryEvaluation& evaluation, std::size_t a, std::size_t b) {
+BatteryPairComparison ComparePolicies(const BatteryEvaluation& evaluation, std::size_t a, std::size_t b,
+                                      const RunFilter& keep = EveryRun) {
   BatteryPairComparison cmp;
   cmp.first = evaluation.labels[a];
   cmp.second = evaluation.labels[b];
   for (const auto& run : evaluation.runs) {
+    if (!keep(run)) continue;
     const bool first = run.flights[a].completed(), second = run.flights[b].completed();
     ++cmp.pairs;
     if (first && second)
@@ -137,27 +170,49 @@ BatteryPairComparison ComparePolicies(const BatteryEvaluation& evaluation, std::
   return cmp;
 }
 
+// Split by pack fault: the fault-free flights, each kind flown, and every faulted flight ("any"), when any was drawn.
+void SummariseByPackFault(BatteryEvaluation& out) {
+  const bool any_fault = std::any_of(out.runs.begin(), out.runs.end(),
+                                     [](const BatteryEvaluationRun& run) { return run.params.pack_fault.has_value(); });
+  if (!any_fault) return;
+  std::vector<std::pair<std::string, RunFilter>> groups = {
+      {"none", [](const BatteryEvaluationRun& run) { return !run.params.pack_fault; }},
+      {"any", [](const BatteryEvaluationRun& run) { return run.params.pack_fault.has_value(); }}};
+  for (int k = 0; k < models::kPackFaultKindCount; ++k) {
+    const std::string kind = models::PackFaultKindName(static_cast<models::PackFaultKind>(k));
+    groups.emplace_back(kind, [kind](const BatteryEvaluationRun& run) { return PackFaultLabel(run) == kind; });
+  }
+  for (const auto& [label, keep] : groups) {
+    BatteryFaultSummary group;
+    group.fault = label;
+    for (std::size_t k = 0; k < out.labels.size(); ++k) group.policies.push_back(SummariseColumn(out, k, keep));
+    if (group.policies.front().runs == 0) continue;
+    for (std::size_t a = 0; a < out.labels.size(); ++a) {
+      for (std::size_t b = a + 1; b < out.labels.size(); ++b)
+        group.comparisons.push_back(ComparePolicies(out, a, b, keep));
+    }
+    out.by_pack_fault.push_back(std::move(group));
+  }
+}
+
 // The summaries of the flown runs: per policy overall and per context flown, and every pair compared.
 void SummariseEvaluation(BatteryEvaluation& out) {
   const std::size_t n = out.labels.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    out.overall.push_back(
-        SummariseFlights(out.labels[k], Column(out, k, [](const BatteryEvaluationRun&) { return true; })));
-  }
+  for (std::size_t k = 0; k < n; ++k) out.overall.push_back(SummariseColumn(out, k, EveryRun));
   for (int c = 0; c < decision::kBatteryNumContexts; ++c) {
     const BatteryContext context = decision::BatteryContextFromIndex(c);
     BatteryContextSummary group;
     group.context = context;
     for (std::size_t k = 0; k < n; ++k) {
-      group.policies.push_back(SummariseFlights(
-          out.labels[k],
-          Column(out, k, [&context](const BatteryEvaluationRun& run) { return run.params.context() == context; })));
+      group.policies.push_back(SummariseColumn(
+          out, k, [&context](const BatteryEvaluationRun& run) { return run.params.context() == context; }));
     }
     if (group.policies.front().runs > 0) out.by_context.push_back(std::move(group));
   }
   for (std::size_t a = 0; a < n; ++a) {
     for (std::size_t b = a + 1; b < n; ++b) out.comparisons.push_back(ComparePolicies(out, a, b));
   }
+  SummariseByPackFault(out);
 }
 
 }  // namespace
@@ -187,6 +242,40 @@ BatteryEvaluation EvaluateBatteryPolicies(const std::vector<BatteryPolicySpec>& 
   return out;
 }
 
+namespace {
+
+nlohmann::json ComparisonJson(const BatteryPairComparison& c) {
+  return {{"policies", {c.first, c.second}},
+          {"pairs", c.pairs},
+          {"both_completed", c.both_completed},
+          {"neither_completed", c.neither_completed},
+          {"only_first_completed", c.only_first_completed},
+          {"only_second_completed", c.only_second_completed},
+          {"mcnemar_exact_p", c.exact_p}};
+}
+
+nlohmann::json PackFaultJson(const std::optional<models::PackFault>& fault) {
+  if (!fault) return nullptr;
+  return {{"kind", models::PackFaultKindName(fault->kind)},
+          {"pack", fault->branch + 1},
+          {"cell", fault->cell + 1},
+          {"onset_s", fault->onset_s},
+          {"resistance_ohm", fault->resistance_ohm}};
+}
+
+nlohmann::json ByPackFaultJson(const BatteryEvaluation& evaluation) {
+  nlohmann::json groups = nlohmann::json::array();
+  for (const auto& group : evaluation.by_pack_fault) {
+    nlohmann::json per_policy = nlohmann::json::array(), comparisons = nlohmann::json::array();
+    for (const auto& s : group.policies) per_policy.push_back(SummaryJson(s));
+    for (const auto& c : group.comparisons) comparisons.push_back(ComparisonJson(c));
+    groups.push_back({{"pack_fault", group.fault}, {"policies", per_policy}, {"paired_comparisons", comparisons}});
+  }
+  return groups;
+}
+
+}  // namespace
+
 nlohmann::json BatteryEvaluationJson(const BatteryEvaluation& evaluation, bool with_runs) {
   nlohmann::json overall = nlohmann::json::array(), contexts = nlohmann::json::array(),
                  comparisons = nlohmann::json::array();
@@ -200,15 +289,7 @@ nlohmann::json BatteryEvaluationJson(const BatteryEvaluation& evaluation, bool w
                         {"temperature", decision::TemperatureClassName(group.context.temperature)},
                         {"policies", per_policy}});
   }
-  for (const auto& c : evaluation.comparisons) {
-    comparisons.push_back({{"policies", {c.first, c.second}},
-                           {"pairs", c.pairs},
-                           {"both_completed", c.both_completed},
-                           {"neither_completed", c.neither_completed},
-                           {"only_first_completed", c.only_first_completed},
-                           {"only_second_completed", c.only_second_completed},
-                           {"mcnemar_exact_p", c.exact_p}});
-  }
+  for (const auto& c : evaluation.comparisons) comparisons.push_back(ComparisonJson(c));
   nlohmann::json json = {{"policies", evaluation.labels},
                          {"seed", evaluation.seed},
                          {"runs", evaluation.runs.size()},
@@ -216,6 +297,7 @@ nlohmann::json BatteryEvaluationJson(const BatteryEvaluation& evaluation, bool w
                          {"overall", overall},
                          {"by_context", contexts},
                          {"paired_comparisons", comparisons},
+                         {"by_pack_fault", ByPackFaultJson(evaluation)},
                          {"wall_time_s", evaluation.wall_time_s}};
   if (with_runs) {
     nlohmann::json runs = nlohmann::json::array();
@@ -226,17 +308,63 @@ nlohmann::json BatteryEvaluationJson(const BatteryEvaluation& evaluation, bool w
                            {"end_time_s", f.end_time_s},
                            {"switches", f.switches},
                            {"charge_left_ah", f.charge_left_ah},
-                           {"energy_used_wh", f.energy_used_wh}});
+                           {"energy_used_wh", f.energy_used_wh},
+                           {"table_isolations", f.decisions.table_isolations},
+                           {"guard_isolations", f.decisions.guard_isolations},
+                           {"failure_rows_held", f.decisions.failure_rows_held},
+                           {"fault_detected_s", f.fault_detected_s ? nlohmann::json(*f.fault_detected_s) : nullptr}});
       }
       runs.push_back({{"run", run.run},
                       {"context", decision::BatteryContextLabel(run.params.context())},
                       {"plan_duration_s", run.params.plan_duration_s},
+                      {"pack_fault", PackFaultJson(run.params.pack_fault)},
                       {"flights", flights}});
     }
     json["runs_detail"] = runs;
   }
   return json;
 }
+
+namespace {
+
+// The split by pack fault, the isolations by the table and by the guard, and the indicator's flags.
+std::string PackFaultText(const BatteryEvaluation& evaluation) {
+  std::string out;
+  if (!evaluation.by_pack_fault.empty()) {
+    out +=
+        "\ncompleted per sudden pack fault (docs/modelling-choices.md#pack-faults), runs in brackets\nfault         ";
+    for (const auto& label : evaluation.labels) out += fmt::format(" {:>13}", label);
+    out += "\n";
+    for (const auto& group : evaluation.by_pack_fault) {
+      out += fmt::format("{:<14}", group.fault);
+      for (const auto& s : group.policies) out += fmt::format(" {:>7}/{:<5}", s.completions, fmt::format("{}", s.runs));
+      out += "\n";
+    }
+    for (const auto& group : evaluation.by_pack_fault) {
+      if (group.fault != "none" && group.fault != "any") continue;
+      out += fmt::format("paired, pack fault {}: only A / only B completed\n", group.fault);
+      for (const auto& c : group.comparisons) {
+        out += fmt::format("  {:<13} vs {:<13} {:>4} / {:<4} p = {:.4g}\n", c.first, c.second, c.only_first_completed,
+                           c.only_second_completed, c.exact_p);
+      }
+    }
+  }
+  out += "\nisolations (a pack taken out while both were in) by the table / by a guard; FAILURE epochs held\n";
+  for (const auto& s : evaluation.overall) {
+    out += fmt::format("  {:<13} {:>5} / {:<5} {:>5}\n", s.label, s.table_isolations, s.guard_isolations,
+                       s.failure_rows_held);
+  }
+  for (const auto& group : evaluation.by_pack_fault) {
+    if (group.fault != "none" && group.fault != "any") continue;
+    const BatteryPolicySummary& s = group.policies.front();  // the indicator under the first policy's switches
+    out += fmt::format("pack-fault indicator ({} flights), pack fault {}: flagged {} of {}", s.label, group.fault,
+                       s.detections, s.runs);
+    out += group.fault == "any" ? fmt::format(", median delay {:.0f} s\n", s.median_detection_delay_s) : "\n";
+  }
+  return out;
+}
+
+}  // namespace
 
 std::string BatteryEvaluationText(const BatteryEvaluation& evaluation) {
   std::string out = fmt::format(
@@ -265,6 +393,7 @@ std::string BatteryEvaluationText(const BatteryEvaluation& evaluation) {
     for (const auto& s : group.policies) out += fmt::format(" {:>7}/{:<5}", s.completions, fmt::format("{}", s.runs));
     out += "\n";
   }
+  out += PackFaultText(evaluation);
   out += fmt::format("\n{:.1f} s wall\n", evaluation.wall_time_s);
   return out;
 }

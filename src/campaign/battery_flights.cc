@@ -12,6 +12,7 @@
 #include "uascma/models/propulsion.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/pack_fault_monitor.h"
 #include "uascma/sim/branching.h"
 
 namespace uascma::campaign {
@@ -85,6 +86,10 @@ BatteryFlightParams SampleBatteryFlight(const BatteryFlightRanges& ranges, std::
   p.plan_duration_s = DrawInRange(random, ranges.plan_fraction) * ReferenceBatteryEod();
   // Drawn last, so the draws above keep their values (a change of this realisation leaves them alone).
   for (int j = 0; j < models::kBranchCount; ++j) p.cells[j] = DrawPackCells(random, p.health[j]);
+  if (ranges.pack_faults.share > 0.0) {
+    RandomStream fault_random(DeriveSeed(draw_seed, kBatteryPackFaultStream));
+    p.pack_fault = DrawPackFault(fault_random, ranges.pack_faults, p.plan_duration_s);
+  }
   return p;
 }
 
@@ -114,6 +119,7 @@ sim::Scenario MakeBatteryScenario(const BatteryFlightParams& params) {
   scenario.battery.cell_health = params.cells;
   scenario.battery.ambient_temp_degf = params.ambient_temp_degf;
   scenario.options.safety_margin_s = params.safety_margin_s;
+  scenario.pack_fault = params.pack_fault;
   // Fig. 4.3's loop has no rotor-fault detector and Table 4.4 no motor fault (sim/scenario.h fault_detection).
   scenario.options.fault_detection = false;
   scenario.wind.mean_speed = params.wind_speed_mps;
@@ -145,6 +151,12 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
 
   PackAction Decide(const sim::FlightModel& model, const sim::FlightState& state) override {
     decision::BatteryObservation observation = ObserveBatteryFlight(model, state);
+    // The pack monitor reads the packs at every epoch (prognostics/pack_fault_monitor.h).
+    if (!monitor_) monitor_.emplace(model.pack(), state.power.pack);
+    monitor_->Update(prognostics::ReadPackMonitor(model.pack(), state.power.pack, state.power.pack_current_a,
+                                                  state.power.branch_charge_as, state.time_s));
+    observation.pack_fault = monitor_->faulted();
+    result_.fault_detected_s = monitor_->detection_time_s();
     if (observe_pair_eod_) {
       const prognostics::EodResult pair =
           prognostics::CalcPackEod(model.pack(), state.power.pack, state.power.load_current_a);
@@ -182,6 +194,7 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
   bool observe_pair_eod_;
   decision::BatteryThresholds thresholds_;
   BatteryFlightResult& result_;
+  std::optional<prognostics::PackFaultMonitor> monitor_;
 };
 
 }  // namespace
@@ -222,6 +235,7 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
     results[k].outcome = states[k].outcome;
     results[k].end_time_s = states[k].time_s;
     results[k].energy_used_wh = states[k].power.energy_wh;
+    if (flights[k].decisions) results[k].decisions = *flights[k].decisions;
     for (int j = 0; j < models::kBranchCount; ++j)
       results[k].charge_left_ah[j] = PackChargeLeftAh(model.pack(), states[k].power.pack, j);
     // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.

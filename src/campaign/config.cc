@@ -15,6 +15,7 @@
 #include "uascma/common/yaml_io.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/sim/scenario_bounds.h"
+#include "uascma/sim/vehicle_file.h"
 
 namespace uascma::campaign {
 namespace {
@@ -52,6 +53,18 @@ bool CheckBuildings(const CampaignConfig& c, std::string* error) {
 
 bool CheckSites(const CampaignConfig& c, std::string* error) {
   return IsPlainYamlScalar(c.map.sites) || Fail(error, "map.sites: expected a file path without quotes");
+}
+
+bool CheckVehicle(const CampaignConfig& c, std::string* error) {
+  return IsPlainYamlScalar(c.vehicle) || Fail(error, "vehicle: expected a file path without quotes");
+}
+
+bool CheckVehicleHash(const CampaignConfig& c, std::string* error) {
+  if (c.vehicle_hash.empty()) return true;
+  if (c.vehicle.empty()) return Fail(error, "vehicle_hash: expected only with a vehicle file");
+  const bool hex =
+      c.vehicle_hash.size() == 16 && c.vehicle_hash.find_first_not_of("0123456789abcdef") == std::string::npos;
+  return hex || Fail(error, "vehicle_hash: expected 16 hex digits (the vehicle file's content hash)");
 }
 
 bool CheckOrigin(const CampaignConfig& c, std::string* error) {
@@ -121,10 +134,48 @@ std::vector<CampaignFieldEntry> MapFields(MapSampling& m) {
 }
 // clang-format on
 
-}  // namespace
-
+// The rows of the pack faults (config.h PackFaultConfig): written and fingerprinted only when set.
 // A field table reads as one row per key: kept out of clang-format.
 // clang-format off
+std::vector<CampaignFieldEntry> PackFaultFields(PackFaultConfig& p) {
+  namespace b = bounds;
+  return {
+      {{.key = "pack_faults.share", .bounds = &b::kProbability, .expected = "a share of the flights (unset: none)",
+        .citation = "ours: docs/modelling-choices.md#pack-faults", .written_when_unset = false, .only_when_set = true},
+       &p.share},
+      {{.key = "pack_faults.onset_fraction", .bounds = &b::kProbability, .expected = "(unset: [0, 1])",
+        .citation = "ours, as §5.4", .written_when_unset = false, .only_when_set = true},
+       &p.onset_fraction},
+      {{.key = "pack_faults.short_resistance_ohm", .bounds = &models::kPackFaultResistanceBounds,
+        .expected = "(unset: [1, 20])", .citation = "ours: docs/modelling-choices.md#pack-faults",
+        .written_when_unset = false, .only_when_set = true}, &p.short_resistance_ohm},
+      {{.key = "pack_faults.failed_cell_resistance_ohm", .bounds = &models::kPackFaultResistanceBounds,
+        .expected = "(unset: [0.1, 10])", .citation = "ours: docs/modelling-choices.md#pack-faults",
+        .written_when_unset = false, .only_when_set = true}, &p.failed_cell_resistance_ohm},
+      {{.key = "pack_faults.connector_resistance_ohm", .bounds = &models::kPackFaultResistanceBounds,
+        .expected = "(unset: [0.05, 0.5])", .citation = "ours: docs/modelling-choices.md#pack-faults",
+        .written_when_unset = false, .only_when_set = true}, &p.connector_resistance_ohm},
+  };
+}
+
+void Append(const std::vector<CampaignFieldEntry>& rows, std::vector<CampaignFieldEntry>& fields) {
+  fields.insert(fields.end(), rows.begin(), rows.end());
+}
+
+// The vehicle's rows (config.h): the file is not fingerprinted by its path but by its content hash.
+std::vector<CampaignFieldEntry> VehicleFields(CampaignConfig& c) {
+  return {
+      {{.key = "vehicle", .expected = "a vehicle file, relative to the campaign file (unset: the dissertation's)",
+        .citation = "docs/identification.md#vehicle-file", .hashed = false, .written_when_unset = false,
+        .check = CheckVehicle}, &c.vehicle},
+      {{.key = "vehicle_hash", .expected = "the vehicle file's content hash (written by uascma)",
+        .citation = "docs/identification.md#vehicle-file", .written_when_unset = false, .only_when_set = true,
+        .check = CheckVehicleHash}, &c.vehicle_hash},
+  };
+}
+
+}  // namespace
+
 std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
   namespace b = bounds;
   std::vector<CampaignFieldEntry> fields = {
@@ -201,7 +252,8 @@ std::vector<CampaignFieldEntry> CampaignFields(CampaignConfig& c) {
         .citation = "ours; sim/sensing.h", .written_when_unset = false, .only_when_set = true},
        &c.options.noisy_sensing},
   };
-  fields.insert(fields.end(), sampling.begin(), sampling.end());
+  // The pack faults' rows last: they are written only when set.
+  for (const auto& rows : {sampling, VehicleFields(c), PackFaultFields(c.pack_faults)}) Append(rows, fields);
   return fields;
 }
 // clang-format on
@@ -324,6 +376,10 @@ void HashWhenSet(Fingerprint& f, const ConfigField& field, const T& v, const Cam
     f.Add(c.map.DerivesSites() ? 1 : 0);
   } else if constexpr (std::is_same_v<T, bool>) {
     if (v) f.Add(field.leaf());
+  } else if constexpr (std::is_same_v<T, std::string>) {  // vehicle_hash: the vehicle file's content
+    if (!IsSet(v)) return;
+    f.Add(field.leaf());
+    HashValue(f, v);
   } else if constexpr (requires(Fingerprint & g) { HashValue(g, *v); }) {
     if (!IsSet(v)) return;
     f.Add(field.leaf());
@@ -536,6 +592,14 @@ CampaignConfig ParseCampaignConfig(const std::string& yaml_text, const std::stri
     std::visit([&](auto* v) { ValueReader{node, entry.field, source}(*v); }, entry.value);
   }
   if (const YAML::Node map = root["map"]) CheckMapKeys(map, config.map, source);
+  if (!config.vehicle.empty()) {
+    // Relative to the campaign file, kept absolute so that the stored configuration replays anywhere; its content
+    // hash is what the fingerprint takes (a stored configuration carries it, and the world checks it).
+    config.vehicle = std::filesystem::absolute(std::filesystem::path(source).parent_path() / config.vehicle)
+                         .lexically_normal()
+                         .string();
+    if (config.vehicle_hash.empty()) config.vehicle_hash = sim::LoadVehicleFile(config.vehicle)->content_hash;
+  }
   std::string error;
   if (!config.IsValid(&error)) {
     const auto colon = error.find(": ");
@@ -557,6 +621,19 @@ CampaignConfig LoadCampaignConfig(const std::filesystem::path& path) {
   for (std::string& file : config.map.buildings) resolve(file);
   resolve(config.map.sites);
   return config;
+}
+
+PackFaultSampling PackFaultConfig::Sampling() const {
+  PackFaultSampling sampling;
+  sampling.share = share.value_or(0.0);
+  auto copy = [](const std::optional<Range>& range, double(&out)[2]) {
+    if (range) out[0] = range->low, out[1] = range->high;
+  };
+  copy(onset_fraction, sampling.onset_fraction);
+  copy(short_resistance_ohm, sampling.short_resistance_ohm);
+  copy(failed_cell_resistance_ohm, sampling.failed_cell_resistance_ohm);
+  copy(connector_resistance_ohm, sampling.connector_resistance_ohm);
+  return sampling;
 }
 
 const char* MediumFadesName(MediumFades fades) { return fades == MediumFades::kPerCell ? "per_cell" : "one_kind"; }
@@ -593,6 +670,12 @@ std::string CampaignConfigYaml(const CampaignConfig& c) {
 }
 
 std::string CampaignConfigHash(const CampaignConfig& c) {
+  if (!c.vehicle.empty() && c.vehicle_hash.empty()) {
+    // A vehicle set from code (Python) without its hash: the file's content, as ParseCampaignConfig records it.
+    CampaignConfig hashed = c;
+    hashed.vehicle_hash = sim::LoadVehicleFile(c.vehicle)->content_hash;
+    return CampaignConfigHash(hashed);
+  }
   Fingerprint f;
   f.Add(std::string_view("uascma-campaign/1"));
   for (const CampaignFieldEntry& entry : Fields(c)) {

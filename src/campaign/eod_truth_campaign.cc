@@ -121,7 +121,7 @@ std::optional<double> CalcEquivalentCurrent(const models::BatteryPack& pack, con
 }
 
 std::vector<EodTruthRun> FlyEodTruthCampaign(const CampaignConfig& config, const EodTruthCampaignOptions& options) {
-  const CampaignWorld world = BuildCampaignWorld(config.map);
+  const CampaignWorld world = BuildCampaignWorld(config);
   std::vector<EodTruthRun> runs;
   runs.reserve(static_cast<std::size_t>(options.runs));
   ParallelOptions parallel;

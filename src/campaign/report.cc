@@ -1,6 +1,9 @@
 #include "uascma/campaign/report.h"
 
 #include <map>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -44,6 +47,13 @@ std::string TerminationOf(const CampaignHeader& header) {
                                       .options.termination.value_or(sim::TerminationRule::kLastResort));
 }
 
+// The campaign's vehicle file and its content hash (config.h), when it flew one.
+std::optional<std::pair<std::string, std::string>> VehicleOf(const CampaignHeader& header) {
+  const CampaignConfig config = ParseCampaignConfig(header.config_yaml, "the stored configuration");
+  if (config.vehicle.empty()) return std::nullopt;
+  return std::pair{config.vehicle, config.vehicle_hash};
+}
+
 }  // namespace
 
 nlohmann::json CampaignReportJson(const CampaignReport& report) {
@@ -66,6 +76,9 @@ nlohmann::json CampaignReportJson(const CampaignReport& report) {
                       {"eod_load", EodLoadOf(h)},
                       {"termination", TerminationOf(h)},
                       {"policies", policies}};
+  if (const auto vehicle = VehicleOf(h)) {
+    json["campaign"]["vehicle"] = {{"file", vehicle->first}, {"content_hash", vehicle->second}};
+  }
   return json;
 }
 
@@ -77,6 +90,9 @@ std::string CampaignReportText(const CampaignReport& report) {
                                 h.campaign_hash, h.code_version, h.created_utc);
   out += fmt::format("{} flights stored; {} of {} runs flown by every policy ({})\n", report.flights,
                      report.complete_runs, h.runs_requested, policies);
+  if (const auto vehicle = VehicleOf(h)) {
+    out += fmt::format("Vehicle {} (content hash {})\n", vehicle->first, vehicle->second);
+  }
   const std::string load = EodLoadOf(h);
   out += fmt::format(
       "EOD load: {} ({})\n", load,

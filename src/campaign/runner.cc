@@ -199,7 +199,7 @@ void FlyTasks(const CampaignConfig& config, const std::vector<CampaignPolicy>& p
   try {
     // The campaign's world (campaign/world.h): RunCampaign's, or built once here for every task.
     const std::shared_ptr<const CampaignWorld> world =
-        options.world ? options.world : std::make_shared<const CampaignWorld>(BuildCampaignWorld(config.map));
+        options.world ? options.world : std::make_shared<const CampaignWorld>(BuildCampaignWorld(config));
     const auto threads = static_cast<std::int64_t>(std::min<std::size_t>(max_tasks, parallel.jobs));
     ParallelFor(
         threads, parallel,
@@ -408,7 +408,7 @@ CampaignPlan OpenStoreAndPlan(const CampaignRequest& request, const CampaignHead
     // runs' routes fit (sampler.h step 7), so such a campaign exits 2 leaving no database to block the corrected
     // run. The first runs stand for all: a map too small or a sites file missing fails every run.
     constexpr std::int64_t kPreflightRuns = 4;  // our choice: a few milliseconds of sampling
-    plan.world = std::make_shared<const CampaignWorld>(BuildCampaignWorld(request.config.map));
+    plan.world = std::make_shared<const CampaignWorld>(BuildCampaignWorld(request.config));
     for (std::int64_t run = 0; run < std::min(request.config.runs, kPreflightRuns); ++run) {
       (void)SampleRun(request.config, *plan.world, request.config.seed, run);
     }

@@ -21,6 +21,7 @@
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/sim/load_forecast.h"
+#include "uascma/sim/vehicle_file.h"
 
 namespace uascma::campaign {
 namespace {
@@ -145,6 +146,23 @@ bool IsBuiltUp(const planning::CityMap& map, const Eigen::Vector2d& p_NE) {
   return !map.SitesWithinRadius(p_NE, radius).empty();
 }
 
+double CalcPlanningCellVoltage(const sim::Scenario& scenario) {
+  if (!scenario.vehicle) return kPlanningCellVoltage;
+  const models::PackParams pack = sim::ScenarioPackParams(scenario, {}, scenario.battery.ambient_temp_degf);
+  const models::CellParams& cell = pack.cells[0][0];
+  double resistance_ohm = cell.r0_ohm;
+  for (int j = 0; j < cell.rc_pair_count; ++j) resistance_ohm += cell.rc[j].resistance_ohm;
+  const double ocv_v = pack.ocv.CalcVoltage(0.5);
+  const double hover_w =
+      models::kRotorCount * models::CalcElectricalPower(sim::ScenarioPropulsion(scenario),
+                                                        scenario.body.mass * kGravity / models::kRotorCount);
+  // v = OCV(0.5) − R i, i = P / (2 branches × 3 cells × v): the larger root of 6 v² − 6 OCV v + R P = 0.
+  const double discriminant =
+      ocv_v * ocv_v - 4.0 * resistance_ohm * hover_w / (models::kBranchCount * models::kCellsPerBranch);
+  if (!(discriminant > 0.0)) return std::min(kPlanningCellVoltage, 0.5 * ocv_v);  // past the pack's peak power
+  return std::min(kPlanningCellVoltage, 0.5 * (ocv_v + std::sqrt(discriminant)));
+}
+
 double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragTable& drag, double airspeed) {
   if (!(std::isfinite(airspeed) && airspeed >= 0.0)) {
     throw InputError("CalcLevelFlightCurrent", "airspeed", fmt::format("a finite speed >= 0 m/s, got {}", airspeed));
@@ -162,9 +180,9 @@ double CalcLevelFlightCurrent(const sim::Scenario& scenario, const models::DragT
   }
   const double thrust = weight / std::cos(tilt);  // = √((m g)² + D²)
   // Six rotors share it equally; each draws the power law of docs/defaults.md#vehicle; I = P / V_bus (eq. 2.10).
-  const models::PropulsionParams propulsion = models::PropulsionParams::ForConfiguration(scenario.configuration);
+  const models::PropulsionParams propulsion = sim::ScenarioPropulsion(scenario);
   const double power = 6.0 * models::CalcElectricalPower(propulsion, thrust / 6.0);
-  return scenario.options.hotel_current_a + power / (kPlanningCellVoltage * models::kCellsPerBranch);
+  return scenario.options.hotel_current_a + power / (CalcPlanningCellVoltage(scenario) * models::kCellsPerBranch);
 }
 
 double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTable& drag,
@@ -179,7 +197,14 @@ double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTa
 }
 
 double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a) {
-  const models::BatteryPack pack(models::MakePackParams({}, battery.ambient_temp_degf));
+  sim::Scenario scenario;
+  scenario.battery = battery;
+  return CalcHealthyPackEod(scenario, current_a);
+}
+
+double CalcHealthyPackEod(const sim::Scenario& scenario, double current_a) {
+  const sim::BatterySpec& battery = scenario.battery;
+  const models::BatteryPack pack(sim::ScenarioPackParams(scenario, {}, battery.ambient_temp_degf));
   const models::PackState state = pack.MakeRestingState(battery.initial_cell_voltage_v);
   return prognostics::CalcPackEod(pack, state, current_a).eod_s;
 }
@@ -189,13 +214,14 @@ WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& 
   const double duration = plan.duration();
   UASCMA_CHECK(duration > 0.0, "a nominal plan of positive duration");
   WholeLoad load;
-  const models::ElectricalPowerTable power(models::PropulsionParams::ForConfiguration(scenario.configuration));
+  const models::ElectricalPowerTable power(sim::ScenarioPropulsion(scenario));
   const Eigen::Vector3d mean_wind_W = models::WindModel(scenario.wind).MeanWind_W();
   // The flight's own load model (sim/flight.cc's steady_load_): the take-off climb, both legs, the drop hover and
   // the descent, each second's thrust with its acceleration and drag.
   const sim::SteadyLoadModel model{&scenario.body, &drag, &power, mean_wind_W};
   load.profile = std::make_shared<const sim::KeyedLoadProfile>(sim::KeyedLoadProfile{
-      plan, scenario.body, scenario.configuration, mean_wind_W, sim::LoadProfile(plan, model, models::kRotorCount)});
+      plan, scenario.body, scenario.configuration, mean_wind_W, sim::LoadProfile(plan, model, models::kRotorCount),
+      scenario.vehicle ? scenario.vehicle->content_hash : std::string()});
   load.rotor_energy_j = load.profile->profile.RemainingEnergyJ(0.0);
   // The gust allowance (ours, the speed cap's 1σ, sim/speed_cap.h): at each level airspeed of the plan the steady
   // power at that airspeed raised by σ_u, less the power at it; the largest of the three over the whole plan.
@@ -217,10 +243,10 @@ WholeLoad CalcWholeLoad(const sim::Scenario& scenario, const models::DragTable& 
         std::max(load.gust_power_w, level_power(airspeed + load.gust_sigma_u_mps) - level_power(airspeed));
   }
   // Power to pack current as CalcLevelFlightCurrent: over a bus at the planning voltage, plus the hotel load.
-  const double bus_voltage = kPlanningCellVoltage * models::kCellsPerBranch;
+  const double bus_voltage = CalcPlanningCellVoltage(scenario) * models::kCellsPerBranch;
   load.current_a = scenario.options.hotel_current_a +
                    (load.rotor_energy_j + load.gust_power_w * duration) / (duration * bus_voltage);
-  load.eod_s = CalcHealthyPackEod(scenario.battery, load.current_a);
+  load.eod_s = CalcHealthyPackEod(scenario, load.current_a);
   return load;
 }
 
@@ -298,7 +324,7 @@ void SetEnduranceTiedDistance(SampledRun& run, const models::DragTable& drag, co
   // docs/modelling-choices.md#campaign-missions: plan = f (EOD_healthy − t_sf) at the plan's cruise current, the
   // distance from it.
   run.cruise_current_a = CalcPlanCruiseCurrent(scenario, drag, direction);
-  run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
+  run.healthy_eod_s = CalcHealthyPackEod(scenario, run.cruise_current_a);
   // `longest_plan_s`: the whole-load check's shortening (DrawRoute); +inf on a route's first pass.
   const double target_s = std::min(run.endurance_fraction * (run.healthy_eod_s - run.safety_margin_s), longest_plan_s);
   if (!map.buildings().empty()) {
@@ -398,7 +424,7 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
                            config.mission.wall_clearance_m,
                            !config.mission.distance_m.has_value(),
                            config.map.imported() ? config.mission.cruise_altitude_m : 0.0,
-                           models::DragTable::Default(scenario.configuration),
+                           sim::ScenarioDrag(scenario),
                            config.map.imported()};
   if (route.endurance_tied) run.endurance_fraction = Draw(random, config.mission.endurance_fraction);
   for (int attempt = 0;; ++attempt) {
@@ -416,7 +442,7 @@ void DrawRoute(RandomStream& random, const CampaignConfig& config, SampledRun& r
     // Recorded for every run: the healthy pack's EOD at the plan's cruise current (not used to draw it).
     run.cruise_current_a = CalcPlanCruiseCurrent(scenario, route.drag,
                                                  Eigen::Vector2d(std::cos(run.bearing_rad), std::sin(run.bearing_rad)));
-    run.healthy_eod_s = CalcHealthyPackEod(scenario.battery, run.cruise_current_a);
+    run.healthy_eod_s = CalcHealthyPackEod(scenario, run.cruise_current_a);
   }
 }
 
@@ -436,7 +462,7 @@ void DrawFault(RandomStream& random, const FaultSampling& fault, SampledRun& run
 }  // namespace
 
 SampledRun SampleRun(const CampaignConfig& config, std::uint64_t campaign_seed, std::int64_t run_index) {
-  return SampleRun(config, BuildCampaignWorld(config.map), campaign_seed, run_index);
+  return SampleRun(config, BuildCampaignWorld(config), campaign_seed, run_index);
 }
 
 SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, std::uint64_t campaign_seed,
@@ -454,6 +480,7 @@ SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, s
   scenario.seed = DeriveSeed(run.run_seed, kSimulatorStream);
   scenario.map = world.map;
   scenario.map_obstacles = world.obstacles;
+  sim::UseVehicle(scenario, world.vehicle);  // the campaign's vehicle file, or the dissertation's (null)
   // Over an imported map the run has a geodetic frame (the map's origin): its plans export for QGroundControl,
   // also when it is replayed from the results database.
   if (config.map.imported()) scenario.geo_origin = world.origin;
@@ -471,6 +498,12 @@ SampledRun SampleRun(const CampaignConfig& config, const CampaignWorld& world, s
   DrawWind(random, config.wind, run);        // 6
   DrawRoute(random, config, run);            // 7
   DrawFault(random, config.fault, run);      // 8
+  // 9: a sudden pack fault (campaign/pack_fault_sampling.h), from its own stream so that every draw above keeps its
+  // value; nothing is drawn without one.
+  if (config.pack_faults.share) {
+    RandomStream pack_fault_random(DeriveSeed(run.run_seed, kPackFaultStream));
+    scenario.pack_fault = DrawPackFault(pack_fault_random, config.pack_faults.Sampling(), run.plan_duration_s);
+  }
   return run;
 }
 
@@ -478,7 +511,7 @@ SiteCoverage CalcSiteCoverage(const CampaignConfig& config, std::uint64_t campai
   const planning::LandPractParams land_pract;  // the simulator's (sim/emergency_planner.cc builds it with defaults)
   SiteCoverage coverage;
   coverage.reach = land_pract.site_search_radius;
-  const CampaignWorld world = BuildCampaignWorld(config.map);
+  const CampaignWorld world = BuildCampaignWorld(config);
   const std::shared_ptr<const planning::CityMap> map = world.map;
   coverage.sites = static_cast<int>(map->sites().size());
   coverage.sites_from_map = world.sites_from_map;

@@ -4,6 +4,9 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
 
@@ -50,6 +53,19 @@ CampaignWorld BuildCampaignWorld(const MapSampling& sampling) {
   if (!world.map->sites().empty()) {
     world.obstacles =
         planning::LandingPathPlanner::InflateBuildings(*world.map, planning::LandingPathParams{}.lateral_margin);
+  }
+  return world;
+}
+
+CampaignWorld BuildCampaignWorld(const CampaignConfig& config) {
+  CampaignWorld world = BuildCampaignWorld(config.map);
+  if (!config.vehicle.empty()) {
+    world.vehicle = sim::LoadVehicleFile(config.vehicle);
+    if (!config.vehicle_hash.empty() && world.vehicle->content_hash != config.vehicle_hash) {
+      throw InputError(config.vehicle, "vehicle_hash",
+                       fmt::format("the campaign's {} (the file or a file it names changed since), got {}",
+                                   config.vehicle_hash, world.vehicle->content_hash));
+    }
   }
   return world;
 }

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <sstream>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <yaml-cpp/eventhandler.h>
 
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
@@ -83,7 +85,32 @@ class DocumentCheck {
 
 namespace {
 
-// Before yaml-cpp sees the text: its size and its longest line within their bounds.
+// YAML 1.2 §5.1: a stream holds printable characters only: tab, line feed, carriage return, 0x20-0x7E and Unicode
+// above, less the C1 controls but NEL (U+0080-U+009F, UTF-8 0xC2 0x80-0x9F). yaml-cpp does not check it: a NUL or
+// a terminal escape in a comment passed unseen, and one in a value reached the messages raw.
+void CheckPrintable(const std::string& text, std::size_t begin, std::size_t end, int line, const std::string& source) {
+  // UTF-8 first (uascma's encoding, YAML 1.2 §5.2): bytes such as 0xFF 0xFE read as a UTF-16 mark send yaml-cpp's
+  // reader astray, and a comment is text too.
+  if (const auto bad = FirstInvalidUtf8(std::string_view(text).substr(begin, end - begin))) {
+    throw InputError(source, fmt::format("line {}", line),
+                     fmt::format("text in UTF-8 (YAML 1.2 §5.2), but column {} holds byte 0x{:02X}", *bad + 1,
+                                 static_cast<unsigned char>(text[begin + *bad])));
+  }
+  for (std::size_t i = begin; i < end; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const bool c0 = (c < 0x20 && c != '\t' && c != '\r') || c == 0x7F;
+    const bool c1 = c == 0xC2 && i + 1 < end && static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+                    static_cast<unsigned char>(text[i + 1]) <= 0x9F && static_cast<unsigned char>(text[i + 1]) != 0x85;
+    if (c0 || c1) {
+      throw InputError(source, fmt::format("line {}", line),
+                       fmt::format("printable characters only (YAML 1.2 §5.1), but column {} holds {}", i - begin + 1,
+                                   c1 ? fmt::format("U+00{:02X}", static_cast<unsigned char>(text[i + 1]))
+                                      : fmt::format("byte 0x{:02X}", c)));
+    }
+  }
+}
+
+// Before yaml-cpp sees the text: its size and its longest line within their bounds, its characters printable.
 void CheckYamlSize(const std::string& text, const std::string& source) {
   if (text.size() > kMaxYamlBytes) {
     throw InputError(source, "file",
@@ -97,6 +124,7 @@ void CheckYamlSize(const std::string& text, const std::string& source) {
                        fmt::format("lines of at most {} bytes (no uascma key or value is longer), but it holds {}",
                                    kMaxYamlLineBytes, end - line_start));
     }
+    CheckPrintable(text, line_start, end, line, source);
     line_start = end + 1;
   }
 }
@@ -113,26 +141,65 @@ int DocumentStartLine(const std::string& text, int mark_line) {
   return mark_line + 1;
 }
 
+// Where each document of a YAML stream starts, from yaml-cpp's parser events (no nodes built).
+class DocumentStarts final : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { marks.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+
+  std::vector<YAML::Mark> marks;
+};
+
+[[noreturn]] void ThrowYamlError(const YAML::Exception& e, const std::string& source) {
+  throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + EscapeForMessage(e.msg) + ")");
+}
+
+// The stream holds one document at most. yaml-cpp 0.7's parser, given a token no document can start with (a ',' at
+// the top level), reports an empty document there again and again without moving on (YAML::LoadAll then fills the
+// memory): a document that starts where the one before it did is that token, named with its line and column.
+void CheckOneDocument(const std::string& text, const std::string& source) {
+  std::istringstream stream(text);
+  YAML::Parser parser(stream);
+  DocumentStarts starts;
+  try {
+    while (starts.marks.size() < 3 && parser.HandleNextDocument(starts)) {
+    }
+  } catch (const YAML::Exception& e) {
+    if (starts.marks.size() < 2) ThrowYamlError(e, source);
+  }
+  const std::vector<YAML::Mark>& marks = starts.marks;
+  for (std::size_t k = 1; k < marks.size(); ++k) {
+    if (marks[k].pos != marks[k - 1].pos) continue;
+    const char c = static_cast<std::size_t>(marks[k].pos) < text.size() ? text[marks[k].pos] : ' ';
+    throw InputError(source, fmt::format("line {}", marks[k].line + 1),
+                     fmt::format("valid YAML ('{}' at column {} belongs to no sequence or mapping)",
+                                 EscapeForMessage(std::string(1, c)), marks[k].column + 1));
+  }
+  if (marks.size() < 2) return;
+  const YAML::Mark& second = marks[1];
+  throw InputError(source, fmt::format("line {}", DocumentStartLine(text, second.line)),
+                   "one YAML document, but a second one starts here (uascma would read the first only: remove "
+                   "the second or make it a file of its own)");
+}
+
 }  // namespace
 
 YAML::Node ParseYamlText(const std::string& text, const std::string& source) {
   CheckYamlSize(text, source);
-  std::vector<YAML::Node> documents;
+  CheckOneDocument(text, source);
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
-  }
-  if (documents.size() > 1) {
-    throw InputError(source, fmt::format("line {}", DocumentStartLine(text, documents[1].Mark().line)),
-                     "one YAML document, but a second one starts here (uascma would read the first only: remove "
-                     "the second or make it a file of its own)");
-  }
-  YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
-  try {
+    root = YAML::Load(text);
     DocumentCheck(source).Walk(root);
   } catch (const YAML::Exception& e) {
-    throw InputError(source, "line " + std::to_string(e.mark.line + 1), "valid YAML (" + e.msg + ")");
+    ThrowYamlError(e, source);
   }
   return root;
 }

@@ -137,6 +137,10 @@ nlohmann::json PropulsionIdentificationJson(const PropulsionIdentification& iden
       {"thrust_max_relative_error", identification.thrust_max_relative_error},
       {"thrust_check_above_us", options.thrust_check_above_us},
       {"thrust_check_points", identification.thrust_check_points},
+      {"max_thrust_n", identification.max_thrust_n},
+      {"power_law", {{"w_at_one_newton", Optional(identification.power_law_w_at_one_newton)},
+                     {"exponent", Optional(identification.power_law_exponent)},
+                     {"points", identification.power_law_points}}},
       {"candidates", candidates},
       {"warnings", identification.warnings},
       {"surface", {{"order", s.order}, {"coefficients_rpm", coefficients},
@@ -156,6 +160,17 @@ PropulsionModel ReadPropulsionModelFile(const std::filesystem::path& path) {
   PropulsionModel model;
   model.thrust_coefficient_n_per_rpm2 = root.Member("c_t").Number(Bounds{1e-15, 1e-3, "N/RPM^2"});
   model.torque_coefficient_nm_per_rpm2 = root.Member("c_q").OptionalNumber();
+  // Written since the vehicle file (docs/identification.md#vehicle-file): absent in older files, kept then.
+  if (root.Has("max_thrust_n")) model.max_thrust_n = root.Member("max_thrust_n").Number(Bounds{1e-3, 1e4, "N"});
+  if (root.Has("power_law")) {
+    const JsonValue law = root.Member("power_law");
+    const std::optional<double> k = law.Member("w_at_one_newton").OptionalNumber();
+    const std::optional<double> b = law.Member("exponent").OptionalNumber();
+    if (k && b) {
+      model.power_law_w_at_one_newton = law.Member("w_at_one_newton").Number(Bounds{1e-3, 1e5, "W"});
+      model.power_law_exponent = law.Member("exponent").Number(Bounds{0.5, 3.0, ""});
+    }
+  }
   const JsonValue surface = root.Member("surface");
   RpmSurface& s = model.surface;
   s.order = surface.Member("order").Integer<int>();

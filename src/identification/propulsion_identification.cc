@@ -205,6 +205,35 @@ void CheckThrust(const Points& points, const PropulsionIdentificationOptions& op
   result->thrust_max_relative_error = *std::max_element(errors.begin(), errors.end());
 }
 
+// T_max and the power law of one motor (propulsion_identification.h): LAR of ln P = ln k + b ln T over the points
+// above the check throttle, where the stand's thrust and power are well above their noise.
+void FitRotorLimits(const Points& points, const PropulsionIdentificationOptions& options,
+                    PropulsionIdentification* result) {
+  std::vector<double> log_thrust, log_power;
+  for (std::size_t k = 0; k < points.rpm.size(); ++k) {
+    result->max_thrust_n = std::max(result->max_thrust_n, points.thrust_n[k]);
+    if (!(points.throttle_us[k] > options.thrust_check_above_us) || !(points.thrust_n[k] > 0.0) ||
+        !(points.power_w[k] > 0.0)) {
+      continue;
+    }
+    log_thrust.push_back(std::log(points.thrust_n[k]));
+    log_power.push_back(std::log(points.power_w[k]));
+  }
+  result->power_law_points = static_cast<int>(log_thrust.size());
+  if (log_thrust.size() < 3) return;
+  Eigen::MatrixXd design(log_thrust.size(), 2);
+  Eigen::VectorXd observed(log_thrust.size());
+  for (std::size_t k = 0; k < log_thrust.size(); ++k) {
+    design(k, 0) = 1.0;
+    design(k, 1) = log_thrust[k];
+    observed[k] = log_power[k];
+  }
+  const LarResult fit = FitLeastAbsoluteResiduals(design, observed);
+  if (fit.status == LarStatus::kRankDeficient) return;
+  result->power_law_w_at_one_newton = std::exp(fit.coefficients[0]);
+  result->power_law_exponent = fit.coefficients[1];
+}
+
 }  // namespace
 
 PropulsionIdentification IdentifyPropulsion(const std::vector<ThrustStandRecord>& records,
@@ -257,6 +286,7 @@ PropulsionIdentification IdentifyPropulsion(const std::vector<ThrustStandRecord>
         options.diameter_in));
   }
   CheckThrust(points, options, &result);
+  FitRotorLimits(points, options, &result);
   return result;
 }
 

@@ -43,7 +43,7 @@ sim::Scenario OneMissionScenario(const campaign::SampledRun& anchor, const campa
 class EpisodeSource {
  public:
   explicit EpisodeSource(const CmaQLearningOptions& options)
-      : options_(options), world_(campaign::BuildCampaignWorld(options.config.map)) {
+      : options_(options), world_(campaign::BuildCampaignWorld(options.config)) {
     if (options.setting == EpisodeSetting::kOneMission) {
       anchor_ = campaign::SampleRun(options.config, world_, options.config.seed, options.anchor_run);
     }

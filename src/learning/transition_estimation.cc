@@ -61,7 +61,7 @@ bool TransitionEstimationOptions::IsValid(std::string* error) const {
 
 decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options, std::int64_t run,
                                                   TransitionEstimationSummary* summary) {
-  return CountRunTransitions(options, campaign::BuildCampaignWorld(options.config.map), run, summary);
+  return CountRunTransitions(options, campaign::BuildCampaignWorld(options.config), run, summary);
 }
 
 decision::CmaTransitionCounts CountRunTransitions(const TransitionEstimationOptions& options,
@@ -116,7 +116,7 @@ decision::CmaTransitionCounts EstimateCmaTransitions(const TransitionEstimationO
   parallel.jobs = options.jobs;
   decision::CmaTransitionCounts counts;
   TransitionEstimationSummary total;
-  const campaign::CampaignWorld world = campaign::BuildCampaignWorld(options.config.map);  // once for every run
+  const campaign::CampaignWorld world = campaign::BuildCampaignWorld(options.config);  // once for every run
   // Merged in run order: the integer sums are the same for any number of threads.
   const std::int64_t merged = ParallelFor(
       options.runs, parallel,

@@ -52,6 +52,18 @@ HealthClass Classify(const CellHealth* cells, int count) {
   return worst;
 }
 
+// OCV(z) of every cell and their sums per branch (eq. 3.6), summed in cell order.
+void CalcCellOcvs(const PerCell<SelfCorrectingCell>& cells, const PackState& state, PerCell<double>& ocv_v,
+                  PerBranch<double>& branch_ocv_v) {
+  branch_ocv_v = {0.0, 0.0};
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      ocv_v[b][c] = cells[b][c].ocv().CalcVoltage(state.cells[b][c].soc_fraction);
+      branch_ocv_v[b] += ocv_v[b][c];
+    }
+  }
+}
+
 // The branch voltages (Σ cell terminal voltages) and the lowest cell of the switched-on branches.
 void SummarisePackCells(const PerBranch<bool>& branch_on, PackOutputs& out) {
   out.min_cell_voltage_v = std::numeric_limits<double>::infinity();
@@ -108,7 +120,7 @@ HealthClass ParseHealthClass(const std::string& name, const std::string& source)
 }
 
 PackParams MakePackParams(const PerCell<CellHealth>& health, double ambient_temp_degf, const OcvTable& ocv) {
-  PackParams params{.cells = {}, .ocv = ocv};
+  PackParams params{.cells = {}, .ocv = ocv, .fault = std::nullopt};
   for (int b = 0; b < kBranchCount; ++b) {
     for (int c = 0; c < kCellsPerBranch; ++c) {
       params.cells[b][c] = ApplyCellConditions(Table31Cell(c + 1), health[b][c], ambient_temp_degf);
@@ -154,7 +166,9 @@ BranchSplit CalcBranchSplit(const PerBranch<double>& branch_ocv_v, const PerBran
 
 BatteryPack::BatteryPack() : BatteryPack(MakePackParams()) {}
 
-BatteryPack::BatteryPack(const PackParams& params) {
+BatteryPack::BatteryPack(const PackParams& params) : fault_(params.fault) {
+  std::string error;
+  if (fault_ && !fault_->IsValid(&error)) throw InputError("pack fault: " + error);
   for (int b = 0; b < kBranchCount; ++b) {
     branch_r0_ohm_[b] = 0.0;
     for (int c = 0; c < kCellsPerBranch; ++c) {
@@ -173,8 +187,66 @@ double BatteryPack::CalcBranchOcv(const PackState& state, int branch) const {
 }
 
 BranchSplit BatteryPack::CalcSplit(const PackState& state, double total_current_a) const {
-  return CalcBranchSplit({CalcBranchOcv(state, 0), CalcBranchOcv(state, 1)}, branch_r0_ohm_, state.branch_on,
-                         total_current_a);
+  if (!FaultOn(state)) {
+    return CalcBranchSplit({CalcBranchOcv(state, 0), CalcBranchOcv(state, 1)}, branch_r0_ohm_, state.branch_on,
+                           total_current_a);
+  }
+  PerCell<double> ocv_v;
+  PerBranch<double> branch_ocv_v;
+  CalcCellOcvs(cells_, state, ocv_v, branch_ocv_v);
+  PerBranch<double> branch_r_ohm = branch_r0_ohm_;
+  ApplyFaultToBranches(state, ocv_v, branch_ocv_v, branch_r_ohm);
+  return CalcBranchSplit(branch_ocv_v, branch_r_ohm, state.branch_on, total_current_a);
+}
+
+double BatteryPack::CalcShortCurrent(const PackState& state) const {
+  if (!FaultOn(state) || fault_->kind != PackFaultKind::kInternalShort) return 0.0;
+  const SelfCorrectingCell& cell = cells_[fault_->branch][fault_->cell];
+  return cell.ocv().CalcVoltage(state.cells[fault_->branch][fault_->cell].soc_fraction) / fault_->resistance_ohm;
+}
+
+double BatteryPack::CalcFaultHeat(const PackState& state, double branch_current_a) const {
+  if (!FaultOn(state)) return 0.0;
+  if (fault_->kind == PackFaultKind::kInternalShort) {
+    const double i_s = CalcShortCurrent(state);
+    return i_s * i_s * fault_->resistance_ohm;  // OCV²/R_s
+  }
+  return fault_->resistance_ohm * branch_current_a * branch_current_a;
+}
+
+void BatteryPack::ApplyFaultToBranches(const PackState& state, const PerCell<double>& ocv_v,
+                                       PerBranch<double>& branch_ocv_v, PerBranch<double>& branch_r_ohm) const {
+  if (!FaultOn(state)) return;
+  const int b = fault_->branch;
+  if (fault_->kind == PackFaultKind::kInternalShort) {
+    const int c = fault_->cell;
+    branch_ocv_v[b] -= cells_[b][c].params().r0_ohm * ocv_v[b][c] / fault_->resistance_ohm;  // − R0 i_s
+  } else {
+    branch_r_ohm[b] += fault_->resistance_ohm;  // R_f in series with a cell, or R_c between pack and bus
+  }
+}
+
+PerCell<double> BatteryPack::CellCurrents(const PackState& state, const PerBranch<double>& branch_current_a,
+                                          double short_current_a) const {
+  PerCell<double> current_a;
+  for (int b = 0; b < kBranchCount; ++b) current_a[b].fill(branch_current_a[b]);
+  if (FaultOn(state) && fault_->kind == PackFaultKind::kInternalShort) {
+    current_a[fault_->branch][fault_->cell] += short_current_a;
+  }
+  return current_a;
+}
+
+void BatteryPack::CalcCellVoltages(const PackState& state, const PerCell<double>& ocv_v, double short_current_a,
+                                   PackOutputs& out) const {
+  const PerCell<double> current_a = CellCurrents(state, out.split.current_a, short_current_a);
+  for (int b = 0; b < kBranchCount; ++b) {
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      out.cell_voltage_v[b][c] = cells_[b][c].CalcTerminalVoltage(state.cells[b][c], current_a[b][c], ocv_v[b][c]);
+    }
+  }
+  if (FaultOn(state) && fault_->kind == PackFaultKind::kFailedCell) {
+    out.cell_voltage_v[fault_->branch][fault_->cell] -= fault_->resistance_ohm * out.split.current_a[fault_->branch];
+  }
 }
 
 double BatteryPack::CalcCurrentAtPower(const PackState& state, double power_w, double start_a,
@@ -193,14 +265,17 @@ double BatteryPack::CalcCurrentAtPower(const PackState& state, double power_w, d
 PackOutputs BatteryPack::CalcOutputs(const PackState& state, double total_current_a) const {
   // OCV(z) of every cell, once: the split (eqs. 3.4–3.6) and the terminal voltages (eq. 3.3) share it.
   PerCell<double> ocv_v;
-  PerBranch<double> branch_ocv_v = {0.0, 0.0};
-  for (int b = 0; b < kBranchCount; ++b) {
-    for (int c = 0; c < kCellsPerBranch; ++c) {
-      ocv_v[b][c] = cells_[b][c].ocv().CalcVoltage(state.cells[b][c].soc_fraction);
-      branch_ocv_v[b] += ocv_v[b][c];
-    }
-  }
+  PerBranch<double> branch_ocv_v;
+  CalcCellOcvs(cells_, state, ocv_v, branch_ocv_v);
   PackOutputs out;
+  if (FaultOn(state)) {
+    PerBranch<double> branch_r_ohm = branch_r0_ohm_;
+    ApplyFaultToBranches(state, ocv_v, branch_ocv_v, branch_r_ohm);
+    out.split = CalcBranchSplit(branch_ocv_v, branch_r_ohm, state.branch_on, total_current_a);
+    CalcCellVoltages(state, ocv_v, CalcShortCurrent(state), out);
+    SummarisePackCells(state.branch_on, out);
+    return out;
+  }
   out.split = CalcBranchSplit(branch_ocv_v, branch_r0_ohm_, state.branch_on, total_current_a);
   for (int b = 0; b < kBranchCount; ++b) {
     for (int c = 0; c < kCellsPerBranch; ++c) {
@@ -242,6 +317,19 @@ PackLinearisation BatteryPack::Linearise(const PackState& state) const {
       at.docv_dcharge[b] += docv_dq;
     }
   }
+  if (FaultOn(state) && fault_->kind == PackFaultKind::kInternalShort) {
+    // The short's drain i_s on top of the branch's (battery_pack.h PackLinearisation).
+    const int b = fault_->branch, c = fault_->cell;
+    const SelfCorrectingCell& cell = cells_[b][c];
+    const double z = state.cells[b][c].soc_fraction;
+    const double i_s = CalcShortCurrent(state);
+    const double docv_dq = cell.ocv().segment_slope_v(cell.ocv().SegmentForDischarge(z)) *
+                           (-cell.params().eta_discharge / cell.capacity_as());
+    at.voltage_v[b][c] -= cell.params().r0_ohm * i_s;
+    at.dv_dtime[b][c] += at.dv_dcharge[b][c] * i_s;
+    at.ocv_v[b] -= cell.params().r0_ohm * i_s;
+    at.docv_dtime[b] = docv_dq * i_s;
+  }
   return at;
 }
 
@@ -256,10 +344,14 @@ PackOutputs BatteryPack::CalcLinearisedOutputs(const PackState& state, const Pac
 void BatteryPack::CalcLinearisedOutputs(const PackState& state, const PackLinearisation& at,
                                         const PerBranch<double>& charge_as, double elapsed_s, double total_current_a,
                                         PackOutputs& out) const {
-  const PerBranch<double> branch_ocv_v = {at.ocv_v[0] + at.docv_dcharge[0] * charge_as[0],
-                                          at.ocv_v[1] + at.docv_dcharge[1] * charge_as[1]};
+  PerBranch<double> branch_ocv_v = {at.ocv_v[0] + at.docv_dcharge[0] * charge_as[0],
+                                    at.ocv_v[1] + at.docv_dcharge[1] * charge_as[1]};
   out.min_cell_branch = -1;  // PackOutputs' defaults where SummarisePackCells finds no switched-on cell
   out.min_cell_index = -1;
+  if (FaultOn(state)) {
+    CalcLinearisedFaultOutputs(state, at, charge_as, elapsed_s, total_current_a, branch_ocv_v, out);
+    return;
+  }
   out.split = CalcBranchSplit(branch_ocv_v, branch_r0_ohm_, state.branch_on, total_current_a);
   for (int b = 0; b < kBranchCount; ++b) {
     const double current_a = out.split.current_a[b];  // ≥ 0: s = −1 while it flows, else the stored sign
@@ -273,15 +365,46 @@ void BatteryPack::CalcLinearisedOutputs(const PackState& state, const PackLinear
   SummarisePackCells(state.branch_on, out);
 }
 
+void BatteryPack::CalcLinearisedFaultOutputs(const PackState& state, const PackLinearisation& at,
+                                             const PerBranch<double>& charge_as, double elapsed_s,
+                                             double total_current_a, PerBranch<double> branch_ocv_v,
+                                             PackOutputs& out) const {
+  const int fb = fault_->branch, fc = fault_->cell;
+  PerBranch<double> branch_r_ohm = branch_r0_ohm_;
+  if (fault_->kind == PackFaultKind::kInternalShort) {
+    branch_ocv_v[fb] += at.docv_dtime[fb] * elapsed_s;
+  } else {
+    branch_r_ohm[fb] += fault_->resistance_ohm;
+  }
+  out.split = CalcBranchSplit(branch_ocv_v, branch_r_ohm, state.branch_on, total_current_a);
+  const bool shorted = fault_->kind == PackFaultKind::kInternalShort;
+  for (int b = 0; b < kBranchCount; ++b) {
+    const double current_a = out.split.current_a[b];
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      const CellParams& p = cells_[b][c].params();
+      const bool drains = current_a > 0.0 || (shorted && b == fb && c == fc);  // the short discharges it: s = −1
+      const double s = drains ? -1.0 : state.cells[b][c].hysteresis_sign;
+      out.cell_voltage_v[b][c] = at.voltage_v[b][c] + at.dv_dcharge[b][c] * charge_as[b] +
+                                 at.dv_dtime[b][c] * elapsed_s + p.hysteresis_m0_v * s - p.r0_ohm * current_a;
+    }
+  }
+  if (fault_->kind == PackFaultKind::kFailedCell)
+    out.cell_voltage_v[fb][fc] -= fault_->resistance_ohm * out.split.current_a[fb];
+  SummarisePackCells(state.branch_on, out);
+}
+
 PackState BatteryPack::Advance(const PackState& state, const PerBranch<double>& charge_as, double duration_s,
                                const FixedStep* step) const {
   UASCMA_CHECK(duration_s > 0.0, "the pack advances over a positive duration");
   PackState next = state;
+  const double short_current_a = CalcShortCurrent(state);
   for (int b = 0; b < kBranchCount; ++b) {
     UASCMA_DCHECK(charge_as[b] >= 0.0, "a branch only discharges (its diode)");
-    const double mean_current_a = charge_as[b] / duration_s;
+    const double branch_mean_a = charge_as[b] / duration_s;
     for (int c = 0; c < kCellsPerBranch; ++c) {
       const SelfCorrectingCell& cell = cells_[b][c];
+      const bool shorted = short_current_a > 0.0 && b == fault_->branch && c == fault_->cell;
+      const double mean_current_a = shorted ? branch_mean_a + short_current_a : branch_mean_a;
       next.cells[b][c] = step ? cell.Step(state.cells[b][c], mean_current_a, duration_s, step->rc_decay[b][c])
                               : cell.Step(state.cells[b][c], mean_current_a, duration_s);
     }
@@ -291,10 +414,11 @@ PackState BatteryPack::Advance(const PackState& state, const PerBranch<double>& 
 
 PackState BatteryPack::Step(const PackState& state, double total_current_a, double dt_s) const {
   const BranchSplit split = CalcSplit(state, total_current_a);
+  const PerCell<double> current_a = CellCurrents(state, split.current_a, CalcShortCurrent(state));
   PackState next = state;
   for (int b = 0; b < kBranchCount; ++b) {
     for (int c = 0; c < kCellsPerBranch; ++c) {
-      next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], split.current_a[b], dt_s);
+      next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], current_a[b][c], dt_s);
     }
   }
   return next;
@@ -304,9 +428,10 @@ PackStepResult BatteryPack::StepWithOutputs(const PackState& state, double total
   PackStepResult result;
   result.outputs = CalcOutputs(state, total_current_a);
   result.next = state;
+  const PerCell<double> current_a = CellCurrents(state, result.outputs.split.current_a, CalcShortCurrent(state));
   for (int b = 0; b < kBranchCount; ++b) {
     for (int c = 0; c < kCellsPerBranch; ++c) {
-      result.next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], result.outputs.split.current_a[b], dt_s);
+      result.next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], current_a[b][c], dt_s);
     }
   }
   return result;
@@ -326,9 +451,13 @@ PackStepResult BatteryPack::StepWithOutputs(const PackState& state, double total
   PackStepResult result;
   result.outputs = CalcOutputs(state, total_current_a);
   result.next.branch_on = state.branch_on;
+  result.next.fault_on = state.fault_on;
+  const double short_current_a = CalcShortCurrent(state);
   for (int b = 0; b < kBranchCount; ++b) {
-    const double current_a = result.outputs.split.current_a[b];
+    const double branch_current_a = result.outputs.split.current_a[b];
     for (int c = 0; c < kCellsPerBranch; ++c) {
+      const bool shorted = short_current_a > 0.0 && b == fault_->branch && c == fault_->cell;
+      const double current_a = shorted ? branch_current_a + short_current_a : branch_current_a;
       result.next.cells[b][c] = cells_[b][c].Step(state.cells[b][c], current_a, step.dt_s, step.rc_decay[b][c]);
     }
   }

@@ -81,6 +81,10 @@ int RotorSpinSign(int rotor) {
   return rotor % 2 == 1 ? -1 : +1;  // eq. 4.11 row 4: −γ, γ, −γ, γ, −γ, γ
 }
 
+int RotorSpinSign(const MixerParams& params, int rotor) {
+  return params.rotor1_clockwise ? RotorSpinSign(rotor) : -RotorSpinSign(rotor);
+}
+
 int OppositeMotor(int motor) {
   CheckRotor(motor, "motor");
   return (motor + 2) % kRotorCount + 1;
@@ -100,7 +104,7 @@ MixingMatrix CalcMixingMatrix(const MixerParams& params, int failed_motor) {
     // Thrust T_k along −Z_B at r = L (cos ψ, sin ψ, 0): r × (0, 0, −T_k) = (−L sin ψ, L cos ψ, 0) T_k,
     // plus the rotor's drag reaction ∓γ T_k about Z_B.
     mixing.col(rotor - 1) << 1.0, -length * std::sin(azimuth), length * std::cos(azimuth),
-        RotorSpinSign(rotor) * params.yaw_torque_per_thrust;
+        RotorSpinSign(params, rotor) * params.yaw_torque_per_thrust;
   }
   if (failed_motor != kNoFailedMotor) {
     // docs/modelling-choices.md#mixing-after-motor-failure: the failed motor and its opposite are both commanded to

@@ -1,4 +1,5 @@
 #include "uascma/sim/flight.h"
+#include "uascma/sim/vehicle_file.h"
 
 // The model and the GNC step of the kernel (flight.h): the vehicle's step, then the power system's; StepTogether
 // steps flights in lanes; StepFollowing flies one vehicle for several power systems. The initial state is
@@ -172,6 +173,16 @@ void StepBody(const FlightModel& model, VehicleState& vehicle, StepSignals& s) {
 // ---- power: rotor currents → pack → bus voltage ------------------------------------------------------------------
 // The pack's slow step: its state advanced with the charge each branch drew since the last one (a full slow step, or
 // the part of one a flight ended in), and linearised anew.
+// A pack fault switches on or off (models/pack_fault.h IsPackFaultOn) only at a slow step's start, where the pack's
+// state is the present one, and the pack is linearised anew with it.
+void UpdatePackFault(const FlightModel& model, PowerState& power, double time_s) {
+  if (!model.pack().fault() || power.pack_substeps != 0) return;
+  const bool on = models::IsPackFaultOn(*model.pack().fault(), time_s);
+  if (on == power.pack.fault_on) return;
+  power.pack.fault_on = on;
+  power.pack_linear = model.pack().Linearise(power.pack);
+}
+
 void AdvancePack(const FlightModel& model, PowerState& power) {
   if (power.pack_substeps == 0) return;
   const bool full = power.pack_substeps == model.pack_substeps();
@@ -196,7 +207,8 @@ void SensePower(const FlightModel& model, PowerState& power) {
 }
 
 // The rotors' electrical power (StepVehicle's) drawn at this power system's bus voltage, through its packs.
-void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s) {
+void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s, double time_s) {
+  UpdatePackFault(model, power, time_s);
   const double inverse_bus_voltage = InverseBusVoltage(power.bus_voltage_v);
   double motors_current = 0.0;
   for (int i = 0; i < 6; ++i) {
@@ -210,6 +222,9 @@ void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s
         model.pack().StepWithOutputs(power.pack, power.pack_current_a, model.pack_step());
     power.pack = pack_step.next;
     s.pack_outputs = pack_step.outputs;
+    for (int b = 0; b < models::kBranchCount; ++b) {
+      power.branch_charge_as[b] += s.pack_outputs.split.current_a[b] * model.dt();
+    }
   } else {
     // The outputs at this step's current from the pack's last slow step and the charge drawn since; then this
     // step's charge, and the slow step when its GNC steps are done (models/battery_pack.h PackLinearisation).
@@ -217,6 +232,7 @@ void StepPowerSystem(const FlightModel& model, PowerState& power, StepSignals& s
                                        power.pack_substeps * model.dt(), power.pack_current_a, s.pack_outputs);
     for (int b = 0; b < models::kBranchCount; ++b) {
       power.pack_charge_as[b] += s.pack_outputs.split.current_a[b] * model.dt();
+      power.branch_charge_as[b] += s.pack_outputs.split.current_a[b] * model.dt();
     }
     if (++power.pack_substeps == model.pack_substeps()) AdvancePack(model, power);
   }
@@ -377,23 +393,33 @@ std::shared_ptr<const LoadProfile> NominalLoadProfile(const Scenario& scenario, 
                                                       const SteadyLoadModel& load) {
   const std::shared_ptr<const KeyedLoadProfile>& keyed = scenario.nominal_load_profile;
   if (keyed && keyed->plan == plan && keyed->body == scenario.body && keyed->configuration == scenario.configuration &&
+      keyed->vehicle_hash == (scenario.vehicle ? scenario.vehicle->content_hash : std::string()) &&
       keyed->mean_wind_W == load.mean_wind_W) {
     return std::shared_ptr<const LoadProfile>(keyed, &keyed->profile);  // shares the scenario's ownership
   }
   return std::make_shared<const LoadProfile>(plan, load, models::kRotorCount);
 }
 
+// The scenario's packs with its pack fault, whose connector draws come from the flight's seed.
+models::PackParams MakeFlightPackParams(const Scenario& scenario) {
+  models::PackParams params =
+      ScenarioPackParams(scenario, scenario.battery.cell_health, scenario.battery.ambient_temp_degf);
+  params.fault = scenario.pack_fault;
+  if (params.fault) params.fault->seed = DeriveSeed(scenario.seed, internal::kPackFaultSeedStream);
+  return params;
+}
+
 }  // namespace
 
 FlightModel::FlightModel(const Scenario& scenario)
     : scenario_(Validated(scenario)),
-      propulsion_(models::PropulsionParams::ForConfiguration(scenario.configuration)),
+      propulsion_(ScenarioPropulsion(scenario)),
       electrical_power_(propulsion_),
-      mixer_(models::MixerParams::ForPropulsion(propulsion_)),
-      drag_(models::DragTable::Default(scenario.configuration)),
+      mixer_(ScenarioMixer(scenario)),
+      drag_(ScenarioDrag(scenario)),
       drag_lanes_(drag_),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
-      pack_(models::MakePackParams(scenario.battery.cell_health, scenario.battery.ambient_temp_degf)),
+      pack_(MakeFlightPackParams(scenario)),
       rul_model_(PrognosisGrowth(scenario.fault)),
       spall_truth_(TruthGrowth(scenario.fault)),
       vehicle_rul_model_(VehiclePrognosisGrowth(scenario.fault)),
@@ -461,7 +487,7 @@ bool CapsAlike(const FlightModel& model, const StepSignals& s, double bus_voltag
 
 // The power system's part of a GNC step, the telemetry, the classification and the clock.
 void FinishStep(const FlightModel& model, FlightState& state, StepSignals& s, FlightLog* log) {
-  StepPowerSystem(model, state.power, s);
+  StepPowerSystem(model, state.power, s, state.time_s);
   if (log && log->record_telemetry) {
     const double rate = model.options().telemetry_rate_hz;
     const int steps_per_row = std::max(1, static_cast<int>(std::lround(model.options().gnc_rate_hz / rate)));
@@ -642,7 +668,7 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
     stepped[k] = !f.done() && f.step == lead.step && CapsAlike(model, s, f.power.bus_voltage_v);
   }
   StepSignals own = s;
-  StepPowerSystem(model, lead.power, own);
+  StepPowerSystem(model, lead.power, own, lead.time_s);
   ClassifyStep(model, lead, own);
   const bool lead_flies_on = !lead.done();
   // Then each follower's power system, on the vehicle it shares.
@@ -650,7 +676,7 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
     if (!stepped[k]) continue;
     FlightState& f = *followers[k];
     own = s;
-    StepPowerSystem(model, f.power, own);
+    StepPowerSystem(model, f.power, own, f.time_s);
     f.vehicle = lead.vehicle;
     // The classification sees the follower's own cells and the shared kinematics: while the leader flies on and the
     // follower's cells are above the cut-off, its classification is the leader's (in progress).

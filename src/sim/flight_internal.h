@@ -15,7 +15,8 @@ namespace uascma::sim::internal {
 // Independent random streams of one flight (common/random.h DeriveSeed), so that e.g. the wind does not
 // change when the sensor noise is switched off.
 // Streams 5-7 are drawn only with SimOptions::noisy_sensing (sim/sensing.h), stream 8 only when the vehicle-level
-// prognosis is read (sim/epoch.cc).
+// prognosis is read (sim/epoch.cc), stream 9 only by a connector pack fault (models/pack_fault.h, from the scenario's
+// seed).
 enum Stream : std::uint64_t {
   kWindStream = 1,
   kSensorStream = 2,
@@ -24,7 +25,8 @@ enum Stream : std::uint64_t {
   kVibrationStream = 5,
   kPowerSensingStream = 6,
   kSpallIndicatorStream = 7,
-  kVehiclePrognosisStream = 8
+  kVehiclePrognosisStream = 8,
+  kPackFaultSeedStream = 9
 };
 
 // Wall-clock seconds since `start` (steady clock): the results' wall_time_s and their shares between flights.

@@ -17,8 +17,8 @@ bool SharesVehicle(const FlightModel& a, const FlightModel& b) {
   // options), the mixer and the drag table (the configuration), the body's parameters and the GNC step.
   const Scenario& x = a.scenario();
   const Scenario& y = b.scenario();
-  return &a == &b || (x.configuration == y.configuration && x.body == y.body && a.dt() == b.dt() &&
-                      a.controller().negative_gain() == b.controller().negative_gain() &&
+  return &a == &b || (x.configuration == y.configuration && x.vehicle == y.vehicle && x.body == y.body &&
+                      a.dt() == b.dt() && a.controller().negative_gain() == b.controller().negative_gain() &&
                       a.controller().options().max_horizontal_error == b.controller().options().max_horizontal_error &&
                       a.controller().options().max_vertical_error == b.controller().options().max_vertical_error &&
                       a.controller().options().max_velocity_error == b.controller().options().max_velocity_error &&

@@ -18,6 +18,7 @@
 #include "uascma/planning/procedural_city.h"
 #include "uascma/sim/scenario_bounds.h"
 #include "uascma/sim/scenario_fields.h"
+#include "uascma/sim/vehicle_file.h"
 
 namespace uascma::sim {
 namespace {
@@ -162,13 +163,13 @@ bool FaultSpec::IsValid(std::string* error) const {
   return true;
 }
 
-bool BatterySpec::IsValid(std::string* error) const {
+bool BatterySpec::IsValid(std::string* error, const models::PackParams* pack) const {
   if (!std::isfinite(ambient_temp_degf)) {
     if (error) *error = "ambient_temp_degf: expected a finite temperature (°F)";
     return false;
   }
   try {
-    models::BatteryPack(models::MakePackParams(cell_health, ambient_temp_degf))
+    models::BatteryPack(pack ? *pack : models::MakePackParams(cell_health, ambient_temp_degf))
         .MakeRestingState(initial_cell_voltage_v, models::PackAction::kUseBoth, "initial_cell_voltage_v");
   } catch (const InputError& e) {
     if (error) *error = e.what();
@@ -243,23 +244,24 @@ namespace {
 // A pack that supplies the hover current but reaches the 3.3 V cut-off soon (even at take-off) is flown: that
 // is the named outcome failed_battery, with physical numbers, as a campaign's cold, nearly empty packs are.
 bool CheckCanHover(const Scenario& sc, std::string* error) {
-  const models::PropulsionParams propulsion = models::PropulsionParams::ForConfiguration(sc.configuration);
+  const models::PropulsionParams propulsion = ScenarioPropulsion(sc);
   constexpr int kRotors = 6;
   const double hover_thrust_n = sc.body.mass * kGravity;
   const double max_thrust_n = kRotors * propulsion.max_thrust;
-  const std::string vehicle = fmt::format("vehicle.mass_kg {:g} kg ({} propellers)", sc.body.mass,
-                                          models::PropellerConfigurationName(sc.configuration));
+  const std::string vehicle = sc.vehicle ? fmt::format("vehicle {}: mass_kg {:g} kg", sc.vehicle->source, sc.body.mass)
+                                         : fmt::format("vehicle.mass_kg {:g} kg ({} propellers)", sc.body.mass,
+                                                       models::PropellerConfigurationName(sc.configuration));
   if (hover_thrust_n > max_thrust_n) {
     if (error) {
       *error = fmt::format(
           "{}: expected a vehicle its rotors can hold up: hovering needs {:.1f} N, the six rotors give "
-          "at most {:.2f} N (Table 2.2), so at most {:.3f} kg",
-          vehicle, hover_thrust_n, max_thrust_n, max_thrust_n / kGravity);
+          "at most {:.2f} N ({}), so at most {:.3f} kg",
+          vehicle, hover_thrust_n, max_thrust_n, sc.vehicle ? "its propulsion" : "Table 2.2", max_thrust_n / kGravity);
     }
     return false;
   }
   const double hover_power_w = kRotors * models::CalcElectricalPower(propulsion, hover_thrust_n / kRotors);
-  const models::BatteryPack pack(models::MakePackParams(sc.battery.cell_health, sc.battery.ambient_temp_degf));
+  const models::BatteryPack pack(ScenarioPackParams(sc, sc.battery.cell_health, sc.battery.ambient_temp_degf));
   const models::PackState state = pack.MakeRestingState(sc.battery.initial_cell_voltage_v);
   const auto power_at = [&](double current_a) { return current_a * pack.CalcSplit(state, current_a).bus_voltage_v; };
   // I V_bus(I) rises from 0, peaks and falls to 0 where V_bus reaches 0: golden-section search for the peak
@@ -326,11 +328,17 @@ bool Scenario::IsValid(std::string* error) const {
     return false;
   };
   if (!body.IsValid(&part_error)) return fail("vehicle");
-  if (!battery.IsValid(&part_error)) return fail("battery");
+  if (vehicle) {
+    const models::PackParams pack = ScenarioPackParams(*this, battery.cell_health, battery.ambient_temp_degf);
+    if (!battery.IsValid(&part_error, &pack)) return fail("battery");
+  } else if (!battery.IsValid(&part_error)) {
+    return fail("battery");
+  }
   if (!wind.IsValid(&part_error)) return fail("wind");
   if (!mission.IsValid(&part_error)) return fail("mission");
   if (!limits.IsValid(&part_error)) return fail("limits");
   if (!fault.IsValid(&part_error)) return fail("fault");
+  if (pack_fault && !pack_fault->IsValid(&part_error)) return fail("pack_fault");
   if (!lqr.IsValid(&part_error)) return fail("lqr");
   if (!imm.IsValid(&part_error)) return fail("imm");
   if (!options.IsValid(&part_error)) return fail("options");
@@ -473,6 +481,28 @@ void ReadFault(const YAML::Node& f, const std::string& source, Scenario& sc) {
   ReadScenarioSection(f, "fault", source, sc);
 }
 
+// pack_fault: — its presence is the fault (models/pack_fault.h); kind, pack and onset required, the cell for the two
+// cell faults.
+void ReadPackFault(const YAML::Node& f, const std::string& source, Scenario& sc) {
+  RequireOnlyKeys(f, ScenarioSectionKeys("pack_fault"), source, "pack_fault");
+  models::PackFault fault;
+  fault.kind = models::ParsePackFaultKind(RequireString(f, "kind", source, "pack_fault"), source, "pack_fault.kind");
+  auto whole = [&](const char* key, int low, int high) {
+    const double value = RequireNumber(f, key, source, "pack_fault");
+    if (value != std::floor(value) || value < low || value > high) {
+      throw InputError(source, std::string("pack_fault.") + key, fmt::format("a whole number {}..{}", low, high));
+    }
+    return static_cast<int>(value) - 1;
+  };
+  fault.branch = whole("pack", 1, models::kBranchCount);
+  if (fault.kind != models::PackFaultKind::kConnector) fault.cell = whole("cell", 1, models::kCellsPerBranch);
+  fault.onset_s = RequireNumber(f, "onset_s", source, "pack_fault");
+  RequireWithin(fault.onset_s, models::kPackFaultOnsetBounds, source, "pack_fault.onset_s");
+  fault.resistance_ohm = RequireNumber(f, "resistance_ohm", source, "pack_fault");
+  RequireWithin(fault.resistance_ohm, models::kPackFaultResistanceBounds, source, "pack_fault.resistance_ohm");
+  sc.pack_fault = fault;
+}
+
 // Over a map with landing sites the flight builds LandPract's database, whose checkpoints lie on the nominal plan
 // (§5.3.2.2): one inside a building is a plan through it, said here with the file and the key that sets the height.
 void CheckLandPractCheckpoints(const Scenario& sc, const std::string& source) {
@@ -492,9 +522,10 @@ void CheckLandPractCheckpoints(const Scenario& sc, const std::string& source) {
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source, const ScenarioLoadOptions& load) {
   const YAML::Node root = ParseYamlText(yaml_text, source);  // duplicate keys and non-UTF-8 text refused
   if (!root.IsMap()) throw InputError(source, "(top level)", "a YAML mapping");
-  RequireOnlyKeys(
-      root, {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault", "options"},
-      source, "");
+  RequireOnlyKeys(root,
+                  {"name", "seed", "policy", "map", "vehicle", "battery", "wind", "mission", "limits", "fault",
+                   "pack_fault", "options"},
+                  source, "");
   ScenarioFile file;
   Scenario& sc = file.scenario;
   sc.name = root["name"] ? RequireString(root, "name", source, "") : std::filesystem::path(source).stem().string();
@@ -505,7 +536,15 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
     sc.seed = ParseSeed(seed.Scalar(), source, "seed");
   }
   if (root["policy"]) file.policy = RequireString(root, "policy", source, "");
-  if (const YAML::Node v = root["vehicle"]) ReadSection(v, "vehicle", source, sc);
+  if (const YAML::Node v = root["vehicle"]) {
+    if (v.IsScalar()) {  // a vehicle file, relative to the scenario (sim/vehicle_file.h)
+      const std::filesystem::path name(v.Scalar());
+      UseVehicle(sc, LoadVehicleFile(name.is_absolute() ? name : std::filesystem::path(source).parent_path() / name));
+    } else {
+      ReadSection(v, "vehicle", source, sc);
+    }
+  }
+  if (load.vehicle_file) UseVehicle(sc, LoadVehicleFile(*load.vehicle_file));
   if (const YAML::Node b = root["battery"]) {
     ReadBattery(b, source, sc.battery);
     ReadScenarioSection(b, "battery", source, sc);
@@ -521,6 +560,7 @@ ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& sour
   }
   if (const YAML::Node l = root["limits"]) ReadSection(l, "limits", source, sc);
   if (const YAML::Node f = root["fault"]) ReadFault(f, source, sc);
+  if (const YAML::Node f = root["pack_fault"]) ReadPackFault(f, source, sc);
   if (const YAML::Node o = root["options"]) ReadSection(o, "options", source, sc);
   // The map's inflated hulls, once for every flight of this scenario (Scenario::map_obstacles).
   if (sc.map && !sc.map->sites().empty()) {

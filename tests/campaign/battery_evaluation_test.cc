@@ -157,6 +157,68 @@ TEST(BatteryEvaluationTest, TheRuleDropsAPackForGoodAndNeverBoth) {
   EXPECT_EQ(c.controller(2.0, o, 0), PackAction::kUseBatt1);
 }
 
+TEST(BatteryEvaluationTest, TheTablePoliciesNeverExecuteTheirFailureRow) {
+  // In FAILURE (a switched-in cell at the cut-off) pistar and ours hold the switches they have, whatever the table's
+  // FAILURE row says, and count the epoch; a dropped pack is not switched back in by it.
+  for (const BatteryPolicySpec& spec : FourPolicies()) {
+    if (spec.kind != BatteryPolicyKind::kPiStar && spec.kind != BatteryPolicyKind::kOurs) continue;
+    const BatteryFlightController c = MakeBatteryController(spec, {});
+    ASSERT_NE(c.decisions, nullptr) << spec.label;
+    decision::BatteryObservation o;
+    o.switch_on = {false, true};  // pack 1 dropped
+    EXPECT_EQ(c.controller(10.0, o, decision::kBatteryFailureState), PackAction::kUseBatt2) << spec.label;
+    o.switch_on = {true, true};
+    EXPECT_EQ(c.controller(11.0, o, decision::kBatteryFailureState), PackAction::kUseBoth) << spec.label;
+    EXPECT_EQ(c.decisions->failure_rows_held, 2) << spec.label;
+    EXPECT_EQ(c.decisions->table_isolations + c.decisions->guard_isolations, 0) << spec.label;
+  }
+}
+
+TEST(BatteryEvaluationTest, ResultsAreSplitByPackFault) {
+  BatteryEvaluationOptions options;
+  options.runs = 6;
+  options.seed = 2024;
+  options.jobs = 2;
+  options.ranges.plan_fraction[0] = 0.25;  // short plans keep the test quick (ours)
+  options.ranges.plan_fraction[1] = 0.35;
+  options.ranges.pack_faults.share = 0.5;
+  const std::vector<BatteryPolicySpec> policies = FourPolicies();
+  const BatteryEvaluation evaluation = EvaluateBatteryPolicies(policies, options);
+  int faulted = 0;
+  for (const BatteryEvaluationRun& run : evaluation.runs) {
+    const BatteryFlightParams expected = SampleBatteryFlight(options.ranges, options.seed, run.run);
+    ASSERT_EQ(run.params.pack_fault.has_value(), expected.pack_fault.has_value());
+    if (expected.pack_fault) {
+      EXPECT_EQ(*run.params.pack_fault, *expected.pack_fault);
+    }
+    faulted += run.params.pack_fault ? 1 : 0;
+    // The flight without its fault is the fault-free draw: the share changes nothing else.
+    BatteryFlightRanges plain = options.ranges;
+    plain.pack_faults.share = 0.0;
+    const BatteryFlightParams without = SampleBatteryFlight(plain, options.seed, run.run);
+    EXPECT_EQ(without.seed, expected.seed);
+    EXPECT_EQ(std::memcmp(&without.plan_duration_s, &expected.plan_duration_s, sizeof(double)), 0);
+  }
+  ASSERT_GT(faulted, 0) << "no run drew a pack fault";
+  ASSERT_LT(faulted, 6) << "every run drew a pack fault";
+  // "none" and "any" partition the runs for every policy; each kind's runs add up to "any".
+  ASSERT_GE(evaluation.by_pack_fault.size(), 3u);
+  EXPECT_EQ(evaluation.by_pack_fault[0].fault, "none");
+  EXPECT_EQ(evaluation.by_pack_fault[1].fault, "any");
+  for (std::size_t k = 0; k < policies.size(); ++k) {
+    EXPECT_EQ(evaluation.by_pack_fault[0].policies[k].runs + evaluation.by_pack_fault[1].policies[k].runs, 6);
+    EXPECT_EQ(evaluation.by_pack_fault[1].policies[k].runs, faulted);
+    std::int64_t kinds = 0, completions = 0;
+    for (std::size_t g = 2; g < evaluation.by_pack_fault.size(); ++g) {
+      kinds += evaluation.by_pack_fault[g].policies[k].runs;
+      completions += evaluation.by_pack_fault[g].policies[k].completions;
+    }
+    EXPECT_EQ(kinds, faulted);
+    EXPECT_EQ(completions, evaluation.by_pack_fault[1].policies[k].completions);
+  }
+  EXPECT_NE(BatteryEvaluationText(evaluation).find("completed per sudden pack fault"), std::string::npos);
+}
+
 TEST(BatteryEvaluationTest, TheHindsightFamilyIsWhatTheHeaderStates) {
   // A 100 s plan: (a) UseBoth; (b) a drop for good at 20, 40, 60, 80 s (20 s grid) per pack: 8; (c) windows on a
   // 30 s grid, times 0, 30, 60, 90: (i, j) with j < 4, plus [0, end) per pack: 3 + 2 + 1 + 1 = 7 per pack: 14.

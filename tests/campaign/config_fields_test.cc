@@ -97,6 +97,21 @@ TEST(ConfigFieldsTest, NoisySensingChangesTheFingerprintOnlyWhenOn) {
   EXPECT_EQ(CampaignConfigHash(again), CampaignConfigHash(on));
 }
 
+TEST(ConfigFieldsTest, PackFaultsChangeTheFingerprintOnlyWhenSet) {
+  const CampaignConfig plain = ParseCampaignConfig("runs: 3\n", "plain");
+  const CampaignConfig faulty =
+      ParseCampaignConfig("runs: 3\npack_faults: {share: 0.2, short_resistance_ohm: [2, 5]}\n", "faulty");
+  EXPECT_EQ(CampaignConfigYaml(plain).find("pack_faults"), std::string::npos);
+  EXPECT_NE(CampaignConfigHash(faulty), CampaignConfigHash(plain));
+  const CampaignConfig again = ParseCampaignConfig(CampaignConfigYaml(faulty), "again");
+  ASSERT_TRUE(again.pack_faults.share.has_value());
+  EXPECT_EQ(*again.pack_faults.share, 0.2);
+  EXPECT_EQ(again.pack_faults.Sampling().short_resistance_ohm[1], 5.0);
+  EXPECT_EQ(again.pack_faults.Sampling().connector_resistance_ohm[0], 0.05);  // unset: PackFaultSampling's
+  EXPECT_EQ(CampaignConfigHash(again), CampaignConfigHash(faulty));
+  EXPECT_THROW(ParseCampaignConfig("pack_faults: {share: 1.5}\n", "bad"), InputError);
+}
+
 TEST(ConfigFieldsTest, TheCanonicalYamlIsByteForByteTheStoredOne) {
   const std::string imported_all =
       "name: \"campaign\"\n"
@@ -201,8 +216,29 @@ TEST(ConfigFieldsTest, EveryKeyIsDeclaredOnceWithItsSource) {
     }
   }
   // 39 + options.pack_rate_hz and options.wind_rate_hz + fault.prognosis_time_per_growth_step_s,
-  // options.noisy_sensing and options.termination (sim/termination.h).
-  EXPECT_EQ(keys.size(), 44u);
+  // options.noisy_sensing and options.termination (sim/termination.h) + vehicle and vehicle_hash (sim/vehicle_file.h)
+  // + the five pack_faults keys (docs/modelling-choices.md#pack-faults).
+  EXPECT_EQ(keys.size(), 51u);
+}
+
+// A vehicle file enters the YAML and the fingerprint only when set, by its content hash (not its path); the stored
+// YAML reads back without the file (the hash is in it).
+TEST(ConfigFieldsTest, TheVehicleEntersTheFingerprintByItsContentHashOnlyWhenSet) {
+  const CampaignConfig defaults;
+  EXPECT_EQ(CampaignConfigYaml(defaults).find("vehicle"), std::string::npos);
+  CampaignConfig a = defaults, b = defaults;
+  a.vehicle = b.vehicle = "/nowhere/vehicle.yaml";
+  a.vehicle_hash = "0123456789abcdef";
+  b.vehicle_hash = "fedcba9876543210";
+  EXPECT_NE(CampaignConfigHash(a), CampaignConfigHash(defaults));
+  EXPECT_NE(CampaignConfigHash(a), CampaignConfigHash(b));
+  CampaignConfig moved = a;
+  moved.vehicle = "/elsewhere/vehicle.yaml";
+  EXPECT_EQ(CampaignConfigHash(moved), CampaignConfigHash(a));
+  const CampaignConfig again = ParseCampaignConfig(CampaignConfigYaml(a), "stored");
+  EXPECT_EQ(again.vehicle, a.vehicle);
+  EXPECT_EQ(again.vehicle_hash, a.vehicle_hash);
+  EXPECT_EQ(CampaignConfigHash(again), CampaignConfigHash(a));
 }
 
 // The prognoser's time scale is left out of the YAML and the fingerprint unless set.

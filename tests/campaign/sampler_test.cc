@@ -183,6 +183,45 @@ TEST(SamplerTest, DiscreteDrawsHaveTheirProbabilities) {
   EXPECT_NEAR(onset_fraction_sum / faults, 0.5, kSigmas * std::sqrt(1.0 / 12.0 / faults));
 }
 
+TEST(SamplerTest, PackFaultsAreDrawnInTheirShareAndLeaveEveryOtherDrawAlone) {
+  // docs/modelling-choices.md#pack-faults: a share of the flights, kind, pack and cell uniform, onset uniform over the
+  // plan, resistance uniform on the kind's range; from a stream of their own.
+  const CampaignConfig plain;
+  CampaignConfig faulty = plain;
+  faulty.pack_faults.share = 0.2;
+  const CampaignWorld world = BuildCampaignWorld(plain.map);
+  const int n = 600;
+  int faults = 0, shorts = 0, pack_2 = 0;
+  for (int i = 0; i < n; ++i) {
+    const SampledRun a = SampleRun(plain, world, 11, i);
+    const SampledRun b = SampleRun(faulty, world, 11, i);
+    EXPECT_FALSE(a.scenario.pack_fault.has_value());
+    EXPECT_TRUE(SameBits(a.distance_m, b.distance_m)) << i;
+    EXPECT_EQ(a.scenario.seed, b.scenario.seed) << i;
+    EXPECT_EQ(CellHealthCode(a.scenario.battery.cell_health), CellHealthCode(b.scenario.battery.cell_health)) << i;
+    EXPECT_TRUE(SameBits(a.scenario.fault.spall_onset_s, b.scenario.fault.spall_onset_s)) << i;
+    if (!b.scenario.pack_fault) continue;
+    const models::PackFault& f = *b.scenario.pack_fault;
+    ++faults;
+    shorts += f.kind == models::PackFaultKind::kInternalShort ? 1 : 0;
+    pack_2 += f.branch == 1 ? 1 : 0;
+    EXPECT_GE(f.onset_s, 0.0);
+    EXPECT_LE(f.onset_s, b.plan_duration_s);
+    const PackFaultSampling sampling = faulty.pack_faults.Sampling();
+    const double* range = f.kind == models::PackFaultKind::kInternalShort ? sampling.short_resistance_ohm
+                          : f.kind == models::PackFaultKind::kFailedCell  ? sampling.failed_cell_resistance_ohm
+                                                                          : sampling.connector_resistance_ohm;
+    EXPECT_GE(f.resistance_ohm, range[0]);
+    EXPECT_LE(f.resistance_ohm, range[1]);
+    const SampledRun again = SampleRun(faulty, world, 11, i);
+    ASSERT_TRUE(again.scenario.pack_fault.has_value());
+    EXPECT_EQ(*again.scenario.pack_fault, f);  // replayed from (seed, run)
+  }
+  ExpectFrequency(faults, n, 0.2, "pack fault share");
+  ExpectFrequency(shorts, faults, 1.0 / 3.0, "internal shorts among pack faults");
+  ExpectFrequency(pack_2, faults, 0.5, "faults in pack 2");
+}
+
 TEST(SamplerTest, MediumFadesPerCellDrawEachCellsKind) {
   CampaignConfig config;
   config.battery.health_weights = {0.0, 1.0, 0.0};

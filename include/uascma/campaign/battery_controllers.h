@@ -9,7 +9,9 @@
 //   ours:FILE      ours (a policy file solved with formulation "ours", decision/battery_mdp.h);
 //   rule:voltage[:V]  UseBoth; a pack whose worst cell, as it is loaded now, falls below V (default 3.31 V, the
 //                  rule the issue states: 10 mV above the 3.3 V cut-off of Table 4.1) is switched off for good,
-//                  unless the other pack was already dropped.
+//                  unless the other pack was already dropped;
+//   rule:fault     UseBoth; the first pack the pack-fault indicator flags (prognostics/pack_fault_monitor.h) is
+//                  switched off for good: what isolating on detection is worth, a rule outside any table.
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -25,7 +27,7 @@
 namespace uascma::campaign {
 
 // --- policies ----------------------------------------------------------------------------------------------------
-enum class BatteryPolicyKind { kUseBoth, kVoltageRule, kPiStar, kOurs };
+enum class BatteryPolicyKind { kUseBoth, kVoltageRule, kPiStar, kOurs, kFaultRule };
 inline constexpr double kVoltageRuleDropVoltage = 3.31;  // V, the issue's rule (Table 4.1's 3.3 V + 10 mV)
 
 struct BatteryPolicySpec {
@@ -41,7 +43,9 @@ struct BatteryPolicySpec {
 // formulation (pistar must be the dissertation's, ours ours).
 std::vector<BatteryPolicySpec> ParseBatteryPolicies(const std::string& text, const std::string& option);
 
-// A fresh controller for one flight of `context` (the rule remembers the pack it dropped), starting on UseBoth.
+// A fresh controller for one flight of `context` (the rule remembers the pack it dropped), starting on UseBoth. The
+// table policies (pistar, ours) never execute their FAILURE row: in FAILURE (a switched-in cell at the 3.3 V cut-off,
+// Table 4.1) the switches are held (HeldSwitches); they count their isolations (BatteryFlightController::decisions).
 BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, const decision::BatteryContext& context);
 
 // Ours' imminent-failure guard (item 8 of decision/battery_mdp.h's ours): with both packs switched in,
@@ -58,6 +62,9 @@ std::optional<models::PackAction> OursImminentFailureGuard(const decision::Batte
 // lower bus voltage and draws more (measured in the README). Any other action passes unchanged.
 models::PackAction OursDropCheck(models::PackAction table_action, const decision::BatteryObservation& observation,
                                  const decision::BatteryThresholds& thresholds = {});
+
+// The action that keeps the switches of `observation` as they are (UseBoth when both or neither are on).
+models::PackAction HeldSwitches(const decision::BatteryObservation& observation);
 
 // A fixed schedule: `steps` (time from, action), the first at 0 s.
 struct SwitchSchedule {

@@ -42,6 +42,8 @@ struct BatteryPolicyFlight {
   int switches = 0;
   double charge_left_ah = 0.0;  // both packs
   double energy_used_wh = 0.0;
+  BatteryDecisionCounts decisions;         // the table's and the guard's isolations, FAILURE epochs held
+  std::optional<double> fault_detected_s;  // the pack-fault indicator's first flag (either pack), none if never
   bool completed() const { return outcome == sim::Outcome::kCompleted; }
 };
 
@@ -59,6 +61,9 @@ struct BatteryPolicySummary {
   double mean_charge_left_ah = 0.0;    // over completed flights (NaN without)
   double median_switches = 0.0, mean_switches = 0.0;
   int max_switches = 0;
+  std::int64_t table_isolations = 0, guard_isolations = 0, failure_rows_held = 0;  // summed over the flights
+  std::int64_t detections = 0;            // flights whose pack-fault indicator flagged a pack
+  double median_detection_delay_s = 0.0;  // flag − onset over the faulted flights flagged after the onset (NaN: none)
 };
 
 struct BatteryContextSummary {
@@ -73,6 +78,13 @@ struct BatteryPairComparison {
   double exact_p = 1.0;  // McNemar, exact two-sided
 };
 
+// The flights of one pack-fault kind ("none" without a fault), with every policy's summary.
+struct BatteryFaultSummary {
+  std::string fault;  // "none" or models::PackFaultKindName
+  std::vector<BatteryPolicySummary> policies;
+  std::vector<BatteryPairComparison> comparisons;
+};
+
 struct BatteryEvaluation {
   std::vector<std::string> labels;
   std::uint64_t seed = 0;
@@ -80,6 +92,8 @@ struct BatteryEvaluation {
   std::vector<BatteryPolicySummary> overall;
   std::vector<BatteryContextSummary> by_context;  // the contexts flown, in Fig. 4.5's order
   std::vector<BatteryPairComparison> comparisons;
+  // Split by pack fault (docs/modelling-choices.md#pack-faults): "none", then each kind flown; and "any" fault.
+  std::vector<BatteryFaultSummary> by_pack_fault;
   double wall_time_s = 0.0;
 };
 

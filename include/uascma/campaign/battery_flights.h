@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "uascma/campaign/pack_fault_sampling.h"
 #include "uascma/common/random.h"
 #include "uascma/decision/battery_abstraction.h"
 #include "uascma/decision/battery_mdp.h"
@@ -49,6 +50,9 @@ struct BatteryFlightRanges {
   double cold_probability = 0.5;  // Table 4.2: T_L vs T_H, ours: equally likely (as campaign/config.h)
   double cold_temp_degf = 40.0;   // below 50 °F (Table 3.2)
   double warm_temp_degf = 77.0;   // models::kRoomTemperatureDegf
+  // Sudden pack faults (`--pack-fault-share`): none by default; drawn from the draw's own sub-stream
+  // kBatteryPackFaultStream, so the draws above keep their values.
+  PackFaultSampling pack_faults;
 };
 
 struct BatteryFlightParams {
@@ -63,7 +67,8 @@ struct BatteryFlightParams {
   // The cells that realise `health` (models::ClassifyHealth(cells[j]) == health[j]); flown by MakeBatteryScenario.
   models::PerCell<models::CellHealth> cells{};
   double ambient_temp_degf = 77.0;
-  double plan_duration_s = 600.0;  // target duration of the delivery plan
+  double plan_duration_s = 600.0;               // target duration of the delivery plan
+  std::optional<models::PackFault> pack_fault;  // a sudden pack fault (models/pack_fault.h), none by default
 
   decision::BatteryContext context() const;
 };
@@ -78,7 +83,8 @@ std::array<models::CellHealth, models::kCellsPerBranch> DrawPackCells(RandomStre
 enum BatteryDrawStream : std::uint64_t {
   kBatteryParameterStream = 1,
   kBatteryVehicleStream = 2,
-  kBatteryDropStream = 3
+  kBatteryDropStream = 3,
+  kBatteryPackFaultStream = 4
 };
 
 // Draw d of a learning campaign (pure function of (seed, draw): randomness is explicit).
@@ -111,6 +117,13 @@ struct BatteryEpoch {
   double remaining_flight_s = 0.0;
 };
 
+// What a policy's controller did in one flight, counted by the controller (campaign/battery_controllers.h).
+struct BatteryDecisionCounts {
+  int table_isolations = 0;   // epochs whose table action took a pack out while both were in
+  int guard_isolations = 0;   // the same by a guard outside the table (ours' imminent-failure guard)
+  int failure_rows_held = 0;  // epochs in the FAILURE state: the switches held, the table's FAILURE row not executed
+};
+
 struct BatteryFlightResult {
   sim::Outcome outcome = sim::Outcome::kInProgress;  // the simulator's outcome (kFailedBattery at 3.3 V)
   double end_time_s = 0.0;
@@ -119,6 +132,9 @@ struct BatteryFlightResult {
   std::vector<BatteryEpoch> epochs;
   double energy_used_wh = 0.0;                 // drawn from the packs over the flight (sim::PowerState::energy_wh)
   models::PerBranch<double> charge_left_ah{};  // usable charge left per pack at the end: its emptiest cell's z·Q
+  // When the pack-fault indicator flagged each pack (prognostics/pack_fault_monitor.h), none if never.
+  models::PerBranch<std::optional<double>> fault_detected_s{};
+  BatteryDecisionCounts decisions;  // the controller's (BatteryFlightController::decisions), zero when it counts none
 };
 
 // Flies `params` with the packs switched to `initial_switches` before take-off and `controller` at 1 Hz
@@ -139,6 +155,7 @@ struct BatteryFlightController {
   // Fill BatteryObservation::pair_eod_s at every epoch (one more EOD propagation) and, while both packs are in,
   // its alone_power_* fields (decision::ObserveAloneAtPower: two more): what ours' guard and drop check read.
   bool observe_pair_eod = false;
+  std::shared_ptr<BatteryDecisionCounts> decisions = nullptr;  // the controller's counts (null: it counts nothing)
 };
 // One flight with a controller of the kind FlyBatteryFlights takes (its pair-EOD request kept).
 BatteryFlightResult FlyBatteryFlight(const BatteryFlightParams& params, const BatteryFlightController& flight,

@@ -46,6 +46,14 @@
 //     cap_speed_after_isolation: true            # §4.4.2: four rotors fly within their authority (sim/speed_cap.h)
 //     termination: last-resort                   # Terminate only when nothing else reaches the ground (sim/termination.h)
 //     noisy_sensing: false                       # sensor noise, vibration, a spall indicator (sim/sensing.h)
+//   vehicle: my-hexacopter.yaml                  # optional: the user's vehicle file (sim/vehicle_file.h), relative
+//                                                # to this file; the fingerprint takes its content hash
+//   pack_faults:                                 # absent: none (docs/modelling-choices.md#pack-faults)
+//     share: 0.2                                 # of the flights with one sudden pack fault (ours)
+//     onset_fraction: [0, 1]                     # of the nominal plan (ours, as §5.4's spall)
+//     short_resistance_ohm: [1, 20]              # R_s (ours)
+//     failed_cell_resistance_ohm: [0.1, 10]      # R_f (ours)
+//     connector_resistance_ohm: [0.05, 0.5]      # R_c (ours)
 //
 // Ranges are [low, high] lists with low ≤ high; a draw is uniform on [low, high). Unknown keys are
 // errors (a typo would otherwise be silently ignored). Each key is declared once, in the field table of
@@ -62,6 +70,7 @@
 #include <string>
 #include <vector>
 
+#include "uascma/campaign/pack_fault_sampling.h"
 #include "uascma/common/bounds.h"
 #include "uascma/models/wind.h"
 #include "uascma/sim/load_forecast.h"
@@ -200,6 +209,17 @@ struct FaultSampling {
   std::optional<double> prognosis_time_per_growth_step_s;
 };
 
+// Sudden pack faults (campaign/pack_fault_sampling.h): off unless `share` is set. Each key is written and fingerprinted
+// only when set, so a campaign without the block keeps its fingerprint; an unset range takes PackFaultSampling's.
+struct PackFaultConfig {
+  std::optional<double> share;
+  std::optional<Range> onset_fraction;
+  std::optional<Range> short_resistance_ohm;
+  std::optional<Range> failed_cell_resistance_ohm;
+  std::optional<Range> connector_resistance_ohm;
+  PackFaultSampling Sampling() const;  // the draw's settings, defaults where unset
+};
+
 // The city the flights fly over: the built-in procedural city of this seed (0: open ground, no buildings
 // and no landing sites — the emergency actions then have nowhere to go). Home and destination are drawn on
 // open ground with mission.wall_clearance_m from every wall, the cruise altitude is 10 m above the tallest
@@ -271,7 +291,12 @@ struct CampaignConfig {
   BatterySampling battery;
   WindSampling wind;
   FaultSampling fault;
+  PackFaultConfig pack_faults;
   FlightOptions options;
+  // The vehicle every run flies (sim/vehicle_file.h, docs/identification.md#vehicle-file), its path made absolute on
+  // reading, and its content hash (16 hex digits), which the fingerprint takes. Empty: the dissertation's vehicle.
+  std::string vehicle;
+  std::string vehicle_hash;
 
   // Every range ordered and inside its physical domain, weights non-negative with a positive sum,
   // probabilities in [0, 1], motors in 1..6, policies non-empty. Writes "field: expected …" to *error.

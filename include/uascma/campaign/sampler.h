@@ -48,6 +48,8 @@
 //      of their whole load), each shortened once.
 //   8. fault (probability fault.probability); if so onset = fraction × nominal plan duration with the
 //      fraction uniform on onset_fraction, then the motor uniform over the list.
+//   9. with pack_faults.share set, a sudden pack fault (campaign/pack_fault_sampling.h DrawPackFault) from its own
+//      stream RandomStream(DeriveSeed(run_seed, kPackFaultStream)): the draws above do not change with it.
 //
 // The safety margin t_sf (Table 4.4) goes to SimOptions::safety_margin_s: the reach margin judges the plan
 // with t_sf of extra time, RM = 1 − (t_remaining + t_sf) / t_EOD (the battery MDP's S1 ↔ EOD > RFD + t_sf of
@@ -83,13 +85,19 @@ void DrawCellFades(RandomStream& random, models::HealthClass health, int k, Medi
                    std::span<models::CellHealth* const> cells);
 
 // Sub-streams of one run (DeriveSeed indices).
-enum RunStream : std::uint64_t { kSamplerStream = 1, kSimulatorStream = 2 };
+enum RunStream : std::uint64_t { kSamplerStream = 1, kSimulatorStream = 2, kPackFaultStream = 3 };
 
 std::uint64_t RunSeed(std::uint64_t campaign_seed, std::int64_t run_index);
 
 // V per cell: the nominal voltage of a LiPo cell (the usual 3.7 V rating; below the default OCV table's
 // 3.8–4.1 V over most of a discharge, so the planning current errs high). Ours.
 inline constexpr double kPlanningCellVoltage = 3.7;
+// The planning voltage per cell of a scenario: kPlanningCellVoltage, and for a vehicle file's cells no more than the
+// terminal voltage its healthy cell holds at half charge at the vehicle's hover power (eq. 3.3 with the RC pairs at
+// their steady current, v = OCV(0.5) − (R0 + Σ R_j) i, the hover power shared by the six cells of the two
+// branches): cells whose sag under the hover load takes them below 3.7 V would otherwise be planned too long
+// (docs/modelling-choices.md#vehicle-file). The dissertation's vehicle keeps 3.7 V.
+double CalcPlanningCellVoltage(const sim::Scenario& scenario);
 
 // The pack current (A) of steady level flight at `airspeed` (m/s): the thrust tilted until its horizontal part
 // balances the drag table's drag (models::DragTable::Default of the scenario's configuration), shared by six
@@ -102,6 +110,8 @@ double CalcPlanCruiseCurrent(const sim::Scenario& scenario, const models::DragTa
 // End of discharge (s) of the battery with this spec's voltages and temperature but every cell healthy, at
 // a constant current (A).
 double CalcHealthyPackEod(const sim::BatterySpec& battery, double current_a);
+// The same for the scenario's vehicle: its cells when it has a vehicle file (sim/vehicle_file.h).
+double CalcHealthyPackEod(const sim::Scenario& scenario, double current_a);
 
 // Flyability by a healthy pack (docs/modelling-choices.md#dissertation-profile) judged over the nominal plan's whole
 // load (take-off climb, cruise, drop hover, descent, a gust allowance and t_sf), not at the cruise current alone

@@ -14,6 +14,7 @@
 #include "uascma/planning/city_map.h"
 #include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/sim/vehicle_file.h"
 
 namespace uascma::campaign {
 
@@ -30,9 +31,14 @@ struct CampaignWorld {
   // Every building's hull grown by the emergency planners' lateral margin (planning::LandingPathParams,
   // LandingPathPlanner::InflateBuildings); null when the map has no landing sites (no emergency planner is made).
   std::shared_ptr<const planning::ObstacleSet> obstacles;
+  // The campaign's vehicle file (CampaignConfig::vehicle), read once; null: the dissertation's vehicle.
+  std::shared_ptr<const sim::Vehicle> vehicle;
 };
 
 // Builds the world of `sampling` (reads the map files of an imported city: InputError naming the file).
 CampaignWorld BuildCampaignWorld(const MapSampling& sampling);
+// The map's world and the configuration's vehicle: InputError naming the file when its content hash is not the
+// configuration's (the file, or a file it names, changed since the campaign was stored).
+CampaignWorld BuildCampaignWorld(const CampaignConfig& config);
 
 }  // namespace uascma::campaign

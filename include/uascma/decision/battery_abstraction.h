@@ -50,6 +50,9 @@ struct BatteryObservation {
                                                      std::numeric_limits<double>::quiet_NaN()};
   models::PerBranch<double> alone_power_eod_s = alone_power_current_a;
   models::PerBranch<double> alone_power_min_cell_voltage_v = alone_power_current_a;
+  // The pack-fault indicator's flags (prognostics/pack_fault_monitor.h), latched; set by the battery flights'
+  // executor (campaign/battery_flights.h), false elsewhere.
+  models::PerBranch<bool> pack_fault = {false, false};
 };
 
 // The abstract state of an observation (pure: Table 4.1 and the thresholds above).

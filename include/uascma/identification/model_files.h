@@ -35,6 +35,9 @@ struct PropulsionModel {
   RpmSurface surface;
   double thrust_coefficient_n_per_rpm2 = 0.0;
   std::optional<double> torque_coefficient_nm_per_rpm2;
+  std::optional<double> max_thrust_n;               // N, the largest measured thrust (absent in older files)
+  std::optional<double> power_law_w_at_one_newton;  // W, k of P = k T^b (absent: not fitted)
+  std::optional<double> power_law_exponent;         // b
 };
 PropulsionModel ReadPropulsionModelFile(const std::filesystem::path& path);
 

@@ -105,6 +105,13 @@ struct PropulsionIdentification {
   double thrust_median_relative_error = 0.0;  // |C_T n² − T| / T over the points above the check throttle
   double thrust_max_relative_error = 0.0;
   int thrust_check_points = 0;
+  // For the simulator's rotor (models::PropulsionParams, docs/modelling-choices.md#vehicle-file): the largest thrust
+  // measured (N, T_max) and the power law P = k T^b of one motor, by LAR of ln P on ln T over the points above the
+  // check throttle (none: fewer than 3 such points).
+  double max_thrust_n = 0.0;
+  std::optional<double> power_law_w_at_one_newton;  // k, W
+  std::optional<double> power_law_exponent;         // b
+  int power_law_points = 0;
   int points = 0;
   std::vector<std::string> warnings;
 };

@@ -21,11 +21,13 @@
 // Model apart from state: BatteryPack is immutable, PackState is plain data; Step()/CalcOutputs() are
 // pure and allocate nothing, so the simulator can step the pack at 200 Hz from many threads.
 #include <array>
+#include <optional>
 #include <string>
 
 #include "uascma/common/bounds.h"
 #include "uascma/models/battery_cell.h"
 #include "uascma/models/ocv_table.h"
+#include "uascma/models/pack_fault.h"
 
 namespace uascma::models {
 
@@ -75,6 +77,7 @@ struct PackParams {
   PerCell<CellParams> cells = {{{Table31Cell(1), Table31Cell(2), Table31Cell(3)},
                                 {Table31Cell(1), Table31Cell(2), Table31Cell(3)}}};  // docs/defaults.md#battery
   OcvTable ocv = DefaultOcvTable();                                                  // one table for every cell
+  std::optional<PackFault> fault;  // a sudden fault (pack_fault.h); none by default
 };
 
 // Table 3.1 cells 1–3 in both packs with Table 3.2 applied per cell and for the ambient temperature.
@@ -85,6 +88,7 @@ PackParams MakePackParams(const PerCell<CellHealth>& health = {}, double ambient
 struct PackState {
   PerCell<CellState> cells{};
   PerBranch<bool> branch_on = {true, true};  // switch positions (Table 4.3)
+  bool fault_on = false;                     // the pack's fault is in the circuit (pack_fault.h IsPackFaultOn)
   bool operator==(const PackState&) const = default;
 };
 
@@ -120,14 +124,18 @@ struct PackOutputs {
 //     v = [OCV(z) + M h − Σ R_j i_Rj] + q ∂v/∂q + t ∂v/∂t + M0 s − R0 i,
 //     ∂v/∂q = −η/Q (OCV'(z) + M γ (h + 1)) − Σ R_j / (R_j C_j)   (OCV' on z's segment; dh/dq of eq. 3.2; eq. 3.1's
 //     ∂v/∂t = Σ R_j i_Rj / (R_j C_j)                              di_R/dt = (i − i_R)/(R_j C_j) integrated)
-//   and the branch OCVs of the split (eq. 3.6) E_j + q_j ∂E_j/∂q likewise. Exact for z within an OCV segment;
-//   the rest is off by second-order terms, (γ q/Q)² of h and (T/(R1 C1))² of i_R.
+//   and the branch OCVs of the split (eq. 3.6) E_j + q_j ∂E_j/∂q likewise. A shorted cell (pack_fault.h) draws i_s
+//   on top of its branch: its −R0 i_s is in the voltage and in E_j, its drain i_s t in ∂v/∂t and ∂E_j/∂t, i_s held at
+//   its value at the linearisation over the slow step (OCV moves by ~1e-5 V in 0.1 s at i_s ~ 4 A). Exact for z within
+//   an OCV segment; the rest is off by second-order terms, (γ q/Q)² of h and (T/(R1 C1))² of i_R.
 struct PackLinearisation {
   PerCell<double> voltage_v{};       // OCV(z) + M h − Σ R_j i_Rj: eq. 3.3 without the current's terms
   PerCell<double> dv_dcharge{};      // ∂v/∂q, V per A·s drawn by the cell's branch
   PerCell<double> dv_dtime{};        // ∂v/∂t, V/s
-  PerBranch<double> ocv_v{};         // eq. 3.6
+  PerBranch<double> ocv_v{};         // eq. 3.6 (less R0 i_s of a shorted cell, pack_fault.h)
   PerBranch<double> docv_dcharge{};  // ∂E_j/∂q_j, V per A·s
+  // ∂E_j/∂t, V/s: a shorted cell drains at i_s whatever its branch draws (0 without a short on)
+  PerBranch<double> docv_dtime{};
   bool operator==(const PackLinearisation&) const = default;
 };
 
@@ -146,6 +154,12 @@ class BatteryPack {
   const OcvTable& ocv() const { return cells_[0][0].ocv(); }
   double branch_r0_ohm(int branch) const { return branch_r0_ohm_[branch]; }  // eq. 3.7
   double CalcBranchOcv(const PackState& state, int branch) const;            // eq. 3.6
+  const std::optional<PackFault>& fault() const { return fault_; }
+  // The internal short's current i_s = OCV(z)/R_s (A) of the shorted cell of `state`; 0 unless a short is on.
+  double CalcShortCurrent(const PackState& state) const;
+  // Heat dissipated by the fault (W): OCV²/R_s in a shorted cell, R_f i² in a failed one, R_c i² in a poor contact at
+  // branch current `branch_current_a`; 0 while the fault is off.
+  double CalcFaultHeat(const PackState& state, double branch_current_a) const;
 
   BranchSplit CalcSplit(const PackState& state, double total_current_a) const;
   PackOutputs CalcOutputs(const PackState& state, double total_current_a) const;
@@ -187,8 +201,25 @@ class BatteryPack {
                              const std::string& source = "initial cell voltage") const;
 
  private:
+  // The branch open-circuit voltages (eq. 3.6) and resistances (eq. 3.7) the split sees, the fault's part added
+  // (pack_fault.h), from the cells' OCVs `ocv_v`.
+  void ApplyFaultToBranches(const PackState& state, const PerCell<double>& ocv_v, PerBranch<double>& branch_ocv_v,
+                            PerBranch<double>& branch_r_ohm) const;
+  // Each cell's current from its branch's: the shorted cell's adds i_s.
+  PerCell<double> CellCurrents(const PackState& state, const PerBranch<double>& branch_current_a,
+                               double short_current_a) const;
+  // eq. 3.3 of every cell at its current, the failed cell's R_f drop included.
+  void CalcCellVoltages(const PackState& state, const PerCell<double>& ocv_v, double short_current_a,
+                        PackOutputs& out) const;
+  // CalcLinearisedOutputs while the fault is on, from the branch OCVs at the charge drawn.
+  void CalcLinearisedFaultOutputs(const PackState& state, const PackLinearisation& at,
+                                  const PerBranch<double>& charge_as, double elapsed_s, double total_current_a,
+                                  PerBranch<double> branch_ocv_v, PackOutputs& out) const;
+  bool FaultOn(const PackState& state) const { return fault_ && state.fault_on; }
+
   PerCell<SelfCorrectingCell> cells_;
   PerBranch<double> branch_r0_ohm_{};
+  std::optional<PackFault> fault_;
 };
 
 // "pack 2 cell 1" for branch 1, index 0 (1-based, as the dissertation numbers packs and cells).

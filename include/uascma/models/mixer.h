@@ -88,6 +88,9 @@ struct MixerParams {
   // m, γ = C_Q / C_T of Table 2.1, tractor (CalcYawTorquePerThrust).
   double yaw_torque_per_thrust = 2.0862e-10 / 1.5652e-08;
   double max_rotor_thrust = 26.85 / 6.0;  // N, T_max per rotor (docs/defaults.md#vehicle), tractor
+  // Rotor 1 spins clockwise seen from above (eq. 4.11 row 4: −γ, γ, −γ, …); false: the mirrored vehicle, every rotor
+  // the other way (a vehicle file's rotor_directions, docs/identification.md#vehicle-file). The spins alternate.
+  bool rotor1_clockwise = true;
 
   // L = 0.225 m with the propulsion model's γ and T_max.
   static MixerParams ForPropulsion(const PropulsionParams& propulsion);
@@ -100,6 +103,8 @@ struct MixerParams {
 double RotorAzimuth(int rotor);
 // −1 for odd rotors (clockwise seen from above), +1 for even: the sign of the yaw reaction −/+γ T_k.
 int RotorSpinSign(int rotor);
+// RotorSpinSign for `params`' spins: the same, or its negation for the mirrored vehicle (rotor1_clockwise false).
+int RotorSpinSign(const MixerParams& params, int rotor);
 // The diametrically opposite motor: 1↔4, 2↔5, 3↔6.
 int OppositeMotor(int motor);
 // Eq. 2.4's rotor j (1…6) is rotor Eq24RotorToRotor(j) here: j − 1, with eq. 2.4's 1 → 6.

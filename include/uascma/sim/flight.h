@@ -229,7 +229,9 @@ struct PowerState {
   double pack_current_a = 0.0;
   // low-passed pack current (the EOD load of docs/modelling-choices.md#pack-eod, SimOptions::eod_load)
   double load_current_a = 0.0;
-  double energy_wh = 0.0;           // drawn from the packs since take-off
+  double energy_wh = 0.0;  // drawn from the packs since take-off
+  // A·s each branch has delivered since take-off: a pack monitor's coulomb counters (prognostics/pack_fault_monitor.h)
+  models::PerBranch<double> branch_charge_as{};
   double min_cell_voltage_v = 0.0;  // the lowest any cell has read
   PowerSensing sensing;             // SimOptions::noisy_sensing: what the CMA reads of it (sim/sensing.h)
   bool operator==(const PowerState&) const = default;

@@ -114,6 +114,7 @@ struct KeyedLoadProfile {
   models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
   Eigen::Vector3d mean_wind_W = Eigen::Vector3d::Zero();
   LoadProfile profile;
+  std::string vehicle_hash;  // the vehicle file's content hash (sim/vehicle_file.h); "": the dissertation's vehicle
 };
 
 // The state of the forecast carried by a flight between epochs.

@@ -17,7 +17,8 @@
 //     # default_height_m: 10          #   then this height, m (1-500 m)
 //     # skip_missing_height: false    #   a building still without a height is skipped (counted), not an error
 //     # sites_from_map: false         #   add landing sites on flat roofs and open areas (beside `sites`)
-//   vehicle:
+//   vehicle:                          # or the name of a vehicle file, relative to this file (sim/vehicle_file.h):
+//                                     #   vehicle: my-hexacopter.yaml
 //     configuration: tractor          # tractor | pusher (§2.5)
 //     mass_kg: 1.3
 //     inertia_kg_m2: [0.011, 0.011, 0.021]
@@ -47,6 +48,12 @@
 //     spall_onset_s: 175
 //     time_per_growth_step_s: 0.7128  # optional: faster growth than the Table 5.4 calibration
 //     prognosis_time_per_growth_step_s: 0.7128  # optional: the prognosis knows it (default: Table 5.4)
+//   pack_fault:                       # absent: none (models/pack_fault.h, docs/modelling-choices.md#pack-faults)
+//     kind: internal_short            # internal_short | failed_cell | connector
+//     pack: 1                         # 1 | 2
+//     cell: 2                         # 1..3 (not read by a connector fault)
+//     onset_s: 120                    # s after take-off
+//     resistance_ohm: 5               # R_s of the short, R_f of the failed cell, R_c of the poor contact
 //   options:
 //     telemetry_rate_hz: 10
 //     reconfiguration: true
@@ -105,12 +112,15 @@ struct FaultSpec {
   bool IsValid(std::string* error) const;
 };
 
+struct Vehicle;  // sim/vehicle_file.h
+
 struct BatterySpec {
   models::PerCell<double> initial_cell_voltage_v = {{{4.1, 4.1, 4.1}, {4.1, 4.1, 4.1}}};  // Table 4.4: 4.05–4.12
   models::PerCell<models::CellHealth> cell_health{};
   double ambient_temp_degf = models::kRoomTemperatureDegf;
-  // The initial voltages lie on the OCV table (they set the initial state of charge, docs/defaults.md#battery).
-  bool IsValid(std::string* error) const;
+  // The initial voltages lie on the OCV table (they set the initial state of charge, docs/defaults.md#battery): the
+  // dissertation's packs, or `pack` (a vehicle file's cells).
+  bool IsValid(std::string* error, const models::PackParams* pack = nullptr) const;
 };
 
 struct SimOptions {
@@ -185,6 +195,10 @@ struct Scenario {
   std::shared_ptr<const EodErrorModel> eod_error_model;
   models::RigidBodyParams body;
   models::PropellerConfiguration configuration = models::PropellerConfiguration::kTractor;
+  // The user's vehicle (scenario key `vehicle: FILE`, `simulate --vehicle`, a campaign's `vehicle`;
+  // sim/vehicle_file.h): its propulsion, mixer, drag table and cells replace the dissertation's, and body and
+  // configuration above are its own (sim::UseVehicle). Null: the dissertation's vehicle.
+  std::shared_ptr<const Vehicle> vehicle;
   BatterySpec battery;
   models::WindParams wind;
   planning::DeliveryMission mission;
@@ -199,6 +213,9 @@ struct Scenario {
   std::optional<planning::GeoPoint> geo_origin;
   planning::PlanLimits limits;
   FaultSpec fault;
+  // A sudden fault of one pack (models/pack_fault.h); none by default. Its connector draws come from the flight's
+  // seed (FlightModel).
+  std::optional<models::PackFault> pack_fault;
   gnc::LqrOptions lqr;
   gnc::ImmParams imm;
   SimOptions options;
@@ -218,6 +235,9 @@ struct ScenarioLoadOptions {
   // Flies this mission file (relative to the current folder) instead of the scenario's mission (its file or
   // its home/destination keys); mission.land_at_end and mission.origin of the scenario still apply.
   std::optional<std::filesystem::path> mission_file;
+  // Flies this vehicle file (sim/vehicle_file.h, relative to the current folder) instead of the scenario's vehicle
+  // (its `vehicle:` keys or file).
+  std::optional<std::filesystem::path> vehicle_file;
 };
 
 // Reads and validates a scenario; InputError names the file, the key path and what was expected.
