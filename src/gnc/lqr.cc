@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -171,7 +172,34 @@ LqrController::LqrController(const models::RigidBodyParams& params, const LqrOpt
   }
 }
 
-Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const {
+bool MayExceedThrustTilt(const GainMatrix& g, const HorizontalLoopTerms& t, double max_collective_thrust) {
+  if (!(t.vertical_thrust > 0.0) || !(max_collective_thrust < std::numeric_limits<double>::infinity())) return false;
+  const double roll_bound = std::abs(t.roll_ref_y) / t.roll_ref_x + std::abs(t.roll_track / g(1, 6));
+  const double pitch_bound = std::abs(t.pitch_ref_y) / t.pitch_ref_x + std::abs(t.pitch_track / g(2, 7));
+  return (1.0 - 0.5 * (roll_bound * roll_bound + pitch_bound * pitch_bound)) * max_collective_thrust <
+         t.vertical_thrust;
+}
+
+bool LimitTiltToThrust(const GainMatrix& g, const HorizontalLoopTerms& t, double max_collective_thrust,
+                       double* tau_x, double* tau_y) {
+  if (!MayExceedThrustTilt(g, t, max_collective_thrust)) return false;
+  const double roll_ref = std::atan2(t.roll_ref_y, t.roll_ref_x);
+  const double pitch_ref = std::atan2(t.pitch_ref_y, t.pitch_ref_x);
+  const double roll_command = roll_ref - t.roll_track / g(1, 6);
+  const double pitch_command = pitch_ref - t.pitch_track / g(2, 7);
+  const double asked = std::sqrt(roll_command * roll_command + pitch_command * pitch_command);
+  const double cos_bound = t.vertical_thrust / max_collective_thrust;
+  const double bound = cos_bound >= 1.0 ? 0.0 : std::acos(cos_bound);
+  if (asked <= bound) return false;
+  const double scale = bound / asked;
+  // φ − s φ_cmd = e_φ + φ_ref − s φ_cmd: the roll row with the scaled command in place of the horizontal terms.
+  *tau_x = g(1, 6) * (t.roll_error + roll_ref - scale * roll_command) + t.roll_rate;
+  *tau_y = g(2, 7) * (t.pitch_error + pitch_ref - scale * pitch_command) + t.pitch_rate;
+  return true;
+}
+
+Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference,
+                              double max_collective_thrust, bool* tilt_bounded) const {
   const EulerEntries R_WB = EulerEntriesOf(state.q_WB);  // the entries of R_WB read below, not the other four
   // The reference acceleration becomes a reference tilt and a thrust feed-forward: with z_B = (cφ sθ, −sφ, cφ cθ)
   // (Z-Y-X angles, ψ = 0) and the thrust's vertical share held at m G, G = g − a_z, the tilt that produces
@@ -211,14 +239,32 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
   error(8) = angles[2];
   error.tail<3>() = state.w_WB_B;
   const GainMatrix& g = negative_gain_;  // u = −K x over the nonzero entries of kGainRowColumns, written out
-  const Eigen::Vector4d u(g(0, 2) * error(2) + g(0, 5) * error(5),
-                          g(1, 1) * error(1) + g(1, 4) * error(4) + g(1, 6) * error(6) + g(1, 9) * error(9),
-                          g(2, 0) * error(0) + g(2, 3) * error(3) + g(2, 7) * error(7) + g(2, 10) * error(10),
-                          g(3, 8) * error(8) + g(3, 11) * error(11));
-  Wrench wrench;
+  const double roll_track = g(1, 1) * error(1) + g(1, 4) * error(4);
+  const double pitch_track = g(2, 0) * error(0) + g(2, 3) * error(3);
+  Eigen::Vector4d u(g(0, 2) * error(2) + g(0, 5) * error(5), roll_track + g(1, 6) * error(6) + g(1, 9) * error(9),
+                    pitch_track + g(2, 7) * error(7) + g(2, 10) * error(10), g(3, 8) * error(8) + g(3, 11) * error(11));
   // Hover thrust plus feed-forward, corrected for tilt so the vertical component holds altitude.
+  const double vertical_thrust = params_.mass * (kGravity - reference.a_W.z()) + u(0);
+  bool bounded = false;
+  if (R_WB.r22 > 0.0) {
+    bounded = LimitTiltToThrust(g,
+                      {.roll_track = roll_track,
+                       .roll_error = error(6),
+                       .roll_rate = g(1, 9) * error(9),
+                       .pitch_track = pitch_track,
+                       .pitch_error = error(7),
+                       .pitch_rate = g(2, 10) * error(10),
+                       .roll_ref_y = roll_ref.y,
+                       .roll_ref_x = roll_ref.x,
+                       .pitch_ref_y = pitch_ref.y,
+                       .pitch_ref_x = pitch_ref.x,
+                       .vertical_thrust = vertical_thrust},
+                      max_collective_thrust, &u(1), &u(2));
+  }
+  if (tilt_bounded) *tilt_bounded = bounded;
+  Wrench wrench;
   const double cos_tilt = std::max(R_WB.r22, 0.5);
-  wrench(0) = std::max((params_.mass * (kGravity - reference.a_W.z()) + u(0)) / cos_tilt, 0.0);
+  wrench(0) = std::max(vertical_thrust / cos_tilt, 0.0);
   wrench.tail<3>() = u.tail<3>();
   return wrench;
 }

@@ -130,7 +130,8 @@ struct Wrench {
 template <class V>
 UASCMA_CONTROLLER_LANES_INLINE Wrench<V> ComputeWrench(const gnc::LqrController& controller,
                                                        const ControllerLaneInputs& in, const Rotation<V>& r,
-                                                       const Lanes3<V>& a, int first) {
+                                                       const Lanes3<V>& a, int first,
+                                                       std::array<bool, kControllerLanes>& tilt_bounded) {
   const gnc::LqrOptions& options = controller.options();
   const double mass = controller.params().mass;
   const V zero = Splat<V>(0.0);
@@ -173,11 +174,39 @@ UASCMA_CONTROLLER_LANES_INLINE Wrench<V> ComputeWrench(const gnc::LqrController&
   const Lanes3<V> w = LoadLanes3<V>(in.w_WB_B, first);
   const gnc::GainMatrix& g = controller.negative_gain();
   const V u0 = g(0, 2) * e2 + g(0, 5) * e5;
-  const V u1 = g(1, 1) * e1 + g(1, 4) * e4 + g(1, 6) * e6 + g(1, 9) * w.x;
-  const V u2 = g(2, 0) * e0 + g(2, 3) * e3 + g(2, 7) * e7 + g(2, 10) * w.y;
+  const V roll_track = g(1, 1) * e1 + g(1, 4) * e4;
+  const V pitch_track = g(2, 0) * e0 + g(2, 3) * e3;
+  const V roll_rate = g(1, 9) * w.x, pitch_rate = g(2, 10) * w.y;
+  V u1 = roll_track + g(1, 6) * e6 + roll_rate;
+  V u2 = pitch_track + g(2, 7) * e7 + pitch_rate;
   const V u3 = g(3, 8) * e8 + g(3, 11) * w.z;
+  const V vertical_thrust = mass * (kGravity - a.z) + u0;
+  // The thrust's bound on the tilt (gnc::LimitTiltToThrust), lane by lane with the scalar functions: it acts in a
+  // gust's seconds at the rotors' limit, and its cheap test is a few flops.
+  for (int i = 0; i < static_cast<int>(sizeof(V) / sizeof(double)); ++i) {
+    tilt_bounded[first + i] = false;
+    if (!(r22[i] > 0.0)) continue;
+    double tau_x = u1[i], tau_y = u2[i];
+    if (gnc::LimitTiltToThrust(g,
+                               {.roll_track = roll_track[i],
+                                .roll_error = e6[i],
+                                .roll_rate = roll_rate[i],
+                                .pitch_track = pitch_track[i],
+                                .pitch_error = e7[i],
+                                .pitch_rate = pitch_rate[i],
+                                .roll_ref_y = roll_ref.y[i],
+                                .roll_ref_x = roll_ref.x[i],
+                                .pitch_ref_y = pitch_ref.y[i],
+                                .pitch_ref_x = pitch_ref.x[i],
+                                .vertical_thrust = vertical_thrust[i]},
+                               in.max_collective_thrust[first + i], &tau_x, &tau_y)) {
+      u1[i] = tau_x;
+      u2[i] = tau_y;
+      tilt_bounded[first + i] = true;
+    }
+  }
   const V cos_tilt = Max(r22, Splat<V>(0.5));
-  return {Max((mass * (kGravity - a.z) + u0) / cos_tilt, zero), u1, u2, u3};
+  return {Max(vertical_thrust / cos_tilt, zero), u1, u2, u3};
 }
 
 // Each lane's allocation case (Mixer::allocation_case of its failed motor) as vectors, one entry per lane.
@@ -280,7 +309,8 @@ template <class V>
 UASCMA_CONTROLLER_LANES_INLINE void ComputeLanes(const ControllerLaneVehicle& vehicle, const ControllerLaneInputs& in,
                                                  ControllerLaneOutputs& out, int first) {
   const Rotation<V> r = RotationOf<V>(in, first);
-  const Wrench<V> wrench = ComputeWrench(*vehicle.controller, in, r, TargetAcceleration(vehicle, in, r, first), first);
+  const Wrench<V> wrench = ComputeWrench(*vehicle.controller, in, r, TargetAcceleration(vehicle, in, r, first), first,
+                                             out.tilt_bounded);
   StoreLanes(out.command[0], first, wrench.thrust);
   StoreLanes(out.command[1], first, wrench.u1);
   StoreLanes(out.command[2], first, wrench.u2);

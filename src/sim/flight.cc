@@ -28,6 +28,7 @@ namespace {
 
 using internal::AddEvent;
 using internal::kSpallStream;
+using internal::MaxCollectiveThrust;
 using internal::ThrustCap;
 
 // m/s: below this reference speed the plan is at rest and the whole position error counts as cross-track (ours).
@@ -71,6 +72,7 @@ struct StepSignals {
   models::RotorThrusts thrust;
   models::RotorThrusts allocated;       // the allocation's rotor thrusts before the bus voltage's cap
   double thrust_cap = 0.0;              // N per rotor at this step's bus voltage
+  bool tilt_bounded = false;            // the LQR gave up track for altitude (gnc::LimitTiltToThrust)
   std::array<double, 6> rotor_power{};  // W, electrical, per rotor
   std::array<double, 6> rotor_current{};
   Eigen::Vector3d wind_W = Eigen::Vector3d::Zero();
@@ -120,7 +122,8 @@ void ComputeControl(const FlightModel& model, const FlightState& state, StepSign
     target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, s.reference.v_W,
                                            model.wind().MeanWind_W());
   }
-  s.command = model.controller().Compute(state.vehicle.body, target);
+  s.command =
+      model.controller().Compute(state.vehicle.body, target, MaxCollectiveThrust(model, state), &s.tilt_bounded);
   const models::AllocationResult allocation = model.mixer().Allocate(s.command, state.faults.allocation_failure);
   s.allocated = allocation.rotor_thrust;
 }
@@ -335,6 +338,16 @@ void UpdateExtremes(const FlightModel& model, VehicleState& vehicle, const StepS
   if (-vehicle.body.p_WB_W.z() > model.options().outcome.airborne_height) vehicle.airborne = true;
 }
 
+// The plan's reference waits one step (its clock, time − plan start, stands still) when the LQR gave up track for
+// altitude and the vehicle is behind the reference along the reference's velocity: the schedule gives way, not the
+// path (docs/modelling-choices.md#thrust-priority).
+void WaitWhileTiltBounded(const FlightModel& model, FlightState& state, const StepSignals& s) {
+  if (!s.tilt_bounded || state.done()) return;
+  if ((state.vehicle.body.p_WB_W - s.reference.p_W).dot(s.reference.v_W) < 0.0) {
+    state.guidance.plan_start_s += model.dt();
+  }
+}
+
 void AdvanceClock(const FlightModel& model, FlightState& state) {
   if (state.done()) AdvancePack(model, state.power);  // a finished flight's pack is its present state
   ++state.step;
@@ -481,6 +494,7 @@ void FinishStep(const FlightModel& model, FlightState& state, StepSignals& s, Fl
     if (state.step % steps_per_row == 0) RecordTelemetry(model, state, s, *log);
   }
   ClassifyStep(model, state, s);
+  WaitWhileTiltBounded(model, state, s);
   AdvanceClock(model, state);
 }
 
@@ -551,6 +565,7 @@ void StepTogetherWith(std::span<const FlightModel* const> models, std::span<Flig
     for (auto [lane, end] = LanesFilledBy(k, first_flying); lane < end; ++lane) {
       SetControlLane(control, lane, state.vehicle.body, s[k].reference, model.wind().MeanWind_W());
       control.failed_motor[lane] = state.faults.allocation_failure;
+      control.max_collective_thrust[lane] = MaxCollectiveThrust(model, state);
     }
   }
   if (first_flying < 0) return;
@@ -561,6 +576,7 @@ void StepTogetherWith(std::span<const FlightModel* const> models, std::span<Flig
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
     for (int i = 0; i < 4; ++i) s[k].command[i] = out.command[i][k];
+    s[k].tilt_bounded = out.tilt_bounded[k];
     for (int i = 0; i < models::kRotorCount; ++i) s[k].allocated[i] = out.allocated[i][k];
   }
   // The rotors and the wind alone, the rigid bodies in lanes.

@@ -50,6 +50,11 @@ inline int ActiveRotors(const FlightState& state) {
   return state.faults.allocation_failure != models::kNoFailedMotor ? models::kRotorCount - 2 : models::kRotorCount;
 }
 
+// N: what the active rotors can give together at the present bus voltage (the LQR's thrust priority, gnc/lqr.h).
+inline double MaxCollectiveThrust(const FlightModel& model, const FlightState& state) {
+  return ActiveRotors(state) * ThrustCap(model, state.power.bus_voltage_v);
+}
+
 // ---- what the decision epoch (epoch.cc) and the executor (act.cc) share; defined in epoch.cc ------------------------
 // The executed action into the state (and the log's actions).
 void AddAction(FlightState& state, FlightLog* log, decision::CmaAction action);

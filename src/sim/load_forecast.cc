@@ -139,6 +139,13 @@ double LoadProfile::RemainingEnergyJ(double t) const {
   return energy_after_j_[i] + f * (energy_after_j_[i + 1] - energy_after_j_[i]);
 }
 
+double LoadProfile::PowerW(double t) const {
+  if (energy_after_j_.size() < 2 || t >= duration_s_) return 0.0;
+  const std::size_t i = t <= 0.0 ? 0 : static_cast<std::size_t>(t);
+  const double bin_end = std::min(static_cast<double>(i + 1), duration_s_);
+  return (energy_after_j_[i] - energy_after_j_[i + 1]) / (bin_end - static_cast<double>(i));
+}
+
 double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy_wh, double epoch_s,
                        double bus_voltage_v, double hotel_current_a, double min_remaining_s) {
   UASCMA_CHECK(forecast.profile != nullptr, "a load profile of the executing plan");
@@ -146,7 +153,11 @@ double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy
   const double remaining_j = profile.RemainingEnergyJ(t_plan);
   const double voltage = std::max(bus_voltage_v, 1.0);
   if (forecast.have_last) {
-    const double predicted_j = forecast.last_remaining_j - remaining_j;
+    double predicted_j = forecast.last_remaining_j - remaining_j;
+    // s: the plan time held over the epoch; above a microsecond (a plan clock that ran through the epoch differs from
+    // it by rounding only, and its forecast stays bit for bit what it was).
+    const double held_s = epoch_s - (t_plan - forecast.last_t_plan_s);
+    if (held_s > 1e-6) predicted_j += held_s * profile.PowerW(t_plan);
     const double measured_j = (energy_wh - forecast.last_energy_wh) * 3600.0 - hotel_current_a * voltage * epoch_s;
     if (predicted_j > 0.0 && measured_j > 0.0) {
       const double decay = std::exp(-epoch_s / kLoadBiasTimeConstantS);
@@ -156,6 +167,7 @@ double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy
     }
   }
   forecast.have_last = true;
+  forecast.last_t_plan_s = t_plan;
   forecast.last_remaining_j = remaining_j;
   forecast.last_energy_wh = energy_wh;
   const double remaining_s = profile.duration_s() - t_plan;

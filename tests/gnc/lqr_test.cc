@@ -2,6 +2,7 @@
 // nonlinear rigid body.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -211,6 +212,83 @@ TEST(LqrTest, DragFeedForwardRemovesTheSteadyCruiseLag) {
   EXPECT_GT(without, 0.5);  // m: the bare DLQR's drag lag at ~11.5 m/s airspeed
   EXPECT_LT(with, 0.05);    // m: a steady wind known to the controller leaves (almost) none
   EXPECT_LT(with, 0.1 * without);
+}
+
+
+// A hover in a steady wind that the rotors' collective cannot hold at the tilt the loops ask for: the rotors give
+// what they can (the wrench's thrust capped at `max_collective` N, the torques as commanded), 30 s on the nonlinear
+// rigid body. Returns the largest sink below the reference (m) and the final horizontal distance from it (m).
+std::pair<double, double> HoverInStrongWind(double bound_passed, double max_collective, const Eigen::Vector3d& wind_W) {
+  const models::RigidBodyParams params;
+  const LqrController controller(params, {});
+  RigidBodyState state;
+  state.p_WB_W = Eigen::Vector3d(0, 0, -30);
+  planning::PlanReference reference;
+  reference.p_W = state.p_WB_W;
+  double sink = 0.0;
+  for (int k = 0; k < 200 * 30; ++k) {
+    const Wrench w = controller.Compute(state, reference, bound_passed);
+    BodyInputs inputs;
+    inputs.total_thrust = std::min(w(0), max_collective);
+    inputs.torque_B = w.tail<3>();
+    inputs.wind_W = wind_W;
+    state = StepRigidBody(params, TractorDrag(), state, inputs, 0.005);
+    sink = std::max(sink, state.p_WB_W.z() - reference.p_W.z());
+  }
+  return {sink, (state.p_WB_W - reference.p_W).head<2>().norm()};
+}
+
+TEST(LqrTest, AtTheRotorsLimitTheTrackGivesWayBeforeTheAltitude) {
+  // A quadcopter after an isolation: four rotors of T_max = 26.85 / 6 N (docs/defaults.md#vehicle), 17.9 N together
+  // for a 12.75 N weight, so no tilt beyond acos(12.75 / 17.9) = 44.6° keeps the altitude. A 16 m/s wind asks for
+  // more than that at the tracking errors' clamps. Unbounded, the loops hold the tilt and the vehicle sinks; with the
+  // bound it drifts downwind and holds its altitude.
+  const double max_collective = 4.0 * 26.85 / 6.0;
+  const Eigen::Vector3d wind_W(16.0, 0.0, 0.0);
+  const auto [sink_unbounded, drift_unbounded] =
+      HoverInStrongWind(std::numeric_limits<double>::infinity(), max_collective, wind_W);
+  const auto [sink_bounded, drift_bounded] = HoverInStrongWind(max_collective, max_collective, wind_W);
+  EXPECT_GT(sink_unbounded, 10.0);                  // m: lost altitude without the bound
+  EXPECT_LT(sink_bounded, 0.5);                     // m: the altitude held (the LQR's vertical loop, no integrator)
+  EXPECT_GT(drift_bounded, drift_unbounded - 1.0);  // m: the track is what gave way
+}
+
+TEST(LqrTest, TheBoundedTiltKeepsItsDirectionAndHoldsTheWeight) {
+  // At the attitude where the bounded controller asks no roll or pitch torque (no body rate), the tilt is the one the
+  // unbounded loops ask for scaled down, and the collective holds the vertical share: T_max cos φ cos θ ≥ T_v. The
+  // asked tilt is found from the unbounded torques (τ = g16 (φ − φ_cmd) at zero rate, so φ_cmd = φ − τx / g16).
+  const models::RigidBodyParams params;
+  const LqrController controller(params, {});
+  const GainMatrix g = controller.negative_gain();
+  const double weight = params.mass * kGravity;
+  int bounded = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    RigidBodyState state;
+    state.p_WB_W = Eigen::Vector3d(3.0 * std::sin(0.7 * trial), 3.0 * std::cos(1.3 * trial), -20.0);
+    state.v_WB_W = Eigen::Vector3d(4.0 * std::cos(0.9 * trial), 4.0 * std::sin(0.4 * trial), 0.0);
+    planning::PlanReference reference;
+    reference.p_W = Eigen::Vector3d(0, 0, -20);
+    reference.a_W = Eigen::Vector3d(3.0 * std::sin(0.3 * trial), 3.0 * std::cos(0.5 * trial), 0.0);
+    const double max_collective = weight * (1.05 + 0.01 * (trial % 50));  // N: 1.05-1.54 times the weight
+    const Wrench level = controller.Compute(state, reference);             // φ = θ = 0
+    const double roll_asked = -level(1) / g(1, 6), pitch_asked = -level(2) / g(2, 7);
+    // The bounded torques are affine in (φ, θ) near level with the same slopes: solve τ = 0 by one Newton step from
+    // level on each axis, then check the torques vanish there.
+    const Wrench bounded_level = controller.Compute(state, reference, max_collective);
+    const double roll = -bounded_level(1) / g(1, 6), pitch = -bounded_level(2) / g(2, 7);
+    state.q_WB = Eigen::Quaterniond(RotationFromEuler(roll, pitch, 0.0));
+    const Wrench at_command = controller.Compute(state, reference, max_collective);
+    const double asked = std::hypot(roll_asked, pitch_asked), got = std::hypot(roll, pitch);
+    if (got < asked - 1e-9) {
+      ++bounded;
+      EXPECT_NEAR(roll * pitch_asked - pitch * roll_asked, 0.0, 1e-9 * asked * asked);  // rad²: the same direction
+      const double vertical_share = level(0);  // N, T_v = m g + δT: the level thrust (cos tilt = 1, a_z = 0)
+      EXPECT_GE(max_collective * std::cos(roll) * std::cos(pitch), vertical_share - 1e-9);  // N
+    }
+    EXPECT_NEAR(at_command(1), 0.0, 1e-9);  // N·m: no torque at the commanded tilt
+    EXPECT_NEAR(at_command(2), 0.0, 1e-9);
+  }
+  EXPECT_GT(bounded, 50);  // the bound acted in a good share of the trials
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 // StepRotors runs: CalcDragFeedForward (with every rotor allocated and the option on), LqrController::Compute and
 // Mixer::Allocate (six rotors, or a quadcopter's after an isolation). Random states over the whole envelope (upside
 // down, yawed past ±π, errors beyond every clamp, the reference tilt beyond its limit, commands that saturate the
-// rotors) and edge cases (no airspeed, a level hover), on both paths.
+// rotors, tilts beyond the thrust's bound) and edge cases (no airspeed, a level hover), on both paths.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "uascma/common/frames.h"
 #include "uascma/common/random.h"
 #include "uascma/sim/controller_lanes.h"
 #include "uascma/sim/flight.h"
@@ -23,11 +24,13 @@ struct Case {
   planning::PlanReference reference;
   Eigen::Vector3d mean_wind_W;
   int failed_motor = models::kNoFailedMotor;  // the allocation's (a quadcopter after an isolation)
+  double max_collective_thrust = kNoThrustBound;  // N, the LQR's thrust priority (gnc::LimitTiltToThrust)
 };
 
 struct Control {
   gnc::Wrench command;
   models::RotorThrusts allocated;
+  bool tilt_bounded = false;
 };
 
 // flight.cc's StepRotors up to the allocation (ComputeControl): the feed-forward while every rotor is allocated.
@@ -38,17 +41,20 @@ Control ScalarControl(const FlightModel& model, const Case& c) {
     target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, c.reference.v_W, c.mean_wind_W);
   }
   Control control;
-  control.command = model.controller().Compute(c.state, target);
+  control.command = model.controller().Compute(c.state, target, c.max_collective_thrust, &control.tilt_bounded);
   control.allocated = model.mixer().Allocate(control.command, c.failed_motor).rotor_thrust;
   return control;
 }
 
 std::uint64_t Bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 
-// Every case four at a time (the last group padded with the first case), on `path`, against ScalarControl.
-void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& cases, lane_math::LaneMathPath path) {
+// Every case four at a time (the last group padded with the first case), on `path`, against ScalarControl. Counts
+// how many lanes the thrust's bound on the tilt acted in through `bounded_lanes` (when given).
+void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& cases, lane_math::LaneMathPath path,
+                         int* bounded_lanes = nullptr) {
   const ControllerLaneVehicle vehicle{&model.controller(), &model.mixer(), &model.drag(),
                                       model.options().drag_feedforward};
+  int bounded = 0;
   for (std::size_t first = 0; first < cases.size(); first += kControllerLanes) {
     ControllerLaneInputs in;
     std::size_t lane_case[kControllerLanes];
@@ -67,9 +73,11 @@ void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& case
       }
       for (int i = 0; i < 4; ++i) in.q_WB[i][lane] = c.state.q_WB.coeffs()[i];
       in.failed_motor[lane] = c.failed_motor;
+      in.max_collective_thrust[lane] = c.max_collective_thrust;
     }
     ControllerLaneOutputs out;
     ComputeControllerLanes(path, vehicle, in, out);
+    for (int lane = 0; lane < kControllerLanes; ++lane) bounded += out.tilt_bounded[lane];
     for (int lane = 0; lane < kControllerLanes; ++lane) {
       const Control expected = ScalarControl(model, cases[lane_case[lane]]);
       for (int i = 0; i < 4; ++i) {
@@ -77,6 +85,7 @@ void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& case
             << "case " << lane_case[lane] << " command " << i << ": " << expected.command[i] << " vs "
             << out.command[i][lane] << " (" << lane_math::LaneMathPathName(path) << ")";
       }
+      ASSERT_EQ(expected.tilt_bounded, out.tilt_bounded[lane]) << "case " << lane_case[lane];
       for (int i = 0; i < 6; ++i) {
         ASSERT_EQ(Bits(expected.allocated[i]), Bits(out.allocated[i][lane]))
             << "case " << lane_case[lane] << " rotor " << i + 1 << ": " << expected.allocated[i] << " vs "
@@ -84,6 +93,7 @@ void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& case
       }
     }
   }
+  if (bounded_lanes) *bounded_lanes = bounded;
 }
 
 Eigen::Vector3d RandomVector(RandomStream& random, double scale) {
@@ -113,6 +123,12 @@ std::vector<Case> RandomCases(int count, std::uint64_t seed) {
     c.mean_wind_W = RandomVector(random, 3.0);
     // Lanes of one group with different allocation cases: every rotor, or one of the three failed pairs.
     c.failed_motor = (k % 11 < 5) ? models::kNoFailedMotor : 1 + static_cast<int>(random.Uniform() * 6.0) % 6;
+    // The thrust's bound on the tilt: none, the rotors' own (six or four of 26.85 / 6 N), or 0.5-2 times the
+    // weight (below it: no tilt at all; near it: the bound acting on most cases).
+    const int rotors = c.failed_motor == models::kNoFailedMotor ? 6 : 4;
+    c.max_collective_thrust = k % 3 == 0   ? kNoThrustBound
+                              : k % 3 == 1 ? rotors * 26.85 / 6.0
+                                           : (0.5 + 1.5 * random.Uniform()) * 1.3 * kGravity;
     cases.push_back(c);
   }
   return cases;
@@ -140,6 +156,15 @@ std::vector<Case> EdgeCases() {
   saturating.state.w_WB_B = Eigen::Vector3d(8, -6, 4);
   saturating.reference.a_W = Eigen::Vector3d(0, 0, -30);
   cases.push_back(saturating);
+  Case gusted = hover;  // far off its track, with four rotors' thrust: the tilt asked is beyond the thrust's bound
+  gusted.state.p_WB_W = Eigen::Vector3d(6, -5, 0);
+  gusted.state.v_WB_W = Eigen::Vector3d(-5, 4, 0);
+  gusted.failed_motor = 1;
+  gusted.max_collective_thrust = 4 * 26.85 / 6.0;
+  cases.push_back(gusted);
+  Case heavy = gusted;  // the collective below the weight: no tilt at all keeps the altitude
+  heavy.max_collective_thrust = 10.0;
+  cases.push_back(heavy);
   for (int motor = 1; motor <= 6; ++motor) {  // a quadcopter: no feed-forward, −0 kept in the target
     Case quadcopter = negative_zero;
     quadcopter.failed_motor = motor;
@@ -163,7 +188,9 @@ TEST(ControllerLanesTest, EdgeCasesAsTheScalarControllerOnEveryPath) {
 TEST(ControllerLanesTest, RandomStatesAsTheScalarControllerOnEveryPath) {
   const std::vector<Case> cases = RandomCases(4000, 27);
   for (lane_math::LaneMathPath path : {lane_math::LaneMathPath::kSse2, lane_math::LaneMathPath::kAvx2}) {
-    ExpectLanesAsScalar(DefaultModel(), cases, path);
+    int bounded = 0;
+    ExpectLanesAsScalar(DefaultModel(), cases, path, &bounded);
+    EXPECT_GT(bounded, 400);  // lanes where the thrust bound acted
   }
 }
 

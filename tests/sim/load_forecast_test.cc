@@ -145,6 +145,39 @@ TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheForecastsOwnAnd
   EXPECT_NEAR(forecast.peak_excursion_a, 2.0 * peak_a, kExcursionToleranceA);
 }
 
+// A plan clock held for part of an epoch (the reference waiting for the vehicle,
+// docs/modelling-choices.md#thrust-priority): the held seconds are expected to draw the power of the bin where the
+// reference stands. An epoch that draws exactly that is no excursion and leaves the bias ratio at 1; without the held
+// seconds' share the same epoch would read as an excursion of nearly its whole current.
+TEST(LoadForecastTest, HeldPlanSecondsAreExpectedToDrawTheirBinsPowerNotNothing) {
+  const Vehicle v;
+  const planning::FlightPlan plan = HoverAndCruise();
+  LoadForecastState forecast;
+  forecast.profile = std::make_shared<const LoadProfile>(plan, v.Model(), 6);
+  const LoadProfile& profile = *forecast.profile;
+  const double voltage = 11.4, hotel = 0.5;
+  double energy_wh = 1.0;
+  const double t0 = 40.5;
+  ForecastCurrent(forecast, t0, energy_wh, 1.0, voltage, hotel);
+  // The bin's power is the slope of the remaining energy inside the bin (J/s, to rounding).
+  EXPECT_NEAR(profile.PowerW(t0), (profile.RemainingEnergyJ(t0 - 0.25) - profile.RemainingEnergyJ(t0 + 0.25)) / 0.5,
+              1e-9 * profile.PowerW(t0));
+  EXPECT_GT(profile.PowerW(t0), 0.0);
+  EXPECT_EQ(profile.PowerW(plan.duration()), 0.0);
+  // Epochs with 0.25 s, then 0 s of plan time: the rest of each second held at the reference's bin.
+  double t = t0;
+  for (const double advance_s : {0.25, 0.0, 0.0}) {
+    const double flown_j = profile.RemainingEnergyJ(t) - profile.RemainingEnergyJ(t + advance_s);
+    t += advance_s;
+    const double held_j = (1.0 - advance_s) * profile.PowerW(t);
+    energy_wh += (flown_j + held_j + hotel * voltage * 1.0) / 3600.0;
+    ForecastCurrent(forecast, t, energy_wh, 1.0, voltage, hotel);
+    constexpr double kToleranceA = 1e-9;  // A: the energy's round trip through watt-hours
+    EXPECT_NEAR(forecast.peak_excursion_a, 0.0, kToleranceA);
+    EXPECT_NEAR(forecast.bias_ratio, 1.0, 1e-9);
+  }
+}
+
 TEST(SpeedCapTest, TheCapIsTheAirspeedAtTheAuthoritysTilt) {
   const Vehicle v;
   const models::Mixer mixer(models::MixerParams::ForPropulsion(v.propulsion));

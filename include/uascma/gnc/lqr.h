@@ -11,6 +11,7 @@
 // equations", Linear Algebra Appl. 396, 2005), which converges quadratically: ~20 iterations.
 #include <Eigen/Core>
 
+#include <limits>
 #include <string>
 
 #include "uascma/models/rigid_body.h"
@@ -73,6 +74,33 @@ struct LqrOptions {
   bool IsValid(std::string* error) const;
 };
 
+// Thrust before horizontal track (docs/modelling-choices.md#thrust-priority). The roll and pitch loops of the LQR ask
+// for a tilt φ_cmd = φ_ref − (g11 e_y + g14 e_vy) / g16 (and θ_cmd alike, with −K's entries g): the tilt at which their
+// torques vanish. The collective thrust holds the altitude only while T_max,collective cos(tilt) ≥ T_v, the vertical
+// share T_v = m (g − a_z) + δT. When the tilt asked for is beyond acos(T_v / T_max,collective), both angles are
+// scaled down together to that bound (its angle norm √(φ² + θ²), conservative: cos φ cos θ ≥ cos √(φ² + θ²) there),
+// and the vehicle gives up horizontal track instead of altitude. These are the parts of Compute's roll and pitch rows
+// that the rule reads, each sum in Compute's order.
+struct HorizontalLoopTerms {
+  double roll_track = 0.0;         // N·m, g11 e_y + g14 e_vy
+  double roll_error = 0.0;         // rad, e_φ = φ − φ_ref
+  double roll_rate = 0.0;          // N·m, g19 p
+  double pitch_track = 0.0;        // N·m, g20 e_x + g23 e_vx
+  double pitch_error = 0.0;        // rad, e_θ = θ − θ_ref
+  double pitch_rate = 0.0;         // N·m, g2,10 q
+  double roll_ref_y = 0.0, roll_ref_x = 1.0;    // φ_ref as a direction, atan2(y, x)
+  double pitch_ref_y = 0.0, pitch_ref_x = 1.0;  // θ_ref as a direction
+  double vertical_thrust = 0.0;    // N, T_v
+};
+
+// True when the tilt the loops ask for may be beyond the thrust's bound: a cheap test without trigonometry that is
+// never false when the exact one (LimitTiltToThrust) is true (|atan t| ≤ |t|, cos x ≥ 1 − x²/2).
+bool MayExceedThrustTilt(const GainMatrix& negative_gain, const HorizontalLoopTerms& terms,
+                         double max_collective_thrust);
+// (τx, τy) with the tilt asked for scaled to the thrust's bound; false (and the torques untouched) when it fits.
+bool LimitTiltToThrust(const GainMatrix& negative_gain, const HorizontalLoopTerms& terms,
+                       double max_collective_thrust, double* tau_x, double* tau_y);
+
 // The reference tilt's limit, LqrOptions::max_tilt, as its tangent, sine and cosine.
 struct TiltLimit {
   double tan = 0.0, sin = 0.0, cos = 1.0;
@@ -84,8 +112,12 @@ class LqrController {
   LqrController(const models::RigidBodyParams& params, const LqrOptions& options);
 
   // The commanded wrench (T, τx, τy, τz) for the vehicle state and the plan reference, with the
-  // reference acceleration fed forward as tilt and thrust.
-  Wrench Compute(const models::RigidBodyState& state, const planning::PlanReference& reference) const;
+  // reference acceleration fed forward as tilt and thrust. `max_collective_thrust` (N): the most the active rotors
+  // can give together (models::Mixer::max_hover_thrust); the tilt is held within what keeps the altitude
+  // (LimitTiltToThrust). +inf: no such bound. `tilt_bounded`, when given: whether the bound acted.
+  Wrench Compute(const models::RigidBodyState& state, const planning::PlanReference& reference,
+                 double max_collective_thrust = std::numeric_limits<double>::infinity(),
+                 bool* tilt_bounded = nullptr) const;
 
   const GainMatrix& gain() const { return solution_.K; }
   const models::RigidBodyParams& params() const { return params_; }

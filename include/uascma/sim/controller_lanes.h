@@ -11,6 +11,7 @@
 //
 // Paths as common/lane_math.h's: SSE2 (two 2-wide vectors) or AVX2 (one 4-wide vector), chosen by the caller.
 #include <array>
+#include <limits>
 
 #include "uascma/common/lane_math.h"
 #include "uascma/gnc/lqr.h"
@@ -20,6 +21,7 @@
 namespace uascma::sim {
 
 inline constexpr int kControllerLanes = 4;
+inline constexpr double kNoThrustBound = std::numeric_limits<double>::infinity();
 using ControllerLaneValues = std::array<double, kControllerLanes>;  // one value per flight
 
 // Four flights' inputs: [component][lane]; the quaternion in Eigen's coefficient order (x, y, z, w).
@@ -29,12 +31,15 @@ struct alignas(32) ControllerLaneInputs {
   std::array<ControllerLaneValues, 3> p_ref_W{}, v_ref_W{}, a_ref_W{};  // the plan's reference
   std::array<ControllerLaneValues, 3> mean_wind_W{};                    // the feed-forward's wind estimate
   std::array<int, kControllerLanes> failed_motor{};  // the allocation's failed motor (0: none; models/mixer.h)
+  // N, what the active rotors can give together (gnc::LqrController::Compute's bound; +inf: none)
+  ControllerLaneValues max_collective_thrust{kNoThrustBound, kNoThrustBound, kNoThrustBound, kNoThrustBound};
 };
 
 // Their outputs: the commanded wrench (T, τx, τy, τz) and the six rotor thrusts allocated (N, before any cap).
 struct alignas(32) ControllerLaneOutputs {
   std::array<ControllerLaneValues, 4> command{};
   std::array<ControllerLaneValues, 6> allocated{};
+  std::array<bool, kControllerLanes> tilt_bounded{};  // the thrust's bound on the tilt acted (gnc/lqr.h)
 };
 
 // What the four flights share. `drag` is the vehicle's table (the feed-forward's).
@@ -47,7 +52,7 @@ struct ControllerLaneVehicle {
 
 // For each lane i: target = reference, its acceleration plus gnc::CalcDragFeedForward(body, drag, z_B of the
 // attitude, v_ref, mean wind) when the vehicle feeds forward and no motor failed; command = controller.Compute(state,
-// target); allocated = mixer.Allocate(command, failed motor).rotor_thrust.
+// target, max collective thrust); allocated = mixer.Allocate(command, failed motor).rotor_thrust.
 void ComputeControllerLanes(lane_math::LaneMathPath path, const ControllerLaneVehicle& vehicle,
                             const ControllerLaneInputs& in, ControllerLaneOutputs& out);
 

@@ -83,6 +83,8 @@ class LoadProfile {
   double duration_s() const { return duration_s_; }
   // J from plan time t (s) to the plan's end; 0 after it. Linear within a bin.
   double RemainingEnergyJ(double t) const;
+  // W: the mean power of the bin holding plan time t (the slope of RemainingEnergyJ there); 0 after the plan.
+  double PowerW(double t) const;
   bool operator==(const LoadProfile&) const = default;
 
  private:
@@ -121,8 +123,10 @@ struct KeyedLoadProfile {
 struct LoadForecastState {
   SharedLoadProfile profile;  // of the executing plan and rotor configuration
   double bias_ratio = 1.0;    // r above
-  // At the last epoch, with the same profile: the profile's remaining energy and the measured energy so far.
+  // At the last epoch, with the same profile: the plan time, the profile's remaining energy and the measured energy
+  // so far.
   bool have_last = false;
+  double last_t_plan_s = 0.0;
   double last_remaining_j = 0.0;
   double last_energy_wh = 0.0;
   double peak_excursion_a = 0.0;  // ΔI_peak above (A, ≥ 0): of the flight, kept across plans
@@ -136,7 +140,10 @@ inline constexpr double kLoadBiasTimeConstantS = 60.0;
 // One epoch of the forecast: updates the bias ratio and the peak excursion from the epoch just flown (plan time
 // `t_plan`, measured energy `energy_wh` since take-off, `epoch_s` long) and returns the forecast current (A) for the
 // rest of the plan, or a negative value when less than `min_remaining_s` of the plan is left (the caller then uses the
-// present current).
+// present current). When the plan's clock advanced less than `epoch_s` over the epoch (its reference waited for the
+// vehicle, docs/modelling-choices.md#thrust-priority), the held seconds are expected to draw the power of the bin
+// where the reference now stands (LoadProfile::PowerW), not nothing: otherwise the whole current of the held
+// seconds would read as a gust's excursion and as the model's bias.
 double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy_wh, double epoch_s,
                        double bus_voltage_v, double hotel_current_a, double min_remaining_s = 1.0);
 
