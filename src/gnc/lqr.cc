@@ -172,12 +172,25 @@ LqrController::LqrController(const models::RigidBodyParams& params, const LqrOpt
   }
 }
 
-bool MayExceedThrustTilt(const GainMatrix& g, const HorizontalLoopTerms& t, double max_collective_thrust) {
-  if (!(t.vertical_thrust > 0.0) || !(max_collective_thrust < std::numeric_limits<double>::infinity())) return false;
+double CheapTiltFactor(const GainMatrix& g, const HorizontalLoopTerms& t) {
   const double roll_bound = std::abs(t.roll_ref_y) / t.roll_ref_x + std::abs(t.roll_track / g(1, 6));
   const double pitch_bound = std::abs(t.pitch_ref_y) / t.pitch_ref_x + std::abs(t.pitch_track / g(2, 7));
-  return (1.0 - 0.5 * (roll_bound * roll_bound + pitch_bound * pitch_bound)) * max_collective_thrust <
-         t.vertical_thrust;
+  return 1.0 - 0.5 * (roll_bound * roll_bound + pitch_bound * pitch_bound);
+}
+
+bool MayExceedAt(double cheap_factor, double vertical_thrust, double max_collective_thrust) {
+  if (!(vertical_thrust > 0.0) || !(max_collective_thrust < std::numeric_limits<double>::infinity())) return false;
+  return cheap_factor * max_collective_thrust < vertical_thrust;
+}
+
+bool MayExceedThrustTilt(const GainMatrix& g, const HorizontalLoopTerms& t, double max_collective_thrust) {
+  return MayExceedAt(CheapTiltFactor(g, t), t.vertical_thrust, max_collective_thrust);
+}
+
+bool TiltBoundOutcome::SameWrenchAt(double own, double other) const {
+  if (own == other) return true;  // the same computation
+  if (bounded) return false;
+  return !tested || !MayExceedAt(cheap_factor, vertical_thrust, other);
 }
 
 bool LimitTiltToThrust(const GainMatrix& g, const HorizontalLoopTerms& t, double max_collective_thrust,
@@ -199,7 +212,7 @@ bool LimitTiltToThrust(const GainMatrix& g, const HorizontalLoopTerms& t, double
 }
 
 Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference,
-                              double max_collective_thrust, bool* tilt_bounded) const {
+                              double max_collective_thrust, TiltBoundOutcome* tilt) const {
   const EulerEntries R_WB = EulerEntriesOf(state.q_WB);  // the entries of R_WB read below, not the other four
   // The reference acceleration becomes a reference tilt and a thrust feed-forward: with z_B = (cφ sθ, −sφ, cφ cθ)
   // (Z-Y-X angles, ψ = 0) and the thrust's vertical share held at m G, G = g − a_z, the tilt that produces
@@ -245,23 +258,27 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
                     pitch_track + g(2, 7) * error(7) + g(2, 10) * error(10), g(3, 8) * error(8) + g(3, 11) * error(11));
   // Hover thrust plus feed-forward, corrected for tilt so the vertical component holds altitude.
   const double vertical_thrust = params_.mass * (kGravity - reference.a_W.z()) + u(0);
-  bool bounded = false;
+  TiltBoundOutcome outcome;
   if (R_WB.r22 > 0.0) {
-    bounded = LimitTiltToThrust(g,
-                      {.roll_track = roll_track,
-                       .roll_error = error(6),
-                       .roll_rate = g(1, 9) * error(9),
-                       .pitch_track = pitch_track,
-                       .pitch_error = error(7),
-                       .pitch_rate = g(2, 10) * error(10),
-                       .roll_ref_y = roll_ref.y,
-                       .roll_ref_x = roll_ref.x,
-                       .pitch_ref_y = pitch_ref.y,
-                       .pitch_ref_x = pitch_ref.x,
-                       .vertical_thrust = vertical_thrust},
-                      max_collective_thrust, &u(1), &u(2));
+    const HorizontalLoopTerms terms{.roll_track = roll_track,
+                                    .roll_error = error(6),
+                                    .roll_rate = g(1, 9) * error(9),
+                                    .pitch_track = pitch_track,
+                                    .pitch_error = error(7),
+                                    .pitch_rate = g(2, 10) * error(10),
+                                    .roll_ref_y = roll_ref.y,
+                                    .roll_ref_x = roll_ref.x,
+                                    .pitch_ref_y = pitch_ref.y,
+                                    .pitch_ref_x = pitch_ref.x,
+                                    .vertical_thrust = vertical_thrust};
+    outcome.bounded = LimitTiltToThrust(g, terms, max_collective_thrust, &u(1), &u(2));
+    if (tilt) {
+      outcome.tested = vertical_thrust > 0.0;
+      outcome.cheap_factor = CheapTiltFactor(g, terms);
+      outcome.vertical_thrust = vertical_thrust;
+    }
   }
-  if (tilt_bounded) *tilt_bounded = bounded;
+  if (tilt) *tilt = outcome;
   Wrench wrench;
   const double cos_tilt = std::max(R_WB.r22, 0.5);
   wrench(0) = std::max(vertical_thrust / cos_tilt, 0.0);

@@ -72,7 +72,7 @@ struct StepSignals {
   models::RotorThrusts thrust;
   models::RotorThrusts allocated;       // the allocation's rotor thrusts before the bus voltage's cap
   double thrust_cap = 0.0;              // N per rotor at this step's bus voltage
-  bool tilt_bounded = false;            // the LQR gave up track for altitude (gnc::LimitTiltToThrust)
+  gnc::TiltBoundOutcome tilt;  // the LQR's tilt bound (gnc::LimitTiltToThrust); the lanes fill `bounded` only
   std::array<double, 6> rotor_power{};  // W, electrical, per rotor
   std::array<double, 6> rotor_current{};
   Eigen::Vector3d wind_W = Eigen::Vector3d::Zero();
@@ -123,7 +123,7 @@ void ComputeControl(const FlightModel& model, const FlightState& state, StepSign
                                            model.wind().MeanWind_W());
   }
   s.command =
-      model.controller().Compute(state.vehicle.body, target, MaxCollectiveThrust(model, state), &s.tilt_bounded);
+      model.controller().Compute(state.vehicle.body, target, MaxCollectiveThrust(model, state), &s.tilt);
   const models::AllocationResult allocation = model.mixer().Allocate(s.command, state.faults.allocation_failure);
   s.allocated = allocation.rotor_thrust;
 }
@@ -342,7 +342,7 @@ void UpdateExtremes(const FlightModel& model, VehicleState& vehicle, const StepS
 // altitude and the vehicle is behind the reference along the reference's velocity: the schedule gives way, not the
 // path (docs/modelling-choices.md#thrust-priority).
 void WaitWhileTiltBounded(const FlightModel& model, FlightState& state, const StepSignals& s) {
-  if (!s.tilt_bounded || state.done()) return;
+  if (!s.tilt.bounded || state.done()) return;
   if ((state.vehicle.body.p_WB_W - s.reference.p_W).dot(s.reference.v_W) < 0.0) {
     state.guidance.plan_start_s += model.dt();
   }
@@ -474,15 +474,16 @@ void StepVehicle(const FlightModel& model, FlightState& state, FlightLog* log, S
   FinishVehicleStep(model, state, previous, believed, s, log);
 }
 
-// True when the bus voltage `bus_voltage_v` caps every rotor's command of this step as the step's own cap did: the
-// vehicle then flies alike under both power systems (the pack acts on the vehicle only through this cap).
-bool CapsAlike(const FlightModel& model, const StepSignals& s, double bus_voltage_v) {
-  const double cap = ThrustCap(model, bus_voltage_v);
+// True when the follower's bus voltage caps every rotor's command of this step as the lead's cap did, and the LQR's
+// tilt bound, which reads the rotors' collective at the bus voltage, would have commanded the same wrench: the vehicle
+// then flies alike under both power systems (the pack acts on the vehicle only through these two).
+bool CapsAlike(const FlightModel& model, const FlightState& lead, const StepSignals& s, const FlightState& follower) {
+  const double cap = ThrustCap(model, follower.power.bus_voltage_v);
   bool alike = true;
   for (int i = 0; i < 6; ++i) {
     alike = alike && std::clamp(s.allocated[i], 0.0, cap) == std::clamp(s.allocated[i], 0.0, s.thrust_cap);
   }
-  return alike;
+  return alike && s.tilt.SameWrenchAt(MaxCollectiveThrust(model, lead), MaxCollectiveThrust(model, follower));
 }
 
 // The power system's part of a GNC step, the telemetry, the classification and the clock.
@@ -576,7 +577,7 @@ void StepTogetherWith(std::span<const FlightModel* const> models, std::span<Flig
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
     for (int i = 0; i < 4; ++i) s[k].command[i] = out.command[i][k];
-    s[k].tilt_bounded = out.tilt_bounded[k];
+    s[k].tilt.bounded = out.tilt_bounded[k];
     for (int i = 0; i < models::kRotorCount; ++i) s[k].allocated[i] = out.allocated[i][k];
   }
   // The rotors and the wind alone, the rigid bodies in lanes.
@@ -665,7 +666,7 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
   StepVehicle(model, lead, nullptr, s);
   for (std::size_t k = 0; k < followers.size(); ++k) {
     const FlightState& f = *followers[k];
-    stepped[k] = !f.done() && f.step == lead.step && CapsAlike(model, s, f.power.bus_voltage_v);
+    stepped[k] = !f.done() && f.step == lead.step && CapsAlike(model, lead, s, f);
   }
   StepSignals own = s;
   StepPowerSystem(model, lead.power, own, lead.time_s);
@@ -682,8 +683,10 @@ void StepFollowing(const FlightModel& model, FlightState& lead, std::span<Flight
     // follower's cells are above the cut-off, its classification is the leader's (in progress).
     const bool as_lead = lead_flies_on && own.pack_outputs.min_cell_voltage_v > models::kCutoffVoltage;
     if (!as_lead) ClassifyStep(model, f, own);
+    WaitWhileTiltBounded(model, f, own);
     AdvanceClock(model, f);
   }
+  WaitWhileTiltBounded(model, lead, s);
   AdvanceClock(model, lead);
 }
 

@@ -291,5 +291,39 @@ TEST(LqrTest, TheBoundedTiltKeepsItsDirectionAndHoldsTheWeight) {
   EXPECT_GT(bounded, 50);  // the bound acted in a good share of the trials
 }
 
+// Flights sharing one vehicle on different bus voltages (sim/flight.h StepFollowing) rely on SameWrenchAt: where it
+// says another collective thrust gives the same wrench, Compute at that thrust gives it bit for bit; and it says so
+// for most thrusts of an unbounded step (or the sharing would buy nothing).
+TEST(LqrTest, SameWrenchAtPromisesOnlyWhatComputeDelivers) {
+  const models::RigidBodyParams params;
+  const LqrController controller(params, {});
+  const double weight = params.mass * kGravity;
+  int promised = 0, bounded = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    RigidBodyState state;
+    state.p_WB_W = Eigen::Vector3d(3.0 * std::sin(0.7 * trial), 3.0 * std::cos(1.3 * trial), -20.0);
+    state.v_WB_W = Eigen::Vector3d(4.0 * std::cos(0.9 * trial), 4.0 * std::sin(0.4 * trial), 0.0);
+    state.q_WB = Eigen::Quaterniond(RotationFromEuler(0.3 * std::sin(0.2 * trial), 0.3 * std::cos(0.6 * trial), 0.0));
+    planning::PlanReference reference;
+    reference.p_W = Eigen::Vector3d(0, 0, -20);
+    reference.a_W = Eigen::Vector3d(3.0 * std::sin(0.3 * trial), 3.0 * std::cos(0.5 * trial), 0.0);
+    const double own = weight * (1.05 + 0.01 * (trial % 80));  // N: 1.05-1.84 times the weight
+    TiltBoundOutcome outcome;
+    const Wrench at_own = controller.Compute(state, reference, own, &outcome);
+    bounded += outcome.bounded;
+    for (const double ratio : {0.8, 0.95, 0.999, 1.0, 1.001, 1.05, 1.3}) {
+      const double other = own * ratio;
+      if (!outcome.SameWrenchAt(own, other)) continue;
+      ++promised;
+      const Wrench at_other = controller.Compute(state, reference, other);
+      for (int i = 0; i < 4; ++i) ASSERT_EQ(at_own(i), at_other(i)) << "trial " << trial << " ratio " << ratio;
+    }
+  }
+  EXPECT_GT(bounded, 30);  // the bound acted in some trials (their other thrusts are not promised)
+  // Beyond the 300 equal thrusts, other thrusts are promised too (303 of 1,800 in these trials, most of them near
+  // the bound by construction): without them a follower on another bus voltage would never share a step.
+  EXPECT_GT(promised, 300 + 150);
+}
+
 }  // namespace
 }  // namespace uascma::gnc

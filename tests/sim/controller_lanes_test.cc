@@ -30,7 +30,7 @@ struct Case {
 struct Control {
   gnc::Wrench command;
   models::RotorThrusts allocated;
-  bool tilt_bounded = false;
+  gnc::TiltBoundOutcome tilt;
 };
 
 // flight.cc's StepRotors up to the allocation (ComputeControl): the feed-forward while every rotor is allocated.
@@ -41,7 +41,7 @@ Control ScalarControl(const FlightModel& model, const Case& c) {
     target.a_W += gnc::CalcDragFeedForward(model.scenario().body, model.drag(), z_B_W, c.reference.v_W, c.mean_wind_W);
   }
   Control control;
-  control.command = model.controller().Compute(c.state, target, c.max_collective_thrust, &control.tilt_bounded);
+  control.command = model.controller().Compute(c.state, target, c.max_collective_thrust, &control.tilt);
   control.allocated = model.mixer().Allocate(control.command, c.failed_motor).rotor_thrust;
   return control;
 }
@@ -85,7 +85,7 @@ void ExpectLanesAsScalar(const FlightModel& model, const std::vector<Case>& case
             << "case " << lane_case[lane] << " command " << i << ": " << expected.command[i] << " vs "
             << out.command[i][lane] << " (" << lane_math::LaneMathPathName(path) << ")";
       }
-      ASSERT_EQ(expected.tilt_bounded, out.tilt_bounded[lane]) << "case " << lane_case[lane];
+      ASSERT_EQ(expected.tilt.bounded, out.tilt_bounded[lane]) << "case " << lane_case[lane];
       for (int i = 0; i < 6; ++i) {
         ASSERT_EQ(Bits(expected.allocated[i]), Bits(out.allocated[i][lane]))
             << "case " << lane_case[lane] << " rotor " << i + 1 << ": " << expected.allocated[i] << " vs "

@@ -94,9 +94,27 @@ struct HorizontalLoopTerms {
 };
 
 // True when the tilt the loops ask for may be beyond the thrust's bound: a cheap test without trigonometry that is
-// never false when the exact one (LimitTiltToThrust) is true (|atan t| ≤ |t|, cos x ≥ 1 − x²/2).
+// never false when the exact one (LimitTiltToThrust) is true (|atan t| ≤ |t|, cos x ≥ 1 − x²/2). It reads the
+// terms through one factor: true exactly when factor · T_collective < T_v (CheapTiltFactor, MayExceedAt).
 bool MayExceedThrustTilt(const GainMatrix& negative_gain, const HorizontalLoopTerms& terms,
                          double max_collective_thrust);
+// 1 − (φ_bound² + θ_bound²) / 2, the bounds of the asked angles without trigonometry.
+double CheapTiltFactor(const GainMatrix& negative_gain, const HorizontalLoopTerms& terms);
+bool MayExceedAt(double cheap_factor, double vertical_thrust, double max_collective_thrust);
+
+// What the thrust's tilt bound did in one LqrController::Compute, and whether it would have acted at another
+// collective thrust (flights that share one vehicle but not one bus voltage, sim/flight.h StepFollowing).
+struct TiltBoundOutcome {
+  bool bounded = false;  // the bound acted (LimitTiltToThrust)
+  // The cheap test's factor and vertical thrust, when the test was made (an upright vehicle, T_v > 0).
+  bool tested = false;
+  double cheap_factor = 0.0;
+  double vertical_thrust = 0.0;
+  // True when the same Compute at collective thrust `other` (N) would give the same wrench as at `own`, bit for
+  // bit: the same thrust, or a bound that acted at neither (at `other` the cheap test rules it out; where only the
+  // exact test could, false: conservative).
+  bool SameWrenchAt(double own, double other) const;
+};
 // (τx, τy) with the tilt asked for scaled to the thrust's bound; false (and the torques untouched) when it fits.
 bool LimitTiltToThrust(const GainMatrix& negative_gain, const HorizontalLoopTerms& terms,
                        double max_collective_thrust, double* tau_x, double* tau_y);
@@ -114,10 +132,10 @@ class LqrController {
   // The commanded wrench (T, τx, τy, τz) for the vehicle state and the plan reference, with the
   // reference acceleration fed forward as tilt and thrust. `max_collective_thrust` (N): the most the active rotors
   // can give together (models::Mixer::max_hover_thrust); the tilt is held within what keeps the altitude
-  // (LimitTiltToThrust). +inf: no such bound. `tilt_bounded`, when given: whether the bound acted.
+  // (LimitTiltToThrust). +inf: no such bound. `tilt`, when given: what the bound did.
   Wrench Compute(const models::RigidBodyState& state, const planning::PlanReference& reference,
                  double max_collective_thrust = std::numeric_limits<double>::infinity(),
-                 bool* tilt_bounded = nullptr) const;
+                 TiltBoundOutcome* tilt = nullptr) const;
 
   const GainMatrix& gain() const { return solution_.K; }
   const models::RigidBodyParams& params() const { return params_; }
