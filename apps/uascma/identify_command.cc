@@ -66,7 +66,9 @@ void AddIdentifyBattery(CLI::App* parent) {
     const identify_ns::CellIdentification result = identify_ns::IdentifyCell(record);
     const nlohmann::json document = identify_ns::CellIdentificationJson(result, record);
     // The drawing first: when it fails nothing else has been written.
-    if (!options->plot.empty()) PlotJsonWhole("battery_identification.py", CellFitPlotJson(result, record), options->plot);
+    if (!options->plot.empty()) {
+      PlotJsonWhole("battery_identification.py", CellFitPlotJson(result, record), options->plot);
+    }
     if (!options->out.empty()) WriteOutput(options->out, document.dump(2) + "\n");
     if (options->json) {
       PrintJson(document);

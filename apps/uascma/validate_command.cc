@@ -123,7 +123,8 @@ void AddValidatePropulsion(CLI::App* parent) {
                     "Print {share_within_95_bounds, rpm_median_relative_error, thrust_median_relative_error, ...}");
   command->add_option("--plot", options->plot,
                       "Draw Fig. 2.11 to this PNG: measured RPM per file with the model's 95 % bounds, points\n"
-                      "outside the fitted range flagged, and the measured thrust against C_T RPM^2 with the +-10 % band");
+                      "outside the fitted range flagged, and the measured thrust against C_T RPM^2 with the\n"
+                      "+-10 % band above 1300 us");
   command->callback([options] {
     CheckOutputFile(options->plot, "--plot");
     const ident::PropulsionModel model = ident::ReadPropulsionModelFile(options->model);
