@@ -216,7 +216,8 @@ def test_identification_plots(checked, tmp_path):
         "--pole-pairs", 1, "--plot", tmp_path / "prop-validation.png")
     rows = ["airspeed_mps,pitch_deg,lift_n,drag_n,throttle_us"]
     for speed in (2.2, 4.5, 6.7, 8.9):  # Table 2.3's speeds, a drag area growing with |pitch|, one powered row
-        rows += [f"{speed},{pitch},0,{0.6125 * (0.05 + 4e-4 * abs(pitch)) * speed ** 2},0" for pitch in range(-30, 31, 15)]
+        rows += [f"{speed},{pitch},0,{0.6125 * (0.05 + 4e-4 * abs(pitch)) * speed ** 2},0"
+                 for pitch in range(-30, 31, 15)]
     rows.append("4.5,0,0,1.0,1500")
     (tmp_path / "tunnel.csv").write_text("\n".join(rows) + "\n")
     run("identify", "drag", tmp_path / "tunnel.csv", "--plot", tmp_path / "drag.png")
