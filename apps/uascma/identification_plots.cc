@@ -173,7 +173,7 @@ nlohmann::json PropulsionValidationPlotJson(const ident::PropulsionValidation& r
     first += static_cast<std::size_t>(record.size());
   }
   return {{"figure", "validate"},
-          {"title", fmt::format("{} on {} file(s) not used in its fit (Fig. 2.11)", model, records.size())},
+          {"title", fmt::format("{} checked on {} thrust-stand file(s) (Fig. 2.11)", model, records.size())},
           {"files", files},
           {"thrust_check_above_us", check_above_us},
           {"thrust_band_fraction", kThrustBandFraction},
