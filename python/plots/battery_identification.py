@@ -18,13 +18,13 @@ DATA.json: {"figure": "identify" | "validate", "title": str, "time_s": [...], "m
    "cutoff_time_s": number or null, "eod": [{"at_fraction", "at_time_s", "predicted_s", "actual_s",
    "predicted_cutoff_s" (at_time_s + predicted_s), "relative_error"}]}.
 """
-import json
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import figure_choice  # noqa: E402
 
 MEASURED = "#212121"
 MODEL = "#e53935"
@@ -137,14 +137,5 @@ def draw_validate(data):
     return fig
 
 
-def main(source, target):
-    with open(source) as f:
-        data = json.load(f)
-    fig = draw_identify(data) if data["figure"] == "identify" else draw_validate(data)
-    fig.savefig(target, dpi=110)
-
-
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    main(sys.argv[1], sys.argv[2])
+    figure_choice.run(__doc__, {"identify": draw_identify, "validate": draw_validate})

@@ -21,14 +21,14 @@ DATA.json: {"figure": "identify" | "validate", "title": str, "thrust_check_above
  validate: "points", "out_of_range", "share_within_95_bounds", "rpm_median_relative_error",
    "rpm_max_relative_error", "thrust_median_relative_error"}.
 """
-import json
 import os
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import figure_choice  # noqa: E402
 
 COLOURS = ["#1565c0", "#e53935", "#2e7d32", "#6a1b9a", "#ef6c00", "#00838f"]
 
@@ -125,14 +125,5 @@ def draw_validate(data):
     return fig
 
 
-def main(source, target):
-    with open(source) as f:
-        data = json.load(f)
-    fig = draw_identify(data) if data["figure"] == "identify" else draw_validate(data)
-    fig.savefig(target, dpi=110)
-
-
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    main(sys.argv[1], sys.argv[2])
+    figure_choice.run(__doc__, {"identify": draw_identify, "validate": draw_validate})
