@@ -1,6 +1,5 @@
 // uascma battery — the battery-reconfiguration MDP of dissertation Ch. IV (§4.3): learn its transitions from
 // Monte Carlo flights, solve one policy per health pair and temperature, show them, run the case studies.
-#include <unistd.h>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -39,39 +38,6 @@ using models::PackAction;
 constexpr Bounds kFlightsBounds{1.0, 1e7, "flights"};
 constexpr Bounds kThreadsBounds{1.0, 256.0, "threads"};
 constexpr Bounds kCaseStudyBounds{1.0, 4.0, ""};
-
-// An output file is checked before any work: its folder exists and is writable, and the path is not a
-// folder. Exit 2 naming the option otherwise, with nothing written.
-void CheckOutputFile(const std::string& path, const char* option) {
-  if (path.empty()) return;
-  const std::filesystem::path file(path);
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) throw InputError(option, path, "a file path, got a folder");
-  const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
-  if (!std::filesystem::is_directory(folder, ec)) {
-    throw InputError(option, path,
-                     fmt::format("a file in an existing folder, but '{}' does not exist", folder.string()));
-  }
-  if (::access(folder.c_str(), W_OK) != 0) {
-    throw InputError(option, path,
-                     fmt::format("a file in a writable folder, but '{}' is not writable", folder.string()));
-  }
-}
-
-// A plot drawn beside its target and renamed over it, so a failed drawing leaves nothing behind.
-void PlotJsonWhole(const std::string& script, const nlohmann::json& data, const std::string& target) {
-  const std::filesystem::path final_path(target);
-  const std::filesystem::path staging =
-      final_path.parent_path() / (".uascma-plot-" + std::to_string(::getpid()) + "-" + final_path.filename().string());
-  try {
-    PlotJson(script, data, staging.string());
-    std::filesystem::rename(staging, final_path);
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(staging, ec);
-    throw;
-  }
-}
 
 // The 72 states with both switches OFF cannot occur: no action of Table 4.3 opens both switches.
 bool IsPossibleState(StateIndex s) {

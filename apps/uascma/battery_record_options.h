@@ -16,7 +16,7 @@ constexpr Bounds kRecordCellsBounds{1.0, 24.0, ""};
 constexpr Bounds kRecordCycleBounds{0.0, 1e6, ""};
 
 struct BatteryOptions {
-  std::string data, out, columns;
+  std::string data, out, columns, plot;
   int cells = 1;
   int cycle = 1;
   CLI::Option* cycle_option = nullptr;  // given or not

@@ -10,7 +10,9 @@
 #include "battery_record_options.h"
 #include "bounded_option.h"
 #include "commands.h"
+#include "identification_plots.h"
 #include "output.h"
+#include "plotting.h"
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/identification/battery_data.h"
@@ -24,7 +26,8 @@ namespace {
 
 namespace identify_ns = uascma::identification;
 
-void PrintCellSummary(const identify_ns::CellIdentification& result, const identify_ns::BatteryRecord& record, const std::string& out) {
+void PrintCellSummary(const identify_ns::CellIdentification& result, const identify_ns::BatteryRecord& record,
+                      const std::string& out, const std::string& plot) {
   const models::CellParams& p = result.params;
   auto error = [](const std::optional<double>& se, double scale) {
     return se ? fmt::format(" ± {:.3g}", *se * scale) : std::string(" (no standard error)");
@@ -42,6 +45,7 @@ void PrintCellSummary(const identify_ns::CellIdentification& result, const ident
     text += fmt::format("  not identified: {}: {} (kept {:g})\n", item.parameter, item.reason, item.kept_value);
   }
   if (!out.empty()) text += fmt::format("written to {}\n", out);
+  if (!plot.empty()) text += fmt::format("plot written to {}\n", plot);
   WriteOutput("", text);
 }
 
@@ -53,15 +57,23 @@ void AddIdentifyBattery(CLI::App* parent) {
   AddBatteryReadOptions(command, options.get());
   command->add_option("--out", options->out, "Write the model to this CELL.json");
   command->add_flag("--json", options->json, "Print the model file's document (capacity_ah, r0_ohm, fit_rms_mv, ...)");
+  command->add_option("--plot", options->plot,
+                      "Draw the fit to this PNG: measured and model terminal voltage against time, the current and\n"
+                      "the error (mV) below, and the OCV(z) curve identified (the discharge branch)");
   command->callback([options] {
+    CheckOutputFile(options->plot, "--plot");  // before the fit
     const identify_ns::BatteryRecord record = ReadRecord(*options);
     const identify_ns::CellIdentification result = identify_ns::IdentifyCell(record);
     const nlohmann::json document = identify_ns::CellIdentificationJson(result, record);
+    // The drawing first: when it fails nothing else has been written.
+    if (!options->plot.empty()) {
+      PlotJsonWhole("battery_identification.py", CellFitPlotJson(result, record), options->plot);
+    }
     if (!options->out.empty()) WriteOutput(options->out, document.dump(2) + "\n");
     if (options->json) {
       PrintJson(document);
     } else {
-      PrintCellSummary(result, record, options->out);
+      PrintCellSummary(result, record, options->out, options->plot);
     }
   });
 }
@@ -69,7 +81,7 @@ void AddIdentifyBattery(CLI::App* parent) {
 void AddIdentifyPropulsion(CLI::App* parent) {
   struct Options {
     std::vector<std::string> data;
-    std::string out;
+    std::string out, plot;
     int pole_pairs = 7;
     double diameter_in = 5.0;
     bool json = false;
@@ -87,7 +99,12 @@ void AddIdentifyPropulsion(CLI::App* parent) {
                    identify_ns::PropulsionIdentificationOptions::kDiameterBounds)->required();
   command->add_option("--out", options->out, "Write the model to this PROP.json");
   command->add_flag("--json", options->json, "Print the model file's document (c_t, loo_rpm_median_relative_error, ...)");
+  command->add_option("--plot", options->plot,
+                      "Draw the fit to this PNG (Fig. 2.10): measured RPM against throttle per file with eq. 2.12\n"
+                      "along the file's measured power and its 95 % bounds, the leave-one-step-out errors, and the\n"
+                      "measured thrust against C_T RPM^2 (eq. 2.1) with the +-10 % band above 1300 us");
   command->callback([options] {
+    CheckOutputFile(options->plot, "--plot");  // before the fit
     identify_ns::PropulsionIdentificationOptions identify;
     identify.pole_pairs = options->pole_pairs;
     identify.diameter_in = options->diameter_in;
@@ -95,6 +112,9 @@ void AddIdentifyPropulsion(CLI::App* parent) {
     for (const std::string& path : options->data) records.push_back(identify_ns::ReadThrustStandRecord(path, options->pole_pairs));
     const identify_ns::PropulsionIdentification result = identify_ns::IdentifyPropulsion(records, identify);
     const nlohmann::json document = identify_ns::PropulsionIdentificationJson(result, identify);
+    if (!options->plot.empty()) {
+      PlotJsonWhole("propulsion_identification.py", PropulsionFitPlotJson(result, records, identify), options->plot);
+    }
     if (!options->out.empty()) WriteOutput(options->out, document.dump(2) + "\n");
     if (options->json) return PrintJson(document);
     std::string text = fmt::format(
@@ -113,13 +133,14 @@ void AddIdentifyPropulsion(CLI::App* parent) {
                               identify.thrust_check_above_us)
                 : fmt::format("no power law (fewer than 3 points above {:g} µs)\n", identify.thrust_check_above_us);
     for (const std::string& warning : result.warnings) text += "  warning: " + warning + "\n";
+    if (!options->plot.empty()) text += fmt::format("plot written to {}\n", options->plot);
     WriteOutput("", text);
   });
 }
 
 struct DragOptions {
   std::string data;
-  std::string out;
+  std::string out, plot;
   bool json = false;
 };
 
@@ -132,10 +153,15 @@ void AddIdentifyDrag(CLI::App* parent) {
   command->add_option("data", options->data, "Wind-tunnel CSV")->required();
   command->add_option("--out", options->out, "Write the table to this DRAG.csv (a vehicle file's drag:)");
   command->add_flag("--json", options->json, "Print the table and the counts as JSON");
+  command->add_option("--plot", options->plot,
+                      "Draw the table to this PNG: drag against airspeed, one line per pitch, over the\n"
+                      "bare-airframe rows it was reduced from");
   command->callback([options] {
-    const identify_ns::DragIdentification result =
-        identify_ns::IdentifyDrag(identify_ns::ReadWindTunnelRecord(options->data));
+    CheckOutputFile(options->plot, "--plot");
+    const identify_ns::WindTunnelRecord record = identify_ns::ReadWindTunnelRecord(options->data);
+    const identify_ns::DragIdentification result = identify_ns::IdentifyDrag(record);
     const std::string csv = result.DragCsv();
+    if (!options->plot.empty()) PlotJsonWhole("drag_table.py", DragTablePlotJson(result, record), options->plot);
     if (!options->out.empty()) WriteOutput(options->out, csv);
     if (options->json) {
       return PrintJson({{"airspeeds_mps", result.airspeeds_mps}, {"pitches_deg", result.pitches_deg},
@@ -150,7 +176,8 @@ void AddIdentifyDrag(CLI::App* parent) {
                                 result.bare_rows, result.powered_rows, result.airspeeds_mps.size(),
                                 result.zero_speed_added ? " (0 m/s added)" : "", result.pitches_deg.size(),
                                 result.largest_repeat_count, result.largest_repeat_spread_n, result.largest_lift_n,
-                                options->out.empty() ? csv : "written to " + options->out + "\n"));
+                                options->out.empty() ? csv : "written to " + options->out + "\n") +
+                (options->plot.empty() ? std::string() : fmt::format("plot written to {}\n", options->plot)));
   });
 }
 

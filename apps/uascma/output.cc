@@ -1,7 +1,13 @@
 #include "output.h"
 
-#include <cstdio>
+#include <unistd.h>
 
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
 #include "uascma/common/files.h"
 
 namespace uascma::cli {
@@ -20,6 +26,22 @@ void WriteOutput(const std::string& path, const std::string& content) {
     return;
   }
   WriteFileAtomically(path, content);
+}
+
+void CheckOutputFile(const std::string& path, const char* option) {
+  if (path.empty()) return;
+  const std::filesystem::path file(path);
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(option, path, "a file path, got a folder");
+  const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(folder, ec)) {
+    throw InputError(option, path,
+                     fmt::format("a file in an existing folder, but '{}' does not exist", folder.string()));
+  }
+  if (::access(folder.c_str(), W_OK) != 0) {
+    throw InputError(option, path,
+                     fmt::format("a file in a writable folder, but '{}' is not writable", folder.string()));
+  }
 }
 
 }  // namespace uascma::cli

@@ -70,4 +70,18 @@ void PlotJson(const std::string& script, const nlohmann::json& data, const std::
   std::filesystem::remove(path, ec);
 }
 
+void PlotJsonWhole(const std::string& script, const nlohmann::json& data, const std::string& target) {
+  const std::filesystem::path final_path(target);
+  const std::filesystem::path staging =
+      final_path.parent_path() / (".uascma-plot-" + std::to_string(::getpid()) + "-" + final_path.filename().string());
+  try {
+    PlotJson(script, data, staging.string());
+    std::filesystem::rename(staging, final_path);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(staging, ec);
+    throw;
+  }
+}
+
 }  // namespace uascma::cli

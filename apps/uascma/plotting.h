@@ -17,4 +17,9 @@ void RunPlotScript(const std::string& script, const std::vector<std::string>& ar
 // happens: the pattern of every command that draws what it computed.
 void PlotJson(const std::string& script, const nlohmann::json& data, const std::string& target);
 
+// PlotJson drawn beside `target` (".uascma-plot-PID-NAME") and renamed over it, so a failed drawing leaves
+// nothing behind and an earlier picture stays whole until the new one replaces it. Check the target first
+// (CheckOutputFile, output.h) so that a bad path is refused before any work.
+void PlotJsonWhole(const std::string& script, const nlohmann::json& data, const std::string& target);
+
 }  // namespace uascma::cli

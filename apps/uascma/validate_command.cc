@@ -10,7 +10,9 @@
 #include "battery_record_options.h"
 #include "bounded_option.h"
 #include "commands.h"
+#include "identification_plots.h"
 #include "output.h"
+#include "plotting.h"
 #include "uascma/common/error.h"
 #include "uascma/identification/battery_validation.h"
 #include "uascma/identification/model_files.h"
@@ -67,7 +69,11 @@ void AddValidateBattery(CLI::App* parent) {
   options->high_option = AddBoundedOption(command, "--window-high-v", options->window_high_v,
                                           "... and from the first sample at or below this", kWindowVoltageBounds);
   command->add_flag("--json", options->read.json, "Print {voltage_rms_mv, voltage_max_mv, eod: [...]} as JSON");
+  command->add_option("--plot", options->read.plot,
+                      "Draw Fig. 3.5 to this PNG: measured and model voltage against time, the error (mV) below,\n"
+                      "the summary window shaded, and the EOD checks (predicted against recorded time to cut-off)");
   command->callback([options] {
+    CheckOutputFile(options->read.plot, "--plot");  // before the simulation
     const models::SelfCorrectingCell cell = ident::ReadCellModelFile(options->model);
     const ident::BatteryRecord record = ReadRecord(options->read);
     ident::CellValidationOptions validate;
@@ -75,6 +81,10 @@ void AddValidateBattery(CLI::App* parent) {
     if (options->low_option->count() > 0) validate.window_low_v = options->window_low_v;
     if (options->high_option->count() > 0) validate.window_high_v = options->window_high_v;
     const ident::CellValidation result = ident::ValidateCell(cell, record, validate);
+    if (!options->read.plot.empty()) {
+      PlotJsonWhole("battery_identification.py", CellValidationPlotJson(result, record, validate, options->model),
+                    options->read.plot);
+    }
     if (options->read.json) return PrintJson(CellValidationJson(result, record, validate));
     std::string text = fmt::format("{}: voltage error RMS {:.2f} mV, max {:.2f} mV over {} samples (every sample: RMS "
                                    "{:.2f} mV); start SOC {:.4f}{}\n",
@@ -87,6 +97,7 @@ void AddValidateBattery(CLI::App* parent) {
                           "({:+.2f} %)\n", 100.0 * check.at_fraction, check.at_time_s, check.current_a, check.predicted_s,
                           check.actual_s, 100.0 * check.relative_error);
     }
+    if (!options->read.plot.empty()) text += fmt::format("plot written to {}\n", options->read.plot);
     WriteOutput("", text);
   });
 }
@@ -95,6 +106,7 @@ void AddValidatePropulsion(CLI::App* parent) {
   struct ValidatePropulsionOptions {
     std::string model;
     std::vector<std::string> data;
+    std::string plot;
     int pole_pairs = 7;
     bool json = false;
   };
@@ -109,12 +121,21 @@ void AddValidatePropulsion(CLI::App* parent) {
                    ident::PropulsionIdentificationOptions::kPolePairsBounds)->required();
   command->add_flag("--json", options->json,
                     "Print {share_within_95_bounds, rpm_median_relative_error, thrust_median_relative_error, ...}");
+  command->add_option("--plot", options->plot,
+                      "Draw Fig. 2.11 to this PNG: measured RPM per file with the model's 95 % bounds, points\n"
+                      "outside the fitted range flagged, and the measured thrust against C_T RPM^2 with the\n"
+                      "+-10 % band above 1300 us");
   command->callback([options] {
+    CheckOutputFile(options->plot, "--plot");
     const ident::PropulsionModel model = ident::ReadPropulsionModelFile(options->model);
     std::vector<ident::ThrustStandRecord> records;
     for (const std::string& path : options->data) records.push_back(ident::ReadThrustStandRecord(path, options->pole_pairs));
     const ident::PropulsionValidation result =
         ident::ValidatePropulsion(model.surface, model.thrust_coefficient_n_per_rpm2, records);
+    if (!options->plot.empty()) {
+      PlotJsonWhole("propulsion_identification.py", PropulsionValidationPlotJson(result, records, options->model),
+                    options->plot);
+    }
     if (options->json) {
       nlohmann::json points = nlohmann::json::array();
       for (const auto& p : result.detail) {
@@ -133,7 +154,8 @@ void AddValidatePropulsion(CLI::App* parent) {
                                 "at the measured RPM: median error {:.2f} %\n",
                                 result.points, result.out_of_range, 100.0 * result.share_within_95_bounds,
                                 100.0 * result.rpm_median_relative_error, 100.0 * result.rpm_max_relative_error,
-                                100.0 * result.thrust_median_relative_error));
+                                100.0 * result.thrust_median_relative_error) +
+                (options->plot.empty() ? std::string() : fmt::format("plot written to {}\n", options->plot)));
   });
 }
 

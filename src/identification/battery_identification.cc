@@ -371,6 +371,7 @@ CellIdentification IdentifyCell(const BatteryRecord& record, const CellIdentific
   result.samples = record.size();
   result.fitted_samples = prepared.fitted_samples;
   result.rms_every_sample_mv = 1e3 * std::sqrt(every_residual.squaredNorm() / static_cast<double>(every_residual.size()));
+  for (int k = 0; k < record.size(); ++k) result.model_v.push_back(record.voltage_v[k] - every_residual[k]);
   result.median_sample_period_s = prepared.median_period_s;
   if (!record.temperature_degc.empty()) {
     double sum = 0.0;

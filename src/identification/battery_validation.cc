@@ -115,6 +115,8 @@ CellValidation ValidateCell(const models::SelfCorrectingCell& cell, const Batter
     window_end = window_start;
     while (window_end < record.size() && !(record.voltage_v[window_end] < *options.window_low_v)) ++window_end;
   }
+  result.window_begin_sample = window_start;
+  result.window_end_sample = window_end;
   double sum_all = 0.0, sum_window = 0.0;
   for (int k = 0; k < record.size(); ++k) {
     const double error_v = result.model_v[k] - result.measured_v[k];

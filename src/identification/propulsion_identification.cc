@@ -111,6 +111,7 @@ struct CrossValidation {
   std::optional<double> median_relative_error;
   double max_relative_error = 0.0;
   double share_within_bounds = 0.0;
+  std::vector<LeftOutPrediction> predictions;  // [points]
 };
 
 // Leave one throttle step out (every point at that ESC signal, from every file), fit the rest, predict it.
@@ -120,6 +121,7 @@ CrossValidation LeaveOneStepOut(const Points& points, int order) {
     steps[std::lround(points.throttle_us[k])].push_back(static_cast<int>(k));
   }
   std::vector<double> errors;
+  std::vector<LeftOutPrediction> predictions(points.throttle_us.size());
   int within = 0;
   for (const auto& [step, members] : steps) {
     std::vector<char> use(points.throttle_us.size(), 1);
@@ -128,16 +130,17 @@ CrossValidation LeaveOneStepOut(const Points& points, int order) {
     if (!surface) return {};
     for (int k : members) {
       const double predicted = surface->CalcRpm(points.throttle_us[k], points.power_w[k]);
+      const double bound = surface->CalcBoundHalfWidth(points.throttle_us[k], points.power_w[k]);
+      predictions[k] = {predicted, bound};
       errors.push_back(std::abs(predicted - points.rpm[k]) / points.rpm[k]);
-      if (std::abs(predicted - points.rpm[k]) <= surface->CalcBoundHalfWidth(points.throttle_us[k], points.power_w[k])) {
-        ++within;
-      }
+      if (std::abs(predicted - points.rpm[k]) <= bound) ++within;
     }
   }
   CrossValidation result;
   result.median_relative_error = Median(errors);
   result.max_relative_error = *std::max_element(errors.begin(), errors.end());
   result.share_within_bounds = static_cast<double>(within) / static_cast<double>(errors.size());
+  result.predictions = std::move(predictions);
   return result;
 }
 
@@ -266,6 +269,7 @@ PropulsionIdentification IdentifyPropulsion(const std::vector<ThrustStandRecord>
   result.loo_rpm_median_relative_error = *chosen_cv.median_relative_error;
   result.loo_rpm_max_relative_error = chosen_cv.max_relative_error;
   result.loo_share_within_95_bounds = chosen_cv.share_within_bounds;
+  result.loo_predictions = chosen_cv.predictions;
   if (chosen != 3) {
     result.warnings.push_back(fmt::format("the data supports {} coefficients, not eq. 2.12's 9 (leave-one-step-out)",
                                           result.surface.terms.size()));

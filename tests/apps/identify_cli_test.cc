@@ -1,8 +1,12 @@
-// uascma identify / validate end to end: the JSON keys scripts read, the files written, and bad input (exit 2, one
-// line naming file, line and column, nothing written).
+// uascma identify / validate end to end: the JSON keys scripts read, the files written, the figures (--plot), and bad
+// input (exit 2, one line naming file, line and column or the option, nothing written).
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -12,7 +16,8 @@
 namespace uascma::testing_support {
 namespace {
 
-const std::string kData = std::string(UASCMA_SOURCE_DIR) + "/data/bench/";
+const std::string kSourceDir = UASCMA_SOURCE_DIR;
+const std::string kData = kSourceDir + "/data/bench/";
 
 TEST(IdentifyCliTest, BatteryIdentifiedOnOneCycleValidatesOnTheNext) {
   ScratchDir scratch("identify_battery");
@@ -90,6 +95,79 @@ TEST(IdentifyCliTest, BadInputIsOneLineNamingFileLineAndColumnAndWritesNothing) 
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("bad.csv:1: current_a"), std::string::npos) << missing.err;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// A tunnel table of a known drag law (drag = ½ ρ A v², A growing with |pitch|), bare rows only, for `identify drag`.
+std::string WriteTunnel(const std::filesystem::path& folder) {
+  const std::filesystem::path path = folder / "tunnel.csv";
+  std::ofstream file(path);
+  file << "airspeed_mps,pitch_deg,lift_n,drag_n,throttle_us\n";
+  for (double v : {2.2, 4.5, 6.7, 8.9}) {  // Table 2.3's speeds
+    for (int pitch = -30; pitch <= 30; pitch += 15) {
+      file << v << "," << pitch << ",0," << 0.6125 * (0.05 + 4e-4 * std::abs(pitch)) * v * v << ",0\n";
+    }
+  }
+  return path.string();
+}
+
+// Every figure the identification commands draw (docs/identification.md): a PNG of some substance (a blank or
+// failed figure is a few kB), the text saying where it went, and --json unchanged by --plot.
+TEST(IdentifyCliTest, EveryCommandDrawsItsFigure) {
+  ScratchDir scratch("identify_plots");
+  const std::filesystem::path& dir = scratch.path;
+  const std::string nasa = kData + "battery-nasa/B0005.csv", stand = kData + "dyno-strawson/g8_";
+  const std::string cell = (dir / "cell.json").string(), prop = (dir / "prop.json").string();
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"identify battery " + nasa + " --cycle 1 --out " + cell, "cell-fit.png"},
+      {"validate battery --model " + cell + " " + nasa + " --cycle 2 --window-low-v 3.0 --window-high-v 4.1",
+       "cell-validation.png"},
+      {"identify propulsion " + stand + "7.csv " + stand + "11.csv --pole-pairs 1 --diameter-in 5 --out " + prop,
+       "prop-fit.png"},
+      {"validate propulsion --model " + prop + " " + stand + "7.csv --pole-pairs 1", "prop-validation.png"},
+      {"identify drag " + WriteTunnel(dir), "drag.png"}};
+  constexpr std::uintmax_t kLeastPngBytes = 10000;
+  for (const auto& [command, png] : commands) {
+    const std::string target = (dir / png).string();
+    const RunResult drawn = RunCli(command + " --plot " + target);
+    ASSERT_EQ(drawn.exit_code, 0) << command << ": " << drawn.err;
+    ASSERT_TRUE(std::filesystem::exists(target)) << command;
+    EXPECT_GT(std::filesystem::file_size(target), kLeastPngBytes) << command;
+    EXPECT_NE(drawn.out.find("plot written to " + target), std::string::npos) << drawn.out;
+    const RunResult plain = RunCli(command + " --json"), both = RunCli(command + " --json --plot " + target);
+    ASSERT_EQ(both.exit_code, 0) << both.err;
+    EXPECT_EQ(nlohmann::json::parse(plain.out), nlohmann::json::parse(both.out)) << command;
+  }
+  // Nothing but the figures, the two models and the tunnel file: no staging file left beside a target.
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    EXPECT_NE(entry.path().filename().string().rfind(".uascma-plot-", 0), 0u) << entry.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 8);
+}
+
+// A --plot that cannot be written (its folder missing, or a folder itself) is refused before any work: exit 2, one
+// line naming --plot, and neither the model file nor the missing folder is made.
+TEST(IdentifyCliTest, ABadPlotPathIsExitTwoAndWritesNothing) {
+  ScratchDir scratch("identify_bad_plot");
+  const std::filesystem::path& dir = scratch.path;
+  const std::string nasa = kData + "battery-nasa/B0005.csv", stand = kData + "dyno-strawson/g8_7.csv";
+  const std::string cell = kSourceDir + "/examples/identify/cell.json";
+  const std::string prop = kSourceDir + "/examples/identify/prop.json";
+  const std::string out = (dir / "model.json").string();
+  for (const std::string& plot : {(dir / "no-such-folder" / "figure.png").string(), dir.string()}) {
+    for (const std::string& command :
+         {"identify battery " + nasa + " --out " + out, "validate battery --model " + cell + " " + nasa,
+          "identify propulsion " + stand + " --pole-pairs 1 --diameter-in 5 --out " + out,
+          "validate propulsion --model " + prop + " " + stand + " --pole-pairs 1",
+          "identify drag " + WriteTunnel(dir) + " --out " + out}) {
+      const RunResult result = RunCli(command + " --plot " + plot);
+      ExpectBadInput(result, "--plot");
+      EXPECT_NE(result.err.find(plot), std::string::npos) << result.err;
+      EXPECT_FALSE(std::filesystem::exists(out)) << command;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "no-such-folder"));
 }
 
 }  // namespace

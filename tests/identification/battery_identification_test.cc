@@ -1,8 +1,10 @@
 // Identification and validation of the cell model (identification/battery_identification.h,
 // battery_validation.h): a round trip from known parameters, and the NASA B0005 cell (Saha & Goebel 2007).
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -86,6 +88,23 @@ TEST(BatteryIdentificationTest, TheIdentifiedCellReproducesTheRecordItCameFrom) 
   EXPECT_LT(validation.voltage_rms_mv, kSelfRmsMv);
 }
 
+// The model voltage the fit reports (and its figure draws) is the identified cell itself simulated through the record
+// from full and rested: the fit's own bookkeeping (Coulomb-counted z, the RC lag of eq. 3.1 in closed form) against
+// SelfCorrectingCell::Step, two computations of eqs. 3.1-3.3. Its errors over the fitted samples are the fit's RMS.
+TEST(BatteryIdentificationTest, TheFitsModelVoltageIsTheIdentifiedCellSimulated) {
+  const BatteryRecord record = MakePulsedDischarge(KnownCell(), 44);
+  const CellIdentification result = IdentifyCell(record);
+  ASSERT_EQ(static_cast<int>(result.model_v.size()), record.size());
+  const std::vector<double> simulated = SimulateTerminalVoltage(result.MakeCell(), models::CellState{}, record);
+  constexpr double kRoundOffV = 1e-9;  // V: the two sums of ~5,000 steps differ by round-off only
+  double largest_v = 0.0, sum_v2 = 0.0;
+  for (int k = 0; k < record.size(); ++k) largest_v = std::max(largest_v, std::abs(simulated[k] - result.model_v[k]));
+  for (int k = 0; k < result.fitted_samples; ++k) sum_v2 += std::pow(record.voltage_v[k] - result.model_v[k], 2);
+  EXPECT_LT(largest_v, kRoundOffV);
+  constexpr double kRmsRoundOffMv = 1e-9;
+  EXPECT_NEAR(1e3 * std::sqrt(sum_v2 / result.fitted_samples), result.fit_rms_mv, kRmsRoundOffMv);
+}
+
 // NASA B0005 (2 A, 24 °C): fit on cycle 1, validate on cycle 2.
 TEST(BatteryIdentificationTest, NasaB0005FitOnOneCycleValidatesOnTheNext) {
   BatteryReadOptions read;
@@ -100,6 +119,19 @@ TEST(BatteryIdentificationTest, NasaB0005FitOnOneCycleValidatesOnTheNext) {
   const CellValidation validation = ValidateCell(model.MakeCell(), next, options);
   constexpr double kRmsLimitMv = 30.0;
   EXPECT_LE(validation.voltage_rms_mv, kRmsLimitMv);
+  // The window reported (and shaded by the figure) is the one summarised: it starts at the first sample at or below
+  // 4.1 V, ends before the first below 3.0 V, and its errors give the RMS.
+  const int begin = validation.window_begin_sample, end = validation.window_end_sample;
+  ASSERT_GT(begin, 0);
+  ASSERT_LT(end, next.size());
+  EXPECT_EQ(end - begin, validation.window_samples);
+  EXPECT_LE(next.voltage_v[begin], 4.1);
+  EXPECT_GT(next.voltage_v[begin - 1], 4.1);
+  EXPECT_LT(next.voltage_v[end], 3.0);
+  double sum_v2 = 0.0;
+  for (int k = begin; k < end; ++k) sum_v2 += std::pow(validation.model_v[k] - validation.measured_v[k], 2);
+  constexpr double kRmsRoundOffMv = 1e-9;
+  EXPECT_NEAR(1e3 * std::sqrt(sum_v2 / (end - begin)), validation.voltage_rms_mv, kRmsRoundOffMv);
   ASSERT_EQ(validation.eod.size(), 3u);
   EXPECT_DOUBLE_EQ(validation.eod[1].at_fraction, 0.5);
   constexpr double kEodTolerance = 0.05;

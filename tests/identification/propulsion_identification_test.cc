@@ -1,7 +1,10 @@
 // Identification of motor-propeller pairs (identification/propulsion_identification.h) on the thrust-stand data of
 // data/bench/dyno-strawson (RCbenchmark 1520 step tests, MIT licence) and on surfaces made from known coefficients.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -44,6 +47,36 @@ TEST(PropulsionIdentificationTest, EveryPairCrossValidatesWithinFivePercent) {
     }
   }
   EXPECT_EQ(pairs, 56);
+}
+
+// The left-out predictions kept for the figure are the ones the cross-validation scored: their median error and their
+// share within the bounds are the reported ones (g8, its 2S and 3S files; docs/identification.md).
+TEST(PropulsionIdentificationTest, TheLeftOutPredictionsAreTheOnesScored) {
+  const std::vector<ThrustStandRecord> records = {
+      ReadThrustStandRecord((kDynoFolder / "g8_7.csv").string(), kPolePairsOfTheFiles),
+      ReadThrustStandRecord((kDynoFolder / "g8_11.csv").string(), kPolePairsOfTheFiles)};
+  const PropulsionIdentification result = IdentifyPropulsion(records, FiveInch());
+  ASSERT_EQ(static_cast<int>(result.loo_predictions.size()), result.points);
+  std::vector<double> errors;
+  int within = 0;
+  std::size_t k = 0;
+  for (const ThrustStandRecord& record : records) {
+    for (int i = 0; i < record.size(); ++i, ++k) {
+      const LeftOutPrediction& left_out = result.loo_predictions[k];
+      errors.push_back(std::abs(left_out.predicted_rpm - record.rpm[i]) / record.rpm[i]);
+      within += std::abs(left_out.predicted_rpm - record.rpm[i]) <= left_out.bound_rpm ? 1 : 0;
+      // A prediction interval has a positive width (s > 0 on measured data).
+      EXPECT_GT(left_out.bound_rpm, 0.0);
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  const double median = errors.size() % 2 == 1 ? errors[errors.size() / 2]
+                                               : 0.5 * (errors[errors.size() / 2 - 1] + errors[errors.size() / 2]);
+  constexpr double kExact = 1e-12;  // relative: the same numbers
+  EXPECT_NEAR(median, result.loo_rpm_median_relative_error, kExact);
+  EXPECT_NEAR(errors.back(), result.loo_rpm_max_relative_error, kExact);
+  EXPECT_NEAR(static_cast<double>(within) / static_cast<double>(errors.size()), result.loo_share_within_95_bounds,
+              kExact);
 }
 
 // Points on an exact surface of eq. 2.12's form and an exact square law give back C_T and the RPM everywhere.

@@ -197,3 +197,31 @@ def test_grounded_flight_prints_no_infinite_cell_voltage(cli, tmp_path):
     out = run_cli("simulate", example("scenario-1.yaml"), "--policy", tmp_path / "land.json").stdout
     assert out.startswith("scenario-1: grounded")
     assert "inf" not in out and "real time" not in out and "stayed on the ground" in out
+
+
+def test_identification_plots(checked, tmp_path):
+    # The figures of docs/identification.md: the cell fit and its validation (Fig. 3.5), the pair's fit (Fig. 2.10)
+    # and its validation (Fig. 2.11), a drag table; the data of examples/identify/run.sh.
+    run, figures = checked
+    nasa = os.path.join(SOURCE_DIR, "data", "bench", "battery-nasa", "B0005.csv")
+    stand = os.path.join(SOURCE_DIR, "data", "bench", "dyno-strawson")
+    run("identify", "battery", nasa, "--cycle", 1, "--out", tmp_path / "cell.json", "--plot", tmp_path / "cell.png")
+    run("validate", "battery", "--model", tmp_path / "cell.json", nasa, "--cycle", 2, "--window-low-v", 3.0,
+        "--window-high-v", 4.1, "--plot", tmp_path / "cell-validation.png")
+    run("identify", "propulsion", os.path.join(stand, "g8_7.csv"), os.path.join(stand, "g8_11.csv"),
+        "--pole-pairs", 1, "--diameter-in", 5, "--plot", tmp_path / "prop.png")
+    run("identify", "propulsion", os.path.join(stand, "g8_7.csv"), "--pole-pairs", 1, "--diameter-in", 5,
+        "--out", tmp_path / "prop-2s.json")
+    run("validate", "propulsion", "--model", tmp_path / "prop-2s.json", os.path.join(stand, "g8_11.csv"),
+        "--pole-pairs", 1, "--plot", tmp_path / "prop-validation.png")
+    rows = ["airspeed_mps,pitch_deg,lift_n,drag_n,throttle_us"]
+    for speed in (2.2, 4.5, 6.7, 8.9):  # Table 2.3's speeds, a drag area growing with |pitch|, one powered row
+        rows += [f"{speed},{pitch},0,{0.6125 * (0.05 + 4e-4 * abs(pitch)) * speed ** 2},0"
+                 for pitch in range(-30, 31, 15)]
+    rows.append("4.5,0,0,1.0,1500")
+    (tmp_path / "tunnel.csv").write_text("\n".join(rows) + "\n")
+    run("identify", "drag", tmp_path / "tunnel.csv", "--plot", tmp_path / "drag.png")
+    # The CLI draws beside the target and renames over it (".uascma-plot-PID-NAME"): the check sees that name.
+    drawn = [dict(f, file=f["file"].split("-", 3)[-1] if f["file"].startswith(".uascma-plot-") else f["file"])
+             for f in figures()]
+    assert_clean(drawn, ["cell.png", "cell-validation.png", "prop.png", "prop-validation.png", "drag.png"])

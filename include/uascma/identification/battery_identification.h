@@ -66,8 +66,11 @@ struct CellIdentification {
   double fit_rms_mv = 0.0;  // of v − v̂ over the fitted samples (up to the record's deepest point)
   double fit_max_mv = 0.0;
   double rms_every_sample_mv = 0.0;  // the same over every sample, the rest after the cut-off included
+  // The model's terminal voltage at every sample at the optimum: v̂_k = OCV(z_k) − R0 i_k − R1 i_R1,k, the v̂ whose
+  // errors the figures above summarise (for plots). [samples]
+  std::vector<double> model_v;
   int samples = 0;
-  int fitted_samples = 0;
+  int fitted_samples = 0;  // samples 0 … fitted_samples − 1 entered the fit
   int iterations = 0;
   double median_sample_period_s = 0.0;
   std::optional<double> mean_temperature_degc;

@@ -46,6 +46,8 @@ struct CellValidation {
   double voltage_rms_mv = 0.0;  // over the window
   double voltage_max_mv = 0.0;  // largest |error| over the window
   int window_samples = 0;
+  int window_begin_sample = 0;  // the window is samples [window_begin_sample, window_end_sample)
+  int window_end_sample = 0;
   double voltage_rms_all_mv = 0.0;  // over every sample
   double initial_soc_fraction = 0.0;
   bool initial_soc_clamped = false;

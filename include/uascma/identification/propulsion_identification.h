@@ -93,9 +93,17 @@ struct CandidateScore {
   std::optional<double> loo_rpm_median_relative_error;  // nullopt: too few points for this order
 };
 
+// One point predicted by the surface fitted without its throttle step (leave-one-step-out).
+struct LeftOutPrediction {
+  double predicted_rpm = 0.0;
+  double bound_rpm = 0.0;  // half-width of that surface's 95 % prediction interval there
+};
+
 struct PropulsionIdentification {
   RpmSurface surface;
   std::vector<CandidateScore> candidates;
+  // [points], record by record in the order given (for plots): the chosen order's left-out predictions.
+  std::vector<LeftOutPrediction> loo_predictions;
   double loo_rpm_median_relative_error = 0.0;  // of the chosen order
   double loo_rpm_max_relative_error = 0.0;
   double loo_share_within_95_bounds = 0.0;
