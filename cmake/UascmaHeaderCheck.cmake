@@ -1,7 +1,8 @@
 # Headers include what they use: every header of the project is compiled alone, in a translation unit of
 # its own that includes it twice (so a missing #pragma once shows as well), without the precompiled headers (which
 # would supply what a header forgot). A header that needs an include it lacks fails the build of
-# uascma_header_check, which is part of the build whenever the tests are (tests/CMakeLists.txt).
+# uascma_header_check, which is part of the build whenever the tests are (tests/CMakeLists.txt; UASCMA_HEADER_CHECK=OFF
+# leaves it out).
 #
 #   uascma_header_check()   defines the target uascma_header_check (an OBJECT library, never linked).
 
