@@ -190,12 +190,17 @@ bool MayExceedThrustTilt(const GainMatrix& g, const HorizontalLoopTerms& t, doub
 bool TiltBoundOutcome::SameWrenchAt(double own, double other) const {
   if (own == other) return true;  // the same computation
   if (bounded) return false;
-  return !tested || !MayExceedAt(cheap_factor, vertical_thrust, other);
+  return !MayExceedAt(cheap_factor, vertical_thrust, other);
 }
 
 bool LimitTiltToThrust(const GainMatrix& g, const HorizontalLoopTerms& t, double max_collective_thrust,
                        double* tau_x, double* tau_y) {
-  if (!MayExceedThrustTilt(g, t, max_collective_thrust)) return false;
+  return MayExceedThrustTilt(g, t, max_collective_thrust) &&
+         ScaleTiltToThrust(g, t, max_collective_thrust, tau_x, tau_y);
+}
+
+bool ScaleTiltToThrust(const GainMatrix& g, const HorizontalLoopTerms& t, double max_collective_thrust,
+                       double* tau_x, double* tau_y) {
   const double roll_ref = std::atan2(t.roll_ref_y, t.roll_ref_x);
   const double pitch_ref = std::atan2(t.pitch_ref_y, t.pitch_ref_x);
   const double roll_command = roll_ref - t.roll_track / g(1, 6);
@@ -271,12 +276,11 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
                                     .pitch_ref_y = pitch_ref.y,
                                     .pitch_ref_x = pitch_ref.x,
                                     .vertical_thrust = vertical_thrust};
-    outcome.bounded = LimitTiltToThrust(g, terms, max_collective_thrust, &u(1), &u(2));
-    if (tilt) {
-      outcome.tested = vertical_thrust > 0.0;
-      outcome.cheap_factor = CheapTiltFactor(g, terms);
-      outcome.vertical_thrust = vertical_thrust;
-    }
+    // LimitTiltToThrust with its cheap test's factor kept for SameWrenchAt (computed once).
+    outcome.cheap_factor = CheapTiltFactor(g, terms);
+    outcome.vertical_thrust = vertical_thrust;
+    outcome.bounded = MayExceedAt(outcome.cheap_factor, vertical_thrust, max_collective_thrust) &&
+                      ScaleTiltToThrust(g, terms, max_collective_thrust, &u(1), &u(2));
   }
   if (tilt) *tilt = outcome;
   Wrench wrench;

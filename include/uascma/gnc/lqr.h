@@ -106,8 +106,8 @@ bool MayExceedAt(double cheap_factor, double vertical_thrust, double max_collect
 // collective thrust (flights that share one vehicle but not one bus voltage, sim/flight.h StepFollowing).
 struct TiltBoundOutcome {
   bool bounded = false;  // the bound acted (LimitTiltToThrust)
-  // The cheap test's factor and vertical thrust, when the test was made (an upright vehicle, T_v > 0).
-  bool tested = false;
+  // The cheap test's factor and vertical thrust; T_v stays 0 where no test is made (a vehicle not upright), and the
+  // cheap test never acts at T_v ≤ 0.
   double cheap_factor = 0.0;
   double vertical_thrust = 0.0;
   // True when the same Compute at collective thrust `other` (N) would give the same wrench as at `own`, bit for
@@ -115,6 +115,9 @@ struct TiltBoundOutcome {
   // exact test could, false: conservative).
   bool SameWrenchAt(double own, double other) const;
 };
+// The exact test and the scaling of LimitTiltToThrust below, for a caller that has made the cheap test itself.
+bool ScaleTiltToThrust(const GainMatrix& negative_gain, const HorizontalLoopTerms& terms, double max_collective_thrust,
+                       double* tau_x, double* tau_y);
 // (τx, τy) with the tilt asked for scaled to the thrust's bound; false (and the torques untouched) when it fits.
 bool LimitTiltToThrust(const GainMatrix& negative_gain, const HorizontalLoopTerms& terms,
                        double max_collective_thrust, double* tau_x, double* tau_y);
