@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "../under_asan.h"
+
 #include <filesystem>
 #include <string>
 
@@ -174,13 +176,6 @@ TEST(YamlTextTest, ASecondDocumentIsRefusedNamingItsLine) {
 // AddressSanitizer, whose shadow memory is terabytes of address space reserved at start, an address-space limit
 // fails the child's first allocation: there the child has 3 s of CPU and no memory limit (the parse takes
 // milliseconds; the old loop would reach a few GB).
-#if defined(__SANITIZE_ADDRESS__)
-#define UASCMA_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define UASCMA_UNDER_ASAN 1
-#endif
-#endif
 TEST(YamlTextTest, AFlowIndicatorOutsideAnyCollectionIsRefusedNamingItsLine) {
   int pipe_fds[2];
   ASSERT_EQ(::pipe(pipe_fds), 0);

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../under_asan.h"
+
 #include <Eigen/SVD>
 #include <atomic>
 #include <cmath>
@@ -18,13 +20,6 @@
 // end in malloc — by interposing malloc (glibc exports the real one as __libc_malloc). Not under
 // AddressSanitizer, which interposes malloc itself and calls it before this program's globals exist (the
 // test binary crashed before main).
-#if defined(__SANITIZE_ADDRESS__)
-#define UASCMA_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define UASCMA_UNDER_ASAN 1
-#endif
-#endif
 #if defined(__GLIBC__) && !defined(UASCMA_UNDER_ASAN)
 #define UASCMA_COUNTS_MALLOC 1
 namespace {
