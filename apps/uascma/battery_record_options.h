@@ -1,7 +1,9 @@
 #pragma once
-// The options that read one battery record (identify battery, validate battery): the file, the column map, the cells
+// The options that read battery records (identify battery, validate battery): the files, the column map, the cells
 // in series and the cycle (identification/battery_data.h).
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -16,7 +18,8 @@ constexpr Bounds kRecordCellsBounds{1.0, 24.0, ""};
 constexpr Bounds kRecordCycleBounds{0.0, 1e6, ""};
 
 struct BatteryOptions {
-  std::string data, out, columns, plot;
+  std::vector<std::string> data;
+  std::string out, columns, plot;
   int cells = 1;
   int cycle = 1;
   CLI::Option* cycle_option = nullptr;  // given or not
@@ -24,7 +27,7 @@ struct BatteryOptions {
 };
 
 inline void AddBatteryReadOptions(CLI::App* command, BatteryOptions* options) {
-  command->add_option("DATA", options->data, "CSV of one recorded discharge (layouts: docs/identification.md)")
+  command->add_option("DATA", options->data, "CSV of a recorded discharge (layouts: docs/identification.md)")
       ->required();
   command->add_option("--columns", options->columns,
                       "Column map for another layout: time=NAME,current=[-]NAME,voltage=NAME[,temperature=NAME]"
@@ -35,12 +38,18 @@ inline void AddBatteryReadOptions(CLI::App* command, BatteryOptions* options) {
                                             kRecordCycleBounds);
 }
 
-inline identification::BatteryRecord ReadRecord(const BatteryOptions& options) {
+// The read options of the records: the column map, the cells, and `cycle` when given.
+inline identification::BatteryReadOptions MakeReadOptions(const BatteryOptions& options, std::optional<int> cycle) {
   identification::BatteryReadOptions read;
   if (!options.columns.empty()) read.columns = identification::ParseBatteryColumnMap(options.columns);
-  if (options.cycle_option->count() > 0) read.cycle = options.cycle;
+  read.cycle = cycle;
   read.cells_in_series = options.cells;
-  return identification::ReadBatteryRecord(options.data, read);
+  return read;
+}
+
+inline identification::BatteryRecord ReadRecord(const BatteryOptions& options, const std::string& path) {
+  const std::optional<int> cycle = options.cycle_option->count() > 0 ? std::optional<int>(options.cycle) : std::nullopt;
+  return identification::ReadBatteryRecord(path, MakeReadOptions(options, cycle));
 }
 
 }  // namespace uascma::cli

@@ -73,8 +73,21 @@ nlohmann::json StandFileJson(const ident::ThrustStandRecord& record, const ident
 
 }  // namespace
 
-nlohmann::json CellFitPlotJson(const ident::CellIdentification& result, const ident::BatteryRecord& record) {
+nlohmann::json CellFitPlotJson(const ident::CellIdentification& result, const ident::BatteryRecord& record,
+                               const std::optional<ident::BatteryRecord>& charge) {
   const double fitted_end_s = record.time_s[std::max(0, result.fitted_samples - 1)];
+  // A discharge alone gives the discharge branch; the dissertation's OCV is the mean of the charge and the
+  // discharge curves (§3.3.1.1), which needs a charge (battery_identification.h).
+  nlohmann::json ocv = {{"soc_fraction", result.ocv_soc_fraction},
+                        {"voltage_v", result.ocv_voltage_v},
+                        {"branch", "discharge branch: the record has no charge"}};
+  if (result.charge && charge) {
+    ocv["branch"] = fmt::format("mean of the branches; M + M0 = {:.1f} mV", 1e3 * result.charge->hysteresis_total_v);
+    ocv["discharge_branch"] = {{"soc_fraction", result.discharge_branch.soc_fraction},
+                               {"voltage_v", result.discharge_branch.voltage_v}};
+    ocv["charge_branch"] = {{"soc_fraction", result.charge->branch.soc_fraction},
+                            {"voltage_v", result.charge->branch.voltage_v}};
+  }
   return {{"figure", "identify"},
           {"title", fmt::format("{}: the cell model of eqs. 3.1-3.3 identified (§3.3.1.1)", RecordName(record))},
           {"time_s", record.time_s},
@@ -85,12 +98,7 @@ nlohmann::json CellFitPlotJson(const ident::CellIdentification& result, const id
           {"fitted_end_s", fitted_end_s},
           {"fit_rms_mv", result.fit_rms_mv},
           {"fit_max_mv", result.fit_max_mv},
-          // A discharge alone gives the discharge branch; the dissertation's OCV is the mean of the charge and the
-          // discharge curves (§3.3.1.1), which needs a charge (battery_identification.h).
-          {"ocv",
-           {{"soc_fraction", result.ocv_soc_fraction},
-            {"voltage_v", result.ocv_voltage_v},
-            {"branch", "discharge branch: the record has no charge"}}}};
+          {"ocv", ocv}};
 }
 
 nlohmann::json CellValidationPlotJson(const ident::CellValidation& result, const ident::BatteryRecord& record,

@@ -3,6 +3,7 @@
 // results of the identification library laid out as the JSON the scripts python/plots/battery_identification.py,
 // propulsion_identification.py and drag_table.py read (each script's docstring gives the layout). Every number
 // drawn is computed here or by the library; the scripts only draw.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,9 +17,11 @@
 
 namespace uascma::cli {
 
-// The fit of eqs. 3.1-3.3 to its record (§3.3.1.1): voltages, current, error and the OCV(z) identified.
+// The fit of eqs. 3.1-3.3 to its record (§3.3.1.1): voltages, current, error and the OCV(z) identified (with a
+// charge record, the two branches it is the mean of).
 nlohmann::json CellFitPlotJson(const identification::CellIdentification& result,
-                               const identification::BatteryRecord& record);
+                               const identification::BatteryRecord& record,
+                               const std::optional<identification::BatteryRecord>& charge = std::nullopt);
 
 // Fig. 3.5: a cell model against a record not used in its fit, the summary window and the EOD checks (§3.3.2.1).
 nlohmann::json CellValidationPlotJson(const identification::CellValidation& result,

@@ -41,6 +41,16 @@ void PrintCellSummary(const identify_ns::CellIdentification& result, const ident
       error(result.r0_standard_error_ohm, 1e3), 1e3 * p.rc[0].resistance_ohm, error(result.r1_standard_error_ohm, 1e3),
       p.rc[0].capacitance_f, error(result.c1_standard_error_f, 1.0), p.rc[0].resistance_ohm * p.rc[0].capacitance_f,
       result.fit_rms_mv, result.fit_max_mv, result.rms_every_sample_mv);
+  if (result.charge) {
+    const identify_ns::ChargeIdentification& c = *result.charge;
+    text += fmt::format(
+        "  charge branch: M + M0 {:.2f}{} mV over {} shared SOC nodes (M {:.2f}, M0 {:.2f} mV); "
+        "η_charge {:.4f}{}\n  charge record: {} samples, RMS {:.2f} mV, max {:.2f} mV\n",
+        1e3 * c.hysteresis_total_v, error(c.hysteresis_total_standard_error_v, 1e3), c.shared_nodes,
+        1e3 * p.hysteresis_m_v, 1e3 * p.hysteresis_m0_v, p.eta_charge,
+        c.eta_charge_standard_error ? fmt::format(" ± {:.4f}", *c.eta_charge_standard_error) : std::string(" (kept)"),
+        c.samples, c.fit_rms_mv, c.fit_max_mv);
+  }
   for (const identify_ns::NotIdentified& item : result.not_identified) {
     text += fmt::format("  not identified: {}: {} (kept {:g})\n", item.parameter, item.reason, item.kept_value);
   }
@@ -50,30 +60,54 @@ void PrintCellSummary(const identify_ns::CellIdentification& result, const ident
 }
 
 void AddIdentifyBattery(CLI::App* parent) {
-  auto options = std::make_shared<BatteryOptions>();
+  struct IdentifyBatteryOptions {
+    BatteryOptions read;
+    std::string charge;
+    int charge_cycle = 1;
+    CLI::Option* charge_cycle_option = nullptr;
+  };
+  auto options = std::make_shared<IdentifyBatteryOptions>();
   CLI::App* command = parent->add_subcommand(
-      "battery", "The cell model of eqs. 3.1-3.3 (Q, R0, R1/C1, OCV(z)) from one recorded discharge, with\n"
-                 "uncertainties and what the data could not identify (§3.3.1.1)");
-  AddBatteryReadOptions(command, options.get());
-  command->add_option("--out", options->out, "Write the model to this CELL.json");
-  command->add_flag("--json", options->json, "Print the model file's document (capacity_ah, r0_ohm, fit_rms_mv, ...)");
-  command->add_option("--plot", options->plot,
+      "battery",
+      "The cell model of eqs. 3.1-3.3 (Q, R0, R1/C1, OCV(z)) from one recorded discharge, with\n"
+      "uncertainties and what the data could not identify (§3.3.1.1); with --charge, OCV(z) as the\n"
+      "mean of the charge and discharge branches, the hysteresis M + M0 and η_charge as well");
+  AddBatteryReadOptions(command, &options->read);
+  command->get_option("DATA")->expected(1);
+  command->add_option("--charge", options->charge,
+                      "CSV of the same cell charged from the discharge's empty state to full (current negative;\n"
+                      "same layout, --columns and --cells as DATA)");
+  options->charge_cycle_option = AddBoundedOption(command, "--charge-cycle", options->charge_cycle,
+                                                  "Cycle of the charge file (default: the first)", kRecordCycleBounds);
+  command->add_option("--out", options->read.out, "Write the model to this CELL.json");
+  command->add_flag("--json", options->read.json,
+                    "Print the model file's document (capacity_ah, r0_ohm, fit_rms_mv, ...)");
+  command->add_option("--plot", options->read.plot,
                       "Draw the fit to this PNG: measured and model terminal voltage against time, the current and\n"
-                      "the error (mV) below, and the OCV(z) curve identified (the discharge branch)");
+                      "the error (mV) below, and the OCV(z) curve identified (with --charge: both branches)");
   command->callback([options] {
-    CheckOutputFile(options->plot, "--plot");  // before the fit
-    const identify_ns::BatteryRecord record = ReadRecord(*options);
-    const identify_ns::CellIdentification result = identify_ns::IdentifyCell(record);
-    const nlohmann::json document = identify_ns::CellIdentificationJson(result, record);
-    // The drawing first: when it fails nothing else has been written.
-    if (!options->plot.empty()) {
-      PlotJsonWhole("battery_identification.py", CellFitPlotJson(result, record), options->plot);
+    const BatteryOptions& read = options->read;
+    CheckOutputFile(read.plot, "--plot");  // before the fit
+    const identify_ns::BatteryRecord record = ReadRecord(read, read.data.front());
+    std::optional<identify_ns::BatteryRecord> charge;
+    if (!options->charge.empty()) {
+      identify_ns::BatteryReadOptions charge_read = MakeReadOptions(
+          read, options->charge_cycle_option->count() > 0 ? std::optional<int>(options->charge_cycle) : std::nullopt);
+      charge_read.charge = true;
+      charge = identify_ns::ReadBatteryRecord(options->charge, charge_read);
+    } else if (options->charge_cycle_option->count() > 0) {
+      throw InputError("--charge-cycle", "--charge", "a charge file to pick the cycle of");
     }
-    if (!options->out.empty()) WriteOutput(options->out, document.dump(2) + "\n");
-    if (options->json) {
+    const identify_ns::CellIdentification result = identify_ns::IdentifyCell(record, charge);
+    const nlohmann::json document = identify_ns::CellIdentificationJson(result, record, charge);
+    // The drawing first: when it fails nothing else has been written.
+    if (!read.plot.empty())
+      PlotJsonWhole("battery_identification.py", CellFitPlotJson(result, record, charge), read.plot);
+    if (!read.out.empty()) WriteOutput(read.out, document.dump(2) + "\n");
+    if (read.json) {
       PrintJson(document);
     } else {
-      PrintCellSummary(result, record, options->out, options->plot);
+      PrintCellSummary(result, record, read.out, read.plot);
     }
   });
 }

@@ -1,6 +1,8 @@
 // uascma validate battery | propulsion — an identified model checked on data not used in its fit, as the
 // dissertation reports it (Fig. 3.5: mV error; Fig. 2.11: share within the 95 % bounds, thrust error);
 // docs/identification.md.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,6 +47,73 @@ nlohmann::json CellValidationJson(const ident::CellValidation& result, const ide
           {"cutoff_v", options.cutoff_v}, {"cutoff_time_s", optional(result.cutoff_time_s)}, {"eod", eod}};
 }
 
+std::string CellValidationText(const ident::CellValidation& result, const ident::BatteryRecord& record,
+                               const ident::CellValidationOptions& options) {
+  std::string text = fmt::format(
+      "{}{}: voltage error RMS {:.2f} mV, max {:.2f} mV over {} samples (every sample: RMS "
+      "{:.2f} mV); start SOC {:.4f}{}\n",
+      record.source, record.cycle ? fmt::format(" cycle {}", *record.cycle) : std::string(), result.voltage_rms_mv,
+      result.voltage_max_mv, result.window_samples, result.voltage_rms_all_mv, result.initial_soc_fraction,
+      result.initial_soc_clamped ? " (rest voltage outside the OCV table: clamped)" : "");
+  if (result.eod.empty())
+    text += fmt::format("  the record never reaches the {:g} V cut-off: no EOD check\n", options.cutoff_v);
+  for (const ident::EodCheck& check : result.eod) {
+    text += fmt::format(
+        "  EOD at {:.0f} % of the discharge ({:.1f} s, {:.3g} A): predicted {:.1f} s, actual {:.1f} s "
+        "({:+.2f} %)\n",
+        100.0 * check.at_fraction, check.at_time_s, check.current_a, check.predicted_s, check.actual_s,
+        100.0 * check.relative_error);
+  }
+  return text;
+}
+
+// The voltage errors of several records together: RMS over every record's window, the largest error of any.
+struct PooledError {
+  double rms_mv = 0.0, max_mv = 0.0;
+  int samples = 0;
+};
+
+PooledError PoolErrors(const std::vector<ident::CellValidation>& results) {
+  PooledError pooled;
+  double squares = 0.0;
+  for (const ident::CellValidation& result : results) {
+    squares += result.voltage_rms_mv * result.voltage_rms_mv * result.window_samples;
+    pooled.samples += result.window_samples;
+    pooled.max_mv = std::max(pooled.max_mv, result.voltage_max_mv);
+  }
+  if (pooled.samples > 0) pooled.rms_mv = std::sqrt(squares / pooled.samples);
+  return pooled;
+}
+
+// One record: its object (the keys as they always were) with "records": [it]. Several: the pooled errors, every
+// EOD check with its file, and "records".
+nlohmann::json ValidationsJson(const std::vector<ident::CellValidation>& results,
+                               const std::vector<ident::BatteryRecord>& records,
+                               const ident::CellValidationOptions& options) {
+  nlohmann::json each = nlohmann::json::array();
+  for (std::size_t r = 0; r < records.size(); ++r) each.push_back(CellValidationJson(results[r], records[r], options));
+  if (records.size() == 1) {
+    nlohmann::json single = each.front();
+    single["records"] = each;
+    return single;
+  }
+  const PooledError pooled = PoolErrors(results);
+  nlohmann::json eod = nlohmann::json::array();
+  for (const nlohmann::json& record : each) {
+    for (nlohmann::json check : record["eod"]) {
+      check["file"] = record["file"];
+      check["cycle"] = record["cycle"];
+      eod.push_back(check);
+    }
+  }
+  return {{"voltage_rms_mv", pooled.rms_mv},
+          {"voltage_max_mv", pooled.max_mv},
+          {"window_samples", pooled.samples},
+          {"cutoff_v", options.cutoff_v},
+          {"eod", eod},
+          {"records", each}};
+}
+
 void AddValidateBattery(CLI::App* parent) {
   struct ValidateBatteryOptions {
     BatteryOptions read;
@@ -56,9 +125,10 @@ void AddValidateBattery(CLI::App* parent) {
   };
   auto options = std::make_shared<ValidateBatteryOptions>();
   CLI::App* command = parent->add_subcommand(
-      "battery", "Simulate the recorded current through an identified cell (CELL.json) from the recorded start:\n"
-                 "terminal-voltage RMS and max error (mV, Fig. 3.5) and, at 25/50/75 % of the discharge, the EOD\n"
-                 "predicted from the model's state there against the recorded time to the cut-off (§3.3.2.1)");
+      "battery",
+      "Simulate the recorded current of each DATA through an identified cell (CELL.json) from its start:\n"
+      "terminal-voltage RMS and max error (mV, Fig. 3.5) and, at 25/50/75 % of the discharge, the EOD\n"
+      "predicted from the model's state there against the recorded time to the cut-off (§3.3.2.1)");
   command->add_option("--model", options->model, "CELL.json written by 'uascma identify battery'")->required();
   AddBatteryReadOptions(command, &options->read);
   AddBoundedOption(command, "--cutoff-v", options->cutoff_v,
@@ -68,34 +138,40 @@ void AddValidateBattery(CLI::App* parent) {
                                          kWindowVoltageBounds);
   options->high_option = AddBoundedOption(command, "--window-high-v", options->window_high_v,
                                           "... and from the first sample at or below this", kWindowVoltageBounds);
-  command->add_flag("--json", options->read.json, "Print {voltage_rms_mv, voltage_max_mv, eod: [...]} as JSON");
+  command->add_flag("--json", options->read.json,
+                    "Print {voltage_rms_mv, voltage_max_mv, eod: [...], records: [...]} as JSON (several DATA: the\n"
+                    "errors pooled over their windows, each EOD check with its file)");
   command->add_option("--plot", options->read.plot,
                       "Draw Fig. 3.5 to this PNG: measured and model voltage against time, the error (mV) below,\n"
                       "the summary window shaded, and the EOD checks (predicted against recorded time to cut-off)");
   command->callback([options] {
     CheckOutputFile(options->read.plot, "--plot");  // before the simulation
+    if (options->read.plot.size() > 0 && options->read.data.size() > 1) {
+      throw InputError(
+          "--plot", "DATA",
+          fmt::format("one DATA file to draw, got {} (draw each with its own run)", options->read.data.size()));
+    }
     const models::SelfCorrectingCell cell = ident::ReadCellModelFile(options->model);
-    const ident::BatteryRecord record = ReadRecord(options->read);
+    std::vector<ident::BatteryRecord> records;
+    for (const std::string& path : options->read.data) records.push_back(ReadRecord(options->read, path));
     ident::CellValidationOptions validate;
     validate.cutoff_v = options->cutoff_v;
     if (options->low_option->count() > 0) validate.window_low_v = options->window_low_v;
     if (options->high_option->count() > 0) validate.window_high_v = options->window_high_v;
-    const ident::CellValidation result = ident::ValidateCell(cell, record, validate);
+    std::vector<ident::CellValidation> results;
+    for (const ident::BatteryRecord& record : records) results.push_back(ident::ValidateCell(cell, record, validate));
     if (!options->read.plot.empty()) {
-      PlotJsonWhole("battery_identification.py", CellValidationPlotJson(result, record, validate, options->model),
+      PlotJsonWhole("battery_identification.py",
+                    CellValidationPlotJson(results.front(), records.front(), validate, options->model),
                     options->read.plot);
     }
-    if (options->read.json) return PrintJson(CellValidationJson(result, record, validate));
-    std::string text = fmt::format("{}: voltage error RMS {:.2f} mV, max {:.2f} mV over {} samples (every sample: RMS "
-                                   "{:.2f} mV); start SOC {:.4f}{}\n",
-                                   record.source, result.voltage_rms_mv, result.voltage_max_mv, result.window_samples,
-                                   result.voltage_rms_all_mv, result.initial_soc_fraction,
-                                   result.initial_soc_clamped ? " (rest voltage outside the OCV table: clamped)" : "");
-    if (result.eod.empty()) text += fmt::format("  the record never reaches the {:g} V cut-off: no EOD check\n", validate.cutoff_v);
-    for (const ident::EodCheck& check : result.eod) {
-      text += fmt::format("  EOD at {:.0f} % of the discharge ({:.1f} s, {:.3g} A): predicted {:.1f} s, actual {:.1f} s "
-                          "({:+.2f} %)\n", 100.0 * check.at_fraction, check.at_time_s, check.current_a, check.predicted_s,
-                          check.actual_s, 100.0 * check.relative_error);
+    if (options->read.json) return PrintJson(ValidationsJson(results, records, validate));
+    std::string text;
+    for (std::size_t r = 0; r < records.size(); ++r) text += CellValidationText(results[r], records[r], validate);
+    if (records.size() > 1) {
+      const PooledError pooled = PoolErrors(results);
+      text += fmt::format("all {} records: voltage error RMS {:.2f} mV, max {:.2f} mV over {} samples\n",
+                          records.size(), pooled.rms_mv, pooled.max_mv, pooled.samples);
     }
     if (!options->read.plot.empty()) text += fmt::format("plot written to {}\n", options->read.plot);
     WriteOutput("", text);

@@ -13,7 +13,8 @@ Usage: battery_identification.py DATA.json OUT.png
 DATA.json: {"figure": "identify" | "validate", "title": str, "time_s": [...], "measured_v": [...],
 "model_v": [...], "error_mv": [...] (model − measured),
  identify: "current_a": [...], "fitted_end_s": number (the last fitted sample), "fit_rms_mv", "fit_max_mv",
-   "ocv": {"soc_fraction": [...], "voltage_v": [...], "branch": str};
+   "ocv": {"soc_fraction": [...], "voltage_v": [...], "branch": str,
+           optional "discharge_branch" and "charge_branch": {"soc_fraction": [...], "voltage_v": [...]}};
  validate: "window": {"begin_s", "end_s"} or null, "voltage_rms_mv", "voltage_max_mv", "cutoff_v",
    "cutoff_time_s": number or null, "eod": [{"at_fraction", "at_time_s", "predicted_s", "actual_s",
    "predicted_cutoff_s" (at_time_s + predicted_s), "relative_error"}]}.
@@ -73,7 +74,14 @@ def draw_identify(data):
     outside_legend(current)
     outside_legend(error)
     ocv = fig.add_subplot(grid[:, 1])
-    ocv.plot(data["ocv"]["soc_fraction"], data["ocv"]["voltage_v"], "o-", color=MODEL, markersize=3, linewidth=1.2)
+    ocv.plot(data["ocv"]["soc_fraction"], data["ocv"]["voltage_v"], "o-", color=MODEL, markersize=3, linewidth=1.2,
+             label="OCV(z)")
+    for key, style, name in (("discharge_branch", ":", "discharge branch"), ("charge_branch", "--", "charge branch")):
+        if key in data["ocv"]:
+            branch = data["ocv"][key]
+            ocv.plot(branch["soc_fraction"], branch["voltage_v"], style, color=MEASURED, linewidth=1.0, label=name)
+    if "charge_branch" in data["ocv"]:
+        ocv.legend(fontsize=8, loc="lower right")
     ocv.set_xlabel("state of charge z")
     ocv.set_ylabel("open-circuit voltage (V)")
     ocv.set_title(f"OCV(z) identified\n({data['ocv']['branch']})", fontsize=10)

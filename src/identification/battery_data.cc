@@ -84,10 +84,16 @@ void CheckRecord(const BatteryRecord& record, const BatteryLayout& layout, const
   const auto largest = std::max_element(record.current_a.begin(), record.current_a.end(),
                                         [](double a, double b) { return std::abs(a) < std::abs(b); });
   const int k = static_cast<int>(largest - record.current_a.begin());
-  if (!(*largest > 0.0)) {
+  if (!options.charge && !(*largest > 0.0)) {
     throw InputError(fmt::format("{}:{}", record.source, record.line[k]), layout.map.current.name,
                      fmt::format("a discharge current positive in the {} layout, but the largest current is {} A "
                                  "(map a discharge-negative column with --columns current=-NAME)",
+                                 layout.name, *largest));
+  }
+  if (options.charge && !(*largest < 0.0)) {
+    throw InputError(fmt::format("{}:{}", record.source, record.line[k]), layout.map.current.name,
+                     fmt::format("a charge record: its largest current negative (charging) in the {} layout, but it "
+                                 "is {} A (a discharge record, or a column of the other sign)",
                                  layout.name, *largest));
   }
 }

@@ -1,4 +1,4 @@
-// Identification of the cell model from one recorded discharge (see battery_identification.h).
+// Identification of the cell model from a recorded discharge and a charge (see battery_identification.h).
 #include "uascma/identification/battery_identification.h"
 
 #include <algorithm>
@@ -15,6 +15,7 @@ namespace uascma::identification {
 namespace {
 
 constexpr double kSecondsPerHour = 3600.0;
+constexpr int kMinimumLoadedSamples = 10;  // ours: a few per OCV node at the coarsest useful table
 // The weights of the L1 reweighting stop growing below 0.1 mV (ours: well below any cycler's resolution).
 constexpr double kResidualFloorV = 1e-4;
 // τ1 grid of the start, as multiples of the record's median sample period (ours: 0.5 to ~1000 periods).
@@ -78,6 +79,38 @@ Prepared Prepare(const BatteryRecord& record, const CellIdentificationOptions& o
   for (int k = 0; k < n; ++k) {
     prepared.soc_fraction.push_back(1.0 - charge_as[k] / prepared.capacity_as);
     prepared.loaded.push_back(record.current_a[k] > threshold ? 1 : 0);
+  }
+  prepared.initial_rc_current_a = prepared.loaded[0] ? record.current_a[0] : 0.0;
+  return prepared;
+}
+
+// A charge record's view (battery_identification.h): SOC from 0 at its first sample to 1 at its end, by the charge put
+// in (−i); loaded where the charging current exceeds the load fraction of its largest.
+Prepared PrepareCharge(const BatteryRecord& record, const CellIdentificationOptions& options) {
+  const int n = record.size();
+  Prepared prepared;
+  const double largest = -*std::min_element(record.current_a.begin(), record.current_a.end());
+  const double threshold = options.load_fraction * largest;
+  std::vector<double> charged_as(n, 0.0);
+  double left_sum = 0.0, right_sum = 0.0;
+  std::vector<double> periods;
+  for (int k = 0; k + 1 < n; ++k) {
+    const double dt = record.time_s[k + 1] - record.time_s[k];
+    prepared.interval_s.push_back(dt);
+    prepared.interval_current_a.push_back(0.5 * (record.current_a[k] + record.current_a[k + 1]));
+    charged_as[k + 1] = charged_as[k] - prepared.interval_current_a.back() * dt;
+    left_sum -= record.current_a[k] * dt;
+    right_sum -= record.current_a[k + 1] * dt;
+    periods.push_back(dt);
+  }
+  std::nth_element(periods.begin(), periods.begin() + periods.size() / 2, periods.end());
+  prepared.median_period_s = periods[periods.size() / 2];
+  prepared.capacity_as = charged_as[n - 1];
+  prepared.capacity_standard_error_as = 0.5 * std::abs(left_sum - right_sum);
+  prepared.fitted_samples = n;
+  for (int k = 0; k < n; ++k) {
+    prepared.soc_fraction.push_back(charged_as[k] / prepared.capacity_as);
+    prepared.loaded.push_back(-record.current_a[k] > threshold ? 1 : 0);
   }
   prepared.initial_rc_current_a = prepared.loaded[0] ? record.current_a[0] : 0.0;
   return prepared;
@@ -300,11 +333,32 @@ void FlagUncertain(const char* parameter, double value, std::optional<double> st
 void ReportUnidentified(const Prepared& prepared, const Trial& trial, const CellIdentificationOptions& options,
                         CellIdentification* result) {
   const models::CellParams kept = result->params;
-  result->not_identified.push_back({"hysteresis_m_v", "hysteresis needs charge data; kept 0 (OCV is the discharge branch)", 0.0});
-  result->not_identified.push_back({"hysteresis_m0_v", "hysteresis needs charge data; kept 0 (OCV is the discharge branch)", 0.0});
-  result->not_identified.push_back(
-      {"hysteresis_gamma", "hysteresis needs charge data; kept Table 3.1 cell 1 (unused while M = 0)", kept.hysteresis_gamma});
-  result->not_identified.push_back({"eta_charge", "needs charge data; kept Table 3.1", kept.eta_charge});
+  if (!result->charge) {
+    result->not_identified.push_back(
+        {"hysteresis_m_v", "hysteresis needs charge data; kept 0 (OCV is the discharge branch)", 0.0});
+    result->not_identified.push_back(
+        {"hysteresis_m0_v", "hysteresis needs charge data; kept 0 (OCV is the discharge branch)", 0.0});
+    result->not_identified.push_back({"hysteresis_gamma",
+                                      "hysteresis needs charge data; kept Table 3.1 cell 1 (unused while M = 0)",
+                                      kept.hysteresis_gamma});
+    result->not_identified.push_back({"eta_charge", "needs charge data; kept Table 3.1", kept.eta_charge});
+  } else {
+    const char* split =
+        "the split of M + M0 shows only where the current reverses in mid-charge; kept in Table 3.1 "
+        "cell 1's proportion";
+    result->not_identified.push_back({"hysteresis_m_v", split, kept.hysteresis_m_v});
+    result->not_identified.push_back({"hysteresis_m0_v", split, kept.hysteresis_m0_v});
+    result->not_identified.push_back(
+        {"hysteresis_gamma", "the rate shows only where the current reverses in mid-charge; kept Table 3.1 cell 1",
+         kept.hysteresis_gamma});
+    if (!result->charge->eta_charge_standard_error) {
+      result->not_identified.push_back(
+          {"eta_charge",
+           "Q over the charge put in exceeds 1 by more than two standard errors: the records are "
+           "not one charge-discharge cycle; kept Table 3.1",
+           kept.eta_charge});
+    }
+  }
   if (trial.tau_s < prepared.median_period_s) {
     result->not_identified.push_back(
         {"rc[0]", fmt::format("time constant {:.3g} s below the median sample period {:.3g} s; kept: the fitted value",
@@ -334,14 +388,154 @@ void SetUncertainties(const BatteryRecord& record, const Prepared& prepared, con
   result->c1_standard_error_f = capacitance * std::sqrt(std::max(0.0, relative_variance));
 }
 
+// A branch's OCV nodes without the samples where h of eq. 3.3 is still turning after its record's start: the first
+// 3 / γ of SOC (95 % of the turn; γ of Table 3.1, kept). A discharge starts at SOC 1, a charge at SOC 0.
+OcvNodes BuildSettledBranch(const BatteryRecord& record, Prepared prepared, bool starts_full, double gamma,
+                            const Trial& trial, int node_count) {
+  const double turning = 3.0 / gamma;
+  for (std::size_t k = 0; k < prepared.loaded.size(); ++k) {
+    const double turned = starts_full ? 1.0 - prepared.soc_fraction[k] : prepared.soc_fraction[k];
+    if (turned < turning) prepared.loaded[k] = 0;
+  }
+  return BuildOcv(record, prepared, CalcRcCurrent(prepared, trial.tau_s), trial, node_count);
+}
+
+// M + M0 as the median half-gap of the branches over the nodes both reach, and the OCV as their mean
+// (battery_identification.h). Throws InputError(source, …) when they share no node.
+OcvNodes CombineBranches(const OcvNodes& discharge_nodes, const OcvNodes& charge_nodes, int node_count,
+                         const std::string& source, ChargeIdentification* added) {
+  const double spacing = 1.0 / (node_count - 1);
+  auto node_of = [spacing](double soc) { return static_cast<int>(std::lround(soc / spacing)); };
+  std::vector<std::optional<double>> low(node_count), high(node_count);
+  for (std::size_t k = 0; k < discharge_nodes.soc_fraction.size(); ++k) {
+    low[node_of(discharge_nodes.soc_fraction[k])] = discharge_nodes.voltage_v[k];
+  }
+  for (std::size_t k = 0; k < charge_nodes.soc_fraction.size(); ++k) {
+    high[node_of(charge_nodes.soc_fraction[k])] = charge_nodes.voltage_v[k];
+  }
+  std::vector<double> half_gaps;
+  for (int n = 0; n < node_count; ++n) {
+    if (low[n] && high[n]) half_gaps.push_back(0.5 * (*high[n] - *low[n]));
+  }
+  if (half_gaps.empty()) {
+    throw InputError(source, "voltage", "a charge branch at SOC nodes the discharge reaches, but they share none");
+  }
+  added->shared_nodes = static_cast<int>(half_gaps.size());
+  std::vector<double> sorted = half_gaps;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t m = sorted.size();
+  const double median = m % 2 == 1 ? sorted[m / 2] : 0.5 * (sorted[m / 2 - 1] + sorted[m / 2]);
+  added->hysteresis_total_v = std::max(0.0, median);  // a charge branch below the discharge branch: none seen
+  if (m >= 2) {
+    double mean = 0.0, squares = 0.0;
+    for (double gap : half_gaps) mean += gap / static_cast<double>(m);
+    for (double gap : half_gaps) squares += (gap - mean) * (gap - mean);
+    constexpr double kMedianEfficiency = 1.2533;  // sqrt(π / 2): the median's standard error over the mean's
+    added->hysteresis_total_standard_error_v =
+        kMedianEfficiency * std::sqrt(squares / static_cast<double>(m - 1) / static_cast<double>(m));
+  }
+  OcvNodes ocv;
+  for (int n = 0; n < node_count; ++n) {
+    if (!low[n] && !high[n]) continue;
+    ocv.soc_fraction.push_back(n * spacing);
+    if (low[n] && high[n]) {
+      ocv.voltage_v.push_back(0.5 * (*low[n] + *high[n]));
+    } else {
+      ocv.voltage_v.push_back(low[n] ? *low[n] + added->hysteresis_total_v : *high[n] - added->hysteresis_total_v);
+    }
+  }
+  MakeIncreasing(&ocv.voltage_v);
+  return ocv;
+}
+
+// RMS and largest |v − v̂| over samples [0, count), mV.
+struct VoltageErrors {
+  double rms_mv = 0.0, max_mv = 0.0;
+};
+
+VoltageErrors CalcVoltageErrors(const BatteryRecord& record, const std::vector<double>& model_v, int count) {
+  VoltageErrors errors;
+  double squares = 0.0;
+  for (int k = 0; k < count; ++k) {
+    const double error_v = record.voltage_v[k] - model_v[k];
+    squares += error_v * error_v;
+    errors.max_mv = std::max(errors.max_mv, 1e3 * std::abs(error_v));
+  }
+  errors.rms_mv = 1e3 * std::sqrt(squares / count);
+  return errors;
+}
+
+// The figures of the final cell: the discharge from full after a charge (h = +1, s = +1), the charge from empty after
+// a discharge (h = −1, s = −1).
+void SetFinalCellFigures(const BatteryRecord& discharge, const Prepared& discharge_prepared,
+                         const BatteryRecord& charge, const Prepared& charge_prepared, CellIdentification* result,
+                         ChargeIdentification* added) {
+  const models::SelfCorrectingCell cell = result->MakeCell();
+  models::CellState full;
+  full.soc_fraction = 1.0, full.hysteresis = 1.0, full.hysteresis_sign = 1.0;
+  full.rc_current_a[0] = discharge_prepared.initial_rc_current_a;
+  result->model_v = SimulateTerminalVoltage(cell, full, discharge);
+  const VoltageErrors fitted = CalcVoltageErrors(discharge, result->model_v, discharge_prepared.fitted_samples);
+  result->fit_rms_mv = fitted.rms_mv, result->fit_max_mv = fitted.max_mv;
+  result->rms_every_sample_mv = CalcVoltageErrors(discharge, result->model_v, discharge.size()).rms_mv;
+  models::CellState empty;
+  empty.soc_fraction = 0.0, empty.hysteresis = -1.0, empty.hysteresis_sign = -1.0;
+  empty.rc_current_a[0] = charge_prepared.initial_rc_current_a;
+  added->model_v = SimulateTerminalVoltage(cell, empty, charge);
+  added->samples = charge.size();
+  const VoltageErrors charging = CalcVoltageErrors(charge, added->model_v, charge.size());
+  added->fit_rms_mv = charging.rms_mv, added->fit_max_mv = charging.max_mv;
+}
+
+// The charge branch, the OCV as the mean of the branches, M + M0 and η_charge (battery_identification.h).
+void AddChargeBranch(const BatteryRecord& discharge, const Prepared& discharge_prepared, const BatteryRecord& charge,
+                     const Trial& trial, const CellIdentificationOptions& options, CellIdentification* result) {
+  const Prepared prepared = PrepareCharge(charge, options);
+  const auto loaded = std::count(prepared.loaded.begin(), prepared.loaded.end(), 1);
+  if (loaded < kMinimumLoadedSamples) {
+    throw InputError(charge.source, "current",
+                     fmt::format("at least {} samples charging (above {:g} % of the largest charging current) to "
+                                 "derive the charge branch, got {}",
+                                 kMinimumLoadedSamples, 100.0 * options.load_fraction, loaded));
+  }
+  const double gamma = result->params.hysteresis_gamma;
+  const OcvNodes charge_nodes = BuildSettledBranch(charge, prepared, false, gamma, trial, options.ocv_points);
+  ChargeIdentification added;
+  added.branch = {charge_nodes.soc_fraction, charge_nodes.voltage_v};
+  const OcvNodes ocv =
+      CombineBranches(BuildSettledBranch(discharge, discharge_prepared, true, gamma, trial, options.ocv_points),
+                      charge_nodes, options.ocv_points, charge.source, &added);
+  result->ocv_soc_fraction = ocv.soc_fraction;
+  result->ocv_voltage_v = ocv.voltage_v;
+  const models::CellParams table = models::Table31Cell(1);
+  const double dynamic_share = table.hysteresis_m_v / (table.hysteresis_m_v + table.hysteresis_m0_v);
+  result->params.hysteresis_m_v = dynamic_share * added.hysteresis_total_v;
+  result->params.hysteresis_m0_v = added.hysteresis_total_v - result->params.hysteresis_m_v;
+  // η_charge cannot exceed 1: a ratio above it by at most two standard errors is 1 (the count's error).
+  const double eta = discharge_prepared.capacity_as / prepared.capacity_as;
+  const double eta_error =
+      eta * std::hypot(discharge_prepared.capacity_standard_error_as / discharge_prepared.capacity_as,
+                       prepared.capacity_standard_error_as / prepared.capacity_as);
+  if (eta > 0.0 && eta - 2.0 * eta_error <= 1.0) {
+    result->params.eta_charge = std::min(eta, 1.0);
+    added.eta_charge_standard_error = eta_error;
+  }
+  SetFinalCellFigures(discharge, discharge_prepared, charge, prepared, result, &added);
+  result->charge = std::move(added);
+}
+
 }  // namespace
 
 CellIdentification IdentifyCell(const BatteryRecord& record, const CellIdentificationOptions& options) {
+  return IdentifyCell(record, std::nullopt, options);
+}
+
+CellIdentification IdentifyCell(const BatteryRecord& record, const std::optional<BatteryRecord>& charge,
+                                const CellIdentificationOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("identification options", "options", error);
   const Prepared prepared = Prepare(record, options);
   const auto loaded = std::count(prepared.loaded.begin(), prepared.loaded.end(), 1);
-  constexpr int kMinimumLoadedSamples = 10;  // ours: a few per OCV node at the coarsest useful table
   if (loaded < kMinimumLoadedSamples) {
     throw InputError(record.source, "current",
                      fmt::format("at least {} samples under load (above {:g} % of the largest current) to derive "
@@ -378,7 +572,9 @@ CellIdentification IdentifyCell(const BatteryRecord& record, const CellIdentific
     for (double t : record.temperature_degc) sum += t;
     result.mean_temperature_degc = sum / static_cast<double>(record.temperature_degc.size());
   }
+  result.discharge_branch = {nodes.soc_fraction, nodes.voltage_v};
   SetUncertainties(record, prepared, theta, residual, options.ocv_points, &result);
+  if (charge) AddChargeBranch(record, prepared, *charge, trial, options, &result);
   ReportUnidentified(prepared, trial, options, &result);
   return result;
 }

@@ -25,10 +25,14 @@ models::CellState MakeInitialState(const models::SelfCorrectingCell& cell, const
   const bool at_rest = std::abs(current) <= options.rest_fraction * LargestCurrent(record);
   double resistance = cell.params().r0_ohm;
   for (int j = 0; j < cell.params().rc_pair_count; ++j) resistance += cell.params().rc[j].resistance_ohm;
-  const double open_circuit = record.voltage_v[0] + (at_rest ? 0.0 : resistance * current);
+  models::CellState state;
+  state.hysteresis = 1.0;  // last charged (battery_validation.h)
+  state.hysteresis_sign = at_rest ? 1.0 : (current > 0.0 ? -1.0 : 1.0);
+  const double hysteresis_v =
+      cell.params().hysteresis_m0_v * state.hysteresis_sign + cell.params().hysteresis_m_v * state.hysteresis;
+  const double open_circuit = record.voltage_v[0] + (at_rest ? 0.0 : resistance * current) - hysteresis_v;
   const double inside = std::clamp(open_circuit, ocv.min_voltage_v(), ocv.max_voltage_v());
   *clamped = inside != open_circuit;
-  models::CellState state;
   state.soc_fraction = *ocv.CalcSoc(inside);
   if (!at_rest) {
     for (int j = 0; j < cell.params().rc_pair_count; ++j) state.rc_current_a[j] = current;

@@ -30,19 +30,53 @@ constexpr Bounds kEfficiencyBounds{1e-3, 1.0, ""};
 
 }  // namespace
 
-nlohmann::json CellIdentificationJson(const CellIdentification& identification, const BatteryRecord& record) {
+nlohmann::json CellParamsJson(const models::CellParams& p) {
+  nlohmann::json rc = nlohmann::json::array();
+  for (int j = 0; j < p.rc_pair_count; ++j) {
+    rc.push_back({{"resistance_ohm", p.rc[j].resistance_ohm}, {"capacitance_f", p.rc[j].capacitance_f}});
+  }
+  return {{"capacity_ah", p.capacity_ah},
+          {"r0_ohm", p.r0_ohm},
+          {"rc", rc},
+          {"hysteresis_gamma", p.hysteresis_gamma},
+          {"hysteresis_m_v", p.hysteresis_m_v},
+          {"hysteresis_m0_v", p.hysteresis_m0_v},
+          {"eta_charge", p.eta_charge},
+          {"eta_discharge", p.eta_discharge}};
+}
+
+nlohmann::json CellIdentificationJson(const CellIdentification& identification, const BatteryRecord& record,
+                                      const std::optional<BatteryRecord>& charge_record) {
   const models::CellParams& p = identification.params;
+  nlohmann::json charge = nullptr;
+  if (identification.charge && charge_record) {
+    const ChargeIdentification& c = *identification.charge;
+    charge = {{"file", charge_record->source},
+              {"cycle", charge_record->cycle ? nlohmann::json(*charge_record->cycle) : nlohmann::json(nullptr)},
+              {"samples", c.samples},
+              {"hysteresis_total_v", c.hysteresis_total_v},
+              {"hysteresis_total_standard_error_v", Optional(c.hysteresis_total_standard_error_v)},
+              {"shared_nodes", c.shared_nodes},
+              {"eta_charge_standard_error", Optional(c.eta_charge_standard_error)},
+              {"fit_rms_mv", c.fit_rms_mv},
+              {"fit_max_mv", c.fit_max_mv},
+              {"branch", {{"soc_fraction", c.branch.soc_fraction}, {"voltage_v", c.branch.voltage_v}}}};
+  }
   nlohmann::json not_identified = nlohmann::json::array();
   for (const NotIdentified& item : identification.not_identified) {
     not_identified.push_back({{"parameter", item.parameter}, {"reason", item.reason}, {"kept_value", item.kept_value}});
   }
   return {
       {"format", kCellModelFormat},
-      {"source", {{"file", record.source}, {"layout", record.layout}, {"cycle", record.cycle ? nlohmann::json(*record.cycle) : nlohmann::json(nullptr)},
-                  {"cells_in_series", record.cells_in_series}, {"samples", identification.samples},
-                  {"fitted_samples", identification.fitted_samples},
-                  {"median_sample_period_s", identification.median_sample_period_s},
-                  {"mean_temperature_degc", Optional(identification.mean_temperature_degc)}}},
+      {"source",
+       {{"file", record.source},
+        {"layout", record.layout},
+        {"cycle", record.cycle ? nlohmann::json(*record.cycle) : nlohmann::json(nullptr)},
+        {"cells_in_series", record.cells_in_series},
+        {"samples", identification.samples},
+        {"fitted_samples", identification.fitted_samples},
+        {"median_sample_period_s", identification.median_sample_period_s},
+        {"mean_temperature_degc", Optional(identification.mean_temperature_degc)}}},
       {"capacity_ah", p.capacity_ah},
       {"capacity_standard_error_ah", identification.capacity_standard_error_ah},
       {"r0_ohm", p.r0_ohm},
@@ -56,12 +90,12 @@ nlohmann::json CellIdentificationJson(const CellIdentification& identification, 
       {"rms_every_sample_mv", identification.rms_every_sample_mv},
       {"iterations", identification.iterations},
       {"not_identified", not_identified},
-      {"parameters", {{"capacity_ah", p.capacity_ah}, {"r0_ohm", p.r0_ohm},
-                      {"rc", {{{"resistance_ohm", p.rc[0].resistance_ohm}, {"capacitance_f", p.rc[0].capacitance_f}}}},
-                      {"hysteresis_gamma", p.hysteresis_gamma}, {"hysteresis_m_v", p.hysteresis_m_v},
-                      {"hysteresis_m0_v", p.hysteresis_m0_v}, {"eta_charge", p.eta_charge},
-                      {"eta_discharge", p.eta_discharge}}},
+      {"parameters", CellParamsJson(p)},
       {"ocv", {{"soc_fraction", identification.ocv_soc_fraction}, {"voltage_v", identification.ocv_voltage_v}}},
+      {"discharge_branch",
+       {{"soc_fraction", identification.discharge_branch.soc_fraction},
+        {"voltage_v", identification.discharge_branch.voltage_v}}},
+      {"charge", charge},
   };
 }
 

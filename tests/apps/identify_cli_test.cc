@@ -97,6 +97,88 @@ TEST(IdentifyCliTest, BadInputIsOneLineNamingFileLineAndColumnAndWritesNothing) 
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A bench cycle of a closed-form cell (1 Ah, OCV(z) = 3.5 V + 0.7 V z, R0 50 mΩ, no RC pair, M + M0 = 20 mV reached
+// at once), sampled every 10 s: 1 A pulses (240 s on, 60 s off) from full to empty, then 600 s of rest; and the
+// charge at 0.5 A from empty to full. Returns {discharge, charge}.
+std::pair<std::string, std::string> WriteClosedFormCycle(const std::filesystem::path& folder) {
+  constexpr double kCapacityAs = 3600.0, kR0Ohm = 0.05, kHysteresisV = 0.02;
+  auto ocv = [](double z) { return 3.5 + 0.7 * z; };
+  const std::filesystem::path discharge = folder / "discharge.csv", charge = folder / "charge.csv";
+  std::ofstream d(discharge), c(charge);
+  d << "time_s,current_a,voltage_v\n";
+  c << "time_s,current_a,voltage_v\n";
+  double z = 1.0, t = 0.0;
+  for (; z > 0.0; t += 10.0) {
+    const double i = std::fmod(t, 300.0) < 240.0 ? 1.0 : 0.0;
+    d << t << "," << i << "," << ocv(z) - kHysteresisV - kR0Ohm * i << "\n";
+    z -= i * 10.0 / kCapacityAs;
+  }
+  for (const double end = t + 600.0; t <= end; t += 10.0) d << t << ",0," << ocv(0.0) - kHysteresisV << "\n";
+  z = 0.0;
+  for (t = 0.0; z <= 1.0 + 1e-9; t += 10.0) {
+    c << t << ",-0.5," << ocv(z) + kHysteresisV + kR0Ohm * 0.5 << "\n";
+    z += 0.5 * 10.0 / kCapacityAs;
+  }
+  return {discharge.string(), charge.string()};
+}
+
+// `--charge`: the OCV as the mean of the branches, M + M0 and η_charge in CELL.json; the charge record's checks.
+TEST(IdentifyCliTest, AChargeRecordGivesTheHysteresisAndTheMeanOcv) {
+  ScratchDir scratch("identify_charge");
+  const auto [discharge, charge] = WriteClosedFormCycle(scratch.path);
+  const RunResult identify = RunCli("identify battery " + discharge + " --charge " + charge + " --json");
+  ASSERT_EQ(identify.exit_code, 0) << identify.err;
+  const nlohmann::json model = nlohmann::json::parse(identify.out);
+  constexpr double kHysteresisToleranceV = 2e-3;  // the closed form has no noise; the LAR nodes are local lines
+  EXPECT_NEAR(model.at("charge").at("hysteresis_total_v").get<double>(), 0.02, kHysteresisToleranceV);
+  const nlohmann::json& parameters = model.at("parameters");
+  EXPECT_NEAR(parameters.at("hysteresis_m_v").get<double>() + parameters.at("hysteresis_m0_v").get<double>(),
+              model.at("charge").at("hysteresis_total_v").get<double>(), 1e-12);
+  constexpr double kEtaTolerance = 0.01;  // the charge put in equals the charge drawn, to a 10 s sample
+  EXPECT_NEAR(parameters.at("eta_charge").get<double>(), 1.0, kEtaTolerance);
+  // OCV(0.5) of the mean: 3.85 V; the discharge branch alone sits 20 mV below.
+  const nlohmann::json& ocv = model.at("ocv");
+  const auto& soc = ocv.at("soc_fraction");
+  for (std::size_t k = 0; k < soc.size(); ++k) {
+    if (std::abs(soc[k].get<double>() - 0.5) > 1e-9) continue;
+    constexpr double kOcvToleranceV = 3e-3;
+    EXPECT_NEAR(ocv.at("voltage_v")[k].get<double>(), 3.85, kOcvToleranceV);
+  }
+  // A discharge given as the charge record, and a charge cycle without a charge file: exit 2, one line.
+  const RunResult swapped = RunCli("identify battery " + discharge + " --charge " + discharge);
+  EXPECT_EQ(swapped.exit_code, 2);
+  EXPECT_NE(swapped.err.find("discharge.csv:"), std::string::npos) << swapped.err;
+  EXPECT_NE(swapped.err.find("current_a"), std::string::npos) << swapped.err;
+  const RunResult lonely = RunCli("identify battery " + discharge + " --charge-cycle 2");
+  EXPECT_EQ(lonely.exit_code, 2);
+  EXPECT_NE(lonely.err.find("--charge"), std::string::npos) << lonely.err;
+}
+
+// `validate battery` with several records: each one's result under "records", the errors pooled over them.
+TEST(IdentifyCliTest, ValidateBatteryPoolsSeveralRecords) {
+  ScratchDir scratch("validate_several");
+  const std::string cell = (scratch.path / "cell.json").string();
+  ASSERT_EQ(RunCli("identify battery " + kData + "battery-nasa/B0005.csv --out " + cell).exit_code, 0);
+  const std::string record = kData + "battery-nasa/B0005.csv --cycle 2";
+  const RunResult one = RunCli("validate battery --model " + cell + " " + record + " --json");
+  const RunResult two =
+      RunCli("validate battery --model " + cell + " " + kData + "battery-nasa/B0005.csv " + record + " --json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const nlohmann::json single = nlohmann::json::parse(one.out), pooled = nlohmann::json::parse(two.out);
+  ASSERT_EQ(pooled.at("records").size(), 2u);
+  EXPECT_EQ(single.at("records").at(0), pooled.at("records").at(0));
+  // The same record twice: the pooled RMS is the record's, the EOD checks are its checks twice.
+  EXPECT_DOUBLE_EQ(pooled.at("voltage_rms_mv").get<double>(), single.at("voltage_rms_mv").get<double>());
+  EXPECT_EQ(pooled.at("eod").size(), 2 * single.at("eod").size());
+  const std::string plot = (scratch.path / "two.png").string();
+  const RunResult drawn =
+      RunCli("validate battery --model " + cell + " " + kData + "battery-nasa/B0005.csv " + record + " --plot " + plot);
+  EXPECT_EQ(drawn.exit_code, 2);
+  EXPECT_NE(drawn.err.find("--plot"), std::string::npos) << drawn.err;
+  EXPECT_FALSE(std::filesystem::exists(plot));
+}
+
 // A tunnel table of a known drag law (drag = ½ ρ A v², A growing with |pitch|), bare rows only, for `identify drag`.
 std::string WriteTunnel(const std::filesystem::path& folder) {
   const std::filesystem::path path = folder / "tunnel.csv";

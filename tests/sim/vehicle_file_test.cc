@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "uascma/common/error.h"
+#include "uascma/identification/model_files.h"
 #include "uascma/models/ocv_table.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/policy.h"
@@ -36,20 +37,12 @@ struct Folder {
 
 // A CELL.json (identification/model_files.h) of Table 3.1's cell 1 with capacity `capacity_ah` and the default OCV.
 std::string CellJson(double capacity_ah) {
-  const models::CellParams p = models::Table31Cell(1);
+  models::CellParams p = models::Table31Cell(1);
+  p.capacity_ah = capacity_ah;
   const models::OcvTable ocv = models::DefaultOcvTable();
-  const nlohmann::json json = {
-      {"format", "uascma-cell-model-1"},
-      {"parameters",
-       {{"capacity_ah", capacity_ah},
-        {"r0_ohm", p.r0_ohm},
-        {"rc", {{{"resistance_ohm", p.rc[0].resistance_ohm}, {"capacitance_f", p.rc[0].capacitance_f}}}},
-        {"hysteresis_gamma", p.hysteresis_gamma},
-        {"hysteresis_m_v", p.hysteresis_m_v},
-        {"hysteresis_m0_v", p.hysteresis_m0_v},
-        {"eta_charge", p.eta_charge},
-        {"eta_discharge", p.eta_discharge}}},
-      {"ocv", {{"soc_fraction", ocv.soc_fraction()}, {"voltage_v", ocv.voltage_v()}}}};
+  const nlohmann::json json = {{"format", identification::kCellModelFormat},
+                               {"parameters", identification::CellParamsJson(p)},
+                               {"ocv", {{"soc_fraction", ocv.soc_fraction()}, {"voltage_v", ocv.voltage_v()}}}};
   return json.dump();
 }
 

@@ -63,11 +63,15 @@ struct BatteryReadOptions {
   std::optional<int> cycle;                 // nullopt: the first cycle in the file
   int cells_in_series = 1;
   int min_samples = 20;  // fewer: InputError (the model's order needs more; ours, docs/identification.md)
+  // The record is a charge (current negative: the cell charged from empty to full, identify battery --charge);
+  // false: a discharge (its largest current positive).
+  bool charge = false;
 };
 
 // Reads one record. Throws InputError naming the file, the line and the column for: a missing or misnamed column,
 // a cell that is not a finite number, time not strictly increasing, a record with no discharge or whose largest
-// current is negative (the wrong sign for the layout), a cycle that is not in the file, too few samples.
+// current is negative (the wrong sign for the layout; for a charge record: its largest current positive), a cycle
+// that is not in the file, too few samples.
 BatteryRecord ReadBatteryRecord(const std::string& path, const BatteryReadOptions& options);
 // The same from text (tests, fuzzing); `source` names it in errors.
 BatteryRecord ParseBatteryRecord(const std::string& text, const std::string& source, const BatteryReadOptions& options);

@@ -5,8 +5,10 @@
 // the model's state there against the recorded time to the cut-off.
 //
 // The simulation starts from the record's first sample: a rested cell (current at most `rest_fraction` of the
-// record's largest) starts at z = OCV⁻¹(v₀), clamped to the table's range (a clamp is reported); a cell already
-// under load starts at z = OCV⁻¹(v₀ + (R0 + Σ R_j) i₀) with its RC currents at i₀ (steady state). Each interval is
+// record's largest) starts at z = OCV⁻¹(v₀ − M0 s − M h), clamped to the table's range (a clamp is reported); a cell
+// already under load starts at z = OCV⁻¹(v₀ + (R0 + Σ R_j) i₀ − M0 s − M h) with its RC currents at i₀ (steady
+// state). The hysteresis of eq. 3.3 is taken as after a charge (the bench cycle charge, rest, discharge): h = +1,
+// s = +1 at rest, s = −sgn(i₀) under load; a cell identified from a discharge alone has M = M0 = 0. Each interval is
 // stepped at the mean of its two samples' currents (battery_identification.h, SimulateTerminalVoltage).
 // The state at a fraction f of the discharge is the simulated (Coulomb-counted) state, as the simulator's pack
 // carries it; its EOD is prognostics::CalcCellEod at the recorded current there (the constant-current EOD of

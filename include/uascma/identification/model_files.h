@@ -19,7 +19,12 @@ namespace uascma::identification {
 inline constexpr const char* kCellModelFormat = "uascma-cell-model-1";
 inline constexpr const char* kPropulsionModelFormat = "uascma-propulsion-model-1";
 
-nlohmann::json CellIdentificationJson(const CellIdentification& identification, const BatteryRecord& record);
+// CELL.json's "parameters" block: the cell model as ReadCellModelFile reads it (every RC pair in use).
+nlohmann::json CellParamsJson(const models::CellParams& params);
+// The CELL.json document; `charge` the charge record when the identification had one (its "charge" block; null
+// without).
+nlohmann::json CellIdentificationJson(const CellIdentification& identification, const BatteryRecord& record,
+                                      const std::optional<BatteryRecord>& charge = std::nullopt);
 // Reads CELL.json through JsonDocument: InputError naming the file and the field for anything missing or invalid
 // (parameters checked by CellParams::IsValid, the OCV table by its contract).
 models::SelfCorrectingCell ReadCellModelFile(const std::filesystem::path& path);
