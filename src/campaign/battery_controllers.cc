@@ -108,6 +108,12 @@ bool IsIsolation(const decision::BatteryObservation& observation, PackAction act
   return observation.switch_on[0] && observation.switch_on[1] && action != PackAction::kUseBoth;
 }
 
+// The same, of a pack the pack-fault indicator flags.
+bool IsFaultIsolation(const decision::BatteryObservation& observation, PackAction action) {
+  if (!IsIsolation(observation, action)) return false;
+  return observation.pack_fault[action == PackAction::kUseBatt1 ? 1 : 0];
+}
+
 }  // namespace
 
 BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, const BatteryContext& context) {
@@ -129,6 +135,7 @@ BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, con
         }
         const PackAction action = executor->Decide(s);
         if (IsIsolation(observation, action)) ++counts->table_isolations;
+        if (IsFaultIsolation(observation, action)) ++counts->table_fault_isolations;
         return action;
       };
       break;
@@ -139,17 +146,28 @@ BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, con
       auto counts = std::make_shared<BatteryDecisionCounts>();
       out.decisions = counts;
       out.observe_pair_eod = true;
-      out.controller = [executor, counts](double, const decision::BatteryObservation& observation, StateIndex s) {
+      out.controller = [executor, counts](double, const decision::BatteryObservation& observation, StateIndex) {
+        const StateIndex s = executor->Abstract(observation);  // ours' abstraction: the pack-fault flags read
         if (s == decision::kBatteryFailureState) {
           ++counts->failure_rows_held;
           return HeldSwitches(observation);
         }
+        // The table first (item 10: its flagged states isolate a flagged pack), with item 9's drop check on an
+        // unflagged state's drop (a flagged state's drop is onto the only pack not known faulted).
+        const PackAction table = executor->Decide(s);
+        const PackAction action =
+            decision::IsFlaggedBatteryState(s) ? table : OursDropCheck(table, observation, executor->thresholds());
+        if (IsIsolation(observation, action)) {
+          ++counts->table_isolations;
+          if (IsFaultIsolation(observation, action)) ++counts->table_fault_isolations;
+          return action;
+        }
+        // The imminent-failure guard (item 8), a last line: only where the table keeps both packs in.
         if (const auto guard = OursImminentFailureGuard(observation)) {
           if (IsIsolation(observation, *guard)) ++counts->guard_isolations;
+          if (IsFaultIsolation(observation, *guard)) ++counts->guard_fault_isolations;
           return *guard;
         }
-        const PackAction action = OursDropCheck(executor->Decide(s), observation, executor->thresholds());
-        if (IsIsolation(observation, action)) ++counts->table_isolations;
         return action;
       };
       break;
