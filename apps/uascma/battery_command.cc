@@ -700,13 +700,15 @@ void AddEvaluate(CLI::App* battery) {
 
 void AddBatteryCommand(CLI::App& app) {
   CLI::App* battery = app.add_subcommand(
-      "battery", "The battery-reconfiguration MDP (Ch. IV, §4.3): learn, solve, show, case-study, evaluate");
+      "battery",
+      "The battery-reconfiguration MDP (Ch. IV, §4.3): learn, solve, show, case-study, evaluate, hindsight");
   battery->require_subcommand(1);
   AddLearn(battery);
   AddSolve(battery);
   AddShow(battery);
   AddCaseStudy(battery);
   AddEvaluate(battery);
+  AddBatteryHindsight(battery);
 }
 
 }  // namespace uascma::cli
