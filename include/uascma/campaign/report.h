@@ -11,6 +11,15 @@
 
 namespace uascma::campaign {
 
+// The runs of one pack-fault kind (a campaign with `pack_faults:`): per policy, in slot order, runs, failures and
+// completions. The fault of a run is drawn again from its record (run seed, plan duration) and the stored
+// configuration, as the sampler drew it (campaign/sampler.h, step 9).
+struct PackFaultGroup {
+  std::string fault;  // "none" or models::PackFaultKindName; "any" for every faulted run
+  std::vector<std::string> policies;
+  std::vector<std::int64_t> runs, failures, completions;
+};
+
 struct CampaignReport {
   CampaignHeader header;
   std::int64_t flights = 0;                        // stored
@@ -18,6 +27,7 @@ struct CampaignReport {
   std::vector<GroupStatistics> groups;             // policies in slot order × G, M, P, all
   std::vector<PairedComparison> comparisons;       // McNemar per pair of policies × G, M, P, all
   std::vector<LandingCauseCounts> landing_causes;  // unnecessary landings by cause (campaign/landing_causes.h)
+  std::vector<PackFaultGroup> by_pack_fault;       // with `pack_faults:` only: none, each kind flown, any
 };
 
 // Statistics over the runs flown by every policy of the campaign (an interrupted campaign may hold a
@@ -27,7 +37,8 @@ CampaignReport MakeCampaignReport(const ResultsStore& store);
 // {"campaign": {name, seed, config_hash, campaign_hash, code_version, created_utc, runs_requested,
 //  flights, complete_runs, policies: [...]}, "policies": {...}, "policy_order": [...], "confidence_level",
 //  "paired_comparisons": [...], "dissertation": {...}} (campaign/statistics.h), "unnecessary_landing_causes":
-//  {policy: {group: {cause: n}}} (campaign/landing_causes.h)
+//  {policy: {group: {cause: n}}} (campaign/landing_causes.h), "by_pack_fault" (with `pack_faults:`):
+//  [{fault, policies: {name: {runs, failures, completions}}}]
 nlohmann::json CampaignReportJson(const CampaignReport& report);
 std::string CampaignReportText(const CampaignReport& report);
 
