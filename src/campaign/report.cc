@@ -14,6 +14,14 @@
 #include "uascma/common/random.h"
 
 namespace uascma::campaign {
+
+std::optional<models::PackFault> RedrawPackFault(const CampaignConfig& config, std::uint64_t run_seed,
+                                                 double plan_duration_s) {
+  if (!config.pack_faults.share) return std::nullopt;
+  RandomStream random(DeriveSeed(run_seed, kPackFaultStream));
+  return DrawPackFault(random, config.pack_faults.Sampling(), plan_duration_s);
+}
+
 namespace {
 
 // Each paired run's pack fault drawn again as the sampler drew it (campaign/sampler.h, step 9), split by kind.
@@ -21,7 +29,6 @@ std::vector<PackFaultGroup> SplitByPackFault(const CampaignHeader& header, const
                                              const std::vector<std::string>& order) {
   const CampaignConfig config = ParseCampaignConfig(header.config_yaml, "the stored configuration");
   if (!config.pack_faults.share || *config.pack_faults.share <= 0.0) return {};
-  const PackFaultSampling sampling = config.pack_faults.Sampling();
   std::map<std::string, PackFaultGroup> groups;
   std::vector<std::string> kinds = {"none"};
   for (int k = 0; k < models::kPackFaultKindCount; ++k) {
@@ -37,10 +44,8 @@ std::vector<PackFaultGroup> SplitByPackFault(const CampaignHeader& header, const
     g.completions.assign(order.size(), 0);
   }
   for (const RunRecord& r : paired) {
-    RandomStream random(DeriveSeed(r.run_seed, kPackFaultStream));
-    const auto fault = DrawPackFault(random, sampling, r.plan_duration_s);
-    const std::size_t slot =
-        static_cast<std::size_t>(std::find(order.begin(), order.end(), r.policy) - order.begin());
+    const auto fault = RedrawPackFault(config, r.run_seed, r.plan_duration_s);
+    const std::size_t slot = static_cast<std::size_t>(std::find(order.begin(), order.end(), r.policy) - order.begin());
     if (slot >= order.size()) continue;
     for (const std::string& kind :
          {std::string(fault ? models::PackFaultKindName(fault->kind) : "none"), std::string(fault ? "any" : "")}) {

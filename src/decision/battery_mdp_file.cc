@@ -218,20 +218,14 @@ nlohmann::json CountsJson(const BatteryTransitionCounts& counts) {
     nlohmann::json flights = nlohmann::json::object();
     for (PackAction action : kBatteryActions) flights[models::PackActionName(action)] = counts.flights(context, action);
     nlohmann::json rows = nlohmann::json::array();
-    for (StateIndex s = 0; s < kOursNumStates; ++s) {
-      if (s == kBatteryCompleteState) continue;
-      for (PackAction action : kBatteryActions) {
-        const auto& row = counts.Row(context, s, action);
-        const std::int64_t completed = counts.Completions(context, s, action);
-        if (row.empty() && completed == 0) continue;
-        nlohmann::json next = nlohmann::json::object();
-        for (const auto& [state, count] : row) next[BatteryStateLabel(state)] = count;
-        nlohmann::json entry = {
-            {"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}};
-        if (completed > 0) entry["completed"] = completed;
-        rows.push_back(std::move(entry));
-      }
-    }
+    counts.ForEachRow(context, [&](StateIndex s, PackAction action, const auto& row, std::int64_t completed) {
+      nlohmann::json next = nlohmann::json::object();
+      for (const auto& [state, count] : row) next[BatteryStateLabel(state)] = count;
+      nlohmann::json entry = {
+          {"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}};
+      if (completed > 0) entry["completed"] = completed;
+      rows.push_back(std::move(entry));
+    });
     contexts.push_back({{"b1", BatteryHealthName(context.b1)},
                         {"b2", BatteryHealthName(context.b2)},
                         {"temperature", TemperatureClassName(context.temperature)},

@@ -291,26 +291,20 @@ void AddCounts(const BatteryTransitionCounts& counts, Fingerprint& fingerprint) 
   for (int c = 0; c < kBatteryNumContexts; ++c) {
     const BatteryContext context = BatteryContextFromIndex(c);
     for (PackAction action : kBatteryActions) fingerprint.Add(counts.flights(context, action));
-    for (StateIndex s = 0; s < kOursNumStates; ++s) {
-      if (s == kBatteryCompleteState) continue;
-      for (PackAction action : kBatteryActions) {
-        const auto& row = counts.Row(context, s, action);
-        const std::int64_t completed = counts.Completions(context, s, action);
-        if (row.empty() && completed == 0) continue;
-        fingerprint.Add(static_cast<std::int64_t>(BatteryContextIndex(context)));
-        fingerprint.Add(static_cast<std::int64_t>(s));
-        fingerprint.Add(BatteryActionIndex(action));
-        for (const auto& [next, count] : row) {
-          fingerprint.Add(static_cast<std::int64_t>(next));
-          fingerprint.Add(count);
-        }
-        // Completions only when counted, so a model without them keeps its hash.
-        if (completed > 0) {
-          fingerprint.Add(std::string_view("completed"));
-          fingerprint.Add(completed);
-        }
+    counts.ForEachRow(context, [&](StateIndex s, PackAction action, const auto& row, std::int64_t completed) {
+      fingerprint.Add(static_cast<std::int64_t>(BatteryContextIndex(context)));
+      fingerprint.Add(static_cast<std::int64_t>(s));
+      fingerprint.Add(BatteryActionIndex(action));
+      for (const auto& [next, count] : row) {
+        fingerprint.Add(static_cast<std::int64_t>(next));
+        fingerprint.Add(count);
       }
-    }
+      // Completions only when counted, so a model without them keeps its hash.
+      if (completed > 0) {
+        fingerprint.Add(std::string_view("completed"));
+        fingerprint.Add(completed);
+      }
+    });
   }
 }
 

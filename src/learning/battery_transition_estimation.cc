@@ -68,14 +68,16 @@ std::vector<BatteryFlightController> DrawControllers(const BatteryLearningOption
     // flown with one action throughout cannot observe. Flown only in a draw with a pack fault, so the flights of a
     // draw without one are what they were.
     auto kept = std::make_shared<PackAction>(PackAction::kUseBoth);
-    flights.push_back({PackAction::kUseBoth, [kept](double, const decision::BatteryObservation& observation,
-                                                    StateIndex) {
-                         if (*kept == PackAction::kUseBoth && observation.switch_on[0] && observation.switch_on[1]) {
-                           if (observation.pack_fault[0]) *kept = PackAction::kUseBatt2;
-                           else if (observation.pack_fault[1]) *kept = PackAction::kUseBatt1;
-                         }
-                         return *kept;
-                       }});
+    flights.push_back(
+        {PackAction::kUseBoth, [kept](double, const decision::BatteryObservation& observation, StateIndex) {
+           if (*kept == PackAction::kUseBoth && observation.switch_on[0] && observation.switch_on[1]) {
+             if (observation.pack_fault[0])
+               *kept = PackAction::kUseBatt2;
+             else if (observation.pack_fault[1])
+               *kept = PackAction::kUseBatt1;
+           }
+           return *kept;
+         }});
   }
   return flights;
 }

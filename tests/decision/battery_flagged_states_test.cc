@@ -52,8 +52,8 @@ TEST(BatteryFlaggedStates, OnlyOursReadsTheFlagAndNotTheFlaggedPacksEnergyOrVolt
   o.total_current_a = 30.0;  // I_H: above 0.2 × 105 A
   o.remaining_flight_s = 300.0;
   o.safety_margin_s = 5.0;
-  o.eod_s = {600.0, 400.0};                // pack 1 S1, pack 2 S1
-  o.min_cell_voltage_v = {3.9, 3.35};      // pack 2 C1
+  o.eod_s = {600.0, 400.0};            // pack 1 S1, pack 2 S1
+  o.min_cell_voltage_v = {3.9, 3.35};  // pack 2 C1
   o.actual_min_cell_voltage_v = {3.9, 3.8};
   o.pack_fault = {true, false};
   EXPECT_EQ(BatteryStateLabel(AbstractBatteryState(o)), "IHONS1C0ONS1C1");
@@ -87,8 +87,8 @@ TEST(BatteryFlaggedStates, OursOffersTheUnflaggedPackAloneWhateverItsEnergyAndVo
   EXPECT_FALSE(OursOffers(aside2, PackAction::kUseBoth));
   // Left on the flagged pack alone, the state says the pack left in is the faulted one: the other may come back.
   const BatteryFeatures flagged_alone = BatteryStateFeatures(ParseBatteryState("ILONFLTOFFS2C0", "t"));
-  EXPECT_TRUE(OursOffers(flagged_alone, PackAction::kUseBatt1));   // the hold
-  EXPECT_TRUE(OursOffers(flagged_alone, PackAction::kUseBatt2));   // the unflagged pack back in, alone
+  EXPECT_TRUE(OursOffers(flagged_alone, PackAction::kUseBatt1));  // the hold
+  EXPECT_TRUE(OursOffers(flagged_alone, PackAction::kUseBatt2));  // the unflagged pack back in, alone
   EXPECT_FALSE(OursOffers(flagged_alone, PackAction::kUseBoth));
 }
 
@@ -128,8 +128,8 @@ TEST(BatteryFlaggedStates, TheSolvedTableIsolatesAFlaggedPackWhenItsRowsSaySo) {
 
 TEST(BatteryFlaggedStates, OursCountsRoundTripThroughTheModelFileAndChangeTheHashOnlyWhenKept) {
   const BatteryContext context{HealthClass::kM, HealthClass::kG, TemperatureClass::kHigh};
-  BatteryModel model = FlaggedModel(context, ParseBatteryState("IHONFLTONS3C0", "t"),
-                                    ParseBatteryState("IHOFFFLTONS3C0", "t"));
+  BatteryModel model =
+      FlaggedModel(context, ParseBatteryState("IHONFLTONS3C0", "t"), ParseBatteryState("IHOFFFLTONS3C0", "t"));
   const BatteryModel read = BatteryModelFromJson(BatteryModelToJson(model), "m.json");
   ASSERT_TRUE(read.ours_counts.has_value());
   EXPECT_EQ(BatteryModelHash(read), BatteryModelHash(model));
@@ -140,8 +140,8 @@ TEST(BatteryFlaggedStates, OursCountsRoundTripThroughTheModelFileAndChangeTheHas
   EXPECT_NE(BatteryModelHash(model), with);
   EXPECT_FALSE(BatteryModelFromJson(BatteryModelToJson(model), "m.json").ours_counts.has_value());
   // A flagged state in the dissertation's counts is refused.
-  nlohmann::json json = BatteryModelToJson(FlaggedModel(context, ParseBatteryState("IHONFLTONS3C0", "t"),
-                                                        ParseBatteryState("IHOFFFLTONS3C0", "t")));
+  nlohmann::json json = BatteryModelToJson(
+      FlaggedModel(context, ParseBatteryState("IHONFLTONS3C0", "t"), ParseBatteryState("IHOFFFLTONS3C0", "t")));
   json["contexts"] = json["ours_contexts"];
   EXPECT_THROW(BatteryModelFromJson(json, "m.json"), InputError);
 }

@@ -21,11 +21,11 @@ namespace uascma::campaign {
 
 struct FaultHindsightRun {
   std::int64_t run = 0;
-  std::string fault;                // models::PackFaultKindName
+  std::string fault;  // models::PackFaultKindName
   bool useboth_completed = false;
   bool hindsight_completed = false;  // some member of the family completes (UseBoth included)
   double useboth_end_s = 0.0, best_end_s = 0.0, onset_s = 0.0;
-  std::string schedule;              // the best member (SwitchSchedule::Describe); empty when UseBoth completed
+  std::string schedule;  // the best member (SwitchSchedule::Describe); empty when UseBoth completed
   int schedules_flown = 0;
 };
 
@@ -35,8 +35,7 @@ struct FaultHindsight {
 };
 
 // InputError for runs or jobs below 1. Cancelled (common/cancellation.h) stops it as ParallelFor does.
-FaultHindsight SearchFaultHindsight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t runs,
-                                    int jobs);
+FaultHindsight SearchFaultHindsight(const BatteryFlightRanges& ranges, std::uint64_t seed, std::int64_t runs, int jobs);
 nlohmann::json FaultHindsightJson(const FaultHindsight& hindsight);
 // Per fault kind: runs, UseBoth's completions, the hindsight family's completions.
 std::string FaultHindsightText(const FaultHindsight& hindsight);

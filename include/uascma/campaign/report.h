@@ -1,10 +1,12 @@
 #pragma once
 // The report of a stored campaign (what `uascma report` and `uascma campaign` print): the campaign's
 // identity, how many flights are stored, and the statistics of campaign/statistics.h.
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "uascma/campaign/config.h"
 #include "uascma/campaign/landing_causes.h"
 #include "uascma/campaign/statistics.h"
 #include "uascma/campaign/store.h"
@@ -19,6 +21,11 @@ struct PackFaultGroup {
   std::vector<std::string> policies;
   std::vector<std::int64_t> runs, failures, completions;
 };
+
+// The pack fault the sampler drew for a run (campaign/sampler.h, step 9), drawn again from its run seed and nominal
+// plan duration (both in its record) and the configuration: none without `pack_faults:`.
+std::optional<models::PackFault> RedrawPackFault(const CampaignConfig& config, std::uint64_t run_seed,
+                                                 double plan_duration_s);
 
 struct CampaignReport {
   CampaignHeader header;

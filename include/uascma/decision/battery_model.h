@@ -65,6 +65,19 @@ class BatteryTransitionCounts {
   const std::map<StateIndex, std::int64_t>& Row(const BatteryContext& context, StateIndex state,
                                                 models::PackAction action) const;
   std::int64_t RowTotal(const BatteryContext& context, StateIndex state, models::PackAction action) const;
+  // Every row of a context with a count or a completion, in (state, action) order: visit(state, action, row,
+  // completions). The order is the file's and the fingerprint's.
+  template <typename Visit>
+  void ForEachRow(const BatteryContext& context, Visit&& visit) const {
+    for (StateIndex s = 0; s < kOursNumStates; ++s) {
+      if (s == kBatteryCompleteState) continue;
+      for (models::PackAction action : kBatteryActions) {
+        const auto& row = Row(context, s, action);
+        const std::int64_t completed = Completions(context, s, action);
+        if (!row.empty() || completed != 0) visit(s, action, row, completed);
+      }
+    }
+  }
   std::int64_t flights(const BatteryContext& context, models::PackAction action) const;
   std::int64_t total_transitions() const;
   std::int64_t total_flights() const;
