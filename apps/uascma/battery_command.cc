@@ -41,9 +41,45 @@ constexpr Bounds kCaseStudyBounds{1.0, 4.0, ""};
 
 // The 72 states with both switches OFF cannot occur: no action of Table 4.3 opens both switches.
 bool IsPossibleState(StateIndex s) {
-  if (s == kBatteryFailureState) return true;
+  if (s == kBatteryFailureState || s == kBatteryCompleteState) return true;
   const BatteryFeatures f = BatteryStateFeatures(s);
   return f.pack[0].switch_on || f.pack[1].switch_on;
+}
+
+bool BothIn(StateIndex s) {
+  if (s == kBatteryFailureState || s == kBatteryCompleteState) return false;
+  const BatteryFeatures f = BatteryStateFeatures(s);
+  return f.pack[0].switch_on && f.pack[1].switch_on;
+}
+
+// What a policy chooses where it has a choice to make: in the 72 states with both packs in, the states per action;
+// in the 144 with one pack in, the states in which it changes the switches (ours never does: item 6); ours' flagged
+// states with both packs in (26), the states in which it takes a flagged pack out. Counting the one-pack states'
+// holds with the choices would hide a policy that never leaves UseBoth.
+struct PolicyChoices {
+  std::array<int, 3> both_in{};  // per action
+  int one_in_switches = 0;
+  int flagged_both_in = 0, flagged_isolations = 0;
+};
+PolicyChoices CountChoices(const BatteryContextPolicy& p) {
+  PolicyChoices out;
+  for (StateIndex s = 0; s < static_cast<StateIndex>(p.action.size()); ++s) {
+    if (s == kBatteryFailureState || s == kBatteryCompleteState || !IsPossibleState(s)) continue;
+    const auto action = static_cast<PackAction>(p.action[static_cast<std::size_t>(s)]);
+    if (IsFlaggedBatteryState(s)) {
+      if (!BothIn(s)) continue;
+      ++out.flagged_both_in;
+      const BatteryFeatures f = BatteryStateFeatures(s);
+      const bool isolates = (action == PackAction::kUseBatt1 && f.pack[1].flagged) ||
+                            (action == PackAction::kUseBatt2 && f.pack[0].flagged);
+      out.flagged_isolations += isolates ? 1 : 0;
+    } else if (BothIn(s)) {
+      ++out.both_in[static_cast<std::size_t>(action)];
+    } else {
+      out.one_in_switches += SwitchesMatch(s, action) ? 0 : 1;
+    }
+  }
+  return out;
 }
 
 // Whether the row a policy's action uses in state s (the switched state's learned row) was observed in flights.
@@ -129,6 +165,8 @@ void PrintLearnSummary(const std::string& out, const BatteryModel& model,
                  {"recoveries", energy.recoveries}}},
                {"shared_gnc_steps", summary.sharing.shared_steps},
                {"alone_gnc_steps", summary.sharing.alone_steps},
+               {"isolation_flights", summary.isolation_flights},
+               {"ours_transitions", model.OursCounts().total_transitions()},
                {"wall_time_s", summary.wall_time_s}});
     return;
   }
@@ -146,6 +184,14 @@ void PrintLearnSummary(const std::string& out, const BatteryModel& model,
       static_cast<long long>(energy.s1_to_s3), static_cast<long long>(energy.recoveries),
       static_cast<long long>(summary.sharing.shared_steps), static_cast<long long>(summary.sharing.alone_steps),
       out.c_str(), BatteryModelHash(model).c_str());
+  if (summary.isolation_flights > 0 || model.ours_counts) {
+    std::printf(
+        "pack faults: %lld isolation flights (UseBoth, then the unflagged pack alone from the first flag); the "
+        "pack-fault indicator flagged a pack %s, so ours' flagged states (decision/battery_mdp.h item 10) are "
+        "counted (%lld transitions in ours' abstraction)\n",
+        static_cast<long long>(summary.isolation_flights), model.ours_counts ? "in flight" : "in no flight",
+        static_cast<long long>(model.OursCounts().total_transitions()));
+  }
 }
 
 // --pack-fault-share of learn and evaluate (campaign/pack_fault_sampling.h).
@@ -246,12 +292,13 @@ void AddSolve(CLI::App* battery) {
                                      : SolveBatteryPolicies(model);
     WriteFileAtomically(options->out, BatteryPolicyToJson(set).dump(1) + "\n");
     double wall = 0.0;
-    int iterations = 0, unobserved = 0;
+    int iterations = 0, unobserved = 0, learned = 0;
     nlohmann::json contexts = nlohmann::json::array();
     for (const BatteryContextPolicy& p : set.policies) {
       wall += p.summary.wall_time_s;
       iterations += p.summary.iterations;
       unobserved += p.stats.unobserved_rows;
+      learned += p.stats.learned_rows;
       contexts.push_back({{"context", BatteryContextLabel(p.context)},
                           {"iterations", p.summary.iterations},
                           {"unobserved_rows", p.stats.unobserved_rows},
@@ -271,7 +318,7 @@ void AddSolve(CLI::App* battery) {
         "solved %d battery policies (%s formulation, %s, gamma %.6g, %d %s in all, %.2f ms); %d of %d "
         "learned rows were unobserved (%s)\nwrote %s\n",
         kBatteryNumContexts, BatteryFormulationName(set.formulation), ours ? "policy iteration" : "value iteration",
-        set.gamma, iterations, ours ? "improvement steps" : "sweeps", 1e3 * wall, unobserved, 216 * kBatteryNumContexts,
+        set.gamma, iterations, ours ? "improvement steps" : "sweeps", 1e3 * wall, unobserved, learned,
         ours ? "actions not offered there" : "self-loops", options->out.c_str());
   });
 }
@@ -330,10 +377,20 @@ std::string TransitionDot(const BatteryContextPolicy& policy, PackAction action)
   return out + edges + "}\n";
 }
 
+// What the tree's root is: the dissertation's π* (a lookup of its solved tables), or ours' table (items 1-7 and 10
+// of decision/battery_mdp.h; its guard and drop check act outside the table, in the evaluation's executor).
+const char* FormulationLabel(BatteryFormulation formulation) {
+  return formulation == BatteryFormulation::kOurs ? "ours' table (guard and drop check outside it)"
+                                                  : "pi* lookup (the dissertation's)";
+}
+
 nlohmann::json PolicyViewJson(const BatteryPolicySet& set, const std::vector<StateIndex>& takeoff) {
   nlohmann::json contexts = nlohmann::json::array();
-  nlohmann::json impossible = nlohmann::json::array();
-  for (StateIndex s = 0; s < kBatteryNumStates; ++s) impossible.push_back(!IsPossibleState(s));
+  nlohmann::json impossible = nlohmann::json::array(), both_in = nlohmann::json::array();
+  for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
+    impossible.push_back(!IsPossibleState(s));
+    both_in.push_back(BothIn(s));
+  }
   for (const BatteryContextPolicy& p : set.policies) {
     const ObservedRows observed(p);
     nlohmann::json actions = nlohmann::json::array(), unobserved = nlohmann::json::array();
@@ -346,7 +403,12 @@ nlohmann::json PolicyViewJson(const BatteryPolicySet& set, const std::vector<Sta
       unobserved_possible += missing ? 1 : 0;
     }
     const StateIndex start = takeoff[static_cast<std::size_t>(BatteryContextIndex(p.context))];
+    const PolicyChoices choices = CountChoices(p);
     contexts.push_back({{"context", BatteryContextLabel(p.context)},
+                        {"both_in_per_action", choices.both_in},
+                        {"one_in_switches", choices.one_in_switches},
+                        {"flagged_both_in", choices.flagged_both_in},
+                        {"flagged_isolations", choices.flagged_isolations},
                         {"b1", BatteryHealthName(p.context.b1)},
                         {"b2", BatteryHealthName(p.context.b2)},
                         {"temperature", TemperatureClassName(p.context.temperature)},
@@ -362,8 +424,10 @@ nlohmann::json PolicyViewJson(const BatteryPolicySet& set, const std::vector<Sta
           {"formulation", BatteryFormulationName(set.formulation)},
           {"gamma", set.gamma},
           {"takeoff_flight_s", CaseFlightTimeS()},
+          {"label", FormulationLabel(set.formulation)},
           {"states", BatteryStateLabels()},
           {"impossible", impossible},
+          {"both_in", both_in},
           {"contexts", contexts}};
 }
 
@@ -408,33 +472,41 @@ void AddShow(CLI::App* battery) {
       PrintJson(view);
       return;
     }
+    const bool ours = set.formulation == BatteryFormulation::kOurs;
     std::string text = fmt::format(
-        "battery policies {} ({} formulation, model {}, gamma {:.6g})\nFig. 4.5 decision tree over (T, B1F, B2F), one "
-        "leaf per context; counts "
-        "over the 216 states that can occur (72 with both switches OFF cannot)\n"
+        "battery policies {}: {} ({} formulation, model {}, gamma {:.6g})\nFig. 4.5 decision tree over (T, B1F, "
+        "B2F), one leaf per context. Choices: per action in the 72 states with both packs in; switches in the 144 "
+        "with one pack in (72 with both switches OFF cannot occur){}\n"
         "take-off: the first state of the context's case-study flight ({:.0f} s plan, "
         "docs/modelling-choices.md#battery-case-study-flight-time); * = the chosen "
-        "action's row was never observed\n",
-        options->policy, BatteryFormulationName(set.formulation), set.model_hash, set.gamma, CaseFlightTimeS());
-    text += "                 states per action               unobserved   at take-off\n";
-    text += "T    B1F  B2F    UseBatt1  UseBatt2  UseBoth      choices      state              action\n";
+        "action's row was never observed; unobserved: the choices with both packs in whose row was never observed\n",
+        options->policy, FormulationLabel(set.formulation), BatteryFormulationName(set.formulation), set.model_hash,
+        set.gamma, ours ? "; flagged: isolations of a flagged pack in the 26 flagged states with both in" : "",
+        CaseFlightTimeS());
+    text += "                 both packs in (72)              one in     unobserved   at take-off";
+    text += ours ? "                         flagged\n" : "\n";
+    text += "T    B1F  B2F    UseBatt1  UseBatt2  UseBoth     switches   choices      state              action";
+    text += ours ? "              isolate\n" : "\n";
     for (const BatteryContextPolicy& p : set.policies) {
       const ObservedRows observed(p);
-      std::array<int, 3> per_action{};
+      const PolicyChoices choices = CountChoices(p);
       int unobserved = 0;
       for (StateIndex s = 0; s < kBatteryFailureState; ++s) {
-        if (!IsPossibleState(s)) continue;
+        if (!BothIn(s)) continue;
         const auto action = static_cast<PackAction>(p.action[static_cast<std::size_t>(s)]);
-        ++per_action[static_cast<std::size_t>(action)];
         unobserved += observed.Has(s, action) ? 0 : 1;
       }
       const StateIndex start = takeoff[static_cast<std::size_t>(BatteryContextIndex(p.context))];
       const auto start_action = static_cast<PackAction>(p.action[static_cast<std::size_t>(start)]);
-      text += fmt::format("{:<4} {:<4} {:<4}   {:>8}  {:>8}  {:>7}      {:>3} of 216   {:<18} {}{}\n",
+      text += fmt::format("{:<4} {:<4} {:<4}   {:>8}  {:>8}  {:>7}     {:>8}   {:>3} of 72    {:<18} {}{}",
                           TemperatureClassName(p.context.temperature), BatteryHealthName(p.context.b1),
-                          BatteryHealthName(p.context.b2), per_action[0], per_action[1], per_action[2], unobserved,
-                          BatteryStateLabel(start), models::PackActionName(start_action),
-                          observed.Has(start, start_action) ? "" : " *");
+                          BatteryHealthName(p.context.b2), choices.both_in[0], choices.both_in[1], choices.both_in[2],
+                          choices.one_in_switches, unobserved, BatteryStateLabel(start),
+                          models::PackActionName(start_action), observed.Has(start, start_action) ? "" : " *");
+      text += ours ? fmt::format("{:>{}}{} of {}\n", "",
+                                 observed.Has(start, start_action) ? 12 : 10, choices.flagged_isolations,
+                                 choices.flagged_both_in)
+                   : "\n";
     }
     std::fputs(text.c_str(), stdout);
     if (!options->dot.empty()) std::printf("wrote %s\n", options->dot.c_str());
@@ -628,13 +700,15 @@ void AddEvaluate(CLI::App* battery) {
 
 void AddBatteryCommand(CLI::App& app) {
   CLI::App* battery = app.add_subcommand(
-      "battery", "The battery-reconfiguration MDP (Ch. IV, §4.3): learn, solve, show, case-study, evaluate");
+      "battery",
+      "The battery-reconfiguration MDP (Ch. IV, §4.3): learn, solve, show, case-study, evaluate, hindsight");
   battery->require_subcommand(1);
   AddLearn(battery);
   AddSolve(battery);
   AddShow(battery);
   AddCaseStudy(battery);
   AddEvaluate(battery);
+  AddBatteryHindsight(battery);
 }
 
 }  // namespace uascma::cli

@@ -17,6 +17,7 @@ void AddCampaignCommand(CLI::App& app);   // campaign_command.cc
 void AddReportCommand(CLI::App& app);     // report_command.cc
 void AddMapCommand(CLI::App& app);        // map_command.cc
 void AddBatteryCommand(CLI::App& app);    // battery_command.cc
+void AddBatteryHindsight(CLI::App* battery);  // battery_hindsight_command.cc (under `battery`)
 void AddLearnCommand(CLI::App& app);      // learn_command.cc, learn_transitions_command.cc
 void AddStoreCommand(CLI::App& app);      // store_command.cc
 void AddReproduceCommand(CLI::App& app);  // reproduce_command.cc

@@ -11,8 +11,8 @@ context (18 leaves, §4.3.2.1: "the policies are selected traversing the appropr
 the action its policy takes at the take-off state; a dashed leaf with "*" means that choice's row was never observed
 in the learning flights (the model then lets that state loop on itself,
 docs/modelling-choices.md#battery-mdp-transitions). Right panel, aligned with the leaves: how
-many of the 216 states that can occur (72 with both switches OFF cannot) each action is chosen in, the never-observed
-choices hatched. A key below explains every code (Tables 4.1-4.3).
+many of the 72 states with both packs in each action is chosen in (where every policy chooses; ours holds its
+switches in a one-pack state by construction), the never-observed choices hatched. A key below explains every code (Tables 4.1-4.3).
 """
 import json
 import sys
@@ -86,6 +86,13 @@ def policy_name(view):
     return "\u03c0*" if view.get("formulation", "dissertation") == "dissertation" else "ours' table"
 
 
+def root_label(view):
+    """The tree's root: what is looked up (pi*'s solved tables, or ours' table without its guard and drop check)."""
+    if view.get("formulation", "dissertation") == "dissertation":
+        return "\u03c0* lookup\n(18 leaves)"
+    return "ours' table lookup\n(guard and drop\ncheck outside it;\n18 leaves)"
+
+
 def draw_tree(ax, contexts, view):
     # x positions of the levels (data units); leaves at y = 0..17 top to bottom.
     x_root, x_b1, x_b2, x_t, x_leaf = 0.0, 1.2, 2.4, 3.5, 4.6
@@ -98,7 +105,7 @@ def draw_tree(ax, contexts, view):
     ax.set_ylim(len(contexts) - 0.5, header_y - 0.6)
     ax.axis("off")
     links = []  # (parent, child) texts; the edges are drawn once the boxes have their size
-    root = node(ax, x_root, (ys[0] + ys[-1]) / 2.0, f"{policy_name(view)} lookup\n(18 leaves)")
+    root = node(ax, x_root, (ys[0] + ys[-1]) / 2.0, root_label(view))
     for i, b1 in enumerate(HEALTH):
         b1_ys = ys[i * 6:(i + 1) * 6]
         b1_node = node(ax, x_b1, sum(b1_ys) / 6.0, f"B1 {b1}")
@@ -126,9 +133,11 @@ def draw_tree(ax, contexts, view):
 
 
 def draw_counts(ax, contexts, view):
-    """Per leaf, the states (of the 216 that can occur) in which each action is chosen; never-observed hatched."""
-    impossible = view["impossible"]
-    possible = [s for s in range(len(view["states"]) - 1) if not impossible[s]]  # the last state is FAILURE
+    """Per leaf, the states with both packs in (72) in which each action is chosen; never-observed hatched. Only
+    there does every policy choose: in a one-pack state ours holds its switches by construction, so counting those
+    holds would hide a policy that never leaves UseBoth."""
+    both_in = view["both_in"]
+    possible = [s for s in range(len(view["states"])) if both_in[s]]
     for y, context in enumerate(contexts):
         left = 0
         for a, action in enumerate(ACTIONS):
@@ -140,16 +149,16 @@ def draw_counts(ax, contexts, view):
             if missing:
                 ax.barh(y, missing, left=left + len(chosen) - missing, height=0.7, facecolor="none",
                         edgecolor="dimgrey", hatch="///", linewidth=0)
-            if len(chosen) >= 24:  # ours: a 3-digit count at FONT fits in 24 of the 216 states' width
+            if len(chosen) >= 8:  # a 2-digit count at FONT fits in 8 of the 72 states' width
                 ax.text(left + len(chosen) / 2.0, y, str(len(chosen)), ha="center", va="center", fontsize=FONT - 1)
             left += len(chosen)
     ax.set_xlim(0, len(possible))
     ax.set_ylim(len(contexts) - 0.5, -1.3 - 0.6)
     ax.set_yticks([])
-    ax.set_xticks([0, 54, 108, 162, 216])
+    ax.set_xticks([0, 18, 36, 54, 72])
     ax.tick_params(labelsize=FONT)
-    ax.set_xlabel(f"states per action (of the {len(possible)} that can occur)", fontsize=FONT)
-    ax.set_title("whole policy per leaf", fontsize=FONT + 1)
+    ax.set_xlabel(f"states per action (of the {len(possible)} with both packs in)", fontsize=FONT)
+    ax.set_title("choices with both packs in, per leaf", fontsize=FONT + 1)
     for side in ("top", "right", "left"):
         ax.spines[side].set_visible(False)
 

@@ -108,6 +108,48 @@ bool IsIsolation(const decision::BatteryObservation& observation, PackAction act
   return observation.switch_on[0] && observation.switch_on[1] && action != PackAction::kUseBoth;
 }
 
+// The same, of a pack the pack-fault indicator flags.
+bool IsFaultIsolation(const decision::BatteryObservation& observation, PackAction action) {
+  if (!IsIsolation(observation, action)) return false;
+  return observation.pack_fault[action == PackAction::kUseBatt1 ? 1 : 0];
+}
+
+// Ours (decision/battery_mdp.h): the table in ours' abstraction, item 9's drop check, item 8's guard as a last line.
+BatteryFlightController OursController(const BatteryPolicySpec& spec, const BatteryContext& context) {
+  BatteryFlightController out;
+  out.initial_switches = PackAction::kUseBoth;
+  UASCMA_CHECK(spec.policies != nullptr, "a policy file read for ours");
+  auto executor = std::make_shared<decision::BatteryPolicyExecutor>(*spec.policies, context);
+  auto counts = std::make_shared<BatteryDecisionCounts>();
+  out.decisions = counts;
+  out.observe_pair_eod = true;
+  out.controller = [executor, counts](double, const decision::BatteryObservation& observation, StateIndex) {
+    const StateIndex s = executor->Abstract(observation);  // ours' abstraction: the pack-fault flags read
+    if (s == decision::kBatteryFailureState) {
+      ++counts->failure_rows_held;
+      return HeldSwitches(observation);
+    }
+    // The table first (item 10: its flagged states isolate a flagged pack), with item 9's drop check on an
+    // unflagged state's drop (a flagged state's drop is onto the only pack not known faulted).
+    const PackAction table = executor->Decide(s);
+    const PackAction action =
+        decision::IsFlaggedBatteryState(s) ? table : OursDropCheck(table, observation, executor->thresholds());
+    if (IsIsolation(observation, action)) {
+      ++counts->table_isolations;
+      if (IsFaultIsolation(observation, action)) ++counts->table_fault_isolations;
+      return action;
+    }
+    // The imminent-failure guard (item 8), a last line: only where the table keeps both packs in.
+    if (const auto guard = OursImminentFailureGuard(observation)) {
+      if (IsIsolation(observation, *guard)) ++counts->guard_isolations;
+      if (IsFaultIsolation(observation, *guard)) ++counts->guard_fault_isolations;
+      return *guard;
+    }
+    return action;
+  };
+  return out;
+}
+
 }  // namespace
 
 BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, const BatteryContext& context) {
@@ -129,31 +171,14 @@ BatteryFlightController MakeBatteryController(const BatteryPolicySpec& spec, con
         }
         const PackAction action = executor->Decide(s);
         if (IsIsolation(observation, action)) ++counts->table_isolations;
+        if (IsFaultIsolation(observation, action)) ++counts->table_fault_isolations;
         return action;
       };
       break;
     }
-    case BatteryPolicyKind::kOurs: {
-      UASCMA_CHECK(spec.policies != nullptr, "a policy file read for ours");
-      auto executor = std::make_shared<decision::BatteryPolicyExecutor>(*spec.policies, context);
-      auto counts = std::make_shared<BatteryDecisionCounts>();
-      out.decisions = counts;
-      out.observe_pair_eod = true;
-      out.controller = [executor, counts](double, const decision::BatteryObservation& observation, StateIndex s) {
-        if (s == decision::kBatteryFailureState) {
-          ++counts->failure_rows_held;
-          return HeldSwitches(observation);
-        }
-        if (const auto guard = OursImminentFailureGuard(observation)) {
-          if (IsIsolation(observation, *guard)) ++counts->guard_isolations;
-          return *guard;
-        }
-        const PackAction action = OursDropCheck(executor->Decide(s), observation, executor->thresholds());
-        if (IsIsolation(observation, action)) ++counts->table_isolations;
-        return action;
-      };
+    case BatteryPolicyKind::kOurs:
+      out = OursController(spec, context);
       break;
-    }
     case BatteryPolicyKind::kFaultRule: {
       // UseBoth; the first pack the pack-fault indicator flags is switched off for good (the other stays in).
       auto dropped = std::make_shared<int>(-1);

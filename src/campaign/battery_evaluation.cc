@@ -65,6 +65,8 @@ BatteryPolicySummary SummariseFlights(const std::string& label, const std::vecto
     const BatteryPolicyFlight* f = flights[i];
     out.table_isolations += f->decisions.table_isolations;
     out.guard_isolations += f->decisions.guard_isolations;
+    out.table_fault_isolations += f->decisions.table_fault_isolations;
+    out.guard_fault_isolations += f->decisions.guard_fault_isolations;
     out.failure_rows_held += f->decisions.failure_rows_held;
     if (f->fault_detected_s) {
       ++out.detections;
@@ -108,6 +110,8 @@ nlohmann::json SummaryJson(const BatteryPolicySummary& s) {
       {"max_switches", s.max_switches},
       {"table_isolations", s.table_isolations},
       {"guard_isolations", s.guard_isolations},
+      {"table_fault_isolations", s.table_fault_isolations},
+      {"guard_fault_isolations", s.guard_fault_isolations},
       {"failure_rows_held", s.failure_rows_held},
       {"pack_fault_detections", s.detections},
       {"median_detection_delay_s", EvaluationJsonNumber(s.median_detection_delay_s)}};
@@ -311,6 +315,8 @@ nlohmann::json BatteryEvaluationJson(const BatteryEvaluation& evaluation, bool w
                            {"energy_used_wh", f.energy_used_wh},
                            {"table_isolations", f.decisions.table_isolations},
                            {"guard_isolations", f.decisions.guard_isolations},
+                           {"table_fault_isolations", f.decisions.table_fault_isolations},
+                           {"guard_fault_isolations", f.decisions.guard_fault_isolations},
                            {"failure_rows_held", f.decisions.failure_rows_held},
                            {"fault_detected_s", f.fault_detected_s ? nlohmann::json(*f.fault_detected_s) : nullptr}});
       }
@@ -349,10 +355,12 @@ std::string PackFaultText(const BatteryEvaluation& evaluation) {
       }
     }
   }
-  out += "\nisolations (a pack taken out while both were in) by the table / by a guard; FAILURE epochs held\n";
+  out +=
+      "\nisolations (a pack taken out while both were in) by the table / by a guard, of them of a flagged pack; "
+      "FAILURE epochs held\n";
   for (const auto& s : evaluation.overall) {
-    out += fmt::format("  {:<13} {:>5} / {:<5} {:>5}\n", s.label, s.table_isolations, s.guard_isolations,
-                       s.failure_rows_held);
+    out += fmt::format("  {:<13} {:>5} / {:<5} flagged {:>4} / {:<4} {:>5}\n", s.label, s.table_isolations,
+                       s.guard_isolations, s.table_fault_isolations, s.guard_fault_isolations, s.failure_rows_held);
   }
   for (const auto& group : evaluation.by_pack_fault) {
     if (group.fault != "none" && group.fault != "any") continue;

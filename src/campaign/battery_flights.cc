@@ -171,6 +171,8 @@ class RecordingExecutor final : public sim::BatterySwitchPolicy {
     const StateIndex s = decision::AbstractBatteryState(observation, thresholds_);
     const PackAction action = controller_(state.time_s, observation, s);
     result_.states.push_back(s);
+    result_.ours_states.push_back(
+        decision::AbstractBatteryState(observation, thresholds_, decision::BatteryFormulation::kOurs));
     if (result_.switches.empty() || result_.switches.back().second != action) {
       result_.switches.emplace_back(state.time_s, action);
     }
@@ -239,7 +241,10 @@ std::vector<BatteryFlightResult> FlyBatteryFlights(const BatteryFlightParams& pa
     for (int j = 0; j < models::kBranchCount; ++j)
       results[k].charge_left_ah[j] = PackChargeLeftAh(model.pack(), states[k].power.pack, j);
     // The ESCs cut out at 3.3 V (Table 4.1): the flight's last transition is into FAILURE.
-    if (states[k].outcome == sim::Outcome::kFailedBattery) results[k].states.push_back(decision::kBatteryFailureState);
+    if (states[k].outcome == sim::Outcome::kFailedBattery) {
+      results[k].states.push_back(decision::kBatteryFailureState);
+      results[k].ours_states.push_back(decision::kBatteryFailureState);
+    }
   }
   if (sharing) {
     sharing->shared_steps += counts.shared_steps;

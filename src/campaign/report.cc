@@ -1,5 +1,6 @@
 #include "uascma/campaign/report.h"
 
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <string>
@@ -7,7 +8,62 @@
 
 #include <fmt/format.h>
 
+#include "uascma/campaign/config.h"
+#include "uascma/campaign/pack_fault_sampling.h"
+#include "uascma/campaign/sampler.h"
+#include "uascma/common/random.h"
+
 namespace uascma::campaign {
+
+std::optional<models::PackFault> RedrawPackFault(const CampaignConfig& config, std::uint64_t run_seed,
+                                                 double plan_duration_s) {
+  if (!config.pack_faults.share) return std::nullopt;
+  RandomStream random(DeriveSeed(run_seed, kPackFaultStream));
+  return DrawPackFault(random, config.pack_faults.Sampling(), plan_duration_s);
+}
+
+namespace {
+
+// Each paired run's pack fault drawn again as the sampler drew it (campaign/sampler.h, step 9), split by kind.
+std::vector<PackFaultGroup> SplitByPackFault(const CampaignHeader& header, const std::vector<RunRecord>& paired,
+                                             const std::vector<std::string>& order) {
+  const CampaignConfig config = ParseCampaignConfig(header.config_yaml, "the stored configuration");
+  if (!config.pack_faults.share || *config.pack_faults.share <= 0.0) return {};
+  std::map<std::string, PackFaultGroup> groups;
+  std::vector<std::string> kinds = {"none"};
+  for (int k = 0; k < models::kPackFaultKindCount; ++k) {
+    kinds.push_back(models::PackFaultKindName(static_cast<models::PackFaultKind>(k)));
+  }
+  kinds.push_back("any");
+  for (const std::string& kind : kinds) {
+    PackFaultGroup& g = groups[kind];
+    g.fault = kind;
+    g.policies = order;
+    g.runs.assign(order.size(), 0);
+    g.failures.assign(order.size(), 0);
+    g.completions.assign(order.size(), 0);
+  }
+  for (const RunRecord& r : paired) {
+    const auto fault = RedrawPackFault(config, r.run_seed, r.plan_duration_s);
+    const std::size_t slot = static_cast<std::size_t>(std::find(order.begin(), order.end(), r.policy) - order.begin());
+    if (slot >= order.size()) continue;
+    for (const std::string& kind :
+         {std::string(fault ? models::PackFaultKindName(fault->kind) : "none"), std::string(fault ? "any" : "")}) {
+      if (kind.empty()) continue;
+      PackFaultGroup& g = groups[kind];
+      ++g.runs[slot];
+      g.failures[slot] += r.failure ? 1 : 0;
+      g.completions[slot] += r.outcome == sim::OutcomeName(sim::Outcome::kCompleted) ? 1 : 0;
+    }
+  }
+  std::vector<PackFaultGroup> out;
+  for (const std::string& kind : kinds) {
+    if (groups[kind].runs.front() > 0) out.push_back(groups[kind]);
+  }
+  return out;
+}
+
+}  // namespace
 
 CampaignReport MakeCampaignReport(const ResultsStore& store) {
   CampaignReport report;
@@ -27,6 +83,7 @@ CampaignReport MakeCampaignReport(const ResultsStore& store) {
   report.groups = Summarise(paired, order);
   report.comparisons = ComparePaired(paired, order);
   report.landing_causes = CountUnnecessaryLandingCauses(paired, order);
+  report.by_pack_fault = SplitByPackFault(report.header, paired, order);
   return report;
 }
 
@@ -79,6 +136,18 @@ nlohmann::json CampaignReportJson(const CampaignReport& report) {
   if (const auto vehicle = VehicleOf(h)) {
     json["campaign"]["vehicle"] = {{"file", vehicle->first}, {"content_hash", vehicle->second}};
   }
+  if (!report.by_pack_fault.empty()) {
+    nlohmann::json groups = nlohmann::json::array();
+    for (const PackFaultGroup& g : report.by_pack_fault) {
+      nlohmann::json per_policy = nlohmann::json::object();
+      for (std::size_t k = 0; k < g.policies.size(); ++k) {
+        per_policy[g.policies[k]] = {
+            {"runs", g.runs[k]}, {"failures", g.failures[k]}, {"completions", g.completions[k]}};
+      }
+      groups.push_back({{"fault", g.fault}, {"policies", per_policy}});
+    }
+    json["by_pack_fault"] = groups;
+  }
   return json;
 }
 
@@ -107,6 +176,19 @@ std::string CampaignReportText(const CampaignReport& report) {
   out += StatisticsTable(report.groups, report.comparisons);
   const std::string causes = LandingCausesTable(report.landing_causes);
   if (!causes.empty()) out += "\n" + causes;
+  if (!report.by_pack_fault.empty()) {
+    out += "\nBy sudden pack fault (docs/modelling-choices.md#pack-faults): failures / completions of the runs\n";
+    out += fmt::format("{:<16}", "fault");
+    for (const std::string& p : report.by_pack_fault.front().policies) out += fmt::format(" {:>22}", p);
+    out += "\n";
+    for (const PackFaultGroup& g : report.by_pack_fault) {
+      out += fmt::format("{:<16}", g.fault);
+      for (std::size_t k = 0; k < g.policies.size(); ++k) {
+        out += fmt::format(" {:>22}", fmt::format("{} / {} of {}", g.failures[k], g.completions[k], g.runs[k]));
+      }
+      out += "\n";
+    }
+  }
   return out;
 }
 

@@ -44,7 +44,8 @@ bool IsCellFailure(double min_cell_voltage_v, const BatteryThresholds& threshold
   return min_cell_voltage_v <= thresholds.failure_voltage_v;
 }
 
-StateIndex AbstractBatteryState(const BatteryObservation& observation, const BatteryThresholds& thresholds) {
+StateIndex AbstractBatteryState(const BatteryObservation& observation, const BatteryThresholds& thresholds,
+                                BatteryFormulation formulation) {
   BatteryFeatures features;
   features.current = ClassifyCurrent(observation.total_current_a, thresholds);
   for (int j = 0; j < models::kBranchCount; ++j) {
@@ -57,6 +58,9 @@ StateIndex AbstractBatteryState(const BatteryObservation& observation, const Bat
     features.pack[j].energy =
         ClassifyEnergy(observation.eod_s[j], observation.remaining_flight_s, observation.safety_margin_s);
     features.pack[j].voltage = ClassifyVoltage(observation.min_cell_voltage_v[j], thresholds);
+    if (formulation == BatteryFormulation::kOurs && observation.pack_fault[j]) {
+      features.pack[j] = {observation.switch_on[j], EnergyState::kS3, VoltageState::kC1, true};
+    }
   }
   return BatteryStateIndex(features);
 }

@@ -34,16 +34,58 @@ std::string PackLabel(const PackFeatures& pack) {
                      static_cast<int>(pack.voltage));
 }
 
-std::vector<std::string> MakeStateLabels() {
+std::string FeaturesLabel(const BatteryFeatures& f) {
+  const auto pack = [](const PackFeatures& p) {
+    return p.flagged ? fmt::format("{}FLT", p.switch_on ? "ON" : "OFF") : PackLabel(p);
+  };
+  return fmt::format("{}{}{}", f.current == CurrentLevel::kHigh ? "IH" : "IL", pack(f.pack[0]), pack(f.pack[1]));
+}
+
+// Ours' labels: the dissertation's 289, COMPLETE, then the flagged states (the first 289 are BatteryStateLabels()).
+std::vector<std::string> MakeOursStateLabels() {
   std::vector<std::string> labels;
-  labels.reserve(kBatteryNumStates);
-  for (StateIndex s = 0; s < kNonFailureStates; ++s) {
-    const BatteryFeatures f = BatteryStateFeatures(s);
-    labels.push_back(fmt::format("{}{}{}", f.current == CurrentLevel::kHigh ? "IH" : "IL", PackLabel(f.pack[0]),
-                                 PackLabel(f.pack[1])));
-  }
+  labels.reserve(kOursNumStates);
+  for (StateIndex s = 0; s < kNonFailureStates; ++s) labels.push_back(FeaturesLabel(BatteryStateFeatures(s)));
   labels.emplace_back("FAILURE");
+  labels.emplace_back("COMPLETE");
+  for (StateIndex s = kBatteryFirstFlaggedState; s < kOursNumStates; ++s) {
+    labels.push_back(FeaturesLabel(BatteryStateFeatures(s)));
+  }
   return labels;
+}
+
+// A flagged pack's energy and voltage are not read: S3 and C1, the worst (decision/battery_mdp.h ours item 10).
+PackFeatures FlaggedPack(bool switch_on) { return {switch_on, EnergyState::kS3, VoltageState::kC1, true}; }
+
+// Ours' flagged states (item 10), after COMPLETE: one flagged pack j (96), index
+//   290 + ((j·2 + I)·2 + Sw_j)·12 + the other pack's code;  both flagged (8): 386 + (I·2 + Sw1)·2 + Sw2.
+constexpr StateIndex kFirstBothFlagged = kBatteryFirstFlaggedState + 96;
+
+StateIndex FlaggedStateIndex(const BatteryFeatures& f) {
+  const int current = static_cast<int>(f.current);
+  if (f.pack[0].flagged && f.pack[1].flagged) {
+    return kFirstBothFlagged + (current * 2 + (f.pack[0].switch_on ? 1 : 0)) * 2 + (f.pack[1].switch_on ? 1 : 0);
+  }
+  const int j = f.pack[0].flagged ? 0 : 1;
+  return kBatteryFirstFlaggedState + ((j * 2 + current) * 2 + (f.pack[j].switch_on ? 1 : 0)) * 12 +
+         PackCode(f.pack[1 - j]);
+}
+
+BatteryFeatures FlaggedStateFeatures(StateIndex state) {
+  BatteryFeatures f;
+  if (state >= kFirstBothFlagged) {
+    const int code = state - kFirstBothFlagged;
+    f.current = static_cast<CurrentLevel>(code / 4);
+    f.pack[0] = FlaggedPack((code / 2) % 2 == 1);
+    f.pack[1] = FlaggedPack(code % 2 == 1);
+    return f;
+  }
+  const int code = state - kBatteryFirstFlaggedState;
+  const int j = code / 48;
+  f.current = static_cast<CurrentLevel>((code / 24) % 2);
+  f.pack[j] = FlaggedPack((code / 12) % 2 == 1);
+  f.pack[1 - j] = PackFromCode(code % 12);
+  return f;
 }
 
 // R_BiS of eq. 4.5 (docs/modelling-choices.md#battery-mdp-rewards): health "at least as good" = class index not larger
@@ -67,10 +109,12 @@ double SwitchReward(bool on) { return on ? 1.0 : 0.0; }                         
 
 // ================================ states ==========================================================
 StateIndex BatteryStateIndex(const BatteryFeatures& features) {
+  if (features.pack[0].flagged || features.pack[1].flagged) return FlaggedStateIndex(features);
   return (static_cast<int>(features.current) * 12 + PackCode(features.pack[0])) * 12 + PackCode(features.pack[1]);
 }
 
 BatteryFeatures BatteryStateFeatures(StateIndex state) {
+  if (IsFlaggedBatteryState(state)) return FlaggedStateFeatures(state);
   UASCMA_CHECK(state >= 0 && state < kNonFailureStates, "a non-failure battery state");
   BatteryFeatures features;
   features.pack[1] = PackFromCode(state % 12);
@@ -80,8 +124,19 @@ BatteryFeatures BatteryStateFeatures(StateIndex state) {
 }
 
 const std::vector<std::string>& BatteryStateLabels() {
-  static const std::vector<std::string> labels = MakeStateLabels();
+  static const std::vector<std::string> labels(BatteryFormulationStateLabels(BatteryFormulation::kOurs).begin(),
+                                               BatteryFormulationStateLabels(BatteryFormulation::kOurs).begin() +
+                                                   kBatteryNumStates);
   return labels;
+}
+
+int BatteryPolicyStates(BatteryFormulation formulation) {
+  return formulation == BatteryFormulation::kOurs ? kOursNumStates : kBatteryNumStates;
+}
+
+const std::vector<std::string>& BatteryFormulationStateLabels(BatteryFormulation formulation) {
+  static const std::vector<std::string> ours = MakeOursStateLabels();
+  return formulation == BatteryFormulation::kOurs ? ours : BatteryStateLabels();
 }
 
 const std::vector<std::string>& BatteryActionNames() {
@@ -92,12 +147,12 @@ const std::vector<std::string>& BatteryActionNames() {
 }
 
 std::string BatteryStateLabel(StateIndex state) {
-  UASCMA_CHECK(state >= 0 && state < kBatteryNumStates, "a battery state index");
-  return BatteryStateLabels()[static_cast<std::size_t>(state)];
+  UASCMA_CHECK(state >= 0 && state < kOursNumStates, "a battery state index");
+  return BatteryFormulationStateLabels(BatteryFormulation::kOurs)[static_cast<std::size_t>(state)];
 }
 
 StateIndex ParseBatteryState(const std::string& label, const std::string& source) {
-  const auto& labels = BatteryStateLabels();
+  const auto& labels = BatteryFormulationStateLabels(BatteryFormulation::kOurs);
   const auto it = std::find(labels.begin(), labels.end(), label);
   if (it == labels.end()) {
     throw InputError(source, "state",
@@ -107,7 +162,7 @@ StateIndex ParseBatteryState(const std::string& label, const std::string& source
 }
 
 StateIndex ApplySwitches(StateIndex state, PackAction action) {
-  if (state == kBatteryFailureState) return state;
+  if (state == kBatteryFailureState || state == kBatteryCompleteState) return state;
   BatteryFeatures features = BatteryStateFeatures(state);
   const models::PerBranch<bool> on = models::SwitchesFor(action);
   features.pack[0].switch_on = on[0];
@@ -212,7 +267,8 @@ const char* BatteryFormulationName(BatteryFormulation formulation) {
 }
 
 int SwitchToggles(StateIndex state, PackAction action) {
-  UASCMA_CHECK(state >= 0 && state < kBatteryFailureState, "a non-failure battery state");
+  UASCMA_CHECK((state >= 0 && state < kBatteryFailureState) || IsFlaggedBatteryState(state),
+               "a non-failure battery state");
   const BatteryFeatures f = BatteryStateFeatures(state);
   const models::PerBranch<bool> on = models::SwitchesFor(action);
   return (f.pack[0].switch_on != on[0] ? 1 : 0) + (f.pack[1].switch_on != on[1] ? 1 : 0);
@@ -239,7 +295,13 @@ PackAction HoldSwitchesAction(const BatteryFeatures& f) {
 
 bool OursOffers(const BatteryFeatures& f, PackAction action) {
   const bool both_on = f.pack[0].switch_on && f.pack[1].switch_on;
+  if (f.pack[0].flagged != f.pack[1].flagged) {  // item 10: one pack flagged
+    const int flagged = f.pack[0].flagged ? 0 : 1;
+    const PackAction other_alone = flagged == 0 ? PackAction::kUseBatt2 : PackAction::kUseBatt1;
+    return action == HoldSwitchesAction(f) || action == other_alone;
+  }
   if (!both_on) return action == HoldSwitchesAction(f);  // item 6: a dropped pack stays dropped
+  if (f.pack[0].flagged) return true;                    // both flagged, both in: the features cannot tell them apart
   if (action == PackAction::kUseBoth) return true;
   const int k = action == PackAction::kUseBatt1 ? 0 : 1;
   // Item 7: only onto a pack that can finish alone with t_sf (S1) and is not critical alone (C0).

@@ -127,7 +127,7 @@ BatteryContext ContextFrom(const JsonValue& entry) {
 
 // The state labelled `label` (a member's key, or the value's own string); the failure names `value`'s path.
 StateIndex StateFrom(const JsonValue& value, const std::string& label) {
-  const auto& labels = BatteryStateLabels();
+  const auto& labels = BatteryFormulationStateLabels(BatteryFormulation::kOurs);
   const auto it = std::find(labels.begin(), labels.end(), label);
   if (it == labels.end()) {
     value.FailExactly(fmt::format("a battery MDP state such as ILONS1C0OFFS2C0 or FAILURE, got '{}'", label));
@@ -177,28 +177,70 @@ void CheckHash(const JsonValue& value, const std::string& hash, const std::strin
   }
 }
 
-void ReadModelRow(const JsonValue& row, const BatteryContext& context, BatteryModel& model) {
+// `ours`: a row of ours' abstraction (its flagged states allowed), else of the dissertation's 289.
+void ReadModelRow(const JsonValue& row, const BatteryContext& context, bool ours, BatteryTransitionCounts& counts) {
   const StateIndex s = StateFrom(row.Member("state", "an object {state, action, next}"));
   const PackAction action = ActionFrom(row.Member("action"));
-  if (s == kBatteryFailureState || !SwitchesMatch(s, action)) {
+  const bool known = s < kBatteryFailureState || (ours && IsFlaggedBatteryState(s));
+  if (!known || !SwitchesMatch(s, action)) {
     row.FailExactly("a learned row: a non-failure state with the action's switches");
   }
   for (const auto& [label, count] : row.Member("next").Members("an object next state → count")) {
-    model.counts.Add(context, s, action, StateFrom(count, label), Count(count));
+    const StateIndex next = StateFrom(count, label);
+    if (next == kBatteryCompleteState || (!ours && next >= kBatteryNumStates)) {
+      count.FailExactly(fmt::format("a next state of the {} abstraction, got '{}'", ours ? "ours" : "dissertation's",
+                                    label));
+    }
+    counts.Add(context, s, action, next, Count(count));
   }
-  if (row.Has("completed")) model.counts.AddCompletion(context, s, action, Count(row.Member("completed")));
+  if (row.Has("completed")) counts.AddCompletion(context, s, action, Count(row.Member("completed")));
 }
 
-void ReadModelContext(const JsonValue& entry, BatteryModel& model, std::array<bool, kBatteryNumContexts>& seen) {
+void ReadModelContext(const JsonValue& entry, bool ours, BatteryTransitionCounts& counts,
+                      std::array<bool, kBatteryNumContexts>& seen) {
   entry.RequireObject("an object {b1, b2, temperature, flights, rows}");
   const BatteryContext context = ContextFrom(entry);
   ContextIndexOnce(entry, context, seen);
   const JsonValue flights = entry.Member("flights");
   for (PackAction action : kBatteryActions) {
     const JsonValue value = flights.Member(models::PackActionName(action), "an object of flights per action");
-    model.counts.SetFlights(context, action, Count(value));
+    counts.SetFlights(context, action, Count(value));
   }
-  for (const JsonValue& row : entry.Member("rows").Elements("an array of rows")) ReadModelRow(row, context, model);
+  for (const JsonValue& row : entry.Member("rows").Elements("an array of rows")) {
+    ReadModelRow(row, context, ours, counts);
+  }
+}
+
+nlohmann::json CountsJson(const BatteryTransitionCounts& counts) {
+  nlohmann::json contexts = nlohmann::json::array();
+  for (int c = 0; c < kBatteryNumContexts; ++c) {
+    const BatteryContext context = BatteryContextFromIndex(c);
+    nlohmann::json flights = nlohmann::json::object();
+    for (PackAction action : kBatteryActions) flights[models::PackActionName(action)] = counts.flights(context, action);
+    nlohmann::json rows = nlohmann::json::array();
+    counts.ForEachRow(context, [&](StateIndex s, PackAction action, const auto& row, std::int64_t completed) {
+      nlohmann::json next = nlohmann::json::object();
+      for (const auto& [state, count] : row) next[BatteryStateLabel(state)] = count;
+      nlohmann::json entry = {
+          {"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}};
+      if (completed > 0) entry["completed"] = completed;
+      rows.push_back(std::move(entry));
+    });
+    contexts.push_back({{"b1", BatteryHealthName(context.b1)},
+                        {"b2", BatteryHealthName(context.b2)},
+                        {"temperature", TemperatureClassName(context.temperature)},
+                        {"flights", flights},
+                        {"rows", rows}});
+  }
+  return contexts;
+}
+
+// The contexts array `name` of a model file into `counts`.
+void ReadCounts(const JsonValue& root, const char* name, bool ours, BatteryTransitionCounts& counts) {
+  std::array<bool, kBatteryNumContexts> seen{};
+  const JsonValue contexts = root.Member(name);
+  for (const JsonValue& entry : contexts.Elements("an array of contexts")) ReadModelContext(entry, ours, counts, seen);
+  RequireEveryContext(contexts, seen, "every (b1, b2, temperature), missing ");
 }
 
 BatteryLearnedRow ReadObservedRow(const JsonValue& entry) {
@@ -241,9 +283,11 @@ void ReadContextPolicy(const JsonValue& entry, BatteryPolicySet& set, std::array
   BatteryContextPolicy& p = set.policies[static_cast<std::size_t>(ContextIndexOnce(entry, context, seen))];
   p.context = context;
   p.mdp_hash = entry.Member("mdp_hash").String();
-  const auto states = static_cast<std::size_t>(kBatteryNumStates);
-  const std::vector<JsonValue> actions = entry.Member("action").Elements(states, "an array of 289 action names");
-  const std::vector<JsonValue> values = entry.Member("value").Elements(states, "an array of 289 numbers");
+  const auto states = static_cast<std::size_t>(BatteryPolicyStates(set.formulation));
+  const std::vector<JsonValue> actions =
+      entry.Member("action").Elements(states, fmt::format("an array of {} action names", states));
+  const std::vector<JsonValue> values =
+      entry.Member("value").Elements(states, fmt::format("an array of {} numbers", states));
   for (std::size_t s = 0; s < states; ++s) {
     p.action.push_back(BatteryActionIndex(ActionFrom(actions[s])));
     p.value.push_back(values[s].Number());
@@ -258,35 +302,15 @@ void ReadContextPolicy(const JsonValue& entry, BatteryPolicySet& set, std::array
 
 // ================================ model files =====================================================
 nlohmann::json BatteryModelToJson(const BatteryModel& model) {
-  nlohmann::json contexts = nlohmann::json::array();
-  for (int c = 0; c < kBatteryNumContexts; ++c) {
-    const BatteryContext context = BatteryContextFromIndex(c);
-    nlohmann::json flights = nlohmann::json::object();
-    for (PackAction action : kBatteryActions)
-      flights[models::PackActionName(action)] = model.counts.flights(context, action);
-    nlohmann::json rows = nlohmann::json::array();
-    for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
-      for (PackAction action : kBatteryActions) {
-        const auto& row = model.counts.Row(context, s, action);
-        const std::int64_t completed = model.counts.Completions(context, s, action);
-        if (row.empty() && completed == 0) continue;
-        nlohmann::json next = nlohmann::json::object();
-        for (const auto& [state, count] : row) next[BatteryStateLabel(state)] = count;
-        nlohmann::json entry = {
-            {"state", BatteryStateLabel(s)}, {"action", models::PackActionName(action)}, {"next", next}};
-        if (completed > 0) entry["completed"] = completed;
-        rows.push_back(std::move(entry));
-      }
-    }
-    contexts.push_back({{"b1", BatteryHealthName(context.b1)},
-                        {"b2", BatteryHealthName(context.b2)},
-                        {"temperature", TemperatureClassName(context.temperature)},
-                        {"flights", flights},
-                        {"rows", rows}});
-  }
-  return {{"format", kBatteryModelFormat}, {"version", kBatteryFileVersion},        {"hash", BatteryModelHash(model)},
-          {"gamma", model.gamma},          {"weights", WeightsJson(model.weights)}, {"provenance", model.provenance},
-          {"contexts", contexts}};
+  nlohmann::json json = {{"format", kBatteryModelFormat},
+                         {"version", kBatteryFileVersion},
+                         {"hash", BatteryModelHash(model)},
+                         {"gamma", model.gamma},
+                         {"weights", WeightsJson(model.weights)},
+                         {"provenance", model.provenance},
+                         {"contexts", CountsJson(model.counts)}};
+  if (model.ours_counts) json["ours_contexts"] = CountsJson(*model.ours_counts);
+  return json;
 }
 
 BatteryModel BatteryModelFromJson(const nlohmann::json& json, const std::string& source) {
@@ -297,10 +321,8 @@ BatteryModel BatteryModelFromJson(const nlohmann::json& json, const std::string&
   model.gamma = GammaFrom(root);
   model.weights = WeightsFrom(root);
   model.provenance = root.Has("provenance") ? root.Member("provenance").json() : nlohmann::json::object();
-  std::array<bool, kBatteryNumContexts> seen{};
-  const JsonValue contexts = root.Member("contexts");
-  for (const JsonValue& entry : contexts.Elements("an array of contexts")) ReadModelContext(entry, model, seen);
-  RequireEveryContext(contexts, seen, "every (b1, b2, temperature), missing ");
+  ReadCounts(root, "contexts", false, model.counts);
+  if (root.Has("ours_contexts")) ReadCounts(root, "ours_contexts", true, model.ours_counts.emplace());
   CheckHash(root.Member("hash"), hash, BatteryModelHash(model), "the fingerprint of the file's contents");
   return model;
 }
@@ -348,7 +370,7 @@ nlohmann::json BatteryPolicyToJson(const BatteryPolicySet& set) {
           {"formulation", BatteryFormulationName(set.formulation)},
           {"gamma", set.gamma},
           {"weights", WeightsJson(set.weights)},
-          {"states", BatteryStateLabels()},
+          {"states", BatteryFormulationStateLabels(set.formulation)},
           {"actions", BatteryActionNames()},
           {"policies", policies}};
 }
@@ -363,9 +385,11 @@ BatteryPolicySet BatteryPolicyFromJson(const nlohmann::json& json, const std::st
   set.gamma = GammaFrom(root);
   set.weights = WeightsFrom(root);
   const JsonValue states = root.Member("states");
-  if (states.IsMissing()) states.Fail("the 289 state labels");
-  if (states.json() != nlohmann::json(BatteryStateLabels())) {
-    states.FailExactly("the 289 battery MDP state labels in this build's order");
+  const std::size_t count = BatteryFormulationStateLabels(set.formulation).size();
+  if (states.IsMissing()) states.Fail(fmt::format("the {} state labels", count));
+  if (states.json() != nlohmann::json(BatteryFormulationStateLabels(set.formulation))) {
+    states.FailExactly(fmt::format("the {} battery MDP state labels of the {} formulation in this build's order",
+                                   count, BatteryFormulationName(set.formulation)));
   }
   std::array<bool, kBatteryNumContexts> seen{};
   const JsonValue policies = root.Member("policies");

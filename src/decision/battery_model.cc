@@ -15,12 +15,18 @@ FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const Batte
                               const BatteryRewardWeights& weights, BatteryModelStats* stats) {
   std::string error;
   if (!weights.IsValid(&error)) throw InputError("battery MDP", "weights", error);
-  std::vector<std::string> labels = BatteryStateLabels();
-  labels.emplace_back("COMPLETE");
-  FiniteMdpBuilder builder(std::move(labels), BatteryActionNames());
+  FiniteMdpBuilder builder(BatteryFormulationStateLabels(BatteryFormulation::kOurs), BatteryActionNames());
   BatteryModelStats local;
   std::vector<Transition> row;
-  for (StateIndex s = 0; s < kBatteryFailureState; ++s) {
+  for (StateIndex s = 0; s < kOursNumStates; ++s) {
+    if (s == kBatteryFailureState || s == kBatteryCompleteState) {  // absorbing (the builder takes rows in order)
+      const Transition loop{s, 1.0};
+      for (PackAction action : kBatteryActions) {
+        builder.AddRow(s, BatteryActionIndex(action), OursBatteryReward(s, action, context, weights),
+                       std::span<const Transition>(&loop, 1));
+      }
+      continue;
+    }
     bool any = false;
     const BatteryFeatures features = BatteryStateFeatures(s);
     for (PackAction action : kBatteryActions) {
@@ -56,25 +62,18 @@ FiniteMdp BuildOursBatteryMdp(const BatteryTransitionCounts& counts, const Batte
                      std::span<const Transition>(&loop, 1));
     }
   }
-  for (StateIndex absorbing : {kBatteryFailureState, kBatteryCompleteState}) {
-    const Transition loop{absorbing, 1.0};
-    for (PackAction action : kBatteryActions) {
-      builder.AddRow(absorbing, BatteryActionIndex(action), OursBatteryReward(absorbing, action, context, weights),
-                     std::span<const Transition>(&loop, 1));
-    }
-  }
   if (stats) *stats = local;
   return builder.Build();
 }
 
 // ================================ counts ==========================================================
 BatteryTransitionCounts::BatteryTransitionCounts()
-    : rows_(static_cast<std::size_t>(kBatteryNumContexts) * kBatteryNumStates * kBatteryNumActions),
+    : rows_(static_cast<std::size_t>(kBatteryNumContexts) * kOursNumStates * kBatteryNumActions),
       completions_(rows_.size(), 0) {}
 
 std::size_t BatteryTransitionCounts::RowIndex(const BatteryContext& context, StateIndex state, PackAction action) {
-  UASCMA_CHECK(state >= 0 && state < kBatteryNumStates, "a battery state index");
-  return (static_cast<std::size_t>(BatteryContextIndex(context)) * kBatteryNumStates +
+  UASCMA_CHECK(state >= 0 && state < kOursNumStates && state != kBatteryCompleteState, "a battery state index");
+  return (static_cast<std::size_t>(BatteryContextIndex(context)) * kOursNumStates +
           static_cast<std::size_t>(state)) *
              kBatteryNumActions +
          static_cast<std::size_t>(BatteryActionIndex(action));
@@ -82,7 +81,7 @@ std::size_t BatteryTransitionCounts::RowIndex(const BatteryContext& context, Sta
 
 void BatteryTransitionCounts::Add(const BatteryContext& context, StateIndex state, PackAction action, StateIndex next,
                                   std::int64_t count) {
-  UASCMA_CHECK(next >= 0 && next < kBatteryNumStates, "a battery next-state index");
+  UASCMA_CHECK(next >= 0 && next < kOursNumStates && next != kBatteryCompleteState, "a battery next-state index");
   UASCMA_CHECK(count >= 0, "a non-negative count");
   if (count == 0) return;
   rows_[RowIndex(context, state, action)][next] += count;
@@ -103,7 +102,7 @@ std::int64_t BatteryTransitionCounts::Completions(const BatteryContext& context,
 void BatteryTransitionCounts::AddFlight(const BatteryContext& context, PackAction action,
                                         std::span<const StateIndex> states, bool completed) {
   for (std::size_t k = 0; k < states.size(); ++k) {
-    if (states[k] < 0 || states[k] >= kBatteryNumStates) {
+    if (states[k] < 0 || states[k] >= kOursNumStates || states[k] == kBatteryCompleteState) {
       throw InputError("battery flight", fmt::format("states[{}]", k), "a battery MDP state index");
     }
     if (!SwitchesMatch(states[k], action)) {
@@ -127,7 +126,7 @@ void BatteryTransitionCounts::AddSwitchingFlight(const BatteryContext& context, 
                                                  std::span<const PackAction> actions, bool completed) {
   UASCMA_CHECK(!actions.empty() && actions.size() <= states.size(), "an action per epoch");
   for (std::size_t k = 0; k < states.size(); ++k) {
-    if (states[k] < 0 || states[k] >= kBatteryNumStates) {
+    if (states[k] < 0 || states[k] >= kOursNumStates || states[k] == kBatteryCompleteState) {
       throw InputError("battery flight", fmt::format("states[{}]", k), "a battery MDP state index");
     }
   }
@@ -284,6 +283,33 @@ BatteryTransitionCounts WithoutEnergyDynamics(const BatteryTransitionCounts& cou
 }
 
 // ================================ the model =======================================================
+namespace {
+
+// Every non-empty row of a count table (a table without flagged states fingerprints as it did before they existed:
+// empty rows are skipped).
+void AddCounts(const BatteryTransitionCounts& counts, Fingerprint& fingerprint) {
+  for (int c = 0; c < kBatteryNumContexts; ++c) {
+    const BatteryContext context = BatteryContextFromIndex(c);
+    for (PackAction action : kBatteryActions) fingerprint.Add(counts.flights(context, action));
+    counts.ForEachRow(context, [&](StateIndex s, PackAction action, const auto& row, std::int64_t completed) {
+      fingerprint.Add(static_cast<std::int64_t>(BatteryContextIndex(context)));
+      fingerprint.Add(static_cast<std::int64_t>(s));
+      fingerprint.Add(BatteryActionIndex(action));
+      for (const auto& [next, count] : row) {
+        fingerprint.Add(static_cast<std::int64_t>(next));
+        fingerprint.Add(count);
+      }
+      // Completions only when counted, so a model without them keeps its hash.
+      if (completed > 0) {
+        fingerprint.Add(std::string_view("completed"));
+        fingerprint.Add(completed);
+      }
+    });
+  }
+}
+
+}  // namespace
+
 std::string BatteryModelHash(const BatteryModel& model) {
   Fingerprint fingerprint;
   fingerprint.Add(std::string_view(kBatteryModelFormat));
@@ -293,28 +319,11 @@ std::string BatteryModelHash(const BatteryModel& model) {
   fingerprint.Add(model.weights.w2);
   fingerprint.Add(model.weights.w3);
   fingerprint.Add(model.provenance.dump());
-  for (int c = 0; c < kBatteryNumContexts; ++c) {
-    const BatteryContext context = BatteryContextFromIndex(c);
-    for (PackAction action : kBatteryActions) fingerprint.Add(model.counts.flights(context, action));
-    for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
-      for (PackAction action : kBatteryActions) {
-        const auto& row = model.counts.Row(context, s, action);
-        const std::int64_t completed = model.counts.Completions(context, s, action);
-        if (row.empty() && completed == 0) continue;
-        fingerprint.Add(static_cast<std::int64_t>(BatteryContextIndex(context)));
-        fingerprint.Add(static_cast<std::int64_t>(s));
-        fingerprint.Add(BatteryActionIndex(action));
-        for (const auto& [next, count] : row) {
-          fingerprint.Add(static_cast<std::int64_t>(next));
-          fingerprint.Add(count);
-        }
-        // Completions only when counted, so a model without them keeps its hash.
-        if (completed > 0) {
-          fingerprint.Add(std::string_view("completed"));
-          fingerprint.Add(completed);
-        }
-      }
-    }
+  AddCounts(model.counts, fingerprint);
+  // Only when kept, so a model without flagged states keeps its hash.
+  if (model.ours_counts) {
+    fingerprint.Add(std::string_view("ours_counts"));
+    AddCounts(*model.ours_counts, fingerprint);
   }
   return fingerprint.Hex();
 }

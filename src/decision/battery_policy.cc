@@ -55,19 +55,21 @@ BatteryPolicySet SolveOursBatteryPolicies(const BatteryModel& model, double gamm
   set.weights = model.weights;
   PolicyIterationOptions options;
   options.gamma = gamma;
-  options.evaluation = EvaluationMethod::kDirect;  // 290 states: exact
+  options.evaluation = EvaluationMethod::kDirect;  // 394 states: exact
+  const BatteryTransitionCounts& counts = model.OursCounts();
   for (int c = 0; c < kBatteryNumContexts; ++c) {
     BatteryContextPolicy& out = set.policies[static_cast<std::size_t>(c)];
     out.context = BatteryContextFromIndex(c);
-    const FiniteMdp mdp = BuildOursBatteryMdp(model.counts, out.context, model.weights, &out.stats);
+    const FiniteMdp mdp = BuildOursBatteryMdp(counts, out.context, model.weights, &out.stats);
     Policy policy = SolvePolicyIteration(mdp, options, &out.summary);
-    out.action.assign(policy.action.begin(), policy.action.begin() + kBatteryNumStates);  // COMPLETE dropped
-    out.value.assign(policy.value.begin(), policy.value.begin() + kBatteryNumStates);
+    out.action = std::move(policy.action);  // all 394 (COMPLETE is never observed in flight)
+    out.value = std::move(policy.value);
     out.mdp_hash = ModelHash(mdp);
     // The counted rows (p over the counted next states, completions left out), for drawing Fig. 4.4.
-    for (StateIndex s = 0; s < kBatteryFailureState; ++s) {
+    for (StateIndex s = 0; s < kOursNumStates; ++s) {
+      if (s == kBatteryFailureState || s == kBatteryCompleteState) continue;
       for (PackAction action : kBatteryActions) {
-        const auto& counted = model.counts.Row(out.context, s, action);
+        const auto& counted = counts.Row(out.context, s, action);
         if (!SwitchesMatch(s, action) || counted.empty()) continue;
         std::int64_t total = 0;
         for (const auto& [next, count] : counted) total += count;
@@ -84,12 +86,13 @@ BatteryPolicySet SolveOursBatteryPolicies(const BatteryModel& model, double gamm
 
 // ================================ the executor ====================================================
 BatteryPolicyExecutor::BatteryPolicyExecutor(const BatteryPolicySet& policies, const BatteryContext& context)
-    : context_(context), action_(policies.Select(context).action) {
-  UASCMA_CHECK(action_.size() == static_cast<std::size_t>(kBatteryNumStates), "a policy of 289 actions");
+    : context_(context), formulation_(policies.formulation), action_(policies.Select(context).action) {
+  UASCMA_CHECK(action_.size() == static_cast<std::size_t>(BatteryPolicyStates(formulation_)),
+               "a policy of the formulation's states");
 }
 
 PackAction BatteryPolicyExecutor::Decide(StateIndex state) const {
-  UASCMA_CHECK(state >= 0 && state < kBatteryNumStates, "a battery state index");
+  UASCMA_CHECK(state >= 0 && state < static_cast<StateIndex>(action_.size()), "a battery state index");
   return static_cast<PackAction>(action_[static_cast<std::size_t>(state)]);
 }
 

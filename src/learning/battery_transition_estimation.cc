@@ -1,6 +1,8 @@
 #include "uascma/learning/battery_transition_estimation.h"
 
+#include <algorithm>
 #include <chrono>
+#include <memory>
 #include <vector>
 
 #include <fmt/format.h>
@@ -25,9 +27,15 @@ struct CountedFlight {
   PackAction action = PackAction::kUseBoth;
   std::vector<PackAction> actions;
   std::vector<StateIndex> states;
+  std::vector<StateIndex> ours_states;  // the same epochs in ours' abstraction (the pack-fault flags read)
   bool completed = false;
   bool failed = false;
+  bool isolation = false;  // the isolation flight of a faulted draw: counted in ours' abstraction only
 };
+
+bool AnyFlagged(const std::vector<StateIndex>& states) {
+  return std::any_of(states.begin(), states.end(), decision::IsFlaggedBatteryState);
+}
 
 struct DrawFlights {
   decision::BatteryContext context;
@@ -54,6 +62,23 @@ std::vector<BatteryFlightController> DrawControllers(const BatteryLearningOption
            return time_s >= drop_s ? alone : PackAction::kUseBoth;
          }});
   }
+  if (params.pack_fault) {
+    // The isolation flight (decision/battery_mdp.h ours item 10): UseBoth, then from the first epoch the pack-fault
+    // indicator flags a pack, the other pack alone for good: the rows of a flagged pack set aside, which flights
+    // flown with one action throughout cannot observe. Flown only in a draw with a pack fault, so the flights of a
+    // draw without one are what they were.
+    auto kept = std::make_shared<PackAction>(PackAction::kUseBoth);
+    flights.push_back(
+        {PackAction::kUseBoth, [kept](double, const decision::BatteryObservation& observation, StateIndex) {
+           if (*kept == PackAction::kUseBoth && observation.switch_on[0] && observation.switch_on[1]) {
+             if (observation.pack_fault[0])
+               *kept = PackAction::kUseBatt2;
+             else if (observation.pack_fault[1])
+               *kept = PackAction::kUseBatt1;
+           }
+           return *kept;
+         }});
+  }
   return flights;
 }
 
@@ -64,13 +89,21 @@ DrawFlights FlyDraw(const BatteryLearningOptions& options, std::int64_t per_draw
   DrawFlights out;
   out.context = params.context();
   std::vector<BatteryFlightResult> results = campaign::FlyBatteryFlights(params, controllers, {}, &out.sharing);
+  // The kinds of DrawControllers' flights, in its order: constant-action, drop, isolation.
+  std::size_t constant = 0;
+  for (PackAction action : decision::kBatteryActions) {
+    if (per_draw * d + static_cast<std::int64_t>(action) < options.runs) ++constant;
+  }
+  const std::size_t drop = options.drop_flights && per_draw * d + 3 < options.runs ? constant : results.size();
   for (std::size_t k = 0; k < results.size(); ++k) {
     CountedFlight flight;
     flight.action = controllers[k].initial_switches;
-    if (k == 3) {  // the drop flight
+    if (k >= constant) {  // the drop flight, the isolation flight
       for (const campaign::BatteryEpoch& e : results[k].epochs) flight.actions.push_back(e.action);
     }
+    flight.isolation = k >= constant && k != drop;
     flight.states = std::move(results[k].states);
+    flight.ours_states = std::move(results[k].ours_states);
     flight.completed = results[k].outcome == sim::Outcome::kCompleted;
     flight.failed = results[k].outcome == sim::Outcome::kFailedBattery;
     out.flights.push_back(std::move(flight));
@@ -99,6 +132,12 @@ nlohmann::json LearningProvenance(const BatteryLearningOptions& options) {
         {"plan_fraction_of_reference_eod", {r.plan_fraction[0], r.plan_fraction[1]}},
         {"cold_probability", r.cold_probability}}},
   };
+  if (r.pack_faults.share > 0.0) {
+    provenance["pack_fault_share"] = r.pack_faults.share;
+    provenance["isolation_flights"] =
+        "every draw with a pack fault also flies UseBoth then the unflagged pack alone from the first flag, counted "
+        "in ours' abstraction only (ours)";
+  }
   if (options.drop_flights) {
     provenance["drop_flights"] =
         "every draw also flies UseBoth then one pack alone for good from a uniform time (ours)";
@@ -115,6 +154,8 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
   const std::int64_t per_draw = options.drop_flights ? 4 : 3;
   const std::int64_t draws = (options.runs + per_draw - 1) / per_draw;
   decision::BatteryModel model;
+  decision::BatteryTransitionCounts ours_counts;  // ours' abstraction: kept when a flight flagged a pack
+  bool flagged = false;
   BatteryLearningSummary total;
   ParallelOptions parallel;
   parallel.jobs = options.jobs;
@@ -123,10 +164,19 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
       draws, parallel, [&](std::int64_t d) { return FlyDraw(options, per_draw, d); },
       [&](std::int64_t, DrawFlights&& draw) {
         for (const CountedFlight& flight : draw.flights) {
+          flagged = flagged || AnyFlagged(flight.ours_states);
           if (flight.actions.empty()) {
             model.counts.AddFlight(draw.context, flight.action, flight.states, flight.completed);
+            ours_counts.AddFlight(draw.context, flight.action, flight.ours_states, flight.completed);
           } else {
-            model.counts.AddSwitchingFlight(draw.context, flight.states, flight.actions, flight.completed);
+            if (!flight.isolation) {
+              model.counts.AddSwitchingFlight(draw.context, flight.states, flight.actions, flight.completed);
+            }
+            ours_counts.AddSwitchingFlight(draw.context, flight.ours_states, flight.actions, flight.completed);
+          }
+          if (flight.isolation) {
+            ++total.isolation_flights;
+            continue;  // beyond the N flights
           }
           if (flight.failed) ++total.failures;
           if (options.on_flight_done) options.on_flight_done(++total.flights);
@@ -135,6 +185,7 @@ decision::BatteryModel LearnBatteryModel(const BatteryLearningOptions& options, 
         total.sharing.alone_steps += draw.sharing.alone_steps;
       });
   if (merged < draws) throw Cancelled();
+  if (flagged) model.ours_counts = std::move(ours_counts);
   model.provenance = LearningProvenance(options);
   if (summary) {
     *summary = total;

@@ -85,6 +85,9 @@ using internal::ActiveRotors;
 using internal::AddEvent;
 using internal::EpochEodOptions;
 using internal::ReplanCapped;
+using internal::ObservedBatteryHealth;
+using internal::PrognosisPack;
+using internal::UpdatePackMonitor;
 using internal::SensedPack;
 using internal::StartPlan;
 using internal::ThrustCap;
@@ -296,9 +299,9 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   DecisionInputs& inputs = state.decision.inputs;
   inputs.time_s = t;
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.guidance.plan_start_s);
-  const std::optional<models::PackState> sensed =
-      noisy ? std::optional<models::PackState>(SensedPack(model, state)) : std::nullopt;
-  const models::PackState& observed = sensed ? *sensed : state.power.pack;
+  // The pack-fault indicator first: a flagged pack is not counted on (PrognosisPack).
+  UpdatePackMonitor(model, state);
+  const models::PackState observed = PrognosisPack(state, noisy ? SensedPack(model, state) : state.power.pack);
   const double current_a = state.decision.eod_current_a;
   const prognostics::EodOptions eod_options = EpochEodOptions(model, state, observed, current_a);
   StoreEod(model, state,
@@ -323,8 +326,9 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
       : noisy && state.decision.vehicle_beliefs && !isolated
           ? ObserveVehicleMotorMargin(model, state, inputs, inputs.vehicle_rul_if_spall_s, false, observed)
           : 1.0;
-  inputs.state = decision::AbstractCmaState(state.decision.flight_status, motor_health, model.battery_health(),
-                                            inputs.reach_margin, inputs.motor_margin);
+  inputs.state =
+      decision::AbstractCmaState(state.decision.flight_status, motor_health, ObservedBatteryHealth(model, state),
+                                 inputs.reach_margin, inputs.motor_margin);
   inputs.has_eod_distribution = eod_distribution;
   if (eod_distribution) {
     ObserveEodDistribution(model, state, inputs, observed);
@@ -368,9 +372,9 @@ void CompleteEod(const FlightModel& model, FlightState& state) {
   // Observe's pack and current: exact sensing, and no battery executor has switched the packs since
   // (EpochEodPrecision).
   const double current_a = state.decision.eod_current_a;
+  const models::PackState pack = PrognosisPack(state, state.power.pack);
   StoreEod(model, state,
-           prognostics::CalcPackEod(model.pack(), state.power.pack, current_a,
-                                    EpochEodOptions(model, state, state.power.pack, current_a)));
+           prognostics::CalcPackEod(model.pack(), pack, current_a, EpochEodOptions(model, state, pack, current_a)));
   UASCMA_CHECK(decision::ClassifyReachMargin(inputs.reach_margin) == bound_class,
                "the EOD's value in the class its bound settled");
 }
@@ -389,8 +393,9 @@ void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction a
   if (state.decision.eod_at_first_action) return;
   DecisionInputs& inputs = state.decision.inputs;
   if (!inputs.has_eod_distribution) {  // the pack the epoch's EOD was computed from (Observe)
-    ObserveEodDistribution(model, state, inputs,
-                           model.options().noisy_sensing ? SensedPack(model, state) : state.power.pack);
+    ObserveEodDistribution(
+        model, state, inputs,
+        PrognosisPack(state, model.options().noisy_sensing ? SensedPack(model, state) : state.power.pack));
     inputs.has_eod_distribution = true;
   }
   state.decision.eod_at_first_action = EodAtAction{inputs.time_s,    inputs.eod_s,     inputs.eod_p05_s,

@@ -95,7 +95,16 @@ TEST_F(BatteryCli, ShowPrintsTheDecisionTreeDrawsTheGraphAndThePolicies) {
   int impossible = 0;
   for (const auto& flag : view["impossible"]) impossible += flag.get<bool>() ? 1 : 0;
   EXPECT_EQ(impossible, 72);
-  EXPECT_NE(text.out.find("216"), std::string::npos);
+  // The per-action counts are over the 72 states with both packs in, where a policy chooses; the label names what
+  // the tree looks up.
+  EXPECT_NE(text.out.find("both packs in (72)"), std::string::npos);
+  EXPECT_NE(text.out.find("pi* lookup"), std::string::npos);
+  EXPECT_EQ(view["label"], "pi* lookup (the dissertation's)");
+  for (const auto& context : view["contexts"]) {
+    int both_in = 0;
+    for (const auto& n : context["both_in_per_action"]) both_in += n.get<int>();
+    EXPECT_EQ(both_in, 72);
+  }
   // The take-off state is the one the case-study flight starts in (the 0.82 plan of
   // docs/modelling-choices.md#battery-case-study-flight-time): neither pack alone can carry it, so both are S3 with
   // both switches ON; the healthy pair too.
@@ -229,6 +238,10 @@ TEST_F(BatteryCli, EvaluatePairsEveryPolicyOnEachFlight) {
   const auto solved = RunCli("battery solve " + model_ + " --formulation ours --json --out " + ours);
   ASSERT_EQ(solved.exit_code, 0) << solved.err;
   EXPECT_EQ(nlohmann::json::parse(solved.out)["formulation"], "ours");
+  // `battery show` labels the formulation: ours' table is not π*'s lookup (its guard and drop check act outside it).
+  const auto shown = RunCli("battery show " + ours + " --json");
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  EXPECT_EQ(nlohmann::json::parse(shown.out)["label"], "ours' table (guard and drop check outside it)");
   const std::string args = "battery evaluate --runs 4 --seed 11 --jobs 2 --json --policies useboth,pistar:" + policy_ +
                            ",rule:voltage,ours:" + ours;
   const auto result = RunCli(args);

@@ -16,6 +16,7 @@
 
 #include "campaign_test_support.h"
 #include "uascma/campaign/config.h"
+#include "uascma/campaign/report.h"
 #include "uascma/common/error.h"
 #include "uascma/models/drag.h"
 #include "uascma/models/mixer.h"
@@ -55,6 +56,28 @@ TEST(SamplerTest, SameSeedAndIndexGiveTheSameScenario) {
     EXPECT_EQ(a.scenario.fault.enabled, b.scenario.fault.enabled);
     EXPECT_TRUE(SameBits(a.scenario.fault.spall_onset_s, b.scenario.fault.spall_onset_s));
   }
+}
+
+// The campaign report splits runs by pack fault (campaign/report.h): the fault drawn again from a run's record (its
+// run seed and plan duration) is the one the sampler drew, run for run.
+TEST(SamplerTest, TheReportRedrawsEachRunsPackFaultAsTheSamplerDrewIt) {
+  CampaignConfig config;
+  config.pack_faults.share = 0.5;
+  const CampaignWorld world = BuildCampaignWorld(config.map);
+  int faulted = 0;
+  for (std::int64_t index = 0; index < 40; ++index) {
+    const SampledRun run = SampleRun(config, world, 7, index);
+    const auto redrawn = RedrawPackFault(config, run.run_seed, run.plan_duration_s);
+    ASSERT_EQ(redrawn.has_value(), run.scenario.pack_fault.has_value()) << index;
+    if (redrawn) {
+      EXPECT_EQ(*redrawn, *run.scenario.pack_fault) << index;
+      ++faulted;
+    }
+  }
+  EXPECT_GT(faulted, 0);
+  EXPECT_LT(faulted, 40);
+  CampaignConfig plain;  // without pack_faults: none
+  EXPECT_FALSE(RedrawPackFault(plain, 1, 600.0).has_value());
 }
 
 TEST(SamplerTest, RunsAndSeedsGiveDifferentScenarios) {

@@ -163,7 +163,8 @@ def test_battery_policy_tree_shows_what_battery_show_prints(battery_policy):
     spec.loader.exec_module(module)
     table = {}
     for line in run_cli("battery", "show", battery_policy).stdout.splitlines():
-        m = re.match(r"^(T[LH])\s+(F\d)\s+(F\d)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+) of 216\s+\S+\s+(\w+)( \*)?$", line)
+        m = re.match(r"^(T[LH])\s+(F\d)\s+(F\d)\s+(\d+)\s+(\d+)\s+(\d+)\s+\d+\s+(\d+) of 72\s+\S+\s+(\w+)( \*)?$",
+                     line)
         if m:
             t, b1, b2, n1, n2, nb, missing, action, star = m.groups()
             table[(b1, b2, t)] = (f"{action}{star or ''}", [int(n1), int(n2), int(nb)], int(missing))

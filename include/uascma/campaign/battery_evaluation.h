@@ -62,6 +62,7 @@ struct BatteryPolicySummary {
   double median_switches = 0.0, mean_switches = 0.0;
   int max_switches = 0;
   std::int64_t table_isolations = 0, guard_isolations = 0, failure_rows_held = 0;  // summed over the flights
+  std::int64_t table_fault_isolations = 0, guard_fault_isolations = 0;  // of those, of a flagged pack
   std::int64_t detections = 0;            // flights whose pack-fault indicator flagged a pack
   double median_detection_delay_s = 0.0;  // flag − onset over the faulted flights flagged after the onset (NaN: none)
 };

@@ -121,6 +121,9 @@ struct BatteryEpoch {
 struct BatteryDecisionCounts {
   int table_isolations = 0;   // epochs whose table action took a pack out while both were in
   int guard_isolations = 0;   // the same by a guard outside the table (ours' imminent-failure guard)
+  // Of those, the isolations of a pack the pack-fault indicator flags (prognostics/pack_fault_monitor.h).
+  int table_fault_isolations = 0;
+  int guard_fault_isolations = 0;
   int failure_rows_held = 0;  // epochs in the FAILURE state: the switches held, the table's FAILURE row not executed
 };
 
@@ -128,6 +131,9 @@ struct BatteryFlightResult {
   sim::Outcome outcome = sim::Outcome::kInProgress;  // the simulator's outcome (kFailedBattery at 3.3 V)
   double end_time_s = 0.0;
   std::vector<decision::StateIndex> states;                     // at 1 Hz from take-off (FAILURE last if failed)
+  // The same epochs in ours' abstraction (decision/battery_mdp.h ours item 10: the pack-fault flags read); equal to
+  // `states` while no pack is flagged.
+  std::vector<decision::StateIndex> ours_states;
   std::vector<std::pair<double, models::PackAction>> switches;  // (time, action) of every change, first included
   std::vector<BatteryEpoch> epochs;
   double energy_used_wh = 0.0;                 // drawn from the packs over the flight (sim::PowerState::energy_wh)

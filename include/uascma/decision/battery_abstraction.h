@@ -55,8 +55,11 @@ struct BatteryObservation {
   models::PerBranch<bool> pack_fault = {false, false};
 };
 
-// The abstract state of an observation (pure: Table 4.1 and the thresholds above).
-StateIndex AbstractBatteryState(const BatteryObservation& observation, const BatteryThresholds& thresholds = {});
+// The abstract state of an observation (pure: Table 4.1 and the thresholds above). Ours reads the pack-fault flags
+// too (decision/battery_mdp.h ours item 10: a flagged pack's energy and voltage are not read); the dissertation's
+// abstraction does not read them, so its states are the 289 of Table 4.1 whatever the flags.
+StateIndex AbstractBatteryState(const BatteryObservation& observation, const BatteryThresholds& thresholds = {},
+                                BatteryFormulation formulation = BatteryFormulation::kDissertation);
 
 // The observation of the pack model at one epoch. Each pack's features describe what it can do ALONE at the
 // present load, whatever the switches (our reading of "each battery's EOD", Fig. 4.2, and of §4.3.1.1: "when

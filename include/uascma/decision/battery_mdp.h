@@ -47,6 +47,9 @@ struct PackFeatures {
   bool switch_on = true;
   EnergyState energy = EnergyState::kS1;
   VoltageState voltage = VoltageState::kC0;
+  // Ours only (the flagged states below): the pack-fault indicator flags this pack; its energy and voltage are then
+  // not read (S3 and C1 in the features, the worst: a flagged pack cannot be counted on).
+  bool flagged = false;
 };
 
 // A non-failure state as its features (FAILURE has no features).
@@ -55,13 +58,15 @@ struct BatteryFeatures {
   models::PerBranch<PackFeatures> pack{};
 };
 
+// The index of a state's features: in [0, 288) without a flagged pack, else a flagged state of ours (below).
 StateIndex BatteryStateIndex(const BatteryFeatures& features);
-// The features of a non-failure state index in [0, 288).
+// The features of a non-failure state index: [0, 288) or a flagged state of ours.
 BatteryFeatures BatteryStateFeatures(StateIndex state);
-std::string BatteryStateLabel(StateIndex state);  // "ILONS3C0OFFS3C0", "FAILURE"
-// Index of a label; InputError naming `source` otherwise.
+// "ILONS3C0OFFS3C0", "FAILURE", and ours' "COMPLETE" and flagged states ("IHONFLTONS1C0").
+std::string BatteryStateLabel(StateIndex state);
+// Index of a label (ours' states included); InputError naming `source` otherwise.
 StateIndex ParseBatteryState(const std::string& label, const std::string& source);
-const std::vector<std::string>& BatteryStateLabels();  // [289], in index order
+const std::vector<std::string>& BatteryStateLabels();  // [289], in index order: the dissertation's states
 const std::vector<std::string>& BatteryActionNames();  // "UseBatt1", "UseBatt2", "UseBoth"
 // The same state with the switches `action` sets (Table 4.3): the deterministic switch of §4.3.2.
 StateIndex ApplySwitches(StateIndex state, models::PackAction action);
@@ -155,13 +160,35 @@ double BatteryReward(StateIndex state, models::PackAction action, const BatteryC
 //      one pack holds a lower bus voltage than two, so it draws more current than the features of item 7 assume.
 //      Measured (seed 2024, run 172): S1 and C0 at the present 21.7 A, the pack drew 23.6-26 A alone and
 //      failed 12 s after the drop, 75 s before the end of the plan that UseBoth completed.
-// Solved exactly by policy iteration (dense evaluation). The MDP has 290 states: the 289 and COMPLETE (289);
-// the policy keeps the 289 (COMPLETE is never observed in flight). `uascma simulate --battery-policy` runs the table
-// only (items 1-7), without the guard and the drop check.
+//  10. a pack-fault feature (§4.1: the packs are two "because a single hardwired LiPo pack cannot offer backup should
+//      a failure (e.g., internal short, failed cell) occur"; docs/modelling-choices.md#battery-mdp-pack-fault-states):
+//      the states in which the pack-fault indicator (prognostics/pack_fault_monitor.h) flags a pack. The flagged
+//      pack's energy and voltage are not read (its model no longer holds: the indicator flags exactly that), its
+//      switch is: flagged j ∈ {1, 2} × I × Sw_j × the other pack's (Sw, S, C) = 96 states, and both flagged × I × Sw1 ×
+//      Sw2 = 8. Their rows are counted from the learning flights like the rest (learning/
+//      battery_transition_estimation.h: with pack faults drawn, every faulted draw also flies an isolation flight); a
+//      flagged pack is charged as S3 and C1 (eqs. 4.5-4.6's worst), whatever the action, so the choice to isolate it
+//      is the learned rows' (the failures they lead to) against the switching cost. Offers (OursOffers): from a
+//      flagged state the unflagged pack alone whatever its S and C (the flagged one may be what fails next), the
+//      hold, never onto a flagged pack alone from both; and from the flagged pack alone, the other pack alone (the
+//      state says the pack left in is the faulted one: a dropped pack comes back only then).
+// Solved exactly by policy iteration (dense evaluation). The MDP has 394 states: the 289, COMPLETE (289) and the 104
+// flagged states (290-393); the policy keeps all 394 (COMPLETE is never observed in flight). The dissertation's
+// formulation keeps its 289 states: its abstraction does not read the indicator. `uascma simulate --battery-policy`
+// runs the table only (items 1-7 and 10), without the guard and the drop check.
 enum class BatteryFormulation { kDissertation = 0, kOurs = 1 };
 const char* BatteryFormulationName(BatteryFormulation formulation);  // "dissertation", "ours"
 inline constexpr StateIndex kBatteryCompleteState = 289;             // ours only
-inline constexpr int kOursNumStates = 290;
+inline constexpr StateIndex kBatteryFirstFlaggedState = 290;          // ours only: item 10's 104 states
+inline constexpr int kBatteryFlaggedStates = 104;
+inline constexpr int kOursNumStates = 394;
+// The states of a formulation's policy: 289 (dissertation) or 394 (ours), and their labels in index order.
+int BatteryPolicyStates(BatteryFormulation formulation);
+const std::vector<std::string>& BatteryFormulationStateLabels(BatteryFormulation formulation);
+// Ours' flagged states (item 10): a state of 290-393.
+inline bool IsFlaggedBatteryState(StateIndex state) {
+  return state >= kBatteryFirstFlaggedState && state < kOursNumStates;
+}
 
 // R(s, a) of ours (items 1-2 above); FAILURE −30, COMPLETE 0.
 double OursBatteryReward(StateIndex state, models::PackAction action, const BatteryContext& context,
@@ -170,7 +197,7 @@ double OursBatteryReward(StateIndex state, models::PackAction action, const Batt
 int SwitchToggles(StateIndex state, models::PackAction action);
 // The action that keeps a state's switches (UseBoth for both ON, and for the impossible both OFF).
 models::PackAction HoldSwitchesAction(const BatteryFeatures& features);
-// Whether ours offers `action` in a state of these features (items 6-7 above; evidence, item 5, apart).
+// Whether ours offers `action` in a state of these features (items 6-7 and 10 above; evidence, item 5, apart).
 bool OursOffers(const BatteryFeatures& features, models::PackAction action);
 
 }  // namespace uascma::decision

@@ -21,6 +21,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -64,6 +65,19 @@ class BatteryTransitionCounts {
   const std::map<StateIndex, std::int64_t>& Row(const BatteryContext& context, StateIndex state,
                                                 models::PackAction action) const;
   std::int64_t RowTotal(const BatteryContext& context, StateIndex state, models::PackAction action) const;
+  // Every row of a context with a count or a completion, in (state, action) order: visit(state, action, row,
+  // completions). The order is the file's and the fingerprint's.
+  template <typename Visit>
+  void ForEachRow(const BatteryContext& context, Visit&& visit) const {
+    for (StateIndex s = 0; s < kOursNumStates; ++s) {
+      if (s == kBatteryCompleteState) continue;
+      for (models::PackAction action : kBatteryActions) {
+        const auto& row = Row(context, s, action);
+        const std::int64_t completed = Completions(context, s, action);
+        if (!row.empty() || completed != 0) visit(s, action, row, completed);
+      }
+    }
+  }
   std::int64_t flights(const BatteryContext& context, models::PackAction action) const;
   std::int64_t total_transitions() const;
   std::int64_t total_flights() const;
@@ -71,13 +85,14 @@ class BatteryTransitionCounts {
 
  private:
   static std::size_t RowIndex(const BatteryContext& context, StateIndex state, models::PackAction action);
-  std::vector<std::map<StateIndex, std::int64_t>> rows_;  // [18 · 289 · 3]
-  std::vector<std::int64_t> completions_;                 // [18 · 289 · 3]
+  // Rows of every state of either formulation (ours' flagged states included; COMPLETE never has one).
+  std::vector<std::map<StateIndex, std::int64_t>> rows_;  // [18 · 394 · 3]
+  std::vector<std::int64_t> completions_;                 // [18 · 394 · 3]
   std::array<std::int64_t, kBatteryNumContexts * kBatteryNumActions> flights_{};
 };
 
 struct BatteryModelStats {
-  int learned_rows = 0;          // (state, action) rows whose switches match the action: 3 × 72 = 216
+  int learned_rows = 0;  // (state, action) rows whose switches match the action: 3 × 72 = 216 (ours: + 78 flagged)
   int unobserved_rows = 0;  // of those, never observed: self-loops (docs/modelling-choices.md#battery-mdp-transitions)
   int switch_rows = 0;           // rows of states whose switches differ from the action's (switch, then the
                                  // switched state's learned row)
@@ -111,7 +126,12 @@ struct BatteryModel {
   double gamma = 0.95;  // §4.3.2.1
   BatteryRewardWeights weights;
   nlohmann::json provenance = nlohmann::json::object();
-  BatteryTransitionCounts counts;
+  BatteryTransitionCounts counts;  // in the dissertation's abstraction (Table 4.1's 289 states)
+  // The same flights counted in ours' abstraction (decision/battery_mdp.h ours item 10: the flagged states), kept
+  // when a learning flight's indicator flagged a pack; without one the two abstractions agree on every epoch and
+  // ours reads `counts` (OursCounts), so a model learned without pack faults keeps its file and hash.
+  std::optional<BatteryTransitionCounts> ours_counts;
+  const BatteryTransitionCounts& OursCounts() const { return ours_counts ? *ours_counts : counts; }
 };
 // The fingerprint of everything in the model (format, version, gamma, weights, provenance, counts): the "hash" of
 // its file, and the model_hash a policy solved from it carries.

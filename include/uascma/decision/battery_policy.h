@@ -24,8 +24,8 @@ struct BatteryLearnedRow {
 
 struct BatteryContextPolicy {
   BatteryContext context;
-  std::vector<ActionIndex> action;  // [289]
-  std::vector<double> value;        // [289]
+  std::vector<ActionIndex> action;  // [289] (dissertation) or [394] (ours: its flagged states, item 10)
+  std::vector<double> value;        // the same
   SolverSummary summary;
   BatteryModelStats stats;
   std::string mdp_hash;  // ModelHash of the context's MDP
@@ -56,15 +56,19 @@ class BatteryPolicyExecutor {
  public:
   BatteryPolicyExecutor(const BatteryPolicySet& policies, const BatteryContext& context);
   models::PackAction Decide(StateIndex state) const;
-  models::PackAction Decide(const BatteryObservation& observation) const {
-    return Decide(AbstractBatteryState(observation, thresholds_));
+  // The observation in the formulation's abstraction (ours reads the pack-fault flags).
+  StateIndex Abstract(const BatteryObservation& observation) const {
+    return AbstractBatteryState(observation, thresholds_, formulation_);
   }
+  models::PackAction Decide(const BatteryObservation& observation) const { return Decide(Abstract(observation)); }
   const BatteryContext& context() const { return context_; }
   const BatteryThresholds& thresholds() const { return thresholds_; }
+  BatteryFormulation formulation() const { return formulation_; }
 
  private:
   BatteryContext context_;
-  std::vector<ActionIndex> action_;  // [289]
+  BatteryFormulation formulation_;
+  std::vector<ActionIndex> action_;  // [289] or [394]
   BatteryThresholds thresholds_;
 };
 

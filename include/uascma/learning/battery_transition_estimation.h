@@ -34,6 +34,10 @@ struct BatteryLearningOptions {
   // fresh one): their rows stay unobserved, and ours (decision/battery_mdp.h item 5) offers nothing there. N flights
   // are then split between four kinds.
   bool drop_flights = false;
+  // With pack faults drawn (ranges.pack_faults), every draw with a fault also flies an isolation flight: UseBoth,
+  // then the unflagged pack alone for good from the first epoch the indicator flags a pack (beyond the N flights).
+  // Counted in ours' abstraction only (decision::BatteryModel::ours_counts, kept when a flight flagged a pack): the
+  // rows of ours' flagged states (decision/battery_mdp.h item 10) with the flagged pack set aside.
   // Called after every flight with the number done (one call at a time, in draw order; may be empty).
   std::function<void(std::int64_t)> on_flight_done;
 };
@@ -42,6 +46,9 @@ struct BatteryLearningSummary {
   std::int64_t flights = 0;
   std::int64_t parameter_draws = 0;        // Table 4.4 draws, each flown with the three actions
   std::int64_t failures = 0;               // flights that reached FAILURE
+  // With pack faults drawn: the isolation flights of the faulted draws (beyond the N flights; ours' flagged
+  // states, decision/battery_mdp.h item 10).
+  std::int64_t isolation_flights = 0;
   campaign::BatteryFlightSharing sharing;  // GNC steps that followed another flight's vehicle, and alone
   double wall_time_s = 0.0;
 };

@@ -46,6 +46,7 @@
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/eod_distribution.h"
 #include "uascma/prognostics/motor_rul.h"
+#include "uascma/prognostics/pack_fault_monitor.h"
 #include "uascma/sim/eod_error_model.h"
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
@@ -258,6 +259,19 @@ struct EodAtAction {
 };
 
 // The 1 Hz prognosis and decisions (updated at each epoch by Observe, Act and DecideBattery).
+// The pack-fault indicator as the CMA loop reads it (prognostics/pack_fault_monitor.h,
+// docs/modelling-choices.md#pack-fault-cma): run at every decision epoch of a flight whose scenario carries a pack
+// fault; in a flight without one its residuals stay at micro-volts, far below its thresholds (tested), so it never
+// flags and is not run. The monitor is shared between copies of a state and replaced, never changed, at an update.
+struct PackMonitorState {
+  std::shared_ptr<const prognostics::PackFaultMonitor> monitor;  // null before the first epoch
+  double updated_s = -1.0;                                       // the epoch it last read
+  models::PerBranch<bool> flags{};                               // latched
+  bool any() const { return flags[0] || flags[1]; }
+  // Flights equal in what the monitor read: the same epochs, the same flags.
+  bool operator==(const PackMonitorState& other) const { return updated_s == other.updated_s && flags == other.flags; }
+};
+
 struct DecisionState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
@@ -288,6 +302,7 @@ struct DecisionState {
   // (DecisionPolicy::ReadsVehicleBeliefs; set by the epoch's caller before Observe).
   std::vector<double> vehicle_rul_at_onset_s;
   bool vehicle_beliefs = false;
+  PackMonitorState pack_monitor;
   bool operator==(const DecisionState&) const = default;
 };
 
