@@ -60,6 +60,7 @@ struct LqrWeights {
   double thrust = 4.0;             // N
   double roll_pitch_torque = 0.4;  // N·m
   double yaw_torque = 0.08;        // N·m
+  bool operator==(const LqrWeights&) const = default;
 };
 
 struct LqrOptions {
@@ -72,6 +73,7 @@ struct LqrOptions {
   double max_velocity_error = 4.0;    // m/s
   double max_tilt = 0.6;              // rad, reference tilt from feedforward acceleration
   bool IsValid(std::string* error) const;
+  bool operator==(const LqrOptions&) const = default;
 };
 
 // Thrust before horizontal track (docs/modelling-choices.md#thrust-priority). The roll and pitch loops of the LQR ask
