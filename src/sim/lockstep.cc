@@ -18,8 +18,9 @@ bool SharesVehicle(const FlightModel& a, const FlightModel& b) {
   // parameters, the GNC step and whether the drag is fed forward.
   const Scenario& x = a.scenario();
   const Scenario& y = b.scenario();
-  return &a == &b || (x.configuration == y.configuration && x.vehicle == y.vehicle && x.body == y.body &&
-                      x.lqr == y.lqr && a.dt() == b.dt() && a.options().drag_feedforward == b.options().drag_feedforward);
+  return &a == &b ||
+         (x.configuration == y.configuration && x.vehicle == y.vehicle && x.body == y.body && x.lqr == y.lqr &&
+          a.dt() == b.dt() && a.options().drag_feedforward == b.options().drag_feedforward);
 }
 
 void FlightCoroutine::Resume() {

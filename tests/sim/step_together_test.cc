@@ -160,7 +160,8 @@ TEST(StepTogetherTest, AnotherVehicleIsNotShared) {
   pusher.configuration = models::PropellerConfiguration::kPusher;
   Scenario heavier = ShortJam();
   heavier.body.mass += 0.1;
-  // The LQR's options, each part the lanes read (a limit of the errors or the tilt) or that changes the gain (a weight).
+  // The LQR's options, each part the lanes read (a limit of the errors or the tilt) or that changes the gain (a
+  // weight).
   Scenario tighter_tilt = ShortJam();
   tighter_tilt.lqr.max_tilt = 0.5;
   Scenario stiffer = ShortJam();
