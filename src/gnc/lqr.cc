@@ -12,6 +12,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/common/lane_math.h"
+#include "uascma/gnc/drag_feedforward.h"
 
 namespace uascma::gnc {
 namespace {
@@ -293,12 +294,12 @@ Wrench LqrController::Compute(const models::RigidBodyState& state, const plannin
 Eigen::Vector3d CalcDragFeedForward(const models::RigidBodyParams& params, const models::DragTable& drag,
                                     const Eigen::Vector3d& z_B_W, const Eigen::Vector3d& v_ref_W,
                                     const Eigen::Vector3d& wind_estimate_W) {
-  const Eigen::Vector3d v_air_W = v_ref_W - wind_estimate_W;
-  const double airspeed = v_air_W.norm();
-  if (!(airspeed > 1e-9)) return Eigen::Vector3d::Zero();
-  // The incidence asin(v_air·z_B / |v_air|) as the table's pitch (DragAtSine: Drag at the asin, the same bits).
-  const double incidence_sine = std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0);
-  return drag.DragAtSine(airspeed, incidence_sine) / (params.mass * airspeed) * v_air_W;
+  using Lane = lane_math_internal::Lanes3<double>;
+  const auto lookup = [&drag](double airspeed, double sine) { return drag.DragAtSineWhereMoving(airspeed, sine); };
+  const Lane a = control_internal::DragFeedForward<double>(params.mass, lookup, Lane{z_B_W.x(), z_B_W.y(), z_B_W.z()},
+                                                           Lane{v_ref_W.x(), v_ref_W.y(), v_ref_W.z()},
+                                                           Lane{wind_estimate_W.x(), wind_estimate_W.y(), wind_estimate_W.z()});
+  return {a.x, a.y, a.z};
 }
 
 }  // namespace uascma::gnc

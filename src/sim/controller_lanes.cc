@@ -1,6 +1,6 @@
-// ComputeControllerLanes (sim/controller_lanes.h): gnc/lqr.cc's CalcDragFeedForward and LqrController::Compute and
-// models/mixer.cc's AllocateThrusts (each lane's failure case) written once as a template over a GCC/Clang generic
-// vector of 2 doubles (SSE2, lanes 0-1 then 2-3) or 4 (AVX2, through a target attribute). Each line names the scalar
+// ComputeControllerLanes (sim/controller_lanes.h): gnc/lqr.cc's CalcDragFeedForward (the formula of
+// gnc/drag_feedforward.h, which both instantiate), LqrController::Compute and models/mixer.cc's AllocateThrusts (each
+// lane's failure case) as a template over a GCC/Clang generic vector of 2 doubles (SSE2, lanes 0-1 then 2-3) or 4 (AVX2, through a target attribute). Each line names the scalar
 // expression it performs per lane, in its order; a branch of the scalar code is a select between values every lane
 // computes (both are computed by the same operations in every lane, so the selected one has the scalar code's bits).
 // std::min, std::max and std::clamp are lane_math_kernels.h's Min, Max and Clamp, their definitions. Compiled with
@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "uascma/common/frames.h"
+#include "uascma/gnc/drag_feedforward.h"
 
 namespace uascma::sim {
 namespace {
@@ -90,36 +91,33 @@ UASCMA_CONTROLLER_LANES_INLINE Rotation<V> RotationOf(const ControllerLaneInputs
   return {1.0 - (tyy + tzz), txy + twz, txz - twy, tyz + twx, 1.0 - (txx + tyy), txz + twy, tyz - twx};
 }
 
-// The target's acceleration: the reference's plus CalcDragFeedForward(body, drag, z_B, v_ref, wind), drag / (m
-// |v_air|) · v_air, zero for |v_air| <= 1e-9 (a sum the scalar code always forms, zero or not).
+// The target's acceleration: the reference's plus gnc::CalcDragFeedForward(body, drag, z_B, v_ref, wind) in the lanes
+// that feed it forward (gnc/drag_feedforward.h, the formula the scalar code instantiates; a sum the scalar code always
+// forms, zero or not).
 template <class V>
 UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> TargetAcceleration(const ControllerLaneVehicle& vehicle,
                                                             const ControllerLaneInputs& in, const Rotation<V>& r,
                                                             int first) {
   constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
-  const double mass = vehicle.controller->params().mass;
   const V zero = Splat<V>(0.0);
-  const Lanes3<V> z_B = {r.z_x, r.z_y, r.r22};
-  const Lanes3<V> v_ref = LoadLanes3<V>(in.v_ref_W, first);
-  const Lanes3<V> wind = LoadLanes3<V>(in.mean_wind_W, first);
-  const Lanes3<V> v_air = {v_ref.x - wind.x, v_ref.y - wind.y, v_ref.z - wind.z};
-  const V airspeed = lane_math_internal::Sqrt(v_air.x * v_air.x + v_air.y * v_air.y + v_air.z * v_air.z);
-  const auto moving = airspeed > Splat<V>(1e-9);
-  const V sine = Clamp((v_air.x * z_B.x + v_air.y * z_B.y + v_air.z * z_B.z) / airspeed, -1.0, 1.0);
   // The feed-forward's lanes: those with every rotor allocated, when the vehicle feeds the drag forward.
   V fed = zero;
   for (int i = 0; i < kWidth; ++i) fed[i] = vehicle.feedforward && in.failed_motor[first + i] == 0 ? 1.0 : 0.0;
   const auto feeds = fed != zero;
-  V drag = zero;
-  for (int i = 0; i < kWidth; ++i) {
-    if (moving[i] && feeds[i]) drag[i] = vehicle.drag->DragAtSine(airspeed[i], sine[i]);  // libm's asin, per lane
-  }
-  const V scale = drag / (mass * airspeed);
+  const auto lookup = [&](V airspeed, V sine) {  // libm's asin per lane, in the lanes that feed forward only
+    V drag = zero;
+    for (int i = 0; i < kWidth; ++i) {
+      if (feeds[i]) drag[i] = vehicle.drag->DragAtSineWhereMoving(airspeed[i], sine[i]);
+    }
+    return drag;
+  };
+  const Lanes3<V> feedforward =
+      gnc::control_internal::DragFeedForward<V>(vehicle.controller->params().mass, lookup, {r.z_x, r.z_y, r.r22},
+                                                LoadLanes3<V>(in.v_ref_W, first), LoadLanes3<V>(in.mean_wind_W, first));
   const Lanes3<V> a_ref = LoadLanes3<V>(in.a_ref_W, first);
   // Without the feed-forward the target is the reference itself (no sum: a −0 stays −0).
-  return {feeds ? a_ref.x + (moving ? scale * v_air.x : zero) : a_ref.x,
-          feeds ? a_ref.y + (moving ? scale * v_air.y : zero) : a_ref.y,
-          feeds ? a_ref.z + (moving ? scale * v_air.z : zero) : a_ref.z};
+  return {feeds ? a_ref.x + feedforward.x : a_ref.x, feeds ? a_ref.y + feedforward.y : a_ref.y,
+          feeds ? a_ref.z + feedforward.z : a_ref.z};
 }
 
 // LqrController::Compute(state, target) with the target's acceleration `a`: the wrench (T, τx, τy, τz).

@@ -167,7 +167,8 @@ class LqrController {
 //   a_ff = −D_W / m,  D_W = −D(|v_air|, α) v_air / |v_air|,  v_air = v_ref − w_estimate,
 //   α = asin(v_air · z_B / |v_air|) with the vehicle's present body z axis (the drag table's pitch, as the
 //   rigid body evaluates it, models/rigid_body.cc).
-// w_estimate is the wind the flight controller knows: the steady (mean) wind, not the gusts (ours).
+// w_estimate is the wind the flight controller knows: the steady (mean) wind, not the gusts (ours). The formula is
+// written once, for one flight and for flights in lanes: gnc/drag_feedforward.h.
 Eigen::Vector3d CalcDragFeedForward(const models::RigidBodyParams& params, const models::DragTable& drag,
                                     const Eigen::Vector3d& z_B_W, const Eigen::Vector3d& v_ref_W,
                                     const Eigen::Vector3d& wind_estimate_W);
