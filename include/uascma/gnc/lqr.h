@@ -146,7 +146,8 @@ class LqrController {
   const models::RigidBodyParams& params() const { return params_; }
   const RiccatiSolution& riccati() const { return solution_; }
   const LinearModel& discrete_model() const { return discrete_; }
-  // −K, the options and the tilt limit Compute reads (sim/controller_lanes.h computes it in lanes).
+  // −K, the options and the tilt limit Compute reads (its law is written once for one flight and for flights in
+  // lanes, gnc/lqr_law.h).
   const GainMatrix& negative_gain() const { return negative_gain_; }
   const LqrOptions& options() const { return options_; }
   const TiltLimit& tilt_limit() const { return tilt_limit_; }
