@@ -23,8 +23,7 @@ inline __attribute__((always_inline)) Lanes3<V> DragFeedForward(double mass, con
                                                                 const Lanes3<V>& v_ref_W,
                                                                 const Lanes3<V>& wind_estimate_W) {
   using lane_math_internal::Splat;
-  const Lanes3<V> v_air = {v_ref_W.x - wind_estimate_W.x, v_ref_W.y - wind_estimate_W.y,
-                           v_ref_W.z - wind_estimate_W.z};
+  const Lanes3<V> v_air = {v_ref_W.x - wind_estimate_W.x, v_ref_W.y - wind_estimate_W.y, v_ref_W.z - wind_estimate_W.z};
   const V airspeed = lane_math_internal::Sqrt(v_air.x * v_air.x + v_air.y * v_air.y + v_air.z * v_air.z);
   const auto moving = airspeed > Splat<V>(models::DragTable::kStillAirspeed);
   // The incidence asin(v_air·z_B / |v_air|) as the table's pitch (DragAtSine: Drag at the asin, the same bits).

@@ -141,8 +141,8 @@ UASCMA_LQR_LAW_INLINE WrenchLanes<V> ComputeWrench(const LqrController& controll
   const auto upright = R.r22 > zero;
   const Direction<V> roll_difference = AngleDifference(roll, roll_ref);
   const Direction<V> roll_error = {upright ? roll_difference.y : zero, upright ? roll_difference.x : one};
-  const std::array<V, 3> angles =
-      atan2_three(std::array<V, 3>{roll_error.y, pitch_error.y, R.r10}, std::array<V, 3>{roll_error.x, pitch_error.x, R.r00});
+  const std::array<V, 3> angles = atan2_three(std::array<V, 3>{roll_error.y, pitch_error.y, R.r10},
+                                              std::array<V, 3>{roll_error.x, pitch_error.x, R.r00});
   V e6 = angles[0];
   if (!lane_math_internal::AllLanes(upright)) {
     e6 = upright ? e6 : Atan2Kernel(roll.y, roll.x) - Atan2Kernel(roll_ref.y, roll_ref.x);
