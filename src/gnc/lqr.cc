@@ -12,14 +12,11 @@
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/common/lane_math.h"
+#include "uascma/gnc/drag_feedforward.h"
+#include "uascma/gnc/lqr_law.h"
 
 namespace uascma::gnc {
 namespace {
-
-Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double limit) {
-  const double n = v.norm();
-  return n > limit ? Eigen::Vector2d(v * (limit / n)) : v;
-}
 
 // The columns of the state that each input's gain row reads: the hover model decouples (LinearizeHover) into thrust
 // ← (z, v_z), τx ← (y, v_y, roll, p), τy ← (x, v_x, pitch, q), τz ← (yaw, r), and with diagonal Q and R the Riccati
@@ -35,29 +32,15 @@ bool InGainPattern(int row, int column) {
   return false;
 }
 
-// The rotation by −ψ, [[cos ψ, sin ψ], [−sin ψ, cos ψ]] v, written out.
-Eigen::Vector2d RotateToHeading(double cos_yaw, double sin_yaw, Eigen::Vector2d v) {
-  return {cos_yaw * v.x() + sin_yaw * v.y(), -sin_yaw * v.x() + cos_yaw * v.y()};
+// The three attitude errors' atan2 of one flight at once, in the lanes of lane_math's Atan2_4 (the control law's
+// atan2_three, gnc/lqr_law.h).
+std::array<double, 3> Atan2Three(const std::array<double, 3>& y, const std::array<double, 3>& x) {
+  const lane_math::Lanes4 angles =
+      lane_math::Atan2_4(lane_math::DefaultLaneMathPath(), {y[0], y[1], y[2], 0.0}, {x[0], x[1], x[2], 1.0});
+  return {angles[0], angles[1], angles[2]};
 }
 
-// A tilt held as the direction (x, y) = (cos, sin)·r of its angle atan2(y, x), any r > 0 (Compute subtracts angles as
-// directions and takes one atan2 of each difference).
-struct TiltDirection {
-  double y = 0.0, x = 1.0;
-};
-
-// The angle of a direction b, atan2(b.y, b.x), less that of a, as a direction: (a.x b.y − a.y b.x, a.x b.x + a.y b.y)
-// (the angle of b rotated by −a, in (−π, π]): one atan2 for a difference of two angles.
-TiltDirection AngleDifference(const TiltDirection& b, const TiltDirection& a) {
-  return {a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y};
-}
-
-// A reference tilt atan(d.y / d.x) (d.x > 0) clamped to ±max_tilt: compared as tangents, |d.y| > tan(max_tilt) d.x,
-// and held as (±sin, cos) of the limit when beyond it.
-TiltDirection ClampTilt(const TiltDirection& d, const TiltLimit& limit) {
-  if (std::abs(d.y) > limit.tan * d.x) return {std::copysign(limit.sin, d.y), limit.cos};
-  return d;
-}
+lane_math_internal::Lanes3<double> Lane(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 }  // namespace
 
@@ -218,87 +201,30 @@ bool ScaleTiltToThrust(const GainMatrix& g, const HorizontalLoopTerms& t, double
 
 Wrench LqrController::Compute(const models::RigidBodyState& state, const planning::PlanReference& reference,
                               double max_collective_thrust, TiltBoundOutcome* tilt) const {
-  const EulerEntries R_WB = EulerEntriesOf(state.q_WB);  // the entries of R_WB read below, not the other four
-  // The reference acceleration becomes a reference tilt and a thrust feed-forward: with z_B = (cφ sθ, −sφ, cφ cθ)
-  // (Z-Y-X angles, ψ = 0) and the thrust's vertical share held at m G, G = g − a_z, the tilt that produces
-  // (a_x, a_y) is θ = atan(−a_x / G), φ = atan(a_y cθ / G) (exact; the small-angle θ = −a_x/g over-asks by
-  // 10 % at the ~30° a 9 m/s cruise into a 3 m/s wind needs with the drag fed forward). Both are held as directions
-  // (TiltDirection), cθ = G / |(−a_x, G)| without a cosine.
-  const double vertical = std::max(kGravity - reference.a_W.z(), 1.0);  // m/s², a plan never asks for free fall
-  const TiltDirection pitch_ref = ClampTilt({-reference.a_W.x(), vertical}, tilt_limit_);
-  const double cos_pitch_ref = pitch_ref.x / std::sqrt(pitch_ref.x * pitch_ref.x + pitch_ref.y * pitch_ref.y);
-  const TiltDirection roll_ref = ClampTilt({reference.a_W.y() * cos_pitch_ref, vertical}, tilt_limit_);
-  ControlState error;
-  const Eigen::Vector3d position_error = state.p_WB_W - reference.p_W;
-  error.head<2>() = ClampNorm(position_error.head<2>(), options_.max_horizontal_error);
-  error(2) = std::clamp(position_error.z(), -options_.max_vertical_error, options_.max_vertical_error);
-  const Eigen::Vector3d velocity_error = state.v_WB_W - reference.v_W;
-  error.segment<2>(3) = ClampNorm(velocity_error.head<2>(), options_.max_velocity_error);
-  error(5) = std::clamp(velocity_error.z(), -options_.max_velocity_error, options_.max_velocity_error);
-  // The linear model is written in the heading frame (yaw ≈ 0): rotate horizontal errors by −ψ so a
-  // yawed vehicle still tilts the right way. (cos ψ, sin ψ) = (R00, R10) / cos θ for Z-Y-X angles.
-  const double heading_norm = std::sqrt(R_WB.r00 * R_WB.r00 + R_WB.r10 * R_WB.r10);
-  const double cos_yaw = heading_norm > 0.0 ? R_WB.r00 / heading_norm : 1.0;
-  const double sin_yaw = heading_norm > 0.0 ? R_WB.r10 / heading_norm : 0.0;
-  error.head<2>() = RotateToHeading(cos_yaw, sin_yaw, error.head<2>());
-  error.segment<2>(3) = RotateToHeading(cos_yaw, sin_yaw, error.segment<2>(3));
-  // The attitude errors φ − φ_ref, θ − θ_ref and ψ (the reference heading being 0), one atan2 each, on lanes
-  // together: roll = atan2(R21, R22), pitch = atan2(−R20, |(R00, R10)|) (= asin(−R20) for a rotation), yaw =
-  // atan2(R10, R00). φ − φ_ref is one angle difference while |φ| < π/2 (R22 > 0, the difference then within ±π);
-  // upside down it is the two angles subtracted.
-  const TiltDirection roll{R_WB.r21, R_WB.r22};
-  const TiltDirection pitch_error = AngleDifference({-R_WB.r20, heading_norm}, pitch_ref);
-  const TiltDirection roll_error = R_WB.r22 > 0.0 ? AngleDifference(roll, roll_ref) : TiltDirection{0.0, 1.0};
-  const lane_math::Lanes4 angles =
-      lane_math::Atan2_4(lane_math::DefaultLaneMathPath(), {roll_error.y, pitch_error.y, R_WB.r10, 0.0},
-                         {roll_error.x, pitch_error.x, R_WB.r00, 1.0});
-  error(6) = R_WB.r22 > 0.0 ? angles[0] : lane_math::Atan2(roll.y, roll.x) - lane_math::Atan2(roll_ref.y, roll_ref.x);
-  error(7) = angles[1];
-  error(8) = angles[2];
-  error.tail<3>() = state.w_WB_B;
-  const GainMatrix& g = negative_gain_;  // u = −K x over the nonzero entries of kGainRowColumns, written out
-  const double roll_track = g(1, 1) * error(1) + g(1, 4) * error(4);
-  const double pitch_track = g(2, 0) * error(0) + g(2, 3) * error(3);
-  Eigen::Vector4d u(g(0, 2) * error(2) + g(0, 5) * error(5), roll_track + g(1, 6) * error(6) + g(1, 9) * error(9),
-                    pitch_track + g(2, 7) * error(7) + g(2, 10) * error(10), g(3, 8) * error(8) + g(3, 11) * error(11));
-  // Hover thrust plus feed-forward, corrected for tilt so the vertical component holds altitude.
-  const double vertical_thrust = params_.mass * (kGravity - reference.a_W.z()) + u(0);
-  TiltBoundOutcome outcome;
-  if (R_WB.r22 > 0.0) {
-    const HorizontalLoopTerms terms{.roll_track = roll_track,
-                                    .roll_error = error(6),
-                                    .roll_rate = g(1, 9) * error(9),
-                                    .pitch_track = pitch_track,
-                                    .pitch_error = error(7),
-                                    .pitch_rate = g(2, 10) * error(10),
-                                    .roll_ref_y = roll_ref.y,
-                                    .roll_ref_x = roll_ref.x,
-                                    .pitch_ref_y = pitch_ref.y,
-                                    .pitch_ref_x = pitch_ref.x,
-                                    .vertical_thrust = vertical_thrust};
-    // LimitTiltToThrust with its cheap test's factor kept for SameWrenchAt (computed once).
-    outcome.cheap_factor = CheapTiltFactor(g, terms);
-    outcome.vertical_thrust = vertical_thrust;
-    outcome.bounded = MayExceedAt(outcome.cheap_factor, vertical_thrust, max_collective_thrust) &&
-                      ScaleTiltToThrust(g, terms, max_collective_thrust, &u(1), &u(2));
-  }
-  if (tilt) *tilt = outcome;
-  Wrench wrench;
-  const double cos_tilt = std::max(R_WB.r22, 0.5);
-  wrench(0) = std::max(vertical_thrust / cos_tilt, 0.0);
-  wrench.tail<3>() = u.tail<3>();
-  return wrench;
+  // The law of gnc/lqr_law.h, written once for one flight and for flights in lanes.
+  const Eigen::Quaterniond& q = state.q_WB;
+  const control_internal::LawInputs<double> in{Lane(state.p_WB_W),
+                                               Lane(state.v_WB_W),
+                                               Lane(state.w_WB_B),
+                                               control_internal::RotationOf(q.x(), q.y(), q.z(), q.w()),
+                                               Lane(reference.p_W),
+                                               Lane(reference.v_W),
+                                               Lane(reference.a_W),
+                                               max_collective_thrust};
+  const control_internal::WrenchLanes<double> u =
+      control_internal::ComputeWrench(*this, in, Atan2Three, [tilt](int, const TiltBoundOutcome& outcome) {
+        if (tilt) *tilt = outcome;
+      });
+  return Wrench(u.thrust, u.u1, u.u2, u.u3);
 }
 
 Eigen::Vector3d CalcDragFeedForward(const models::RigidBodyParams& params, const models::DragTable& drag,
                                     const Eigen::Vector3d& z_B_W, const Eigen::Vector3d& v_ref_W,
                                     const Eigen::Vector3d& wind_estimate_W) {
-  const Eigen::Vector3d v_air_W = v_ref_W - wind_estimate_W;
-  const double airspeed = v_air_W.norm();
-  if (!(airspeed > 1e-9)) return Eigen::Vector3d::Zero();
-  // The incidence asin(v_air·z_B / |v_air|) as the table's pitch (DragAtSine: Drag at the asin, the same bits).
-  const double incidence_sine = std::clamp(v_air_W.dot(z_B_W) / airspeed, -1.0, 1.0);
-  return drag.DragAtSine(airspeed, incidence_sine) / (params.mass * airspeed) * v_air_W;
+  const auto lookup = [&drag](double airspeed, double sine) { return drag.DragAtSineWhereMoving(airspeed, sine); };
+  const lane_math_internal::Lanes3<double> a =
+      control_internal::DragFeedForward<double>(params.mass, lookup, Lane(z_B_W), Lane(v_ref_W), Lane(wind_estimate_W));
+  return {a.x, a.y, a.z};
 }
 
 }  // namespace uascma::gnc

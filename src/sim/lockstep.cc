@@ -13,17 +13,14 @@ namespace uascma::sim {
 using internal::SecondsSince;
 
 bool SharesVehicle(const FlightModel& a, const FlightModel& b) {
-  // What StepTogether's lanes read of the first flight's model for every flight: the controller (body and LQR
-  // options), the mixer and the drag table (the configuration), the body's parameters and the GNC step.
+  // What StepTogether's lanes read of the first flight's model for every flight: the controller (built from the body
+  // and the LQR options alone), the mixer and the drag table (the configuration and the vehicle), the body's
+  // parameters, the GNC step and whether the drag is fed forward.
   const Scenario& x = a.scenario();
   const Scenario& y = b.scenario();
-  return &a == &b || (x.configuration == y.configuration && x.vehicle == y.vehicle && x.body == y.body &&
-                      a.dt() == b.dt() && a.controller().negative_gain() == b.controller().negative_gain() &&
-                      a.controller().options().max_horizontal_error == b.controller().options().max_horizontal_error &&
-                      a.controller().options().max_vertical_error == b.controller().options().max_vertical_error &&
-                      a.controller().options().max_velocity_error == b.controller().options().max_velocity_error &&
-                      a.controller().options().max_tilt == b.controller().options().max_tilt &&
-                      a.options().drag_feedforward == b.options().drag_feedforward);
+  return &a == &b ||
+         (x.configuration == y.configuration && x.vehicle == y.vehicle && x.body == y.body && x.lqr == y.lqr &&
+          a.dt() == b.dt() && a.options().drag_feedforward == b.options().drag_feedforward);
 }
 
 void FlightCoroutine::Resume() {

@@ -160,9 +160,20 @@ TEST(StepTogetherTest, AnotherVehicleIsNotShared) {
   pusher.configuration = models::PropellerConfiguration::kPusher;
   Scenario heavier = ShortJam();
   heavier.body.mass += 0.1;
+  // The LQR's options, each part the lanes read (a limit of the errors or the tilt) or that changes the gain (a
+  // weight).
+  Scenario tighter_tilt = ShortJam();
+  tighter_tilt.lqr.max_tilt = 0.5;
+  Scenario stiffer = ShortJam();
+  stiffer.lqr.weights.position = 0.8;
+  Scenario without_feedforward = ShortJam();
+  without_feedforward.options.drag_feedforward = false;
   const FlightModel tractor_model(ShortJam());
-  EXPECT_FALSE(SharesVehicle(tractor_model, FlightModel(pusher)));
-  EXPECT_FALSE(SharesVehicle(tractor_model, FlightModel(heavier)));
+  EXPECT_TRUE(SharesVehicle(tractor_model, FlightModel(ShortJam())));
+  for (const Scenario& other : {pusher, heavier, tighter_tilt, stiffer, without_feedforward}) {
+    EXPECT_FALSE(SharesVehicle(tractor_model, FlightModel(other))) << other.name;
+    EXPECT_FALSE(SharesVehicle(FlightModel(other), tractor_model)) << other.name;
+  }
 }
 
 }  // namespace

@@ -61,6 +61,35 @@ UASCMA_LANE_MATH_INLINE void StoreLanes(std::array<double, N>& a, int first, T v
   std::memcpy(a.data() + first, &v, sizeof(T));
 }
 
+// The lanes of a value: 1 for a double, 2 or 4 for a vector; lane i of it, and lane i set.
+template <typename T>
+inline constexpr int kLaneCount = std::is_same_v<T, double> ? 1 : static_cast<int>(sizeof(T) / sizeof(double));
+template <typename T>
+UASCMA_LANE_MATH_INLINE double LaneOf(const T& v, int i) {
+  if constexpr (std::is_same_v<T, double>) {
+    return v;
+  } else {
+    return v[i];
+  }
+}
+template <typename T>
+UASCMA_LANE_MATH_INLINE void SetLane(T& v, int i, double x) {
+  if constexpr (std::is_same_v<T, double>) {
+    v = x;
+  } else {
+    v[i] = x;
+  }
+}
+// True when a compare holds in every lane (a bool for a double; a mask of all-ones/all-zeros lanes for a vector).
+UASCMA_LANE_MATH_INLINE bool AllLanes(bool m) { return m; }
+template <typename M>
+UASCMA_LANE_MATH_INLINE bool AllLanes(M mask) {
+  for (int i = 0; i < static_cast<int>(sizeof(M) / sizeof(mask[0])); ++i) {
+    if (!mask[i]) return false;
+  }
+  return true;
+}
+
 // A 3-vector's components, one vector of lanes each, and those of an array of per-lane values [component][lane].
 template <typename T>
 struct Lanes3 {

@@ -60,6 +60,7 @@ struct LqrWeights {
   double thrust = 4.0;             // N
   double roll_pitch_torque = 0.4;  // N·m
   double yaw_torque = 0.08;        // N·m
+  bool operator==(const LqrWeights&) const = default;
 };
 
 struct LqrOptions {
@@ -72,6 +73,7 @@ struct LqrOptions {
   double max_velocity_error = 4.0;    // m/s
   double max_tilt = 0.6;              // rad, reference tilt from feedforward acceleration
   bool IsValid(std::string* error) const;
+  bool operator==(const LqrOptions&) const = default;
 };
 
 // Thrust before horizontal track (docs/modelling-choices.md#thrust-priority). The roll and pitch loops of the LQR ask
@@ -144,7 +146,8 @@ class LqrController {
   const models::RigidBodyParams& params() const { return params_; }
   const RiccatiSolution& riccati() const { return solution_; }
   const LinearModel& discrete_model() const { return discrete_; }
-  // −K, the options and the tilt limit Compute reads (sim/controller_lanes.h computes it in lanes).
+  // −K, the options and the tilt limit Compute reads (its law is written once for one flight and for flights in
+  // lanes, gnc/lqr_law.h).
   const GainMatrix& negative_gain() const { return negative_gain_; }
   const LqrOptions& options() const { return options_; }
   const TiltLimit& tilt_limit() const { return tilt_limit_; }
@@ -165,7 +168,8 @@ class LqrController {
 //   a_ff = −D_W / m,  D_W = −D(|v_air|, α) v_air / |v_air|,  v_air = v_ref − w_estimate,
 //   α = asin(v_air · z_B / |v_air|) with the vehicle's present body z axis (the drag table's pitch, as the
 //   rigid body evaluates it, models/rigid_body.cc).
-// w_estimate is the wind the flight controller knows: the steady (mean) wind, not the gusts (ours).
+// w_estimate is the wind the flight controller knows: the steady (mean) wind, not the gusts (ours). The formula is
+// written once, for one flight and for flights in lanes: gnc/drag_feedforward.h.
 Eigen::Vector3d CalcDragFeedForward(const models::RigidBodyParams& params, const models::DragTable& drag,
                                     const Eigen::Vector3d& z_B_W, const Eigen::Vector3d& v_ref_W,
                                     const Eigen::Vector3d& wind_estimate_W);

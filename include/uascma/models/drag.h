@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "uascma/models/propulsion.h"
@@ -39,6 +40,24 @@ class DragTable {
     return Drag(airspeed, std::asin(sine));
   }
   static constexpr double kEdgeSineMargin = 1e-9;
+  // m/s: at or below this airspeed there is no drag (the incidence has no direction); ours, far below any airspeed the
+  // table resolves.
+  static constexpr double kStillAirspeed = 1e-9;
+  // DragAtSine lane by lane, 0 in a lane whose airspeed is at or below kStillAirspeed: the lookup of the rigid body's
+  // step and the drag feed-forward, written once over a lane type V (a double, or a GCC/Clang vector of doubles whose
+  // lanes are flights stepped together: models/rigid_body_lanes.h, sim/controller_lanes.h).
+  template <class V>
+  V DragAtSineWhereMoving(V airspeed, V sine) const {
+    if constexpr (std::is_same_v<V, double>) {
+      return airspeed > kStillAirspeed ? DragAtSine(airspeed, sine) : 0.0;
+    } else {
+      V drag;
+      for (int i = 0; i < static_cast<int>(sizeof(V) / sizeof(double)); ++i) {
+        drag[i] = DragAtSineWhereMoving(airspeed[i], sine[i]);
+      }
+      return drag;
+    }
+  }
   // ∂D/∂v at (airspeed, pitch): the linear coefficient d_x of the footprint (eq. 5.1, docs/defaults.md#drag).
   double DragSlope(double airspeed, double pitch) const;
 

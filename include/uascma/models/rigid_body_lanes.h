@@ -1,14 +1,14 @@
 #pragma once
-// Lockstep flights: the rigid body's midpoint step (models/rigid_body.h,
-// StepRigidBody with Integrator::kMidpoint, the simulator's step) for four independent bodies at once, their
-// states, wrenches and winds held as a structure of arrays (one lane per body), sharing the parameters and the
-// drag table. Lane i of the result is, bit for bit, StepRigidBody of body i: every lane performs the scalar code's
-// IEEE operations in its order (Eigen's, for the norms and the cross product), with no fused multiply-add
-// (src/models/CMakeLists.txt compiles the lanes with -ffp-contract=off); tests/models/rigid_body_lanes_test.cc
-// compares them. The drag table's lookup is, by default, called per lane in scalar code (DragTable::DragAtSine with
-// libm's asin: the function the scalar step calls, so the same bits); LaneDragLookup below offers it in the lanes.
-// sim::StepTogether (sim/flight.h) steps a lockstep group's bodies with it (kLibmAsinTableInLanes);
-// bench/rigid_body_lanes_bench.cc measures it alone.
+// Lockstep flights: the rigid body's midpoint step (models/rigid_body.h, StepRigidBody with Integrator::kMidpoint, the
+// simulator's step) for four independent bodies at once, their states, wrenches and winds held as a structure of arrays
+// (one lane per body), sharing the parameters and the drag table. The step is written once, over a lane type
+// (src/models/rigid_body_step.h): StepRigidBody instantiates it for one body, these lanes for vectors of two or four,
+// so lane i of the result is, bit for bit, StepRigidBody of body i, with no fused multiply-add (src/models/
+// CMakeLists.txt compiles both with -ffp-contract=off); tests/models/rigid_body_lanes_test.cc compares them. The drag
+// table's lookup is, by default, called per lane in scalar code (DragTable::DragAtSine with libm's asin: the function
+// the scalar step calls, so the same bits); LaneDragLookup below offers it in the lanes. sim::StepTogether
+// (sim/flight.h) steps a lockstep group's bodies with it (kLibmAsinTableInLanes); bench/rigid_body_lanes_bench.cc
+// measures it alone.
 //
 // Paths as common/lane_math.h's: SSE2 (two 2-wide vectors, lanes 0-1 and 2-3) or AVX2 (one 4-wide vector); a caller
 // passes lane_math::DefaultLaneMathPath(), which UASCMA_SIMD=sse2 (or scalar) caps at SSE2; an AVX2 request on a CPU
