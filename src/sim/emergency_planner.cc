@@ -7,6 +7,15 @@
 
 namespace uascma::sim {
 
+int NearestLandingSite(const planning::CityMap& map, const Eigen::Vector3d& p_W) {
+  const auto& sites = map.sites();
+  int nearest = -1;
+  for (int k = 0; k < static_cast<int>(sites.size()); ++k) {
+    if (nearest < 0 || (sites[k].p_W - p_W).norm() < (sites[nearest].p_W - p_W).norm()) nearest = k;
+  }
+  return nearest;
+}
+
 MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
                                             const models::DragTable& drag, const models::PropulsionParams& propulsion) {
   if (!scenario.map || scenario.map->sites().empty()) return {};
@@ -71,6 +80,29 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
         plan.footprint_NE.push_back(result.frame.ToWorld(p_H).head<2>());
       }
     }
+    return plan;
+  };
+  out.to_point = [map, planner, fence](const EmergencyRequest& r, const Eigen::Vector3d& target_W) {
+    EmergencyPlan plan;
+    const auto& sites = map->sites();
+    const int nearest = NearestLandingSite(*map, target_W);
+    const planning::LandingPath path = planner->PlanToSite(r.p_WB_W, nearest);
+    if (!path.feasible()) {
+      plan.message = "no path to site " + sites[nearest].id;
+      return plan;
+    }
+    plan.plan = path.ToFlightPlan(planner->params().limits);
+    if (fence) {
+      std::vector<Eigen::Vector2d> path_NE{plan.plan.start_W().head<2>()};
+      for (const auto& segment : plan.plan.segments()) path_NE.push_back(segment.end_W.head<2>());
+      if (!fence->AllowsPath(path_NE)) {
+        plan.message = "the path to site " + sites[nearest].id + " leaves the mission's geofence";
+        return plan;
+      }
+    }
+    plan.status = planning::LandingStatus::kOk;
+    plan.site = sites[nearest].id;
+    plan.site_radius = sites[nearest].radius;
     return plan;
   };
   return out;

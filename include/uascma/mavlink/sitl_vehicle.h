@@ -22,8 +22,9 @@
 
 namespace uascma::mavlink {
 
-// What a received command asks of the flight loop.
-enum class VehicleRequest { kNone, kArm, kDisarm, kMissionStart, kLand, kTerminate };
+// What a received command asks of the flight loop. kFlyMission: MISSION_START in flight with an uploaded mission, with
+// the CMA external (SitlVehicle's `external_cma`): fly the mission as the emergency plan (LandPract).
+enum class VehicleRequest { kNone, kArm, kDisarm, kMissionStart, kLand, kTerminate, kFlyMission };
 
 struct SitlCounts {
   int commands = 0;              // commands for this system, acknowledged
@@ -34,7 +35,10 @@ struct SitlCounts {
 class SitlVehicle {
  public:
   // `origin`: where W's origin is on the globe (the scenario's geo_origin; see docs/mavlink.md for the default).
-  SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin, std::uint64_t unix_start_us);
+  // `external_cma`: the CMA runs elsewhere (`uascma companion`) and acts through commands: DO_REPOSITION (the
+  // landing site of a NAV_LAND that follows) and MISSION_START in flight (fly the uploaded mission) are then taken.
+  SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin, std::uint64_t unix_start_us,
+              bool external_cma = false);
 
   // One of each telemetry message for `state` (the log's last telemetry row gives the pack's outputs).
   void Telemetry(const sim::FlightState& state, const sim::FlightLog& log, bool armed, std::vector<Outgoing>& out);
@@ -47,11 +51,17 @@ class SitlVehicle {
   void Tick(double wall_s, std::vector<Outgoing>& out) { missions_.Tick(wall_s, out); }
 
   const MissionServer& missions() const { return missions_; }
+  // The last DO_REPOSITION's point in W (NED, m): where a following NAV_LAND lands. Empty without one.
+  const std::optional<Eigen::Vector3d>& reposition_W() const { return reposition_W_; }
+  // The uploaded mission's NAV_WAYPOINT and NAV_LAND items as waypoints in W (hold time param1 as the hover);
+  // items of other commands are skipped.
+  std::vector<planning::Waypoint> MissionWaypoints() const;
   const SitlCounts& counts() const { return counts_; }
   Address self() const { return self_; }
 
  private:
-  VehicleRequest OnCommand(std::uint16_t command, std::uint8_t target, const std::array<float, 7>& params,
+  // params 5 and 6 of a positional command are degrees (COMMAND_INT's x and y scaled by 1e-7).
+  VehicleRequest OnCommand(std::uint16_t command, std::uint8_t target, const std::array<double, 7>& params,
                            Address sender, bool armed, bool flying, std::vector<Outgoing>& out);
   void Position(const sim::FlightState& state, std::uint32_t time_ms, std::vector<Outgoing>& out) const;
   void Batteries(const sim::FlightState& state, const sim::FlightLog& log, std::vector<Outgoing>& out) const;
@@ -67,6 +77,8 @@ class SitlVehicle {
   SitlCounts counts_;
   models::PerBranch<double> initial_soc_{};  // each pack's first cell at the first Telemetry call
   bool initial_soc_known_ = false;
+  bool external_cma_ = false;
+  std::optional<Eigen::Vector3d> reposition_W_;
 };
 
 // STATUSTEXT of at most 50 bytes (longer texts are cut at a UTF-8 character boundary: the chunked form is not used).
