@@ -82,32 +82,6 @@ sim::EmergencyPlanner MissionPlanner(const sim::FlightModel& model, std::vector<
   };
 }
 
-// Sends every queued message, each in its own frame with the next sequence number, packed into datagrams of at most
-// kDatagramBytes (several frames a datagram, as MAVLink over UDP allows: one datagram per epoch instead of twenty).
-class Sender {
- public:
-  static constexpr std::size_t kDatagramBytes = 1400;  // ours: below a 1500-byte Ethernet MTU with the IP/UDP headers
-  Sender(UdpLink& link, Address self) : link_(link), self_(self) {}
-  void Flush(std::vector<Outgoing>& out) {
-    std::vector<std::uint8_t> datagram;
-    for (const Outgoing& message : out) {
-      const std::vector<std::uint8_t> frame = EncodeFrame(message.info, message.payload, self_, sequence_++);
-      if (datagram.size() + frame.size() > kDatagramBytes) {
-        link_.Send(datagram);
-        datagram.clear();
-      }
-      datagram.insert(datagram.end(), frame.begin(), frame.end());
-    }
-    if (!datagram.empty()) link_.Send(datagram);
-    out.clear();
-  }
-
- private:
-  UdpLink& link_;
-  Address self_;
-  std::uint8_t sequence_ = 0;
-};
-
 struct LoopState {
   bool armed = true;    // flies the scenario as `simulate` does from the start
   bool started = true;  // SitlOptions::wait_for_start: false until MISSION_START
@@ -115,7 +89,7 @@ struct LoopState {
 };
 
 // Serves the link until `deadline` (wall, from the run's start): frames handled in arrival order, mission timeouts.
-void Serve(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, Sender& sender, CommandedPolicy& policy, LoopState& loop,
+void Serve(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, FrameSender& sender, CommandedPolicy& policy, LoopState& loop,
            bool flying, Clock::time_point start, double deadline_s) {
   std::vector<Outgoing> out;
   for (;;) {
@@ -179,7 +153,7 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
   SitlVehicle vehicle(model, self, scenario.geo_origin.value_or(planning::GeoPoint{}),
                       static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()),
                       options.external_cma);
-  Sender sender(link, self);
+  FrameSender sender(link, self);
   CommandedPolicy commanded(policy, options.external_cma);
   const sim::Controllers controllers{
       &commanded, nullptr, [&](const sim::EmergencyRequest& request) { return commanded.Plan(model, request); }};

@@ -153,4 +153,18 @@ std::size_t UdpLink::peer_count() const {
   return count;
 }
 
+void FrameSender::Flush(std::vector<Outgoing>& out) {
+  std::vector<std::uint8_t> datagram;
+  for (const Outgoing& message : out) {
+    const std::vector<std::uint8_t> frame = EncodeFrame(message.info, message.payload, self_, sequence_++);
+    if (datagram.size() + frame.size() > kDatagramBytes) {
+      link_.Send(datagram);
+      datagram.clear();
+    }
+    datagram.insert(datagram.end(), frame.begin(), frame.end());
+  }
+  if (!datagram.empty()) link_.Send(datagram);
+  out.clear();
+}
+
 }  // namespace uascma::mavlink

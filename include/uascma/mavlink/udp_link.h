@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "uascma/mavlink/codec.h"
+#include "uascma/mavlink/mission_server.h"
 
 namespace uascma::mavlink {
 
@@ -59,6 +60,22 @@ class UdpLink {
     std::vector<sockaddr_in> peers;
   };
   std::vector<Endpoint> endpoints_;
+};
+
+// Sends queued messages from `self`, each in its own frame with the next sequence number, packed into datagrams of at
+// most kDatagramBytes (several frames a datagram, as MAVLink over UDP allows: one datagram per epoch instead of
+// twenty).
+class FrameSender {
+ public:
+  static constexpr std::size_t kDatagramBytes = 1400;  // ours: below a 1500-byte Ethernet MTU with the IP/UDP headers
+  FrameSender(UdpLink& link, Address self) : link_(link), self_(self) {}
+  // Sends and clears `out`.
+  void Flush(std::vector<Outgoing>& out);
+
+ private:
+  UdpLink& link_;
+  Address self_;
+  std::uint8_t sequence_ = 0;
 };
 
 }  // namespace uascma::mavlink
