@@ -195,6 +195,12 @@ void Companion::DecideEpoch(Clock::time_point received) {
   CompanionDecision row;
   row.time_s = sample.time_s;
   const double period_s = 1.0 / model_.options().decision_rate_hz;
+  if (sample.OldestS() < 0.0) {
+    row.note = "incomplete: a telemetry group not yet received, no decision";
+    ++summary_.stale;
+    summary_.log.push_back(row);
+    return;
+  }
   if (sample.time_s - sample.OldestS() > kMaxStaleEpochs * period_s + 1e-6) {
     row.note = fmt::format("stale: telemetry {:.1f} s old, no decision", sample.time_s - sample.OldestS());
     ++summary_.stale;
@@ -230,7 +236,11 @@ void Companion::DecideEpoch(Clock::time_point received) {
       row.note = "Terminate withheld (no --allow-termination)";
       SayDecision(row);
     } else if (flight_log_.actions.size() > actions_before) {
-      Send(taken, planned, WallSecondsSince(start_), row);
+      if (taken == CmaAction::kTerminate || planned.ok()) {
+        Send(taken, planned, WallSecondsSince(start_), row);
+      } else {  // before take-off (sim::Act: the vehicle stays on the ground): nothing to fly
+        row.note = "chosen before take-off: nothing sent";
+      }
       SayDecision(row);
     }
   }
@@ -258,6 +268,7 @@ void Companion::OnFrame(const Frame& frame, double now_s, Clock::time_point rece
 }
 
 CompanionSummary Companion::Run() {
+  if (options_.on_ready) options_.on_ready(link_);
   double last_frame_s = 0.0, last_heartbeat_s = -1.0;
   while (!landed_ && !terminated_) {
     const double now_s = WallSecondsSince(start_);

@@ -36,6 +36,8 @@ bool TelemetryReader::Read(const Frame& frame) {
     s.landed_s = s.time_s;
   } else if (frame.Is<SysStatus>()) {
     const SysStatus m = frame.As<SysStatus>();
+    // 0 or UINT16_MAX volts and −1 amperes: not measured (the message's own convention); the group stays old.
+    if (m.voltage_battery == 0 || m.voltage_battery == UINT16_MAX || m.current_battery < 0) return true;
     s.bus_voltage_v = m.voltage_battery * 1e-3;
     s.pack_current_a = m.current_battery * 1e-2;
     s.power_s = s.time_s;
@@ -91,8 +93,14 @@ void VehicleBelief::Update(const TelemetrySample& sample) {
     power.energy_wh += 0.5 * (last_->bus_voltage_v * last_->pack_current_a + sample.bus_voltage_v * sample.pack_current_a) *
                        dt / 3600.0;
   }
+  // The charge each branch has delivered: the pack model's (fine-grained, but integrated from 1 Hz readings) kept
+  // within the coulomb counter's rounding, ±0.5 mAh of its reading (docs/modelling-choices.md#companion-belief).
   for (int branch = 0; branch < models::kBranchCount; ++branch) {
-    const double drawn_as = sample.consumed_mah[branch] * kAmpSecondsPerMah;
+    const double counted_as = sample.consumed_mah[branch] * kAmpSecondsPerMah;
+    const double capacity_as = model_.pack().cell(branch, 0).capacity_as();
+    const double integrated_as = (initial_soc_[branch][0] - power.pack.cells[branch][0].soc_fraction) * capacity_as;
+    const double drawn_as = std::clamp(integrated_as, counted_as - 0.5 * kAmpSecondsPerMah,
+                                       counted_as + 0.5 * kAmpSecondsPerMah);
     power.branch_charge_as[branch] = drawn_as;
     for (int cell = 0; cell < models::kCellsPerBranch; ++cell) {
       power.pack.cells[branch][cell].soc_fraction =

@@ -18,6 +18,7 @@
 // not decided at all otherwise (logged "stale"); with no frame from the vehicle for kLinkLostS wall seconds the
 // companion ends.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,8 @@ struct CompanionOptions {
   bool allow_termination = false;
   // Wall seconds to wait for the vehicle's first frame (0: forever).
   double wait_s = 30.0;
+  // Called once the sockets are bound: e.g. to print the ports of port-0 endpoints.
+  std::function<void(const UdpLink&)> on_ready;
   bool IsValid(std::string* error) const;
 };
 

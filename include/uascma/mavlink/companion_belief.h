@@ -45,7 +45,7 @@ struct TelemetrySample {
   // Autopilot time (s) of each group's last update; −1: never.
   double position_s = -1, attitude_s = -1, landed_s = -1, power_s = -1, esc_s = -1, spall_s = -1;
   std::array<double, 2> battery_s{-1.0, -1.0};
-  // The oldest update among the groups the decision needs (all of the above).
+  // The oldest update among the groups the decision needs (all of the above); −1 while one was never received.
   double OldestS() const;
 };
 
