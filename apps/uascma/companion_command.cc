@@ -37,12 +37,14 @@ void AddCompanionCommand(CLI::App& app) {
       "of the flight and acts: LandASAP as DO_REPOSITION + NAV_LAND at its site, LandPract as an uploaded mission\n"
       "and MISSION_START, Terminate as DO_FLIGHTTERMINATION (only with --allow-termination). Each action is a\n"
       "STATUSTEXT; every epoch a row of --log. Ends when the vehicle has landed. See docs/mavlink.md.");
-  command->add_option("--mavlink", options->links,
-                      "udpout:HOST:PORT (an autopilot listening there, e.g. `uascma sitl --mavlink udp:...`) or "
-                      "udp:HOST:PORT (listen for an autopilot that sends here); may be given more than once")
+  command
+      ->add_option("--mavlink", options->links,
+                   "udpout:HOST:PORT (an autopilot listening there, e.g. `uascma sitl --mavlink udp:...`) or "
+                   "udp:HOST:PORT (listen for an autopilot that sends here); may be given more than once")
       ->required();
-  command->add_option("--scenario", options->scenario,
-                      "Scenario YAML: the vehicle, battery, map (landing sites) and plan the CMA knows")
+  command
+      ->add_option("--scenario", options->scenario,
+                   "Scenario YAML: the vehicle, battery, map (landing sites) and plan the CMA knows")
       ->required();
   command->add_option("--policy", options->policy,
                       "CMA policy: cma | cma-vehicle | noop | … | policy.json (as `uascma simulate --policy`; "

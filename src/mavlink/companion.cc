@@ -227,9 +227,8 @@ void Companion::DecideEpoch(Clock::time_point received) {
       if (plan.ok()) planned = plan;
       return plan;
     };
-    const CmaAction taken =
-        sim::Act(model_, state, action, model_.map_planner() ? planner : sim::EmergencyPlanner{}, &flight_log_,
-                 policy_.Ranking(inputs));
+    const CmaAction taken = sim::Act(model_, state, action, model_.map_planner() ? planner : sim::EmergencyPlanner{},
+                                     &flight_log_, policy_.Ranking(inputs));
     row.taken = decision::CmaActionName(taken);
     if (taken == CmaAction::kTerminate && !options_.allow_termination) {
       state = before;  // the vehicle flies on: the belief too
@@ -262,7 +261,8 @@ void Companion::OnFrame(const Frame& frame, double now_s, Clock::time_point rece
     ++summary_.missions_uploaded;
   }
   // A new epoch's SYSTEM_TIME while the last is undecided: decide the last on what came (the staleness rule).
-  const bool new_epoch = frame.Is<SystemTime>() && frame.As<SystemTime>().time_boot_ms * 1e-3 > reader_->sample().time_s;
+  const bool new_epoch =
+      frame.Is<SystemTime>() && frame.As<SystemTime>().time_boot_ms * 1e-3 > reader_->sample().time_s;
   if (new_epoch && reader_->sample().time_s > decided_time_s_) DecideEpoch(received);
   if (reader_->Read(frame) && reader_->Complete() && reader_->sample().time_s > decided_time_s_) DecideEpoch(received);
 }
@@ -323,8 +323,8 @@ std::string CompanionLogCsv(const std::vector<CompanionDecision>& log) {
       "time_s,cma_state,decided,taken,eod_s,rul_s,flight_time_remaining_s,reach_margin,motor_margin,decision_ms,note\n";
   for (const CompanionDecision& r : log) {
     csv += fmt::format("{:.3f},\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},\"{}\"\n", r.time_s, r.state,
-                       r.decided, r.taken, r.eod_s, r.rul_s, r.flight_time_remaining_s, r.reach_margin,
-                       r.motor_margin, r.decision_ms, r.note);
+                       r.decided, r.taken, r.eod_s, r.rul_s, r.flight_time_remaining_s, r.reach_margin, r.motor_margin,
+                       r.decision_ms, r.note);
   }
   return csv;
 }

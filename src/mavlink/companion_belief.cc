@@ -48,7 +48,8 @@ bool TelemetryReader::Read(const Frame& frame) {
     s.battery_s[m.id] = s.time_s;
   } else if (frame.Is<EscInfo>()) {
     const EscInfo m = frame.As<EscInfo>();
-    if (m.index == 0) s.failed_rotor = 0;  // the first of the two messages (rotors 1-4, then 5-6) starts the epoch's flags
+    if (m.index == 0)
+      s.failed_rotor = 0;  // the first of the two messages (rotors 1-4, then 5-6) starts the epoch's flags
     for (int k = 0; k < 4 && m.index + k < 6; ++k) {
       if (m.failure_flags[k] != 0) s.failed_rotor = m.index + k + 1;
     }
@@ -90,7 +91,8 @@ void VehicleBelief::Update(const TelemetrySample& sample) {
     const double step_s = model_.pack_step().dt_s;
     const int steps = std::max(1, static_cast<int>(std::ceil(dt / step_s - 1e-9)));
     for (int k = 0; k < steps; ++k) power.pack = model_.pack().Step(power.pack, current_a, dt / steps);
-    power.energy_wh += 0.5 * (last_->bus_voltage_v * last_->pack_current_a + sample.bus_voltage_v * sample.pack_current_a) *
+    power.energy_wh += 0.5 *
+                       (last_->bus_voltage_v * last_->pack_current_a + sample.bus_voltage_v * sample.pack_current_a) *
                        dt / 3600.0;
   }
   // The charge each branch has delivered: the pack model's (fine-grained, but integrated from 1 Hz readings) kept
@@ -99,8 +101,8 @@ void VehicleBelief::Update(const TelemetrySample& sample) {
     const double counted_as = sample.consumed_mah[branch] * kAmpSecondsPerMah;
     const double capacity_as = model_.pack().cell(branch, 0).capacity_as();
     const double integrated_as = (initial_soc_[branch][0] - power.pack.cells[branch][0].soc_fraction) * capacity_as;
-    const double drawn_as = std::clamp(integrated_as, counted_as - 0.5 * kAmpSecondsPerMah,
-                                       counted_as + 0.5 * kAmpSecondsPerMah);
+    const double drawn_as =
+        std::clamp(integrated_as, counted_as - 0.5 * kAmpSecondsPerMah, counted_as + 0.5 * kAmpSecondsPerMah);
     power.branch_charge_as[branch] = drawn_as;
     for (int cell = 0; cell < models::kCellsPerBranch; ++cell) {
       power.pack.cells[branch][cell].soc_fraction =

@@ -89,8 +89,8 @@ struct LoopState {
 };
 
 // Serves the link until `deadline` (wall, from the run's start): frames handled in arrival order, mission timeouts.
-void Serve(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, FrameSender& sender, CommandedPolicy& policy, LoopState& loop,
-           bool flying, Clock::time_point start, double deadline_s) {
+void Serve(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, FrameSender& sender,
+           CommandedPolicy& policy, LoopState& loop, bool flying, Clock::time_point start, double deadline_s) {
   std::vector<Outgoing> out;
   for (;;) {
     const double now = SecondsSince(start);
@@ -98,17 +98,29 @@ void Serve(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, F
     for (const ReceivedFrame& received : link.Receive(std::max(0.0, std::min(wait, 0.05)))) {
       switch (vehicle.Handle(received.frame, SecondsSince(start), loop.armed, flying, out)) {
         case VehicleRequest::kLand:
-          if (vehicle.reposition_W()) policy.Command(decision::CmaAction::kLandAsap, RepositionPlanner(model, *vehicle.reposition_W()));
-          else policy.Command(decision::CmaAction::kLandAsap);
+          if (vehicle.reposition_W())
+            policy.Command(decision::CmaAction::kLandAsap, RepositionPlanner(model, *vehicle.reposition_W()));
+          else
+            policy.Command(decision::CmaAction::kLandAsap);
           break;
         case VehicleRequest::kFlyMission:
           policy.Command(decision::CmaAction::kLandPract, MissionPlanner(model, vehicle.MissionWaypoints()));
           break;
-        case VehicleRequest::kTerminate: policy.Command(decision::CmaAction::kTerminate); break;
-        case VehicleRequest::kArm: loop.armed = true; break;
-        case VehicleRequest::kMissionStart: loop.started = true; break;
-        case VehicleRequest::kDisarm: loop.armed = false; loop.stop = !flying; break;
-        default: break;
+        case VehicleRequest::kTerminate:
+          policy.Command(decision::CmaAction::kTerminate);
+          break;
+        case VehicleRequest::kArm:
+          loop.armed = true;
+          break;
+        case VehicleRequest::kMissionStart:
+          loop.started = true;
+          break;
+        case VehicleRequest::kDisarm:
+          loop.armed = false;
+          loop.stop = !flying;
+          break;
+        default:
+          break;
       }
     }
     sender.Flush(out);  // the replies to one batch of datagrams, in order, packed
@@ -150,9 +162,10 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
   if (options.on_ready) options.on_ready(link);
   const Address self{options.system_id, static_cast<std::uint8_t>(kMavCompIdAutopilot1)};
   const auto unix_now = std::chrono::system_clock::now().time_since_epoch();
-  SitlVehicle vehicle(model, self, scenario.geo_origin.value_or(planning::GeoPoint{}),
-                      static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()),
-                      options.external_cma);
+  SitlVehicle vehicle(
+      model, self, scenario.geo_origin.value_or(planning::GeoPoint{}),
+      static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()),
+      options.external_cma);
   FrameSender sender(link, self);
   CommandedPolicy commanded(policy, options.external_cma);
   const sim::Controllers controllers{

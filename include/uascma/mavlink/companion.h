@@ -48,12 +48,12 @@ struct CompanionOptions {
 
 // One row of the decision log: one epoch of the vehicle's telemetry.
 struct CompanionDecision {
-  double time_s = 0.0;           // the autopilot's clock (SYSTEM_TIME time_boot_ms)
-  std::string state;             // the abstract CMA state's label, e.g. "N,SF,M,RM1,MM1" ("" when not decided)
-  std::string decided, taken;    // the policy's action and the executor's (they differ after a substitution)
+  double time_s = 0.0;         // the autopilot's clock (SYSTEM_TIME time_boot_ms)
+  std::string state;           // the abstract CMA state's label, e.g. "N,SF,M,RM1,MM1" ("" when not decided)
+  std::string decided, taken;  // the policy's action and the executor's (they differ after a substitution)
   double eod_s = 0.0, rul_s = 0.0, flight_time_remaining_s = 0.0, reach_margin = 0.0, motor_margin = 0.0;
-  double decision_ms = 0.0;      // wall time from the epoch's last frame to the commands sent
-  std::string note;              // why not decided (stale), what was sent, or a withheld Terminate
+  double decision_ms = 0.0;  // wall time from the epoch's last frame to the commands sent
+  std::string note;          // why not decided (stale), what was sent, or a withheld Terminate
 };
 
 struct CompanionSummary {

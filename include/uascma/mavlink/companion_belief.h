@@ -1,7 +1,7 @@
 #pragma once
 // What `uascma companion` knows of the vehicle: the telemetry of one decision epoch read off the MAVLink link
-// (TelemetryReader), and the companion's belief of the flight built from it (VehicleBelief), a sim::FlightState that the
-// kernel's own 1 Hz functions read: sim::Observe (EOD at the load forecast, the RUL prognosis, the margins, the
+// (TelemetryReader), and the companion's belief of the flight built from it (VehicleBelief), a sim::FlightState that
+// the kernel's own 1 Hz functions read: sim::Observe (EOD at the load forecast, the RUL prognosis, the margins, the
 // abstract CMA state, the speed cap after an isolation) and sim::Act (the emergency planners and the executor's
 // checks). The CMA is not implemented twice: only the belief's inputs come from the link instead of the simulator
 // (docs/mavlink.md#the-cma-as-a-companion).
