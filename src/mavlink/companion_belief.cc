@@ -56,6 +56,11 @@ bool TelemetryReader::Read(const Frame& frame) {
     if (m.index + 4 >= m.count) s.esc_s = s.time_s;  // every rotor's flags read
   } else if (frame.Is<NamedValueFloat>()) {
     const NamedValueFloat m = frame.As<NamedValueFloat>();
+    if (std::strncmp(m.name.data(), "energy_wh", m.name.size()) == 0) {
+      s.energy_wh = m.value;
+      s.energy_s = m.time_boot_ms * 1e-3;
+      return true;
+    }
     if (std::strncmp(m.name.data(), "spall_mm2", m.name.size()) != 0) return true;
     s.spall_mm2 = m.value;
     s.spall_s = m.time_boot_ms * 1e-3;
@@ -95,6 +100,7 @@ void VehicleBelief::Update(const TelemetrySample& sample) {
                        (last_->bus_voltage_v * last_->pack_current_a + sample.bus_voltage_v * sample.pack_current_a) *
                        dt / 3600.0;
   }
+  if (sample.energy_s == sample.time_s) power.energy_wh = sample.energy_wh;  // the autopilot's own count, when sent
   // The charge each branch has delivered: the pack model's (fine-grained, but integrated from 1 Hz readings) kept
   // within the coulomb counter's rounding, ±0.5 mAh of its reading (docs/modelling-choices.md#companion-belief).
   for (int branch = 0; branch < models::kBranchCount; ++branch) {

@@ -180,8 +180,10 @@ void SitlVehicle::Telemetry(const sim::FlightState& state, const sim::FlightLog&
   out.push_back(MakeOutgoing(time));
   SysStatus status;
   const sim::TelemetryRow* row = log.telemetry.empty() ? nullptr : &log.telemetry.back();
-  status.voltage_battery = row ? Saturate<std::uint16_t>(row->bus_voltage * 1000.0) : 0;
-  status.current_battery = row ? Saturate<std::int16_t>(row->pack_current * 100.0) : -1;
+  // The bus voltage and pack current of the state at the epoch (what the CMA's load forecast reads, sim::Observe),
+  // not the last GNC step's row: its voltage differs by millivolts, a few hundredths of a second of EOD.
+  status.voltage_battery = row ? Saturate<std::uint16_t>(state.power.bus_voltage_v * 1000.0) : 0;
+  status.current_battery = row ? Saturate<std::int16_t>(state.power.pack_current_a * 100.0) : -1;
   status.battery_remaining = -1;
   out.push_back(MakeOutgoing(status));
   Batteries(state, log, out);
@@ -208,6 +210,13 @@ void SitlVehicle::Telemetry(const sim::FlightState& state, const sim::FlightLog&
                                                     : state.done()           ? kMissionStateComplete
                                                                              : kMissionStateActive);
   out.push_back(MakeOutgoing(current));
+  // The energy drawn from the packs since take-off at float precision (docs/modelling-choices.md#companion-belief:
+  // BATTERY_STATUS energy_consumed's hectojoules are a third of one epoch's draw).
+  NamedValueFloat energy;
+  energy.time_boot_ms = time_ms;
+  std::memcpy(energy.name.data(), "energy_wh", 9);
+  energy.value = static_cast<float>(state.power.energy_wh);
+  out.push_back(MakeOutgoing(energy));
   NamedValueFloat spall;
   spall.time_boot_ms = time_ms;
   std::memcpy(spall.name.data(), "spall_mm2", 9);

@@ -13,8 +13,8 @@
 //              seed, so the prognosis draws its particles as the in-process CMA draws them;
 //   power      the pack model of the scenario (its resting state at the scenario's charge) stepped with the
 //              measured pack current between epochs (trapezoid), each cell's SOC then set from the pack's coulomb
-//              counter (BATTERY_STATUS current_consumed); SYS_STATUS's bus voltage and current; the energy drawn as
-//              the trapezoid of V_bus I between epochs;
+//              counter (BATTERY_STATUS current_consumed); SYS_STATUS's bus voltage and current; the energy drawn from
+//              NAMED_VALUE_FLOAT "energy_wh" when the autopilot sends it, else the trapezoid of V_bus I between epochs;
 //   faults     a spall from the first epoch NAMED_VALUE_FLOAT spall_mm2 > 0 (the spall indicator, §2.3); the rotor
 //              ESC_INFO flags failed as the isolated one (the allocation flies around it);
 //   decision, guidance   the companion's own: the nominal plan of the scenario, then the emergency plan it commanded.
@@ -42,10 +42,13 @@ struct TelemetrySample {
   std::array<double, 2> consumed_mah{};  // per pack, BATTERY_STATUS id 0 and 1
   int failed_rotor = 0;                  // 1..6 from ESC_INFO failure flags, 0: none
   double spall_mm2 = 0.0;
+  double energy_wh = 0.0;  // NAMED_VALUE_FLOAT "energy_wh", optional: the energy drawn since take-off
   // Autopilot time (s) of each group's last update; −1: never.
   double position_s = -1, attitude_s = -1, landed_s = -1, power_s = -1, esc_s = -1, spall_s = -1;
   std::array<double, 2> battery_s{-1.0, -1.0};
-  // The oldest update among the groups the decision needs (all of the above); −1 while one was never received.
+  double energy_s = -1;  // optional: not among the groups the decision needs
+  // The oldest update among the groups the decision needs (all of the above but energy_s); −1 while one was never
+  // received.
   double OldestS() const;
 };
 

@@ -9,7 +9,8 @@
 //   time_remaining = the epoch's EOD, §3.4), GLOBAL_POSITION_INT, LOCAL_POSITION_NED, ATTITUDE, HOME_POSITION,
 //   EXTENDED_SYS_STATE, ESC_STATUS and ESC_INFO for rotors 1-4 and 5-6 (rpm; a jammed rotor's flag
 //   ESC_FAILURE_MOTOR_STUCK once the fault detector has isolated it), MISSION_CURRENT, and NAMED_VALUE_FLOAT
-//   "spall_mm2" (the spall indicator, §2.3) and "rul_s" (the motor RUL).
+//   "spall_mm2" (the spall indicator, §2.3) and "energy_wh" (the energy drawn since take-off, for a companion's load
+//   forecast).
 // Every timestamp is the simulated clock (time_boot_ms = simulated ms since take-off).
 #include <cstdint>
 #include <optional>
