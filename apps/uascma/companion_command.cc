@@ -65,9 +65,8 @@ void AddCompanionCommand(CLI::App& app) {
     companion.allow_termination = options->allow_termination;
     companion.wait_s = options->wait_s;
     companion.on_ready = [&](const mavlink::UdpLink& link) {
-      for (std::size_t i = 0; i < companion.links.size(); ++i) {
-        if (companion.links[i].kind == mavlink::LinkAddress::Kind::kListen)
-          std::printf("listening on udp:%s:%u\n", companion.links[i].host.c_str(), link.bound_port(i));
+      for (const std::string& address : mavlink::ListeningAddresses(companion.links, link)) {
+        std::printf("listening on %s\n", address.c_str());
       }
       std::fflush(stdout);
     };

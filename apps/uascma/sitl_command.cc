@@ -75,9 +75,8 @@ void AddSitlCommand(CLI::App& app) {
     if (sitl.external_cma && !options->policy.empty())
       throw InputError("--policy", "value", "no policy with --cma external (the companion's --policy decides)");
     sitl.on_ready = [&](const mavlink::UdpLink& link) {
-      for (std::size_t i = 0; i < sitl.links.size(); ++i) {
-        if (sitl.links[i].kind == mavlink::LinkAddress::Kind::kListen)
-          std::printf("listening on udp:%s:%u\n", sitl.links[i].host.c_str(), link.bound_port(i));
+      for (const std::string& address : mavlink::ListeningAddresses(sitl.links, link)) {
+        std::printf("listening on %s\n", address.c_str());
       }
       std::fflush(stdout);
     };

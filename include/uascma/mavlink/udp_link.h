@@ -62,6 +62,10 @@ class UdpLink {
   std::vector<Endpoint> endpoints_;
 };
 
+// "udp:HOST:PORT" of each listening endpoint of `addresses` (the addresses `link` was made from), with the port it is
+// bound to (the one the system chose for port 0): what the commands print for a client to connect.
+std::vector<std::string> ListeningAddresses(const std::vector<LinkAddress>& addresses, const UdpLink& link);
+
 // Sends queued messages from `self`, each in its own frame with the next sequence number, packed into datagrams of at
 // most kDatagramBytes (several frames a datagram, as MAVLink over UDP allows: one datagram per epoch instead of
 // twenty).
