@@ -98,8 +98,8 @@ void Serve(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, F
     for (const ReceivedFrame& received : link.Receive(std::max(0.0, std::min(wait, 0.05)))) {
       switch (vehicle.Handle(received.frame, SecondsSince(start), loop.armed, flying, out)) {
         case VehicleRequest::kLand:
-          if (vehicle.reposition_W())
-            policy.Command(decision::CmaAction::kLandAsap, RepositionPlanner(model, *vehicle.reposition_W()));
+          if (const std::optional<Eigen::Vector3d> site_W = vehicle.TakeReposition())
+            policy.Command(decision::CmaAction::kLandAsap, RepositionPlanner(model, *site_W));
           else
             policy.Command(decision::CmaAction::kLandAsap);
           break;

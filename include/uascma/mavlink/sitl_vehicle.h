@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uascma/mavlink/mission_server.h"
@@ -52,8 +53,9 @@ class SitlVehicle {
   void Tick(double wall_s, std::vector<Outgoing>& out) { missions_.Tick(wall_s, out); }
 
   const MissionServer& missions() const { return missions_; }
-  // The last DO_REPOSITION's point in W (NED, m): where a following NAV_LAND lands. Empty without one.
-  const std::optional<Eigen::Vector3d>& reposition_W() const { return reposition_W_; }
+  // The last DO_REPOSITION's point in W (NED, m), taken by the NAV_LAND that lands there: empty afterwards, and
+  // without one.
+  std::optional<Eigen::Vector3d> TakeReposition() { return std::exchange(reposition_W_, std::nullopt); }
   // The uploaded mission's NAV_WAYPOINT and NAV_LAND items as waypoints in W (hold time param1 as the hover);
   // items of other commands are skipped.
   std::vector<planning::Waypoint> MissionWaypoints() const;
