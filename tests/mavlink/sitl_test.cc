@@ -80,6 +80,17 @@ MissionItemInt Waypoint(std::uint16_t seq) {
   return item;
 }
 
+// The sitl's flight is the simulator's: the same outcome, duration and events, each at the same time (bit for bit).
+void ExpectSameFlight(const SitlSummary& summary, const sim::SimResult& reference) {
+  EXPECT_EQ(summary.outcome, reference.outcome);
+  EXPECT_EQ(summary.sim_time_s, reference.sim_time_s);
+  ASSERT_EQ(summary.events.size(), reference.events.size());
+  for (std::size_t i = 0; i < summary.events.size(); ++i) {
+    EXPECT_EQ(summary.events[i].what, reference.events[i].what);
+    EXPECT_EQ(summary.events[i].time_s, reference.events[i].time_s);
+  }
+}
+
 TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
   const sim::ScenarioFile file = sim::LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml", {});
   auto policy = sim::MakePolicy(file.policy, "scenario-1.yaml");
@@ -177,13 +188,7 @@ TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
   const sim::Simulator simulator(file.scenario);
   auto reference_policy = sim::MakePolicy(file.policy, "scenario-1.yaml");
   const sim::SimResult reference = simulator.Run(*reference_policy);
-  EXPECT_EQ(summary.outcome, reference.outcome);
-  EXPECT_EQ(summary.sim_time_s, reference.sim_time_s);
-  ASSERT_EQ(summary.events.size(), reference.events.size());
-  for (std::size_t i = 0; i < summary.events.size(); ++i) {
-    EXPECT_EQ(summary.events[i].what, reference.events[i].what);
-    EXPECT_EQ(summary.events[i].time_s, reference.events[i].time_s);
-  }
+  ExpectSameFlight(summary, reference);
   // The client read every event as a STATUSTEXT (its first 50 bytes, cut at a character boundary), in order.
   ASSERT_EQ(client.texts.size(), summary.events.size());
   for (std::size_t i = 0; i < client.texts.size(); ++i) {
@@ -223,13 +228,7 @@ TEST(SitlTest, WithTheCmaExternalAndNoCommandsTheFlightIsTheNoOpFlight) {
   sim::NoOpPolicy noop;
   const sim::SimResult reference = simulator.Run(noop);
   EXPECT_EQ(reference.outcome, sim::Outcome::kFailedBattery);  // Scenario I under NoOp (§5.5.1)
-  EXPECT_EQ(summary.outcome, reference.outcome);
-  EXPECT_EQ(summary.sim_time_s, reference.sim_time_s);
-  ASSERT_EQ(summary.events.size(), reference.events.size());
-  for (std::size_t i = 0; i < summary.events.size(); ++i) {
-    EXPECT_EQ(summary.events[i].what, reference.events[i].what);
-    EXPECT_EQ(summary.events[i].time_s, reference.events[i].time_s);
-  }
+  ExpectSameFlight(summary, reference);
 }
 
 }  // namespace
