@@ -24,6 +24,7 @@ void AddReproduceCommand(CLI::App& app);  // reproduce_command.cc
 void AddDocsCommand(CLI::App& app);       // docs_command.cc
 void AddCalibrateCommand(CLI::App& app);  // calibrate_command.cc
 void AddSitlCommand(CLI::App& app);       // sitl_command.cc
+void AddCompanionCommand(CLI::App& app);  // companion_command.cc
 void AddIdentifyCommand(CLI::App& app);   // identify_command.cc
 void AddValidateCommand(CLI::App& app);   // validate_command.cc
 

@@ -41,6 +41,7 @@ constexpr std::array kCommands{
     Command{"docs", uascma::cli::AddDocsCommand},
     Command{"calibrate", uascma::cli::AddCalibrateCommand},
     Command{"sitl", uascma::cli::AddSitlCommand},
+    Command{"companion", uascma::cli::AddCompanionCommand},
     Command{"identify", uascma::cli::AddIdentifyCommand},
     Command{"validate", uascma::cli::AddValidateCommand},
 };

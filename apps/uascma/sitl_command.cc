@@ -19,6 +19,7 @@ struct SitlCommandOptions {
   std::string scenario;
   std::vector<std::string> links;
   std::string policy;
+  std::string cma = "onboard";
   double speed = 1.0;
   int system_id = 1;
   double linger_s = 2.0;
@@ -38,6 +39,9 @@ void AddSitlCommand(CLI::App& app) {
       "once per simulated second, and STATUSTEXT for each event; takes the mission protocol and COMMAND_LONG/INT\n"
       "(ARM/DISARM, MISSION_START, NAV_LAND = LandASAP, DO_FLIGHTTERMINATION = Terminate) with COMMAND_ACK.\n"
       "Without commands it flies what `uascma simulate` flies. Prints the ports it listens on, then a summary.\n"
+      "--cma external: the CMA is a companion on the link (`uascma companion`); the vehicle flies its plan and\n"
+      "carries out NAV_LAND (after DO_REPOSITION: at that site), MISSION_START in flight (the uploaded mission as\n"
+      "the emergency plan) and DO_FLIGHTTERMINATION.\n"
       "See docs/mavlink.md.");
   command->add_option("scenario", options->scenario, "Scenario YAML file")->required();
   command->add_option("--mavlink", options->links,
@@ -45,6 +49,9 @@ void AddSitlCommand(CLI::App& app) {
                       "may be given more than once; PORT 0 lets the system choose")
       ->required();
   command->add_option("--policy", options->policy, "CMA policy (as `uascma simulate --policy`; default: the scenario's)");
+  command->add_option("--cma", options->cma,
+                      "onboard (the policy decides in the simulator) or external (only the link's commands act)")
+      ->check(CLI::IsMember({"onboard", "external"}));
   AddBoundedOption(command, "--speed", options->speed, "Simulated seconds per wall second", mavlink::kSpeedBounds);
   AddBoundedOption(command, "--system-id", options->system_id, "MAVLink system id of the vehicle",
                    mavlink::kSystemIdBounds);
@@ -64,10 +71,12 @@ void AddSitlCommand(CLI::App& app) {
     sitl.system_id = static_cast<std::uint8_t>(options->system_id);
     sitl.linger_s = options->linger_s;
     sitl.wait_for_start = options->wait_for_start;
+    sitl.external_cma = options->cma == "external";
+    if (sitl.external_cma && !options->policy.empty())
+      throw InputError("--policy", "value", "no policy with --cma external (the companion's --policy decides)");
     sitl.on_ready = [&](const mavlink::UdpLink& link) {
-      for (std::size_t i = 0; i < sitl.links.size(); ++i) {
-        if (sitl.links[i].kind == mavlink::LinkAddress::Kind::kListen)
-          std::printf("listening on udp:%s:%u\n", sitl.links[i].host.c_str(), link.bound_port(i));
+      for (const std::string& address : mavlink::ListeningAddresses(sitl.links, link)) {
+        std::printf("listening on %s\n", address.c_str());
       }
       std::fflush(stdout);
     };

@@ -10,7 +10,13 @@ the UDP port it listens on; point a ground station, an SDK (pymavlink, MAVSDK, n
         print(sitl.address)      # "udp:127.0.0.1:40123": send a frame there to become a peer
         print(sitl.wait())       # the summary line once the flight and the linger are over
 
-The companion side (the CMA reading an autopilot's telemetry) is not built yet.
+``start_companion`` starts ``uascma companion`` (the CMA as an onboard companion, reading the vehicle's telemetry and
+acting through MAVLink) listening on loopback; give it to ``start_sitl`` and the vehicle sends to it and obeys it::
+
+    with start_companion(example_file("scenario-2.yaml"), log="decisions.csv") as cma, \
+         start_sitl(example_file("scenario-2.yaml"), speed=20, companion=cma) as sitl:
+        print(sitl.wait())       # the vehicle's summary: landed at the site the companion chose
+        print(cma.wait())        # the companion's: epochs decided, commands sent, decision time
 """
 import os
 import shutil
@@ -35,10 +41,11 @@ def _cli():
 
 
 class Sitl:
-    """A running ``uascma sitl``: ``port`` and ``address`` (where it listens), ``process`` (the Popen), ``wait()``
-    (its output once it ended), ``stop()``. A context manager: leaving the block stops it."""
+    """A running ``uascma sitl`` (or ``uascma companion``): ``port`` and ``address`` (where it listens), ``process``
+    (the Popen), ``wait()`` (its output once it ended), ``stop()``. A context manager: leaving the block stops it."""
 
-    def __init__(self, process, host, port):
+    def __init__(self, process, host, port, command="sitl"):
+        self.command = command
         self.process = process
         self.host = host
         self.port = port
@@ -52,7 +59,7 @@ class Sitl:
         if self.process.returncode != 0:
             from ._uascma import InputError
 
-            raise InputError(f"uascma sitl: exited {self.process.returncode}: {err.strip()}")
+            raise InputError(f"uascma {self.command}: exited {self.process.returncode}: {err.strip()}")
         return self._lines[-1] if self._lines else ""
 
     def stop(self):
@@ -76,29 +83,54 @@ class Sitl:
 
 
 def start_sitl(scenario, speed=1.0, host="127.0.0.1", port=0, system_id=1, wait_for_start=False, linger_s=2.0,
-               policy=None, timeout_s=30.0):
+               policy=None, timeout_s=30.0, companion=None):
     """Starts ``uascma sitl SCENARIO --mavlink udp:HOST:PORT`` and returns a :class:`Sitl` once it listens.
 
     ``port`` 0 lets the system choose (``Sitl.port`` says which). ``speed``: simulated seconds per wall second;
     ``wait_for_start``: stay on the ground until ARM and MISSION_START; ``linger_s``: how long the link is served
-    after the flight. InputError when the tool refuses an argument or does not listen within ``timeout_s``."""
+    after the flight; ``companion``: a :func:`start_companion` handle: the vehicle sends to it too and the CMA is the
+    companion's (``--cma external``). InputError when the tool refuses an argument or does not listen within
+    ``timeout_s``."""
     args = [_cli(), "sitl", os.fspath(scenario), "--mavlink", f"udp:{host}:{int(port)}", "--speed", str(float(speed)),
             "--system-id", str(int(system_id)), "--linger", str(float(linger_s))]
     if wait_for_start:
         args.append("--wait-for-start")
     if policy is not None:
         args += ["--policy", os.fspath(policy)]
+    if companion is not None:
+        args += ["--cma", "external", "--mavlink", f"udpout:{companion.host}:{companion.port}"]
+    return _start(args, "sitl", host, timeout_s)
+
+
+def start_companion(scenario, policy=None, host="127.0.0.1", port=0, log=None, allow_termination=False,
+                    timeout_s=30.0):
+    """Starts ``uascma companion --mavlink udp:HOST:PORT --scenario SCENARIO`` and returns a handle once it listens.
+
+    ``policy``: the CMA policy (``uascma simulate --policy``'s names; default the scenario's); ``log``: the decision
+    log CSV written when it ends; ``allow_termination``: send DO_FLIGHTTERMINATION when Terminate is taken. It ends
+    when the vehicle has landed or been silent for 5 s (docs/mavlink.md#the-cma-as-a-companion)."""
+    args = [_cli(), "companion", "--mavlink", f"udp:{host}:{int(port)}", "--scenario", os.fspath(scenario)]
+    if policy is not None:
+        args += ["--policy", os.fspath(policy)]
+    if log is not None:
+        args += ["--log", os.fspath(log)]
+    if allow_termination:
+        args.append("--allow-termination")
+    return _start(args, "companion", host, timeout_s)
+
+
+def _start(args, command, host, timeout_s):
     process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + timeout_s
     prefix = f"listening on udp:{host}:"
     while time.monotonic() < deadline:
         line = process.stdout.readline()
         if line.startswith(prefix):
-            return Sitl(process, host, int(line[len(prefix):]))
+            return Sitl(process, host, int(line[len(prefix):]), command)
         if not line and process.poll() is not None:
             break
     process.kill()
     _, err = process.communicate()
     from ._uascma import InputError
 
-    raise InputError(f"start_sitl: uascma sitl did not listen: {err.strip() or 'no output'}")
+    raise InputError(f"start_{command}: uascma {command} did not listen: {err.strip() or 'no output'}")

@@ -16,54 +16,71 @@ using Clock = std::chrono::steady_clock;
 
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// The scenario's policy, except at an epoch where a received command asked for an action: that action instead.
+// The scenario's policy (with the CMA external: NoOp), except at an epoch where a received command asked for an
+// action: that action instead, planned by the command's planner (empty: the model's map planner). With the CMA
+// external the executor falls back only on NoOp when the commanded plan cannot be carried out (Act's ranking): the
+// vehicle never picks an action of its own.
 class CommandedPolicy final : public sim::DecisionPolicy {
  public:
-  explicit CommandedPolicy(sim::DecisionPolicy& inner) : inner_(inner) {}
+  CommandedPolicy(sim::DecisionPolicy& inner, bool external) : inner_(inner), external_(external) {}
   decision::CmaAction Decide(const sim::DecisionInputs& inputs) override {
     if (commanded_) {
-      const decision::CmaAction action = *commanded_;
+      ranking_[0] = static_cast<decision::ActionIndex>(*commanded_);
       commanded_.reset();
-      return action;
+      return static_cast<decision::CmaAction>(ranking_[0]);
     }
-    return inner_.Decide(inputs);
+    planner_ = nullptr;
+    return external_ ? decision::CmaAction::kNoOp : inner_.Decide(inputs);
   }
-  std::string name() const override { return inner_.name(); }
-  sim::ActionRanking Ranking(const sim::DecisionInputs& inputs) const override { return inner_.Ranking(inputs); }
-  bool ReadsEodDistribution() const override { return inner_.ReadsEodDistribution(); }
+  std::string name() const override { return external_ ? "external" : inner_.name(); }
+  sim::ActionRanking Ranking(const sim::DecisionInputs& inputs) const override {
+    return external_ ? sim::ActionRanking(ranking_) : inner_.Ranking(inputs);
+  }
+  bool ReadsEodDistribution() const override { return !external_ && inner_.ReadsEodDistribution(); }
   bool ReadsOnlyCmaState() const override { return false; }  // a command may ask for an action at any epoch
-  void Command(decision::CmaAction action) { commanded_ = action; }
+  void Command(decision::CmaAction action, sim::EmergencyPlanner planner = nullptr) {
+    commanded_ = action;
+    planner_ = std::move(planner);
+  }
+  // The planner of the epoch's command: the command's own, else the model's map planner.
+  sim::EmergencyPlan Plan(const sim::FlightModel& model, const sim::EmergencyRequest& request) const {
+    if (planner_) return planner_(request);
+    if (model.map_planner()) return model.map_planner()(request);
+    sim::EmergencyPlan none;
+    none.message = "the map has no landing sites";
+    return none;
+  }
 
  private:
   sim::DecisionPolicy& inner_;
+  bool external_;
   std::optional<decision::CmaAction> commanded_;
+  sim::EmergencyPlanner planner_;
+  std::array<decision::ActionIndex, 2> ranking_{0, static_cast<decision::ActionIndex>(decision::CmaAction::kNoOp)};
 };
 
-// Sends every queued message, each in its own frame with the next sequence number, packed into datagrams of at most
-// kDatagramBytes (several frames a datagram, as MAVLink over UDP allows: one datagram per epoch instead of twenty).
-class Sender {
- public:
-  static constexpr std::size_t kDatagramBytes = 1400;  // ours: below a 1500-byte Ethernet MTU with the IP/UDP headers
-  Sender(UdpLink& link, Address self) : link_(link), self_(self) {}
-  void Flush(std::vector<Outgoing>& out) {
-    std::vector<std::uint8_t> datagram;
-    for (const Outgoing& message : out) {
-      const std::vector<std::uint8_t> frame = EncodeFrame(message.info, message.payload, self_, sequence_++);
-      if (datagram.size() + frame.size() > kDatagramBytes) {
-        link_.Send(datagram);
-        datagram.clear();
-      }
-      datagram.insert(datagram.end(), frame.begin(), frame.end());
-    }
-    if (!datagram.empty()) link_.Send(datagram);
-    out.clear();
-  }
-
- private:
-  UdpLink& link_;
-  Address self_;
-  std::uint8_t sequence_ = 0;
-};
+// The planner of a commanded landing with the CMA external: NAV_LAND after a DO_REPOSITION lands at the map site
+// nearest the repositioned point (the map's path to it); MISSION_START flies the uploaded waypoints from where the
+// vehicle comes to rest, labelled with the map site nearest their last point.
+sim::EmergencyPlanner RepositionPlanner(const sim::FlightModel& model, const Eigen::Vector3d& target_W) {
+  return [&model, target_W](const sim::EmergencyRequest& request) {
+    if (model.map_point_planner()) return model.map_point_planner()(request, target_W);
+    sim::EmergencyPlan none;
+    none.message = "the map has no landing sites";
+    return none;
+  };
+}
+sim::EmergencyPlanner MissionPlanner(const sim::FlightModel& model, std::vector<planning::Waypoint> waypoints) {
+  return [&model, waypoints = std::move(waypoints)](const sim::EmergencyRequest& request) {
+    sim::EmergencyPlan plan;
+    plan.status = planning::LandingStatus::kOk;
+    plan.plan = planning::FlightPlan::Through(request.p_WB_W, waypoints, model.scenario().limits);
+    const int site = sim::NearestLandingSite(model.map(), waypoints.back().p_W);
+    plan.site = site >= 0 ? model.map().sites()[site].id : "the uploaded mission's end";
+    plan.site_radius = site >= 0 ? model.map().sites()[site].radius : 0.0;
+    return plan;
+  };
+}
 
 struct LoopState {
   bool armed = true;    // flies the scenario as `simulate` does from the start
@@ -72,20 +89,38 @@ struct LoopState {
 };
 
 // Serves the link until `deadline` (wall, from the run's start): frames handled in arrival order, mission timeouts.
-void Serve(SitlVehicle& vehicle, UdpLink& link, Sender& sender, CommandedPolicy& policy, LoopState& loop,
-           bool flying, Clock::time_point start, double deadline_s) {
+void Serve(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, FrameSender& sender,
+           CommandedPolicy& policy, LoopState& loop, bool flying, Clock::time_point start, double deadline_s) {
   std::vector<Outgoing> out;
   for (;;) {
     const double now = SecondsSince(start);
     const double wait = deadline_s - now;
     for (const ReceivedFrame& received : link.Receive(std::max(0.0, std::min(wait, 0.05)))) {
       switch (vehicle.Handle(received.frame, SecondsSince(start), loop.armed, flying, out)) {
-        case VehicleRequest::kLand: policy.Command(decision::CmaAction::kLandAsap); break;
-        case VehicleRequest::kTerminate: policy.Command(decision::CmaAction::kTerminate); break;
-        case VehicleRequest::kArm: loop.armed = true; break;
-        case VehicleRequest::kMissionStart: loop.started = true; break;
-        case VehicleRequest::kDisarm: loop.armed = false; loop.stop = !flying; break;
-        default: break;
+        case VehicleRequest::kLand:
+          if (const std::optional<Eigen::Vector3d> site_W = vehicle.TakeReposition())
+            policy.Command(decision::CmaAction::kLandAsap, RepositionPlanner(model, *site_W));
+          else
+            policy.Command(decision::CmaAction::kLandAsap);
+          break;
+        case VehicleRequest::kFlyMission:
+          policy.Command(decision::CmaAction::kLandPract, MissionPlanner(model, vehicle.MissionWaypoints()));
+          break;
+        case VehicleRequest::kTerminate:
+          policy.Command(decision::CmaAction::kTerminate);
+          break;
+        case VehicleRequest::kArm:
+          loop.armed = true;
+          break;
+        case VehicleRequest::kMissionStart:
+          loop.started = true;
+          break;
+        case VehicleRequest::kDisarm:
+          loop.armed = false;
+          loop.stop = !flying;
+          break;
+        default:
+          break;
       }
     }
     sender.Flush(out);  // the replies to one batch of datagrams, in order, packed
@@ -127,11 +162,14 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
   if (options.on_ready) options.on_ready(link);
   const Address self{options.system_id, static_cast<std::uint8_t>(kMavCompIdAutopilot1)};
   const auto unix_now = std::chrono::system_clock::now().time_since_epoch();
-  SitlVehicle vehicle(model, self, scenario.geo_origin.value_or(planning::GeoPoint{}),
-                      static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()));
-  Sender sender(link, self);
-  CommandedPolicy commanded(policy);
-  const sim::Controllers controllers{&commanded, nullptr, {}};
+  SitlVehicle vehicle(
+      model, self, scenario.geo_origin.value_or(planning::GeoPoint{}),
+      static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()),
+      options.external_cma);
+  FrameSender sender(link, self);
+  CommandedPolicy commanded(policy, options.external_cma);
+  const sim::Controllers controllers{
+      &commanded, nullptr, [&](const sim::EmergencyRequest& request) { return commanded.Plan(model, request); }};
   sim::FlightState state = sim::MakeInitialState(model, scenario.seed);
   sim::FlightLog log;
   log.record_telemetry = true;  // the pack's outputs for BATTERY_STATUS, as `simulate --out` records them
@@ -145,7 +183,7 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
     for (int second = 1; !loop.started && !loop.stop; ++second) {
       vehicle.Telemetry(state, log, loop.armed, out);
       sender.Flush(out);
-      Serve(vehicle, link, sender, commanded, loop, false, waiting, second);
+      Serve(model, vehicle, link, sender, commanded, loop, false, waiting, second);
     }
   }
   const double cpu_start = ProcessCpuSeconds();
@@ -160,10 +198,13 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
     if (SecondsSince(start) > deadline) ++summary.late_epochs;
     // Only the last telemetry row is read: keep the log's memory to one row.
     if (log.telemetry.size() > 1) log.telemetry.erase(log.telemetry.begin(), log.telemetry.end() - 1);
-    Serve(vehicle, link, sender, commanded, loop, true, start, deadline);
+    // The epoch's telemetry goes out as soon as it is stepped, and the link is served until the epoch's wall
+    // deadline: a command answering this telemetry (an external CMA's) is carried out at this epoch's decision.
     vehicle.Telemetry(state, log, loop.armed, out);
     vehicle.Events(log, out);
     sender.Flush(out);
+    if (state.done()) break;
+    Serve(model, vehicle, link, sender, commanded, loop, true, start, deadline);
   }
   if (state.done()) {  // how it ended, as MakeSimResult writes it (sim/simulator.cc)
     log.events.push_back({state.time_s, fmt::format("{}: {}", sim::OutcomeName(state.outcome), state.reason)});
@@ -173,7 +214,7 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
   loop.armed = false;
   const double end = SecondsSince(start);
   for (double t = end; t < end + options.linger_s; t += 1.0) {  // the final state, once a second
-    Serve(vehicle, link, sender, commanded, loop, false, start, std::min(t + 1.0, end + options.linger_s));
+    Serve(model, vehicle, link, sender, commanded, loop, false, start, std::min(t + 1.0, end + options.linger_s));
     vehicle.Telemetry(state, log, loop.armed, out);
     sender.Flush(out);
   }

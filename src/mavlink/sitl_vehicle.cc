@@ -48,8 +48,26 @@ Statustext MakeStatustext(std::uint8_t severity, const std::string& text) {
 }
 
 SitlVehicle::SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin,
-                         std::uint64_t unix_start_us)
-    : model_(model), self_(self), projection_(origin), unix_start_us_(unix_start_us), missions_(self) {}
+                         std::uint64_t unix_start_us, bool external_cma)
+    : model_(model),
+      self_(self),
+      projection_(origin),
+      unix_start_us_(unix_start_us),
+      missions_(self),
+      external_cma_(external_cma) {}
+
+std::vector<planning::Waypoint> SitlVehicle::MissionWaypoints() const {
+  std::vector<planning::Waypoint> waypoints;
+  for (const MissionItemInt& item : missions_.items()) {
+    if (item.command != kMavCmdNavWaypoint && item.command != kMavCmdNavLand) continue;
+    planning::Waypoint waypoint;
+    const Eigen::Vector2d p_NE = projection_.ToLocal({item.x * 1e-7, item.y * 1e-7});
+    waypoint.p_W = Eigen::Vector3d(p_NE.x(), p_NE.y(), -static_cast<double>(item.z));
+    if (item.command == kMavCmdNavWaypoint) waypoint.hover_after_s = std::max(0.0, static_cast<double>(item.param1));
+    waypoints.push_back(waypoint);
+  }
+  return waypoints;
+}
 
 void SitlVehicle::Position(const sim::FlightState& state, std::uint32_t time_ms, std::vector<Outgoing>& out) const {
   const models::RigidBodyState& body = state.vehicle.body;
@@ -162,8 +180,10 @@ void SitlVehicle::Telemetry(const sim::FlightState& state, const sim::FlightLog&
   out.push_back(MakeOutgoing(time));
   SysStatus status;
   const sim::TelemetryRow* row = log.telemetry.empty() ? nullptr : &log.telemetry.back();
-  status.voltage_battery = row ? Saturate<std::uint16_t>(row->bus_voltage * 1000.0) : 0;
-  status.current_battery = row ? Saturate<std::int16_t>(row->pack_current * 100.0) : -1;
+  // The bus voltage and pack current of the state at the epoch (what the CMA's load forecast reads, sim::Observe),
+  // not the last GNC step's row: its voltage differs by millivolts, a few hundredths of a second of EOD.
+  status.voltage_battery = row ? Saturate<std::uint16_t>(state.power.bus_voltage_v * 1000.0) : 0;
+  status.current_battery = row ? Saturate<std::int16_t>(state.power.pack_current_a * 100.0) : -1;
   status.battery_remaining = -1;
   out.push_back(MakeOutgoing(status));
   Batteries(state, log, out);
@@ -190,6 +210,13 @@ void SitlVehicle::Telemetry(const sim::FlightState& state, const sim::FlightLog&
                                                     : state.done()           ? kMissionStateComplete
                                                                              : kMissionStateActive);
   out.push_back(MakeOutgoing(current));
+  // The energy drawn from the packs since take-off at float precision (docs/modelling-choices.md#companion-belief:
+  // BATTERY_STATUS energy_consumed's hectojoules are a third of one epoch's draw).
+  NamedValueFloat energy;
+  energy.time_boot_ms = time_ms;
+  std::memcpy(energy.name.data(), "energy_wh", 9);
+  energy.value = static_cast<float>(state.power.energy_wh);
+  out.push_back(MakeOutgoing(energy));
   NamedValueFloat spall;
   spall.time_boot_ms = time_ms;
   std::memcpy(spall.name.data(), "spall_mm2", 9);
@@ -206,7 +233,7 @@ void SitlVehicle::Events(const sim::FlightLog& log, std::vector<Outgoing>& out) 
   }
 }
 
-VehicleRequest SitlVehicle::OnCommand(std::uint16_t command, std::uint8_t target, const std::array<float, 7>& params,
+VehicleRequest SitlVehicle::OnCommand(std::uint16_t command, std::uint8_t target, const std::array<double, 7>& params,
                                       Address sender, bool armed, bool flying, std::vector<Outgoing>& out) {
   if (target != self_.system_id && target != 0) {
     ++counts_.foreign_commands;
@@ -217,9 +244,9 @@ VehicleRequest SitlVehicle::OnCommand(std::uint16_t command, std::uint8_t target
   std::uint8_t result = kMavResultAccepted;
   switch (command) {
     case kMavCmdComponentArmDisarm:
-      if (params[0] > 0.5f) {
+      if (params[0] > 0.5) {
         request = VehicleRequest::kArm;
-      } else if (flying && params[1] != 21196.0f) {  // 21196: the force-disarm magic of the command's param 2
+      } else if (flying && params[1] != 21196.0) {  // 21196: the force-disarm magic of the command's param 2
         result = kMavResultDenied;
       } else {
         request = VehicleRequest::kDisarm;
@@ -228,14 +255,27 @@ VehicleRequest SitlVehicle::OnCommand(std::uint16_t command, std::uint8_t target
     case kMavCmdMissionStart:
     case kMavCmdNavTakeoff:
       if (!armed) result = kMavResultDenied;
+      else if (external_cma_ && flying && command == kMavCmdMissionStart && !MissionWaypoints().empty())
+        request = VehicleRequest::kFlyMission;
       else request = VehicleRequest::kMissionStart;
+      break;
+    case kMavCmdDoReposition:  // params 5-7: latitude, longitude (degrees), altitude (m, relative to home)
+      if (!external_cma_) {
+        result = kMavResultUnsupported;
+        ++counts_.unsupported_commands;
+      } else if (!flying || !std::isfinite(params[4]) || !std::isfinite(params[5]) || !std::isfinite(params[6])) {
+        result = kMavResultDenied;
+      } else {
+        const Eigen::Vector2d p_NE = projection_.ToLocal({params[4], params[5]});
+        reposition_W_ = Eigen::Vector3d(p_NE.x(), p_NE.y(), -params[6]);
+      }
       break;
     case kMavCmdNavLand:
       if (!flying) result = kMavResultDenied;
       else request = VehicleRequest::kLand;
       break;
     case kMavCmdDoFlighttermination:
-      if (params[0] <= 0.5f || !flying) result = kMavResultDenied;
+      if (params[0] <= 0.5 || !flying) result = kMavResultDenied;
       else request = VehicleRequest::kTerminate;
       break;
     default:
@@ -260,8 +300,7 @@ VehicleRequest SitlVehicle::Handle(const Frame& frame, double wall_s, bool armed
   }
   if (frame.Is<CommandInt>()) {
     const CommandInt c = frame.As<CommandInt>();
-    return OnCommand(c.command, c.target_system,
-                     {c.param1, c.param2, c.param3, c.param4, static_cast<float>(c.x), static_cast<float>(c.y), c.z},
+    return OnCommand(c.command, c.target_system, {c.param1, c.param2, c.param3, c.param4, c.x * 1e-7, c.y * 1e-7, c.z},
                      frame.sender, armed, flying, out);
   }
   missions_.Handle(frame, wall_s, out);

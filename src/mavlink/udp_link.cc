@@ -153,4 +153,28 @@ std::size_t UdpLink::peer_count() const {
   return count;
 }
 
+std::vector<std::string> ListeningAddresses(const std::vector<LinkAddress>& addresses, const UdpLink& link) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < addresses.size(); ++i) {
+    if (addresses[i].kind == LinkAddress::Kind::kListen) {
+      out.push_back("udp:" + addresses[i].host + ":" + std::to_string(link.bound_port(i)));
+    }
+  }
+  return out;
+}
+
+void FrameSender::Flush(std::vector<Outgoing>& out) {
+  std::vector<std::uint8_t> datagram;
+  for (const Outgoing& message : out) {
+    const std::vector<std::uint8_t> frame = EncodeFrame(message.info, message.payload, self_, sequence_++);
+    if (datagram.size() + frame.size() > kDatagramBytes) {
+      link_.Send(datagram);
+      datagram.clear();
+    }
+    datagram.insert(datagram.end(), frame.begin(), frame.end());
+  }
+  if (!datagram.empty()) link_.Send(datagram);
+  out.clear();
+}
+
 }  // namespace uascma::mavlink

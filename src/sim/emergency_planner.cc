@@ -7,6 +7,52 @@
 
 namespace uascma::sim {
 
+namespace {
+
+// A mission's geofence (planning/mission_file.h): an emergency path that leaves it is no plan
+// (docs/modelling-choices.md#unavailable-actions then substitutes).
+bool LeavesFence(const planning::Geofence* fence, const planning::FlightPlan& plan) {
+  if (!fence) return false;
+  std::vector<Eigen::Vector2d> path_NE{plan.start_W().head<2>()};
+  for (const auto& segment : plan.segments()) path_NE.push_back(segment.end_W.head<2>());
+  return !fence->AllowsPath(path_NE);
+}
+
+PointPlanner MakePointPlanner(std::shared_ptr<const planning::CityMap> map,
+                              std::shared_ptr<const planning::LandingPathPlanner> planner,
+                              std::shared_ptr<const planning::Geofence> fence) {
+  return [map, planner, fence](const EmergencyRequest& r, const Eigen::Vector3d& target_W) {
+    EmergencyPlan plan;
+    const auto& sites = map->sites();
+    const int nearest = NearestLandingSite(*map, target_W);
+    const planning::LandingPath path = planner->PlanToSite(r.p_WB_W, nearest);
+    if (!path.feasible()) {
+      plan.message = "no path to site " + sites[nearest].id;
+      return plan;
+    }
+    plan.plan = path.ToFlightPlan(planner->params().limits);
+    if (LeavesFence(fence.get(), plan.plan)) {
+      plan.message = "the path to site " + sites[nearest].id + " leaves the mission's geofence";
+      return plan;
+    }
+    plan.status = planning::LandingStatus::kOk;
+    plan.site = sites[nearest].id;
+    plan.site_radius = sites[nearest].radius;
+    return plan;
+  };
+}
+
+}  // namespace
+
+int NearestLandingSite(const planning::CityMap& map, const Eigen::Vector3d& p_W) {
+  const auto& sites = map.sites();
+  int nearest = -1;
+  for (int k = 0; k < static_cast<int>(sites.size()); ++k) {
+    if (nearest < 0 || (sites[k].p_W - p_W).norm() < (sites[nearest].p_W - p_W).norm()) nearest = k;
+  }
+  return nearest;
+}
+
 MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
                                             const models::DragTable& drag, const models::PropulsionParams& propulsion) {
   if (!scenario.map || scenario.map->sites().empty()) return {};
@@ -53,14 +99,10 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
     plan.status = result.status;
     plan.message = result.message;
     if (!result.ok()) return plan;
-    if (fence) {
-      std::vector<Eigen::Vector2d> path_NE{result.plan.start_W().head<2>()};
-      for (const auto& segment : result.plan.segments()) path_NE.push_back(segment.end_W.head<2>());
-      if (!fence->AllowsPath(path_NE)) {
-        plan.status = planning::LandingStatus::kNoFeasibleTrajectory;
-        plan.message = "the path to site " + result.site_id + " leaves the mission's geofence";
-        return plan;
-      }
+    if (LeavesFence(fence.get(), result.plan)) {
+      plan.status = planning::LandingStatus::kNoFeasibleTrajectory;
+      plan.message = "the path to site " + result.site_id + " leaves the mission's geofence";
+      return plan;
     }
     plan.plan = std::move(result.plan);
     plan.site = result.site_id;
@@ -73,6 +115,7 @@ MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const plan
     }
     return plan;
   };
+  out.to_point = MakePointPlanner(map, planner, fence);
   return out;
 }
 

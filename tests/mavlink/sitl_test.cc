@@ -80,6 +80,17 @@ MissionItemInt Waypoint(std::uint16_t seq) {
   return item;
 }
 
+// The sitl's flight is the simulator's: the same outcome, duration and events, each at the same time (bit for bit).
+void ExpectSameFlight(const SitlSummary& summary, const sim::SimResult& reference) {
+  EXPECT_EQ(summary.outcome, reference.outcome);
+  EXPECT_EQ(summary.sim_time_s, reference.sim_time_s);
+  ASSERT_EQ(summary.events.size(), reference.events.size());
+  for (std::size_t i = 0; i < summary.events.size(); ++i) {
+    EXPECT_EQ(summary.events[i].what, reference.events[i].what);
+    EXPECT_EQ(summary.events[i].time_s, reference.events[i].time_s);
+  }
+}
+
 TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
   const sim::ScenarioFile file = sim::LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml", {});
   auto policy = sim::MakePolicy(file.policy, "scenario-1.yaml");
@@ -177,13 +188,7 @@ TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
   const sim::Simulator simulator(file.scenario);
   auto reference_policy = sim::MakePolicy(file.policy, "scenario-1.yaml");
   const sim::SimResult reference = simulator.Run(*reference_policy);
-  EXPECT_EQ(summary.outcome, reference.outcome);
-  EXPECT_EQ(summary.sim_time_s, reference.sim_time_s);
-  ASSERT_EQ(summary.events.size(), reference.events.size());
-  for (std::size_t i = 0; i < summary.events.size(); ++i) {
-    EXPECT_EQ(summary.events[i].what, reference.events[i].what);
-    EXPECT_EQ(summary.events[i].time_s, reference.events[i].time_s);
-  }
+  ExpectSameFlight(summary, reference);
   // The client read every event as a STATUSTEXT (its first 50 bytes, cut at a character boundary), in order.
   ASSERT_EQ(client.texts.size(), summary.events.size());
   for (std::size_t i = 0; i < client.texts.size(); ++i) {
@@ -206,6 +211,24 @@ TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
   EXPECT_GE(summary.link.truncated, 1u);
   EXPECT_EQ(summary.missions.uploads, 1);
   EXPECT_EQ(summary.missions.downloads, 1);
+}
+
+// With the CMA external and no companion on the link, nothing decides: the vehicle flies the scenario as the
+// simulator flies it under NoOp (the scenario's own policy, here `cma`, is not consulted), event for event.
+TEST(SitlTest, WithTheCmaExternalAndNoCommandsTheFlightIsTheNoOpFlight) {
+  const sim::ScenarioFile file = sim::LoadScenarioFile(std::string(UASCMA_SOURCE_DIR) + "/examples/scenario-1.yaml", {});
+  auto policy = sim::MakePolicy(file.policy, "scenario-1.yaml");
+  SitlOptions options;
+  options.links = {ParseLinkAddress("udp:127.0.0.1:0", "test")};
+  options.speed = 1000.0;
+  options.linger_s = 0.0;
+  options.external_cma = true;
+  const SitlSummary summary = RunSitl(file.scenario, *policy, options);
+  const sim::Simulator simulator(file.scenario);
+  sim::NoOpPolicy noop;
+  const sim::SimResult reference = simulator.Run(noop);
+  EXPECT_EQ(reference.outcome, sim::Outcome::kFailedBattery);  // Scenario I under NoOp (§5.5.1)
+  ExpectSameFlight(summary, reference);
 }
 
 }  // namespace

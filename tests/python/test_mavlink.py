@@ -5,7 +5,7 @@ import socket
 import pytest
 
 import uascma
-from uascma.mavlink import start_sitl
+from uascma.mavlink import start_companion, start_sitl
 
 from conftest import SOURCE_DIR, example
 
@@ -34,3 +34,17 @@ def test_a_started_sitl_answers_a_peer_with_its_heartbeat(cli):
 def test_a_refused_argument_is_an_input_error(cli):
     with pytest.raises(uascma.InputError, match="--speed"):
         start_sitl(example("scenario-1.yaml"), speed=1e6)
+
+
+def test_a_companion_flies_scenario_2_as_the_in_process_cma(cli, tmp_path):
+    # Scenario II (§5.5.2) with the CMA on the link: LandPract on the spall, LandASAP after the jam, the landing at the
+    # site the in-process CMA lands at (docs/mavlink.md#what-the-companion-reproduces).
+    log = tmp_path / "decisions.csv"
+    with start_companion(example("scenario-2.yaml"), log=log) as cma, \
+            start_sitl(example("scenario-2.yaml"), speed=50, linger_s=1, companion=cma) as sitl:
+        summary = sitl.wait(timeout=120)
+        cma.wait(timeout=60)
+    assert summary.startswith("emergency_landing (landed at the emergency site roof block 2,0 lot n/0)")
+    rows = log.read_text().splitlines()
+    taken = [row.split('",')[1].split(",")[1] for row in rows[1:] if '",' in row]
+    assert [action for action in taken if action not in ("NoOp", "")] == ["LandPract", "LandASAP"]

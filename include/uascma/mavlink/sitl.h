@@ -5,7 +5,8 @@
 // onto the CMA's actions are carried out at the next decision epoch in place of the policy's choice:
 // NAV_LAND → LandASAP (§5.3.2.2: land at once within the footprint), DO_FLIGHTTERMINATION → Terminate;
 // DISARM on the ground ends the run. Everything the vehicle streams is in sitl_vehicle.h. With
-// SitlOptions::wait_for_start the simulated clock starts at MISSION_START, so a client sees the whole flight.
+// SitlOptions::wait_for_start the simulated clock starts at MISSION_START, so a client sees the whole flight. With
+// SitlOptions::external_cma the CMA is a companion on the link: only its commands act.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -33,6 +34,11 @@ struct SitlOptions {
   // Stay on the ground, disarmed, streaming once a wall second, until ARM and then MISSION_START (or NAV_TAKEOFF)
   // arrive; then fly the scenario's plan (an uploaded mission is stored and can be downloaded, not flown).
   bool wait_for_start = false;
+  // The CMA runs elsewhere (`uascma companion`, docs/mavlink.md#the-cma-as-a-companion): the in-process policy does
+  // not decide; the vehicle flies its plan and carries out the commands: NAV_LAND (LandASAP; at the site of a
+  // preceding DO_REPOSITION), MISSION_START in flight (the uploaded mission as the emergency plan: LandPract),
+  // DO_FLIGHTTERMINATION (Terminate).
+  bool external_cma = false;
   // Called once the sockets are bound (before the first epoch): e.g. to print the ports of port-0 endpoints.
   std::function<void(const UdpLink&)> on_ready;
   bool IsValid(std::string* error) const;

@@ -9,11 +9,13 @@
 //   time_remaining = the epoch's EOD, §3.4), GLOBAL_POSITION_INT, LOCAL_POSITION_NED, ATTITUDE, HOME_POSITION,
 //   EXTENDED_SYS_STATE, ESC_STATUS and ESC_INFO for rotors 1-4 and 5-6 (rpm; a jammed rotor's flag
 //   ESC_FAILURE_MOTOR_STUCK once the fault detector has isolated it), MISSION_CURRENT, and NAMED_VALUE_FLOAT
-//   "spall_mm2" (the spall indicator, §2.3) and "rul_s" (the motor RUL).
+//   "spall_mm2" (the spall indicator, §2.3) and "energy_wh" (the energy drawn since take-off, for a companion's load
+//   forecast).
 // Every timestamp is the simulated clock (time_boot_ms = simulated ms since take-off).
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uascma/mavlink/mission_server.h"
@@ -22,8 +24,9 @@
 
 namespace uascma::mavlink {
 
-// What a received command asks of the flight loop.
-enum class VehicleRequest { kNone, kArm, kDisarm, kMissionStart, kLand, kTerminate };
+// What a received command asks of the flight loop. kFlyMission: MISSION_START in flight with an uploaded mission, with
+// the CMA external (SitlVehicle's `external_cma`): fly the mission as the emergency plan (LandPract).
+enum class VehicleRequest { kNone, kArm, kDisarm, kMissionStart, kLand, kTerminate, kFlyMission };
 
 struct SitlCounts {
   int commands = 0;              // commands for this system, acknowledged
@@ -34,7 +37,10 @@ struct SitlCounts {
 class SitlVehicle {
  public:
   // `origin`: where W's origin is on the globe (the scenario's geo_origin; see docs/mavlink.md for the default).
-  SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin, std::uint64_t unix_start_us);
+  // `external_cma`: the CMA runs elsewhere (`uascma companion`) and acts through commands: DO_REPOSITION (the
+  // landing site of a NAV_LAND that follows) and MISSION_START in flight (fly the uploaded mission) are then taken.
+  SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin, std::uint64_t unix_start_us,
+              bool external_cma = false);
 
   // One of each telemetry message for `state` (the log's last telemetry row gives the pack's outputs).
   void Telemetry(const sim::FlightState& state, const sim::FlightLog& log, bool armed, std::vector<Outgoing>& out);
@@ -47,11 +53,18 @@ class SitlVehicle {
   void Tick(double wall_s, std::vector<Outgoing>& out) { missions_.Tick(wall_s, out); }
 
   const MissionServer& missions() const { return missions_; }
+  // The last DO_REPOSITION's point in W (NED, m), taken by the NAV_LAND that lands there: empty afterwards, and
+  // without one.
+  std::optional<Eigen::Vector3d> TakeReposition() { return std::exchange(reposition_W_, std::nullopt); }
+  // The uploaded mission's NAV_WAYPOINT and NAV_LAND items as waypoints in W (hold time param1 as the hover);
+  // items of other commands are skipped.
+  std::vector<planning::Waypoint> MissionWaypoints() const;
   const SitlCounts& counts() const { return counts_; }
   Address self() const { return self_; }
 
  private:
-  VehicleRequest OnCommand(std::uint16_t command, std::uint8_t target, const std::array<float, 7>& params,
+  // params 5 and 6 of a positional command are degrees (COMMAND_INT's x and y scaled by 1e-7).
+  VehicleRequest OnCommand(std::uint16_t command, std::uint8_t target, const std::array<double, 7>& params,
                            Address sender, bool armed, bool flying, std::vector<Outgoing>& out);
   void Position(const sim::FlightState& state, std::uint32_t time_ms, std::vector<Outgoing>& out) const;
   void Batteries(const sim::FlightState& state, const sim::FlightLog& log, std::vector<Outgoing>& out) const;
@@ -67,6 +80,8 @@ class SitlVehicle {
   SitlCounts counts_;
   models::PerBranch<double> initial_soc_{};  // each pack's first cell at the first Telemetry call
   bool initial_soc_known_ = false;
+  bool external_cma_ = false;
+  std::optional<Eigen::Vector3d> reposition_W_;
 };
 
 // STATUSTEXT of at most 50 bytes (longer texts are cut at a UTF-8 character boundary: the chunked form is not used).

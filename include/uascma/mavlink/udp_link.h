@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "uascma/mavlink/codec.h"
+#include "uascma/mavlink/mission_server.h"
 
 namespace uascma::mavlink {
 
@@ -59,6 +60,26 @@ class UdpLink {
     std::vector<sockaddr_in> peers;
   };
   std::vector<Endpoint> endpoints_;
+};
+
+// "udp:HOST:PORT" of each listening endpoint of `addresses` (the addresses `link` was made from), with the port it is
+// bound to (the one the system chose for port 0): what the commands print for a client to connect.
+std::vector<std::string> ListeningAddresses(const std::vector<LinkAddress>& addresses, const UdpLink& link);
+
+// Sends queued messages from `self`, each in its own frame with the next sequence number, packed into datagrams of at
+// most kDatagramBytes (several frames a datagram, as MAVLink over UDP allows: one datagram per epoch instead of
+// twenty).
+class FrameSender {
+ public:
+  static constexpr std::size_t kDatagramBytes = 1400;  // ours: below a 1500-byte Ethernet MTU with the IP/UDP headers
+  FrameSender(UdpLink& link, Address self) : link_(link), self_(self) {}
+  // Sends and clears `out`.
+  void Flush(std::vector<Outgoing>& out);
+
+ private:
+  UdpLink& link_;
+  Address self_;
+  std::uint8_t sequence_ = 0;
 };
 
 }  // namespace uascma::mavlink

@@ -83,10 +83,17 @@ using EmergencyPlanner = std::function<EmergencyPlan(const EmergencyRequest&)>;
 
 // The emergency planners over the scenario's map: LandPract from a database built before flight on the nominal
 // plan (5 checkpoints), LandASAP online inside the footprint. Empty (no planner) when the map has no sites.
+// `to_point` plans the path to a point another agent chose (an external CMA's landing site, sent as a MAVLink
+// DO_REPOSITION): the map's path planner from the request's position to the map site nearest that point
+// (planning::LandingPathPlanner::PlanToSite), the site's label and radius with it.
+using PointPlanner = std::function<EmergencyPlan(const EmergencyRequest&, const Eigen::Vector3d& target_W)>;
 struct MapEmergencyPlanner {
   EmergencyPlanner planner;
+  PointPlanner to_point;
   std::vector<Eigen::Vector3d> checkpoints_W;  // LandPract's checkpoints on the nominal plan
 };
+// The index of the map's landing site nearest `p_W` (3-D distance); −1 when the map has none.
+int NearestLandingSite(const planning::CityMap& map, const Eigen::Vector3d& p_W);
 MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
                                             const models::DragTable& drag, const models::PropulsionParams& propulsion);
 
@@ -117,6 +124,7 @@ class FlightModel {
   decision::BatteryHealth battery_health() const { return battery_health_; }
   const std::vector<Eigen::Vector3d>& checkpoints() const { return map_planner_.checkpoints_W; }
   const EmergencyPlanner& map_planner() const { return map_planner_.planner; }
+  const PointPlanner& map_point_planner() const { return map_planner_.to_point; }
   const models::PropulsionParams& propulsion() const { return propulsion_; }
   const models::ElectricalPowerTable& electrical_power() const { return electrical_power_; }
   const models::Mixer& mixer() const { return mixer_; }

@@ -1,0 +1,340 @@
+#include "uascma/mavlink/companion.h"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "uascma/common/error.h"
+#include "uascma/decision/cma_abstraction.h"
+#include "uascma/mavlink/companion_belief.h"
+#include "uascma/mavlink/sitl_vehicle.h"
+#include "uascma/planning/map_import.h"
+
+namespace uascma::mavlink {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using decision::CmaAction;
+
+double WallSecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The client side of a mission upload (mavlink.io Mission Protocol): MISSION_COUNT, each MISSION_ITEM_INT the vehicle
+// requests, its MISSION_ACK. The count is sent again after the protocol's timeout (MissionServer::kTimeoutS), at
+// most MissionServer::kRetries times.
+class MissionUpload {
+ public:
+  void Start(std::vector<MissionItemInt> items, Address vehicle, double now_s, std::vector<Outgoing>& out) {
+    items_ = std::move(items);
+    vehicle_ = vehicle;
+    retries_ = 0;
+    active_ = true;
+    SendCount(now_s, out);
+  }
+  // True when the vehicle accepted the mission.
+  bool Handle(const Frame& frame, double now_s, std::vector<Outgoing>& out) {
+    if (!active_ || frame.sender != vehicle_) return false;
+    std::optional<std::uint16_t> seq;
+    if (frame.Is<MissionRequestInt>()) seq = frame.As<MissionRequestInt>().seq;
+    if (frame.Is<MissionRequest>()) seq = frame.As<MissionRequest>().seq;
+    if (seq && *seq < items_.size()) {
+      out.push_back(MakeOutgoing(items_[*seq]));
+      last_s_ = now_s;
+    }
+    if (frame.Is<MissionAck>()) {
+      active_ = false;
+      return frame.As<MissionAck>().type == kMavMissionAccepted;
+    }
+    return false;
+  }
+  void Tick(double now_s, std::vector<Outgoing>& out) {
+    if (!active_ || now_s - last_s_ < MissionServer::kTimeoutS) return;
+    if (++retries_ > MissionServer::kRetries) {
+      active_ = false;
+      return;
+    }
+    SendCount(now_s, out);
+  }
+
+ private:
+  void SendCount(double now_s, std::vector<Outgoing>& out) {
+    MissionCount count;
+    count.target_system = vehicle_.system_id;
+    count.target_component = vehicle_.component_id;
+    count.count = static_cast<std::uint16_t>(items_.size());
+    count.mission_type = static_cast<std::uint8_t>(kMavMissionTypeMission);
+    out.push_back(MakeOutgoing(count));
+    last_s_ = now_s;
+  }
+  std::vector<MissionItemInt> items_;
+  Address vehicle_;
+  double last_s_ = 0.0;
+  int retries_ = 0;
+  bool active_ = false;
+};
+
+CommandLong MakeCommand(Address vehicle, std::uint32_t command, std::array<float, 7> params = {}) {
+  CommandLong c;
+  c.target_system = vehicle.system_id;
+  c.target_component = vehicle.component_id;
+  c.command = static_cast<std::uint16_t>(command);
+  c.param1 = params[0], c.param2 = params[1], c.param3 = params[2], c.param4 = params[3];
+  c.param5 = params[4], c.param6 = params[5], c.param7 = params[6];
+  return c;
+}
+
+// The planner's path as a mission: each move's end a NAV_WAYPOINT (a hover after it its hold time), the last one a
+// NAV_LAND at the site; global frame, altitude relative to home (W's origin on the ground).
+std::vector<MissionItemInt> PlanItems(const planning::FlightPlan& plan, const planning::LocalProjection& projection,
+                                      Address vehicle) {
+  std::vector<MissionItemInt> items;
+  for (const planning::PlanSegment& segment : plan.segments()) {
+    if (segment.kind == planning::PlanSegment::Kind::kHover) {
+      if (!items.empty()) items.back().param1 += static_cast<float>(segment.duration);
+      continue;
+    }
+    MissionItemInt item;
+    item.target_system = vehicle.system_id;
+    item.target_component = vehicle.component_id;
+    item.seq = static_cast<std::uint16_t>(items.size());
+    item.frame = static_cast<std::uint8_t>(kMavFrameGlobalRelativeAltInt);
+    item.command = static_cast<std::uint16_t>(kMavCmdNavWaypoint);
+    item.autocontinue = 1;
+    const planning::GeoPoint geo = projection.ToGeodetic(segment.end_W.head<2>());
+    item.x = static_cast<std::int32_t>(std::llround(geo.lat_deg * 1e7));
+    item.y = static_cast<std::int32_t>(std::llround(geo.lon_deg * 1e7));
+    item.z = static_cast<float>(-segment.end_W.z());
+    item.mission_type = static_cast<std::uint8_t>(kMavMissionTypeMission);
+    items.push_back(item);
+  }
+  if (!items.empty()) items.back().command = static_cast<std::uint16_t>(kMavCmdNavLand);
+  if (!items.empty()) items.front().current = 1;
+  return items;
+}
+
+// One companion run: the link, the belief, the policy, what was sent.
+class Companion {
+ public:
+  Companion(const sim::Scenario& scenario, sim::DecisionPolicy& policy, const CompanionOptions& options)
+      : model_(scenario),
+        policy_(policy),
+        options_(options),
+        projection_(scenario.geo_origin.value_or(planning::GeoPoint{})),
+        link_(options.links),
+        self_{1, static_cast<std::uint8_t>(kMavCompIdOnboardComputer)},
+        sender_(link_, self_),
+        belief_(model_) {}
+  CompanionSummary Run();
+
+ private:
+  void OnFrame(const Frame& frame, double now_s, Clock::time_point received);
+  void DecideEpoch(Clock::time_point received);
+  void Send(CmaAction taken, const sim::EmergencyPlan& plan, double now_s, CompanionDecision& row);
+  void SayDecision(const CompanionDecision& row);
+
+  sim::FlightModel model_;
+  sim::DecisionPolicy& policy_;
+  CompanionOptions options_;
+  planning::LocalProjection projection_;
+  UdpLink link_;
+  Address self_;
+  FrameSender sender_;
+  std::optional<Address> vehicle_;
+  std::optional<TelemetryReader> reader_;
+  VehicleBelief belief_;
+  sim::FlightLog flight_log_;
+  MissionUpload upload_;
+  std::vector<Outgoing> out_;
+  double decided_time_s_ = -1.0;  // the last epoch decided (or skipped as stale)
+  bool landed_ = false, terminated_ = false;
+  std::uint16_t statustext_id_ = 0;
+  CompanionSummary summary_;
+  Clock::time_point start_ = Clock::now();
+};
+
+void Companion::SayDecision(const CompanionDecision& row) {
+  Statustext text = MakeStatustext(kMavSeverityWarning, fmt::format("CMA: {} ({}) {}", row.taken, row.state, row.note));
+  text.id = ++statustext_id_;
+  out_.push_back(MakeOutgoing(text));
+}
+
+void Companion::Send(CmaAction taken, const sim::EmergencyPlan& plan, double now_s, CompanionDecision& row) {
+  const Address vehicle = *vehicle_;
+  if (taken == CmaAction::kLandPract) {
+    upload_.Start(PlanItems(plan.plan, projection_, vehicle), vehicle, now_s, out_);
+    row.note = fmt::format("to {}: mission of the plan uploaded, MISSION_START", plan.site);
+  } else if (taken == CmaAction::kLandAsap) {
+    const Eigen::Vector3d site_W = plan.plan.end_W();
+    const planning::GeoPoint geo = projection_.ToGeodetic(site_W.head<2>());
+    CommandInt reposition;
+    reposition.target_system = vehicle.system_id;
+    reposition.target_component = vehicle.component_id;
+    reposition.frame = static_cast<std::uint8_t>(kMavFrameGlobalRelativeAltInt);
+    reposition.command = static_cast<std::uint16_t>(kMavCmdDoReposition);
+    reposition.param1 = -1.0f;  // the default ground speed
+    reposition.x = static_cast<std::int32_t>(std::llround(geo.lat_deg * 1e7));
+    reposition.y = static_cast<std::int32_t>(std::llround(geo.lon_deg * 1e7));
+    reposition.z = static_cast<float>(-site_W.z());
+    out_.push_back(MakeOutgoing(reposition));
+    out_.push_back(MakeOutgoing(MakeCommand(vehicle, kMavCmdNavLand,
+                                            {0, 0, 0, NAN, static_cast<float>(geo.lat_deg),
+                                             static_cast<float>(geo.lon_deg), static_cast<float>(-site_W.z())})));
+    row.note = fmt::format("to {}: DO_REPOSITION, NAV_LAND", plan.site);
+  } else if (taken == CmaAction::kTerminate) {
+    out_.push_back(MakeOutgoing(MakeCommand(vehicle, kMavCmdDoFlighttermination, {1})));
+    row.note = "DO_FLIGHTTERMINATION";
+  }
+  ++summary_.commands;
+}
+
+void Companion::DecideEpoch(Clock::time_point received) {
+  const TelemetrySample& sample = reader_->sample();
+  decided_time_s_ = sample.time_s;
+  ++summary_.epochs;
+  CompanionDecision row;
+  row.time_s = sample.time_s;
+  const double period_s = 1.0 / model_.options().decision_rate_hz;
+  if (sample.OldestS() < 0.0) {
+    row.note = "incomplete: a telemetry group not yet received, no decision";
+    ++summary_.stale;
+    summary_.log.push_back(row);
+    return;
+  }
+  if (sample.time_s - sample.OldestS() > kMaxStaleEpochs * period_s + 1e-6) {
+    row.note = fmt::format("stale: telemetry {:.1f} s old, no decision", sample.time_s - sample.OldestS());
+    ++summary_.stale;
+    summary_.log.push_back(row);
+    return;
+  }
+  belief_.Update(sample);
+  sim::FlightState& state = belief_.state();
+  if (state.vehicle.airborne && !sample.in_air) landed_ = true;
+  if (landed_ || state.done()) return;
+  const sim::DecisionInputs& inputs =
+      sim::Observe(model_, state, &flight_log_, sim::NeedsEodDistribution(&policy_, nullptr));
+  row.state = decision::CmaStateLabel(inputs.state);
+  row.eod_s = inputs.eod_s, row.rul_s = inputs.rul_s, row.reach_margin = inputs.reach_margin;
+  row.motor_margin = inputs.motor_margin, row.flight_time_remaining_s = inputs.flight_time_remaining_s;
+  const CmaAction action = policy_.Decide(inputs);
+  row.decided = row.taken = decision::CmaActionName(action);
+  if (action != CmaAction::kNoOp) {
+    const sim::FlightState before = state;
+    const std::size_t actions_before = flight_log_.actions.size();
+    sim::EmergencyPlan planned;  // the last plan the planners found (the taken action's when one is taken)
+    const sim::EmergencyPlanner planner = [&](const sim::EmergencyRequest& request) {
+      sim::EmergencyPlan plan = model_.map_planner()(request);
+      if (plan.ok()) planned = plan;
+      return plan;
+    };
+    const CmaAction taken = sim::Act(model_, state, action, model_.map_planner() ? planner : sim::EmergencyPlanner{},
+                                     &flight_log_, policy_.Ranking(inputs));
+    row.taken = decision::CmaActionName(taken);
+    if (taken == CmaAction::kTerminate && !options_.allow_termination) {
+      state = before;  // the vehicle flies on: the belief too
+      row.note = "Terminate withheld (no --allow-termination)";
+      SayDecision(row);
+    } else if (flight_log_.actions.size() > actions_before) {
+      if (taken == CmaAction::kTerminate || planned.ok()) {
+        Send(taken, planned, WallSecondsSince(start_), row);
+      } else {  // before take-off (sim::Act: the vehicle stays on the ground): nothing to fly
+        row.note = "chosen before take-off: nothing sent";
+      }
+      SayDecision(row);
+    }
+  }
+  sender_.Flush(out_);
+  row.decision_ms = std::chrono::duration<double, std::milli>(Clock::now() - received).count();
+  ++summary_.decided;
+  summary_.log.push_back(row);
+}
+
+void Companion::OnFrame(const Frame& frame, double now_s, Clock::time_point received) {
+  if (!vehicle_ && frame.Is<Heartbeat>() && frame.sender.component_id == kMavCompIdAutopilot1) {
+    vehicle_ = frame.sender;
+    reader_.emplace(frame.sender.system_id);
+  }
+  if (!vehicle_ || frame.sender != *vehicle_) return;
+  if (frame.Is<Heartbeat>() && frame.As<Heartbeat>().system_status == kMavStateFlightTermination) terminated_ = true;
+  if (upload_.Handle(frame, now_s, out_)) {
+    out_.push_back(MakeOutgoing(MakeCommand(*vehicle_, kMavCmdMissionStart)));
+    ++summary_.missions_uploaded;
+  }
+  // A new epoch's SYSTEM_TIME while the last is undecided: decide the last on what came (the staleness rule).
+  const bool new_epoch =
+      frame.Is<SystemTime>() && frame.As<SystemTime>().time_boot_ms * 1e-3 > reader_->sample().time_s;
+  if (new_epoch && reader_->sample().time_s > decided_time_s_) DecideEpoch(received);
+  if (reader_->Read(frame) && reader_->Complete() && reader_->sample().time_s > decided_time_s_) DecideEpoch(received);
+}
+
+CompanionSummary Companion::Run() {
+  if (options_.on_ready) options_.on_ready(link_);
+  double last_frame_s = 0.0, last_heartbeat_s = -1.0;
+  while (!landed_ && !terminated_) {
+    const double now_s = WallSecondsSince(start_);
+    if (now_s - last_heartbeat_s >= 1.0) {  // a companion's HEARTBEAT once a second: the vehicle learns where we are
+      Heartbeat heartbeat;
+      heartbeat.type = kMavTypeOnboardController;
+      heartbeat.autopilot = kMavAutopilotInvalid;
+      heartbeat.system_status = kMavStateActive;
+      out_.push_back(MakeOutgoing(heartbeat));
+      last_heartbeat_s = now_s;
+    }
+    const std::vector<ReceivedFrame> frames = link_.Receive(0.02);
+    const Clock::time_point received = Clock::now();
+    for (const ReceivedFrame& frame : frames) {
+      last_frame_s = WallSecondsSince(start_);
+      OnFrame(frame.frame, last_frame_s, received);
+    }
+    upload_.Tick(WallSecondsSince(start_), out_);
+    sender_.Flush(out_);
+    if (!vehicle_ && options_.wait_s > 0.0 && WallSecondsSince(start_) > options_.wait_s) {
+      throw InputError("--mavlink", "vehicle", fmt::format("a vehicle's HEARTBEAT within {:.0f} s", options_.wait_s));
+    }
+    if (vehicle_ && WallSecondsSince(start_) - last_frame_s > kLinkLostS) break;
+  }
+  double total_ms = 0.0;
+  for (const CompanionDecision& row : summary_.log) {
+    summary_.max_decision_ms = std::max(summary_.max_decision_ms, row.decision_ms);
+    total_ms += row.decision_ms;
+  }
+  summary_.mean_decision_ms = summary_.decided > 0 ? total_ms / summary_.decided : 0.0;
+  return summary_;
+}
+
+}  // namespace
+
+bool CompanionOptions::IsValid(std::string* error) const {
+  if (links.empty()) {
+    if (error) *error = "--mavlink: at least one address (udpout:HOST:PORT or udp:HOST:PORT)";
+    return false;
+  }
+  return CheckWithin(wait_s, kCompanionWaitBounds, "--wait", error);
+}
+
+std::string CompanionSummary::BriefReport() const {
+  return fmt::format(
+      "{} epochs: {} decided, {} stale; {} commands, {} missions uploaded; decision time {:.2f} ms mean, {:.2f} ms max",
+      epochs, decided, stale, commands, missions_uploaded, mean_decision_ms, max_decision_ms);
+}
+
+std::string CompanionLogCsv(const std::vector<CompanionDecision>& log) {
+  std::string csv =
+      "time_s,cma_state,decided,taken,eod_s,rul_s,flight_time_remaining_s,reach_margin,motor_margin,decision_ms,note\n";
+  for (const CompanionDecision& r : log) {
+    csv += fmt::format("{:.3f},\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},\"{}\"\n", r.time_s, r.state,
+                       r.decided, r.taken, r.eod_s, r.rul_s, r.flight_time_remaining_s, r.reach_margin, r.motor_margin,
+                       r.decision_ms, r.note);
+  }
+  return csv;
+}
+
+CompanionSummary RunCompanion(const sim::Scenario& scenario, sim::DecisionPolicy& policy,
+                              const CompanionOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  Companion companion(scenario, policy, options);
+  return companion.Run();
+}
+
+}  // namespace uascma::mavlink
