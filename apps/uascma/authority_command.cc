@@ -17,10 +17,6 @@
 
 namespace uascma::cli {
 namespace {
-// Our bounds: a small UAS weighs under 25 kg (55 lb, the FAA Part 107 limit); a thrust-to-weight ratio
-// of 4 at 25 kg is ~1000 N (the hexacopter of Table 2.2 gives 27-31 N).
-constexpr Bounds kMassBounds{0.05, 25.0, "kg"};
-constexpr Bounds kTotalThrustBounds{0.1, 1000.0, "N"};
 constexpr Bounds kFailedMotorsBounds{0.0, 1.0, "motors"};
 }  // namespace
 
@@ -45,9 +41,9 @@ void AddAuthorityCommand(CLI::App& app) {
   AddBoundedOption(command, "--total-thrust-n", options->total_thrust_n,
                    "Total thrust of the healthy hexacopter, all six rotors at maximum (N); each rotor\n"
                    "gives a sixth (Fig. 4.14: 24 N)",
-                   kTotalThrustBounds)
+                   kVehicleThrustBounds)
       ->required();
-  AddBoundedOption(command, "--mass-kg", options->mass_kg, "Vehicle mass (kg)", kMassBounds)->required();
+  AddBoundedOption(command, "--mass-kg", options->mass_kg, "Vehicle mass (kg)", kVehicleMassBounds)->required();
   command->add_flag("--json", options->json, "Print {\"max_angle_deg\", \"failed_motors\", ...} as JSON");
   command->callback([options] {
     if (options->failed_motors < 0 || options->failed_motors > 1) {
@@ -56,8 +52,8 @@ void AddAuthorityCommand(CLI::App& app) {
                                    "failure only), got {}",
                                    options->failed_motors));
     }
-    RequireWithin(options->total_thrust_n, kTotalThrustBounds, "--total-thrust-n", "value");
-    RequireWithin(options->mass_kg, kMassBounds, "--mass-kg", "value");
+    RequireWithin(options->total_thrust_n, kVehicleThrustBounds, "--total-thrust-n", "value");
+    RequireWithin(options->mass_kg, kVehicleMassBounds, "--mass-kg", "value");
     models::MixerParams params;
     params.max_rotor_thrust = options->total_thrust_n / models::kRotorCount;
     const models::Mixer mixer(params);

@@ -12,6 +12,11 @@
 
 namespace uascma::cli {
 
+// A vehicle on the command line (authority, footprint), our bounds: a small UAS weighs under 25 kg (55 lb, the FAA
+// Part 107 limit); a thrust-to-weight ratio of 4 at 25 kg is ~1000 N (the hexacopter of Table 2.2 gives 27-31 N).
+constexpr Bounds kVehicleMassBounds{0.05, 25.0, "kg"};
+constexpr Bounds kVehicleThrustBounds{0.1, 1000.0, "N"};
+
 inline CLI::Validator BoundsValidator(const Bounds& bounds) {
   return CLI::Validator(
       [bounds](const std::string& text) -> std::string {

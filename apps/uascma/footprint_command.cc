@@ -33,14 +33,12 @@ constexpr int kPlotSweepCount = 10;       // footprints drawn by --plot: [1 s,] 
 constexpr double kPlotShortestEod = 1.0;  // s: Fig. 5.4 starts at 1 s, where the footprint is a cone ahead
 
 // Plausibility bounds of the options. Ours unless cited: speeds up to 30 m/s (Table 4.4 samples
-// 1-9 m/s, the drag table spans 0-10 m/s); EOD up to two hours (the packs hover ~15 min); a small UAS
-// under 25 kg (FAA Part 107) with a thrust-to-weight ratio up to 4 (~1000 N); tilt 1-89 degrees (90 cannot
+// 1-9 m/s, the drag table spans 0-10 m/s); EOD up to two hours (the packs hover ~15 min); mass and thrust
+// as bounded_option.h's vehicle; tilt 1-89 degrees (90 cannot
 // hold altitude); a drag slope up to 100 N*s/m (the default table's is ~1 N*s/m at 10 m/s); the series
 // order of the existing check, 0 (exact) to 30.
 constexpr Bounds kSpeedBounds{0.0, 30.0, "m/s"};
 constexpr Bounds kEodBounds{0.0, 7200.0, "s"};
-constexpr Bounds kMassBounds{0.05, 25.0, "kg"};
-constexpr Bounds kThrustBounds{0.1, 1000.0, "N"};
 constexpr Bounds kTiltBounds{1.0, 89.0, "deg"};
 constexpr Bounds kDragSlopeBounds{0.0, 100.0, "N*s/m"};
 constexpr Bounds kMaclaurinBounds{0.0, 30.0, ""};
@@ -64,8 +62,8 @@ void Require(bool condition, const char* option, const std::string& expected, do
 FootprintParams ResolveParams(const Options& o) {
   RequireWithin(o.speed_mps, kSpeedBounds, "--speed-mps", "value");
   RequireWithin(o.eod_s, kEodBounds, "--eod-s", "value");
-  RequireWithin(o.mass_kg, kMassBounds, "--mass-kg", "value");
-  RequireWithin(o.thrust_n, kThrustBounds, "--thrust-n", "value");
+  RequireWithin(o.mass_kg, kVehicleMassBounds, "--mass-kg", "value");
+  RequireWithin(o.thrust_n, kVehicleThrustBounds, "--thrust-n", "value");
   RequireWithin(o.max_tilt_deg, kTiltBounds, "--max-tilt-deg", "value");
   RequireWithin(o.maclaurin, kMaclaurinBounds, "--maclaurin", "value");
   FootprintParams params;
@@ -146,9 +144,9 @@ void AddFootprintCommand(CLI::App& app) {
       ->required();
   AddBoundedOption(command, "--eod-s", options->eod_s, "Battery End of Discharge time, s", kEodBounds)->required();
   AddBoundedOption(command, "--mass-kg", options->mass_kg, "Vehicle mass, kg (default 1.3, docs/defaults.md#vehicle)",
-                   kMassBounds);
+                   kVehicleMassBounds);
   AddBoundedOption(command, "--thrust-n", options->thrust_n,
-                   "Available total thrust T_avail, N (default 26.85, Table 2.2 tractor at 1900 us)", kThrustBounds);
+                   "Available total thrust T_avail, N (default 26.85, Table 2.2 tractor at 1900 us)", kVehicleThrustBounds);
   AddBoundedOption(command, "--max-tilt-deg", options->max_tilt_deg,
                    "Pitch/roll limit, degrees (default 30, the wind-tunnel data's range)", kTiltBounds);
   AddBoundedOption(command, "--drag-slope", options->drag_slope,
