@@ -81,8 +81,7 @@ double StartedPlanEodS(const FlightModel& model, const FlightState& state) {
         model.options().hotel_current_a);
     if (forecast_a > 0.0) current_a = forecast_a;  // under a second of plan: the present load, as Observe
   }
-  const models::PackState pack =
-      internal::PrognosisPack(state, noisy ? internal::SensedPack(model, state) : state.power.pack);
+  const models::PackState pack = internal::ObservedPack(model, state);
   return prognostics::CalcPackEod(model.pack(), pack, current_a,
                                   internal::EpochEodOptions(model, state, pack, current_a))
       .eod_s;

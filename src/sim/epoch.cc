@@ -86,9 +86,9 @@ using internal::AddEvent;
 using internal::EpochEodOptions;
 using internal::ReplanCapped;
 using internal::ObservedBatteryHealth;
+using internal::ObservedPack;
 using internal::PrognosisPack;
 using internal::UpdatePackMonitor;
-using internal::SensedPack;
 using internal::StartPlan;
 using internal::ThrustCap;
 
@@ -301,7 +301,7 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   inputs.flight_time_remaining_s = state.plan(model).TimeRemaining(t - state.guidance.plan_start_s);
   // The pack-fault indicator first: a flagged pack is not counted on (PrognosisPack).
   UpdatePackMonitor(model, state);
-  const models::PackState observed = PrognosisPack(state, noisy ? SensedPack(model, state) : state.power.pack);
+  const models::PackState observed = ObservedPack(model, state);
   const double current_a = state.decision.eod_current_a;
   const prognostics::EodOptions eod_options = EpochEodOptions(model, state, observed, current_a);
   StoreEod(model, state,
@@ -393,9 +393,7 @@ void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction a
   if (state.decision.eod_at_first_action) return;
   DecisionInputs& inputs = state.decision.inputs;
   if (!inputs.has_eod_distribution) {  // the pack the epoch's EOD was computed from (Observe)
-    ObserveEodDistribution(
-        model, state, inputs,
-        PrognosisPack(state, model.options().noisy_sensing ? SensedPack(model, state) : state.power.pack));
+    ObserveEodDistribution(model, state, inputs, ObservedPack(model, state));
     inputs.has_eod_distribution = true;
   }
   state.decision.eod_at_first_action = EodAtAction{inputs.time_s,    inputs.eod_s,     inputs.eod_p05_s,

@@ -98,6 +98,8 @@ void UpdatePackMonitor(const FlightModel& model, FlightState& state);
 // one pack while the other is switched in, `pack` with the flagged one switched off: the flagged pack is not counted
 // on, so the EOD is the other pack's alone (the EOD after its isolation).
 models::PackState PrognosisPack(const FlightState& state, const models::PackState& pack);
+// The same from what the CMA reads: PrognosisPack of SensedPack under noisy sensing, of the truth otherwise.
+models::PackState ObservedPack(const FlightModel& model, const FlightState& state);
 // The battery-health input of the CMA state: the scenario's class (docs/modelling-choices.md#battery-health-label), P
 // once the indicator flags a pack (Table 4.2's unhealthy).
 decision::BatteryHealth ObservedBatteryHealth(const FlightModel& model, const FlightState& state);

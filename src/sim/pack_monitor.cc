@@ -30,6 +30,10 @@ models::PackState PrognosisPack(const FlightState& state, const models::PackStat
   return other_alone;
 }
 
+models::PackState ObservedPack(const FlightModel& model, const FlightState& state) {
+  return PrognosisPack(state, model.options().noisy_sensing ? SensedPack(model, state) : state.power.pack);
+}
+
 decision::BatteryHealth ObservedBatteryHealth(const FlightModel& model, const FlightState& state) {
   return state.decision.pack_monitor.any() ? decision::BatteryHealth::kP : model.battery_health();
 }

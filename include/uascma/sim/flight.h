@@ -266,7 +266,6 @@ struct EodAtAction {
   bool operator==(const EodAtAction&) const = default;
 };
 
-// The 1 Hz prognosis and decisions (updated at each epoch by Observe, Act and DecideBattery).
 // The pack-fault indicator as the CMA loop reads it (prognostics/pack_fault_monitor.h,
 // docs/modelling-choices.md#pack-fault-cma): run at every decision epoch of a flight whose scenario carries a pack
 // fault; in a flight without one its residuals stay at micro-volts, far below its thresholds (tested), so it never
@@ -280,6 +279,7 @@ struct PackMonitorState {
   bool operator==(const PackMonitorState& other) const { return updated_s == other.updated_s && flags == other.flags; }
 };
 
+// The 1 Hz prognosis and decisions (updated at each epoch by Observe, Act and DecideBattery).
 struct DecisionState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
