@@ -42,30 +42,43 @@ struct Trial {
   double r0_ohm, r1_ohm, tau_s;
 };
 
+// The Coulomb count of a record, `sign` +1 for the charge drawn (a discharge), −1 for the charge put in: the
+// intervals (each at the mean of its two samples' currents), the median sample period and half the difference of
+// the left and right Riemann sums over the whole record, into `prepared`; returns the running count at each sample.
+std::vector<double> CountCharge(const BatteryRecord& record, double sign, Prepared* prepared) {
+  const int n = record.size();
+  std::vector<double> charge_as(n, 0.0);
+  double left_sum = 0.0, right_sum = 0.0;
+  std::vector<double> periods;
+  for (int k = 0; k + 1 < n; ++k) {
+    const double dt = record.time_s[k + 1] - record.time_s[k];
+    prepared->interval_s.push_back(dt);
+    prepared->interval_current_a.push_back(0.5 * (record.current_a[k] + record.current_a[k + 1]));
+    charge_as[k + 1] = charge_as[k] + sign * prepared->interval_current_a.back() * dt;
+    left_sum += sign * record.current_a[k] * dt;
+    right_sum += sign * record.current_a[k + 1] * dt;
+    periods.push_back(dt);
+  }
+  std::nth_element(periods.begin(), periods.begin() + periods.size() / 2, periods.end());
+  prepared->median_period_s = periods[periods.size() / 2];
+  prepared->capacity_standard_error_as = 0.5 * std::abs(left_sum - right_sum);
+  return charge_as;
+}
+
 Prepared Prepare(const BatteryRecord& record, const CellIdentificationOptions& options) {
   const int n = record.size();
   Prepared prepared;
   const double largest = *std::max_element(record.current_a.begin(), record.current_a.end());
   const double threshold = options.load_fraction * largest;
-  std::vector<double> charge_as(n, 0.0);
-  double left_sum = 0.0, right_sum = 0.0, largest_step = 0.0;
-  std::vector<double> periods;
+  const std::vector<double> charge_as = CountCharge(record, 1.0, &prepared);
+  double largest_step = 0.0;
   for (int k = 0; k + 1 < n; ++k) {
-    const double dt = record.time_s[k + 1] - record.time_s[k];
-    prepared.interval_s.push_back(dt);
-    prepared.interval_current_a.push_back(0.5 * (record.current_a[k] + record.current_a[k + 1]));
-    charge_as[k + 1] = charge_as[k] + prepared.interval_current_a.back() * dt;
-    left_sum += record.current_a[k] * dt;
-    right_sum += record.current_a[k + 1] * dt;
-    periods.push_back(dt);
     const double step = std::abs(record.current_a[k + 1] - record.current_a[k]);
     if (step > largest_step && step > threshold) {
       largest_step = step;
       prepared.largest_step_resistance_ohm = std::abs(record.voltage_v[k + 1] - record.voltage_v[k]) / step;
     }
   }
-  std::nth_element(periods.begin(), periods.begin() + periods.size() / 2, periods.end());
-  prepared.median_period_s = periods[periods.size() / 2];
   // SOC 1 at the first sample, SOC 0 at the deepest point of the record.
   // The discharge ends at the last loaded sample; the interval after it (the load switched off somewhere inside)
   // still counts: SOC 0 is at the first sample after the discharge.
@@ -73,9 +86,6 @@ Prepared Prepare(const BatteryRecord& record, const CellIdentificationOptions& o
   while (last_loaded > 0 && !(record.current_a[last_loaded] > threshold)) --last_loaded;
   prepared.capacity_as = charge_as[std::min(last_loaded + 1, n - 1)];
   prepared.fitted_samples = last_loaded + 1;
-
-
-  prepared.capacity_standard_error_as = 0.5 * std::abs(left_sum - right_sum);
   for (int k = 0; k < n; ++k) {
     prepared.soc_fraction.push_back(1.0 - charge_as[k] / prepared.capacity_as);
     prepared.loaded.push_back(record.current_a[k] > threshold ? 1 : 0);
@@ -91,22 +101,8 @@ Prepared PrepareCharge(const BatteryRecord& record, const CellIdentificationOpti
   Prepared prepared;
   const double largest = -*std::min_element(record.current_a.begin(), record.current_a.end());
   const double threshold = options.load_fraction * largest;
-  std::vector<double> charged_as(n, 0.0);
-  double left_sum = 0.0, right_sum = 0.0;
-  std::vector<double> periods;
-  for (int k = 0; k + 1 < n; ++k) {
-    const double dt = record.time_s[k + 1] - record.time_s[k];
-    prepared.interval_s.push_back(dt);
-    prepared.interval_current_a.push_back(0.5 * (record.current_a[k] + record.current_a[k + 1]));
-    charged_as[k + 1] = charged_as[k] - prepared.interval_current_a.back() * dt;
-    left_sum -= record.current_a[k] * dt;
-    right_sum -= record.current_a[k + 1] * dt;
-    periods.push_back(dt);
-  }
-  std::nth_element(periods.begin(), periods.begin() + periods.size() / 2, periods.end());
-  prepared.median_period_s = periods[periods.size() / 2];
+  const std::vector<double> charged_as = CountCharge(record, -1.0, &prepared);
   prepared.capacity_as = charged_as[n - 1];
-  prepared.capacity_standard_error_as = 0.5 * std::abs(left_sum - right_sum);
   prepared.fitted_samples = n;
   for (int k = 0; k < n; ++k) {
     prepared.soc_fraction.push_back(charged_as[k] / prepared.capacity_as);
