@@ -116,6 +116,33 @@ TEST(RulCalibrationTest, TheFittedTimeScaleIsTheSimulatedSpallsOwn) {
   EXPECT_THROW(FitRulTimeScale(0.7, 0), InputError);
 }
 
+// The fit advances each training spall to its horizon in one call; a flight advances it epoch by epoch. The jam
+// instant does not depend on the step, so the two give the same mean jam time bit for bit (here on 40 histories,
+// at the campaigns' growth speed and at a slow one, 90 s per step, where a history spans ~2,000 epochs).
+TEST(RulCalibrationTest, TrainingJamsAreTheFlightsEpochByEpochJams) {
+  constexpr int kHistories = 40;
+  for (const double truth_s : {kCampaignTruthTimePerGrowthStep_s, 90.0}) {
+    SpallGrowthParams params;
+    params.time_per_growth_step_s = truth_s;
+    const MotorRulModel truth(params);
+    const std::uint64_t training_seed = DeriveSeed(kRulTrainingSeed, kRulTrainingStream);
+    double jam_sum_s = 0.0;
+    int jammed = 0;
+    for (int h = 0; h < kHistories; ++h) {
+      // The simulator's truth stream of a history (sub-stream 3 of its seed, as sim/flight_internal.h draws it).
+      SpallJamEvent spall(truth, 0.0, DeriveSeed(DeriveSeed(training_seed, static_cast<std::uint64_t>(h)), 3));
+      const double horizon_s = params.max_growth_steps * truth_s;
+      while (!spall.jammed() && spall.time_s() < horizon_s) spall.Advance(kCmaEpoch_s);
+      if (spall.jammed()) {
+        jam_sum_s += spall.jam_time_s();
+        ++jammed;
+      }
+    }
+    ASSERT_GT(jammed, 0);
+    EXPECT_EQ(FitRulTimeScale(truth_s, kHistories).mean_jam_time_s, jam_sum_s / jammed) << truth_s;
+  }
+}
+
 // The distribution the vehicle-level policies read, scored on fresh histories (seeds the fit never drew): its 90 %
 // interval covers 85-95 % of the simulated jams at every epoch before them. Expected near the 0.882 of 100 particles'
 // type-7 quantiles (test above); the bounds are the requirement's.

@@ -6,7 +6,7 @@
 // Every number a scenario file sets is drawn uniformly inside its bound (a fixed seed, so the 300 are the same on
 // every run); the enumerated keys (propellers, pack health, turbulence, booleans, eod_load, fault motor) uniformly
 // among their values. Open ground (no map): the map keys change where the vehicle may strike, not the vehicle's
-// physics. To keep the test short (~12 s for its three tests in Release), each flight is cut by the time limit,
+// physics. To keep the test short (~2 s for its three tests in Release), each flight is cut by the time limit,
 // not by drawing short missions: OutcomeThresholds::time_limit_* (not scenario-file keys, so no bound is narrowed)
 // are set so every flight times out after kFlightCapS of simulated time at the latest. A flight that reaches the
 // cap ends as the named outcome "timeout"; the numbers checked are those of the flight so far.
