@@ -8,7 +8,7 @@
 set -euo pipefail
 
 build=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libsqlite3-dev
   libboost-math-dev

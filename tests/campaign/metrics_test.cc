@@ -17,7 +17,7 @@ using decision::MotorHealth;
 using decision::MotorMargin;
 using decision::ReachMargin;
 
-constexpr double kTolerance = 1e-12;
+constexpr double kMetricTolerance = 1e-12;
 
 // Default weights (eqs. 5.28–5.29): w_S = [FS 0, MH 0, MM 0.082, BH 0.041, RM 0.163],
 // w_A = [NoOp 0.082, Terminate 0, LandASAP 0.02, LandPract 0.041], w_E = [C 0.163, FL 0.408, T 0, E 0];
@@ -40,18 +40,18 @@ std::vector<EpochDecision> Decisions() {
 TEST(MetricsTest, EpochRewardsByHand) {
   const RewardTrace failed = CalcRewardTrace(Decisions(), sim::Outcome::kFailedBattery);
   ASSERT_EQ(failed.reward.size(), 4u);
-  EXPECT_NEAR(failed.reward[0], kSafeNoOp, kTolerance);
-  EXPECT_NEAR(failed.reward[1], kCriticalLandPract, kTolerance);
-  EXPECT_NEAR(failed.reward[2], kRepeatAsNoOp, kTolerance);
-  EXPECT_NEAR(failed.reward[3], -0.408, kTolerance);  // R(FL) = w_FL · (−1)
-  EXPECT_NEAR(failed.average, (kSafeNoOp + kCriticalLandPract + kRepeatAsNoOp - 0.408) / 4.0, kTolerance);
-  EXPECT_NEAR(failed.minimum, -0.408, kTolerance);
+  EXPECT_NEAR(failed.reward[0], kSafeNoOp, kMetricTolerance);
+  EXPECT_NEAR(failed.reward[1], kCriticalLandPract, kMetricTolerance);
+  EXPECT_NEAR(failed.reward[2], kRepeatAsNoOp, kMetricTolerance);
+  EXPECT_NEAR(failed.reward[3], -0.408, kMetricTolerance);  // R(FL) = w_FL · (−1)
+  EXPECT_NEAR(failed.average, (kSafeNoOp + kCriticalLandPract + kRepeatAsNoOp - 0.408) / 4.0, kMetricTolerance);
+  EXPECT_NEAR(failed.minimum, -0.408, kMetricTolerance);
 
   const RewardTrace landed = CalcRewardTrace(Decisions(), sim::Outcome::kEmergencyLanding);
-  EXPECT_NEAR(landed.reward.back(), 0.163, kTolerance);  // R(C)
-  EXPECT_NEAR(landed.minimum, kCriticalLandPract, kTolerance);
+  EXPECT_NEAR(landed.reward.back(), 0.163, kMetricTolerance);  // R(C)
+  EXPECT_NEAR(landed.minimum, kCriticalLandPract, kMetricTolerance);
   const RewardTrace terminated = CalcRewardTrace(Decisions(), sim::Outcome::kTerminated);
-  EXPECT_NEAR(terminated.reward.back(), 0.0, kTolerance);  // R(T) = 0 · (−0.1)
+  EXPECT_NEAR(terminated.reward.back(), 0.0, kMetricTolerance);  // R(T) = 0 · (−0.1)
   EXPECT_GT(landed.average, failed.average);               // landing beats crashing (§5.5.3)
 }
 
@@ -85,9 +85,9 @@ TEST(MetricsTest, OneShortFlightIsRecordedWhole) {
   EXPECT_EQ(record.run_seed, run.run_seed);
   EXPECT_EQ(record.epochs, static_cast<std::int64_t>(result.states.size()) + 1);
   EXPECT_EQ(record.outcome, sim::OutcomeName(result.outcome));
-  EXPECT_NEAR(record.sim_time_s, result.sim_time_s, kTolerance);
+  EXPECT_NEAR(record.sim_time_s, result.sim_time_s, kMetricTolerance);
   EXPECT_EQ(record.battery_health, models::HealthClassName(models::ClassifyHealth(run.scenario.battery.cell_health)));
-  EXPECT_GE(record.min_reward, -0.408 - kTolerance);
+  EXPECT_GE(record.min_reward, -0.408 - kMetricTolerance);
   EXPECT_LE(record.min_reward, record.average_reward);
   EXPECT_FALSE(record.first_emergency_action_s.has_value());  // NoOp never asks for one
   // Flying again gives the same record (the wall time aside).

@@ -13,7 +13,7 @@
 namespace uascma::campaign {
 namespace {
 
-const std::vector<CampaignPolicy>& Policies() {
+const std::vector<CampaignPolicy>& StopTestPolicies() {
   static const std::vector<CampaignPolicy> policies = {SolvedCmaPolicy(), NoOpCampaignPolicy()};
   return policies;
 }
@@ -30,7 +30,7 @@ TEST(RunnerStopTest, StopBeforeTheStartFliesNothing) {
   config.runs = 12;
   std::vector<RunRecord> records;
   RequestStop();
-  ExecuteFlights(config, Policies(), MissingFlights(config.runs, Policies(), {}), OneWorker(),
+  ExecuteFlights(config, StopTestPolicies(), MissingFlights(config.runs, StopTestPolicies(), {}), OneWorker(),
                  [&](std::vector<RunRecord>&& batch) { records.insert(records.end(), batch.begin(), batch.end()); });
   ClearStopRequest();
   EXPECT_TRUE(records.empty());
@@ -50,10 +50,10 @@ TEST(RunnerStopTest, StopMidwayKeepsWholeRunsAndEndsEarly) {
   };
   std::vector<RunRecord> records;
   ClearStopRequest();
-  ExecuteFlights(config, Policies(), MissingFlights(config.runs, Policies(), {}), options,
+  ExecuteFlights(config, StopTestPolicies(), MissingFlights(config.runs, StopTestPolicies(), {}), options,
                  [&](std::vector<RunRecord>&& batch) { records.insert(records.end(), batch.begin(), batch.end()); });
   ClearStopRequest();
-  const std::size_t all = 12 * Policies().size();
+  const std::size_t all = 12 * StopTestPolicies().size();
   ASSERT_FALSE(records.empty());
   EXPECT_LT(records.size(), all);
   // One worker: the run under way when the stop came is finished with both policies (and at most the next, if it
@@ -61,7 +61,7 @@ TEST(RunnerStopTest, StopMidwayKeepsWholeRunsAndEndsEarly) {
   std::map<std::int64_t, int> per_run;
   for (const RunRecord& r : records) ++per_run[r.run_index];
   EXPECT_LE(per_run.size(), 2u);
-  for (const auto& [run, flights] : per_run) EXPECT_EQ(flights, static_cast<int>(Policies().size())) << "run " << run;
+  for (const auto& [run, flights] : per_run) EXPECT_EQ(flights, static_cast<int>(StopTestPolicies().size())) << "run " << run;
 }
 
 }  // namespace

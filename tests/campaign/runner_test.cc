@@ -21,8 +21,8 @@
 namespace uascma::campaign {
 namespace {
 
-struct TempDir : testing_support::TempDir {
-  TempDir() : testing_support::TempDir("runner_test") {}
+struct RunnerTempDir : testing_support::TempDir {
+  RunnerTempDir() : testing_support::TempDir("runner_test") {}
 };
 
 const std::vector<CampaignPolicy>& Policies() {
@@ -91,7 +91,7 @@ TEST(RunnerTest, ThreadCountAndRunsInFlightDoNotChangeTheResults) {
 }
 
 TEST(RunnerTest, APartialCampaignResumedEqualsAnUninterruptedOne) {
-  TempDir dir;
+  RunnerTempDir dir;
   CampaignConfig config = testing_support::ShortConfig();
   config.runs = 3;
   const CampaignOutcome first = RunCampaign(Request(config, dir.path / "resumed.db", false));
@@ -112,7 +112,7 @@ TEST(RunnerTest, APartialCampaignResumedEqualsAnUninterruptedOne) {
 }
 
 TEST(RunnerTest, AnotherCampaignsDatabaseIsRefused) {
-  TempDir dir;
+  RunnerTempDir dir;
   CampaignConfig config = testing_support::ShortConfig();
   config.runs = 1;
   RunCampaign(Request(config, dir.path / "c.db", false));
@@ -133,7 +133,7 @@ TEST(RunnerTest, AnotherCampaignsDatabaseIsRefused) {
 }
 
 TEST(RunnerTest, AStoredFlightReplaysAlone) {
-  TempDir dir;
+  RunnerTempDir dir;
   CampaignConfig config = testing_support::ShortConfig();
   config.runs = 3;
   RunCampaign(Request(config, dir.path / "c.db", false));
@@ -174,7 +174,7 @@ std::vector<Started> RunAtOnce(const std::vector<CampaignRequest>& requests) {
 }
 
 TEST(RunnerTest, CampaignsStartedTogetherShareTheWorkAndStoreEachFlightOnce) {
-  TempDir dir;
+  RunnerTempDir dir;
   CampaignConfig config = testing_support::ShortConfig();
   config.runs = 6;
   RunCampaign(Request(config, dir.path / "whole.db", false));
@@ -205,7 +205,7 @@ TEST(RunnerTest, CampaignsStartedTogetherShareTheWorkAndStoreEachFlightOnce) {
 }
 
 TEST(RunnerTest, OfDifferentCampaignsStartedTogetherOneRunsAndTheOthersNameIt) {
-  TempDir dir;
+  RunnerTempDir dir;
   CampaignConfig config = testing_support::ShortConfig();
   config.runs = 2;
   const auto db = dir.path / "c.db";

@@ -13,8 +13,8 @@
 namespace uascma::decision {
 namespace {
 
-constexpr double kProbabilityTolerance = 1e-12;
-constexpr double kValueTolerance = 1e-8;
+constexpr double kCmaProbabilityTolerance = 1e-12;
+constexpr double kCmaValueTolerance = 1e-8;
 
 std::map<std::string, double> Row(const FiniteMdp& mdp, const std::string& state, CmaAction action) {
   const StateIndex s = mdp.FindState(state);
@@ -54,12 +54,12 @@ TEST(CmaMdpTest, NominalNoOpRowIsTheNormalisedProductOfTables) {
   const double total = (0.99995 + 4.75e-5) * (5e-5 + 0.99995) + 0.1 + 0.001;
   const auto row = Row(mdp, "N,NF,MM1,G,RM1", CmaAction::kNoOp);
   ASSERT_EQ(row.size(), 6u);
-  EXPECT_NEAR(row.at("N,NF,MM1,G,RM1"), 0.99995 * 0.99995 / total, kProbabilityTolerance);
-  EXPECT_NEAR(row.at("N,NF,MM1,G,RM0"), 0.99995 * 5e-5 / total, kProbabilityTolerance);
-  EXPECT_NEAR(row.at("N,SF,MM1,G,RM1"), 4.75e-5 * 0.99995 / total, kProbabilityTolerance);
-  EXPECT_NEAR(row.at("N,SF,MM1,G,RM0"), 4.75e-5 * 5e-5 / total, kProbabilityTolerance);
-  EXPECT_NEAR(row.at("C"), 0.1 / total, kProbabilityTolerance);
-  EXPECT_NEAR(row.at("FL"), 0.001 / total, kProbabilityTolerance);
+  EXPECT_NEAR(row.at("N,NF,MM1,G,RM1"), 0.99995 * 0.99995 / total, kCmaProbabilityTolerance);
+  EXPECT_NEAR(row.at("N,NF,MM1,G,RM0"), 0.99995 * 5e-5 / total, kCmaProbabilityTolerance);
+  EXPECT_NEAR(row.at("N,SF,MM1,G,RM1"), 4.75e-5 * 0.99995 / total, kCmaProbabilityTolerance);
+  EXPECT_NEAR(row.at("N,SF,MM1,G,RM0"), 4.75e-5 * 5e-5 / total, kCmaProbabilityTolerance);
+  EXPECT_NEAR(row.at("C"), 0.1 / total, kCmaProbabilityTolerance);
+  EXPECT_NEAR(row.at("FL"), 0.001 / total, kCmaProbabilityTolerance);
 }
 
 TEST(CmaMdpTest, LandingActionsUseTheLoadedSpallToJamProbability) {
@@ -69,14 +69,14 @@ TEST(CmaMdpTest, LandingActionsUseTheLoadedSpallToJamProbability) {
   // 0.006, RM1 0.994}; no C, FL 0.0003.
   const auto row = Row(mdp, "N,SF,MM1,P,RM0", CmaAction::kLandPract);
   const double total = (0.991417 + 0.008583) * (0.0025 + 0.9975) * (0.006 + 0.994) + 0.0003;
-  EXPECT_NEAR(row.at("ELPRACT,JF,MM0,P,RM1"), 0.008583 * 0.0025 * 0.994 / total, kProbabilityTolerance);
-  EXPECT_NEAR(row.at("ELPRACT,SF,MM1,P,RM1"), 0.991417 * 0.9975 * 0.994 / total, kProbabilityTolerance);
-  EXPECT_NEAR(row.at("FL"), 0.0003 / total, kProbabilityTolerance);
+  EXPECT_NEAR(row.at("ELPRACT,JF,MM0,P,RM1"), 0.008583 * 0.0025 * 0.994 / total, kCmaProbabilityTolerance);
+  EXPECT_NEAR(row.at("ELPRACT,SF,MM1,P,RM1"), 0.991417 * 0.9975 * 0.994 / total, kCmaProbabilityTolerance);
+  EXPECT_NEAR(row.at("FL"), 0.0003 / total, kCmaProbabilityTolerance);
   EXPECT_EQ(row.count("C"), 0u);
   // NoOp from the same state keeps the printed 0.002809.
   const auto noop = Row(mdp, "N,SF,MM1,P,RM1", CmaAction::kNoOp);
   const double noop_total = (0.99719 + 0.002809) * (0.002809 + 0.99719) * (0.005 + 0.995) + 0.1 + 0.001;
-  EXPECT_NEAR(noop.at("N,JF,MM1,P,RM1"), 0.002809 * 0.99719 * 0.995 / noop_total, kProbabilityTolerance);
+  EXPECT_NEAR(noop.at("N,JF,MM1,P,RM1"), 0.002809 * 0.99719 * 0.995 / noop_total, kCmaProbabilityTolerance);
 }
 
 TEST(CmaMdpTest, TerminateAndTerminalStatesAreDeterministic) {
@@ -127,7 +127,7 @@ TEST(CmaMdpTest, ValueIterationAgreesWithPolicyIteration) {
   EXPECT_EQ(summary.status, SolverStatus::kConverged);
   const Policy by_policy = SolvePolicyIteration(mdp, {});
   for (StateIndex s = 0; s < mdp.num_states(); ++s) {
-    EXPECT_NEAR(by_value.value[s], by_policy.value[s], kValueTolerance) << mdp.state_label(s);
+    EXPECT_NEAR(by_value.value[s], by_policy.value[s], kCmaValueTolerance) << mdp.state_label(s);
     EXPECT_EQ(by_value.action[s], by_policy.action[s]) << mdp.state_label(s);
   }
 }

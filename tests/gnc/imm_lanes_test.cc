@@ -19,7 +19,7 @@
 namespace uascma::gnc {
 namespace {
 
-constexpr double kDt = 0.005;  // s, the 200 Hz GNC step (§5.4)
+constexpr double kLanesDt = 0.005;  // s, the 200 Hz GNC step (§5.4)
 constexpr SimdPath kPaths[] = {SimdPath::kSse2, SimdPath::kAvx2, SimdPath::kAvx512};
 
 bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
@@ -46,7 +46,7 @@ Flight NoisyFlight(int steps, int failed, int fail_step, std::uint64_t seed) {
     models::RotorThrusts truth = believed;
     if (k >= fail_step) truth[failed - 1] *= 0.2;
     const models::BodyWrench wrench = flight.mixing * truth;
-    w_B += kDt * (wrench.tail<3>() - w_B.cross(inertia.cwiseProduct(w_B))).cwiseQuotient(inertia);
+    w_B += kLanesDt * (wrench.tail<3>() - w_B.cross(inertia.cwiseProduct(w_B))).cwiseQuotient(inertia);
     ImmMeasurement z;
     z.gyro_B = w_B + 0.01 * Eigen::Vector3d(random.Normal(), random.Normal(), random.Normal());
     z.specific_force_z_B = -wrench(0) / flight.body.mass + 0.15 * random.Normal();
@@ -65,7 +65,7 @@ TEST(ImmLanesTest, EveryInstructionSetGivesTheSameBits) {
   if (filters.size() < 2) GTEST_SKIP() << "this CPU has SSE2 only: one path, nothing to compare";
   for (std::size_t k = 0; k < flight.believed.size(); ++k) {
     for (std::size_t i = 0; i < filters.size(); ++i) {
-      filters[i].StepOn(kPaths[i], flight.believed[k], flight.measured[k], kDt);
+      filters[i].StepOn(kPaths[i], flight.believed[k], flight.measured[k], kLanesDt);
     }
     for (std::size_t i = 1; i < filters.size(); ++i) {
       ASSERT_TRUE(filters[i] == filters[0]) << SimdPathName(kPaths[i]) << " differs from sse2 at step " << k;
@@ -158,8 +158,8 @@ TEST(ImmLanesTest, TheLanesAreTheImmComputedOneModeAtATime) {
     plain.p[j] = imm.ModeProbability(j);
   }
   for (std::size_t k = 0; k < flight.believed.size(); ++k) {
-    imm.Step(flight.believed[k], flight.measured[k], kDt);
-    plain.Step(flight.believed[k], flight.measured[k], kDt);
+    imm.Step(flight.believed[k], flight.measured[k], kLanesDt);
+    plain.Step(flight.believed[k], flight.measured[k], kLanesDt);
     for (int j = 0; j < kImmModes; ++j) {
       ASSERT_NEAR(imm.ModeProbability(j), plain.p[j], kRelativeTolerance * plain.p[j]) << "mode " << j << " step " << k;
       for (int a = 0; a < 3; ++a) {

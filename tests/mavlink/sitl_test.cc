@@ -16,14 +16,14 @@
 namespace uascma::mavlink {
 namespace {
 
-constexpr Address kGround{255, 190};
+constexpr Address kSitlGround{255, 190};
 
 class Client {
  public:
   explicit Client(std::uint16_t port) : link_({LinkAddress{LinkAddress::Kind::kSendTo, "127.0.0.1", port}}) {}
   template <class M>
   void Send(const M& message) {
-    link_.Send(EncodeFrame(message, kGround, sequence_++));
+    link_.Send(EncodeFrame(message, kSitlGround, sequence_++));
   }
   void SendRaw(const std::vector<std::uint8_t>& bytes) { link_.Send(bytes); }
   // Receives until a frame of M for which `accept` holds (returned) or `timeout_s` (nothing).
@@ -159,7 +159,7 @@ TEST(SitlTest, AClientFliesScenarioOneAndSeesTheSimulatorsEvents) {
     CommandLong command;
     command.target_system = 1;
     command.command = static_cast<std::uint16_t>(40000 + i);
-    const auto frame = EncodeFrame(command, kGround, static_cast<std::uint8_t>(i));
+    const auto frame = EncodeFrame(command, kSitlGround, static_cast<std::uint8_t>(i));
     burst.insert(burst.end(), frame.begin(), frame.end());
     if ((i + 1) % 30 == 0 || i + 1 == kFlood) {
       client.SendRaw(burst);

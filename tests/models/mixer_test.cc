@@ -37,7 +37,7 @@ namespace {
 
 constexpr double kMatrixTolerance = 1e-15;  // m, N: entries built from sin/cos of multiples of 30°
 constexpr double kWrenchTolerance = 1e-12;  // N and N·m: allocation round-off
-constexpr double kThrustTolerance = 1e-12;  // N
+constexpr double kMixerThrustTolerance = 1e-12;  // N
 constexpr double kAngleTolerance = 1e-9;    // rad
 constexpr double kDeg = std::numbers::pi / 180.0;
 
@@ -185,7 +185,7 @@ TEST(AllocationTest, HexacopterReproducesTheWrenchAndEqualsThePseudoInverse) {
   EXPECT_FALSE(allocation.saturated());
   EXPECT_LT((allocation.achieved - commanded).cwiseAbs().maxCoeff(), kWrenchTolerance);
   EXPECT_LT((allocation.rotor_thrust - mixer.AllocatePseudoInverse(commanded, kNoFailedMotor)).cwiseAbs().maxCoeff(),
-            kThrustTolerance);
+            kMixerThrustTolerance);
   // M M† = I: the pseudo-inverse is a right inverse of the full-rank hexacopter matrix.
   EXPECT_TRUE((mixer.mixing_matrix(0) * mixer.allocation_matrix(0)).isApprox(Eigen::Matrix4d::Identity(), 1e-12));
 }
@@ -209,7 +209,7 @@ TEST(AllocationTest, EachFailureCaseReproducesEveryAchievableWrench) {
       const AllocationResult allocation = mixer.Allocate(commanded, failed);
       EXPECT_FALSE(allocation.saturated()) << "failed " << failed;
       EXPECT_LT((allocation.achieved - commanded).cwiseAbs().maxCoeff(), kWrenchTolerance) << "failed " << failed;
-      EXPECT_LT((allocation.rotor_thrust - pseudo_inverse).cwiseAbs().maxCoeff(), kThrustTolerance);
+      EXPECT_LT((allocation.rotor_thrust - pseudo_inverse).cwiseAbs().maxCoeff(), kMixerThrustTolerance);
       EXPECT_EQ(allocation.rotor_thrust(failed - 1), 0.0);
       EXPECT_EQ(allocation.rotor_thrust(OppositeMotor(failed) - 1), 0.0);
       ++checked;
@@ -225,7 +225,7 @@ TEST(AllocationTest, HoverAfterAFailureUsesTheFourRemainingRotorsEqually) {
     const AllocationResult allocation = mixer.Allocate({weight, 0.0, 0.0, 0.0}, failed);
     for (int rotor = 1; rotor <= kRotorCount; ++rotor) {
       const bool off = rotor == failed || rotor == OppositeMotor(failed);
-      EXPECT_NEAR(allocation.rotor_thrust(rotor - 1), off ? 0.0 : weight / 4.0, kThrustTolerance);
+      EXPECT_NEAR(allocation.rotor_thrust(rotor - 1), off ? 0.0 : weight / 4.0, kMixerThrustTolerance);
     }
     EXPECT_LT(allocation.achieved.cwiseAbs().tail<3>().maxCoeff(), kWrenchTolerance);
   }
@@ -263,8 +263,8 @@ TEST(SaturationTest, ExcessYawIsCutWhileThrustAndRollPitchAreKept) {
   EXPECT_NEAR(allocation.achieved(3), allocation.yaw_scale * commanded(3), kWrenchTolerance);
   EXPECT_GT(allocation.achieved(3), 0.0);
   // The yaw was scaled until a rotor reached a limit.
-  const bool at_limit = allocation.rotor_thrust.minCoeff() < kThrustTolerance ||
-                        allocation.rotor_thrust.maxCoeff() > kTmax - kThrustTolerance;
+  const bool at_limit = allocation.rotor_thrust.minCoeff() < kMixerThrustTolerance ||
+                        allocation.rotor_thrust.maxCoeff() > kTmax - kMixerThrustTolerance;
   EXPECT_TRUE(at_limit) << allocation.rotor_thrust.transpose();
 }
 
@@ -273,7 +273,7 @@ TEST(SaturationTest, ThrustAboveCapacityIsClippedToAllRotorsAtMaximum) {
   const AllocationResult allocation = mixer.Allocate({40.0, 0.0, 0.0, 0.0}, kNoFailedMotor);
   EXPECT_TRUE(allocation.thrust_limited);
   EXPECT_NEAR(allocation.achieved(0), 6.0 * kTmax, kWrenchTolerance);  // 26.85 N
-  EXPECT_LT((allocation.rotor_thrust.array() - kTmax).abs().maxCoeff(), kThrustTolerance);
+  EXPECT_LT((allocation.rotor_thrust.array() - kTmax).abs().maxCoeff(), kMixerThrustTolerance);
   const AllocationResult after_failure = mixer.Allocate({40.0, 0.0, 0.0, 0.0}, 3);
   EXPECT_NEAR(after_failure.achieved(0), 4.0 * kTmax, kWrenchTolerance);
 }

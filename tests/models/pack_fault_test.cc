@@ -13,9 +13,9 @@ namespace uascma::models {
 namespace {
 
 // Volts and amperes of closed forms against the model: the same arithmetic in another order, rounding only.
-constexpr double kVoltageTolerance = 1e-12;
-constexpr double kCurrentTolerance = 1e-12;
-constexpr double kSocTolerance = 1e-15;
+constexpr double kFaultVoltageTolerance = 1e-12;
+constexpr double kFaultCurrentTolerance = 1e-12;
+constexpr double kFaultSocTolerance = 1e-15;
 // Volts: the slow step's linearisation against the exact outputs 0.1 s on. Second-order terms: the short's own
 // drain moves OCV by ~1e-5 V in 0.1 s (i_s ~ 2 A, a 3 A·h cell, OCV slope ~1 V per unit SOC), so its change of i_s
 // and of the OCV segment are far below a microvolt; the RC term's (T/(R1 C1))² is ~4e-8 of the branch current's.
@@ -35,13 +35,13 @@ TEST(PackFaultTest, ShortAtRestDrainsItsCellAtOcvOverRs) {
   state.fault_on = true;
   const double ocv_v = pack.ocv().CalcVoltage(state.cells[0][1].soc_fraction);
   const double i_s = ocv_v / r_s;
-  EXPECT_NEAR(pack.CalcShortCurrent(state), i_s, kCurrentTolerance);
+  EXPECT_NEAR(pack.CalcShortCurrent(state), i_s, kFaultCurrentTolerance);
   EXPECT_NEAR(pack.CalcFaultHeat(state, 0.0), ocv_v * ocv_v / r_s, 1e-12 * ocv_v * ocv_v / r_s);
   // At rest (no load) the shorted cell still discharges: z' = z − i_s Δt / Q (eq. 3.1, η_discharge = 1), exact.
   const double dt_s = 10.0;
   const PackState next = pack.Step(state, 0.0, dt_s);
   const double q_as = pack.cell(0, 1).capacity_as();
-  EXPECT_NEAR(next.cells[0][1].soc_fraction, state.cells[0][1].soc_fraction - i_s * dt_s / q_as, kSocTolerance);
+  EXPECT_NEAR(next.cells[0][1].soc_fraction, state.cells[0][1].soc_fraction - i_s * dt_s / q_as, kFaultSocTolerance);
   for (int b = 0; b < kBranchCount; ++b) {
     for (int c = 0; c < kCellsPerBranch; ++c) {
       if (b == 0 && c == 1) continue;
@@ -51,7 +51,7 @@ TEST(PackFaultTest, ShortAtRestDrainsItsCellAtOcvOverRs) {
   // Its terminal voltage at rest (eq. 3.3 at i = i_s, a fresh cell: h = 0, i_R = 0, s = −1): OCV − M0 − R0 i_s.
   const CellParams& p = pack.cell(0, 1).params();
   const PackOutputs out = pack.CalcOutputs(state, 0.0);
-  EXPECT_NEAR(out.cell_voltage_v[0][1], ocv_v - p.hysteresis_m0_v - p.r0_ohm * i_s, kVoltageTolerance);
+  EXPECT_NEAR(out.cell_voltage_v[0][1], ocv_v - p.hysteresis_m0_v - p.r0_ohm * i_s, kFaultVoltageTolerance);
   // The fault off: the same pack is the healthy one, bit for bit.
   state.fault_on = false;
   const BatteryPack healthy;
@@ -72,7 +72,7 @@ TEST(PackFaultTest, SiblingFeedsTheLoadNotTheShortedPack) {
   const double total_a = 20.0;
   const double bus_v = (e1 / r1 + e2 / r2 - total_a) / (1.0 / r1 + 1.0 / r2);  // eq. 3.4
   const BranchSplit split = pack.CalcSplit(state, total_a);
-  EXPECT_NEAR(split.bus_voltage_v, bus_v, kVoltageTolerance);
+  EXPECT_NEAR(split.bus_voltage_v, bus_v, kFaultVoltageTolerance);
   EXPECT_NEAR(split.current_a[0], (e1 - bus_v) / r1, 1e-9);  // eq. 3.5
   EXPECT_LT(split.current_a[0], 0.5 * total_a);              // the faulted pack carries less than its half
   // Without load eq. 3.5 would send (E2 − E1)/(R1 + R2) from the sibling into the faulted pack; the diodes of
@@ -114,14 +114,14 @@ TEST(PackFaultTest, ConnectorAddsContactResistanceAndLeavesTheCells) {
   const BranchSplit expected =
       CalcBranchSplit({pack.CalcBranchOcv(state, 0), pack.CalcBranchOcv(state, 1)},
                       {pack.branch_r0_ohm(0) + r_c, pack.branch_r0_ohm(1)}, {true, true}, 20.0);
-  EXPECT_NEAR(out.split.current_a[0], expected.current_a[0], kCurrentTolerance);
-  EXPECT_NEAR(out.split.bus_voltage_v, expected.bus_voltage_v, kVoltageTolerance);
+  EXPECT_NEAR(out.split.current_a[0], expected.current_a[0], kFaultCurrentTolerance);
+  EXPECT_NEAR(out.split.bus_voltage_v, expected.bus_voltage_v, kFaultVoltageTolerance);
   // Each cell's voltage is the healthy cell's at the branch current it carries (the contact is outside the cells).
   PackState alone = state;
   alone.branch_on = {true, false};
   const PackOutputs at_branch = healthy.CalcOutputs(alone, out.split.current_a[0]);
   for (int c = 0; c < kCellsPerBranch; ++c) {
-    EXPECT_NEAR(out.cell_voltage_v[0][c], at_branch.cell_voltage_v[0][c], kVoltageTolerance);
+    EXPECT_NEAR(out.cell_voltage_v[0][c], at_branch.cell_voltage_v[0][c], kFaultVoltageTolerance);
   }
 }
 

@@ -12,7 +12,7 @@
 namespace uascma::planning {
 namespace {
 
-constexpr double kLengthTolerance = 1e-9;  // m
+constexpr double kCityLengthTolerance = 1e-9;  // m
 
 TEST(ProceduralCityTest, SameSeedReplaysBitForBitAndAnotherSeedDiffers) {
   ProceduralCityParams params;
@@ -66,7 +66,7 @@ TEST(ProceduralCityTest, StreetsAndAvenuesAreClearAndTheOriginIsAnIntersection) 
   EXPECT_GT(map.TallestBuildingUnder(route, 0.5 * params.avenue_width + 1.0).height, 0.0);
   // Every building lies inside the city's extent.
   for (int k = 0; k < static_cast<int>(map.buildings().size()); ++k) {
-    EXPECT_GE(map.building_box(k).min().x(), 0.5 * params.street_width - kLengthTolerance);
+    EXPECT_GE(map.building_box(k).min().x(), 0.5 * params.street_width - kCityLengthTolerance);
     EXPECT_LE(map.building_box(k).max().y(), length_east);
   }
 }
@@ -98,11 +98,11 @@ TEST(ProceduralCityTest, HeightsAndSitesFollowTheirFits) {
     EXPECT_LE(site.risk, 1.0);
     if (site.on_rooftop()) {
       ++rooftop;
-      EXPECT_NEAR(site.altitude(), map.building(site.building).height, kLengthTolerance);
-      EXPECT_NEAR(map.SurfaceAltitudeAt(site.p_W.head<2>()), map.building(site.building).height, kLengthTolerance);
+      EXPECT_NEAR(site.altitude(), map.building(site.building).height, kCityLengthTolerance);
+      EXPECT_NEAR(map.SurfaceAltitudeAt(site.p_W.head<2>()), map.building(site.building).height, kCityLengthTolerance);
     } else {
       ++ground;
-      EXPECT_NEAR(site.altitude(), 0.0, kLengthTolerance);
+      EXPECT_NEAR(site.altitude(), 0.0, kCityLengthTolerance);
       EXPECT_EQ(map.BuildingContaining(site.p_W), kNoBuilding);
     }
   }

@@ -17,8 +17,8 @@ using namespace uascma::models;
 // V: the sag is a product of two numbers; 1e-12 V is rounding.
 constexpr double kSagToleranceV = 1e-12;
 // The fine-step reference: 10 ms steps, its crossing interpolated linearly (eod_test's reference); 0.5 % as there.
-constexpr double kReferenceStepS = 0.01;
-constexpr double kRequiredRelativeTolerance = 0.005;
+constexpr double kPeakReferenceStepS = 0.01;
+constexpr double kPeakRequiredRelativeTolerance = 0.005;
 
 // Pack 2 cell 1 power-faded (R0 x 2) at 40 °F (R0 x 1.5, Table 3.2): the medium, cold pack of a flight that cut off
 // under peaks (docs/modelling-choices.md#eod-peak-sag).
@@ -76,15 +76,15 @@ TEST(PeakSagTest, TheEodUnderPeaksIsWhenAPeakWouldFirstReachTheCutoff) {
     double previous_v = pack.CalcOutputs(state, current_a + peak_a).min_cell_voltage_v;
     double reference_s = -1.0;
     for (long long k = 1; k < 400000 && reference_s < 0.0; ++k) {
-      state = pack.Step(state, current_a, kReferenceStepS);
+      state = pack.Step(state, current_a, kPeakReferenceStepS);
       const double v = pack.CalcOutputs(state, current_a + peak_a).min_cell_voltage_v;
       if (v <= kCutoffVoltage) {
-        reference_s = (k - 1 + (previous_v - kCutoffVoltage) / (previous_v - v)) * kReferenceStepS;
+        reference_s = (k - 1 + (previous_v - kCutoffVoltage) / (previous_v - v)) * kPeakReferenceStepS;
       }
       previous_v = v;
     }
     ASSERT_GT(reference_s, 0.0);
-    EXPECT_LT(std::abs(under_peaks.eod_s - reference_s) / reference_s, kRequiredRelativeTolerance)
+    EXPECT_LT(std::abs(under_peaks.eod_s - reference_s) / reference_s, kPeakRequiredRelativeTolerance)
         << "peak " << peak_a << " A: " << under_peaks.BriefReport() << " vs the reference's " << reference_s << " s";
     // The limiting cell is the power-faded one, the cell of the largest raise.
     EXPECT_EQ(under_peaks.limiting_branch, 1);
