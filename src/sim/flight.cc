@@ -420,7 +420,6 @@ FlightModel::FlightModel(const Scenario& scenario)
       electrical_power_(propulsion_),
       mixer_(ScenarioMixer(scenario)),
       drag_(ScenarioDrag(scenario)),
-      drag_lanes_(drag_),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
       pack_(MakeFlightPackParams(scenario)),
       rul_model_(PrognosisGrowth(scenario.fault)),
@@ -598,7 +597,7 @@ void StepTogetherWith(std::span<const FlightModel* const> models, std::span<Flig
   }
   // libm's asin per lane, the table's interpolation in the lanes: DragAtSine's bits (models/rigid_body_lanes.h).
   models::StepRigidBodyLanes(path, vehicle.scenario().body, vehicle.drag(), bodies, inputs, vehicle.dt(),
-                             models::LaneDragLookup::kLibmAsinTableInLanes, &vehicle.drag_lanes());
+                             models::LaneDragLookup::kLibmAsinTableInLanes);
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
     const FlightModel& model = *models[k];

@@ -132,8 +132,6 @@ class FlightModel {
   // The mixer's matrix with every rotor (the achieved wrench of the true rotors).
   const models::MixingMatrix& healthy_mixing() const { return mixer_.mixing_matrix(models::kNoFailedMotor); }
   const models::DragTable& drag() const { return drag_; }
-  // drag() as StepTogether's rigid bodies in lanes interpolate it (models/rigid_body_lanes.h).
-  const models::DragLaneTable& drag_lanes() const { return drag_lanes_; }
   const models::WindModel& wind() const { return wind_; }
   const models::BatteryPack& pack() const { return pack_; }
   // The pack's slow step (SimOptions::pack_rate_hz): its length with its RC decay factors, in GNC steps.
@@ -168,7 +166,6 @@ class FlightModel {
   models::ElectricalPowerTable electrical_power_;
   models::Mixer mixer_;
   models::DragTable drag_;
-  models::DragLaneTable drag_lanes_;  // drag_ as the rigid bodies in lanes read it (StepTogether)
   models::WindModel wind_;
   models::BatteryPack pack_;
   // the prognosis (calibrated to Table 5.4, docs/modelling-choices.md#spall-growth-time-scale)
