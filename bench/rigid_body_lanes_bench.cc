@@ -62,8 +62,8 @@ enum Pattern { kChain = 0, kThroughput = 1 };
 }
 
 [[gnu::noinline]] void FlyLanes(Pattern pattern, lane_math::LaneMathPath path, LaneDragLookup lookup,
-                                const DragTable& drag, const RigidBodyLanes& start,
-                                const BodyInputLanes& inputs, RigidBodyLanes& lanes) {
+                                const DragTable& drag, const RigidBodyLanes& start, const BodyInputLanes& inputs,
+                                RigidBodyLanes& lanes) {
   const RigidBodyParams params;
   lanes = start;
   for (int k = 0; k < kSteps; ++k) {

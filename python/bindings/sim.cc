@@ -407,8 +407,9 @@ void InitSim(py::module_& m) {
                             "reach margin's class needs (never for a Python policy: it sees the values)")
       .def_readonly("eod_s", &EodLowerBound::eod_s)
       .def_readonly("reach_margin", &EodLowerBound::reach_margin);
-  py::class_<EodDistributionSummary>(m, "EodDistributionSummary",
-                                     "The EOD's distribution: its 5/50/95 % quantiles (s) and P(EOD < t_remaining + t_sf)")
+  py::class_<EodDistributionSummary>(
+      m, "EodDistributionSummary",
+      "The EOD's distribution: its 5/50/95 % quantiles (s) and P(EOD < t_remaining + t_sf)")
       .def_readonly("p05_s", &EodDistributionSummary::p05_s, "5 % quantile of the EOD's distribution")
       .def_readonly("p50_s", &EodDistributionSummary::p50_s, "its median")
       .def_readonly("p95_s", &EodDistributionSummary::p95_s, "its 95 % quantile")

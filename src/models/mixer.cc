@@ -211,9 +211,9 @@ double Mixer::max_hover_thrust(int failed_motor) const {
 
 AllocationResult Mixer::AllocateThrusts(const Case& c, const BodyWrench& commanded) const {
   // The rules are allocation_law.h's, written once for one wrench and for the lanes of sim/controller_lanes.cc.
-  const allocation_internal::AllocationLanes<double> lanes = allocation_internal::AllocateLanes<double>(
-      allocation_internal::AllocationCaseView{c}, params_.max_rotor_thrust, commanded(0), commanded(1), commanded(2),
-      commanded(3));
+  const allocation_internal::AllocationLanes<double> lanes =
+      allocation_internal::AllocateLanes<double>(allocation_internal::AllocationCaseView{c}, params_.max_rotor_thrust,
+                                                 commanded(0), commanded(1), commanded(2), commanded(3));
   AllocationResult result;
   for (int i = 0; i < kRotorCount; ++i) result.rotor_thrust(i) = lanes.rotor_thrust[i];
   result.roll_pitch_scale = lanes.roll_pitch_scale;

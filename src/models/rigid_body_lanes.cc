@@ -70,8 +70,8 @@ struct LaneDrag {
 
 // StepRigidBody's midpoint rule on the lanes [first, first + width).
 template <class V, LaneDragLookup kLookup>
-UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const SharedBody& body,
-                                        RigidBodyLanes& s, const BodyInputLanes& in, double dt, int first) {
+UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const SharedBody& body, RigidBodyLanes& s,
+                                        const BodyInputLanes& in, double dt, int first) {
   const HeldLanes<V> held = {-LoadLanes<V>(in.total_thrust, first) / body.mass, LoadLanes3<V>(in.torque_B, first),
                              LoadLanes3<V>(in.wind_W, first)};
   const BodyLanes<V> start = {LoadLanes3<V>(s.p_WB_W, first),
@@ -95,20 +95,19 @@ UASCMA_BODY_LANES_INLINE void StepLanes(const DragTable& drag, const SharedBody&
 }
 
 template <LaneDragLookup kLookup>
-void StepSse2(const DragTable& drag, const SharedBody& body, RigidBodyLanes& s,
-              const BodyInputLanes& in, double dt) {
+void StepSse2(const DragTable& drag, const SharedBody& body, RigidBodyLanes& s, const BodyInputLanes& in, double dt) {
   StepLanes<LaneMathV2, kLookup>(drag, body, s, in, dt, 0);
   StepLanes<LaneMathV2, kLookup>(drag, body, s, in, dt, 2);
 }
 template <LaneDragLookup kLookup>
-__attribute__((target("avx2"))) void StepAvx2(const DragTable& drag, const SharedBody& body,
-                                              RigidBodyLanes& s, const BodyInputLanes& in, double dt) {
+__attribute__((target("avx2"))) void StepAvx2(const DragTable& drag, const SharedBody& body, RigidBodyLanes& s,
+                                              const BodyInputLanes& in, double dt) {
   StepLanes<LaneMathV4, kLookup>(drag, body, s, in, dt, 0);
 }
 
 template <LaneDragLookup kLookup>
-void StepOnPath(bool avx2, const DragTable& drag, const SharedBody& body, RigidBodyLanes& s,
-                const BodyInputLanes& in, double dt) {
+void StepOnPath(bool avx2, const DragTable& drag, const SharedBody& body, RigidBodyLanes& s, const BodyInputLanes& in,
+                double dt) {
   if (avx2) {
     StepAvx2<kLookup>(drag, body, s, in, dt);
   } else {

@@ -1,5 +1,5 @@
-// ComputeControllerLanes (sim/controller_lanes.h): the drag feed-forward, the LQR's law and the allocation as gnc/lqr.cc
-// and models/mixer.cc compute them for one flight (the formulas of gnc/drag_feedforward.h, gnc/lqr_law.h and
+// ComputeControllerLanes (sim/controller_lanes.h): the drag feed-forward, the LQR's law and the allocation as
+// gnc/lqr.cc and models/mixer.cc compute them for one flight (the formulas of gnc/drag_feedforward.h, gnc/lqr_law.h and
 // models/allocation_law.h, which both instantiate; the allocation in each lane's failure case), over a GCC/Clang
 // generic vector of 2 doubles (SSE2, lanes 0-1 then 2-3) or 4 (AVX2, through a target attribute). Compiled with
 // -ffp-contract=off, out of the unity files and without the precompiled header (src/sim/CMakeLists.txt), so that no
@@ -115,9 +115,9 @@ template <class V>
 UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const ControllerLaneInputs& in,
                                              const gnc::control_internal::WrenchLanes<V>& wrench,
                                              ControllerLaneOutputs& out, int first) {
-  const models::allocation_internal::AllocationLanes<V> allocated = models::allocation_internal::AllocateLanes<V>(
-      CaseLanesOf<V>(mixer, in, first), mixer.params().max_rotor_thrust, wrench.thrust, wrench.u1, wrench.u2,
-      wrench.u3);
+  const models::allocation_internal::AllocationLanes<V> allocated =
+      models::allocation_internal::AllocateLanes<V>(CaseLanesOf<V>(mixer, in, first), mixer.params().max_rotor_thrust,
+                                                    wrench.thrust, wrench.u1, wrench.u2, wrench.u3);
   for (int i = 0; i < models::kRotorCount; ++i) StoreLanes(out.allocated[i], first, allocated.rotor_thrust[i]);
 }
 

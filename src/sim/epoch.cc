@@ -85,14 +85,14 @@ using internal::ActiveRotors;
 using internal::AddEvent;
 using internal::EpochEodOptions;
 using internal::NeededS;
-using internal::StoreEod;
-using internal::ReplanCapped;
 using internal::ObservedBatteryHealth;
 using internal::ObservedPack;
 using internal::PrognosisPack;
-using internal::UpdatePackMonitor;
+using internal::ReplanCapped;
 using internal::StartPlan;
+using internal::StoreEod;
 using internal::ThrustCap;
+using internal::UpdatePackMonitor;
 
 // The profile of the executing plan for the rotors that fly it (docs/modelling-choices.md#eod-load-forecast).
 void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
@@ -259,8 +259,9 @@ void ObserveEodDistribution(const FlightModel& model, FlightState& state, Decisi
   const prognostics::EodDistribution& distribution = state.decision.eod_distribution =
       prognostics::CalcPackEodDistribution(model.pack(), pack, state.decision.eod_current_a, uncertainty,
                                            EpochEodOptions(model, state, pack, state.decision.eod_current_a));
-  inputs.eod_distribution = EodDistributionSummary{distribution.Quantile(0.05), distribution.Quantile(0.50),
-                                                   distribution.Quantile(0.95), distribution.ProbabilityBefore(needed_s)};
+  inputs.eod_distribution =
+      EodDistributionSummary{distribution.Quantile(0.05), distribution.Quantile(0.50), distribution.Quantile(0.95),
+                             distribution.ProbabilityBefore(needed_s)};
 }
 
 }  // namespace

@@ -152,9 +152,9 @@ class DragTable {
         if (!(inverse_uniform_step > 0.0)) cell = SearchCell(x);
       }
       Bracket<V> b;
-      b.index = drag_internal::SelectIndex(below, drag_internal::LaneIndex<V>{} + 0,
-                                           drag_internal::SelectIndex(above, drag_internal::LaneIndex<V>{} + last_cell,
-                                                                      cell));
+      b.index = drag_internal::SelectIndex(
+          below, drag_internal::LaneIndex<V>{} + 0,
+          drag_internal::SelectIndex(above, drag_internal::LaneIndex<V>{} + last_cell, cell));
       b.fraction = below ? Splat<V>(0.0)
                          : (above ? Splat<V>(1.0)
                                   : (x - drag_internal::Gather(values.data(), b.index)) *

@@ -62,8 +62,8 @@ inline double ReachMarginAtLeast(const EpochEod& eod) {
 
 // The EOD as a distribution: its 5, 50 and 95 % quantiles (s) and the chance that the EOD falls short of the rest of
 // the plan with its margin, P(EOD < t_remaining + t_sf), from the load forecast's measured error
-// (sim/eod_error_model.h). With no uncertainty (an empty error model) the quantiles are the EOD's value and the chance 0
-// or 1.
+// (sim/eod_error_model.h). With no uncertainty (an empty error model) the quantiles are the EOD's value and the chance
+// 0 or 1.
 struct EodDistributionSummary {
   double p05_s = 0.0;
   double p50_s = 0.0;
