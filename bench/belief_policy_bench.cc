@@ -21,7 +21,7 @@ DecisionInputs SpreadInputs() {
   inputs.state.bh = uascma::decision::BatteryHealth::kM;
   inputs.flight_time_remaining_s = 240.0;
   inputs.motor_health_belief = {0.6, 0.3, 0.1};
-  inputs.eod_short_probability = 0.2;
+  inputs.eod_distribution = uascma::sim::EodDistributionSummary{.short_probability = 0.2};
   inputs.rul_if_spall_s = 180.0;
   return inputs;
 }

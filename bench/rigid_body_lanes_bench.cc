@@ -62,13 +62,13 @@ enum Pattern { kChain = 0, kThroughput = 1 };
 }
 
 [[gnu::noinline]] void FlyLanes(Pattern pattern, lane_math::LaneMathPath path, LaneDragLookup lookup,
-                                const DragTable& drag, const DragLaneTable& lane_table, const RigidBodyLanes& start,
-                                const BodyInputLanes& inputs, RigidBodyLanes& lanes) {
+                                const DragTable& drag, const RigidBodyLanes& start, const BodyInputLanes& inputs,
+                                RigidBodyLanes& lanes) {
   const RigidBodyParams params;
   lanes = start;
   for (int k = 0; k < kSteps; ++k) {
     if (pattern == kThroughput) lanes = start;
-    StepRigidBodyLanes(path, params, drag, lanes, inputs, kDt, lookup, &lane_table);
+    StepRigidBodyLanes(path, params, drag, lanes, inputs, kDt, lookup);
     benchmark::DoNotOptimize(lanes);
   }
 }
@@ -101,7 +101,6 @@ void BM_RigidBodyLanes(benchmark::State& state) {
                            "libm asin per lane + lookup in lanes"};
   state.SetLabel(std::string(lane_math::LaneMathPathName(path)) + ", " + lookups[state.range(1)]);
   const DragTable drag = DragTable::Default(PropellerConfiguration::kTractor);
-  const DragLaneTable lane_table = DefaultDragLaneTable(PropellerConfiguration::kTractor);
   const Fleet fleet = StartingFleet();
   RigidBodyLanes start, lanes;
   BodyInputLanes inputs;
@@ -110,7 +109,7 @@ void BM_RigidBodyLanes(benchmark::State& state) {
     inputs.Set(i, fleet.inputs[i]);
   }
   for (auto _ : state) {
-    FlyLanes(static_cast<Pattern>(state.range(2)), path, lookup, drag, lane_table, start, inputs, lanes);
+    FlyLanes(static_cast<Pattern>(state.range(2)), path, lookup, drag, start, inputs, lanes);
     benchmark::DoNotOptimize(lanes);
   }
   SetCounters(state);

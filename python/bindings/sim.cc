@@ -399,15 +399,40 @@ void InitSim(py::module_& m) {
       .def("__hash__", [](const decision::CmaState& s) { return decision::CmaStateIndex(s); })
       .def("__repr__", [](const decision::CmaState& s) { return "<CmaState " + decision::CmaStateLabel(s) + ">"; });
 
+  py::class_<EodValue>(m, "EodValue", "The epoch's EOD (s) and the reach margin it gives: their values")
+      .def_readonly("eod_s", &EodValue::eod_s)
+      .def_readonly("reach_margin", &EodValue::reach_margin);
+  py::class_<EodLowerBound>(m, "EodLowerBound",
+                            "The EOD (s) and reach margin at least: the epoch propagated the EOD only as far as the "
+                            "reach margin's class needs (never for a Python policy: it sees the values)")
+      .def_readonly("eod_s", &EodLowerBound::eod_s)
+      .def_readonly("reach_margin", &EodLowerBound::reach_margin);
+  py::class_<EodDistributionSummary>(
+      m, "EodDistributionSummary",
+      "The EOD's distribution: its 5/50/95 % quantiles (s) and P(EOD < t_remaining + t_sf)")
+      .def_readonly("p05_s", &EodDistributionSummary::p05_s, "5 % quantile of the EOD's distribution")
+      .def_readonly("p50_s", &EodDistributionSummary::p50_s, "its median")
+      .def_readonly("p95_s", &EodDistributionSummary::p95_s, "its 95 % quantile")
+      .def_readonly("short_probability", &EodDistributionSummary::short_probability,
+                    "P(EOD < flight_time_remaining_s + t_sf)");
+
+  // The EOD's value the way a policy reads it; an EodLowerBound is a ValueError (a Python policy never sees one).
+  const auto eod_value = [](const DecisionInputs& inputs) -> const EodValue& {
+    const EodValue* value = std::get_if<EodValue>(&inputs.eod);
+    if (value == nullptr) throw py::value_error("the epoch holds only the EOD's lower bound (DecisionInputs.eod)");
+    return *value;
+  };
   py::class_<DecisionInputs>(m, "DecisionInputs", "What the 1 Hz decision module sees (times in s)")
       .def_readonly("time_s", &DecisionInputs::time_s)
       .def_readonly("state", &DecisionInputs::state)
       .def_readonly("flight_time_remaining_s", &DecisionInputs::flight_time_remaining_s)
-      .def_readonly("eod_s", &DecisionInputs::eod_s)
+      .def_readonly("eod", &DecisionInputs::eod, "EodValue, or EodLowerBound where the epoch computed only a bound")
+      .def_property_readonly(
+          "eod_s", [eod_value](const DecisionInputs& i) { return eod_value(i).eod_s; }, "eod.eod_s of an EodValue")
       .def_readonly("rul_s", &DecisionInputs::rul_s, "+inf without a motor fault")
-      .def_readonly("reach_margin", &DecisionInputs::reach_margin)
-      .def_readonly("eod_is_lower_bound", &DecisionInputs::eod_is_lower_bound,
-                    "eod_s and reach_margin are lower bounds (never for a Python policy: it sees the values)")
+      .def_property_readonly(
+          "reach_margin", [eod_value](const DecisionInputs& i) { return eod_value(i).reach_margin; },
+          "eod.reach_margin of an EodValue")
       .def_readonly("motor_margin", &DecisionInputs::motor_margin)
       .def_readonly("vehicle_motor_margin", &DecisionInputs::vehicle_motor_margin,
                     "the vehicle-level motor margin (cma-vehicle's MM): the quadcopter's reach after the predicted jam")
@@ -417,11 +442,8 @@ void InitSim(py::module_& m) {
                     "that RUL for a spall detected at the indicator's first reading")
       .def_readonly("vehicle_motor_margin_if_spall", &DecisionInputs::vehicle_motor_margin_if_spall,
                     "the vehicle-level margin if the motor has a spall (the vehicle-level belief policies' SF states)")
-      .def_readonly("eod_p05_s", &DecisionInputs::eod_p05_s, "5 % quantile of the EOD's distribution")
-      .def_readonly("eod_p50_s", &DecisionInputs::eod_p50_s, "its median")
-      .def_readonly("eod_p95_s", &DecisionInputs::eod_p95_s, "its 95 % quantile")
-      .def_readonly("eod_short_probability", &DecisionInputs::eod_short_probability,
-                    "P(EOD < flight_time_remaining_s + t_sf)")
+      .def_readonly("eod_distribution", &DecisionInputs::eod_distribution,
+                    "EodDistributionSummary (always for a Python policy), None where the epoch did not compute it")
       .def_readonly("motor_health_belief", &DecisionInputs::motor_health_belief,
                     "b(NF, SF, JF): one-hot at the point MH with exact sensing (sim/sensing.h)")
       .def_readonly("rul_if_spall_s", &DecisionInputs::rul_if_spall_s,

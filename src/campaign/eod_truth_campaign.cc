@@ -63,10 +63,11 @@ EodTruthRun FlyTruthRun(const CampaignConfig& config, const CampaignWorld& world
     s.true_eod_s = truth;
     s.current_a = p.eod_current_a;
     s.log_ratio = std::log(*actual / p.eod_current_a);
-    s.eod_p05_s = p.inputs.eod_p05_s;
-    s.eod_p50_s = p.inputs.eod_p50_s;
-    s.eod_p95_s = p.inputs.eod_p95_s;
-    s.eod_short_probability = p.inputs.eod_short_probability;
+    const sim::EodDistributionSummary& d = p.inputs.eod_distribution_value();
+    s.eod_p05_s = d.p05_s;
+    s.eod_p50_s = d.p50_s;
+    s.eod_p95_s = d.p95_s;
+    s.eod_short_probability = d.short_probability;
     s.eod_load_log_mean = p.uncertainty.load_log_mean;
     s.eod_load_log_sigma = p.uncertainty.load_log_sigma;
     // Without spread (an empty table: the training campaign) a point at the EOD.

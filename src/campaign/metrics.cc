@@ -96,10 +96,11 @@ RunRecord MakeRunRecord(const SampledRun& run, const std::string& policy, int sl
   r.energy_wh = result.energy_wh;
   r.end_reserve_s = result.end_reserve_s;
   if (result.eod_at_first_action) {
-    r.first_action_eod_p05_s = result.eod_at_first_action->p05_s;
-    r.first_action_eod_p50_s = result.eod_at_first_action->p50_s;
-    r.first_action_eod_p95_s = result.eod_at_first_action->p95_s;
-    r.first_action_eod_short_probability = result.eod_at_first_action->short_probability;
+    const sim::EodDistributionSummary& d = result.eod_at_first_action->distribution;
+    r.first_action_eod_p05_s = d.p05_s;
+    r.first_action_eod_p50_s = d.p50_s;
+    r.first_action_eod_p95_s = d.p95_s;
+    r.first_action_eod_short_probability = d.short_probability;
   }
   r.max_tracking_error_m = result.max_tracking_error;
   r.max_tilt_rad = result.max_tilt;

@@ -214,7 +214,8 @@ void Companion::DecideEpoch(Clock::time_point received) {
   const sim::DecisionInputs& inputs =
       sim::Observe(model_, state, &flight_log_, sim::NeedsEodDistribution(&policy_, nullptr));
   row.state = decision::CmaStateLabel(inputs.state);
-  row.eod_s = inputs.eod_s, row.rul_s = inputs.rul_s, row.reach_margin = inputs.reach_margin;
+  const sim::EodValue& eod = inputs.eod_value();
+  row.eod_s = eod.eod_s, row.rul_s = inputs.rul_s, row.reach_margin = eod.reach_margin;
   row.motor_margin = inputs.motor_margin, row.flight_time_remaining_s = inputs.flight_time_remaining_s;
   const CmaAction action = policy_.Decide(inputs);
   row.decided = row.taken = decision::CmaActionName(action);

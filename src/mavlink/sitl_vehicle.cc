@@ -129,7 +129,7 @@ void SitlVehicle::Batteries(const sim::FlightState& state, const sim::FlightLog&
     battery.current_consumed = Saturate<std::int32_t>((initial - soc) * cell.capacity_as() / 3.6);
     battery.energy_consumed = -1;
     battery.battery_remaining = Saturate<std::int8_t>(std::clamp(soc, 0.0, 1.0) * 100.0);
-    battery.time_remaining = Saturate<std::int32_t>(state.decision.inputs.eod_s);
+    battery.time_remaining = Saturate<std::int32_t>(sim::EodAtLeastS(state.decision.inputs.eod));
     const bool cut_off = row && row->cell_voltage[pack * models::kCellsPerBranch] <= models::kCutoffVoltage;
     battery.charge_state = static_cast<std::uint8_t>(cut_off ? kMavBatteryChargeStateFailed
                                                              : kMavBatteryChargeStateOk);

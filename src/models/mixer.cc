@@ -10,6 +10,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
+#include "uascma/models/allocation_law.h"
 
 namespace uascma::models {
 namespace {
@@ -209,62 +210,15 @@ double Mixer::max_hover_thrust(int failed_motor) const {
 }
 
 AllocationResult Mixer::AllocateThrusts(const Case& c, const BodyWrench& commanded) const {
-  const double max_thrust = params_.max_rotor_thrust;
+  // The rules are allocation_law.h's, written once for one wrench and for the lanes of sim/controller_lanes.cc.
+  const allocation_internal::AllocationLanes<double> lanes =
+      allocation_internal::AllocateLanes<double>(allocation_internal::AllocationCaseView{c}, params_.max_rotor_thrust,
+                                                 commanded(0), commanded(1), commanded(2), commanded(3));
   AllocationResult result;
-
-  // 1. Roll and pitch: the min-norm pattern with zero net thrust, u_rp = A† (0, τx, τy).
-  RotorThrusts thrusts = c.primary.col(1) * commanded(1) + c.primary.col(2) * commanded(2);
-  double lowest = std::numeric_limits<double>::infinity();
-  double highest = -std::numeric_limits<double>::infinity();
-  if (c.active_count == kRotorCount) {  // the same comparisons, without testing rotors known to be active
-    for (int i = 0; i < kRotorCount; ++i) {
-      lowest = std::min(lowest, thrusts(i));
-      highest = std::max(highest, thrusts(i));
-    }
-  } else {
-    for (int i = 0; i < kRotorCount; ++i) {
-      if (c.active(i) == 0.0) continue;
-      lowest = std::min(lowest, thrusts(i));
-      highest = std::max(highest, thrusts(i));
-    }
-  }
-  // A collective offset moves every active rotor together, so u_rp fits in [0, T_max] for some
-  // collective only if its spread does; otherwise shrink the torque (same direction).
-  const double spread = highest - lowest;
-  if (spread > max_thrust) {
-    result.roll_pitch_scale = max_thrust / spread;
-    thrusts *= result.roll_pitch_scale;
-    lowest *= result.roll_pitch_scale;
-    highest *= result.roll_pitch_scale;
-  }
-
-  // 2. Thrust: the per-rotor share T/n, moved into [−lowest, T_max − highest] if it does not fit.
-  const double wanted_share = commanded(0) / c.active_count;
-  const double share = std::max(-lowest, std::min(wanted_share, max_thrust - highest));
-  result.thrust_limited = share != wanted_share;
-  thrusts += c.active * share;
-
-  // 3. Yaw: add the missing yaw along the yaw-only direction, as far as the rotor limits allow.
-  if (c.yaw_controllable) {
-    const double missing_yaw = commanded(3) - c.mixing.row(3).dot(thrusts);
-    const RotorThrusts yaw_step = c.yaw_direction * missing_yaw;
-    double scale = 1.0;
-    // scale = min over rotors of room / step: divide only where the room is the tighter bound (rarely).
-    for (int i = 0; i < kRotorCount; ++i) {
-      if (yaw_step(i) > 0.0) {
-        const double room = max_thrust - thrusts(i);
-        if (room < scale * yaw_step(i)) scale = std::min(scale, room / yaw_step(i));
-      } else if (yaw_step(i) < 0.0) {
-        const double room = -thrusts(i);
-        if (room > scale * yaw_step(i)) scale = std::min(scale, room / yaw_step(i));
-      }
-    }
-    result.yaw_scale = std::max(scale, 0.0);
-    thrusts += result.yaw_scale * yaw_step;
-  }
-
-  // Round-off can leave a rotor 1e-16 outside its limits; the failed pair is exactly zero already.
-  result.rotor_thrust = thrusts.cwiseMax(0.0).cwiseMin(max_thrust);
+  for (int i = 0; i < kRotorCount; ++i) result.rotor_thrust(i) = lanes.rotor_thrust[i];
+  result.roll_pitch_scale = lanes.roll_pitch_scale;
+  result.yaw_scale = lanes.yaw_scale;
+  result.thrust_limited = lanes.thrust_limited;
   return result;  // Allocate adds M · rotor_thrust
 }
 

@@ -173,9 +173,9 @@ void RecordSubstitution(FlightState& state, FlightLog* log, CmaAction chosen, Cm
 bool ExecutingPlanReaches(const FlightModel& model, const FlightState& state, std::string* why) {
   const DecisionInputs& inputs = state.decision.inputs;
   if (OnFinalDescent(state.plan(model), state.time_s - state.guidance.plan_start_s)) return true;
-  if (inputs.flight_time_remaining_s <= inputs.eod_s) return true;
-  *why +=
-      fmt::format("; the executing plan: {:.0f} s left, EOD {:.0f} s", inputs.flight_time_remaining_s, inputs.eod_s);
+  const double eod_s = inputs.eod_value().eod_s;
+  if (inputs.flight_time_remaining_s <= eod_s) return true;
+  *why += fmt::format("; the executing plan: {:.0f} s left, EOD {:.0f} s", inputs.flight_time_remaining_s, eod_s);
   return false;
 }
 

@@ -108,7 +108,7 @@ CmaState StateWith(const DecisionInputs& inputs, MotorHealth mh, ReachMargin rm,
 
 std::vector<StateBelief> CmaStateBelief(const DecisionInputs& inputs, BeliefAbstraction abstraction) {
   std::vector<StateBelief> belief;
-  const double p_short = std::clamp(inputs.eod_short_probability, 0.0, 1.0);
+  const double p_short = std::clamp(inputs.eod_distribution_value().short_probability, 0.0, 1.0);
   for (int m = 0; m < 3; ++m) {
     const double b_mh = inputs.motor_health_belief[static_cast<std::size_t>(m)];
     if (!(b_mh > 0.0)) continue;
@@ -155,7 +155,7 @@ CmaState RiskCmaPolicy::ChosenState(const DecisionInputs& inputs) const {
   const MotorHealth mh = MapMotorHealth(inputs.motor_health_belief);
   const CmaState s0 = StateWith(inputs, mh, ReachMargin::kRM0, abstraction_);
   const CmaState s1 = StateWith(inputs, mh, ReachMargin::kRM1, abstraction_);
-  const double p_short = inputs.eod_short_probability;
+  const double p_short = inputs.eod_distribution_value().short_probability;
   if (p_short >= 1.0) return s0;
   const double level = std::isnan(stated_level_) ? CmaRiskLevel(*model.q, *model.actions, s0, s1) : stated_level_;
   return !std::isnan(level) && p_short > level ? s0 : s1;

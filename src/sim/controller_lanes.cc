@@ -1,12 +1,9 @@
-// ComputeControllerLanes (sim/controller_lanes.h): the drag feed-forward and the LQR's law as gnc/lqr.cc computes them
-// for one flight (the formulas of gnc/drag_feedforward.h and gnc/lqr_law.h, which both instantiate) and models/
-// mixer.cc's AllocateThrusts (each lane's failure case), over a GCC/Clang generic vector of 2 doubles (SSE2, lanes 0-1
-// then 2-3) or 4 (AVX2, through a target attribute). In the allocation each line names the scalar expression it
-// performs per lane, in its order; a branch of the scalar code is a select between values every lane computes (both
-// are computed by the same operations in every lane, so the selected one has the scalar code's bits). std::min and
-// std::max are lane_math_kernels.h's Min and Max, their definitions. Compiled with -ffp-contract=off, out of the unity
-// files and without the precompiled header (src/sim/CMakeLists.txt), so that no multiply and add are fused on either
-// path.
+// ComputeControllerLanes (sim/controller_lanes.h): the drag feed-forward, the LQR's law and the allocation as
+// gnc/lqr.cc and models/mixer.cc compute them for one flight (the formulas of gnc/drag_feedforward.h, gnc/lqr_law.h and
+// models/allocation_law.h, which both instantiate; the allocation in each lane's failure case), over a GCC/Clang
+// generic vector of 2 doubles (SSE2, lanes 0-1 then 2-3) or 4 (AVX2, through a target attribute). Compiled with
+// -ffp-contract=off, out of the unity files and without the precompiled header (src/sim/CMakeLists.txt), so that no
+// multiply and add are fused on either path.
 #include "uascma/sim/controller_lanes.h"
 
 #include <array>
@@ -16,6 +13,7 @@
 #include "uascma/common/frames.h"
 #include "uascma/gnc/drag_feedforward.h"
 #include "uascma/gnc/lqr_law.h"
+#include "uascma/models/allocation_law.h"
 
 namespace uascma::sim {
 namespace {
@@ -30,8 +28,6 @@ using lane_math_internal::LaneMathV4;
 using lane_math_internal::Lanes3;
 using lane_math_internal::LoadLanes;
 using lane_math_internal::LoadLanes3;
-using lane_math_internal::Max;
-using lane_math_internal::Min;
 using lane_math_internal::Splat;
 using lane_math_internal::StoreLanes;
 
@@ -75,98 +71,54 @@ UASCMA_CONTROLLER_LANES_INLINE Lanes3<V> TargetAcceleration(const ControllerLane
 
 // Each lane's allocation case (Mixer::allocation_case of its failed motor) as vectors, one entry per lane.
 template <class V>
-struct CaseLanes {
-  V primary1[models::kRotorCount], primary2[models::kRotorCount], yaw_row[models::kRotorCount];
-  V yaw_direction[models::kRotorCount], active[models::kRotorCount];
-  V active_count, yaw_controllable;  // yaw_controllable: 1 or 0
-};
-template <class V>
-UASCMA_CONTROLLER_LANES_INLINE CaseLanes<V> CaseLanesOf(const models::Mixer& mixer, const ControllerLaneInputs& in,
-                                                        int first) {
+UASCMA_CONTROLLER_LANES_INLINE models::allocation_internal::AllocationCaseLanes<V> CaseLanesOf(
+    const models::Mixer& mixer, const ControllerLaneInputs& in, int first) {
   constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
-  CaseLanes<V> lanes;
+  models::allocation_internal::AllocationCaseLanes<V> lanes;
   bool one_case = true;
   for (int lane = 1; lane < kWidth; ++lane)
     one_case = one_case && in.failed_motor[first + lane] == in.failed_motor[first];
   if (one_case) {  // the usual group (every rotor in every flight): each value in every lane
     const models::Mixer::Case& c = mixer.allocation_case(in.failed_motor[first]);
     for (int i = 0; i < models::kRotorCount; ++i) {
-      lanes.primary1[i] = Splat<V>(c.primary(i, 1));
-      lanes.primary2[i] = Splat<V>(c.primary(i, 2));
-      lanes.yaw_row[i] = Splat<V>(c.mixing(3, i));
-      lanes.yaw_direction[i] = Splat<V>(c.yaw_direction(i));
-      lanes.active[i] = Splat<V>(c.active(i));
+      lanes.primary1_[i] = Splat<V>(c.primary(i, 1));
+      lanes.primary2_[i] = Splat<V>(c.primary(i, 2));
+      lanes.yaw_row_[i] = Splat<V>(c.mixing(3, i));
+      lanes.yaw_direction_[i] = Splat<V>(c.yaw_direction(i));
+      lanes.active_[i] = Splat<V>(c.active(i));
     }
-    lanes.active_count = Splat<V>(static_cast<double>(c.active_count));
-    lanes.yaw_controllable = Splat<V>(c.yaw_controllable ? 1.0 : 0.0);
+    lanes.active_count_ = Splat<V>(static_cast<double>(c.active_count));
+    lanes.yaw_controllable_ = Splat<V>(c.yaw_controllable ? 1.0 : 0.0);
+    lanes.all_active_ = c.active_count == models::kRotorCount;
     return lanes;
   }
+  lanes.all_active_ = true;
   for (int lane = 0; lane < kWidth; ++lane) {
     const models::Mixer::Case& c = mixer.allocation_case(in.failed_motor[first + lane]);
     for (int i = 0; i < models::kRotorCount; ++i) {
-      lanes.primary1[i][lane] = c.primary(i, 1);
-      lanes.primary2[i][lane] = c.primary(i, 2);
-      lanes.yaw_row[i][lane] = c.mixing(3, i);
-      lanes.yaw_direction[i][lane] = c.yaw_direction(i);
-      lanes.active[i][lane] = c.active(i);
+      lanes.primary1_[i][lane] = c.primary(i, 1);
+      lanes.primary2_[i][lane] = c.primary(i, 2);
+      lanes.yaw_row_[i][lane] = c.mixing(3, i);
+      lanes.yaw_direction_[i][lane] = c.yaw_direction(i);
+      lanes.active_[i][lane] = c.active(i);
     }
-    lanes.active_count[lane] = static_cast<double>(c.active_count);
-    lanes.yaw_controllable[lane] = c.yaw_controllable ? 1.0 : 0.0;
+    lanes.active_count_[lane] = static_cast<double>(c.active_count);
+    lanes.yaw_controllable_[lane] = c.yaw_controllable ? 1.0 : 0.0;
+    lanes.all_active_ = lanes.all_active_ && c.active_count == models::kRotorCount;
   }
   return lanes;
 }
 
-// Mixer::AllocateThrusts (models/mixer.cc) of the wrench with each lane's case, into out.allocated. The scalar code's
-// branches on the case (rotors not active are left out of the spread; no yaw step without yaw control) are selects.
+// Mixer::Allocate's rules (models/allocation_law.h, the ones mixer.cc instantiates for one wrench) with each lane's
+// case, into out.allocated.
 template <class V>
 UASCMA_CONTROLLER_LANES_INLINE void Allocate(const models::Mixer& mixer, const ControllerLaneInputs& in,
                                              const gnc::control_internal::WrenchLanes<V>& wrench,
                                              ControllerLaneOutputs& out, int first) {
-  const V zero = Splat<V>(0.0);
-  const V one = Splat<V>(1.0);
-  const V thrust = wrench.thrust, u1 = wrench.u1, u2 = wrench.u2, u3 = wrench.u3;
-  const CaseLanes<V> c = CaseLanesOf<V>(mixer, in, first);
-  const double max_thrust = mixer.params().max_rotor_thrust;
-  V t[models::kRotorCount];
-  V lowest = Splat<V>(std::numeric_limits<double>::infinity());
-  V highest = Splat<V>(-std::numeric_limits<double>::infinity());
-  for (int i = 0; i < models::kRotorCount; ++i) {
-    t[i] = c.primary1[i] * u1 + c.primary2[i] * u2;
-    const auto active = c.active[i] != zero;
-    lowest = active ? Min(lowest, t[i]) : lowest;
-    highest = active ? Max(highest, t[i]) : highest;
-  }
-  const V spread = highest - lowest;
-  const auto too_wide = spread > max_thrust;
-  const V roll_pitch_scale = max_thrust / spread;
-  for (V& ti : t) ti = too_wide ? ti * roll_pitch_scale : ti;
-  lowest = too_wide ? lowest * roll_pitch_scale : lowest;
-  highest = too_wide ? highest * roll_pitch_scale : highest;
-  const V wanted_share = thrust / c.active_count;
-  const V share = Max(-lowest, Min(wanted_share, max_thrust - highest));
-  for (int i = 0; i < models::kRotorCount; ++i) t[i] = t[i] + c.active[i] * share;
-  // The yaw row's dot product in Eigen's unrolled order, then the yaw step scaled to the rotor limits.
-  V m[models::kRotorCount];
-  for (int i = 0; i < models::kRotorCount; ++i) m[i] = c.yaw_row[i] * t[i];
-  const V missing_yaw = u3 - ((m[0] + (m[1] + m[2])) + (m[3] + (m[4] + m[5])));
-  V yaw_scale = one;
-  V yaw_step[models::kRotorCount];
-  for (int i = 0; i < models::kRotorCount; ++i) {
-    yaw_step[i] = c.yaw_direction[i] * missing_yaw;
-    // step > 0: room = T_max − t; step < 0: room = −t; the scale falls to room / step where room is the tighter bound.
-    const auto up = yaw_step[i] > zero;
-    const auto down = yaw_step[i] < zero;
-    const V room = up ? max_thrust - t[i] : -t[i];
-    const V bound = yaw_scale * yaw_step[i];
-    const auto tighter = (up & (room < bound)) | (down & (room > bound));
-    yaw_scale = tighter ? Min(yaw_scale, room / yaw_step[i]) : yaw_scale;
-  }
-  yaw_scale = Max(yaw_scale, zero);
-  const auto yaw_controllable = c.yaw_controllable != zero;
-  for (int i = 0; i < models::kRotorCount; ++i) {
-    const V ti = yaw_controllable ? t[i] + yaw_scale * yaw_step[i] : t[i];
-    StoreLanes(out.allocated[i], first, Min(Max(ti, zero), Splat<V>(max_thrust)));
-  }
+  const models::allocation_internal::AllocationLanes<V> allocated =
+      models::allocation_internal::AllocateLanes<V>(CaseLanesOf<V>(mixer, in, first), mixer.params().max_rotor_thrust,
+                                                    wrench.thrust, wrench.u1, wrench.u2, wrench.u3);
+  for (int i = 0; i < models::kRotorCount; ++i) StoreLanes(out.allocated[i], first, allocated.rotor_thrust[i]);
 }
 
 // The lanes [first, first + width) of ComputeControllerLanes: the law of gnc/lqr_law.h (the one LqrController::Compute

@@ -24,9 +24,9 @@ Observation DecisionEnvironment::MakeObservation() const {
   o.time_s = inputs.time_s;
   o.state = inputs.state;
   o.flight_status = state_.decision.flight_status;
-  o.reach_margin = inputs.reach_margin;
+  o.reach_margin = inputs.eod_value().reach_margin;
   o.motor_margin = inputs.motor_margin;
-  o.eod_s = inputs.eod_s;
+  o.eod_s = inputs.eod_value().eod_s;
   o.rul_s = inputs.rul_s;
   o.flight_time_remaining_s = inputs.flight_time_remaining_s;
   if (state_.done()) {

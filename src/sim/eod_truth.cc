@@ -48,7 +48,7 @@ EodTruthFlight FlyEodTruthTwin(const FlightModel& model) {
       const DecisionInputs& inputs = Observe(model, state);
       EodTruthPrediction prediction;
       prediction.time_s = state.time_s;
-      prediction.eod_s = inputs.eod_s;
+      prediction.eod_s = inputs.eod_value().eod_s;
       prediction.eod_current_a = state.decision.eod_current_a;
       prediction.flight_time_remaining_s = inputs.flight_time_remaining_s;
       prediction.motor_health = inputs.state.mh;

@@ -84,13 +84,15 @@ using decision::CmaAction;
 using internal::ActiveRotors;
 using internal::AddEvent;
 using internal::EpochEodOptions;
-using internal::ReplanCapped;
+using internal::NeededS;
 using internal::ObservedBatteryHealth;
 using internal::ObservedPack;
 using internal::PrognosisPack;
-using internal::UpdatePackMonitor;
+using internal::ReplanCapped;
 using internal::StartPlan;
+using internal::StoreEod;
 using internal::ThrustCap;
+using internal::UpdatePackMonitor;
 
 // The profile of the executing plan for the rotors that fly it (docs/modelling-choices.md#eod-load-forecast).
 void EnsureLoadProfile(const FlightModel& model, FlightState& state) {
@@ -229,34 +231,16 @@ decision::MotorHealth ObserveMotorHealth(const FlightModel& model, FlightState& 
   return decision::MotorHealth::kSF;
 }
 
-// t_remaining + t_sf: what the EOD must cover for RM ≥ 0 (docs/modelling-choices.md#margins).
-double NeededS(const FlightModel& model, const DecisionInputs& inputs) {
-  return inputs.flight_time_remaining_s + model.options().safety_margin_s;
-}
-
-// The epoch's EOD into the decision state and the inputs' eod_s and reach_margin. Empty: no crossing before
-// t_remaining + t_sf (CalcPackEodBefore), the EOD held as that lower bound (RM 0: RM1, eod_is_lower_bound).
-void StoreEod(const FlightModel& model, FlightState& state, const std::optional<prognostics::EodResult>& eod) {
-  DecisionInputs& inputs = state.decision.inputs;
-  const double needed_s = NeededS(model, inputs);
-  inputs.eod_is_lower_bound = !eod;
-  state.decision.eod =
-      eod ? *eod
-          : prognostics::EodResult{.status = prognostics::EodStatus::kNotReachedWithinHorizon, .eod_s = needed_s};
-  inputs.eod_s = state.decision.eod.eod_s;
-  inputs.reach_margin =
-      prognostics::CalcReachMargin(inputs.eod_s, inputs.flight_time_remaining_s, model.options().safety_margin_s);
-}
-
 // The EOD's distribution: prognostics::CalcPackEodDistribution at the forecast current with the load
 // forecast's measured error of this epoch's cell (sim/eod_error_model.h): its 5/50/95 % quantiles and
 // P(EOD < t_remaining + t_sf). Without uncertainty, a point at the EOD. Under noisy sensing (sim/sensing.h) the
 // distribution is the sensed pack's (`pack`) and the SOC estimate's 1σ joins the error model's.
 void ObserveEodDistribution(const FlightModel& model, FlightState& state, DecisionInputs& inputs,
                             const models::PackState& pack) {
+  const double eod_s = inputs.eod_value().eod_s;
   prognostics::EodUncertainty uncertainty =
       model.eod_error_model().At({model.battery_health(), inputs.state.mh, model.scenario().wind.turbulence,
-                                  inputs.flight_time_remaining_s, inputs.eod_s});
+                                  inputs.flight_time_remaining_s, eod_s});
   const bool noisy = model.options().noisy_sensing;
   if (noisy) {
     uncertainty.soc_sigma = std::min(std::hypot(uncertainty.soc_sigma, CalcSocEstimateSigma(model, state)),
@@ -269,17 +253,15 @@ void ObserveEodDistribution(const FlightModel& model, FlightState& state, Decisi
   if (point || !(state.decision.eod_current_a > 0.0)) {
     state.decision.eod_distribution = {};
     state.decision.eod_distribution.point = state.decision.eod;
-    inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_s;
-    inputs.eod_short_probability = inputs.eod_s < needed_s ? 1.0 : 0.0;
+    inputs.eod_distribution = EodDistributionSummary{eod_s, eod_s, eod_s, eod_s < needed_s ? 1.0 : 0.0};
     return;
   }
   const prognostics::EodDistribution& distribution = state.decision.eod_distribution =
       prognostics::CalcPackEodDistribution(model.pack(), pack, state.decision.eod_current_a, uncertainty,
                                            EpochEodOptions(model, state, pack, state.decision.eod_current_a));
-  inputs.eod_p05_s = distribution.Quantile(0.05);
-  inputs.eod_p50_s = distribution.Quantile(0.50);
-  inputs.eod_p95_s = distribution.Quantile(0.95);
-  inputs.eod_short_probability = distribution.ProbabilityBefore(needed_s);
+  inputs.eod_distribution =
+      EodDistributionSummary{distribution.Quantile(0.05), distribution.Quantile(0.50), distribution.Quantile(0.95),
+                             distribution.ProbabilityBefore(needed_s)};
 }
 
 }  // namespace
@@ -328,14 +310,13 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
           : 1.0;
   inputs.state =
       decision::AbstractCmaState(state.decision.flight_status, motor_health, ObservedBatteryHealth(model, state),
-                                 inputs.reach_margin, inputs.motor_margin);
-  inputs.has_eod_distribution = eod_distribution;
+                                 ReachMarginAtLeast(inputs.eod), inputs.motor_margin);
   if (eod_distribution) {
     ObserveEodDistribution(model, state, inputs, observed);
   } else {
     state.decision.eod_uncertainty = {};
     state.decision.eod_distribution = {};
-    inputs.eod_p05_s = inputs.eod_p50_s = inputs.eod_p95_s = inputs.eod_short_probability = 0.0;
+    inputs.eod_distribution.reset();
   }
   if (log) log->states.emplace_back(t, decision::CmaStateIndex(inputs.state));
   return inputs;
@@ -364,40 +345,16 @@ const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, B
   return inputs;
 }
 
-void CompleteEod(const FlightModel& model, FlightState& state) {
-  DecisionInputs& inputs = state.decision.inputs;
-  if (!inputs.eod_is_lower_bound) return;
-  UASCMA_CHECK(inputs.time_s == state.time_s, "CompleteEod at the epoch Observe bounded the EOD");
-  const decision::ReachMargin bound_class = inputs.state.rm;
-  // Observe's pack and current: exact sensing, and no battery executor has switched the packs since
-  // (EpochEodPrecision).
-  const double current_a = state.decision.eod_current_a;
-  const models::PackState pack = PrognosisPack(state, state.power.pack);
-  StoreEod(model, state,
-           prognostics::CalcPackEod(model.pack(), pack, current_a, EpochEodOptions(model, state, pack, current_a)));
-  UASCMA_CHECK(decision::ClassifyReachMargin(inputs.reach_margin) == bound_class,
-               "the EOD's value in the class its bound settled");
-}
-
-EodPrecision EpochEodPrecision(const FlightModel& model, std::span<DecisionPolicy* const> policies,
-                               const BatterySwitchPolicy* battery, const FlightLog* log, bool eod_distribution) {
-  bool class_only =
-      battery == nullptr && !(log && log->record_telemetry) && !eod_distribution && !model.options().noisy_sensing;
-  for (const DecisionPolicy* policy : policies) class_only = class_only && (!policy || policy->ReadsOnlyCmaState());
-  return class_only ? EodPrecision::kReachMarginClass : EodPrecision::kValue;
-}
-
 void RecordEodAtAction(const FlightModel& model, FlightState& state, CmaAction action) {
   if (action == CmaAction::kNoOp) return;
   CompleteEod(model, state);  // the planners and this record read the EOD's value
   if (state.decision.eod_at_first_action) return;
   DecisionInputs& inputs = state.decision.inputs;
-  if (!inputs.has_eod_distribution) {  // the pack the epoch's EOD was computed from (Observe)
+  if (!inputs.eod_distribution) {  // the pack the epoch's EOD was computed from (Observe)
     ObserveEodDistribution(model, state, inputs, ObservedPack(model, state));
-    inputs.has_eod_distribution = true;
   }
-  state.decision.eod_at_first_action = EodAtAction{inputs.time_s,    inputs.eod_s,     inputs.eod_p05_s,
-                                                   inputs.eod_p50_s, inputs.eod_p95_s, inputs.eod_short_probability};
+  state.decision.eod_at_first_action =
+      EodAtAction{inputs.time_s, inputs.eod_value().eod_s, inputs.eod_distribution_value()};
 }
 
 void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log) {

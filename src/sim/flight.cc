@@ -304,11 +304,14 @@ void RecordTelemetry(const FlightModel& model, const FlightState& state, const S
   row.eod_s = state.decision.eod.eod_s;
   row.flight_time_remaining_s = inputs.flight_time_remaining_s;
   row.rul_s = inputs.rul_s;
-  row.reach_margin = inputs.reach_margin;
-  row.eod_p05_s = inputs.eod_p05_s;
-  row.eod_p50_s = inputs.eod_p50_s;
-  row.eod_p95_s = inputs.eod_p95_s;
-  row.eod_short_probability = inputs.eod_short_probability;
+  // The value: an epoch that records telemetry propagates it (EpochEodPrecision); a step logged after an epoch that
+  // did not (a flight flown on with a log) shows that epoch's bound, as row.eod_s shows DecisionState::eod.
+  row.reach_margin = ReachMarginAtLeast(inputs.eod);
+  const EodDistributionSummary distribution = inputs.eod_distribution.value_or(EodDistributionSummary{});
+  row.eod_p05_s = distribution.p05_s;
+  row.eod_p50_s = distribution.p50_s;
+  row.eod_p95_s = distribution.p95_s;
+  row.eod_short_probability = distribution.short_probability;
   row.motor_health_belief = inputs.motor_health_belief;
   row.motor_margin = inputs.motor_margin;
   row.cma_state = decision::CmaStateIndex(inputs.state);
@@ -417,7 +420,6 @@ FlightModel::FlightModel(const Scenario& scenario)
       electrical_power_(propulsion_),
       mixer_(ScenarioMixer(scenario)),
       drag_(ScenarioDrag(scenario)),
-      drag_lanes_(drag_),
       wind_(scenario.wind, static_cast<int>(std::lround(scenario.options.gnc_rate_hz / scenario.options.wind_rate_hz))),
       pack_(MakeFlightPackParams(scenario)),
       rul_model_(PrognosisGrowth(scenario.fault)),
@@ -595,7 +597,7 @@ void StepTogetherWith(std::span<const FlightModel* const> models, std::span<Flig
   }
   // libm's asin per lane, the table's interpolation in the lanes: DragAtSine's bits (models/rigid_body_lanes.h).
   models::StepRigidBodyLanes(path, vehicle.scenario().body, vehicle.drag(), bodies, inputs, vehicle.dt(),
-                             models::LaneDragLookup::kLibmAsinTableInLanes, &vehicle.drag_lanes());
+                             models::LaneDragLookup::kLibmAsinTableInLanes);
   for (int k = 0; k < n; ++k) {
     if (!flying[k]) continue;
     const FlightModel& model = *models[k];

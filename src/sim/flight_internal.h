@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -103,5 +104,12 @@ models::PackState ObservedPack(const FlightModel& model, const FlightState& stat
 // The battery-health input of the CMA state: the scenario's class (docs/modelling-choices.md#battery-health-label), P
 // once the indicator flags a pack (Table 4.2's unhealthy).
 decision::BatteryHealth ObservedBatteryHealth(const FlightModel& model, const FlightState& state);
+
+// ---- the epoch's EOD as a value or a bound (sim/eod_precision.h); defined in eod_precision.cc -----------------------
+// t_remaining + t_sf: what the EOD must cover for RM ≥ 0 (docs/modelling-choices.md#margins).
+double NeededS(const FlightModel& model, const DecisionInputs& inputs);
+// The epoch's EOD into DecisionState::eod and DecisionInputs::eod: an EodValue, or, empty (no crossing before
+// t_remaining + t_sf, prognostics::CalcPackEodBefore), an EodLowerBound at t_remaining + t_sf (RM 0: RM1).
+void StoreEod(const FlightModel& model, FlightState& state, const std::optional<prognostics::EodResult>& eod);
 
 }  // namespace uascma::sim::internal

@@ -79,6 +79,17 @@ void CheckRanking(const std::vector<decision::ActionIndex>& actions, const Ranki
 
 }  // namespace
 
+const EodValue& DecisionInputs::eod_value() const {
+  const EodValue* value = std::get_if<EodValue>(&eod);
+  UASCMA_CHECK(value != nullptr, "the EOD's value read where the epoch held only its lower bound (CompleteEod)");
+  return *value;
+}
+
+const EodDistributionSummary& DecisionInputs::eod_distribution_value() const {
+  UASCMA_CHECK(eod_distribution.has_value(), "the EOD's distribution read at an epoch that did not compute it");
+  return *eod_distribution;
+}
+
 ActionRanking DefaultCmaActionRanking(const decision::CmaState& state) {
   static const RankingTable ranking = SolvedCmaPolicyDefinition().ranking;  // solved once (thread-safe static)
   return ranking[static_cast<std::size_t>(decision::CmaStateIndex(state))];

@@ -66,8 +66,9 @@ namespace {
 // The EOD's distribution when the CMA first acted, or null.
 nlohmann::json EodAtActionJson(const std::optional<EodAtAction>& at) {
   if (!at) return nullptr;
-  return {{"time_s", at->time_s}, {"eod_s", at->eod_s}, {"p05_s", at->p05_s},
-          {"p50_s", at->p50_s},   {"p95_s", at->p95_s}, {"short_probability", at->short_probability}};
+  const EodDistributionSummary& d = at->distribution;
+  return {{"time_s", at->time_s}, {"eod_s", at->eod_s}, {"p05_s", d.p05_s},
+          {"p50_s", d.p50_s},     {"p95_s", d.p95_s},   {"short_probability", d.short_probability}};
 }
 
 }  // namespace

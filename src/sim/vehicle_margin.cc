@@ -97,7 +97,7 @@ double ObserveVehicleMotorMargin(const FlightModel& model, const FlightState& st
                                  double rul_s, bool isolated, const models::PackState& pack) {
   const bool jams = MotorJamsWithinPlan(inputs.flight_time_remaining_s, rul_s, isolated);
   const QuadcopterReach quad = jams ? CalcQuadcopterReach(model, state, pack) : QuadcopterReach{};
-  return CalcVehicleMotorMargin(inputs.flight_time_remaining_s, rul_s, isolated, inputs.reach_margin, quad,
+  return CalcVehicleMotorMargin(inputs.flight_time_remaining_s, rul_s, isolated, ReachMarginAtLeast(inputs.eod), quad,
                                 model.options().safety_margin_s);
 }
 

@@ -202,23 +202,24 @@ TEST(EodCalibrationTest, TruthTwinHoldsAtTheTopOfItsFinalDescentUntilTheCutoff) 
     EXPECT_GT(flight.TrueEod(p), 0.0);
     EXPECT_EQ(p.uncertainty.load_log_mean, 0.02);
     EXPECT_EQ(p.uncertainty.load_log_sigma, 0.1);
-    ASSERT_TRUE(p.inputs.has_eod_distribution);
+    ASSERT_TRUE(p.inputs.eod_distribution.has_value());
+    const sim::EodDistributionSummary& d = *p.inputs.eod_distribution;
     if (k % 60 == 30 && p.eod_current_a > 0.0) {
       // The flight's quantiles are its distribution's, and close to the EOD at the current's quantile (load only:
       // exact up to CalcPackEodDistribution's one-secant log-normal, prognostics/eod_distribution.h).
-      EXPECT_EQ(p.inputs.eod_p05_s, p.distribution.Quantile(0.05));
+      EXPECT_EQ(d.p05_s, p.distribution.Quantile(0.05));
       // To the cut-off the flight's EOD used (raised by the recent current peak's sag, prognostics/eod_peak.h).
       prognostics::EodOptions to_cutoff;
       to_cutoff.cutoff_v = p.eod_cutoff_v;
       const double at_p05 =
           prognostics::CalcPackEod(model.pack(), p.pack, p.eod_current_a * std::exp(0.02 + 0.1 * z95), to_cutoff).eod_s;
-      EXPECT_NEAR(p.inputs.eod_p05_s, at_p05, 0.01 * at_p05);
-      EXPECT_EQ(p.inputs.eod_short_probability,
+      EXPECT_NEAR(d.p05_s, at_p05, 0.01 * at_p05);
+      EXPECT_EQ(d.short_probability,
                 p.distribution.ProbabilityBefore(p.flight_time_remaining_s + sampled.safety_margin_s));
-      EXPECT_LT(p.inputs.eod_p05_s, p.inputs.eod_p50_s);
-      EXPECT_LT(p.inputs.eod_p50_s, p.inputs.eod_p95_s);
-      EXPECT_GE(p.inputs.eod_short_probability, 0.0);
-      EXPECT_LE(p.inputs.eod_short_probability, 1.0);
+      EXPECT_LT(d.p05_s, d.p50_s);
+      EXPECT_LT(d.p50_s, d.p95_s);
+      EXPECT_GE(d.short_probability, 0.0);
+      EXPECT_LE(d.short_probability, 1.0);
     }
   }
 }

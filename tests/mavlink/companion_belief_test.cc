@@ -60,14 +60,15 @@ TEST(CompanionBeliefTest, TheCompanionsCmaInputsAreTheInProcessOnesWithinToleran
       ASSERT_DOUBLE_EQ(believed.time_s, truth.time_s);
       EXPECT_EQ(believed.state.mh, truth.state.mh) << "at " << truth.time_s << " s";
       if (truth.time_s >= kSettleS && state.vehicle.airborne) {
-        EXPECT_NEAR(believed.eod_s, truth.eod_s, kEodTolerance) << "at " << truth.time_s << " s";
+        EXPECT_NEAR(believed.eod_value().eod_s, truth.eod_value().eod_s, kEodTolerance)
+            << "at " << truth.time_s << " s";
         EXPECT_NEAR(believed.flight_time_remaining_s, truth.flight_time_remaining_s, kPlanTolerance)
             << "at " << truth.time_s << " s";
-        max_error_s = std::max(max_error_s, std::abs(believed.eod_s - truth.eod_s));
+        max_error_s = std::max(max_error_s, std::abs(believed.eod_value().eod_s - truth.eod_value().eod_s));
         ++compared;
-        if (std::abs(truth.reach_margin) > kReachMarginBand) {
+        if (std::abs(truth.eod_value().reach_margin) > kReachMarginBand) {
           EXPECT_EQ(decision::CmaStateLabel(believed.state), decision::CmaStateLabel(truth.state))
-              << "at " << truth.time_s << " s, RM " << truth.reach_margin;
+              << "at " << truth.time_s << " s, RM " << truth.eod_value().reach_margin;
           ++states_compared;
         }
       }

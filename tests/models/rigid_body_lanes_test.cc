@@ -27,28 +27,18 @@ bool SameBits(const RigidBodyState& a, const RigidBodyState& b) {
          bits_equal(a.w_WB_B.data(), b.w_WB_B.data(), 3);
 }
 
-// The tables, each with its lane table: the defaults (uniform axes over ±30°, 0-10 m/s), a non-uniform one (a CSV's
-// binary search; the lookups in lanes fall back to per lane) and one whose pitch axis spans ±90° (DragAtSine never
-// skips the asin).
-struct TablePair {
-  DragTable table;
-  DragLaneTable lanes;
-};
-TablePair MakePair(const std::vector<double>& airspeeds, const std::vector<double>& pitches,
-                   const std::vector<double>& values, const std::string& name) {
-  return {DragTable(airspeeds, pitches, values, name), DragLaneTable(airspeeds, pitches, values)};
-}
-std::vector<TablePair> Tables() {
-  std::vector<TablePair> tables = {
-      {DragTable::Default(PropellerConfiguration::kTractor), DefaultDragLaneTable(PropellerConfiguration::kTractor)},
-      {DragTable::Default(PropellerConfiguration::kPusher), DefaultDragLaneTable(PropellerConfiguration::kPusher)}};
+// The tables: the defaults (uniform axes over ±30°, 0-10 m/s), a non-uniform one (a CSV's binary search; the lookups
+// in lanes fall back to per lane) and one whose pitch axis spans ±90° (DragAtSine never skips the asin).
+std::vector<DragTable> Tables() {
+  std::vector<DragTable> tables = {DragTable::Default(PropellerConfiguration::kTractor),
+                                   DragTable::Default(PropellerConfiguration::kPusher)};
   const std::vector<double> drag_n = {0.0, 0.1, 0.0, 0.2, 0.3,  //
                                       0.4, 0.2, 0.3, 0.6, 0.8,  //
                                       1.5, 1.0, 1.2, 2.0, 2.6,  //
                                       3.1, 2.9, 3.4, 4.0, 5.2};
-  tables.push_back(MakePair({0.0, 2.0, 5.5, 12.0}, {-0.6, -0.1, 0.0, 0.35, 0.7}, drag_n, "non-uniform"));
+  tables.push_back(DragTable({0.0, 2.0, 5.5, 12.0}, {-0.6, -0.1, 0.0, 0.35, 0.7}, drag_n, "non-uniform"));
   const double h = std::numbers::pi / 2;
-  tables.push_back(MakePair({0.0, 4.0, 8.0, 12.0}, {-h, -0.5 * h, 0.0, 0.5 * h, h}, drag_n, "full circle"));
+  tables.push_back(DragTable({0.0, 4.0, 8.0, 12.0}, {-h, -0.5 * h, 0.0, 0.5 * h, h}, drag_n, "full circle"));
   return tables;
 }
 
@@ -87,8 +77,7 @@ TEST(RigidBodyLanesTest, OneStepEqualsTheScalarStepOnEveryLaneAndPath) {
   std::mt19937_64 rng(27);
   const RigidBodyParams params;
   const double dt = 0.005;
-  for (const TablePair& table : Tables()) {
-    const DragTable& drag = table.table;
+  for (const DragTable& drag : Tables()) {
     for (LaneMathPath path : Paths()) {
       int compared = 0;
       for (int group = 0; group < 5000; ++group) {
@@ -102,8 +91,7 @@ TEST(RigidBodyLanesTest, OneStepEqualsTheScalarStepOnEveryLaneAndPath) {
         }
         RigidBodyLanes table_in_lanes = lanes;
         StepRigidBodyLanes(path, params, drag, lanes, inputs, dt);
-        StepRigidBodyLanes(path, params, drag, table_in_lanes, inputs, dt, LaneDragLookup::kLibmAsinTableInLanes,
-                           &table.lanes);
+        StepRigidBodyLanes(path, params, drag, table_in_lanes, inputs, dt, LaneDragLookup::kLibmAsinTableInLanes);
         for (int i = 0; i < kBodyLanes; ++i) {
           const RigidBodyState scalar = StepRigidBody(params, drag, bodies[i].state, bodies[i].inputs, dt);
           ASSERT_TRUE(SameBits(lanes.Get(i), scalar))
@@ -123,7 +111,6 @@ TEST(RigidBodyLanesTest, OneStepEqualsTheScalarStepOnEveryLaneAndPath) {
 TEST(RigidBodyLanesTest, FlightsInLanesEqualFlightsFlownAlone) {
   const RigidBodyParams params;
   const DragTable drag = DragTable::Default(PropellerConfiguration::kTractor);
-  const DragLaneTable lane_table = DefaultDragLaneTable(PropellerConfiguration::kTractor);
   for (LaneMathPath path : Paths()) {
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -145,8 +132,7 @@ TEST(RigidBodyLanesTest, FlightsInLanesEqualFlightsFlownAlone) {
         alone[i] = StepRigidBody(params, drag, alone[i], in, 0.005);
       }
       StepRigidBodyLanes(path, params, drag, lanes, inputs, 0.005);
-      StepRigidBodyLanes(path, params, drag, table_in_lanes, inputs, 0.005, LaneDragLookup::kLibmAsinTableInLanes,
-                         &lane_table);
+      StepRigidBodyLanes(path, params, drag, table_in_lanes, inputs, 0.005, LaneDragLookup::kLibmAsinTableInLanes);
       for (int i = 0; i < kBodyLanes; ++i) {
         ASSERT_TRUE(SameBits(lanes.Get(i), alone[i]))
             << "path " << lane_math::LaneMathPathName(path) << ", step " << step << ", lane " << i;
@@ -182,8 +168,8 @@ TEST(RigidBodyLanesTest, ALaneDoesNotDependOnItsNeighbours) {
   }
 }
 
-// kOursInLanes's lookup equals DragTable::Drag at our asin, bit for bit: on the default tables (the lane table
-// recomputed by DefaultDragLaneTable) and on a random table with uniform axes, over airspeeds below 0, inside and
+// kOursInLanes's lookup (DragTable::DragInLanes) equals DragTable::Drag at our asin, bit for bit: on the default tables
+// and on a random table with uniform axes, over airspeeds below 0, inside and
 // beyond the airspeed axis and every sine (incidences inside and beyond the pitch axis).
 TEST(RigidBodyLanesTest, LookupInLanesEqualsTheTableAtOurAsin) {
   std::mt19937_64 rng(3);
@@ -191,16 +177,11 @@ TEST(RigidBodyLanesTest, LookupInLanesEqualsTheTableAtOurAsin) {
   std::vector<double> airspeeds = {0.0, 1.5, 3.0, 4.5, 6.0}, pitches, values;
   for (int j = 0; j < 9; ++j) pitches.push_back(-0.7 + 0.175 * j);
   for (std::size_t k = 0; k < airspeeds.size() * pitches.size(); ++k) values.push_back(5.0 * unit(rng));
-  struct Pair {
-    DragTable table;
-    DragLaneTable lanes;
-  };
-  const std::vector<Pair> pairs = {
-      {DragTable::Default(PropellerConfiguration::kTractor), DefaultDragLaneTable(PropellerConfiguration::kTractor)},
-      {DragTable::Default(PropellerConfiguration::kPusher), DefaultDragLaneTable(PropellerConfiguration::kPusher)},
-      {DragTable(airspeeds, pitches, values, "random"), DragLaneTable(airspeeds, pitches, values)}};
-  for (const Pair& pair : pairs) {
-    ASSERT_TRUE(pair.lanes.uniform);
+  const std::vector<DragTable> tables = {DragTable::Default(PropellerConfiguration::kTractor),
+                                         DragTable::Default(PropellerConfiguration::kPusher),
+                                         DragTable(airspeeds, pitches, values, "random")};
+  for (const DragTable& table : tables) {
+    ASSERT_TRUE(table.uniform_axes());
     for (LaneMathPath path : Paths()) {
       for (int group = 0; group < 20000; ++group) {
         BodyLaneValues airspeed, sine;
@@ -208,9 +189,9 @@ TEST(RigidBodyLanesTest, LookupInLanesEqualsTheTableAtOurAsin) {
           airspeed[i] = -1.0 + 16.0 * unit(rng);
           sine[i] = group % 2 == 0 ? -1.0 + 2.0 * unit(rng) : -0.7 + 1.4 * unit(rng);
         }
-        const BodyLaneValues drag = DragAtSineLanes(path, pair.lanes, airspeed, sine);
+        const BodyLaneValues drag = DragAtSineLanes(path, table, airspeed, sine);
         for (int i = 0; i < kBodyLanes; ++i) {
-          const double expected = pair.table.Drag(airspeed[i], lane_math::Asin(sine[i]));
+          const double expected = table.Drag(airspeed[i], lane_math::Asin(sine[i]));
           ASSERT_EQ(std::memcmp(&drag[i], &expected, sizeof(double)), 0)
               << lane_math::LaneMathPathName(path) << " airspeed " << airspeed[i] << " sine " << sine[i];
         }
@@ -227,7 +208,6 @@ TEST(RigidBodyLanesTest, StepWithTheLookupInLanesEqualsItsPerLaneReference) {
   const RigidBodyParams params;
   for (PropellerConfiguration configuration : {PropellerConfiguration::kTractor, PropellerConfiguration::kPusher}) {
     const DragTable drag = DragTable::Default(configuration);
-    const DragLaneTable lane_table = DefaultDragLaneTable(configuration);
     for (LaneMathPath path : Paths()) {
       for (int group = 0; group < 5000; ++group) {
         RigidBodyLanes in_lanes, per_lane;
@@ -238,7 +218,7 @@ TEST(RigidBodyLanesTest, StepWithTheLookupInLanesEqualsItsPerLaneReference) {
           per_lane.Set(i, body.state);
           inputs.Set(i, body.inputs);
         }
-        StepRigidBodyLanes(path, params, drag, in_lanes, inputs, 0.005, LaneDragLookup::kOursInLanes, &lane_table);
+        StepRigidBodyLanes(path, params, drag, in_lanes, inputs, 0.005, LaneDragLookup::kOursInLanes);
         StepRigidBodyLanes(LaneMathPath::kSse2, params, drag, per_lane, inputs, 0.005, LaneDragLookup::kOursPerLane);
         for (int i = 0; i < kBodyLanes; ++i) {
           ASSERT_TRUE(SameBits(in_lanes.Get(i), per_lane.Get(i)))

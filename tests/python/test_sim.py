@@ -97,7 +97,8 @@ def test_a_python_callable_flies_like_the_same_policy_in_cpp():
 
     def always_noop(inputs):
         seen.append(inputs.time_s)
-        assert not inputs.eod_is_lower_bound  # a Python policy sees the EOD's value, never its class's bound
+        assert isinstance(inputs.eod, uascma.EodValue)  # a Python policy sees the EOD's value, never its class's bound
+        assert (inputs.eod_s, inputs.reach_margin) == (inputs.eod.eod_s, inputs.eod.reach_margin)
         return "NoOp"
 
     mine = uascma.run(example("nominal.yaml"), always_noop, seed=3, telemetry=False)
@@ -127,7 +128,8 @@ def test_the_eod_distribution_reaches_telemetry_decision_inputs_and_the_summary(
     seen = []
 
     def watch(inputs):
-        seen.append((inputs.eod_p05_s, inputs.eod_p95_s, inputs.eod_short_probability))
+        d = inputs.eod_distribution
+        seen.append((d.p05_s, d.p95_s, d.short_probability))
         return "NoOp"
 
     uascma.run(example("nominal.yaml"), watch, telemetry=False)
@@ -210,7 +212,7 @@ def test_policies_on_beliefs_under_noisy_sensing(tmp_path):
     beliefs = []
 
     def record(inputs):
-        beliefs.append((inputs.time_s, tuple(inputs.motor_health_belief), inputs.eod_short_probability))
+        beliefs.append((inputs.time_s, tuple(inputs.motor_health_belief), inputs.eod_distribution.short_probability))
         return "NoOp"
 
     flight = uascma.run(str(noisy_path), record)

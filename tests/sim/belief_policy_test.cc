@@ -84,7 +84,7 @@ DecisionInputs OneHotInputs(const CmaState& state) {
   inputs.flight_time_remaining_s = 100.0;
   inputs.motor_health_belief = {0.0, 0.0, 0.0};
   inputs.motor_health_belief[static_cast<std::size_t>(state.mh)] = 1.0;
-  inputs.eod_short_probability = state.rm == ReachMargin::kRM0 ? 1.0 : 0.0;
+  inputs.eod_distribution = EodDistributionSummary{.short_probability = state.rm == ReachMargin::kRM0 ? 1.0 : 0.0};
   inputs.rul_if_spall_s = state.mm == decision::MotorMargin::kMM1 ? 1000.0 : 10.0;
   return inputs;
 }
@@ -144,7 +144,7 @@ TEST(BeliefPolicyTest, OneHotBeliefsChooseAsTheCmaTableWithItsRanking) {
 TEST(BeliefPolicyTest, StateBeliefIsTheProductOfTheMotorAndReachBeliefs) {
   DecisionInputs inputs = OneHotInputs(CmaState{});
   inputs.motor_health_belief = {0.7, 0.2, 0.1};
-  inputs.eod_short_probability = 0.25;
+  inputs.eod_distribution->short_probability = 0.25;
   inputs.rul_if_spall_s = 50.0;  // shorter than the 100 s left: the SF states are MM0
   const std::vector<StateBelief> belief = CmaStateBelief(inputs);
   ASSERT_EQ(belief.size(), 6u);
@@ -190,16 +190,16 @@ TEST(BeliefPolicyTest, AStatedLevelDecidesWhereTheChancePassesIt) {
   for (const double level : {0.0, 0.1, 0.5, 0.9}) {
     RiskCmaPolicy stated("stated", level);
     for (const double p : {0.0, level, std::nextafter(level, 1.0), 0.3, 0.7, 1.0}) {
-      inputs.eod_short_probability = p;
+      inputs.eod_distribution->short_probability = p;
       const CmaAction expected = p > level || p >= 1.0 ? CmaAction::kLandPract : CmaAction::kNoOp;
       EXPECT_EQ(stated.Decide(inputs), expected) << "level " << level << " b(RM0) " << p;
     }
   }
   // Without a stated level: the derived one.
   RiskCmaPolicy derived_policy;
-  inputs.eod_short_probability = std::nextafter(derived, 1.0);
+  inputs.eod_distribution->short_probability = std::nextafter(derived, 1.0);
   EXPECT_EQ(derived_policy.Decide(inputs), CmaAction::kLandPract);
-  inputs.eod_short_probability = derived;
+  inputs.eod_distribution->short_probability = derived;
   EXPECT_EQ(derived_policy.Decide(inputs), CmaAction::kNoOp);
 }
 
@@ -286,7 +286,7 @@ TEST(BeliefPolicyTest, VehicleLevelOneHotBeliefsChooseAsCmaVehicleWithItsRanking
 TEST(BeliefPolicyTest, VehicleLevelBeliefStatesReadTheVehicleMargins) {
   DecisionInputs inputs = OneHotInputs(CmaState{});
   inputs.motor_health_belief = {0.7, 0.2, 0.1};
-  inputs.eod_short_probability = 0.0;
+  inputs.eod_distribution->short_probability = 0.0;
   inputs.rul_if_spall_s = 50.0;                // eq. 5.14 would read MM0 in SF
   inputs.vehicle_motor_margin_if_spall = 0.3;  // the quadcopter can finish
   const std::vector<StateBelief> belief = CmaStateBelief(inputs, BeliefAbstraction::kVehicle);

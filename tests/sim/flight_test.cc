@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "same_flight.h"
@@ -86,10 +87,11 @@ TEST(FlightTest, TheReachMarginsClassAloneIsTheValuesClassAndCompletesToTheValue
       const DecisionInputs value = Observe(model, state, nullptr, false, EodPrecision::kValue);
       const DecisionInputs bound = Observe(model, by_class, nullptr, false, EodPrecision::kReachMarginClass);
       ASSERT_EQ(decision::CmaStateIndex(bound.state), decision::CmaStateIndex(value.state)) << "t " << value.time_s;
-      if (bound.eod_is_lower_bound) {
+      ASSERT_TRUE(std::holds_alternative<EodValue>(value.eod));
+      if (const auto* lower = std::get_if<EodLowerBound>(&bound.eod)) {
         ++bounded;
-        EXPECT_GE(value.eod_s, bound.eod_s);
-        EXPECT_EQ(bound.reach_margin, 0.0);
+        EXPECT_GE(value.eod_value().eod_s, lower->eod_s);
+        EXPECT_EQ(lower->reach_margin, 0.0);
       } else {
         ++valued;
         EXPECT_EQ(bound, value);

@@ -46,7 +46,7 @@ TEST(PackFaultCmaTest, TheFlagMakesTheCmaReadTheOtherPacksEodAndPoorHealth) {
     const DecisionInputs& in_a = Observe(faulted, a);
     const DecisionInputs& in_b = Observe(plain, b);
     ASSERT_FALSE(a.decision.pack_monitor.any());
-    ASSERT_EQ(in_a.eod_s, in_b.eod_s) << epoch;
+    ASSERT_EQ(in_a.eod_value().eod_s, in_b.eod_value().eod_s) << epoch;
     ASSERT_EQ(in_a.state.bh, in_b.state.bh);
     Act(faulted, a, noop.Decide(in_a), {});
     Act(plain, b, noop.Decide(in_b), {});
@@ -65,8 +65,8 @@ TEST(PackFaultCmaTest, TheFlagMakesTheCmaReadTheOtherPacksEodAndPoorHealth) {
       models::PackState pack2 = a.power.pack;
       pack2.branch_on = {false, true};
       const double eod2_s = prognostics::CalcPackEod(faulted.pack(), pack2, a.decision.eod_current_a).eod_s;
-      EXPECT_EQ(in.eod_s, eod2_s);
-      EXPECT_EQ(in.reach_margin,
+      EXPECT_EQ(in.eod_value().eod_s, eod2_s);
+      EXPECT_EQ(in.eod_value().reach_margin,
                 prognostics::CalcReachMargin(eod2_s, in.flight_time_remaining_s, faulted.options().safety_margin_s));
       break;
     }

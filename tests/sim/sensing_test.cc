@@ -274,19 +274,21 @@ TEST(SensingFlightTest, ReachBeliefTakesTheSocSigmaAndTurnsWithTheMargin) {
     const double soc_sigma = CalcSocEstimateSigma(model, state);  // at the epoch Observe reads
     StepEpoch(model, state, Controllers{.policy = &policy, .battery = nullptr, .planner = {}});
     const DecisionInputs& inputs = state.decision.inputs;
-    ASSERT_TRUE(inputs.has_eod_distribution);
+    ASSERT_TRUE(inputs.eod_distribution.has_value());
+    const double p_short = inputs.eod_distribution->short_probability;
+    const EodValue& eod = inputs.eod_value();
     EXPECT_GE(state.decision.eod_uncertainty.soc_sigma, soc_sigma * (1.0 - 1e-12));
     EXPECT_GT(state.decision.eod_uncertainty.soc_sigma, 0.0);
-    ASSERT_GE(inputs.eod_short_probability, 0.0);
-    ASSERT_LE(inputs.eod_short_probability, 1.0);
-    if (inputs.reach_margin < -0.3 && inputs.eod_s > 1.0) {
-      EXPECT_GT(inputs.eod_short_probability, 0.5) << inputs.time_s;
+    ASSERT_GE(p_short, 0.0);
+    ASSERT_LE(p_short, 1.0);
+    if (eod.reach_margin < -0.3 && eod.eod_s > 1.0) {
+      EXPECT_GT(p_short, 0.5) << inputs.time_s;
     }
-    if (inputs.reach_margin > 0.3) {
-      EXPECT_LT(inputs.eod_short_probability, 0.5) << inputs.time_s;
+    if (eod.reach_margin > 0.3) {
+      EXPECT_LT(p_short, 0.5) << inputs.time_s;
     }
-    uncertain += inputs.eod_short_probability > 0.01 && inputs.eod_short_probability < 0.99;
-    short_epochs += inputs.reach_margin < 0.0;
+    uncertain += p_short > 0.01 && p_short < 0.99;
+    short_epochs += eod.reach_margin < 0.0;
   }
   EXPECT_GT(short_epochs, 0);
   EXPECT_GT(uncertain, 0);

@@ -97,8 +97,8 @@ TEST(ReachMarginTest, ClosedFormsAndEdges) {
 TEST(ReachMarginTest, TheStatesMarginIsTheSharedFormulaWithTheSafetyMargin) {
   const Flying flying = FlyingHealthy(TerminationRule::kLastResort);
   const DecisionInputs& inputs = flying.state.decision.inputs;
-  EXPECT_DOUBLE_EQ(inputs.reach_margin,
-                   prognostics::CalcReachMargin(inputs.eod_s, inputs.flight_time_remaining_s, 7.0));
+  EXPECT_DOUBLE_EQ(inputs.eod_value().reach_margin,
+                   prognostics::CalcReachMargin(inputs.eod_value().eod_s, inputs.flight_time_remaining_s, 7.0));
 }
 
 TEST(ReachMarginTest, AnAcceptedPlansMarginIsTheStatesMarginOnceItExecutes) {
@@ -111,12 +111,12 @@ TEST(ReachMarginTest, AnAcceptedPlansMarginIsTheStatesMarginOnceItExecutes) {
   EXPECT_GT(accepted, 0.0);
   StepToNextEpoch(flying.model, state);
   const DecisionInputs& next = Observe(flying.model, state);
-  EXPECT_NEAR(next.reach_margin, accepted, kOneEpochReachMargin);
+  EXPECT_NEAR(next.eod_value().reach_margin, accepted, kOneEpochReachMargin);
 }
 
 TEST(ReachMarginTest, APlanWithANegativeMarginIsNoPlan) {
   Flying flying = FlyingHealthy(TerminationRule::kLastResort);
-  const double eod_s = flying.state.decision.inputs.eod_s;
+  const double eod_s = flying.state.decision.inputs.eod_value().eod_s;
   ASSERT_GT(eod_s, 100.0);
   const std::vector<decision::ActionIndex> noop_next = {Index(CmaAction::kLandAsap), Index(CmaAction::kNoOp),
                                                         Index(CmaAction::kLandPract), Index(CmaAction::kTerminate)};
@@ -147,7 +147,7 @@ TEST(TerminationTest, ThePolicysTerminateIsReplacedByAnActionThatReachesTheGroun
   }
   // Without a plan, the executing plan: its rest fits in the EOD.
   Flying flying = FlyingHealthy(TerminationRule::kLastResort);
-  ASSERT_LE(flying.state.decision.inputs.flight_time_remaining_s, flying.state.decision.inputs.eod_s);
+  ASSERT_LE(flying.state.decision.inputs.flight_time_remaining_s, flying.state.decision.inputs.eod_value().eod_s);
   EXPECT_EQ(Act(flying.model, flying.state, CmaAction::kTerminate, NoPlan, nullptr, ranking), CmaAction::kNoOp);
   EXPECT_EQ(flying.state.outcome, Outcome::kInProgress);
   // As the policy ranks it: terminated.
@@ -175,7 +175,7 @@ TEST(TerminationTest, ANextBestTerminateIsCheckedToo) {
   ASSERT_EQ(Act(tight.model, probe, CmaAction::kLandAsap, HoverPlanner(0.0), nullptr, asap_first),
             CmaAction::kLandAsap);
   const double base_s = probe.guidance.emergency_plan.duration();
-  const double hover_s = tight.state.decision.inputs.eod_s - base_s - 3.5;
+  const double hover_s = tight.state.decision.inputs.eod_value().eod_s - base_s - 3.5;
   ASSERT_GT(hover_s, 0.0);
   FlightLog log;
   EXPECT_EQ(Act(tight.model, tight.state, CmaAction::kLandAsap, HoverPlanner(hover_s), &log, asap_first),
@@ -190,7 +190,8 @@ TEST(TerminationTest, TerminateIsCarriedOutWhenNothingReachesTheGround) {
   for (const TerminationRule rule : {TerminationRule::kLastResort, TerminationRule::kNever}) {
     Flying flying = FlyingHealthy(rule);
     // A pack about to cut off: the epoch's EOD shorter than the rest of the plan, and no planner's plan.
-    flying.state.decision.inputs.eod_s = 0.5 * flying.state.decision.inputs.flight_time_remaining_s;
+    std::get<EodValue>(flying.state.decision.inputs.eod).eod_s =
+        0.5 * flying.state.decision.inputs.flight_time_remaining_s;
     const CmaAction taken = Act(flying.model, flying.state, CmaAction::kTerminate, NoPlan, nullptr, ranking);
     if (rule == TerminationRule::kLastResort) {
       EXPECT_EQ(taken, CmaAction::kTerminate);
@@ -215,7 +216,7 @@ TEST(TerminationTest, OnTheFinalDescentTheLandingGoesOn) {
   }
   ASSERT_FALSE(state.done());
   Observe(flying.model, state);
-  state.decision.inputs.eod_s = 0.0;  // even with the pack predicted empty now
+  std::get<EodValue>(state.decision.inputs.eod).eod_s = 0.0;  // even with the pack predicted empty now
   const std::vector<decision::ActionIndex> ranking = {Index(CmaAction::kTerminate), Index(CmaAction::kLandAsap),
                                                       Index(CmaAction::kNoOp), Index(CmaAction::kLandPract)};
   EXPECT_EQ(Act(flying.model, state, CmaAction::kTerminate, HoverPlanner(0.0), nullptr, ranking), CmaAction::kNoOp);

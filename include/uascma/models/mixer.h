@@ -41,7 +41,8 @@
 // the azimuth of the failed pair's even-numbered motor. Only wrenches of that form are exactly
 // achievable; with γ/L ≈ 0.06 the yaw that comes with a roll/pitch torque is small.
 //
-// Allocation (Mixer::Allocate). The unconstrained allocation of docs/modelling-choices.md#mixing-after-motor-failure is
+// Allocation (Mixer::Allocate; its rules are models/allocation_law.h's, written once for one wrench and for flights in
+// SIMD lanes). The unconstrained allocation of docs/modelling-choices.md#mixing-after-motor-failure is
 // the pseudo-inverse, u = M† w (Mixer::AllocatePseudoInverse). Allocate computes the same thing in two priority levels
 // and then respects 0 ≤ T_k ≤ T_max (failed rotors exactly 0):
 //   1. Roll and pitch: u_rp = A† (0, τx, τy), A the (T, τx, τy) rows of M. If no collective thrust can
@@ -176,7 +177,8 @@ class Mixer {
     int active_count = kRotorCount;
     bool yaw_controllable = true;
   };
-  // The case Allocate uses for `failed_motor` (sim/controller_lanes.h allocates the hexacopter's in lanes).
+  // The case Allocate uses for `failed_motor` (sim/controller_lanes.h allocates in lanes by the same rules,
+  // models/allocation_law.h).
   const Case& allocation_case(int failed_motor) const { return CaseFor(failed_motor); }
 
  private:

@@ -66,49 +66,26 @@ struct alignas(32) BodyInputLanes {
 // How the lanes look up the drag at (|v_air|, incidence sine s):
 //   kLibmPerLane    drag.DragAtSine(|v_air|, s) per lane in scalar code, libm's asin: the lanes equal StepRigidBody.
 //   kLibmAsinTableInLanes  libm's asin per lane, the table's interpolation in the lanes (as kOursInLanes): DragAtSine's
-//                   value (it equals Drag at the asin, drag.h), so the lanes equal StepRigidBody too; needs the
-//                   DragLaneTable of the same table (falls back to kLibmPerLane for a non-uniform one).
+//                   value (it equals Drag at the asin, drag.h), so the lanes equal StepRigidBody too; needs a table
+//                   with uniform axes (DragTable::uniform_axes; falls back to kLibmPerLane for another).
 //   kOursPerLane    drag.Drag(|v_air|, lane_math::Asin(s)) per lane in scalar code (DragAtSine's definition with our
 //                   asin): the scalar reference of kOursInLanes.
 //   kOursInLanes    the same in the lanes: lane_math's asin kernel and the table's bilinear interpolation on the
-//                   vector (indices and cell values gathered per lane), bit-identical to kOursPerLane; needs the
-//                   DragLaneTable of the table, and falls back to kOursPerLane for a table with a non-uniform axis.
+//                   vector (DragTable::DragInLanes, the lookup DragTable writes once for a double and for lanes;
+//                   cell values gathered per lane), bit-identical to kOursPerLane; needs a table with uniform axes,
+//                   and falls back to kOursPerLane for another.
 // Switching the simulator to our asin would change results in the last bits (common/lane_math.h), hence the two.
 enum class LaneDragLookup { kLibmPerLane, kOursPerLane, kOursInLanes, kLibmAsinTableInLanes };
 
-// A drag table's axes and values as DragTable's lookups use them (DragTable::Axis: the uniform step's inverse, each
-// cell's inverse width), built from the same three vectors as the DragTable it stands beside (its axes and values as
-// given: not every value can be read back exactly through Drag, a grid pitch may fall in the cell below with a
-// fraction of 1 − 2⁻⁵³).
-struct DragLaneTable {
-  DragLaneTable(const std::vector<double>& airspeeds, const std::vector<double>& pitches_rad,
-                std::vector<double> drag_values);
-  explicit DragLaneTable(const DragTable& table) : DragLaneTable(table.airspeeds(), table.pitches(), table.values()) {}
-  struct Axis {
-    std::vector<double> values, inverse_width;
-    double inverse_uniform_step = 0.0;  // 0: not uniform
-    double front = 0.0, back = 0.0;
-    int last_cell = 0;
-  };
-  Axis airspeed, pitch;
-  std::vector<double> drag_n;  // [airspeed][pitch]
-  bool uniform = false;        // both axes uniform: the lookup in lanes applies
-};
-
 // StepRigidBody(params, drag, body i, inputs of body i, dt, kMidpoint) for each lane i, in place (with kLibmPerLane;
-// the other lookups change the incidence's asin, see above). `lane_table` is needed by the lookups in lanes only.
+// the other lookups change the incidence's asin, see above).
 void StepRigidBodyLanes(lane_math::LaneMathPath path, const RigidBodyParams& params, const DragTable& drag,
                         RigidBodyLanes& state, const BodyInputLanes& inputs, double dt,
-                        LaneDragLookup lookup = LaneDragLookup::kLibmPerLane,
-                        const DragLaneTable* lane_table = nullptr);
-
-// DragTable::Default(configuration)'s lane table (tests/models/rigid_body_lanes_test.cc checks the lookups against
-// DragTable::Default's, bit for bit).
-DragLaneTable DefaultDragLaneTable(PropellerConfiguration configuration);
+                        LaneDragLookup lookup = LaneDragLookup::kLibmPerLane);
 
 // DragTable::Drag(airspeed, lane_math::Asin(sine)) for four pairs by kOursInLanes's lookup (a table with uniform axes),
 // for its test.
-BodyLaneValues DragAtSineLanes(lane_math::LaneMathPath path, const DragLaneTable& table, const BodyLaneValues& airspeed,
+BodyLaneValues DragAtSineLanes(lane_math::LaneMathPath path, const DragTable& table, const BodyLaneValues& airspeed,
                                const BodyLaneValues& sine);
 
 }  // namespace uascma::models

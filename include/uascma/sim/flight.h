@@ -48,6 +48,7 @@
 #include "uascma/prognostics/motor_rul.h"
 #include "uascma/prognostics/pack_fault_monitor.h"
 #include "uascma/sim/eod_error_model.h"
+#include "uascma/sim/eod_precision.h"
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"
@@ -131,8 +132,6 @@ class FlightModel {
   // The mixer's matrix with every rotor (the achieved wrench of the true rotors).
   const models::MixingMatrix& healthy_mixing() const { return mixer_.mixing_matrix(models::kNoFailedMotor); }
   const models::DragTable& drag() const { return drag_; }
-  // drag() as StepTogether's rigid bodies in lanes interpolate it (models/rigid_body_lanes.h).
-  const models::DragLaneTable& drag_lanes() const { return drag_lanes_; }
   const models::WindModel& wind() const { return wind_; }
   const models::BatteryPack& pack() const { return pack_; }
   // The pack's slow step (SimOptions::pack_rate_hz): its length with its RC decay factors, in GNC steps.
@@ -167,7 +166,6 @@ class FlightModel {
   models::ElectricalPowerTable electrical_power_;
   models::Mixer mixer_;
   models::DragTable drag_;
-  models::DragLaneTable drag_lanes_;  // drag_ as the rigid bodies in lanes read it (StepTogether)
   models::WindModel wind_;
   models::BatteryPack pack_;
   // the prognosis (calibrated to Table 5.4, docs/modelling-choices.md#spall-growth-time-scale)
@@ -261,8 +259,7 @@ struct FaultState {
 struct EodAtAction {
   double time_s = 0.0;
   double eod_s = 0.0;  // the point EOD
-  double p05_s = 0.0, p50_s = 0.0, p95_s = 0.0;
-  double short_probability = 0.0;  // P(EOD < t_remaining + t_sf)
+  EodDistributionSummary distribution;
   bool operator==(const EodAtAction&) const = default;
 };
 
@@ -284,7 +281,7 @@ struct DecisionState {
   std::optional<double> rul_at_onset_s;
   prognostics::EodResult eod;
   double eod_current_a = 0.0;  // the constant current the last EOD was propagated at
-  // The EOD's distribution (DecisionInputs::has_eod_distribution) and the uncertainty it was propagated with: the load
+  // The EOD's distribution (DecisionInputs::eod_distribution) and the uncertainty it was propagated with: the load
   // forecast's measured error (eod_error_model.h). Default values when not computed.
   prognostics::EodUncertainty eod_uncertainty;
   prognostics::EodDistribution eod_distribution;
@@ -457,29 +454,12 @@ void StepTogetherToNextEpoch(std::span<const FlightModel* const> models, std::sp
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
                    std::span<bool> stepped);
 
-// How far an epoch's EOD is propagated: to its value, or only as far as the reach margin's class needs. RM0 ⇔
-// EOD < t_remaining + t_sf (docs/modelling-choices.md#margins), so the propagation may stop once it has passed
-// t_remaining + t_sf without a crossing (prognostics::CalcPackEodBefore): the EOD is at least that, RM1, and
-// DecisionInputs holds lower bounds (eod_is_lower_bound) until CompleteEod. A propagation that ends before is
-// CalcPackEod's, bit for bit.
-enum class EodPrecision { kValue, kReachMarginClass };
-
 // At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states), and with
-// `eod_distribution` the EOD's distribution from the model's error table (DecisionInputs::has_eod_distribution).
-// kReachMarginClass requires exact sensing and no distribution (both read the EOD's value).
+// `eod_distribution` the EOD's distribution from the model's error table (DecisionInputs::eod_distribution).
+// `precision` (sim/eod_precision.h): kReachMarginClass requires exact sensing and no distribution (both read the EOD's
+// value).
 const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr,
                               bool eod_distribution = true, EodPrecision precision = EodPrecision::kValue);
-
-// The EOD's value at this epoch where Observe propagated it only for the reach margin's class: the same CalcPackEod on
-// the same pack and current, hence the value kValue gives, into DecisionState::eod and the inputs' eod_s and
-// reach_margin (the class cannot change: checked). Nothing when the value is there. Must be called at the epoch it
-// completes (before any step). Act and RecordEodAtAction call it for every action but NoOp.
-void CompleteEod(const FlightModel& model, FlightState& state);
-
-// Whether an epoch needs the EOD's value or only its class: the class when no one reads the value unless a policy
-// acts (policies that read only the CMA state, no battery executor, no telemetry, no distribution, exact sensing).
-EodPrecision EpochEodPrecision(const FlightModel& model, std::span<DecisionPolicy* const> policies,
-                               const BatterySwitchPolicy* battery, const FlightLog* log, bool eod_distribution);
 
 // Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
 // LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is

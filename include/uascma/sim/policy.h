@@ -24,6 +24,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "uascma/decision/cma_mdp.h"
@@ -31,29 +32,57 @@
 
 namespace uascma::sim {
 
+// The epoch's EOD and the reach margin it gives, RM = 1 − (t_remaining + t_sf) / t_EOD
+// (docs/modelling-choices.md#margins): their values, or their lower bounds. Two types, not a flag: a reader that
+// needs the value asks for an EodValue (DecisionInputs::eod_value()) and cannot read a bound by mistake; a reader of
+// the reach margin's class alone may read either (ReachMarginAtLeast). A std::variant rather than a base class: each is
+// plain data with ==, and a Python binding hands over the alternative it holds.
+struct EodValue {
+  double eod_s = 0.0;
+  double reach_margin = 0.0;
+  bool operator==(const EodValue&) const = default;
+};
+// Where the epoch's EOD was propagated only as far as the reach margin's class needs (sim/eod_precision.h
+// EodPrecision::kReachMarginClass): the EOD is at least t_remaining + t_sf and RM at least 0 (RM1), until an action
+// completes them (CompleteEod).
+struct EodLowerBound {
+  double eod_s = 0.0;
+  double reach_margin = 0.0;
+  bool operator==(const EodLowerBound&) const = default;
+};
+using EpochEod = std::variant<EodValue, EodLowerBound>;
+// The value's EOD (s) or the bound's: the EOD is at least that.
+inline double EodAtLeastS(const EpochEod& eod) {
+  return std::visit([](const auto& e) { return e.eod_s; }, eod);
+}
+// The value's RM or the bound's: what the reach margin's class reads (a bound of 0 is RM1).
+inline double ReachMarginAtLeast(const EpochEod& eod) {
+  return std::visit([](const auto& e) { return e.reach_margin; }, eod);
+}
+
+// The EOD as a distribution: its 5, 50 and 95 % quantiles (s) and the chance that the EOD falls short of the rest of
+// the plan with its margin, P(EOD < t_remaining + t_sf), from the load forecast's measured error
+// (sim/eod_error_model.h). With no uncertainty (an empty error model) the quantiles are the EOD's value and the chance
+// 0 or 1.
+struct EodDistributionSummary {
+  double p05_s = 0.0;
+  double p50_s = 0.0;
+  double p95_s = 0.0;
+  double short_probability = 0.0;
+  bool operator==(const EodDistributionSummary&) const = default;
+};
+
 // The 1 Hz view of the flight that a decision module sees (docs/modelling-choices.md#margins to #outcomes).
 struct DecisionInputs {
   double time_s = 0.0;
   decision::CmaState state;
   double flight_time_remaining_s = 0.0;  // on the executing plan
-  double eod_s = 0.0;
+  EpochEod eod;
   double rul_s = std::numeric_limits<double>::infinity();  // +∞ without a motor fault
-  double reach_margin = 0.0;                               // RM = 1 − (t_remaining + t_sf) / t_EOD
   double motor_margin = 0.0;                               // MM = 1 − t_remaining / t_RUL
-  // The EOD as a distribution: its 5, 50 and 95 % quantiles (s) and the chance that the EOD falls short
-  // of the rest of the plan with its margin, P(EOD < t_remaining + t_sf), from the load forecast's measured error
-  // (sim/eod_error_model.h). With no uncertainty (an empty error model) the quantiles are eod_s and the chance 0 or 1.
-  // Computed only when asked for (has_eod_distribution; Observe's `eod_distribution`: a policy that reads them, the
-  // telemetry, the EOD calibration); otherwise all four are 0.
-  bool has_eod_distribution = false;
-  // True when the epoch's EOD was propagated only as far as the reach margin's class needs (EodPrecision): eod_s and
-  // reach_margin are then lower bounds (t_remaining + t_sf and 0: the EOD is at least that, RM1) until an action
-  // completes them (CompleteEod). Only for policies that read the CMA state alone (DecisionPolicy::ReadsOnlyCmaState).
-  bool eod_is_lower_bound = false;
-  double eod_p05_s = 0.0;
-  double eod_p50_s = 0.0;
-  double eod_p95_s = 0.0;
-  double eod_short_probability = 0.0;
+  // Computed only when asked for (Observe's `eod_distribution`: a policy that reads it, the telemetry, the EOD
+  // calibration); empty otherwise.
+  std::optional<EodDistributionSummary> eod_distribution;
   // The motor-health belief b(NF, SF, JF) (sim/sensing.h MotorHealthBelief under noisy sensing, the point
   // MH's one-hot without it) and the RUL the prognosis gives a spall detected now (the motor margin of a belief's SF
   // states; +∞ until the prognosis has run).
@@ -73,6 +102,12 @@ struct DecisionInputs {
   // only for a policy that reads it (DecisionPolicy::ReadsVehicleBeliefs), else 1.
   double vehicle_motor_margin_if_spall = 1.0;
   bool operator==(const DecisionInputs&) const = default;
+
+  // The EOD's value: a broken invariant (abort) while `eod` holds a lower bound. What every reader of eod_s or
+  // reach_margin but the reach margin's class reads.
+  const EodValue& eod_value() const;
+  // The EOD's distribution: a broken invariant (abort) when the epoch did not compute it.
+  const EodDistributionSummary& eod_distribution_value() const;
 };
 
 // A state's available actions by decreasing value Q(s, a) of a solved policy, its own action first.
@@ -92,11 +127,11 @@ class DecisionPolicy {
   // finds nothing, docs/modelling-choices.md#unavailable-actions): the state's actions by decreasing Q(s, a). A policy
   // without values of its own (NoOp, a Python callable) falls back on the default CMA policy's values.
   virtual ActionRanking Ranking(const DecisionInputs& inputs) const { return DefaultCmaActionRanking(inputs.state); }
-  // True when Decide reads the EOD's distribution (DecisionInputs::eod_p05_s … eod_short_probability): the kernel
+  // True when Decide reads the EOD's distribution (DecisionInputs::eod_distribution): the kernel
   // computes it at every epoch for such a policy only (three more EOD propagations per epoch).
   virtual bool ReadsEodDistribution() const { return false; }
   // True when Decide and Ranking read nothing of DecisionInputs but `state` and `time_s`: the kernel may then stop the
-  // epoch's EOD propagation once the reach margin's class is settled (EodPrecision::kReachMarginClass).
+  // epoch's EOD propagation once the reach margin's class is settled (sim/eod_precision.h).
   virtual bool ReadsOnlyCmaState() const { return false; }
   // The abstract CMA state Decide reads its row in: `inputs.state` (eq. 5.14's motor margin), or another abstraction
   // of the same MDP's states (the vehicle-level margin, sim/vehicle_policy.h). What the campaign's reward accounting
