@@ -1,6 +1,7 @@
 // `uascma companion --mavlink udpout:HOST:PORT --scenario S.yaml`: the CMA as an onboard companion on an autopilot's
 // MAVLink link (mavlink/companion.h).
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/mavlink/companion.h"
+#include "uascma/planning/map_import.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 
@@ -21,9 +23,28 @@ struct CompanionCommandOptions {
   std::string scenario;
   std::string policy;
   std::string log;
+  std::vector<std::string> map_files;
+  std::string sites;
   double wait_s = 30.0;
   bool allow_termination = false;
 };
+
+// The companion's own map and landing sites in place of the scenario's, read by the importer of `map:` keys and
+// `uascma map` (planning::ImportCityMap: building files, a landing-site CSV), in the scenario's frame when it has one.
+// --sites alone keeps the scenario's buildings.
+void UseOwnMap(sim::Scenario& scenario, const std::vector<std::string>& map_files, const std::string& sites) {
+  if (map_files.empty() && sites.empty()) return;
+  planning::MapImportOptions import;
+  import.origin = scenario.geo_origin;
+  const std::vector<std::filesystem::path> files(map_files.begin(), map_files.end());
+  planning::ImportedMap imported = planning::ImportCityMap(files, sites, import);
+  if (files.empty() && scenario.map) {
+    imported.map = planning::CityMap(scenario.map->buildings(), imported.map.sites());
+  }
+  scenario.geo_origin = imported.summary.origin;
+  scenario.map = std::make_shared<const planning::CityMap>(std::move(imported.map));
+  scenario.map_obstacles.reset();  // the emergency planners inflate the new map's buildings
+}
 
 }  // namespace
 
@@ -44,18 +65,27 @@ void AddCompanionCommand(CLI::App& app) {
       ->required();
   command
       ->add_option("--scenario", options->scenario,
-                   "Scenario YAML: the vehicle, battery, map (landing sites) and plan the CMA knows")
+                   "Scenario YAML: the vehicle, battery and options the CMA knows, its map and landing sites unless\n"
+                   "--map/--sites, and the plan used only when the vehicle holds no mission (it is downloaded)")
       ->required();
   command->add_option("--policy", options->policy,
                       "CMA policy: cma | cma-vehicle | noop | … | policy.json (as `uascma simulate --policy`; "
                       "default: the scenario's)");
-  command->add_option("--log", options->log, "Decision log CSV, one row per epoch (written when the run ends)");
+  command->add_option("--log", options->log,
+                      "Decision log CSV, one row per epoch (written when the run ends; `uascma plot companion` draws it)");
+  command->add_option("--map", options->map_files,
+                      "Building files (.geojson, .json, .osm, .osm.pbf) of the companion's own map, in place of the "
+                      "scenario's (may be given more than once)");
+  command->add_option("--sites", options->sites,
+                      "Landing-site CSV of the companion's own, in place of the scenario's sites (as `uascma map "
+                      "--sites`)");
   AddBoundedOption(command, "--wait", options->wait_s, "Wall seconds to wait for the vehicle's HEARTBEAT (0: forever)",
                    mavlink::kCompanionWaitBounds);
   command->add_flag("--allow-termination", options->allow_termination,
                     "Send DO_FLIGHTTERMINATION when the CMA's Terminate is taken (withheld otherwise)");
   command->callback([options] {
-    const sim::ScenarioFile file = sim::LoadScenarioFile(options->scenario, {});
+    sim::ScenarioFile file = sim::LoadScenarioFile(options->scenario, {});
+    UseOwnMap(file.scenario, options->map_files, options->sites);
     const std::string policy_spec = options->policy.empty() ? file.policy : options->policy;
     auto policy = sim::MakePolicy(policy_spec, options->policy.empty() ? options->scenario : "--policy");
     mavlink::CompanionOptions companion;

@@ -89,7 +89,7 @@ constexpr const char* kUploadedSource = "the uploaded mission";
 // the vehicle stands, in the scenario's frame and over its map. InputError naming the item when it cannot be flown.
 sim::Scenario UploadedFlight(const sim::Scenario& scenario, const sim::FlightModel& ground,
                              const std::vector<MissionItemInt>& uploaded) {
-  const planning::GeoPoint origin = scenario.geo_origin.value_or(planning::GeoPoint{});
+  const planning::GeoPoint origin = VehicleGeoOrigin(scenario);
   std::vector<planning::MissionItem> items;
   for (const MissionItemInt& item : uploaded) items.push_back(ToMissionItem(item));
   planning::MissionImportOptions import;
@@ -108,7 +108,7 @@ sim::Scenario UploadedFlight(const sim::Scenario& scenario, const sim::FlightMod
 // The plan as the items a .plan export writes (planning::PlanMissionItems), for the vehicle to hold.
 std::vector<MissionItemInt> PlanAsMission(const sim::FlightModel& model, Address self) {
   planning::QgcPlanExportOptions options;
-  options.origin = model.scenario().geo_origin.value_or(planning::GeoPoint{});
+  options.origin = VehicleGeoOrigin(model.scenario());
   options.cruise_speed = model.scenario().limits.cruise_speed;
   std::vector<MissionItemInt> items;
   for (const planning::MissionItem& item : planning::PlanMissionItems(model.nominal_plan(), options)) {
@@ -267,7 +267,7 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
   const Address self{options.system_id, static_cast<std::uint8_t>(kMavCompIdAutopilot1)};
   const auto unix_now = std::chrono::system_clock::now().time_since_epoch();
   SitlVehicle vehicle(
-      ground, self, scenario.geo_origin.value_or(planning::GeoPoint{}),
+      ground, self, VehicleGeoOrigin(scenario),
       static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()),
       options.external_cma);
   FrameSender sender(link, self);

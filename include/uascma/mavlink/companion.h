@@ -59,6 +59,8 @@ struct CompanionDecision {
 struct CompanionSummary {
   std::vector<CompanionDecision> log;
   int epochs = 0, decided = 0, stale = 0, commands = 0, missions_uploaded = 0;
+  int resent_commands = 0;  // sends again after a timeout (CommandClient)
+  int failed_commands = 0;  // commands denied, failed or not acknowledged, and emergency missions refused
   double max_decision_ms = 0.0, mean_decision_ms = 0.0;
   std::string BriefReport() const;
 };

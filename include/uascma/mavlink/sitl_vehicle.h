@@ -105,6 +105,13 @@ class SitlVehicle {
   std::size_t arrivals_sent_ = 0;
 };
 
+// Where W's origin is on the globe: the scenario's geo_origin (an imported map or mission), else 1° N, 1° E
+// (docs/modelling-choices.md#mavlink-geodetic-origin: not 0°, 0°, which a mission item reserves for "where the vehicle
+// is"). The vehicle and a companion given the same scenario share it.
+inline planning::GeoPoint VehicleGeoOrigin(const sim::Scenario& scenario) {
+  return scenario.geo_origin.value_or(planning::GeoPoint{1.0, 1.0});
+}
+
 // STATUSTEXT of at most 50 bytes (longer texts are cut at a UTF-8 character boundary: the chunked form is not used).
 Statustext MakeStatustext(std::uint8_t severity, const std::string& text);
 // A text of any length as STATUSTEXT chunks of `id` (chunk_seq 0, 1, …; each cut at a UTF-8 character boundary; the
