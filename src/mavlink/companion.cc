@@ -419,17 +419,6 @@ std::string CompanionSummary::BriefReport() const {
       max_decision_ms);
 }
 
-std::string CompanionLogCsv(const std::vector<CompanionDecision>& log) {
-  std::string csv =
-      "time_s,cma_state,decided,taken,eod_s,rul_s,flight_time_remaining_s,reach_margin,motor_margin,decision_ms,note\n";
-  for (const CompanionDecision& r : log) {
-    csv += fmt::format("{:.3f},\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},\"{}\"\n", r.time_s, r.state,
-                       r.decided, r.taken, r.eod_s, r.rul_s, r.flight_time_remaining_s, r.reach_margin, r.motor_margin,
-                       r.decision_ms, r.note);
-  }
-  return csv;
-}
-
 CompanionSummary RunCompanion(const sim::Scenario& scenario, sim::DecisionPolicy& policy,
                               const CompanionOptions& options) {
   std::string error;

@@ -17,9 +17,11 @@
 // SYSTEM_TIME arrives is decided on what is there when no group is older than kMaxStaleEpochs decision periods, and
 // not decided at all otherwise (logged "stale"); with no frame from the vehicle for kLinkLostS wall seconds the
 // companion ends.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "uascma/common/bounds.h"
@@ -65,8 +67,15 @@ struct CompanionSummary {
   std::string BriefReport() const;
 };
 
-// The decision log as CSV (a header, then one row per epoch).
+// The decision log as CSV (RFC 4180, common/csv.h): the header kCompanionLogColumns, then one row per epoch; the
+// texts quoted.
+inline constexpr std::array<const char*, 11> kCompanionLogColumns = {
+    "time_s", "cma_state", "decided", "taken", "eod_s", "rul_s", "flight_time_remaining_s", "reach_margin",
+    "motor_margin", "decision_ms", "note"};
 std::string CompanionLogCsv(const std::vector<CompanionDecision>& log);
+// Reads a decision log back (`uascma plot companion`): InputError naming `source`, the line and column, and what was
+// expected (the header above; a number in each numeric column; times rising).
+std::vector<CompanionDecision> ParseCompanionLogCsv(std::string_view text, const std::string& source);
 
 // Runs until the vehicle lands (EXTENDED_SYS_STATE on the ground after in air), its HEARTBEAT reports the flight
 // terminated, or the link is lost. `scenario`: the vehicle, battery, map and plan the companion's belief and planners
