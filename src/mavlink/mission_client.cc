@@ -1,6 +1,21 @@
 #include "uascma/mavlink/mission_client.h"
 
 namespace uascma::mavlink {
+namespace {
+
+enum class Retry { kWait, kSendAgain, kGiveUp };
+// Whether a transfer's last message (sent at `last_s`) is due again at `now_s`: after the protocol's timeout, at most
+// MissionServer::kRetries times (counted in `retries`); then the transfer ends (`active` false).
+Retry RetryDue(bool& active, int& retries, double last_s, double now_s) {
+  if (!active || now_s - last_s < MissionServer::kTimeoutS) return Retry::kWait;
+  if (++retries > MissionServer::kRetries) {
+    active = false;
+    return Retry::kGiveUp;
+  }
+  return Retry::kSendAgain;
+}
+
+}  // namespace
 
 void MissionUpload::Start(std::vector<MissionItemInt> items, Address vehicle, double now_s,
                           std::vector<Outgoing>& out) {
@@ -26,13 +41,9 @@ TransferStatus MissionUpload::Handle(const Frame& frame, double now_s, std::vect
 }
 
 TransferStatus MissionUpload::Tick(double now_s, std::vector<Outgoing>& out) {
-  if (!active_ || now_s - last_s_ < MissionServer::kTimeoutS) return TransferStatus::kActive;
-  if (++retries_ > MissionServer::kRetries) {
-    active_ = false;
-    return TransferStatus::kNoAnswer;
-  }
-  SendCount(now_s, out);
-  return TransferStatus::kActive;
+  const Retry retry = RetryDue(active_, retries_, last_s_, now_s);
+  if (retry == Retry::kSendAgain) SendCount(now_s, out);
+  return retry == Retry::kGiveUp ? TransferStatus::kNoAnswer : TransferStatus::kActive;
 }
 
 void MissionUpload::SendCount(double now_s, std::vector<Outgoing>& out) {
@@ -85,13 +96,9 @@ std::optional<std::vector<MissionItemInt>> MissionDownload::Handle(const Frame& 
 }
 
 TransferStatus MissionDownload::Tick(double now_s, std::vector<Outgoing>& out) {
-  if (!active_ || now_s - last_s_ < MissionServer::kTimeoutS) return TransferStatus::kActive;
-  if (++retries_ > MissionServer::kRetries) {
-    active_ = false;
-    return TransferStatus::kNoAnswer;
-  }
-  Request(now_s, out);
-  return TransferStatus::kActive;
+  const Retry retry = RetryDue(active_, retries_, last_s_, now_s);
+  if (retry == Retry::kSendAgain) Request(now_s, out);
+  return retry == Retry::kGiveUp ? TransferStatus::kNoAnswer : TransferStatus::kActive;
 }
 
 void MissionDownload::Request(double now_s, std::vector<Outgoing>& out) {
