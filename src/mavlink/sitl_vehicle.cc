@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <tuple>
 #include <limits>
 #include <numbers>
 
@@ -49,16 +50,17 @@ Statustext MakeStatustext(std::uint8_t severity, const std::string& text) {
 
 std::vector<Statustext> StatustextChunks(std::uint8_t severity, const std::string& text, std::uint16_t id) {
   std::vector<Statustext> chunks;
-  std::size_t begin = 0;
-  for (;;) {
-    Statustext chunk = MakeStatustext(severity, text.substr(begin));
+  constexpr std::size_t kChunk = std::tuple_size_v<decltype(Statustext::text)>;  // 50 bytes
+  // Every chunk but the last is full: a NUL ends the text for the receiver, so a chunk is never cut short.
+  for (std::size_t begin = 0; chunks.size() < 255; begin += kChunk) {
+    Statustext chunk;
+    chunk.severity = severity;
     chunk.id = id;
     chunk.chunk_seq = static_cast<std::uint8_t>(chunks.size());
-    const std::size_t length = std::find(chunk.text.begin(), chunk.text.end(), '\0') - chunk.text.begin();
-    begin += length;
+    const std::size_t length = std::min(kChunk, text.size() - std::min(begin, text.size()));
+    std::memcpy(chunk.text.data(), text.data() + begin, length);
     chunks.push_back(chunk);
-    // Done when this chunk holds a NUL (it was not full), or the text is out and a last, empty chunk will say so.
-    if (length < chunk.text.size() || chunks.size() == 255) break;
+    if (length < kChunk) break;
   }
   return chunks;
 }

@@ -114,8 +114,9 @@ inline planning::GeoPoint VehicleGeoOrigin(const sim::Scenario& scenario) {
 
 // STATUSTEXT of at most 50 bytes (longer texts are cut at a UTF-8 character boundary: the chunked form is not used).
 Statustext MakeStatustext(std::uint8_t severity, const std::string& text);
-// A text of any length as STATUSTEXT chunks of `id` (chunk_seq 0, 1, …; each cut at a UTF-8 character boundary; the
-// last holds a NUL, an empty chunk when the text fills the one before: the common set's rule for reassembly).
+// A text of any length as STATUSTEXT chunks of `id` (chunk_seq 0, 1, …): every chunk but the last a full 50 bytes
+// (a UTF-8 character may straddle two: the receiver joins the bytes), the last holding a NUL, empty when the text
+// fills the one before (the common set's rule for reassembly); at most 255 chunks.
 std::vector<Statustext> StatustextChunks(std::uint8_t severity, const std::string& text, std::uint16_t id);
 
 }  // namespace uascma::mavlink
