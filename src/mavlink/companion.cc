@@ -88,7 +88,7 @@ class Companion {
   void OnTransfers(const Frame& frame, double now_s);
   void Tick(double now_s);
   void AdoptMission(const std::vector<MissionItemInt>& items);
-  void OnCommandOutcome(const CommandOutcome& outcome, double now_s);
+  void OnCommandOutcome(const CommandOutcome& outcome);
   void Failed(const std::string& what);
   void DecideEpoch(Clock::time_point received);
   CmaAction Act(CmaAction action, const sim::DecisionInputs& inputs, CompanionDecision& row);
@@ -184,8 +184,7 @@ void Companion::Failed(const std::string& what) {
   pending_note_ += (pending_note_.empty() ? "" : "; ") + note;
 }
 
-void Companion::OnCommandOutcome(const CommandOutcome& outcome, double now_s) {
-  (void)now_s;
+void Companion::OnCommandOutcome(const CommandOutcome& outcome) {
   if (!outcome.accepted()) {
     Failed(outcome.Describe());
   } else if (commands_.idle() && !upload_.active()) {
@@ -335,7 +334,7 @@ void Companion::OnTransfers(const Frame& frame, double now_s) {
       break;
   }
   if (const std::optional<CommandOutcome> outcome = commands_.Handle(frame, *vehicle_, now_s, out_)) {
-    OnCommandOutcome(*outcome, now_s);
+    OnCommandOutcome(*outcome);
   }
 }
 
@@ -345,7 +344,7 @@ void Companion::Tick(double now_s) {
     pending_note_ += "the vehicle's mission not downloaded (no answer); ";
     AdoptMission({});
   }
-  if (const std::optional<CommandOutcome> outcome = commands_.Tick(now_s, out_)) OnCommandOutcome(*outcome, now_s);
+  if (const std::optional<CommandOutcome> outcome = commands_.Tick(now_s, out_)) OnCommandOutcome(*outcome);
 }
 
 void Companion::OnFrame(const Frame& frame, double now_s, Clock::time_point received) {

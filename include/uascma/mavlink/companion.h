@@ -13,6 +13,13 @@
 // Each decision that is not NoOp is a STATUSTEXT ("CMA: LandPract to <site> (RM0 …)"); every epoch is a row of the
 // decision log (CompanionSummary::log, written as CSV by the CLI; docs/mavlink.md#the-cma-as-a-companion).
 //
+// The plan it reasons about is the vehicle's mission, downloaded before take-off (MissionDownload) and read as an
+// uploaded mission is (planning::MissionFromItems from HOME_POSITION, sim::FlyMissionRoute); no mission: the
+// scenario's (docs/mavlink.md#what-the-companion-takes-from-where). Commands go through CommandClient (an ACK awaited,
+// repeats after the timeout); one that fails, or a refused emergency mission, is said and logged, the belief returns
+// to the plan the vehicle flies, and LandPract falls back to LandASAP at the next epoch
+// (docs/mavlink.md#companion-commands).
+//
 // Staleness (docs/modelling-choices.md#companion-staleness): an epoch whose telemetry is not all in when the next
 // SYSTEM_TIME arrives is decided on what is there when no group is older than kMaxStaleEpochs decision periods, and
 // not decided at all otherwise (logged "stale"); with no frame from the vehicle for kLinkLostS wall seconds the
@@ -78,8 +85,8 @@ std::string CompanionLogCsv(const std::vector<CompanionDecision>& log);
 std::vector<CompanionDecision> ParseCompanionLogCsv(std::string_view text, const std::string& source);
 
 // Runs until the vehicle lands (EXTENDED_SYS_STATE on the ground after in air), its HEARTBEAT reports the flight
-// terminated, or the link is lost. `scenario`: the vehicle, battery, map and plan the companion's belief and planners
-// use; `policy`: the CMA policy (sim::MakePolicy's names).
+// terminated, or the link is lost. `scenario`: the vehicle, battery, map and options the companion's belief and
+// planners use, and the plan when the vehicle holds no mission; `policy`: the CMA policy (sim::MakePolicy's names).
 CompanionSummary RunCompanion(const sim::Scenario& scenario, sim::DecisionPolicy& policy,
                               const CompanionOptions& options);
 
