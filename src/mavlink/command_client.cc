@@ -1,5 +1,8 @@
 #include "uascma/mavlink/command_client.h"
 
+#include <algorithm>
+#include <iterator>
+
 #include <fmt/format.h>
 
 namespace uascma::mavlink {
