@@ -25,6 +25,7 @@ struct CompanionCommandOptions {
   std::string log;
   std::vector<std::string> map_files;
   std::string sites;
+  planning::MapImportOptions import;  // the --map fall-backs for buildings without a height
   double wait_s = 30.0;
   bool allow_termination = false;
 };
@@ -32,9 +33,9 @@ struct CompanionCommandOptions {
 // The companion's own map and landing sites in place of the scenario's, read by the importer of `map:` keys and
 // `uascma map` (planning::ImportCityMap: building files, a landing-site CSV), in the scenario's frame when it has one.
 // --sites alone keeps the scenario's buildings.
-void UseOwnMap(sim::Scenario& scenario, const std::vector<std::string>& map_files, const std::string& sites) {
+void UseOwnMap(sim::Scenario& scenario, const std::vector<std::string>& map_files, const std::string& sites,
+               planning::MapImportOptions import) {
   if (map_files.empty() && sites.empty()) return;
-  planning::MapImportOptions import;
   import.origin = scenario.geo_origin;
   const std::vector<std::filesystem::path> files(map_files.begin(), map_files.end());
   planning::ImportedMap imported = planning::ImportCityMap(files, sites, import);
@@ -76,6 +77,10 @@ void AddCompanionCommand(CLI::App& app) {
   command->add_option("--map", options->map_files,
                       "Building files (.geojson, .json, .osm, .osm.pbf) of the companion's own map, in place of the "
                       "scenario's (may be given more than once)");
+  command->add_flag("--height-from-levels", options->import.height_from_levels,
+                    "--map: a building without a height takes building:levels x 3 m (as `uascma map info`)");
+  command->add_flag("--skip-missing-height", options->import.skip_missing_height,
+                    "--map: skip (and count) a building still without a height instead of stopping");
   command->add_option("--sites", options->sites,
                       "Landing-site CSV of the companion's own, in place of the scenario's sites (as `uascma map "
                       "--sites`)");
@@ -85,7 +90,7 @@ void AddCompanionCommand(CLI::App& app) {
                     "Send DO_FLIGHTTERMINATION when the CMA's Terminate is taken (withheld otherwise)");
   command->callback([options] {
     sim::ScenarioFile file = sim::LoadScenarioFile(options->scenario, {});
-    UseOwnMap(file.scenario, options->map_files, options->sites);
+    UseOwnMap(file.scenario, options->map_files, options->sites, options->import);
     const std::string policy_spec = options->policy.empty() ? file.policy : options->policy;
     auto policy = sim::MakePolicy(policy_spec, options->policy.empty() ? options->scenario : "--policy");
     mavlink::CompanionOptions companion;
