@@ -57,8 +57,11 @@ void AddCompanionCommand(CLI::App& app) {
       "BATTERY_STATUS per pack, LOCAL_POSITION_NED, ATTITUDE, EXTENDED_SYS_STATE, ESC_INFO and NAMED_VALUE_FLOAT\n"
       "spall_mm2; at each epoch runs the CMA (EOD, RUL, margins, the policy, the emergency planners) on its belief\n"
       "of the flight and acts: LandASAP as DO_REPOSITION + NAV_LAND at its site, LandPract as an uploaded mission\n"
-      "and MISSION_START, Terminate as DO_FLIGHTTERMINATION (only with --allow-termination). Each action is a\n"
-      "STATUSTEXT; every epoch a row of --log. Ends when the vehicle has landed. See docs/mavlink.md.");
+      "and MISSION_START, Terminate as DO_FLIGHTTERMINATION (only with --allow-termination). The plan it reasons\n"
+      "about is the vehicle's mission, downloaded before take-off (HOME_POSITION, MISSION_CURRENT). Each command\n"
+      "waits for its COMMAND_ACK (sent again after 1.5 s, at most 5 times); a denied one is a STATUSTEXT and a log\n"
+      "note, and a failed LandPract becomes LandASAP at the next epoch. Each action is a STATUSTEXT; every epoch a\n"
+      "row of --log. Ends when the vehicle has landed. See docs/mavlink.md.");
   command
       ->add_option("--mavlink", options->links,
                    "udpout:HOST:PORT (an autopilot listening there, e.g. `uascma sitl --mavlink udp:...`) or "
