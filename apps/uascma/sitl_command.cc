@@ -24,6 +24,7 @@ struct SitlCommandOptions {
   int system_id = 1;
   double linger_s = 2.0;
   bool wait_for_start = false;
+  bool wait_for_mission = false;
   std::optional<std::uint64_t> seed;
 };
 
@@ -38,7 +39,8 @@ void AddSitlCommand(CLI::App& app) {
       "ATTITUDE, HOME_POSITION, EXTENDED_SYS_STATE, ESC_STATUS/ESC_INFO, MISSION_CURRENT, NAMED_VALUE_FLOAT spall_mm2\n"
       "once per simulated second, and STATUSTEXT for each event; takes the mission protocol and COMMAND_LONG/INT\n"
       "(ARM/DISARM, MISSION_START, NAV_LAND = LandASAP, DO_FLIGHTTERMINATION = Terminate) with COMMAND_ACK.\n"
-      "Without commands it flies what `uascma simulate` flies. Prints the ports it listens on, then a summary.\n"
+      "Without commands it flies what `uascma simulate` flies, and holds that plan as its mission (downloadable);\n"
+      "--wait-for-mission flies an uploaded mission instead. Prints the ports it listens on, then a summary.\n"
       "--cma external: the CMA is a companion on the link (`uascma companion`); the vehicle flies its plan and\n"
       "carries out NAV_LAND (after DO_REPOSITION: at that site), MISSION_START in flight (the uploaded mission as\n"
       "the emergency plan) and DO_FLIGHTTERMINATION.\n"
@@ -59,6 +61,11 @@ void AddSitlCommand(CLI::App& app) {
                    mavlink::kLingerBounds);
   command->add_flag("--wait-for-start", options->wait_for_start,
                     "Stay on the ground, disarmed, until ARM and MISSION_START; then fly the scenario's plan");
+  command->add_flag("--wait-for-mission", options->wait_for_mission,
+                    "Stay on the ground, disarmed, until a mission upload, ARM and MISSION_START; then fly the\n"
+                    "uploaded mission (read as a mission file's items are, over the scenario's map; an upload it\n"
+                    "cannot fly is refused at MISSION_ACK with a STATUSTEXT naming why)")
+      ->excludes("--wait-for-start");
   AddSeedOption(command, "--seed", options->seed, "Random seed (overrides the scenario's)");
   command->callback([options] {
     sim::ScenarioFile file = sim::LoadScenarioFile(options->scenario, {});
@@ -71,6 +78,7 @@ void AddSitlCommand(CLI::App& app) {
     sitl.system_id = static_cast<std::uint8_t>(options->system_id);
     sitl.linger_s = options->linger_s;
     sitl.wait_for_start = options->wait_for_start;
+    sitl.wait_for_mission = options->wait_for_mission;
     sitl.external_cma = options->cma == "external";
     if (sitl.external_cma && !options->policy.empty())
       throw InputError("--policy", "value", "no policy with --cma external (the companion's --policy decides)");

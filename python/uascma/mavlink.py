@@ -83,18 +83,25 @@ class Sitl:
 
 
 def start_sitl(scenario, speed=1.0, host="127.0.0.1", port=0, system_id=1, wait_for_start=False, linger_s=2.0,
-               policy=None, timeout_s=30.0, companion=None):
+               policy=None, timeout_s=30.0, companion=None, wait_for_mission=False):
     """Starts ``uascma sitl SCENARIO --mavlink udp:HOST:PORT`` and returns a :class:`Sitl` once it listens.
 
     ``port`` 0 lets the system choose (``Sitl.port`` says which). ``speed``: simulated seconds per wall second;
-    ``wait_for_start``: stay on the ground until ARM and MISSION_START; ``linger_s``: how long the link is served
+    ``wait_for_start``: stay on the ground until ARM and MISSION_START; ``wait_for_mission``: the same, then fly the
+    mission a ground station uploaded instead of the scenario's plan; ``linger_s``: how long the link is served
     after the flight; ``companion``: a :func:`start_companion` handle: the vehicle sends to it too and the CMA is the
     companion's (``--cma external``). InputError when the tool refuses an argument or does not listen within
     ``timeout_s``."""
     args = [_cli(), "sitl", os.fspath(scenario), "--mavlink", f"udp:{host}:{int(port)}", "--speed", str(float(speed)),
             "--system-id", str(int(system_id)), "--linger", str(float(linger_s))]
+    if wait_for_start and wait_for_mission:
+        from ._uascma import InputError
+
+        raise InputError("start_sitl: wait_for_start, wait_for_mission: one of them (both wait on the ground)")
     if wait_for_start:
         args.append("--wait-for-start")
+    if wait_for_mission:
+        args.append("--wait-for-mission")
     if policy is not None:
         args += ["--policy", os.fspath(policy)]
     if companion is not None:
@@ -103,12 +110,14 @@ def start_sitl(scenario, speed=1.0, host="127.0.0.1", port=0, system_id=1, wait_
 
 
 def start_companion(scenario, policy=None, host="127.0.0.1", port=0, log=None, allow_termination=False,
-                    timeout_s=30.0):
+                    timeout_s=30.0, map_files=(), sites=None):
     """Starts ``uascma companion --mavlink udp:HOST:PORT --scenario SCENARIO`` and returns a handle once it listens.
 
     ``policy``: the CMA policy (``uascma simulate --policy``'s names; default the scenario's); ``log``: the decision
-    log CSV written when it ends; ``allow_termination``: send DO_FLIGHTTERMINATION when Terminate is taken. It ends
-    when the vehicle has landed or been silent for 5 s (docs/mavlink.md#the-cma-as-a-companion)."""
+    log CSV written when it ends (``uascma plot companion LOG`` draws it); ``allow_termination``: send
+    DO_FLIGHTTERMINATION when Terminate is taken; ``map_files``, ``sites``: the companion's own building files and
+    landing-site CSV in place of the scenario's. It plans on the vehicle's mission, downloaded. It ends when the vehicle
+    has landed or been silent for 5 s (docs/mavlink.md#the-cma-as-a-companion)."""
     args = [_cli(), "companion", "--mavlink", f"udp:{host}:{int(port)}", "--scenario", os.fspath(scenario)]
     if policy is not None:
         args += ["--policy", os.fspath(policy)]
@@ -116,6 +125,10 @@ def start_companion(scenario, policy=None, host="127.0.0.1", port=0, log=None, a
         args += ["--log", os.fspath(log)]
     if allow_termination:
         args.append("--allow-termination")
+    for path in map_files:
+        args += ["--map", os.fspath(path)]
+    if sites is not None:
+        args += ["--sites", os.fspath(sites)]
     return _start(args, "companion", host, timeout_s)
 
 

@@ -71,7 +71,7 @@ bool TelemetryReader::Read(const Frame& frame) {
 }
 
 VehicleBelief::VehicleBelief(const sim::FlightModel& model)
-    : model_(model), state_(sim::MakeInitialState(model, model.scenario().seed)) {
+    : model_(&model), state_(sim::MakeInitialState(model, model.scenario().seed)) {
   for (int branch = 0; branch < models::kBranchCount; ++branch) {
     for (int cell = 0; cell < models::kCellsPerBranch; ++cell) {
       initial_soc_[branch][cell] = state_.power.pack.cells[branch][cell].soc_fraction;
@@ -83,7 +83,7 @@ void VehicleBelief::Update(const TelemetrySample& sample) {
   sim::FlightState& s = state_;
   const double dt = last_ ? sample.time_s - last_->time_s : 0.0;
   s.time_s = sample.time_s;
-  s.step = std::llround(sample.time_s / model_.dt());
+  s.step = std::llround(sample.time_s / model_->dt());
   s.vehicle.body.p_WB_W = sample.p_W;
   s.vehicle.body.v_WB_W = sample.v_W;
   s.vehicle.body.q_WB = Eigen::Quaterniond(RotationFromEuler(sample.euler.x(), sample.euler.y(), sample.euler.z()));
@@ -93,9 +93,9 @@ void VehicleBelief::Update(const TelemetrySample& sample) {
   sim::PowerState& power = s.power;
   if (dt > 0.0) {
     const double current_a = 0.5 * (last_->pack_current_a + sample.pack_current_a);
-    const double step_s = model_.pack_step().dt_s;
+    const double step_s = model_->pack_step().dt_s;
     const int steps = std::max(1, static_cast<int>(std::ceil(dt / step_s - 1e-9)));
-    for (int k = 0; k < steps; ++k) power.pack = model_.pack().Step(power.pack, current_a, dt / steps);
+    for (int k = 0; k < steps; ++k) power.pack = model_->pack().Step(power.pack, current_a, dt / steps);
     power.energy_wh += 0.5 *
                        (last_->bus_voltage_v * last_->pack_current_a + sample.bus_voltage_v * sample.pack_current_a) *
                        dt / 3600.0;
@@ -105,21 +105,21 @@ void VehicleBelief::Update(const TelemetrySample& sample) {
   // within the coulomb counter's rounding, ±0.5 mAh of its reading (docs/modelling-choices.md#companion-belief).
   for (int branch = 0; branch < models::kBranchCount; ++branch) {
     const double counted_as = sample.consumed_mah[branch] * kAmpSecondsPerMah;
-    const double capacity_as = model_.pack().cell(branch, 0).capacity_as();
+    const double capacity_as = model_->pack().cell(branch, 0).capacity_as();
     const double integrated_as = (initial_soc_[branch][0] - power.pack.cells[branch][0].soc_fraction) * capacity_as;
     const double drawn_as =
         std::clamp(integrated_as, counted_as - 0.5 * kAmpSecondsPerMah, counted_as + 0.5 * kAmpSecondsPerMah);
     power.branch_charge_as[branch] = drawn_as;
     for (int cell = 0; cell < models::kCellsPerBranch; ++cell) {
       power.pack.cells[branch][cell].soc_fraction =
-          std::clamp(initial_soc_[branch][cell] - drawn_as / model_.pack().cell(branch, cell).capacity_as(), 0.0, 1.0);
+          std::clamp(initial_soc_[branch][cell] - drawn_as / model_->pack().cell(branch, cell).capacity_as(), 0.0, 1.0);
     }
   }
   power.bus_voltage_v = sample.bus_voltage_v;
   power.pack_current_a = power.load_current_a = sample.pack_current_a;
   // Faults: the spall indicator latched; the flagged rotor as the isolated one.
   if (sample.spall_mm2 > 0.0 && !s.faults.spall) {
-    s.faults.spall.emplace(model_.rul_model(), sample.time_s, 0);
+    s.faults.spall.emplace(model_->rul_model(), sample.time_s, 0);
     s.faults.spall_onset_s = sample.time_s;
   }
   if (sample.failed_rotor != 0 && s.faults.allocation_failure == 0) {

@@ -1,6 +1,36 @@
 #include "uascma/mavlink/mission_server.h"
 
+#include <cmath>
+
 namespace uascma::mavlink {
+
+planning::MissionItem ToMissionItem(const MissionItemInt& item) {
+  return {item.command, item.frame,
+          {item.param1, item.param2, item.param3, item.param4, item.x * 1e-7, item.y * 1e-7, item.z}};
+}
+
+MissionItemInt ToMissionItemInt(const planning::MissionItem& item, Address target, std::uint16_t seq) {
+  MissionItemInt out;
+  out.target_system = target.system_id;
+  out.target_component = target.component_id;
+  out.seq = seq;
+  out.frame = static_cast<std::uint8_t>(item.frame);
+  out.command = static_cast<std::uint16_t>(item.command);
+  out.current = seq == 0 ? 1 : 0;
+  out.autocontinue = 1;
+  out.param1 = static_cast<float>(item.params[0]);
+  out.param2 = static_cast<float>(item.params[1]);
+  out.param3 = static_cast<float>(item.params[2]);
+  out.param4 = static_cast<float>(item.params[3]);
+  const auto degrees_e7 = [](double degrees) {
+    return std::isfinite(degrees) ? static_cast<std::int32_t>(std::llround(degrees * 1e7)) : 0;
+  };
+  out.x = degrees_e7(item.params[4]);
+  out.y = degrees_e7(item.params[5]);
+  out.z = static_cast<float>(item.params[6]);
+  out.mission_type = static_cast<std::uint8_t>(kMavMissionTypeMission);
+  return out;
+}
 
 bool MissionServer::ForUs(std::uint8_t target_system, std::uint8_t mission_type) const {
   return (target_system == self_.system_id || target_system == 0) && mission_type == kMavMissionTypeMission;
@@ -45,6 +75,15 @@ bool MissionServer::OnItem(const Frame& frame, double now_s, std::vector<Outgoin
   if (upload_->received.size() < upload_->count) {
     Request(now_s, out);
     return false;
+  }
+  if (check_) {
+    if (std::optional<std::string> why = check_(upload_->received)) {
+      Ack(upload_->partner, static_cast<std::uint8_t>(kMavMissionInvalid), out);
+      upload_.reset();
+      refusal_ = std::move(why);
+      ++counts_.refused;
+      return false;
+    }
   }
   items_ = std::move(upload_->received);
   current_ = 0;

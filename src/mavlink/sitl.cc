@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include <fmt/format.h>
@@ -82,6 +83,40 @@ sim::EmergencyPlanner MissionPlanner(const sim::FlightModel& model, std::vector<
   };
 }
 
+constexpr const char* kUploadedSource = "the uploaded mission";
+
+// The scenario flying the uploaded items, read as a mission file's items are (planning::MissionFromItems) from where
+// the vehicle stands, in the scenario's frame and over its map. InputError naming the item when it cannot be flown.
+sim::Scenario UploadedFlight(const sim::Scenario& scenario, const sim::FlightModel& ground,
+                             const std::vector<MissionItemInt>& uploaded) {
+  const planning::GeoPoint origin = VehicleGeoOrigin(scenario);
+  std::vector<planning::MissionItem> items;
+  for (const MissionItemInt& item : uploaded) items.push_back(ToMissionItem(item));
+  planning::MissionImportOptions import;
+  import.origin = origin;
+  import.map = scenario.map.get();
+  const planning::GeoPoint home =
+      planning::LocalProjection(origin).ToGeodetic(ground.nominal_plan().start_W().head<2>());
+  sim::Scenario flight = scenario;
+  sim::FlyMissionRoute(flight,
+                       planning::MissionFromItems(items, home, kUploadedSource, planning::MissionFirmware::kUnknown,
+                                                  "uploaded to a MAV_AUTOPILOT_GENERIC vehicle", import),
+                       kUploadedSource);
+  return flight;
+}
+
+// The plan as the items a .plan export writes (planning::PlanMissionItems), for the vehicle to hold.
+std::vector<MissionItemInt> PlanAsMission(const sim::FlightModel& model, Address self) {
+  planning::QgcPlanExportOptions options;
+  options.origin = VehicleGeoOrigin(model.scenario());
+  options.cruise_speed = model.scenario().limits.cruise_speed;
+  std::vector<MissionItemInt> items;
+  for (const planning::MissionItem& item : planning::PlanMissionItems(model.nominal_plan(), options)) {
+    items.push_back(ToMissionItemInt(item, self, static_cast<std::uint16_t>(items.size())));
+  }
+  return items;
+}
+
 struct LoopState {
   bool armed = true;    // flies the scenario as `simulate` does from the start
   bool started = true;  // SitlOptions::wait_for_start: false until MISSION_START
@@ -147,45 +182,40 @@ std::string SitlSummary::BriefReport() const {
   return fmt::format(
       "{} ({}) at {:.1f} s simulated in {:.1f} s wall ({:.1f}x, {:.1f} s CPU); {} epochs, {} late; link: {} frames, "
       "{} bad checksum, {} unknown id, {} truncated; {} commands ({} unsupported, {} for another system); "
-      "{} mission uploads, {} downloads",
+      "{} mission uploads ({} refused), {} downloads",
       sim::OutcomeName(outcome), reason, sim_time_s, wall_time_s, wall_time_s > 0 ? sim_time_s / wall_time_s : 0.0,
       cpu_time_s, epochs, late_epochs, link.frames, link.bad_checksum, link.unknown_message, link.truncated,
       commands.commands, commands.unsupported_commands, commands.foreign_commands, missions.uploads,
-      missions.downloads);
+      missions.refused, missions.downloads);
 }
 
-SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, const SitlOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError(error);
-  const sim::FlightModel model(scenario);
-  UdpLink link(options.links);
-  if (options.on_ready) options.on_ready(link);
-  const Address self{options.system_id, static_cast<std::uint8_t>(kMavCompIdAutopilot1)};
-  const auto unix_now = std::chrono::system_clock::now().time_since_epoch();
-  SitlVehicle vehicle(
-      model, self, scenario.geo_origin.value_or(planning::GeoPoint{}),
-      static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()),
-      options.external_cma);
-  FrameSender sender(link, self);
-  CommandedPolicy commanded(policy, options.external_cma);
+namespace {
+
+// On the ground, disarmed, streaming once a wall second, until ARM and MISSION_START (or a DISARM ends the run).
+void WaitOnGround(const sim::FlightModel& ground, SitlVehicle& vehicle, UdpLink& link, FrameSender& sender,
+                  CommandedPolicy& commanded, LoopState& loop) {
+  loop.armed = false;
+  loop.started = false;
+  const sim::FlightState state = sim::MakeInitialState(ground, ground.scenario().seed);
+  const sim::FlightLog log;
+  std::vector<Outgoing> out;
+  const Clock::time_point waiting = Clock::now();
+  for (int second = 1; !loop.started && !loop.stop; ++second) {
+    vehicle.Telemetry(state, log, loop.armed, out);
+    sender.Flush(out);
+    Serve(ground, vehicle, link, sender, commanded, loop, false, waiting, second);
+  }
+}
+
+// The flight, epoch by epoch, paced to wall time, then `linger_s` of serving the final state.
+void Fly(const sim::FlightModel& model, SitlVehicle& vehicle, UdpLink& link, FrameSender& sender,
+         CommandedPolicy& commanded, LoopState& loop, const SitlOptions& options, SitlSummary& summary) {
   const sim::Controllers controllers{
       &commanded, nullptr, [&](const sim::EmergencyRequest& request) { return commanded.Plan(model, request); }};
-  sim::FlightState state = sim::MakeInitialState(model, scenario.seed);
+  sim::FlightState state = sim::MakeInitialState(model, model.scenario().seed);
   sim::FlightLog log;
   log.record_telemetry = true;  // the pack's outputs for BATTERY_STATUS, as `simulate --out` records them
-  LoopState loop;
-  SitlSummary summary;
   std::vector<Outgoing> out;
-  if (options.wait_for_start) {  // on the ground, once a wall second, until ARM and MISSION_START
-    loop.armed = false;
-    loop.started = false;
-    const Clock::time_point waiting = Clock::now();
-    for (int second = 1; !loop.started && !loop.stop; ++second) {
-      vehicle.Telemetry(state, log, loop.armed, out);
-      sender.Flush(out);
-      Serve(model, vehicle, link, sender, commanded, loop, false, waiting, second);
-    }
-  }
   const double cpu_start = ProcessCpuSeconds();
   const Clock::time_point start = Clock::now();
   vehicle.Telemetry(state, log, loop.armed, out);
@@ -224,6 +254,46 @@ SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, 
   summary.wall_time_s = end;
   summary.cpu_time_s = ProcessCpuSeconds() - cpu_start;
   summary.events = log.events;
+}
+
+}  // namespace
+
+SitlSummary RunSitl(const sim::Scenario& scenario, sim::DecisionPolicy& policy, const SitlOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  const sim::FlightModel ground(scenario);
+  UdpLink link(options.links);
+  if (options.on_ready) options.on_ready(link);
+  const Address self{options.system_id, static_cast<std::uint8_t>(kMavCompIdAutopilot1)};
+  const auto unix_now = std::chrono::system_clock::now().time_since_epoch();
+  SitlVehicle vehicle(
+      ground, self, VehicleGeoOrigin(scenario),
+      static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(unix_now).count()),
+      options.external_cma);
+  FrameSender sender(link, self);
+  CommandedPolicy commanded(policy, options.external_cma);
+  if (options.wait_for_mission) {
+    vehicle.RequireMission([&](const std::vector<MissionItemInt>& items) -> std::optional<std::string> {
+      try {
+        UploadedFlight(scenario, ground, items);
+        return std::nullopt;
+      } catch (const InputError& refused) {
+        return std::string(refused.what());
+      }
+    });
+  } else {
+    vehicle.HoldMission(PlanAsMission(ground, self));
+  }
+  LoopState loop;
+  if (options.wait_for_start || options.wait_for_mission) WaitOnGround(ground, vehicle, link, sender, commanded, loop);
+  std::unique_ptr<const sim::FlightModel> uploaded;  // the uploaded mission's flight (wait_for_mission)
+  if (options.wait_for_mission && loop.started) {
+    const sim::Scenario flight = UploadedFlight(scenario, ground, vehicle.missions().items());
+    uploaded = std::make_unique<const sim::FlightModel>(flight);
+    vehicle.UseModel(*uploaded, planning::MissionItemArrivals(*flight.route, flight.limits));
+  }
+  SitlSummary summary;
+  Fly(uploaded ? *uploaded : ground, vehicle, link, sender, commanded, loop, options, summary);
   summary.link = link.counts();
   summary.missions = vehicle.missions().counts();
   summary.commands = vehicle.counts();

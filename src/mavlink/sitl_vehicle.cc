@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <tuple>
 #include <limits>
 #include <numbers>
 
@@ -47,9 +48,52 @@ Statustext MakeStatustext(std::uint8_t severity, const std::string& text) {
   return message;
 }
 
+std::vector<Statustext> StatustextChunks(std::uint8_t severity, const std::string& text, std::uint16_t id) {
+  std::vector<Statustext> chunks;
+  constexpr std::size_t kChunk = std::tuple_size_v<decltype(Statustext::text)>;  // 50 bytes
+  // Every chunk but the last is full: a NUL ends the text for the receiver, so a chunk is never cut short.
+  for (std::size_t begin = 0; chunks.size() < 255; begin += kChunk) {
+    Statustext chunk;
+    chunk.severity = severity;
+    chunk.id = id;
+    chunk.chunk_seq = static_cast<std::uint8_t>(chunks.size());
+    const std::size_t length = std::min(kChunk, text.size() - std::min(begin, text.size()));
+    std::memcpy(chunk.text.data(), text.data() + begin, length);
+    chunks.push_back(chunk);
+    if (length < kChunk) break;
+  }
+  return chunks;
+}
+
+void SitlVehicle::Say(std::uint8_t severity, const std::string& text, std::vector<Outgoing>& out) {
+  for (const Statustext& chunk : StatustextChunks(severity, text, ++statustext_id_)) out.push_back(MakeOutgoing(chunk));
+}
+
+void SitlVehicle::UseModel(const sim::FlightModel& model, std::vector<planning::ItemArrival> arrivals) {
+  model_ = &model;
+  arrivals_ = std::move(arrivals);
+  arrivals_sent_ = 0;
+}
+
+void SitlVehicle::ItemsReached(const sim::FlightState& state, std::vector<Outgoing>& out) {
+  if (arrivals_.empty() || state.guidance.on_emergency_plan) return;
+  // At the mission's end (landed where it ends) every item is reached, whatever the touchdown's instant.
+  const bool completed = state.outcome == sim::Outcome::kCompleted;
+  const double elapsed_s = state.original_plan_elapsed_s();
+  for (; arrivals_sent_ < arrivals_.size() && (completed || arrivals_[arrivals_sent_].time_s <= elapsed_s);
+       ++arrivals_sent_) {
+    MissionItemReached reached;
+    reached.seq = static_cast<std::uint16_t>(arrivals_[arrivals_sent_].item_number - 1);
+    out.push_back(MakeOutgoing(reached));
+  }
+  if (arrivals_sent_ < arrivals_.size()) {
+    missions_.set_current(static_cast<std::uint16_t>(arrivals_[arrivals_sent_].item_number - 1));
+  }
+}
+
 SitlVehicle::SitlVehicle(const sim::FlightModel& model, Address self, planning::GeoPoint origin,
                          std::uint64_t unix_start_us, bool external_cma)
-    : model_(model),
+    : model_(&model),
       self_(self),
       projection_(origin),
       unix_start_us_(unix_start_us),
@@ -123,7 +167,7 @@ void SitlVehicle::Batteries(const sim::FlightState& state, const sim::FlightLog&
     battery.current_battery = row ? Saturate<std::int16_t>(row->branch_current[pack] * 100.0) : -1;
     // Charge drawn: (z0 − z) Q of the pack's first cell (the cells of a pack are in series, η_discharge = 1,
     // Table 3.1), from a full charge at the state's initial SOC.
-    const models::SelfCorrectingCell& cell = model_.pack().cell(pack, 0);
+    const models::SelfCorrectingCell& cell = model_->pack().cell(pack, 0);
     const double soc = state.power.pack.cells[pack][0].soc_fraction;
     const double initial = initial_soc_[pack];
     battery.current_consumed = Saturate<std::int32_t>((initial - soc) * cell.capacity_as() / 3.6);
@@ -189,7 +233,7 @@ void SitlVehicle::Telemetry(const sim::FlightState& state, const sim::FlightLog&
   Batteries(state, log, out);
   Position(state, time_ms, out);
   HomePosition home;
-  const Eigen::Vector3d home_W = model_.nominal_plan().start_W();
+  const Eigen::Vector3d home_W = model_->nominal_plan().start_W();
   const planning::GeoPoint home_geo = projection_.ToGeodetic(home_W.head<2>());
   home.latitude = Saturate<std::int32_t>(home_geo.lat_deg * 1e7);
   home.longitude = Saturate<std::int32_t>(home_geo.lon_deg * 1e7);
@@ -203,6 +247,7 @@ void SitlVehicle::Telemetry(const sim::FlightState& state, const sim::FlightLog&
       state.vehicle.airborne && !state.done() ? kMavLandedStateInAir : kMavLandedStateOnGround);
   out.push_back(MakeOutgoing(extended));
   Escs(state, out);
+  ItemsReached(state, out);
   MissionCurrent current;
   current.seq = missions_.current();
   current.total = static_cast<std::uint16_t>(missions_.items().size());
@@ -254,8 +299,15 @@ VehicleRequest SitlVehicle::OnCommand(std::uint16_t command, std::uint8_t target
       break;
     case kMavCmdMissionStart:
     case kMavCmdNavTakeoff:
-      if (!armed) result = kMavResultDenied;
-      else if (external_cma_ && flying && command == kMavCmdMissionStart && !MissionWaypoints().empty())
+      if (!armed) {
+        result = kMavResultDenied;
+        if (mission_required_) Say(kMavSeverityError, "start denied: not armed", out);
+      } else if (mission_required_ && !flying && missions_.items().empty()) {
+        result = kMavResultDenied;
+        Say(kMavSeverityError, "start denied: no mission uploaded (a flyable one is stored at MISSION_ACK)", out);
+      }
+      else if (external_cma_ && flying && command == kMavCmdMissionStart && missions_.counts().uploads > 0 &&
+               !MissionWaypoints().empty())
         request = VehicleRequest::kFlyMission;
       else request = VehicleRequest::kMissionStart;
       break;
@@ -304,6 +356,7 @@ VehicleRequest SitlVehicle::Handle(const Frame& frame, double wall_s, bool armed
                      frame.sender, armed, flying, out);
   }
   missions_.Handle(frame, wall_s, out);
+  if (const std::optional<std::string> why = missions_.TakeRefusal()) Say(kMavSeverityError, "mission refused: " + *why, out);
   return VehicleRequest::kNone;
 }
 

@@ -302,6 +302,7 @@ class MissionBuilder {
     waypoint.p_W = p_W;
     waypoint.label = label;
     waypoint.max_speed = speed_;
+    waypoint.item_number = item_number_;
     mission_.waypoints.push_back(std::move(waypoint));
     position_ = p_W;
   }
@@ -493,6 +494,7 @@ class MissionBuilder {
 
   void Fly(const RawItem& item) {
     const std::string number = std::to_string(item.number);
+    item_number_ = item.number;
     if (item.command != kMavCmdDoChangeSpeed && (item.command == kMavCmdNavRoi || !RefusalReason(item.command))) {
       Warn(fmt::format("{}: {} does not move the vehicle: skipped", item.name, MavCommandName(item.command)));
       return;
@@ -565,6 +567,7 @@ class MissionBuilder {
   Mission mission_;
   Eigen::Vector3d position_ = Eigen::Vector3d::Zero();
   double speed_ = 0.0;  // m/s, DO_CHANGE_SPEED (0: the plan's cruise speed)
+  int item_number_ = 0;  // the item being flown (Waypoint::item_number)
   bool ended_ = false;
   bool terrain_warned_ = false;
 };

@@ -181,6 +181,44 @@ Mission LoadMissionFile(const std::filesystem::path& path, const MissionImportOp
   return ParseMission(ReadFile(path), path.string(), format, options);
 }
 
+Mission MissionFromItems(std::span<const MissionItem> items, const GeoPoint& home, const std::string& source,
+                         MissionFirmware firmware, const std::string& firmware_basis,
+                         const MissionImportOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("mission import options: " + error);
+  using namespace mission_detail;
+  RawMission raw;
+  raw.home = home;
+  raw.firmware = firmware;
+  raw.firmware_basis = firmware_basis;
+  for (std::size_t seq = 0; seq < items.size(); ++seq) {
+    RawItem item;
+    item.number = static_cast<int>(seq) + 1;
+    item.jump_id = static_cast<int>(seq);  // DO_JUMP's param1: the target's sequence number (MAV_CMD_DO_JUMP)
+    item.name = fmt::format("item {} (seq {})", item.number, seq);
+    item.command = items[seq].command;
+    item.frame = items[seq].frame;
+    item.params = items[seq].params;
+    raw.items.push_back(std::move(item));
+  }
+  raw.items = UnrollJumps(raw.items, source, &raw.warnings);
+  return BuildMission(raw, source, options);
+}
+
+std::vector<ItemArrival> MissionItemArrivals(const Mission& mission, const PlanLimits& limits) {
+  std::vector<ItemArrival> arrivals;
+  const std::vector<Waypoint>& waypoints = mission.waypoints;
+  for (std::size_t k = 0; k < waypoints.size(); ++k) {
+    if (waypoints[k].item_number <= 0) continue;
+    if (k + 1 < waypoints.size() && waypoints[k + 1].item_number == waypoints[k].item_number) continue;
+    // The plan through the waypoints up to this one ends with its hold: the arrival is that much earlier.
+    const std::vector<Waypoint> prefix(waypoints.begin(), waypoints.begin() + static_cast<std::ptrdiff_t>(k) + 1);
+    const double end_s = FlightPlan::Through(mission.home_W, prefix, limits).duration();
+    arrivals.push_back({end_s - waypoints[k].hover_after_s, waypoints[k].item_number});
+  }
+  return arrivals;
+}
+
 FlightPlan MakeMissionPlan(const Mission& mission, const PlanLimits& limits) {
   return FlightPlan::Through(mission.home_W, mission.waypoints, limits);
 }

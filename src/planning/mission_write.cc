@@ -33,22 +33,15 @@ bool QgcPlanExportOptions::IsValid(std::string* error) const {
 namespace {
 
 // The plan's MAVLink items, heights relative to home (`home_W`), positions through `projection`.
-nlohmann::json PlanItems(const FlightPlan& plan, const QgcPlanExportOptions& options, const LocalProjection& projection,
-                         const Eigen::Vector3d& home_W) {
-  nlohmann::json items = nlohmann::json::array();
+std::vector<MissionItem> ItemsOf(const FlightPlan& plan, const QgcPlanExportOptions& options,
+                                 const LocalProjection& projection, const Eigen::Vector3d& home_W) {
+  std::vector<MissionItem> items;
   auto add = [&](int command, const Eigen::Vector3d& p_W, double param1) {
     const GeoPoint point = projection.ToGeodetic(p_W.head<2>());
     // Heights in the relative frame are above home; W's z is measured from the ground at home's level.
     const double height = -p_W.z() + home_W.z();
-    items.push_back({{"type", "SimpleItem"},
-                     {"command", command},
-                     {"frame", static_cast<int>(kMavFrameGlobalRelativeAlt)},
-                     {"autoContinue", true},
-                     {"doJumpId", static_cast<int>(items.size()) + 1},
-                     {"AltitudeMode", 1},  // QGroundControl: relative to home
-                     {"Altitude", height},
-                     {"AMSLAltAboveTerrain", nullptr},
-                     {"params", {param1, 0.0, 0.0, nullptr, point.lat_deg, point.lon_deg, height}}});
+    items.push_back({command, static_cast<int>(kMavFrameGlobalRelativeAlt),
+                     {param1, 0.0, 0.0, mission_detail::kNaN, point.lat_deg, point.lon_deg, height}});
   };
 
   const auto& segments = plan.segments();
@@ -62,11 +55,8 @@ nlohmann::json PlanItems(const FlightPlan& plan, const QgcPlanExportOptions& opt
     if (segment.kind == PlanSegment::Kind::kHover) {
       // A hover is the hold time (param1) of a NAV_WAYPOINT there; after a take-off or a landing, a waypoint of
       // its own at the same place.
-      if (items.empty() || items.back()["command"].get<int>() != kMavCmdNavWaypoint) {
-        add(kMavCmdNavWaypoint, segment.end_W, 0.0);
-      }
-      auto& hold = items.back()["params"][0];
-      hold = hold.get<double>() + segment.duration;
+      if (items.empty() || items.back().command != kMavCmdNavWaypoint) add(kMavCmdNavWaypoint, segment.end_W, 0.0);
+      items.back().params[0] += segment.duration;
       continue;
     }
     const Eigen::Vector3d delta = segment.end_W - segment.start_W;
@@ -74,12 +64,8 @@ nlohmann::json PlanItems(const FlightPlan& plan, const QgcPlanExportOptions& opt
     if (!vertical && segment.cruise_speed > 0.0 && segment.cruise_speed != speed) {
       // DO_CHANGE_SPEED, ground speed (type 1), throttle unchanged (−1): this move and the ones after it.
       speed = segment.cruise_speed;
-      items.push_back({{"type", "SimpleItem"},
-                       {"command", static_cast<int>(kMavCmdDoChangeSpeed)},
-                       {"frame", static_cast<int>(kMavFrameMission)},
-                       {"autoContinue", true},
-                       {"doJumpId", static_cast<int>(items.size()) + 1},
-                       {"params", {1.0, speed, -1.0, 0.0, 0.0, 0.0, 0.0}}});
+      items.push_back({static_cast<int>(kMavCmdDoChangeSpeed), static_cast<int>(kMavFrameMission),
+                       {1.0, speed, -1.0, 0.0, 0.0, 0.0, 0.0}});
     }
     bool last_move = true;
     for (std::size_t later = s + 1; later < segments.size(); ++later) {
@@ -97,16 +83,47 @@ nlohmann::json PlanItems(const FlightPlan& plan, const QgcPlanExportOptions& opt
   return items;
 }
 
-}  // namespace
+// The items as QGroundControl's SimpleItems (a null where the item has NaN).
+nlohmann::json ItemsJson(const std::vector<MissionItem>& items) {
+  nlohmann::json json = nlohmann::json::array();
+  for (const MissionItem& item : items) {
+    nlohmann::json params = nlohmann::json::array();
+    for (double value : item.params) params.push_back(std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value));
+    nlohmann::json entry = {{"type", "SimpleItem"},
+                            {"command", item.command},
+                            {"frame", item.frame},
+                            {"autoContinue", true},
+                            {"doJumpId", static_cast<int>(json.size()) + 1}};
+    if (item.frame == kMavFrameGlobalRelativeAlt) {
+      entry["AltitudeMode"] = 1;  // QGroundControl: relative to home
+      entry["Altitude"] = item.params[6];
+      entry["AMSLAltAboveTerrain"] = nullptr;
+    }
+    entry["params"] = std::move(params);
+    json.push_back(std::move(entry));
+  }
+  return json;
+}
 
-std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& options) {
+// The export's home in W: QgcPlanExportOptions::home_W, else the plan's start on the ground. Checks the options.
+Eigen::Vector3d ExportHome(const FlightPlan& plan, const QgcPlanExportOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("plan export options: " + error);
   if (plan.empty()) throw InputError("plan export", "plan", "a flight plan with at least one segment");
-  const LocalProjection projection(options.origin);
-  const Eigen::Vector3d home_W = options.home_W.value_or(Eigen::Vector3d(plan.start_W().x(), plan.start_W().y(), 0.0));
-  const GeoPoint home = projection.ToGeodetic(home_W.head<2>());
-  const nlohmann::json items = PlanItems(plan, options, projection, home_W);
+  return options.home_W.value_or(Eigen::Vector3d(plan.start_W().x(), plan.start_W().y(), 0.0));
+}
+
+}  // namespace
+
+std::vector<MissionItem> PlanMissionItems(const FlightPlan& plan, const QgcPlanExportOptions& options) {
+  const Eigen::Vector3d home_W = ExportHome(plan, options);
+  return ItemsOf(plan, options, LocalProjection(options.origin), home_W);
+}
+
+std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& options) {
+  const Eigen::Vector3d home_W = ExportHome(plan, options);
+  const GeoPoint home = LocalProjection(options.origin).ToGeodetic(home_W.head<2>());
+  const nlohmann::json items = ItemsJson(PlanMissionItems(plan, options));
   const nlohmann::json document = {
       {"fileType", "Plan"},
       {"version", 1},

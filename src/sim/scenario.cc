@@ -420,6 +420,21 @@ std::optional<planning::GeoPoint> ReadMissionOrigin(const YAML::Node& m, const s
   return planning::GeoPoint{origin[0], origin[1]};
 }
 
+// The scenario flies `route`: its rally points join the landing sites LandPract and LandASAP may use, and the sites
+// its geofence forbids leave (planning/mission_file.h, WithMissionSafety); the frame is the route's.
+void AdoptRoute(Scenario& sc, planning::Mission route) {
+  sc.route = std::move(route);
+  if (!sc.route->rally_points.empty() || !sc.route->geofence.empty()) {
+    sc.map = std::make_shared<const planning::CityMap>(
+        planning::WithMissionSafety(sc.map ? *sc.map : planning::CityMap(), *sc.route));
+  }
+  sc.geo_origin = sc.route->origin;
+  // Mirrored for the records (campaign metrics, the plot's extent): the route's home and its last point.
+  sc.mission.home_NE = sc.route->home_W.head<2>();
+  sc.mission.destination_NE =
+      sc.route->waypoints.empty() ? sc.mission.home_NE : Eigen::Vector2d(sc.route->waypoints.back().p_W.head<2>());
+}
+
 // mission: {file: x.plan, land_at_end: true, origin: [lat, lon]} — a ground station's mission (mission_file.h),
 // paths relative to the scenario file. Its options are read even when `mission_file` (simulate --mission)
 // replaces the file.
@@ -449,18 +464,7 @@ void ReadMissionFile(const YAML::Node& m, const std::string& source,
     const std::filesystem::path name(RequireString(m, "file", source, "mission"));
     path = name.is_absolute() ? name : std::filesystem::path(source).parent_path() / name;
   }
-  sc.route = planning::LoadMissionFile(path, options);
-  // The mission's rally points join the landing sites LandPract and LandASAP may use, and the sites its geofence
-  // forbids leave (planning/mission_file.h, WithMissionSafety).
-  if (!sc.route->rally_points.empty() || !sc.route->geofence.empty()) {
-    sc.map = std::make_shared<const planning::CityMap>(
-        planning::WithMissionSafety(sc.map ? *sc.map : planning::CityMap(), *sc.route));
-  }
-  sc.geo_origin = sc.route->origin;
-  // Mirrored for the records (campaign metrics, the plot's extent): the route's home and its last point.
-  sc.mission.home_NE = sc.route->home_W.head<2>();
-  sc.mission.destination_NE =
-      sc.route->waypoints.empty() ? sc.mission.home_NE : Eigen::Vector2d(sc.route->waypoints.back().p_W.head<2>());
+  AdoptRoute(sc, planning::LoadMissionFile(path, options));
 }
 
 // Returns whether the file sets the cruise altitude.
@@ -518,6 +522,13 @@ void CheckLandPractCheckpoints(const Scenario& sc, const std::string& source) {
 }
 
 }  // namespace
+
+void FlyMissionRoute(Scenario& sc, planning::Mission route, const std::string& source) {
+  AdoptRoute(sc, std::move(route));
+  std::string error;
+  if (!sc.IsValid(&error)) throw InputError(source + ": " + error);
+  CheckLandPractCheckpoints(sc, source);
+}
 
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source, const ScenarioLoadOptions& load) {
   const YAML::Node root = ParseYamlText(yaml_text, source);  // duplicate keys and non-UTF-8 text refused

@@ -349,3 +349,45 @@ TEST(SimulateCliTest, MissionExampleFliesOverTheImportedCityAndExportsInItsFrame
 
 }  // namespace
 }  // namespace uascma
+
+namespace uascma {
+namespace {
+
+using testing_support::RunCli;
+using testing_support::ScratchDir;
+
+// `uascma plot companion`: a decision log as `uascma companion --log` writes it drawn, its actions listed by --json;
+// a bad one refused naming the file, the line and the column, and nothing drawn.
+TEST(PlotCompanionCliTest, ALogIsDrawnAndABadOneIsExitTwoNamingLineAndColumn) {
+  ScratchDir dir("plot_companion");
+  const std::string header =
+      "time_s,cma_state,decided,taken,eod_s,rul_s,flight_time_remaining_s,reach_margin,motor_margin,decision_ms,note\n";
+  const std::string rows =
+      "0.000,\"\",,,0.000,0.000,0.000,0.00000,0.00000,0.000,\"incomplete: no decision\"\n"
+      "1.000,\"N,NF,MM1,M,RM1\",NoOp,NoOp,600.000,inf,590.000,0.01000,1.00000,0.040,\"\"\n"
+      "2.000,\"N,SF,MM0,M,RM1\",LandPract,LandPract,590.000,30.000,60.000,0.80000,-3.00000,0.900,\"to \"\"roof\"\", 1\"\n";
+  const auto log = dir.path / "decisions.csv";
+  std::ofstream(log) << header << rows;
+  const auto drawn = RunCli("plot companion " + log.string() + " --json");
+  ASSERT_EQ(drawn.exit_code, 0) << drawn.err;
+  EXPECT_EQ(testing_support::Slurp(dir.path / "decisions.png").substr(1, 3), "PNG");
+  const nlohmann::json timeline = nlohmann::json::parse(drawn.out);
+  EXPECT_EQ(timeline.at("epochs"), 3);
+  ASSERT_EQ(timeline.at("actions").size(), 1u);
+  EXPECT_EQ(timeline.at("actions")[0].at("action"), "LandPract");
+  EXPECT_EQ(timeline.at("actions")[0].at("note"), "to \"roof\", 1");
+  EXPECT_TRUE(timeline.at("rows")[1].at("rul_s").is_null());  // infinite before a spall: JSON has no infinity
+
+  const auto bad = dir.path / "bad.csv";
+  std::string broken = header + rows;
+  broken.replace(broken.find("600.000"), 7, "lots");
+  std::ofstream(bad) << broken;
+  const auto refused = RunCli("plot companion " + bad.string());
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find(bad.string() + ": line 3 eod_s"), std::string::npos) << refused.err;
+  EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1);
+  EXPECT_FALSE(std::filesystem::exists(dir.path / "bad.png"));
+}
+
+}  // namespace
+}  // namespace uascma

@@ -157,3 +157,40 @@ TEST(MissionServerTest, ClearAndAnInvalidRequest) {
 
 }  // namespace
 }  // namespace uascma::mavlink
+
+namespace uascma::mavlink {
+namespace {
+
+// An upload the vehicle cannot fly (MissionServer::set_check): refused at its MISSION_ACK with MAV_MISSION_INVALID,
+// the stored mission kept, the reason given once.
+TEST(MissionServerTest, AnUploadTheCheckRefusesIsAnsweredInvalidAndNotStored) {
+  MissionServer server(kVehicle);
+  server.Load({Item(0)});
+  server.set_check([](const std::vector<MissionItemInt>& items) -> std::optional<std::string> {
+    if (items.size() == 2) return std::string("two items are refused");
+    return std::nullopt;
+  });
+  std::vector<Outgoing> out;
+  server.Handle(FrameOf(Count(2)), 0.0, out);
+  out.clear();
+  server.Handle(FrameOf(Item(0)), 0.1, out);
+  out.clear();
+  server.Handle(FrameOf(Item(1)), 0.2, out);
+  EXPECT_EQ(Only<MissionAck>(out).type, kMavMissionInvalid);
+  ASSERT_EQ(server.items().size(), 1u);  // the one held before
+  EXPECT_EQ(server.counts().refused, 1);
+  EXPECT_EQ(server.counts().uploads, 0);
+  EXPECT_EQ(server.TakeRefusal(), std::optional<std::string>("two items are refused"));
+  EXPECT_FALSE(server.TakeRefusal());
+  out.clear();
+  server.Handle(FrameOf(Count(3)), 1.0, out);  // a mission the check accepts is stored as before
+  for (std::uint16_t seq = 0; seq < 3; ++seq) {
+    out.clear();
+    server.Handle(FrameOf(Item(seq)), 1.1 + seq, out);
+  }
+  EXPECT_EQ(Only<MissionAck>(out).type, kMavMissionAccepted);
+  EXPECT_EQ(server.items().size(), 3u);
+}
+
+}  // namespace
+}  // namespace uascma::mavlink

@@ -233,3 +233,32 @@ TEST(SitlTest, WithTheCmaExternalAndNoCommandsTheFlightIsTheNoOpFlight) {
 
 }  // namespace
 }  // namespace uascma::mavlink
+
+namespace uascma::mavlink {
+namespace {
+
+// A long STATUSTEXT in chunks (the common set's id and chunk_seq): every chunk but the last full (a NUL would end the
+// text for the receiver), the whole text again when joined, a UTF-8 character across two chunks restored, and a last
+// chunk holding a NUL (empty when the text fills the one before).
+TEST(StatustextTest, ALongTextIsChunkedWholeAndJoinsBack) {
+  std::string text;
+  for (int k = 0; k < 40; ++k) text += "é-";  // 3 bytes each: 120 bytes, the 2-byte é across the 50th byte
+  const std::vector<Statustext> chunks = StatustextChunks(kMavSeverityError, text, 7);
+  ASSERT_EQ(chunks.size(), 3u);
+  std::string joined;
+  for (std::size_t k = 0; k < chunks.size(); ++k) {
+    EXPECT_EQ(chunks[k].id, 7);
+    EXPECT_EQ(chunks[k].chunk_seq, k);
+    const std::string part(chunks[k].text.data(), strnlen(chunks[k].text.data(), chunks[k].text.size()));
+    if (k + 1 < chunks.size()) EXPECT_EQ(part.size(), chunks[k].text.size()) << "chunk " << k << " cut short";
+    joined += part;
+  }
+  EXPECT_EQ(joined, text);
+  EXPECT_LT(strnlen(chunks.back().text.data(), chunks.back().text.size()), chunks.back().text.size());
+  const std::vector<Statustext> exact = StatustextChunks(kMavSeverityInfo, std::string(50, 'x'), 8);
+  ASSERT_EQ(exact.size(), 2u);
+  EXPECT_EQ(exact[1].text[0], '\0');
+}
+
+}  // namespace
+}  // namespace uascma::mavlink

@@ -609,3 +609,98 @@ TEST(GroundStationMissionTest, WaypointsWriterRoundTripsWithinOneCentimetre) {
 
 }  // namespace
 }  // namespace uascma::planning
+
+namespace uascma::planning {
+namespace {
+
+// --- a mission uploaded to a vehicle (MissionFromItems) --------------------------------------------------------
+
+// The example mission's items as a ground station uploads them (the .plan's SimpleItems, in order) fly the plan the
+// file flies: the same reader, from the same home.
+TEST(UploadedMissionTest, TheExampleFilesItemsFlyTheFilesPlan) {
+  const std::filesystem::path path =
+      std::filesystem::path(UASCMA_SOURCE_DIR) / "examples" / "missions" / "upper-east-side.plan";
+  const Mission file = LoadMissionFile(path);
+  const nlohmann::json plan_json = nlohmann::json::parse(ReadFile(path));
+  std::vector<MissionItem> items;
+  for (const nlohmann::json& item : plan_json["mission"]["items"]) {
+    MissionItem uploaded{item["command"].get<int>(), item["frame"].get<int>(), {}};
+    for (int k = 0; k < 7; ++k) {
+      uploaded.params[k] = item["params"][k].is_null() ? std::nan("") : item["params"][k].get<double>();
+    }
+    items.push_back(uploaded);
+  }
+  MissionImportOptions options;
+  options.origin = file.origin;
+  const Mission uploaded =
+      MissionFromItems(items, file.home, "the uploaded mission", file.firmware, file.firmware_basis, options);
+  ASSERT_EQ(uploaded.waypoints.size(), file.waypoints.size());
+  for (std::size_t k = 0; k < file.waypoints.size(); ++k) {
+    EXPECT_NEAR((uploaded.waypoints[k].p_W - file.waypoints[k].p_W).norm(), 0.0, kRoundTripTolerance) << k;
+    EXPECT_NEAR(uploaded.waypoints[k].hover_after_s, file.waypoints[k].hover_after_s, kTimeTolerance) << k;
+    EXPECT_EQ(uploaded.waypoints[k].item_number, file.waypoints[k].item_number) << k;
+  }
+  EXPECT_NEAR(MakeMissionPlan(uploaded, {}).duration(), MakeMissionPlan(file, {}).duration(), 1e-6);
+  // A refused item is named by its number and sequence number, as a file's is by its position.
+  items[1].command = kMavCmdNavLoiterUnlimited;
+  try {
+    MissionFromItems(items, file.home, "the uploaded mission", file.firmware, file.firmware_basis, options);
+    FAIL() << "NAV_LOITER_UNLIM flown";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("item 2 (seq 1)"), std::string::npos) << error.what();
+  }
+}
+
+// Arrivals in closed form: take off to 10 m (a vertical trapezoid at PlanLimits' 2 m/s and 1 m/s²), fly 100 m north
+// (5 m/s, 2 m/s²) and hold 5 s, land (10 m down): each item is reached at the end of its move, before its hold.
+TEST(UploadedMissionTest, ItemsAreReachedAtTheEndOfTheirMovesBeforeTheirHolds) {
+  const GeoPoint home{40.0, -74.0};
+  const LocalProjection projection(home);
+  const GeoPoint north = projection.ToGeodetic(Eigen::Vector2d(100.0, 0.0));
+  const std::vector<MissionItem> items = {
+      {kMavCmdNavTakeoff, kMavFrameGlobalRelativeAltInt, {0, 0, 0, 0, home.lat_deg, home.lon_deg, 10}},
+      {kMavCmdDoChangeSpeed, kMavFrameMission, {1, -1, -1, 0, 0, 0, 0}},
+      {kMavCmdNavWaypoint, kMavFrameGlobalRelativeAltInt, {5, 0, 0, 0, north.lat_deg, north.lon_deg, 10}},
+      {kMavCmdNavLand, kMavFrameGlobalRelativeAltInt, {0, 0, 0, 0, 0, 0, 0}},
+  };
+  const PlanLimits limits;
+  const Mission mission = MissionFromItems(items, home, "test", MissionFirmware::kUnknown, "test");
+  const std::vector<ItemArrival> arrivals = MissionItemArrivals(mission, limits);
+  const double climb_s = CalcTrapezoid(10.0, limits.vertical_speed, limits.vertical_accel).duration;
+  const double cruise_s = CalcTrapezoid(100.0, limits.cruise_speed, limits.horizontal_accel).duration;
+  ASSERT_EQ(arrivals.size(), 3u);  // DO_CHANGE_SPEED moves nothing: never reached
+  EXPECT_EQ(arrivals[0].item_number, 1);
+  EXPECT_NEAR(arrivals[0].time_s, climb_s, kTimeTolerance);
+  EXPECT_EQ(arrivals[1].item_number, 3);
+  EXPECT_NEAR(arrivals[1].time_s, climb_s + cruise_s, kTimeTolerance);
+  EXPECT_EQ(arrivals[2].item_number, 4);
+  EXPECT_NEAR(arrivals[2].time_s, 2.0 * climb_s + cruise_s + 5.0, kTimeTolerance);
+  EXPECT_NEAR(arrivals[2].time_s, MakeMissionPlan(mission, limits).duration(), kTimeTolerance);
+}
+
+// A plan's items (PlanMissionItems, what a vehicle holds) read back fly the same plan within a centimetre: Scenario
+// II's delivery (820 m at 3 m/s).
+TEST(UploadedMissionTest, APlansItemsReadBackFlyThePlan) {
+  DeliveryMission delivery;
+  delivery.destination_NE = Eigen::Vector2d(820.0, 0.0);
+  PlanLimits limits;
+  limits.cruise_speed = 3.0;
+  const FlightPlan plan = MakeDeliveryPlan(delivery, limits);
+  QgcPlanExportOptions options;
+  options.origin = {40.0, -74.0};
+  options.cruise_speed = limits.cruise_speed;
+  const GeoPoint home = LocalProjection(options.origin).ToGeodetic(plan.start_W().head<2>());
+  MissionImportOptions import;
+  import.origin = options.origin;
+  const Mission mission = MissionFromItems(PlanMissionItems(plan, options), home, "held", MissionFirmware::kUnknown,
+                                           "test", import);
+  const FlightPlan flown = MakeMissionPlan(mission, limits);
+  ASSERT_EQ(flown.segments().size(), plan.segments().size());
+  for (std::size_t s = 0; s < plan.segments().size(); ++s) {
+    EXPECT_NEAR((flown.segments()[s].end_W - plan.segments()[s].end_W).norm(), 0.0, kRoundTripTolerance) << s;
+  }
+  EXPECT_NEAR(flown.duration(), plan.duration(), 1e-6);
+}
+
+}  // namespace
+}  // namespace uascma::planning

@@ -13,13 +13,22 @@
 // Each decision that is not NoOp is a STATUSTEXT ("CMA: LandPract to <site> (RM0 …)"); every epoch is a row of the
 // decision log (CompanionSummary::log, written as CSV by the CLI; docs/mavlink.md#the-cma-as-a-companion).
 //
+// The plan it reasons about is the vehicle's mission, downloaded before take-off (MissionDownload) and read as an
+// uploaded mission is (planning::MissionFromItems from HOME_POSITION, sim::FlyMissionRoute); no mission: the
+// scenario's (docs/mavlink.md#what-the-companion-takes-from-where). Commands go through CommandClient (an ACK awaited,
+// repeats after the timeout); one that fails, or a refused emergency mission, is said and logged, the belief returns
+// to the plan the vehicle flies, and LandPract falls back to LandASAP at the next epoch
+// (docs/mavlink.md#companion-commands).
+//
 // Staleness (docs/modelling-choices.md#companion-staleness): an epoch whose telemetry is not all in when the next
 // SYSTEM_TIME arrives is decided on what is there when no group is older than kMaxStaleEpochs decision periods, and
 // not decided at all otherwise (logged "stale"); with no frame from the vehicle for kLinkLostS wall seconds the
 // companion ends.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "uascma/common/bounds.h"
@@ -59,16 +68,25 @@ struct CompanionDecision {
 struct CompanionSummary {
   std::vector<CompanionDecision> log;
   int epochs = 0, decided = 0, stale = 0, commands = 0, missions_uploaded = 0;
+  int resent_commands = 0;  // sends again after a timeout (CommandClient)
+  int failed_commands = 0;  // commands denied, failed or not acknowledged, and emergency missions refused
   double max_decision_ms = 0.0, mean_decision_ms = 0.0;
   std::string BriefReport() const;
 };
 
-// The decision log as CSV (a header, then one row per epoch).
+// The decision log as CSV (RFC 4180, common/csv.h): the header kCompanionLogColumns, then one row per epoch; the
+// texts quoted.
+inline constexpr std::array<const char*, 11> kCompanionLogColumns = {
+    "time_s", "cma_state", "decided", "taken", "eod_s", "rul_s", "flight_time_remaining_s", "reach_margin",
+    "motor_margin", "decision_ms", "note"};
 std::string CompanionLogCsv(const std::vector<CompanionDecision>& log);
+// Reads a decision log back (`uascma plot companion`): InputError naming `source`, the line and column, and what was
+// expected (the header above; a number in each numeric column; times rising).
+std::vector<CompanionDecision> ParseCompanionLogCsv(std::string_view text, const std::string& source);
 
 // Runs until the vehicle lands (EXTENDED_SYS_STATE on the ground after in air), its HEARTBEAT reports the flight
-// terminated, or the link is lost. `scenario`: the vehicle, battery, map and plan the companion's belief and planners
-// use; `policy`: the CMA policy (sim::MakePolicy's names).
+// terminated, or the link is lost. `scenario`: the vehicle, battery, map and options the companion's belief and
+// planners use, and the plan when the vehicle holds no mission; `policy`: the CMA policy (sim::MakePolicy's names).
 CompanionSummary RunCompanion(const sim::Scenario& scenario, sim::DecisionPolicy& policy,
                               const CompanionOptions& options);
 

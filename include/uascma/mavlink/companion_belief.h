@@ -73,11 +73,14 @@ class VehicleBelief {
   explicit VehicleBelief(const sim::FlightModel& model);
   // The belief at the sample's epoch (the sample must be later than the last one).
   void Update(const TelemetrySample& sample);
+  // The model from now on (the vehicle's downloaded mission's: its plan; the vehicle, battery and options are the
+  // same scenario's); the belief's state is kept. `model` must outlive the belief.
+  void UseModel(const sim::FlightModel& model) { model_ = &model; }
   sim::FlightState& state() { return state_; }
   const sim::FlightState& state() const { return state_; }
 
  private:
-  const sim::FlightModel& model_;
+  const sim::FlightModel* model_;
   sim::FlightState state_;
   models::PerCell<double> initial_soc_{};  // each cell's SOC at take-off (the scenario's charge)
   std::optional<TelemetrySample> last_;

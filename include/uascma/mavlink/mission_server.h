@@ -10,10 +10,14 @@
 // the retries the upload is cancelled (MISSION_ACK OPERATION_CANCELLED) and the stored mission kept as it was.
 // The protocol's default timeout is 1500 ms and retries 5 (mavlink.io, Mission Protocol, "Timeouts and Retries").
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "uascma/mavlink/codec.h"
+#include "uascma/planning/mission_file.h"
 
 namespace uascma::mavlink {
 
@@ -27,11 +31,17 @@ Outgoing MakeOutgoing(const M& message) {
   return Outgoing{MessageInfo{M::kId, M::kName, M::kCrcExtra, M::kMinLength, M::kMaxLength}, EncodePayload(message)};
 }
 
+// A MISSION_ITEM_INT as the mission reader takes it (x, y · 1e-7 degrees; z metres), and back for `target` at `seq`
+// (latitude and longitude rounded to 1e-7 degrees, about a centimetre).
+planning::MissionItem ToMissionItem(const MissionItemInt& item);
+MissionItemInt ToMissionItemInt(const planning::MissionItem& item, Address target, std::uint16_t seq);
+
 struct MissionServerCounts {
   int uploads = 0, downloads = 0;
   int out_of_order_items = 0;  // items with another seq than requested: not stored
   int retries = 0;             // requests repeated after a timeout
   int cancelled = 0;           // uploads given up after the retries
+  int refused = 0;             // complete uploads the vehicle cannot fly (MissionServer::set_check)
   int ignored = 0;             // mission messages for another system or another mission type
 };
 
@@ -46,6 +56,19 @@ class MissionServer {
   bool Handle(const Frame& frame, double now_s, std::vector<Outgoing>& out);
   // Repeats a request whose item is overdue, or cancels the upload after the retries.
   void Tick(double now_s, std::vector<Outgoing>& out);
+
+  // A check of a completed upload before it is stored: the reason the mission cannot be flown, or nothing. A refused
+  // upload is answered MISSION_ACK MAV_MISSION_INVALID, the stored mission kept, and the reason kept for
+  // TakeRefusal. Without a check every complete upload is stored.
+  using Check = std::function<std::optional<std::string>(const std::vector<MissionItemInt>&)>;
+  void set_check(Check check) { check_ = std::move(check); }
+  // The reason of the last refused upload, once.
+  std::optional<std::string> TakeRefusal() { return std::exchange(refusal_, std::nullopt); }
+  // Holds `items` as the stored mission (the vehicle's own plan, for a ground station to download).
+  void Load(std::vector<MissionItemInt> items) {
+    items_ = std::move(items);
+    current_ = 0;
+  }
 
   const std::vector<MissionItemInt>& items() const { return items_; }
   std::uint16_t current() const { return current_; }
@@ -72,6 +95,8 @@ class MissionServer {
   std::uint16_t current_ = 0;
   std::optional<Upload> upload_;
   MissionServerCounts counts_;
+  Check check_;
+  std::optional<std::string> refusal_;
 };
 
 }  // namespace uascma::mavlink

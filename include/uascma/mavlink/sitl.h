@@ -5,7 +5,9 @@
 // onto the CMA's actions are carried out at the next decision epoch in place of the policy's choice:
 // NAV_LAND → LandASAP (§5.3.2.2: land at once within the footprint), DO_FLIGHTTERMINATION → Terminate;
 // DISARM on the ground ends the run. Everything the vehicle streams is in sitl_vehicle.h. With
-// SitlOptions::wait_for_start the simulated clock starts at MISSION_START, so a client sees the whole flight. With
+// SitlOptions::wait_for_start the simulated clock starts at MISSION_START, so a client sees the whole flight; with
+// SitlOptions::wait_for_mission the flight is the uploaded mission's. Otherwise the vehicle holds its plan as its
+// mission (the items a .plan export writes), for a ground station or a companion to download. With
 // SitlOptions::external_cma the CMA is a companion on the link: only its commands act.
 #include <cstdint>
 #include <functional>
@@ -34,6 +36,11 @@ struct SitlOptions {
   // Stay on the ground, disarmed, streaming once a wall second, until ARM and then MISSION_START (or NAV_TAKEOFF)
   // arrive; then fly the scenario's plan (an uploaded mission is stored and can be downloaded, not flown).
   bool wait_for_start = false;
+  // As wait_for_start, and then fly the uploaded mission instead of the scenario's plan: the items read as a mission
+  // file's are (planning::MissionFromItems, from where the vehicle stands; the scenario's map checks them), the flight
+  // the scenario's with that route (sim::FlyMissionRoute). An upload that cannot be flown is refused at its
+  // MISSION_ACK (MAV_MISSION_INVALID, a STATUSTEXT naming why); MISSION_START without a stored mission is denied.
+  bool wait_for_mission = false;
   // The CMA runs elsewhere (`uascma companion`, docs/mavlink.md#the-cma-as-a-companion): the in-process policy does
   // not decide; the vehicle flies its plan and carries out the commands: NAV_LAND (LandASAP; at the site of a
   // preceding DO_REPOSITION), MISSION_START in flight (the uploaded mission as the emergency plan: LandPract),

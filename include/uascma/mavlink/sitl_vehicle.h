@@ -20,6 +20,7 @@
 
 #include "uascma/mavlink/mission_server.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/planning/mission_file.h"
 #include "uascma/sim/flight.h"
 
 namespace uascma::mavlink {
@@ -52,6 +53,22 @@ class SitlVehicle {
   VehicleRequest Handle(const Frame& frame, double wall_s, bool armed, bool flying, std::vector<Outgoing>& out);
   void Tick(double wall_s, std::vector<Outgoing>& out) { missions_.Tick(wall_s, out); }
 
+  // The flight's model from now on (the uploaded mission's, SitlOptions::wait_for_mission); `model` must outlive the
+  // vehicle. With `arrivals` (planning::MissionItemArrivals of the mission it flies) each item's MISSION_ITEM_REACHED
+  // is sent with the first telemetry at or after its arrival on the plan, and MISSION_CURRENT follows.
+  void UseModel(const sim::FlightModel& model, std::vector<planning::ItemArrival> arrivals = {});
+  // Holds `items` as its mission (the plan it flies, for a ground station to download).
+  void HoldMission(std::vector<MissionItemInt> items) { missions_.Load(std::move(items)); }
+  // Waiting on the ground for a mission (SitlOptions::wait_for_mission): `check` refuses an upload the vehicle cannot
+  // fly (MISSION_ACK MAV_MISSION_INVALID and a STATUSTEXT naming why), and MISSION_START / NAV_TAKEOFF without a
+  // stored mission is denied (COMMAND_ACK MAV_RESULT_DENIED and a STATUSTEXT).
+  void RequireMission(MissionServer::Check check) {
+    missions_.set_check(std::move(check));
+    mission_required_ = true;
+  }
+  // A STATUSTEXT of any length, in chunks of 50 bytes (MAVLink 2's id and chunk_seq), severity `severity`.
+  void Say(std::uint8_t severity, const std::string& text, std::vector<Outgoing>& out);
+
   const MissionServer& missions() const { return missions_; }
   // The last DO_REPOSITION's point in W (NED, m), taken by the NAV_LAND that lands there: empty afterwards, and
   // without one.
@@ -69,8 +86,9 @@ class SitlVehicle {
   void Position(const sim::FlightState& state, std::uint32_t time_ms, std::vector<Outgoing>& out) const;
   void Batteries(const sim::FlightState& state, const sim::FlightLog& log, std::vector<Outgoing>& out) const;
   void Escs(const sim::FlightState& state, std::vector<Outgoing>& out) const;
+  void ItemsReached(const sim::FlightState& state, std::vector<Outgoing>& out);
 
-  const sim::FlightModel& model_;
+  const sim::FlightModel* model_;
   Address self_;
   planning::LocalProjection projection_;
   std::uint64_t unix_start_us_;
@@ -82,9 +100,23 @@ class SitlVehicle {
   bool initial_soc_known_ = false;
   bool external_cma_ = false;
   std::optional<Eigen::Vector3d> reposition_W_;
+  bool mission_required_ = false;                // RequireMission
+  std::vector<planning::ItemArrival> arrivals_;  // UseModel: the mission's items, in flying order
+  std::size_t arrivals_sent_ = 0;
 };
+
+// Where W's origin is on the globe: the scenario's geo_origin (an imported map or mission), else 1° N, 1° E
+// (docs/modelling-choices.md#mavlink-geodetic-origin: not 0°, 0°, which a mission item reserves for "where the vehicle
+// is"). The vehicle and a companion given the same scenario share it.
+inline planning::GeoPoint VehicleGeoOrigin(const sim::Scenario& scenario) {
+  return scenario.geo_origin.value_or(planning::GeoPoint{1.0, 1.0});
+}
 
 // STATUSTEXT of at most 50 bytes (longer texts are cut at a UTF-8 character boundary: the chunked form is not used).
 Statustext MakeStatustext(std::uint8_t severity, const std::string& text);
+// A text of any length as STATUSTEXT chunks of `id` (chunk_seq 0, 1, …): every chunk but the last a full 50 bytes
+// (a UTF-8 character may straddle two: the receiver joins the bytes), the last holding a NUL, empty when the text
+// fills the one before (the common set's rule for reassembly); at most 255 chunks.
+std::vector<Statustext> StatustextChunks(std::uint8_t severity, const std::string& text, std::uint16_t id);
 
 }  // namespace uascma::mavlink

@@ -65,6 +65,9 @@ struct Waypoint {
   // m/s: the horizontal speed limit of the move to this waypoint (a mission's DO_CHANGE_SPEED); 0: the plan's
   // PlanLimits::cruise_speed.
   double max_speed = 0.0;
+  // The mission item (numbered from 1, as the mission file or upload orders them) whose flying placed this
+  // waypoint; 0 for a plan not made from a mission (mission_file.h).
+  int item_number = 0;
 };
 
 // Where a flight last was on its plan (FlightPlan::At with a cursor): a cache, not part of the flight's behaviour,

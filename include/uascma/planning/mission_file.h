@@ -77,6 +77,7 @@
 // InputError, as for maps.
 #include <Eigen/Core>
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -212,12 +213,39 @@ Mission LoadMissionFile(const std::filesystem::path& path, const MissionImportOp
 // The mission's plan: FlightPlan::Through(mission.home_W, mission.waypoints, limits).
 FlightPlan MakeMissionPlan(const Mission& mission, const PlanLimits& limits);
 
+// One MAVLink mission item as a vehicle holds it (MISSION_ITEM_INT of the common message set, in degrees and metres):
+// params = param1 … param4, latitude (x · 1e-7), longitude (y · 1e-7), altitude (z, m in the item's frame).
+struct MissionItem {
+  int command = 0;
+  int frame = 0;
+  std::array<double, 7> params{};
+};
+
+// A mission uploaded to a vehicle (the MAVLink mission protocol), flown by the same reader as a mission file: the
+// items are read as a file's items (DO_JUMPs unrolled, then BuildMission; every rule above holds, the map's
+// buildings checked), numbered from 1 in upload order (seq + 1), from `home` (where the vehicle stands, on the
+// ground). The mission protocol names no firmware: `firmware` and `firmware_basis` say whose altitude reading applies
+// (kUnknown: an altitude 0 in the air is refused). `source` names the mission in messages ("the uploaded mission").
+// InputError naming the item, as for a file.
+Mission MissionFromItems(std::span<const MissionItem> items, const GeoPoint& home, const std::string& source,
+                         MissionFirmware firmware, const std::string& firmware_basis,
+                         const MissionImportOptions& options = {});
+
 // m: the touchdown radius of a rally point's landing site: the landing radius a touchdown is judged by
 // (sim/outcome.h kHoverTrackingErrorBound, 3.46 m); its risk is 0, the operator's own safe site (ours).
 inline constexpr double kRallyPointSiteRadius = 3.46;
 // The map with the mission's rally points added to its landing sites ("rally N", on the roof or ground under
 // the point) and the sites outside its geofence removed; the map itself when the mission has neither.
 CityMap WithMissionSafety(const CityMap& map, const Mission& mission);
+
+// Where a mission's flight reaches its items: for each run of waypoints placed by one item (Waypoint::item_number),
+// the plan time (s from the plan's start, FlightPlan::Through from home_W at `limits`) at which the vehicle arrives
+// at the run's last waypoint, before the hold there; in flying order (an item repeated by DO_JUMP once per pass).
+struct ItemArrival {
+  double time_s = 0.0;
+  int item_number = 0;  // from 1
+};
+std::vector<ItemArrival> MissionItemArrivals(const Mission& mission, const PlanLimits& limits);
 
 // --- export -----------------------------------------------------------------------------------------------------
 struct QgcPlanExportOptions {
@@ -241,6 +269,9 @@ struct QgcPlanExportOptions {
 // NAV_WAYPOINT at its start. Reading the text back
 // with ParseMission (and the same origin) gives the plan's waypoints again within the projection's round-off.
 std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& options);
+// The same items as MissionItem (what a vehicle holds and a ground station downloads; MissionFromItems reads them
+// back).
+std::vector<MissionItem> PlanMissionItems(const FlightPlan& plan, const QgcPlanExportOptions& options);
 // Writes QgcPlanJson to `path` atomically (WriteFileAtomically).
 void WriteQgcPlan(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options);
 // The same items as QgcPlanJson in the QGC WPL 110 text of Mission Planner (.waypoints): the home line (index 0,

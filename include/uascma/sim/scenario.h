@@ -240,6 +240,12 @@ struct ScenarioLoadOptions {
   std::optional<std::filesystem::path> vehicle_file;
 };
 
+// The scenario flying `route` (a mission read or uploaded, planning::MissionFromItems) in place of its plan, as
+// `mission: {file: …}` flies a file: the route's rally points join the landing sites and its geofence removes sites
+// (planning::WithMissionSafety), the frame is the route's, and the scenario is checked as a file is (Scenario::IsValid;
+// LandPract's checkpoints on the new plan clear of the buildings). InputError naming `source` otherwise.
+void FlyMissionRoute(Scenario& sc, planning::Mission route, const std::string& source);
+
 // Reads and validates a scenario; InputError names the file, the key path and what was expected.
 ScenarioFile LoadScenarioFile(const std::filesystem::path& path, const ScenarioLoadOptions& load = {});
 ScenarioFile ParseScenario(const std::string& yaml_text, const std::string& source,

@@ -9,7 +9,7 @@ import { readFileSync } from 'node:fs'
 import { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common,
          registerCustomMessageMagicNumber } from 'node-mavlink'
 
-const [port, missionPath] = [Number(process.argv[2]), process.argv[3]]
+const [port, missionPath, mode] = [Number(process.argv[2]), process.argv[3], process.argv[4] || 'start']
 const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY }
 // node-mavlink's tables (mavlink-mappings 1.0.21) stop at id 255 in common: ESC_INFO and ESC_STATUS get their
 // published CRC_EXTRA (251, 10), so that their checksums are checked too.
@@ -17,7 +17,7 @@ registerCustomMessageMagicNumber('290', 251)
 registerCustomMessageMagicNumber('291', 10)
 const ID = { HEARTBEAT: 0, SYSTEM_TIME: 2, MISSION_REQUEST_INT: 51, MISSION_COUNT: 44, MISSION_ITEM_INT: 73,
              MISSION_ACK: 47, COMMAND_ACK: 77, STATUSTEXT: 253, EXTENDED_SYS_STATE: 245, BATTERY_STATUS: 147,
-             GLOBAL_POSITION_INT: 33 }
+             GLOBAL_POSITION_INT: 33, MISSION_ITEM_REACHED: 46 }
 const results = []
 const check = (ok, what) => { results.push(ok); console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`) }
 
@@ -31,6 +31,7 @@ socket.on('message', (datagram) => splitter.write(datagram))
 
 const counts = {}
 const texts = []
+const reached = []
 let lastSeq = null
 let sequenceGaps = 0
 let firstTime = null, lastTime = null, heartbeatsInFlight = 0, started = false, firstFlightTime = null
@@ -45,6 +46,7 @@ reader.on('data', (packet) => {
   const clazz = REGISTRY[msgid]
   if (!clazz) return
   const data = packet.protocol.data(packet.payload, clazz)
+  if (msgid === ID.MISSION_ITEM_REACHED) reached.push(data.seq)
   if (msgid === ID.STATUSTEXT) {
     texts.push(data.text)
     if (/^(completed|emergency_landing|terminated|failed|landed|timeout|grounded)/.test(data.text)) ended = true
@@ -77,16 +79,8 @@ function missionItems(path) {
   })
 }
 
-const same = (a, b) => (Number.isNaN(a) && Number.isNaN(b)) || Math.fround(a) === Math.fround(b)
-
-async function main() {
-  const heartbeat = new minimal.Heartbeat()
-  Object.assign(heartbeat, { type: 6, autopilot: 8, baseMode: 0, customMode: 0, systemStatus: 4, mavlinkVersion: 3 })
-  send(heartbeat)
-  const vehicle = await waitFor(ID.HEARTBEAT)
-  check(vehicle.type === 13, 'HEARTBEAT from a hexarotor (MAV_TYPE 13)')
-  // Upload.
-  const items = missionItems(missionPath)
+// MISSION_COUNT, each requested MISSION_ITEM_INT; resolves to the MISSION_ACK.
+async function upload(items) {
   const count = new common.MissionCount()
   Object.assign(count, { targetSystem: 1, targetComponent: 1, count: items.length, missionType: 0 })
   const acked = waitFor(ID.MISSION_ACK, () => true, 10000)
@@ -96,6 +90,42 @@ async function main() {
     await asked
     send(items[seq])
   }
+  return acked
+}
+
+// COMMAND_LONG; resolves to its COMMAND_ACK.
+function command(id, param1) {
+  const message = new common.CommandLong()
+  Object.assign(message, { targetSystem: 1, targetComponent: 1, command: id, confirmation: 0, _param1: param1 })
+  const answer = waitFor(ID.COMMAND_ACK, (a) => a.command === id)
+  send(message)
+  return answer
+}
+
+const same = (a, b) => (Number.isNaN(a) && Number.isNaN(b)) || Math.fround(a) === Math.fround(b)
+
+async function main() {
+  const heartbeat = new minimal.Heartbeat()
+  Object.assign(heartbeat, { type: 6, autopilot: 8, baseMode: 0, customMode: 0, systemStatus: 4, mavlinkVersion: 3 })
+  send(heartbeat)
+  const vehicle = await waitFor(ID.HEARTBEAT)
+  check(vehicle.type === 13, 'HEARTBEAT from a hexarotor (MAV_TYPE 13)')
+  const items = missionItems(missionPath)
+  if (mode === 'mission') {
+    check((await command(400, 1)).result === 0, 'ARM before any upload: MAV_RESULT_ACCEPTED')
+    const denial = waitFor(ID.STATUSTEXT, (t) => /^start denied: no mission/.test(t.text))
+    check((await command(300, 0)).result === 2, 'MISSION_START with no mission: MAV_RESULT_DENIED')
+    await denial
+    const refusal = waitFor(ID.STATUSTEXT, (t) => /^mission refused/.test(t.text))
+    const unflyable = items.slice()
+    const loiter = Object.assign(new common.MissionItemInt(), items[1], { command: 17 })
+    unflyable.splice(1, 0, loiter)
+    unflyable.forEach((item, seq) => { unflyable[seq] = Object.assign(new common.MissionItemInt(), item, { seq }) })
+    check((await upload(unflyable)).type !== 0, 'an upload with NAV_LOITER_UNLIM: MISSION_ACK with an error type')
+    const why = await refusal
+    check(/LOITER_UNLIM|never ends/.test(texts.join('')), `STATUSTEXT naming why: "${why.text}…"`)
+  }
+  const acked = upload(items)
   check((await acked).type === 0, `upload of ${items.length} items accepted`)
   // Download, compared item by item.
   const list = new common.MissionRequestList()
@@ -119,16 +149,12 @@ async function main() {
   Object.assign(ack, { targetSystem: 1, targetComponent: 1, type: 0, missionType: 0 })
   send(ack)
   // Commands.
-  for (const [command, param1, what] of [[400, 1, 'ARM'], [300, 0, 'MISSION_START']]) {
-    const message = new common.CommandLong()
-    Object.assign(message, { targetSystem: 1, targetComponent: 1, command, confirmation: 0, _param1: param1 })
-    const answer = waitFor(ID.COMMAND_ACK, (a) => a.command === command)
-    if (command === 300) started = true
-    send(message)
-    check((await answer).result === 0, `${what} acknowledged MAV_RESULT_ACCEPTED`)
+  for (const [id, param1, what] of [[400, 1, 'ARM'], [300, 0, 'MISSION_START']]) {
+    if (id === 300) started = true
+    check((await command(id, param1)).result === 0, `${what} acknowledged MAV_RESULT_ACCEPTED`)
   }
   // The rest of the flight.
-  await waitFor(ID.STATUSTEXT, (t) => /^(completed|emergency_landing|terminated|failed|landed)/.test(t), 120000)
+  await waitFor(ID.STATUSTEXT, (t) => /^(completed|emergency_landing|terminated|failed|landed)/.test(t.text), 120000)
     .catch(() => {})
   await new Promise((resolve) => setTimeout(resolve, 1000))
   socket.close()
@@ -140,9 +166,17 @@ async function main() {
   check(Math.abs(rate - 1) < 0.05, `HEARTBEAT ${rate.toFixed(3)} per simulated second over ${simulatedS} s`)
   check(counts[ID.BATTERY_STATUS] === 2 * counts[ID.HEARTBEAT], 'two BATTERY_STATUS (one per pack) per HEARTBEAT')
   check(counts[ID.GLOBAL_POSITION_INT] === counts[ID.HEARTBEAT], 'GLOBAL_POSITION_INT with every HEARTBEAT')
-  for (const [pattern, what] of [[/^spall/, 'the spall'], [/jammed/, 'the jam'], [/isolated/, 'the isolation'],
-                                 [/^(LandPract|LandASAP)/, "the CMA's action"], [/^emergency_landing|^completed/, 'the landing']])
-    check(texts.some((t) => pattern.test(t)), `STATUSTEXT: ${what}`)
+  const events = mode === 'mission'
+    ? [[/^completed/, 'the mission completed']]
+    : [[/^spall/, 'the spall'], [/jammed/, 'the jam'], [/isolated/, 'the isolation'],
+       [/^(LandPract|LandASAP)/, "the CMA's action"], [/^emergency_landing|^completed/, 'the landing']]
+  for (const [pattern, what] of events) check(texts.some((t) => pattern.test(t)), `STATUSTEXT: ${what}`)
+  if (mode === 'mission') {
+    // Every item that moves the vehicle (NAV_* of the common set: 16-99), in the mission's order.
+    const moving = items.filter((item) => item.command >= 16 && item.command < 100).map((item) => item.seq)
+    check(JSON.stringify(reached) === JSON.stringify(moving),
+          `MISSION_ITEM_REACHED ${JSON.stringify(reached)}, the moving items ${JSON.stringify(moving)}`)
+  }
   console.log(`STATUSTEXT seen: ${JSON.stringify(texts)}`)
   check(landedAfterAirborne, 'EXTENDED_SYS_STATE: in the air, then on the ground')
   const failed = results.filter((ok) => !ok).length
