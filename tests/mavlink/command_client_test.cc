@@ -16,7 +16,7 @@ namespace uascma::mavlink {
 namespace {
 
 constexpr Address kCompanion{1, 191};
-constexpr Address kVehicle{1, 1};
+constexpr Address kClientVehicle{1, 1};
 constexpr double kLoopbackWaitS = 1.0;  // s: the longest a datagram on loopback is waited for (ours, generous)
 
 // A vehicle on loopback and a companion sending to it.
@@ -24,7 +24,7 @@ struct Loopback {
   UdpLink vehicle{{LinkAddress{LinkAddress::Kind::kListen, "127.0.0.1", 0}}};
   UdpLink companion{{LinkAddress{LinkAddress::Kind::kSendTo, "127.0.0.1", vehicle.bound_port(0)}}};
   FrameSender companion_sender{companion, kCompanion};
-  FrameSender vehicle_sender{vehicle, kVehicle};
+  FrameSender vehicle_sender{vehicle, kClientVehicle};
 
   // The next frame of M the vehicle receives, or nothing within kLoopbackWaitS.
   template <class M>
@@ -50,7 +50,7 @@ struct Loopback {
     std::vector<Outgoing> out;
     for (int k = 0; k < 50; ++k) {
       for (const ReceivedFrame& received : companion.Receive(kLoopbackWaitS / 50)) {
-        if (auto outcome = client.Handle(received.frame, kVehicle, now_s, out)) {
+        if (auto outcome = client.Handle(received.frame, kClientVehicle, now_s, out)) {
           companion_sender.Flush(out);
           return outcome;
         }
@@ -71,8 +71,8 @@ Frame DecodeForTest(const Outgoing& message, Address sender) {
 
 CommandLong Land() {
   CommandLong command;
-  command.target_system = kVehicle.system_id;
-  command.target_component = kVehicle.component_id;
+  command.target_system = kClientVehicle.system_id;
+  command.target_component = kClientVehicle.component_id;
   command.command = static_cast<std::uint16_t>(kMavCmdNavLand);
   return command;
 }
@@ -140,16 +140,16 @@ TEST(CommandClientTest, ACommandNeverAnsweredIsGivenUpAfterTheRetries) {
 // The download (mission_client.h) against the vehicle's server (mission_server.h): the items the server holds, in
 // order, and the server's download acknowledged.
 TEST(MissionDownloadTest, TheVehiclesHeldMissionDownloadsWhole) {
-  MissionServer server(kVehicle);
+  MissionServer server(kClientVehicle);
   std::vector<MissionItemInt> held;
   for (std::uint16_t seq = 0; seq < 4; ++seq) {
     planning::MissionItem item{kMavCmdNavWaypoint, kMavFrameGlobalRelativeAltInt, {0, 0, 0, 0, 1.0 + seq, 1.0, 30}};
-    held.push_back(ToMissionItemInt(item, kVehicle, seq));
+    held.push_back(ToMissionItemInt(item, kClientVehicle, seq));
   }
   server.Load(held);
   MissionDownload download;
   std::vector<Outgoing> to_vehicle, to_companion;
-  download.Start(kVehicle, 0.0, to_vehicle);
+  download.Start(kClientVehicle, 0.0, to_vehicle);
   std::optional<std::vector<MissionItemInt>> items;
   for (int round = 0; round < 20 && !items; ++round) {
     for (const Outgoing& message : to_vehicle) {
@@ -157,7 +157,7 @@ TEST(MissionDownloadTest, TheVehiclesHeldMissionDownloadsWhole) {
     }
     to_vehicle.clear();
     for (const Outgoing& message : to_companion) {
-      if (auto done = download.Handle(DecodeForTest(message, kVehicle), 0.0, to_vehicle)) items = done;
+      if (auto done = download.Handle(DecodeForTest(message, kClientVehicle), 0.0, to_vehicle)) items = done;
     }
     to_companion.clear();
   }

@@ -50,7 +50,7 @@ std::string CellJson(double capacity_ah) {
 double FirstEpochEod(const Scenario& scenario) {
   const FlightModel model(scenario);
   FlightState state = MakeInitialState(model, scenario.seed);
-  return Observe(model, state, nullptr, false).eod_s;
+  return Observe(model, state, nullptr, false).eod_value().eod_s;
 }
 
 Scenario Delivery() {
