@@ -75,8 +75,9 @@ void AddCompanionCommand(CLI::App& app) {
   command->add_option("--policy", options->policy,
                       "CMA policy: cma | cma-vehicle | noop | … | policy.json (as `uascma simulate --policy`; "
                       "default: the scenario's)");
-  command->add_option("--log", options->log,
-                      "Decision log CSV, one row per epoch (written when the run ends; `uascma plot companion` draws it)");
+  command->add_option(
+      "--log", options->log,
+      "Decision log CSV, one row per epoch (written when the run ends; `uascma plot companion` draws it)");
   command->add_option("--map", options->map_files,
                       "Building files (.geojson, .json, .osm, .osm.pbf) of the companion's own map, in place of the "
                       "scenario's (may be given more than once)");

@@ -24,7 +24,9 @@ nlohmann::json CompanionLogJson(const std::vector<mavlink::CompanionDecision>& l
     const bool decided = !row.state.empty();
     // A number of a decided epoch; null when the epoch was not decided or the value is infinite (the RUL before a
     // spall): JSON has no infinity.
-    const auto value = [decided](double x) { return decided && std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+    const auto value = [decided](double x) {
+      return decided && std::isfinite(x) ? nlohmann::json(x) : nlohmann::json();
+    };
     rows.push_back({{"time_s", row.time_s},
                     {"cma_state", row.state},
                     {"decided", row.decided},
@@ -36,7 +38,8 @@ nlohmann::json CompanionLogJson(const std::vector<mavlink::CompanionDecision>& l
                     {"motor_margin", value(row.motor_margin)},
                     {"decision_ms", row.decision_ms},
                     {"note", row.note}});
-    if (decided && row.taken != "NoOp") actions.push_back({{"time_s", row.time_s}, {"action", row.taken}, {"note", row.note}});
+    if (decided && row.taken != "NoOp")
+      actions.push_back({{"time_s", row.time_s}, {"action", row.taken}, {"note", row.note}});
   }
   return {{"source", source}, {"epochs", log.size()}, {"actions", actions}, {"rows", rows}};
 }
@@ -90,7 +93,8 @@ void AddPlotCommand(CLI::App& app) {
   command->require_subcommand(0, 1);
   command->callback([folder, command] {
     if (command->got_subcommand("companion")) return;
-    if (folder->empty()) throw InputError("plot", "dir", "a folder written by 'uascma simulate --out' (or: plot companion LOG.csv)");
+    if (folder->empty())
+      throw InputError("plot", "dir", "a folder written by 'uascma simulate --out' (or: plot companion LOG.csv)");
     for (const char* name : {"telemetry.csv", "plan.csv", "summary.json"}) {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(std::filesystem::path(*folder) / name, ec)) {

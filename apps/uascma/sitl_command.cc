@@ -61,10 +61,11 @@ void AddSitlCommand(CLI::App& app) {
                    mavlink::kLingerBounds);
   command->add_flag("--wait-for-start", options->wait_for_start,
                     "Stay on the ground, disarmed, until ARM and MISSION_START; then fly the scenario's plan");
-  command->add_flag("--wait-for-mission", options->wait_for_mission,
-                    "Stay on the ground, disarmed, until a mission upload, ARM and MISSION_START; then fly the\n"
-                    "uploaded mission (read as a mission file's items are, over the scenario's map; an upload it\n"
-                    "cannot fly is refused at MISSION_ACK with a STATUSTEXT naming why)")
+  command
+      ->add_flag("--wait-for-mission", options->wait_for_mission,
+                 "Stay on the ground, disarmed, until a mission upload, ARM and MISSION_START; then fly the\n"
+                 "uploaded mission (read as a mission file's items are, over the scenario's map; an upload it\n"
+                 "cannot fly is refused at MISSION_ACK with a STATUSTEXT naming why)")
       ->excludes("--wait-for-start");
   AddSeedOption(command, "--seed", options->seed, "Random seed (overrides the scenario's)");
   command->callback([options] {

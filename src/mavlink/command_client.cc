@@ -25,8 +25,8 @@ std::string CommandName(std::uint16_t command) {
 }
 
 std::string ResultName(std::uint8_t result) {
-  constexpr const char* kNames[] = {"ACCEPTED", "TEMPORARILY_REJECTED", "DENIED", "UNSUPPORTED", "FAILED",
-                                    "IN_PROGRESS"};
+  constexpr const char* kNames[] = {"ACCEPTED", "TEMPORARILY_REJECTED", "DENIED", "UNSUPPORTED",
+                                    "FAILED",   "IN_PROGRESS"};
   return result < std::size(kNames) ? kNames[result] : fmt::format("result {}", result);
 }
 

@@ -112,9 +112,9 @@ class Companion {
   MissionUpload upload_;
   MissionDownload download_;
   CommandClient commands_;
-  std::optional<planning::GeoPoint> home_;          // HOME_POSITION
+  std::optional<planning::GeoPoint> home_;         // HOME_POSITION
   std::optional<std::uint16_t> downloaded_total_;  // MISSION_CURRENT's total the last download was started at
-  bool plan_known_ = false;                         // the vehicle's mission read (or found absent)
+  bool plan_known_ = false;                        // the vehicle's mission read (or found absent)
   bool airborne_seen_ = false;
   std::optional<Acting> acting_;
   std::optional<CmaAction> fallback_;  // taken at the next epoch: an action's commands failed
@@ -128,7 +128,8 @@ class Companion {
 };
 
 void Companion::Say(std::uint8_t severity, const std::string& text) {
-  for (const Statustext& chunk : StatustextChunks(severity, text, ++statustext_id_)) out_.push_back(MakeOutgoing(chunk));
+  for (const Statustext& chunk : StatustextChunks(severity, text, ++statustext_id_))
+    out_.push_back(MakeOutgoing(chunk));
 }
 
 // The vehicle's mission as the plan the companion reasons about: read as a mission file's items are
@@ -155,8 +156,8 @@ void Companion::AdoptMission(const std::vector<MissionItemInt>& items) {
       retired_.push_back(std::move(model_));
       model_ = std::make_unique<const sim::FlightModel>(flight);
       belief_.UseModel(*model_);
-      note = fmt::format("the vehicle's mission, {} items: a plan of {:.1f} s (the scenario's: {:.1f} s)",
-                         items.size(), model_->nominal_plan().duration(), scenario_plan_s);
+      note = fmt::format("the vehicle's mission, {} items: a plan of {:.1f} s (the scenario's: {:.1f} s)", items.size(),
+                         model_->nominal_plan().duration(), scenario_plan_s);
     } catch (const InputError& error) {
       note = fmt::format("the vehicle's mission cannot be flown ({}): planning on the scenario's plan", error.what());
     }

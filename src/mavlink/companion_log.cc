@@ -74,9 +74,9 @@ std::vector<CompanionDecision> ParseCompanionLogCsv(std::string_view text, const
     row.decision_ms = Number(record, 9, source);
     row.note = record.fields[10];
     if (!log.empty() && !(row.time_s > log.back().time_s)) {
-      throw InputError(source, fmt::format("line {} time_s", record.line),
-                       fmt::format("a time after the row before's {:.3f} s, got {:.3f} s", log.back().time_s,
-                                   row.time_s));
+      throw InputError(
+          source, fmt::format("line {} time_s", record.line),
+          fmt::format("a time after the row before's {:.3f} s, got {:.3f} s", log.back().time_s, row.time_s));
     }
     log.push_back(std::move(row));
   }

@@ -5,7 +5,8 @@
 namespace uascma::mavlink {
 
 planning::MissionItem ToMissionItem(const MissionItemInt& item) {
-  return {item.command, item.frame,
+  return {item.command,
+          item.frame,
           {item.param1, item.param2, item.param3, item.param4, item.x * 1e-7, item.y * 1e-7, item.z}};
 }
 

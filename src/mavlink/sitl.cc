@@ -185,8 +185,8 @@ std::string SitlSummary::BriefReport() const {
       "{} mission uploads ({} refused), {} downloads",
       sim::OutcomeName(outcome), reason, sim_time_s, wall_time_s, wall_time_s > 0 ? sim_time_s / wall_time_s : 0.0,
       cpu_time_s, epochs, late_epochs, link.frames, link.bad_checksum, link.unknown_message, link.truncated,
-      commands.commands, commands.unsupported_commands, commands.foreign_commands, missions.uploads,
-      missions.refused, missions.downloads);
+      commands.commands, commands.unsupported_commands, commands.foreign_commands, missions.uploads, missions.refused,
+      missions.downloads);
 }
 
 namespace {

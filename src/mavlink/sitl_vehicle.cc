@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <tuple>
 #include <limits>
 #include <numbers>
+#include <tuple>
 
 namespace uascma::mavlink {
 namespace {
@@ -305,9 +305,8 @@ VehicleRequest SitlVehicle::OnCommand(std::uint16_t command, std::uint8_t target
       } else if (mission_required_ && !flying && missions_.items().empty()) {
         result = kMavResultDenied;
         Say(kMavSeverityError, "start denied: no mission uploaded (a flyable one is stored at MISSION_ACK)", out);
-      }
-      else if (external_cma_ && flying && command == kMavCmdMissionStart && missions_.counts().uploads > 0 &&
-               !MissionWaypoints().empty())
+      } else if (external_cma_ && flying && command == kMavCmdMissionStart && missions_.counts().uploads > 0 &&
+                 !MissionWaypoints().empty())
         request = VehicleRequest::kFlyMission;
       else request = VehicleRequest::kMissionStart;
       break;
@@ -356,7 +355,8 @@ VehicleRequest SitlVehicle::Handle(const Frame& frame, double wall_s, bool armed
                      frame.sender, armed, flying, out);
   }
   missions_.Handle(frame, wall_s, out);
-  if (const std::optional<std::string> why = missions_.TakeRefusal()) Say(kMavSeverityError, "mission refused: " + *why, out);
+  if (const std::optional<std::string> why = missions_.TakeRefusal())
+    Say(kMavSeverityError, "mission refused: " + *why, out);
   return VehicleRequest::kNone;
 }
 

@@ -40,7 +40,8 @@ std::vector<MissionItem> ItemsOf(const FlightPlan& plan, const QgcPlanExportOpti
     const GeoPoint point = projection.ToGeodetic(p_W.head<2>());
     // Heights in the relative frame are above home; W's z is measured from the ground at home's level.
     const double height = -p_W.z() + home_W.z();
-    items.push_back({command, static_cast<int>(kMavFrameGlobalRelativeAlt),
+    items.push_back({command,
+                     static_cast<int>(kMavFrameGlobalRelativeAlt),
                      {param1, 0.0, 0.0, mission_detail::kNaN, point.lat_deg, point.lon_deg, height}});
   };
 
@@ -64,7 +65,8 @@ std::vector<MissionItem> ItemsOf(const FlightPlan& plan, const QgcPlanExportOpti
     if (!vertical && segment.cruise_speed > 0.0 && segment.cruise_speed != speed) {
       // DO_CHANGE_SPEED, ground speed (type 1), throttle unchanged (−1): this move and the ones after it.
       speed = segment.cruise_speed;
-      items.push_back({static_cast<int>(kMavCmdDoChangeSpeed), static_cast<int>(kMavFrameMission),
+      items.push_back({static_cast<int>(kMavCmdDoChangeSpeed),
+                       static_cast<int>(kMavFrameMission),
                        {1.0, speed, -1.0, 0.0, 0.0, 0.0, 0.0}});
     }
     bool last_move = true;
@@ -88,7 +90,8 @@ nlohmann::json ItemsJson(const std::vector<MissionItem>& items) {
   nlohmann::json json = nlohmann::json::array();
   for (const MissionItem& item : items) {
     nlohmann::json params = nlohmann::json::array();
-    for (double value : item.params) params.push_back(std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value));
+    for (double value : item.params)
+      params.push_back(std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value));
     nlohmann::json entry = {{"type", "SimpleItem"},
                             {"command", item.command},
                             {"frame", item.frame},

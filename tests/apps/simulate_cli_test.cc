@@ -365,7 +365,8 @@ TEST(PlotCompanionCliTest, ALogIsDrawnAndABadOneIsExitTwoNamingLineAndColumn) {
   const std::string rows =
       "0.000,\"\",,,0.000,0.000,0.000,0.00000,0.00000,0.000,\"incomplete: no decision\"\n"
       "1.000,\"N,NF,MM1,M,RM1\",NoOp,NoOp,600.000,inf,590.000,0.01000,1.00000,0.040,\"\"\n"
-      "2.000,\"N,SF,MM0,M,RM1\",LandPract,LandPract,590.000,30.000,60.000,0.80000,-3.00000,0.900,\"to \"\"roof\"\", 1\"\n";
+      "2.000,\"N,SF,MM0,M,RM1\",LandPract,LandPract,590.000,30.000,60.000,0.80000,-3.00000,0.900,\"to \"\"roof\"\", "
+      "1\"\n";
   const auto log = dir.path / "decisions.csv";
   std::ofstream(log) << header << rows;
   const auto drawn = RunCli("plot companion " + log.string() + " --json");

@@ -61,7 +61,8 @@ TEST(RunnerStopTest, StopMidwayKeepsWholeRunsAndEndsEarly) {
   std::map<std::int64_t, int> per_run;
   for (const RunRecord& r : records) ++per_run[r.run_index];
   EXPECT_LE(per_run.size(), 2u);
-  for (const auto& [run, flights] : per_run) EXPECT_EQ(flights, static_cast<int>(StopTestPolicies().size())) << "run " << run;
+  for (const auto& [run, flights] : per_run)
+    EXPECT_EQ(flights, static_cast<int>(StopTestPolicies().size())) << "run " << run;
 }
 
 }  // namespace

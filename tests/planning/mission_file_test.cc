@@ -692,8 +692,8 @@ TEST(UploadedMissionTest, APlansItemsReadBackFlyThePlan) {
   const GeoPoint home = LocalProjection(options.origin).ToGeodetic(plan.start_W().head<2>());
   MissionImportOptions import;
   import.origin = options.origin;
-  const Mission mission = MissionFromItems(PlanMissionItems(plan, options), home, "held", MissionFirmware::kUnknown,
-                                           "test", import);
+  const Mission mission =
+      MissionFromItems(PlanMissionItems(plan, options), home, "held", MissionFirmware::kUnknown, "test", import);
   const FlightPlan flown = MakeMissionPlan(mission, limits);
   ASSERT_EQ(flown.segments().size(), plan.segments().size());
   for (std::size_t s = 0; s < plan.segments().size(); ++s) {

@@ -21,9 +21,9 @@ namespace uascma::mavlink {
 
 // How one command ended.
 struct CommandOutcome {
-  std::uint16_t command = 0;                  // MAV_CMD
-  std::optional<std::uint8_t> result;         // MAV_RESULT of the final COMMAND_ACK; nothing when none came
-  int attempts = 0;                           // sends, the first included
+  std::uint16_t command = 0;           // MAV_CMD
+  std::optional<std::uint8_t> result;  // MAV_RESULT of the final COMMAND_ACK; nothing when none came
+  int attempts = 0;                    // sends, the first included
   bool accepted() const { return result && *result == kMavResultAccepted; }
   // "NAV_LAND DENIED", "MISSION_START not acknowledged after 6 sends", …
   std::string Describe() const;

@@ -77,8 +77,8 @@ struct CompanionSummary {
 // The decision log as CSV (RFC 4180, common/csv.h): the header kCompanionLogColumns, then one row per epoch; the
 // texts quoted.
 inline constexpr std::array<const char*, 11> kCompanionLogColumns = {
-    "time_s", "cma_state", "decided", "taken", "eod_s", "rul_s", "flight_time_remaining_s", "reach_margin",
-    "motor_margin", "decision_ms", "note"};
+    "time_s",       "cma_state",    "decided",     "taken", "eod_s", "rul_s", "flight_time_remaining_s",
+    "reach_margin", "motor_margin", "decision_ms", "note"};
 std::string CompanionLogCsv(const std::vector<CompanionDecision>& log);
 // Reads a decision log back (`uascma plot companion`): InputError naming `source`, the line and column, and what was
 // expected (the header above; a number in each numeric column; times rising).
