@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/sim/act.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::campaign {
 
