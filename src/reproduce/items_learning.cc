@@ -149,8 +149,7 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   context.Log(fmt::format("battery: learning from {} flights (seed {})", learn.runs, learn.seed));
   const decision::BatteryPolicySet pistar = decision::SolveBatteryPolicies(learning::LearnBatteryModel(learn));
   item.samples = {{"learning_flights", learn.runs}};
-  const double flight_time_s =
-      campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(models::PackAction::kUseBoth);
+  const double flight_time_s = campaign::CaseFlightTimeS();
   AddDecisionTree(item, pistar, flight_time_s);
   campaign::CaseStudyOptions options;
   options.pistar = &pistar;
