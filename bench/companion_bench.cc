@@ -11,6 +11,8 @@
 
 #include "uascma/mavlink/companion_belief.h"
 #include "uascma/mavlink/sitl_vehicle.h"
+#include "uascma/sim/epoch.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/scenario.h"
 
 namespace {

@@ -9,6 +9,7 @@
 
 #include "uascma/identification/battery_identification.h"
 #include "uascma/identification/propulsion_identification.h"
+#include "uascma/identification/thrust_stand_data.h"
 
 namespace {
 

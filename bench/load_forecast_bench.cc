@@ -16,7 +16,9 @@
 
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/sampler.h"
+#include "uascma/sim/epoch.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 
 namespace {
 

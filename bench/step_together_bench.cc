@@ -12,7 +12,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include "uascma/sim/epoch.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 

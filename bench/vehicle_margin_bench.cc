@@ -11,7 +11,9 @@
 
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/sampler.h"
+#include "uascma/sim/epoch.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/vehicle_margin.h"
 
 namespace {

@@ -1,11 +1,9 @@
 // uascma battery — the battery-reconfiguration MDP of dissertation Ch. IV (§4.3): learn its transitions from
 // Monte Carlo flights, solve one policy per health pair and temperature, show them, run the case studies.
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 
 #include <fmt/format.h>
@@ -23,6 +21,7 @@
 #include "uascma/common/progress.h"
 #include "uascma/decision/battery_mdp.h"
 #include "uascma/decision/battery_mdp_file.h"
+#include "uascma/decision/battery_mdp_report.h"
 #include "uascma/decision/battery_model.h"
 #include "uascma/decision/battery_policy.h"
 #include "uascma/learning/battery_transition_estimation.h"
@@ -38,65 +37,6 @@ using models::PackAction;
 constexpr Bounds kFlightsBounds{1.0, 1e7, "flights"};
 constexpr Bounds kThreadsBounds{1.0, 256.0, "threads"};
 constexpr Bounds kCaseStudyBounds{1.0, 4.0, ""};
-
-// The 72 states with both switches OFF cannot occur: no action of Table 4.3 opens both switches.
-bool IsPossibleState(StateIndex s) {
-  if (s == kBatteryFailureState || s == kBatteryCompleteState) return true;
-  const BatteryFeatures f = BatteryStateFeatures(s);
-  return f.pack[0].switch_on || f.pack[1].switch_on;
-}
-
-bool BothIn(StateIndex s) {
-  if (s == kBatteryFailureState || s == kBatteryCompleteState) return false;
-  const BatteryFeatures f = BatteryStateFeatures(s);
-  return f.pack[0].switch_on && f.pack[1].switch_on;
-}
-
-// What a policy chooses where it has a choice to make: in the 72 states with both packs in, the states per action;
-// in the 144 with one pack in, the states in which it changes the switches (ours never does: item 6); ours' flagged
-// states with both packs in (26), the states in which it takes a flagged pack out. Counting the one-pack states'
-// holds with the choices would hide a policy that never leaves UseBoth.
-struct PolicyChoices {
-  std::array<int, 3> both_in{};  // per action
-  int one_in_switches = 0;
-  int flagged_both_in = 0, flagged_isolations = 0;
-};
-PolicyChoices CountChoices(const BatteryContextPolicy& p) {
-  PolicyChoices out;
-  for (StateIndex s = 0; s < static_cast<StateIndex>(p.action.size()); ++s) {
-    if (s == kBatteryFailureState || s == kBatteryCompleteState || !IsPossibleState(s)) continue;
-    const auto action = static_cast<PackAction>(p.action[static_cast<std::size_t>(s)]);
-    if (IsFlaggedBatteryState(s)) {
-      if (!BothIn(s)) continue;
-      ++out.flagged_both_in;
-      const BatteryFeatures f = BatteryStateFeatures(s);
-      const bool isolates = (action == PackAction::kUseBatt1 && f.pack[1].flagged) ||
-                            (action == PackAction::kUseBatt2 && f.pack[0].flagged);
-      out.flagged_isolations += isolates ? 1 : 0;
-    } else if (BothIn(s)) {
-      ++out.both_in[static_cast<std::size_t>(action)];
-    } else {
-      out.one_in_switches += SwitchesMatch(s, action) ? 0 : 1;
-    }
-  }
-  return out;
-}
-
-// Whether the row a policy's action uses in state s (the switched state's learned row) was observed in flights.
-struct ObservedRows {
-  explicit ObservedRows(const BatteryContextPolicy& policy) {
-    for (const BatteryLearnedRow& row : policy.observed_rows) rows.insert({row.state, static_cast<int>(row.action)});
-  }
-  bool Has(StateIndex s, PackAction action) const {
-    if (s == kBatteryFailureState) return true;
-    return rows.count({ApplySwitches(s, action), static_cast<int>(action)}) > 0;
-  }
-  std::set<std::pair<StateIndex, int>> rows;
-};
-
-// The case studies' flight time (docs/modelling-choices.md#battery-case-study-flight-time): the state the case-study
-// flight of each context starts in.
-double CaseFlightTimeS() { return campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(PackAction::kUseBoth); }
 
 BatteryContext ParseContextOption(const std::string& text, const std::string& option) {
   const auto first = text.find(',');
@@ -137,18 +77,9 @@ BatteryRewardWeights ParseWeightsOption(const std::string& text, const std::stri
 // how the flights shared their vehicle.
 void PrintLearnSummary(const std::string& out, const BatteryModel& model,
                        const learning::BatteryLearningSummary& summary, bool json) {
-  int unobserved = 0;
-  EnergyTransitionCounts energy;
-  for (int c = 0; c < kBatteryNumContexts; ++c) {
-    BatteryModelStats stats;
-    BuildBatteryMdp(model.counts, BatteryContextFromIndex(c), model.weights, &stats);
-    unobserved += stats.unobserved_rows;
-    const auto e = CountEnergyTransitions(model.counts, BatteryContextFromIndex(c));
-    energy.s1_to_s2 += e.s1_to_s2;
-    energy.s2_to_s3 += e.s2_to_s3;
-    energy.s1_to_s3 += e.s1_to_s3;
-    energy.recoveries += e.recoveries;
-  }
+  const BatteryModelReport report = ReportBatteryModel(model);
+  const int unobserved = report.unobserved_rows;
+  const EnergyTransitionCounts& energy = report.energy;
   if (json) {
     PrintJson({{"out", out},
                {"hash", BatteryModelHash(model)},
@@ -291,26 +222,14 @@ void AddSolve(CLI::App* battery) {
                                      ? SolveOursBatteryPolicies(model, campaign::OursBatteryDiscount())
                                      : SolveBatteryPolicies(model);
     WriteFileAtomically(options->out, BatteryPolicyToJson(set).dump(1) + "\n");
-    double wall = 0.0;
-    int iterations = 0, unobserved = 0, learned = 0;
-    nlohmann::json contexts = nlohmann::json::array();
-    for (const BatteryContextPolicy& p : set.policies) {
-      wall += p.summary.wall_time_s;
-      iterations += p.summary.iterations;
-      unobserved += p.stats.unobserved_rows;
-      learned += p.stats.learned_rows;
-      contexts.push_back({{"context", BatteryContextLabel(p.context)},
-                          {"iterations", p.summary.iterations},
-                          {"unobserved_rows", p.stats.unobserved_rows},
-                          {"transitions", p.stats.transitions}});
-    }
+    const BatterySolveReport report = ReportBatterySolve(set);
     if (options->json) {
       PrintJson({{"out", options->out},
                  {"model_hash", set.model_hash},
                  {"gamma", set.gamma},
                  {"formulation", BatteryFormulationName(set.formulation)},
-                 {"solve_time_s", wall},
-                 {"contexts", contexts}});
+                 {"solve_time_s", report.wall_time_s},
+                 {"contexts", report.contexts}});
       return;
     }
     const bool ours = set.formulation == BatteryFormulation::kOurs;
@@ -318,119 +237,13 @@ void AddSolve(CLI::App* battery) {
         "solved %d battery policies (%s formulation, %s, gamma %.6g, %d %s in all, %.2f ms); %d of %d "
         "learned rows were unobserved (%s)\nwrote %s\n",
         kBatteryNumContexts, BatteryFormulationName(set.formulation), ours ? "policy iteration" : "value iteration",
-        set.gamma, iterations, ours ? "improvement steps" : "sweeps", 1e3 * wall, unobserved, learned,
-        ours ? "actions not offered there" : "self-loops", options->out.c_str());
+        set.gamma, report.iterations, ours ? "improvement steps" : "sweeps", 1e3 * report.wall_time_s,
+        report.unobserved_rows, report.learned_rows, ours ? "actions not offered there" : "self-loops",
+        options->out.c_str());
   });
 }
 
 // --- battery show ----------------------------------------------------------------------------------
-// Fig. 4.4: the transition graph of one action in one context, as Graphviz DOT. Learned rows with their
-// probabilities, and the deterministic switch edges (dashed, p = 1) into their source states from the states that
-// can occur. A state the graph reaches whose own row under this action was never observed is drawn grey and
-// dotted, labelled "unobserved" (docs/modelling-choices.md#battery-mdp-transitions: the dissertation's MDP lets it loop
-// on itself).
-std::string TransitionDot(const BatteryContextPolicy& policy, PackAction action) {
-  std::string out = fmt::format(
-      "digraph battery_mdp {{\n  label=\"battery MDP transitions, action {}, context {} (Fig. 4.4); grey dotted: "
-      "row never observed\";\n  rankdir=LR;\n  node [shape=box, style=rounded, fontsize=10];\n",
-      models::PackActionName(action), BatteryContextLabel(policy.context));
-  const ObservedRows observed(policy);
-  std::set<StateIndex> nodes;
-  std::string edges;
-  for (const BatteryLearnedRow& row : policy.observed_rows) {
-    if (row.action != action) continue;
-    nodes.insert(row.state);
-    for (const Transition& t : row.next) {
-      nodes.insert(t.next_state);
-      edges += fmt::format("  \"{}\" -> \"{}\" [label=\"{:.3g}\"];\n", BatteryStateLabel(row.state),
-                           BatteryStateLabel(t.next_state), t.probability);
-    }
-    // The states that differ from the row's source only in the switches reach it with p = 1.
-    BatteryFeatures f = BatteryStateFeatures(row.state);
-    for (int on1 = 0; on1 < 2; ++on1) {
-      for (int on2 = 0; on2 < 2; ++on2) {
-        f.pack[0].switch_on = on1 == 1;
-        f.pack[1].switch_on = on2 == 1;
-        const StateIndex from = BatteryStateIndex(f);
-        if (from == row.state || !IsPossibleState(from)) continue;
-        nodes.insert(from);
-        edges += fmt::format("  \"{}\" -> \"{}\" [label=\"1\", style=dashed];\n", BatteryStateLabel(from),
-                             BatteryStateLabel(row.state));
-      }
-    }
-  }
-  for (StateIndex s : nodes) {
-    const bool failure = s == kBatteryFailureState;
-    const bool unobserved = !failure && SwitchesMatch(s, action) && !observed.Has(s, action);
-    if (failure) {
-      out += fmt::format("  \"{}\" [color=\"red\", style=\"rounded,filled\", fillcolor=\"#ffcdd2\"];\n",
-                         BatteryStateLabel(s));
-    } else if (unobserved) {
-      out += fmt::format(
-          "  \"{}\" [color=\"grey\", fontcolor=\"grey40\", style=\"rounded,dotted\", "
-          "label=\"{}\\n(unobserved)\"];\n",
-          BatteryStateLabel(s), BatteryStateLabel(s));
-    } else {
-      out += fmt::format("  \"{}\" [color=\"black\"];\n", BatteryStateLabel(s));
-    }
-  }
-  return out + edges + "}\n";
-}
-
-// What the tree's root is: the dissertation's π* (a lookup of its solved tables), or ours' table (items 1-7 and 10
-// of decision/battery_mdp.h; its guard and drop check act outside the table, in the evaluation's executor).
-const char* FormulationLabel(BatteryFormulation formulation) {
-  return formulation == BatteryFormulation::kOurs ? "ours' table (guard and drop check outside it)"
-                                                  : "pi* lookup (the dissertation's)";
-}
-
-nlohmann::json PolicyViewJson(const BatteryPolicySet& set, const std::vector<StateIndex>& takeoff) {
-  nlohmann::json contexts = nlohmann::json::array();
-  nlohmann::json impossible = nlohmann::json::array(), both_in = nlohmann::json::array();
-  for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
-    impossible.push_back(!IsPossibleState(s));
-    both_in.push_back(BothIn(s));
-  }
-  for (const BatteryContextPolicy& p : set.policies) {
-    const ObservedRows observed(p);
-    nlohmann::json actions = nlohmann::json::array(), unobserved = nlohmann::json::array();
-    int unobserved_possible = 0;
-    for (StateIndex s = 0; s < kBatteryNumStates; ++s) {
-      const auto action = static_cast<PackAction>(p.action[static_cast<std::size_t>(s)]);
-      actions.push_back(BatteryActionNames()[static_cast<std::size_t>(action)]);
-      const bool missing = IsPossibleState(s) && !observed.Has(s, action);
-      unobserved.push_back(missing);
-      unobserved_possible += missing ? 1 : 0;
-    }
-    const StateIndex start = takeoff[static_cast<std::size_t>(BatteryContextIndex(p.context))];
-    const PolicyChoices choices = CountChoices(p);
-    contexts.push_back({{"context", BatteryContextLabel(p.context)},
-                        {"both_in_per_action", choices.both_in},
-                        {"one_in_switches", choices.one_in_switches},
-                        {"flagged_both_in", choices.flagged_both_in},
-                        {"flagged_isolations", choices.flagged_isolations},
-                        {"b1", BatteryHealthName(p.context.b1)},
-                        {"b2", BatteryHealthName(p.context.b2)},
-                        {"temperature", TemperatureClassName(p.context.temperature)},
-                        {"unobserved_rows", p.stats.unobserved_rows},
-                        {"unobserved_choices", unobserved_possible},
-                        {"takeoff_state", BatteryStateLabel(start)},
-                        {"takeoff_action", BatteryActionNames()[static_cast<std::size_t>(p.action[start])]},
-                        {"takeoff_unobserved", unobserved[static_cast<std::size_t>(start)]},
-                        {"action", actions},
-                        {"unobserved", unobserved}});
-  }
-  return {{"model_hash", set.model_hash},
-          {"formulation", BatteryFormulationName(set.formulation)},
-          {"gamma", set.gamma},
-          {"takeoff_flight_s", CaseFlightTimeS()},
-          {"label", FormulationLabel(set.formulation)},
-          {"states", BatteryStateLabels()},
-          {"impossible", impossible},
-          {"both_in", both_in},
-          {"contexts", contexts}};
-}
-
 void AddShow(CLI::App* battery) {
   struct Options {
     std::string policy;
@@ -460,81 +273,30 @@ void AddShow(CLI::App* battery) {
     const BatteryContext dot_context = ParseContextOption(options->context, "--context");
     const PackAction dot_action = models::ParsePackAction(options->action, "--action");
     const BatteryPolicySet set = ReadBatteryPolicyFile(options->policy);
-    std::vector<StateIndex> takeoff(kBatteryNumContexts);
-    for (int c = 0; c < kBatteryNumContexts; ++c) {
-      takeoff[static_cast<std::size_t>(c)] =
-          campaign::TakeoffState(campaign::CaseFlightParams(BatteryContextFromIndex(c), CaseFlightTimeS()));
-    }
-    const nlohmann::json view = PolicyViewJson(set, takeoff);
-    if (!options->dot.empty()) WriteFileAtomically(options->dot, TransitionDot(set.Select(dot_context), dot_action));
+    const double flight_time_s = campaign::CaseFlightTimeS();
+    const std::vector<StateIndex> takeoff = campaign::CaseTakeoffStates(flight_time_s);
+    const nlohmann::json view = BatteryPolicyViewJson(set, takeoff, flight_time_s);
+    if (!options->dot.empty())
+      WriteFileAtomically(options->dot, BatteryTransitionDot(set.Select(dot_context), dot_action));
     if (!options->plot.empty()) PlotJsonWhole("battery_policy.py", view, options->plot);
     if (options->json) {
       PrintJson(view);
       return;
     }
-    const bool ours = set.formulation == BatteryFormulation::kOurs;
-    std::string text = fmt::format(
-        "battery policies {}: {} ({} formulation, model {}, gamma {:.6g})\nFig. 4.5 decision tree over (T, B1F, "
-        "B2F), one leaf per context. Choices: per action in the 72 states with both packs in; switches in the 144 "
-        "with one pack in (72 with both switches OFF cannot occur){}\n"
-        "take-off: the first state of the context's case-study flight ({:.0f} s plan, "
-        "docs/modelling-choices.md#battery-case-study-flight-time); * = the chosen "
-        "action's row was never observed; unobserved: the choices with both packs in whose row was never observed\n",
-        options->policy, FormulationLabel(set.formulation), BatteryFormulationName(set.formulation), set.model_hash,
-        set.gamma, ours ? "; flagged: isolations of a flagged pack in the 26 flagged states with both in" : "",
-        CaseFlightTimeS());
-    text += "                 both packs in (72)              one in     unobserved   at take-off";
-    text += ours ? "                         flagged\n" : "\n";
-    text += "T    B1F  B2F    UseBatt1  UseBatt2  UseBoth     switches   choices      state              action";
-    text += ours ? "              isolate\n" : "\n";
-    for (const BatteryContextPolicy& p : set.policies) {
-      const ObservedRows observed(p);
-      const PolicyChoices choices = CountChoices(p);
-      int unobserved = 0;
-      for (StateIndex s = 0; s < kBatteryFailureState; ++s) {
-        if (!BothIn(s)) continue;
-        const auto action = static_cast<PackAction>(p.action[static_cast<std::size_t>(s)]);
-        unobserved += observed.Has(s, action) ? 0 : 1;
-      }
-      const StateIndex start = takeoff[static_cast<std::size_t>(BatteryContextIndex(p.context))];
-      const auto start_action = static_cast<PackAction>(p.action[static_cast<std::size_t>(start)]);
-      text += fmt::format("{:<4} {:<4} {:<4}   {:>8}  {:>8}  {:>7}     {:>8}   {:>3} of 72    {:<18} {}{}",
-                          TemperatureClassName(p.context.temperature), BatteryHealthName(p.context.b1),
-                          BatteryHealthName(p.context.b2), choices.both_in[0], choices.both_in[1], choices.both_in[2],
-                          choices.one_in_switches, unobserved, BatteryStateLabel(start),
-                          models::PackActionName(start_action), observed.Has(start, start_action) ? "" : " *");
-      text += ours ? fmt::format("{:>{}}{} of {}\n", "",
-                                 observed.Has(start, start_action) ? 12 : 10, choices.flagged_isolations,
-                                 choices.flagged_both_in)
-                   : "\n";
-    }
-    std::fputs(text.c_str(), stdout);
+    std::fputs(BatteryPolicyViewText(set, takeoff, flight_time_s, options->policy).c_str(), stdout);
     if (!options->dot.empty()) std::printf("wrote %s\n", options->dot.c_str());
     if (!options->plot.empty()) std::printf("wrote %s\n", options->plot.c_str());
   });
 }
 
 // --- battery case-study ------------------------------------------------------------------------------
-std::string EpochsCsv(const campaign::BatteryFlightResult& result) {
-  std::string out =
-      "time_s,state,action,total_current_a,branch1_current_a,branch2_current_a,eod1_s,eod2_s,remaining_flight_s,"
-      "min_cell1_v,min_cell2_v\n";
-  for (const campaign::BatteryEpoch& e : result.epochs) {
-    out += fmt::format("{:.1f},{},{},{:.4f},{:.4f},{:.4f},{:.2f},{:.2f},{:.2f},{:.4f},{:.4f}\n", e.time_s,
-                       BatteryStateLabel(e.state), models::PackActionName(e.action), e.total_current_a,
-                       e.branch_current_a[0], e.branch_current_a[1], e.eod_s[0], e.eod_s[1], e.remaining_flight_s,
-                       e.min_cell_voltage_v[0], e.min_cell_voltage_v[1]);
-  }
-  return out;
-}
-
 // Case N's folder: one CSV of the 1 Hz epochs and one plot per scenario, and case-N.json.
 void WriteCaseFolder(OutputDirectory& folder, int number, const std::vector<campaign::CaseScenario>& scenarios,
                      const nlohmann::json& json) {
   const std::filesystem::path& dir = folder.staging();
   for (std::size_t i = 0; i < scenarios.size(); ++i) {
     const std::string stem = fmt::format("case-{}-scenario-{}", number, i + 1);
-    WriteFileAtomically(dir / (stem + ".csv"), EpochsCsv(scenarios[i].result));
+    WriteFileAtomically(dir / (stem + ".csv"), campaign::CaseEpochsCsv(scenarios[i].result));
     nlohmann::json plot = json["scenarios"][i];
     plot["csv"] = (dir / (stem + ".csv")).string();
     plot["case"] = number;

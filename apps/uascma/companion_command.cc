@@ -11,6 +11,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/mavlink/companion.h"
+#include "uascma/mavlink/companion_log.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"

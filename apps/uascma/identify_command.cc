@@ -20,6 +20,7 @@
 #include "uascma/identification/drag_identification.h"
 #include "uascma/identification/model_files.h"
 #include "uascma/identification/propulsion_identification.h"
+#include "uascma/identification/thrust_stand_data.h"
 
 namespace uascma::cli {
 namespace {

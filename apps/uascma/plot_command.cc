@@ -12,6 +12,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/mavlink/companion.h"
+#include "uascma/mavlink/companion_log.h"
 
 namespace uascma::cli {
 namespace {

@@ -17,6 +17,7 @@
 #include "uascma/common/files.h"
 #include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/cma_sensitivity.h"
 #include "uascma/decision/cma_vehicle_mdp.h"
 #include "uascma/decision/cma_weights_json.h"
 #include "uascma/decision/policy_file.h"
@@ -268,39 +269,23 @@ void AddSensitivity(CLI::App* policy) {
     if (!(options->from >= 0.0 && options->to <= 1.0 && options->from <= options->to)) {
       throw InputError("--from/--to", "range", "0 <= from <= to <= 1");
     }
-    const FiniteMdp base_mdp = BuildCmaMdp(base.weights);
-    const Policy base_policy = Solve(base_mdp, base.gamma, "vi", nullptr);
-    const auto base_rows = CmaQuadrantView(base_policy.action, base_policy.value);
     nlohmann::json steps = nlohmann::json::array();
     std::string text = fmt::format(
         "Sweep of w_{} from {} to {} (others renormalised to sum 1 - w); changes "
         "against the base policy:\n",
         options->weight, options->from, options->to);
-    const int count = static_cast<int>(std::floor((options->to - options->from) / options->step + 1e-9)) + 1;
-    for (int i = 0; i < count; ++i) {
-      const double value = options->from + i * options->step;
-      const CmaWeights weights = base.weights.WithRenormalised(options->weight, value);
-      const FiniteMdp mdp = BuildCmaMdp(weights);
-      const Policy solved = Solve(mdp, base.gamma, "vi", nullptr);
-      const auto rows = CmaQuadrantView(solved.action, solved.value);
+    for (const CmaSensitivityStep& step :
+         SweepCmaWeight(base, options->weight, options->from, options->to, options->step)) {
       nlohmann::json changes = nlohmann::json::array();
       std::string listed;
-      for (std::size_t r = 0; r < rows.size(); ++r) {
-        for (int q = 0; q < 4; ++q) {
-          const ActionIndex from = base_rows[r].quadrants[q].action;
-          const ActionIndex to = rows[r].quadrants[q].action;
-          if (from == to) continue;
-          const std::string state = CmaStateLabel(rows[r].quadrants[q].state);
-          changes.push_back({{"state", state},
-                             {"quadrant", kQuadrantNames[q]},
-                             {"from", mdp.action_name(from)},
-                             {"to", mdp.action_name(to)}});
-          listed += fmt::format("\n    {:<22} Quad {:<3} {} -> {}", state, kQuadrantNames[q], mdp.action_name(from),
-                                mdp.action_name(to));
-        }
+      for (const CmaPolicyChange& change : step.changes) {
+        changes.push_back(
+            {{"state", change.state}, {"quadrant", change.quadrant}, {"from", change.from}, {"to", change.to}});
+        listed +=
+            fmt::format("\n    {:<22} Quad {:<3} {} -> {}", change.state, change.quadrant, change.from, change.to);
       }
-      steps.push_back({{"value", value}, {"weights", CmaWeightsJson(weights)}, {"changes", changes}});
-      text += fmt::format("  w_{} = {:.4f}: {} change{}{}\n", options->weight, value, changes.size(),
+      steps.push_back({{"value", step.value}, {"weights", CmaWeightsJson(step.weights)}, {"changes", changes}});
+      text += fmt::format("  w_{} = {:.4f}: {} change{}{}\n", options->weight, step.value, changes.size(),
                           changes.size() == 1 ? "" : "s", listed);
     }
     if (options->json) {

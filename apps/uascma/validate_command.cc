@@ -19,6 +19,7 @@
 #include "uascma/identification/battery_validation.h"
 #include "uascma/identification/model_files.h"
 #include "uascma/identification/propulsion_identification.h"
+#include "uascma/identification/thrust_stand_data.h"
 #include "uascma/models/battery_pack.h"
 
 namespace uascma::cli {

@@ -1,11 +1,14 @@
 #include "uascma/campaign/battery_case_studies.h"
 
+#include <cstddef>
 #include <memory>
 #include <utility>
 
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/sim/act.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::campaign {
 
@@ -64,6 +67,30 @@ BatteryFlightParams CaseFlightParams(const BatteryContext& context, double plan_
   return p;
 }
 
+double CaseFlightTimeS() { return kCaseFlightFraction * ReferenceBatteryEod(PackAction::kUseBoth); }
+
+std::vector<StateIndex> CaseTakeoffStates(double plan_duration_s) {
+  std::vector<StateIndex> takeoff(decision::kBatteryNumContexts);
+  for (int c = 0; c < decision::kBatteryNumContexts; ++c) {
+    takeoff[static_cast<std::size_t>(c)] =
+        TakeoffState(CaseFlightParams(decision::BatteryContextFromIndex(c), plan_duration_s));
+  }
+  return takeoff;
+}
+
+std::string CaseEpochsCsv(const BatteryFlightResult& result) {
+  std::string out =
+      "time_s,state,action,total_current_a,branch1_current_a,branch2_current_a,eod1_s,eod2_s,remaining_flight_s,"
+      "min_cell1_v,min_cell2_v\n";
+  for (const BatteryEpoch& e : result.epochs) {
+    out += fmt::format("{:.1f},{},{},{:.4f},{:.4f},{:.4f},{:.2f},{:.2f},{:.2f},{:.4f},{:.4f}\n", e.time_s,
+                       decision::BatteryStateLabel(e.state), models::PackActionName(e.action), e.total_current_a,
+                       e.branch_current_a[0], e.branch_current_a[1], e.eod_s[0], e.eod_s[1], e.remaining_flight_s,
+                       e.min_cell_voltage_v[0], e.min_cell_voltage_v[1]);
+  }
+  return out;
+}
+
 StateIndex TakeoffState(const BatteryFlightParams& params) {
   // What FlyBatteryFlights' first epoch sees: the initial state with the take-off switches (UseBoth).
   const sim::FlightModel model(MakeBatteryScenario(params));
@@ -119,7 +146,7 @@ CaseDefinition DefineCase(int number) {
     }
   } else {
     // docs/modelling-choices.md#battery-case-study-flight-time
-    out.plan_duration_s = kCaseFlightFraction * ReferenceBatteryEod(PackAction::kUseBoth);
+    out.plan_duration_s = CaseFlightTimeS();
     if (number == 3) {
       out.pairs = {
           {HealthClass::kG, HealthClass::kM}, {HealthClass::kG, HealthClass::kP}, {HealthClass::kP, HealthClass::kP}};

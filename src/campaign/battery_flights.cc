@@ -13,7 +13,9 @@
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/pack_fault_monitor.h"
+#include "uascma/sim/act.h"
 #include "uascma/sim/branching.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::campaign {
 namespace {

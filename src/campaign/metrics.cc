@@ -11,6 +11,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/emergency_planner.h"
 
 namespace uascma::campaign {
 using decision::CmaAction;

@@ -10,6 +10,7 @@
 #include "uascma/identification/battery_identification.h"
 #include "uascma/models/battery_pack.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::identification {
 namespace {

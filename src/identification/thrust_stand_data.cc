@@ -1,4 +1,6 @@
-// Reading thrust-stand step tests (see propulsion_identification.h).
+// Reading thrust-stand step tests (thrust_stand_data.h).
+#include "uascma/identification/thrust_stand_data.h"
+
 #include <cmath>
 
 #include <fmt/format.h>
@@ -6,7 +8,6 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/identification/numeric_csv.h"
-#include "uascma/identification/propulsion_identification.h"
 
 namespace uascma::identification {
 namespace {

@@ -15,6 +15,9 @@
 #include "uascma/mavlink/mission_client.h"
 #include "uascma/mavlink/sitl_vehicle.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/sim/act.h"
+#include "uascma/sim/emergency_planner.h"
+#include "uascma/sim/epoch.h"
 
 namespace uascma::mavlink {
 namespace {

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "uascma/common/frames.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::mavlink {
 namespace {

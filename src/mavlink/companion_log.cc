@@ -1,4 +1,6 @@
-// The companion's decision log (mavlink/companion.h): written as CSV, read back for `uascma plot companion`.
+// The companion's decision log (companion_log.h): written as CSV, read back for `uascma plot companion`.
+#include "uascma/mavlink/companion_log.h"
+
 #include <cmath>
 #include <string>
 

@@ -9,6 +9,9 @@
 
 #include "uascma/common/cpu_time.h"
 #include "uascma/common/error.h"
+#include "uascma/sim/emergency_planner.h"
+#include "uascma/sim/epoch.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::mavlink {
 namespace {

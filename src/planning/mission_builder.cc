@@ -1,5 +1,7 @@
 // Flying a mission's raw items (mission_items.h): the waypoints in the local frame, as a multicopter's mission
 // executor would fly the items in order, item by item.
+#include "mission_builder.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string_view>

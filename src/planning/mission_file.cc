@@ -11,7 +11,10 @@
 
 #include <fmt/format.h>
 
+#include "mission_builder.h"
 #include "mission_items.h"
+#include "mission_plan_read.h"
+#include "mission_wpl_read.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 

@@ -1,15 +1,14 @@
 #pragma once
-// The inside of the mission-file reader (include/uascma/planning/mission_file.h), shared by its units:
-// mission_plan_read.cc (QGroundControl .plan), mission_wpl_read.cc (QGC WPL 110 .waypoints, the home and the
-// DO_JUMP loops), mission_builder.cc (flying the items) and mission_write.cc (export). Reading is two steps: the
-// format readers collect the raw MAVLink items (command, frame, seven parameters), then BuildMission flies them
-// in order, item by item, as a multicopter's mission executor would, and writes the waypoints in the local frame.
+// The raw MAVLink items of a mission file (include/uascma/planning/mission_file.h), shared by the units of the
+// mission-file reader and writer: mission_plan_read.h (QGroundControl .plan), mission_wpl_read.h (QGC WPL 110
+// .waypoints, the home and the DO_JUMP loops), mission_builder.h (flying the items) and mission_write.cc (export).
+// Reading is two steps: the format readers collect the raw MAVLink items (command, frame, seven parameters), then
+// BuildMission flies them in order, item by item, as a multicopter's mission executor would, and writes the waypoints
+// in the local frame.
 #include <array>
-#include <cstddef>
 #include <limits>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "uascma/common/bounds.h"
@@ -68,28 +67,5 @@ struct RawMission {
   };
   std::vector<Zone> fence;
 };
-
-// Commands that move the vehicle in a way uascma does not fly, with the reason a refusal gives (nullopt: the
-// command does not move the vehicle and is skipped with a warning).
-std::optional<std::string> RefusalReason(int command);
-bool IsNavigation(int command);
-
-constexpr int kMavCmdDoJump = 177;
-constexpr int kMavCmdNavSplineWaypoint = 82;
-constexpr int kMavCmdNavRoi = 80;  // deprecated: points the camera, does not move the vehicle
-// A mission unrolled from DO_JUMPs is refused beyond this many items (nested loops multiply).
-constexpr std::size_t kMaxUnrolledItems = 100'000;
-
-// The format readers (InputError naming the source, the field and what was expected).
-RawMission ReadQgcPlan(std::string_view text, const std::string& source);
-RawMission ReadQgcWpl(std::string_view text, const std::string& source);
-
-// ArduPilot's unset home (0, 0): taken from the first item with a position (warned).
-void ResolveUnsetHome(RawMission& raw, const std::string& source);
-// DO_JUMPs unrolled into the items they repeat (an endless one is refused).
-std::vector<RawItem> UnrollJumps(const std::vector<RawItem>& items, const std::string& source,
-                                 std::vector<std::string>* warnings);
-// Flies the items (mission_builder.cc).
-Mission BuildMission(const RawMission& raw, const std::string& source, const MissionImportOptions& options);
 
 }  // namespace uascma::planning::mission_detail

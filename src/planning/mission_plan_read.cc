@@ -1,6 +1,8 @@
 // The QGroundControl .plan reader (JSON): the raw MAVLink items, the home, the geofence and the rally points
 // (mission_items.h). Every member is read through common/json_reader.h, so a member of the wrong type is an
 // InputError naming its full path ("mission.items[3].params[6]").
+#include "mission_plan_read.h"
+
 #include <cmath>
 #include <string_view>
 #include <utility>

@@ -1,5 +1,7 @@
 // The QGC WPL 110 reader (.waypoints, as Mission Planner and ArduPilot write them), and what both readers need
 // before the items are flown: an unset home resolved, DO_JUMP loops unrolled (mission_items.h).
+#include "mission_wpl_read.h"
+
 #include <array>
 #include <cmath>
 #include <limits>
@@ -9,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "map_import_detail.h"
+#include "mission_builder.h"
 #include "mission_items.h"
 #include "uascma/common/error.h"
 #include "uascma/common/text.h"

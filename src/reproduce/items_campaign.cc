@@ -2,6 +2,8 @@
 // default (ours, docs/modelling-choices.md#campaign-missions: plans of 0.5-0.9 of a healthy pack's endurance) and the
 // dissertation's (docs/modelling-choices.md#dissertation-profile: the plan-length range calibrated, by the bisection
 // below, to NoOp's 71 % in poor health; everything else of it a prediction).
+#include "items_campaign.h"
+
 #include <algorithm>
 #include <cmath>
 

@@ -1,6 +1,8 @@
 // Items of Chapter V's decision model and scenarios: the CMA transition model composed from Tables 5.1-5.7, its
 // policy by quadrant (Fig. 5.9), the reward-weight sensitivity (Figs. 5.10-5.12), Scenarios I and II (§5.5.1-2),
 // and the battery MDP's state count (§4.3.2).
+#include "items_cma.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>

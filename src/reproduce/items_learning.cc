@@ -1,6 +1,8 @@
 // Items learned from flights: the Q-learning curve of Fig. 5.14 (§5.3.3), and the battery MDP's policies learned
 // from Monte Carlo flights (§4.3.2) read as Fig. 4.5's decision tree and flown in Table 4.5's case studies
 // (Figs. 4.8-4.11, at the flight time of docs/modelling-choices.md#battery-case-study-flight-time).
+#include "items_learning.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -147,8 +149,7 @@ Item ReproduceBatteryCaseStudies(const Context& context) {
   context.Log(fmt::format("battery: learning from {} flights (seed {})", learn.runs, learn.seed));
   const decision::BatteryPolicySet pistar = decision::SolveBatteryPolicies(learning::LearnBatteryModel(learn));
   item.samples = {{"learning_flights", learn.runs}};
-  const double flight_time_s =
-      campaign::kCaseFlightFraction * campaign::ReferenceBatteryEod(models::PackAction::kUseBoth);
+  const double flight_time_s = campaign::CaseFlightTimeS();
   AddDecisionTree(item, pistar, flight_time_s);
   campaign::CaseStudyOptions options;
   options.pistar = &pistar;

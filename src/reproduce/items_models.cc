@@ -1,5 +1,7 @@
 // Items of Chapters II-III: Table 2.2's thrust, the battery model of Tables 3.1-3.2 with the pack EOD of
 // §3.3.2.1, and the motor RUL of §3.4.1 with Table 5.4's spall-to-jam probability.
+#include "items_models.h"
+
 #include <array>
 #include <cmath>
 

@@ -1,11 +1,14 @@
-// The CMA's executor (Act): an emergency plan, Terminate, or a substitute
-// (docs/modelling-choices.md#unavailable-actions, docs/modelling-choices.md#unavailable-actions), with two run-time
+// The actions of a decision epoch (act.h): the battery executor's pack switches, and the CMA's executor (Act): an
+// emergency plan, Terminate, or a substitute
+// (docs/modelling-choices.md#unavailable-actions), with two run-time
 // checks (docs/cma-safeguards.md):
 // - an emergency plan is carried out only with a reach margin ≥ 0, the margin the CMA state will read once the plan
 //   executes: the EOD at that plan's own expected load, RM by prognostics/reach_margin.h with t_sf
 //   (docs/modelling-choices.md#one-reach-margin). A plan short of it is no plan: the next-best action is taken;
 // - Terminate is carried out only as a last resort (sim/termination.h,
 // docs/modelling-choices.md#terminate-last-resort).
+#include "uascma/sim/act.h"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -15,11 +18,14 @@
 #include <fmt/format.h>
 
 #include "flight_internal.h"
+#include "pack_monitor.h"
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/reach_margin.h"
+#include "uascma/sim/emergency_planner.h"
+#include "uascma/sim/eod_precision.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/termination.h"
 
@@ -289,6 +295,22 @@ CmaAction Act(const FlightModel& model, FlightState& state, CmaAction action, co
   // carried out.
   UASCMA_CHECK(false, "a ranking that holds NoOp or Terminate");
   return CmaAction::kNoOp;
+}
+
+void SwitchPacks(FlightState& state, models::PackAction action) {
+  state.power.pack.branch_on = models::SwitchesFor(action);
+}
+
+void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPolicy& policy, FlightLog* log) {
+  const models::PackAction action = policy.Decide(model, state);
+  if (state.decision.battery_action != action) {
+    state.decision.battery_action = action;
+    if (log) {
+      log->battery_switches.emplace_back(state.time_s, action);
+      AddEvent(log, state.time_s, fmt::format("battery: {}", models::PackActionName(action)));
+    }
+  }
+  SwitchPacks(state, action);
 }
 
 }  // namespace uascma::sim

@@ -11,6 +11,10 @@
 
 #include "flight_internal.h"
 #include "uascma/common/error.h"
+#include "uascma/sim/act.h"
+#include "uascma/sim/emergency_planner.h"
+#include "uascma/sim/epoch.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::sim {
 

@@ -1,6 +1,6 @@
 // The map's emergency planners for the simulator: LandPract from a database built before flight, LandASAP online
 // (planning/emergency_landing.h, §5.3.2.2), behind sim::EmergencyPlanner.
-#include "uascma/sim/flight.h"
+#include "uascma/sim/emergency_planner.h"
 
 #include <memory>
 #include <vector>

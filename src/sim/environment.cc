@@ -4,7 +4,10 @@
 
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
+#include "uascma/sim/act.h"
 #include "uascma/sim/branching.h"
+#include "uascma/sim/epoch.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::sim {
 

@@ -6,9 +6,11 @@
 #include <variant>
 
 #include "flight_internal.h"
+#include "pack_monitor.h"
 #include "uascma/common/error.h"
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/prognostics/reach_margin.h"
+#include "uascma/sim/act.h"
 #include "uascma/sim/flight.h"
 
 namespace uascma::sim {

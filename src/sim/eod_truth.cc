@@ -3,8 +3,10 @@
 
 #include <utility>
 
-#include "uascma/common/error.h"
 #include "flight_internal.h"
+#include "uascma/common/error.h"
+#include "uascma/sim/epoch.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::sim {
 namespace {

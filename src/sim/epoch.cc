@@ -1,6 +1,8 @@
-// The decision epoch of the kernel (flight.h): Observe (guidance under a speed cap, EOD, RUL, margins, the abstract
-// CMA state), the battery executor, BeginEpoch and StepEpoch; Act (the CMA's action) is act.cc, the GNC step
-// flight.cc.
+// The decision epoch of the kernel (epoch.h): Observe (guidance under a speed cap, EOD, RUL, margins, the abstract
+// CMA state), BeginEpoch and StepEpoch; the actions (the CMA's Act, the battery executor's DecideBattery) are act.cc,
+// the GNC step flight.cc.
+#include "uascma/sim/epoch.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "flight_internal.h"
+#include "pack_monitor.h"
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
 #include "uascma/decision/cma_abstraction.h"
@@ -18,7 +21,9 @@
 #include "uascma/prognostics/eod_peak.h"
 #include "uascma/prognostics/reach_margin.h"
 #include "uascma/prognostics/rul_calibration.h"
+#include "uascma/sim/act.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/speed_cap.h"
 #include "uascma/sim/vehicle_margin.h"
 
@@ -320,22 +325,6 @@ const DecisionInputs& Observe(const FlightModel& model, FlightState& state, Flig
   }
   if (log) log->states.emplace_back(t, decision::CmaStateIndex(inputs.state));
   return inputs;
-}
-
-void SwitchPacks(FlightState& state, models::PackAction action) {
-  state.power.pack.branch_on = models::SwitchesFor(action);
-}
-
-void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPolicy& policy, FlightLog* log) {
-  const models::PackAction action = policy.Decide(model, state);
-  if (state.decision.battery_action != action) {
-    state.decision.battery_action = action;
-    if (log) {
-      log->battery_switches.emplace_back(state.time_s, action);
-      AddEvent(log, state.time_s, fmt::format("battery: {}", models::PackActionName(action)));
-    }
-  }
-  SwitchPacks(state, action);
 }
 
 const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,

@@ -20,6 +20,7 @@
 #include "uascma/models/rigid_body_lanes.h"
 #include "uascma/prognostics/rul_calibration.h"
 #include "uascma/sim/controller_lanes.h"
+#include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/rotor_lanes.h"
 #include "uascma/sim/vehicle_margin.h"
 

@@ -92,19 +92,6 @@ models::PackState SensedPack(const FlightModel& model, const FlightState& state)
 prognostics::EodOptions EpochEodOptions(const FlightModel& model, const FlightState& state,
                                         const models::PackState& pack, double current_a);
 
-// The pack-fault indicator at this epoch (FlightState::decision.pack_monitor): read once per decision epoch of a
-// flight whose scenario carries a pack fault, nothing otherwise.
-void UpdatePackMonitor(const FlightModel& model, FlightState& state);
-// The pack the CMA's EOD reads (docs/modelling-choices.md#pack-fault-cma): `pack` itself, or, once the indicator flags
-// one pack while the other is switched in, `pack` with the flagged one switched off: the flagged pack is not counted
-// on, so the EOD is the other pack's alone (the EOD after its isolation).
-models::PackState PrognosisPack(const FlightState& state, const models::PackState& pack);
-// The same from what the CMA reads: PrognosisPack of SensedPack under noisy sensing, of the truth otherwise.
-models::PackState ObservedPack(const FlightModel& model, const FlightState& state);
-// The battery-health input of the CMA state: the scenario's class (docs/modelling-choices.md#battery-health-label), P
-// once the indicator flags a pack (Table 4.2's unhealthy).
-decision::BatteryHealth ObservedBatteryHealth(const FlightModel& model, const FlightState& state);
-
 // ---- the epoch's EOD as a value or a bound (sim/eod_precision.h); defined in eod_precision.cc -----------------------
 // t_remaining + t_sf: what the EOD must cover for RM ≥ 0 (docs/modelling-choices.md#margins).
 double NeededS(const FlightModel& model, const DecisionInputs& inputs);

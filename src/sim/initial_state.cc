@@ -1,5 +1,7 @@
-// The initial state of a flight (flight.h MakeInitialState): its random streams, the vehicle on the plan's start with
-// its rotors at hover speed, the packs at rest, the IMM, and noisy sensing's errors and first readings.
+// The initial state of a flight (initial_state.h MakeInitialState): its random streams, the vehicle on the plan's start
+// with its rotors at hover speed, the packs at rest, the IMM, and noisy sensing's errors and first readings.
+#include "uascma/sim/initial_state.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>

@@ -1,5 +1,7 @@
 // The pack-fault indicator in the CMA loop (docs/modelling-choices.md#pack-fault-cma): what the CMA's battery-health
 // and reach-margin inputs read once a pack is flagged.
+#include "pack_monitor.h"
+
 #include <memory>
 
 #include "flight_internal.h"

@@ -9,6 +9,7 @@
 #include "campaign_test_support.h"
 #include "uascma/campaign/runner.h"
 #include "uascma/common/progress.h"
+#include "uascma/sim/emergency_planner.h"
 
 namespace uascma::campaign {
 namespace {

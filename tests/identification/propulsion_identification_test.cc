@@ -10,6 +10,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/identification/propulsion_identification.h"
+#include "uascma/identification/thrust_stand_data.h"
 
 namespace uascma::identification {
 namespace {

@@ -9,6 +9,8 @@
 #include "uascma/decision/cma_abstraction.h"
 #include "uascma/mavlink/companion_belief.h"
 #include "uascma/mavlink/sitl_vehicle.h"
+#include "uascma/sim/epoch.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/scenario.h"
 
 namespace uascma::mavlink {

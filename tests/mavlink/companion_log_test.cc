@@ -9,6 +9,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/mavlink/companion.h"
+#include "uascma/mavlink/companion_log.h"
 
 namespace uascma::mavlink {
 namespace {

@@ -13,7 +13,9 @@
 #include "same_flight.h"
 #include "uascma/campaign/battery_flights.h"
 #include "uascma/common/error.h"
+#include "uascma/sim/act.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 
 namespace uascma::sim {
 namespace {

@@ -4,7 +4,10 @@
 
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/reach_margin.h"
+#include "uascma/sim/act.h"
+#include "uascma/sim/epoch.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/policy.h"
 
 namespace uascma::sim {

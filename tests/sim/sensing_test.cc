@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "uascma/common/random.h"
+#include "uascma/sim/epoch.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/sensing.h"

@@ -5,6 +5,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/common/frames.h"
+#include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"
 #include "uascma/sim/simulator.h"

@@ -11,7 +11,10 @@
 
 #include "same_flight.h"
 #include "test_scenarios.h"
+#include "uascma/sim/act.h"
+#include "uascma/sim/epoch.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/lockstep.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/scenario.h"

@@ -15,6 +15,7 @@
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/motor_rul.h"
 #include "uascma/sim/flight.h"
+#include "uascma/sim/initial_state.h"
 #include "uascma/sim/policy.h"
 #include "uascma/sim/speed_cap.h"
 #include "uascma/sim/vehicle_margin.h"

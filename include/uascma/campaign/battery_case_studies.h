@@ -21,6 +21,8 @@ namespace uascma::campaign {
 // (docs/modelling-choices.md#battery-case-study-flight-time; ours: 0.82, the middle of the 0.815-0.825 band in which
 // the four case-3/4 outcomes of the dissertation hold together, chosen so).
 inline constexpr double kCaseFlightFraction = 0.82;
+// s: that flight time, kCaseFlightFraction · ReferenceBatteryEod(UseBoth).
+double CaseFlightTimeS();
 
 // The hindsight family (ours), every member flown in the simulator: (a) UseBoth throughout; (b) UseBoth, then pack
 // k alone (UseBatt_k, k = 1, 2) for good from t, t on a 5 s grid (the late drop of a collapsing pack); (c) UseBoth
@@ -52,11 +54,16 @@ struct CaseStudyOptions {
 // voltage rule, ours (when given) and the hindsight best. InputError when a case needs π* and none is given.
 std::vector<CaseScenario> RunCaseStudy(int number, const CaseStudyOptions& options);
 nlohmann::json CaseStudyJson(int number, const std::vector<CaseScenario>& scenarios);
+// A scenario's 1 Hz epochs as CSV (time, state, action, currents, EODs, flight left, lowest cells): one file per
+// scenario of `battery case-study --out`.
+std::string CaseEpochsCsv(const BatteryFlightResult& result);
 
 // The case-study flight of a context at `plan_duration_s` (Table 4.4's middle values, cells at 4.1 V, seed 1).
 BatteryFlightParams CaseFlightParams(const decision::BatteryContext& context, double plan_duration_s);
 // The abstract state that flight starts in (its first 1 Hz epoch, before any switch): what `battery show` reads
 // the decision tree at (Fig. 4.5).
 decision::StateIndex TakeoffState(const BatteryFlightParams& params);
+// TakeoffState of every context's case-study flight at `plan_duration_s`, by decision::BatteryContextIndex.
+std::vector<decision::StateIndex> CaseTakeoffStates(double plan_duration_s);
 
 }  // namespace uascma::campaign

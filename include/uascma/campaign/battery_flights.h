@@ -27,6 +27,7 @@
 #include "uascma/decision/battery_policy.h"
 #include "uascma/models/battery_pack.h"
 #include "uascma/models/wind.h"
+#include "uascma/sim/act.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/outcome.h"
 

@@ -24,6 +24,7 @@
 #include "uascma/campaign/sampler.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/sim/branching.h"
+#include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/simulator.h"
 
 namespace uascma::campaign {

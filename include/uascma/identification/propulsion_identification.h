@@ -3,13 +3,8 @@
 // 2.10-2.11; docs/identification.md "Propulsion"): eq. 2.12's RPM surface by Least Absolute Residuals, eq. 2.1's
 // C_T (and eq. 2.2's C_Q where torque is measured), validated by leave-one-step-out cross-validation and on other
 // files by the share of measured RPM inside the 95 % prediction bounds (Fig. 2.11).
-//
-// Layouts (one row per step of the ESC signal):
-//   ours         throttle_us,rpm,thrust_n,power_w[,torque_nm]      rpm of the SHAFT; power of this one motor
-//   RCbenchmark  "ESC signal (µs)", "Thrust (gf)", "Motor Electrical Speed (RPM)", "Electrical Power (W)"
-//                [, "Torque (N·m)"], recognised by its header; the speed column is divided by the pole pairs
-//                (electrical to shaft RPM), thrust gram-force × 9.80665e-3 N.
-// Rows where the motor does not turn (RPM ≤ 0) are dropped: the ESC's start-up step carries no RPM information.
+
+// The thrust-stand files it reads are identification/thrust_stand_data.h.
 //
 // Eq. 2.12: with x = (δ_t − mean δ_t) / std δ_t and y = (P − mean P) / std P over the fitted points (P one motor's
 // electrical power, decisions: docs/modelling-choices.md#rpm-per-motor; std with n − 1),
@@ -29,26 +24,9 @@
 #include <Eigen/Dense>
 
 #include "uascma/common/bounds.h"
+#include "uascma/identification/thrust_stand_data.h"
 
 namespace uascma::identification {
-
-struct ThrustStandRecord {
-  std::string source;
-  std::string layout;                  // "ours" or "rcbenchmark"
-  std::vector<double> throttle_us;     // [points]
-  std::vector<double> power_w;         // [points], electrical, this motor
-  std::vector<double> rpm;             // [points], shaft
-  std::vector<double> thrust_n;        // [points]
-  std::vector<double> torque_nm;       // [points] or empty
-  std::vector<int> line;               // [points]
-  int size() const { return static_cast<int>(throttle_us.size()); }
-};
-
-// Reads one thrust-stand file; `pole_pairs` converts RCbenchmark's electrical RPM. Throws InputError naming the
-// file, line and column for a missing column, a non-finite cell, time not increasing (RCbenchmark's Time (s)), a
-// negative power or thrust, or fewer than 3 turning points.
-ThrustStandRecord ReadThrustStandRecord(const std::string& path, int pole_pairs);
-ThrustStandRecord ParseThrustStandRecord(const std::string& text, const std::string& source, int pole_pairs);
 
 // The term (i, j) multiplies x^i y^j.
 using SurfaceTerm = std::array<int, 2>;

@@ -74,16 +74,6 @@ struct CompanionSummary {
   std::string BriefReport() const;
 };
 
-// The decision log as CSV (RFC 4180, common/csv.h): the header kCompanionLogColumns, then one row per epoch; the
-// texts quoted.
-inline constexpr std::array<const char*, 11> kCompanionLogColumns = {
-    "time_s",       "cma_state",    "decided",     "taken", "eod_s", "rul_s", "flight_time_remaining_s",
-    "reach_margin", "motor_margin", "decision_ms", "note"};
-std::string CompanionLogCsv(const std::vector<CompanionDecision>& log);
-// Reads a decision log back (`uascma plot companion`): InputError naming `source`, the line and column, and what was
-// expected (the header above; a number in each numeric column; times rising).
-std::vector<CompanionDecision> ParseCompanionLogCsv(std::string_view text, const std::string& source);
-
 // Runs until the vehicle lands (EXTENDED_SYS_STATE on the ground after in air), its HEARTBEAT reports the flight
 // terminated, or the link is lost. `scenario`: the vehicle, battery, map and options the companion's belief and
 // planners use, and the plan when the vehicle holds no mission; `policy`: the CMA policy (sim::MakePolicy's names).

@@ -119,19 +119,6 @@ std::string IndexHtml(const Report& report, const std::filesystem::path& dir);
 // Writes results.json, table.md, draws the figures and writes index.html (atomically, file by file).
 void WriteReport(const Report& report, const Options& options);
 
-// Items, one function per dissertation result (src/reproduce/items_*.cc).
-Item ReproduceTable22(const Context& context);
-Item ReproduceBatteryEod(const Context& context);
-Item ReproduceMotorRul(const Context& context);
-Item ReproduceCmaTables(const Context& context);
-Item ReproduceCmaPolicy(const Context& context);
-Item ReproduceSensitivity(const Context& context);
-Item ReproduceScenarioOne(const Context& context);
-Item ReproduceScenarioTwo(const Context& context);
-Item ReproduceBatteryMdpSize(const Context& context);
-Item ReproduceBatteryCaseStudies(const Context& context);
-Item ReproduceQLearning(const Context& context);
-Item ReproduceCampaignDefault(const Context& context);
-Item ReproduceCampaignDissertation(const Context& context);
+// The items themselves, one function per dissertation result, are the module's own: src/reproduce/items_*.h.
 
 }  // namespace uascma::reproduce

@@ -18,6 +18,8 @@
 #include <string_view>
 #include <vector>
 
+#include "uascma/sim/act.h"
+#include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/lockstep.h"
 #include "uascma/sim/policy.h"

@@ -15,6 +15,8 @@
 #include <string>
 
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/sim/act.h"
+#include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/simulator.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// How far a decision epoch propagates the pack's EOD (sim/flight.h Observe): to its value, or only as far as the reach
+// How far a decision epoch propagates the pack's EOD (sim/epoch.h Observe): to its value, or only as far as the reach
 // margin's class needs. RM0 ⇔ EOD < t_remaining + t_sf (docs/modelling-choices.md#margins), so a propagation may stop
 // once it has passed t_remaining + t_sf without a crossing (prognostics::CalcPackEodBefore): the EOD is then at least
 // that, RM1, and DecisionInputs::eod holds an EodLowerBound (sim/policy.h) until CompleteEod. A propagation that ends

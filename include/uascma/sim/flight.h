@@ -7,10 +7,14 @@
 //               → allocation → rotor lag → 6-DOF with drag and Dryden wind → IMM, then battery pack → outcome
 //               (outcome.h);
 //   Observe     at a decision epoch (1 Hz): battery EOD, motor RUL, the reach and motor margins and the
-//               abstract CMA state (decision/cma_abstraction.h);
-//   Act         executes a CMA action chosen at that epoch (an emergency plan from the planner, or Terminate);
+//               abstract CMA state (decision/cma_abstraction.h; sim/epoch.h);
+//   Act         executes a CMA action chosen at that epoch (an emergency plan from the planner, or Terminate;
+//               sim/act.h);
 //   StepEpoch   BeginEpoch (Observe → the battery executor) → the CMA policy decides → Act → Step until the next
-//               epoch or the end of the flight.
+//               epoch or the end of the flight (sim/epoch.h).
+//
+// This header holds the model, the state and the GNC steps; a flight starts from MakeInitialState
+// (sim/initial_state.h), and its emergency plans come from sim/emergency_planner.h.
 //
 // The state is made of parts (vehicle, power system, faults, decisions, guidance: see "the state" below), each a value
 // with ==. Flights that share a vehicle or branch from one another are sim/branching.h.
@@ -21,7 +25,6 @@
 
 #include <array>
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -41,14 +44,13 @@
 #include "uascma/models/rigid_body_lanes.h"
 #include "uascma/models/wind.h"
 #include "uascma/planning/city_map.h"
-#include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/eod_distribution.h"
 #include "uascma/prognostics/motor_rul.h"
 #include "uascma/prognostics/pack_fault_monitor.h"
+#include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/eod_error_model.h"
-#include "uascma/sim/eod_precision.h"
 #include "uascma/sim/load_forecast.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"
@@ -56,58 +58,6 @@
 #include "uascma/sim/sensing.h"
 
 namespace uascma::sim {
-
-// ---- emergency landing plans (the planning layer's LandPract and LandASAP, §5.3.2.2) -------------------------
-// What the simulator knows when the policy picks an emergency action.
-struct EmergencyRequest {
-  decision::CmaAction action = decision::CmaAction::kLandPract;
-  double time_s = 0.0;
-  Eigen::Vector3d p_WB_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d v_WB_W = Eigen::Vector3d::Zero();
-  double yaw = 0.0;      // rad
-  int failed_motor = 0;  // the rotor the allocation has switched off (0: none): fewer rotors, less reach
-  double eod_s = 0.0;
-  double original_plan_elapsed_s = 0.0;  // how far along the nominal plan the vehicle is
-};
-// A plan, or why there is none (the planner's status and one-line message).
-struct EmergencyPlan {
-  planning::LandingStatus status = planning::LandingStatus::kNoFeasibleTrajectory;
-  std::string message;  // why no plan; empty when ok()
-  planning::FlightPlan plan;
-  std::string site;          // a label of the landing site
-  double site_radius = 0.0;  // m, the site's clear touchdown radius (0: unknown, OutcomeThresholds::landing_radius)
-  double reach_margin = 0.0;
-  std::vector<Eigen::Vector2d> footprint_NE;  // LandASAP: the footprint's boundary in W (north, east), m
-  bool ok() const { return status == planning::LandingStatus::kOk; }
-};
-using EmergencyPlanner = std::function<EmergencyPlan(const EmergencyRequest&)>;
-
-// The emergency planners over the scenario's map: LandPract from a database built before flight on the nominal
-// plan (5 checkpoints), LandASAP online inside the footprint. Empty (no planner) when the map has no sites.
-// `to_point` plans the path to a point another agent chose (an external CMA's landing site, sent as a MAVLink
-// DO_REPOSITION): the map's path planner from the request's position to the map site nearest that point
-// (planning::LandingPathPlanner::PlanToSite), the site's label and radius with it.
-using PointPlanner = std::function<EmergencyPlan(const EmergencyRequest&, const Eigen::Vector3d& target_W)>;
-struct MapEmergencyPlanner {
-  EmergencyPlanner planner;
-  PointPlanner to_point;
-  std::vector<Eigen::Vector3d> checkpoints_W;  // LandPract's checkpoints on the nominal plan
-};
-// The index of the map's landing site nearest `p_W` (3-D distance); −1 when the map has none.
-int NearestLandingSite(const planning::CityMap& map, const Eigen::Vector3d& p_W);
-MapEmergencyPlanner MakeMapEmergencyPlanner(const Scenario& scenario, const planning::FlightPlan& nominal_plan,
-                                            const models::DragTable& drag, const models::PropulsionParams& propulsion);
-
-// ---- the battery-pack switches (Ch. IV) -------------------------------------------------------------------------
-class FlightModel;
-struct FlightState;
-// A 1 Hz battery executor (§4.3.2: the battery MDP's policy); its action takes effect at once
-// (docs/modelling-choices.md#battery-mdp-policies).
-class BatterySwitchPolicy {
- public:
-  virtual ~BatterySwitchPolicy() = default;
-  virtual models::PackAction Decide(const FlightModel& model, const FlightState& state) = 0;
-};
 
 // ---- the model ------------------------------------------------------------------------------------------------
 // Everything fixed for a flight, built once from the scenario (validated by Scenario::IsValid, InputError
@@ -397,23 +347,7 @@ struct FlightLog {
   std::vector<TelemetryRow> telemetry;
 };
 
-// What decides at an epoch: the CMA policy, optionally the battery executor, and the emergency planner (empty:
-// the model's map planner).
-struct Controllers {
-  DecisionPolicy* policy = nullptr;
-  BatterySwitchPolicy* battery = nullptr;
-  EmergencyPlanner planner;
-};
-
 // ---- the steps --------------------------------------------------------------------------------------------------
-// The state at take-off time 0 for the given seed: on the ground at home, rotors at hover speed, packs at rest.
-FlightState MakeInitialState(const FlightModel& model, std::uint64_t seed);
-
-// Noisy sensing (sim/sensing.h): the 1σ of the SOC error of the CMA's estimate at this state (CalcSocEstimateSigma of
-// the settings at the flight's elapsed time and mean read current, the nominal cell's capacity and the OCV slope its
-// rest-voltage reading went through): what EodUncertainty::soc_sigma takes. 0 without noisy sensing.
-double CalcSocEstimateSigma(const FlightModel& model, const FlightState& state);
-
 // True at a decision epoch (every steps_per_epoch GNC steps, from step 0).
 inline bool IsDecisionEpoch(const FlightModel& model, const FlightState& state) {
   return state.step % model.steps_per_epoch() == 0;
@@ -453,52 +387,5 @@ void StepTogetherToNextEpoch(std::span<const FlightModel* const> models, std::sp
 // with Step, every part (tests/sim/branching_test.cc).
 void StepFollowing(const FlightModel& model, FlightState& lead, std::span<FlightState* const> followers,
                    std::span<bool> stepped);
-
-// At an epoch: EOD, RUL, margins and the abstract CMA state into state.decision.inputs (and the log's states), and with
-// `eod_distribution` the EOD's distribution from the model's error table (DecisionInputs::eod_distribution).
-// `precision` (sim/eod_precision.h): kReachMarginClass requires exact sensing and no distribution (both read the EOD's
-// value).
-const DecisionInputs& Observe(const FlightModel& model, FlightState& state, FlightLog* log = nullptr,
-                              bool eod_distribution = true, EodPrecision precision = EodPrecision::kValue);
-
-// Executes a CMA action chosen at the present epoch (after Observe): Terminate ends the flight; LandPract and
-// LandASAP ask `planner` (empty: the model's map planner) for an emergency plan, and switch to it when there is
-// one; an action equal to the executing one is a no-op (docs/modelling-choices.md#executing-action-repeat). When the
-// planner finds nothing, the action cannot be carried out at this epoch
-// (docs/modelling-choices.md#unavailable-actions): the next action of `ranking` (the state's actions by decreasing Q;
-// empty: the default CMA policy's) that can be is taken instead, and the substitution is an event and counted in the
-// state. Returns the action taken (NoOp and Terminate always can be).
-decision::CmaAction Act(const FlightModel& model, FlightState& state, decision::CmaAction action,
-                        const EmergencyPlanner& planner, FlightLog* log = nullptr, ActionRanking ranking = {});
-
-// Sets the pack switches (Table 4.3); takes effect at the next step.
-void SwitchPacks(FlightState& state, models::PackAction action);
-
-// At an epoch (after Observe): the battery executor decides and the packs switch; a change of its action is
-// logged (an event "battery: UseBatt1" and FlightLog::battery_switches).
-void DecideBattery(const FlightModel& model, FlightState& state, BatterySwitchPolicy& policy, FlightLog* log = nullptr);
-
-// The start of a decision epoch: Observe, then the battery executor decides (DecideBattery; none when `battery` is
-// null). Returns the observed inputs the CMA policy decides on.
-const DecisionInputs& BeginEpoch(const FlightModel& model, FlightState& state, BatterySwitchPolicy* battery,
-                                 FlightLog* log = nullptr, bool eod_distribution = true,
-                                 EodPrecision precision = EodPrecision::kValue);
-
-// Whether an epoch computes the EOD's distribution: when the policy reads it or the log records telemetry.
-inline bool NeedsEodDistribution(const DecisionPolicy* policy, const FlightLog* log) {
-  return (policy && policy->ReadsEodDistribution()) || (log && log->record_telemetry);
-}
-
-// After the policy decided `action` at this epoch (after Observe, before Act): at the first action that is not NoOp,
-// the EOD's distribution into DecisionState::eod_at_first_action (computed now if the epoch did not).
-void RecordEodAtAction(const FlightModel& model, FlightState& state, decision::CmaAction action);
-
-// One decision epoch: BeginEpoch (the EOD's distribution when NeedsEodDistribution), the policy decides (a null
-// policy: NoOp), RecordEodAtAction, Act, then GNC steps to the next epoch or the end of the flight. Must be called at
-// an epoch.
-void StepEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers, FlightLog* log = nullptr);
-// StepEpoch before its steps: BeginEpoch, the decision, RecordEodAtAction, Act (a flight at an epoch, not done).
-void DecideEpoch(const FlightModel& model, FlightState& state, const Controllers& controllers,
-                 FlightLog* log = nullptr);
 
 }  // namespace uascma::sim

@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include "uascma/sim/act.h"
+#include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/flight.h"
 #include "uascma/sim/outcome.h"
 #include "uascma/sim/policy.h"

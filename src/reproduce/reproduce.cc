@@ -1,5 +1,7 @@
-// The reproduce report: comparisons, the item loop, results.json, table.md and the self-contained index.html
-// (reproduce/reproduce.h).
+// `uascma reproduce` (reproduce/reproduce.h): comparisons, the item list and loop, results.json, table.md and the
+// self-contained index.html; the items are items_*.cc.
+#include "uascma/reproduce/reproduce.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -8,11 +10,14 @@
 
 #include <fmt/format.h>
 
+#include "items_campaign.h"
+#include "items_cma.h"
+#include "items_learning.h"
+#include "items_models.h"
 #include "uascma/campaign/statistics.h"
 #include "uascma/common/cpu_time.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
-#include "uascma/reproduce/reproduce.h"
 
 namespace uascma::reproduce {
 namespace {

@@ -1,4 +1,4 @@
-// OCV(SOC) table: validation, inverse, default table and CSV loader (see ocv_table.h).
+// OCV(SOC) table: validation, inverse, default table and CSV loader (ocv_table.h).
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
