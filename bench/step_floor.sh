@@ -12,7 +12,7 @@ set -euo pipefail
 build="$(cd "${1:-build}" && pwd)"
 here="$(cd "$(dirname "$0")/.." && pwd)"
 if ! command -v valgrind > /dev/null; then
-  echo "step floor: skipped (valgrind is not installed: bash scripts/install-deps.sh test)"
+  echo "step floor: skipped (valgrind is not installed: bash scripts/install-deps.sh test-tools)"
   exit 0
 fi
 work="$(mktemp -d)"

@@ -10,7 +10,7 @@ build="$(cd "${1:-build}" && pwd)"
 here="$(cd "$(dirname "$0")/.." && pwd)"
 scenario="${2:-examples/nominal.yaml}"
 if ! command -v valgrind > /dev/null; then
-  echo "instructions per 200 Hz step: skipped (valgrind is not installed: bash scripts/install-deps.sh test)"
+  echo "instructions per 200 Hz step: skipped (valgrind is not installed: bash scripts/install-deps.sh test-tools)"
   exit 0
 fi
 work="$(mktemp -d)"

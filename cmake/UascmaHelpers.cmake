@@ -24,7 +24,7 @@ function(uascma_library name)
     target_compile_options(${target} PRIVATE -flto=auto -ffat-lto-objects)
   endif()
   if(UASCMA_UNITY)
-    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${UASCMA_UNITY_BATCH})
   endif()
   install(TARGETS ${target} EXPORT uascmaTargets ARCHIVE DESTINATION lib)
   set(UASCMA_MODULES ${UASCMA_MODULES} ${target} CACHE INTERNAL "uascma module libraries")
@@ -42,12 +42,12 @@ function(uascma_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
   uascma_use_test_pch(${name})  # UascmaPch.cmake
-  # A test executable of several files compiles them as unity files of 8, as the libraries do: with the shared
-  # precompiled header a test file still costs ~3.4 CPU-s before its first line of its own (GoogleTest's and the
-  # header's loading; measured on an empty test), so one file per 8 saves most of that. Sources with options of
-  # their own (the lanes tests' -ffp-contract=off) are compiled alone by CMake.
+  # A test executable of several files compiles them as one unity file, as the libraries do (cmake/UascmaPch.cmake):
+  # with the shared precompiled header a test file still costs ~3.4 CPU-s before its first line of its own
+  # (GoogleTest's and the header's loading; measured on an empty test). Sources with options of their own (the lanes
+  # tests' -ffp-contract=off) are compiled alone by CMake.
   if(UASCMA_UNITY)
-    set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+    set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${UASCMA_UNITY_BATCH})
   endif()
   target_compile_definitions(${name} PRIVATE
     UASCMA_SOURCE_DIR="${PROJECT_SOURCE_DIR}"

@@ -3,19 +3,24 @@
 # CLI11 4.7 s, nlohmann/json 1.6 s, Eigen/Dense 1.2 s, yaml-cpp 0.8 s, fmt 0.5 s, <filesystem> 0.5 s.
 #
 # One precompiled header, built by the object library uascma_pch, is reused by every library (uascma_library,
-# UascmaHelpers.cmake: the libraries share the compile flags it is built with); the command-line tool has its
-# own (an executable compiles with -fPIE, not -fPIC) that adds CLI11. -DUASCMA_PCH=OFF builds without them,
-# which also shows a source file that relies on a header only the precompiled header brings in.
+# UascmaHelpers.cmake: the libraries share the compile flags it is built with) and by the command-line tool's objects
+# (compiled position-independent like the libraries, so that they can reuse it; CLI11 is parsed in the tool's one
+# unity file). -DUASCMA_PCH=OFF builds without it, which also shows a source file that relies on a header only the
+# precompiled header brings in.
 # ccache caches files compiled with a precompiled header given sloppiness = pch_defines,time_macros; clang
 # (scripts/fuzz.sh, scripts/check-sanitizers.sh) uses CMake's clang form of the same header.
-# Unity builds of the libraries (ours, on by default): each library compiled as files of 8 sources each, which parse
-# the shared headers and generate the inline code they use once per 8 files. Measured on the campaign library (22
-# files): 93 s of compile CPU one by one, 46 s as 3 unity files. The sources of one library then share their
-# anonymous namespaces, so file-local helpers have names unique within their library (two of one name either clash
-# or, with other parameter types, silently overload). -DUASCMA_UNITY=OFF compiles each source alone, as
+# Unity builds (ours, on by default): each library, the tool and each test executable is compiled as one file that
+# includes all its sources (UASCMA_UNITY_BATCH = 0), so the shared headers are loaded and the inline and template
+# code they use is generated once per library instead of once per source. Measured from nothing (GCC 12, -O3, the
+# demo's build, compile by compile): 629 CPU-s with unity files of 8 sources, 483 with one per library (a build
+# folder being worked in recompiles a whole library for a change to one of its files: -DUASCMA_UNITY_BATCH=8 makes
+# those recompiles smaller, at ~25 % more CPU from nothing). The sources of one library then share their anonymous
+# namespaces, so file-local helpers have names unique within their library (two of one name either clash or, with
+# other parameter types, silently overload). -DUASCMA_UNITY=OFF compiles each source alone, as
 # scripts/check-sanitizers.sh and scripts/fuzz.sh do.
-option(UASCMA_UNITY "Compile each library as unity files of 8 sources" ON)
-option(UASCMA_PCH "Precompile the heavy third-party headers (Eigen, nlohmann/json, fmt, yaml-cpp; CLI11 for the CLI)" ON)
+option(UASCMA_UNITY "Compile each library, the tool and each test executable as unity files" ON)
+set(UASCMA_UNITY_BATCH 0 CACHE STRING "Sources per unity file (0: all sources of a target in one)")
+option(UASCMA_PCH "Precompile the heavy third-party headers (Eigen, nlohmann/json, fmt, yaml-cpp)" ON)
 
 set(UASCMA_PCH_HEADERS
     <algorithm> <array> <cmath> <cstdint> <filesystem> <functional> <map> <memory> <optional> <set> <sstream>
@@ -32,18 +37,13 @@ if(UASCMA_PCH)
   target_precompile_headers(uascma_pch PRIVATE ${UASCMA_PCH_HEADERS})
 endif()
 
-# uascma_use_pch(TARGET [CLI]): TARGET compiles with the shared precompiled header (a library), or, with CLI, with
-# a precompiled header of its own that adds CLI11 (an executable).
+# uascma_use_pch(TARGET): TARGET (a library, or the tool's position-independent objects) compiles with the shared
+# precompiled header.
 function(uascma_use_pch target)
-  cmake_parse_arguments(ARG "CLI" "" "" ${ARGN})
   if(NOT UASCMA_PCH)
     return()
   endif()
-  if(ARG_CLI)
-    target_precompile_headers(${target} PRIVATE ${UASCMA_PCH_HEADERS} <CLI/CLI.hpp>)
-  else()
-    target_precompile_headers(${target} REUSE_FROM uascma_pch)
-  endif()
+  target_precompile_headers(${target} REUSE_FROM uascma_pch)
 endfunction()
 
 # uascma_use_test_pch(TARGET): the test executables share one precompiled header, the libraries' heavy headers plus

@@ -93,7 +93,7 @@ void AddTransitions(CLI::App* policy) {
 }
 
 // --- policy solve ------------------------------------------------------------------------------
-void AddSolve(CLI::App* policy) {
+void AddPolicySolve(CLI::App* policy) {
   struct Options {
     ModelOptions model;
     std::string out;
@@ -184,7 +184,7 @@ std::string QuadrantTable(const std::vector<QuadrantRow>& rows, const FiniteMdp&
   return out;
 }
 
-void AddShow(CLI::App* policy) {
+void AddPolicyShow(CLI::App* policy) {
   auto file = std::make_shared<std::string>();
   auto weights_file = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
@@ -306,8 +306,8 @@ void AddPolicyCommand(CLI::App& app) {
       app.add_subcommand("policy", "The contingency-management MDP (§5.3.2): transitions, solve, show, sensitivity");
   policy->require_subcommand(1);
   AddTransitions(policy);
-  AddSolve(policy);
-  AddShow(policy);
+  AddPolicySolve(policy);
+  AddPolicyShow(policy);
   AddSensitivity(policy);
 }
 

@@ -73,7 +73,7 @@ CalibrationRun CalibrateWith(const RulCommandOptions& options, double prognosis_
   return {CalibrateRul(calibration_options), RulPredictionModeName(mode)};
 }
 
-nlohmann::json CalibrationJson(const RulCommandOptions& options, const CalibrationRun& run) {
+nlohmann::json RulCalibrationJson(const RulCommandOptions& options, const CalibrationRun& run) {
   const RulCalibrationOptions& used = run.calibration.options;
   nlohmann::json document = CalibrationReportJson(run.calibration.report);
   document["histories"] = options.histories;
@@ -109,8 +109,8 @@ void RunRulCalibration(const RulCommandOptions& options) {
   const CalibrationRun vehicle =
       CalibrateWith(options, fit.time_per_growth_step_s, RulPredictionMode::kSurvivalConditioned);
   if (options.json) {
-    nlohmann::json document = CalibrationJson(options, given);
-    nlohmann::json fitted = CalibrationJson(options, vehicle);
+    nlohmann::json document = RulCalibrationJson(options, given);
+    nlohmann::json fitted = RulCalibrationJson(options, vehicle);
     fitted["training"] = {{"histories", fit.histories},
                           {"seed", fit.seed},
                           {"mean_jam_time_s", fit.mean_jam_time_s},

@@ -28,7 +28,7 @@ models::PerCell<models::CellHealth> CellHealthOf(const models::PerBranch<HealthC
   return cells;
 }
 
-std::string PairName(HealthClass b1, HealthClass b2) {
+std::string HealthPairName(HealthClass b1, HealthClass b2) {
   return fmt::format("({},{})", decision::BatteryHealthName(b1), decision::BatteryHealthName(b2));
 }
 
@@ -228,13 +228,13 @@ std::vector<CaseScenario> RunCaseStudy(int number, const CaseStudyOptions& optio
     const std::vector<BatteryFlightResult> results = FlyBatteryFlights(params, controllers);
     for (std::size_t k = 0; k < flown.size(); ++k) {
       CaseScenario scenario;
-      scenario.name = PairName(b1, b2);
+      scenario.name = HealthPairName(b1, b2);
       scenario.params = params;
       scenario.controller = flown[k].first;
       scenario.result = results[k];
       scenarios.push_back(std::move(scenario));
     }
-    if (number == 4 && options.hindsight) scenarios.push_back(HindsightBest(PairName(b1, b2), params));
+    if (number == 4 && options.hindsight) scenarios.push_back(HindsightBest(HealthPairName(b1, b2), params));
   }
   return scenarios;
 }

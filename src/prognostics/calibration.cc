@@ -17,7 +17,7 @@ constexpr double kWilsonZ = 1.959963984540054;
 // PIT histogram of the report: 10 bins (deciles), ours.
 constexpr int kReportPitBins = 10;
 
-void RequireValid(const PredictionSet& set) {
+void RequireValidPredictions(const PredictionSet& set) {
   std::string error;
   if (!set.IsValid(&error)) throw InputError(kCalibrationSource, "predictions", error);
 }
@@ -165,7 +165,7 @@ double PredictedQuantile(const std::vector<double>& levels, const std::vector<do
 }
 
 IntervalCoverage CalcIntervalCoverage(const PredictionSet& set, double central_probability) {
-  RequireValid(set);
+  RequireValidPredictions(set);
   if (!(central_probability > 0.0 && central_probability < 1.0)) {
     throw InputError(kCalibrationSource, "central_probability", "inside (0, 1)");
   }
@@ -191,7 +191,7 @@ IntervalCoverage CalcIntervalCoverage(const PredictionSet& set, double central_p
 }
 
 std::vector<ReliabilityRow> CalcReliabilityTable(const PredictionSet& set, const std::vector<double>& nominal_levels) {
-  RequireValid(set);
+  RequireValidPredictions(set);
   std::vector<ReliabilityRow> rows;
   for (double p : nominal_levels) {
     ReliabilityRow row;
@@ -208,7 +208,7 @@ std::vector<ReliabilityRow> CalcReliabilityTable(const PredictionSet& set, const
 }
 
 std::vector<int> CalcPitHistogram(const PredictionSet& set, int bins) {
-  RequireValid(set);
+  RequireValidPredictions(set);
   if (bins < 1) throw InputError(kCalibrationSource, "bins", "at least 1");
   std::vector<int> counts(static_cast<std::size_t>(bins), 0);
   for (const QuantilePrediction& prediction : set.predictions) {
@@ -220,7 +220,7 @@ std::vector<int> CalcPitHistogram(const PredictionSet& set, int bins) {
 }
 
 SaxenaMetrics CalcSaxenaMetrics(const PredictionSet& set, const SaxenaOptions& options) {
-  RequireValid(set);
+  RequireValidPredictions(set);
   std::string error;
   if (!options.IsValid(&error)) throw InputError(kCalibrationSource, "saxena options", error);
   std::map<int, std::vector<const QuantilePrediction*>> units;

@@ -113,7 +113,7 @@ void ReadPropulsion(const std::filesystem::path& path, Vehicle& vehicle) {
   if (!p.IsValid(&error)) throw InputError(path.string(), "propulsion", error);
 }
 
-void ReadBattery(const YAML::Node& node, const std::filesystem::path& file, Vehicle& vehicle, Fingerprint& hash) {
+void ReadVehicleBattery(const YAML::Node& node, const std::filesystem::path& file, Vehicle& vehicle, Fingerprint& hash) {
   const std::string source = file.string();
   if (!node.IsMap()) throw InputError(source, "battery", "a mapping of cell, cells_in_series, cells_in_parallel");
   RequireOnlyKeys(node, {"cell", "cells_in_series", "cells_in_parallel"}, source, "battery");
@@ -218,7 +218,7 @@ std::shared_ptr<const Vehicle> LoadVehicleFile(const std::filesystem::path& path
   vehicle->propulsion = models::PropulsionParams::ForConfiguration(vehicle->configuration);
   ReadAirframe(root, source, *vehicle);
   if (root["battery"]) {
-    ReadBattery(root["battery"], path, *vehicle, hash);
+    ReadVehicleBattery(root["battery"], path, *vehicle, hash);
   } else {
     vehicle->defaulted.push_back("battery");
   }

@@ -7,11 +7,13 @@ Usage: reproduce_browser_test.py UASCMA CHROMIUM [reproduce options...]
        reproduce_browser_test.py UASCMA CHROMIUM --dir=DIR     (check the page of a run already made in DIR)
   e.g. reproduce_browser_test.py build/uascma /usr/bin/chromium --only table-2.2,cma-policy,scenario-1
        reproduce_browser_test.py build/uascma /usr/bin/chromium --quick        (every item)
-Exit 0 when every check holds, 1 otherwise (each failure printed).
+CHROMIUM is a path or a name looked up on the PATH. Exit 0 when every check holds, 1 otherwise (each failure
+printed), 77 when CHROMIUM is not installed.
 """
 import base64
 import html.parser
 import json
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -49,8 +51,15 @@ class Dom(html.parser.HTMLParser):
             self.figure = None
 
 
+# CTest's SKIP_RETURN_CODE for this test (tests/CMakeLists.txt): the browser is not installed.
+SKIPPED = 77
+
+
 def main():
     uascma, chromium, options = sys.argv[1], sys.argv[2], sys.argv[3:]
+    if shutil.which(chromium) is None:
+        print(f"reproduce_browser: skipped: {chromium} is not on the PATH (scripts/install-deps.sh test-tools)")
+        sys.exit(SKIPPED)
     failures = []
     existing = options[0][len("--dir="):] if options and options[0].startswith("--dir=") else None
     with tempfile.TemporaryDirectory() as scratch:
@@ -66,7 +75,7 @@ def main():
              "--dump-dom", f"file://{out}/index.html"],
             capture_output=True, text=True, timeout=120).stdout
         if "<section" not in dom_text:
-            sys.exit("chromium rendered no sections (is it installed? scripts/install-deps.sh test)")
+            sys.exit("chromium rendered no sections (is it installed? scripts/install-deps.sh test-tools)")
         dom = Dom()
         dom.feed(dom_text)
         for item in results["items"]:

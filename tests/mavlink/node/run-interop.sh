@@ -8,6 +8,11 @@
 set -euo pipefail
 build=$1
 source=$2
+# Skipped (CTest's SKIP_RETURN_CODE, tests/CMakeLists.txt) until Node.js is installed.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  echo "interop: skipped: node and npm are not on the PATH (scripts/install-deps.sh test-tools)"
+  exit 77
+fi
 prefix=$build/node-interop
 if [[ ! -d $prefix/node_modules/node-mavlink ]]; then
   mkdir -p "$prefix"
