@@ -42,6 +42,13 @@ planning::FlightPlan HoverAndCruise() {
   return planning::FlightPlan::Through(Eigen::Vector3d::Zero(), waypoints, limits);
 }
 
+// A forecast of `plan` flown by the hexacopter, before its first epoch.
+LoadForecastState HexacopterForecast(const planning::FlightPlan& plan, const Vehicle& v) {
+  LoadForecastState forecast;
+  forecast.profile = std::make_shared<const LoadProfile>(plan, v.Model(), 6);
+  return forecast;
+}
+
 TEST(LoadForecastTest, HoverAndLevelCruiseMatchTheirClosedForms) {
   const Vehicle v;
   const SteadyLoadModel model = v.Model();
@@ -94,8 +101,7 @@ TEST(LoadForecastTest, TheProfileOfHoverPlusCruiseIsTheTimeWeightedSumOfItsLegs)
 TEST(LoadForecastTest, TheForecastCurrentIsTheRemainingEnergyOverTimeAndTheBiasRatioIsASlowLowPass) {
   const Vehicle v;
   const planning::FlightPlan plan = HoverAndCruise();
-  LoadForecastState forecast;
-  forecast.profile = std::make_shared<const LoadProfile>(plan, v.Model(), 6);
+  LoadForecastState forecast = HexacopterForecast(plan, v);
   const double voltage = 11.4, hotel = 0.5;
   // First epoch: no history, r = 1: I = E_remaining / (t_remaining V) + I_hotel.
   const double t0 = 40.0;
@@ -123,8 +129,7 @@ TEST(LoadForecastTest, TheForecastCurrentIsTheRemainingEnergyOverTimeAndTheBiasR
 TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheEodsMeanAndFadesOver60s) {
   const Vehicle v;
   const planning::FlightPlan plan = HoverAndCruise();
-  LoadForecastState forecast;
-  forecast.profile = std::make_shared<const LoadProfile>(plan, v.Model(), 6);
+  LoadForecastState forecast = HexacopterForecast(plan, v);
   const double voltage = 11.4, hotel = 0.5, peak_a = 5.0;
   double energy_wh = 1.0;
   const double t0 = std::ceil(plan.segments()[1].start_time) + 1.0;  // in the hover, 30 s long
@@ -157,8 +162,7 @@ TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheEodsMeanAndFade
 TEST(LoadForecastTest, AStepInTheCurrentIsCountedOnceInTheMeanPlusThePeak) {
   const Vehicle v;
   const planning::FlightPlan plan = HoverAndCruise();
-  LoadForecastState forecast;
-  forecast.profile = std::make_shared<const LoadProfile>(plan, v.Model(), 6);
+  LoadForecastState forecast = HexacopterForecast(plan, v);
   const LoadProfile& profile = *forecast.profile;
   const double voltage = 11.4, hotel = 0.5, step_a = 6.0;
   double energy_wh = 1.0;
@@ -185,8 +189,7 @@ TEST(LoadForecastTest, AStepInTheCurrentIsCountedOnceInTheMeanPlusThePeak) {
 TEST(LoadForecastTest, HeldPlanSecondsAreExpectedToDrawTheirBinsPowerNotNothing) {
   const Vehicle v;
   const planning::FlightPlan plan = HoverAndCruise();
-  LoadForecastState forecast;
-  forecast.profile = std::make_shared<const LoadProfile>(plan, v.Model(), 6);
+  LoadForecastState forecast = HexacopterForecast(plan, v);
   const LoadProfile& profile = *forecast.profile;
   const double voltage = 11.4, hotel = 0.5;
   double energy_wh = 1.0;
