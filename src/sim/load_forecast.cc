@@ -172,13 +172,14 @@ double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy
       const double expected_a = predicted_j / (voltage * epoch_s);
       forecast.peak_current_a *= decay;
       forecast.peak_expected_a *= decay;
-      if (current_a - forecast.bias_ratio * expected_a >
-          forecast.peak_current_a - forecast.bias_ratio * forecast.peak_expected_a) {
+      if (!forecast.joining_plan && current_a - forecast.bias_ratio * expected_a >
+                                        forecast.peak_current_a - forecast.bias_ratio * forecast.peak_expected_a) {
         forecast.peak_current_a = current_a;
         forecast.peak_expected_a = expected_a;
       }
     }
   }
+  forecast.joining_plan = !forecast.have_last;  // the epoch to come is the first one flown on this profile
   forecast.have_last = true;
   forecast.last_t_plan_s = t_plan;
   forecast.last_remaining_j = remaining_j;

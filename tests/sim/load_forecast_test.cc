@@ -133,13 +133,14 @@ TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheEodsMeanAndFade
   const double voltage = 11.4, hotel = 0.5, peak_a = 5.0;
   double energy_wh = 1.0;
   const double t0 = std::ceil(plan.segments()[1].start_time) + 1.0;  // in the hover, 30 s long
-  ForecastCurrent(forecast, t0, energy_wh, 1.0, voltage, hotel);
+  ForecastCurrent(forecast, t0 - 1.0, energy_wh, 1.0, voltage, hotel);
   EXPECT_EQ(forecast.PeakExcursionA(), 0.0);  // no epoch flown yet
   auto fly_epoch = [&](double t, double extra_a) {
     const double predicted_j = forecast.profile->RemainingEnergyJ(t - 1.0) - forecast.profile->RemainingEnergyJ(t);
     energy_wh += (forecast.bias_ratio * predicted_j + (hotel + extra_a) * voltage * 1.0) / 3600.0;
     ForecastCurrent(forecast, t, energy_wh, 1.0, voltage, hotel);
   };
+  fly_epoch(t0, 0.0);  // the first epoch on the profile: the vehicle joining it (not a peak, the next test)
   const double d = std::exp(-1.0 / kLoadBiasTimeConstantS);  // one epoch's fading
   fly_epoch(t0 + 1.0, peak_a);
   // A: the energy's round trip through watt-hours.
@@ -154,6 +155,31 @@ TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheEodsMeanAndFade
               kExcursionToleranceA);
   fly_epoch(t0 + 23.0, 2.0 * peak_a);
   EXPECT_NEAR(forecast.PeakExcursionA(), d * 2.0 * peak_a, kExcursionToleranceA);
+}
+
+// The first epoch flown on a profile carries the vehicle's joining of the new reference (a plan that starts from rest
+// vertically under a climbing or descending vehicle, an isolation's recovery): it happens once, at the plan's start
+// and its highest voltage, so its excursion is not kept as a peak; the same excursion one epoch later is (e^{−1/60} of
+// it above the mean it raised, as above). The bias ratio takes both in.
+TEST(LoadForecastTest, TheFirstEpochOnAProfileIsNotAPeak) {
+  const Vehicle v;
+  const planning::FlightPlan plan = HoverAndCruise();
+  LoadForecastState forecast = HexacopterForecast(plan, v);
+  const double voltage = 11.4, hotel = 0.5, peak_a = 5.0;
+  double energy_wh = 1.0;
+  const double t0 = std::ceil(plan.segments()[1].start_time) + 1.0;  // in the hover, 30 s long
+  ForecastCurrent(forecast, t0, energy_wh, 1.0, voltage, hotel);
+  auto fly_epoch = [&](double t, double extra_a) {
+    const double predicted_j = forecast.profile->RemainingEnergyJ(t - 1.0) - forecast.profile->RemainingEnergyJ(t);
+    energy_wh += (forecast.bias_ratio * predicted_j + (hotel + extra_a) * voltage * 1.0) / 3600.0;
+    ForecastCurrent(forecast, t, energy_wh, 1.0, voltage, hotel);
+  };
+  fly_epoch(t0 + 1.0, peak_a);
+  EXPECT_EQ(forecast.PeakExcursionA(), 0.0);
+  EXPECT_GT(forecast.bias_ratio, 1.0);
+  fly_epoch(t0 + 2.0, peak_a);
+  constexpr double kExcursionToleranceA = 1e-9;  // A: the energy's round trip through watt-hours
+  EXPECT_NEAR(forecast.PeakExcursionA(), std::exp(-1.0 / kLoadBiasTimeConstantS) * peak_a, kExcursionToleranceA);
 }
 
 // A current that steps ΔI above the profile and stays there is taken in by the bias ratio as it lasts: r_n J =

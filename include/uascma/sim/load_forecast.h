@@ -38,7 +38,11 @@
 // forgotten with the bias ratio's 60 s time constant (the gusts of the flight's present turbulence and leg, not a
 // spike minutes gone). The state keeps the epoch of the largest one as the pair (I_k, J_k), both faded: ΔI_k(r) is
 // linear in them, so the faded excursion at any r is e^{−(t − t_k)/60 s} I_k − r e^{−(t − t_k)/60 s} J_k, and a new
-// epoch replaces the pair when its own excursion at this epoch's r is the larger. One-second means keep the gusts'
+// epoch replaces the pair when its own excursion at this epoch's r is the larger. The first epoch flown on a new
+// profile (a plan that starts, an emergency plan or a re-plan, or the rotors' configuration that changes) is no such
+// epoch: it carries the vehicle's joining of the new reference (a plan starts from rest vertically and the vehicle may
+// be climbing or descending; an isolation's recovery), which happens once, at the start of the plan, so at the
+// highest voltage of the rest of it, and does not come again at the cut-off. One-second means keep the gusts'
 // peaks: the vertical gusts' time scale at the cruise altitude is L_w / V ≈ 30 m / 9 m/s ≈ 3 s (models/wind.h);
 // measured on the replayed flight of docs/modelling-choices.md#eod-peak-sag, the largest one-second mean of each 10 s
 // was within 0.6-1.7 A of the largest 10 ms current.
@@ -142,6 +146,7 @@ struct LoadForecastState {
   // and the current the profile expected of it J_k, both times e^{−(t − t_k)/60 s}.
   double peak_current_a = 0.0;
   double peak_expected_a = 0.0;
+  bool joining_plan = false;  // the epoch being flown is the first one on this profile (its excursion is not kept)
   // ΔI_peak above (A, ≥ 0): the kept epoch's excursion above the mean at the present bias ratio.
   double PeakExcursionA() const;
   bool operator==(const LoadForecastState&) const = default;
