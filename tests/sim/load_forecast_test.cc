@@ -49,6 +49,23 @@ LoadForecastState HexacopterForecast(const planning::FlightPlan& plan, const Veh
   return forecast;
 }
 
+// Epochs of HoverAndCruise's 30 s hover, where the profile expects the same current every second: the forecast before
+// its first epoch and the measured energy so far.
+struct HoverEpochs {
+  Vehicle v;
+  planning::FlightPlan plan = HoverAndCruise();
+  LoadForecastState forecast = HexacopterForecast(plan, v);
+  double voltage = 11.4, hotel = 0.5, energy_wh = 1.0;
+  double t0 = std::ceil(plan.segments()[1].start_time) + 1.0;
+  // One epoch of 1 s ending at plan time t that draws `extra_a` (A) more than the profile at the present bias ratio
+  // predicts, on top of the hotel current.
+  void Fly(double t, double extra_a) {
+    const double predicted_j = forecast.profile->RemainingEnergyJ(t - 1.0) - forecast.profile->RemainingEnergyJ(t);
+    energy_wh += (forecast.bias_ratio * predicted_j + (hotel + extra_a) * voltage * 1.0) / 3600.0;
+    ForecastCurrent(forecast, t, energy_wh, 1.0, voltage, hotel);
+  }
+};
+
 TEST(LoadForecastTest, HoverAndLevelCruiseMatchTheirClosedForms) {
   const Vehicle v;
   const SteadyLoadModel model = v.Model();
@@ -127,19 +144,12 @@ TEST(LoadForecastTest, TheForecastCurrentIsTheRemainingEnergyOverTimeAndTheBiasR
 // excursion fade with the 60 s time constant; a smaller excursion does not replace a larger remembered one, a larger
 // one does.
 TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheEodsMeanAndFadesOver60s) {
-  const Vehicle v;
-  const planning::FlightPlan plan = HoverAndCruise();
-  LoadForecastState forecast = HexacopterForecast(plan, v);
-  const double voltage = 11.4, hotel = 0.5, peak_a = 5.0;
-  double energy_wh = 1.0;
-  const double t0 = std::ceil(plan.segments()[1].start_time) + 1.0;  // in the hover, 30 s long
-  ForecastCurrent(forecast, t0 - 1.0, energy_wh, 1.0, voltage, hotel);
+  HoverEpochs hover;
+  LoadForecastState& forecast = hover.forecast;
+  const double peak_a = 5.0, t0 = hover.t0;
+  ForecastCurrent(forecast, t0 - 1.0, hover.energy_wh, 1.0, hover.voltage, hover.hotel);
   EXPECT_EQ(forecast.PeakExcursionA(), 0.0);  // no epoch flown yet
-  auto fly_epoch = [&](double t, double extra_a) {
-    const double predicted_j = forecast.profile->RemainingEnergyJ(t - 1.0) - forecast.profile->RemainingEnergyJ(t);
-    energy_wh += (forecast.bias_ratio * predicted_j + (hotel + extra_a) * voltage * 1.0) / 3600.0;
-    ForecastCurrent(forecast, t, energy_wh, 1.0, voltage, hotel);
-  };
+  auto fly_epoch = [&](double t, double extra_a) { hover.Fly(t, extra_a); };
   fly_epoch(t0, 0.0);  // the first epoch on the profile: the vehicle joining it (not a peak, the next test)
   const double d = std::exp(-1.0 / kLoadBiasTimeConstantS);  // one epoch's fading
   fly_epoch(t0 + 1.0, peak_a);
@@ -162,18 +172,11 @@ TEST(LoadForecastTest, ThePeakExcursionIsTheEpochsCurrentAboveTheEodsMeanAndFade
 // and its highest voltage, so its excursion is not kept as a peak; the same excursion one epoch later is (e^{−1/60} of
 // it above the mean it raised, as above). The bias ratio takes both in.
 TEST(LoadForecastTest, TheFirstEpochOnAProfileIsNotAPeak) {
-  const Vehicle v;
-  const planning::FlightPlan plan = HoverAndCruise();
-  LoadForecastState forecast = HexacopterForecast(plan, v);
-  const double voltage = 11.4, hotel = 0.5, peak_a = 5.0;
-  double energy_wh = 1.0;
-  const double t0 = std::ceil(plan.segments()[1].start_time) + 1.0;  // in the hover, 30 s long
-  ForecastCurrent(forecast, t0, energy_wh, 1.0, voltage, hotel);
-  auto fly_epoch = [&](double t, double extra_a) {
-    const double predicted_j = forecast.profile->RemainingEnergyJ(t - 1.0) - forecast.profile->RemainingEnergyJ(t);
-    energy_wh += (forecast.bias_ratio * predicted_j + (hotel + extra_a) * voltage * 1.0) / 3600.0;
-    ForecastCurrent(forecast, t, energy_wh, 1.0, voltage, hotel);
-  };
+  HoverEpochs hover;
+  LoadForecastState& forecast = hover.forecast;
+  const double peak_a = 5.0, t0 = hover.t0;
+  ForecastCurrent(forecast, t0, hover.energy_wh, 1.0, hover.voltage, hover.hotel);
+  auto fly_epoch = [&](double t, double extra_a) { hover.Fly(t, extra_a); };
   fly_epoch(t0 + 1.0, peak_a);
   EXPECT_EQ(forecast.PeakExcursionA(), 0.0);
   EXPECT_GT(forecast.bias_ratio, 1.0);
