@@ -78,7 +78,7 @@ models::PackState SensedPack(const FlightModel& model, const FlightState& state)
 prognostics::EodOptions EpochEodOptions(const FlightModel& model, const FlightState& state,
                                         const models::PackState& pack, double current_a) {
   if (model.options().eod_load != EodLoad::kForecast) return {};
-  return prognostics::PeakSagEodOptions(model.pack(), pack, current_a, state.decision.load_forecast.peak_excursion_a);
+  return prognostics::PeakSagEodOptions(model.pack(), pack, current_a, state.decision.load_forecast.PeakExcursionA());
 }
 
 }  // namespace internal

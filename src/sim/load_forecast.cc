@@ -146,6 +146,10 @@ double LoadProfile::PowerW(double t) const {
   return (energy_after_j_[i] - energy_after_j_[i + 1]) / (bin_end - static_cast<double>(i));
 }
 
+double LoadForecastState::PeakExcursionA() const {
+  return std::max(peak_current_a - bias_ratio * peak_expected_a, 0.0);
+}
+
 double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy_wh, double epoch_s,
                        double bus_voltage_v, double hotel_current_a, double min_remaining_s) {
   UASCMA_CHECK(forecast.profile != nullptr, "a load profile of the executing plan");
@@ -161,11 +165,21 @@ double ForecastCurrent(LoadForecastState& forecast, double t_plan, double energy
     const double measured_j = (energy_wh - forecast.last_energy_wh) * 3600.0 - hotel_current_a * voltage * epoch_s;
     if (predicted_j > 0.0 && measured_j > 0.0) {
       const double decay = std::exp(-epoch_s / kLoadBiasTimeConstantS);
-      const double excursion_a = (measured_j - forecast.bias_ratio * predicted_j) / (voltage * epoch_s);
-      forecast.peak_excursion_a = std::max(excursion_a, forecast.peak_excursion_a * decay);
       forecast.bias_ratio += (1.0 - decay) * (measured_j / predicted_j - forecast.bias_ratio);
+      // The epoch's I_k and J_k; it replaces the kept epoch when its excursion above the mean at the updated bias
+      // ratio (the one this epoch's EOD propagates) is the larger.
+      const double current_a = measured_j / (voltage * epoch_s);
+      const double expected_a = predicted_j / (voltage * epoch_s);
+      forecast.peak_current_a *= decay;
+      forecast.peak_expected_a *= decay;
+      if (!forecast.joining_plan && current_a - forecast.bias_ratio * expected_a >
+                                        forecast.peak_current_a - forecast.bias_ratio * forecast.peak_expected_a) {
+        forecast.peak_current_a = current_a;
+        forecast.peak_expected_a = expected_a;
+      }
     }
   }
+  forecast.joining_plan = !forecast.have_last;  // the epoch to come is the first one flown on this profile
   forecast.have_last = true;
   forecast.last_t_plan_s = t_plan;
   forecast.last_remaining_j = remaining_j;

@@ -18,21 +18,34 @@
 // with V_bus the present bus voltage and r a slow correction of the model's bias: the ratio of the rotor energy
 // measured over each epoch to the profile's energy over the same plan time, low-passed with a 60 s time constant
 // (docs/modelling-choices.md#eod-load-forecast: "≥ 60 s"). The ratio absorbs what the steady model leaves out on
-// average (the turbulence's extra power, the controller's corrections); 60 s averages dozens of gust periods (Dryden
-// length scales of 200-500 m at 3-9 m/s, models/wind.h) so one gust cannot move it far.
+// average (the turbulence's extra power, the controller's corrections). It does not average many gusts: the
+// horizontal gusts' time scale L_u / V is 20-170 s (Dryden length scales of 200-500 m at 3-9 m/s, models/wind.h), so
+// a long gust moves r by a good part of its excursion while it lasts.
 //
 // The same epoch measures how far the current rose above the forecast's own expectation for it (the peaks that cut a
 // cold, power-faded pack off before its energy is spent, prognostics/eod_peak.h,
-// docs/modelling-choices.md#eod-peak-sag):
-//   ΔI_epoch = (E_measured − r · E_profile) / (V_bus · Δt)   over the epoch just flown (r before this epoch's update),
-// the epoch's mean current above the bias-corrected plan: the gusts' and the controller's share, not the plan's own
-// legs, climbs and hovers, which the profile has. The peak the EOD allows for is the largest such excursion lately,
-//   ΔI_peak ← max(ΔI_epoch, ΔI_peak · e^{−Δt/60 s}),
-// forgotten with the bias ratio's 60 s time constant (dozens of gust periods: the gusts of the flight's present
-// turbulence and leg, not a spike a minute gone). One-second means keep the gusts' peaks: the vertical gusts' time
-// scale at the cruise altitude is L_w / V ≈ 30 m / 9 m/s ≈ 3 s (models/wind.h); measured on the replayed flight of
-// docs/modelling-choices.md#eod-peak-sag, the largest one-second mean of each 10 s was within 0.6-1.7 A of the
-// largest 10 ms current.
+// docs/modelling-choices.md#eod-peak-sag). Over the epoch just flown the rotors drew the mean current
+//   I_k = E_measured / (V_bus · Δt)   where the profile expected   J_k = E_profile / (V_bus · Δt),
+// and the EOD propagates the rest of the plan at the bias-corrected mean r · J. A peak of that epoch, were it to come
+// again, stands above that mean by
+//   ΔI_k(r) = I_k − r · J_k,
+// measured against the bias ratio r the EOD uses now, not the one of the epoch it was drawn in: the part of a gust
+// that r has since taken in is already in the EOD's mean current, and counting it as a peak too would count it twice
+// (a gust of the horizontal components lasts L_u / V ≈ 240 m / 8 m/s ≈ 30 s at the cruise altitude, models/wind.h,
+// as long as r's time constant, so r takes in a good part of it). The peak the EOD allows for is the largest such
+// excursion lately,
+//   ΔI_peak = max over the epochs k flown of e^{−(t − t_k)/60 s} · ΔI_k(r),
+// forgotten with the bias ratio's 60 s time constant (the gusts of the flight's present turbulence and leg, not a
+// spike minutes gone). The state keeps the epoch of the largest one as the pair (I_k, J_k), both faded: ΔI_k(r) is
+// linear in them, so the faded excursion at any r is e^{−(t − t_k)/60 s} I_k − r e^{−(t − t_k)/60 s} J_k, and a new
+// epoch replaces the pair when its own excursion at this epoch's r is the larger. The first epoch flown on a new
+// profile (a plan that starts, an emergency plan or a re-plan, or the rotors' configuration that changes) is no such
+// epoch: it carries the vehicle's joining of the new reference (a plan starts from rest vertically and the vehicle may
+// be climbing or descending; an isolation's recovery), which happens once, at the start of the plan, so at the
+// highest voltage of the rest of it, and does not come again at the cut-off. One-second means keep the gusts'
+// peaks: the vertical gusts' time scale at the cruise altitude is L_w / V ≈ 30 m / 9 m/s ≈ 3 s (models/wind.h);
+// measured on the replayed flight of docs/modelling-choices.md#eod-peak-sag, the largest one-second mean of each 10 s
+// was within 0.6-1.7 A of the largest 10 ms current.
 #include <array>
 #include <concepts>
 #include <memory>
@@ -129,7 +142,13 @@ struct LoadForecastState {
   double last_t_plan_s = 0.0;
   double last_remaining_j = 0.0;
   double last_energy_wh = 0.0;
-  double peak_excursion_a = 0.0;  // ΔI_peak above (A, ≥ 0): of the flight, kept across plans
+  // The epoch of the largest excursion (above; of the flight, kept across plans), faded: A, its mean rotor current I_k
+  // and the current the profile expected of it J_k, both times e^{−(t − t_k)/60 s}.
+  double peak_current_a = 0.0;
+  double peak_expected_a = 0.0;
+  bool joining_plan = false;  // the epoch being flown is the first one on this profile (its excursion is not kept)
+  // ΔI_peak above (A, ≥ 0): the kept epoch's excursion above the mean at the present bias ratio.
+  double PeakExcursionA() const;
   bool operator==(const LoadForecastState&) const = default;
 };
 
