@@ -19,6 +19,7 @@ build=(
   libsqlite3-dev
   libboost-math-dev
   libosmium2-dev libprotozero-dev libexpat1-dev libbz2-dev zlib1g-dev libproj-dev
+  python3  # generates the MAVLink codec from its message definitions (src/mavlink/CMakeLists.txt)
 )
 plots=(
   python3-matplotlib python3-numpy
