@@ -113,7 +113,8 @@ void ReadPropulsion(const std::filesystem::path& path, Vehicle& vehicle) {
   if (!p.IsValid(&error)) throw InputError(path.string(), "propulsion", error);
 }
 
-void ReadVehicleBattery(const YAML::Node& node, const std::filesystem::path& file, Vehicle& vehicle, Fingerprint& hash) {
+void ReadVehicleBattery(const YAML::Node& node, const std::filesystem::path& file, Vehicle& vehicle,
+                        Fingerprint& hash) {
   const std::string source = file.string();
   if (!node.IsMap()) throw InputError(source, "battery", "a mapping of cell, cells_in_series, cells_in_parallel");
   RequireOnlyKeys(node, {"cell", "cells_in_series", "cells_in_parallel"}, source, "battery");

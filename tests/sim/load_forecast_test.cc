@@ -186,8 +186,8 @@ TEST(LoadForecastTest, TheFirstEpochOnAProfileIsNotAPeak) {
 }
 
 // A current that steps ΔI above the profile and stays there is taken in by the bias ratio as it lasts: r_n J =
-// r_0 J + ΔI (1 − e^{−n/60}) after n epochs of the hover. The EOD's mean plus the peak it allows for is then exactly the
-// current drawn, ΔI_peak = ΔI e^{−n/60}: the part of the step already in the mean is not counted as a peak again.
+// r_0 J + ΔI (1 − e^{−n/60}) after n epochs of the hover. The EOD's mean plus the peak it allows for is then exactly
+// the current drawn, ΔI_peak = ΔI e^{−n/60}: the part of the step already in the mean is not counted as a peak again.
 TEST(LoadForecastTest, AStepInTheCurrentIsCountedOnceInTheMeanPlusThePeak) {
   const Vehicle v;
   const planning::FlightPlan plan = HoverAndCruise();
