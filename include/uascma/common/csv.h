@@ -1,6 +1,6 @@
 #pragma once
 // Comma-separated values as RFC 4180 defines them: the one reader of every CSV input (landing sites, map_import.h;
-// drag tables, models/drag.h; OCV tables, models/battery_ocv_table.h; bench data). Records end at a line break (CRLF or LF); fields are separated by commas; a field may be enclosed in
+// drag tables, models/drag.h; OCV tables, models/ocv_table.h; bench data). Records end at a line break (CRLF or LF); fields are separated by commas; a field may be enclosed in
 // double quotes, and then may contain commas, line breaks and double quotes (written twice: "" is one "). We are
 // lenient in two ways the RFC leaves open: spaces and tabs around a field (outside its quotes) are dropped, and
 // blank lines are skipped. With CsvOptions::comment_lines, a line whose first non-blank character is '#' is a
