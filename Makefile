@@ -12,7 +12,7 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 # Ninja when it is there (scripts/install-deps.sh installs it): it starts any object whose inputs exist, where
 # Make's generator waits for each library's dependencies to be built first, leaving a core idle at each library
 # and at each precompiled header (docs/performance.md#set-up-time). A build folder keeps the generator it was
-# configured with. Evaluated when the recipe runs, i.e. after `deps` has installed Ninja.
+# configured with. Evaluated when the recipe runs, i.e. after its first line has installed Ninja.
 GENERATOR = $$([ -f $(BUILD_DIR)/CMakeCache.txt ] || ! command -v ninja >/dev/null || echo "-G Ninja")
 DEPS_WAIT_DIR = $(BUILD_DIR)/.deps-background
 DEMO_OPTIONS = -DUASCMA_BUILD_TESTS=OFF -DUASCMA_BUILD_BENCHMARKS=OFF -DUASCMA_BUILD_PYTHON=OFF -DUASCMA_WITH_MPI=OFF
