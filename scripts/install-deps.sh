@@ -45,7 +45,8 @@ if [[ ${1:-} == --start ]]; then
   shift 2
   mkdir -p "$dir"
   rm -f "$dir/status"
-  ( bash "$0" "$@" >"$dir/install.log" 2>&1; echo $? >"$dir/status" ) </dev/null &
+  # The status is written whether the install succeeds or fails (set -e would end the subshell before it).
+  ( if bash "$0" "$@" >"$dir/install.log" 2>&1; then echo 0; else echo $?; fi >"$dir/status" ) </dev/null &
   echo "deps: installing ${*} in the background (log: $dir/install.log)"
   exit 0
 fi
