@@ -33,7 +33,7 @@ void CheckOutputFile(const std::string& path, const char* option) {
   const std::filesystem::path file(path);
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw InputError(option, path, "a file path, got a folder");
-  const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  const std::filesystem::path folder = ContainingFolder(file);
   if (!std::filesystem::is_directory(folder, ec)) {
     throw InputError(option, path,
                      fmt::format("a file in an existing folder, but '{}' does not exist", folder.string()));

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 
 namespace uascma::campaign::sqlite {
 
@@ -127,12 +128,6 @@ int FirstReadCode(sqlite3* db) {
   return code;
 }
 
-// The folder of `file` ("." for a bare name).
-std::filesystem::path DatabaseFolderOf(const std::string& file) {
-  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
-  return folder.empty() ? std::filesystem::path(".") : folder;
-}
-
 // `file` as an SQLite URI: every character outside the unreserved set written as %HH (RFC 3986).
 std::string FileUri(const std::string& file) {
   const std::string absolute = std::filesystem::absolute(file).string();
@@ -153,7 +148,7 @@ std::string FileUri(const std::string& file) {
 Database Database::OpenForReading(const std::string& file, const std::string& name_in_errors, ReadAccess* access) {
   *access = ReadAccess::kShared;
   Database shared(file, SQLITE_OPEN_READONLY, name_in_errors);
-  if (FirstReadCode(shared.handle()) == SQLITE_OK || ::access(DatabaseFolderOf(file).c_str(), W_OK) == 0) return shared;
+  if (FirstReadCode(shared.handle()) == SQLITE_OK || ::access(ContainingFolder(file).c_str(), W_OK) == 0) return shared;
   // The folder cannot be written, so no -shm can be made there: a permission, not damage. The file alone is read
   // as immutable, which a -wal holding data would contradict.
   std::error_code ec;
@@ -164,7 +159,7 @@ Database Database::OpenForReading(const std::string& file, const std::string& na
                      fmt::format("a folder this user can write, or a -wal file that is empty: {} cannot be written, "
                                  "and {}-wal holds {} bytes of the database not yet in the main file (copy both "
                                  "files to a folder you can write and read the copy)",
-                                 DatabaseFolderOf(file).string(), shared.path(), wal_bytes));
+                                 ContainingFolder(file).string(), shared.path(), wal_bytes));
   }
   Database immutable(FileUri(file), SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, shared.path());
   if (FirstReadCode(immutable.handle()) != SQLITE_OK) return shared;  // not the folder: reported as before

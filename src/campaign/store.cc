@@ -25,6 +25,7 @@
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/common/error.h"
+#include "uascma/common/files.h"
 #include "uascma/common/version.h"
 
 // Creating, opening, writing and reading a results store. The schema and the row codec are in store_schema.cc,
@@ -72,16 +73,11 @@ using store_internal::RunsTableSql;
 using store_internal::UtcNow;
 using store_internal::WriteHeader;
 
-// The folder a database file lives in.
-std::filesystem::path StoreFolderOf(const std::filesystem::path& path) {
-  return path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-}
-
 // A campaign resumed into or joined writes rows into the file and its -wal and -shm beside it: a file or a folder
 // this user cannot write is said to be one here, before SQLite meets it at its first statement with an error that
 // names no permission.
 void RequireWritable(const std::filesystem::path& path) {
-  const std::filesystem::path folder = StoreFolderOf(path);
+  const std::filesystem::path folder = ContainingFolder(path);
   const bool file_writable = ::access(path.c_str(), W_OK) == 0;
   if (file_writable && ::access(folder.c_str(), W_OK) == 0) return;
   throw InputError(path.string(), file_writable ? "folder" : "file",
@@ -110,7 +106,7 @@ void RemoveSqliteFiles(const std::filesystem::path& file) {
 void RemoveStaleTemporaries(const std::filesystem::path& path, const WorkerIdentity& me) {
   const std::string prefix = TemporaryPrefix(path, me);
   std::error_code ec;
-  std::filesystem::directory_iterator entries(StoreFolderOf(path), ec);
+  std::filesystem::directory_iterator entries(ContainingFolder(path), ec);
   if (ec) return;
   for (const auto& entry : entries) {
     const std::string name = entry.path().filename().string();
@@ -268,7 +264,7 @@ std::optional<ResultsStore> ResultsStore::TryCreate(const std::filesystem::path&
   const std::string name = path.string();
   std::error_code ec;
   if (std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return std::nullopt;
-  const std::filesystem::path folder = StoreFolderOf(path);
+  const std::filesystem::path folder = ContainingFolder(path);
   RequireWritableFolder(folder, name);
   // Build the whole file under a temporary name beside `path`, then link it into place: a failed or
   // killed creation never leaves a half-made database at `path`, and only one creator can win.

@@ -46,9 +46,13 @@ std::string ShownPath(const std::filesystem::path& path) {
 
 }  // namespace
 
+std::filesystem::path ContainingFolder(const std::filesystem::path& file) {
+  return file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+}
+
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view content) {
   namespace fs = std::filesystem;
-  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const fs::path folder = ContainingFolder(path);
   const std::string shown = ShownPath(path);
   std::error_code ec;
   if (!fs::is_directory(folder, ec)) {

@@ -10,6 +10,9 @@ namespace uascma {
 // so a reader (or a crash) never sees half a file. Throws InputError naming the path on failure.
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view content);
 
+// The folder `file` is in: its parent path, or "." for a bare file name.
+std::filesystem::path ContainingFolder(const std::filesystem::path& file);
+
 // Reads a whole file; throws InputError naming the path when it cannot be read.
 std::string ReadFile(const std::filesystem::path& path);
 
