@@ -244,9 +244,21 @@ void BatteryPack::CalcCellVoltages(const PackState& state, const PerCell<double>
       out.cell_voltage_v[b][c] = cells_[b][c].CalcTerminalVoltage(state.cells[b][c], current_a[b][c], ocv_v[b][c]);
     }
   }
-  if (FaultOn(state) && fault_->kind == PackFaultKind::kFailedCell) {
-    out.cell_voltage_v[fault_->branch][fault_->cell] -= fault_->resistance_ohm * out.split.current_a[fault_->branch];
-  }
+}
+
+double BatteryPack::CalcCellOwnVoltage(const PackState& state, const PackOutputs& out, int branch, int index) const {
+  const double reading_v = out.cell_voltage_v[branch][index];
+  if (!FaultOn(state) || fault_->kind != PackFaultKind::kFailedCell || fault_->branch != branch ||
+      fault_->cell != index)
+    return reading_v;
+  return reading_v + fault_->resistance_ohm * out.split.current_a[branch];
+}
+
+void BatteryPack::ReadAcrossFailedCell(const PackState& state, PackOutputs& out) const {
+  if (!FaultOn(state) || fault_->kind != PackFaultKind::kFailedCell) return;
+  const double drop_v = fault_->resistance_ohm * out.split.current_a[fault_->branch];
+  out.cell_voltage_v[fault_->branch][fault_->cell] -= drop_v;
+  out.branch_voltage_v[fault_->branch] -= drop_v;
 }
 
 double BatteryPack::CalcCurrentAtPower(const PackState& state, double power_w, double start_a,
@@ -274,6 +286,7 @@ PackOutputs BatteryPack::CalcOutputs(const PackState& state, double total_curren
     out.split = CalcBranchSplit(branch_ocv_v, branch_r_ohm, state.branch_on, total_current_a);
     CalcCellVoltages(state, ocv_v, CalcShortCurrent(state), out);
     SummarisePackCells(state.branch_on, out);
+    ReadAcrossFailedCell(state, out);
     return out;
   }
   out.split = CalcBranchSplit(branch_ocv_v, branch_r0_ohm_, state.branch_on, total_current_a);
@@ -388,9 +401,8 @@ void BatteryPack::CalcLinearisedFaultOutputs(const PackState& state, const PackL
                                  at.dv_dtime[b][c] * elapsed_s + p.hysteresis_m0_v * s - p.r0_ohm * current_a;
     }
   }
-  if (fault_->kind == PackFaultKind::kFailedCell)
-    out.cell_voltage_v[fb][fc] -= fault_->resistance_ohm * out.split.current_a[fb];
   SummarisePackCells(state.branch_on, out);
+  ReadAcrossFailedCell(state, out);
 }
 
 PackState BatteryPack::Advance(const PackState& state, const PerBranch<double>& charge_as, double duration_s,

@@ -124,6 +124,7 @@ EodResult SimulatePackEod(const BatteryPack& pack, const PackState& state, doubl
   PackState s = state;
   const auto steps = static_cast<long long>(std::ceil(options.horizon_s / dt_s));
   for (long long k = 1; k <= steps; ++k) {
+    const PackState previous_state = s;
     s = pack.Step(s, total_current_a, dt_s);
     const models::PackOutputs now = pack.CalcOutputs(s, total_current_a);
     if (now.min_cell_voltage_v <= options.cutoff_v) {
@@ -132,9 +133,11 @@ EodResult SimulatePackEod(const BatteryPack& pack, const PackState& state, doubl
       for (int b = 0; b < kBranchCount; ++b) {
         if (!s.branch_on[b]) continue;
         for (int c = 0; c < kCellsPerBranch; ++c) {
-          if (now.cell_voltage_v[b][c] > options.cutoff_v) continue;
-          const double crossing =
-              InterpolatedCrossingS(k, dt_s, previous.cell_voltage_v[b][c], now.cell_voltage_v[b][c], options.cutoff_v);
+          // The cells' own voltages, as min_cell_voltage_v (a failed cell's reading is R_f i lower, pack_fault.h).
+          const double now_v = pack.CalcCellOwnVoltage(s, now, b, c);
+          if (now_v > options.cutoff_v) continue;
+          const double crossing = InterpolatedCrossingS(
+              k, dt_s, pack.CalcCellOwnVoltage(previous_state, previous, b, c), now_v, options.cutoff_v);
           if (crossing < result.eod_s) result = ReachedAtStep(crossing, b, c, k);
         }
       }

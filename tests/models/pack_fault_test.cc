@@ -104,6 +104,35 @@ TEST(PackFaultTest, FailedCellTakesItsBranchCurrentTowardsZero) {
   }
 }
 
+// The monitor reads the failed cell across its R_f; the cut-off of §3.3.2.1 reads the cell's own voltage, which R_f
+// does not discharge: min_cell_voltage_v is the lowest own voltage (linearised slow step and exact outputs alike).
+TEST(PackFaultTest, FailedCellIsReadAcrossItsResistanceButCutsOffOnItsOwnVoltage) {
+  const double total_a = 20.0, r_f = 2.0;
+  const BatteryPack pack = FaultedPack(PackFaultKind::kFailedCell, r_f, 1, 0);
+  PackState state = pack.MakeRestingState(3.6);
+  state.fault_on = true;
+  const PackOutputs out = pack.CalcOutputs(state, total_a);
+  const double drop_v = r_f * out.split.current_a[1];
+  ASSERT_GT(drop_v, 0.05);  // the residual the monitor flags (30 mV, docs/modelling-choices.md#pack-fault-detection)
+  const double own_v = pack.CalcCellOwnVoltage(state, out, 1, 0);
+  EXPECT_NEAR(own_v, out.cell_voltage_v[1][0] + drop_v, 1e-12);
+  double lowest_own_v = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < kBranchCount; ++b) {
+    double branch_reading_v = 0.0;
+    for (int c = 0; c < kCellsPerBranch; ++c) {
+      lowest_own_v = std::min(lowest_own_v, pack.CalcCellOwnVoltage(state, out, b, c));
+      branch_reading_v += out.cell_voltage_v[b][c];
+      if (b != 1 || c != 0) EXPECT_EQ(pack.CalcCellOwnVoltage(state, out, b, c), out.cell_voltage_v[b][c]);
+    }
+    EXPECT_NEAR(out.branch_voltage_v[b], branch_reading_v, 1e-12);  // the readings sum to the branch's voltage
+  }
+  EXPECT_EQ(out.min_cell_voltage_v, lowest_own_v);
+  EXPECT_GT(out.min_cell_voltage_v, out.cell_voltage_v[1][0]);  // the reading alone is not the cut-off's voltage
+  const PackOutputs slow = pack.CalcLinearisedOutputs(state, pack.Linearise(state), {0.0, 0.0}, 0.0, total_a);
+  EXPECT_NEAR(slow.min_cell_voltage_v, out.min_cell_voltage_v, kFaultVoltageTolerance);
+  EXPECT_NEAR(slow.cell_voltage_v[1][0], out.cell_voltage_v[1][0], kFaultVoltageTolerance);
+}
+
 TEST(PackFaultTest, ConnectorAddsContactResistanceAndLeavesTheCells) {
   const double r_c = 0.1;
   const BatteryPack pack = FaultedPack(PackFaultKind::kConnector, r_c, 0, 0);

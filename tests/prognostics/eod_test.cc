@@ -357,5 +357,28 @@ TEST(ReachMarginTest, FollowsTheStatedMarginDefinition) {
   }
 }
 
+// An open cell (R_f of 1 MΩ) in pack 2 with both switches on: its branch carries ~3e-5 A of 20 A, so the packs' EOD
+// is pack 1's alone (pack 2 switched off, no fault), two computations of eqs. 3.1-3.7 within 0.5 s; read across R_f,
+// the open cell would have ended it at once.
+TEST(PackEodTest, AnOpenCellLeavesTheEodOfItsSiblingAlone) {
+  const double total_a = 20.0;
+  models::PackParams params = models::MakePackParams();
+  params.fault = models::PackFault{.kind = models::PackFaultKind::kFailedCell, .branch = 1, .cell = 0,
+                                   .resistance_ohm = 1e6, .onset_s = 0.0, .seed = 0};
+  const models::BatteryPack pack(params);
+  models::PackState state = pack.MakeRestingState(3.9);
+  state.fault_on = true;
+  const EodResult with_open_cell = SimulatePackEod(pack, state, total_a, 0.1);
+  const models::BatteryPack healthy;
+  models::PackState alone = healthy.MakeRestingState(3.9);
+  alone.branch_on = {true, false};
+  const EodResult sibling_alone = SimulatePackEod(healthy, alone, total_a, 0.1);
+  ASSERT_EQ(sibling_alone.status, EodStatus::kReached);
+  ASSERT_EQ(with_open_cell.status, EodStatus::kReached);
+  EXPECT_GT(sibling_alone.eod_s, 100.0);
+  EXPECT_NEAR(with_open_cell.eod_s, sibling_alone.eod_s, 0.5);
+  EXPECT_EQ(with_open_cell.limiting_branch, 0);
+}
+
 }  // namespace
 }  // namespace uascma::prognostics

@@ -105,10 +105,15 @@ BranchSplit CalcBranchSplit(const PerBranch<double>& branch_ocv_v, const PerBran
 
 struct PackOutputs {
   BranchSplit split;
-  PerCell<double> cell_voltage_v{};      // eq. 3.3 of each cell at its branch current
-  PerBranch<double> branch_voltage_v{};  // Σ cell terminal voltages of the branch
-  double min_cell_voltage_v = 0.0;       // over the switched-on branches (the cells the ESCs see);
-  int min_cell_branch = -1;              //   −1, −1 and +inf when no branch is on
+  // Eq. 3.3 of each cell at its branch current, as a cell monitor reads it across the cell's taps: a failed cell's
+  // reading includes the drop across its R_f (pack_fault.h).
+  PerCell<double> cell_voltage_v{};
+  PerBranch<double> branch_voltage_v{};  // Σ cell readings of the branch (the bus voltage while it conducts)
+  // The lowest cell's own voltage (eq. 3.3, without a failed cell's R_f drop) over the switched-on branches: the
+  // cut-off of §3.3.2.1 (docs/modelling-choices.md#outcomes); −1, −1 and +inf when no branch is on. Without a failed
+  // cell it is the lowest reading.
+  double min_cell_voltage_v = 0.0;
+  int min_cell_branch = -1;
   int min_cell_index = -1;
 };
 
@@ -157,6 +162,9 @@ class BatteryPack {
   const std::optional<PackFault>& fault() const { return fault_; }
   // The internal short's current i_s = OCV(z)/R_s (A) of the shorted cell of `state`; 0 unless a short is on.
   double CalcShortCurrent(const PackState& state) const;
+  // Cell (branch, index)'s own voltage (eq. 3.3) from outputs `out` of `state`: its reading, plus R_f i for a failed
+  // cell (the drop across its R_f, pack_fault.h).
+  double CalcCellOwnVoltage(const PackState& state, const PackOutputs& out, int branch, int index) const;
   // Heat dissipated by the fault (W): OCV²/R_s in a shorted cell, R_f i² in a failed one, R_c i² in a poor contact at
   // branch current `branch_current_a`; 0 while the fault is off.
   double CalcFaultHeat(const PackState& state, double branch_current_a) const;
@@ -208,9 +216,12 @@ class BatteryPack {
   // Each cell's current from its branch's: the shorted cell's adds i_s.
   PerCell<double> CellCurrents(const PackState& state, const PerBranch<double>& branch_current_a,
                                double short_current_a) const;
-  // eq. 3.3 of every cell at its current, the failed cell's R_f drop included.
+  // eq. 3.3 of every cell at its current: the cells' own voltages.
   void CalcCellVoltages(const PackState& state, const PerCell<double>& ocv_v, double short_current_a,
                         PackOutputs& out) const;
+  // After SummarisePackCells: a failed cell read across its R_f (cell_voltage_v and its branch's voltage lose R_f i),
+  // its own voltage left in min_cell_voltage_v (pack_fault.h).
+  void ReadAcrossFailedCell(const PackState& state, PackOutputs& out) const;
   // CalcLinearisedOutputs while the fault is on, from the branch OCVs at the charge drawn.
   void CalcLinearisedFaultOutputs(const PackState& state, const PackLinearisation& at,
                                   const PerBranch<double>& charge_as, double elapsed_s, double total_current_a,

@@ -13,9 +13,11 @@
 //                   of §4.3.1.2 block any current into a branch, so with both switches on the faulted branch
 //                   carries the eq.-3.5 share of the load its lowered voltage earns, and none once that share is
 //                   negative.
-//   failed cell     a resistance R_f in series with cell c (a cracked tab, a lifted weld): the cell's terminal
-//                   voltage loses R_f i and the branch resistance of eqs. 3.4-3.5 is R0^j + R_f, so a large R_f
-//                   takes the branch's current to zero (an open cell).
+//   failed cell     a resistance R_f in series with cell c (a cracked tab, a lifted weld): the branch resistance of
+//                   eqs. 3.4-3.5 is R0^j + R_f, so a large R_f takes the branch's current to zero (an open cell).
+//                   The cell monitor reads the cell across its taps, R_f i below its own voltage (the residual
+//                   that flags it); the cell itself is not discharged by R_f, so the cut-off of §3.3.2.1 reads its
+//                   own voltage (PackOutputs::min_cell_voltage_v).
 //   connector       a contact resistance R_c between pack j and the bus, present while the contact is poor: it
 //                   adds to the branch resistance of the split and leaves the cells alone. Intermittent: the
 //                   contact is redrawn every kConnectorPeriodS and is poor with probability
