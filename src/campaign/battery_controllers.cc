@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -249,6 +250,13 @@ std::string SwitchSchedule::Describe() const {
     out += fmt::format("{}{}@{:.0f}", out.empty() ? "" : " ", models::PackActionName(action), time_s);
   }
   return out;
+}
+
+double SwitchSchedule::FirstDepartureS() const {
+  for (const auto& [time_s, action] : steps) {
+    if (action != PackAction::kUseBoth) return time_s;
+  }
+  return std::numeric_limits<double>::infinity();
 }
 
 BatteryFlightController ScheduleController(const SwitchSchedule& schedule) {

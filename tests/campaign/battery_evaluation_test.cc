@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -228,6 +229,14 @@ TEST(BatteryEvaluationTest, TheHindsightFamilyIsWhatTheHeaderStates) {
   EXPECT_EQ(family[1].Describe(), "UseBoth@0 UseBatt1@20");
   const SwitchSchedule& window = family[1 + 8];  // pack 1 alone on [0, 30), then UseBoth
   EXPECT_EQ(window.Describe(), "UseBatt1@0 UseBoth@30");
+  // When each member first leaves UseBoth: never, at its drop, at its window's start (the hindsight's from-the-onset
+  // bound keeps the members that leave at or after the onset).
+  EXPECT_EQ(family.front().FirstDepartureS(), std::numeric_limits<double>::infinity());
+  EXPECT_EQ(family[1].FirstDepartureS(), 20.0);
+  EXPECT_EQ(window.FirstDepartureS(), 0.0);
+  EXPECT_EQ((SwitchSchedule{{{0.0, PackAction::kUseBoth}, {60.0, PackAction::kUseBatt2}, {90.0, PackAction::kUseBoth}}})
+                .FirstDepartureS(),
+            60.0);
   const BatteryFlightController c = ScheduleController(window);
   const decision::BatteryObservation o;
   EXPECT_EQ(c.controller(0.0, o, 0), PackAction::kUseBatt1);

@@ -70,6 +70,7 @@ models::PackAction HeldSwitches(const decision::BatteryObservation& observation)
 struct SwitchSchedule {
   std::vector<std::pair<double, models::PackAction>> steps;
   std::string Describe() const;  // "UseBoth@0 UseBatt2@60 UseBoth@300"
+  double FirstDepartureS() const;  // when it first leaves UseBoth (+inf when it never does)
 };
 BatteryFlightController ScheduleController(const SwitchSchedule& schedule);
 
