@@ -34,7 +34,8 @@ void AddBatteryHindsight(CLI::App* battery) {
       "The flights of 'battery evaluate' (the same --runs, --seed and --pack-fault-share) that carry a sudden pack\n"
       "fault: UseBoth on each, and where it fails every schedule of the case studies' hindsight family (UseBoth;\n"
       "UseBoth then one pack alone for good from t, 5 s grid; one window of one pack alone, 60 s grid): how many any\n"
-      "switching schedule could complete, per fault kind");
+      "switching schedule could complete, per fault kind, and how many one that leaves UseBoth only from the\n"
+      "fault's onset on (a policy told of the fault the moment it came)");
   AddBoundedOption(command, "--runs", options->runs, "Flights of the evaluation (the faulted ones are searched)",
                    kFlights);
   AddSeedOption(command, "--seed", options->seed, "Seed of the evaluation's flights (default 2024)");
