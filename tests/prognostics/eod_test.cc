@@ -363,8 +363,12 @@ TEST(ReachMarginTest, FollowsTheStatedMarginDefinition) {
 TEST(PackEodTest, AnOpenCellLeavesTheEodOfItsSiblingAlone) {
   const double total_a = 20.0;
   models::PackParams params = models::MakePackParams();
-  params.fault = models::PackFault{.kind = models::PackFaultKind::kFailedCell, .branch = 1, .cell = 0,
-                                   .resistance_ohm = 1e6, .onset_s = 0.0, .seed = 0};
+  params.fault = models::PackFault{.kind = models::PackFaultKind::kFailedCell,
+                                   .branch = 1,
+                                   .cell = 0,
+                                   .resistance_ohm = 1e6,
+                                   .onset_s = 0.0,
+                                   .seed = 0};
   const models::BatteryPack pack(params);
   models::PackState state = pack.MakeRestingState(3.9);
   state.fault_on = true;
