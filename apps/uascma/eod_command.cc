@@ -26,6 +26,7 @@
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/eod_distribution.h"
+#include "uascma/prognostics/eod_reference.h"
 
 namespace uascma::cli {
 namespace {

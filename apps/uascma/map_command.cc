@@ -23,6 +23,7 @@
 #include "uascma/common/files.h"
 #include "uascma/planning/city_map.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/planning/procedural_city.h"
 
 namespace uascma::cli {
