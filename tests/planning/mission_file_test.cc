@@ -23,6 +23,7 @@
 #include "uascma/common/files.h"
 #include "uascma/planning/land_pract.h"
 #include "uascma/planning/landing_path.h"
+#include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
 
 namespace uascma::planning {
