@@ -10,6 +10,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/json_reader.h"
+#include "uascma/planning/map_projection.h"
 
 namespace uascma::planning {
 namespace {

@@ -33,6 +33,7 @@
 #include "map_import_detail.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
+#include "uascma/planning/map_projection.h"
 
 namespace uascma::planning {
 namespace {
