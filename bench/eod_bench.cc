@@ -10,6 +10,7 @@
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/eod_distribution.h"
+#include "uascma/prognostics/eod_reference.h"
 
 namespace {
 

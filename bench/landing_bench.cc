@@ -16,6 +16,9 @@
 
 #include "uascma/common/random.h"
 #include "uascma/planning/emergency_landing.h"
+#include "uascma/planning/land_asap.h"
+#include "uascma/planning/land_pract.h"
+#include "uascma/planning/landing_path.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
 

@@ -4,6 +4,7 @@
 
 #include "fuzz_support.h"
 #include "uascma/common/error.h"
+#include "uascma/planning/map_geojson.h"
 #include "uascma/planning/map_import.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

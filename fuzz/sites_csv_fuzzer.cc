@@ -5,6 +5,7 @@
 #include "fuzz_support.h"
 #include "uascma/common/error.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/planning/map_sites_csv.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace uascma::planning;

@@ -26,6 +26,7 @@
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
 #include "uascma/prognostics/eod_distribution.h"
+#include "uascma/prognostics/eod_report.h"
 
 namespace uascma::cli {
 namespace {
@@ -50,68 +51,10 @@ struct EodCommandOptions {
   double before_s = std::nan("");  // --probability-before-s
 };
 
-// The levels printed by --quantiles (ours: the ends of the 90 % and 50 % central intervals, the median and
-// the 80 % interval's ends).
-constexpr double kPrintedLevels[] = {0.05, 0.10, 0.25, 0.50, 0.75, 0.90, 0.95};
-
-// --quantiles: the distribution into the JSON document and its text lines.
-std::string AddDistribution(const EodCommandOptions& options, const BatteryPack& pack, const PackState& state,
-                            const EodOptions& eod_options, nlohmann::json& document) {
-  if (options.uncertainty.cold_probability >= 0.0 && options.temp_degf < kColdThresholdDegf) {
-    throw InputError("--cold-probability", "value",
-                     "an uncertain temperature class with a warm --temp-degf (>= 50 °F): the cold class is the "
-                     "warm pack's R0 x 1.5");
-  }
-  const EodDistribution distribution =
-      CalcPackEodDistribution(pack, state, options.current_a, options.uncertainty, eod_options);
-  nlohmann::json levels = nlohmann::json::array(), quantiles = nlohmann::json::array();
-  std::string text = fmt::format("EOD distribution ({} CalcPackEod calls):", distribution.evaluations);
-  for (double level : kPrintedLevels) {
-    const double quantile_s = distribution.Quantile(level);
-    levels.push_back(level);
-    quantiles.push_back(quantile_s);
-    text += fmt::format(" p{:02.0f} {:.1f} s", 100.0 * level, quantile_s);
-  }
-  text += "\n";
-  const EodUncertainty& u = options.uncertainty;
-  document["distribution"] = {{"levels", levels},
-                              {"quantiles_s", quantiles},
-                              {"components", distribution.components},
-                              {"weight", {distribution.weight[0], distribution.weight[1]}},
-                              {"centre_eod_s", {distribution.centre_eod_s[0], distribution.centre_eod_s[1]}},
-                              {"log_sigma", {distribution.log_sigma[0], distribution.log_sigma[1]}},
-                              {"log_sigma_above", {distribution.log_sigma_above[0], distribution.log_sigma_above[1]}},
-                              {"evaluations", distribution.evaluations},
-                              {"uncertainty",
-                               {{"load_log_mean", u.load_log_mean},
-                                {"load_log_sigma", u.load_log_sigma},
-                                {"soc_sigma", u.soc_sigma},
-                                {"r0_log_sigma", u.r0_log_sigma},
-                                {"capacity_log_sigma", u.capacity_log_sigma},
-                                {"cold_probability", u.cold_probability}}}};
-  if (!std::isnan(options.before_s)) {
-    const double probability = distribution.ProbabilityBefore(options.before_s);
-    document["distribution"]["probability_before"] = {{"t_s", options.before_s}, {"probability", probability}};
-    text += fmt::format("P(EOD < {} s) = {:.4f}\n", options.before_s, probability);
-  }
-  return text;
-}
-
 PerCell<CellHealth> HealthOfEveryCell(HealthClass health) {
   PerCell<CellHealth> cells{};
   for (auto& pack : cells) pack.fill(CellHealthForClass(health));
   return cells;
-}
-
-nlohmann::json LimitingCellJson(const EodResult& result) {
-  if (result.limiting_branch < 0) return nullptr;
-  return {{"pack", result.limiting_branch + 1}, {"cell", result.limiting_cell + 1}};
-}
-
-std::string FormatDuration(double seconds) {
-  if (seconds < 60.0) return fmt::format("{:.1f} s", seconds);
-  const double minutes = std::floor(seconds / 60.0);
-  return fmt::format("{:.1f} s = {:.0f} min {:.1f} s", seconds, minutes, seconds - 60.0 * minutes);
 }
 
 // --reference-dt-s: 0 (off), else 1 ms to 60 s (our bound: below 1 ms a day's horizon takes 10^8 steps;
@@ -142,77 +85,36 @@ void Run(const EodCommandOptions& options) {
                                    identification::ReadCellModelFile(options.cell_model), HealthOfEveryCell(health),
                                    options.temp_degf));
   const PackState state = pack.MakeRestingState(options.initial_cell_voltage_v, use, "--initial-cell-voltage");
-
-  EodOptions eod_options;
-  eod_options.cutoff_v = options.cutoff_v;
-  eod_options.horizon_s = options.horizon_s;
-  const EodResult result = CalcPackEod(pack, state, options.current_a, eod_options);
-  const PackOutputs now = pack.CalcOutputs(state, options.current_a);
   // The packs' internal resistance limits what they deliver: a current that would pull the bus to 0 V or
   // below is one these cells cannot supply (10^9 A once printed a negative bus voltage).
-  if (!(now.split.bus_voltage_v > 0.0)) {
+  const double bus_voltage_v = pack.CalcOutputs(state, options.current_a).split.bus_voltage_v;
+  if (!(bus_voltage_v > 0.0)) {
     throw InputError("--current-a", "value",
                      fmt::format("a current these packs can deliver at {} V per cell ({} A would pull the bus "
                                  "to {:.2f} V)",
-                                 options.initial_cell_voltage_v, options.current_a, now.split.bus_voltage_v));
+                                 options.initial_cell_voltage_v, options.current_a, bus_voltage_v));
   }
-  const double soc = state.cells[0][0].soc_fraction;
-
-  nlohmann::json document = {{"eod_s", result.eod_s},
-                             {"status", EodStatusName(result.status)},
-                             {"limiting_cell", LimitingCellJson(result)},
-                             {"current_a", options.current_a},
-                             {"initial_cell_voltage_v", options.initial_cell_voltage_v},
-                             {"initial_soc_fraction", soc},
-                             {"health", HealthClassName(health)},
-                             {"temp_degf", options.temp_degf},
-                             {"use", PackActionName(use)},
-                             {"cutoff_v", options.cutoff_v},
-                             {"branch_current_a", {now.split.current_a[0], now.split.current_a[1]}},
-                             {"bus_voltage_v", now.split.bus_voltage_v},
-                             {"segments", result.segments}};
-  std::string reference_text;
-  const bool wants_distribution = options.quantiles || !std::isnan(options.before_s);
-  if (wants_distribution) reference_text += AddDistribution(options, pack, state, eod_options, document);
-  if (options.reference_dt_s > 0.0) {
-    const EodResult reference = SimulatePackEod(pack, state, options.current_a, options.reference_dt_s, eod_options);
-    const double difference = reference.eod_s > 0.0 ? (result.eod_s - reference.eod_s) / reference.eod_s : 0.0;
-    document["reference"] = {{"dt_s", options.reference_dt_s},
-                             {"eod_s", reference.eod_s},
-                             {"status", EodStatusName(reference.status)},
-                             {"limiting_cell", LimitingCellJson(reference)},
-                             {"relative_difference", difference}};
-    reference_text += fmt::format("fixed-step reference (dt {} s): {}; relative difference {:.2e}\n",
-                                  options.reference_dt_s, reference.BriefReport(), difference);
+  EodReportOptions report_options;
+  report_options.current_a = options.current_a;
+  report_options.distribution = options.quantiles;
+  report_options.uncertainty = options.uncertainty;
+  report_options.reference_dt_s = options.reference_dt_s;
+  report_options.eod.cutoff_v = options.cutoff_v;
+  report_options.eod.horizon_s = options.horizon_s;
+  if (!std::isnan(options.before_s)) report_options.probability_before_s = options.before_s;
+  if ((report_options.distribution || report_options.probability_before_s) &&
+      options.uncertainty.cold_probability >= 0.0 && options.temp_degf < kColdThresholdDegf) {
+    throw InputError("--cold-probability", "value",
+                     "an uncertain temperature class with a warm --temp-degf (>= 50 °F): the cold class is the "
+                     "warm pack's R0 x 1.5");
   }
+  const EodReport report = ReportPackEod(pack, state, report_options);
+  const EodBatteryLabel battery{health, options.temp_degf, use, options.initial_cell_voltage_v};
   if (options.json) {
-    PrintJson(document);
+    PrintJson(EodReportJson(report, report_options, battery));
     return;
   }
-  std::string headline;
-  switch (result.status) {
-    case EodStatus::kReached:
-      headline = fmt::format("EOD {} at {} A: {} reaches {} V first", FormatDuration(result.eod_s), options.current_a,
-                             CellLabel(result.limiting_branch, result.limiting_cell), options.cutoff_v);
-      break;
-    case EodStatus::kAlreadyBelowCutoff:
-      headline = fmt::format("EOD 0 s at {} A: {} is already at or below {} V", options.current_a,
-                             CellLabel(result.limiting_branch, result.limiting_cell), options.cutoff_v);
-      break;
-    case EodStatus::kNotReachedWithinHorizon:
-      headline = fmt::format("EOD beyond {} at {} A: no cell reaches {} V within the horizon",
-                             FormatDuration(result.eod_s), options.current_a, options.cutoff_v);
-      break;
-    case EodStatus::kNoBranchConnected:
-      headline = "EOD 0 s: no pack is switched on";
-      break;
-  }
-  std::printf("%s\n", headline.c_str());
-  std::printf("  %s, cells at rest at %g V (SOC %.1f %%), health %s, %g °F\n", PackActionName(use),
-              options.initial_cell_voltage_v, 100.0 * soc, HealthClassName(health), options.temp_degf);
-  std::printf("  now: branch currents %.2f A and %.2f A, bus %.3f V (eqs. 3.4-3.7); %d segments propagated\n",
-              now.split.current_a[0], now.split.current_a[1], now.split.bus_voltage_v, result.segments);
-  std::fputs(reference_text.c_str(), stdout);
+  std::fputs(EodReportText(report, report_options, battery).c_str(), stdout);
 }
 
 }  // namespace

@@ -7,21 +7,15 @@
 #include <memory>
 #include <string>
 
-#include <fmt/format.h>
-
 #include "bounded_option.h"
 #include "commands.h"
 #include "output.h"
 #include "plotting.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
-#include "uascma/decision/cma_estimated_model.h"
 #include "uascma/decision/cma_mdp.h"
+#include "uascma/decision/cma_policy_report.h"
 #include "uascma/decision/cma_sensitivity.h"
-#include "uascma/decision/cma_vehicle_mdp.h"
-#include "uascma/decision/cma_weights_json.h"
-#include "uascma/decision/policy_file.h"
-#include "uascma/decision/solvers.h"
 
 namespace uascma::cli {
 namespace {
@@ -53,17 +47,6 @@ CmaConfig ResolveConfig(const ModelOptions& options) {
   return config;
 }
 
-Policy Solve(const FiniteMdp& mdp, double gamma, const std::string& method, SolverSummary* summary) {
-  if (method == "pi") {
-    PolicyIterationOptions options;
-    options.gamma = gamma;
-    return SolvePolicyIteration(mdp, options, summary);
-  }
-  ValueIterationOptions options;
-  options.gamma = gamma;
-  return SolveValueIteration(mdp, options, summary);
-}
-
 // --- policy transitions ------------------------------------------------------------------------
 void AddTransitions(CLI::App* policy) {
   auto options = std::make_shared<ModelOptions>();
@@ -77,18 +60,7 @@ void AddTransitions(CLI::App* policy) {
   command->callback([options, action] {
     const CmaAction parsed = ParseCmaAction(*action, "--action");
     const FiniteMdp mdp = BuildCmaMdp(ResolveConfig(*options).weights);
-    const ActionIndex a = static_cast<ActionIndex>(parsed);
-    std::string out;
-    for (StateIndex s = 0; s < mdp.num_states(); ++s) {
-      const std::int64_t c = mdp.FindChoice(s, a);
-      if (c < 0) continue;
-      const auto next = mdp.choice_next_states(c);
-      const auto prob = mdp.choice_probabilities(c);
-      for (std::size_t k = 0; k < next.size(); ++k) {
-        out += fmt::format("{}\t{}\t{:.10g}\n", mdp.state_label(s), mdp.state_label(next[k]), prob[k]);
-      }
-    }
-    WriteOutput("", out);
+    WriteOutput("", TransitionRowsTsv(mdp, static_cast<ActionIndex>(parsed)));
   });
 }
 
@@ -118,72 +90,21 @@ void AddPolicySolve(CLI::App* policy) {
                       "flights (unobserved rows keep the DDN's); the counts are kept in the policy file");
   command->add_flag("--json", options->json, "With --out: print the solver summary as JSON");
   command->callback([options] {
-    const CmaConfig config = ResolveConfig(options->model);
-    nlohmann::json model_config = {{"weights", CmaWeightsJson(config.weights)}};
-    FiniteMdp mdp = BuildCmaMdp(config.weights);
-    if (!options->transitions.empty()) {
-      const CmaTransitionCounts counts = ReadCmaTransitionsFile(options->transitions);
-      mdp = BuildEstimatedCmaMdp(config.weights, counts);
-      model_config["transition_counts"] = CmaTransitionCountsToJson(counts);
-      model_config["transitions_file"] = options->transitions;
-    }
-    SolverSummary summary;
-    const Policy policy = Solve(mdp, config.gamma, options->method, &summary);
-    std::string content;
-    if (options->format == "tsv") {
-      for (StateIndex s = 0; s < kCmaNumTupleStates; ++s) {
-        content +=
-            fmt::format("{}\t{}\t{:.10g}\n", mdp.state_label(s), mdp.action_name(policy.action[s]), policy.value[s]);
-      }
-    } else {
-      const PolicyDocument document =
-          MakePolicyDocument(mdp, policy, "cma", config.gamma, model_config, summary,
-                             options->method == "pi" ? "policy_iteration" : "value_iteration");
-      content = PolicyToJson(document).dump(2) + "\n";
-    }
-    WriteOutput(options->out, content);
+    const CmaSolution solution =
+        SolveCma(ResolveConfig(options->model),
+                 options->method == "pi" ? CmaSolveMethod::kPolicyIteration : CmaSolveMethod::kValueIteration,
+                 options->transitions);
+    WriteOutput(options->out, options->format == "tsv" ? CmaPolicyTsv(solution) : CmaPolicyFileJson(solution));
     if (options->out.empty() || options->out == "-") return;
-    const StateIndex start = CmaStateIndex({});
     if (options->json) {
-      PrintJson({{"out", options->out},
-                 {"model_hash", ModelHash(mdp)},
-                 {"gamma", config.gamma},
-                 {"status", summary.status == SolverStatus::kConverged ? "converged" : "max_iterations"},
-                 {"iterations", summary.iterations},
-                 {"residual", summary.residual},
-                 {"wall_time_s", summary.wall_time_s}});
+      PrintJson(CmaSolveSummaryJson(solution, options->out));
     } else {
-      std::printf("solved CMA MDP (%d states, gamma %g): %s\nwrote %s; action at %s: %s\n", mdp.num_states(),
-                  config.gamma, summary.BriefReport().c_str(), options->out.c_str(), mdp.state_label(start).c_str(),
-                  mdp.action_name(policy.action[start]).c_str());
+      std::fputs(CmaSolveSummaryText(solution, options->out).c_str(), stdout);
     }
   });
 }
 
 // --- policy show -------------------------------------------------------------------------------
-std::string QuadrantTable(const std::vector<QuadrantRow>& rows, const FiniteMdp& mdp) {
-  std::string out = fmt::format("{:<8} {:<3} {:<3} | {:<10} {:<10} {:<10} {:<10}\n", "FS", "MH", "BH", "I safe",
-                                "II hazard", "III hyper", "IV crit");
-  out += fmt::format("{:<8} {:<3} {:<3} | {:<10} {:<10} {:<10} {:<10}\n", "", "", "", "RM1,MM1", "RM1,MM0", "RM0,MM0",
-                     "RM0,MM1");
-  out += std::string(61, '-') + "\n";
-  const char* fs_names[] = {"N", "ELASAP", "ELPRACT"};
-  const char* mh_names[] = {"NF", "SF", "JF"};
-  const char* bh_names[] = {"G", "M", "P"};
-  FlightStatus previous = rows.front().fs;
-  for (const QuadrantRow& row : rows) {
-    if (row.fs != previous) out += "\n";
-    previous = row.fs;
-    out += fmt::format("{:<8} {:<3} {:<3} |", fs_names[static_cast<int>(row.fs)], mh_names[static_cast<int>(row.mh)],
-                       bh_names[static_cast<int>(row.bh)]);
-    for (const QuadrantCell& cell : row.quadrants) {
-      out += fmt::format(" {:<10}", mdp.action_name(cell.action));
-    }
-    out += "\n";
-  }
-  return out;
-}
-
 void AddPolicyShow(CLI::App* policy) {
   auto file = std::make_shared<std::string>();
   auto weights_file = std::make_shared<std::string>();
@@ -200,40 +121,18 @@ void AddPolicyShow(CLI::App* policy) {
   command->add_flag("--json", *json, "Print the quadrant view as JSON");
   command->add_option("--plot", *plot, "Also draw the quadrant view to this PNG file");
   command->callback([file, weights_file, json, plot] {
-    const bool vehicle = *file == "cma-vehicle";
-    if (vehicle && !weights_file->empty())
+    if (*file == kCmaVehiclePolicyName && !weights_file->empty())
       throw InputError("--weights", "--weights", "a policy file (not cma-vehicle)");
-    PolicyDocument document;
-    if (vehicle) {
-      document.model_hash = ModelHash(BuildCmaVehicleMdp(CmaWeights{}));
-      document.gamma = CmaConfig{}.gamma;
-    } else {
-      document = ReadPolicyFile(*file);
-    }
-    const FiniteMdp mdp =
-        vehicle ? BuildCmaVehicleMdp(CmaWeights{}) : CmaModelForPolicy(document, *weights_file, *file);
-    const Policy policy = vehicle ? SolveCmaVehiclePolicy() : BindPolicy(document, mdp, *file);
-    const auto rows = CmaQuadrantView(policy.action, policy.value);
-    nlohmann::json view = {
-        {"model_hash", document.model_hash}, {"gamma", document.gamma}, {"rows", nlohmann::json::array()}};
-    for (const QuadrantRow& row : rows) {
-      nlohmann::json quadrants = nlohmann::json::object();
-      for (int q = 0; q < 4; ++q) {
-        quadrants[kQuadrantNames[q]] = {{"state", CmaStateLabel(row.quadrants[q].state)},
-                                        {"action", mdp.action_name(row.quadrants[q].action)},
-                                        {"value", row.quadrants[q].value}};
-      }
-      view["rows"].push_back(quadrants);
-    }
+    const CmaPolicyView view = LoadCmaPolicyView(*file, *weights_file);
+    const nlohmann::json view_json = CmaPolicyViewJson(view);
     if (!plot->empty()) {
-      PlotJson("policy_quadrants.py", view, *plot);
+      PlotJson("policy_quadrants.py", view_json, *plot);
     }
     if (*json) {
-      PrintJson(view);
+      PrintJson(view_json);
       return;
     }
-    std::printf("CMA policy %s (model %s, gamma %g)\n\n%s", file->c_str(), document.model_hash.c_str(), document.gamma,
-                QuadrantTable(rows, mdp).c_str());
+    std::fputs(CmaPolicyViewText(view, *file).c_str(), stdout);
   });
 }
 
@@ -269,32 +168,12 @@ void AddSensitivity(CLI::App* policy) {
     if (!(options->from >= 0.0 && options->to <= 1.0 && options->from <= options->to)) {
       throw InputError("--from/--to", "range", "0 <= from <= to <= 1");
     }
-    nlohmann::json steps = nlohmann::json::array();
-    std::string text = fmt::format(
-        "Sweep of w_{} from {} to {} (others renormalised to sum 1 - w); changes "
-        "against the base policy:\n",
-        options->weight, options->from, options->to);
-    for (const CmaSensitivityStep& step :
-         SweepCmaWeight(base, options->weight, options->from, options->to, options->step)) {
-      nlohmann::json changes = nlohmann::json::array();
-      std::string listed;
-      for (const CmaPolicyChange& change : step.changes) {
-        changes.push_back(
-            {{"state", change.state}, {"quadrant", change.quadrant}, {"from", change.from}, {"to", change.to}});
-        listed +=
-            fmt::format("\n    {:<22} Quad {:<3} {} -> {}", change.state, change.quadrant, change.from, change.to);
-      }
-      steps.push_back({{"value", step.value}, {"weights", CmaWeightsJson(step.weights)}, {"changes", changes}});
-      text += fmt::format("  w_{} = {:.4f}: {} change{}{}\n", options->weight, step.value, changes.size(),
-                          changes.size() == 1 ? "" : "s", listed);
-    }
+    const std::vector<CmaSensitivityStep> steps =
+        SweepCmaWeight(base, options->weight, options->from, options->to, options->step);
     if (options->json) {
-      PrintJson({{"weight", options->weight},
-                 {"gamma", base.gamma},
-                 {"base_weights", CmaWeightsJson(base.weights)},
-                 {"steps", steps}});
+      PrintJson(CmaSensitivityJson(base, options->weight, steps));
     } else {
-      std::fputs(text.c_str(), stdout);
+      std::fputs(CmaSensitivityText(options->weight, options->from, options->to, steps).c_str(), stdout);
     }
   });
 }

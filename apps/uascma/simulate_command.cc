@@ -17,6 +17,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/planning/mission_file.h"
+#include "uascma/planning/mission_write.h"
 #include "uascma/sim/act.h"
 #include "uascma/sim/flight_summary.h"
 #include "uascma/sim/policy.h"

@@ -21,7 +21,10 @@
 
 #include <fmt/format.h>
 
-#include "store_internal.h"
+#include "store_check.h"
+#include "store_connection.h"
+#include "store_schema.h"
+#include "store_workers.h"
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/common/error.h"

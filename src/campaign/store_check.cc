@@ -1,4 +1,6 @@
 // The results store's check (store.h: CheckStore): SQLite's own checks, then the schema's invariants.
+#include "store_check.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,7 +17,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "store_internal.h"
+#include "store_schema.h"
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/campaign/sampler.h"

@@ -1,4 +1,6 @@
-// The results store's schema, its rows and its campaign header (store.h; store_internal.h).
+// The results store's schema, its rows and its campaign header (store.h; store_schema.h).
+#include "store_schema.h"
+
 #include <chrono>
 #include <cstdint>
 #include <ctime>
@@ -9,7 +11,6 @@
 
 #include <fmt/format.h>
 
-#include "store_internal.h"
 #include "uascma/campaign/policies.h"
 #include "uascma/common/error.h"
 

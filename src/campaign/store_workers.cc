@@ -1,4 +1,6 @@
 // Sharing a campaign's work between processes (store.h: workers, claims, heartbeats).
+#include "store_workers.h"
+
 #include <signal.h>
 #include <unistd.h>
 
@@ -17,7 +19,8 @@
 
 #include <fmt/format.h>
 
-#include "store_internal.h"
+#include "store_connection.h"
+#include "store_schema.h"
 #include "uascma/common/error.h"
 
 namespace uascma::campaign {

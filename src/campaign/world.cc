@@ -7,7 +7,9 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
+#include "uascma/planning/landing_path.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/planning/procedural_city.h"
 
 namespace uascma::campaign {

@@ -5,7 +5,10 @@
 #include <cstddef>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "uascma/common/error.h"
+#include "uascma/decision/cma_weights_json.h"
 #include "uascma/decision/finite_mdp.h"
 #include "uascma/decision/solvers.h"
 
@@ -47,6 +50,38 @@ std::vector<CmaSensitivityStep> SweepCmaWeight(const CmaConfig& base, const std:
     steps.push_back(std::move(out));
   }
   return steps;
+}
+
+nlohmann::json CmaSensitivityJson(const CmaConfig& base, const std::string& name,
+                                  const std::vector<CmaSensitivityStep>& steps) {
+  nlohmann::json steps_json = nlohmann::json::array();
+  for (const CmaSensitivityStep& step : steps) {
+    nlohmann::json changes = nlohmann::json::array();
+    for (const CmaPolicyChange& change : step.changes) {
+      changes.push_back(
+          {{"state", change.state}, {"quadrant", change.quadrant}, {"from", change.from}, {"to", change.to}});
+    }
+    steps_json.push_back({{"value", step.value}, {"weights", CmaWeightsJson(step.weights)}, {"changes", changes}});
+  }
+  return {
+      {"weight", name}, {"gamma", base.gamma}, {"base_weights", CmaWeightsJson(base.weights)}, {"steps", steps_json}};
+}
+
+std::string CmaSensitivityText(const std::string& name, double from, double to,
+                               const std::vector<CmaSensitivityStep>& steps) {
+  std::string text = fmt::format(
+      "Sweep of w_{} from {} to {} (others renormalised to sum 1 - w); changes "
+      "against the base policy:\n",
+      name, from, to);
+  for (const CmaSensitivityStep& step : steps) {
+    std::string listed;
+    for (const CmaPolicyChange& change : step.changes) {
+      listed += fmt::format("\n    {:<22} Quad {:<3} {} -> {}", change.state, change.quadrant, change.from, change.to);
+    }
+    text += fmt::format("  w_{} = {:.4f}: {} change{}{}\n", name, step.value, step.changes.size(),
+                        step.changes.size() == 1 ? "" : "s", listed);
+  }
+  return text;
 }
 
 }  // namespace uascma::decision

@@ -14,7 +14,7 @@
 #include "uascma/mavlink/companion_belief.h"
 #include "uascma/mavlink/mission_client.h"
 #include "uascma/mavlink/sitl_vehicle.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/sim/act.h"
 #include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/epoch.h"

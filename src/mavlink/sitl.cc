@@ -9,6 +9,7 @@
 
 #include "uascma/common/cpu_time.h"
 #include "uascma/common/error.h"
+#include "uascma/planning/mission_write.h"
 #include "uascma/sim/emergency_planner.h"
 #include "uascma/sim/epoch.h"
 #include "uascma/sim/initial_state.h"

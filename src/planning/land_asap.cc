@@ -1,5 +1,5 @@
-// LandASAP (§5.3.2.2, planning/emergency_landing.h): the reachable footprint's candidate sites, planned exactly.
-#include "uascma/planning/emergency_landing.h"
+// LandASAP (§5.3.2.2, planning/land_asap.h): the reachable footprint's candidate sites, planned exactly.
+#include "uascma/planning/land_asap.h"
 
 #include <algorithm>
 #include <cmath>

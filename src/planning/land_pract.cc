@@ -1,6 +1,6 @@
-// LandPract (§5.3.2.2, Fig. 5.6, planning/emergency_landing.h): the database of pre-planned paths from the
+// LandPract (§5.3.2.2, Fig. 5.6, planning/land_pract.h): the database of pre-planned paths from the
 // nominal plan's checkpoints, and its look-up.
-#include "uascma/planning/emergency_landing.h"
+#include "uascma/planning/land_pract.h"
 
 #include <algorithm>
 #include <cmath>

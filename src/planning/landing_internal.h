@@ -1,6 +1,6 @@
 #pragma once
-// What the three emergency-landing planners share (planning/emergency_landing.h): the path-time formula, the
-// reach margin and the request check. Internal to src/planning/.
+// What the emergency-landing units share (landing_path.h, land_asap.h, land_pract.h): the path-time formula
+// (landing_path.cc), the reach margin and the request check (emergency_landing.cc). Internal to src/planning/.
 #include <limits>
 #include <vector>
 

@@ -1,6 +1,6 @@
-// The emergency path planner (planning/emergency_landing.h: THE TRAJECTORY MODEL): the climb-over and the
+// The emergency path planner (planning/landing_path.h: THE TRAJECTORY MODEL): the climb-over and the
 // visibility-graph detour to a site, their verification, and the multi-site search.
-#include "uascma/planning/emergency_landing.h"
+#include "uascma/planning/landing_path.h"
 
 #include <algorithm>
 #include <cmath>
@@ -77,14 +77,6 @@ double PathTime(const Eigen::Vector3d& start_W, const std::vector<Eigen::Vector3
   return time;
 }
 
-void RequireFinite(const LandingRequest& request, const char* source) {
-  if (!request.p_WB_W.allFinite()) throw InputError(source, "p_WB_W", "finite coordinates (m)");
-  if (!request.v_WB_W.allFinite()) throw InputError(source, "v_WB_W", "a finite velocity (m/s)");
-  if (!std::isfinite(request.yaw))
-    throw InputError(source, "yaw", fmt::format("a finite angle (rad), got {}", request.yaw));
-  if (std::isnan(request.eod)) throw InputError(source, "eod", "a number of seconds, got NaN");
-}
-
 }  // namespace landing_internal
 
 // --- parameters --------------------------------------------------------------------------------------------------
@@ -124,22 +116,6 @@ const char* LandingPathKindName(LandingPathKind kind) {
   return "?";
 }
 
-const char* LandingStatusName(LandingStatus status) {
-  switch (status) {
-    case LandingStatus::kOk:
-      return "ok";
-    case LandingStatus::kNoSiteInFootprint:
-      return "no site in footprint";
-    case LandingStatus::kNoStoredTrajectory:
-      return "no stored trajectory";
-    case LandingStatus::kNoFeasibleTrajectory:
-      return "no feasible trajectory";
-    case LandingStatus::kStartInsideBuilding:
-      return "start inside a building";
-  }
-  return "?";
-}
-
 FlightPlan LandingPath::ToFlightPlan(const PlanLimits& limits) const {
   std::vector<Waypoint> waypoints;
   waypoints.reserve(waypoints_W.size());
@@ -156,20 +132,6 @@ FlightPlan LandingPath::ToFlightPlan(const PlanLimits& limits) const {
     from = to;
   }
   return FlightPlan::Through(start_W, waypoints, limits);
-}
-
-std::string LandingResult::BriefReport() const {
-  if (!ok()) return fmt::format("{}: {}", LandingStatusName(status), message);
-  std::string report = fmt::format(
-      "site '{}' (risk {:.3f}) by {} in {:.2f} s, RM {:.4f}; {} candidates, {} planned, {} "
-      "detour searches",
-      site_id, site_risk, LandingPathKindName(path.kind), flight_time, reach_margin, candidates, planned,
-      detour_searches);
-  if (checkpoint >= 0) {
-    report += fmt::format("; checkpoint {} ({:.2f} s to it + {:.2f} s stored)", checkpoint, time_to_checkpoint,
-                          stored_flight_time);
-  }
-  return report;
 }
 
 // --- one site ----------------------------------------------------------------------------------------------------

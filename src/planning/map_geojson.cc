@@ -1,5 +1,7 @@
 // GeoJSON building reader (RFC 7946 FeatureCollection, as Overpass exports it): Polygon and MultiPolygon features
 // tagged building=* with a height; the rules are in include/uascma/planning/map_import.h.
+#include "uascma/planning/map_geojson.h"
+
 #include <nlohmann/json.hpp>
 
 #include <fmt/format.h>
@@ -8,7 +10,7 @@
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
 #include "uascma/common/json_reader.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 
 namespace uascma::planning {
 namespace {

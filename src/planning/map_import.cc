@@ -12,7 +12,10 @@
 
 #include "map_import_detail.h"
 #include "uascma/common/error.h"
+#include "uascma/planning/map_geojson.h"
 #include "uascma/planning/map_geometry.h"
+#include "uascma/planning/map_osm.h"
+#include "uascma/planning/map_sites_csv.h"
 
 namespace uascma::planning {
 namespace detail {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 
 namespace uascma::planning::detail {
 

@@ -6,6 +6,8 @@
 // relations, the second stores node locations, hands ways to the relations that need them and assembles areas
 // (one per building way, one per complete building relation) while a handler of ours counts every tagged object
 // and checks building ways for malformed geometry.
+#include "uascma/planning/map_osm.h"
+
 // GCC 12 reports a false -Wstringop-overread inside libosmium's object builder (a flexible trailing array it
 // cannot see through); silence it for libosmium's headers only.
 #pragma GCC diagnostic push
@@ -31,7 +33,7 @@
 #include "map_import_detail.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 
 namespace uascma::planning {
 namespace {

@@ -1,9 +1,11 @@
 // The local frame of imported maps: a transverse Mercator projection centred on the origin, through PROJ
-// (include/uascma/planning/map_import.h explains the choice and its accuracy).
+// (include/uascma/planning/map_projection.h explains the choice and its accuracy).
 //
 // PROJ is loaded when the first projection is made (dlopen of UASCMA_PROJ_SONAME, the library the build found,
 // src/planning/CMakeLists.txt), not linked: libproj and its ~30 dependencies (curl, TLS, TIFF, ...) were most of
 // the command-line tool's start-up, paid by every command for the one that imports maps.
+#include "uascma/planning/map_projection.h"
+
 #include <dlfcn.h>
 #include <proj.h>
 
@@ -13,7 +15,6 @@
 #include <fmt/format.h>
 
 #include "uascma/common/error.h"
-#include "uascma/planning/map_import.h"
 
 namespace uascma::planning {
 namespace {

@@ -1,4 +1,6 @@
-// Landing-site CSV reader: columns found by name with the aliases of include/uascma/planning/map_import.h.
+// Landing-site CSV reader: columns found by name with the aliases of include/uascma/planning/map_sites_csv.h.
+#include "uascma/planning/map_sites_csv.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -8,11 +10,10 @@
 
 #include "map_import_detail.h"
 #include "uascma/common/bounds.h"
+#include "uascma/common/csv.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
-#include "uascma/common/csv.h"
 #include "uascma/common/text.h"
-#include "uascma/planning/map_import.h"
 
 namespace uascma::planning {
 namespace {

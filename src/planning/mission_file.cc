@@ -1,7 +1,7 @@
-// Mission files in (QGroundControl .plan, QGC WPL 110 .waypoints) and out (.plan): the contract is in
+// Mission files in (QGroundControl .plan, QGC WPL 110 .waypoints): the contract is in
 // include/uascma/planning/mission_file.h. Reading is two steps (mission_items.h): the format readers
 // (mission_plan_read.cc, mission_wpl_read.cc) collect the raw MAVLink items, then BuildMission (mission_builder.cc)
-// flies them; the writers are in mission_write.cc. Here: the entry points, the geofence and the command names.
+// flies them; the writers are in mission_write.h. Here: the entry points, the geofence and the command names.
 #include "uascma/planning/mission_file.h"
 
 #include <algorithm>

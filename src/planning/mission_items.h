@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "uascma/common/bounds.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/planning/mission_file.h"
 
 namespace uascma::planning::mission_detail {

@@ -1,5 +1,7 @@
 // Mission files out: a flight plan as a QGroundControl .plan or a QGC WPL 110 .waypoints file
-// (include/uascma/planning/mission_file.h).
+// (include/uascma/planning/mission_write.h).
+#include "uascma/planning/mission_write.h"
+
 #include <array>
 #include <cmath>
 

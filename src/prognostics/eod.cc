@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <type_traits>
 
 #include <fmt/format.h>
@@ -15,7 +16,9 @@
 #include "eod_internal.h"
 #include "eod_lane.h"
 #include "eod_law.h"
+#include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
+#include "uascma/prognostics/reach_margin.h"
 
 namespace uascma::prognostics {
 
@@ -52,6 +55,63 @@ using models::PackState;
 using models::PerBranch;
 using models::SelfCorrectingCell;
 
+// --- the result and the options -------------------------------------------------------------------------
+const char* EodStatusName(EodStatus status) {
+  switch (status) {
+    case EodStatus::kReached:
+      return "reached";
+    case EodStatus::kAlreadyBelowCutoff:
+      return "already_below_cutoff";
+    case EodStatus::kNotReachedWithinHorizon:
+      return "not_reached_within_horizon";
+    case EodStatus::kNoBranchConnected:
+      return "no_branch_connected";
+  }
+  return "?";
+}
+
+bool EodOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (!CheckWithin(cutoff_v, models::kCutoffVoltageBounds, "cutoff_v", error)) return false;
+  if (!CheckWithin(horizon_s, kHorizonBounds, "horizon_s", error)) return false;
+  if (!(time_tolerance_s > 0.0)) return fail(fmt::format("time_tolerance_s: > 0, got {}", time_tolerance_s));
+  return true;
+}
+
+std::string EodResult::BriefReport() const {
+  std::string text = fmt::format("{}: EOD {:.6g} s", EodStatusName(status), eod_s);
+  if (limiting_branch >= 0) text += ", limiting " + models::CellLabel(limiting_branch, limiting_cell);
+  return text + fmt::format(" ({} segments)", segments);
+}
+
+double CalcReachMargin(const EodResult& eod, double flight_time_remaining_s) {
+  return CalcReachMargin(eod.eod_s, flight_time_remaining_s, 0.0);
+}
+
+bool IsFlightTimeReachable(const EodResult& eod, double flight_time_remaining_s) {
+  return flight_time_remaining_s <= eod.eod_s;
+}
+
+namespace eod_internal {
+
+void RequireValid(const EodOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("EOD options: " + error);
+}
+
+EodResult Ended(EodStatus status, double eod_s) {
+  EodResult result;
+  result.status = status;
+  result.eod_s = eod_s;
+  return result;
+}
+
+}  // namespace eod_internal
+
+// --- the exact propagation -------------------------------------------------------------------------------
 namespace {
 
 // The steps of a propagation's loop are inlined into both loops, a run alone (Propagate) and runs in lockstep

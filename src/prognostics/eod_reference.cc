@@ -1,5 +1,7 @@
-// Battery end-of-discharge: the result's helpers and the fixed-step references the exact propagation (eod.cc) is
-// checked against (eod.h).
+// Battery end-of-discharge: the fixed-step references the exact propagation (eod.cc) is checked against
+// (eod_reference.h).
+#include "uascma/prognostics/eod_reference.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,10 +10,7 @@
 #include <fmt/format.h>
 
 #include "eod_internal.h"
-#include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
-#include "uascma/prognostics/eod.h"
-#include "uascma/prognostics/reach_margin.h"
 
 namespace uascma::prognostics {
 
@@ -23,61 +22,6 @@ using models::kBranchCount;
 using models::kCellsPerBranch;
 using models::PackState;
 using models::SelfCorrectingCell;
-
-const char* EodStatusName(EodStatus status) {
-  switch (status) {
-    case EodStatus::kReached:
-      return "reached";
-    case EodStatus::kAlreadyBelowCutoff:
-      return "already_below_cutoff";
-    case EodStatus::kNotReachedWithinHorizon:
-      return "not_reached_within_horizon";
-    case EodStatus::kNoBranchConnected:
-      return "no_branch_connected";
-  }
-  return "?";
-}
-
-bool EodOptions::IsValid(std::string* error) const {
-  auto fail = [error](const std::string& message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!CheckWithin(cutoff_v, models::kCutoffVoltageBounds, "cutoff_v", error)) return false;
-  if (!CheckWithin(horizon_s, kHorizonBounds, "horizon_s", error)) return false;
-  if (!(time_tolerance_s > 0.0)) return fail(fmt::format("time_tolerance_s: > 0, got {}", time_tolerance_s));
-  return true;
-}
-
-std::string EodResult::BriefReport() const {
-  std::string text = fmt::format("{}: EOD {:.6g} s", EodStatusName(status), eod_s);
-  if (limiting_branch >= 0) text += ", limiting " + models::CellLabel(limiting_branch, limiting_cell);
-  return text + fmt::format(" ({} segments)", segments);
-}
-
-double CalcReachMargin(const EodResult& eod, double flight_time_remaining_s) {
-  return CalcReachMargin(eod.eod_s, flight_time_remaining_s, 0.0);
-}
-
-bool IsFlightTimeReachable(const EodResult& eod, double flight_time_remaining_s) {
-  return flight_time_remaining_s <= eod.eod_s;
-}
-
-namespace eod_internal {
-
-void RequireValid(const EodOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("EOD options: " + error);
-}
-
-EodResult Ended(EodStatus status, double eod_s) {
-  EodResult result;
-  result.status = status;
-  result.eod_s = eod_s;
-  return result;
-}
-
-}  // namespace eod_internal
 
 // --- Fixed-step references ---------------------------------------------------------------------------
 namespace {

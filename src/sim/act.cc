@@ -31,25 +31,6 @@
 
 namespace uascma::sim {
 
-const char* TerminationRuleName(TerminationRule rule) {
-  switch (rule) {
-    case TerminationRule::kPolicy:
-      return "policy";
-    case TerminationRule::kNever:
-      return "never";
-    case TerminationRule::kLastResort:
-      break;
-  }
-  return "last-resort";
-}
-
-TerminationRule ParseTerminationRule(const std::string& text, const std::string& source, const std::string& field) {
-  for (const TerminationRule rule : {TerminationRule::kLastResort, TerminationRule::kPolicy, TerminationRule::kNever}) {
-    if (text == TerminationRuleName(rule)) return rule;
-  }
-  throw InputError(source, field, "last-resort, policy or never, got '" + text + "'");
-}
-
 namespace {
 
 using decision::CmaAction;

@@ -1,9 +1,13 @@
 // The map's emergency planners for the simulator: LandPract from a database built before flight, LandASAP online
-// (planning/emergency_landing.h, §5.3.2.2), behind sim::EmergencyPlanner.
+// (planning/land_pract.h, planning/land_asap.h, §5.3.2.2), behind sim::EmergencyPlanner.
 #include "uascma/sim/emergency_planner.h"
 
 #include <memory>
 #include <vector>
+
+#include "uascma/planning/land_asap.h"
+#include "uascma/planning/land_pract.h"
+#include "uascma/planning/landing_path.h"
 
 namespace uascma::sim {
 

@@ -13,7 +13,7 @@
 
 #include "cli_runner.h"
 #include "uascma/common/files.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/planning/mission_file.h"
 
 namespace uascma {

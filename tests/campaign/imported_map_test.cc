@@ -12,14 +12,14 @@
 
 #include <fmt/format.h>
 
+#include "../support/data_paths.h"
 #include "uascma/campaign/config.h"
 #include "uascma/campaign/sampler.h"
 #include "uascma/common/error.h"
-#include "uascma/planning/emergency_landing.h"
 #include "uascma/planning/flight_plan.h"
+#include "uascma/planning/land_pract.h"
 #include "uascma/planning/map_import.h"
 #include "uascma/sim/scenario.h"
-#include "../support/data_paths.h"
 
 namespace uascma::campaign {
 namespace {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -60,6 +61,30 @@ TEST(CmaSensitivityTest, ChangesAreTheQuadrantCellsWhoseActionDiffers) {
   }
   EXPECT_EQ(differing, steps[0].changes.size());
   EXPECT_GT(differing, 0u);  // §5.3.2.5: without w_MM the policy no longer lands in the nominal Quad II
+}
+
+TEST(CmaSensitivityTest, JsonAndTextListEveryStepAndChange) {
+  const CmaConfig base;
+  const auto steps = SweepCmaWeight(base, "MM", 0.0, 0.1, 0.05);
+  std::size_t changes = 0;
+  for (const CmaSensitivityStep& step : steps) changes += step.changes.size();
+  ASSERT_GT(changes, 0u);  // w_MM = 0 changes the policy (the test above)
+  const nlohmann::json json = CmaSensitivityJson(base, "MM", steps);
+  EXPECT_EQ(json.at("weight"), "MM");
+  ASSERT_EQ(json.at("steps").size(), steps.size());
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    EXPECT_EQ(json["steps"][i].at("value").get<double>(), steps[i].value);
+    ASSERT_EQ(json["steps"][i].at("changes").size(), steps[i].changes.size());
+    for (std::size_t k = 0; k < steps[i].changes.size(); ++k) {
+      EXPECT_EQ(json["steps"][i]["changes"][k].at("to"), steps[i].changes[k].to);
+    }
+  }
+  // The text: a heading, a line per step and a line per change.
+  const std::string text = CmaSensitivityText("MM", 0.0, 0.1, steps);
+  std::size_t lines = 0;
+  for (char c : text) lines += c == '\n';
+  EXPECT_EQ(lines, 1 + steps.size() + changes);
+  EXPECT_EQ(text.rfind("Sweep of w_MM from 0 to 0.1 ", 0), 0u) << text;
 }
 
 }  // namespace

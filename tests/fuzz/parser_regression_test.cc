@@ -20,7 +20,9 @@
 #include "uascma/decision/battery_mdp_file.h"
 #include "uascma/decision/cma_mdp.h"
 #include "uascma/decision/policy_file.h"
+#include "uascma/planning/map_geojson.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/planning/map_osm.h"
 #include "uascma/planning/mission_file.h"
 
 namespace uascma {

@@ -8,6 +8,7 @@
 
 #include "uascma/common/error.h"
 #include "uascma/planning/map_import.h"
+#include "uascma/planning/map_sites_csv.h"
 
 namespace uascma::planning {
 namespace {

@@ -4,6 +4,9 @@
 // the vehicle, ends on the chosen site and is collision-free when sampled densely (IsInsideBuilding, and the
 // lateral/vertical clearances checked building by building); the choice is the brute-force maximum RM.
 #include "uascma/planning/emergency_landing.h"
+#include "uascma/planning/land_asap.h"
+#include "uascma/planning/land_pract.h"
+#include "uascma/planning/landing_path.h"
 
 #include <gtest/gtest.h>
 

@@ -18,10 +18,14 @@
 #include <numbers>
 #include <string>
 
+#include "../support/data_paths.h"
 #include "uascma/common/error.h"
 #include "uascma/common/random.h"
+#include "uascma/planning/map_geojson.h"
 #include "uascma/planning/map_import.h"
-#include "../support/data_paths.h"
+#include "uascma/planning/map_osm.h"
+#include "uascma/planning/map_projection.h"
+#include "uascma/planning/map_sites_csv.h"
 
 namespace uascma::planning {
 namespace {

@@ -2,6 +2,8 @@
 // missions, read and checked against PROJ's projection computed here independently (a CRS-to-CRS operation of
 // PROJ's C API, not the importer's pipeline); the plans they make; unsupported items named; export and re-import.
 #include "uascma/planning/mission_file.h"
+#include "uascma/planning/map_projection.h"
+#include "uascma/planning/mission_write.h"
 
 #include <gtest/gtest.h>
 #include <proj.h>
@@ -16,11 +18,13 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "../support/data_paths.h"
 #include "uascma/common/error.h"
 #include "uascma/common/files.h"
-#include "uascma/planning/emergency_landing.h"
+#include "uascma/planning/land_pract.h"
+#include "uascma/planning/landing_path.h"
+#include "uascma/planning/map_import.h"
 #include "uascma/planning/procedural_city.h"
-#include "../support/data_paths.h"
 
 namespace uascma::planning {
 namespace {

@@ -13,6 +13,7 @@
 #include "uascma/common/error.h"
 #include "uascma/models/battery.h"
 #include "uascma/prognostics/eod.h"
+#include "uascma/prognostics/eod_reference.h"
 
 namespace uascma::prognostics {
 namespace {

@@ -5,15 +5,15 @@
 // by every thread; a run's scenario (campaign/sampler.h) holds the same map and hulls, so no flight re-imports,
 // re-builds or re-inflates them.
 //
-// The LandPract database (planning/emergency_landing.h, §5.3.2.2) is not part of it: it is built for a nominal plan, and
+// The LandPract database (planning/land_pract.h, §5.3.2.2) is not part of it: it is built for a nominal plan, and
 // each run draws its own (sim/emergency_planner.cc builds it when the flight model is made).
 #include <memory>
 #include <optional>
 
 #include "uascma/campaign/config.h"
 #include "uascma/planning/city_map.h"
-#include "uascma/planning/emergency_landing.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/landing_detour.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/sim/vehicle_file.h"
 
 namespace uascma::campaign {

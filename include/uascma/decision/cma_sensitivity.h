@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "uascma/decision/cma_mdp.h"
 
 namespace uascma::decision {
@@ -27,5 +29,14 @@ struct CmaSensitivityStep {
 // weight `name` (InputError from CmaWeights::Get otherwise).
 std::vector<CmaSensitivityStep> SweepCmaWeight(const CmaConfig& base, const std::string& name, double from, double to,
                                                double step);
+
+// The sweep of weight `name` from `base`: {"weight", "gamma", "base_weights", "steps": [{"value", "weights",
+// "changes": [{"state", "quadrant", "from", "to"}, …]}, …]}.
+nlohmann::json CmaSensitivityJson(const CmaConfig& base, const std::string& name,
+                                  const std::vector<CmaSensitivityStep>& steps);
+// The same as text: a heading naming the range from … to, then per step its value, its number of changes and each
+// change (state, quadrant, base action -> swept action).
+std::string CmaSensitivityText(const std::string& name, double from, double to,
+                               const std::vector<CmaSensitivityStep>& steps);
 
 }  // namespace uascma::decision

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "uascma/mavlink/mission_server.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/planning/mission_file.h"
 #include "uascma/sim/flight.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// The constant-altitude detour of the emergency-landing planners (include/uascma/planning/emergency_landing.h):
+// The constant-altitude detour of the emergency-landing planners (include/uascma/planning/landing_path.h):
 // the minimum-time path in the horizontal plane around polygonal obstacles, found on their visibility graph.
 //
 // OBSTACLES. At a given altitude a building whose roof is not far enough below the vehicle is an obstacle in the

@@ -5,18 +5,12 @@
 // contributors (ODbL).
 //
 // Two steps, so that files of different kinds share one local frame:
-//  1. the readers collect geodetic records (WGS84 latitude/longitude in degrees — the only place degrees
-//     appear) into a GeoMapData, counting what they skip in its ImportSummary;
-//  2. ProjectToCityMap projects everything to the local frame W with PROJ and builds the CityMap.
+//  1. the readers (map_geojson.h, map_osm.h; the landing sites of map_sites_csv.h) collect geodetic records
+//     (WGS84 latitude/longitude in degrees, GeoPoint — the only place degrees appear) into a GeoMapData, counting
+//     what they skip in its ImportSummary;
+//  2. ProjectToCityMap projects everything to the local frame W with PROJ (map_projection.h: the frame and its
+//     accuracy, the reason for MapImportOptions::max_distance_from_origin) and builds the CityMap.
 // ImportCityMap does both for a list of files.
-//
-// Projection. The local frame is a transverse Mercator projection of the WGS84 ellipsoid centred on the
-// origin (PROJ "+proj=tmerc +lat_0=φ0 +lon_0=λ0 +k_0=1 +ellps=WGS84"): easting and northing in metres with
-// unit scale at the origin, so x (north) = northing and y (east) = easting, z down from the ground. Its scale
-// error grows as (d/R)²/2 with the distance d from the central meridian (1e-8 at 1 km, 3e-5 at 50 km), which
-// is why the importers refuse data farther than MapImportOptions::max_distance_from_origin from the origin.
-// The default origin is the centre of the data's latitude/longitude bounding box (buildings and sites
-// together); give one explicitly to share a frame between maps.
 //
 // What is a building. A feature is imported when its geometry is a polygon (GeoJSON Polygon/MultiPolygon; an
 // OSM closed way or a type=multipolygon relation) and it carries a `building` tag other than "no". Its height
@@ -64,24 +58,11 @@
 // fewer than 3 distinct corners, an unclosed GeoJSON ring, a height that is not a positive number of metres,
 // coordinates out of range, a landing-site row that does not parse — throws InputError naming the file, the
 // feature (its OSM id and its index) and what was expected.
-//
-// Landing-site CSV (RFC 4180, common/csv.h: quoted fields may hold commas, doubled quotes and line breaks):
-// a header row, then one site per row. Columns are found by name (any order, extra columns
-// ignored; names are trimmed and compared case-insensitively), each with accepted aliases:
-//   id      osm_id | id | site_id
-//   lat     lat | gps.lat | latitude          (degrees, WGS84)
-//   lon     lon | gps.lon | lng | longitude   (degrees, WGS84)
-//   alt     alt | gps.alt | altitude          (m above ground: the roof height for a rooftop site, 0 on the ground)
-//   risk    risk | landing_site_risk          (0 … 1)
-//   radius  radius                            (m, the clear touchdown radius)
-// so both `osm_id, lat, lon, alt, risk, radius` and the midtown file's `osm_id, gps.lat, gps.lon, gps.alt,
-// landing_site_risk, radius` are read.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include <array>
 #include <filesystem>
-#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -91,38 +72,9 @@
 #include "uascma/common/bounds.h"
 #include "uascma/common/error.h"
 #include "uascma/planning/city_map.h"
+#include "uascma/planning/map_projection.h"
 
 namespace uascma::planning {
-
-struct GeoPoint {
-  double lat_deg = 0.0;  // WGS84 latitude, degrees north
-  double lon_deg = 0.0;  // WGS84 longitude, degrees east
-};
-
-// The local transverse Mercator frame centred on `origin` (see the header comment). Holds a PROJ object,
-// which is not thread-safe: use one LocalProjection per thread (copies are independent).
-class LocalProjection {
- public:
-  // Throws InputError when the origin is not a valid latitude/longitude.
-  explicit LocalProjection(const GeoPoint& origin);
-  LocalProjection(const LocalProjection& other);
-  LocalProjection& operator=(const LocalProjection& other);
-  LocalProjection(LocalProjection&&) noexcept;
-  LocalProjection& operator=(LocalProjection&&) noexcept;
-  ~LocalProjection();
-
-  const GeoPoint& origin() const { return origin_; }
-  // p_NE (m): x north, y east of the origin.
-  Eigen::Vector2d ToLocal(const GeoPoint& point) const;
-  GeoPoint ToGeodetic(const Eigen::Vector2d& p_NE) const;
-  // The PROJ pipeline used, for the record.
-  std::string Definition() const;
-
- private:
-  struct Proj;
-  GeoPoint origin_;
-  std::unique_ptr<Proj> proj_;
-};
 
 struct MapImportOptions {
   bool height_from_levels = false;       // a building without `height`: building:levels × metres_per_level
@@ -133,7 +85,7 @@ struct MapImportOptions {
   // Derive landing sites from the map itself: flat rooftops and open areas (header comment).
   bool sites_from_map = false;
   std::optional<GeoPoint> origin;  // the local frame's origin; default: the centre of the data
-  // Refuse data farther than this (m) from the origin: the local frame is a flat projection (header comment).
+  // Refuse data farther than this (m) from the origin: the local frame is a flat projection (map_projection.h).
   double max_distance_from_origin = 50'000.0;
   CityMapOptions map;
   bool IsValid(std::string* error) const;
@@ -240,17 +192,9 @@ enum class MapFileFormat { kGeoJson, kOsm };
 // By extension: .geojson/.json → GeoJSON; .osm, .osm.pbf, .pbf, .osm.gz, .osm.bz2 → OSM. InputError otherwise.
 MapFileFormat DetectMapFormat(const std::filesystem::path& path);
 
-// The readers append to `data` (buildings or sites, and the summary) and throw InputError on malformed input.
-void ParseGeoJsonBuildings(std::string_view text, const std::string& source, const MapImportOptions& options,
-                           GeoMapData* data);
-void ReadGeoJsonBuildings(const std::filesystem::path& path, const MapImportOptions& options, GeoMapData* data);
-// Reads ways and multipolygon relations tagged building=* (libosmium's area assembler builds the polygons).
-void ReadOsmBuildings(const std::filesystem::path& path, const MapImportOptions& options, GeoMapData* data);
-// GeoJSON or OSM by DetectMapFormat.
+// Reads building files: GeoJSON (map_geojson.h) or OSM (map_osm.h) by DetectMapFormat; appends to `data` and
+// throws InputError on malformed input.
 void ReadBuildings(const std::filesystem::path& path, const MapImportOptions& options, GeoMapData* data);
-void ParseLandingSitesCsv(std::string_view text, const std::string& source, const MapImportOptions& options,
-                          GeoMapData* data);
-void ReadLandingSitesCsv(const std::filesystem::path& path, const MapImportOptions& options, GeoMapData* data);
 
 // Projects the records to the local frame (origin: options.origin or the centre of the data) and builds the
 // CityMap; fills the projection and extent fields of `summary` (which may be &data.summary's copy).

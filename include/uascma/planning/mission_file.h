@@ -1,5 +1,5 @@
 #pragma once
-// Mission files of ground control stations, in and out:
+// Mission files of ground control stations, read (the writers are in mission_write.h):
 //  - QGroundControl plans (`.plan`, JSON: {"fileType": "Plan", "mission": {"plannedHomePosition": [lat, lon, alt],
 //    "items": [...]}, "geoFence": …, "rallyPoints": …}), whose "SimpleItem" entries carry one MAVLink mission item
 //    each ("command", "frame", "params": [param1 … param4, latitude, longitude, altitude]);
@@ -66,12 +66,12 @@
 // home line of a .waypoints file), then height above home = altitude − home altitude; 10/11 GLOBAL_TERRAIN_ALT
 // (_INT), read as above home (warned: the map's ground is flat, z = 0 everywhere; refused for PX4, which refuses
 // them); 2 MISSION for items without a position. An altitude of 0 means what the file's firmware makes of it
-// (MissionFirmware below: ArduPilot holds the current altitude, PX4 flies to 0). Local frames are an InputError. QGroundControl's terrain-calculated items (AltitudeMode 3) whose
-// computed altitude is missing (params[6] = null) fly at their "Altitude" over the map's ground (warned); any
-// other null altitude is an InputError that says so.
+// (MissionFirmware below: ArduPilot holds the current altitude, PX4 flies to 0). Local frames are an InputError.
+// QGroundControl's terrain-calculated items (AltitudeMode 3) whose computed altitude is missing (params[6] = null) fly
+// at their "Altitude" over the map's ground (warned); any other null altitude is an InputError that says so.
 //
 // Local frame. Latitude/longitude go to W (x north, y east, z down, ground at z = 0 at home's level) through the
-// map importer's transverse Mercator projection (map_import.h, LocalProjection; PROJ): centred on
+// map importer's transverse Mercator projection (map_projection.h, LocalProjection; PROJ): centred on
 // MissionImportOptions::origin (pass the imported map's origin, ImportSummary::origin, so that the mission and
 // the buildings share a frame), else on the planned home. Points farther than max_distance_from_origin are an
 // InputError, as for maps.
@@ -87,7 +87,7 @@
 
 #include "uascma/planning/city_map.h"
 #include "uascma/planning/flight_plan.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 
 namespace uascma::planning {
 
@@ -246,39 +246,5 @@ struct ItemArrival {
   int item_number = 0;  // from 1
 };
 std::vector<ItemArrival> MissionItemArrivals(const Mission& mission, const PlanLimits& limits);
-
-// --- export -----------------------------------------------------------------------------------------------------
-struct QgcPlanExportOptions {
-  GeoPoint origin;         // of W (the map's or the mission's origin)
-  double home_amsl = 0.0;  // m above mean sea level of W's ground (0 when unknown)
-  // The planned home in W (on the ground); default: the plan's start with z = 0.
-  std::optional<Eigen::Vector3d> home_W;
-  // m/s, written as the mission's "cruiseSpeed" and "hoverSpeed" (pass the PlanLimits' cruise speed: the moves
-  // planned at another speed get a DO_CHANGE_SPEED)
-  double cruise_speed = 5.0;
-  int firmware_type = kMavAutopilotGeneric;  // mission.firmwareType (pass Mission::firmware_type when known)
-  int vehicle_type = kMavTypeHexarotor;      // mission.vehicleType
-  bool IsValid(std::string* error) const;
-};
-
-// A FlightPlan as a QGroundControl plan (JSON text). Each move becomes one item in the relative-altitude frame
-// (3): a first vertical climb from the ground → NAV_TAKEOFF; a last vertical descent → NAV_LAND (param7 = the
-// touchdown height above home); every other move → NAV_WAYPOINT, whose param1 holds the hover that follows it.
-// A horizontal move planned at a speed other than the one in force (QgcPlanExportOptions::cruise_speed at first) is
-// preceded by a DO_CHANGE_SPEED (ground speed). A plan that starts in the air (an emergency plan) begins with a
-// NAV_WAYPOINT at its start. Reading the text back
-// with ParseMission (and the same origin) gives the plan's waypoints again within the projection's round-off.
-std::string QgcPlanJson(const FlightPlan& plan, const QgcPlanExportOptions& options);
-// The same items as MissionItem (what a vehicle holds and a ground station downloads; MissionFromItems reads them
-// back).
-std::vector<MissionItem> PlanMissionItems(const FlightPlan& plan, const QgcPlanExportOptions& options);
-// Writes QgcPlanJson to `path` atomically (WriteFileAtomically).
-void WriteQgcPlan(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options);
-// The same items as QgcPlanJson in the QGC WPL 110 text of Mission Planner (.waypoints): the home line (index 0,
-// frame 0, altitude home_amsl), then one tab-separated line per item; latitude and longitude with 9 decimals
-// (0.1 mm), heights with 4. Reading it back with ParseMission gives the plan's waypoints within 1 cm.
-std::string QgcWplText(const FlightPlan& plan, const QgcPlanExportOptions& options);
-// Writes the plan as a .plan or a .waypoints file by the extension (DetectMissionFormat), atomically.
-void WriteMissionFile(const std::filesystem::path& path, const FlightPlan& plan, const QgcPlanExportOptions& options);
 
 }  // namespace uascma::planning

@@ -24,11 +24,11 @@
 //    root to `time_tolerance_s`. Otherwise the interval is bisected, left half first, so the FIRST
 //    crossing is returned (the ESCs cut out at the first one, docs/modelling-choices.md#outcomes).
 //  This is the exact solution of the model the fixed-step simulator integrates (ZOH at its Δt), so the
-//  two agree to O(Δt): tests require 0.5 % against Δt = 0.01 s and measure ≤ 1.1e-5. Because the split
-//  is solved exactly on each segment, no "re-split every large step" approximation (and no step-size
-//  tuning) is needed. Cost (bench/eod_bench.cc, one core, as measured when written): about 2.1 µs for the default pack
-//  (both branches alike, ~18 segments), about 6 µs when the packs differ and a pack's cells discharge out of
-//  step (~47 segments); the 10 ms fixed-step reference takes about 9 ms.
+//  two agree to O(Δt) (the fixed-step reference, eod_reference.h): tests require 0.5 % against Δt = 0.01 s and
+//  measure ≤ 1.1e-5. Because the split is solved exactly on each segment, no "re-split every large step"
+//  approximation (and no step-size tuning) is needed. Cost (bench/eod_bench.cc, one core, as measured when written):
+//  about 2.1 µs for the default pack (both branches alike, ~18 segments), about 6 µs when the packs differ and a pack's
+//  cells discharge out of step (~47 segments); the 10 ms fixed-step reference takes about 9 ms.
 //
 // Scope and conventions:
 //  * Only switched-on branches count; a switched-off pack neither discharges nor limits the EOD.
@@ -94,14 +94,6 @@ EodResult CalcPackEod(const models::BatteryPack& pack, const models::PackState& 
 // only whether the EOD falls short of bound_s: the reach margin's class, RM0 ⇔ EOD < t_flight (sim/epoch.cc).
 std::optional<EodResult> CalcPackEodBefore(const models::BatteryPack& pack, const models::PackState& state,
                                            double total_current_a, double bound_s, const EodOptions& options = {});
-
-// The fixed-step reference: steps the pack (or cell) model at dt_s with the split re-computed every step,
-// as the simulator does, and interpolates the crossing linearly between steps. Slow (µs per step); for
-// validation of CalcPackEod/CalcCellEod.
-EodResult SimulatePackEod(const models::BatteryPack& pack, const models::PackState& state, double total_current_a,
-                          double dt_s, const EodOptions& options = {});
-EodResult SimulateCellEod(const models::SelfCorrectingCell& cell, const models::CellState& state, double current_a,
-                          double dt_s, const EodOptions& options = {});
 
 // RM = 1 − t_flight / t_EOD (docs/modelling-choices.md#margins). RM ≥ 0 ⇔ the remaining flight time fits in the EOD.
 // With t_flight ≤ 0, RM = 1; with t_EOD = 0 and t_flight > 0, RM = −∞. A kNotReachedWithinHorizon result

@@ -86,7 +86,7 @@
 #include "uascma/planning/city_map.h"
 #include "uascma/planning/flight_plan.h"
 #include "uascma/planning/landing_detour.h"
-#include "uascma/planning/map_import.h"
+#include "uascma/planning/map_projection.h"
 #include "uascma/planning/mission_file.h"
 #include "uascma/sim/eod_error_model.h"
 #include "uascma/sim/load_forecast.h"

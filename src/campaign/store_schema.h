@@ -1,33 +1,16 @@
 #pragma once
-// What the parts of the results store share (store.h; store.cc creates and reads, store_schema.cc holds the schema
-// and the row codec, store_check.cc checks a file, store_workers.cc shares the work between processes).
+// The results store's schema (store.h: the tables, the view, schema versions 1 and 2), the codec of its rows
+// (RunRecord to and from a statement) and its campaign header, for the units of the store (store.cc,
+// store_check.cc, store_workers.cc; defined in store_schema.cc).
 #include <bit>
 #include <cstdint>
-#include <mutex>
-#include <optional>
-#include <set>
 #include <string>
-#include <utility>
 
 #include "sqlite_database.h"
 #include "uascma/campaign/record.h"
 #include "uascma/campaign/store.h"
 
-namespace uascma::campaign {
-
-struct ResultsStore::Connection {
-  bool read_immutable = false;  // opened to read, as an unchanging file (StoreOptions::read_only)
-  // The file opened (device, inode), compared with what the path names at each commit: a database renamed,
-  // replaced or deleted under a running campaign is found at the next batch, not at the end.
-  std::optional<std::pair<std::uint64_t, std::uint64_t>> identity;
-  sqlite::Database db;
-  sqlite::Statement insert;
-  std::int64_t schema_version = kStoreSchemaVersion;
-  std::string open_key;  // the canonical path: store_internal::OpenWorkers() key
-  WorkerIdentity me;
-};
-
-namespace store_internal {
+namespace uascma::campaign::store_internal {
 
 // The tables of schema version 1 but the runs table (RunsTableSql), and the view.
 inline constexpr const char* kSchemaSql = R"sql(
@@ -81,7 +64,6 @@ CREATE VIEW run_outcomes AS
   FROM runs;
 )sql";
 
-// ---- store_schema.cc: the schema, the rows, the campaign header -----------------------------------------------
 std::string RunsTableSql();
 // The runs columns of every RunRecord field, in record order ("run_index, policy, …").
 std::string ColumnList();
@@ -98,18 +80,4 @@ std::int64_t SchemaVersion(sqlite::Database& db);
 // Version 1 files lack only the work-sharing tables; they are read as they are.
 CampaignHeader ReadHeader(sqlite::Database& db, std::int64_t* schema_version);
 
-// ---- store_check.cc ----------------------------------------------------------------------------------------
-// The checks of CheckStore on an open connection (store.h lists them).
-void CheckDatabase(sqlite::Database& db, StoreCheckResult* result);
-// "PATH: database: an undamaged campaign database, but …" for Open.
-void RequireUndamaged(sqlite::Database& db);
-
-// ---- store_workers.cc --------------------------------------------------------------------------------------
-std::int64_t InsertWorker(sqlite::Database& db, const WorkerIdentity& me);
-// The workers that are open in this process, by (database, worker id): a worker of this very process is
-// alive exactly while its ResultsStore is open.
-std::mutex& OpenWorkersMutex();
-std::set<std::pair<std::string, std::int64_t>>& OpenWorkers();
-
-}  // namespace store_internal
-}  // namespace uascma::campaign
+}  // namespace uascma::campaign::store_internal
