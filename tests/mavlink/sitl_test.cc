@@ -250,7 +250,9 @@ TEST(StatustextTest, ALongTextIsChunkedWholeAndJoinsBack) {
     EXPECT_EQ(chunks[k].id, 7);
     EXPECT_EQ(chunks[k].chunk_seq, k);
     const std::string part(chunks[k].text.data(), strnlen(chunks[k].text.data(), chunks[k].text.size()));
-    if (k + 1 < chunks.size()) EXPECT_EQ(part.size(), chunks[k].text.size()) << "chunk " << k << " cut short";
+    if (k + 1 < chunks.size()) {
+      EXPECT_EQ(part.size(), chunks[k].text.size()) << "chunk " << k << " cut short";
+    }
     joined += part;
   }
   EXPECT_EQ(joined, text);
