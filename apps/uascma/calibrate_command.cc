@@ -72,23 +72,6 @@ std::string CampaignArguments(const CalibrationCampaignOptions& options) {
   return out;
 }
 
-// One row per scored prediction: what the error model may condition on, the prediction, its truth and its error.
-std::string SamplesCsv(const std::vector<campaign::EodTruthRun>& runs) {
-  std::string out =
-      "run,time_s,battery_health,motor_health,flight_time_remaining_s,eod_s,true_eod_s,current_a,log_ratio,"
-      "cutoff_time_s,hold_start_s,cruise_speed_mps,wind_speed_mps,turbulence,cold,fault\n";
-  for (const campaign::EodTruthRun& run : runs) {
-    for (const campaign::EodTruthSample& s : run.samples) {
-      out += fmt::format("{},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{:.5f},{:.6f},{:.3f},{:.3f}", run.run_index, s.time_s,
-                         s.battery_health, s.motor_health, s.flight_time_remaining_s, s.eod_s, s.true_eod_s,
-                         s.current_a, s.log_ratio, run.cutoff_time_s.value_or(-1.0), run.hold_start_s.value_or(-1.0));
-      out += fmt::format(",{:.3f},{:.3f},{},{:d},{:d}\n", run.cruise_speed_mps, run.wind_speed_mps, run.turbulence,
-                         run.cold, run.fault);
-    }
-  }
-  return out;
-}
-
 void AddErrorCommand(CLI::App& calibrate) {
   struct Options {
     CalibrationCampaignOptions campaign;
@@ -108,7 +91,7 @@ void AddErrorCommand(CLI::App& calibrate) {
   command->add_flag("--json", options->json, "Print the fit as JSON");
   command->callback([options] {
     const auto runs = FlyTwins(options->campaign, std::make_shared<const sim::EodErrorModel>());
-    if (!options->samples.empty()) WriteOutput(options->samples, SamplesCsv(runs));
+    if (!options->samples.empty()) WriteOutput(options->samples, campaign::EodTruthSamplesCsv(runs));
     const std::string made_by = "uascma calibrate eod-error " + CampaignArguments(options->campaign);
     const campaign::EodErrorFit fit = campaign::FitEodErrorModel(runs, made_by);
     const nlohmann::json model = campaign::EodErrorModelJson(fit.model);

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "uascma/campaign/sampler.h"
 #include "uascma/campaign/world.h"
 #include "uascma/common/parallel_for.h"
@@ -135,6 +137,23 @@ std::vector<EodTruthRun> FlyEodTruthCampaign(const CampaignConfig& config, const
       });
   if (merged < options.runs) throw Cancelled();
   return runs;
+}
+
+// One row per scored prediction: what the error model may condition on, the prediction, its truth and its error.
+std::string EodTruthSamplesCsv(const std::vector<EodTruthRun>& runs) {
+  std::string out =
+      "run,time_s,battery_health,motor_health,flight_time_remaining_s,eod_s,true_eod_s,current_a,log_ratio,"
+      "cutoff_time_s,hold_start_s,cruise_speed_mps,wind_speed_mps,turbulence,cold,fault\n";
+  for (const EodTruthRun& run : runs) {
+    for (const EodTruthSample& s : run.samples) {
+      out += fmt::format("{},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{:.5f},{:.6f},{:.3f},{:.3f}", run.run_index, s.time_s,
+                         s.battery_health, s.motor_health, s.flight_time_remaining_s, s.eod_s, s.true_eod_s,
+                         s.current_a, s.log_ratio, run.cutoff_time_s.value_or(-1.0), run.hold_start_s.value_or(-1.0));
+      out += fmt::format(",{:.3f},{:.3f},{},{:d},{:d}\n", run.cruise_speed_mps, run.wind_speed_mps, run.turbulence,
+                         run.cold, run.fault);
+    }
+  }
+  return out;
 }
 
 }  // namespace uascma::campaign

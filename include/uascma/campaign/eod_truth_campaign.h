@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "uascma/campaign/config.h"
@@ -71,5 +72,9 @@ struct EodTruthCampaignOptions {
 // Samples runs 0..runs−1 of `config` at `seed` (campaign/sampler.h: the campaign's own scenarios) and flies each
 // one's truth twin; runs in run order, the same for any number of jobs. Throws Cancelled when stopped.
 std::vector<EodTruthRun> FlyEodTruthCampaign(const CampaignConfig& config, const EodTruthCampaignOptions& options);
+
+// One CSV row per scored prediction (`uascma calibrate eod-error --samples`): what the error model may condition on,
+// the prediction, its truth and its error; a header line first.
+std::string EodTruthSamplesCsv(const std::vector<EodTruthRun>& runs);
 
 }  // namespace uascma::campaign
