@@ -108,7 +108,7 @@ struct PackOutputs {
   // Eq. 3.3 of each cell at its branch current, as a cell monitor reads it across the cell's taps: a failed cell's
   // reading includes the drop across its R_f (pack_fault.h).
   PerCell<double> cell_voltage_v{};
-  PerBranch<double> branch_voltage_v{};  // Σ cell readings of the branch (the bus voltage while it conducts)
+  PerBranch<double> branch_voltage_v{};  // Σ cell readings of the branch
   // The lowest cell's own voltage (eq. 3.3, without a failed cell's R_f drop) over the switched-on branches: the
   // cut-off of §3.3.2.1 (docs/modelling-choices.md#outcomes); −1, −1 and +inf when no branch is on. Without a failed
   // cell it is the lowest reading.
