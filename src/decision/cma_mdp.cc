@@ -212,10 +212,13 @@ StateIndex CmaStateIndex(const CmaState& state) {
 
 StateIndex CmaTerminalIndex(CmaTerminal terminal) { return kCmaNumTupleStates + static_cast<int>(terminal); }
 
+const std::string& CmaFeatureValueName(int feature, int value) { return kFeatures.at(feature).values.at(value); }
+
 std::string CmaStateLabel(const CmaState& state) {
-  return fmt::format("{},{},{},{},{}", kFeatures[0].values[static_cast<int>(state.fs)],
-                     kFeatures[1].values[static_cast<int>(state.mh)], kFeatures[2].values[static_cast<int>(state.mm)],
-                     kFeatures[3].values[static_cast<int>(state.bh)], kFeatures[4].values[static_cast<int>(state.rm)]);
+  return fmt::format(
+      "{},{},{},{},{}", CmaFeatureValueName(0, static_cast<int>(state.fs)),
+      CmaFeatureValueName(1, static_cast<int>(state.mh)), CmaFeatureValueName(2, static_cast<int>(state.mm)),
+      CmaFeatureValueName(3, static_cast<int>(state.bh)), CmaFeatureValueName(4, static_cast<int>(state.rm)));
 }
 
 const char* CmaActionName(CmaAction action) { return kActionNames[static_cast<int>(action)].c_str(); }

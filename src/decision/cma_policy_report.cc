@@ -135,15 +135,13 @@ std::string CmaPolicyViewText(const CmaPolicyView& view, const std::string& sour
   out += fmt::format("{:<8} {:<3} {:<3} | {:<10} {:<10} {:<10} {:<10}\n", "", "", "", "RM1,MM1", "RM1,MM0", "RM0,MM0",
                      "RM0,MM1");
   out += std::string(61, '-') + "\n";
-  const char* fs_names[] = {"N", "ELASAP", "ELPRACT"};
-  const char* mh_names[] = {"NF", "SF", "JF"};
-  const char* bh_names[] = {"G", "M", "P"};
   FlightStatus previous = view.rows.front().fs;
   for (const QuadrantRow& row : view.rows) {
     if (row.fs != previous) out += "\n";
     previous = row.fs;
-    out += fmt::format("{:<8} {:<3} {:<3} |", fs_names[static_cast<int>(row.fs)], mh_names[static_cast<int>(row.mh)],
-                       bh_names[static_cast<int>(row.bh)]);
+    out +=
+        fmt::format("{:<8} {:<3} {:<3} |", CmaFeatureValueName(0, static_cast<int>(row.fs)),
+                    CmaFeatureValueName(1, static_cast<int>(row.mh)), CmaFeatureValueName(3, static_cast<int>(row.bh)));
     for (const QuadrantCell& cell : row.quadrants) {
       out += fmt::format(" {:<10}", view.mdp.action_name(cell.action));
     }

@@ -46,6 +46,9 @@ struct CmaState {
 StateIndex CmaStateIndex(const CmaState& state);
 StateIndex CmaTerminalIndex(CmaTerminal terminal);
 std::string CmaStateLabel(const CmaState& state);
+// The label of value `value` of state feature `feature` (0 FS, 1 MH, 2 MM, 3 BH, 4 RM), as CmaStateLabel writes it:
+// CmaFeatureValueName(0, static_cast<int>(FlightStatus::kElAsap)) is "ELASAP".
+const std::string& CmaFeatureValueName(int feature, int value);
 const char* CmaActionName(CmaAction action);
 // Parses "N,NF,MM0,G,RM0"; throws InputError naming `source` when malformed.
 CmaState ParseCmaState(const std::string& label, const std::string& source);
